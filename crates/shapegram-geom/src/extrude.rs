@@ -1,0 +1,57 @@
+//! Extrusion of polygons and of mesh faces.
+
+use crate::{DVec3, Mesh, mesh::newell};
+
+/// Extrudes a planar polygon (counter-clockwise about its normal) by `distance` along its normal
+/// into a closed prism: the polygon itself, reversed, is the bottom. A negative distance extrudes
+/// backwards, so the polygon becomes the top. Returns `None` for a polygon without area or a
+/// distance of zero (or not finite).
+pub fn extrude_polygon(points: &[DVec3], distance: f64) -> Option<Mesh> {
+    let normal = newell(points.iter().copied()).normalize_or_zero();
+    if normal == DVec3::ZERO || distance == 0.0 || !distance.is_finite() {
+        return None;
+    }
+    let base_shift = normal * distance.min(0.0);
+    let lift = normal * distance.abs();
+    let n = points.len() as u32;
+    let mut positions: Vec<DVec3> = points.iter().map(|&p| p + base_shift).collect();
+    positions.extend(points.iter().map(|&p| p + base_shift + lift));
+    let mut mesh = Mesh::from_faces(positions, [(0..n).rev().collect::<Vec<_>>()]);
+    mesh.add_face(&(n..2 * n).collect::<Vec<_>>());
+    for i in 0..n {
+        let j = (i + 1) % n;
+        mesh.add_face(&[i, j, n + j, n + i]);
+    }
+    Some(mesh)
+}
+
+/// A copy of `mesh` where face `face` is pushed out along its normal by `distance` and joined to
+/// its old outline by side walls, so a closed mesh stays closed. Vertices of the face are not
+/// shared with the moved copy; faces around the face keep their vertices.
+pub fn extrude_face(mesh: &Mesh, face: usize, distance: f64) -> Mesh {
+    let normal = mesh.face_normal(face);
+    let outline = mesh.face(face).to_vec();
+    let mut out = Mesh::from_faces(
+        mesh.positions().to_vec(),
+        mesh.faces()
+            .enumerate()
+            .filter(|&(f, _)| f != face)
+            .map(|(_, l)| l),
+    );
+    let moved: Vec<u32> = outline
+        .iter()
+        .map(|&v| out.add_vertex(mesh.position(v) + normal * distance))
+        .collect();
+    out.add_face(&moved);
+    let n = outline.len();
+    for i in 0..n {
+        let j = (i + 1) % n;
+        let wall = [outline[i], outline[j], moved[j], moved[i]];
+        if distance >= 0.0 {
+            out.add_face(&wall);
+        } else {
+            out.add_face(&[wall[3], wall[2], wall[1], wall[0]]);
+        }
+    }
+    out
+}

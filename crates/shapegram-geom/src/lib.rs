@@ -1,0 +1,39 @@
+//! The geometry kernel of Shapegram.
+//!
+//! Everything here is `f64` and free of I/O: oriented [`Scope`]s, polygon [`Mesh`]es whose faces are
+//! vertex loops, [`primitives`], plane cuts with capping ([`split`]), extrusion, inset, component
+//! extraction and face classification ([`component`]), triangulation and mesh metrics.
+//!
+//! Conventions shared by every crate of the workspace:
+//! - y is up in world space (the glTF convention); lots and footprints lie in the xz-plane facing +y.
+//! - Faces are counter-clockwise when seen from outside, so Newell normals point outward.
+//! - A [`Scope`] is an oriented box with its origin at a corner; local coordinates run from 0 to
+//!   `size` along each axis, and primitives are built to fill the box `[0, size]`.
+
+pub mod aabb;
+pub mod component;
+pub mod extrude;
+pub mod mesh;
+pub mod model;
+pub mod offset;
+pub mod plane;
+pub mod primitives;
+pub mod scope;
+pub mod split;
+pub mod topology;
+pub mod triangulate;
+
+pub use aabb::Aabb;
+pub use component::{Component, ComponentKind, FaceClass};
+pub use glam::{DAffine3, DMat3, DQuat, DVec2, DVec3};
+pub use mesh::Mesh;
+pub use model::{Color, Model, Part};
+pub use plane::Plane;
+pub use scope::{Pivot, Scope};
+pub use topology::EdgeReport;
+
+/// Relative tolerance used to decide that a point lies on a plane or that two points coincide.
+///
+/// It is scaled by the size of the geometry at hand (see [`Aabb::tolerance`]), so models in
+/// millimetres and in kilometres behave alike.
+pub const RELATIVE_EPSILON: f64 = 1e-9;

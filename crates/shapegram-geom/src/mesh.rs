@@ -1,0 +1,274 @@
+//! Polygon meshes: shared vertex positions and faces given as vertex loops.
+
+use crate::{Aabb, DAffine3, DVec3};
+
+/// A polygon mesh. Each face is a loop of vertex indices, counter-clockwise seen from the side its
+/// normal points to; faces are planar and may be non-convex. Faces are stored back to back in one
+/// index array, so a mesh of a thousand quads is three allocations, not a thousand.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Mesh {
+    positions: Vec<DVec3>,
+    /// Face `i` is `indices[loop_starts[i]..loop_starts[i + 1]]`.
+    loop_starts: Vec<u32>,
+    indices: Vec<u32>,
+}
+
+impl Default for Mesh {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
+impl Mesh {
+    /// An empty mesh.
+    pub fn new() -> Self {
+        Self {
+            positions: Vec::new(),
+            loop_starts: vec![0],
+            indices: Vec::new(),
+        }
+    }
+
+    /// A mesh from positions and face loops. Loops with fewer than three vertices are skipped.
+    ///
+    /// # Panics
+    /// If a loop refers to a vertex that does not exist.
+    pub fn from_faces<F: AsRef<[u32]>>(
+        positions: Vec<DVec3>,
+        faces: impl IntoIterator<Item = F>,
+    ) -> Self {
+        let mut mesh = Self {
+            positions,
+            ..Self::new()
+        };
+        for face in faces {
+            mesh.add_face(face.as_ref());
+        }
+        mesh
+    }
+
+    /// A mesh of a single polygon.
+    pub fn from_polygon(points: &[DVec3]) -> Self {
+        let n = points.len() as u32;
+        Self::from_faces(points.to_vec(), [(0..n).collect::<Vec<_>>()])
+    }
+
+    /// Adds a vertex and returns its index.
+    pub fn add_vertex(&mut self, p: DVec3) -> u32 {
+        self.positions.push(p);
+        (self.positions.len() - 1) as u32
+    }
+
+    /// Adds a face loop and returns its index, or `None` (adding nothing) for fewer than three
+    /// vertices.
+    ///
+    /// # Panics
+    /// If the loop refers to a vertex that does not exist.
+    pub fn add_face(&mut self, face: &[u32]) -> Option<usize> {
+        if face.len() < 3 {
+            return None;
+        }
+        assert!(
+            face.iter().all(|&i| (i as usize) < self.positions.len()),
+            "face refers to a missing vertex"
+        );
+        self.indices.extend_from_slice(face);
+        self.loop_starts.push(self.indices.len() as u32);
+        Some(self.face_count() - 1)
+    }
+
+    /// Vertex positions.
+    pub fn positions(&self) -> &[DVec3] {
+        &self.positions
+    }
+
+    /// Position of vertex `i`.
+    pub fn position(&self, i: u32) -> DVec3 {
+        self.positions[i as usize]
+    }
+
+    /// Number of vertices.
+    pub fn vertex_count(&self) -> usize {
+        self.positions.len()
+    }
+
+    /// Number of faces.
+    pub fn face_count(&self) -> usize {
+        self.loop_starts.len() - 1
+    }
+
+    /// Whether the mesh has no faces.
+    pub fn is_empty(&self) -> bool {
+        self.face_count() == 0
+    }
+
+    /// The vertex loop of face `i`.
+    pub fn face(&self, i: usize) -> &[u32] {
+        &self.indices[self.loop_starts[i] as usize..self.loop_starts[i + 1] as usize]
+    }
+
+    /// All face loops in order.
+    pub fn faces(&self) -> impl ExactSizeIterator<Item = &[u32]> + '_ {
+        (0..self.face_count()).map(|i| self.face(i))
+    }
+
+    /// The corner positions of face `i`.
+    pub fn face_points(&self, i: usize) -> impl ExactSizeIterator<Item = DVec3> + Clone + '_ {
+        self.face(i).iter().map(|&v| self.positions[v as usize])
+    }
+
+    /// Unit normal of face `i` (Newell's method), or zero for a degenerate face.
+    pub fn face_normal(&self, i: usize) -> DVec3 {
+        newell(self.face_points(i)).normalize_or_zero()
+    }
+
+    /// Area of face `i`.
+    pub fn face_area(&self, i: usize) -> f64 {
+        0.5 * newell(self.face_points(i)).length()
+    }
+
+    /// Mean of the corners of face `i`.
+    pub fn face_centroid(&self, i: usize) -> DVec3 {
+        let n = self.face(i).len() as f64;
+        self.face_points(i).sum::<DVec3>() / n
+    }
+
+    /// Appends another mesh's vertices and faces.
+    pub fn append(&mut self, other: &Mesh) {
+        let base = self.positions.len() as u32;
+        self.positions.extend_from_slice(&other.positions);
+        let index_base = self.indices.len() as u32;
+        self.indices.extend(other.indices.iter().map(|&i| i + base));
+        self.loop_starts
+            .extend(other.loop_starts[1..].iter().map(|&s| s + index_base));
+    }
+
+    /// Applies an affine map to every vertex. A map that mirrors (negative determinant) also
+    /// reverses every loop so that normals keep pointing outward.
+    pub fn transform(&mut self, map: &DAffine3) {
+        for p in &mut self.positions {
+            *p = map.transform_point3(*p);
+        }
+        if map.matrix3.determinant() < 0.0 {
+            self.flip();
+        }
+    }
+
+    /// This mesh under an affine map (see [`Mesh::transform`]).
+    pub fn transformed(&self, map: &DAffine3) -> Self {
+        let mut copy = self.clone();
+        copy.transform(map);
+        copy
+    }
+
+    /// Reverses every face loop, turning the mesh inside out.
+    pub fn flip(&mut self) {
+        for w in self.loop_starts.windows(2) {
+            self.indices[w[0] as usize..w[1] as usize].reverse();
+        }
+    }
+
+    /// Bounds of the vertices, `None` for a mesh without vertices.
+    pub fn bounds(&self) -> Option<Aabb> {
+        Aabb::from_points(self.positions.iter().copied())
+    }
+
+    /// Total surface area.
+    pub fn area(&self) -> f64 {
+        (0..self.face_count()).map(|i| self.face_area(i)).sum()
+    }
+
+    /// Signed volume enclosed by the faces: positive for a closed mesh with outward normals.
+    ///
+    /// Sums, over the faces, the volume of the cone from a reference point to the face. The
+    /// reference point is the first vertex, which keeps the sum accurate far from the origin.
+    pub fn signed_volume(&self) -> f64 {
+        let Some(&reference) = self.positions.first() else {
+            return 0.0;
+        };
+        let volume: f64 = (0..self.face_count())
+            .map(|i| {
+                let c = self.face_centroid(i) - reference;
+                newell(self.face_points(i)).dot(c) * 0.5
+            })
+            .sum();
+        volume / 3.0
+    }
+
+    /// A copy where vertices closer than `tolerance` (per coordinate, after snapping to a grid of
+    /// that size) are merged, repeated corners are dropped and faces left with fewer than three
+    /// corners removed. Used to recover connectivity from formats that store one vertex per
+    /// corner (STL, flat-shaded glTF).
+    pub fn welded(&self, tolerance: f64) -> Self {
+        let tolerance = tolerance.max(f64::MIN_POSITIVE);
+        let key = |p: DVec3| {
+            let q = (p / tolerance).round();
+            (q.x as i64, q.y as i64, q.z as i64)
+        };
+        let mut index_of = std::collections::HashMap::with_capacity(self.positions.len());
+        let mut positions = Vec::new();
+        let remap: Vec<u32> = self
+            .positions
+            .iter()
+            .map(|&p| {
+                *index_of.entry(key(p)).or_insert_with(|| {
+                    positions.push(p);
+                    (positions.len() - 1) as u32
+                })
+            })
+            .collect();
+        let mut welded = Self {
+            positions,
+            ..Self::new()
+        };
+        let mut face = Vec::new();
+        for loop_ in self.faces() {
+            face.clear();
+            for &v in loop_ {
+                let w = remap[v as usize];
+                if face.last() != Some(&w) {
+                    face.push(w);
+                }
+            }
+            while face.len() > 1 && face.first() == face.last() {
+                face.pop();
+            }
+            welded.add_face(&face);
+        }
+        welded
+    }
+
+    /// A copy without unused vertices, vertex order kept.
+    pub fn compacted(&self) -> Self {
+        let mut remap = vec![u32::MAX; self.positions.len()];
+        let mut positions = Vec::new();
+        for &v in &self.indices {
+            if remap[v as usize] == u32::MAX {
+                remap[v as usize] = 0;
+            }
+        }
+        for (old, slot) in remap.iter_mut().enumerate() {
+            if *slot == 0 {
+                *slot = positions.len() as u32;
+                positions.push(self.positions[old]);
+            }
+        }
+        Self {
+            positions,
+            loop_starts: self.loop_starts.clone(),
+            indices: self.indices.iter().map(|&v| remap[v as usize]).collect(),
+        }
+    }
+}
+
+/// Twice the vector area of a closed loop of points (Newell's method): its direction is the loop's
+/// normal and its length twice the loop's area, for planar loops of any convexity.
+pub fn newell(points: impl Iterator<Item = DVec3> + Clone) -> DVec3 {
+    let Some(first) = points.clone().next() else {
+        return DVec3::ZERO;
+    };
+    // Relative to the first corner, so large coordinates do not swamp small faces.
+    let local = points.map(move |p| p - first);
+    let next = local.clone().skip(1).chain(std::iter::once(DVec3::ZERO));
+    local.zip(next).map(|(a, b)| a.cross(b)).sum()
+}

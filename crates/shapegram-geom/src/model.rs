@@ -1,0 +1,123 @@
+//! A model ready for export: named, coloured meshes.
+
+use crate::{Aabb, Mesh};
+
+/// A linear-free sRGB colour with alpha, each channel in `0..=1`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Color {
+    /// Red.
+    pub r: f32,
+    /// Green.
+    pub g: f32,
+    /// Blue.
+    pub b: f32,
+    /// Alpha (1 is opaque).
+    pub a: f32,
+}
+
+impl Default for Color {
+    /// A light neutral grey, the colour of shapes nobody coloured.
+    fn default() -> Self {
+        Self::rgb(0.8, 0.8, 0.8)
+    }
+}
+
+impl Color {
+    /// An opaque colour.
+    pub const fn rgb(r: f32, g: f32, b: f32) -> Self {
+        Self { r, g, b, a: 1.0 }
+    }
+
+    /// Parses `#rgb`, `#rrggbb` or `#rrggbbaa` (the `#` is optional).
+    pub fn from_hex(text: &str) -> Option<Self> {
+        let hex = text.strip_prefix('#').unwrap_or(text);
+        if !hex.is_ascii() {
+            return None;
+        }
+        let channel = |s: &str| u8::from_str_radix(s, 16).ok().map(|v| f32::from(v) / 255.0);
+        let short = |i: usize| channel(&hex[i..i + 1].repeat(2));
+        match hex.len() {
+            3 => Some(Self::rgb(short(0)?, short(1)?, short(2)?)),
+            6 | 8 => Some(Self {
+                r: channel(&hex[0..2])?,
+                g: channel(&hex[2..4])?,
+                b: channel(&hex[4..6])?,
+                a: if hex.len() == 8 {
+                    channel(&hex[6..8])?
+                } else {
+                    1.0
+                },
+            }),
+            _ => None,
+        }
+    }
+
+    /// The colour as `#rrggbb` (or `#rrggbbaa` when not opaque).
+    pub fn to_hex(&self) -> String {
+        let byte = |c: f32| (c.clamp(0.0, 1.0) * 255.0).round() as u8;
+        let rgb = format!(
+            "#{:02x}{:02x}{:02x}",
+            byte(self.r),
+            byte(self.g),
+            byte(self.b)
+        );
+        if self.a >= 1.0 {
+            rgb
+        } else {
+            format!("{rgb}{:02x}", byte(self.a))
+        }
+    }
+
+    /// The channels as an array, in RGBA order.
+    pub fn to_array(&self) -> [f32; 4] {
+        [self.r, self.g, self.b, self.a]
+    }
+}
+
+/// One piece of a model: a mesh with a group name (usually the rule that made it) and a colour.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Part {
+    /// Group name, e.g. the symbol of the leaf shape; used for OBJ groups and glTF nodes.
+    pub name: String,
+    /// Surface colour.
+    pub color: Color,
+    /// Geometry in world coordinates.
+    pub mesh: Mesh,
+}
+
+/// A whole model: the parts in a stable order.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Model {
+    /// Parts in output order.
+    pub parts: Vec<Part>,
+}
+
+impl Model {
+    /// A model of one part.
+    pub fn single(name: impl Into<String>, color: Color, mesh: Mesh) -> Self {
+        Self {
+            parts: vec![Part {
+                name: name.into(),
+                color,
+                mesh,
+            }],
+        }
+    }
+
+    /// All parts merged into one mesh (group names and colours dropped).
+    pub fn merged_mesh(&self) -> Mesh {
+        let mut all = Mesh::new();
+        for part in &self.parts {
+            all.append(&part.mesh);
+        }
+        all
+    }
+
+    /// Bounds of all parts, `None` when the model has no vertices.
+    pub fn bounds(&self) -> Option<Aabb> {
+        self.parts
+            .iter()
+            .filter_map(|p| p.mesh.bounds())
+            .reduce(Aabb::union)
+    }
+}
