@@ -46,12 +46,8 @@ pub fn extrude_face(mesh: &Mesh, face: usize, distance: f64) -> Mesh {
     let n = outline.len();
     for i in 0..n {
         let j = (i + 1) % n;
-        let wall = [outline[i], outline[j], moved[j], moved[i]];
-        if distance >= 0.0 {
-            out.add_face(&wall);
-        } else {
-            out.add_face(&[wall[3], wall[2], wall[1], wall[0]]);
-        }
+        // The wall takes over the face's edge i → j, whichever way the face moved.
+        out.add_face(&[outline[i], outline[j], moved[j], moved[i]]);
     }
     out
 }

@@ -131,8 +131,8 @@ impl Cutter<'_> {
             }
             let mut above = Vec::new();
             for piece in &pieces {
-                slabs[k].extend(self.clip(piece, k, -1.0));
-                above.extend(self.clip(piece, k, 1.0));
+                slabs[k].extend(self.clip(piece, k, 1.0));
+                above.extend(self.clip(piece, k, -1.0));
             }
             pieces = above;
             if pieces.is_empty() {

@@ -1,0 +1,258 @@
+//! Scopes, extrusion, offsets, components, triangulation, welding and colours.
+
+mod common_shapes;
+
+use shapegram_geom::{
+    Color, ComponentKind, DMat3, DQuat, DVec3, FaceClass, Mesh, Pivot, Scope, component,
+    extrude::{extrude_face, extrude_polygon},
+    offset::offset_convex,
+    primitives::{cuboid, quad},
+    triangulate::Triangulator,
+};
+
+fn close(a: DVec3, b: DVec3) -> bool {
+    a.abs_diff_eq(b, 1e-9)
+}
+
+#[test]
+fn scope_round_trips_points() {
+    let mut s = Scope::axis_aligned(DVec3::new(1.0, 2.0, 3.0), DVec3::new(4.0, 5.0, 6.0));
+    s.rotate_euler_degrees(DVec3::new(10.0, 20.0, 30.0), Pivot::Origin);
+    let p = DVec3::new(0.3, -2.0, 7.5);
+    assert!(close(s.to_local(s.to_world(p)), p));
+    assert!(close(s.world_to_local().transform_point3(s.to_world(p)), p));
+    assert!((s.axes.determinant() - 1.0).abs() < 1e-12);
+}
+
+#[test]
+fn scope_rotation_about_centre_keeps_centre() {
+    let mut s = Scope::axis_aligned(DVec3::ZERO, DVec3::new(4.0, 2.0, 2.0));
+    let center = s.center();
+    s.rotate_euler_degrees(DVec3::new(0.0, 90.0, 0.0), Pivot::Center);
+    assert!(close(s.center(), center));
+    // Turning 90° about y takes x to −z.
+    assert!(close(s.x_axis(), -DVec3::Z));
+    assert!(close(s.z_axis(), DVec3::X));
+    let mut t = Scope::axis_aligned(DVec3::ZERO, DVec3::ONE);
+    t.rotate_euler_degrees(DVec3::new(0.0, 90.0, 0.0), Pivot::Origin);
+    assert!(close(t.origin, DVec3::ZERO));
+}
+
+#[test]
+fn scope_rotations_are_intrinsic() {
+    // r(90, 90, 0): after turning about x, the y turn is about the new y axis (old z).
+    let mut s = Scope::axis_aligned(DVec3::ZERO, DVec3::ONE);
+    s.rotate_euler_degrees(DVec3::new(90.0, 90.0, 0.0), Pivot::Origin);
+    let expected = DMat3::from_quat(DQuat::from_rotation_x(90f64.to_radians()))
+        * DMat3::from_quat(DQuat::from_rotation_y(90f64.to_radians()));
+    assert!(s.axes.abs_diff_eq(expected, 1e-12));
+}
+
+#[test]
+fn scope_translate_scale_and_centre() {
+    let mut s = Scope::axis_aligned(DVec3::ZERO, DVec3::new(2.0, 2.0, 2.0));
+    s.rotate_euler_degrees(DVec3::new(0.0, 90.0, 0.0), Pivot::Origin);
+    s.translate(DVec3::new(1.0, 0.0, 0.0));
+    assert!(close(s.origin, DVec3::new(0.0, 0.0, -1.0)));
+    s.scale(DVec3::new(0.5, 1.0, 1.0), Pivot::Center);
+    assert!(close(s.size, DVec3::new(1.0, 2.0, 2.0)));
+    assert!(close(s.origin, DVec3::new(0.0, 0.0, -1.5)));
+    s.center_on(DVec3::new(10.0, 10.0, 10.0), [true, false, false]);
+    assert!((s.center().z - 10.0).abs() < 1e-9);
+    assert!((s.center().y - 1.0).abs() < 1e-9);
+    assert_eq!(s.volume(), 4.0);
+    let corners = s.corners();
+    assert!(corners.iter().all(|&c| s.contains(c, 1e-9)));
+    assert!(!s.contains(DVec3::new(100.0, 0.0, 0.0), 1e-9));
+}
+
+#[test]
+fn scope_fit_and_world_alignment() {
+    let axes = DMat3::from_cols(DVec3::Z, DVec3::Y, -DVec3::X);
+    let points = [DVec3::new(0.0, 0.0, 0.0), DVec3::new(-3.0, 2.0, 5.0)];
+    let s = Scope::fit(axes, points);
+    assert!(close(s.size, DVec3::new(5.0, 2.0, 3.0)));
+    assert!(points.iter().all(|&p| s.contains(p, 1e-9)));
+    let w = s.aligned_to_world();
+    assert_eq!(w.axes, DMat3::IDENTITY);
+    assert!(close(w.origin, DVec3::new(-3.0, 0.0, 0.0)));
+    assert!(close(w.size, DVec3::new(3.0, 2.0, 5.0)));
+    let unit = s.unit_cube_to_world();
+    assert!(close(unit.transform_point3(DVec3::ONE), s.to_world(s.size)));
+}
+
+#[test]
+fn extruded_polygon_is_a_closed_prism() {
+    let points: Vec<DVec3> = quad(2.0, 3.0).face_points(0).collect();
+    let up = extrude_polygon(&points, 4.0).unwrap();
+    assert!(up.is_watertight());
+    assert_eq!(up.signed_volume(), 24.0);
+    assert_eq!(up.bounds().unwrap().max, DVec3::new(2.0, 4.0, 3.0));
+    let down = extrude_polygon(&points, -4.0).unwrap();
+    assert!(down.is_watertight());
+    assert_eq!(down.signed_volume(), 24.0);
+    assert_eq!(down.bounds().unwrap().min, DVec3::new(0.0, -4.0, 0.0));
+    assert!(extrude_polygon(&points, 0.0).is_none());
+    assert!(extrude_polygon(&points, f64::NAN).is_none());
+    let l = common_shapes::l_prism();
+    assert!(l.is_watertight());
+    assert_eq!(l.signed_volume(), 36.0);
+}
+
+#[test]
+fn extruding_a_face_keeps_the_mesh_closed() {
+    let b = cuboid(DVec3::ONE);
+    let top = (0..6).find(|&f| b.face_normal(f) == DVec3::Y).unwrap();
+    let taller = extrude_face(&b, top, 2.0);
+    assert!(taller.is_watertight());
+    assert!((taller.signed_volume() - 3.0).abs() < 1e-12);
+    let dented = extrude_face(&b, top, -0.25);
+    assert!(dented.is_watertight());
+    assert!((dented.signed_volume() - 0.75).abs() < 1e-12);
+}
+
+#[test]
+fn inset_and_outset_of_convex_polygons() {
+    let square: Vec<DVec3> = quad(10.0, 10.0).face_points(0).collect();
+    let inset = offset_convex(&square, -1.0).unwrap();
+    assert_eq!(Mesh::from_polygon(&inset).area(), 64.0);
+    assert_eq!(Mesh::from_polygon(&inset).face_normal(0), DVec3::Y);
+    let outset = offset_convex(&square, 1.0).unwrap();
+    assert_eq!(outset.len(), 4);
+    assert!((Mesh::from_polygon(&outset).area() - 144.0).abs() < 1e-9);
+    assert!(offset_convex(&square, -5.0).is_none());
+    assert!(offset_convex(&square, -6.0).is_none());
+    // A thin rectangle insets to a point-free nothing before the square does.
+    let thin: Vec<DVec3> = quad(10.0, 2.0).face_points(0).collect();
+    assert!(offset_convex(&thin, -1.5).is_none());
+    let strip = offset_convex(&thin, -0.5).unwrap();
+    assert!((Mesh::from_polygon(&strip).area() - 9.0).abs() < 1e-12);
+    // Collinear corners do not add corners to the result.
+    let with_midpoint = [
+        DVec3::ZERO,
+        DVec3::new(0.0, 0.0, 4.0),
+        DVec3::new(2.0, 0.0, 4.0),
+        DVec3::new(4.0, 0.0, 4.0),
+        DVec3::new(4.0, 0.0, 0.0),
+    ];
+    assert_eq!(offset_convex(&with_midpoint, 1.0).unwrap().len(), 4);
+}
+
+#[test]
+fn box_faces_classify_once_each_with_right_handed_frames() {
+    let b = cuboid(DVec3::new(2.0, 3.0, 4.0));
+    let reference = Scope::axis_aligned(DVec3::ZERO, DVec3::new(2.0, 3.0, 4.0));
+    let faces = component::faces(&b);
+    assert_eq!(faces.len(), 6);
+    let mut names: Vec<&str> = faces
+        .iter()
+        .map(|c| FaceClass::of(c.normal, &reference).name())
+        .collect();
+    names.sort();
+    assert_eq!(names, ["back", "bottom", "front", "left", "right", "top"]);
+    for c in &faces {
+        assert_eq!(c.kind, ComponentKind::Face);
+        assert!((c.scope.axes.determinant() - 1.0).abs() < 1e-12);
+        assert!(close(c.scope.z_axis(), c.normal));
+        assert_eq!(c.scope.size.z, 0.0);
+        assert!(c.points.iter().all(|&p| c.scope.contains(p, 1e-9)));
+        assert!((c.scope.size.x * c.scope.size.y - Mesh::from_polygon(&c.points).area()).abs() < 1e-12);
+    }
+    let front = faces.iter().find(|c| FaceClass::of(c.normal, &reference) == FaceClass::Front);
+    // The front face's first edge runs along the ground, so its y axis is world up.
+    assert!(close(front.unwrap().scope.y_axis(), DVec3::Y));
+    assert!(FaceClass::Front.is_side() && !FaceClass::Top.is_side());
+}
+
+#[test]
+fn classification_follows_the_reference_scope_and_breaks_ties_towards_y() {
+    let mut turned = Scope::axis_aligned(DVec3::ZERO, DVec3::ONE);
+    turned.rotate_euler_degrees(DVec3::new(0.0, 90.0, 0.0), Pivot::Origin);
+    assert_eq!(FaceClass::of(DVec3::X, &turned), FaceClass::Front);
+    assert_eq!(FaceClass::of(-DVec3::Z, &turned), FaceClass::Right);
+    let world = Scope::default();
+    assert_eq!(FaceClass::of(DVec3::new(1.0, 1.0, 0.0), &world), FaceClass::Top);
+    assert_eq!(FaceClass::of(DVec3::new(1.0, 0.0, -1.0), &world), FaceClass::Back);
+    assert_eq!(FaceClass::of(DVec3::new(-1.0, 0.2, 0.1), &world), FaceClass::Left);
+}
+
+#[test]
+fn edges_and_vertices_of_a_box() {
+    let b = cuboid(DVec3::ONE);
+    let edges = component::edges(&b);
+    assert_eq!(edges.len(), 12);
+    for e in &edges {
+        assert_eq!(e.kind, ComponentKind::Edge);
+        assert!(close(e.scope.size, DVec3::new(1.0, 0.0, 0.0)));
+        assert!(close(e.scope.to_world(DVec3::ZERO), e.points[0]));
+        // The mean normal of two perpendicular faces leans out at 45°.
+        assert!((e.normal.length() - 1.0).abs() < 1e-12);
+        assert!(e.scope.x_axis().dot(e.normal).abs() < 1e-12);
+    }
+    let vertices = component::vertices(&b);
+    assert_eq!(vertices.len(), 8);
+    for v in &vertices {
+        let outward = (v.points[0] - DVec3::splat(0.5)).normalize();
+        assert!(close(v.normal, outward));
+        assert!(close(v.scope.z_axis(), outward));
+        assert!((v.scope.axes.determinant() - 1.0).abs() < 1e-12);
+    }
+}
+
+#[test]
+fn triangulates_non_convex_polygons_and_holes() {
+    let l = common_shapes::l_prism();
+    let triangles = l.triangulate();
+    let area: f64 = triangles
+        .iter()
+        .map(|t| {
+            let [a, b, c] = t.map(|i| l.position(i));
+            (b - a).cross(c - a).length() * 0.5
+        })
+        .sum();
+    assert!((area - l.area()).abs() < 1e-12);
+    assert_eq!(l.degenerate_triangle_count(1e-12), 0);
+    let square = |r: f64| [(-r, -r), (r, -r), (r, r), (-r, r)].map(|(x, y)| DVec3::new(x, y, 0.0));
+    let mut points = square(2.0).to_vec();
+    points.extend(square(1.0).iter().rev());
+    let t = Triangulator::new().triangulate(&points, &[4]);
+    assert_eq!(t.len(), 8);
+    for tri in t {
+        let [a, b, c] = tri.map(|i| points[i as usize]);
+        assert!((b - a).cross(c - a).z > 0.0, "triangles wind like the outer loop");
+    }
+}
+
+#[test]
+fn welding_recovers_a_watertight_mesh_from_a_triangle_soup() {
+    let b = cuboid(DVec3::new(1.0, 2.0, 3.0));
+    let mut soup = Mesh::new();
+    for t in b.triangulate() {
+        let ids = t.map(|i| soup.add_vertex(b.position(i) + DVec3::splat(1e-12)));
+        soup.add_face(&ids);
+    }
+    assert_eq!(soup.vertex_count(), 36);
+    assert_eq!(soup.edge_report().boundary, 36);
+    let welded = soup.welded(1e-6);
+    assert_eq!(welded.vertex_count(), 8);
+    assert!(welded.is_watertight());
+    assert!((welded.signed_volume() - 6.0).abs() < 1e-9);
+}
+
+#[test]
+fn mirroring_transform_keeps_normals_outward() {
+    let b = cuboid(DVec3::ONE);
+    let mirrored = b.transformed(&shapegram_geom::DAffine3::from_scale(DVec3::new(-1.0, 1.0, 1.0)));
+    assert_eq!(mirrored.signed_volume(), 1.0);
+    assert!(mirrored.is_watertight());
+}
+
+#[test]
+fn colours_parse_and_print_as_hex() {
+    assert_eq!(Color::from_hex("#3a6ea5").unwrap().to_hex(), "#3a6ea5");
+    assert_eq!(Color::from_hex("fff").unwrap(), Color::rgb(1.0, 1.0, 1.0));
+    assert_eq!(Color::from_hex("#00000080").unwrap().to_hex(), "#00000080");
+    for bad in ["", "#12", "#ggg", "#12345", "#ééé"] {
+        assert_eq!(Color::from_hex(bad), None, "{bad}");
+    }
+}
