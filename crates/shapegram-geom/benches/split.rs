@@ -38,7 +38,13 @@ fn bench_single_cuts(c: &mut Criterion, name: &str, mesh: &Mesh) {
     let offsets: Vec<f64> = (1..10).map(|k| f64::from(k) * 0.4).collect();
     group.throughput(Throughput::Elements(offsets.len() as u64));
     group.bench_function("nine parallel planes in one pass", |b| {
-        b.iter(|| black_box(split_slabs(black_box(mesh), DVec3::new(0.3, 1.0, 0.2), &offsets)))
+        b.iter(|| {
+            black_box(split_slabs(
+                black_box(mesh),
+                DVec3::new(0.3, 1.0, 0.2),
+                &offsets,
+            ))
+        })
     });
     group.finish();
 }

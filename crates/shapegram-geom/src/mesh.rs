@@ -133,6 +133,11 @@ impl Mesh {
         self.face_points(i).sum::<DVec3>() / n
     }
 
+    /// Total number of face corners (the length of all loops together).
+    pub fn indices_len(&self) -> usize {
+        self.indices.len()
+    }
+
     /// Appends another mesh's vertices and faces.
     pub fn append(&mut self, other: &Mesh) {
         let base = self.positions.len() as u32;
@@ -205,7 +210,7 @@ impl Mesh {
             let q = (p / tolerance).round();
             (q.x as i64, q.y as i64, q.z as i64)
         };
-        let mut index_of = std::collections::HashMap::with_capacity(self.positions.len());
+        let mut index_of = rustc_hash::FxHashMap::default();
         let mut positions = Vec::new();
         let remap: Vec<u32> = self
             .positions

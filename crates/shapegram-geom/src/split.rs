@@ -7,7 +7,7 @@
 //! is triangulated. New vertices are shared between neighbouring faces, so closed input gives
 //! watertight parts.
 
-use std::collections::HashMap;
+use rustc_hash::FxHashMap as HashMap;
 
 use crate::{
     DVec3, Mesh, Plane,
@@ -42,7 +42,7 @@ pub fn split_slabs(mesh: &Mesh, normal: DVec3, offsets: &[f64]) -> Vec<Mesh> {
         normal,
         offsets: &offsets,
         eps: bounds.tolerance(),
-        crossings: HashMap::new(),
+        crossings: HashMap::default(),
     };
     let mut slabs: Vec<Vec<Vec<u32>>> = vec![Vec::new(); offsets.len() + 1];
     for face in mesh.faces() {
@@ -311,7 +311,7 @@ fn dedup_loop(face: &mut Vec<u32>) {
 /// touching at a corner) the loop takes the sharpest left turn, which keeps each loop simple for
 /// loops counter-clockwise about `normal`. Chains that do not close are dropped.
 fn chain_loops(edges: &[(u32, u32)], positions: &[DVec3], normal: DVec3) -> Vec<Vec<u32>> {
-    let mut leaving: HashMap<u32, Vec<usize>> = HashMap::new();
+    let mut leaving: HashMap<u32, Vec<usize>> = HashMap::default();
     for (i, &(a, _)) in edges.iter().enumerate() {
         leaving.entry(a).or_default().push(i);
     }

@@ -1,6 +1,6 @@
 //! Edge adjacency: watertightness checks, boundary loops and the undirected edges of a mesh.
 
-use std::collections::HashMap;
+use rustc_hash::FxHashMap as HashMap;
 
 use crate::Mesh;
 
@@ -41,7 +41,7 @@ pub struct Edge {
 impl Mesh {
     /// The undirected edges in order of first use (face by face, corner by corner).
     pub fn edges(&self) -> Vec<Edge> {
-        let mut slot: HashMap<(u32, u32), usize> = HashMap::new();
+        let mut slot: HashMap<(u32, u32), usize> = HashMap::default();
         let mut edges: Vec<Edge> = Vec::new();
         for (f, face) in self.faces().enumerate() {
             for (i, &u) in face.iter().enumerate() {
@@ -92,22 +92,23 @@ impl Mesh {
 
     /// Directed edges `(from, to)` that no face uses in the opposite direction, in face order.
     pub fn boundary_edges(&self) -> Vec<(u32, u32)> {
-        let mut count: HashMap<(u32, u32), i32> = HashMap::new();
-        for face in self.faces() {
-            for (i, &u) in face.iter().enumerate() {
-                let v = face[(i + 1) % face.len()];
-                *count.entry((u, v)).or_default() += 1;
-            }
+        let key = |u: u32, v: u32| (u64::from(u) << 32) | u64::from(v);
+        let mut count: HashMap<u64, i32> = HashMap::default();
+        count.reserve(self.indices_len());
+        for (u, v) in self.directed_edges() {
+            *count.entry(key(u, v)).or_default() += 1;
         }
-        let mut out = Vec::new();
-        for face in self.faces() {
-            for (i, &u) in face.iter().enumerate() {
-                let v = face[(i + 1) % face.len()];
-                if count.get(&(v, u)).copied().unwrap_or(0) < count[&(u, v)] {
-                    out.push((u, v));
-                }
-            }
-        }
-        out
+        self.directed_edges()
+            .filter(|&(u, v)| count.get(&key(v, u)).copied().unwrap_or(0) < count[&key(u, v)])
+            .collect()
+    }
+
+    /// Every corner's outgoing edge `(corner, next corner)`, face by face.
+    fn directed_edges(&self) -> impl Iterator<Item = (u32, u32)> + '_ {
+        self.faces().flat_map(|face| {
+            face.iter()
+                .zip(face.iter().cycle().skip(1))
+                .map(|(&u, &v)| (u, v))
+        })
     }
 }

@@ -1,6 +1,6 @@
 //! Scopes, extrusion, offsets, components, triangulation, welding and colours.
 
-mod common_shapes;
+mod common;
 
 use shapegram_geom::{
     Color, ComponentKind, DMat3, DQuat, DVec3, FaceClass, Mesh, Pivot, Scope, component,
@@ -94,7 +94,7 @@ fn extruded_polygon_is_a_closed_prism() {
     assert_eq!(down.bounds().unwrap().min, DVec3::new(0.0, -4.0, 0.0));
     assert!(extrude_polygon(&points, 0.0).is_none());
     assert!(extrude_polygon(&points, f64::NAN).is_none());
-    let l = common_shapes::l_prism();
+    let l = common::l_prism();
     assert!(l.is_watertight());
     assert_eq!(l.signed_volume(), 36.0);
 }
@@ -156,9 +156,13 @@ fn box_faces_classify_once_each_with_right_handed_frames() {
         assert!(close(c.scope.z_axis(), c.normal));
         assert_eq!(c.scope.size.z, 0.0);
         assert!(c.points.iter().all(|&p| c.scope.contains(p, 1e-9)));
-        assert!((c.scope.size.x * c.scope.size.y - Mesh::from_polygon(&c.points).area()).abs() < 1e-12);
+        assert!(
+            (c.scope.size.x * c.scope.size.y - Mesh::from_polygon(&c.points).area()).abs() < 1e-12
+        );
     }
-    let front = faces.iter().find(|c| FaceClass::of(c.normal, &reference) == FaceClass::Front);
+    let front = faces
+        .iter()
+        .find(|c| FaceClass::of(c.normal, &reference) == FaceClass::Front);
     // The front face's first edge runs along the ground, so its y axis is world up.
     assert!(close(front.unwrap().scope.y_axis(), DVec3::Y));
     assert!(FaceClass::Front.is_side() && !FaceClass::Top.is_side());
@@ -171,9 +175,18 @@ fn classification_follows_the_reference_scope_and_breaks_ties_towards_y() {
     assert_eq!(FaceClass::of(DVec3::X, &turned), FaceClass::Front);
     assert_eq!(FaceClass::of(-DVec3::Z, &turned), FaceClass::Right);
     let world = Scope::default();
-    assert_eq!(FaceClass::of(DVec3::new(1.0, 1.0, 0.0), &world), FaceClass::Top);
-    assert_eq!(FaceClass::of(DVec3::new(1.0, 0.0, -1.0), &world), FaceClass::Back);
-    assert_eq!(FaceClass::of(DVec3::new(-1.0, 0.2, 0.1), &world), FaceClass::Left);
+    assert_eq!(
+        FaceClass::of(DVec3::new(1.0, 1.0, 0.0), &world),
+        FaceClass::Top
+    );
+    assert_eq!(
+        FaceClass::of(DVec3::new(1.0, 0.0, -1.0), &world),
+        FaceClass::Back
+    );
+    assert_eq!(
+        FaceClass::of(DVec3::new(-1.0, 0.2, 0.1), &world),
+        FaceClass::Left
+    );
 }
 
 #[test]
@@ -201,7 +214,7 @@ fn edges_and_vertices_of_a_box() {
 
 #[test]
 fn triangulates_non_convex_polygons_and_holes() {
-    let l = common_shapes::l_prism();
+    let l = common::l_prism();
     let triangles = l.triangulate();
     let area: f64 = triangles
         .iter()
@@ -219,7 +232,10 @@ fn triangulates_non_convex_polygons_and_holes() {
     assert_eq!(t.len(), 8);
     for tri in t {
         let [a, b, c] = tri.map(|i| points[i as usize]);
-        assert!((b - a).cross(c - a).z > 0.0, "triangles wind like the outer loop");
+        assert!(
+            (b - a).cross(c - a).z > 0.0,
+            "triangles wind like the outer loop"
+        );
     }
 }
 
@@ -242,7 +258,9 @@ fn welding_recovers_a_watertight_mesh_from_a_triangle_soup() {
 #[test]
 fn mirroring_transform_keeps_normals_outward() {
     let b = cuboid(DVec3::ONE);
-    let mirrored = b.transformed(&shapegram_geom::DAffine3::from_scale(DVec3::new(-1.0, 1.0, 1.0)));
+    let mirrored = b.transformed(&shapegram_geom::DAffine3::from_scale(DVec3::new(
+        -1.0, 1.0, 1.0,
+    )));
     assert_eq!(mirrored.signed_volume(), 1.0);
     assert!(mirrored.is_watertight());
 }

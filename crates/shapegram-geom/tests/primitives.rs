@@ -86,7 +86,14 @@ fn quads_and_footprints_face_up() {
     assert_eq!(q.edge_report().boundary, 4);
     assert!(!q.is_watertight());
     // Clockwise seen from above: reversed to face up.
-    let l = [(0.0, 0.0), (0.0, 4.0), (2.0, 4.0), (2.0, 2.0), (4.0, 2.0), (4.0, 0.0)];
+    let l = [
+        (0.0, 0.0),
+        (0.0, 4.0),
+        (2.0, 4.0),
+        (2.0, 2.0),
+        (4.0, 2.0),
+        (4.0, 0.0),
+    ];
     let f = footprint(&l.map(|(x, z)| DVec2::new(x, z))).unwrap();
     assert_eq!(f.face_normal(0), DVec3::Y);
     assert_eq!(f.area(), 12.0);

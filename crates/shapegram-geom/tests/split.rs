@@ -1,7 +1,7 @@
 //! Plane cuts on hand-picked cases: through vertices, edges and faces, non-convex faces, caps with
 //! holes, several planes at once.
 
-mod common_shapes;
+mod common;
 
 use shapegram_geom::{
     DVec3, Mesh, Plane,
@@ -13,7 +13,8 @@ use shapegram_geom::{
 fn cap_area(mesh: &Mesh, plane: &Plane, facing: DVec3) -> f64 {
     (0..mesh.face_count())
         .filter(|&f| {
-            mesh.face_points(f).all(|p| plane.signed_distance(p).abs() < 1e-9)
+            mesh.face_points(f)
+                .all(|p| plane.signed_distance(p).abs() < 1e-9)
                 && mesh.face_normal(f).abs_diff_eq(facing, 1e-9)
         })
         .map(|f| mesh.face_area(f))
@@ -23,7 +24,11 @@ fn cap_area(mesh: &Mesh, plane: &Plane, facing: DVec3) -> f64 {
 fn assert_parts(mesh: &Mesh, plane: Plane, below_volume: f64, above_volume: f64) -> (Mesh, Mesh) {
     let (below, above) = split(mesh, &plane);
     for (part, volume) in [(&below, below_volume), (&above, above_volume)] {
-        assert!((part.signed_volume() - volume).abs() < 1e-9, "{} != {volume}", part.signed_volume());
+        assert!(
+            (part.signed_volume() - volume).abs() < 1e-9,
+            "{} != {volume}",
+            part.signed_volume()
+        );
         if volume > 0.0 {
             let report = part.edge_report();
             assert!(report.is_watertight(), "{report:?}");
@@ -37,7 +42,10 @@ fn assert_parts(mesh: &Mesh, plane: Plane, below_volume: f64, above_volume: f64)
 #[test]
 fn box_cut_in_half_gets_two_caps() {
     let b = cuboid(DVec3::new(2.0, 3.0, 4.0));
-    let plane = Plane { normal: DVec3::Y, offset: 1.5 };
+    let plane = Plane {
+        normal: DVec3::Y,
+        offset: 1.5,
+    };
     let (below, above) = assert_parts(&b, plane, 12.0, 12.0);
     assert_eq!((below.face_count(), above.face_count()), (6, 6));
     assert_eq!((below.vertex_count(), above.vertex_count()), (8, 8));
@@ -68,7 +76,10 @@ fn cut_along_a_diagonal_through_two_edges() {
 fn planes_on_faces_or_outside_leave_the_solid_whole() {
     let b = cuboid(DVec3::new(2.0, 3.0, 4.0));
     for (offset, below) in [(0.0, 0.0), (3.0, 24.0), (-1.0, 0.0), (7.0, 24.0)] {
-        let plane = Plane { normal: DVec3::Y, offset };
+        let plane = Plane {
+            normal: DVec3::Y,
+            offset,
+        };
         let (lo, hi) = assert_parts(&b, plane, below, 24.0 - below);
         assert_eq!(lo.face_count() + hi.face_count(), 6, "no caps at {offset}");
     }
@@ -76,20 +87,28 @@ fn planes_on_faces_or_outside_leave_the_solid_whole() {
 
 #[test]
 fn cut_across_both_arms_of_a_u_gives_two_closed_pieces_in_one_part() {
-    let u = common_shapes::u_prism();
-    let plane = Plane { normal: DVec3::Z, offset: 2.5 };
+    let u = common::u_prism();
+    let plane = Plane {
+        normal: DVec3::Z,
+        offset: 2.5,
+    };
     let (_, arms) = assert_parts(&u, plane, 24.0, 12.0);
     assert_eq!(arms.face_count(), 12);
     assert_eq!(cap_area(&arms, &plane, -DVec3::Z), 8.0);
     // The bottom of the U is one face crossed twice; its part above the cut is two faces.
-    let bottoms = (0..arms.face_count()).filter(|&f| arms.face_normal(f) == -DVec3::Y).count();
+    let bottoms = (0..arms.face_count())
+        .filter(|&f| arms.face_normal(f) == -DVec3::Y)
+        .count();
     assert_eq!(bottoms, 2);
 }
 
 #[test]
 fn cut_through_a_tube_gives_ring_caps() {
-    let tube = common_shapes::tube();
-    let plane = Plane { normal: DVec3::Y, offset: 1.5 };
+    let tube = common::tube();
+    let plane = Plane {
+        normal: DVec3::Y,
+        offset: 1.5,
+    };
     let (below, above) = assert_parts(&tube, plane, 18.0, 18.0);
     assert!((cap_area(&below, &plane, DVec3::Y) - 12.0).abs() < 1e-12);
     assert!((cap_area(&above, &plane, -DVec3::Y) - 12.0).abs() < 1e-12);
@@ -100,8 +119,11 @@ fn cut_through_a_tube_gives_ring_caps() {
 fn reflex_corner_on_the_plane_splits_an_l_cleanly() {
     // The plane x = 2 passes through the L's reflex edge: the top and bottom faces touch the cut
     // line at their reflex corner.
-    let l = common_shapes::l_prism();
-    let plane = Plane { normal: DVec3::X, offset: 2.0 };
+    let l = common::l_prism();
+    let plane = Plane {
+        normal: DVec3::X,
+        offset: 2.0,
+    };
     let (left, right) = assert_parts(&l, plane, 24.0, 12.0);
     // The left part keeps the L's own face on the plane beside the new cap: 7 faces.
     assert_eq!((left.face_count(), right.face_count()), (7, 6));
@@ -128,17 +150,35 @@ fn comb_polygon_splits_into_one_piece_per_tooth() {
     .iter()
     .map(|&(x, y)| DVec3::new(x, y, 0.0))
     .collect();
-    let plane = Plane { normal: DVec3::Y, offset: 2.0 };
+    let plane = Plane {
+        normal: DVec3::Y,
+        offset: 2.0,
+    };
     let (below, above) = split_polygon(&comb, &plane);
     assert_eq!((below.len(), above.len()), (1, 3));
-    let area = |loops: &[Vec<DVec3>]| loops.iter().map(|l| Mesh::from_polygon(l).area()).sum::<f64>();
+    let area = |loops: &[Vec<DVec3>]| {
+        loops
+            .iter()
+            .map(|l| Mesh::from_polygon(l).area())
+            .sum::<f64>()
+    };
     assert!((area(&below) - 8.0).abs() < 1e-12);
     assert!((area(&above) - 3.0).abs() < 1e-12);
     for piece in below.iter().chain(&above) {
-        assert!(Mesh::from_polygon(piece).face_normal(0).abs_diff_eq(DVec3::Z, 1e-12));
+        assert!(
+            Mesh::from_polygon(piece)
+                .face_normal(0)
+                .abs_diff_eq(DVec3::Z, 1e-12)
+        );
     }
     // Along the cut at the teeth's base, the pieces below and above meet at the reflex corners.
-    let (below, above) = split_polygon(&comb, &Plane { normal: DVec3::Y, offset: 1.0 });
+    let (below, above) = split_polygon(
+        &comb,
+        &Plane {
+            normal: DVec3::Y,
+            offset: 1.0,
+        },
+    );
     assert_eq!((below.len(), above.len()), (1, 3));
     assert!((area(&below) - 5.0).abs() < 1e-12);
 }
@@ -164,14 +204,24 @@ fn slabs_accept_unsorted_duplicate_and_outside_offsets() {
     // A non-unit normal scales the offsets: planes at y = −2, 1, 1, 3.
     let volumes: Vec<f64> = slabs.iter().map(Mesh::signed_volume).collect();
     assert_eq!(volumes, [0.0, 1.0, 0.0, 2.0, 1.0]);
-    assert!(split_slabs(&Mesh::new(), DVec3::Y, &[1.0]).iter().all(Mesh::is_empty));
+    assert!(
+        split_slabs(&Mesh::new(), DVec3::Y, &[1.0])
+            .iter()
+            .all(Mesh::is_empty)
+    );
 }
 
 #[test]
 fn open_meshes_are_not_capped() {
     let b = cuboid(DVec3::ONE);
     let open = Mesh::from_faces(b.positions().to_vec(), b.faces().skip(1));
-    let (below, above) = split(&open, &Plane { normal: DVec3::Y, offset: 0.5 });
+    let (below, above) = split(
+        &open,
+        &Plane {
+            normal: DVec3::Y,
+            offset: 0.5,
+        },
+    );
     // Three of the five faces cross the plane.
     assert_eq!(below.face_count() + above.face_count(), 5 + 3);
     assert!((below.area() + above.area() - 5.0).abs() < 1e-12);
@@ -179,7 +229,7 @@ fn open_meshes_are_not_capped() {
 
 #[test]
 fn cuts_are_deterministic() {
-    let tube = common_shapes::tube();
+    let tube = common::tube();
     let plane = Plane::from_point_normal(DVec3::new(0.1, 1.2, 0.3), DVec3::new(0.3, 1.0, -0.2));
     assert_eq!(split(&tube, &plane), split(&tube, &plane));
 }

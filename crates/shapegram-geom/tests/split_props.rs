@@ -2,7 +2,7 @@
 //! poses, cut by random planes, must keep volume and surface, give closed parts, and keep normals
 //! pointing outward.
 
-mod common_shapes;
+mod common;
 
 use proptest::prelude::*;
 use shapegram_geom::{
@@ -23,16 +23,18 @@ fn direction() -> impl Strategy<Value = DVec3> {
 
 /// A solid from a small zoo, scaled, turned and moved.
 fn solid() -> impl Strategy<Value = Mesh> {
-    let shape = (0..8usize, vec3(0.5..5.0), 3..14u32, 2..7u32).prop_map(|(kind, size, n, rings)| match kind {
-        0 => cuboid(size),
-        1 => cylinder(size, n),
-        2 => sphere(size, n, rings),
-        3 => cone(size, n),
-        4 => pyramid(size),
-        5 => common_shapes::l_prism(),
-        6 => common_shapes::u_prism(),
-        _ => common_shapes::tube(),
-    });
+    let shape = (0..8usize, vec3(0.5..5.0), 3..14u32, 2..7u32).prop_map(
+        |(kind, size, n, rings)| match kind {
+            0 => cuboid(size),
+            1 => cylinder(size, n),
+            2 => sphere(size, n, rings),
+            3 => cone(size, n),
+            4 => pyramid(size),
+            5 => common::l_prism(),
+            6 => common::u_prism(),
+            _ => common::tube(),
+        },
+    );
     (shape, vec3(-3.2..3.2), vec3(-50.0..50.0)).prop_map(|(mesh, angles, shift)| {
         let turn = DQuat::from_euler(glam::EulerRot::XYZ, angles.x, angles.y, angles.z);
         mesh.transformed(&DAffine3::from_rotation_translation(turn, shift))
@@ -47,13 +49,20 @@ fn plane_across(mesh: &Mesh, normal: DVec3, t: f64, through_vertex: Option<usize
     let heights = mesh.positions().iter().map(|p| p.dot(normal));
     let lo = heights.clone().fold(f64::INFINITY, f64::min);
     let hi = heights.fold(f64::NEG_INFINITY, f64::max);
-    Plane { normal, offset: lo + (hi - lo) * t }
+    Plane {
+        normal,
+        offset: lo + (hi - lo) * t,
+    }
 }
 
 /// Total area of the faces not lying in the plane.
 fn area_off_plane(mesh: &Mesh, plane: &Plane, eps: f64) -> f64 {
     (0..mesh.face_count())
-        .filter(|&f| !mesh.face_points(f).all(|p| plane.signed_distance(p).abs() <= eps))
+        .filter(|&f| {
+            !mesh
+                .face_points(f)
+                .all(|p| plane.signed_distance(p).abs() <= eps)
+        })
         .map(|f| mesh.face_area(f))
         .sum()
 }
@@ -65,7 +74,12 @@ fn check_part(part: &Mesh, total: f64, tol: f64) -> Result<(), TestCaseError> {
     let report = part.edge_report();
     prop_assert!(report.is_watertight(), "part not closed: {:?}", report);
     let v = part.signed_volume();
-    prop_assert!(v > -tol && v < total + tol, "part volume {} of {}", v, total);
+    prop_assert!(
+        v > -tol && v < total + tol,
+        "part volume {} of {}",
+        v,
+        total
+    );
     Ok(())
 }
 
