@@ -245,18 +245,15 @@ impl Mesh {
 
     /// A copy without unused vertices, vertex order kept.
     pub fn compacted(&self) -> Self {
-        let mut remap = vec![u32::MAX; self.positions.len()];
-        let mut positions = Vec::new();
+        let mut used = vec![false; self.positions.len()];
         for &v in &self.indices {
-            if remap[v as usize] == u32::MAX {
-                remap[v as usize] = 0;
-            }
+            used[v as usize] = true;
         }
-        for (old, slot) in remap.iter_mut().enumerate() {
-            if *slot == 0 {
-                *slot = positions.len() as u32;
-                positions.push(self.positions[old]);
-            }
+        let mut remap = vec![0u32; self.positions.len()];
+        let mut positions = Vec::with_capacity(self.positions.len());
+        for (old, _) in used.iter().enumerate().filter(|(_, u)| **u) {
+            remap[old] = positions.len() as u32;
+            positions.push(self.positions[old]);
         }
         Self {
             positions,

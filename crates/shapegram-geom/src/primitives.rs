@@ -1,11 +1,10 @@
 //! Closed primitives built to fill the box `[0, size]`, with y up, and flat footprints.
 //!
-//! Curved primitives are polyhedral: a cylinder with `n` sides is the prism over the regular
-//! `n`-gon inscribed in the circle, so its volume is `V·n·sin(2π/n)/(2π)` of the smooth one
-//! (−0.16 % at 64 sides). A UV sphere with `s` segments and `r` rings is inscribed in the smooth
-//! sphere, and its volume is below the smooth one by at most `1 − sin(2π/s)·s/(2π)·cos²(π/(2r))`
-//! relative (−0.7 % at 32 × 16). [`cylinder_volume`] and [`sphere_volume`] give the exact volumes
-//! of these polyhedra.
+//! Curved primitives are polyhedra inscribed in the smooth shape. A cylinder with `n` sides is the
+//! prism over the inscribed regular `n`-gon, so its volume is `n·sin(2π/n)/(2π)` of the smooth one
+//! (−0.16 % at 64 sides); a UV sphere of 32 segments × 16 rings has 1.6 % less volume than the
+//! smooth sphere. [`cylinder_volume`] and [`sphere_volume`] give the exact volumes of these
+//! polyhedra.
 
 use std::f64::consts::{PI, TAU};
 

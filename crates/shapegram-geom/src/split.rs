@@ -26,12 +26,28 @@ pub fn split(mesh: &Mesh, plane: &Plane) -> (Mesh, Mesh) {
 
 /// Cuts a mesh by the parallel planes `normal · p = offsets[k]` in one pass and returns the
 /// `offsets.len() + 1` slabs in order along `normal` (empty meshes where a slab holds nothing).
-/// Offsets are sorted first; `normal` need not be unit length but must not be zero.
-/// Closed input gives closed slabs.
+/// Offsets are sorted first; `normal` need not be unit length. Closed input gives closed slabs.
+///
+/// Degenerate input cuts nothing rather than losing geometry: with a zero or non-finite normal the
+/// whole mesh is the first slab, and a NaN offset counts as +∞.
 pub fn split_slabs(mesh: &Mesh, normal: DVec3, offsets: &[f64]) -> Vec<Mesh> {
     let length = normal.length();
+    if !(length > 0.0 && length.is_finite()) {
+        let mut slabs = vec![Mesh::new(); offsets.len() + 1];
+        slabs[0] = mesh.clone();
+        return slabs;
+    }
     let normal = normal / length;
-    let mut offsets: Vec<f64> = offsets.iter().map(|o| o / length).collect();
+    let mut offsets: Vec<f64> = offsets
+        .iter()
+        .map(|o| {
+            if o.is_nan() {
+                f64::INFINITY
+            } else {
+                o / length
+            }
+        })
+        .collect();
     offsets.sort_by(f64::total_cmp);
     let Some(bounds) = mesh.bounds() else {
         return vec![Mesh::new(); offsets.len() + 1];

@@ -233,3 +233,16 @@ fn cuts_are_deterministic() {
     let plane = Plane::from_point_normal(DVec3::new(0.1, 1.2, 0.3), DVec3::new(0.3, 1.0, -0.2));
     assert_eq!(split(&tube, &plane), split(&tube, &plane));
 }
+
+#[test]
+fn degenerate_planes_cut_nothing() {
+    let b = cuboid(DVec3::ONE);
+    for normal in [DVec3::ZERO, DVec3::NAN, DVec3::INFINITY] {
+        let slabs = split_slabs(&b, normal, &[0.5]);
+        assert_eq!(slabs[0], b);
+        assert!(slabs[1].is_empty());
+    }
+    let slabs = split_slabs(&b, DVec3::Y, &[f64::NAN, 0.5, f64::NEG_INFINITY]);
+    let volumes: Vec<f64> = slabs.iter().map(Mesh::signed_volume).collect();
+    assert_eq!(volumes, [0.0, 0.5, 0.5, 0.0]);
+}
