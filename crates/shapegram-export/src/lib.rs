@@ -1,1 +1,130 @@
-//! x
+//! Shapegram's file formats: GLB (binary glTF 2.0), OBJ + MTL and binary STL, written from and
+//! read into [`shapegram_geom::Model`].
+//!
+//! Writers are deterministic: the same model gives the same bytes (materials are ordered by the
+//! first part that uses their colour, nothing depends on hash order, floats are printed with
+//! Rust's shortest round-trip formatting). Every writer drops faces without area or with
+//! non-finite corners, and GLB/STL also drop triangles that lose their area in f32; parts left
+//! without faces are not written.
+//!
+//! Readers treat their input as untrusted and return [`Error`] rather than panic.
+
+mod error;
+mod flat;
+mod glb;
+mod obj;
+mod read;
+mod stl;
+
+use std::path::Path;
+
+use shapegram_geom::Model;
+
+pub use error::Error;
+pub use glb::write_glb;
+pub use obj::write_obj;
+pub use read::{read_glb, read_obj, read_stl};
+pub use stl::write_stl;
+
+/// A file format, chosen by file extension.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Format {
+    /// Binary glTF 2.0.
+    Glb,
+    /// Wavefront OBJ with an MTL beside it.
+    Obj,
+    /// Binary STL (ASCII STL is read too).
+    Stl,
+}
+
+impl Format {
+    /// By file extension (case-insensitive): .glb, .obj, .stl; otherwise `Error::UnknownFormat`.
+    pub fn from_path(path: &Path) -> Result<Format, Error> {
+        let extension = path
+            .extension()
+            .and_then(|e| e.to_str())
+            .map(str::to_ascii_lowercase);
+        match extension.as_deref() {
+            Some("glb") => Ok(Self::Glb),
+            Some("obj") => Ok(Self::Obj),
+            Some("stl") => Ok(Self::Stl),
+            _ => Err(Error::UnknownFormat(path.to_path_buf())),
+        }
+    }
+
+    /// The usual file extension, without the dot.
+    pub fn extension(self) -> &'static str {
+        match self {
+            Self::Glb => "glb",
+            Self::Obj => "obj",
+            Self::Stl => "stl",
+        }
+    }
+
+    /// The name used in messages.
+    pub(crate) fn name(self) -> &'static str {
+        match self {
+            Self::Glb => "GLB",
+            Self::Obj => "OBJ",
+            Self::Stl => "STL",
+        }
+    }
+}
+
+/// Choices that change what the writers produce.
+#[derive(Clone, Debug, Default)]
+pub struct ExportOptions {
+    /// One glTF node (and one OBJ `o`) per part, named after the part; otherwise parts with the
+    /// same colour are merged into one mesh per material.
+    pub group_by_part: bool,
+}
+
+/// Writes to `path` in the format of its extension; OBJ also writes the .mtl beside it (same
+/// stem). Parent directories must exist.
+pub fn save(model: &Model, path: &Path, options: &ExportOptions) -> Result<(), Error> {
+    let write = |file: &Path, bytes: &[u8]| {
+        std::fs::write(file, bytes).map_err(|source| Error::Write {
+            path: file.to_path_buf(),
+            source,
+        })
+    };
+    match Format::from_path(path)? {
+        Format::Glb => write(path, &write_glb(model, options)),
+        Format::Stl => write(path, &write_stl(model)),
+        Format::Obj => {
+            let mtl_path = path.with_extension("mtl");
+            let mtl_name = mtl_path
+                .file_name()
+                .map(|n| n.to_string_lossy().into_owned())
+                .unwrap_or_default();
+            let (obj, mtl) = write_obj(model, options, &mtl_name);
+            write(path, obj.as_bytes())?;
+            write(&mtl_path, mtl.as_bytes())
+        }
+    }
+}
+
+/// Reads a file by extension; for OBJ, an MTL named by `mtllib` beside it gives the colours
+/// (Kd, d) when it exists.
+pub fn load(path: &Path) -> Result<Model, Error> {
+    let format = Format::from_path(path)?;
+    let bytes = std::fs::read(path).map_err(|source| Error::Read {
+        path: path.to_path_buf(),
+        source,
+    })?;
+    let model = match format {
+        Format::Glb => read_glb(&bytes),
+        Format::Stl => read_stl(&bytes),
+        Format::Obj => {
+            let text = std::str::from_utf8(&bytes)
+                .map_err(|e| Error::broken(Format::Obj, format!("not UTF-8 text ({e})")))
+                .map_err(|e| e.at(path))?;
+            let dir = path.parent().unwrap_or(Path::new(""));
+            read::read_obj_with(text, |mtl| match std::fs::read(dir.join(mtl)) {
+                Ok(bytes) => tobj::load_mtl_buf(&mut bytes.as_slice()),
+                Err(_) => Err(tobj::LoadError::OpenFileFailed),
+            })
+        }
+    };
+    model.map_err(|e| e.at(path))
+}

@@ -2,7 +2,7 @@
 
 use crate::{Aabb, Mesh};
 
-/// A linear-free sRGB colour with alpha, each channel in `0..=1`.
+/// An sRGB colour (as in `#rrggbb` notation) with straight alpha, each channel in `0..=1`.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Color {
     /// Red.
@@ -65,6 +65,36 @@ impl Color {
             rgb
         } else {
             format!("{rgb}{:02x}", byte(self.a))
+        }
+    }
+
+    /// The channels converted to linear light, in RGBA order (alpha unchanged): what glTF's
+    /// `baseColorFactor` holds, so that a model looks the colour its grammar names.
+    pub fn to_linear(&self) -> [f32; 4] {
+        let linear = |c: f32| {
+            if c <= 0.04045 {
+                c / 12.92
+            } else {
+                ((c + 0.055) / 1.055).powf(2.4)
+            }
+        };
+        [linear(self.r), linear(self.g), linear(self.b), self.a]
+    }
+
+    /// A colour from linear-light channels in RGBA order: the inverse of [`Color::to_linear`].
+    pub fn from_linear(rgba: [f32; 4]) -> Self {
+        let encode = |c: f32| {
+            if c <= 0.003_130_8 {
+                c * 12.92
+            } else {
+                1.055 * c.powf(1.0 / 2.4) - 0.055
+            }
+        };
+        Self {
+            r: encode(rgba[0]),
+            g: encode(rgba[1]),
+            b: encode(rgba[2]),
+            a: rgba[3],
         }
     }
 

@@ -270,6 +270,12 @@ fn colours_parse_and_print_as_hex() {
     assert_eq!(Color::from_hex("#3a6ea5").unwrap().to_hex(), "#3a6ea5");
     assert_eq!(Color::from_hex("fff").unwrap(), Color::rgb(1.0, 1.0, 1.0));
     assert_eq!(Color::from_hex("#00000080").unwrap().to_hex(), "#00000080");
+    let c = Color::from_hex("#3a6ea5").unwrap();
+    let linear = c.to_linear();
+    // sRGB 0x3a = 58/255 is about 0.0423 in linear light; mid grey 0.5 is about 0.214.
+    assert!((linear[0] - 0.042311).abs() < 1e-5, "{linear:?}");
+    assert!((Color::rgb(0.5, 0.5, 0.5).to_linear()[1] - 0.214041).abs() < 1e-5);
+    assert_eq!(Color::from_linear(linear).to_hex(), "#3a6ea5");
     for bad in ["", "#12", "#ggg", "#12345", "#ééé"] {
         assert_eq!(Color::from_hex(bad), None, "{bad}");
     }

@@ -1,0 +1,100 @@
+//! Writes sample GLB/OBJ/STL files into a directory, for checking them with external tools:
+//! `cargo run -p shapegram-export --example samples -- /tmp/samples` then
+//! `node .ci/validate-gltf.js /tmp/samples/*.glb`.
+
+use std::path::PathBuf;
+
+use shapegram_export::{ExportOptions, save};
+use shapegram_geom::extrude::extrude_polygon;
+use shapegram_geom::primitives::{cone, cuboid, cylinder, pyramid, quad, sphere};
+use shapegram_geom::{Color, DAffine3, DVec3, Mesh, Model, Part};
+
+fn part(name: &str, hex: &str, mesh: Mesh, at: DVec3) -> Part {
+    Part {
+        name: name.to_owned(),
+        color: Color::from_hex(hex).unwrap_or_default(),
+        mesh: mesh.transformed(&DAffine3::from_translation(at)),
+    }
+}
+
+fn annex() -> Mesh {
+    let outline = [
+        (0.0, 0.0),
+        (2.0, 0.0),
+        (2.0, 1.0),
+        (1.0, 1.0),
+        (1.0, 2.0),
+        (0.0, 2.0),
+    ]
+    .map(|(x, z)| DVec3::new(x, 0.0, z));
+    extrude_polygon(&outline, 1.5).unwrap_or_default()
+}
+
+fn main() -> Result<(), Box<dyn std::error::Error>> {
+    let dir = PathBuf::from(
+        std::env::args()
+            .nth(1)
+            .ok_or("usage: samples <output dir>")?,
+    );
+    std::fs::create_dir_all(&dir)?;
+    let scene = Model {
+        parts: vec![
+            part(
+                "wall",
+                "#c0392b",
+                cuboid(DVec3::new(4.0, 3.0, 0.3)),
+                DVec3::ZERO,
+            ),
+            part(
+                "roof",
+                "#2c3e50",
+                pyramid(DVec3::new(4.0, 1.5, 2.0)),
+                DVec3::new(0.0, 3.0, 0.0),
+            ),
+            part(
+                "column",
+                "#c0392b",
+                cylinder(DVec3::new(0.4, 3.0, 0.4), 24),
+                DVec3::new(5.0, 0.0, 0.0),
+            ),
+            part(
+                "dome",
+                "#27ae60",
+                sphere(DVec3::splat(1.5), 32, 16),
+                DVec3::new(-2.0, 0.0, 0.0),
+            ),
+            part(
+                "glass spire",
+                "#3a6ea580",
+                cone(DVec3::new(1.0, 2.0, 1.0), 16),
+                DVec3::new(0.0, 0.0, 3.0),
+            ),
+            part(
+                "lot",
+                "#7f8c8d",
+                quad(10.0, 8.0),
+                DVec3::new(-3.0, -0.01, -3.0),
+            ),
+            // Non-convex caps exercise the ear-clipping path.
+            part("annex", "#2c3e50", annex(), DVec3::new(-3.0, 0.0, 1.0)),
+        ],
+    };
+    // More than 65535 flat-shaded vertices, so the u32 index path is exercised.
+    let big = Model::single(
+        "ball",
+        Color::default(),
+        sphere(DVec3::splat(10.0), 256, 128),
+    );
+    let grouped = ExportOptions {
+        group_by_part: true,
+    };
+    let merged = ExportOptions::default();
+    save(&scene, &dir.join("scene-grouped.glb"), &grouped)?;
+    save(&scene, &dir.join("scene-merged.glb"), &merged)?;
+    save(&Model::default(), &dir.join("empty.glb"), &merged)?;
+    save(&big, &dir.join("big.glb"), &merged)?;
+    save(&scene, &dir.join("scene.obj"), &grouped)?;
+    save(&scene, &dir.join("scene.stl"), &merged)?;
+    println!("wrote samples to {}", dir.display());
+    Ok(())
+}
