@@ -32,9 +32,7 @@ pub fn u_prism() -> Mesh {
         (2.0, 4.0),
         (0.0, 4.0),
     ];
-    let footprint = primitives::footprint(&u.map(|(x, z)| DVec2::new(x, z))).unwrap();
-    let points: Vec<DVec3> = footprint.face_points(0).collect();
-    extrude_polygon(&points, 2.0).unwrap()
+    prism(&u, 2.0)
 }
 
 /// A square tube along y: outer 4×4, inner hole 2×2, height 3, with the top and bottom rings made
@@ -63,4 +61,12 @@ pub fn tube() -> Mesh {
         faces.push(vec![ob(k), ob(j), ib(j), ib(k)]); // bottom trapezoid
     }
     Mesh::from_faces(positions, faces)
+}
+
+/// The footprint of `(x, z)` points extruded up by `height`.
+fn prism(outline: &[(f64, f64)], height: f64) -> Mesh {
+    let points: Vec<DVec2> = outline.iter().map(|&(x, z)| DVec2::new(x, z)).collect();
+    let footprint = primitives::footprint(&points).unwrap();
+    let loop_: Vec<DVec3> = footprint.face_points(0).collect();
+    extrude_polygon(&loop_, height).unwrap()
 }
