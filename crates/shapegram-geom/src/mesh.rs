@@ -200,15 +200,19 @@ impl Mesh {
         volume / 3.0
     }
 
-    /// A copy where vertices closer than `tolerance` (per coordinate, after snapping to a grid of
-    /// that size) are merged, repeated corners are dropped and faces left with fewer than three
-    /// corners removed. Used to recover connectivity from formats that store one vertex per
-    /// corner (STL, flat-shaded glTF).
+    /// A copy where vertices that fall in the same cell of a grid of spacing `tolerance` are
+    /// merged (equal positions always merge; zero tolerance merges only equal ones), repeated
+    /// corners are dropped and faces left with fewer than three corners removed. Used to recover
+    /// connectivity from formats that store one vertex per corner (STL, flat-shaded glTF).
     pub fn welded(&self, tolerance: f64) -> Self {
-        let tolerance = tolerance.max(f64::MIN_POSITIVE);
         let key = |p: DVec3| {
-            let q = (p / tolerance).round();
-            (q.x as i64, q.y as i64, q.z as i64)
+            // Bits of the grid coordinates: no integer overflow however fine the grid, and where
+            // even the division overflows, the coordinate itself.
+            p.to_array().map(|x| {
+                let cell = (x / tolerance).round();
+                let q = if cell.is_finite() { cell } else { x };
+                (q + 0.0).to_bits()
+            })
         };
         let mut index_of = rustc_hash::FxHashMap::default();
         let mut positions = Vec::new();

@@ -32,12 +32,14 @@ impl Triangulator {
         }
         if hole_starts.is_empty() && is_convex(points) {
             // Collinear corners would give slivers of zero area; the other fan triangles cover.
-            let scale = newell(points.iter().copied()).length();
+            // The test is on the sine of the angle at the hub, so the thin but real triangles of
+            // a finely divided circle are kept.
             return (1..n as u32 - 1)
                 .map(|i| [0, i, i + 1])
                 .filter(|t| {
                     let [a, b, c] = t.map(|i| points[i as usize]);
-                    (b - a).cross(c - a).length() > 1e-12 * scale
+                    let (ab, ac) = (b - a, c - a);
+                    ab.cross(ac).length() > 1e-12 * ab.length() * ac.length()
                 })
                 .collect();
         }

@@ -280,3 +280,43 @@ fn colours_parse_and_print_as_hex() {
         assert_eq!(Color::from_hex(bad), None, "{bad}");
     }
 }
+
+#[test]
+fn fine_circles_triangulate_without_holes() {
+    let disc = shapegram_geom::primitives::cylinder(DVec3::new(2.0, 1.0, 2.0), 100_000);
+    let top = (0..2).find(|&f| disc.face_normal(f) == DVec3::Y).unwrap();
+    let cap = Mesh::from_faces(disc.positions().to_vec(), [disc.face(top)]);
+    let triangles = cap.triangulate();
+    assert_eq!(triangles.len(), 100_000 - 2);
+    let area: f64 = triangles
+        .iter()
+        .map(|t| {
+            let [a, b, c] = t.map(|i| cap.position(i));
+            (b - a).cross(c - a).length() * 0.5
+        })
+        .sum();
+    assert!((area - cap.area()).abs() < 1e-9 * cap.area());
+}
+
+#[test]
+fn welding_with_zero_or_tiny_tolerance_merges_only_equal_positions() {
+    let far = DVec3::splat(1e12);
+    let points = [
+        far,
+        far,
+        far + DVec3::X * 1e-3,
+        DVec3::ZERO,
+        DVec3::new(-0.0, 0.0, 0.0),
+    ];
+    let mut soup = Mesh::new();
+    for p in points {
+        soup.add_vertex(p);
+    }
+    assert_eq!(soup.welded(0.0).vertex_count(), 3);
+    soup.add_face(&[0, 1, 2]);
+    soup.add_face(&[3, 4, 2]);
+    let welded = soup.welded(1e-300);
+    // 0 and 1 merge, 3 and 4 (zero and negative zero) merge; the faces collapse to edges.
+    assert_eq!(welded.face_count(), 0);
+    assert_eq!(welded.vertex_count(), 3);
+}
