@@ -1,0 +1,360 @@
+//! The typed syntax tree every dialect lowers to.
+//!
+//! The tree keeps the grammar as written: which names are rules and which are operations is
+//! decided by the evaluator (a rule defined in the grammar wins over a built-in operation of the
+//! same name; a name that is neither becomes a leaf, as in CGA). Every node carries its [`Span`].
+
+use crate::Span;
+
+/// A parsed grammar file.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Grammar {
+    /// The surface notation the file was written in.
+    pub dialect: Dialect,
+    /// The `version "…"` line, if any.
+    pub version: Option<Spanned<String>>,
+    /// `attr` declarations, in file order.
+    pub attrs: Vec<Attr>,
+    /// `const` declarations (and CGA's parameterless functions `name = expr`), in file order.
+    pub consts: Vec<Const>,
+    /// User functions `name(params) = expr`, in file order.
+    pub functions: Vec<Function>,
+    /// Rules, in file order. Several rules may share a name (stochastic rules of the Müller
+    /// notation are lowered into one rule with a [`Body::Stochastic`]).
+    pub rules: Vec<Rule>,
+    /// Top-level statements that were parsed but are not supported yet (`import`, `style`, …),
+    /// kept so `check` can warn about them with their spans.
+    pub unsupported: Vec<Unsupported>,
+}
+
+/// The surface notations Shapegram reads.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum Dialect {
+    /// CityEngine-style CGA (the main syntax).
+    #[default]
+    Cga,
+    /// The notation of Müller et al. 2006 (`Subdiv`, `Repeat`, `Comp`, `S`, `T`, `I`, …).
+    Muller2006,
+    /// The SGL notation (`T() R() S() Subdiv(…, sgprod{…}) PlaceShape(…)`, `(w){…}` alternatives).
+    Sgl,
+}
+
+/// A value with the span it was written at.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Spanned<T> {
+    /// The value.
+    pub value: T,
+    /// Where it was written.
+    pub span: Span,
+}
+
+/// A name as written, e.g. `Facade`, `scope.sx`, `material.color.r`.
+#[derive(Clone, Debug, PartialEq, Eq, Hash)]
+pub struct Ident {
+    /// The name, dots included.
+    pub name: String,
+    /// Where it was written.
+    pub span: Span,
+}
+
+/// An annotation such as `@StartRule`, `@Range(min=5, max=40)` or `@Group("Facade", 3)`.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Annotation {
+    /// The name without `@`.
+    pub name: Ident,
+    /// Arguments, positional or `key=value`.
+    pub args: Vec<Argument>,
+    /// The whole annotation.
+    pub span: Span,
+}
+
+/// One argument of a call or annotation, optionally named (`min=5`).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Argument {
+    /// The name before `=`, for named arguments.
+    pub name: Option<Ident>,
+    /// The value.
+    pub value: Expr,
+}
+
+/// `attr name = value`: a parameter of the grammar that users may override.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Attr {
+    /// Annotations written before it.
+    pub annotations: Vec<Annotation>,
+    /// The attribute's name.
+    pub name: Ident,
+    /// Its default value (evaluated per initial shape: it may call `rand`).
+    pub value: Expr,
+    /// The whole declaration.
+    pub span: Span,
+}
+
+/// `const name = value` (or a parameterless function `name = value`).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Const {
+    /// Annotations written before it.
+    pub annotations: Vec<Annotation>,
+    /// The constant's name.
+    pub name: Ident,
+    /// Its value.
+    pub value: Expr,
+    /// Whether it was written with the `const` keyword (evaluated once) rather than as a
+    /// parameterless function (evaluated at each use).
+    pub is_const: bool,
+    /// The whole declaration.
+    pub span: Span,
+}
+
+/// `name(a, b) = expr`: a user function.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Function {
+    /// Annotations written before it.
+    pub annotations: Vec<Annotation>,
+    /// The function's name.
+    pub name: Ident,
+    /// Parameter names.
+    pub params: Vec<Ident>,
+    /// The body.
+    pub body: Expr,
+    /// The whole declaration.
+    pub span: Span,
+}
+
+/// `Name(params) --> body`.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Rule {
+    /// Annotations written before it (`@StartRule`, …).
+    pub annotations: Vec<Annotation>,
+    /// The predecessor symbol.
+    pub name: Ident,
+    /// Parameter names (empty when written without parentheses).
+    pub params: Vec<Ident>,
+    /// What the rule does.
+    pub body: Body,
+    /// The whole rule.
+    pub span: Span,
+}
+
+impl Rule {
+    /// Whether the rule carries the `@StartRule` annotation.
+    pub fn is_start_rule(&self) -> bool {
+        self.annotations.iter().any(|a| a.name.name == "StartRule")
+    }
+}
+
+/// The right-hand side of a rule, or of one branch of a `case` or stochastic choice.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Body {
+    /// Operations and successors, applied left to right.
+    Sequence(Vec<Stmt>),
+    /// `case c1 : b1 case c2 : b2 … else : b`: the first branch whose condition holds.
+    Cases {
+        /// Condition and branch, in order.
+        arms: Vec<(Expr, Body)>,
+        /// The `else` branch (an empty sequence when omitted).
+        otherwise: Box<Body>,
+        /// The whole construct.
+        span: Span,
+    },
+    /// `30% : b1 20% : b2 else : b`: one branch drawn with the given percentages.
+    Stochastic {
+        /// Percentage (0–100) and branch, in order.
+        arms: Vec<(Expr, Body)>,
+        /// The `else` branch taking the remaining probability (empty when omitted).
+        otherwise: Box<Body>,
+        /// The whole construct.
+        span: Span,
+    },
+}
+
+/// One step of a rule body.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Stmt {
+    /// A call: an operation (`extrude(10)`, `split(x){…}`) or a successor symbol
+    /// (`Facade(2, 1)`, `Window`); see the module docs.
+    Call(Call),
+    /// `[`: push the current shape's scope and state.
+    Push(Span),
+    /// `]`: pop back to the pushed state.
+    Pop(Span),
+    /// `NIL` (or ε in the Müller notation): delete the current shape.
+    Nil(Span),
+}
+
+/// A name with optional arguments and an optional block, e.g. `split(y){ … }*`, `A(1, 2)`, `B.`.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Call {
+    /// The operation or successor name.
+    pub name: Ident,
+    /// Arguments; `None` when written without parentheses (`Window` vs `Window()`).
+    pub args: Option<Vec<Argument>>,
+    /// The `{ … }` block of splits, component splits and similar operations.
+    pub block: Option<Block>,
+    /// Whether a terminal marker `.` follows (`Glass.`).
+    pub terminal: bool,
+    /// The whole call, block included.
+    pub span: Span,
+}
+
+/// `{ key : body | key : body | { … }* }` with an optional trailing `*` (repeat).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Block {
+    /// Entries in order.
+    pub entries: Vec<BlockEntry>,
+    /// Whether the block is followed by `*` (repeat it to fill the scope).
+    pub repeat: bool,
+    /// From `{` to `}` (or `*`).
+    pub span: Span,
+}
+
+/// One entry of a [`Block`].
+#[derive(Clone, Debug, PartialEq)]
+pub enum BlockEntry {
+    /// `key : body` (or `key = body`, CGA's merging selector in component splits).
+    Part {
+        /// A size (`2`, `~2`, `'0.5`) in splits, a selector (`front`, `side`, `0`) in
+        /// component splits.
+        key: Expr,
+        /// Whether written with `=` instead of `:`.
+        merge: bool,
+        /// What to do with the part.
+        body: Vec<Stmt>,
+        /// The whole entry.
+        span: Span,
+    },
+    /// A nested `{ … }` group, usually repeated: `{ ~3 : Tile }*`.
+    Group(Block),
+}
+
+/// An expression with its span.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Expr {
+    /// What kind of expression.
+    pub kind: ExprKind,
+    /// Where it was written.
+    pub span: Span,
+}
+
+/// The kinds of [`Expr`].
+#[derive(Clone, Debug, PartialEq)]
+pub enum ExprKind {
+    /// A number literal.
+    Number(f64),
+    /// A string literal (escapes resolved).
+    String(String),
+    /// `true` or `false`.
+    Bool(bool),
+    /// `[a, b, c]`.
+    Array(Vec<Expr>),
+    /// A name: attribute, constant, parameter, parameterless function, or a dotted query such
+    /// as `scope.sx`, `split.index`, `geometry.area`; also bare words used as arguments
+    /// (`split(x)`, `comp(f)`, `front`).
+    Name(String),
+    /// `f(a, b)`.
+    Call {
+        /// The function's name.
+        name: Ident,
+        /// The arguments.
+        args: Vec<Argument>,
+    },
+    /// `a[i]`.
+    Index {
+        /// The array.
+        target: Box<Expr>,
+        /// The index.
+        index: Box<Expr>,
+    },
+    /// A prefix operator.
+    Unary {
+        /// Which operator.
+        op: UnaryOp,
+        /// The operand.
+        operand: Box<Expr>,
+    },
+    /// An infix operator.
+    Binary {
+        /// Which operator.
+        op: BinaryOp,
+        /// Left operand.
+        lhs: Box<Expr>,
+        /// Right operand.
+        rhs: Box<Expr>,
+    },
+    /// `cond ? a : b`.
+    Conditional {
+        /// The condition.
+        cond: Box<Expr>,
+        /// Value when true.
+        then: Box<Expr>,
+        /// Value when false.
+        otherwise: Box<Expr>,
+    },
+    /// `case c1 : v1 case c2 : v2 else : v` as an expression.
+    Cases {
+        /// Condition and value, in order.
+        arms: Vec<(Expr, Expr)>,
+        /// The `else` value.
+        otherwise: Box<Expr>,
+    },
+    /// `30% : v1 else : v2` as an expression.
+    Stochastic {
+        /// Percentage and value, in order.
+        arms: Vec<(Expr, Expr)>,
+        /// The `else` value.
+        otherwise: Box<Expr>,
+    },
+    /// `~e`: a floating size (split keys).
+    Floating(Box<Expr>),
+    /// `'e`: a relative size (split keys, `s(…)` arguments); `1r` in the Müller notation.
+    Relative(Box<Expr>),
+}
+
+/// Prefix operators.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum UnaryOp {
+    /// `-x`.
+    Neg,
+    /// `!x`.
+    Not,
+}
+
+/// Infix operators, loosest binding last.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum BinaryOp {
+    /// `a * b`.
+    Mul,
+    /// `a / b`.
+    Div,
+    /// `a % b`.
+    Rem,
+    /// `a + b` (also string concatenation).
+    Add,
+    /// `a - b`.
+    Sub,
+    /// `a < b`.
+    Lt,
+    /// `a <= b`.
+    Le,
+    /// `a > b`.
+    Gt,
+    /// `a >= b`.
+    Ge,
+    /// `a == b`.
+    Eq,
+    /// `a != b`.
+    Ne,
+    /// `a && b`.
+    And,
+    /// `a || b`.
+    Or,
+}
+
+/// A construct that parses but is not supported yet.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Unsupported {
+    /// What it is, e.g. `import`, `style`.
+    pub what: String,
+    /// Where.
+    pub span: Span,
+}
