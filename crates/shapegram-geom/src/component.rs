@@ -87,6 +87,9 @@ pub struct Component {
     pub kind: ComponentKind,
     /// Index among the components of this kind, in mesh order.
     pub index: usize,
+    /// What it came from: the face index for faces, the vertex index for vertices, the position
+    /// in [`Mesh::edges`] for edges.
+    pub source: usize,
     /// The component's scope: its local frame, fitted around its points.
     pub scope: Scope,
     /// The component's points in world coordinates: the face loop, the edge's two ends, or the
@@ -106,12 +109,13 @@ pub fn faces(mesh: &Mesh) -> Vec<Component> {
                 .iter()
                 .zip(points.iter().cycle().skip(1))
                 .find_map(|(a, b)| (*b - *a).reject_from(normal).try_normalize())?;
-            Some((points, normal, first_edge))
+            Some((f, points, normal, first_edge))
         })
         .enumerate()
-        .map(|(index, (points, normal, x))| Component {
+        .map(|(index, (source, points, normal, x))| Component {
             kind: ComponentKind::Face,
             index,
+            source,
             scope: Scope::fit(frame(x, normal), points.iter().copied()),
             points,
             normal,
@@ -123,7 +127,8 @@ pub fn faces(mesh: &Mesh) -> Vec<Component> {
 pub fn edges(mesh: &Mesh) -> Vec<Component> {
     mesh.edges()
         .into_iter()
-        .filter_map(|e| {
+        .enumerate()
+        .filter_map(|(source, e)| {
             let (from, to) = if e.forward.is_empty() {
                 (e.b, e.a)
             } else {
@@ -136,12 +141,13 @@ pub fn edges(mesh: &Mesh) -> Vec<Component> {
                 .reject_from(x)
                 .try_normalize()
                 .unwrap_or_else(|| x.any_orthonormal_vector());
-            Some((points, normal, frame(x, z)))
+            Some((source, points, normal, frame(x, z)))
         })
         .enumerate()
-        .map(|(index, (points, normal, axes))| Component {
+        .map(|(index, (source, points, normal, axes))| Component {
             kind: ComponentKind::Edge,
             index,
+            source,
             scope: Scope::fit(axes, points.iter().copied()),
             points,
             normal,
@@ -173,6 +179,7 @@ pub fn vertices(mesh: &Mesh) -> Vec<Component> {
             Component {
                 kind: ComponentKind::Vertex,
                 index,
+                source: v,
                 scope: Scope::new(p, frame(x, z), DVec3::ZERO),
                 points: vec![p],
                 normal,

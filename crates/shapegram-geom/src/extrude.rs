@@ -51,3 +51,30 @@ pub fn extrude_face(mesh: &Mesh, face: usize, distance: f64) -> Mesh {
     }
     out
 }
+
+/// Sweeps a planar polygon along `offset` (any direction not in its plane) into a closed
+/// prism, e.g. straight up for CGA's `extrude(world.up, h)` on a sloped face. Returns `None` for
+/// a polygon without area or an offset parallel to its plane.
+pub fn extrude_along(points: &[DVec3], offset: DVec3) -> Option<Mesh> {
+    let normal = newell(points.iter().copied()).normalize_or_zero();
+    let rise = normal.dot(offset);
+    if normal == DVec3::ZERO || !rise.is_finite() || rise.abs() <= 1e-12 * offset.length() {
+        return None;
+    }
+    // Sweeping against the normal turns the prism inside out: start from the far end instead.
+    let (base, lift) = if rise > 0.0 {
+        (DVec3::ZERO, offset)
+    } else {
+        (offset, -offset)
+    };
+    let n = points.len() as u32;
+    let mut positions: Vec<DVec3> = points.iter().map(|&p| p + base).collect();
+    positions.extend(points.iter().map(|&p| p + base + lift));
+    let mut mesh = Mesh::from_faces(positions, [(0..n).rev().collect::<Vec<_>>()]);
+    mesh.add_face(&(n..2 * n).collect::<Vec<_>>());
+    for i in 0..n {
+        let j = (i + 1) % n;
+        mesh.add_face(&[i, j, n + j, n + i]);
+    }
+    Some(mesh)
+}

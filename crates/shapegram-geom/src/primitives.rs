@@ -18,13 +18,14 @@ pub fn cuboid(size: DVec3) -> Mesh {
             size * DVec3::new(bit(1), bit(2), bit(4))
         })
         .collect();
-    // Corner index = x + 2y + 4z; every loop is counter-clockwise seen from outside.
+    // Corner index = x + 2y + 4z; every loop is counter-clockwise seen from outside, and every
+    // side face starts with its bottom edge, so its component frame has y up the wall.
     let faces: [[u32; 4]; 6] = [
         [0, 4, 6, 2], // x = 0 (left)
-        [1, 3, 7, 5], // x = sx (right)
+        [5, 1, 3, 7], // x = sx (right)
         [0, 1, 5, 4], // y = 0 (bottom)
         [2, 6, 7, 3], // y = sy (top)
-        [0, 2, 3, 1], // z = 0 (back)
+        [1, 0, 2, 3], // z = 0 (back)
         [4, 5, 7, 6], // z = sz (front)
     ];
     Mesh::from_faces(corners, faces)
