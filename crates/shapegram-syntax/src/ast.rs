@@ -245,13 +245,14 @@ pub enum ExprKind {
     String(String),
     /// `true` or `false`.
     Bool(bool),
-    /// `[a, b, c]`.
+    /// `[a, b, c]`; a 2D array `[1, 2; 3, 4]` is an array of row arrays.
     Array(Vec<Expr>),
     /// A name: attribute, constant, parameter, parameterless function, or a dotted query such
     /// as `scope.sx`, `split.index`, `geometry.area`; also bare words used as arguments
     /// (`split(x)`, `comp(f)`, `front`).
     Name(String),
-    /// `f(a, b)`.
+    /// `f(a, b)`. CGA's comp function `comp(fe){ all : 3 | 0 : 1 }` is written here as
+    /// `comp(fe, all = 3, 0 = 1)`: its entries become named arguments after the positional ones.
     Call {
         /// The function's name.
         name: Ident,

@@ -1,6 +1,19 @@
 //! Shapegram's grammar language: lexer, parser, typed AST with spans, and diagnostics.
+//!
+//! [`parse`] reads the main (CGA-style) syntax into an [`ast::Grammar`]; it never panics and
+//! reports as many problems per file as it can, each as a [`Diagnostic`] that
+//! [`SourceFile::render`] prints rustc-style.
 
 pub mod ast;
+pub mod diagnostic;
+mod lexer;
+mod parser;
+pub mod source;
+mod suggest;
+
+pub use diagnostic::{Diagnostic, Severity};
+pub use source::SourceFile;
+pub use suggest::suggest;
 
 /// A byte range `start..end` in a source file.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash, PartialOrd, Ord)]
@@ -31,5 +44,31 @@ impl Span {
     /// The span as a `usize` range, for slicing the source.
     pub fn range(self) -> std::ops::Range<usize> {
         self.start as usize..self.end as usize
+    }
+}
+
+/// The result of [`parse`]: the grammar (as much of it as could be read) and the diagnostics.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Parsed {
+    /// The parsed grammar; declarations with errors may be missing or incomplete.
+    pub grammar: ast::Grammar,
+    /// Errors and warnings in source order (a "too many errors" note, if any, comes last).
+    pub diagnostics: Vec<Diagnostic>,
+}
+
+impl Parsed {
+    /// Whether any diagnostic is an error.
+    pub fn has_errors(&self) -> bool {
+        self.diagnostics.iter().any(Diagnostic::is_error)
+    }
+}
+
+/// Parses a grammar in the main (CGA-style) syntax. Never panics; after an error it recovers
+/// and keeps going, so one run reports several errors.
+pub fn parse(source: &SourceFile) -> Parsed {
+    let (grammar, diagnostics) = parser::parse_cga(source.text());
+    Parsed {
+        grammar,
+        diagnostics,
     }
 }

@@ -11,12 +11,15 @@ use clap::{Args, Parser, Subcommand, ValueEnum};
     version,
     about = "Procedural modelling with shape grammars",
     long_about = "Procedural modelling with shape grammars.\n\n\
-        Builds models from primitives (and, soon, grammars) and writes them as GLB, OBJ (+MTL)\n\
-        or binary STL; the extension of the output file picks the format.",
+        Derives models from CGA-style shape grammars (or builds single primitives) and writes\n\
+        them as GLB, OBJ (+MTL) or binary STL; the extension of the output file picks the\n\
+        format. `check` reports a grammar's errors and warnings without deriving it.",
     after_help = "Examples:\n  \
+        shapegram derive house.cga -o house.glb\n  \
+        shapegram derive house.cga --lots parcels.geojson --seed 7 -o street.glb\n  \
+        shapegram check rules/*.cga\n  \
         shapegram primitive box --size 10,20,5 -o box.glb\n  \
-        shapegram info box.glb\n  \
-        shapegram info --json box.glb",
+        shapegram info --json house.glb",
     subcommand_required = true,
     arg_required_else_help = true
 )]
@@ -60,11 +63,41 @@ pub enum Command {
             shapegram info --json model.stl | jq .volume"
     )]
     Info(InfoArgs),
-    /// Derive a model from a grammar (not available yet)
-    #[command(long_about = "Derive a model from a grammar (not available yet).\n\n\
-            Reserved: the grammar engine lands with the grammar-language issue. Until then this\n\
-            command exits with code 2.")]
+    /// Derive a model from a grammar and write it as GLB, OBJ or STL
+    #[command(
+        long_about = "Derive a model from a grammar and write it as GLB, OBJ or STL.\n\n\
+            The grammar is parsed and compiled first; its errors and warnings are printed\n\
+            rustc-style on stderr, and any error stops the command (exit code 1).\n\n\
+            Each initial shape (lot) is a footprint polygon at y = 0, facing up (y is up; x\n\
+            and z span the ground). Lots come from --lot and --lots, in that order; without\n\
+            either, one default lot of 20 × 30 is used (x from 0 to 20, z from 0 to 30).\n\
+            Lots are derived in parallel; the result is the same whatever the number of\n\
+            threads (RAYON_NUM_THREADS) and depends only on the grammar, the lots, --seed and\n\
+            --attr.\n\n\
+            Assets inserted with i(\"path\") are read relative to the grammar's folder (OBJ,\n\
+            GLB or STL). print() output goes to stderr as `print: ` lines (also with -q).\n\
+            Without -o nothing is written, which is useful with --stats.",
+        after_help = "Examples:\n  \
+            shapegram derive house.cga -o house.glb\n  \
+            shapegram derive house.cga --attr height=20 --seed 3 -o tall.obj\n  \
+            shapegram derive house.cga --lot \"0,0 30,0 30,12 12,12 12,25 0,25\" -o l-house.glb\n  \
+            shapegram derive house.cga --lots parcels.geojson --group -o block.glb\n  \
+            shapegram derive house.cga --stats -q | jq .rules"
+    )]
     Derive(DeriveArgs),
+    /// Report the errors and warnings of grammar files without deriving them
+    #[command(
+        long_about = "Report the errors and warnings of grammar files without deriving them.\n\n\
+            Each file is parsed and compiled; its diagnostics are printed rustc-style on\n\
+            stderr, followed by one line per file: `ok: FILE (N rules, N attributes, N\n\
+            warnings)` or `error: N errors in FILE`. Warnings (for example about CGA features\n\
+            that are parsed but not supported yet) are not errors. The exit code is 1 when any\n\
+            file has errors.",
+        after_help = "Examples:\n  \
+            shapegram check house.cga\n  \
+            shapegram check --quiet-warnings rules/*.cga"
+    )]
+    Check(CheckArgs),
 }
 
 /// Arguments of `shapegram primitive`.
@@ -148,25 +181,112 @@ pub struct InfoArgs {
     pub json: bool,
 }
 
-/// Arguments of `shapegram derive`, reserved for the grammar engine.
+/// Arguments of `shapegram derive`.
 #[derive(Debug, Args)]
 pub struct DeriveArgs {
     /// The grammar file
     #[arg(value_name = "GRAMMAR")]
     pub grammar: PathBuf,
-    /// Output file; its extension picks the format: .glb, .obj or .stl
+    /// Output file; its extension picks the format: .glb, .obj (writes a .mtl beside it) or .stl.
+    /// Without it nothing is written
     #[arg(short, long, value_name = "FILE")]
-    pub output: PathBuf,
+    pub output: Option<PathBuf>,
+    /// The rule to start from [default: the @StartRule, else the first rule]
+    #[arg(long, value_name = "RULE")]
+    pub start: Option<String>,
+    /// A lot: its footprint corners in the xz-plane, at least three, in either winding
+    /// (repeatable: one lot each)
+    #[arg(long, value_name = "\"X,Z X,Z ...\"", allow_hyphen_values = true)]
+    pub lot: Vec<String>,
+    /// Lots from a file: every face of an .obj, or every polygon (outer ring) of a .geojson or
+    /// .json file, with GeoJSON x as x and GeoJSON y as -z (north is -z) (repeatable)
+    #[arg(long, value_name = "FILE")]
+    pub lots: Vec<PathBuf>,
+    /// Seed of every random choice
+    #[arg(long, value_name = "N", default_value_t = 0)]
+    pub seed: u64,
+    /// Override an attribute of the grammar: a number, true/false, or else a string (repeatable)
+    #[arg(long, value_name = "NAME=VALUE", value_parser = parse_attr)]
+    pub attr: Vec<(String, String)>,
+    /// Rewrite in parallel generations and stop after N of them (shapes left become leaves)
+    #[arg(long, value_name = "N")]
+    pub generations: Option<u32>,
+    /// Stop with an error after this many shapes
+    #[arg(long, value_name = "N", default_value_t = 10_000_000)]
+    pub max_shapes: usize,
+    /// Stop with an error when a shape is this many successors deep
+    #[arg(long, value_name = "N", default_value_t = 1000)]
+    pub max_depth: u32,
+    /// Stop with an error when one lot takes longer than this (0: no limit)
+    #[arg(long, value_name = "SECONDS", default_value_t = 60.0, value_parser = parse_timeout)]
+    pub timeout: f64,
+    /// Keep one group per leaf symbol and colour (OBJ groups, glTF nodes, named after the symbol)
+    /// instead of merging everything of one colour
+    #[arg(long)]
+    pub group: bool,
+    /// Print counts, times, rule applications and report() values as one JSON object on stdout
+    #[arg(long)]
+    pub stats: bool,
+    /// Do not print warnings and the summary line on stderr
+    #[arg(short, long)]
+    pub quiet: bool,
+}
+
+/// Arguments of `shapegram check`.
+#[derive(Debug, Args)]
+pub struct CheckArgs {
+    /// The grammar files
+    #[arg(value_name = "FILE", required = true)]
+    pub files: Vec<PathBuf>,
+    /// Count warnings but do not print them
+    #[arg(long)]
+    pub quiet_warnings: bool,
+}
+
+/// Splits `--attr name=value` at the first `=`.
+fn parse_attr(text: &str) -> Result<(String, String), String> {
+    match text.split_once('=') {
+        Some((name, value)) if !name.trim().is_empty() => {
+            Ok((name.trim().to_owned(), value.to_owned()))
+        }
+        _ => Err("expected NAME=VALUE, like height=12".to_owned()),
+    }
+}
+
+/// A timeout in seconds: a finite number, zero or more.
+fn parse_timeout(text: &str) -> Result<f64, String> {
+    match text.trim().parse::<f64>() {
+        Ok(s) if (0.0..=1e9).contains(&s) => Ok(s),
+        _ => Err("expected a number of seconds, like 60 or 0.5 (0: no limit)".to_owned()),
+    }
 }
 
 #[cfg(test)]
 mod tests {
     use clap::CommandFactory;
 
-    use super::Cli;
+    use super::{Cli, parse_attr, parse_timeout};
 
     #[test]
     fn clap_definition_is_consistent() {
         Cli::command().debug_assert();
+    }
+
+    #[test]
+    fn attributes_split_at_the_first_equals_sign() {
+        assert_eq!(parse_attr("height=12"), Ok(("height".into(), "12".into())));
+        assert_eq!(parse_attr("name=a=b"), Ok(("name".into(), "a=b".into())));
+        assert_eq!(parse_attr("empty="), Ok(("empty".into(), String::new())));
+        assert!(parse_attr("height").is_err());
+        assert!(parse_attr("=12").is_err());
+    }
+
+    #[test]
+    fn timeouts_are_non_negative_seconds() {
+        assert_eq!(parse_timeout("0"), Ok(0.0));
+        assert_eq!(parse_timeout("2.5"), Ok(2.5));
+        for bad in ["-1", "NaN", "inf", "soon", "1e300"] {
+            assert!(parse_timeout(bad).is_err(), "{bad}");
+        }
     }
 }

@@ -1,8 +1,12 @@
 //! The `shapegram` command: parses the command line, runs one subcommand, reports failure as one
 //! `error: ...` line on stderr with exit code 1 (2 for usage errors).
 
+mod check;
 mod cli;
+mod derive;
+mod grammar;
 mod info;
+mod lots;
 mod primitive;
 
 use std::io::{self, Write};
@@ -17,26 +21,30 @@ fn main() -> ExitCode {
     let result = match &cli.command {
         Command::Primitive(args) => primitive::run(args),
         Command::Info(args) => info::run(args),
-        Command::Derive(_) => Err(Failure {
-            message: "derive is not available yet: the grammar engine lands with the \
-                      grammar-language issue"
-                .into(),
-            code: 2,
-        }),
+        Command::Derive(args) => derive::run(args),
+        Command::Check(args) => check::run(args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
         Err(failure) => {
-            eprintln!("error: {}", failure.message);
+            if let Some(message) = &failure.message {
+                eprintln!("error: {message}");
+                for hint in &failure.hints {
+                    eprintln!("  = hint: {hint}");
+                }
+            }
             ExitCode::from(failure.code)
         }
     }
 }
 
-/// Why a command failed: a one-line message (without the `error: ` prefix) and the exit code.
+/// Why a command failed: a one-line message (without the `error: ` prefix), hints printed as
+/// `  = hint: …` lines after it, and the exit code.
 #[derive(Debug)]
 pub struct Failure {
-    message: String,
+    /// `None` when the command has already printed why it failed.
+    message: Option<String>,
+    hints: Vec<String>,
     code: u8,
 }
 
@@ -44,10 +52,31 @@ impl Failure {
     /// A failure with exit code 1.
     pub fn new(message: impl Into<String>) -> Self {
         Self {
-            message: message.into(),
+            message: Some(message.into()),
+            hints: Vec::new(),
             code: 1,
         }
     }
+
+    /// A failure with exit code 1 whose explanation has already been printed.
+    pub fn reported() -> Self {
+        Self {
+            message: None,
+            hints: Vec::new(),
+            code: 1,
+        }
+    }
+
+    /// The same failure with `= hint:` lines.
+    pub fn with_hints(mut self, hints: impl IntoIterator<Item = String>) -> Self {
+        self.hints.extend(hints);
+        self
+    }
+}
+
+/// `n` with the singular or plural noun: `1 lot`, `2 lots`.
+pub fn counted(n: usize, one: &str, many: &str) -> String {
+    format!("{n} {}", if n == 1 { one } else { many })
 }
 
 impl From<shapegram_export::Error> for Failure {

@@ -3,8 +3,8 @@
 use shapegram_export::{ExportOptions, Format};
 use shapegram_geom::{Color, DVec2, DVec3, Mesh, Model, primitives};
 
-use crate::Failure;
 use crate::cli::{Kind, PrimitiveArgs};
+use crate::{Failure, counted};
 
 /// Default number of sides of cylinders and cones, and of segments of spheres.
 const DEFAULT_SIDES: u32 = 32;
@@ -46,11 +46,6 @@ pub fn run(args: &PrimitiveArgs) -> Result<(), Failure> {
         eprintln!("wrote {}: {summary}", args.output.display());
     }
     Ok(())
-}
-
-/// `n` with the singular or plural noun.
-fn counted(n: usize, one: &str, many: &str) -> String {
-    format!("{n} {}", if n == 1 { one } else { many })
 }
 
 /// The mesh the arguments describe, after checking that every option given applies to the kind.
@@ -95,7 +90,7 @@ fn build(args: &PrimitiveArgs) -> Result<Mesh, Failure> {
                 .points
                 .as_deref()
                 .ok_or_else(|| Failure::new("footprint needs --points \"x,z x,z x,z ...\""))?;
-            let points = parse_points(text).map_err(Failure::new)?;
+            let points = parse_points(text, "--points").map_err(Failure::new)?;
             primitives::footprint(&points).ok_or_else(|| {
                 Failure::new(format!(
                     "invalid --points '{}': the polygon has no area",
@@ -140,8 +135,9 @@ fn parse_size(text: &str, flat: bool) -> Result<DVec3, String> {
     Ok(size)
 }
 
-/// Parses `--points "x,z x,z ..."`: at least three pairs separated by whitespace.
-fn parse_points(text: &str) -> Result<Vec<DVec2>, String> {
+/// Parses `--points "x,z x,z ..."` (or another `flag` of that form): at least three pairs
+/// separated by whitespace.
+pub fn parse_points(text: &str, flag: &str) -> Result<Vec<DVec2>, String> {
     let points = text
         .split_whitespace()
         .map(|pair| {
@@ -149,7 +145,7 @@ fn parse_points(text: &str) -> Result<Vec<DVec2>, String> {
                 .map(|v| DVec2::new(v[0], v[1]))
                 .ok_or_else(|| {
                     format!(
-                        "invalid --points: '{}' is not an x,z pair of numbers like 4,2.5",
+                        "invalid {flag}: '{}' is not an x,z pair of numbers like 4,2.5",
                         pair.escape_debug()
                     )
                 })
@@ -157,7 +153,7 @@ fn parse_points(text: &str) -> Result<Vec<DVec2>, String> {
         .collect::<Result<Vec<_>, _>>()?;
     if points.len() < 3 {
         return Err(format!(
-            "invalid --points '{}': expected at least three x,z pairs separated by spaces, like \
+            "invalid {flag} '{}': expected at least three x,z pairs separated by spaces, like \
              \"0,0 4,0 4,3\"",
             text.escape_debug()
         ));
@@ -227,7 +223,7 @@ mod tests {
     #[test]
     fn points_parse_as_whitespace_separated_pairs() {
         assert_eq!(
-            parse_points(" 0,0 4,0\t-1.5,3 "),
+            parse_points(" 0,0 4,0\t-1.5,3 ", "--points"),
             Ok(vec![
                 DVec2::new(0.0, 0.0),
                 DVec2::new(4.0, 0.0),
@@ -239,21 +235,21 @@ mod tests {
     #[test]
     fn bad_points_name_the_bad_pair() {
         assert_eq!(
-            parse_points("0,0 4,x 4,3"),
+            parse_points("0,0 4,x 4,3", "--points"),
             Err("invalid --points: '4,x' is not an x,z pair of numbers like 4,2.5".into())
         );
-        assert!(parse_points("0,0 4,0,1 4,3").is_err());
-        assert!(parse_points("0,0 nan,0 4,3").is_err());
+        assert!(parse_points("0,0 4,0,1 4,3", "--points").is_err());
+        assert!(parse_points("0,0 nan,0 4,3", "--points").is_err());
     }
 
     #[test]
     fn fewer_than_three_points_are_rejected() {
         assert!(
-            parse_points("0,0 4,0")
+            parse_points("0,0 4,0", "--points")
                 .unwrap_err()
                 .starts_with("invalid --points '0,0 4,0'")
         );
-        assert!(parse_points("0,0,4,0,4,3").is_err());
-        assert!(parse_points("").is_err());
+        assert!(parse_points("0,0,4,0,4,3", "--points").is_err());
+        assert!(parse_points("", "--points").is_err());
     }
 }

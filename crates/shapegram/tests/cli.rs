@@ -1,5 +1,5 @@
 //! End-to-end tests of the `shapegram` binary: write primitives in every format, read them back
-//! with `info --json`, and check the failures users will meet.
+//! with `info --json`, derive and check grammars, and check the failures users will meet.
 
 use std::f64::consts::PI;
 use std::path::{Path, PathBuf};
@@ -452,17 +452,6 @@ fn unreadable_inputs_are_one_line_errors() {
 }
 
 #[test]
-fn derive_is_reserved() {
-    let output = shapegram(&["derive", "city.sg", "-o", "city.glb"]);
-    assert_eq!(output.status.code(), Some(2));
-    assert_eq!(
-        stderr(&output),
-        "error: derive is not available yet: the grammar engine lands with the grammar-language \
-         issue\n"
-    );
-}
-
-#[test]
 fn help_shows_examples_and_the_volume_caveat() {
     let output = shapegram(&["--help"]);
     assert!(output.status.success());
@@ -471,10 +460,13 @@ fn help_shows_examples_and_the_volume_caveat() {
         "primitive",
         "info",
         "derive",
+        "check",
         "shapegram primitive box --size 10,20,5 -o box.glb",
+        "shapegram derive house.cga -o house.glb",
     ] {
         assert!(help.contains(expected), "missing {expected:?} in:\n{help}");
     }
+    assert!(!help.contains("soon"), "{help}");
     let info_help = String::from_utf8(shapegram(&["info", "--help"]).stdout).unwrap();
     let info_help = info_help.split_whitespace().collect::<Vec<_>>().join(" ");
     assert!(
@@ -488,4 +480,576 @@ fn help_shows_examples_and_the_volume_caveat() {
             "missing {expected:?} in:\n{primitive_help}"
         );
     }
+}
+
+// ---------------------------------------------------------------------------------------------
+// derive and check
+
+/// The house of the README: on the default 20 × 30 lot with height 12 every facade has a 4.5 m
+/// ground floor and round((12 − 4.5) / 3.5) = 2 floors; a floor is 1 m of wall at each end and
+/// tiles of about 3 m between: 18 / 3 = 6 on the 20 m front and back, round(28 / 3) = 9 on the
+/// 30 m sides.
+const HOUSE: &str = r##"attr height = 12
+@StartRule
+Lot --> extrude(height) Mass
+Mass --> comp(f) { front : Facade | side : Facade | top : Roof | bottom : NIL }
+Facade --> split(y) { 4.5 : Ground | { ~3.5 : Floor }* }
+Floor --> split(x) { 1 : Wall | { ~3 : Tile }* | 1 : Wall }
+Tile --> color("#3a6ea5") Window
+Roof --> color("#883322")
+"##;
+
+/// Leaves of [`HOUSE`]: 4 ground floors, 2 walls on each of 8 floors, 2 × 2 × 6 + 2 × 2 × 9 = 60
+/// windows and the roof.
+const HOUSE_LEAVES: u64 = 4 + 8 * 2 + 60 + 1;
+
+/// Shapes of [`HOUSE`]: every split part, component and successor is a shape. The lot and Mass
+/// (2); 6 faces, each with a successor but the deleted bottom (11); per facade the ground floor
+/// and 2 floors, each a part and a successor (4 × 6 = 24); per floor 2 walls and its tiles, each
+/// a part and a successor (4 × (4 + 12) + 4 × (4 + 18) = 152); a Window per tile (60).
+const HOUSE_SHAPES: u64 = 2 + 11 + 24 + 152 + 60;
+
+/// A directory holding `house.cga`.
+fn house_dir(test: &str) -> (TempDir, PathBuf) {
+    let dir = TempDir::new(test);
+    let grammar = dir.path("house.cga");
+    std::fs::write(&grammar, HOUSE).unwrap();
+    (dir, grammar)
+}
+
+fn text(path: &Path) -> &str {
+    path.to_str().unwrap()
+}
+
+/// Runs `derive GRAMMAR --stats -q ARGS...`, which must succeed, and returns the JSON.
+fn derive_stats(grammar: &Path, args: &[&str]) -> Value {
+    let (stats, _) = derive_stats_text(grammar, args);
+    stats
+}
+
+/// Like [`derive_stats`], also returning the JSON text (whose key order `Value` loses).
+fn derive_stats_text(grammar: &Path, args: &[&str]) -> (Value, String) {
+    let mut all = vec!["derive", text(grammar), "--stats", "-q"];
+    all.extend_from_slice(args);
+    let output = shapegram(&all);
+    assert!(output.status.success(), "{all:?}: {}", stderr(&output));
+    assert!(output.stderr.is_empty(), "-q printed: {}", stderr(&output));
+    let stdout = String::from_utf8(output.stdout).unwrap();
+    assert_eq!(stdout.lines().count(), 1, "{stdout}");
+    (serde_json::from_str(&stdout).unwrap(), stdout)
+}
+
+/// The rule counts, in the order of the JSON text.
+fn rules(stats: &Value, json: &str) -> Vec<(String, u64)> {
+    let rules_at = json.find("\"rules\":").unwrap();
+    let mut list: Vec<(usize, String, u64)> = stats["rules"]
+        .as_object()
+        .unwrap()
+        .iter()
+        .map(|(k, v)| {
+            let at = json[rules_at..].find(&format!("\"{k}\":")).unwrap();
+            (at, k.clone(), v.as_u64().unwrap())
+        })
+        .collect();
+    list.sort();
+    list.into_iter().map(|(_, k, v)| (k, v)).collect()
+}
+
+fn rule(stats: &Value, name: &str) -> u64 {
+    stats["rules"][name].as_u64().unwrap()
+}
+
+fn pairs(list: &[(&str, u64)]) -> Vec<(String, u64)> {
+    list.iter().map(|&(k, v)| (k.to_owned(), v)).collect()
+}
+
+#[test]
+fn derive_writes_every_format_and_a_summary_line() {
+    let (dir, grammar) = house_dir("derive-formats");
+    for ext in ["glb", "obj", "stl"] {
+        let out = dir.path(&format!("house.{ext}"));
+        let err = ok(&["derive", text(&grammar), "-o", text(&out)]);
+        let last = err.lines().last().unwrap();
+        let prefix = format!(
+            "derived {}: 1 lot, {HOUSE_SHAPES} shapes, {HOUSE_LEAVES} leaves, ",
+            text(&out)
+        );
+        assert!(last.starts_with(&prefix), "{last}");
+        assert!(last.ends_with(" ms") || last.ends_with(" s"), "{last}");
+        // The grammar leaves Ground, Wall and Window without rules: warnings, not errors.
+        assert!(err.starts_with("warning: no rule `Ground`"), "{err}");
+
+        let info = info_json(&out);
+        assert_eq!(info["bounds"]["min"], serde_json::json!([0.0, 0.0, 0.0]));
+        assert_eq!(info["bounds"]["max"], serde_json::json!([20.0, 12.0, 30.0]));
+        // Four walls and the roof; the bottom was deleted.
+        assert_relative(num(&info, "area"), 2.0 * (20.0 + 30.0) * 12.0 + 600.0, 1e-6);
+        assert_eq!(info["degenerate_triangles"], 0, "{ext}: {info}");
+    }
+    assert!(dir.path("house.mtl").exists());
+
+    // --group keeps one part per rule name and colour.
+    let grouped = dir.path("grouped.glb");
+    ok(&[
+        "derive",
+        text(&grammar),
+        "--group",
+        "-q",
+        "-o",
+        text(&grouped),
+    ]);
+    let info = info_json(&grouped);
+    assert_eq!(info["parts"], 4, "Ground, Wall, Window, Roof: {info}");
+}
+
+#[test]
+fn stats_count_shapes_leaves_and_rules_exactly() {
+    let (_dir, grammar) = house_dir("stats");
+    let (stats, json) = derive_stats_text(&grammar, &[]);
+    assert_eq!(stats["grammar"], text(&grammar));
+    assert_eq!(stats["lots"], 1);
+    assert_eq!(stats["seed"], 0);
+    assert_eq!(stats["shapes"], HOUSE_SHAPES);
+    assert_eq!(stats["leaves"], HOUSE_LEAVES);
+    // Every leaf is one rectangle.
+    assert_eq!(stats["faces"], HOUSE_LEAVES);
+    assert_eq!(stats["triangles"], 2 * HOUSE_LEAVES);
+    assert!(stats["derive_ms"].as_f64().unwrap() >= 0.0);
+    assert!(stats["export_ms"].as_f64().unwrap() >= 0.0);
+    assert_eq!(
+        rules(&stats, &json),
+        pairs(&[
+            ("Lot", 1),
+            ("Mass", 1),
+            ("Facade", 4),
+            ("Floor", 8),
+            ("Tile", 60),
+            ("Roof", 1)
+        ])
+    );
+    assert_eq!(stats["reports"], serde_json::json!({}));
+
+    // Keys in a fixed order.
+    let positions: Vec<usize> = [
+        "grammar",
+        "lots",
+        "seed",
+        "shapes",
+        "leaves",
+        "faces",
+        "triangles",
+        "derive_ms",
+        "export_ms",
+        "rules",
+        "reports",
+    ]
+    .iter()
+    .map(|key| json.find(&format!("\"{key}\":")).unwrap())
+    .collect();
+    assert!(positions.is_sorted(), "keys out of order: {json}");
+}
+
+#[test]
+fn attributes_from_the_command_line_override_the_grammar() {
+    let (_dir, grammar) = house_dir("attr");
+    // round((20 − 4.5) / 3.5) = 4 floors per facade.
+    let stats = derive_stats(&grammar, &["--attr", "height=20"]);
+    assert_eq!(rule(&stats, "Floor"), 16);
+    assert_eq!(rule(&stats, "Tile"), 120);
+    assert_eq!(stats["leaves"], 4 + 16 * 2 + 120 + 1);
+}
+
+#[test]
+fn every_lot_option_is_one_lot() {
+    let (_dir, grammar) = house_dir("lots");
+    let stats = derive_stats(
+        &grammar,
+        &[
+            "--lot",
+            "0,0 20,0 20,30 0,30",
+            // Clockwise this time, and away from the origin.
+            "--lot",
+            "40,30 60,30 60,0 40,0",
+        ],
+    );
+    assert_eq!(stats["lots"], 2);
+    assert_eq!(stats["leaves"], 2 * HOUSE_LEAVES);
+    assert_eq!(stats["shapes"], 2 * HOUSE_SHAPES);
+    assert_eq!(rule(&stats, "Tile"), 120);
+}
+
+#[test]
+fn lots_come_from_obj_faces_and_geojson_polygons() {
+    let (dir, grammar) = house_dir("lot-files");
+    // Two 20 × 30 quads: one facing down (its winding is reversed), one facing up.
+    let obj = dir.path("parcels.obj");
+    std::fs::write(
+        &obj,
+        "v 0 0 0\nv 20 0 0\nv 20 0 30\nv 0 0 30\n\
+         v 50 0 0\nv 70 0 0\nv 70 0 30\nv 50 0 30\n\
+         f 1 2 3 4\nf 5 8 7 6\n",
+    )
+    .unwrap();
+    let out = dir.path("parcels.glb");
+    let stats = derive_stats(&grammar, &["--lots", text(&obj), "-o", text(&out)]);
+    assert_eq!(stats["lots"], 2);
+    assert_eq!(stats["leaves"], 2 * HOUSE_LEAVES);
+    let info = info_json(&out);
+    // Both houses stand on y = 0 and rise to 12: no lot was extruded downwards.
+    assert_eq!(info["bounds"]["min"], serde_json::json!([0.0, 0.0, 0.0]));
+    assert_eq!(info["bounds"]["max"], serde_json::json!([70.0, 12.0, 30.0]));
+
+    // GeoJSON: y is north, which is −z; the hole is ignored with a warning.
+    let geojson = dir.path("parcels.geojson");
+    std::fs::write(
+        &geojson,
+        r#"{"type": "FeatureCollection", "features": [
+            {"type": "Feature", "properties": {"id": 1}, "geometry": {"type": "Polygon",
+             "coordinates": [[[0, 0], [20, 0], [20, 30], [0, 30], [0, 0]],
+                             [[5, 5], [6, 5], [6, 6], [5, 5]]]}},
+            {"type": "Feature", "properties": {"id": 2}, "geometry": {"type": "MultiPolygon",
+             "coordinates": [[[[100, 0], [120, 0], [120, 30], [100, 30], [100, 0]]]]}}
+        ]}"#,
+    )
+    .unwrap();
+    let out = dir.path("geo.glb");
+    let err = ok(&[
+        "derive",
+        text(&grammar),
+        "--lots",
+        text(&geojson),
+        "-o",
+        text(&out),
+    ]);
+    assert!(
+        err.starts_with(&format!(
+            "warning: {}: ignored 1 hole (lots have no holes)\n",
+            text(&geojson)
+        )),
+        "{err}"
+    );
+    assert!(err.contains(": 2 lots, "), "{err}");
+    let info = info_json(&out);
+    assert_eq!(info["bounds"]["min"], serde_json::json!([0.0, 0.0, -30.0]));
+    assert_eq!(info["bounds"]["max"], serde_json::json!([120.0, 12.0, 0.0]));
+}
+
+#[test]
+fn bad_lots_are_one_line_errors() {
+    let (dir, grammar) = house_dir("bad-lots");
+    fails_one_line(
+        &["derive", text(&grammar), "--lot", "0,0 1,x 1,1"],
+        "invalid --lot: '1,x' is not an x,z pair of numbers like 4,2.5",
+    );
+    fails_one_line(
+        &["derive", text(&grammar), "--lot", "0,0 1,0"],
+        "invalid --lot '0,0 1,0': expected at least three x,z pairs",
+    );
+    fails_one_line(
+        &["derive", text(&grammar), "--lot", "0,0 1,0 2,0"],
+        "invalid --lot '0,0 1,0 2,0': the polygon has no area",
+    );
+    let json = dir.path("broken.json");
+    std::fs::write(&json, "{\"type\": \"FeatureCollection\", ").unwrap();
+    let err = fails_one_line(
+        &["derive", text(&grammar), "--lots", text(&json)],
+        "invalid GeoJSON in ",
+    );
+    assert!(err.contains("broken.json"), "{err}");
+    let empty = dir.path("empty.geojson");
+    std::fs::write(&empty, r#"{"type": "FeatureCollection", "features": []}"#).unwrap();
+    fails_one_line(
+        &["derive", text(&grammar), "--lots", text(&empty)],
+        &format!("{} has no polygons to use as lots", text(&empty)),
+    );
+    fails_one_line(
+        &[
+            "derive",
+            text(&grammar),
+            "--lots",
+            text(&dir.path("none.obj")),
+        ],
+        "cannot read",
+    );
+    fails_one_line(
+        &["derive", text(&grammar), "--lots", text(&grammar)],
+        "cannot read lots from",
+    );
+}
+
+#[test]
+fn derivations_are_deterministic_and_follow_the_seed() {
+    let dir = TempDir::new("seed");
+    let grammar = dir.path("random.cga");
+    std::fs::write(
+        &grammar,
+        HOUSE.replace(
+            r##"Tile --> color("#3a6ea5") Window"##,
+            r##"Tile --> 50% : color("#ff0000") W. else : color("#00ff00") W."##,
+        ),
+    )
+    .unwrap();
+    let derive = |seed: &str, threads: &str, name: &str| {
+        let out = dir.path(name);
+        let output = Command::new(env!("CARGO_BIN_EXE_shapegram"))
+            .args(["derive", text(&grammar), "-q", "--seed", seed, "-o"])
+            .arg(&out)
+            .args(["--lot", "0,0 20,0 20,30 0,30"])
+            .args(["--lot", "30,0 50,0 50,30 30,30"])
+            .args(["--lot", "60,0 80,0 80,30 60,30"])
+            .env("RAYON_NUM_THREADS", threads)
+            .output()
+            .unwrap();
+        assert!(output.status.success(), "{}", stderr(&output));
+        std::fs::read(out).unwrap()
+    };
+    let first = derive("7", "1", "a.glb");
+    assert_eq!(first, derive("7", "1", "b.glb"), "the same run twice");
+    assert_eq!(first, derive("7", "4", "c.glb"), "1 and 4 threads");
+    assert_ne!(first, derive("8", "4", "d.glb"), "another seed");
+}
+
+#[test]
+fn generations_stop_the_rewriting() {
+    let dir = TempDir::new("generations");
+    let grammar = dir.path("halves.cga");
+    std::fs::write(&grammar, "A --> split(x) { ~1 : A | ~1 : A }\n").unwrap();
+    // 1 + 2 + 4 rule applications; the 8 shapes of the last generation become leaves.
+    let stats = derive_stats(&grammar, &["--generations", "3"]);
+    assert_eq!(stats["leaves"], 8);
+    assert_eq!(rule(&stats, "A"), 7);
+    assert_eq!(stats["faces"], 8);
+}
+
+#[test]
+fn print_and_report_reach_stderr_and_stats() {
+    let dir = TempDir::new("report");
+    let grammar = dir.path("report.cga");
+    std::fs::write(
+        &grammar,
+        "attr floors = 3\n\
+         @StartRule\n\
+         Lot --> print(\"floors: \" + floors) extrude(floors * 3) comp(f) { side : Side | top : Top. | bottom : NIL }\n\
+         Side --> report(\"wall area\", scope.sx * scope.sy) report(\"kind\", \"wall\") Wall.\n",
+    )
+    .unwrap();
+    let output = shapegram(&["derive", text(&grammar), "--stats", "-q"]);
+    assert!(output.status.success(), "{}", stderr(&output));
+    assert_eq!(stderr(&output), "print: floors: 3\n");
+    let stats: Value = serde_json::from_slice(&output.stdout).unwrap();
+    assert_eq!(
+        stats["reports"],
+        serde_json::json!({
+            "wall area": {"count": 4, "sum": 900.0, "min": 180.0, "max": 270.0},
+            "kind": {"count": 1 + 3}
+        })
+    );
+    let text = String::from_utf8(output.stdout).unwrap();
+    assert!(text.find("\"wall area\"").unwrap() < text.find("\"kind\"").unwrap());
+}
+
+#[test]
+fn assets_are_read_relative_to_the_grammar() {
+    let dir = TempDir::new("assets");
+    std::fs::create_dir_all(dir.path("rules/assets")).unwrap();
+    let column = dir.path("rules/assets/column.obj");
+    ok(&["primitive", "cylinder", "-q", "-o", text(&column)]);
+    let grammar = dir.path("rules/columns.cga");
+    std::fs::write(
+        &grammar,
+        "@StartRule\nLot --> extrude(6) split(x) { ~4 : i(\"assets/column.obj\") Column. }*\n",
+    )
+    .unwrap();
+    // Run from another folder: the asset is found beside the grammar.
+    let out = dir.path("columns.glb");
+    let output = Command::new(env!("CARGO_BIN_EXE_shapegram"))
+        .args(["derive", text(&grammar), "--stats", "-q", "-o", text(&out)])
+        .current_dir(std::env::temp_dir())
+        .output()
+        .unwrap();
+    assert!(output.status.success(), "{}", stderr(&output));
+    let stats: Value = serde_json::from_slice(&output.stdout).unwrap();
+    assert_eq!(stats["leaves"], 5);
+    // Five cylinders of 32 sides (32 quads, 2 × 30 cap triangles), each stretched to 4 × 6 × 30.
+    assert_eq!(stats["triangles"], 5 * (32 * 2 + 2 * 30));
+    let info = info_json(&out);
+    assert_eq!(info["bounds"]["max"], serde_json::json!([20.0, 6.0, 30.0]));
+
+    std::fs::write(
+        &grammar,
+        "@StartRule\nLot --> extrude(6) i(\"assets/missing.obj\") Column.\n",
+    )
+    .unwrap();
+    let err = fails(
+        &["derive", text(&grammar)],
+        1,
+        "cannot insert `assets/missing.obj`: cannot read",
+    );
+    assert!(err.contains("columns.cga:2:22"), "{err}");
+}
+
+#[test]
+fn syntax_errors_show_the_place_and_end_with_a_count() {
+    let dir = TempDir::new("syntax");
+    let grammar = dir.path("broken.cga");
+    std::fs::write(
+        &grammar,
+        "attr height = 12\nLot --> extrude(height Mass\nMass --> comp(f) { top : Roof | }\n",
+    )
+    .unwrap();
+    let out = dir.path("broken.glb");
+    let output = shapegram(&["derive", text(&grammar), "-o", text(&out)]);
+    assert_eq!(output.status.code(), Some(1));
+    let err = stderr(&output);
+    assert!(err.starts_with("error: "), "{err}");
+    assert!(err.contains(&format!("--> {}:2:", text(&grammar))), "{err}");
+    assert!(err.contains("2 | Lot --> extrude(height Mass\n"), "{err}");
+    assert!(err.contains('^'), "{err}");
+    let last = err.lines().last().unwrap();
+    assert!(
+        last.starts_with("error: ") && last.ends_with(&format!(" in {}", text(&grammar))),
+        "{last}"
+    );
+    let errors = err.lines().filter(|l| l.starts_with("error: ")).count() - 1;
+    let expected = if errors == 1 {
+        "error: 1 error in ".to_owned()
+    } else {
+        format!("error: {errors} errors in ")
+    };
+    assert!(last.starts_with(&expected), "{errors} errors but: {last}");
+    assert!(output.stdout.is_empty());
+    assert!(!out.exists());
+}
+
+#[test]
+fn runtime_errors_name_the_problem() {
+    let (dir, grammar) = house_dir("runtime");
+    // An unknown attribute: the engine's error with its hint.
+    let err = fails(
+        &["derive", text(&grammar), "-q", "--attr", "heigth=3"],
+        1,
+        "",
+    );
+    assert_eq!(
+        err,
+        "error: the grammar has no attribute `heigth`\n  = hint: did you mean `height`?\n"
+    );
+    // Not NAME=VALUE: a usage error.
+    fails(
+        &["derive", text(&grammar), "-q", "--attr", "height"],
+        2,
+        "invalid value 'height' for '--attr <NAME=VALUE>'",
+    );
+    fails(
+        &["derive", text(&grammar), "-q", "--start", "Flor"],
+        1,
+        "the grammar has no rule `Flor`",
+    );
+
+    let recursive = dir.path("recursive.cga");
+    std::fs::write(&recursive, "Lot --> A\nA --> A\n").unwrap();
+    let err = fails(&["derive", text(&recursive), "--max-depth", "50"], 1, "");
+    assert!(err.lines().next().unwrap().contains("`A`"), "{err}");
+    assert!(err.contains("50"), "{err}");
+    assert!(err.contains("recursive.cga:2:7"), "{err}");
+    assert!(err.contains("= hint: "), "{err}");
+
+    let err = fails_one_line(&["derive", text(&dir.path("missing.cga"))], "cannot read");
+    assert!(err.contains("missing.cga"), "{err}");
+    fails_one_line(
+        &["derive", text(&grammar), "-o", text(&dir.path("x.fbx"))],
+        "unknown file format",
+    );
+}
+
+#[test]
+fn derive_help_documents_the_default_lot_and_shows_examples() {
+    let help = String::from_utf8(shapegram(&["derive", "--help"]).stdout).unwrap();
+    for expected in [
+        "20 × 30",
+        "x from 0 to 20, z from 0 to 30",
+        "Examples:",
+        "shapegram derive house.cga -o house.glb",
+        "--attr <NAME=VALUE>",
+        "[default: 60]",
+        "[default: 10000000]",
+    ] {
+        assert!(help.contains(expected), "missing {expected:?} in:\n{help}");
+    }
+}
+
+#[test]
+fn check_reports_each_file() {
+    let (dir, good) = house_dir("check");
+    let bad = dir.path("bad.cga");
+    std::fs::write(
+        &bad,
+        "Lot --> extrude(10) Mass\nMass --> split(q) { 1 : A }\n",
+    )
+    .unwrap();
+
+    let err = ok(&["check", text(&good)]);
+    assert!(err.contains("warning: no rule `Ground`"), "{err}");
+    assert_eq!(
+        err.lines().last().unwrap(),
+        format!("ok: {} (6 rules, 1 attribute, 3 warnings)", text(&good))
+    );
+    let quiet = ok(&["check", "--quiet-warnings", text(&good)]);
+    assert_eq!(
+        quiet,
+        format!("ok: {} (6 rules, 1 attribute, 3 warnings)\n", text(&good))
+    );
+
+    let output = shapegram(&["check", "--quiet-warnings", text(&good), text(&bad)]);
+    assert_eq!(output.status.code(), Some(1));
+    let err = stderr(&output);
+    assert!(err.starts_with(&format!("ok: {}", text(&good))), "{err}");
+    assert!(err.contains(&format!("--> {}:2:", text(&bad))), "{err}");
+    assert!(
+        err.ends_with(&format!("error: 1 error in {}\n", text(&bad))),
+        "{err}"
+    );
+
+    let missing = dir.path("missing.cga");
+    let output = shapegram(&["check", text(&missing), text(&good)]);
+    assert_eq!(output.status.code(), Some(1));
+    let err = stderr(&output);
+    assert!(err.starts_with("error: cannot read "), "{err}");
+    assert!(err.contains(&format!("ok: {}", text(&good))), "{err}");
+}
+
+/// Every grammar file under `dir`, sorted.
+fn cga_files(dir: &Path) -> Vec<PathBuf> {
+    let mut files = Vec::new();
+    for entry in std::fs::read_dir(dir).unwrap() {
+        let path = entry.unwrap().path();
+        if path.is_dir() {
+            files.extend(cga_files(&path));
+        } else if path.extension().is_some_and(|e| e == "cga") {
+            files.push(path);
+        }
+    }
+    files.sort();
+    files
+}
+
+#[test]
+fn check_accepts_the_cityengine_anchor_grammars() {
+    let anchors =
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("../../../shared/anchors/cityengine-cga");
+    if !anchors.is_dir() {
+        eprintln!("skipped: no anchor grammars at {}", anchors.display());
+        return;
+    }
+    let files = cga_files(&anchors);
+    assert_eq!(files.len(), 23, "{files:?}");
+    let output = shapegram(
+        &std::iter::once("check".as_ref())
+            .chain(std::iter::once("--quiet-warnings".as_ref()))
+            .chain(files.iter().map(|f| f.as_os_str()))
+            .collect::<Vec<&std::ffi::OsStr>>(),
+    );
+    let err = stderr(&output);
+    assert!(output.status.success(), "{err}");
+    assert_eq!(err.lines().filter(|l| l.starts_with("ok: ")).count(), 23);
 }

@@ -1,0 +1,274 @@
+//! Built-in functions and shape queries of the expression language.
+
+/// A built-in function.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum Builtin {
+    Rand,
+    P,
+    Floor,
+    Ceil,
+    Round,
+    Abs,
+    Min,
+    Max,
+    Sqrt,
+    Pow,
+    Exp,
+    Ln,
+    Log10,
+    Sin,
+    Cos,
+    Tan,
+    Asin,
+    Acos,
+    Atan,
+    Atan2,
+    Clamp,
+    Str,
+    Float,
+    Bool,
+    Len,
+}
+
+impl Builtin {
+    /// Every built-in's name, in the order of [`Builtin::ALL`].
+    pub const NAMES: &'static [&'static str] = &[
+        "rand", "p", "floor", "ceil", "round", "abs", "min", "max", "sqrt", "pow", "exp", "ln",
+        "log10", "sin", "cos", "tan", "asin", "acos", "atan", "atan2", "clamp", "str", "float",
+        "bool", "size",
+    ];
+
+    const ALL: [Builtin; 25] = [
+        Self::Rand,
+        Self::P,
+        Self::Floor,
+        Self::Ceil,
+        Self::Round,
+        Self::Abs,
+        Self::Min,
+        Self::Max,
+        Self::Sqrt,
+        Self::Pow,
+        Self::Exp,
+        Self::Ln,
+        Self::Log10,
+        Self::Sin,
+        Self::Cos,
+        Self::Tan,
+        Self::Asin,
+        Self::Acos,
+        Self::Atan,
+        Self::Atan2,
+        Self::Clamp,
+        Self::Str,
+        Self::Float,
+        Self::Bool,
+        Self::Len,
+    ];
+
+    /// The built-in with this name.
+    pub fn from_name(name: &str) -> Option<Self> {
+        Self::NAMES
+            .iter()
+            .position(|&n| n == name)
+            .map(|i| Self::ALL[i])
+    }
+
+    /// Fewest and most arguments.
+    pub fn arity(self) -> (usize, usize) {
+        match self {
+            Self::Rand => (0, 2),
+            Self::Min | Self::Max | Self::Pow | Self::Atan2 => (2, 2),
+            Self::Clamp => (3, 3),
+            _ => (1, 1),
+        }
+    }
+
+    /// The signature shown in hints.
+    pub fn signature(self) -> &'static str {
+        match self {
+            Self::Rand => "rand() | rand(max) | rand(min, max)",
+            Self::P => "p(probability)",
+            Self::Min => "min(a, b)",
+            Self::Max => "max(a, b)",
+            Self::Pow => "pow(base, exponent)",
+            Self::Atan2 => "atan2(y, x)",
+            Self::Clamp => "clamp(value, min, max)",
+            Self::Str => "str(value)",
+            Self::Float => "float(value)",
+            Self::Bool => "bool(value)",
+            Self::Len => "size(array)",
+            _ => "f(number)",
+        }
+    }
+
+    /// CGA functions that parse but are not implemented yet: a warning, and an error if reached.
+    pub fn is_known_unsupported(name: &str) -> bool {
+        const NAMES: &[&str] = &[
+            "inside",
+            "overlaps",
+            "touches",
+            "contextCompare",
+            "contextCount",
+            "minimumDistance",
+            "fileExists",
+            "fileSearch",
+            "filesSearch",
+            "assetInfo",
+            "assetBestRatio",
+            "assetBestSize",
+            "assetFitSize",
+            "assetNamingInfo",
+            "assetsSortRatio",
+            "assetsSortSize",
+            "imageBestRatio",
+            "imageInfo",
+            "isNull",
+            "readMaterial",
+            "readStringTable",
+            "readFloatTable",
+            "readTextFile",
+            "getTreeKey",
+            "find",
+            "count",
+            "index",
+            "len",
+            "listAdd",
+            "listClean",
+            "listCount",
+            "listIndex",
+            "listItem",
+            "listRandom",
+            "listRange",
+            "listRemove",
+            "listSize",
+            "substring",
+            "replace",
+            "splitString",
+            "comp",
+            "isInside",
+            "isOccluded",
+            "convert",
+            "scope",
+            "geometry",
+            "colorRamp",
+            "colorHSVToHex",
+            "colorHSOToHex",
+            "colorRGBToHex",
+            "sortIndices",
+            "transpose",
+            "nRows",
+            "nColumns",
+            "boolArray",
+            "floatArray",
+            "stringArray",
+            "item",
+            "isect",
+            "edgeAttr",
+            "infoDebug",
+            "print",
+            "trim",
+            "fileRandom",
+            "fileName",
+            "fileDirectory",
+            "fileExtension",
+            "fileBasename",
+            "geometry.isRectangular",
+            "geometry.isPlanar",
+            "geometry.isConcave",
+            "geometry.isClosedSurface",
+            "geometry.isOriented",
+            "geometry.angle",
+            "geometry.height",
+            "geometry.du",
+            "geometry.dv",
+            "geometry.uMin",
+            "geometry.uMax",
+            "geometry.vMin",
+            "geometry.vMax",
+            "geometry.nHoles",
+            "geometry.nEdges",
+            "geometry.boundaryLength",
+        ];
+        NAMES.contains(&name)
+    }
+}
+
+/// A query of the current shape.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum Query {
+    ScopeSize(usize),
+    ScopeOrigin(usize),
+    ScopeRotation(usize),
+    SplitIndex,
+    SplitTotal,
+    CompIndex,
+    CompTotal,
+    GeometryArea,
+    GeometryVolume,
+    GeometryVertices,
+    GeometryFaces,
+    InitialOrigin(usize),
+    Seed,
+}
+
+impl Query {
+    /// Every query name.
+    pub const NAMES: &'static [&'static str] = &[
+        "scope.sx",
+        "scope.sy",
+        "scope.sz",
+        "scope.tx",
+        "scope.ty",
+        "scope.tz",
+        "scope.rx",
+        "scope.ry",
+        "scope.rz",
+        "split.index",
+        "split.total",
+        "comp.index",
+        "comp.total",
+        "geometry.area",
+        "geometry.volume",
+        "geometry.nVertices",
+        "geometry.nFaces",
+        "initialShape.origin.px",
+        "initialShape.origin.py",
+        "initialShape.origin.pz",
+        "seedian",
+    ];
+
+    /// The query with this name.
+    pub fn from_name(name: &str) -> Option<Self> {
+        let i = Self::NAMES.iter().position(|&n| n == name)?;
+        Some(match i {
+            0..=2 => Self::ScopeSize(i),
+            3..=5 => Self::ScopeOrigin(i - 3),
+            6..=8 => Self::ScopeRotation(i - 6),
+            9 => Self::SplitIndex,
+            10 => Self::SplitTotal,
+            11 => Self::CompIndex,
+            12 => Self::CompTotal,
+            13 => Self::GeometryArea,
+            14 => Self::GeometryVolume,
+            15 => Self::GeometryVertices,
+            16 => Self::GeometryFaces,
+            17..=19 => Self::InitialOrigin(i - 17),
+            _ => Self::Seed,
+        })
+    }
+
+    /// Dotted names of CGA queries that are not implemented yet.
+    pub fn is_known_unsupported(name: &str) -> bool {
+        const PREFIXES: &[&str] = &[
+            "scope.",
+            "geometry.",
+            "comp.",
+            "split.",
+            "initialShape.",
+            "material.",
+            "split.",
+        ];
+        PREFIXES.iter().any(|p| name.starts_with(p))
+    }
+}

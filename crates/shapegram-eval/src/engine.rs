@@ -1,0 +1,1136 @@
+//! The derivation engine: rewriting shapes with rules until only leaves are left.
+
+use std::sync::Arc;
+use std::time::{Duration, Instant};
+
+use rayon::prelude::*;
+use rustc_hash::FxHashMap;
+use shapegram_geom::{
+    Color, DMat3, DVec3, FaceClass, Mesh, Model, Part as ModelPart, Pivot, Scope, component,
+    extrude::{extrude_along, extrude_polygon},
+    mesh::newell,
+    primitives,
+    split::split_slabs,
+};
+use shapegram_syntax::Span;
+
+use crate::error::DeriveError;
+use crate::expr::Evaluator;
+use crate::ops::{CompEntry, CompKind, CompSelector, Op, Primitive, SetTarget};
+use crate::program::{CBody, CExpr, CKind, CStmt, Program, RuleId};
+use crate::rng::child_seed;
+use crate::shape::{FaceTag, Geometry, State, box_mesh, flat_axis};
+use crate::split::layout;
+use crate::value::Value;
+
+/// Loads the assets that `i("path")` inserts (built-in assets are handled by the engine).
+pub trait AssetLoader: Send + Sync {
+    /// The mesh stored at `path`, or a one-line reason why it cannot be had.
+    fn load(&self, path: &str) -> Result<Arc<Mesh>, String>;
+}
+
+/// How to derive.
+#[derive(Clone)]
+pub struct DeriveOptions {
+    /// The run's seed: with the grammar and attributes it fixes every random choice.
+    pub seed: u64,
+    /// Attribute values overriding the grammar's defaults.
+    pub attrs: Vec<(String, Value)>,
+    /// The rule to start from; the grammar's `@StartRule` (or first rule) when `None`.
+    pub start_rule: Option<String>,
+    /// Stop with an error after this many shapes (per initial shape and in total).
+    pub max_shapes: usize,
+    /// Stop with an error when a shape is this many successors deep.
+    pub max_depth: u32,
+    /// Stop with an error after this much time per initial shape.
+    pub time_budget: Option<Duration>,
+    /// Rewrite in parallel generations and stop after this many (shapes left become leaves).
+    pub generations: Option<u32>,
+    /// Where `i("file.obj")` finds files.
+    pub assets: Option<Arc<dyn AssetLoader>>,
+}
+
+impl Default for DeriveOptions {
+    fn default() -> Self {
+        Self {
+            seed: 0,
+            attrs: Vec::new(),
+            start_rule: None,
+            max_shapes: 10_000_000,
+            max_depth: 1_000,
+            time_budget: None,
+            generations: None,
+            assets: None,
+        }
+    }
+}
+
+/// An initial shape: a planar footprint polygon in world coordinates, counter-clockwise about
+/// its up side (a lot faces +y).
+#[derive(Clone, Debug, PartialEq)]
+pub struct InitialShape {
+    /// The polygon's corners.
+    pub footprint: Vec<DVec3>,
+}
+
+impl InitialShape {
+    /// A lot from `(x, z)` corners in either winding, at y = 0, facing up.
+    pub fn from_xz(points: &[shapegram_geom::DVec2]) -> Option<Self> {
+        let mesh = primitives::footprint(points)?;
+        Some(Self {
+            footprint: mesh.face_points(0).collect(),
+        })
+    }
+}
+
+/// A finished shape: part of the model.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Leaf {
+    /// The symbol of the shape (the rule that made it).
+    pub name: Arc<str>,
+    /// Its scope.
+    pub scope: Scope,
+    /// Its geometry, relative to the scope.
+    pub geometry: Geometry,
+    /// Its colour.
+    pub color: Color,
+    /// Its material name, when one was set.
+    pub material: Option<Arc<str>>,
+}
+
+impl Leaf {
+    /// The leaf's geometry in world coordinates (`None` when it has none).
+    pub fn world_mesh(&self) -> Option<Mesh> {
+        self.geometry.world_mesh(&self.scope)
+    }
+}
+
+/// Counts of a derivation.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Stats {
+    /// Shapes created (initial shapes, successors and parts of splits).
+    pub shapes: usize,
+    /// Leaves in the model.
+    pub leaves: usize,
+    /// How often each rule was applied, by rule name, in rule order.
+    pub rules: Vec<(String, usize)>,
+}
+
+/// The result of a derivation.
+#[derive(Clone, Debug, Default)]
+pub struct Derivation {
+    /// The leaves, initial shape by initial shape, in derivation order.
+    pub leaves: Vec<Leaf>,
+    /// `report(key, value)` calls in derivation order.
+    pub reports: Vec<(String, Value)>,
+    /// `print(value)` output in derivation order.
+    pub prints: Vec<String>,
+    /// Counts.
+    pub stats: Stats,
+}
+
+impl Derivation {
+    /// The leaves as a model: one part per (symbol, colour) in order of first appearance, each
+    /// holding the world-space geometry of its leaves.
+    pub fn to_model(&self) -> Model {
+        let mut parts: Vec<ModelPart> = Vec::new();
+        let mut slot: FxHashMap<(&str, [u32; 4]), usize> = FxHashMap::default();
+        for leaf in &self.leaves {
+            let Some(mesh) = leaf.world_mesh() else {
+                continue;
+            };
+            let key = (&*leaf.name, leaf.color.to_array().map(f32::to_bits));
+            let i = *slot.entry(key).or_insert_with(|| {
+                parts.push(ModelPart {
+                    name: leaf.name.to_string(),
+                    color: leaf.color,
+                    mesh: Mesh::new(),
+                });
+                parts.len() - 1
+            });
+            parts[i].mesh.append(&mesh);
+        }
+        Model { parts }
+    }
+}
+
+/// Derives a model from each initial shape, in parallel, and returns the results in order.
+pub fn derive(
+    program: &Program,
+    lots: &[InitialShape],
+    options: &DeriveOptions,
+) -> Result<Derivation, DeriveError> {
+    let start = start_rule(program, options)?;
+    let overrides = options
+        .attrs
+        .iter()
+        .map(|(name, value)| {
+            program
+                .attr(name)
+                .map(|i| (i, value.clone()))
+                .ok_or_else(|| {
+                    let mut e =
+                        DeriveError::general(format!("the grammar has no attribute `{name}`"));
+                    if let Some(close) = shapegram_syntax::suggest(name, program.attr_names()) {
+                        e = e.with_hint(format!("did you mean `{close}`?"));
+                    }
+                    e
+                })
+        })
+        .collect::<Result<Vec<_>, _>>()?;
+    let names: Vec<Arc<str>> = program
+        .symbols
+        .iter()
+        .map(|s| Arc::from(s.as_str()))
+        .collect();
+    let results: Vec<Result<Derivation, DeriveError>> = lots
+        .par_iter()
+        .enumerate()
+        .map(|(i, lot)| {
+            let seed = child_seed(options.seed, i as u64);
+            derive_lot(program, start, lot, seed, &overrides, &names, options)
+        })
+        .collect();
+    let mut all = Derivation::default();
+    let mut counts = vec![0usize; program.rules.len()];
+    for result in results {
+        let lot = result?;
+        all.leaves.extend(lot.leaves);
+        all.reports.extend(lot.reports);
+        all.prints.extend(lot.prints);
+        all.stats.shapes += lot.stats.shapes;
+        for (i, (_, n)) in lot.stats.rules.iter().enumerate() {
+            counts[i] += n;
+        }
+        if all.stats.shapes > options.max_shapes {
+            return Err(DeriveError::general(format!(
+                "the derivation made more than {} shapes",
+                options.max_shapes
+            ))
+            .with_hint("raise the limit (--max-shapes) or derive fewer initial shapes"));
+        }
+    }
+    all.stats.leaves = all.leaves.len();
+    all.stats.rules = rule_counts(program, &counts);
+    Ok(all)
+}
+
+fn rule_counts(program: &Program, counts: &[usize]) -> Vec<(String, usize)> {
+    program
+        .rules
+        .iter()
+        .zip(counts)
+        .map(|(r, &n)| (program.symbol_name(r.symbol).to_owned(), n))
+        .collect()
+}
+
+fn start_rule(program: &Program, options: &DeriveOptions) -> Result<RuleId, DeriveError> {
+    match &options.start_rule {
+        Some(name) => program.rule(name, 0).ok_or_else(|| {
+            let mut e = DeriveError::general(format!(
+                "the grammar has no rule `{name}` without parameters"
+            ));
+            if let Some(close) = shapegram_syntax::suggest(name, program.rule_names()) {
+                e = e.with_hint(format!("did you mean `{close}`?"));
+            }
+            e
+        }),
+        None => program
+            .start_rule
+            .ok_or_else(|| DeriveError::general("the grammar has no rules")),
+    }
+}
+
+/// The scope and geometry of an initial shape: x along the first edge, y along the normal, the
+/// box fitted around the polygon (CGA's initial scope).
+fn initial_shape(footprint: &[DVec3]) -> Result<(Scope, Geometry), DeriveError> {
+    let normal = newell(footprint.iter().copied()).normalize_or_zero();
+    let finite = footprint.iter().all(|p| p.is_finite());
+    let x = footprint
+        .iter()
+        .zip(footprint.iter().cycle().skip(1))
+        .find_map(|(a, b)| (*b - *a).reject_from(normal).try_normalize());
+    let (Some(x), true) = (x, finite && normal != DVec3::ZERO) else {
+        return Err(DeriveError::general(
+            "an initial shape has no area (fewer than three distinct corners, or all in a line)",
+        ));
+    };
+    let axes = DMat3::from_cols(x, normal, x.cross(normal));
+    let scope = Scope::fit(axes, footprint.iter().copied());
+    let local: Vec<DVec3> = footprint.iter().map(|&p| scope.to_local(p)).collect();
+    let geometry = if fills_box(&local, scope.size) {
+        Geometry::Box
+    } else {
+        Geometry::mesh(Mesh::from_polygon(&local))
+    };
+    Ok((scope, geometry))
+}
+
+/// Whether a local polygon is exactly the flat box of its scope (a rectangle at its corners).
+fn fills_box(local: &[DVec3], size: DVec3) -> bool {
+    let Some(axis) = flat_axis(size) else {
+        return false;
+    };
+    let eps = 1e-9 * size.length().max(1.0);
+    local.len() == 4
+        && local.iter().all(|p| {
+            (0..3).all(|i| {
+                i == axis && p[i].abs() <= eps
+                    || i != axis && (p[i].abs() <= eps || (p[i] - size[i]).abs() <= eps)
+            })
+        })
+        && (Mesh::from_polygon(local).area() - size[(axis + 1) % 3] * size[(axis + 2) % 3]).abs()
+            <= eps * size.length().max(1.0)
+}
+
+/// One shape waiting for its rule.
+struct Task {
+    state: State,
+    rule: RuleId,
+    args: Vec<Value>,
+}
+
+/// What a rule application leaves behind, in order: shapes to rewrite and finished leaves.
+/// Keeping both in one list makes the leaves come out in depth-first order of the tree.
+enum Work {
+    Rewrite(Task),
+    Leaf(State),
+}
+
+fn derive_lot(
+    program: &Program,
+    start: RuleId,
+    lot: &InitialShape,
+    seed: u64,
+    overrides: &[(u32, Value)],
+    names: &[Arc<str>],
+    options: &DeriveOptions,
+) -> Result<Derivation, DeriveError> {
+    let (scope, geometry) = initial_shape(&lot.footprint)?;
+    let symbol = program.rules[start as usize].symbol;
+    let mut state = State::initial(symbol, scope, geometry, seed);
+    let mut ev = Evaluator::new(program, seed, scope.origin);
+    state.attrs = Arc::new(ev.initial_attrs(&mut state, overrides)?);
+    let mut engine = Engine {
+        program,
+        ev,
+        names,
+        options,
+        leaves: Vec::new(),
+        counts: vec![0; program.rules.len()],
+        shapes: 1,
+        started: Instant::now(),
+    };
+    let task = Work::Rewrite(Task {
+        state,
+        rule: start,
+        args: Vec::new(),
+    });
+    match options.generations {
+        Some(n) => engine.run_generations(task, n)?,
+        None => engine.run_depth_first(task)?,
+    }
+    Ok(Derivation {
+        stats: Stats {
+            shapes: engine.shapes,
+            leaves: engine.leaves.len(),
+            rules: rule_counts(program, &engine.counts),
+        },
+        leaves: engine.leaves,
+        reports: engine.ev.reports,
+        prints: engine.ev.prints,
+    })
+}
+
+/// What engine steps return.
+type Fallible<T> = std::result::Result<T, DeriveError>;
+
+struct Engine<'p> {
+    program: &'p Program,
+    ev: Evaluator<'p>,
+    names: &'p [Arc<str>],
+    options: &'p DeriveOptions,
+    leaves: Vec<Leaf>,
+    counts: Vec<usize>,
+    shapes: usize,
+    started: Instant,
+}
+
+impl<'p> Engine<'p> {
+    fn run_depth_first(&mut self, first: Work) -> Fallible<()> {
+        let mut stack = vec![first];
+        let mut fresh = Vec::new();
+        while let Some(work) = stack.pop() {
+            match work {
+                Work::Leaf(state) => self.emit(state),
+                Work::Rewrite(task) => {
+                    self.apply(task, &mut fresh)?;
+                    // Reversed, so the first child is derived first.
+                    stack.extend(fresh.drain(..).rev());
+                }
+            }
+        }
+        Ok(())
+    }
+
+    fn run_generations(&mut self, first: Work, generations: u32) -> Fallible<()> {
+        let mut current = vec![first];
+        for _ in 0..generations {
+            let mut next = Vec::new();
+            for work in current {
+                match work {
+                    Work::Leaf(state) => next.push(Work::Leaf(state)),
+                    Work::Rewrite(task) => self.apply(task, &mut next)?,
+                }
+            }
+            current = next;
+            if !current.iter().any(|w| matches!(w, Work::Rewrite(_))) {
+                break;
+            }
+        }
+        // Shapes still waiting for their rule when the generations run out are leaves too.
+        for work in current {
+            match work {
+                Work::Leaf(state) | Work::Rewrite(Task { state, .. }) => self.emit(state),
+            }
+        }
+        Ok(())
+    }
+
+    /// Applies a shape's rule; new shapes waiting for rules go to `out`, in order.
+    fn apply(&mut self, task: Task, out: &mut Vec<Work>) -> Fallible<()> {
+        self.counts[task.rule as usize] += 1;
+        if self.shapes % 4096 == 0 {
+            self.check_time(task.rule)?;
+        }
+        let program = self.program;
+        let mut state = task.state;
+        state.parent_scope = state.scope;
+        self.run_body(
+            &program.rules[task.rule as usize].body,
+            state,
+            &task.args,
+            out,
+        )
+    }
+
+    fn run_body(
+        &mut self,
+        body: &'p CBody,
+        mut state: State,
+        args: &[Value],
+        out: &mut Vec<Work>,
+    ) -> Fallible<()> {
+        match body {
+            CBody::Sequence(stmts) => self.run_stmts(stmts, state, args, out),
+            CBody::Cases(arms, otherwise) => {
+                for (cond, branch) in arms {
+                    if self.ev.condition(cond, &mut state, args)? {
+                        return self.run_body(branch, state, args, out);
+                    }
+                }
+                self.run_body(otherwise, state, args, out)
+            }
+            CBody::Stochastic(arms, otherwise) => {
+                let draw = state.rng.next_f64() * 100.0;
+                let mut acc = 0.0;
+                for (percent, branch) in arms {
+                    acc += self.ev.number(percent, &mut state, args)?;
+                    if draw < acc {
+                        return self.run_body(branch, state, args, out);
+                    }
+                }
+                self.run_body(otherwise, state, args, out)
+            }
+        }
+    }
+
+    /// Runs statements on a shape. A shape that made no successors and no parts, and was not
+    /// deleted, is a leaf.
+    fn run_stmts(
+        &mut self,
+        stmts: &'p [CStmt],
+        mut state: State,
+        args: &[Value],
+        out: &mut Vec<Work>,
+    ) -> Fallible<()> {
+        let mut produced = false;
+        let mut saved: Vec<State> = Vec::new();
+        for stmt in stmts {
+            match stmt {
+                CStmt::Push => saved.push(state.clone()),
+                CStmt::Pop(span) => {
+                    let Some(mut restored) = saved.pop() else {
+                        return Err(DeriveError::at("`]` without a matching `[`", *span));
+                    };
+                    // The shape's identity goes on: children made inside the brackets keep
+                    // their seeds distinct from those made after.
+                    restored.children = state.children;
+                    restored.rng = state.rng;
+                    state = restored;
+                }
+                CStmt::Nil => return Ok(()),
+                CStmt::Successor {
+                    symbol,
+                    rule,
+                    args: exprs,
+                    terminal,
+                    span,
+                } => {
+                    let values = exprs
+                        .iter()
+                        .map(|e| self.ev.eval(e, &mut state, args))
+                        .collect::<Fallible<Vec<_>>>()?;
+                    let mut child = state.spawn();
+                    child.symbol = *symbol;
+                    self.count_shape(&child, *span)?;
+                    produced = true;
+                    out.push(match rule {
+                        Some(r) if !terminal => Work::Rewrite(Task {
+                            state: child,
+                            rule: *r,
+                            args: values,
+                        }),
+                        _ => Work::Leaf(child),
+                    });
+                }
+                CStmt::Op(op, span) => {
+                    produced |= self.op(op, *span, &mut state, args, out)?;
+                }
+            }
+        }
+        if !produced {
+            out.push(Work::Leaf(state));
+        }
+        Ok(())
+    }
+
+    fn count_shape(&mut self, state: &State, span: Span) -> Fallible<()> {
+        self.shapes += 1;
+        if self.shapes > self.options.max_shapes {
+            let rule = self.busiest_rule();
+            return Err(DeriveError::at(
+                format!(
+                    "the derivation made more than {} shapes; rule `{rule}` was applied most often",
+                    self.options.max_shapes
+                ),
+                span,
+            )
+            .with_hint("a rule that keeps making successors needs a condition that ends it"));
+        }
+        if state.depth > self.options.max_depth {
+            let name = self.program.symbol_name(state.symbol);
+            return Err(DeriveError::at(
+                format!(
+                    "the derivation is more than {} shapes deep at `{name}`: a rule keeps rewriting without end",
+                    self.options.max_depth
+                ),
+                span,
+            )
+            .with_hint("guard the recursion with `case …` on the scope size or a counter parameter"));
+        }
+        Ok(())
+    }
+
+    fn busiest_rule(&self) -> &str {
+        let (i, _) = self
+            .counts
+            .iter()
+            .enumerate()
+            .max_by_key(|&(i, n)| (*n, std::cmp::Reverse(i)))
+            .unwrap_or((0, &0));
+        self.program
+            .rules
+            .get(i)
+            .map_or("?", |r| self.program.symbol_name(r.symbol))
+    }
+
+    fn check_time(&self, rule: RuleId) -> Fallible<()> {
+        if let Some(budget) = self.options.time_budget {
+            if self.started.elapsed() > budget {
+                let name = self
+                    .program
+                    .symbol_name(self.program.rules[rule as usize].symbol);
+                return Err(DeriveError::general(format!(
+                    "the derivation took longer than {budget:?} (last rule: `{name}`, busiest: `{}`)",
+                    self.busiest_rule()
+                )));
+            }
+        }
+        Ok(())
+    }
+
+    fn emit(&mut self, state: State) {
+        if state.geometry == Geometry::Empty {
+            return;
+        }
+        self.leaves.push(Leaf {
+            name: self.names[state.symbol as usize].clone(),
+            scope: state.scope,
+            geometry: state.geometry,
+            color: state.color,
+            material: state.material,
+        });
+    }
+
+    /// Evaluates three operation arguments, resolving relative ones against the scope size.
+    fn vector(&mut self, exprs: &[CExpr; 3], state: &mut State, args: &[Value]) -> Fallible<DVec3> {
+        let mut v = DVec3::ZERO;
+        for (i, e) in exprs.iter().enumerate() {
+            v[i] = match &e.kind {
+                CKind::Relative(inner) => self.ev.number(inner, state, args)? * state.scope.size[i],
+                _ => self.ev.number(e, state, args)?,
+            };
+        }
+        Ok(v)
+    }
+
+    /// Applies an operation. Returns whether it made new shapes (splits), which ends the
+    /// current shape's chance of becoming a leaf.
+    fn op(
+        &mut self,
+        op: &'p Op,
+        span: Span,
+        state: &mut State,
+        args: &[Value],
+        out: &mut Vec<Work>,
+    ) -> Fallible<bool> {
+        match op {
+            Op::Extrude { world_up, distance } => {
+                let d = self.ev.number(distance, state, args)?;
+                extrude(state, d, *world_up, span)?;
+            }
+            Op::Translate(v) => {
+                let v = self.vector(v, state, args)?;
+                state.scope.translate(v);
+            }
+            Op::Rotate {
+                about_center,
+                degrees,
+            } => {
+                let v = self.vector(degrees, state, args)?;
+                let pivot = if *about_center {
+                    Pivot::Center
+                } else {
+                    Pivot::Origin
+                };
+                state.scope.rotate_euler_degrees(v, pivot);
+            }
+            Op::Size(v) => {
+                let v = self.vector(v, state, args)?;
+                if v.cmplt(DVec3::ZERO).any() {
+                    return Err(DeriveError::at(format!("negative size {v}"), span));
+                }
+                state.resize(v);
+            }
+            Op::Center(axes) => {
+                let target = state.parent_scope.center();
+                state.scope.center_on(target, *axes);
+            }
+            Op::Mirror(flags) => {
+                let mut f = [false; 3];
+                for (i, e) in flags.iter().enumerate() {
+                    f[i] = match self.ev.eval(e, state, args)? {
+                        Value::Bool(b) => b,
+                        Value::Number(n) => n != 0.0,
+                        other => {
+                            return Err(DeriveError::at(
+                                format!("expected a boolean, found a {}", other.type_name()),
+                                e.span,
+                            ));
+                        }
+                    };
+                }
+                mirror(state, f);
+            }
+            Op::AlignScopeToAxes(axis) => align_scope(state, *axis),
+            Op::RotateScope(v) => {
+                let v = self.vector(v, state, args)?;
+                let mut turned = state.scope;
+                turned.rotate_euler_degrees(v, Pivot::Origin);
+                refit(state, turned.axes);
+            }
+            Op::Insert(path) => {
+                let path = self.ev.string(path, state, args)?;
+                let asset = self.asset(&path, path_span(path_expr_span(op), span))?;
+                insert(state, &asset);
+            }
+            Op::Primitive(kind, params) => {
+                let counts = params
+                    .iter()
+                    .map(|p| self.ev.number(p, state, args))
+                    .collect::<Fallible<Vec<_>>>()?;
+                primitive(state, *kind, &counts, span)?;
+            }
+            Op::Split {
+                axis,
+                adjust,
+                block,
+            } => {
+                self.split(state, *axis, *adjust, block, span, args, out)?;
+                return Ok(true);
+            }
+            Op::Comp { kind, entries } => {
+                self.comp(state, *kind, entries, args, out)?;
+                return Ok(true);
+            }
+            Op::Color(params) => state.color = self.color(params, state, args)?,
+            Op::Set(target, value) => {
+                let v = self.ev.eval(value, state, args)?;
+                set(state, target, v, value.span)?;
+            }
+            Op::Report(key, value) => {
+                let key = self.ev.eval(key, state, args)?.to_string();
+                let value = self.ev.eval(value, state, args)?;
+                self.ev.reports.push((key, value));
+            }
+            Op::Print(value) => {
+                let text = self.ev.eval(value, state, args)?.to_string();
+                self.ev.prints.push(text);
+            }
+            Op::ReverseNormals => {
+                if let Some(mut mesh) = state.geometry.local_mesh(state.scope.size) {
+                    mesh.flip();
+                    let tags = state.geometry.tags().map(Arc::from);
+                    state.geometry = Geometry::Mesh(Arc::new(mesh), tags);
+                }
+            }
+            Op::Offset { .. } | Op::Roof(..) => {
+                return Err(DeriveError::at("this operation is not available yet", span));
+            }
+            Op::Ignored => {}
+        }
+        Ok(false)
+    }
+
+    fn color(&mut self, params: &[CExpr], state: &mut State, args: &[Value]) -> Fallible<Color> {
+        if let [one] = params {
+            let text = self.ev.string(one, state, args)?;
+            return Color::from_hex(&text).ok_or_else(|| {
+                DeriveError::at(
+                    format!("`{text}` is not a colour like \"#3a6ea5\""),
+                    one.span,
+                )
+            });
+        }
+        let mut c = [1.0f32; 4];
+        for (i, p) in params.iter().enumerate() {
+            c[i] = self.ev.number(p, state, args)?.clamp(0.0, 1.0) as f32;
+        }
+        Ok(Color {
+            r: c[0],
+            g: c[1],
+            b: c[2],
+            a: c[3],
+        })
+    }
+
+    fn asset(&self, path: &str, span: Span) -> Fallible<Arc<Mesh>> {
+        if let Some(mesh) = builtin_asset(path) {
+            return Ok(Arc::new(mesh));
+        }
+        let Some(loader) = &self.options.assets else {
+            return Err(DeriveError::at(
+                format!("cannot insert `{path}`: no asset folder is set"),
+                span,
+            )
+            .with_hint("use a built-in asset such as \"builtin:cube\""));
+        };
+        loader
+            .load(path)
+            .map_err(|why| DeriveError::at(format!("cannot insert `{path}`: {why}"), span))
+    }
+
+    #[allow(clippy::too_many_arguments)]
+    fn split(
+        &mut self,
+        state: &mut State,
+        axis: usize,
+        adjust: bool,
+        block: &'p crate::ops::SplitBlock,
+        span: Span,
+        args: &[Value],
+        out: &mut Vec<Work>,
+    ) -> Fallible<()> {
+        let length = state.scope.size[axis];
+        let parts = layout(block, length, span, &mut self.ev, state, args)?;
+        let total = parts.len() as u32;
+        let slabs = match &state.geometry {
+            Geometry::Mesh(mesh, _) => {
+                let mut cuts: Vec<f64> = parts
+                    .iter()
+                    .flat_map(|p| [p.start, p.start + p.size])
+                    .collect();
+                cuts.dedup();
+                let pieces = split_slabs(mesh, DVec3::AXES[axis], &cuts);
+                Some((cuts, pieces))
+            }
+            _ => None,
+        };
+        for (i, part) in parts.iter().enumerate() {
+            let mut child = state.spawn();
+            child.split = (i as u32, total);
+            child.scope.translate(DVec3::AXES[axis] * part.start);
+            child.scope.size[axis] = part.size;
+            if let Some((cuts, pieces)) = &slabs {
+                let at = cuts.iter().position(|&c| c == part.start).unwrap_or(0);
+                let mut piece = pieces[at + 1].clone();
+                if piece.is_empty() {
+                    continue;
+                }
+                piece.transform(&shapegram_geom::DAffine3::from_translation(
+                    -DVec3::AXES[axis] * part.start,
+                ));
+                child.geometry = Geometry::mesh(piece);
+                if adjust {
+                    let axes = child.scope.axes;
+                    refit(&mut child, axes);
+                }
+            }
+            self.count_shape(&child, span)?;
+            child.parent_scope = child.scope;
+            self.run_stmts(part.body, child, args, out)?;
+        }
+        Ok(())
+    }
+
+    fn comp(
+        &mut self,
+        state: &mut State,
+        kind: CompKind,
+        entries: &'p [CompEntry],
+        args: &[Value],
+        out: &mut Vec<Work>,
+    ) -> Fallible<()> {
+        let Some(world) = state.geometry.world_mesh(&state.scope) else {
+            return Ok(());
+        };
+        let components = match kind {
+            CompKind::Faces => component::faces(&world),
+            CompKind::Edges => component::edges(&world),
+            CompKind::Vertices => component::vertices(&world),
+        };
+        let tags = state.geometry.tags();
+        let mut assigned: Vec<Vec<usize>> = vec![Vec::new(); entries.len()];
+        for (c, comp) in components.iter().enumerate() {
+            let tag = tags
+                .and_then(|t| t.get(comp.source))
+                .copied()
+                .unwrap_or(FaceTag::None);
+            if let Some(e) = entries
+                .iter()
+                .position(|e| selects(&e.selector, comp, c, tag, &state.scope, kind))
+            {
+                assigned[e].push(c);
+            }
+        }
+        for (entry, chosen) in entries.iter().zip(&assigned) {
+            if chosen.is_empty() {
+                continue;
+            }
+            if entry.merge {
+                let mut merged = Mesh::new();
+                for &c in chosen {
+                    merged.append(&Mesh::from_polygon(&components[c].points));
+                }
+                let mut child = state.spawn();
+                child.comp = (0, 1);
+                child.scope = Scope::fit(
+                    components[chosen[0]].scope.axes,
+                    merged.positions().iter().copied(),
+                );
+                merged.transform(&child.scope.world_to_local());
+                child.geometry = Geometry::mesh(merged);
+                child.parent_scope = child.scope;
+                self.count_shape(&child, Span::default())?;
+                self.run_stmts(&entry.body, child, args, out)?;
+                continue;
+            }
+            for (i, &c) in chosen.iter().enumerate() {
+                let comp = &components[c];
+                let mut child = state.spawn();
+                child.comp = (i as u32, chosen.len() as u32);
+                child.scope = comp.scope;
+                child.geometry = match kind {
+                    CompKind::Faces => {
+                        let local: Vec<DVec3> = comp
+                            .points
+                            .iter()
+                            .map(|&p| comp.scope.to_local(p))
+                            .collect();
+                        if fills_box(&local, comp.scope.size) {
+                            Geometry::Box
+                        } else {
+                            Geometry::mesh(Mesh::from_polygon(&local))
+                        }
+                    }
+                    CompKind::Edges | CompKind::Vertices => Geometry::Empty,
+                };
+                child.parent_scope = child.scope;
+                self.count_shape(&child, Span::default())?;
+                self.run_stmts(&entry.body, child, args, out)?;
+            }
+        }
+        Ok(())
+    }
+}
+
+/// The span of an operation's first argument, for errors about it.
+fn path_expr_span(op: &Op) -> Option<Span> {
+    match op {
+        Op::Insert(e) => Some(e.span),
+        _ => None,
+    }
+}
+
+fn path_span(arg: Option<Span>, call: Span) -> Span {
+    arg.unwrap_or(call)
+}
+
+/// Whether an entry's selector takes a component.
+fn selects(
+    selector: &CompSelector,
+    comp: &component::Component,
+    index: usize,
+    tag: FaceTag,
+    scope: &Scope,
+    kind: CompKind,
+) -> bool {
+    // Angle of the normal from world up decides vertical, horizontal and aslant.
+    let up = comp.normal.y.abs();
+    match selector {
+        CompSelector::All => true,
+        CompSelector::Index(i) => *i == index,
+        CompSelector::Never => false,
+        _ if kind != CompKind::Faces => false,
+        CompSelector::Class(class) => FaceClass::of(comp.normal, scope) == *class,
+        CompSelector::Side => FaceClass::of(comp.normal, scope).is_side(),
+        CompSelector::Horizontal => up >= 30f64.to_radians().cos(),
+        CompSelector::Vertical => up <= 60f64.to_radians().cos(),
+        CompSelector::Aslant => up < 30f64.to_radians().cos() && up > 60f64.to_radians().cos(),
+        CompSelector::Inside => tag == FaceTag::Inside,
+        CompSelector::Border => tag == FaceTag::Border,
+    }
+}
+
+/// CGA's built-in assets, each filling the unit box.
+fn builtin_asset(path: &str) -> Option<Mesh> {
+    let name = path.strip_prefix("builtin:")?;
+    let name = name.split(':').next().unwrap_or(name);
+    Some(match name {
+        "cube" => primitives::cuboid(DVec3::ONE),
+        "cylinder" => primitives::cylinder(DVec3::ONE, 32),
+        "cone" => primitives::cone(DVec3::ONE, 32),
+        "sphere" => primitives::sphere(DVec3::ONE, 32, 16),
+        "pyramid" => primitives::pyramid(DVec3::ONE),
+        "quad" => box_mesh(DVec3::new(1.0, 1.0, 0.0))?,
+        _ => return None,
+    })
+}
+
+/// Fits an asset into the scope (CGA `i`): its bounding box is stretched onto the scope box;
+/// along axes where the scope has no size, the asset keeps its own.
+fn insert(state: &mut State, asset: &Mesh) {
+    let Some(bounds) = asset.bounds() else {
+        state.geometry = Geometry::Empty;
+        return;
+    };
+    let extent = bounds.size();
+    let mut size = state.scope.size;
+    let mut scale = DVec3::ONE;
+    for i in 0..3 {
+        if size[i] == 0.0 {
+            size[i] = extent[i];
+        } else if extent[i] > 0.0 {
+            scale[i] = size[i] / extent[i];
+        }
+    }
+    let map = shapegram_geom::DAffine3::from_scale(scale)
+        * shapegram_geom::DAffine3::from_translation(-bounds.min);
+    state.geometry = Geometry::mesh(asset.transformed(&map));
+    state.scope.size = size;
+}
+
+fn primitive(state: &mut State, kind: Primitive, counts: &[f64], span: Span) -> Fallible<()> {
+    // A primitive in a flat scope gets unit size along the flat axes.
+    let size = DVec3::select(
+        state.scope.size.cmpeq(DVec3::ZERO),
+        DVec3::ONE,
+        state.scope.size,
+    );
+    let count = |i: usize, default: u32| -> Fallible<u32> {
+        match counts.get(i) {
+            None => Ok(default),
+            Some(&n) if (3.0..=100_000.0).contains(&n) => Ok(n as u32),
+            Some(&n) => Err(DeriveError::at(
+                format!("{n} subdivisions: expected 3 to 100000"),
+                span,
+            )),
+        }
+    };
+    state.scope.size = size;
+    state.geometry = match kind {
+        Primitive::Cube => Geometry::Box,
+        Primitive::Quad => {
+            state.scope.size.z = 0.0;
+            Geometry::Box
+        }
+        Primitive::Pyramid => Geometry::mesh(primitives::pyramid(size)),
+        Primitive::Cylinder => Geometry::mesh(primitives::cylinder(size, count(0, 16)?)),
+        Primitive::Cone => Geometry::mesh(primitives::cone(size, count(0, 16)?)),
+        Primitive::Sphere => {
+            let rings = count(0, 16)?;
+            Geometry::mesh(primitives::sphere(size, count(1, 2 * rings)?, rings))
+        }
+    };
+    Ok(())
+}
+
+fn set(state: &mut State, target: &SetTarget, value: Value, span: Span) -> Fallible<()> {
+    let wrong = |what: &str, v: &Value| {
+        DeriveError::at(format!("expected {what}, found a {}", v.type_name()), span)
+    };
+    match target {
+        SetTarget::Attr(i) => Arc::make_mut(&mut state.attrs)[*i as usize] = value,
+        SetTarget::Color(None) => match &value {
+            Value::Str(s) => {
+                state.color = Color::from_hex(s).ok_or_else(|| {
+                    DeriveError::at(format!("`{s}` is not a colour like \"#3a6ea5\""), span)
+                })?;
+            }
+            v => return Err(wrong("a colour string", v)),
+        },
+        SetTarget::Color(Some(channel)) => match value {
+            Value::Number(n) => {
+                let c = n.clamp(0.0, 1.0) as f32;
+                match channel {
+                    0 => state.color.r = c,
+                    1 => state.color.g = c,
+                    2 => state.color.b = c,
+                    _ => state.color.a = c,
+                }
+            }
+            v => return Err(wrong("a number", &v)),
+        },
+        SetTarget::MaterialName => state.material = Some(Arc::from(value.to_string().as_str())),
+        SetTarget::Ignored => {}
+    }
+    Ok(())
+}
+
+/// Moves the scope to new axes, fitted around the geometry, which stays where it is.
+fn refit(state: &mut State, axes: DMat3) {
+    let scope = match state.geometry.world_mesh(&state.scope) {
+        Some(mesh) => Scope::fit(axes, mesh.positions().iter().copied()),
+        None => Scope::new(state.scope.origin, axes, state.scope.size),
+    };
+    state.rescope(scope);
+}
+
+/// CGA `alignScopeToAxes`: all axes to the world's, or one axis to the world's keeping the
+/// others as close as possible.
+fn align_scope(state: &mut State, axis: Option<usize>) {
+    let axes = match axis {
+        None => DMat3::IDENTITY,
+        Some(k) => {
+            let target = DVec3::AXES[k];
+            let (next, _) = ((k + 1) % 3, (k + 2) % 3);
+            let keep = state
+                .scope
+                .axes
+                .col(next)
+                .reject_from(target)
+                .try_normalize()
+                .unwrap_or(DVec3::AXES[next]);
+            let mut cols = [DVec3::ZERO; 3];
+            cols[k] = target;
+            cols[next] = keep;
+            cols[(k + 2) % 3] = target.cross(keep);
+            DMat3::from_cols(cols[0], cols[1], cols[2])
+        }
+    };
+    refit(state, axes);
+}
+
+fn mirror(state: &mut State, flags: [bool; 3]) {
+    if !flags.contains(&true) {
+        return;
+    }
+    let Some(mesh) = state.geometry.local_mesh(state.scope.size) else {
+        return;
+    };
+    let size = state.scope.size;
+    let mut scale = DVec3::ONE;
+    let mut shift = DVec3::ZERO;
+    for i in 0..3 {
+        if flags[i] {
+            scale[i] = -1.0;
+            shift[i] = size[i];
+        }
+    }
+    let map = shapegram_geom::DAffine3::from_translation(shift)
+        * shapegram_geom::DAffine3::from_scale(scale);
+    let tags = state.geometry.tags().map(Arc::from);
+    state.geometry = Geometry::Mesh(Arc::new(mesh.transformed(&map)), tags);
+}
+
+/// CGA `extrude`: every face pushed along its normal (or world up); the new scope keeps x as
+/// far as it can, takes y along the extrusion and is fitted around the result.
+fn extrude(state: &mut State, distance: f64, world_up: bool, span: Span) -> Fallible<()> {
+    if distance == 0.0 {
+        return Ok(());
+    }
+    let scope = state.scope;
+    let flat = flat_axis(scope.size);
+    let Some(world) = state.geometry.world_mesh(&scope) else {
+        return Err(DeriveError::at(
+            "extrude needs a polygon, but the shape has no geometry",
+            span,
+        ));
+    };
+    if flat.is_none() && state.geometry == Geometry::Box || world.is_watertight() {
+        return Err(DeriveError::at(
+            "extrude needs a flat shape (a polygon), but this shape is a volume",
+            span,
+        )
+        .with_hint("extrude a face: `comp(f){ top : extrude(…) X }`"));
+    }
+    let mut solid = Mesh::new();
+    let mut direction = DVec3::ZERO;
+    for f in 0..world.face_count() {
+        let points: Vec<DVec3> = world.face_points(f).collect();
+        let normal = world.face_normal(f);
+        let prism = if world_up {
+            extrude_along(&points, DVec3::Y * distance)
+        } else {
+            extrude_polygon(&points, distance)
+        };
+        if let Some(prism) = prism {
+            if direction == DVec3::ZERO {
+                direction = if world_up { DVec3::Y } else { normal };
+            }
+            solid.append(&prism);
+        }
+    }
+    if solid.is_empty() {
+        return Ok(());
+    }
+    let x = scope
+        .x_axis()
+        .reject_from(direction)
+        .try_normalize()
+        .unwrap_or_else(|| direction.any_orthonormal_vector());
+    let axes = DMat3::from_cols(x, direction, x.cross(direction));
+    let fitted = Scope::fit(axes, solid.positions().iter().copied());
+    // A flat box extruded along its own axis stays a box.
+    let stays_box = state.geometry == Geometry::Box
+        && flat.is_some_and(|k| scope.axes.col(k).abs_diff_eq(direction, 1e-12));
+    state.geometry = if stays_box {
+        Geometry::Box
+    } else {
+        solid.transform(&fitted.world_to_local());
+        Geometry::mesh(solid)
+    };
+    state.scope = fitted;
+    Ok(())
+}

@@ -1,0 +1,506 @@
+//! Evaluating compiled expressions against a shape.
+
+use std::sync::Arc;
+
+use shapegram_geom::DVec3;
+use shapegram_syntax::{
+    Span,
+    ast::{BinaryOp, UnaryOp},
+};
+
+use crate::builtins::{Builtin, Query};
+use crate::error::DeriveError;
+use crate::program::{CExpr, CKind, Program};
+use crate::rng::Rng;
+use crate::shape::{Geometry, State};
+use crate::value::Value;
+
+/// How deep user functions may call each other before the derivation stops with an error.
+const MAX_CALL_DEPTH: usize = 256;
+
+/// The value of a constant of one initial shape: evaluated on first use.
+#[derive(Clone, Debug)]
+enum Slot {
+    Pending,
+    Evaluating,
+    Done(Value),
+}
+
+/// Evaluates expressions for the shapes of one initial shape (lot).
+pub(crate) struct Evaluator<'p> {
+    pub program: &'p Program,
+    consts: Vec<Slot>,
+    /// Constants draw their random numbers from their own stream, so that their values do not
+    /// depend on which shape first used them.
+    const_rng: Rng,
+    call_depth: usize,
+    pub initial_origin: DVec3,
+    /// `report(key, value)` calls, in derivation order.
+    pub reports: Vec<(String, Value)>,
+    /// `print(value)` output, in derivation order.
+    pub prints: Vec<String>,
+}
+
+type Result<T> = std::result::Result<T, DeriveError>;
+
+impl<'p> Evaluator<'p> {
+    /// An evaluator for one initial shape with the given seed.
+    pub fn new(program: &'p Program, seed: u64, initial_origin: DVec3) -> Self {
+        Self {
+            program,
+            consts: vec![Slot::Pending; program.consts.len()],
+            const_rng: Rng::new(seed ^ 0xC0D5_7A11_5EED_0001),
+            call_depth: 0,
+            initial_origin,
+            reports: Vec::new(),
+            prints: Vec::new(),
+        }
+    }
+
+    /// Evaluates an expression for a shape; `args` are the values of the enclosing rule's or
+    /// function's parameters.
+    pub fn eval(&mut self, e: &CExpr, shape: &mut State, args: &[Value]) -> Result<Value> {
+        let value = match &e.kind {
+            CKind::Value(v) => v.clone(),
+            CKind::Param(i) => args[*i as usize].clone(),
+            CKind::Attr(i) => shape.attrs[*i as usize].clone(),
+            CKind::Const(i) => self.constant(*i, shape)?,
+            CKind::Call(f, params) => self.call(*f, params, shape, args, e.span)?,
+            CKind::Builtin(b, params) => self.builtin(*b, params, shape, args, e.span)?,
+            CKind::Query(q) => Value::Number(self.query(*q, shape)),
+            CKind::Unary(op, operand) => {
+                let v = self.eval(operand, shape, args)?;
+                match (op, v) {
+                    (UnaryOp::Neg, Value::Number(n)) => Value::Number(-n),
+                    (UnaryOp::Not, Value::Bool(b)) => Value::Bool(!b),
+                    (op, v) => {
+                        return Err(DeriveError::at(
+                            format!(
+                                "cannot apply `{}` to a {}",
+                                unary_symbol(*op),
+                                v.type_name()
+                            ),
+                            e.span,
+                        ));
+                    }
+                }
+            }
+            CKind::Binary(op, lhs, rhs) => self.binary(*op, lhs, rhs, shape, args, e.span)?,
+            CKind::Conditional(cond, then, otherwise) => {
+                if self.condition(cond, shape, args)? {
+                    self.eval(then, shape, args)?
+                } else {
+                    self.eval(otherwise, shape, args)?
+                }
+            }
+            CKind::Cases(arms, otherwise) => {
+                for (cond, value) in arms {
+                    if self.condition(cond, shape, args)? {
+                        return self.eval(value, shape, args);
+                    }
+                }
+                self.eval(otherwise, shape, args)?
+            }
+            CKind::Stochastic(arms, otherwise) => {
+                let draw = shape.rng.next_f64() * 100.0;
+                let mut acc = 0.0;
+                for (percent, value) in arms {
+                    acc += self.number(percent, shape, args)?;
+                    if draw < acc {
+                        return self.eval(value, shape, args);
+                    }
+                }
+                self.eval(otherwise, shape, args)?
+            }
+            CKind::Array(items) => Value::Array(
+                items
+                    .iter()
+                    .map(|i| self.eval(i, shape, args))
+                    .collect::<Result<Vec<_>>>()?
+                    .into(),
+            ),
+            CKind::Index(target, index) => {
+                let array = self.eval(target, shape, args)?;
+                let i = self.number(index, shape, args)?;
+                let Value::Array(items) = array else {
+                    return Err(DeriveError::at(
+                        format!("cannot index a {}", array.type_name()),
+                        target.span,
+                    ));
+                };
+                let at = i.floor();
+                if at < 0.0 || at >= items.len() as f64 {
+                    return Err(DeriveError::at(
+                        format!("index {i} is out of range for an array of {}", items.len()),
+                        index.span,
+                    ));
+                }
+                items[at as usize].clone()
+            }
+            CKind::Relative(_) | CKind::Floating(_) => {
+                return Err(DeriveError::at(
+                    "relative (') and floating (~) sizes are only allowed in split sizes and operation arguments",
+                    e.span,
+                ));
+            }
+            CKind::Selector(word) => {
+                return Err(DeriveError::at(format!("unknown name `{word}`"), e.span));
+            }
+            CKind::Unsupported(name) => {
+                return Err(DeriveError::at(
+                    format!("`{name}` is not supported yet"),
+                    e.span,
+                ));
+            }
+        };
+        if let Value::Number(n) = value {
+            if !n.is_finite() {
+                return Err(DeriveError::at(
+                    "this evaluates to a number that is not finite (NaN or infinity)",
+                    e.span,
+                ));
+            }
+        }
+        Ok(value)
+    }
+
+    /// Evaluates to a number, or fails with the expression's span.
+    pub fn number(&mut self, e: &CExpr, shape: &mut State, args: &[Value]) -> Result<f64> {
+        match self.eval(e, shape, args)? {
+            Value::Number(n) => Ok(n),
+            other => Err(DeriveError::at(
+                format!("expected a number, found a {}", other.type_name()),
+                e.span,
+            )),
+        }
+    }
+
+    /// Evaluates to a boolean, or fails with the expression's span.
+    pub fn condition(&mut self, e: &CExpr, shape: &mut State, args: &[Value]) -> Result<bool> {
+        match self.eval(e, shape, args)? {
+            Value::Bool(b) => Ok(b),
+            other => Err(DeriveError::at(
+                format!(
+                    "expected a boolean condition, found a {}",
+                    other.type_name()
+                ),
+                e.span,
+            )),
+        }
+    }
+
+    /// Evaluates to a string, or fails with the expression's span.
+    pub fn string(&mut self, e: &CExpr, shape: &mut State, args: &[Value]) -> Result<Arc<str>> {
+        match self.eval(e, shape, args)? {
+            Value::Str(s) => Ok(s),
+            other => Err(DeriveError::at(
+                format!("expected a string, found a {}", other.type_name()),
+                e.span,
+            )),
+        }
+    }
+
+    /// The value of attribute defaults for a new initial shape, with overrides applied.
+    pub fn initial_attrs(
+        &mut self,
+        shape: &mut State,
+        overrides: &[(u32, Value)],
+    ) -> Result<Vec<Value>> {
+        let program = self.program;
+        let mut values: Vec<Option<Value>> = vec![None; program.attrs.len()];
+        for (i, v) in overrides {
+            values[*i as usize] = Some(v.clone());
+        }
+        // Defaults may read other attributes (`attr groundH = floorH + 1`): evaluate in order,
+        // each seeing the attributes before it and the overrides.
+        for (i, attr) in program.attrs.iter().enumerate() {
+            if values[i].is_none() {
+                shape.attrs = Arc::new(
+                    values
+                        .iter()
+                        .map(|v| v.clone().unwrap_or(Value::Number(0.0)))
+                        .collect(),
+                );
+                values[i] = Some(self.eval(&attr.value, shape, &[])?);
+            }
+        }
+        Ok(values
+            .into_iter()
+            .map(|v| v.unwrap_or(Value::Number(0.0)))
+            .collect())
+    }
+
+    fn constant(&mut self, i: u32, shape: &mut State) -> Result<Value> {
+        let program = self.program;
+        let constant = &program.consts[i as usize];
+        if !constant.cached {
+            return self.eval(&constant.value, shape, &[]);
+        }
+        match &self.consts[i as usize] {
+            Slot::Done(v) => return Ok(v.clone()),
+            Slot::Evaluating => {
+                return Err(DeriveError::at(
+                    "this constant is defined in terms of itself",
+                    constant.value.span,
+                ));
+            }
+            Slot::Pending => {}
+        }
+        self.consts[i as usize] = Slot::Evaluating;
+        // Constants use their own random stream (see `const_rng`) on a copy of the shape.
+        let mut scratch = shape.clone();
+        std::mem::swap(&mut scratch.rng, &mut self.const_rng);
+        let result = self.eval(&constant.value, &mut scratch, &[]);
+        std::mem::swap(&mut scratch.rng, &mut self.const_rng);
+        let value = result?;
+        self.consts[i as usize] = Slot::Done(value.clone());
+        Ok(value)
+    }
+
+    fn call(
+        &mut self,
+        f: u32,
+        params: &[CExpr],
+        shape: &mut State,
+        args: &[Value],
+        span: Span,
+    ) -> Result<Value> {
+        let values = params
+            .iter()
+            .map(|p| self.eval(p, shape, args))
+            .collect::<Result<Vec<_>>>()?;
+        if self.call_depth >= MAX_CALL_DEPTH {
+            let name = &self.program.functions[f as usize].name;
+            return Err(DeriveError::at(
+                format!("function `{name}` recursed more than {MAX_CALL_DEPTH} levels deep"),
+                span,
+            ));
+        }
+        self.call_depth += 1;
+        let program = self.program;
+        let result = self.eval(&program.functions[f as usize].body, shape, &values);
+        self.call_depth -= 1;
+        result
+    }
+
+    fn builtin(
+        &mut self,
+        b: Builtin,
+        params: &[CExpr],
+        shape: &mut State,
+        args: &[Value],
+        span: Span,
+    ) -> Result<Value> {
+        match b {
+            Builtin::Str => {
+                return Ok(Value::string(
+                    &self.eval(&params[0], shape, args)?.to_string(),
+                ));
+            }
+            Builtin::Bool => {
+                return Ok(Value::Bool(match self.eval(&params[0], shape, args)? {
+                    Value::Bool(b) => b,
+                    Value::Number(n) => n != 0.0,
+                    Value::Str(s) => !s.is_empty() && &*s != "false",
+                    Value::Array(a) => !a.is_empty(),
+                }));
+            }
+            Builtin::Float => {
+                return match self.eval(&params[0], shape, args)? {
+                    Value::Number(n) => Ok(Value::Number(n)),
+                    Value::Bool(b) => Ok(Value::Number(f64::from(u8::from(b)))),
+                    Value::Str(s) => s.trim().parse::<f64>().map(Value::Number).map_err(|_| {
+                        DeriveError::at(format!("`{s}` is not a number"), params[0].span)
+                    }),
+                    Value::Array(_) => Err(DeriveError::at(
+                        "cannot convert an array to a number",
+                        params[0].span,
+                    )),
+                };
+            }
+            Builtin::Len => {
+                return match self.eval(&params[0], shape, args)? {
+                    Value::Array(a) => Ok(Value::Number(a.len() as f64)),
+                    Value::Str(s) => Ok(Value::Number(s.chars().count() as f64)),
+                    other => Err(DeriveError::at(
+                        format!(
+                            "`size` needs an array or a string, not a {}",
+                            other.type_name()
+                        ),
+                        params[0].span,
+                    )),
+                };
+            }
+            _ => {}
+        }
+        let mut n = Vec::with_capacity(params.len());
+        for p in params {
+            n.push(self.number(p, shape, args)?);
+        }
+        let deg = std::f64::consts::PI / 180.0;
+        let value = match b {
+            Builtin::Rand => match n.as_slice() {
+                [] => shape.rng.next_f64(),
+                [hi] => shape.rng.range(0.0, *hi),
+                [lo, hi, ..] => shape.rng.range(*lo, *hi),
+            },
+            Builtin::P => return Ok(Value::Bool(shape.rng.next_f64() < n[0])),
+            Builtin::Floor => n[0].floor(),
+            Builtin::Ceil => n[0].ceil(),
+            Builtin::Round => n[0].round(),
+            Builtin::Abs => n[0].abs(),
+            Builtin::Min => n[0].min(n[1]),
+            Builtin::Max => n[0].max(n[1]),
+            Builtin::Sqrt => n[0].sqrt(),
+            Builtin::Pow => n[0].powf(n[1]),
+            Builtin::Exp => n[0].exp(),
+            Builtin::Ln => n[0].ln(),
+            Builtin::Log10 => n[0].log10(),
+            // CGA's trigonometry works in degrees.
+            Builtin::Sin => (n[0] * deg).sin(),
+            Builtin::Cos => (n[0] * deg).cos(),
+            Builtin::Tan => (n[0] * deg).tan(),
+            Builtin::Asin => n[0].asin() / deg,
+            Builtin::Acos => n[0].acos() / deg,
+            Builtin::Atan => n[0].atan() / deg,
+            Builtin::Atan2 => n[0].atan2(n[1]) / deg,
+            Builtin::Clamp => n[0].max(n[1]).min(n[2]),
+            Builtin::Str | Builtin::Bool | Builtin::Float | Builtin::Len => unreachable!(),
+        };
+        if !value.is_finite() {
+            return Err(DeriveError::at(
+                format!(
+                    "`{}` gives no finite number for these arguments",
+                    b.signature()
+                ),
+                span,
+            ));
+        }
+        Ok(Value::Number(value))
+    }
+
+    fn binary(
+        &mut self,
+        op: BinaryOp,
+        lhs: &CExpr,
+        rhs: &CExpr,
+        shape: &mut State,
+        args: &[Value],
+        span: Span,
+    ) -> Result<Value> {
+        use BinaryOp::*;
+        if matches!(op, And | Or) {
+            let left = self.condition(lhs, shape, args)?;
+            return Ok(Value::Bool(match op {
+                And => left && self.condition(rhs, shape, args)?,
+                _ => left || self.condition(rhs, shape, args)?,
+            }));
+        }
+        let a = self.eval(lhs, shape, args)?;
+        let b = self.eval(rhs, shape, args)?;
+        let mismatch = |a: &Value, b: &Value| {
+            DeriveError::at(
+                format!(
+                    "cannot apply `{}` to a {} and a {}",
+                    binary_symbol(op),
+                    a.type_name(),
+                    b.type_name()
+                ),
+                span,
+            )
+        };
+        Ok(match (op, &a, &b) {
+            (Eq, _, _) => Value::Bool(a == b),
+            (Ne, _, _) => Value::Bool(a != b),
+            (Add, Value::Str(_), _) | (Add, _, Value::Str(_)) => Value::string(&format!("{a}{b}")),
+            (_, Value::Number(x), Value::Number(y)) => {
+                let (x, y) = (*x, *y);
+                match op {
+                    Add => Value::Number(x + y),
+                    Sub => Value::Number(x - y),
+                    Mul => Value::Number(x * y),
+                    Div | Rem if y == 0.0 => {
+                        return Err(DeriveError::at("division by zero", rhs.span));
+                    }
+                    Div => Value::Number(x / y),
+                    Rem => Value::Number(x % y),
+                    Lt => Value::Bool(x < y),
+                    Le => Value::Bool(x <= y),
+                    Gt => Value::Bool(x > y),
+                    Ge => Value::Bool(x >= y),
+                    Eq | Ne | And | Or => unreachable!(),
+                }
+            }
+            (Lt | Le | Gt | Ge, Value::Str(x), Value::Str(y)) => Value::Bool(match op {
+                Lt => x < y,
+                Le => x <= y,
+                Gt => x > y,
+                _ => x >= y,
+            }),
+            _ => return Err(mismatch(&a, &b)),
+        })
+    }
+
+    fn query(&self, q: Query, shape: &State) -> f64 {
+        let scope = &shape.scope;
+        match q {
+            Query::ScopeSize(i) => scope.size[i],
+            Query::ScopeOrigin(i) => scope.origin[i],
+            Query::ScopeRotation(i) => {
+                // Intrinsic x, y, z like `r(…)`.
+                let (x, y, z) =
+                    shapegram_geom::DQuat::from_mat3(&scope.axes).to_euler(glam::EulerRot::XYZ);
+                [x, y, z][i].to_degrees()
+            }
+            Query::SplitIndex => f64::from(shape.split.0),
+            Query::SplitTotal => f64::from(shape.split.1),
+            Query::CompIndex => f64::from(shape.comp.0),
+            Query::CompTotal => f64::from(shape.comp.1),
+            Query::GeometryArea => match &shape.geometry {
+                Geometry::Empty => 0.0,
+                g => g.local_mesh(scope.size).map_or(0.0, |m| m.area()),
+            },
+            Query::GeometryVolume => shape
+                .geometry
+                .local_mesh(scope.size)
+                .map_or(0.0, |m| m.signed_volume().abs()),
+            Query::GeometryVertices => shape
+                .geometry
+                .local_mesh(scope.size)
+                .map_or(0.0, |m| m.vertex_count() as f64),
+            Query::GeometryFaces => shape
+                .geometry
+                .local_mesh(scope.size)
+                .map_or(0.0, |m| m.face_count() as f64),
+            Query::InitialOrigin(i) => self.initial_origin[i],
+            // A number in [0, 1) stable for the shape: CGA's `seedian`.
+            Query::Seed => (crate::rng::mix(shape.seed) >> 11) as f64 / (1u64 << 53) as f64,
+        }
+    }
+}
+
+fn unary_symbol(op: UnaryOp) -> &'static str {
+    match op {
+        UnaryOp::Neg => "-",
+        UnaryOp::Not => "!",
+    }
+}
+
+fn binary_symbol(op: BinaryOp) -> &'static str {
+    use BinaryOp::*;
+    match op {
+        Mul => "*",
+        Div => "/",
+        Rem => "%",
+        Add => "+",
+        Sub => "-",
+        Lt => "<",
+        Le => "<=",
+        Gt => ">",
+        Ge => ">=",
+        Eq => "==",
+        Ne => "!=",
+        And => "&&",
+        Or => "||",
+    }
+}

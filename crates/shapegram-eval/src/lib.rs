@@ -1,0 +1,26 @@
+//! The derivation engine of Shapegram: compiles a parsed grammar into a [`Program`] and derives
+//! models from it.
+//!
+//! ```text
+//! grammar text ──parse──▶ ast::Grammar ──Program::compile──▶ Program ──derive──▶ Derivation
+//! ```
+//!
+//! A derivation is deterministic: the same program, initial shapes, seed and attribute values give
+//! the same leaves, in the same order, whatever the number of threads (see [`rng`]).
+
+mod builtins;
+mod engine;
+mod error;
+mod expr;
+mod ops;
+mod program;
+pub mod rng;
+mod shape;
+mod split;
+mod value;
+
+pub use engine::{AssetLoader, Derivation, DeriveOptions, InitialShape, Leaf, Stats, derive};
+pub use error::DeriveError;
+pub use program::{Program, RuleId, Sym};
+pub use shape::{FaceTag, Geometry};
+pub use value::Value;

@@ -1,0 +1,718 @@
+//! Shape operations: compiling calls such as `split(y){…}` or `extrude(10)` into [`Op`]s.
+
+use shapegram_geom::FaceClass;
+use shapegram_syntax::{
+    Diagnostic, Span,
+    ast::{self, BlockEntry},
+};
+
+use crate::program::{CExpr, CKind, CStmt, Compiler};
+use crate::value::Value;
+
+/// A compiled shape operation.
+#[derive(Debug)]
+pub(crate) enum Op {
+    Extrude {
+        world_up: bool,
+        distance: CExpr,
+    },
+    Translate([CExpr; 3]),
+    Rotate {
+        about_center: bool,
+        degrees: [CExpr; 3],
+    },
+    Size([CExpr; 3]),
+    Center([bool; 3]),
+    Mirror([CExpr; 3]),
+    AlignScopeToAxes(Option<usize>),
+    RotateScope([CExpr; 3]),
+    Insert(CExpr),
+    Primitive(Primitive, Vec<CExpr>),
+    Split {
+        axis: usize,
+        adjust: bool,
+        block: SplitBlock,
+    },
+    Comp {
+        kind: CompKind,
+        entries: Vec<CompEntry>,
+    },
+    Color(Vec<CExpr>),
+    Set(SetTarget, CExpr),
+    Report(CExpr, CExpr),
+    Print(CExpr),
+    ReverseNormals,
+    Offset {
+        distance: CExpr,
+        keep: OffsetKeep,
+    },
+    Roof(RoofKind, Vec<CExpr>),
+    /// Parsed and accepted, but without effect on the model yet (texturing and the like).
+    Ignored,
+}
+
+/// Built-in primitives inserted by `primitiveCube()` and friends.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum Primitive {
+    Cube,
+    Cylinder,
+    Cone,
+    Sphere,
+    Quad,
+    Pyramid,
+}
+
+/// What `comp` splits into.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum CompKind {
+    Faces,
+    Edges,
+    Vertices,
+}
+
+/// Which part of an offset polygon to keep.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum OffsetKeep {
+    All,
+    Inside,
+    Border,
+}
+
+/// The roof operations.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum RoofKind {
+    Gable,
+    Hip,
+    Pyramid,
+    Shed,
+}
+
+/// The target of `set(…)`.
+#[derive(Debug)]
+pub(crate) enum SetTarget {
+    Attr(u32),
+    Color(Option<usize>),
+    MaterialName,
+    Ignored,
+}
+
+/// The `{ … }` of a split: sized parts and repeated groups.
+#[derive(Debug)]
+pub(crate) struct SplitBlock {
+    pub entries: Vec<SplitEntry>,
+    pub repeat: bool,
+}
+
+/// One entry of a split block.
+#[derive(Debug)]
+pub(crate) enum SplitEntry {
+    Part { size: CExpr, body: Vec<CStmt> },
+    Group(SplitBlock),
+}
+
+/// One `selector : body` entry of a component split.
+#[derive(Debug)]
+pub(crate) struct CompEntry {
+    pub selector: CompSelector,
+    pub merge: bool,
+    pub body: Vec<CStmt>,
+}
+
+/// Which components an entry of `comp` takes.
+#[derive(Clone, Debug, PartialEq)]
+pub(crate) enum CompSelector {
+    Class(FaceClass),
+    Side,
+    All,
+    Vertical,
+    Horizontal,
+    Aslant,
+    Index(usize),
+    Inside,
+    Border,
+    /// A selector we do not know how to evaluate: selects nothing (with a warning).
+    Never,
+}
+
+/// Operations that would only change texturing or shading: accepted without effect.
+const VISUAL_ONLY: &[&str] = &[
+    "setupProjection",
+    "projectUV",
+    "texture",
+    "tileUV",
+    "deleteUV",
+    "normalizeUV",
+    "rotateUV",
+    "scaleUV",
+    "translateUV",
+    "softenNormals",
+    "setNormals",
+    "cleanupGeom",
+    "label",
+    "setPivot",
+    "resetMaterial",
+    "annotation",
+];
+
+/// CGA operations that are recognised but not implemented yet.
+const UNSUPPORTED: &[&str] = &[
+    "setback",
+    "setbackPerEdge",
+    "setbackToArea",
+    "shapeL",
+    "shapeU",
+    "shapeO",
+    "innerRect",
+    "innerRectangle",
+    "innerCircle",
+    "splitArea",
+    "taper",
+    "envelope",
+    "convexify",
+    "scatter",
+    "footprint",
+    "deleteHoles",
+    "resetGeometry",
+    "alignScopeToGeometry",
+    "mirrorScope",
+    "rectify",
+    "simplify",
+    "modify",
+    "insertAlongUV",
+    "union",
+    "subtract",
+    "intersect",
+    "rotate",
+    "translate",
+    "roofRidge",
+    "generalize",
+    "reduceGeometry",
+    "splitAndSetbackPerimeter",
+    "fill",
+    "primitiveDisk",
+    "primitiveTorus",
+    "dissolve",
+    "bevel",
+    "twist",
+    "extrudeFaces",
+    "stack",
+    "ladder",
+    "inline",
+];
+
+/// The operations [`compile`] builds, besides the visual-only and unsupported ones.
+const IMPLEMENTED: &[&str] = &[
+    "extrude",
+    "t",
+    "r",
+    "s",
+    "center",
+    "mirror",
+    "alignScopeToAxes",
+    "rotateScope",
+    "i",
+    "insert",
+    "primitiveCube",
+    "primitiveQuad",
+    "primitivePyramid",
+    "primitiveCylinder",
+    "primitiveCone",
+    "primitiveSphere",
+    "split",
+    "comp",
+    "color",
+    "set",
+    "report",
+    "print",
+    "reverseNormals",
+    "offset",
+    "roofGable",
+    "roofHip",
+    "roofPyramid",
+    "roofShed",
+];
+
+/// Whether an operation of this name exists (implemented or not).
+pub(crate) fn is_operation(name: &str) -> bool {
+    IMPLEMENTED.contains(&name) || VISUAL_ONLY.contains(&name) || UNSUPPORTED.contains(&name)
+}
+
+/// Compiles `call` as an operation. Returns `None` when no operation has that name,
+/// `Some(None)` when it is one but the call has errors (already reported).
+pub(crate) fn compile(
+    c: &mut Compiler,
+    call: &ast::Call,
+    params: &[ast::Ident],
+) -> Option<Option<Op>> {
+    let name = call.name.name.as_str();
+    if !is_operation(name) {
+        return None;
+    }
+    if !IMPLEMENTED.contains(&name) {
+        // Never evaluated: its arguments may use CGA words we do not know, which is no error.
+        let mut ctx = Ctx {
+            c,
+            call,
+            params,
+            args: Vec::new(),
+            words: Vec::new(),
+        };
+        return Some(ctx.build(name));
+    }
+    let args: Vec<CExpr> = call
+        .args
+        .iter()
+        .flatten()
+        .map(|a| c.arg(&a.value, params))
+        .collect();
+    let mut args = args;
+    // `set` reads its first argument as a name itself.
+    for a in args.iter_mut().skip(usize::from(name == "set")) {
+        if let CKind::Selector(word) = &a.kind {
+            if crate::builtins::Query::is_known_unsupported(word) {
+                let word = word.clone();
+                a.kind = c.unknown_name(&word, a.span, params);
+            }
+        }
+    }
+    let stray: Vec<(usize, String, Span)> = args
+        .iter()
+        .enumerate()
+        .filter_map(|(i, a)| match &a.kind {
+            CKind::Selector(word) => Some((i, word.clone(), a.span)),
+            _ => None,
+        })
+        .collect();
+    let mut ctx = Ctx {
+        c,
+        call,
+        params,
+        args,
+        words: Vec::new(),
+    };
+    let op = ctx.build(name);
+    // A bare word where the operation wanted a value is a name that does not exist.
+    let errors = ctx.c.error_count();
+    for (i, word, span) in stray {
+        if op.is_some() && !ctx.words.contains(&i) {
+            ctx.c.unknown_name(&word, span, params);
+        }
+    }
+    let failed = ctx.c.error_count() > errors;
+    Some(op.filter(|_| !failed))
+}
+
+struct Ctx<'a, 'g> {
+    c: &'a mut Compiler<'g>,
+    call: &'a ast::Call,
+    params: &'a [ast::Ident],
+    args: Vec<CExpr>,
+    /// Argument positions read as bare words (selectors).
+    words: Vec<usize>,
+}
+
+impl Ctx<'_, '_> {
+    fn build(&mut self, name: &str) -> Option<Op> {
+        if VISUAL_ONLY.contains(&name) {
+            self.warn_once(format!(
+                "`{name}` is not supported yet: it is ignored (no effect on geometry)"
+            ));
+            return Some(Op::Ignored);
+        }
+        if UNSUPPORTED.contains(&name) {
+            self.warn_once(format!(
+                "operation `{name}` is not supported yet: it is skipped and the shape goes on unchanged"
+            ));
+            return Some(Op::Ignored);
+        }
+        let op = match name {
+            "extrude" => self.extrude()?,
+            "t" => Op::Translate(self.three("t(x, y, z)")?),
+            "r" => self.rotate()?,
+            "s" => Op::Size(self.three("s(x, y, z)")?),
+            "center" => Op::Center(self.axes_selector("center(xyz)")?),
+            "mirror" => Op::Mirror(self.three("mirror(x, y, z)")?),
+            "alignScopeToAxes" => self.align()?,
+            "rotateScope" => Op::RotateScope(self.three("rotateScope(x, y, z)")?),
+            "i" | "insert" => {
+                self.arity(1, 3, "i(path)")?;
+                Op::Insert(self.args.swap_remove(0))
+            }
+            "primitiveCube" => self.primitive(Primitive::Cube, 0, "primitiveCube()")?,
+            "primitiveQuad" => self.primitive(Primitive::Quad, 0, "primitiveQuad()")?,
+            "primitivePyramid" => self.primitive(Primitive::Pyramid, 0, "primitivePyramid()")?,
+            "primitiveCylinder" => {
+                self.primitive(Primitive::Cylinder, 1, "primitiveCylinder(nSides)")?
+            }
+            "primitiveCone" => self.primitive(Primitive::Cone, 1, "primitiveCone(nSides)")?,
+            "primitiveSphere" => {
+                self.primitive(Primitive::Sphere, 2, "primitiveSphere(nRows, nColumns)")?
+            }
+            "split" => self.split()?,
+            "comp" => self.comp()?,
+            "color" => {
+                if !matches!(self.args.len(), 1 | 3 | 4) {
+                    return self.wrong_arity("color(\"#rrggbb\") | color(r, g, b)");
+                }
+                Op::Color(std::mem::take(&mut self.args))
+            }
+            "set" => self.set()?,
+            "report" => {
+                self.arity(2, 2, "report(key, value)")?;
+                let value = self.args.pop()?;
+                Op::Report(self.args.pop()?, value)
+            }
+            "print" => {
+                self.arity(1, 1, "print(value)")?;
+                Op::Print(self.args.pop()?)
+            }
+            "reverseNormals" => {
+                self.arity(0, 0, "reverseNormals()")?;
+                Op::ReverseNormals
+            }
+            "offset" => self.offset()?,
+            "roofGable" => self.roof(RoofKind::Gable, "roofGable(angle [, overhang])")?,
+            "roofHip" => self.roof(RoofKind::Hip, "roofHip(angle [, overhang])")?,
+            "roofPyramid" => self.roof(RoofKind::Pyramid, "roofPyramid(angle)")?,
+            "roofShed" => self.roof(RoofKind::Shed, "roofShed(angle [, edgeIndex])")?,
+            _ => unreachable!("`{name}` is listed in IMPLEMENTED but not built"),
+        };
+        let needs_block = matches!(op, Op::Split { .. } | Op::Comp { .. });
+        if !needs_block && self.call.block.is_some() {
+            self.error(format!("`{name}` takes no `{{…}}` block"));
+            return None;
+        }
+        Some(op)
+    }
+
+    fn error(&mut self, message: String) {
+        self.c.report(Diagnostic::error(message, self.call.span));
+    }
+
+    fn warn_once(&mut self, message: String) {
+        self.c.warn_once(
+            &self.call.name.name,
+            Diagnostic::warning(message, self.call.name.span),
+        );
+    }
+
+    fn wrong_arity(&mut self, signature: &str) -> Option<Op> {
+        self.c.report(
+            Diagnostic::error(
+                format!("wrong number of arguments for `{}`", self.call.name.name),
+                self.call.span,
+            )
+            .with_hint(format!("the signature is `{signature}`")),
+        );
+        None
+    }
+
+    fn arity(&mut self, lo: usize, hi: usize, signature: &str) -> Option<()> {
+        if self.args.len() < lo || self.args.len() > hi {
+            self.wrong_arity(signature)?;
+        }
+        Some(())
+    }
+
+    fn three(&mut self, signature: &str) -> Option<[CExpr; 3]> {
+        self.arity(3, 3, signature)?;
+        let z = self.args.pop()?;
+        let y = self.args.pop()?;
+        Some([self.args.pop()?, y, z])
+    }
+
+    /// The bare word (or string literal) of argument `i`.
+    fn word(&mut self, i: usize) -> Option<&str> {
+        self.words.push(i);
+        match &self.args.get(i)?.kind {
+            CKind::Selector(s) => Some(s),
+            CKind::Value(Value::Str(s)) => Some(s),
+            _ => None,
+        }
+    }
+
+    fn bad_selector(&mut self, i: usize, expected: &str) -> Option<Op> {
+        let span = self.args.get(i).map_or(self.call.span, |a| a.span);
+        self.c.report(
+            Diagnostic::error(format!("expected {expected}"), span)
+                .with_label(format!("in `{}`", self.call.name.name)),
+        );
+        None
+    }
+
+    fn extrude(&mut self) -> Option<Op> {
+        self.arity(1, 2, "extrude([world.up | face.normal,] distance)")?;
+        let world_up = if self.args.len() == 2 {
+            match self.word(0) {
+                Some("world.up" | "world.up.flatTop" | "world.y") => true,
+                Some("face.normal" | "vertex.normal") => false,
+                _ => {
+                    return self.bad_selector(0, "`world.up`, `world.up.flatTop` or `face.normal`");
+                }
+            }
+        } else {
+            false
+        };
+        Some(Op::Extrude {
+            world_up,
+            distance: self.args.pop()?,
+        })
+    }
+
+    fn rotate(&mut self) -> Option<Op> {
+        let about_center = match self.args.len() {
+            3 => false,
+            4 => match self.word(0) {
+                Some("scopeCenter") => true,
+                Some("scopeOrigin") => false,
+                _ => return self.bad_selector(0, "`scopeCenter` or `scopeOrigin`"),
+            },
+            _ => return self.wrong_arity("r([scopeCenter,] x, y, z)"),
+        };
+        let z = self.args.pop()?;
+        let y = self.args.pop()?;
+        let x = self.args.pop()?;
+        Some(Op::Rotate {
+            about_center,
+            degrees: [x, y, z],
+        })
+    }
+
+    fn axes_selector(&mut self, signature: &str) -> Option<[bool; 3]> {
+        self.arity(1, 1, signature)?;
+        let word = self.word(0).map(str::to_owned);
+        match word.as_deref() {
+            Some(w) if !w.is_empty() && w.chars().all(|ch| "xyz".contains(ch)) => {
+                Some([w.contains('x'), w.contains('y'), w.contains('z')])
+            }
+            _ => {
+                self.bad_selector(0, "axes such as `x`, `xz` or `xyz`");
+                None
+            }
+        }
+    }
+
+    fn align(&mut self) -> Option<Op> {
+        self.arity(0, 1, "alignScopeToAxes([x | y | z | world.xyz])")?;
+        if self.args.is_empty() {
+            return Some(Op::AlignScopeToAxes(None));
+        }
+        match self.word(0) {
+            Some("x" | "world.x") => Some(Op::AlignScopeToAxes(Some(0))),
+            Some("y" | "world.y") => Some(Op::AlignScopeToAxes(Some(1))),
+            Some("z" | "world.z") => Some(Op::AlignScopeToAxes(Some(2))),
+            Some("world.xyz" | "xyz") => Some(Op::AlignScopeToAxes(None)),
+            _ => self.bad_selector(0, "`x`, `y`, `z` or `world.xyz`"),
+        }
+    }
+
+    fn primitive(&mut self, kind: Primitive, max_args: usize, signature: &str) -> Option<Op> {
+        self.arity(0, max_args, signature)?;
+        Some(Op::Primitive(kind, std::mem::take(&mut self.args)))
+    }
+
+    fn split(&mut self) -> Option<Op> {
+        self.arity(1, 2, "split(x | y | z [, adjust | noAdjust]) { … }")?;
+        let axis = match self.word(0) {
+            Some("x") => 0,
+            Some("y") => 1,
+            Some("z") => 2,
+            Some("u" | "v") => {
+                self.warn_once(
+                    "texture-space splits (`split(u|v)`) are not supported yet: skipped".into(),
+                );
+                return Some(Op::Ignored);
+            }
+            _ => return self.bad_selector(0, "the split axis `x`, `y` or `z`"),
+        };
+        let adjust = match self.args.len() {
+            1 => true,
+            _ => match self.word(1) {
+                Some("adjust") => true,
+                Some("noAdjust") => false,
+                _ => return self.bad_selector(1, "`adjust` or `noAdjust`"),
+            },
+        };
+        let Some(block) = &self.call.block else {
+            self.error("`split` needs a `{ size : … }` block".into());
+            return None;
+        };
+        let block = split_block(self.c, block, self.params)?;
+        Some(Op::Split {
+            axis,
+            adjust,
+            block,
+        })
+    }
+
+    fn comp(&mut self) -> Option<Op> {
+        self.arity(1, 1, "comp(f | e | v) { … }")?;
+        let kind = match self.word(0) {
+            Some("f") => CompKind::Faces,
+            Some("e") => CompKind::Edges,
+            Some("v") => CompKind::Vertices,
+            Some(other) => {
+                let other = other.to_owned();
+                self.warn_once(format!("`comp({other})` is not supported yet: skipped"));
+                return Some(Op::Ignored);
+            }
+            None => return self.bad_selector(0, "`f`, `e` or `v`"),
+        };
+        let Some(block) = &self.call.block else {
+            self.error("`comp` needs a `{ selector : … }` block".into());
+            return None;
+        };
+        let mut entries = Vec::new();
+        for entry in &block.entries {
+            match entry {
+                BlockEntry::Part {
+                    key,
+                    merge,
+                    body,
+                    span,
+                } => {
+                    let selector = comp_selector(self.c, key, *span);
+                    entries.push(CompEntry {
+                        selector,
+                        merge: *merge,
+                        body: self.c.stmts(body, self.params),
+                    });
+                }
+                BlockEntry::Group(group) => {
+                    self.c.report(Diagnostic::error(
+                        "component splits take `selector : …` entries, not groups",
+                        group.span,
+                    ));
+                    return None;
+                }
+            }
+        }
+        Some(Op::Comp { kind, entries })
+    }
+
+    fn set(&mut self) -> Option<Op> {
+        self.arity(2, 2, "set(attribute, value)")?;
+        let value = self.args.pop()?;
+        let target = self.args.pop()?;
+        self.words.push(0);
+        let name = match &target.kind {
+            CKind::Attr(i) => return Some(Op::Set(SetTarget::Attr(*i), value)),
+            CKind::Selector(name) => name.clone(),
+            _ => {
+                self.c.report(
+                    Diagnostic::error("`set` needs an attribute name", target.span)
+                        .with_hint("declare it with `attr name = …`"),
+                );
+                return None;
+            }
+        };
+        let target = match name.as_str() {
+            "material.color" => SetTarget::Color(None),
+            "material.color.r" => SetTarget::Color(Some(0)),
+            "material.color.g" => SetTarget::Color(Some(1)),
+            "material.color.b" => SetTarget::Color(Some(2)),
+            "material.opacity" => SetTarget::Color(Some(3)),
+            "material.name" => SetTarget::MaterialName,
+            n if n.starts_with("material.") || n.starts_with("trim.") => {
+                self.warn_once(format!("`set({n}, …)` is not supported yet: ignored"));
+                SetTarget::Ignored
+            }
+            n if n.contains('.') => {
+                // `style.attr` and `import.attr` name attributes of imported rule files.
+                self.warn_once(format!(
+                    "`set({n}, …)` sets an attribute of an imported file: imports are not supported yet, ignored"
+                ));
+                SetTarget::Ignored
+            }
+            n => {
+                let mut d = Diagnostic::error(format!("unknown attribute `{n}`"), target.span)
+                    .with_hint("declare it with `attr name = …` before setting it");
+                if let Some(close) = shapegram_syntax::suggest(n, self.c.attr_names()) {
+                    d = d.with_hint(format!("did you mean `{close}`?"));
+                }
+                self.c.report(d);
+                return None;
+            }
+        };
+        Some(Op::Set(target, value))
+    }
+
+    fn offset(&mut self) -> Option<Op> {
+        self.arity(1, 2, "offset(distance [, inside | border])")?;
+        let keep = if self.args.len() == 2 {
+            match self.word(1) {
+                Some("inside") => OffsetKeep::Inside,
+                Some("border") => OffsetKeep::Border,
+                Some("all") => OffsetKeep::All,
+                _ => return self.bad_selector(1, "`inside`, `border` or `all`"),
+            }
+        } else {
+            OffsetKeep::All
+        };
+        self.args.truncate(1);
+        Some(Op::Offset {
+            distance: self.args.pop()?,
+            keep,
+        })
+    }
+
+    fn roof(&mut self, kind: RoofKind, signature: &str) -> Option<Op> {
+        let max = if kind == RoofKind::Pyramid { 1 } else { 2 };
+        // CGA also accepts `byAngle`/`byHeight` as a first word; only angles are supported.
+        if let Some("byAngle") = self.word(0) {
+            self.args.remove(0);
+        }
+        self.arity(1, max, signature)?;
+        Some(Op::Roof(kind, std::mem::take(&mut self.args)))
+    }
+}
+
+fn comp_selector(c: &mut Compiler, key: &ast::Expr, span: Span) -> CompSelector {
+    use FaceClass::*;
+    let word = match &key.kind {
+        ast::ExprKind::Name(n) => n.as_str(),
+        ast::ExprKind::Number(n) if *n >= 0.0 && n.fract() == 0.0 => {
+            return CompSelector::Index(*n as usize);
+        }
+        _ => "",
+    };
+    match word {
+        "front" => CompSelector::Class(Front),
+        "back" => CompSelector::Class(Back),
+        "left" => CompSelector::Class(Left),
+        "right" => CompSelector::Class(Right),
+        "top" => CompSelector::Class(Top),
+        "bottom" => CompSelector::Class(Bottom),
+        "side" => CompSelector::Side,
+        "all" => CompSelector::All,
+        "vertical" => CompSelector::Vertical,
+        "horizontal" => CompSelector::Horizontal,
+        "aslant" => CompSelector::Aslant,
+        "inside" => CompSelector::Inside,
+        "border" => CompSelector::Border,
+        _ => {
+            c.report(Diagnostic::warning(
+                "this component selector is not supported yet: it selects nothing",
+                span,
+            ));
+            CompSelector::Never
+        }
+    }
+}
+
+fn split_block(c: &mut Compiler, block: &ast::Block, params: &[ast::Ident]) -> Option<SplitBlock> {
+    let mut entries = Vec::with_capacity(block.entries.len());
+    for entry in &block.entries {
+        entries.push(match entry {
+            BlockEntry::Part { key, body, .. } => SplitEntry::Part {
+                size: c.expr(key, params),
+                body: c.stmts(body, params),
+            },
+            BlockEntry::Group(group) => SplitEntry::Group(split_block(c, group, params)?),
+        });
+    }
+    Some(SplitBlock {
+        entries,
+        repeat: block.repeat,
+    })
+}

@@ -1,0 +1,601 @@
+//! Compiling a parsed grammar into a [`Program`]: names resolved to indices, operations told
+//! apart from successors, arity and unknown names reported with spans and hints.
+
+use rustc_hash::FxHashMap;
+use shapegram_syntax::{
+    Diagnostic, Span,
+    ast::{self, BinaryOp, Body, ExprKind, Grammar, Stmt, UnaryOp},
+    suggest,
+};
+
+use crate::builtins::{Builtin, Query};
+use crate::ops::{self, Op};
+use crate::value::Value;
+
+/// Index of a rule in [`Program::rules`].
+pub type RuleId = u32;
+/// Index of an interned symbol name in [`Program::symbols`].
+pub type Sym = u32;
+
+/// A compiled grammar, ready to derive models from any number of times.
+#[derive(Debug)]
+pub struct Program {
+    pub(crate) symbols: Vec<String>,
+    pub(crate) rules: Vec<CRule>,
+    pub(crate) attrs: Vec<CAttr>,
+    pub(crate) consts: Vec<CConst>,
+    pub(crate) functions: Vec<CFunction>,
+    rule_by_name: FxHashMap<String, Vec<RuleId>>,
+    attr_by_name: FxHashMap<String, u32>,
+    /// The rule marked `@StartRule`, or else the first rule.
+    pub start_rule: Option<RuleId>,
+}
+
+/// A compiled rule.
+#[derive(Debug)]
+pub(crate) struct CRule {
+    pub symbol: Sym,
+    pub params: usize,
+    pub body: CBody,
+}
+
+/// A compiled attribute: its default value.
+#[derive(Debug)]
+pub(crate) struct CAttr {
+    pub name: String,
+    pub value: CExpr,
+}
+
+/// A compiled constant or parameterless function.
+#[derive(Debug)]
+pub(crate) struct CConst {
+    pub value: CExpr,
+    /// Evaluated once per initial shape (`const`) rather than at each use.
+    pub cached: bool,
+}
+
+/// A compiled user function.
+#[derive(Debug)]
+pub(crate) struct CFunction {
+    pub name: String,
+    pub body: CExpr,
+}
+
+/// A compiled rule body.
+#[derive(Debug)]
+pub(crate) enum CBody {
+    Sequence(Vec<CStmt>),
+    Cases(Vec<(CExpr, CBody)>, Box<CBody>),
+    Stochastic(Vec<(CExpr, CBody)>, Box<CBody>),
+}
+
+/// A compiled statement.
+#[derive(Debug)]
+pub(crate) enum CStmt {
+    Op(Op, Span),
+    Successor {
+        symbol: Sym,
+        rule: Option<RuleId>,
+        args: Vec<CExpr>,
+        terminal: bool,
+        span: Span,
+    },
+    Push,
+    Pop(Span),
+    Nil,
+}
+
+/// A compiled expression with the span it came from.
+#[derive(Debug, Clone)]
+pub(crate) struct CExpr {
+    pub kind: CKind,
+    pub span: Span,
+}
+
+/// The kinds of compiled expression.
+#[derive(Debug, Clone)]
+pub(crate) enum CKind {
+    Value(Value),
+    Param(u16),
+    Attr(u32),
+    Const(u32),
+    Call(u32, Vec<CExpr>),
+    Builtin(Builtin, Vec<CExpr>),
+    Query(Query),
+    Unary(UnaryOp, Box<CExpr>),
+    Binary(BinaryOp, Box<CExpr>, Box<CExpr>),
+    Conditional(Box<CExpr>, Box<CExpr>, Box<CExpr>),
+    Cases(Vec<(CExpr, CExpr)>, Box<CExpr>),
+    Stochastic(Vec<(CExpr, CExpr)>, Box<CExpr>),
+    Array(Vec<CExpr>),
+    Index(Box<CExpr>, Box<CExpr>),
+    Relative(Box<CExpr>),
+    Floating(Box<CExpr>),
+    /// A bare word in an operation argument: `x`, `front`, `scopeCenter`, `world.up`.
+    Selector(String),
+    /// A CGA function that parses but is not implemented: an error when evaluated.
+    Unsupported(String),
+}
+
+impl Program {
+    /// Compiles a grammar. Returns `None` when there are errors; warnings come back either way.
+    pub fn compile(grammar: &Grammar) -> (Option<Program>, Vec<Diagnostic>) {
+        let mut compiler = Compiler::new(grammar);
+        let program = compiler.run(grammar);
+        let failed = compiler.diagnostics.iter().any(Diagnostic::is_error);
+        ((!failed).then_some(program), compiler.diagnostics)
+    }
+
+    /// The name of a symbol.
+    pub fn symbol_name(&self, sym: Sym) -> &str {
+        &self.symbols[sym as usize]
+    }
+
+    /// The rule with this name taking `arity` arguments, if any.
+    pub fn rule(&self, name: &str, arity: usize) -> Option<RuleId> {
+        self.rule_by_name
+            .get(name)?
+            .iter()
+            .copied()
+            .find(|&r| self.rules[r as usize].params == arity)
+    }
+
+    /// Names of all rules, in file order without repeats.
+    pub fn rule_names(&self) -> Vec<&str> {
+        let mut seen = Vec::new();
+        for r in &self.rules {
+            let name = self.symbol_name(r.symbol);
+            if !seen.contains(&name) {
+                seen.push(name);
+            }
+        }
+        seen
+    }
+
+    /// Index of the attribute with this name.
+    pub fn attr(&self, name: &str) -> Option<u32> {
+        self.attr_by_name.get(name).copied()
+    }
+
+    /// Names of the attributes, in file order.
+    pub fn attr_names(&self) -> impl Iterator<Item = &str> {
+        self.attrs.iter().map(|a| a.name.as_str())
+    }
+}
+
+/// Names visible in the expression being compiled: the parameters of the enclosing rule or
+/// function.
+type Params<'a> = &'a [ast::Ident];
+
+pub(crate) struct Compiler<'g> {
+    pub(crate) diagnostics: Vec<Diagnostic>,
+    symbols: Vec<String>,
+    symbol_ids: FxHashMap<String, Sym>,
+    rule_by_name: FxHashMap<String, Vec<RuleId>>,
+    attr_by_name: FxHashMap<String, u32>,
+    const_by_name: FxHashMap<&'g str, u32>,
+    function_by_name: FxHashMap<&'g str, Vec<(usize, u32)>>,
+    /// Parameter count of each rule, by rule id.
+    rule_arity: Vec<usize>,
+    /// Keys of warnings already given, so each missing rule or unsupported operation is
+    /// reported once.
+    warned: FxHashMap<String, ()>,
+}
+
+impl<'g> Compiler<'g> {
+    fn new(grammar: &'g Grammar) -> Self {
+        let mut c = Self {
+            diagnostics: Vec::new(),
+            symbols: Vec::new(),
+            symbol_ids: FxHashMap::default(),
+            rule_by_name: FxHashMap::default(),
+            attr_by_name: FxHashMap::default(),
+            const_by_name: FxHashMap::default(),
+            function_by_name: FxHashMap::default(),
+            rule_arity: grammar.rules.iter().map(|r| r.params.len()).collect(),
+            warned: FxHashMap::default(),
+        };
+        for (i, rule) in grammar.rules.iter().enumerate() {
+            let list = c.rule_by_name.entry(rule.name.name.clone()).or_default();
+            if list
+                .iter()
+                .any(|&r| grammar.rules[r as usize].params.len() == rule.params.len())
+            {
+                c.diagnostics.push(
+                    Diagnostic::error(
+                        format!(
+                            "rule `{}` is defined twice with {} parameters",
+                            rule.name.name,
+                            rule.params.len()
+                        ),
+                        rule.name.span,
+                    )
+                    .with_hint("rules of the same name must differ in their number of parameters"),
+                );
+            }
+            list.push(i as RuleId);
+        }
+        for (i, attr) in grammar.attrs.iter().enumerate() {
+            if c.attr_by_name
+                .insert(attr.name.name.clone(), i as u32)
+                .is_some()
+            {
+                c.diagnostics.push(Diagnostic::error(
+                    format!("attribute `{}` is declared twice", attr.name.name),
+                    attr.name.span,
+                ));
+            }
+        }
+        for (i, constant) in grammar.consts.iter().enumerate() {
+            if c.const_by_name
+                .insert(&constant.name.name, i as u32)
+                .is_some()
+            {
+                c.diagnostics.push(Diagnostic::error(
+                    format!("`{}` is defined twice", constant.name.name),
+                    constant.name.span,
+                ));
+            }
+        }
+        for (i, function) in grammar.functions.iter().enumerate() {
+            c.function_by_name
+                .entry(&function.name.name)
+                .or_default()
+                .push((function.params.len(), i as u32));
+        }
+        c
+    }
+
+    fn run(&mut self, grammar: &Grammar) -> Program {
+        let attrs = grammar
+            .attrs
+            .iter()
+            .map(|a| CAttr {
+                name: a.name.name.clone(),
+                value: self.expr(&a.value, &[]),
+            })
+            .collect();
+        let consts = grammar
+            .consts
+            .iter()
+            .map(|c| CConst {
+                value: self.expr(&c.value, &[]),
+                cached: c.is_const,
+            })
+            .collect();
+        let functions = grammar
+            .functions
+            .iter()
+            .map(|f| CFunction {
+                name: f.name.name.clone(),
+                body: self.expr(&f.body, &f.params),
+            })
+            .collect();
+        let rules = grammar
+            .rules
+            .iter()
+            .map(|r| CRule {
+                symbol: self.intern(&r.name.name),
+                params: r.params.len(),
+                body: self.body(&r.body, &r.params),
+            })
+            .collect();
+        let start_rule = grammar
+            .rules
+            .iter()
+            .position(ast::Rule::is_start_rule)
+            .or((!grammar.rules.is_empty()).then_some(0))
+            .map(|i| i as RuleId);
+        Program {
+            symbols: std::mem::take(&mut self.symbols),
+            rules,
+            attrs,
+            consts,
+            functions,
+            rule_by_name: std::mem::take(&mut self.rule_by_name),
+            attr_by_name: std::mem::take(&mut self.attr_by_name),
+            start_rule,
+        }
+    }
+
+    fn intern(&mut self, name: &str) -> Sym {
+        if let Some(&s) = self.symbol_ids.get(name) {
+            return s;
+        }
+        let s = self.symbols.len() as Sym;
+        self.symbols.push(name.to_owned());
+        self.symbol_ids.insert(name.to_owned(), s);
+        s
+    }
+
+    fn body(&mut self, body: &Body, params: Params) -> CBody {
+        match body {
+            Body::Sequence(stmts) => CBody::Sequence(self.stmts(stmts, params)),
+            Body::Cases {
+                arms, otherwise, ..
+            } => CBody::Cases(
+                arms.iter()
+                    .map(|(c, b)| (self.expr(c, params), self.body(b, params)))
+                    .collect(),
+                Box::new(self.body(otherwise, params)),
+            ),
+            Body::Stochastic {
+                arms, otherwise, ..
+            } => CBody::Stochastic(
+                arms.iter()
+                    .map(|(p, b)| (self.expr(p, params), self.body(b, params)))
+                    .collect(),
+                Box::new(self.body(otherwise, params)),
+            ),
+        }
+    }
+
+    pub(crate) fn stmts(&mut self, stmts: &[Stmt], params: Params) -> Vec<CStmt> {
+        stmts
+            .iter()
+            .filter_map(|s| match s {
+                Stmt::Push(_) => Some(CStmt::Push),
+                Stmt::Pop(span) => Some(CStmt::Pop(*span)),
+                Stmt::Nil(_) => Some(CStmt::Nil),
+                Stmt::Call(call) => self.call_stmt(call, params),
+            })
+            .collect()
+    }
+
+    /// A call statement is a successor when a rule of that name exists, else an operation when
+    /// one is known, else a successor without a rule (a leaf, as in CGA, with a warning).
+    fn call_stmt(&mut self, call: &ast::Call, params: Params) -> Option<CStmt> {
+        let name = &call.name.name;
+        let arity = call.args.as_ref().map_or(0, Vec::len);
+        if call.block.is_none() {
+            if let Some(rules) = self.rule_by_name.get(name) {
+                let rule = rules
+                    .iter()
+                    .copied()
+                    .find(|&r| self.rule_arity(r) == Some(arity));
+                if rule.is_none() {
+                    let arities: Vec<String> = rules
+                        .iter()
+                        .filter_map(|&r| self.rule_arity(r))
+                        .map(|n| n.to_string())
+                        .collect();
+                    self.diagnostics.push(
+                        Diagnostic::error(
+                            format!(
+                                "rule `{name}` takes {} arguments, not {arity}",
+                                arities.join(" or ")
+                            ),
+                            call.span,
+                        )
+                        .with_label("wrong number of arguments"),
+                    );
+                    return None;
+                }
+                return Some(self.successor(call, rule, params));
+            }
+        }
+        if let Some(op) = ops::compile(self, call, params) {
+            return op.map(|op| CStmt::Op(op, call.span));
+        }
+        if call.block.is_some() {
+            self.diagnostics.push(
+                Diagnostic::error(format!("unknown operation `{name}`"), call.name.span)
+                    .with_label("only operations take a `{…}` block"),
+            );
+            return None;
+        }
+        if !call.terminal && !self.warned.contains_key(name) {
+            self.warned.insert(name.clone(), ());
+            let rule_names: Vec<&str> = self.rule_by_name.keys().map(String::as_str).collect();
+            let mut d = Diagnostic::warning(
+                format!("no rule `{name}`: its shapes become leaves"),
+                call.name.span,
+            );
+            if let Some(close) = suggest(name, rule_names.iter().copied()) {
+                d = d.with_hint(format!("did you mean `{close}`?"));
+            }
+            self.diagnostics.push(d);
+        }
+        Some(self.successor(call, None, params))
+    }
+
+    fn rule_arity(&self, rule: RuleId) -> Option<usize> {
+        self.rule_arity.get(rule as usize).copied()
+    }
+
+    fn successor(&mut self, call: &ast::Call, rule: Option<RuleId>, params: Params) -> CStmt {
+        let args = call
+            .args
+            .iter()
+            .flatten()
+            .map(|a| self.expr(&a.value, params))
+            .collect();
+        CStmt::Successor {
+            symbol: self.intern(&call.name.name),
+            rule,
+            args,
+            terminal: call.terminal,
+            span: call.span,
+        }
+    }
+
+    /// Compiles an expression in which every name must resolve.
+    pub(crate) fn expr(&mut self, e: &ast::Expr, params: Params) -> CExpr {
+        self.expr_in(e, params, false)
+    }
+
+    /// Compiles an operation argument: a bare word that names nothing is a selector (`x`,
+    /// `front`, `scopeCenter`) for the operation to interpret.
+    pub(crate) fn arg(&mut self, e: &ast::Expr, params: Params) -> CExpr {
+        self.expr_in(e, params, true)
+    }
+
+    fn expr_in(&mut self, e: &ast::Expr, params: Params, selectors: bool) -> CExpr {
+        let sub = |c: &mut Self, x: &ast::Expr| Box::new(c.expr(x, params));
+        let kind = match &e.kind {
+            ExprKind::Number(n) => CKind::Value(Value::Number(*n)),
+            ExprKind::String(s) => CKind::Value(Value::string(s)),
+            ExprKind::Bool(b) => CKind::Value(Value::Bool(*b)),
+            ExprKind::Array(items) => {
+                CKind::Array(items.iter().map(|i| self.expr(i, params)).collect())
+            }
+            ExprKind::Name(name) => self.name(name, e.span, params, selectors),
+            ExprKind::Call { name, args } => self.call_expr(name, args, params),
+            ExprKind::Index { target, index } => CKind::Index(sub(self, target), sub(self, index)),
+            ExprKind::Unary { op, operand } => CKind::Unary(*op, sub(self, operand)),
+            ExprKind::Binary { op, lhs, rhs } => CKind::Binary(*op, sub(self, lhs), sub(self, rhs)),
+            ExprKind::Conditional {
+                cond,
+                then,
+                otherwise,
+            } => CKind::Conditional(sub(self, cond), sub(self, then), sub(self, otherwise)),
+            ExprKind::Cases { arms, otherwise } => CKind::Cases(
+                arms.iter()
+                    .map(|(c, v)| (self.expr(c, params), self.expr(v, params)))
+                    .collect(),
+                sub(self, otherwise),
+            ),
+            ExprKind::Stochastic { arms, otherwise } => CKind::Stochastic(
+                arms.iter()
+                    .map(|(p, v)| (self.expr(p, params), self.expr(v, params)))
+                    .collect(),
+                sub(self, otherwise),
+            ),
+            ExprKind::Floating(inner) => CKind::Floating(sub(self, inner)),
+            ExprKind::Relative(inner) => CKind::Relative(sub(self, inner)),
+        };
+        CExpr { kind, span: e.span }
+    }
+
+    /// Resolves a name: rule or function parameter, attribute, constant, built-in query; else a
+    /// selector where one may stand, else an error with the nearest names.
+    fn name(&mut self, name: &str, span: Span, params: Params, selectors: bool) -> CKind {
+        if let Some(i) = params.iter().position(|p| p.name == name) {
+            return CKind::Param(i as u16);
+        }
+        if let Some(&i) = self.attr_by_name.get(name) {
+            return CKind::Attr(i);
+        }
+        if let Some(&i) = self.const_by_name.get(name) {
+            return CKind::Const(i);
+        }
+        if let Some(q) = Query::from_name(name) {
+            return CKind::Query(q);
+        }
+        if selectors {
+            return CKind::Selector(name.to_owned());
+        }
+        self.unknown_name(name, span, params)
+    }
+
+    /// Reports a name that resolves to nothing (a warning for CGA queries not implemented yet)
+    /// and returns what stands in its place.
+    pub(crate) fn unknown_name(&mut self, name: &str, span: Span, params: Params) -> CKind {
+        if Query::is_known_unsupported(name) {
+            self.diagnostics.push(Diagnostic::warning(
+                format!("`{name}` is not supported yet"),
+                span,
+            ));
+            return CKind::Unsupported(name.to_owned());
+        }
+        let candidates: Vec<&str> = params
+            .iter()
+            .map(|p| p.name.as_str())
+            .chain(self.attr_by_name.keys().map(String::as_str))
+            .chain(self.const_by_name.keys().copied())
+            .chain(Query::NAMES.iter().copied())
+            .collect();
+        let mut d = Diagnostic::error(format!("unknown name `{name}`"), span)
+            .with_label("not a parameter, attribute, constant or query");
+        if let Some(close) = suggest(name, candidates) {
+            d = d.with_hint(format!("did you mean `{close}`?"));
+        }
+        self.diagnostics.push(d);
+        CKind::Value(Value::Number(0.0))
+    }
+
+    fn call_expr(&mut self, name: &ast::Ident, args: &[ast::Argument], params: Params) -> CKind {
+        if Builtin::is_known_unsupported(&name.name) {
+            // Never evaluated, so its arguments (`touches(intra, "wall")`) are not checked.
+            self.diagnostics.push(Diagnostic::warning(
+                format!("function `{}` is not supported yet", name.name),
+                name.span,
+            ));
+            return CKind::Unsupported(name.name.clone());
+        }
+        if args.is_empty() {
+            // CGA writes some queries as calls: `geometry.area()`.
+            if let Some(q) = Query::from_name(&name.name) {
+                return CKind::Query(q);
+            }
+        }
+        let compiled: Vec<CExpr> = args.iter().map(|a| self.expr(&a.value, params)).collect();
+        if let Some(overloads) = self.function_by_name.get(name.name.as_str()) {
+            if let Some(&(_, f)) = overloads.iter().find(|(n, _)| *n == compiled.len()) {
+                return CKind::Call(f, compiled);
+            }
+            let counts: Vec<String> = overloads.iter().map(|(n, _)| n.to_string()).collect();
+            self.diagnostics.push(
+                Diagnostic::error(
+                    format!(
+                        "function `{}` takes {} arguments, not {}",
+                        name.name,
+                        counts.join(" or "),
+                        compiled.len()
+                    ),
+                    name.span,
+                )
+                .with_label("wrong number of arguments"),
+            );
+            return CKind::Value(Value::Number(0.0));
+        }
+        if let Some(builtin) = Builtin::from_name(&name.name) {
+            let (lo, hi) = builtin.arity();
+            if compiled.len() < lo || compiled.len() > hi {
+                self.diagnostics.push(
+                    Diagnostic::error(
+                        format!("wrong number of arguments for `{}`", name.name),
+                        name.span,
+                    )
+                    .with_hint(format!("the signature is `{}`", builtin.signature())),
+                );
+                return CKind::Value(Value::Number(0.0));
+            }
+            return CKind::Builtin(builtin, compiled);
+        }
+        let candidates: Vec<&str> = self
+            .function_by_name
+            .keys()
+            .copied()
+            .chain(Builtin::NAMES.iter().copied())
+            .collect();
+        let mut d = Diagnostic::error(format!("unknown function `{}`", name.name), name.span);
+        if let Some(close) = suggest(&name.name, candidates) {
+            d = d.with_hint(format!("did you mean `{close}`?"));
+        }
+        self.diagnostics.push(d);
+        CKind::Value(Value::Number(0.0))
+    }
+
+    /// Attribute names, for hints.
+    pub(crate) fn attr_names(&self) -> impl Iterator<Item = &str> {
+        self.attr_by_name.keys().map(String::as_str)
+    }
+
+    /// Reports a diagnostic.
+    pub(crate) fn report(&mut self, d: Diagnostic) {
+        self.diagnostics.push(d);
+    }
+
+    /// How many errors have been reported so far.
+    pub(crate) fn error_count(&self) -> usize {
+        self.diagnostics.iter().filter(|d| d.is_error()).count()
+    }
+
+    /// Reports a warning once per `key`.
+    pub(crate) fn warn_once(&mut self, key: &str, d: Diagnostic) {
+        if self.warned.insert(key.to_owned(), ()).is_none() {
+            self.diagnostics.push(d);
+        }
+    }
+}

@@ -1,0 +1,188 @@
+//! Shapes during derivation: scope, geometry, attributes and the rest of a shape's state.
+
+use std::sync::Arc;
+
+use shapegram_geom::{Color, DAffine3, DVec3, Mesh, Scope, primitives};
+
+use crate::program::Sym;
+use crate::rng::{Rng, child_seed};
+use crate::value::Value;
+
+/// What a shape is made of.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Geometry {
+    /// The scope box itself. When one size is zero the box is flat: a rectangle facing the
+    /// positive direction of that axis (a lot faces +y, a facade +z). Most shapes of real grammars
+    /// are boxes and rectangles, and splitting them is arithmetic.
+    Box,
+    /// A polygon mesh in scope-local coordinates, with optional per-face tags (`offset` marks
+    /// faces as inside or border).
+    Mesh(Arc<Mesh>, Option<Arc<[FaceTag]>>),
+    /// No geometry: edges and vertices of a component split, until something is inserted.
+    Empty,
+}
+
+/// A tag on a face, set by operations whose result later component splits select from.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum FaceTag {
+    /// No tag.
+    None,
+    /// The inset polygon of `offset`.
+    Inside,
+    /// The ring between the outline and the inset polygon of `offset`.
+    Border,
+}
+
+impl Geometry {
+    /// A mesh geometry without tags.
+    pub fn mesh(mesh: Mesh) -> Self {
+        Self::Mesh(Arc::new(mesh), None)
+    }
+
+    /// The geometry as a mesh in scope-local coordinates (`None` for empty geometry or a box
+    /// flat in more than one axis).
+    pub fn local_mesh(&self, size: DVec3) -> Option<Mesh> {
+        match self {
+            Self::Box => box_mesh(size),
+            Self::Mesh(mesh, _) => Some((**mesh).clone()),
+            Self::Empty => None,
+        }
+    }
+
+    /// The geometry in world coordinates.
+    pub fn world_mesh(&self, scope: &Scope) -> Option<Mesh> {
+        let mut mesh = self.local_mesh(scope.size)?;
+        mesh.transform(&scope.local_to_world());
+        Some(mesh)
+    }
+
+    /// Per-face tags, if any.
+    pub fn tags(&self) -> Option<&[FaceTag]> {
+        match self {
+            Self::Mesh(_, Some(tags)) => Some(tags),
+            _ => None,
+        }
+    }
+}
+
+/// The axis along which a flat box has no extent, if exactly one has none.
+pub fn flat_axis(size: DVec3) -> Option<usize> {
+    let zero: Vec<usize> = (0..3).filter(|&i| size[i] == 0.0).collect();
+    (zero.len() == 1).then(|| zero[0])
+}
+
+/// The mesh of a box geometry in local coordinates: a cuboid, a rectangle facing the positive
+/// direction of its one flat axis, or nothing.
+pub fn box_mesh(size: DVec3) -> Option<Mesh> {
+    let (x, y, z) = (size.x, size.y, size.z);
+    let quad = |points: [DVec3; 4]| Some(Mesh::from_polygon(&points));
+    match flat_axis(size) {
+        None if size.cmpgt(DVec3::ZERO).all() => Some(primitives::cuboid(size)),
+        // First edges follow the component-frame convention: along x where x has extent.
+        Some(2) => quad([
+            DVec3::ZERO,
+            DVec3::new(x, 0.0, 0.0),
+            DVec3::new(x, y, 0.0),
+            DVec3::new(0.0, y, 0.0),
+        ]),
+        Some(1) => quad([
+            DVec3::new(0.0, 0.0, z),
+            DVec3::new(x, 0.0, z),
+            DVec3::new(x, 0.0, 0.0),
+            DVec3::ZERO,
+        ]),
+        Some(0) => quad([
+            DVec3::ZERO,
+            DVec3::new(0.0, y, 0.0),
+            DVec3::new(0.0, y, z),
+            DVec3::new(0.0, 0.0, z),
+        ]),
+        _ => None,
+    }
+}
+
+/// The state of a shape: what operations act on and successors inherit.
+#[derive(Clone, Debug)]
+pub struct State {
+    /// The shape's symbol (the rule that made it or will rewrite it).
+    pub symbol: Sym,
+    /// The shape's scope.
+    pub scope: Scope,
+    /// The shape's geometry.
+    pub geometry: Geometry,
+    /// Attribute values, shared until one is set.
+    pub attrs: Arc<Vec<Value>>,
+    /// Surface colour.
+    pub color: Color,
+    /// Material name set with `set(material.name, …)`.
+    pub material: Option<Arc<str>>,
+    /// Position among the parts of the split that made it, and their count.
+    pub split: (u32, u32),
+    /// Position among the components of the component split that made it, and their count.
+    pub comp: (u32, u32),
+    /// Derivation depth (initial shapes are 0).
+    pub depth: u32,
+    /// The shape's identity in the derivation: the seed of its random stream.
+    pub seed: u64,
+    /// The shape's random stream (`rand`, `p`, stochastic rules).
+    pub rng: Rng,
+    /// How many children this shape has made so far (their seeds depend on it).
+    pub children: u64,
+    /// The scope the shape started its rule with (what `center` centres in).
+    pub parent_scope: Scope,
+}
+
+impl State {
+    /// A fresh state for an initial shape.
+    pub fn initial(symbol: Sym, scope: Scope, geometry: Geometry, seed: u64) -> Self {
+        Self {
+            symbol,
+            scope,
+            geometry,
+            attrs: Arc::new(Vec::new()),
+            color: Color::default(),
+            material: None,
+            split: (0, 1),
+            comp: (0, 1),
+            depth: 0,
+            seed,
+            rng: Rng::new(seed),
+            children: 0,
+            parent_scope: scope,
+        }
+    }
+
+    /// A child: a copy of this state with its own seed and random stream.
+    pub fn spawn(&mut self) -> State {
+        let seed = child_seed(self.seed, self.children);
+        self.children += 1;
+        let mut child = self.clone();
+        child.seed = seed;
+        child.rng = Rng::new(seed);
+        child.children = 0;
+        child.depth = self.depth + 1;
+        child
+    }
+
+    /// Replaces the scope while keeping the geometry where it is in world space.
+    pub fn rescope(&mut self, scope: Scope) {
+        if let Some(mut mesh) = self.geometry.world_mesh(&self.scope) {
+            mesh.transform(&scope.world_to_local());
+            let tags = self.geometry.tags().map(Arc::from);
+            self.geometry = Geometry::Mesh(Arc::new(mesh), tags);
+        }
+        self.scope = scope;
+    }
+
+    /// Sets the scope size, scaling mesh geometry along (CGA `s`). Axes of zero size keep the
+    /// geometry's own extent along them.
+    pub fn resize(&mut self, size: DVec3) {
+        if let Geometry::Mesh(mesh, tags) = &self.geometry {
+            let old = self.scope.size;
+            let factor = DVec3::select(old.cmpeq(DVec3::ZERO), DVec3::ONE, size / old);
+            let scaled = mesh.transformed(&DAffine3::from_scale(factor));
+            self.geometry = Geometry::Mesh(Arc::new(scaled), tags.clone());
+        }
+        self.scope.size = size;
+    }
+}

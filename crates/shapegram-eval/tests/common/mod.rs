@@ -1,0 +1,68 @@
+//! Running grammar text through parser, compiler and engine.
+#![allow(dead_code)]
+
+use shapegram_eval::{Derivation, DeriveError, DeriveOptions, InitialShape, Program, derive};
+use shapegram_geom::DVec2;
+use shapegram_syntax::{SourceFile, parse};
+
+/// The compiled program; panics with the rendered diagnostics on errors.
+pub fn compile(text: &str) -> Program {
+    let source = SourceFile::new("test.cga", text);
+    let parsed = parse(&source);
+    let render = |ds: &[shapegram_syntax::Diagnostic]| {
+        ds.iter()
+            .map(|d| source.render(d))
+            .collect::<Vec<_>>()
+            .join("\n")
+    };
+    assert!(
+        !parsed.diagnostics.iter().any(|d| d.is_error()),
+        "{}",
+        render(&parsed.diagnostics)
+    );
+    let (program, diagnostics) = Program::compile(&parsed.grammar);
+    program.unwrap_or_else(|| panic!("{}", render(&diagnostics)))
+}
+
+/// The diagnostics of compiling, rendered.
+pub fn compile_errors(text: &str) -> Vec<String> {
+    let source = SourceFile::new("test.cga", text);
+    let parsed = parse(&source);
+    let (_, diagnostics) = Program::compile(&parsed.grammar);
+    parsed
+        .diagnostics
+        .iter()
+        .chain(&diagnostics)
+        .map(|d| source.render(d))
+        .collect()
+}
+
+/// A `w` × `d` lot at the origin.
+pub fn lot(w: f64, d: f64) -> InitialShape {
+    InitialShape::from_xz(&[
+        DVec2::new(0.0, 0.0),
+        DVec2::new(w, 0.0),
+        DVec2::new(w, d),
+        DVec2::new(0.0, d),
+    ])
+    .unwrap()
+}
+
+/// Derives `text` on one lot with default options.
+pub fn run(text: &str, lot: InitialShape) -> Derivation {
+    try_run(text, lot, &DeriveOptions::default()).unwrap()
+}
+
+/// Derives `text` on one lot.
+pub fn try_run(
+    text: &str,
+    lot: InitialShape,
+    options: &DeriveOptions,
+) -> Result<Derivation, DeriveError> {
+    derive(&compile(text), &[lot], options)
+}
+
+/// Leaf names in order.
+pub fn names(d: &Derivation) -> Vec<&str> {
+    d.leaves.iter().map(|l| &*l.name).collect()
+}

@@ -1,0 +1,391 @@
+//! Rules, operations, attributes, randomness and limits.
+
+mod common;
+
+use common::{compile, compile_errors, lot, names, run, try_run};
+use shapegram_eval::{DeriveOptions, Geometry, InitialShape, Value, derive};
+use shapegram_geom::{DVec2, DVec3};
+
+fn close(a: DVec3, b: DVec3) -> bool {
+    a.abs_diff_eq(b, 1e-9)
+}
+
+#[test]
+fn extrude_and_component_split_of_a_rectangular_lot() {
+    let d = run(
+        "Lot --> extrude(10) comp(f) { front : F | back : B | left : L | right : R | top : T | bottom : Bottom }",
+        lot(20.0, 30.0),
+    );
+    // Components go to the entries in entry order.
+    assert_eq!(names(&d), ["F", "B", "L", "R", "T", "Bottom"]);
+    for leaf in &d.leaves {
+        assert_eq!(
+            leaf.geometry,
+            Geometry::Box,
+            "{} stays a rectangle",
+            leaf.name
+        );
+        assert_eq!(leaf.scope.size.z, 0.0);
+    }
+    let front = &d.leaves[0];
+    // The front faces +z (the lot's first edge, at z = 30), 20 wide and 10 high, y up.
+    assert!(close(front.scope.size, DVec3::new(20.0, 10.0, 0.0)));
+    assert!(close(front.scope.z_axis(), DVec3::Z));
+    assert!(close(front.scope.y_axis(), DVec3::Y));
+    assert!(close(front.scope.origin, DVec3::new(0.0, 0.0, 30.0)));
+    let left = &d.leaves[2];
+    assert!(close(left.scope.size, DVec3::new(30.0, 10.0, 0.0)));
+    let model = d.to_model();
+    let mesh = model.merged_mesh().welded(1e-9);
+    assert!(mesh.is_watertight());
+    assert!((mesh.signed_volume() - 6000.0).abs() < 1e-9);
+}
+
+#[test]
+fn side_selector_and_first_match_wins() {
+    let d = run(
+        "Lot --> extrude(10) comp(f) { front : F | side : S | all : Other }",
+        lot(20.0, 30.0),
+    );
+    assert_eq!(names(&d), ["F", "S", "S", "S", "Other", "Other"]);
+    let d = run(
+        "Lot --> extrude(10) comp(f) { horizontal : H | vertical : V }",
+        lot(20.0, 30.0),
+    );
+    assert_eq!(names(&d), ["H", "H", "V", "V", "V", "V"]);
+    let d = run("Lot --> extrude(10) comp(f) { 3 : Third }", lot(20.0, 30.0));
+    assert_eq!(names(&d), ["Third"]);
+}
+
+#[test]
+fn comp_index_and_total_and_merging() {
+    let d = run(
+        "Lot --> extrude(10) comp(f) { side : S(comp.index, comp.total) }
+         S(i, n) --> case i == n - 1 : Last else : NotLast",
+        lot(20.0, 30.0),
+    );
+    assert_eq!(names(&d), ["NotLast", "NotLast", "NotLast", "Last"]);
+    let d = run(
+        "Lot --> extrude(10) comp(f) { side = Walls }",
+        lot(20.0, 30.0),
+    );
+    assert_eq!(names(&d), ["Walls"]);
+    let walls = d.leaves[0].world_mesh().unwrap();
+    assert_eq!(walls.face_count(), 4);
+    assert!((walls.area() - 2.0 * (200.0 + 300.0)).abs() < 1e-9);
+}
+
+#[test]
+fn edges_and_vertices_have_scopes_but_no_geometry() {
+    let d = run(
+        "Lot --> extrude(10) comp(e) { all : E(scope.sx) }
+         E(len) --> s('1, 0.2, 0.2) primitiveCube() Beam(len)",
+        lot(20.0, 30.0),
+    );
+    assert_eq!(d.leaves.len(), 12);
+    let mut lengths: Vec<f64> = d.leaves.iter().map(|l| l.scope.size.x).collect();
+    lengths.sort_by(f64::total_cmp);
+    assert_eq!(
+        lengths,
+        [
+            10.0, 10.0, 10.0, 10.0, 20.0, 20.0, 20.0, 20.0, 30.0, 30.0, 30.0, 30.0
+        ]
+    );
+    let d = run("Lot --> extrude(10) comp(v) { all : V }", lot(20.0, 30.0));
+    assert_eq!(d.stats.leaves, 0, "vertices have no geometry to show");
+    // The lot, the eight components, and the eight `V` successors.
+    assert_eq!(d.stats.shapes, 1 + 8 + 8);
+}
+
+#[test]
+fn non_rectangular_lots_extrude_and_split_as_meshes() {
+    let l = InitialShape::from_xz(&[
+        DVec2::new(0.0, 0.0),
+        DVec2::new(4.0, 0.0),
+        DVec2::new(4.0, 2.0),
+        DVec2::new(2.0, 2.0),
+        DVec2::new(2.0, 4.0),
+        DVec2::new(0.0, 4.0),
+    ])
+    .unwrap();
+    let d = run("Lot --> extrude(9) split(y) { ~3 : Floor }*", l.clone());
+    assert_eq!(names(&d), ["Floor", "Floor", "Floor"]);
+    for leaf in &d.leaves {
+        let m = leaf.world_mesh().unwrap();
+        assert!(m.is_watertight());
+        assert!((m.signed_volume() - 36.0).abs() < 1e-9);
+    }
+    let d = run("Lot --> extrude(3) comp(f) { side : W | top : T }", l);
+    assert_eq!(names(&d).iter().filter(|n| **n == "W").count(), 6);
+    let top = d.leaves.iter().find(|l| &*l.name == "T").unwrap();
+    assert!((top.world_mesh().unwrap().area() - 12.0).abs() < 1e-9);
+}
+
+#[test]
+fn scope_operations() {
+    let d = run(
+        "Lot --> s(2, 4, 6) primitiveCube() t('0.5, 1, 0) A
+         A --> [ t(0, 5, 0) Up ] r(scopeCenter, 0, 90, 0) Turned",
+        lot(10.0, 10.0),
+    );
+    assert_eq!(names(&d), ["Up", "Turned"]);
+    assert!(close(d.leaves[0].scope.origin, DVec3::new(1.0, 6.0, 0.0)));
+    let turned = &d.leaves[1].scope;
+    assert!(close(turned.center(), DVec3::new(2.0, 3.0, 3.0)));
+    assert!(close(turned.x_axis(), -DVec3::Z));
+    let d = run(
+        "Lot --> s('0.5, 0, '0.5) center(xz) primitiveCube() X",
+        lot(10.0, 20.0),
+    );
+    let s = &d.leaves[0].scope;
+    assert!(close(s.origin, DVec3::new(2.5, 0.0, 5.0)));
+    assert!(
+        close(s.size, DVec3::new(5.0, 1.0, 10.0)),
+        "a flat cube gets unit height"
+    );
+}
+
+#[test]
+fn insert_fits_assets_into_the_scope() {
+    let d = run(
+        "Lot --> extrude(3) i(\"builtin:cylinder\") Column",
+        lot(2.0, 2.0),
+    );
+    let mesh = d.leaves[0].world_mesh().unwrap();
+    let b = mesh.bounds().unwrap();
+    assert!(close(b.min, DVec3::ZERO) && close(b.max, DVec3::new(2.0, 3.0, 2.0)));
+    assert!(mesh.is_watertight());
+    let err = try_run(
+        "Lot --> i(\"chair.obj\")",
+        lot(2.0, 2.0),
+        &DeriveOptions::default(),
+    )
+    .unwrap_err();
+    assert_eq!(
+        err.message,
+        "cannot insert `chair.obj`: no asset folder is set"
+    );
+    assert!(err.span.is_some());
+}
+
+#[test]
+fn attributes_defaults_overrides_and_set() {
+    let grammar = "attr height = 10
+                   attr ground = height / 2
+                   Lot --> extrude(height) A
+                   A --> set(height, 99) B(height, ground)
+                   B(h, g) --> case h == 99 && g == 5 : Ok else : Wrong";
+    assert_eq!(names(&run(grammar, lot(5.0, 5.0))), ["Ok"]);
+    let program = compile(grammar);
+    let options = DeriveOptions {
+        attrs: vec![("height".into(), Value::Number(4.0))],
+        ..Default::default()
+    };
+    let d = derive(&program, &[lot(5.0, 5.0)], &options).unwrap();
+    assert_eq!(
+        names(&d),
+        ["Wrong"],
+        "ground follows the overridden height: 2"
+    );
+    assert_eq!(d.leaves[0].scope.size.y, 4.0);
+    let bad = DeriveOptions {
+        attrs: vec![("heigth".into(), Value::Number(4.0))],
+        ..Default::default()
+    };
+    let err = derive(&program, &[lot(5.0, 5.0)], &bad).unwrap_err();
+    assert_eq!(err.message, "the grammar has no attribute `heigth`");
+    assert_eq!(err.hints, ["did you mean `height`?"]);
+}
+
+#[test]
+fn functions_constants_and_recursion_with_parameters() {
+    let d = run(
+        "const n = 3
+         twice(x) = x * 2
+         Lot --> Row(twice(n))
+         Row(k) --> case k > 0 : [ t(k, 0, 0) s(1, 1, 1) primitiveCube() Box ] Row(k - 1)
+                    else : NIL",
+        lot(1.0, 1.0),
+    );
+    assert_eq!(d.leaves.len(), 6);
+    let xs: Vec<f64> = d.leaves.iter().map(|l| l.scope.origin.x).collect();
+    assert_eq!(xs, [6.0, 5.0, 4.0, 3.0, 2.0, 1.0]);
+}
+
+#[test]
+fn stochastic_rules_are_deterministic_per_seed() {
+    let grammar = "Lot --> extrude(1) split(x) { 1 : Pick }*
+                   Pick --> 30% : A 30% : B else : C";
+    let program = compile(grammar);
+    let with_seed = |seed| {
+        let options = DeriveOptions {
+            seed,
+            ..Default::default()
+        };
+        derive(&program, &[lot(300.0, 1.0)], &options)
+            .unwrap()
+            .leaves
+            .iter()
+            .map(|l| l.name.to_string())
+            .collect::<Vec<_>>()
+    };
+    let first = with_seed(1);
+    assert_eq!(first, with_seed(1));
+    assert_ne!(first, with_seed(2));
+    let count = |name: &str| first.iter().filter(|n| *n == name).count();
+    assert_eq!(first.len(), 300);
+    for (name, expected) in [("A", 90.0), ("B", 90.0), ("C", 120.0)] {
+        assert!(
+            (count(name) as f64 - expected).abs() < 30.0,
+            "{name}: {}",
+            count(name)
+        );
+    }
+}
+
+#[test]
+fn results_do_not_depend_on_the_thread_count() {
+    let program = compile(
+        "Lot --> extrude(rand(5, 20)) split(y) { ~3 : F }*
+         F --> split(x) { ~2 : T }*
+         T --> 50% : color(rand(), rand(), rand()) W. else : NIL",
+    );
+    let lots: Vec<InitialShape> = (0..40)
+        .map(|i| {
+            let x = f64::from(i) * 30.0;
+            InitialShape::from_xz(&[
+                DVec2::new(x, 0.0),
+                DVec2::new(x + 20.0, 0.0),
+                DVec2::new(x + 20.0, 25.0),
+                DVec2::new(x, 25.0),
+            ])
+            .unwrap()
+        })
+        .collect();
+    let in_pool = |threads| {
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap()
+            .install(|| derive(&program, &lots, &DeriveOptions::default()).unwrap())
+    };
+    let (one, four) = (in_pool(1), in_pool(4));
+    assert!(one.leaves.len() > 500, "{}", one.leaves.len());
+    assert_eq!(one.leaves, four.leaves);
+}
+
+#[test]
+fn generations_stop_rewriting_after_n_steps() {
+    let program = compile("A --> s(1, 1, 1) primitiveCube() [ t(1, 0, 0) A ] A");
+    let options = DeriveOptions {
+        generations: Some(3),
+        ..Default::default()
+    };
+    let d = derive(&program, &[lot(1.0, 1.0)], &options).unwrap();
+    assert_eq!(d.leaves.len(), 8);
+}
+
+#[test]
+fn runaway_recursion_names_the_rule() {
+    let options = DeriveOptions {
+        max_depth: 50,
+        ..Default::default()
+    };
+    let err = try_run("Lot --> A\nA --> t(1, 0, 0) A", lot(1.0, 1.0), &options).unwrap_err();
+    assert!(
+        err.message.contains("more than 50 shapes deep at `A`"),
+        "{}",
+        err.message
+    );
+    let options = DeriveOptions {
+        max_shapes: 1000,
+        ..Default::default()
+    };
+    let err = try_run("Lot --> Grow\nGrow --> Grow Grow", lot(1.0, 1.0), &options).unwrap_err();
+    assert!(
+        err.message.contains("rule `Grow` was applied most often"),
+        "{}",
+        err.message
+    );
+}
+
+#[test]
+fn runtime_errors_carry_spans() {
+    let text = "attr zero = 0\nLot --> extrude(10 / zero) X";
+    let err = try_run(text, lot(1.0, 1.0), &DeriveOptions::default()).unwrap_err();
+    assert_eq!(err.message, "division by zero");
+    let span = err.span.unwrap();
+    assert_eq!(&text[span.range()], "zero");
+    let err = try_run(
+        "Lot --> extrude(sqrt(-1)) X",
+        lot(1.0, 1.0),
+        &DeriveOptions::default(),
+    )
+    .unwrap_err();
+    assert!(err.message.contains("no finite number"), "{}", err.message);
+    let err = try_run(
+        "Lot --> s(-1, 1, 1) X",
+        lot(1.0, 1.0),
+        &DeriveOptions::default(),
+    )
+    .unwrap_err();
+    assert!(err.message.starts_with("negative size"), "{}", err.message);
+    let err = try_run(
+        "Lot --> extrude(1) extrude(1) X",
+        lot(1.0, 1.0),
+        &DeriveOptions::default(),
+    )
+    .unwrap_err();
+    assert!(err.message.contains("is a volume"), "{}", err.message);
+}
+
+#[test]
+fn compile_errors_name_the_problem_with_hints() {
+    let errors = compile_errors("attr height = 10\nLot --> extrude(heigth) A(1)\nA --> X");
+    let all = errors.join("\n");
+    assert!(all.contains("unknown name `heigth`"), "{all}");
+    assert!(all.contains("did you mean `height`?"), "{all}");
+    assert!(all.contains("rule `A` takes 0 arguments, not 1"), "{all}");
+    assert!(all.contains("test.cga:2:17"), "{all}");
+    let errors = compile_errors("Lot --> extrude(max(1)) X").join("\n");
+    assert!(errors.contains("the signature is `max(a, b)`"), "{errors}");
+    let errors = compile_errors("Lot --> split(w) { 1 : A }").join("\n");
+    assert!(errors.contains("expected the split axis"), "{errors}");
+    let warnings = compile_errors("Lot --> Facade\n").join("\n");
+    assert!(
+        warnings.contains("warning: no rule `Facade`: its shapes become leaves"),
+        "{warnings}"
+    );
+}
+
+#[test]
+fn nil_deletes_and_terminal_marks_leaves() {
+    let d = run(
+        "Lot --> extrude(1) split(x) { 1 : NIL | 1 : Keep. | 1 : Keep }
+         Keep --> Never",
+        lot(3.0, 1.0),
+    );
+    assert_eq!(names(&d), ["Keep", "Never"]);
+}
+
+#[test]
+fn reports_and_prints_are_collected_in_order() {
+    let d = run(
+        "Lot --> extrude(2) comp(f) { side : W }
+         W --> report(\"wall.area\", geometry.area) print(\"wall \" + comp.index)",
+        lot(3.0, 4.0),
+    );
+    let areas: Vec<f64> = d
+        .reports
+        .iter()
+        .map(|(k, v)| {
+            assert_eq!(k, "wall.area");
+            match v {
+                Value::Number(n) => *n,
+                other => panic!("{other:?}"),
+            }
+        })
+        .collect();
+    assert_eq!(areas, [8.0, 8.0, 6.0, 6.0]);
+    assert_eq!(d.prints, ["wall 0", "wall 1", "wall 2", "wall 3"]);
+}

@@ -1,0 +1,214 @@
+//! Rule bodies: statement sequences, `case` and percentage branches, and `{ … }` blocks.
+//!
+//! A branch body runs until the next `case`, `else` or percentage arm, so nesting is greedy: a
+//! branch that starts with `case` takes all following `case` arms and at most one `else`; the
+//! next `else` belongs to the enclosing construct.
+
+use super::{Fail, PResult, Parser, Start};
+use crate::Diagnostic;
+use crate::ast::{Block, BlockEntry, Body, Call, Stmt};
+use crate::lexer::TokenKind;
+
+impl Parser<'_> {
+    /// A rule body or branch body.
+    pub(super) fn body(&mut self) -> PResult<Body> {
+        self.nested(|p| {
+            if p.at_word("case") {
+                p.cases()
+            } else if p.at_percent_arm() {
+                p.stochastic()
+            } else {
+                Ok(Body::Sequence(p.statements(true)?))
+            }
+        })
+    }
+
+    fn cases(&mut self) -> PResult<Body> {
+        let start = self.span();
+        let mut arms = Vec::new();
+        while self.at_word("case") {
+            self.bump();
+            let cond = self.ternary()?;
+            self.expect(&TokenKind::Colon, "`:`", "after the case condition")?;
+            arms.push((cond, self.body()?));
+        }
+        let otherwise = self.else_body()?;
+        Ok(Body::Cases {
+            arms,
+            otherwise: Box::new(otherwise),
+            span: self.span_from(start),
+        })
+    }
+
+    fn stochastic(&mut self) -> PResult<Body> {
+        let start = self.span();
+        let mut arms = Vec::new();
+        while self.at_percent_arm() {
+            let percent = self.ternary()?;
+            self.expect(&TokenKind::Percent, "`%`", "after the percentage")?;
+            self.expect(&TokenKind::Colon, "`:`", "after the percentage")?;
+            arms.push((percent, self.body()?));
+        }
+        let otherwise = self.else_body()?;
+        Ok(Body::Stochastic {
+            arms,
+            otherwise: Box::new(otherwise),
+            span: self.span_from(start),
+        })
+    }
+
+    /// An optional `else : body`; an empty sequence when absent.
+    fn else_body(&mut self) -> PResult<Body> {
+        if !self.at_word("else") {
+            return Ok(Body::Sequence(Vec::new()));
+        }
+        self.bump();
+        self.expect(&TokenKind::Colon, "`:`", "after `else`")?;
+        self.body()
+    }
+
+    /// Statements up to the first token that cannot start one, or the next declaration. In a
+    /// rule body (`in_body`), a percentage arm also ends the list.
+    pub(super) fn statements(&mut self, in_body: bool) -> PResult<Vec<Stmt>> {
+        let mut statements = Vec::new();
+        loop {
+            let statement = match self.peek().clone() {
+                TokenKind::LBracket => Stmt::Push(self.bump()),
+                TokenKind::RBracket => Stmt::Pop(self.bump()),
+                TokenKind::Ident if self.at_word("NIL") => Stmt::Nil(self.bump()),
+                TokenKind::Ident
+                    if self.is_name_at(self.pos)
+                        && !self.at_declaration_start()
+                        && !(in_body && self.at_percent_arm()) =>
+                {
+                    Stmt::Call(self.call_statement()?)
+                }
+                _ => return Ok(statements),
+            };
+            statements.push(statement);
+        }
+    }
+
+    /// `name`, `name(args)`, `name(args){ … }`, `name(args){ … }*`, each optionally with `.`.
+    fn call_statement(&mut self) -> PResult<Call> {
+        let name = self.ident();
+        let mut span = name.span;
+        let mut args = None;
+        let mut block = None;
+        if self.at(&TokenKind::LParen) {
+            let (list, close) = self.call_args()?;
+            args = Some(list);
+            span = span.to(close);
+            if self.at(&TokenKind::LBrace) {
+                let b = self.block(key_kind(&name.name))?;
+                span = span.to(b.span);
+                block = Some(b);
+            }
+        }
+        let terminal = match self.eat(&TokenKind::Dot) {
+            Some(dot) => {
+                span = span.to(dot);
+                true
+            }
+            None => false,
+        };
+        Ok(Call {
+            name,
+            args,
+            block,
+            terminal,
+            span,
+        })
+    }
+
+    /// `{ entry | entry | … }` with an optional `*`. `key` names what the keys are, for errors.
+    fn block(&mut self, key: &'static str) -> PResult<Block> {
+        self.nested(|p| {
+            let open = p.bump();
+            let mut entries = Vec::new();
+            loop {
+                match p.block_entry(key) {
+                    Ok(entry) => entries.push(entry),
+                    Err(Fail) => p.recover_in_block(),
+                }
+                if p.eat(&TokenKind::Pipe).is_some() {
+                    continue;
+                }
+                if p.at(&TokenKind::RBrace) {
+                    break;
+                }
+                if p.declaration_start(p.pos) == Some(Start::Strong) {
+                    let d = Diagnostic::error("unclosed `{`", open)
+                        .with_label("this block is never closed")
+                        .with_hint("close the block with `}` before the next declaration");
+                    p.report(d);
+                    return Ok(Block {
+                        entries,
+                        repeat: false,
+                        span: p.span_from(open),
+                    });
+                }
+                p.report(p.expected("`|` or `}`", "after the block entry"));
+                p.recover_in_block();
+                if p.eat(&TokenKind::Pipe).is_none() && !p.at(&TokenKind::RBrace) {
+                    return Err(Fail);
+                }
+            }
+            let mut span = open.to(p.bump());
+            let repeat = match p.eat(&TokenKind::Star) {
+                Some(star) => {
+                    span = span.to(star);
+                    true
+                }
+                None => false,
+            };
+            Ok(Block {
+                entries,
+                repeat,
+                span,
+            })
+        })
+    }
+
+    /// `key : statements`, `key = statements` or a nested `{ … }` group.
+    fn block_entry(&mut self, key_kind: &'static str) -> PResult<BlockEntry> {
+        if self.at(&TokenKind::LBrace) {
+            return Ok(BlockEntry::Group(self.block(key_kind)?));
+        }
+        if !self.at_expression_start() {
+            return Err(self.error_expected(&format!("a {key_kind}"), "in the block"));
+        }
+        let key = self.ternary()?;
+        let merge = match self.peek() {
+            TokenKind::Colon => {
+                self.bump();
+                false
+            }
+            TokenKind::Eq => {
+                self.bump();
+                true
+            }
+            // Most often a forgotten `:`; report it and read on as if it were there.
+            _ => {
+                self.report(self.expected("`:`", &format!("after the {key_kind}")));
+                false
+            }
+        };
+        let body = self.statements(false)?;
+        Ok(BlockEntry::Part {
+            span: self.span_from(key.span),
+            key,
+            merge,
+            body,
+        })
+    }
+}
+
+/// What the keys of an operation's block are called in messages.
+fn key_kind(operation: &str) -> &'static str {
+    if operation.starts_with("split") {
+        "split size"
+    } else {
+        "selector"
+    }
+}

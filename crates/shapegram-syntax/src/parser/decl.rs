@@ -1,0 +1,348 @@
+//! Top-level declarations: `version`, annotations, `attr`, `const`, functions, rules, and the
+//! recognised-but-unsupported `import` and `style`.
+
+use super::{Fail, PResult, Parser};
+use crate::Diagnostic;
+use crate::ast::{Annotation, Attr, Const, Function, Grammar, Ident, Rule, Spanned, Unsupported};
+use crate::lexer::TokenKind;
+
+/// Type names CGA allows before a parameter (`Facade(float h)`); the type is not kept.
+const PARAMETER_TYPES: [&str; 3] = ["float", "string", "bool"];
+
+impl Parser<'_> {
+    /// Declarations up to the end of the file, or (inside a style section) up to the next
+    /// `style`.
+    pub(super) fn declarations(&mut self, grammar: &mut Grammar, in_style: bool) {
+        while !self.at(&TokenKind::Eof) {
+            let before = self.checkpoint();
+            let result = self.annotations().and_then(|annotations| {
+                if in_style && self.at_word("style") {
+                    return Ok(None);
+                }
+                self.declaration(grammar, annotations).map(Some)
+            });
+            match result {
+                Ok(Some(())) => {}
+                Ok(None) => {
+                    // Let the caller start the next style section, annotations included.
+                    self.rewind(before);
+                    return;
+                }
+                Err(Fail) => self.recover_to_declaration(),
+            }
+            if self.pos == before.pos {
+                self.bump();
+            }
+        }
+    }
+
+    fn annotations(&mut self) -> PResult<Vec<Annotation>> {
+        let mut annotations = Vec::new();
+        while let Some(at) = self.eat(&TokenKind::At) {
+            if *self.peek() != TokenKind::Ident {
+                return Err(self.error_expected("an annotation name", "after `@`"));
+            }
+            let name = self.ident();
+            let args = if self.at(&TokenKind::LParen) {
+                self.call_args()?.0
+            } else {
+                Vec::new()
+            };
+            annotations.push(Annotation {
+                name,
+                args,
+                span: self.span_from(at),
+            });
+        }
+        Ok(annotations)
+    }
+
+    fn declaration(&mut self, grammar: &mut Grammar, annotations: Vec<Annotation>) -> PResult<()> {
+        match self.peek() {
+            TokenKind::Eof if !annotations.is_empty() => {
+                Err(self.error_expected("a declaration", "after the annotation"))
+            }
+            TokenKind::Ident => match self.text() {
+                "attr" => self.attr(grammar, annotations),
+                "const" => self.constant(grammar, annotations),
+                "version" => self.version(grammar),
+                "import" => self.import(grammar),
+                "style" => self.style(grammar),
+                _ if self.is_name_at(self.pos) => self.rule_or_function(grammar, annotations),
+                _ => Err(self.not_a_declaration()),
+            },
+            _ => Err(self.not_a_declaration()),
+        }
+    }
+
+    fn not_a_declaration(&mut self) -> Fail {
+        let d = self.expected("a declaration", "").with_hint(
+            "a grammar consists of rules `Name --> …`, `attr`, `const` and functions `name = …`",
+        );
+        self.report(d);
+        Fail
+    }
+
+    /// A declared name (not a keyword), or an error naming what it was expected after.
+    fn declared_name(&mut self, what: &str, after: &str) -> PResult<Ident> {
+        if self.is_name_at(self.pos) {
+            Ok(self.ident())
+        } else {
+            Err(self.error_expected(what, after))
+        }
+    }
+
+    /// Checks that a value is followed by the next declaration.
+    fn end_of_value(&mut self, name: &Ident) -> PResult<()> {
+        if self.at_declaration_start() {
+            return Ok(());
+        }
+        let context = format!("after the value of `{}`", name.name);
+        Err(self.error_expected("an operator or the next declaration", &context))
+    }
+
+    fn attr(&mut self, grammar: &mut Grammar, annotations: Vec<Annotation>) -> PResult<()> {
+        let start = self.bump();
+        let name = self.declared_name("an attribute name", "after `attr`")?;
+        self.expect(&TokenKind::Eq, "`=`", "after the attribute name")?;
+        let value = self.expr()?;
+        grammar.attrs.push(Attr {
+            annotations,
+            span: self.span_from(start),
+            name: name.clone(),
+            value,
+        });
+        self.end_of_value(&name)
+    }
+
+    fn constant(&mut self, grammar: &mut Grammar, annotations: Vec<Annotation>) -> PResult<()> {
+        let start = self.bump();
+        let name = self.declared_name("a constant name", "after `const`")?;
+        // `const f(x) = …` is a function whose results CGA may cache: a plain function here.
+        let params = self.optional_params()?;
+        self.expect(&TokenKind::Eq, "`=`", "after the constant name")?;
+        let value = self.expr()?;
+        let span = self.span_from(start);
+        match params {
+            Some(params) => grammar.functions.push(Function {
+                annotations,
+                name: name.clone(),
+                params,
+                body: value,
+                span,
+            }),
+            None => grammar.consts.push(Const {
+                annotations,
+                name: name.clone(),
+                value,
+                is_const: true,
+                span,
+            }),
+        }
+        self.end_of_value(&name)
+    }
+
+    fn version(&mut self, grammar: &mut Grammar) -> PResult<()> {
+        self.bump();
+        match self.peek().clone() {
+            TokenKind::Str(value) => {
+                let span = self.bump();
+                grammar.version = Some(Spanned { value, span });
+                Ok(())
+            }
+            _ => Err(self.error_expected("a version string", "after `version`")),
+        }
+    }
+
+    /// `import name : "file.cga"`, optionally with `(attr = value, …)`: recorded, not supported.
+    fn import(&mut self, grammar: &mut Grammar) -> PResult<()> {
+        let start = self.bump();
+        if self.is_name_at(self.pos) {
+            self.bump();
+            self.eat(&TokenKind::Colon);
+        }
+        let TokenKind::Str(file) = self.peek().clone() else {
+            return Err(self.error_expected("a file name string", "in the import"));
+        };
+        self.bump();
+        if self.at(&TokenKind::LParen) {
+            self.call_args()?;
+        }
+        let span = self.span_from(start);
+        self.report(
+            Diagnostic::warning("`import` is not supported yet", span)
+                .with_label("ignored")
+                .with_hint(format!(
+                    "the rules and attributes of \"{file}\" are not available"
+                )),
+        );
+        grammar.unsupported.push(Unsupported {
+            what: "import".to_string(),
+            span,
+        });
+        Ok(())
+    }
+
+    /// `style Name` and the declarations after it: checked, then dropped.
+    fn style(&mut self, grammar: &mut Grammar) -> PResult<()> {
+        let start = self.bump();
+        let name = self.declared_name("a style name", "after `style`")?;
+        let span = start.to(name.span);
+        self.report(
+            Diagnostic::warning("`style` is not supported yet", span)
+                .with_label("ignored")
+                .with_hint(format!(
+                    "the declarations of style `{}` are ignored; the default style is used",
+                    name.name
+                )),
+        );
+        let mut section = Grammar::default();
+        self.declarations(&mut section, true);
+        grammar.unsupported.push(Unsupported {
+            what: "style".to_string(),
+            span,
+        });
+        grammar.unsupported.append(&mut section.unsupported);
+        Ok(())
+    }
+
+    /// `Name(params) --> body`, `name(params) = expr` or `name = expr`.
+    fn rule_or_function(
+        &mut self,
+        grammar: &mut Grammar,
+        annotations: Vec<Annotation>,
+    ) -> PResult<()> {
+        let name = self.ident();
+        let params = self.optional_params()?;
+        match self.peek() {
+            TokenKind::Arrow => {
+                self.bump();
+            }
+            TokenKind::Eq => {
+                self.bump();
+                let value = self.expr()?;
+                let span = self.span_from(name.span);
+                match params {
+                    Some(params) => grammar.functions.push(Function {
+                        annotations,
+                        name: name.clone(),
+                        params,
+                        body: value,
+                        span,
+                    }),
+                    None => grammar.consts.push(Const {
+                        annotations,
+                        name: name.clone(),
+                        value,
+                        is_const: false,
+                        span,
+                    }),
+                }
+                return self.end_of_value(&name);
+            }
+            // `->` for `-->`: report it, then read the body as intended.
+            TokenKind::Minus
+                if *self.peek_nth(1) == TokenKind::Gt
+                    && self.token_at(self.pos + 1).span.start == self.span().end =>
+            {
+                let arrow = self.span().to(self.token_at(self.pos + 1).span);
+                self.report(
+                    Diagnostic::error("expected `-->`, found `->`", arrow)
+                        .with_label("expected `-->` here")
+                        .with_hint("rules are written with a long arrow: `Name --> body`"),
+                );
+                self.bump();
+                self.bump();
+            }
+            // A body right after the name: the arrow was forgotten.
+            _ if self.at_statement_start() => {
+                let context = format!("after the rule name `{}`", name.name);
+                let d = self
+                    .expected("`-->`", &context)
+                    .with_hint(format!("rules are written `{} --> body`", name.name));
+                self.report(d);
+            }
+            _ => {
+                let context = format!("after `{}`", name.name);
+                let d = self
+                    .expected("`-->` or `=`", &context)
+                    .with_hint("a rule is written `Name --> body`, a function `name = expression`");
+                self.report(d);
+                return Err(Fail);
+            }
+        }
+        let body = self.body()?;
+        grammar.rules.push(Rule {
+            annotations,
+            span: self.span_from(name.span),
+            name,
+            params: params.unwrap_or_default(),
+            body,
+        });
+        self.end_of_body()
+    }
+
+    /// Checks that a rule body is followed by the next declaration.
+    fn end_of_body(&mut self) -> PResult<()> {
+        if self.at_declaration_start() {
+            return Ok(());
+        }
+        let d = if self.at_word("else") {
+            Diagnostic::error(
+                "`else` without a matching `case` or percentage",
+                self.span(),
+            )
+            .with_label("unexpected `else`")
+        } else if self.at_word("case") {
+            self.expected("a statement or the next declaration", "in the rule body")
+                .with_hint("`case` must start a rule body or a branch; move the statements before it into a rule of their own")
+        } else {
+            self.expected("a statement or the next declaration", "in the rule body")
+        };
+        self.report(d);
+        Err(Fail)
+    }
+
+    /// Whether a rule body could start at the current token.
+    fn at_statement_start(&self) -> bool {
+        match self.peek() {
+            TokenKind::LBracket => true,
+            TokenKind::Ident => {
+                self.at_word("NIL")
+                    || self.at_word("case")
+                    || (self.is_name_at(self.pos) && !self.at_declaration_start())
+            }
+            _ => false,
+        }
+    }
+
+    /// `(a, b)` after a rule or function name, if present.
+    fn optional_params(&mut self) -> PResult<Option<Vec<Ident>>> {
+        if !self.at(&TokenKind::LParen) {
+            return Ok(None);
+        }
+        self.bump();
+        let mut params = Vec::new();
+        if self.eat(&TokenKind::RParen).is_some() {
+            return Ok(Some(params));
+        }
+        loop {
+            if self.is_name_at(self.pos)
+                && PARAMETER_TYPES.contains(&self.text())
+                && *self.peek_nth(1) != TokenKind::Comma
+                && *self.peek_nth(1) != TokenKind::RParen
+            {
+                self.bump();
+                if self.at(&TokenKind::LBracket) && *self.peek_nth(1) == TokenKind::RBracket {
+                    self.bump();
+                    self.bump();
+                }
+            }
+            params.push(self.declared_name("a parameter name", "")?);
+            if self.eat(&TokenKind::Comma).is_none() {
+                self.expect(&TokenKind::RParen, "`,` or `)`", "in the parameter list")?;
+                return Ok(Some(params));
+            }
+        }
+    }
+}

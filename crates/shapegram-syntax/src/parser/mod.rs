@@ -1,0 +1,369 @@
+//! The recursive-descent parser of the main (CGA-style) syntax.
+//!
+//! Newlines carry no meaning in CGA, so where a rule body ends is decided by lookahead: a body
+//! is a greedy list of statements that stops before the next declaration (`Name -->`,
+//! `Name(…) -->`, `name =`, `name(…) =`, `attr`, `const`, `@…`, …). Matching parentheses are
+//! found once up front so that this lookahead costs O(1).
+//!
+//! Errors are reported as they are found and the parser recovers: inside blocks it skips to the
+//! next `|` or `}`, elsewhere to the next declaration that starts a line. Nesting deeper than
+//! [`MAX_DEPTH`] and more than [`MAX_ERRORS`] errors stop the parse, so hostile input can neither
+//! overflow the stack nor produce unbounded output.
+
+mod body;
+mod decl;
+mod expr;
+
+use crate::ast::Grammar;
+use crate::lexer::{Token, TokenKind};
+use crate::{Diagnostic, Span};
+
+/// How deeply the parser may recurse (a parenthesis costs about three levels, a block or branch
+/// one). Real grammars stay far below; the limit keeps a debug build within 1 MB of stack, half
+/// of what a spawned thread gets by default.
+pub(crate) const MAX_DEPTH: usize = 128;
+/// How many errors are reported before the parser gives up.
+pub(crate) const MAX_ERRORS: usize = 100;
+
+/// Words that start declarations and therefore end rule bodies.
+const DECLARATION_KEYWORDS: [&str; 5] = ["attr", "const", "import", "style", "version"];
+/// Words that never name an operation or successor.
+const STATEMENT_KEYWORDS: [&str; 5] = ["case", "else", "NIL", "true", "false"];
+
+/// Marks a failed parse whose error has already been reported; the caller recovers.
+#[derive(Debug)]
+pub(crate) struct Fail;
+
+/// The result of a parsing function.
+pub(crate) type PResult<T> = Result<T, Fail>;
+
+/// What kind of declaration starts at a token (see [`Parser::declaration_start`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Start {
+    /// A keyword, an annotation, a rule head or the end of the file: ends any block too.
+    Strong,
+    /// A function or parameterless-function head `name =` / `name(…) =`.
+    Weak,
+}
+
+/// Where to rewind to when a speculative parse is abandoned (never after giving up).
+struct Checkpoint {
+    pos: usize,
+    diagnostics: usize,
+    errors: usize,
+    last_end: u32,
+}
+
+/// Parses CGA-style source text into a grammar and diagnostics (lexer ones included).
+pub(crate) fn parse_cga(src: &str) -> (Grammar, Vec<Diagnostic>) {
+    let (tokens, lex_diagnostics) = crate::lexer::lex(src);
+    let mut parser = Parser::new(src, tokens);
+    for d in lex_diagnostics {
+        parser.report(d);
+    }
+    let mut grammar = Grammar::default();
+    parser.declarations(&mut grammar, false);
+    let mut diagnostics = parser.diagnostics;
+    diagnostics.sort_by_key(|d| d.span.start);
+    diagnostics.extend(parser.overflow);
+    (grammar, diagnostics)
+}
+
+/// The parser's state: tokens, position and reported diagnostics.
+pub(crate) struct Parser<'a> {
+    src: &'a str,
+    tokens: Vec<Token>,
+    /// For each `(` token, the index of its matching `)`, or `u32::MAX`.
+    closing: Vec<u32>,
+    pos: usize,
+    /// End of the last consumed token, for the spans of constructs.
+    last_end: u32,
+    depth: usize,
+    /// Set when the parse was given up (too deep, too many errors); silences further errors.
+    aborted: bool,
+    errors: usize,
+    /// Set while looking ahead for a percentage arm (see [`Parser::at_percent_arm`]).
+    speculating: bool,
+    diagnostics: Vec<Diagnostic>,
+    /// The "too many errors" note, kept apart so it stays last after sorting.
+    overflow: Option<Diagnostic>,
+}
+
+impl<'a> Parser<'a> {
+    fn new(src: &'a str, tokens: Vec<Token>) -> Self {
+        let mut closing = vec![u32::MAX; tokens.len()];
+        let mut open = Vec::new();
+        for (i, t) in tokens.iter().enumerate() {
+            match t.kind {
+                TokenKind::LParen => open.push(i),
+                TokenKind::RParen => {
+                    if let Some(o) = open.pop() {
+                        closing[o] = i as u32;
+                    }
+                }
+                _ => {}
+            }
+        }
+        Self {
+            src,
+            tokens,
+            closing,
+            pos: 0,
+            last_end: 0,
+            depth: 0,
+            aborted: false,
+            errors: 0,
+            speculating: false,
+            diagnostics: Vec::new(),
+            overflow: None,
+        }
+    }
+
+    // --- Looking at tokens -------------------------------------------------------------------
+
+    fn token_at(&self, i: usize) -> &Token {
+        // The token list always ends with `Eof`; looking past it sees `Eof` again.
+        &self.tokens[i.min(self.tokens.len() - 1)]
+    }
+
+    fn kind_at(&self, i: usize) -> &TokenKind {
+        &self.token_at(i).kind
+    }
+
+    fn peek(&self) -> &TokenKind {
+        self.kind_at(self.pos)
+    }
+
+    fn peek_nth(&self, n: usize) -> &TokenKind {
+        self.kind_at(self.pos + n)
+    }
+
+    fn span(&self) -> Span {
+        self.token_at(self.pos).span
+    }
+
+    fn at(&self, kind: &TokenKind) -> bool {
+        self.peek() == kind
+    }
+
+    fn text_at(&self, i: usize) -> &'a str {
+        &self.src[self.token_at(i).span.range()]
+    }
+
+    /// The current token's text.
+    fn text(&self) -> &'a str {
+        self.text_at(self.pos)
+    }
+
+    /// Whether token `i` is the identifier `word`.
+    fn is_word_at(&self, i: usize, word: &str) -> bool {
+        *self.kind_at(i) == TokenKind::Ident && self.text_at(i) == word
+    }
+
+    fn at_word(&self, word: &str) -> bool {
+        self.is_word_at(self.pos, word)
+    }
+
+    /// Whether token `i` is an identifier that is not a keyword.
+    fn is_name_at(&self, i: usize) -> bool {
+        *self.kind_at(i) == TokenKind::Ident && {
+            let text = self.text_at(i);
+            !STATEMENT_KEYWORDS.contains(&text) && !DECLARATION_KEYWORDS.contains(&text)
+        }
+    }
+
+    /// The index of the `)` matching the `(` at `i`.
+    fn closing_paren(&self, i: usize) -> Option<usize> {
+        self.closing
+            .get(i)
+            .filter(|&&c| c != u32::MAX)
+            .map(|&c| c as usize)
+    }
+
+    /// Whether a declaration starts at token `i`, and which kind.
+    fn declaration_start(&self, i: usize) -> Option<Start> {
+        match self.kind_at(i) {
+            TokenKind::Eof | TokenKind::At => return Some(Start::Strong),
+            TokenKind::Ident => {}
+            _ => return None,
+        }
+        if DECLARATION_KEYWORDS.contains(&self.text_at(i)) {
+            return Some(Start::Strong);
+        }
+        if !self.is_name_at(i) {
+            return None;
+        }
+        let after = match self.kind_at(i + 1) {
+            TokenKind::LParen => self.closing_paren(i + 1)? + 1,
+            _ => i + 1,
+        };
+        match self.kind_at(after) {
+            TokenKind::Arrow => Some(Start::Strong),
+            TokenKind::Eq => Some(Start::Weak),
+            _ => None,
+        }
+    }
+
+    fn at_declaration_start(&self) -> bool {
+        self.declaration_start(self.pos).is_some()
+    }
+
+    /// Whether the current token starts a line and a declaration: a safe place to resume.
+    fn at_resume_point(&self) -> bool {
+        self.token_at(self.pos).line_start && self.at_declaration_start()
+    }
+
+    /// A short description of the current token for "found …" messages.
+    fn describe(&self) -> String {
+        match self.peek() {
+            TokenKind::Eof => "end of file".to_string(),
+            TokenKind::Str(_) => "a string".to_string(),
+            _ => {
+                let text = self.text();
+                match text.char_indices().nth(32) {
+                    Some((cut, _)) => format!("`{}…`", &text[..cut]),
+                    None => format!("`{text}`"),
+                }
+            }
+        }
+    }
+
+    // --- Consuming tokens --------------------------------------------------------------------
+
+    /// From the start of `start` to the end of the last consumed token.
+    fn span_from(&self, start: Span) -> Span {
+        Span {
+            start: start.start,
+            end: self.last_end.max(start.end),
+        }
+    }
+
+    /// Consumes the current token (never moving past `Eof`) and returns its span.
+    fn bump(&mut self) -> Span {
+        let span = self.span();
+        if self.pos < self.tokens.len() - 1 {
+            self.pos += 1;
+            self.last_end = span.end;
+        }
+        span
+    }
+
+    /// Consumes the current token if it is `kind`.
+    fn eat(&mut self, kind: &TokenKind) -> Option<Span> {
+        self.at(kind).then(|| self.bump())
+    }
+
+    /// Consumes `kind` or reports "expected `what` …, found …" at the current token.
+    fn expect(&mut self, kind: &TokenKind, what: &str, context: &str) -> PResult<Span> {
+        match self.eat(kind) {
+            Some(span) => Ok(span),
+            None => Err(self.error_expected(what, context)),
+        }
+    }
+
+    /// Reports "expected {what} {context}, found …" at the current token.
+    fn error_expected(&mut self, what: &str, context: &str) -> Fail {
+        let d = self.expected(what, context);
+        self.report(d);
+        Fail
+    }
+
+    /// The diagnostic "expected {what} {context}, found …" at the current token.
+    fn expected(&self, what: &str, context: &str) -> Diagnostic {
+        let message = if context.is_empty() {
+            format!("expected {what}, found {}", self.describe())
+        } else {
+            format!("expected {what} {context}, found {}", self.describe())
+        };
+        Diagnostic::error(message, self.span()).with_label(format!("expected {what} here"))
+    }
+
+    // --- Diagnostics, nesting and speculation --------------------------------------------------
+
+    /// Records a diagnostic unless the parse was given up; gives up after too many errors.
+    fn report(&mut self, d: Diagnostic) {
+        if self.aborted {
+            return;
+        }
+        if d.is_error() {
+            self.errors += 1;
+            if self.errors > MAX_ERRORS {
+                self.overflow = Some(Diagnostic::error(
+                    format!("too many errors; stopping after {MAX_ERRORS}"),
+                    d.span,
+                ));
+                self.abort();
+                return;
+            }
+        }
+        self.diagnostics.push(d);
+    }
+
+    /// Gives up: jumps to the end so that every loop finishes without further reports.
+    fn abort(&mut self) {
+        self.aborted = true;
+        self.pos = self.tokens.len() - 1;
+    }
+
+    /// Runs `f` one nesting level deeper, giving up past [`MAX_DEPTH`].
+    fn nested<T>(&mut self, f: impl FnOnce(&mut Self) -> PResult<T>) -> PResult<T> {
+        if self.depth >= MAX_DEPTH {
+            let d = Diagnostic::error("nesting too deep", self.span())
+                .with_label("this is nested too deeply")
+                .with_hint("split the expression or rule into smaller ones");
+            self.report(d);
+            self.abort();
+            return Err(Fail);
+        }
+        self.depth += 1;
+        let result = f(self);
+        self.depth -= 1;
+        result
+    }
+
+    fn checkpoint(&self) -> Checkpoint {
+        Checkpoint {
+            pos: self.pos,
+            diagnostics: self.diagnostics.len(),
+            errors: self.errors,
+            last_end: self.last_end,
+        }
+    }
+
+    fn rewind(&mut self, c: Checkpoint) {
+        self.pos = c.pos;
+        self.diagnostics.truncate(c.diagnostics);
+        self.errors = c.errors;
+        self.last_end = c.last_end;
+    }
+
+    // --- Recovery ------------------------------------------------------------------------------
+
+    /// Skips to the next declaration that starts a line (or the end).
+    fn recover_to_declaration(&mut self) {
+        while !self.at(&TokenKind::Eof) && !self.at_resume_point() {
+            self.bump();
+        }
+    }
+
+    /// Skips to the next `|` or `}` of the current block, or to a declaration that starts a line.
+    fn recover_in_block(&mut self) {
+        let mut depth = 0usize;
+        loop {
+            match self.peek() {
+                TokenKind::Eof => return,
+                TokenKind::LBrace => depth += 1,
+                TokenKind::RBrace if depth == 0 => return,
+                TokenKind::RBrace => depth -= 1,
+                TokenKind::Pipe if depth == 0 => return,
+                _ if self.at_resume_point()
+                    && self.declaration_start(self.pos) == Some(Start::Strong) =>
+                {
+                    return;
+                }
+                _ => {}
+            }
+            self.bump();
+        }
+    }
+}

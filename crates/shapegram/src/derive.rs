@@ -1,0 +1,345 @@
+//! `shapegram derive`: a grammar applied to lots, written as a model file.
+
+use std::collections::HashMap;
+use std::io::IsTerminal;
+use std::path::{Path, PathBuf};
+use std::sync::mpsc::{self, RecvTimeoutError};
+use std::sync::{Arc, Mutex, PoisonError};
+use std::time::{Duration, Instant};
+
+use serde::Serialize;
+use serde::ser::SerializeMap;
+use shapegram_eval::{AssetLoader, Derivation, DeriveError, DeriveOptions, Value};
+use shapegram_export::{ExportOptions, Format};
+use shapegram_geom::{Mesh, Model};
+use shapegram_syntax::SourceFile;
+
+use crate::cli::DeriveArgs;
+use crate::{Failure, counted, grammar, lots, print_stdout};
+
+/// Derives, writes and reports.
+pub fn run(args: &DeriveArgs) -> Result<(), Failure> {
+    // Cheap checks first, so that a typo fails before any work.
+    if let Some(output) = &args.output {
+        Format::from_path(output)?;
+    }
+    let (lots, lot_warnings) = lots::collect(&args.lot, &args.lots)?;
+    if !args.quiet {
+        for warning in &lot_warnings {
+            eprintln!("warning: {warning}");
+        }
+    }
+    let source = grammar::read(&args.grammar)?;
+    let program = grammar::compile(&source, !args.quiet).into_program(&source)?;
+
+    let folder = args.grammar.parent().unwrap_or(Path::new("")).to_path_buf();
+    let options = DeriveOptions {
+        seed: args.seed,
+        attrs: args
+            .attr
+            .iter()
+            .map(|(name, value)| (name.clone(), Value::parse_literal(value)))
+            .collect(),
+        start_rule: args.start.clone(),
+        max_shapes: args.max_shapes,
+        max_depth: args.max_depth,
+        time_budget: (args.timeout > 0.0).then(|| Duration::from_secs_f64(args.timeout)),
+        generations: args.generations,
+        assets: Some(Arc::new(FileAssets::new(folder))),
+    };
+
+    let started = Instant::now();
+    let spinner = !args.quiet && std::io::stderr().is_terminal();
+    let result = with_spinner(spinner, source.name(), || {
+        shapegram_eval::derive(&program, &lots, &options)
+    });
+    let derive_time = started.elapsed();
+    let derivation = result.map_err(|e| derive_failure(&source, &e))?;
+    let mut prints = String::new();
+    for text in &derivation.prints {
+        for line in text.split('\n') {
+            prints.push_str("print: ");
+            prints.push_str(line);
+            prints.push('\n');
+        }
+    }
+    eprint!("{prints}");
+
+    let export_started = Instant::now();
+    let model = derivation.to_model();
+    if let Some(output) = &args.output {
+        let options = ExportOptions {
+            group_by_part: args.group,
+        };
+        shapegram_export::save(&model, output, &options)?;
+    }
+    let export_time = export_started.elapsed();
+
+    if !args.quiet {
+        if model.parts.iter().all(|p| p.mesh.is_empty()) {
+            eprintln!("warning: the model is empty: no leaf has geometry");
+        }
+        let target = match &args.output {
+            Some(output) => output.display().to_string(),
+            None => format!("{} (no output file)", source.name()),
+        };
+        let stats = &derivation.stats;
+        eprintln!(
+            "derived {target}: {}, {}, {}, {}",
+            counted(lots.len(), "lot", "lots"),
+            counted(stats.shapes, "shape", "shapes"),
+            counted(stats.leaves, "leaf", "leaves"),
+            duration(derive_time + export_time)
+        );
+    }
+    if args.stats {
+        let json = StatsJson::new(
+            source.name(),
+            lots.len(),
+            args.seed,
+            &derivation,
+            &model,
+            derive_time,
+            export_time,
+        );
+        let mut text = serde_json::to_string(&json)
+            .map_err(|e| Failure::new(format!("cannot render JSON: {e}")))?;
+        text.push('\n');
+        print_stdout(&text)?;
+    }
+    Ok(())
+}
+
+/// Prints a derivation error against the grammar when it has a place there; otherwise the
+/// failure carries the message and hints.
+fn derive_failure(source: &SourceFile, error: &DeriveError) -> Failure {
+    match error.to_diagnostic() {
+        Some(diagnostic) => {
+            eprint!("{}", source.render(&diagnostic));
+            Failure::reported()
+        }
+        None => Failure::new(error.message.replace('\n', " ")).with_hints(error.hints.clone()),
+    }
+}
+
+/// `8.4 ms`, or `2.31 s` from one second on.
+fn duration(d: Duration) -> String {
+    let ms = d.as_secs_f64() * 1e3;
+    if ms < 1000.0 {
+        format!("{ms:.1} ms")
+    } else {
+        format!("{:.2} s", ms / 1e3)
+    }
+}
+
+/// Milliseconds rounded to microseconds, for JSON.
+fn millis(d: Duration) -> f64 {
+    (d.as_secs_f64() * 1e6).round() / 1e3
+}
+
+/// Runs `work`, showing a spinner on stderr (when `enabled`) if it takes longer than half a
+/// second. The engine has no progress callback, so the spinner only says that work goes on.
+fn with_spinner<T>(enabled: bool, label: &str, work: impl FnOnce() -> T) -> T {
+    if !enabled {
+        return work();
+    }
+    let (done, finished) = mpsc::channel::<()>();
+    std::thread::scope(|scope| {
+        scope.spawn(move || {
+            let started = Instant::now();
+            let mut wait = Duration::from_millis(500);
+            let mut shown = false;
+            for frame in ['|', '/', '-', '\\'].into_iter().cycle() {
+                match finished.recv_timeout(wait) {
+                    Err(RecvTimeoutError::Timeout) => {}
+                    _ => break,
+                }
+                let seconds = started.elapsed().as_secs_f64();
+                eprint!("\r{frame} deriving {label}: {seconds:.1} s ");
+                shown = true;
+                wait = Duration::from_millis(100);
+            }
+            if shown {
+                // Erase the spinner's line.
+                eprint!("\r\x1b[2K");
+            }
+        });
+        let result = work();
+        drop(done);
+        result
+    })
+}
+
+/// Assets for `i("path")`: files relative to the grammar's folder (absolute paths as they are),
+/// read once each with `shapegram_export::load`, all parts merged into one mesh.
+struct FileAssets {
+    folder: PathBuf,
+    cache: Mutex<HashMap<PathBuf, Arc<Mesh>>>,
+}
+
+impl FileAssets {
+    fn new(folder: PathBuf) -> Self {
+        Self {
+            folder,
+            cache: Mutex::new(HashMap::new()),
+        }
+    }
+}
+
+impl AssetLoader for FileAssets {
+    fn load(&self, path: &str) -> Result<Arc<Mesh>, String> {
+        let full = self.folder.join(path);
+        // Loading under the lock means each file is read once even when lots derived in
+        // parallel ask for it together.
+        let mut cache = self.cache.lock().unwrap_or_else(PoisonError::into_inner);
+        if let Some(mesh) = cache.get(&full) {
+            return Ok(Arc::clone(mesh));
+        }
+        let model = shapegram_export::load(&full).map_err(|e| e.to_string())?;
+        let mesh = Arc::new(model.merged_mesh());
+        cache.insert(full, Arc::clone(&mesh));
+        Ok(mesh)
+    }
+}
+
+/// The JSON object of `--stats`; field order is output order.
+#[derive(Serialize)]
+struct StatsJson<'a> {
+    grammar: &'a str,
+    lots: usize,
+    seed: u64,
+    shapes: usize,
+    leaves: usize,
+    faces: usize,
+    triangles: usize,
+    derive_ms: f64,
+    export_ms: f64,
+    rules: Ordered<usize>,
+    reports: Ordered<ReportSummary>,
+}
+
+impl<'a> StatsJson<'a> {
+    fn new(
+        grammar: &'a str,
+        lots: usize,
+        seed: u64,
+        derivation: &Derivation,
+        model: &Model,
+        derive_time: Duration,
+        export_time: Duration,
+    ) -> Self {
+        let mut rules = Ordered::default();
+        for (name, n) in &derivation.stats.rules {
+            // Rules of one name with different parameter counts are counted together.
+            *rules.entry(name) += n;
+        }
+        let mut reports: Ordered<ReportSummary> = Ordered::default();
+        for (key, value) in &derivation.reports {
+            reports.entry(key).add(value);
+        }
+        Self {
+            grammar,
+            lots,
+            seed,
+            shapes: derivation.stats.shapes,
+            leaves: derivation.stats.leaves,
+            faces: model.parts.iter().map(|p| p.mesh.face_count()).sum(),
+            triangles: model.parts.iter().map(|p| p.mesh.triangulate().len()).sum(),
+            derive_ms: millis(derive_time),
+            export_ms: millis(export_time),
+            rules,
+            reports,
+        }
+    }
+}
+
+/// A JSON object whose keys keep their order of insertion.
+struct Ordered<V> {
+    entries: Vec<(String, V)>,
+    index: HashMap<String, usize>,
+}
+
+impl<V> Default for Ordered<V> {
+    fn default() -> Self {
+        Self {
+            entries: Vec::new(),
+            index: HashMap::new(),
+        }
+    }
+}
+
+impl<V: Default> Ordered<V> {
+    fn entry(&mut self, key: &str) -> &mut V {
+        let i = match self.index.get(key) {
+            Some(&i) => i,
+            None => {
+                self.entries.push((key.to_owned(), V::default()));
+                self.index.insert(key.to_owned(), self.entries.len() - 1);
+                self.entries.len() - 1
+            }
+        };
+        &mut self.entries[i].1
+    }
+}
+
+impl<V: Serialize> Serialize for Ordered<V> {
+    fn serialize<S: serde::Serializer>(&self, serializer: S) -> Result<S::Ok, S::Error> {
+        let mut map = serializer.serialize_map(Some(self.entries.len()))?;
+        for (key, value) in &self.entries {
+            map.serialize_entry(key, value)?;
+        }
+        map.end()
+    }
+}
+
+/// The values reported under one key: how many, and sum, min and max of the numeric ones.
+#[derive(Default, Serialize)]
+struct ReportSummary {
+    count: usize,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    sum: Option<f64>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    min: Option<f64>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    max: Option<f64>,
+}
+
+impl ReportSummary {
+    fn add(&mut self, value: &Value) {
+        self.count += 1;
+        if let Value::Number(n) = *value {
+            self.sum = Some(self.sum.unwrap_or(0.0) + n);
+            self.min = Some(self.min.map_or(n, |m| m.min(n)));
+            self.max = Some(self.max.map_or(n, |m| m.max(n)));
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn durations_read_in_milliseconds_then_seconds() {
+        assert_eq!(duration(Duration::from_micros(8_420)), "8.4 ms");
+        assert_eq!(duration(Duration::from_millis(2_314)), "2.31 s");
+        assert_eq!(millis(Duration::from_nanos(1_234_567)), 1.235);
+    }
+
+    #[test]
+    fn ordered_maps_keep_first_appearance_and_reports_summarise_numbers() {
+        let mut reports: Ordered<ReportSummary> = Ordered::default();
+        for (key, value) in [
+            ("zeta", Value::Number(2.0)),
+            ("alpha", Value::string("x")),
+            ("zeta", Value::Number(-1.5)),
+            ("zeta", Value::Number(4.0)),
+        ] {
+            reports.entry(key).add(&value);
+        }
+        assert_eq!(
+            serde_json::to_string(&reports).unwrap(),
+            r#"{"zeta":{"count":3,"sum":4.5,"min":-1.5,"max":4.0},"alpha":{"count":1}}"#
+        );
+    }
+}

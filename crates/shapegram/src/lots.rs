@@ -1,0 +1,373 @@
+//! Initial shapes (lots) for `shapegram derive`: from `--lot`, from OBJ and GeoJSON files, or
+//! the default 20 × 30 lot.
+
+use std::path::Path;
+
+use serde_json::Value as Json;
+use shapegram_eval::InitialShape;
+use shapegram_geom::{DVec2, DVec3, mesh::newell};
+
+use crate::Failure;
+use crate::primitive::parse_points;
+
+/// The default lot's size along x and z.
+pub const DEFAULT_LOT: (f64, f64) = (20.0, 30.0);
+
+/// The lots of `--lot` (in order) and then of each `--lots` file (in order), or the default lot
+/// when there are none; with warnings about parts of the files that were skipped.
+pub fn collect(
+    lot_args: &[String],
+    files: &[impl AsRef<Path>],
+) -> Result<(Vec<InitialShape>, Vec<String>), Failure> {
+    let mut lots = Vec::new();
+    let mut warnings = Vec::new();
+    for text in lot_args {
+        let points = parse_points(text, "--lot").map_err(Failure::new)?;
+        lots.push(InitialShape::from_xz(&points).ok_or_else(|| {
+            Failure::new(format!(
+                "invalid --lot '{}': the polygon has no area",
+                text.escape_debug()
+            ))
+        })?);
+    }
+    for file in files {
+        let file = file.as_ref();
+        let (found, notes) = read_file(file)?;
+        lots.extend(found);
+        warnings.extend(notes);
+    }
+    if lot_args.is_empty() && files.is_empty() {
+        lots.push(default_lot());
+    }
+    Ok((lots, warnings))
+}
+
+/// The lot used without `--lot` and `--lots`: x from 0 to 20, z from 0 to 30, facing up.
+pub fn default_lot() -> InitialShape {
+    let (x, z) = DEFAULT_LOT;
+    let corners = [(0.0, 0.0), (x, 0.0), (x, z), (0.0, z)].map(|(x, z)| DVec2::new(x, z));
+    InitialShape::from_xz(&corners).expect("the default lot has an area")
+}
+
+/// Lots from an .obj (every face) or a .geojson/.json file (every polygon).
+fn read_file(path: &Path) -> Result<(Vec<InitialShape>, Vec<String>), Failure> {
+    let name = path.display().to_string();
+    let extension = path
+        .extension()
+        .and_then(|e| e.to_str())
+        .map(str::to_ascii_lowercase);
+    let (lots, warnings) = match extension.as_deref() {
+        Some("obj") => from_obj(path, &name)?,
+        Some("geojson" | "json") => {
+            let text = std::fs::read_to_string(path)
+                .map_err(|e| Failure::new(format!("cannot read {name}: {e}")))?;
+            from_geojson(&text, &name).map_err(Failure::new)?
+        }
+        _ => {
+            return Err(Failure::new(format!(
+                "cannot read lots from {name}: expected an .obj, .geojson or .json file"
+            )));
+        }
+    };
+    if lots.is_empty() {
+        return Err(Failure::new(format!(
+            "{name} has no polygons to use as lots"
+        )));
+    }
+    Ok((lots, warnings))
+}
+
+/// Every face of an OBJ file is a lot, in world coordinates; faces whose normal points down are
+/// turned over so that every lot faces up (or sideways, for vertical faces).
+fn from_obj(path: &Path, name: &str) -> Result<(Vec<InitialShape>, Vec<String>), Failure> {
+    let model = shapegram_export::load(path)?;
+    let mut lots = Vec::new();
+    let mut flat = 0;
+    for part in &model.parts {
+        for f in 0..part.mesh.face_count() {
+            let mut footprint: Vec<DVec3> = part.mesh.face_points(f).collect();
+            match lot_normal(&footprint) {
+                Some(normal) => {
+                    if normal.y < 0.0 {
+                        footprint.reverse();
+                    }
+                    lots.push(InitialShape { footprint });
+                }
+                None => flat += 1,
+            }
+        }
+    }
+    let warnings = (flat > 0)
+        .then(|| format!("{name}: skipped {} without area", faces(flat)))
+        .into_iter()
+        .collect();
+    Ok((lots, warnings))
+}
+
+fn faces(n: usize) -> String {
+    crate::counted(n, "face", "faces")
+}
+
+/// The unit normal of a polygon, `None` when it has no area or non-finite corners.
+fn lot_normal(points: &[DVec3]) -> Option<DVec3> {
+    if points.len() < 3 || !points.iter().all(|p| p.is_finite()) {
+        return None;
+    }
+    newell(points.iter().copied()).try_normalize()
+}
+
+/// What a GeoJSON walk found.
+#[derive(Default)]
+struct GeoJson {
+    lots: Vec<InitialShape>,
+    holes: usize,
+    not_polygons: usize,
+    without_area: usize,
+}
+
+/// Lots from GeoJSON text: the exterior ring of every Polygon and MultiPolygon in a
+/// FeatureCollection, Feature, geometry or GeometryCollection. GeoJSON x is world x and GeoJSON y
+/// is world −z, so north is −z. Holes, other geometry types and polygons without area are
+/// skipped with a warning; anything malformed is an error (one line, naming the file).
+pub fn from_geojson(text: &str, name: &str) -> Result<(Vec<InitialShape>, Vec<String>), String> {
+    let json: Json =
+        serde_json::from_str(text).map_err(|e| format!("invalid GeoJSON in {name}: {e}"))?;
+    let mut found = GeoJson::default();
+    walk(&json, "the top level", &mut found)
+        .map_err(|e| format!("invalid GeoJSON in {name}: {e}"))?;
+    let mut warnings = Vec::new();
+    if found.holes > 0 {
+        warnings.push(format!(
+            "{name}: ignored {} (lots have no holes)",
+            crate::counted(found.holes, "hole", "holes")
+        ));
+    }
+    if found.not_polygons > 0 {
+        warnings.push(format!(
+            "{name}: skipped {} that {} not polygons",
+            crate::counted(found.not_polygons, "geometry", "geometries"),
+            if found.not_polygons == 1 { "is" } else { "are" }
+        ));
+    }
+    if found.without_area > 0 {
+        warnings.push(format!(
+            "{name}: skipped {} without area",
+            crate::counted(found.without_area, "polygon", "polygons")
+        ));
+    }
+    Ok((found.lots, warnings))
+}
+
+fn walk(json: &Json, at: &str, found: &mut GeoJson) -> Result<(), String> {
+    let kind = json
+        .get("type")
+        .and_then(Json::as_str)
+        .ok_or_else(|| format!("{at} is not a GeoJSON object with a \"type\""))?;
+    let member = |key: &str| {
+        json.get(key)
+            .ok_or_else(|| format!("{at} (a {kind}) has no \"{key}\""))
+    };
+    let array = |key: &str| {
+        member(key)?
+            .as_array()
+            .ok_or_else(|| format!("\"{key}\" of {at} is not an array"))
+    };
+    match kind {
+        "FeatureCollection" => {
+            for (i, feature) in array("features")?.iter().enumerate() {
+                walk(feature, &format!("features[{i}]"), found)?;
+            }
+        }
+        "Feature" => match member("geometry")? {
+            Json::Null => found.not_polygons += 1,
+            geometry => walk(geometry, &format!("the geometry of {at}"), found)?,
+        },
+        "GeometryCollection" => {
+            for (i, geometry) in array("geometries")?.iter().enumerate() {
+                walk(geometry, &format!("geometries[{i}] of {at}"), found)?;
+            }
+        }
+        "Polygon" => polygon(member("coordinates")?, at, found)?,
+        "MultiPolygon" => {
+            for (i, rings) in array("coordinates")?.iter().enumerate() {
+                polygon(rings, &format!("polygon {i} of {at}"), found)?;
+            }
+        }
+        "Point" | "MultiPoint" | "LineString" | "MultiLineString" => found.not_polygons += 1,
+        other => return Err(format!("{at} has the unknown type \"{other}\"")),
+    }
+    Ok(())
+}
+
+/// The exterior ring of a polygon's `coordinates` as a lot.
+fn polygon(rings: &Json, at: &str, found: &mut GeoJson) -> Result<(), String> {
+    let rings = rings
+        .as_array()
+        .ok_or_else(|| format!("the coordinates of {at} are not a list of rings"))?;
+    let Some(exterior) = rings.first() else {
+        found.without_area += 1;
+        return Ok(());
+    };
+    found.holes += rings.len() - 1;
+    let positions = exterior
+        .as_array()
+        .ok_or_else(|| format!("the outer ring of {at} is not a list of positions"))?;
+    let mut points = positions
+        .iter()
+        .map(|p| position(p).ok_or_else(|| format!("{at} has a position that is not [x, y]: {p}")))
+        .collect::<Result<Vec<DVec2>, String>>()?;
+    // GeoJSON rings repeat their first position at the end.
+    if points.len() > 1 && points.first() == points.last() {
+        points.pop();
+    }
+    match InitialShape::from_xz(&points) {
+        Some(lot) => found.lots.push(lot),
+        None => found.without_area += 1,
+    }
+    Ok(())
+}
+
+/// A GeoJSON position `[x, y]` or `[x, y, z]` as world (x, z) = (x, −y).
+fn position(p: &Json) -> Option<DVec2> {
+    let numbers = p.as_array()?;
+    let coordinate = |i: usize| {
+        numbers
+            .get(i)?
+            .as_f64()
+            .filter(|v| v.is_finite() && v.abs() <= f64::from(f32::MAX))
+    };
+    if !(2..=3).contains(&numbers.len()) {
+        return None;
+    }
+    Some(DVec2::new(coordinate(0)?, -coordinate(1)?))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn xz(lot: &InitialShape) -> Vec<(f64, f64)> {
+        lot.footprint.iter().map(|p| (p.x, p.z)).collect()
+    }
+
+    fn up(lot: &InitialShape) -> bool {
+        newell(lot.footprint.iter().copied()).y > 0.0
+    }
+
+    #[test]
+    fn the_default_lot_is_20_by_30_facing_up() {
+        let lot = default_lot();
+        assert!(up(&lot));
+        let mut corners = xz(&lot);
+        corners.sort_by(|a, b| a.partial_cmp(b).unwrap());
+        assert_eq!(
+            corners,
+            [(0.0, 0.0), (0.0, 30.0), (20.0, 0.0), (20.0, 30.0)]
+        );
+        assert!(lot.footprint.iter().all(|p| p.y == 0.0));
+    }
+
+    #[test]
+    fn lots_come_from_every_lot_option_in_order() {
+        let (lots, warnings) = collect(
+            &["0,0 1,0 1,1".to_owned(), "5,5 6,5 6,7 5,7".to_owned()],
+            &[] as &[&Path],
+        )
+        .unwrap();
+        assert!(warnings.is_empty());
+        assert_eq!(lots.len(), 2);
+        assert_eq!(lots[1].footprint.len(), 4);
+        assert!(lots.iter().all(up));
+    }
+
+    #[test]
+    fn bad_lot_options_are_one_line_errors() {
+        let message = |text: &str| {
+            collect(&[text.to_owned()], &[] as &[&Path])
+                .unwrap_err()
+                .message
+                .unwrap()
+        };
+        assert_eq!(
+            message("0,0 1,x 1,1"),
+            "invalid --lot: '1,x' is not an x,z pair of numbers like 4,2.5"
+        );
+        assert!(message("0,0 1,0").starts_with("invalid --lot '0,0 1,0': expected at least three"));
+        assert_eq!(
+            message("0,0 1,0 2,0"),
+            "invalid --lot '0,0 1,0 2,0': the polygon has no area"
+        );
+    }
+
+    #[test]
+    fn geojson_polygons_map_north_to_minus_z() {
+        let text = r#"{"type": "FeatureCollection", "features": [
+            {"type": "Feature", "properties": {}, "geometry":
+                {"type": "Polygon", "coordinates": [[[0, 0], [10, 0], [10, 5], [0, 5], [0, 0]]]}},
+            {"type": "Feature", "geometry": null},
+            {"type": "Feature", "geometry": {"type": "Point", "coordinates": [1, 2]}},
+            {"type": "Feature", "geometry": {"type": "MultiPolygon", "coordinates": [
+                [[[20, 0], [30, 0], [30, 10], [20, 0]], [[21, 1], [22, 1], [22, 2], [21, 1]]],
+                [[[40, 0], [50, 0], [60, 0], [40, 0]]]
+            ]}}
+        ]}"#;
+        let (lots, warnings) = from_geojson(text, "city.geojson").unwrap();
+        assert_eq!(lots.len(), 2);
+        assert_eq!(
+            lots[0].footprint.len(),
+            4,
+            "the closing position is dropped"
+        );
+        assert!(lots.iter().all(up));
+        let zs: Vec<f64> = lots[0].footprint.iter().map(|p| p.z).collect();
+        assert!(zs.iter().all(|&z| z == 0.0 || z == -5.0), "{zs:?}");
+        assert_eq!(
+            warnings,
+            [
+                "city.geojson: ignored 1 hole (lots have no holes)",
+                "city.geojson: skipped 2 geometries that are not polygons",
+                "city.geojson: skipped 1 polygon without area",
+            ]
+        );
+    }
+
+    #[test]
+    fn bare_geometries_are_accepted() {
+        let (lots, _) = from_geojson(
+            r#"{"type": "Polygon", "coordinates": [[[0, 0, 7], [4, 0, 7], [4, 3, 7]]]}"#,
+            "x.json",
+        )
+        .unwrap();
+        assert_eq!(lots.len(), 1);
+        assert!(lots[0].footprint.iter().all(|p| p.y == 0.0));
+    }
+
+    #[test]
+    fn malformed_geojson_is_a_one_line_error_naming_the_file() {
+        for (text, expected) in [
+            (
+                "{",
+                "invalid GeoJSON in f.json: EOF while parsing an object",
+            ),
+            ("[1, 2]", "the top level is not a GeoJSON object"),
+            (
+                r#"{"type": "Feature"}"#,
+                "the top level (a Feature) has no \"geometry\"",
+            ),
+            (
+                r#"{"type": "Polygon", "coordinates": [[[0, 0], [1], [1, 1]]]}"#,
+                "[1]",
+            ),
+            (
+                r#"{"type": "FeatureCollection", "features": 3}"#,
+                "is not an array",
+            ),
+            (r#"{"type": "Circle"}"#, "unknown type \"Circle\""),
+        ] {
+            let error = from_geojson(text, "f.json").map(|_| ()).unwrap_err();
+            assert!(error.starts_with("invalid GeoJSON in f.json: "), "{error}");
+            assert!(error.contains(expected), "{error} lacks {expected}");
+            assert!(!error.contains('\n'), "{error}");
+        }
+    }
+}
