@@ -191,10 +191,12 @@ pub fn derive(
             derive_lot(program, start, lot, seed, &overrides, &names, options)
         })
         .collect();
+    let results = results.into_iter().collect::<Result<Vec<_>, _>>()?;
     let mut all = Derivation::default();
+    all.leaves
+        .reserve_exact(results.iter().map(|r| r.leaves.len()).sum());
     let mut counts = vec![0usize; program.rules.len()];
-    for result in results {
-        let lot = result?;
+    for lot in results {
         all.leaves.extend(lot.leaves);
         all.reports.extend(lot.reports);
         all.prints.extend(lot.prints);
@@ -318,6 +320,7 @@ fn derive_lot(
         options,
         leaves: Vec::new(),
         counts: vec![0; program.rules.len()],
+        applications: 0,
         shapes: 1,
         started: Instant::now(),
     };
@@ -352,6 +355,8 @@ struct Engine<'p> {
     options: &'p DeriveOptions,
     leaves: Vec<Leaf>,
     counts: Vec<usize>,
+    /// Rule applications so far; the clock is read every 1024 of them.
+    applications: usize,
     shapes: usize,
     started: Instant,
 }
@@ -359,14 +364,14 @@ struct Engine<'p> {
 impl<'p> Engine<'p> {
     fn run_depth_first(&mut self, first: Work) -> Fallible<()> {
         let mut stack = vec![first];
-        let mut fresh = Vec::new();
         while let Some(work) = stack.pop() {
             match work {
                 Work::Leaf(state) => self.emit(state),
                 Work::Rewrite(task) => {
-                    self.apply(task, &mut fresh)?;
+                    let base = stack.len();
+                    self.apply(task, &mut stack)?;
                     // Reversed, so the first child is derived first.
-                    stack.extend(fresh.drain(..).rev());
+                    stack[base..].reverse();
                 }
             }
         }
@@ -400,15 +405,14 @@ impl<'p> Engine<'p> {
     /// Applies a shape's rule; new shapes waiting for rules go to `out`, in order.
     fn apply(&mut self, task: Task, out: &mut Vec<Work>) -> Fallible<()> {
         self.counts[task.rule as usize] += 1;
-        if self.shapes % 4096 == 0 {
+        self.applications += 1;
+        if self.applications % 1024 == 0 {
             self.check_time(task.rule)?;
         }
         let program = self.program;
-        let mut state = task.state;
-        state.parent_scope = state.scope;
         self.run_body(
             &program.rules[task.rule as usize].body,
-            state,
+            task.state,
             &task.args,
             out,
         )
@@ -455,12 +459,17 @@ impl<'p> Engine<'p> {
         out: &mut Vec<Work>,
     ) -> Fallible<()> {
         let mut produced = false;
-        let mut saved: Vec<State> = Vec::new();
-        for stmt in stmts {
+        // What `center` centres in: the scope the statements started with, or the last pushed.
+        let mut anchor = state.scope;
+        let mut saved: Vec<(State, Scope)> = Vec::new();
+        for (i, stmt) in stmts.iter().enumerate() {
             match stmt {
-                CStmt::Push => saved.push(state.clone()),
+                CStmt::Push => {
+                    saved.push((state.clone(), anchor));
+                    anchor = state.scope;
+                }
                 CStmt::Pop(span) => {
-                    let Some(mut restored) = saved.pop() else {
+                    let Some((mut restored, outer)) = saved.pop() else {
                         return Err(DeriveError::at("`]` without a matching `[`", *span));
                     };
                     // The shape's identity goes on: children made inside the brackets keep
@@ -468,6 +477,7 @@ impl<'p> Engine<'p> {
                     restored.children = state.children;
                     restored.rng = state.rng;
                     state = restored;
+                    anchor = outer;
                 }
                 CStmt::Nil => return Ok(()),
                 CStmt::Successor {
@@ -481,10 +491,16 @@ impl<'p> Engine<'p> {
                         .iter()
                         .map(|e| self.ev.eval(e, &mut state, args))
                         .collect::<Fallible<Vec<_>>>()?;
-                    let mut child = state.spawn();
+                    let last = i + 1 == stmts.len();
+                    // A successor that ends the statements takes the shape itself.
+                    let (mut child, rest) = if last {
+                        (state.into_child(), None)
+                    } else {
+                        let child = state.spawn();
+                        (child, Some(state))
+                    };
                     child.symbol = *symbol;
                     self.count_shape(&child, *span)?;
-                    produced = true;
                     out.push(match rule {
                         Some(r) if !terminal => Work::Rewrite(Task {
                             state: child,
@@ -493,9 +509,14 @@ impl<'p> Engine<'p> {
                         }),
                         _ => Work::Leaf(child),
                     });
+                    match rest {
+                        Some(s) => state = s,
+                        None => return Ok(()),
+                    }
+                    produced = true;
                 }
                 CStmt::Op(op, span) => {
-                    produced |= self.op(op, *span, &mut state, args, out)?;
+                    produced |= self.op(op, *span, &mut state, &anchor, args, out)?;
                 }
             }
         }
@@ -592,6 +613,7 @@ impl<'p> Engine<'p> {
         op: &'p Op,
         span: Span,
         state: &mut State,
+        anchor: &Scope,
         args: &[Value],
         out: &mut Vec<Work>,
     ) -> Fallible<bool> {
@@ -624,7 +646,7 @@ impl<'p> Engine<'p> {
                 state.resize(v);
             }
             Op::Center(axes) => {
-                let target = state.parent_scope.center();
+                let target = anchor.center();
                 state.scope.center_on(target, *axes);
             }
             Op::Mirror(flags) => {
@@ -671,7 +693,7 @@ impl<'p> Engine<'p> {
                 return Ok(true);
             }
             Op::Comp { kind, entries } => {
-                self.comp(state, *kind, entries, args, out)?;
+                self.comp(state, *kind, entries, span, args, out)?;
                 return Ok(true);
             }
             Op::Color(params) => state.color = self.color(params, state, args)?,
@@ -788,7 +810,6 @@ impl<'p> Engine<'p> {
                 }
             }
             self.count_shape(&child, span)?;
-            child.parent_scope = child.scope;
             self.run_stmts(part.body, child, args, out)?;
         }
         Ok(())
@@ -799,6 +820,7 @@ impl<'p> Engine<'p> {
         state: &mut State,
         kind: CompKind,
         entries: &'p [CompEntry],
+        span: Span,
         args: &[Value],
         out: &mut Vec<Work>,
     ) -> Fallible<()> {
@@ -841,8 +863,7 @@ impl<'p> Engine<'p> {
                 );
                 merged.transform(&child.scope.world_to_local());
                 child.geometry = Geometry::mesh(merged);
-                child.parent_scope = child.scope;
-                self.count_shape(&child, Span::default())?;
+                self.count_shape(&child, span)?;
                 self.run_stmts(&entry.body, child, args, out)?;
                 continue;
             }
@@ -866,8 +887,7 @@ impl<'p> Engine<'p> {
                     }
                     CompKind::Edges | CompKind::Vertices => Geometry::Empty,
                 };
-                child.parent_scope = child.scope;
-                self.count_shape(&child, Span::default())?;
+                self.count_shape(&child, span)?;
                 self.run_stmts(&entry.body, child, args, out)?;
             }
         }

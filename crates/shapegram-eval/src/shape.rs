@@ -128,8 +128,6 @@ pub struct State {
     pub rng: Rng,
     /// How many children this shape has made so far (their seeds depend on it).
     pub children: u64,
-    /// The scope the shape started its rule with (what `center` centres in).
-    pub parent_scope: Scope,
 }
 
 impl State {
@@ -148,20 +146,38 @@ impl State {
             seed,
             rng: Rng::new(seed),
             children: 0,
-            parent_scope: scope,
         }
     }
 
     /// A child: a copy of this state with its own seed and random stream.
     pub fn spawn(&mut self) -> State {
+        let seed = self.next_child_seed();
+        let mut child = self.clone();
+        child.adopt(seed, self.depth + 1);
+        child
+    }
+
+    /// This state turned into its own next child, for a successor that ends a rule: the parent
+    /// is not needed any more, so nothing is copied. The child is the same as [`State::spawn`]
+    /// would have made.
+    pub fn into_child(mut self) -> State {
+        let seed = self.next_child_seed();
+        let depth = self.depth + 1;
+        self.adopt(seed, depth);
+        self
+    }
+
+    fn next_child_seed(&mut self) -> u64 {
         let seed = child_seed(self.seed, self.children);
         self.children += 1;
-        let mut child = self.clone();
-        child.seed = seed;
-        child.rng = Rng::new(seed);
-        child.children = 0;
-        child.depth = self.depth + 1;
-        child
+        seed
+    }
+
+    fn adopt(&mut self, seed: u64, depth: u32) {
+        self.seed = seed;
+        self.rng = Rng::new(seed);
+        self.children = 0;
+        self.depth = depth;
     }
 
     /// Replaces the scope while keeping the geometry where it is in world space.

@@ -310,6 +310,31 @@ fn runaway_recursion_names_the_rule() {
 }
 
 #[test]
+fn the_time_budget_stops_endless_derivations() {
+    let options = DeriveOptions {
+        max_depth: u32::MAX,
+        max_shapes: usize::MAX,
+        time_budget: Some(std::time::Duration::from_millis(200)),
+        ..Default::default()
+    };
+    let started = std::time::Instant::now();
+    let err = try_run(
+        "Lot --> extrude(1) A\nA --> split(x) { ~1 : A | ~1 : A }",
+        lot(1.0, 1.0),
+        &options,
+    )
+    .unwrap_err();
+    assert!(
+        err.message
+            .starts_with("the derivation took longer than 200ms"),
+        "{}",
+        err.message
+    );
+    assert!(err.message.contains("busiest: `A`"), "{}", err.message);
+    assert!(started.elapsed().as_secs_f64() < 5.0);
+}
+
+#[test]
 fn runtime_errors_carry_spans() {
     let text = "attr zero = 0\nLot --> extrude(10 / zero) X";
     let err = try_run(text, lot(1.0, 1.0), &DeriveOptions::default()).unwrap_err();
