@@ -48,6 +48,8 @@ pub struct DeriveOptions {
     pub generations: Option<u32>,
     /// Where `i("file.obj")` finds files.
     pub assets: Option<Arc<dyn AssetLoader>>,
+    /// Keep the derivation tree (every shape that existed) in [`Derivation::tree`].
+    pub keep_tree: bool,
 }
 
 impl Default for DeriveOptions {
@@ -61,6 +63,7 @@ impl Default for DeriveOptions {
             time_budget: None,
             generations: None,
             assets: None,
+            keep_tree: false,
         }
     }
 }
@@ -96,6 +99,19 @@ pub struct Leaf {
     pub color: Color,
     /// Its material name, when one was set.
     pub material: Option<Arc<str>>,
+    /// Its node in [`Derivation::tree`], when the tree is kept.
+    pub node: Option<u32>,
+}
+
+/// A shape in the derivation tree.
+#[derive(Clone, Debug, PartialEq)]
+pub struct TreeNode {
+    /// The shape's symbol when it was made.
+    pub name: Arc<str>,
+    /// The shape it came from (`None` for initial shapes).
+    pub parent: Option<u32>,
+    /// Its scope when it was made (its birth snapshot).
+    pub scope: Scope,
 }
 
 impl Leaf {
@@ -125,6 +141,9 @@ pub struct Derivation {
     pub reports: Vec<(String, Value)>,
     /// `print(value)` output in derivation order.
     pub prints: Vec<String>,
+    /// Every shape that existed, parents before children, when [`DeriveOptions::keep_tree`]
+    /// is set; empty otherwise.
+    pub tree: Vec<TreeNode>,
     /// Counts.
     pub stats: Stats,
 }
@@ -197,7 +216,16 @@ pub fn derive(
         .reserve_exact(results.iter().map(|r| r.leaves.len()).sum());
     let mut counts = vec![0usize; program.rules.len()];
     for lot in results {
-        all.leaves.extend(lot.leaves);
+        // Node numbers of each lot start after those of the lots before it.
+        let base = all.tree.len() as u32;
+        all.tree.extend(lot.tree.into_iter().map(|mut n| {
+            n.parent = n.parent.map(|p| p + base);
+            n
+        }));
+        all.leaves.extend(lot.leaves.into_iter().map(|mut l| {
+            l.node = l.node.map(|n| n + base);
+            l
+        }));
         all.reports.extend(lot.reports);
         all.prints.extend(lot.prints);
         all.stats.shapes += lot.stats.shapes;
@@ -313,11 +341,19 @@ fn derive_lot(
     let mut state = State::initial(symbol, scope, geometry, seed);
     let mut ev = Evaluator::new(program, seed, scope.origin);
     state.attrs = Arc::new(ev.initial_attrs(&mut state, overrides)?);
+    let tree = options.keep_tree.then(|| {
+        vec![TreeNode {
+            name: names[symbol as usize].clone(),
+            parent: None,
+            scope,
+        }]
+    });
     let mut engine = Engine {
         program,
         ev,
         names,
         options,
+        tree,
         leaves: Vec::new(),
         counts: vec![0; program.rules.len()],
         applications: 0,
@@ -342,6 +378,7 @@ fn derive_lot(
         leaves: engine.leaves,
         reports: engine.ev.reports,
         prints: engine.ev.prints,
+        tree: engine.tree.unwrap_or_default(),
     })
 }
 
@@ -353,6 +390,7 @@ struct Engine<'p> {
     ev: Evaluator<'p>,
     names: &'p [Arc<str>],
     options: &'p DeriveOptions,
+    tree: Option<Vec<TreeNode>>,
     leaves: Vec<Leaf>,
     counts: Vec<usize>,
     /// Rule applications so far; the clock is read every 1024 of them.
@@ -500,7 +538,7 @@ impl<'p> Engine<'p> {
                         (child, Some(state))
                     };
                     child.symbol = *symbol;
-                    self.count_shape(&child, *span)?;
+                    self.admit(&mut child, *span)?;
                     out.push(match rule {
                         Some(r) if !terminal => Work::Rewrite(Task {
                             state: child,
@@ -526,7 +564,17 @@ impl<'p> Engine<'p> {
         Ok(())
     }
 
-    fn count_shape(&mut self, state: &State, span: Span) -> Fallible<()> {
+    /// Counts a new shape against the limits and enters it in the derivation tree. The shape
+    /// still carries its parent's node number, which becomes its parent link.
+    fn admit(&mut self, state: &mut State, span: Span) -> Fallible<()> {
+        if let Some(tree) = &mut self.tree {
+            tree.push(TreeNode {
+                name: self.names[state.symbol as usize].clone(),
+                parent: Some(state.node),
+                scope: state.scope,
+            });
+            state.node = (tree.len() - 1) as u32;
+        }
         self.shapes += 1;
         if self.shapes > self.options.max_shapes {
             let rule = self.busiest_rule();
@@ -591,6 +639,7 @@ impl<'p> Engine<'p> {
             geometry: state.geometry,
             color: state.color,
             material: state.material,
+            node: self.tree.is_some().then_some(state.node),
         });
     }
 
@@ -809,7 +858,7 @@ impl<'p> Engine<'p> {
                     refit(&mut child, axes);
                 }
             }
-            self.count_shape(&child, span)?;
+            self.admit(&mut child, span)?;
             self.run_stmts(part.body, child, args, out)?;
         }
         Ok(())
@@ -863,7 +912,7 @@ impl<'p> Engine<'p> {
                 );
                 merged.transform(&child.scope.world_to_local());
                 child.geometry = Geometry::mesh(merged);
-                self.count_shape(&child, span)?;
+                self.admit(&mut child, span)?;
                 self.run_stmts(&entry.body, child, args, out)?;
                 continue;
             }
@@ -887,7 +936,7 @@ impl<'p> Engine<'p> {
                     }
                     CompKind::Edges | CompKind::Vertices => Geometry::Empty,
                 };
-                self.count_shape(&child, span)?;
+                self.admit(&mut child, span)?;
                 self.run_stmts(&entry.body, child, args, out)?;
             }
         }

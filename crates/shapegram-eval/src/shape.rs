@@ -128,6 +128,8 @@ pub struct State {
     pub rng: Rng,
     /// How many children this shape has made so far (their seeds depend on it).
     pub children: u64,
+    /// The shape's node in the derivation tree (when one is kept).
+    pub node: u32,
 }
 
 impl State {
@@ -146,6 +148,7 @@ impl State {
             seed,
             rng: Rng::new(seed),
             children: 0,
+            node: 0,
         }
     }
 

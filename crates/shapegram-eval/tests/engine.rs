@@ -414,3 +414,40 @@ fn reports_and_prints_are_collected_in_order() {
     assert_eq!(areas, [8.0, 8.0, 6.0, 6.0]);
     assert_eq!(d.prints, ["wall 0", "wall 1", "wall 2", "wall 3"]);
 }
+
+#[test]
+fn the_derivation_tree_links_every_shape_to_its_parent() {
+    let program = compile(
+        "Lot --> extrude(6) split(y) { ~3 : Floor }*
+         Floor --> comp(f) { side : Wall | top : Top. }",
+    );
+    let options = DeriveOptions {
+        keep_tree: true,
+        ..Default::default()
+    };
+    let d = derive(&program, &[lot(4.0, 4.0), lot(2.0, 2.0)], &options).unwrap();
+    assert_eq!(d.tree.len(), d.stats.shapes);
+    let roots: Vec<usize> = (0..d.tree.len())
+        .filter(|&i| d.tree[i].parent.is_none())
+        .collect();
+    assert_eq!(roots.len(), 2, "one root per lot");
+    for (i, node) in d.tree.iter().enumerate() {
+        if let Some(p) = node.parent {
+            assert!((p as usize) < i, "parents come first");
+        }
+    }
+    for leaf in &d.leaves {
+        let node = &d.tree[leaf.node.unwrap() as usize];
+        assert_eq!(node.name, leaf.name);
+        // Wall leaf ← comp part (Floor) ← split part (Lot) ← Lot.
+        let mut depth = 0;
+        let mut at = leaf.node.unwrap();
+        while let Some(p) = d.tree[at as usize].parent {
+            at = p;
+            depth += 1;
+        }
+        assert_eq!(depth, 4, "{}", leaf.name);
+    }
+    let without = derive(&program, &[lot(4.0, 4.0)], &DeriveOptions::default()).unwrap();
+    assert!(without.tree.is_empty() && without.leaves[0].node.is_none());
+}
