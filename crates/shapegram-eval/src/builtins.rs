@@ -210,6 +210,7 @@ pub(crate) enum Query {
     GeometryFaces,
     InitialOrigin(usize),
     Seed,
+    Depth,
 }
 
 impl Query {
@@ -236,6 +237,7 @@ impl Query {
         "initialShape.origin.py",
         "initialShape.origin.pz",
         "seedian",
+        "shape.depth",
     ];
 
     /// The query with this name.
@@ -254,7 +256,8 @@ impl Query {
             15 => Self::GeometryVertices,
             16 => Self::GeometryFaces,
             17..=19 => Self::InitialOrigin(i - 17),
-            _ => Self::Seed,
+            20 => Self::Seed,
+            _ => Self::Depth,
         })
     }
 

@@ -689,10 +689,14 @@ impl<'p> Engine<'p> {
             }
             Op::Size(v) => {
                 let v = self.vector(v, state, args)?;
-                if v.cmplt(DVec3::ZERO).any() {
-                    return Err(DeriveError::at(format!("negative size {v}"), span));
+                state.resize(v.abs());
+                // A negative size mirrors: the axis turns around the scope's origin, and the
+                // geometry with it.
+                for i in 0..3 {
+                    if v[i] < 0.0 {
+                        state.mirror_axis(i);
+                    }
                 }
-                state.resize(v);
             }
             Op::Center(axes) => {
                 let target = anchor.center();

@@ -475,6 +475,7 @@ impl<'p> Evaluator<'p> {
             Query::InitialOrigin(i) => self.initial_origin[i],
             // A number in [0, 1) stable for the shape: CGA's `seedian`.
             Query::Seed => (crate::rng::mix(shape.seed) >> 11) as f64 / (1u64 << 53) as f64,
+            Query::Depth => f64::from(shape.depth),
         }
     }
 }

@@ -193,6 +193,15 @@ impl State {
         self.scope = scope;
     }
 
+    /// Turns scope axis `i` around: the scope becomes mirrored, and the geometry, whose local
+    /// coordinates stay, is mirrored through the plane of the origin across that axis. (Faces
+    /// keep facing outward: placing geometry with a mirrored frame turns their winding.)
+    pub fn mirror_axis(&mut self, i: usize) {
+        let mut flip = DVec3::ONE;
+        flip[i] = -1.0;
+        self.scope.axes *= shapegram_geom::DMat3::from_diagonal(flip);
+    }
+
     /// Sets the scope size, scaling mesh geometry along (CGA `s`). Axes of zero size keep the
     /// geometry's own extent along them.
     pub fn resize(&mut self, size: DVec3) {

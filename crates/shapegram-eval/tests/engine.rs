@@ -349,13 +349,6 @@ fn runtime_errors_carry_spans() {
     .unwrap_err();
     assert!(err.message.contains("no finite number"), "{}", err.message);
     let err = try_run(
-        "Lot --> s(-1, 1, 1) X",
-        lot(1.0, 1.0),
-        &DeriveOptions::default(),
-    )
-    .unwrap_err();
-    assert!(err.message.starts_with("negative size"), "{}", err.message);
-    let err = try_run(
         "Lot --> extrude(1) extrude(1) X",
         lot(1.0, 1.0),
         &DeriveOptions::default(),
@@ -450,4 +443,31 @@ fn the_derivation_tree_links_every_shape_to_its_parent() {
     }
     let without = derive(&program, &[lot(4.0, 4.0)], &DeriveOptions::default()).unwrap();
     assert!(without.tree.is_empty() && without.leaves[0].node.is_none());
+}
+
+#[test]
+fn negative_sizes_mirror_the_scope_and_its_geometry() {
+    let d = run(
+        "Lot --> s(2, 1, 1) i(\"builtin:pyramid\") t(3, 0, 0) s(-2, 1, 1) Mirrored",
+        lot(1.0, 1.0),
+    );
+    let leaf = &d.leaves[0];
+    assert!((leaf.scope.axes.determinant() + 1.0).abs() < 1e-12);
+    let mesh = leaf.world_mesh().unwrap();
+    let b = mesh.bounds().unwrap();
+    // Mirrored about x = 3: the pyramid now spans x from 1 to 3.
+    assert!(close(b.min, DVec3::new(1.0, 0.0, 0.0)) && close(b.max, DVec3::new(3.0, 1.0, 1.0)));
+    assert!(mesh.is_watertight());
+    assert!(
+        (mesh.signed_volume() - 2.0 / 3.0).abs() < 1e-9,
+        "faces still face outward"
+    );
+    let d = run(
+        "Lot --> s(1, 1, 1) t(0, 0, 0) A\nA --> D(shape.depth)\nD(n) --> s(n, 1, 1) X",
+        lot(1.0, 1.0),
+    );
+    assert_eq!(
+        d.leaves[0].scope.size.x, 1.0,
+        "A is one successor below the lot"
+    );
 }

@@ -2,7 +2,11 @@
 
 use crate::{Aabb, DAffine3, DMat3, DQuat, DVec3};
 
-/// An oriented box: an origin corner, right-handed orthonormal axes and a size along each axis.
+/// An oriented box: an origin corner, orthonormal axes and a size along each axis.
+///
+/// Axes are right-handed except after a mirroring scale (a negative `s(…)` in a grammar), which
+/// flips one axis; geometry placed in a mirrored scope is mirrored, with its faces turned so that
+/// they still face outward.
 ///
 /// Local coordinates `(x, y, z)` with `0 <= x <= size.x` (and so on) cover the box; `y` is "up"
 /// for a scope made by extruding a footprint, as in CGA.
@@ -10,7 +14,7 @@ use crate::{Aabb, DAffine3, DMat3, DQuat, DVec3};
 pub struct Scope {
     /// The corner at local `(0, 0, 0)`, in world coordinates.
     pub origin: DVec3,
-    /// Columns are the unit x, y and z axes of the scope in world coordinates.
+    /// Columns are the unit x, y and z axes of the scope in world coordinates (determinant ±1).
     pub axes: DMat3,
     /// Extent along each axis; a size of zero marks a flat (2D) or degenerate scope.
     pub size: DVec3,
@@ -210,9 +214,10 @@ impl Scope {
 }
 
 /// Re-orthonormalises a nearly orthonormal frame (Gram–Schmidt, keeping x, then y), so that long
-/// chains of rotations do not drift.
+/// chains of rotations do not drift. A mirrored (left-handed) frame stays mirrored.
 fn orthonormalize(m: DMat3) -> DMat3 {
     let x = m.x_axis.normalize();
     let y = (m.y_axis - x * x.dot(m.y_axis)).normalize();
-    DMat3::from_cols(x, y, x.cross(y))
+    let z = x.cross(y);
+    DMat3::from_cols(x, y, if m.determinant() < 0.0 { -z } else { z })
 }
