@@ -16,7 +16,9 @@ use shapegram_syntax::Span;
 
 use crate::error::DeriveError;
 use crate::expr::Evaluator;
-use crate::ops::{CompEntry, CompKind, CompSelector, Op, Primitive, SetTarget};
+use crate::ops::{
+    CompEntry, CompKind, CompSelector, OffsetKeep, Op, Primitive, RoofKind, SetTarget,
+};
 use crate::program::{CBody, CExpr, CKind, CStmt, Program, RuleId};
 use crate::rng::child_seed;
 use crate::shape::{FaceTag, Geometry, State, box_mesh, flat_axis};
@@ -210,10 +212,12 @@ pub fn derive(
             derive_lot(program, start, lot, seed, &overrides, &names, options)
         })
         .collect();
-    let results = results.into_iter().collect::<Result<Vec<_>, _>>()?;
+    let mut results = results.into_iter().collect::<Result<Vec<_>, _>>()?;
     let mut all = Derivation::default();
-    all.leaves
-        .reserve_exact(results.iter().map(|r| r.leaves.len()).sum());
+    let total: usize = results.iter().map(|r| r.leaves.len()).sum();
+    if let Some(first) = results.first_mut() {
+        first.leaves.reserve_exact(total - first.leaves.len());
+    }
     let mut counts = vec![0usize; program.rules.len()];
     for lot in results {
         // Node numbers of each lot start after those of the lots before it.
@@ -222,10 +226,15 @@ pub fn derive(
             n.parent = n.parent.map(|p| p + base);
             n
         }));
-        all.leaves.extend(lot.leaves.into_iter().map(|mut l| {
-            l.node = l.node.map(|n| n + base);
-            l
-        }));
+        if all.leaves.is_empty() {
+            // The first lot's leaves need no renumbering: take them as they are.
+            all.leaves = lot.leaves;
+        } else {
+            all.leaves.extend(lot.leaves.into_iter().map(|mut l| {
+                l.node = l.node.map(|n| n + base);
+                l
+            }));
+        }
         all.reports.extend(lot.reports);
         all.prints.extend(lot.prints);
         all.stats.shapes += lot.stats.shapes;
@@ -315,7 +324,7 @@ fn fills_box(local: &[DVec3], size: DVec3) -> bool {
 
 /// One shape waiting for its rule.
 struct Task {
-    state: State,
+    state: Box<State>,
     rule: RuleId,
     args: Vec<Value>,
 }
@@ -324,7 +333,7 @@ struct Task {
 /// Keeping both in one list makes the leaves come out in depth-first order of the tree.
 enum Work {
     Rewrite(Task),
-    Leaf(State),
+    Leaf(Box<State>),
 }
 
 fn derive_lot(
@@ -338,7 +347,7 @@ fn derive_lot(
 ) -> Result<Derivation, DeriveError> {
     let (scope, geometry) = initial_shape(&lot.footprint)?;
     let symbol = program.rules[start as usize].symbol;
-    let mut state = State::initial(symbol, scope, geometry, seed);
+    let mut state = Box::new(State::initial(symbol, scope, geometry, seed));
     let mut ev = Evaluator::new(program, seed, scope.origin);
     state.attrs = Arc::new(ev.initial_attrs(&mut state, overrides)?);
     let tree = options.keep_tree.then(|| {
@@ -459,7 +468,7 @@ impl<'p> Engine<'p> {
     fn run_body(
         &mut self,
         body: &'p CBody,
-        mut state: State,
+        mut state: Box<State>,
         args: &[Value],
         out: &mut Vec<Work>,
     ) -> Fallible<()> {
@@ -492,14 +501,14 @@ impl<'p> Engine<'p> {
     fn run_stmts(
         &mut self,
         stmts: &'p [CStmt],
-        mut state: State,
+        mut state: Box<State>,
         args: &[Value],
         out: &mut Vec<Work>,
     ) -> Fallible<()> {
         let mut produced = false;
         // What `center` centres in: the scope the statements started with, or the last pushed.
         let mut anchor = state.scope;
-        let mut saved: Vec<(State, Scope)> = Vec::new();
+        let mut saved: Vec<(Box<State>, Scope)> = Vec::new();
         for (i, stmt) in stmts.iter().enumerate() {
             match stmt {
                 CStmt::Push => {
@@ -525,16 +534,21 @@ impl<'p> Engine<'p> {
                     terminal,
                     span,
                 } => {
-                    let values = exprs
-                        .iter()
-                        .map(|e| self.ev.eval(e, &mut state, args))
-                        .collect::<Fallible<Vec<_>>>()?;
+                    let values = if exprs.is_empty() {
+                        Vec::new()
+                    } else {
+                        exprs
+                            .iter()
+                            .map(|e| self.ev.eval(e, &mut state, args))
+                            .collect::<Fallible<Vec<_>>>()?
+                    };
                     let last = i + 1 == stmts.len();
                     // A successor that ends the statements takes the shape itself.
                     let (mut child, rest) = if last {
-                        (state.into_child(), None)
+                        state.make_child();
+                        (state, None)
                     } else {
-                        let child = state.spawn();
+                        let child = Box::new(state.spawn());
                         (child, Some(state))
                     };
                     child.symbol = *symbol;
@@ -629,10 +643,11 @@ impl<'p> Engine<'p> {
         Ok(())
     }
 
-    fn emit(&mut self, state: State) {
+    fn emit(&mut self, state: Box<State>) {
         if state.geometry == Geometry::Empty {
             return;
         }
+        let state = *state;
         self.leaves.push(Leaf {
             name: self.names[state.symbol as usize].clone(),
             scope: state.scope,
@@ -770,8 +785,16 @@ impl<'p> Engine<'p> {
                     state.geometry = Geometry::Mesh(Arc::new(mesh), tags);
                 }
             }
-            Op::Offset { .. } | Op::Roof(..) => {
-                return Err(DeriveError::at("this operation is not available yet", span));
+            Op::Offset { distance, keep } => {
+                let d = self.ev.number(distance, state, args)?;
+                offset(state, d, *keep, span)?;
+            }
+            Op::Roof(kind, params) => {
+                let values = params
+                    .iter()
+                    .map(|p| self.ev.number(p, state, args))
+                    .collect::<Fallible<Vec<_>>>()?;
+                roof(state, *kind, &values, span)?;
             }
             Op::Ignored => {}
         }
@@ -780,6 +803,12 @@ impl<'p> Engine<'p> {
 
     fn color(&mut self, params: &[CExpr], state: &mut State, args: &[Value]) -> Fallible<Color> {
         if let [one] = params {
+            if let CKind::Value(Value::Str(text)) = &one.kind {
+                // Most colours are literals: no need to go through the evaluator.
+                if let Some(c) = Color::from_hex(text) {
+                    return Ok(c);
+                }
+            }
             let text = self.ev.string(one, state, args)?;
             return Color::from_hex(&text).ok_or_else(|| {
                 DeriveError::at(
@@ -843,7 +872,7 @@ impl<'p> Engine<'p> {
             _ => None,
         };
         for (i, part) in parts.iter().enumerate() {
-            let mut child = state.spawn();
+            let mut child = Box::new(state.spawn());
             child.split = (i as u32, total);
             child.scope.translate(DVec3::AXES[axis] * part.start);
             child.scope.size[axis] = part.size;
@@ -908,7 +937,7 @@ impl<'p> Engine<'p> {
                 for &c in chosen {
                     merged.append(&Mesh::from_polygon(&components[c].points));
                 }
-                let mut child = state.spawn();
+                let mut child = Box::new(state.spawn());
                 child.comp = (0, 1);
                 child.scope = Scope::fit(
                     components[chosen[0]].scope.axes,
@@ -922,7 +951,7 @@ impl<'p> Engine<'p> {
             }
             for (i, &c) in chosen.iter().enumerate() {
                 let comp = &components[c];
-                let mut child = state.spawn();
+                let mut child = Box::new(state.spawn());
                 child.comp = (i as u32, chosen.len() as u32);
                 child.scope = comp.scope;
                 child.geometry = match kind {
@@ -1001,27 +1030,24 @@ fn builtin_asset(path: &str) -> Option<Mesh> {
     })
 }
 
-/// Fits an asset into the scope (CGA `i`): its bounding box is stretched onto the scope box;
-/// along axes where the scope has no size, the asset keeps its own.
+/// Fits an asset into the scope (CGA `i`, see `shapegram_geom::fit`); along axes where the
+/// scope has no size the scope takes the asset's fitted extent.
 fn insert(state: &mut State, asset: &Mesh) {
-    let Some(bounds) = asset.bounds() else {
+    if asset.is_empty() {
         state.geometry = Geometry::Empty;
         return;
-    };
-    let extent = bounds.size();
-    let mut size = state.scope.size;
-    let mut scale = DVec3::ONE;
-    for i in 0..3 {
-        if size[i] == 0.0 {
-            size[i] = extent[i];
-        } else if extent[i] > 0.0 {
-            scale[i] = size[i] / extent[i];
+    }
+    let mut local = shapegram_geom::fit::fit_into_scope(asset, &state.scope);
+    local.transform(&state.scope.world_to_local());
+    if let Some(bounds) = local.bounds() {
+        let size = &mut state.scope.size;
+        for i in 0..3 {
+            if size[i] == 0.0 {
+                size[i] = bounds.max[i];
+            }
         }
     }
-    let map = shapegram_geom::DAffine3::from_scale(scale)
-        * shapegram_geom::DAffine3::from_translation(-bounds.min);
-    state.geometry = Geometry::mesh(asset.transformed(&map));
-    state.scope.size = size;
+    state.geometry = Geometry::mesh(local);
 }
 
 fn primitive(state: &mut State, kind: Primitive, counts: &[f64], span: Span) -> Fallible<()> {
@@ -1155,19 +1181,7 @@ fn extrude(state: &mut State, distance: f64, world_up: bool, span: Span) -> Fall
     }
     let scope = state.scope;
     let flat = flat_axis(scope.size);
-    let Some(world) = state.geometry.world_mesh(&scope) else {
-        return Err(DeriveError::at(
-            "extrude needs a polygon, but the shape has no geometry",
-            span,
-        ));
-    };
-    if flat.is_none() && state.geometry == Geometry::Box || world.is_watertight() {
-        return Err(DeriveError::at(
-            "extrude needs a flat shape (a polygon), but this shape is a volume",
-            span,
-        )
-        .with_hint("extrude a face: `comp(f){ top : extrude(…) X }`"));
-    }
+    let world = flat_faces(state, "extrude", span)?;
     let mut solid = Mesh::new();
     let mut direction = DVec3::ZERO;
     for f in 0..world.face_count() {
@@ -1188,13 +1202,10 @@ fn extrude(state: &mut State, distance: f64, world_up: bool, span: Span) -> Fall
     if solid.is_empty() {
         return Ok(());
     }
-    let x = scope
-        .x_axis()
-        .reject_from(direction)
-        .try_normalize()
-        .unwrap_or_else(|| direction.any_orthonormal_vector());
-    let axes = DMat3::from_cols(x, direction, x.cross(direction));
-    let fitted = Scope::fit(axes, solid.positions().iter().copied());
+    let fitted = Scope::fit(
+        grown_axes(&scope, direction),
+        solid.positions().iter().copied(),
+    );
     // A flat box extruded along its own axis stays a box.
     let stays_box = state.geometry == Geometry::Box
         && flat.is_some_and(|k| scope.axes.col(k).abs_diff_eq(direction, 1e-12));
@@ -1205,5 +1216,118 @@ fn extrude(state: &mut State, distance: f64, world_up: bool, span: Span) -> Fall
         Geometry::mesh(solid)
     };
     state.scope = fitted;
+    Ok(())
+}
+
+/// The faces of a flat shape in world coordinates, for the operations that build on polygons
+/// (`extrude`, `offset`, roofs); an error for shapes without geometry and for volumes.
+fn flat_faces(state: &State, op: &str, span: Span) -> Fallible<Mesh> {
+    let Some(world) = state.geometry.world_mesh(&state.scope) else {
+        return Err(DeriveError::at(
+            format!("{op} needs a polygon, but the shape has no geometry"),
+            span,
+        ));
+    };
+    let volume = flat_axis(state.scope.size).is_none() && state.geometry == Geometry::Box;
+    if volume || world.is_watertight() {
+        return Err(DeriveError::at(
+            format!("{op} needs a flat shape (a polygon), but this shape is a volume"),
+            span,
+        )
+        .with_hint(format!(
+            "apply it to a face: `comp(f) {{ top : {op}(…) X }}`"
+        )));
+    }
+    Ok(world)
+}
+
+/// The scope axes for a solid grown from faces along `up`: x kept as far as it can be, y up.
+fn grown_axes(scope: &Scope, up: DVec3) -> DMat3 {
+    let x = scope
+        .x_axis()
+        .reject_from(up)
+        .try_normalize()
+        .unwrap_or_else(|| up.any_orthonormal_vector());
+    DMat3::from_cols(x, up, x.cross(up))
+}
+
+/// CGA `offset(d)`: every face shrunk (negative `d`) or grown (positive) by `d`, the ring between
+/// old and new outline kept as border faces; `inside` or `border` keeps only those.
+fn offset(state: &mut State, distance: f64, keep: OffsetKeep, span: Span) -> Fallible<()> {
+    let world = flat_faces(state, "offset", span)?;
+    let mut mesh = Mesh::new();
+    let mut tags = Vec::new();
+    for f in 0..world.face_count() {
+        let points: Vec<DVec3> = world.face_points(f).collect();
+        let (inside, border) = shapegram_geom::offset::inset_border(&points, distance);
+        for (loops, tag, wanted) in [
+            (inside, FaceTag::Inside, keep != OffsetKeep::Border),
+            (border, FaceTag::Border, keep != OffsetKeep::Inside),
+        ] {
+            for points in loops.iter().filter(|_| wanted) {
+                mesh.append(&Mesh::from_polygon(points));
+                tags.push(tag);
+            }
+        }
+    }
+    if mesh.is_empty() {
+        state.geometry = Geometry::Empty;
+        return Ok(());
+    }
+    let scope = Scope::fit(state.scope.axes, mesh.positions().iter().copied());
+    mesh.transform(&scope.world_to_local());
+    state.scope = scope;
+    state.geometry = Geometry::Mesh(Arc::new(mesh), Some(tags.into()));
+    Ok(())
+}
+
+/// CGA's roofs on every face of a flat shape; the result is a closed solid whose scope keeps x
+/// and has y along the faces' normal.
+fn roof(state: &mut State, kind: RoofKind, params: &[f64], span: Span) -> Fallible<()> {
+    let world = flat_faces(state, "roof", span)?;
+    let angle = params[0];
+    let extra = params.get(1).copied();
+    let mut solid = Mesh::new();
+    let mut up = DVec3::ZERO;
+    for f in 0..world.face_count() {
+        let points: Vec<DVec3> = world.face_points(f).collect();
+        let built = match kind {
+            RoofKind::Gable => {
+                shapegram_geom::roof::roof_gable(&points, angle, extra.unwrap_or(0.0))
+            }
+            RoofKind::Hip => shapegram_geom::roof::roof_hip(&points, angle, extra.unwrap_or(0.0)),
+            RoofKind::Pyramid => shapegram_geom::roof::roof_pyramid(&points, angle),
+            RoofKind::Shed => {
+                let edge = extra.unwrap_or(0.0);
+                if edge < 0.0 || edge.fract() != 0.0 {
+                    return Err(DeriveError::at(
+                        format!("roofShed's edge index must be a whole number ≥ 0, not {edge}"),
+                        span,
+                    ));
+                }
+                shapegram_geom::roof::roof_shed(&points, angle, edge as usize)
+            }
+        };
+        let Some(built) = built else {
+            return Err(DeriveError::at(
+                format!(
+                    "cannot build this roof: the angle must be between 0 and 90 degrees (it is \
+                     {angle}), any overhang not negative, and the face a simple polygon"
+                ),
+                span,
+            ));
+        };
+        if up == DVec3::ZERO {
+            up = world.face_normal(f);
+        }
+        solid.append(&built);
+    }
+    let fitted = Scope::fit(
+        grown_axes(&state.scope, up),
+        solid.positions().iter().copied(),
+    );
+    solid.transform(&fitted.world_to_local());
+    state.scope = fitted;
+    state.geometry = Geometry::mesh(solid);
     Ok(())
 }

@@ -160,14 +160,13 @@ impl State {
         child
     }
 
-    /// This state turned into its own next child, for a successor that ends a rule: the parent
-    /// is not needed any more, so nothing is copied. The child is the same as [`State::spawn`]
+    /// Turns this state into its own next child, for a successor that ends a rule: the parent
+    /// is not needed any more, so nothing is copied. The child is the one [`State::spawn`]
     /// would have made.
-    pub fn into_child(mut self) -> State {
+    pub fn make_child(&mut self) {
         let seed = self.next_child_seed();
         let depth = self.depth + 1;
         self.adopt(seed, depth);
-        self
     }
 
     fn next_child_seed(&mut self) -> u64 {

@@ -471,3 +471,81 @@ fn negative_sizes_mirror_the_scope_and_its_geometry() {
         "A is one successor below the lot"
     );
 }
+
+#[test]
+fn roofs_sit_on_the_top_face() {
+    let d = run(
+        "Lot --> extrude(6) comp(f) { top : roofGable(30) Roof | side : Wall }",
+        lot(20.0, 10.0),
+    );
+    let roof = d.leaves.iter().find(|l| &*l.name == "Roof").unwrap();
+    let mesh = roof.world_mesh().unwrap();
+    assert!(mesh.is_watertight());
+    // A triangular prism along the 20 m side: base 10, ridge 5·tan 30° above the eaves.
+    let ridge = 5.0 * 30f64.to_radians().tan();
+    assert!((mesh.signed_volume() - 0.5 * 10.0 * ridge * 20.0).abs() < 1e-9);
+    let b = mesh.bounds().unwrap();
+    assert!((b.min.y - 6.0).abs() < 1e-9 && (b.max.y - 6.0 - ridge).abs() < 1e-9);
+    assert!(close(roof.scope.y_axis(), DVec3::Y));
+    let d = run(
+        "Lot --> extrude(3) comp(f) { top : roofHip(45) Roof }",
+        lot(10.0, 10.0),
+    );
+    let hip = d.leaves[0].world_mesh().unwrap();
+    assert!((hip.signed_volume() - 100.0 * 5.0 / 3.0).abs() < 1e-9);
+    let d = run("Lot --> roofPyramid(45) R", lot(10.0, 10.0));
+    assert!((d.leaves[0].world_mesh().unwrap().signed_volume() - 500.0 / 3.0).abs() < 1e-9);
+    let d = run("Lot --> roofShed(45) R", lot(10.0, 4.0));
+    // A wedge rising from the front edge across the 4 m depth to 4 m high.
+    assert!(
+        (d.leaves[0].world_mesh().unwrap().signed_volume() - 0.5 * 4.0 * 4.0 * 10.0).abs() < 1e-9
+    );
+    let err = try_run(
+        "Lot --> roofGable(95) R",
+        lot(10.0, 4.0),
+        &DeriveOptions::default(),
+    )
+    .unwrap_err();
+    assert!(
+        err.message.starts_with("cannot build this roof"),
+        "{}",
+        err.message
+    );
+    let err = try_run(
+        "Lot --> extrude(2) roofHip(30) R",
+        lot(10.0, 4.0),
+        &DeriveOptions::default(),
+    )
+    .unwrap_err();
+    assert!(err.message.contains("is a volume"), "{}", err.message);
+}
+
+#[test]
+fn offset_splits_a_lot_into_inside_and_border() {
+    let d = run(
+        "Lot --> offset(-1) comp(f) { inside : Yard | border : Path }",
+        lot(10.0, 10.0),
+    );
+    assert_eq!(names(&d), ["Yard", "Path", "Path", "Path", "Path"]);
+    let area = |name: &str| -> f64 {
+        d.leaves
+            .iter()
+            .filter(|l| &*l.name == name)
+            .map(|l| l.world_mesh().unwrap().area())
+            .sum()
+    };
+    assert!((area("Yard") - 64.0).abs() < 1e-9);
+    assert!((area("Path") - 36.0).abs() < 1e-9);
+    let d = run("Lot --> offset(-1, inside) Yard", lot(10.0, 10.0));
+    assert_eq!(d.leaves.len(), 1);
+    assert!(close(d.leaves[0].scope.size, DVec3::new(8.0, 0.0, 8.0)));
+    let d = run(
+        "Lot --> offset(-6) comp(f) { inside : Yard | border : Path }",
+        lot(10.0, 10.0),
+    );
+    assert_eq!(
+        names(&d),
+        ["Path", "Path", "Path", "Path"],
+        "the inset vanished"
+    );
+}

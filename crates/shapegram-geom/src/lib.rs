@@ -2,7 +2,9 @@
 //!
 //! Everything here is `f64` and free of I/O: oriented [`Scope`]s, polygon [`Mesh`]es whose faces are
 //! vertex loops, [`primitives`], plane cuts with capping ([`split`]), extrusion, inset, component
-//! extraction and face classification ([`component`]), triangulation and mesh metrics.
+//! extraction and face classification ([`component`]), roofs ([`roof`]), offsets of convex and
+//! non-convex polygons ([`offset`]), fitting assets into scopes ([`fit`]), triangulation and mesh
+//! metrics.
 //!
 //! Conventions shared by every crate of the workspace:
 //! - y is up in world space (the glTF convention); lots and footprints lie in the xz-plane facing +y.
@@ -13,12 +15,16 @@
 pub mod aabb;
 pub mod component;
 pub mod extrude;
+pub mod fit;
 pub mod mesh;
 pub mod model;
 pub mod offset;
+mod planar;
 pub mod plane;
 pub mod primitives;
+pub mod roof;
 pub mod scope;
+mod skeleton;
 pub mod split;
 pub mod topology;
 pub mod triangulate;

@@ -1,6 +1,19 @@
-//! Offsetting (growing) and insetting (shrinking) convex polygons.
+//! Offsetting (growing) and insetting (shrinking) polygons, convex or not.
+//!
+//! Convex polygons move their edges and intersect half-planes ([`offset_convex`]). Other simple
+//! polygons use the wavefront of the straight skeleton: every edge moves at unit speed and corners
+//! slide along their bisectors (mitred corners), and where the moving outline meets itself it
+//! changes shape as it should: a narrow part of an inset pinches off and the polygon falls into
+//! several, a notch of an outward offset closes, a bay that closes off becomes a hole. The border
+//! ring of [`inset_border`] consists of the regions the edges swept on the way, so the inside and
+//! the border always tile the polygon.
 
-use crate::{DVec3, mesh::newell};
+use crate::{
+    DVec2, DVec3,
+    mesh::newell,
+    planar::{Polygon, is_convex, kept_corners, signed_area},
+    skeleton::{Skeleton, propagate},
+};
 
 /// Moves every edge of a convex planar polygon (counter-clockwise about its normal) outward by
 /// `distance`, or inward when `distance` is negative, and returns the resulting polygon.
@@ -83,4 +96,135 @@ fn clip_convex(poly: &[DVec3], normal: DVec3, offset: f64) -> Vec<DVec3> {
         }
     }
     out
+}
+
+/// Offsets a simple planar polygon (counter-clockwise about its normal, convex or not) by moving
+/// every edge `distance` outward (inward when negative), with mitred corners; returns the loops of
+/// the result, counter-clockwise, with holes clockwise.
+///
+/// An inset can fall into several polygons or vanish (no loops); an outward offset is one polygon
+/// whose closed-off bays become holes. Convex input goes through [`offset_convex`]. A distance of
+/// zero returns the polygon without repeated corners. Invalid input (fewer than three distinct
+/// corners, no area, not planar, self-touching, non-finite) gives no loops.
+pub fn offset_polygon(points: &[DVec3], distance: f64) -> Vec<Vec<DVec3>> {
+    let Some(polygon) = Polygon::new(points, false) else {
+        return Vec::new();
+    };
+    if !distance.is_finite() {
+        return Vec::new();
+    }
+    if distance == 0.0 {
+        return vec![polygon.world];
+    }
+    if is_convex(&polygon.flat, polygon.eps) {
+        return offset_convex(&polygon.world, distance)
+            .into_iter()
+            .collect();
+    }
+    let Some(wave) = Wavefront::run(&polygon.flat, distance) else {
+        return Vec::new();
+    };
+    wave.skeleton
+        .front
+        .iter()
+        .map(|loop_| {
+            let mut points: Vec<DVec3> = loop_.iter().map(|&i| wave.world(&polygon, i)).collect();
+            if wave.outward {
+                points.reverse();
+            }
+            points
+        })
+        .collect()
+}
+
+/// CGA's `offset(distance) comp(f) { inside : … | border : … }` on a simple planar polygon
+/// (counter-clockwise about its normal, convex or not): returns `(inside, border)`.
+///
+/// A negative `distance` insets: `inside` holds the inset polygon(s) (none once the polygon has
+/// vanished) and `border` the ring between the outline and the inset, one polygon per edge (in
+/// edge order, repeated corners dropped): the region that edge swept while moving inward, a
+/// trapezoid while no corner of the inset has run into another, a triangle for an edge that shrank
+/// away, and so on. A positive `distance` grows: `inside` is the polygon itself and `border` the
+/// regions the edges swept outward. Either way the pieces tile the result without gaps or overlaps
+/// and share their corners. A distance of zero gives the polygon and no border; invalid input (see
+/// [`offset_polygon`]) gives nothing.
+pub fn inset_border(points: &[DVec3], distance: f64) -> (Vec<Vec<DVec3>>, Vec<Vec<DVec3>>) {
+    let Some(polygon) = Polygon::new(points, false) else {
+        return (Vec::new(), Vec::new());
+    };
+    if !distance.is_finite() {
+        return (Vec::new(), Vec::new());
+    }
+    if distance == 0.0 {
+        return (vec![polygon.world], Vec::new());
+    }
+    let Some(wave) = Wavefront::run(&polygon.flat, distance) else {
+        return (Vec::new(), Vec::new());
+    };
+    let loops = |loops: &[Vec<usize>]| -> Vec<Vec<DVec3>> {
+        loops
+            .iter()
+            .map(|l| l.iter().map(|&i| wave.world(&polygon, i)).collect())
+            .collect()
+    };
+    let faces = loops(&wave.skeleton.faces);
+    if wave.outward {
+        // Edge k of the reversed polygon is edge n − 2 − k of the polygon, run backwards.
+        let n = faces.len();
+        let border = (0..n).map(|e| faces[(2 * n - 2 - e) % n].clone()).collect();
+        (vec![polygon.world.clone()], border)
+    } else {
+        (loops(&wave.skeleton.front), faces)
+    }
+}
+
+/// The outline of a simple counter-clockwise 2D polygon grown outward by `distance` (> 0) with
+/// mitred corners, without repeated corners or corners on a straight line; holes that closed off
+/// are ignored. `None` if the propagation fails.
+pub(crate) fn grown_outline(flat: &[DVec2], distance: f64, eps: f64) -> Option<Vec<DVec2>> {
+    let reversed: Vec<DVec2> = flat.iter().rev().copied().collect();
+    let skeleton = propagate(&reversed, distance, false)?;
+    // Run backwards, the outer loop is the one turning clockwise.
+    let outer: Vec<DVec2> = skeleton
+        .front
+        .iter()
+        .map(|l| {
+            l.iter()
+                .rev()
+                .map(|&i| skeleton.nodes[i].p)
+                .collect::<Vec<_>>()
+        })
+        .max_by(|a, b| signed_area(a).total_cmp(&signed_area(b)))?;
+    let kept = kept_corners(&outer, eps, true);
+    (kept.len() >= 3).then(|| kept.iter().map(|&i| outer[i]).collect())
+}
+
+/// A wavefront propagated from a polygon's outline, inward or (on the reversed outline) outward.
+struct Wavefront {
+    skeleton: Skeleton,
+    outward: bool,
+}
+
+impl Wavefront {
+    /// Propagates by `|distance|`, outward for a positive distance.
+    fn run(flat: &[DVec2], distance: f64) -> Option<Self> {
+        let outward = distance > 0.0;
+        let skeleton = if outward {
+            let reversed: Vec<DVec2> = flat.iter().rev().copied().collect();
+            propagate(&reversed, distance, false)?
+        } else {
+            propagate(flat, -distance, true)?
+        };
+        Some(Self { skeleton, outward })
+    }
+
+    /// World position of node `i`: the polygon's own corners exactly, the others in its plane.
+    fn world(&self, polygon: &Polygon, i: usize) -> DVec3 {
+        let n = polygon.world.len();
+        match (i < n, self.outward) {
+            (true, false) => polygon.world[i],
+            (true, true) => polygon.world[n - 1 - i],
+            _ => polygon.frame.lift(self.skeleton.nodes[i].p, 0.0),
+        }
+    }
 }

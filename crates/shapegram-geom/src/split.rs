@@ -397,11 +397,18 @@ fn add_cap_faces(part: &mut Mesh, loops: &[Vec<u32>], positions: &[DVec3], norma
         .partition(|l| area(l) > 0.0);
     let mut holes_of: Vec<Vec<&Vec<u32>>> = vec![Vec::new(); outer.len()];
     for hole in holes {
-        let probe = flat(hole[0]);
+        // A hole may touch its outline at a vertex (a cut through a corner of a tube's inner
+        // wall), so probe with a hole vertex that is not on the outline.
+        let inside = |o: &Vec<u32>| {
+            let polygon: Vec<glam::DVec2> = o.iter().map(|&i| flat(i)).collect();
+            hole.iter()
+                .find(|v| !o.contains(v))
+                .is_some_and(|&v| contains(&polygon, flat(v)))
+        };
         let host = outer
             .iter()
             .enumerate()
-            .filter(|(_, o)| contains(&o.iter().map(|&i| flat(i)).collect::<Vec<_>>(), probe))
+            .filter(|(_, o)| inside(o))
             .min_by(|a, b| area(a.1).total_cmp(&area(b.1)))
             .map(|(i, _)| i);
         if let Some(i) = host {

@@ -30,23 +30,59 @@ impl Triangulator {
         if n == 3 && hole_starts.is_empty() {
             return vec![[0, 1, 2]];
         }
-        if hole_starts.is_empty() && is_convex(points) {
-            // Collinear corners would give slivers of zero area; the other fan triangles cover.
-            // The test is on the sine of the angle at the hub, so the thin but real triangles of
-            // a finely divided circle are kept.
-            return (1..n as u32 - 1)
-                .map(|i| [0, i, i + 1])
-                .filter(|t| {
-                    let [a, b, c] = t.map(|i| points[i as usize]);
-                    let (ab, ac) = (b - a, c - a);
-                    ab.cross(ac).length() > 1e-12 * ab.length() * ac.length()
-                })
-                .collect();
-        }
         let normal = newell(points[..outer_len].iter().copied()).normalize_or_zero();
+        if hole_starts.is_empty() && is_convex(points) {
+            let mut fan: Vec<[u32; 3]> = (1..n as u32 - 1).map(|i| [0, i, i + 1]).collect();
+            // The test is on the sine of the angle at the hub, so the thin but real triangles of
+            // a finely divided circle count as proper.
+            let proper = |t: &[u32; 3]| {
+                let [a, b, c] = t.map(|i| points[i as usize]);
+                let (ab, ac) = (b - a, c - a);
+                ab.cross(ac).length() > 1e-12 * ab.length() * ac.length()
+            };
+            if fan.iter().all(proper) || normal == DVec3::ZERO {
+                fan.retain(proper);
+                return fan;
+            }
+            // Corners on a straight line give fan triangles of zero area; dropping them alone
+            // would leave those corners in the middle of other triangles' edges.
+            self.flatten(points, normal);
+            let flat: Vec<DVec2> = self.flat.iter().map(|f| DVec2::new(f[0], f[1])).collect();
+            make_conforming(&mut fan, &flat);
+            return fan;
+        }
         if normal == DVec3::ZERO {
             return Vec::new();
         }
+        self.flatten(points, normal);
+        let holes: Vec<u32> = hole_starts.iter().map(|&h| h as u32).collect();
+        self.earcut.earcut_slice(&self.flat, &holes, &mut self.out);
+        let flat: Vec<DVec2> = self.flat.iter().map(|f| DVec2::new(f[0], f[1])).collect();
+        // Earcut winds all its triangles one way, either way; make them agree with the outer
+        // loop. Decided once for all: the sign of a zero-area triangle is noise.
+        let twice_area = |t: &[u32]| {
+            let [a, b, c] = [t[0], t[1], t[2]].map(|i| flat[i as usize]);
+            (b - a).perp_dot(c - a)
+        };
+        let reversed = self.out.chunks_exact(3).map(twice_area).sum::<f64>() < 0.0;
+        let mut triangles: Vec<[u32; 3]> = self
+            .out
+            .chunks_exact(3)
+            .map(|t| {
+                if reversed {
+                    [t[0], t[2], t[1]]
+                } else {
+                    [t[0], t[1], t[2]]
+                }
+            })
+            .collect();
+        make_conforming(&mut triangles, &flat);
+        widen_needles(&mut triangles, &flat);
+        triangles
+    }
+
+    /// Fills `flat` with the points in plane coordinates about the unit `normal`.
+    fn flatten(&mut self, points: &[DVec3], normal: DVec3) {
         let (u, v) = plane_basis(normal);
         let origin = points[0];
         self.flat.clear();
@@ -54,24 +90,103 @@ impl Triangulator {
             let d = p - origin;
             [d.dot(u), d.dot(v)]
         }));
-        let holes: Vec<u32> = hole_starts.iter().map(|&h| h as u32).collect();
-        self.earcut.earcut_slice(&self.flat, &holes, &mut self.out);
-        // Earcut may wind either way; make every triangle agree with the outer loop.
-        self.out
-            .chunks_exact(3)
-            .map(|t| {
-                let tri = [t[0], t[1], t[2]];
-                let [a, b, c] = tri.map(|i| {
-                    let f = self.flat[i as usize];
-                    DVec2::new(f[0], f[1])
-                });
-                if (b - a).perp_dot(c - a) < 0.0 {
-                    [tri[0], tri[2], tri[1]]
-                } else {
-                    tri
-                }
+    }
+}
+
+/// Makes earcut's triangles conforming and free of zero-area triangles. Where a polygon has
+/// corners on a straight line (along a roof ridge, a stepped footprint, a cap through a straight
+/// wall) earcut may fill the straight angle at a corner with a zero-area triangle while a triangle
+/// on the other side runs straight past that corner, drop the corner altogether, or leave two
+/// triangles whose edges overlap along the line. Dropping the slivers and splitting every triangle
+/// whose edge passes through a corner at that corner keeps the triangles covering the polygon and
+/// makes them share whole edges again, each with area. The scan is O(triangles · corners).
+fn make_conforming(triangles: &mut Vec<[u32; 3]>, flat: &[DVec2]) {
+    // `c` within 10⁻¹² · |ab| of the line through `a` and `b`. A triangle is a sliver when a corner
+    // is that close to its longest edge, the same test that finds corners on edges below.
+    let on_line = |a: DVec2, b: DVec2, c: DVec2| {
+        (b - a).perp_dot(c - a).abs() <= 1e-12 * a.distance_squared(b)
+    };
+    let sliver = |t: &[u32; 3]| {
+        let [a, b, c] = t.map(|i| flat[i as usize]);
+        let longest = [(a, b, c), (b, c, a), (c, a, b)]
+            .into_iter()
+            .max_by(|x, y| {
+                x.0.distance_squared(x.1)
+                    .total_cmp(&y.0.distance_squared(y.1))
+            });
+        longest.is_none_or(|(p, q, r)| on_line(p, q, r))
+    };
+    triangles.retain(|t| !sliver(t));
+    // Each split removes one corner from the inside of an edge, so this ends.
+    let mut k = 0;
+    while k < triangles.len() {
+        let t = triangles[k];
+        let split = (0..3).find_map(|e| {
+            let (p, q) = (t[e], t[(e + 1) % 3]);
+            let (a, b) = (flat[p as usize], flat[q as usize]);
+            (0..flat.len() as u32).find_map(|v| {
+                let c = flat[v as usize];
+                let along = (c - a).dot(b - a);
+                (!t.contains(&v)
+                    && along > 0.0
+                    && along < a.distance_squared(b)
+                    && on_line(a, b, c))
+                .then_some((e, v))
             })
-            .collect()
+        });
+        match split {
+            Some((e, v)) => {
+                let (p, q, r) = (t[e], t[(e + 1) % 3], t[(e + 2) % 3]);
+                triangles[k] = [p, v, r];
+                triangles.push([v, q, r]);
+            }
+            None => k += 1,
+        }
+    }
+}
+
+/// Flips inner edges while that makes the smaller of the two triangles on them larger. Ear
+/// clipping may cut a needle off a nearly straight corner although the polygon allows triangles
+/// with area there; flipping the needle's inner edge removes it. The polygon's own edges are
+/// never flipped. Every flip raises the sorted list of triangle areas, so flips cannot cycle.
+fn widen_needles(triangles: &mut [[u32; 3]], flat: &[DVec2]) {
+    let mut owner: rustc_hash::FxHashMap<(u32, u32), usize> = rustc_hash::FxHashMap::default();
+    for (t, tri) in triangles.iter().enumerate() {
+        for k in 0..3 {
+            owner.insert((tri[k], tri[(k + 1) % 3]), t);
+        }
+    }
+    let mut pending: Vec<(u32, u32)> = owner.keys().copied().filter(|(x, y)| x < y).collect();
+    let p = |i: u32| flat[i as usize];
+    let twice_area = |a: u32, b: u32, c: u32| (p(b) - p(a)).perp_dot(p(c) - p(a));
+    while let Some((x, y)) = pending.pop() {
+        let (Some(&t1), Some(&t2)) = (owner.get(&(x, y)), owner.get(&(y, x))) else {
+            continue;
+        };
+        let third = |t: [u32; 3]| t.into_iter().find(|&v| v != x && v != y);
+        let (Some(a), Some(b)) = (third(triangles[t1]), third(triangles[t2])) else {
+            continue;
+        };
+        // t1 = x y a and t2 = y x b, counter-clockwise; the flip gives x b a and b y a.
+        let before = twice_area(x, y, a).min(twice_area(y, x, b));
+        let after = twice_area(x, b, a).min(twice_area(b, y, a));
+        if after <= before * (1.0 + 1e-9) || after <= 0.0 {
+            continue;
+        }
+        for tri in [triangles[t1], triangles[t2]] {
+            for k in 0..3 {
+                owner.remove(&(tri[k], tri[(k + 1) % 3]));
+            }
+        }
+        triangles[t1] = [x, b, a];
+        triangles[t2] = [b, y, a];
+        for t in [t1, t2] {
+            let tri = triangles[t];
+            for k in 0..3 {
+                owner.insert((tri[k], tri[(k + 1) % 3]), t);
+            }
+        }
+        pending.extend([(x, b), (b, y), (y, a), (a, x)]);
     }
 }
 

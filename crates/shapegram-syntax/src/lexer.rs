@@ -4,7 +4,14 @@
 //! it is the first on its line, which error recovery uses to find the next declaration.
 //! Dotted names (`scope.sx`, `volume.Slab`) are single identifiers: a `.` joins two names only
 //! when a letter or `_` follows it directly, so `Glass.` lexes as `Glass` and a terminal `.`.
+//!
+//! The dialects add a few tokens. The Müller notation reads the rule arrows `~>`, `\leadsto`,
+//! `\rightarrow`, `→`, `⇝` (besides `-->`), the empty word `ε`, `ϵ`, `\epsilon`, `epsilon`,
+//! relative numbers `1r`, and ignores the `$` of LaTeX maths as printed in papers. In both the
+//! Müller and the SGL notation, the escapes `\{` and `\}` of printed grammars are reported and
+//! read as braces.
 
+use crate::ast::Dialect;
 use crate::{Diagnostic, Span};
 
 /// What a token is.
@@ -14,6 +21,10 @@ pub(crate) enum TokenKind {
     Ident,
     /// A number literal.
     Number(f64),
+    /// A relative number `1r` (Müller notation only).
+    RelNumber(f64),
+    /// The empty word `ε` (Müller notation only).
+    Epsilon,
     /// A double-quoted string with escapes resolved.
     Str(String),
     /// `-->`
@@ -94,9 +105,10 @@ pub(crate) struct Token {
 }
 
 /// Splits `text` into tokens (ending with [`TokenKind::Eof`]) and reports malformed input.
-pub(crate) fn lex(text: &str) -> (Vec<Token>, Vec<Diagnostic>) {
+pub(crate) fn lex(text: &str, dialect: Dialect) -> (Vec<Token>, Vec<Diagnostic>) {
     let mut lexer = Lexer {
         text,
+        dialect,
         pos: 0,
         line_start: true,
         tokens: Vec::new(),
@@ -108,6 +120,7 @@ pub(crate) fn lex(text: &str) -> (Vec<Token>, Vec<Diagnostic>) {
 
 struct Lexer<'a> {
     text: &'a str,
+    dialect: Dialect,
     pos: usize,
     line_start: bool,
     tokens: Vec<Token>,
@@ -173,6 +186,8 @@ impl Lexer<'_> {
                 '"' => self.string(),
                 c if c.is_ascii_digit() => self.number(),
                 '.' if self.peek_at(1).is_some_and(|c| c.is_ascii_digit()) => self.number(),
+                '\\' if self.dialect != Dialect::Cga => self.latex(start),
+                c if self.dialect == Dialect::Muller2006 && self.muller_symbol(c, start) => {}
                 c if is_ident_start(c) => self.ident(),
                 _ => self.punct(start),
             }
@@ -284,6 +299,13 @@ impl Lexer<'_> {
         let span = Span::new(start, self.pos);
         // Only digits, one `.` and an exponent were consumed, so parsing cannot fail.
         let value: f64 = self.text[span.range()].parse().unwrap_or(0.0);
+        // `1r` in the Müller notation: a relative size.
+        let relative = self.dialect == Dialect::Muller2006
+            && self.peek() == Some('r')
+            && !self.peek_at(1).is_some_and(is_ident_continue);
+        if relative {
+            self.bump();
+        }
         let value = if value.is_finite() {
             value
         } else {
@@ -293,7 +315,12 @@ impl Lexer<'_> {
             );
             0.0
         };
-        self.push(TokenKind::Number(value), start);
+        let kind = if relative {
+            TokenKind::RelNumber(value)
+        } else {
+            TokenKind::Number(value)
+        };
+        self.push(kind, start);
     }
 
     fn ident(&mut self) {
@@ -306,7 +333,85 @@ impl Lexer<'_> {
                 break;
             }
         }
-        self.push(TokenKind::Ident, start);
+        let word = &self.text[start..self.pos];
+        let kind = if self.dialect == Dialect::Muller2006 && matches!(word, "epsilon" | "ε") {
+            TokenKind::Epsilon
+        } else {
+            TokenKind::Ident
+        };
+        self.push(kind, start);
+    }
+
+    /// Symbols of the Müller notation that are not ASCII punctuation: `~>`, arrows, `ϵ`, and
+    /// the `$` of LaTeX maths (skipped). Returns whether `c` was one.
+    fn muller_symbol(&mut self, c: char, start: usize) -> bool {
+        match c {
+            '$' => {
+                self.bump();
+            }
+            '~' if self.peek_at(1) == Some('>') => {
+                self.pos += 2;
+                self.push(TokenKind::Arrow, start);
+            }
+            '→' | '⇝' | '⟶' | '↝' => {
+                self.bump();
+                self.push(TokenKind::Arrow, start);
+            }
+            'ϵ' => {
+                self.bump();
+                self.push(TokenKind::Epsilon, start);
+            }
+            _ => return false,
+        }
+        true
+    }
+
+    /// A backslash in a dialect: a LaTeX command as printed in papers (`\leadsto`,
+    /// `\epsilon`) or an escaped brace `\{`.
+    fn latex(&mut self, start: usize) {
+        self.bump();
+        if let Some(brace @ ('{' | '}')) = self.peek() {
+            self.bump();
+            let kind = if brace == '{' {
+                TokenKind::LBrace
+            } else {
+                TokenKind::RBrace
+            };
+            self.diagnostics.push(
+                Diagnostic::error(
+                    format!("`\\{brace}` is a LaTeX escape"),
+                    Span::new(start, self.pos),
+                )
+                .with_label("read as a brace")
+                .with_hint(format!("write `{brace}` without the backslash")),
+            );
+            self.push(kind, start);
+            return;
+        }
+        self.eat_while(|c| c.is_ascii_alphabetic());
+        let command = &self.text[start + 1..self.pos];
+        let kind = match command {
+            "leadsto" | "rightarrow" | "to" | "longrightarrow" | "rightsquigarrow"
+                if self.dialect == Dialect::Muller2006 =>
+            {
+                TokenKind::Arrow
+            }
+            "epsilon" | "varepsilon" if self.dialect == Dialect::Muller2006 => TokenKind::Epsilon,
+            _ => {
+                let shown: String = format!("\\{command}").chars().take(20).collect();
+                let d = Diagnostic::error(
+                    format!("unexpected `{shown}`"),
+                    Span::new(start, self.pos.max(start + 1)),
+                );
+                self.diagnostics.push(if self.dialect == Dialect::Muller2006 {
+                    d.with_hint("the LaTeX commands read here are `\\leadsto`, `\\rightarrow` and `\\epsilon`")
+                } else {
+                    d
+                });
+                return;
+            }
+        };
+        self.push(kind, start);
     }
 
     fn punct(&mut self, start: usize) {

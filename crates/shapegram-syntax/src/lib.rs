@@ -1,16 +1,21 @@
 //! Shapegram's grammar language: lexer, parser, typed AST with spans, and diagnostics.
 //!
-//! [`parse`] reads the main (CGA-style) syntax into an [`ast::Grammar`]; it never panics and
-//! reports as many problems per file as it can, each as a [`Diagnostic`] that
-//! [`SourceFile::render`] prints rustc-style.
+//! [`parse`] reads a grammar into an [`ast::Grammar`]; it never panics and reports as many
+//! problems per file as it can, each as a [`Diagnostic`] that [`SourceFile::render`] prints
+//! rustc-style. Three notations are read: the main (CGA-style) syntax, the notation of Müller et
+//! al. 2006 and the SGL notation; [`detect()`] tells them apart and [`parse_as`] forces one. The
+//! dialects are lowered to the same AST, with spans into the original text.
 
 pub mod ast;
+mod detect;
 pub mod diagnostic;
 mod lexer;
 mod parser;
 pub mod source;
 mod suggest;
 
+pub use ast::Dialect;
+pub use detect::detect;
 pub use diagnostic::{Diagnostic, Severity};
 pub use source::SourceFile;
 pub use suggest::suggest;
@@ -63,10 +68,16 @@ impl Parsed {
     }
 }
 
-/// Parses a grammar in the main (CGA-style) syntax. Never panics; after an error it recovers
-/// and keeps going, so one run reports several errors.
+/// Parses a grammar, in the notation [`detect()`] finds in its text. Never panics; after an error
+/// it recovers and keeps going, so one run reports several errors.
 pub fn parse(source: &SourceFile) -> Parsed {
-    let (grammar, diagnostics) = parser::parse_cga(source.text());
+    parse_as(source, detect(source.text()))
+}
+
+/// Parses a grammar written in `dialect`, lowering the Müller and SGL notations to the common
+/// AST (see `docs/dialects.md`). Never panics; spans point into the original text.
+pub fn parse_as(source: &SourceFile, dialect: Dialect) -> Parsed {
+    let (grammar, diagnostics) = parser::parse_dialect(source.text(), dialect);
     Parsed {
         grammar,
         diagnostics,

@@ -19,7 +19,7 @@ pub fn run(args: &CheckArgs) -> Result<(), Failure> {
                 continue;
             }
         };
-        let compiled = grammar::compile(&source, !args.quiet_warnings);
+        let compiled = grammar::compile(&source, !args.quiet_warnings, args.dialect.dialect());
         if compiled.program.is_some() && compiled.errors == 0 {
             eprintln!(
                 "ok: {} ({}, {}, {})",

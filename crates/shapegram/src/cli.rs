@@ -3,6 +3,7 @@
 use std::path::PathBuf;
 
 use clap::{Args, Parser, Subcommand, ValueEnum};
+use shapegram_syntax::Dialect;
 
 /// Procedural modelling with shape grammars.
 #[derive(Debug, Parser)]
@@ -67,7 +68,9 @@ pub enum Command {
     #[command(
         long_about = "Derive a model from a grammar and write it as GLB, OBJ or STL.\n\n\
             The grammar is parsed and compiled first; its errors and warnings are printed\n\
-            rustc-style on stderr, and any error stops the command (exit code 1).\n\n\
+            rustc-style on stderr, and any error stops the command (exit code 1). Grammars may be\n\
+            written in the main CGA-style syntax, in the notation of Müller et al. 2006 or in\n\
+            SGL; the notation is detected from the text unless --dialect names it.\n\n\
             Each initial shape (lot) is a footprint polygon at y = 0, facing up (y is up; x\n\
             and z span the ground). Lots come from --lot and --lots, in that order; without\n\
             either, one default lot of 20 × 30 is used (x from 0 to 20, z from 0 to 30).\n\
@@ -82,7 +85,8 @@ pub enum Command {
             shapegram derive house.cga --attr height=20 --seed 3 -o tall.obj\n  \
             shapegram derive house.cga --lot \"0,0 30,0 30,12 12,12 12,25 0,25\" -o l-house.glb\n  \
             shapegram derive house.cga --lots parcels.geojson --group -o block.glb\n  \
-            shapegram derive house.cga --stats -q | jq .rules"
+            shapegram derive house.cga --stats -q | jq .rules\n  \
+            shapegram derive menger.sgl --dialect sgl -o menger.glb"
     )]
     Derive(DeriveArgs),
     /// Report the errors and warnings of grammar files without deriving them
@@ -230,6 +234,14 @@ pub struct DeriveArgs {
     /// Do not print warnings and the summary line on stderr
     #[arg(short, long)]
     pub quiet: bool,
+    /// The notation of the grammar [default: detected from its text]
+    #[arg(
+        long,
+        value_name = "DIALECT",
+        default_value = "auto",
+        hide_default_value = true
+    )]
+    pub dialect: DialectArg,
 }
 
 /// Arguments of `shapegram check`.
@@ -241,6 +253,40 @@ pub struct CheckArgs {
     /// Count warnings but do not print them
     #[arg(long)]
     pub quiet_warnings: bool,
+    /// The notation of the grammars [default: detected from each file's text]
+    #[arg(
+        long,
+        value_name = "DIALECT",
+        default_value = "auto",
+        hide_default_value = true
+    )]
+    pub dialect: DialectArg,
+}
+
+/// The notations `--dialect` names.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, ValueEnum)]
+pub enum DialectArg {
+    /// Detect the notation from the text
+    #[default]
+    Auto,
+    /// The main, CGA-style syntax (`Lot --> extrude(10) Mass`)
+    Cga,
+    /// The notation of Müller et al. 2006 (`lot ~> Subdiv("X", 2, 1r){ A | B }`)
+    Muller,
+    /// The SGL notation (`rule: { T(0, 1, 0) PlaceShape("Cube") }`)
+    Sgl,
+}
+
+impl DialectArg {
+    /// The dialect to read, `None` to detect it.
+    pub fn dialect(self) -> Option<Dialect> {
+        match self {
+            Self::Auto => None,
+            Self::Cga => Some(Dialect::Cga),
+            Self::Muller => Some(Dialect::Muller2006),
+            Self::Sgl => Some(Dialect::Sgl),
+        }
+    }
 }
 
 /// Splits `--attr name=value` at the first `=`.
@@ -263,9 +309,10 @@ fn parse_timeout(text: &str) -> Result<f64, String> {
 
 #[cfg(test)]
 mod tests {
-    use clap::CommandFactory;
+    use clap::{CommandFactory, Parser};
+    use shapegram_syntax::Dialect;
 
-    use super::{Cli, parse_attr, parse_timeout};
+    use super::{Cli, Command, DialectArg, parse_attr, parse_timeout};
 
     #[test]
     fn clap_definition_is_consistent() {
@@ -288,5 +335,35 @@ mod tests {
         for bad in ["-1", "NaN", "inf", "soon", "1e300"] {
             assert!(parse_timeout(bad).is_err(), "{bad}");
         }
+    }
+
+    #[test]
+    fn dialects_are_named_or_detected() {
+        let dialect = |args: &[&str]| match Cli::try_parse_from(args).map(|cli| cli.command) {
+            Ok(Command::Check(args)) => Ok(args.dialect),
+            Ok(Command::Derive(args)) => Ok(args.dialect),
+            Ok(other) => panic!("{other:?}"),
+            Err(e) => Err(e.kind()),
+        };
+        assert_eq!(
+            dialect(&["shapegram", "check", "a.cga"]),
+            Ok(DialectArg::Auto)
+        );
+        assert_eq!(
+            dialect(&["shapegram", "check", "--dialect", "muller", "a.txt"]),
+            Ok(DialectArg::Muller)
+        );
+        assert_eq!(
+            dialect(&["shapegram", "derive", "t.txt", "--dialect=sgl"]),
+            Ok(DialectArg::Sgl)
+        );
+        assert_eq!(
+            dialect(&["shapegram", "derive", "t.txt", "--dialect", "mueller"]),
+            Err(clap::error::ErrorKind::InvalidValue)
+        );
+        assert_eq!(DialectArg::Auto.dialect(), None);
+        assert_eq!(DialectArg::Cga.dialect(), Some(Dialect::Cga));
+        assert_eq!(DialectArg::Muller.dialect(), Some(Dialect::Muller2006));
+        assert_eq!(DialectArg::Sgl.dialect(), Some(Dialect::Sgl));
     }
 }

@@ -30,7 +30,8 @@ pub fn run(args: &DeriveArgs) -> Result<(), Failure> {
         }
     }
     let source = grammar::read(&args.grammar)?;
-    let program = grammar::compile(&source, !args.quiet).into_program(&source)?;
+    let program =
+        grammar::compile(&source, !args.quiet, args.dialect.dialect()).into_program(&source)?;
 
     let folder = args.grammar.parent().unwrap_or(Path::new("")).to_path_buf();
     let options = DeriveOptions {
@@ -46,6 +47,7 @@ pub fn run(args: &DeriveArgs) -> Result<(), Failure> {
         time_budget: (args.timeout > 0.0).then(|| Duration::from_secs_f64(args.timeout)),
         generations: args.generations,
         assets: Some(Arc::new(FileAssets::new(folder))),
+        keep_tree: false,
     };
 
     let started = Instant::now();

@@ -3,7 +3,7 @@
 use std::path::Path;
 
 use shapegram_eval::Program;
-use shapegram_syntax::{Diagnostic, SourceFile, ast};
+use shapegram_syntax::{Diagnostic, Dialect, SourceFile, ast};
 
 use crate::{Failure, counted};
 
@@ -49,11 +49,15 @@ pub fn read(path: &Path) -> Result<SourceFile, Failure> {
     Ok(SourceFile::new(name, text))
 }
 
-/// Parses and compiles a grammar and prints its diagnostics on stderr: errors always, warnings
-/// when `print_warnings`. A grammar with parse errors is not compiled, so that declarations the
-/// parser had to skip do not show up again as unknown names.
-pub fn compile(source: &SourceFile, print_warnings: bool) -> Compiled {
-    let parsed = shapegram_syntax::parse(source);
+/// Parses and compiles a grammar in the given notation (`None`: detect it from the text) and
+/// prints its diagnostics on stderr: errors always, warnings when `print_warnings`. A grammar
+/// with parse errors is not compiled, so that declarations the parser had to skip do not show up
+/// again as unknown names.
+pub fn compile(source: &SourceFile, print_warnings: bool, dialect: Option<Dialect>) -> Compiled {
+    let parsed = match dialect {
+        Some(dialect) => shapegram_syntax::parse_as(source, dialect),
+        None => shapegram_syntax::parse(source),
+    };
     let mut diagnostics = parsed.diagnostics;
     let program = if diagnostics.iter().any(Diagnostic::is_error) {
         None

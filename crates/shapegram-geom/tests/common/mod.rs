@@ -65,8 +65,112 @@ pub fn tube() -> Mesh {
 
 /// The footprint of `(x, z)` points extruded up by `height`.
 fn prism(outline: &[(f64, f64)], height: f64) -> Mesh {
+    extrude_polygon(&footprint_loop(outline), height).unwrap()
+}
+
+/// A horizontal polygon at y = 0 from `(x, z)` points in either winding, counter-clockwise about
+/// +y (facing up), as footprints are.
+pub fn footprint_loop(outline: &[(f64, f64)]) -> Vec<DVec3> {
     let points: Vec<DVec2> = outline.iter().map(|&(x, z)| DVec2::new(x, z)).collect();
-    let footprint = primitives::footprint(&points).unwrap();
-    let loop_: Vec<DVec3> = footprint.face_points(0).collect();
-    extrude_polygon(&loop_, height).unwrap()
+    primitives::footprint(&points)
+        .unwrap()
+        .face_points(0)
+        .collect()
+}
+
+/// The L of [`l_prism`] as a footprint loop: the 4×4 square minus `[2,4]×[2,4]`, area 12.
+pub fn l_footprint() -> Vec<DVec3> {
+    footprint_loop(&[
+        (0.0, 0.0),
+        (4.0, 0.0),
+        (4.0, 2.0),
+        (2.0, 2.0),
+        (2.0, 4.0),
+        (0.0, 4.0),
+    ])
+}
+
+/// Area of a planar polygon.
+pub fn polygon_area(points: &[DVec3]) -> f64 {
+    shapegram_geom::mesh::newell(points.iter().copied()).length() * 0.5
+}
+
+/// The outline of a polyomino grown from cell (0, 0) by adding, in turn, the neighbour of an
+/// existing cell picked by each `(cell, side)` choice, as a footprint (unit cells in x and z).
+/// `None` when the cells enclose a hole or touch only at a corner somewhere (the outline would not
+/// be a simple polygon).
+pub fn polyomino(choices: &[(usize, u8)]) -> Option<Vec<DVec3>> {
+    use std::collections::{BTreeMap, BTreeSet};
+    let mut cells: Vec<(i32, i32)> = vec![(0, 0)];
+    for &(pick, side) in choices {
+        let (x, z) = cells[pick % cells.len()];
+        let next = match side % 4 {
+            0 => (x + 1, z),
+            1 => (x - 1, z),
+            2 => (x, z + 1),
+            _ => (x, z - 1),
+        };
+        if !cells.contains(&next) {
+            cells.push(next);
+        }
+    }
+    let set: BTreeSet<(i32, i32)> = cells.iter().copied().collect();
+    // Holes: empty cells inside the bounding box not reachable from outside it.
+    let (x0, x1) = (
+        set.iter().map(|c| c.0).min()? - 1,
+        set.iter().map(|c| c.0).max()? + 1,
+    );
+    let (z0, z1) = (
+        set.iter().map(|c| c.1).min()? - 1,
+        set.iter().map(|c| c.1).max()? + 1,
+    );
+    let mut outside = BTreeSet::from([(x0, z0)]);
+    let mut stack = vec![(x0, z0)];
+    while let Some((x, z)) = stack.pop() {
+        for n in [(x + 1, z), (x - 1, z), (x, z + 1), (x, z - 1)] {
+            if n.0 >= x0
+                && n.0 <= x1
+                && n.1 >= z0
+                && n.1 <= z1
+                && !set.contains(&n)
+                && outside.insert(n)
+            {
+                stack.push(n);
+            }
+        }
+    }
+    let area = ((x1 - x0 + 1) * (z1 - z0 + 1)) as usize;
+    if outside.len() + set.len() != area {
+        return None;
+    }
+    // Boundary edges of the cells, counter-clockwise in (x, z), where no neighbour cell is.
+    let mut next: BTreeMap<(i32, i32), (i32, i32)> = BTreeMap::new();
+    for &(x, z) in &set {
+        let sides = [
+            ((x, z), (x + 1, z), (x, z - 1)),
+            ((x + 1, z), (x + 1, z + 1), (x + 1, z)),
+            ((x + 1, z + 1), (x, z + 1), (x, z + 1)),
+            ((x, z + 1), (x, z), (x - 1, z)),
+        ];
+        for (a, b, neighbour) in sides {
+            if !set.contains(&neighbour) && next.insert(a, b).is_some() {
+                return None; // two outline edges leave one corner: cells touch at a corner
+            }
+        }
+    }
+    let start = *next.keys().next()?;
+    let mut outline = vec![start];
+    let mut at = next[&start];
+    while at != start {
+        outline.push(at);
+        at = next[&at];
+    }
+    if outline.len() != next.len() {
+        return None;
+    }
+    let points: Vec<(f64, f64)> = outline
+        .iter()
+        .map(|&(x, z)| (f64::from(x), f64::from(z)))
+        .collect();
+    Some(footprint_loop(&points))
 }

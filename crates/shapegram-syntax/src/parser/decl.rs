@@ -36,7 +36,7 @@ impl Parser<'_> {
         }
     }
 
-    fn annotations(&mut self) -> PResult<Vec<Annotation>> {
+    pub(super) fn annotations(&mut self) -> PResult<Vec<Annotation>> {
         let mut annotations = Vec::new();
         while let Some(at) = self.eat(&TokenKind::At) {
             if *self.peek() != TokenKind::Ident {
@@ -57,7 +57,11 @@ impl Parser<'_> {
         Ok(annotations)
     }
 
-    fn declaration(&mut self, grammar: &mut Grammar, annotations: Vec<Annotation>) -> PResult<()> {
+    pub(super) fn declaration(
+        &mut self,
+        grammar: &mut Grammar,
+        annotations: Vec<Annotation>,
+    ) -> PResult<()> {
         match self.peek() {
             TokenKind::Eof if !annotations.is_empty() => {
                 Err(self.error_expected("a declaration", "after the annotation"))
@@ -207,7 +211,7 @@ impl Parser<'_> {
     }
 
     /// `Name(params) --> body`, `name(params) = expr` or `name = expr`.
-    fn rule_or_function(
+    pub(super) fn rule_or_function(
         &mut self,
         grammar: &mut Grammar,
         annotations: Vec<Annotation>,
@@ -317,7 +321,7 @@ impl Parser<'_> {
     }
 
     /// `(a, b)` after a rule or function name, if present.
-    fn optional_params(&mut self) -> PResult<Option<Vec<Ident>>> {
+    pub(super) fn optional_params(&mut self) -> PResult<Option<Vec<Ident>>> {
         if !self.at(&TokenKind::LParen) {
             return Ok(None);
         }

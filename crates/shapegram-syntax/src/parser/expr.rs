@@ -245,6 +245,14 @@ impl Parser<'_> {
                 self.bump();
                 ExprKind::Number(n)
             }
+            // `1r` of the Müller notation; what it means depends on the operation.
+            TokenKind::RelNumber(n) => {
+                self.bump();
+                ExprKind::Relative(Box::new(Expr {
+                    kind: ExprKind::Number(n),
+                    span,
+                }))
+            }
             TokenKind::Str(s) => {
                 self.bump();
                 ExprKind::String(s)
@@ -346,6 +354,7 @@ impl Parser<'_> {
     pub(super) fn at_expression_start(&self) -> bool {
         match self.peek() {
             TokenKind::Number(_)
+            | TokenKind::RelNumber(_)
             | TokenKind::Str(_)
             | TokenKind::LParen
             | TokenKind::LBracket

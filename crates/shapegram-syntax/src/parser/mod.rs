@@ -11,10 +11,13 @@
 //! overflow the stack nor produce unbounded output.
 
 mod body;
+mod build;
 mod decl;
 mod expr;
+mod muller;
+mod sgl;
 
-use crate::ast::Grammar;
+use crate::ast::{self, Dialect, Grammar};
 use crate::lexer::{Token, TokenKind};
 use crate::{Diagnostic, Span};
 
@@ -54,15 +57,23 @@ struct Checkpoint {
     last_end: u32,
 }
 
-/// Parses CGA-style source text into a grammar and diagnostics (lexer ones included).
-pub(crate) fn parse_cga(src: &str) -> (Grammar, Vec<Diagnostic>) {
-    let (tokens, lex_diagnostics) = crate::lexer::lex(src);
-    let mut parser = Parser::new(src, tokens);
+/// Parses source text written in `dialect` into a grammar in the common AST, and diagnostics
+/// (lexer ones included).
+pub(crate) fn parse_dialect(src: &str, dialect: Dialect) -> (Grammar, Vec<Diagnostic>) {
+    let (tokens, lex_diagnostics) = crate::lexer::lex(src, dialect);
+    let mut parser = Parser::new(src, tokens, dialect);
     for d in lex_diagnostics {
         parser.report(d);
     }
-    let mut grammar = Grammar::default();
-    parser.declarations(&mut grammar, false);
+    let mut grammar = Grammar {
+        dialect,
+        ..Grammar::default()
+    };
+    match dialect {
+        Dialect::Cga => parser.declarations(&mut grammar, false),
+        Dialect::Muller2006 => parser.muller_file(&mut grammar),
+        Dialect::Sgl => parser.sgl_file(&mut grammar),
+    }
     let mut diagnostics = parser.diagnostics;
     diagnostics.sort_by_key(|d| d.span.start);
     diagnostics.extend(parser.overflow);
@@ -72,6 +83,8 @@ pub(crate) fn parse_cga(src: &str) -> (Grammar, Vec<Diagnostic>) {
 /// The parser's state: tokens, position and reported diagnostics.
 pub(crate) struct Parser<'a> {
     src: &'a str,
+    /// The notation being read; it decides where declarations start.
+    dialect: Dialect,
     tokens: Vec<Token>,
     /// For each `(` token, the index of its matching `)`, or `u32::MAX`.
     closing: Vec<u32>,
@@ -87,10 +100,13 @@ pub(crate) struct Parser<'a> {
     diagnostics: Vec<Diagnostic>,
     /// The "too many errors" note, kept apart so it stays last after sorting.
     overflow: Option<Diagnostic>,
+    /// Müller notation: the rule whose body is being read (its name and parameters), for
+    /// lowering `I(…)`.
+    muller_rule: Option<(ast::Ident, Vec<ast::Ident>)>,
 }
 
 impl<'a> Parser<'a> {
-    fn new(src: &'a str, tokens: Vec<Token>) -> Self {
+    fn new(src: &'a str, tokens: Vec<Token>, dialect: Dialect) -> Self {
         let mut closing = vec![u32::MAX; tokens.len()];
         let mut open = Vec::new();
         for (i, t) in tokens.iter().enumerate() {
@@ -106,6 +122,7 @@ impl<'a> Parser<'a> {
         }
         Self {
             src,
+            dialect,
             tokens,
             closing,
             pos: 0,
@@ -116,6 +133,7 @@ impl<'a> Parser<'a> {
             speculating: false,
             diagnostics: Vec::new(),
             overflow: None,
+            muller_rule: None,
         }
     }
 
@@ -182,6 +200,15 @@ impl<'a> Parser<'a> {
 
     /// Whether a declaration starts at token `i`, and which kind.
     fn declaration_start(&self, i: usize) -> Option<Start> {
+        match self.dialect {
+            Dialect::Cga => self.cga_declaration_start(i),
+            Dialect::Muller2006 => self.muller_declaration_start(i),
+            Dialect::Sgl => self.sgl_declaration_start(i),
+        }
+    }
+
+    /// [`Parser::declaration_start`] in the main syntax.
+    fn cga_declaration_start(&self, i: usize) -> Option<Start> {
         match self.kind_at(i) {
             TokenKind::Eof | TokenKind::At => return Some(Start::Strong),
             TokenKind::Ident => {}
