@@ -8,21 +8,7 @@ use crate::{DVec3, Mesh, mesh::newell};
 /// distance of zero (or not finite).
 pub fn extrude_polygon(points: &[DVec3], distance: f64) -> Option<Mesh> {
     let normal = newell(points.iter().copied()).normalize_or_zero();
-    if normal == DVec3::ZERO || distance == 0.0 || !distance.is_finite() {
-        return None;
-    }
-    let base_shift = normal * distance.min(0.0);
-    let lift = normal * distance.abs();
-    let n = points.len() as u32;
-    let mut positions: Vec<DVec3> = points.iter().map(|&p| p + base_shift).collect();
-    positions.extend(points.iter().map(|&p| p + base_shift + lift));
-    let mut mesh = Mesh::from_faces(positions, [(0..n).rev().collect::<Vec<_>>()]);
-    mesh.add_face(&(n..2 * n).collect::<Vec<_>>());
-    for i in 0..n {
-        let j = (i + 1) % n;
-        mesh.add_face(&[i, j, n + j, n + i]);
-    }
-    Some(mesh)
+    extrude_along(points, normal * distance)
 }
 
 /// A copy of `mesh` where face `face` is pushed out along its normal by `distance` and joined to

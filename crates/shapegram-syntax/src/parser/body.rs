@@ -5,9 +5,9 @@
 //! next `else` belongs to the enclosing construct.
 
 use super::{Fail, PResult, Parser, Start};
-use crate::Diagnostic;
 use crate::ast::{Block, BlockEntry, Body, Call, Stmt};
 use crate::lexer::TokenKind;
+use crate::{Diagnostic, Span};
 
 impl Parser<'_> {
     /// A rule body or branch body.
@@ -25,13 +25,7 @@ impl Parser<'_> {
 
     fn cases(&mut self) -> PResult<Body> {
         let start = self.span();
-        let mut arms = Vec::new();
-        while self.at_word("case") {
-            self.bump();
-            let cond = self.ternary()?;
-            self.expect(&TokenKind::Colon, "`:`", "after the case condition")?;
-            arms.push((cond, self.body()?));
-        }
+        let arms = self.case_arms(Self::body)?;
         let otherwise = self.else_body()?;
         Ok(Body::Cases {
             arms,
@@ -124,37 +118,21 @@ impl Parser<'_> {
     /// `{ entry | entry | … }` with an optional `*`. `key` names what the keys are, for errors.
     fn block(&mut self, key: &'static str) -> PResult<Block> {
         self.nested(|p| {
-            let open = p.bump();
-            let mut entries = Vec::new();
-            loop {
-                match p.block_entry(key) {
-                    Ok(entry) => entries.push(entry),
-                    Err(Fail) => p.recover_in_block(),
-                }
-                if p.eat(&TokenKind::Pipe).is_some() {
-                    continue;
-                }
-                if p.at(&TokenKind::RBrace) {
-                    break;
-                }
-                if p.declaration_start(p.pos) == Some(Start::Strong) {
-                    let d = Diagnostic::error("unclosed `{`", open)
-                        .with_label("this block is never closed")
-                        .with_hint("close the block with `}` before the next declaration");
-                    p.report(d);
-                    return Ok(Block {
-                        entries,
-                        repeat: false,
-                        span: p.span_from(open),
-                    });
-                }
-                p.report(p.expected("`|` or `}`", "after the block entry"));
-                p.recover_in_block();
-                if p.eat(&TokenKind::Pipe).is_none() && !p.at(&TokenKind::RBrace) {
-                    return Err(Fail);
-                }
-            }
-            let mut span = open.to(p.bump());
+            let Braced {
+                open,
+                entries,
+                close,
+            } = p.braced("declaration", "after the block entry", |p| {
+                p.block_entry(key)
+            })?;
+            let Some(close) = close else {
+                return Ok(Block {
+                    entries,
+                    repeat: false,
+                    span: p.span_from(open),
+                });
+            };
+            let mut span = open.to(close);
             let repeat = match p.eat(&TokenKind::Star) {
                 Some(star) => {
                     span = span.to(star);
@@ -167,6 +145,55 @@ impl Parser<'_> {
                 repeat,
                 span,
             })
+        })
+    }
+
+    /// `{ entry | entry | … }` from its `{` (the current token) to its `}`, each entry read by
+    /// `entry`; shared by the main syntax's blocks and the Müller notation's. An entry that fails
+    /// is skipped to the next `|` or `}`. A block still open at the next rule or declaration is
+    /// reported as unclosed ("close the block with `}` before the next {`next`}") and ends there,
+    /// without a `close`; `context` says where a missing `|` or `}` was expected.
+    pub(super) fn braced<T>(
+        &mut self,
+        next: &str,
+        context: &str,
+        mut entry: impl FnMut(&mut Self) -> PResult<T>,
+    ) -> PResult<Braced<T>> {
+        let open = self.bump();
+        let mut entries = Vec::new();
+        loop {
+            match entry(self) {
+                Ok(e) => entries.push(e),
+                Err(Fail) => self.recover_in_block(),
+            }
+            if self.eat(&TokenKind::Pipe).is_some() {
+                continue;
+            }
+            if self.at(&TokenKind::RBrace) {
+                break;
+            }
+            if self.declaration_start(self.pos) == Some(Start::Strong) {
+                let d = Diagnostic::error("unclosed `{`", open)
+                    .with_label("this block is never closed")
+                    .with_hint(format!("close the block with `}}` before the next {next}"));
+                self.report(d);
+                return Ok(Braced {
+                    open,
+                    entries,
+                    close: None,
+                });
+            }
+            self.report(self.expected("`|` or `}`", context));
+            self.recover_in_block();
+            if self.eat(&TokenKind::Pipe).is_none() && !self.at(&TokenKind::RBrace) {
+                return Err(Fail);
+            }
+        }
+        let close = Some(self.bump());
+        Ok(Braced {
+            open,
+            entries,
+            close,
         })
     }
 
@@ -202,6 +229,16 @@ impl Parser<'_> {
             body,
         })
     }
+}
+
+/// The entries of a `{ … }` block, as [`Parser::braced`] reads them.
+pub(super) struct Braced<T> {
+    /// The span of the `{`.
+    pub(super) open: Span,
+    /// The entries read, in order; those that failed are left out.
+    pub(super) entries: Vec<T>,
+    /// The span of the `}`; `None` when the block was left unclosed (already reported).
+    pub(super) close: Option<Span>,
 }
 
 /// What the keys of an operation's block are called in messages.

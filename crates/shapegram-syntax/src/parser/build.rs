@@ -87,6 +87,18 @@ pub(super) fn call(
     })
 }
 
+/// `split(axis){ block }`, the lowering of the dialects' subdivisions: its name takes
+/// `name_span`, the span of the operation it stands for (`Subdiv`, `Repeat`, …).
+pub(super) fn split(name_span: Span, axis: Expr, block: Block, span: Span) -> Stmt {
+    call(
+        ident("split", name_span),
+        Some(vec![axis]),
+        Some(block),
+        false,
+        span,
+    )
+}
+
 /// An operation call `name(args)` whose name and whole call take `span`.
 pub(super) fn op(name: &str, args: Vec<Expr>, span: Span) -> Stmt {
     call(ident(name, span), Some(args), None, false, span)

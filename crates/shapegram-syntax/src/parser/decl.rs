@@ -2,9 +2,9 @@
 //! recognised-but-unsupported `import` and `style`.
 
 use super::{Fail, PResult, Parser};
-use crate::Diagnostic;
 use crate::ast::{Annotation, Attr, Const, Function, Grammar, Ident, Rule, Spanned, Unsupported};
 use crate::lexer::TokenKind;
+use crate::{Diagnostic, Span};
 
 /// Type names CGA allows before a parameter (`Facade(float h)`); the type is not kept.
 const PARAMETER_TYPES: [&str; 3] = ["float", "string", "bool"];
@@ -125,6 +125,21 @@ impl Parser<'_> {
         // `const f(x) = …` is a function whose results CGA may cache: a plain function here.
         let params = self.optional_params()?;
         self.expect(&TokenKind::Eq, "`=`", "after the constant name")?;
+        self.value_declaration(grammar, annotations, name, params, true, start)
+    }
+
+    /// The value after the `=` (already consumed) of `name = …` or `name(params) = …`, recorded
+    /// as a function when there are parameters, else as a constant. `const` declarations and
+    /// plain ones are read alike: they differ only in `is_const` and where their span `start`s.
+    fn value_declaration(
+        &mut self,
+        grammar: &mut Grammar,
+        annotations: Vec<Annotation>,
+        name: Ident,
+        params: Option<Vec<Ident>>,
+        is_const: bool,
+        start: Span,
+    ) -> PResult<()> {
         let value = self.expr()?;
         let span = self.span_from(start);
         match params {
@@ -139,7 +154,7 @@ impl Parser<'_> {
                 annotations,
                 name: name.clone(),
                 value,
-                is_const: true,
+                is_const,
                 span,
             }),
         }
@@ -224,25 +239,8 @@ impl Parser<'_> {
             }
             TokenKind::Eq => {
                 self.bump();
-                let value = self.expr()?;
-                let span = self.span_from(name.span);
-                match params {
-                    Some(params) => grammar.functions.push(Function {
-                        annotations,
-                        name: name.clone(),
-                        params,
-                        body: value,
-                        span,
-                    }),
-                    None => grammar.consts.push(Const {
-                        annotations,
-                        name: name.clone(),
-                        value,
-                        is_const: false,
-                        span,
-                    }),
-                }
-                return self.end_of_value(&name);
+                let start = name.span;
+                return self.value_declaration(grammar, annotations, name, params, false, start);
             }
             // `->` for `-->`: report it, then read the body as intended.
             TokenKind::Minus

@@ -78,15 +78,25 @@ impl Parser<'_> {
         found
     }
 
-    fn case_expr(&mut self) -> PResult<Expr> {
-        let start = self.span();
+    /// The `case condition : branch` arms at the current token, for `case` in rule bodies and in
+    /// expressions alike: `branch` reads what follows each `:` (a body or a value).
+    pub(super) fn case_arms<T>(
+        &mut self,
+        mut branch: impl FnMut(&mut Self) -> PResult<T>,
+    ) -> PResult<Vec<(Expr, T)>> {
         let mut arms = Vec::new();
         while self.at_word("case") {
             self.bump();
             let cond = self.ternary()?;
             self.expect(&TokenKind::Colon, "`:`", "after the case condition")?;
-            arms.push((cond, self.expr()?));
+            arms.push((cond, branch(self)?));
         }
+        Ok(arms)
+    }
+
+    fn case_expr(&mut self) -> PResult<Expr> {
+        let start = self.span();
+        let arms = self.case_arms(Self::expr)?;
         let otherwise = self.else_value("a `case` expression")?;
         let span = start.to(otherwise.span);
         Ok(Expr {

@@ -210,10 +210,21 @@ impl<'a> Parser<'a> {
     /// [`Parser::declaration_start`] in the main syntax.
     fn cga_declaration_start(&self, i: usize) -> Option<Start> {
         match self.kind_at(i) {
-            TokenKind::Eof | TokenKind::At => return Some(Start::Strong),
-            TokenKind::Ident => {}
-            _ => return None,
+            TokenKind::Eof | TokenKind::At => Some(Start::Strong),
+            TokenKind::Ident => self.named_declaration_start(i, |_| None),
+            _ => None,
         }
+    }
+
+    /// [`Parser::declaration_start`] at the identifier `i`, as the dialects that share the main
+    /// syntax's declarations see it: a declaration keyword, or a name with optional `(…)`
+    /// followed by the rule arrow (a rule) or `=` (a function). What else may follow the head
+    /// is the dialect's: `other` decides, given the index of the token after the head.
+    fn named_declaration_start(
+        &self,
+        i: usize,
+        other: impl FnOnce(usize) -> Option<Start>,
+    ) -> Option<Start> {
         if DECLARATION_KEYWORDS.contains(&self.text_at(i)) {
             return Some(Start::Strong);
         }
@@ -227,7 +238,7 @@ impl<'a> Parser<'a> {
         match self.kind_at(after) {
             TokenKind::Arrow => Some(Start::Strong),
             TokenKind::Eq => Some(Start::Weak),
-            _ => None,
+            _ => other(after),
         }
     }
 

@@ -89,26 +89,13 @@ impl Parser<'_> {
             {
                 Some(Start::Strong)
             }
-            TokenKind::Ident => {
-                if DECLARATION_KEYWORDS.contains(&self.text_at(i)) {
-                    return Some(Start::Strong);
-                }
-                if !self.is_name_at(i) {
-                    return None;
-                }
-                let after = match self.kind_at(i + 1) {
-                    TokenKind::LParen => self.closing_paren(i + 1)? + 1,
-                    _ => i + 1,
-                };
-                match self.kind_at(after) {
-                    TokenKind::Arrow => Some(Start::Strong),
-                    TokenKind::Eq => Some(Start::Weak),
-                    TokenKind::Colon if token.line_start && self.arrow_on_line(after + 1) => {
-                        Some(Start::Strong)
-                    }
-                    _ => None,
-                }
-            }
+            // `name : condition ~>`: the condition is what the main syntax lacks.
+            TokenKind::Ident => self.named_declaration_start(i, |after| {
+                let conditional = *self.kind_at(after) == TokenKind::Colon
+                    && token.line_start
+                    && self.arrow_on_line(after + 1);
+                conditional.then_some(Start::Strong)
+            }),
             _ => None,
         }
     }
@@ -267,42 +254,22 @@ impl Parser<'_> {
     /// `{ A | B | … }`: the parts of a subdivision or component split.
     fn muller_block(&mut self) -> PResult<(Parts, Span)> {
         self.nested(|p| {
-            let open = p.bump();
-            let mut parts = Vec::new();
-            loop {
+            let braced = p.braced("rule", "in the block", |p| {
                 let first = p.span();
-                match p.muller_statements() {
-                    Ok(body) => {
-                        let span = if body.is_empty() {
-                            first
-                        } else {
-                            p.span_from(first)
-                        };
-                        parts.push((body, span));
-                    }
-                    Err(Fail) => p.recover_in_block(),
-                }
-                if p.eat(&TokenKind::Pipe).is_some() {
-                    continue;
-                }
-                if p.at(&TokenKind::RBrace) {
-                    break;
-                }
-                if p.declaration_start(p.pos) == Some(Start::Strong) {
-                    let d = Diagnostic::error("unclosed `{`", open)
-                        .with_label("this block is never closed")
-                        .with_hint("close the block with `}` before the next rule");
-                    p.report(d);
-                    return Ok((parts, p.span_from(open)));
-                }
-                p.report(p.expected("`|` or `}`", "in the block"));
-                p.recover_in_block();
-                if p.eat(&TokenKind::Pipe).is_none() && !p.at(&TokenKind::RBrace) {
-                    return Err(Fail);
-                }
-            }
-            let close = p.bump();
-            Ok((parts, open.to(close)))
+                let body = p.muller_statements()?;
+                // An empty part (reported later) points at the token where it should be.
+                let span = if body.is_empty() {
+                    first
+                } else {
+                    p.span_from(first)
+                };
+                Ok((body, span))
+            })?;
+            let span = match braced.close {
+                Some(close) => braced.open.to(close),
+                None => p.span_from(braced.open),
+            };
+            Ok((braced.entries, span))
         })
     }
 
@@ -465,13 +432,7 @@ impl Parser<'_> {
             .map(|(size, (body, part_span))| b::part(split_size(size), body, part_span))
             .collect();
         let block = b::block(entries, false, block_span);
-        out.push(b::call(
-            b::ident("split", name.span),
-            Some(vec![axis]),
-            Some(block),
-            false,
-            span,
-        ));
+        out.push(b::split(name.span, axis, block, span));
     }
 
     /// `Repeat("X", 2){ A }` → `split(x){ { ~2 : A }* }`.
@@ -513,13 +474,7 @@ impl Parser<'_> {
             false,
             block_span,
         );
-        out.push(b::call(
-            b::ident("split", name.span),
-            Some(vec![axis]),
-            Some(block),
-            false,
-            span,
-        ));
+        out.push(b::split(name.span, axis, block, span));
     }
 
     /// `Comp("sidefaces"){ A }` → `comp(f){ side : A }`; `Comp("faces"){ A | B }` gives the

@@ -12,7 +12,7 @@
 //! - The start rule (`start`, else the first) begins with `s(1, 1, 1)`: a unit scope at the
 //!   origin of the initial shape, whatever its size.
 
-use std::collections::HashMap;
+use std::collections::BTreeMap;
 
 use super::build as b;
 use super::{Fail, PResult, Parser, Start};
@@ -483,11 +483,10 @@ impl Parser<'_> {
         let axis_name = ["x", "y", "z"][k];
         out.push(Stmt::Push(span));
         out.push(b::op("t", along(-0.5), span));
-        out.push(b::call(
-            b::ident("split", name.span),
-            Some(vec![b::name(axis_name, axis.span)]),
-            Some(b::block(entries, false, span)),
-            false,
+        out.push(b::split(
+            name.span,
+            b::name(axis_name, axis.span),
+            b::block(entries, false, span),
             span,
         ));
         out.push(Stmt::Pop(span));
@@ -541,7 +540,7 @@ impl Parser<'_> {
 
     /// Checks the calls, adds the depth attributes and turns the rules into the common AST.
     fn sgl_finish(&mut self, grammar: &mut Grammar, collected: Collected) {
-        let mut seen: HashMap<&str, Span> = HashMap::new();
+        let mut seen: BTreeMap<&str, Span> = BTreeMap::new();
         for rule in &collected.rules {
             if seen.insert(&rule.name.name, rule.name.span).is_some() {
                 let d = Diagnostic::error(
