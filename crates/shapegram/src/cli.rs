@@ -242,6 +242,22 @@ pub struct DeriveArgs {
         hide_default_value = true
     )]
     pub dialect: DialectArg,
+    /// What `i("file")` does when the file cannot be read: stop with an error, insert a cube
+    /// that fills the scope instead, or insert nothing (a warning names each file once)
+    #[arg(long, value_name = "WHAT", default_value = "error")]
+    pub missing_assets: MissingAssets,
+}
+
+/// What to insert in place of an asset file that cannot be read.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, ValueEnum)]
+pub enum MissingAssets {
+    /// Stop the derivation with an error naming the file and the grammar line
+    #[default]
+    Error,
+    /// Insert a cube filling the scope, so the model keeps its massing
+    Cube,
+    /// Insert nothing
+    Skip,
 }
 
 /// Arguments of `shapegram check`.

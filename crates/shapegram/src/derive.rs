@@ -11,10 +11,10 @@ use serde::Serialize;
 use serde::ser::SerializeMap;
 use shapegram_eval::{AssetLoader, Derivation, DeriveError, DeriveOptions, Value};
 use shapegram_export::{ExportOptions, Format};
-use shapegram_geom::{Mesh, Model};
+use shapegram_geom::{DVec3, Mesh, Model};
 use shapegram_syntax::SourceFile;
 
-use crate::cli::DeriveArgs;
+use crate::cli::{DeriveArgs, MissingAssets};
 use crate::{Failure, counted, grammar, lots, print_stdout};
 
 /// Derives, writes and reports.
@@ -46,7 +46,7 @@ pub fn run(args: &DeriveArgs) -> Result<(), Failure> {
         max_depth: args.max_depth,
         time_budget: (args.timeout > 0.0).then(|| Duration::from_secs_f64(args.timeout)),
         generations: args.generations,
-        assets: Some(Arc::new(FileAssets::new(folder))),
+        assets: Some(Arc::new(FileAssets::new(folder, args.missing_assets))),
         keep_tree: false,
     };
 
@@ -173,17 +173,29 @@ fn with_spinner<T>(enabled: bool, label: &str, work: impl FnOnce() -> T) -> T {
 }
 
 /// Assets for `i("path")`: files relative to the grammar's folder (absolute paths as they are),
-/// read once each with `shapegram_export::load`, all parts merged into one mesh.
+/// read once each with `shapegram_export::load`, all parts merged into one mesh. Files that
+/// cannot be read are an error, or stand-ins as `--missing-assets` says.
 struct FileAssets {
     folder: PathBuf,
+    missing: MissingAssets,
     cache: Mutex<HashMap<PathBuf, Arc<Mesh>>>,
 }
 
 impl FileAssets {
-    fn new(folder: PathBuf) -> Self {
+    fn new(folder: PathBuf, missing: MissingAssets) -> Self {
         Self {
             folder,
+            missing,
             cache: Mutex::new(HashMap::new()),
+        }
+    }
+
+    /// What stands in for a file that cannot be read, if anything does.
+    fn stand_in(&self) -> Option<Mesh> {
+        match self.missing {
+            MissingAssets::Error => None,
+            MissingAssets::Cube => Some(shapegram_geom::primitives::cuboid(DVec3::ONE)),
+            MissingAssets::Skip => Some(Mesh::new()),
         }
     }
 }
@@ -197,8 +209,24 @@ impl AssetLoader for FileAssets {
         if let Some(mesh) = cache.get(&full) {
             return Ok(Arc::clone(mesh));
         }
-        let model = shapegram_export::load(&full).map_err(|e| e.to_string())?;
-        let mesh = Arc::new(model.merged_mesh());
+        let mesh = match shapegram_export::load(&full) {
+            Ok(model) => model.merged_mesh(),
+            Err(e) => {
+                let Some(stand_in) = self.stand_in() else {
+                    return Err(e.to_string());
+                };
+                // Cached, so each missing file is reported once.
+                eprintln!(
+                    "warning: {e}: inserting {}",
+                    match self.missing {
+                        MissingAssets::Cube => "a cube instead",
+                        _ => "nothing",
+                    }
+                );
+                stand_in
+            }
+        };
+        let mesh = Arc::new(mesh);
         cache.insert(full, Arc::clone(&mesh));
         Ok(mesh)
     }

@@ -886,6 +886,40 @@ fn assets_are_read_relative_to_the_grammar() {
         "cannot insert `assets/missing.obj`: cannot read",
     );
     assert!(err.contains("columns.cga:2:22"), "{err}");
+
+    // Stand-ins: a cube filling the scope, or nothing; each missing file is named once.
+    let out = dir.path("standin.obj");
+    let output = shapegram(&[
+        "derive",
+        text(&grammar),
+        "--missing-assets",
+        "cube",
+        "--lot",
+        "0,0 4,0 4,3 0,3",
+        "--lot",
+        "10,0 14,0 14,3 10,3",
+        "-o",
+        text(&out),
+    ]);
+    assert!(output.status.success(), "{}", stderr(&output));
+    let warnings = stderr(&output);
+    assert_eq!(
+        warnings.matches("inserting a cube instead").count(),
+        1,
+        "{warnings}"
+    );
+    let info = info_json(&out);
+    assert_eq!(info["volume"], 2.0 * 4.0 * 3.0 * 6.0);
+    let output = shapegram(&[
+        "derive",
+        text(&grammar),
+        "--missing-assets",
+        "skip",
+        "--stats",
+    ]);
+    assert!(output.status.success(), "{}", stderr(&output));
+    let stats: Value = serde_json::from_slice(&output.stdout).unwrap();
+    assert_eq!(stats["leaves"], 0);
 }
 
 #[test]
