@@ -1,5 +1,6 @@
 //! The derivation engine: rewriting shapes with rules until only leaves are left.
 
+use std::rc::Rc;
 use std::sync::Arc;
 use std::time::{Duration, Instant};
 
@@ -19,10 +20,10 @@ use crate::expr::Evaluator;
 use crate::ops::{
     CompEntry, CompKind, CompSelector, OffsetKeep, Op, Primitive, RoofKind, SetTarget,
 };
-use crate::program::{CBody, CExpr, CKind, CStmt, Program, RuleId};
+use crate::program::{CBody, CExpr, CKind, CStmt, Program, RuleId, Sym};
 use crate::rng::child_seed;
 use crate::shape::{FaceTag, Geometry, State, box_mesh, flat_axis};
-use crate::split::layout;
+use crate::split::Layout;
 use crate::value::Value;
 
 /// Loads the assets that `i("path")` inserts (built-in assets are handled by the engine).
@@ -204,54 +205,109 @@ pub fn derive(
         .iter()
         .map(|s| Arc::from(s.as_str()))
         .collect();
-    let results: Vec<Result<Derivation, DeriveError>> = lots
-        .par_iter()
-        .enumerate()
-        .map(|(i, lot)| {
-            let seed = child_seed(options.seed, i as u64);
-            derive_lot(program, start, lot, seed, &overrides, &names, options)
-        })
-        .collect();
-    let mut results = results.into_iter().collect::<Result<Vec<_>, _>>()?;
+    let lot_into = |batch: &mut Batch, i: usize, lot: &InitialShape| {
+        if batch.error.is_some() {
+            // An earlier lot of this batch failed: that error is the one reported.
+            return;
+        }
+        let seed = child_seed(options.seed, i as u64);
+        if let Err(e) = derive_lot(
+            program, start, lot, seed, &overrides, &names, options, batch,
+        ) {
+            batch.error = Some(e);
+        }
+    };
+    // Lots derive into batches of consecutive lots, so that leaves are not copied from one
+    // vector per lot into the result: on one thread there is a single batch.
+    let batches: Vec<Batch> = if lots.len() <= 1 || rayon::current_num_threads() == 1 {
+        let mut batch = Batch::new(program);
+        for (i, lot) in lots.iter().enumerate() {
+            lot_into(&mut batch, i, lot);
+            // Room for the lots to come, estimated from those so far (only memory depends on it).
+            let done = i + 1;
+            let estimate = batch.leaves.len() / done * (lots.len() - done);
+            batch.leaves.reserve(estimate);
+        }
+        vec![batch]
+    } else {
+        lots.par_iter()
+            .enumerate()
+            .fold(
+                || Batch::new(program),
+                |mut batch, (i, lot)| {
+                    lot_into(&mut batch, i, lot);
+                    batch
+                },
+            )
+            .collect()
+    };
     let mut all = Derivation::default();
-    let total: usize = results.iter().map(|r| r.leaves.len()).sum();
-    if let Some(first) = results.first_mut() {
-        first.leaves.reserve_exact(total - first.leaves.len());
-    }
     let mut counts = vec![0usize; program.rules.len()];
-    for lot in results {
-        // Node numbers of each lot start after those of the lots before it.
+    let total: usize = batches.iter().map(|b| b.leaves.len()).sum();
+    for mut batch in batches {
+        if let Some(e) = batch.error {
+            return Err(e);
+        }
+        // Node numbers of each batch start after those of the batches before it.
         let base = all.tree.len() as u32;
-        all.tree.extend(lot.tree.into_iter().map(|mut n| {
-            n.parent = n.parent.map(|p| p + base);
-            n
-        }));
-        if all.leaves.is_empty() {
-            // The first lot's leaves need no renumbering: take them as they are.
-            all.leaves = lot.leaves;
+        if all.leaves.is_empty() && all.tree.is_empty() {
+            // The first batch needs no renumbering: take its lists as they are.
+            all.leaves = std::mem::take(&mut batch.leaves);
+            all.leaves.reserve_exact(total - all.leaves.len());
+            all.tree = batch.tree;
         } else {
-            all.leaves.extend(lot.leaves.into_iter().map(|mut l| {
+            all.tree.extend(batch.tree.into_iter().map(|mut n| {
+                n.parent = n.parent.map(|p| p + base);
+                n
+            }));
+            all.leaves.extend(batch.leaves.into_iter().map(|mut l| {
                 l.node = l.node.map(|n| n + base);
                 l
             }));
         }
-        all.reports.extend(lot.reports);
-        all.prints.extend(lot.prints);
-        all.stats.shapes += lot.stats.shapes;
-        for (i, (_, n)) in lot.stats.rules.iter().enumerate() {
-            counts[i] += n;
+        all.reports.extend(batch.reports);
+        all.prints.extend(batch.prints);
+        all.stats.shapes += batch.shapes;
+        for (c, n) in counts.iter_mut().zip(&batch.counts) {
+            *c += n;
         }
-        if all.stats.shapes > options.max_shapes {
-            return Err(DeriveError::general(format!(
-                "the derivation made more than {} shapes",
-                options.max_shapes
-            ))
-            .with_hint("raise the limit (--max-shapes) or derive fewer initial shapes"));
-        }
+    }
+    if all.stats.shapes > options.max_shapes {
+        return Err(DeriveError::general(format!(
+            "the derivation made more than {} shapes",
+            options.max_shapes
+        ))
+        .with_hint("raise the limit (--max-shapes) or derive fewer initial shapes"));
     }
     all.stats.leaves = all.leaves.len();
     all.stats.rules = rule_counts(program, &counts);
     Ok(all)
+}
+
+/// What consecutive lots derived so far: their leaves, tree, output and counts, or the error
+/// of the first lot that failed.
+struct Batch {
+    leaves: Vec<Leaf>,
+    tree: Vec<TreeNode>,
+    reports: Vec<(String, Value)>,
+    prints: Vec<String>,
+    shapes: usize,
+    counts: Vec<usize>,
+    error: Option<DeriveError>,
+}
+
+impl Batch {
+    fn new(program: &Program) -> Self {
+        Self {
+            leaves: Vec::new(),
+            tree: Vec::new(),
+            reports: Vec::new(),
+            prints: Vec::new(),
+            shapes: 0,
+            counts: vec![0; program.rules.len()],
+            error: None,
+        }
+    }
 }
 
 fn rule_counts(program: &Program, counts: &[usize]) -> Vec<(String, usize)> {
@@ -336,6 +392,8 @@ enum Work {
     Leaf(Box<State>),
 }
 
+/// Derives one lot into `batch`.
+#[allow(clippy::too_many_arguments)]
 fn derive_lot(
     program: &Program,
     start: RuleId,
@@ -344,18 +402,22 @@ fn derive_lot(
     overrides: &[(u32, Value)],
     names: &[Arc<str>],
     options: &DeriveOptions,
-) -> Result<Derivation, DeriveError> {
+    batch: &mut Batch,
+) -> Result<(), DeriveError> {
     let (scope, geometry) = initial_shape(&lot.footprint)?;
     let symbol = program.rules[start as usize].symbol;
-    let mut state = Box::new(State::initial(symbol, scope, geometry, seed));
+    let mut state = State::initial(symbol, scope, geometry, seed);
     let mut ev = Evaluator::new(program, seed, scope.origin);
-    state.attrs = Arc::new(ev.initial_attrs(&mut state, overrides)?);
+    state.attrs = Rc::new(ev.initial_attrs(&mut state, overrides)?);
     let tree = options.keep_tree.then(|| {
-        vec![TreeNode {
+        let mut tree = std::mem::take(&mut batch.tree);
+        state.node = tree.len() as u32;
+        tree.push(TreeNode {
             name: names[symbol as usize].clone(),
             parent: None,
             scope,
-        }]
+        });
+        tree
     });
     let mut engine = Engine {
         program,
@@ -363,14 +425,17 @@ fn derive_lot(
         names,
         options,
         tree,
-        leaves: Vec::new(),
+        leaves: std::mem::take(&mut batch.leaves),
         counts: vec![0; program.rules.len()],
         applications: 0,
         shapes: 1,
         started: Instant::now(),
+        base: usize::MAX,
+        layouts: Vec::new(),
+        spare: Vec::new(),
     };
     let task = Work::Rewrite(Task {
-        state,
+        state: Box::new(state),
         rule: start,
         args: Vec::new(),
     });
@@ -378,17 +443,15 @@ fn derive_lot(
         Some(n) => engine.run_generations(task, n)?,
         None => engine.run_depth_first(task)?,
     }
-    Ok(Derivation {
-        stats: Stats {
-            shapes: engine.shapes,
-            leaves: engine.leaves.len(),
-            rules: rule_counts(program, &engine.counts),
-        },
-        leaves: engine.leaves,
-        reports: engine.ev.reports,
-        prints: engine.ev.prints,
-        tree: engine.tree.unwrap_or_default(),
-    })
+    batch.leaves = engine.leaves;
+    batch.tree = engine.tree.unwrap_or_default();
+    batch.reports.extend(engine.ev.reports);
+    batch.prints.extend(engine.ev.prints);
+    batch.shapes += engine.shapes;
+    for (c, n) in batch.counts.iter_mut().zip(&engine.counts) {
+        *c += n;
+    }
+    Ok(())
 }
 
 /// What engine steps return.
@@ -406,6 +469,16 @@ struct Engine<'p> {
     applications: usize,
     shapes: usize,
     started: Instant,
+    /// Where the outputs of the rule being applied start on the depth-first stack: while none
+    /// is there, a new leaf is next in depth-first order and goes straight to `leaves`.
+    /// `usize::MAX` when rewriting in generations.
+    base: usize,
+    /// Split layouts to reuse (splits nest, so there can be several in use).
+    layouts: Vec<Layout<'p>>,
+    /// Allocations of rewritten shapes, for the next shapes that wait for their rules (the
+    /// boxes themselves are what is kept).
+    #[allow(clippy::vec_box)]
+    spare: Vec<Box<State>>,
 }
 
 impl<'p> Engine<'p> {
@@ -413,15 +486,17 @@ impl<'p> Engine<'p> {
         let mut stack = vec![first];
         while let Some(work) = stack.pop() {
             match work {
-                Work::Leaf(state) => self.emit(state),
+                Work::Leaf(mut state) => self.emit(&mut state),
                 Work::Rewrite(task) => {
                     let base = stack.len();
+                    self.base = base;
                     self.apply(task, &mut stack)?;
                     // Reversed, so the first child is derived first.
                     stack[base..].reverse();
                 }
             }
         }
+        self.base = usize::MAX;
         Ok(())
     }
 
@@ -443,32 +518,40 @@ impl<'p> Engine<'p> {
         // Shapes still waiting for their rule when the generations run out are leaves too.
         for work in current {
             match work {
-                Work::Leaf(state) | Work::Rewrite(Task { state, .. }) => self.emit(state),
+                Work::Leaf(mut state) | Work::Rewrite(Task { mut state, .. }) => {
+                    self.emit(&mut state)
+                }
             }
         }
         Ok(())
     }
 
     /// Applies a shape's rule; new shapes waiting for rules go to `out`, in order.
-    fn apply(&mut self, task: Task, out: &mut Vec<Work>) -> Fallible<()> {
+    fn apply(&mut self, mut task: Task, out: &mut Vec<Work>) -> Fallible<()> {
         self.counts[task.rule as usize] += 1;
         self.applications += 1;
         if self.applications % 1024 == 0 {
             self.check_time(task.rule)?;
         }
         let program = self.program;
-        self.run_body(
+        let result = self.run_body(
             &program.rules[task.rule as usize].body,
-            task.state,
+            &mut task.state,
             &task.args,
             out,
-        )
+        );
+        if self.spare.len() < 64 {
+            // Only the allocation is kept: no need to hold on to a mesh.
+            task.state.geometry = Geometry::Empty;
+            self.spare.push(task.state);
+        }
+        result
     }
 
     fn run_body(
         &mut self,
         body: &'p CBody,
-        mut state: Box<State>,
+        state: &mut State,
         args: &[Value],
         out: &mut Vec<Work>,
     ) -> Fallible<()> {
@@ -476,7 +559,7 @@ impl<'p> Engine<'p> {
             CBody::Sequence(stmts) => self.run_stmts(stmts, state, args, out),
             CBody::Cases(arms, otherwise) => {
                 for (cond, branch) in arms {
-                    if self.ev.condition(cond, &mut state, args)? {
+                    if self.ev.condition(cond, state, args)? {
                         return self.run_body(branch, state, args, out);
                     }
                 }
@@ -486,7 +569,7 @@ impl<'p> Engine<'p> {
                 let draw = state.rng.next_f64() * 100.0;
                 let mut acc = 0.0;
                 for (percent, branch) in arms {
-                    acc += self.ev.number(percent, &mut state, args)?;
+                    acc += self.ev.number(percent, state, args)?;
                     if draw < acc {
                         return self.run_body(branch, state, args, out);
                     }
@@ -497,18 +580,26 @@ impl<'p> Engine<'p> {
     }
 
     /// Runs statements on a shape. A shape that made no successors and no parts, and was not
-    /// deleted, is a leaf.
+    /// deleted, is a leaf. The shape is used up: what is left of it afterwards is to be dropped.
     fn run_stmts(
         &mut self,
         stmts: &'p [CStmt],
-        mut state: Box<State>,
+        state: &mut State,
         args: &[Value],
         out: &mut Vec<Work>,
     ) -> Fallible<()> {
         let mut produced = false;
-        // What `center` centres in: the scope the statements started with, or the last pushed.
-        let mut anchor = state.scope;
-        let mut saved: Vec<(Box<State>, Scope)> = Vec::new();
+        // What `center` centres in: the scope the statements started with, or the last pushed
+        // (only kept when a `center` needs it).
+        let centers = stmts
+            .iter()
+            .any(|s| matches!(s, CStmt::Op(Op::Center(_), _)));
+        let mut anchor = if centers {
+            state.scope
+        } else {
+            Scope::default()
+        };
+        let mut saved: Vec<(State, Scope)> = Vec::new();
         for (i, stmt) in stmts.iter().enumerate() {
             match stmt {
                 CStmt::Push => {
@@ -522,8 +613,8 @@ impl<'p> Engine<'p> {
                     // The shape's identity goes on: children made inside the brackets keep
                     // their seeds distinct from those made after.
                     restored.children = state.children;
-                    restored.rng = state.rng;
-                    state = restored;
+                    restored.rng = state.rng.clone();
+                    *state = restored;
                     anchor = outer;
                 }
                 CStmt::Nil => return Ok(()),
@@ -539,41 +630,26 @@ impl<'p> Engine<'p> {
                     } else {
                         exprs
                             .iter()
-                            .map(|e| self.ev.eval(e, &mut state, args))
+                            .map(|e| self.ev.eval(e, state, args))
                             .collect::<Fallible<Vec<_>>>()?
                     };
-                    let last = i + 1 == stmts.len();
-                    // A successor that ends the statements takes the shape itself.
-                    let (mut child, rest) = if last {
+                    let rule = rule.filter(|_| !terminal);
+                    if i + 1 == stmts.len() {
+                        // A successor that ends the statements takes the shape itself.
                         state.make_child();
-                        (state, None)
-                    } else {
-                        let child = Box::new(state.spawn());
-                        (child, Some(state))
-                    };
-                    child.symbol = *symbol;
-                    self.admit(&mut child, *span)?;
-                    out.push(match rule {
-                        Some(r) if !terminal => Work::Rewrite(Task {
-                            state: child,
-                            rule: *r,
-                            args: values,
-                        }),
-                        _ => Work::Leaf(child),
-                    });
-                    match rest {
-                        Some(s) => state = s,
-                        None => return Ok(()),
+                        return self.successor(state, *symbol, rule, values, *span, out);
                     }
+                    let mut child = state.spawn();
+                    self.successor(&mut child, *symbol, rule, values, *span, out)?;
                     produced = true;
                 }
                 CStmt::Op(op, span) => {
-                    produced |= self.op(op, *span, &mut state, &anchor, args, out)?;
+                    produced |= self.op(op, *span, state, &anchor, args, out)?;
                 }
             }
         }
         if !produced {
-            out.push(Work::Leaf(state));
+            self.leaf(state, out);
         }
         Ok(())
     }
@@ -589,6 +665,11 @@ impl<'p> Engine<'p> {
             });
             state.node = (tree.len() - 1) as u32;
         }
+        self.count(state.depth, state.symbol, span)
+    }
+
+    /// Counts a new shape of the given depth and symbol against the limits.
+    fn count(&mut self, depth: u32, symbol: Sym, span: Span) -> Fallible<()> {
         self.shapes += 1;
         if self.shapes > self.options.max_shapes {
             let rule = self.busiest_rule();
@@ -601,8 +682,8 @@ impl<'p> Engine<'p> {
             )
             .with_hint("a rule that keeps making successors needs a condition that ends it"));
         }
-        if state.depth > self.options.max_depth {
-            let name = self.program.symbol_name(state.symbol);
+        if depth > self.options.max_depth {
+            let name = self.program.symbol_name(symbol);
             return Err(DeriveError::at(
                 format!(
                     "the derivation is more than {} shapes deep at `{name}`: a rule keeps rewriting without end",
@@ -643,17 +724,55 @@ impl<'p> Engine<'p> {
         Ok(())
     }
 
-    fn emit(&mut self, state: Box<State>) {
-        if state.geometry == Geometry::Empty {
+    /// A new shape for a successor symbol: rewritten later with its rule, or a leaf.
+    fn successor(
+        &mut self,
+        state: &mut State,
+        symbol: Sym,
+        rule: Option<RuleId>,
+        args: Vec<Value>,
+        span: Span,
+        out: &mut Vec<Work>,
+    ) -> Fallible<()> {
+        state.symbol = symbol;
+        self.admit(state, span)?;
+        match rule {
+            Some(rule) => {
+                let state = match self.spare.pop() {
+                    Some(mut spare) => {
+                        *spare = state.take();
+                        spare
+                    }
+                    None => Box::new(state.take()),
+                };
+                out.push(Work::Rewrite(Task { state, rule, args }));
+            }
+            None => self.leaf(state, out),
+        }
+        Ok(())
+    }
+
+    /// A finished shape: a leaf now when it is next in depth-first order, else later. Takes
+    /// what it needs from the state.
+    fn leaf(&mut self, state: &mut State, out: &mut Vec<Work>) {
+        if out.len() == self.base {
+            self.emit(state);
+        } else {
+            out.push(Work::Leaf(Box::new(state.take())));
+        }
+    }
+
+    /// Adds a shape to the leaves (unless it has no geometry), taking its geometry.
+    fn emit(&mut self, state: &mut State) {
+        if matches!(state.geometry, Geometry::Empty) {
             return;
         }
-        let state = *state;
         self.leaves.push(Leaf {
             name: self.names[state.symbol as usize].clone(),
             scope: state.scope,
-            geometry: state.geometry,
+            geometry: std::mem::replace(&mut state.geometry, Geometry::Empty),
             color: state.color,
-            material: state.material,
+            material: state.material.take(),
             node: self.tree.is_some().then_some(state.node),
         });
     }
@@ -857,7 +976,25 @@ impl<'p> Engine<'p> {
         out: &mut Vec<Work>,
     ) -> Fallible<()> {
         let length = state.scope.size[axis];
-        let parts = layout(block, length, span, &mut self.ev, state, args)?;
+        let mut layout = self.layouts.pop().unwrap_or_default();
+        layout.lay_out(block, length, span, &mut self.ev, state, args)?;
+        let result = self.split_parts(state, axis, adjust, &layout, span, args, out);
+        self.layouts.push(layout);
+        result
+    }
+
+    #[allow(clippy::too_many_arguments)]
+    fn split_parts(
+        &mut self,
+        state: &mut State,
+        axis: usize,
+        adjust: bool,
+        layout: &Layout<'p>,
+        span: Span,
+        args: &[Value],
+        out: &mut Vec<Work>,
+    ) -> Fallible<()> {
+        let parts = &layout.parts;
         let total = parts.len() as u32;
         let slabs = match &state.geometry {
             Geometry::Mesh(mesh, _) => {
@@ -872,10 +1009,16 @@ impl<'p> Engine<'p> {
             _ => None,
         };
         for (i, part) in parts.iter().enumerate() {
-            let mut child = Box::new(state.spawn());
+            // The part's scope, worked out from the parent's.
+            let mut scope = state.scope;
+            scope.translate(DVec3::AXES[axis] * part.start);
+            scope.size[axis] = part.size;
+            if slabs.is_none() && self.leaf_part(state, part.body, scope, span, out)? {
+                continue;
+            }
+            let mut child = state.spawn();
             child.split = (i as u32, total);
-            child.scope.translate(DVec3::AXES[axis] * part.start);
-            child.scope.size[axis] = part.size;
+            child.scope = scope;
             if let Some((cuts, pieces)) = &slabs {
                 let at = cuts.iter().position(|&c| c == part.start).unwrap_or(0);
                 let mut piece = pieces[at + 1].clone();
@@ -892,9 +1035,57 @@ impl<'p> Engine<'p> {
                 }
             }
             self.admit(&mut child, span)?;
-            self.run_stmts(part.body, child, args, out)?;
+            self.run_stmts(part.body, &mut child, args, out)?;
         }
         Ok(())
+    }
+
+    /// The common part of a box split that is at once a leaf (`{ 1 : Wall. }`), made without
+    /// making the part's shape and its successor: only their counts and the leaf are left of
+    /// them, and the parent's count of children. Returns whether the part was such a part.
+    fn leaf_part(
+        &mut self,
+        state: &mut State,
+        body: &[CStmt],
+        scope: Scope,
+        span: Span,
+        out: &[Work],
+    ) -> Fallible<bool> {
+        let [
+            CStmt::Successor {
+                symbol,
+                rule,
+                args,
+                terminal,
+                span: successor_span,
+            },
+        ] = body
+        else {
+            return Ok(false);
+        };
+        if !args.is_empty()
+            || (rule.is_some() && !terminal)
+            || self.tree.is_some()
+            || out.len() != self.base
+        {
+            return Ok(false);
+        }
+        // The part, as `State::spawn` would have made it.
+        state.children += 1;
+        self.count(state.depth + 1, state.symbol, span)?;
+        // Its successor, as `State::make_child` would have made it.
+        self.count(state.depth + 2, *symbol, *successor_span)?;
+        if !matches!(state.geometry, Geometry::Empty) {
+            self.leaves.push(Leaf {
+                name: self.names[*symbol as usize].clone(),
+                scope,
+                geometry: state.geometry.clone(),
+                color: state.color,
+                material: state.material.clone(),
+                node: None,
+            });
+        }
+        Ok(true)
     }
 
     fn comp(
@@ -937,7 +1128,7 @@ impl<'p> Engine<'p> {
                 for &c in chosen {
                     merged.append(&Mesh::from_polygon(&components[c].points));
                 }
-                let mut child = Box::new(state.spawn());
+                let mut child = state.spawn();
                 child.comp = (0, 1);
                 child.scope = Scope::fit(
                     components[chosen[0]].scope.axes,
@@ -946,12 +1137,12 @@ impl<'p> Engine<'p> {
                 merged.transform(&child.scope.world_to_local());
                 child.geometry = Geometry::mesh(merged);
                 self.admit(&mut child, span)?;
-                self.run_stmts(&entry.body, child, args, out)?;
+                self.run_stmts(&entry.body, &mut child, args, out)?;
                 continue;
             }
             for (i, &c) in chosen.iter().enumerate() {
                 let comp = &components[c];
-                let mut child = Box::new(state.spawn());
+                let mut child = state.spawn();
                 child.comp = (i as u32, chosen.len() as u32);
                 child.scope = comp.scope;
                 child.geometry = match kind {
@@ -970,7 +1161,7 @@ impl<'p> Engine<'p> {
                     CompKind::Edges | CompKind::Vertices => Geometry::Empty,
                 };
                 self.admit(&mut child, span)?;
-                self.run_stmts(&entry.body, child, args, out)?;
+                self.run_stmts(&entry.body, &mut child, args, out)?;
             }
         }
         Ok(())
@@ -1090,7 +1281,7 @@ fn set(state: &mut State, target: &SetTarget, value: Value, span: Span) -> Falli
         DeriveError::at(format!("expected {what}, found a {}", v.type_name()), span)
     };
     match target {
-        SetTarget::Attr(i) => Arc::make_mut(&mut state.attrs)[*i as usize] = value,
+        SetTarget::Attr(i) => Rc::make_mut(&mut state.attrs)[*i as usize] = value,
         SetTarget::Color(None) => match &value {
             Value::Str(s) => {
                 state.color = Color::from_hex(s).ok_or_else(|| {

@@ -166,6 +166,12 @@ impl<'p> Evaluator<'p> {
 
     /// Evaluates to a number, or fails with the expression's span.
     pub fn number(&mut self, e: &CExpr, shape: &mut State, args: &[Value]) -> Result<f64> {
+        // Most sizes are literals: no need to go through `eval`.
+        if let CKind::Value(Value::Number(n)) = e.kind {
+            if n.is_finite() {
+                return Ok(n);
+            }
+        }
         match self.eval(e, shape, args)? {
             Value::Number(n) => Ok(n),
             other => Err(DeriveError::at(
@@ -215,7 +221,7 @@ impl<'p> Evaluator<'p> {
         // each seeing the attributes before it and the overrides.
         for (i, attr) in program.attrs.iter().enumerate() {
             if values[i].is_none() {
-                shape.attrs = Arc::new(
+                shape.attrs = std::rc::Rc::new(
                     values
                         .iter()
                         .map(|v| v.clone().unwrap_or(Value::Number(0.0)))

@@ -6,15 +6,18 @@
 
 /// SplitMix64: tiny, fast and statistically sound for this use; fully specified here so results
 /// never change with a dependency upgrade.
+///
+/// The seed is mixed on the first draw, not when the stream is made: most shapes never draw.
 #[derive(Clone, Debug)]
 pub struct Rng {
     state: u64,
+    mixed: bool,
 }
 
 const GOLDEN: u64 = 0x9E37_79B9_7F4A_7C15;
 
 /// The SplitMix64 output function: a bijective mix of 64 bits.
-pub fn mix(mut z: u64) -> u64 {
+pub const fn mix(mut z: u64) -> u64 {
     z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
     z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
     z ^ (z >> 31)
@@ -22,17 +25,44 @@ pub fn mix(mut z: u64) -> u64 {
 
 /// The seed of the `ordinal`-th child (0-based) of a shape with seed `parent`.
 pub fn child_seed(parent: u64, ordinal: u64) -> u64 {
-    mix(parent ^ mix(ordinal.wrapping_add(1).wrapping_mul(GOLDEN)))
+    let key = match ORDINAL_KEYS.get(ordinal as usize) {
+        Some(&key) if ordinal < ORDINAL_KEYS.len() as u64 => key,
+        _ => ordinal_key(ordinal),
+    };
+    mix(parent ^ key)
 }
+
+/// What the seed of a shape's `ordinal`-th child mixes into the shape's seed.
+const fn ordinal_key(ordinal: u64) -> u64 {
+    mix(ordinal.wrapping_add(1).wrapping_mul(GOLDEN))
+}
+
+/// [`ordinal_key`] of the first children, worked out once.
+const ORDINAL_KEYS: [u64; 64] = {
+    let mut keys = [0; 64];
+    let mut i = 0;
+    while i < keys.len() {
+        keys[i] = ordinal_key(i as u64);
+        i += 1;
+    }
+    keys
+};
 
 impl Rng {
     /// A stream seeded with `seed`.
     pub fn new(seed: u64) -> Self {
-        Self { state: mix(seed) }
+        Self {
+            state: seed,
+            mixed: false,
+        }
     }
 
     /// The next 64 random bits.
     pub fn next_u64(&mut self) -> u64 {
+        if !self.mixed {
+            self.state = mix(self.state);
+            self.mixed = true;
+        }
         self.state = self.state.wrapping_add(GOLDEN);
         mix(self.state)
     }
@@ -61,6 +91,22 @@ mod tests {
         assert_ne!(first, r.next_u64());
         assert_ne!(child_seed(7, 0), child_seed(7, 1));
         assert_ne!(child_seed(7, 0), child_seed(8, 0));
+    }
+
+    #[test]
+    fn child_seeds_match_their_definition() {
+        for parent in [0, 7, u64::MAX] {
+            for ordinal in [0, 1, 63, 64, 65, 1000, u64::MAX] {
+                let key = mix(ordinal.wrapping_add(1).wrapping_mul(GOLDEN));
+                assert_eq!(child_seed(parent, ordinal), mix(parent ^ key));
+            }
+        }
+        let mut lazy = Rng::new(42);
+        let mut state = mix(42);
+        for _ in 0..3 {
+            state = state.wrapping_add(GOLDEN);
+            assert_eq!(lazy.next_u64(), mix(state));
+        }
     }
 
     #[test]

@@ -1,5 +1,6 @@
 //! Shapes during derivation: scope, geometry, attributes and the rest of a shape's state.
 
+use std::rc::Rc;
 use std::sync::Arc;
 
 use shapegram_geom::{Color, DAffine3, DVec3, Mesh, Scope, primitives};
@@ -111,7 +112,7 @@ pub struct State {
     /// The shape's geometry.
     pub geometry: Geometry,
     /// Attribute values, shared until one is set.
-    pub attrs: Arc<Vec<Value>>,
+    pub attrs: Rc<Vec<Value>>,
     /// Surface colour.
     pub color: Color,
     /// Material name set with `set(material.name, …)`.
@@ -139,7 +140,7 @@ impl State {
             symbol,
             scope,
             geometry,
-            attrs: Arc::new(Vec::new()),
+            attrs: Rc::new(Vec::new()),
             color: Color::default(),
             material: None,
             split: (0, 1),
@@ -167,6 +168,25 @@ impl State {
         let seed = self.next_child_seed();
         let depth = self.depth + 1;
         self.adopt(seed, depth);
+    }
+
+    /// Moves the state out, leaving a shape without geometry or material behind (to be dropped).
+    pub fn take(&mut self) -> State {
+        State {
+            symbol: self.symbol,
+            scope: self.scope,
+            geometry: std::mem::replace(&mut self.geometry, Geometry::Empty),
+            attrs: self.attrs.clone(),
+            color: self.color,
+            material: self.material.take(),
+            split: self.split,
+            comp: self.comp,
+            depth: self.depth,
+            seed: self.seed,
+            rng: self.rng.clone(),
+            children: self.children,
+            node: self.node,
+        }
     }
 
     fn next_child_seed(&mut self) -> u64 {

@@ -32,6 +32,8 @@ pub(crate) struct Part<'a> {
     pub body: &'a [CStmt],
 }
 
+/// An evaluated entry of a split block. Groups are stored flat, in preorder: a group is
+/// followed by the `len` items inside it.
 enum Item<'a> {
     Part {
         floating: bool,
@@ -39,119 +41,185 @@ enum Item<'a> {
         body: &'a [CStmt],
     },
     Group {
-        items: Vec<Item<'a>>,
+        len: usize,
         repeat: bool,
         span: Span,
     },
 }
 
-/// Lays out the parts of `block` along a length.
-pub(crate) fn layout<'a>(
-    block: &'a SplitBlock,
-    length: f64,
-    span: Span,
-    ev: &mut Evaluator,
-    shape: &mut State,
-    args: &[Value],
-) -> Result<Vec<Part<'a>>, DeriveError> {
-    let items = evaluate(block, length, ev, shape, args)?;
-    let mut flat = Vec::new();
-    if block.repeat {
-        // `split(y){ … }*` repeats the whole block.
-        let whole = [Item::Group {
-            items,
-            repeat: true,
-            span,
-        }];
-        expand(&whole, length, &mut flat)?;
-    } else {
-        expand(&items, length, &mut flat)?;
-    }
-    let fixed: f64 = flat.iter().filter(|p| !p.0).map(|p| p.1).sum();
-    let floating: f64 = flat.iter().filter(|p| p.0).map(|p| p.1).sum();
-    let scale = if floating > 0.0 {
-        ((length - fixed) / floating).max(0.0)
-    } else {
-        0.0
-    };
-    let eps = 1e-9 * length.abs().max(1.0);
-    let mut parts = Vec::new();
-    let mut at = 0.0;
-    for (is_floating, nominal, body) in flat {
-        let size = if is_floating {
-            nominal * scale
-        } else {
-            nominal
-        };
-        if size <= 0.0 {
-            continue;
-        }
-        if at >= length - eps {
-            break;
-        }
-        parts.push(Part {
-            start: at,
-            size: size.min(length - at),
-            body,
-        });
-        at += size;
-    }
-    Ok(parts)
+/// The working lists of a split, kept between splits so that laying out allocates nothing.
+#[derive(Default)]
+pub(crate) struct Layout<'a> {
+    items: Vec<Item<'a>>,
+    flat: Vec<(bool, f64, &'a [CStmt])>,
+    /// The parts of the last [`Layout::lay_out`].
+    pub parts: Vec<Part<'a>>,
+    /// The block (its address) and length of the last layout when its sizes are all literal
+    /// numbers: the parts only depend on these, and the next layout of the same block and
+    /// length can keep them (splits of equal tiles lay out the same block again and again).
+    last: Option<(usize, u64)>,
 }
 
+impl<'a> Layout<'a> {
+    /// Lays out the parts of `block` along a length into [`Layout::parts`].
+    pub(crate) fn lay_out(
+        &mut self,
+        block: &'a SplitBlock,
+        length: f64,
+        span: Span,
+        ev: &mut Evaluator,
+        shape: &mut State,
+        args: &[Value],
+    ) -> Result<(), DeriveError> {
+        let key = (std::ptr::from_ref(block) as usize, length.to_bits());
+        if self.last == Some(key) {
+            return Ok(());
+        }
+        self.last = None;
+        self.items.clear();
+        self.flat.clear();
+        self.parts.clear();
+        if block.repeat {
+            // `split(y){ … }*` repeats the whole block.
+            self.items.push(Item::Group {
+                len: 0,
+                repeat: true,
+                span,
+            });
+        }
+        evaluate(block, length, ev, shape, args, &mut self.items)?;
+        let inside = self.items.len().saturating_sub(1);
+        if let Some(Item::Group { len, .. }) = self.items.first_mut().filter(|_| block.repeat) {
+            *len = inside;
+        }
+        expand(&self.items, length, &mut self.flat)?;
+        let flat = &self.flat;
+        let fixed: f64 = flat.iter().filter(|p| !p.0).map(|p| p.1).sum();
+        let floating: f64 = flat.iter().filter(|p| p.0).map(|p| p.1).sum();
+        let scale = if floating > 0.0 {
+            ((length - fixed) / floating).max(0.0)
+        } else {
+            0.0
+        };
+        let eps = 1e-9 * length.abs().max(1.0);
+        let mut at = 0.0;
+        for &(is_floating, nominal, body) in flat {
+            let size = if is_floating {
+                nominal * scale
+            } else {
+                nominal
+            };
+            if size <= 0.0 {
+                continue;
+            }
+            if at >= length - eps {
+                break;
+            }
+            self.parts.push(Part {
+                start: at,
+                size: size.min(length - at),
+                body,
+            });
+            at += size;
+        }
+        if literal(block) {
+            self.last = Some(key);
+        }
+        Ok(())
+    }
+}
+
+/// Whether every size in a block is a literal number (absolute, floating or relative), so that
+/// evaluating them draws no random numbers and reads nothing but the length.
+fn literal(block: &SplitBlock) -> bool {
+    block.entries.iter().all(|entry| match entry {
+        SplitEntry::Part { size, .. } => {
+            let inner = match &size.kind {
+                CKind::Floating(inner) | CKind::Relative(inner) => inner,
+                _ => size,
+            };
+            matches!(inner.kind, CKind::Value(Value::Number(n)) if n.is_finite())
+        }
+        SplitEntry::Group(group) => literal(group),
+    })
+}
+
+/// Evaluates the sizes of a block's entries, in order, appending them to `out`.
 fn evaluate<'a>(
     block: &'a SplitBlock,
     length: f64,
     ev: &mut Evaluator,
     shape: &mut State,
     args: &[Value],
-) -> Result<Vec<Item<'a>>, DeriveError> {
-    block
-        .entries
-        .iter()
-        .map(|entry| {
-            Ok(match entry {
-                SplitEntry::Part { size, body } => {
-                    let (floating, value) = match &size.kind {
-                        CKind::Floating(inner) => (true, ev.number(inner, shape, args)?),
-                        CKind::Relative(inner) => (false, ev.number(inner, shape, args)? * length),
-                        _ => (false, ev.number(size, shape, args)?),
-                    };
-                    Item::Part {
-                        floating,
-                        size: value,
-                        body,
-                    }
-                }
-                SplitEntry::Group(group) => Item::Group {
-                    items: evaluate(group, length, ev, shape, args)?,
+    out: &mut Vec<Item<'a>>,
+) -> Result<(), DeriveError> {
+    for entry in &block.entries {
+        match entry {
+            SplitEntry::Part { size, body } => {
+                let (floating, value) = match &size.kind {
+                    CKind::Floating(inner) => (true, ev.number(inner, shape, args)?),
+                    CKind::Relative(inner) => (false, ev.number(inner, shape, args)? * length),
+                    _ => (false, ev.number(size, shape, args)?),
+                };
+                out.push(Item::Part {
+                    floating,
+                    size: value,
+                    body,
+                });
+            }
+            SplitEntry::Group(group) => {
+                let at = out.len();
+                out.push(Item::Group {
+                    len: 0,
                     repeat: group.repeat,
                     span: group.entries.first().map_or(Span::default(), |e| match e {
                         SplitEntry::Part { size, .. } => size.span,
                         SplitEntry::Group(_) => Span::default(),
                     }),
-                },
-            })
-        })
-        .collect()
+                });
+                evaluate(group, length, ev, shape, args, out)?;
+                let end = out.len();
+                if let Item::Group { len, .. } = &mut out[at] {
+                    *len = end - at - 1;
+                }
+            }
+        }
+    }
+    Ok(())
+}
+
+/// The top-level items of a flat item list, each with the items inside it (empty for parts).
+fn top<'s, 'a>(items: &'s [Item<'a>]) -> impl Iterator<Item = (&'s Item<'a>, &'s [Item<'a>])> {
+    let mut rest = items;
+    std::iter::from_fn(move || {
+        let (first, tail) = rest.split_first()?;
+        let len = match first {
+            Item::Group { len, .. } => *len,
+            Item::Part { .. } => 0,
+        };
+        let (inner, after) = tail.split_at(len);
+        rest = after;
+        Some((first, inner))
+    })
+}
+
+/// Nominal length of one item at one repetition; repeated groups inside count once.
+fn nominal_of(item: &Item, inner: &[Item]) -> f64 {
+    match item {
+        Item::Part { size, .. } => size.max(0.0),
+        Item::Group { .. } => nominal(inner),
+    }
 }
 
 /// Nominal length of items at one repetition each; repeated groups count once.
 fn nominal(items: &[Item]) -> f64 {
-    items
-        .iter()
-        .map(|i| match i {
-            Item::Part { size, .. } => size.max(0.0),
-            Item::Group { items, .. } => nominal(items),
-        })
-        .sum()
+    top(items).map(|(i, inner)| nominal_of(i, inner)).sum()
 }
 
 fn has_floating(items: &[Item]) -> bool {
-    items.iter().any(|i| match i {
-        Item::Part { floating, .. } => *floating,
-        Item::Group { items, .. } => has_floating(items),
-    })
+    items
+        .iter()
+        .any(|i| matches!(i, Item::Part { floating: true, .. }))
 }
 
 /// Flattens items into `(floating, nominal size, body)` parts, repeating groups as rule 2 says.
@@ -160,47 +228,40 @@ fn expand<'a>(
     length: f64,
     out: &mut Vec<(bool, f64, &'a [CStmt])>,
 ) -> Result<(), DeriveError> {
-    let outside: f64 = items
-        .iter()
-        .map(|i| match i {
+    let outside: f64 = top(items)
+        .map(|(i, inner)| match i {
             Item::Group { repeat: true, .. } => 0.0,
-            other => nominal(std::slice::from_ref(other)),
+            // The sum of one term, as the nominal length of a one-item list.
+            other => std::iter::once(nominal_of(other, inner)).sum(),
         })
         .sum();
-    let repeats = items
-        .iter()
-        .filter(|i| matches!(i, Item::Group { repeat: true, .. }))
+    let repeats = top(items)
+        .filter(|(i, _)| matches!(i, Item::Group { repeat: true, .. }))
         .count();
     let budget = if repeats > 0 {
         (length - outside).max(0.0) / repeats as f64
     } else {
         0.0
     };
-    for item in items {
+    for (item, inner) in top(items) {
         match item {
             Item::Part {
                 floating,
                 size,
                 body,
             } => out.push((*floating, *size, body)),
+            Item::Group { repeat: false, .. } => expand(inner, nominal(inner), out)?,
             Item::Group {
-                items,
-                repeat: false,
-                ..
-            } => expand(items, nominal(items), out)?,
-            Item::Group {
-                items,
-                repeat: true,
-                span,
+                repeat: true, span, ..
             } => {
-                let unit = nominal(items);
+                let unit = nominal(inner);
                 if unit <= 0.0 {
                     return Err(DeriveError::at(
                         "a repeated split group needs a positive size",
                         *span,
                     ));
                 }
-                let count = if has_floating(items) {
+                let count = if has_floating(inner) {
                     (budget / unit).round().max(1.0)
                 } else {
                     (budget / unit + 1e-9).floor()
@@ -215,7 +276,7 @@ fn expand<'a>(
                     ));
                 }
                 for _ in 0..count as usize {
-                    expand(items, unit, out)?;
+                    expand(inner, unit, out)?;
                 }
             }
         }

@@ -137,6 +137,7 @@ impl Scope {
     }
 
     /// Moves the origin by a vector given in scope-local axes (CGA `t`).
+    #[inline]
     pub fn translate(&mut self, local: DVec3) {
         self.origin += self.axes * local;
     }
