@@ -211,6 +211,7 @@ pub(crate) enum Query {
     InitialOrigin(usize),
     Seed,
     Depth,
+    CompSel,
 }
 
 impl Query {
@@ -238,6 +239,7 @@ impl Query {
         "initialShape.origin.pz",
         "seedian",
         "shape.depth",
+        "comp.sel",
     ];
 
     /// The query with this name.
@@ -257,7 +259,8 @@ impl Query {
             16 => Self::GeometryFaces,
             17..=19 => Self::InitialOrigin(i - 17),
             20 => Self::Seed,
-            _ => Self::Depth,
+            21 => Self::Depth,
+            _ => Self::CompSel,
         })
     }
 

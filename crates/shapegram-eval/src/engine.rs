@@ -1130,6 +1130,7 @@ impl<'p> Engine<'p> {
                 }
                 let mut child = state.spawn();
                 child.comp = (0, 1);
+                child.comp_sel = entry.selector.code();
                 child.scope = Scope::fit(
                     components[chosen[0]].scope.axes,
                     merged.positions().iter().copied(),
@@ -1144,6 +1145,7 @@ impl<'p> Engine<'p> {
                 let comp = &components[c];
                 let mut child = state.spawn();
                 child.comp = (i as u32, chosen.len() as u32);
+                child.comp_sel = entry.selector.code();
                 child.scope = comp.scope;
                 child.geometry = match kind {
                     CompKind::Faces => {

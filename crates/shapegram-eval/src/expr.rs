@@ -67,6 +67,9 @@ impl<'p> Evaluator<'p> {
             CKind::Const(i) => self.constant(*i, shape)?,
             CKind::Call(f, params) => self.call(*f, params, shape, args, e.span)?,
             CKind::Builtin(b, params) => self.builtin(*b, params, shape, args, e.span)?,
+            CKind::Query(Query::CompSel) => {
+                Value::string(crate::ops::CompSelector::NAMES[usize::from(shape.comp_sel)])
+            }
             CKind::Query(q) => Value::Number(self.query(*q, shape)),
             CKind::Unary(op, operand) => {
                 let v = self.eval(operand, shape, args)?;
@@ -482,6 +485,7 @@ impl<'p> Evaluator<'p> {
             // A number in [0, 1) stable for the shape: CGA's `seedian`.
             Query::Seed => (crate::rng::mix(shape.seed) >> 11) as f64 / (1u64 << 53) as f64,
             Query::Depth => f64::from(shape.depth),
+            Query::CompSel => unreachable!("comp.sel is a string, evaluated in `eval`"),
         }
     }
 }

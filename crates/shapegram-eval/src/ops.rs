@@ -119,7 +119,7 @@ pub(crate) struct CompEntry {
 }
 
 /// Which components an entry of `comp` takes.
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq)]
 pub(crate) enum CompSelector {
     Class(FaceClass),
     Side,
@@ -132,6 +132,47 @@ pub(crate) enum CompSelector {
     Border,
     /// A selector we do not know how to evaluate: selects nothing (with a warning).
     Never,
+}
+
+impl CompSelector {
+    /// The names `comp.sel` gives, by [`CompSelector::code`]; an index selector has no name.
+    pub const NAMES: [&'static str; 14] = [
+        "",
+        "front",
+        "back",
+        "left",
+        "right",
+        "top",
+        "bottom",
+        "side",
+        "all",
+        "vertical",
+        "horizontal",
+        "aslant",
+        "inside",
+        "border",
+    ];
+
+    /// The selector's position in [`CompSelector::NAMES`].
+    pub fn code(self) -> u8 {
+        use FaceClass::*;
+        match self {
+            Self::Class(Front) => 1,
+            Self::Class(Back) => 2,
+            Self::Class(Left) => 3,
+            Self::Class(Right) => 4,
+            Self::Class(Top) => 5,
+            Self::Class(Bottom) => 6,
+            Self::Side => 7,
+            Self::All => 8,
+            Self::Vertical => 9,
+            Self::Horizontal => 10,
+            Self::Aslant => 11,
+            Self::Inside => 12,
+            Self::Border => 13,
+            Self::Index(_) | Self::Never => 0,
+        }
+    }
 }
 
 /// Operations that would only change texturing or shading: accepted without effect.

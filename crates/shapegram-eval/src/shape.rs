@@ -121,6 +121,9 @@ pub struct State {
     pub split: (u32, u32),
     /// Position among the components of the component split that made it, and their count.
     pub comp: (u32, u32),
+    /// The selector that took it in that component split (`comp.sel`), as an index into
+    /// [`crate::ops::CompSelector::NAMES`]; 0 when none.
+    pub comp_sel: u8,
     /// Derivation depth (initial shapes are 0).
     pub depth: u32,
     /// The shape's identity in the derivation: the seed of its random stream.
@@ -145,6 +148,7 @@ impl State {
             material: None,
             split: (0, 1),
             comp: (0, 1),
+            comp_sel: 0,
             depth: 0,
             seed,
             rng: Rng::new(seed),
@@ -181,6 +185,7 @@ impl State {
             material: self.material.take(),
             split: self.split,
             comp: self.comp,
+            comp_sel: self.comp_sel,
             depth: self.depth,
             seed: self.seed,
             rng: self.rng.clone(),

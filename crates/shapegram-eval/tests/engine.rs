@@ -58,6 +58,16 @@ fn side_selector_and_first_match_wins() {
 }
 
 #[test]
+fn comp_sel_names_the_selector() {
+    let d = run(
+        "Lot --> extrude(1) comp(f) { front : S(comp.sel) | side : S(comp.sel) | 3 : S(comp.sel) }
+         S(n) --> case n == \"front\" : Front else : case n == \"side\" : Side else : None",
+        lot(2.0, 3.0),
+    );
+    assert_eq!(names(&d), ["Front", "Side", "Side", "Side", "None"]);
+}
+
+#[test]
 fn comp_index_and_total_and_merging() {
     let d = run(
         "Lot --> extrude(10) comp(f) { side : S(comp.index, comp.total) }
