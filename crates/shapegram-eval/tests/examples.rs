@@ -4,26 +4,8 @@ mod common;
 
 use std::path::PathBuf;
 
-use shapegram_eval::{DeriveOptions, Program, derive};
-use shapegram_syntax::{SourceFile, parse};
-
-fn example(name: &str) -> Program {
-    let path = PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-        .join("../../examples")
-        .join(name);
-    let text = std::fs::read_to_string(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
-    let source = SourceFile::new(name, text);
-    let parsed = parse(&source);
-    let (program, diagnostics) = Program::compile(&parsed.grammar);
-    let all: Vec<String> = parsed
-        .diagnostics
-        .iter()
-        .chain(&diagnostics)
-        .map(|d| source.render(d))
-        .collect();
-    assert!(all.is_empty(), "{}", all.join("\n"));
-    program.unwrap()
-}
+use common::example;
+use shapegram_eval::{DeriveOptions, derive};
 
 #[test]
 fn office() {

@@ -3,16 +3,12 @@
 
 mod common;
 
-use std::path::PathBuf;
 use std::sync::Arc;
 
+use common::examples;
 use shapegram_eval::{AssetLoader, Derivation, DeriveOptions, Program, Value, derive};
 use shapegram_geom::{DVec3, Mesh};
-use shapegram_syntax::{Dialect, SourceFile, parse};
-
-fn examples() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../examples")
-}
+use shapegram_syntax::Dialect;
 
 /// Assets from the examples folder (`roof.obj`).
 struct ExampleAssets;
@@ -26,18 +22,9 @@ impl AssetLoader for ExampleAssets {
 
 /// Compiles grammar text, asserting that it is in `dialect` and has no diagnostics at all.
 fn compile(name: &str, text: &str, dialect: Dialect) -> Program {
-    let source = SourceFile::new(name, text);
-    let parsed = parse(&source);
-    assert_eq!(parsed.grammar.dialect, dialect, "{name}");
-    let (program, diagnostics) = Program::compile(&parsed.grammar);
-    let all: Vec<String> = parsed
-        .diagnostics
-        .iter()
-        .chain(&diagnostics)
-        .map(|d| source.render(d))
-        .collect();
-    assert!(all.is_empty(), "{}", all.join("\n"));
-    program.expect("no errors")
+    let (program, read_as) = common::compile_clean(name, text);
+    assert_eq!(read_as, dialect, "{name}");
+    program
 }
 
 fn example_text(name: &str) -> String {

@@ -4,7 +4,7 @@
 
 mod common;
 
-use common::{footprint_loop, l_footprint, polygon_area, polyomino};
+use common::{footprint_loop, l_footprint, polyomino, star_footprint, u_footprint};
 use proptest::prelude::*;
 use shapegram_geom::{
     DAffine3, DQuat, DVec3,
@@ -41,20 +41,6 @@ fn dumbbell() -> Vec<DVec3> {
         (6.0, 2.5),
         (4.0, 2.5),
         (4.0, 4.0),
-        (0.0, 4.0),
-    ])
-}
-
-/// The 6 × 4 rectangle minus the notch `[2,4] × [1,4]`, open towards +z: area 18, perimeter 26.
-fn u_shape() -> Vec<DVec3> {
-    footprint_loop(&[
-        (0.0, 0.0),
-        (6.0, 0.0),
-        (6.0, 4.0),
-        (4.0, 4.0),
-        (4.0, 1.0),
-        (2.0, 1.0),
-        (2.0, 4.0),
         (0.0, 4.0),
     ])
 }
@@ -111,7 +97,7 @@ fn an_inset_can_fall_apart_and_an_offset_can_close_a_notch() {
     }
     // The notch of the U is 2 wide: open at 0.5 (area 18 + 13 + 4·0.25 = 32), filled at 1.5
     // (the full 9 × 7 rectangle).
-    let u = u_shape();
+    let u = u_footprint();
     let open = offset_polygon(&u, 0.5);
     assert_eq!(open.len(), 1);
     assert_close(area_up(&open[0]), 32.0, EPS);
@@ -260,34 +246,6 @@ fn invalid_input_gives_nothing() {
 fn polyomino_footprint() -> impl Strategy<Value = Vec<DVec3>> {
     prop::collection::vec((0..64usize, 0..4u8), 1..24)
         .prop_filter_map("holes or corner contacts", |choices| polyomino(&choices))
-}
-
-/// A star-shaped polygon: corners at sorted angles with random radii.
-fn star_footprint() -> impl Strategy<Value = Vec<DVec3>> {
-    prop::collection::vec((0.0..1.0f64, 1.0..10.0f64), 3..14).prop_filter_map(
-        "corners too close",
-        |mut corners| {
-            corners.sort_by(|a, b| a.0.total_cmp(&b.0));
-            corners.dedup_by(|a, b| (a.0 - b.0).abs() < 0.02);
-            let gaps = corners.windows(2).map(|w| w[1].0 - w[0].0).chain(
-                corners
-                    .first()
-                    .zip(corners.last())
-                    .map(|(f, l)| f.0 + 1.0 - l.0),
-            );
-            if gaps.fold(0.0, f64::max) >= 0.45 {
-                return None;
-            }
-            let points: Vec<DVec3> = corners
-                .iter()
-                .map(|&(a, r)| {
-                    let a = a * std::f64::consts::TAU;
-                    DVec3::new(r * a.cos(), 0.0, -r * a.sin())
-                })
-                .collect();
-            (points.len() >= 3 && polygon_area(&points) > 1.0).then_some(points)
-        },
-    )
 }
 
 /// Checks the inside/border split of one polygon at one distance.

@@ -4,7 +4,7 @@
 
 mod common;
 
-use common::{footprint_loop, l_footprint, polygon_area, polyomino};
+use common::{footprint_loop, l_footprint, polygon_area, polyomino, star_footprint};
 use proptest::prelude::*;
 use shapegram_geom::{
     DAffine3, DQuat, DVec3, Mesh, Plane,
@@ -546,35 +546,6 @@ fn convex_footprint() -> impl Strategy<Value = Vec<DVec3>> {
             }
             (points.len() >= 3 && polygon_area(&points) > 0.5).then_some(points)
         })
-}
-
-/// A star-shaped polygon: corners at sorted angles with random radii (usually not convex).
-fn star_footprint() -> impl Strategy<Value = Vec<DVec3>> {
-    prop::collection::vec((0.0..1.0f64, 1.0..10.0f64), 3..14).prop_filter_map(
-        "corners too close",
-        |mut corners| {
-            corners.sort_by(|a, b| a.0.total_cmp(&b.0));
-            corners.dedup_by(|a, b| (a.0 - b.0).abs() < 0.02);
-            // Every angular gap under half a turn keeps the centre inside: star-shaped about it.
-            let gaps = corners.windows(2).map(|w| w[1].0 - w[0].0).chain(
-                corners
-                    .first()
-                    .zip(corners.last())
-                    .map(|(f, l)| f.0 + 1.0 - l.0),
-            );
-            if gaps.fold(0.0, f64::max) >= 0.45 {
-                return None;
-            }
-            let points: Vec<DVec3> = corners
-                .iter()
-                .map(|&(a, r)| {
-                    let a = a * std::f64::consts::TAU;
-                    DVec3::new(r * a.cos(), 0.0, -r * a.sin())
-                })
-                .collect();
-            (points.len() >= 3 && polygon_area(&points) > 1.0).then_some(points)
-        },
-    )
 }
 
 /// A rectilinear "skyline": columns of random widths and heights on a common base, with the

@@ -1,9 +1,11 @@
 //! Running grammar text through parser, compiler and engine.
 #![allow(dead_code)]
 
+use std::path::PathBuf;
+
 use shapegram_eval::{Derivation, DeriveError, DeriveOptions, InitialShape, Program, derive};
 use shapegram_geom::DVec2;
-use shapegram_syntax::{SourceFile, parse};
+use shapegram_syntax::{Dialect, SourceFile, parse};
 
 /// The compiled program; panics with the rendered diagnostics on errors.
 pub fn compile(text: &str) -> Program {
@@ -65,4 +67,32 @@ pub fn try_run(
 /// Leaf names in order.
 pub fn names(d: &Derivation) -> Vec<&str> {
     d.leaves.iter().map(|l| &*l.name).collect()
+}
+
+/// The project's `examples/` folder.
+pub fn examples() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../examples")
+}
+
+/// Compiles grammar text, asserting that it has no diagnostics at all, not even warnings;
+/// returns the program and the notation it was read in.
+pub fn compile_clean(name: &str, text: &str) -> (Program, Dialect) {
+    let source = SourceFile::new(name, text);
+    let parsed = parse(&source);
+    let (program, diagnostics) = Program::compile(&parsed.grammar);
+    let all: Vec<String> = parsed
+        .diagnostics
+        .iter()
+        .chain(&diagnostics)
+        .map(|d| source.render(d))
+        .collect();
+    assert!(all.is_empty(), "{}", all.join("\n"));
+    (program.expect("no errors"), parsed.grammar.dialect)
+}
+
+/// The grammar `examples/<name>`, compiled without diagnostics.
+pub fn example(name: &str) -> Program {
+    let path = examples().join(name);
+    let text = std::fs::read_to_string(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+    compile_clean(name, &text).0
 }

@@ -1,6 +1,7 @@
 //! Shapes shared by the kernel's test files (each file uses some of them).
 #![allow(dead_code)]
 
+use proptest::prelude::*;
 use shapegram_geom::{DVec2, DVec3, Mesh, extrude::extrude_polygon, primitives};
 
 /// An L-shaped footprint extruded to a non-convex prism: the 4×4 square at the origin minus
@@ -22,17 +23,25 @@ pub fn l_prism() -> Mesh {
 /// A U-shaped prism, open towards +z: the 6×4 rectangle minus `[2,4]×[1,4]`, height 2.
 /// Volume (24 − 6) · 2 = 36.
 pub fn u_prism() -> Mesh {
-    let u = [
-        (0.0, 0.0),
-        (6.0, 0.0),
-        (6.0, 4.0),
-        (4.0, 4.0),
-        (4.0, 1.0),
-        (2.0, 1.0),
-        (2.0, 4.0),
-        (0.0, 4.0),
-    ];
-    prism(&u, 2.0)
+    prism(&U_OUTLINE, 2.0)
+}
+
+/// The 6 × 4 rectangle minus the notch `[2,4] × [1,4]`, open towards +z, as `(x, z)` corners:
+/// area 18, perimeter 26.
+const U_OUTLINE: [(f64, f64); 8] = [
+    (0.0, 0.0),
+    (6.0, 0.0),
+    (6.0, 4.0),
+    (4.0, 4.0),
+    (4.0, 1.0),
+    (2.0, 1.0),
+    (2.0, 4.0),
+    (0.0, 4.0),
+];
+
+/// The U outline as a footprint loop facing up.
+pub fn u_footprint() -> Vec<DVec3> {
+    footprint_loop(&U_OUTLINE)
 }
 
 /// A square tube along y: outer 4×4, inner hole 2×2, height 3, with the top and bottom rings made
@@ -173,4 +182,33 @@ pub fn polyomino(choices: &[(usize, u8)]) -> Option<Vec<DVec3>> {
         .map(|&(x, z)| (f64::from(x), f64::from(z)))
         .collect();
     Some(footprint_loop(&points))
+}
+
+/// A star-shaped polygon: corners at sorted angles with random radii (usually not convex).
+pub fn star_footprint() -> impl Strategy<Value = Vec<DVec3>> {
+    prop::collection::vec((0.0..1.0f64, 1.0..10.0f64), 3..14).prop_filter_map(
+        "corners too close",
+        |mut corners| {
+            corners.sort_by(|a, b| a.0.total_cmp(&b.0));
+            corners.dedup_by(|a, b| (a.0 - b.0).abs() < 0.02);
+            // Every angular gap under half a turn keeps the centre inside: star-shaped about it.
+            let gaps = corners.windows(2).map(|w| w[1].0 - w[0].0).chain(
+                corners
+                    .first()
+                    .zip(corners.last())
+                    .map(|(f, l)| f.0 + 1.0 - l.0),
+            );
+            if gaps.fold(0.0, f64::max) >= 0.45 {
+                return None;
+            }
+            let points: Vec<DVec3> = corners
+                .iter()
+                .map(|&(a, r)| {
+                    let a = a * std::f64::consts::TAU;
+                    DVec3::new(r * a.cos(), 0.0, -r * a.sin())
+                })
+                .collect();
+            (points.len() >= 3 && polygon_area(&points) > 1.0).then_some(points)
+        },
+    )
 }
