@@ -4,7 +4,7 @@
 
 mod common;
 
-use common::{footprint_loop, l_footprint, polygon_area, polyomino, star_footprint};
+use common::{footprint_loop, l_footprint, polygon_area, polyomino, star_footprint, u_footprint};
 use proptest::prelude::*;
 use shapegram_geom::{
     DAffine3, DQuat, DVec3, Mesh, Plane,
@@ -395,16 +395,7 @@ fn invalid_input_gives_none() {
     let inner = (0..6).filter(|&i| roof_shed(&l, 30.0, i).is_none()).count();
     assert_eq!(inner, 2);
     // A U is not star-shaped about its centroid (which lies in the notch).
-    let u = footprint_loop(&[
-        (0.0, 0.0),
-        (6.0, 0.0),
-        (6.0, 4.0),
-        (4.0, 4.0),
-        (4.0, 1.0),
-        (2.0, 1.0),
-        (2.0, 4.0),
-        (0.0, 4.0),
-    ]);
+    let u = u_footprint();
     assert!(roof_pyramid(&u, 30.0).is_none());
     assert!(roof_pyramid(&l, 30.0).is_some());
 }

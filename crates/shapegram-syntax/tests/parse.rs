@@ -2,7 +2,7 @@
 
 mod common;
 
-use common::{expr, parse_ok, rule_body};
+use common::{args_str, expr, parse_ok, rule_body};
 use shapegram_syntax::Span;
 use shapegram_syntax::ast::{
     Argument, Block, BlockEntry, Body, Call, Dialect, Expr, ExprKind, Ident, Rule, Stmt,
@@ -154,7 +154,7 @@ Lot --> X"#,
     let annotations: Vec<String> = attr
         .annotations
         .iter()
-        .map(|a| format!("{}({})", a.name.name, args(&a.args)))
+        .map(|a| format!("{}({})", a.name.name, args_str(&a.args)))
         .collect();
     assert_eq!(
         annotations,
@@ -180,17 +180,6 @@ Lot --> X"#,
 
     assert!(g.rules[0].is_start_rule());
     assert!(g.unsupported.is_empty());
-}
-
-fn args(args: &[Argument]) -> String {
-    let parts: Vec<String> = args
-        .iter()
-        .map(|a| match &a.name {
-            Some(n) => format!("{}={}", n.name, expr(&a.value)),
-            None => expr(&a.value),
-        })
-        .collect();
-    parts.join(", ")
 }
 
 #[test]

@@ -109,7 +109,8 @@ pub fn block(b: &Block) -> String {
     )
 }
 
-fn args_str(args: &[Argument]) -> String {
+/// Arguments as `a, name=b`.
+pub fn args_str(args: &[Argument]) -> String {
     let parts: Vec<String> = args
         .iter()
         .map(|a| match &a.name {
