@@ -860,15 +860,12 @@ impl<'p> Engine<'p> {
                 refit(state, turned.axes);
             }
             Op::Insert(path) => {
-                let path = self.ev.string(path, state, args)?;
-                let asset = self.asset(&path, path_span(path_expr_span(op), span))?;
+                let file = self.ev.string(path, state, args)?;
+                let asset = self.asset(&file, path.span)?;
                 insert(state, &asset);
             }
             Op::Primitive(kind, params) => {
-                let counts = params
-                    .iter()
-                    .map(|p| self.ev.number(p, state, args))
-                    .collect::<Fallible<Vec<_>>>()?;
+                let counts = self.numbers(params, state, args)?;
                 primitive(state, *kind, &counts, span)?;
             }
             Op::Split {
@@ -909,15 +906,25 @@ impl<'p> Engine<'p> {
                 offset(state, d, *keep, span)?;
             }
             Op::Roof(kind, params) => {
-                let values = params
-                    .iter()
-                    .map(|p| self.ev.number(p, state, args))
-                    .collect::<Fallible<Vec<_>>>()?;
+                let values = self.numbers(params, state, args)?;
                 roof(state, *kind, &values, span)?;
             }
             Op::Ignored => {}
         }
         Ok(false)
+    }
+
+    /// Evaluates operation arguments that must all be numbers.
+    fn numbers(
+        &mut self,
+        params: &[CExpr],
+        state: &mut State,
+        args: &[Value],
+    ) -> Fallible<Vec<f64>> {
+        params
+            .iter()
+            .map(|p| self.ev.number(p, state, args))
+            .collect()
     }
 
     fn color(&mut self, params: &[CExpr], state: &mut State, args: &[Value]) -> Fallible<Color> {
@@ -1168,18 +1175,6 @@ impl<'p> Engine<'p> {
         }
         Ok(())
     }
-}
-
-/// The span of an operation's first argument, for errors about it.
-fn path_expr_span(op: &Op) -> Option<Span> {
-    match op {
-        Op::Insert(e) => Some(e.span),
-        _ => None,
-    }
-}
-
-fn path_span(arg: Option<Span>, call: Span) -> Span {
-    arg.unwrap_or(call)
 }
 
 /// Whether an entry's selector takes a component.
