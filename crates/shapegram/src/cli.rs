@@ -102,6 +102,12 @@ pub enum Command {
             shapegram check --quiet-warnings rules/*.cga"
     )]
     Check(CheckArgs),
+    /// Derive an L-system and draw it with a turtle (SVG, GLB, OBJ or STL), or print its word
+    Lsystem(crate::lsystem::LsystemArgs),
+    /// Grow an implicit cave with the SG+M grammar and mesh it (GLB, OBJ or STL)
+    Cave(crate::cave::CaveArgs),
+    /// Run or compile a topological split grammar (Shape Grammar Editor)
+    Topo(crate::topo::TopoArgs),
 }
 
 /// Arguments of `shapegram primitive`.

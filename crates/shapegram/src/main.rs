@@ -1,13 +1,16 @@
 //! The `shapegram` command: parses the command line, runs one subcommand, reports failure as one
 //! `error: ...` line on stderr with exit code 1 (2 for usage errors).
 
+mod cave;
 mod check;
 mod cli;
 mod derive;
 mod grammar;
 mod info;
 mod lots;
+mod lsystem;
 mod primitive;
+mod topo;
 
 use std::io::{self, Write};
 use std::process::ExitCode;
@@ -23,6 +26,9 @@ fn main() -> ExitCode {
         Command::Info(args) => info::run(args),
         Command::Derive(args) => derive::run(args),
         Command::Check(args) => check::run(args),
+        Command::Lsystem(args) => lsystem::run(args),
+        Command::Cave(args) => cave::run(args),
+        Command::Topo(args) => topo::run(args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -1,0 +1,1 @@
+//! Implicit solids, CSG, morphing and procedural caves.

@@ -1,0 +1,1 @@
+//! L-systems: rewriting and turtle interpretation.

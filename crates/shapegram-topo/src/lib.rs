@@ -1,0 +1,1 @@
+//! The topological split grammar of the Shape Grammar Editor.
