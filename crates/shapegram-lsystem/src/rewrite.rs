@@ -1,0 +1,397 @@
+//! The derivation: every module of the word rewritten in parallel (in the L-system sense), step
+//! after step.
+//!
+//! Systems without parameters whose productions are all fixed (D0L and bracketed D0L) take a
+//! fast path: each step sums the successor lengths to size the new word exactly, then copies
+//! one precomputed slice per module. Everything else goes module by module through its
+//! symbol's productions.
+
+use crate::alphabet::SymbolId;
+use crate::context::{Structure, pair_brackets};
+use crate::error::Error;
+use crate::rng;
+use crate::system::{LSystem, Plan, Production};
+use crate::word::{Word, push_number};
+
+/// Default limit on the number of modules of a word.
+pub const DEFAULT_MAX_MODULES: usize = 50_000_000;
+
+/// Choices of one derivation; `None` takes the value from the L-system's settings.
+#[derive(Clone, Debug)]
+pub struct DeriveOptions {
+    /// Derivation length (overrides `n:`).
+    pub iterations: Option<u32>,
+    /// Seed of stochastic choices (overrides `seed:`).
+    pub seed: Option<u64>,
+    /// A word may not grow beyond this many modules; a step that would is an error.
+    pub max_modules: usize,
+}
+
+impl Default for DeriveOptions {
+    fn default() -> Self {
+        Self {
+            iterations: None,
+            seed: None,
+            max_modules: DEFAULT_MAX_MODULES,
+        }
+    }
+}
+
+/// Buffers reused from step to step.
+#[derive(Default)]
+struct Scratch {
+    variables: Vec<f64>,
+    stack: Vec<f64>,
+    partners: Vec<u32>,
+    brackets: Vec<u32>,
+    offsets: Vec<u32>,
+    found_left: Vec<usize>,
+    found_right: Vec<usize>,
+    backtrack: Vec<(usize, usize)>,
+}
+
+impl LSystem {
+    /// Derives the word after the configured number of steps.
+    pub fn derive(&self, options: &DeriveOptions) -> Result<Word, Error> {
+        self.derive_with_progress(options, |_, _| {})
+    }
+
+    /// Like [`LSystem::derive`], calling `progress(step, modules)` after each step.
+    pub fn derive_with_progress(
+        &self,
+        options: &DeriveOptions,
+        mut progress: impl FnMut(u32, usize),
+    ) -> Result<Word, Error> {
+        let iterations = options.iterations.unwrap_or(self.settings.iterations);
+        let seed = options.seed.unwrap_or(self.settings.seed);
+        let max = options.max_modules;
+        if self.axiom.len() > max {
+            return Err(limit_error(0, self.axiom.len(), max));
+        }
+        let mut word = self.axiom.clone();
+        let mut next = Word::default();
+        if self.is_d0l() {
+            let (table, slab) = self.d0l_table();
+            for step in 1..=iterations {
+                step_d0l(&word, &mut next, &table, &slab, step, max)?;
+                std::mem::swap(&mut word, &mut next);
+                progress(step, word.len());
+            }
+            return Ok(word);
+        }
+        let arities: Vec<usize> = self
+            .alphabet
+            .symbols()
+            .iter()
+            .map(|s| s.arity as usize)
+            .collect();
+        let mut scratch = Scratch::default();
+        for step in 1..=iterations {
+            let key = rng::step_key(seed, step);
+            self.step(&word, &mut next, step, key, max, &arities, &mut scratch)?;
+            std::mem::swap(&mut word, &mut next);
+            progress(step, word.len());
+        }
+        Ok(word)
+    }
+
+    /// Per symbol, the slice of `slab` it becomes in a D0L system.
+    fn d0l_table(&self) -> (Vec<(u32, u32)>, Vec<SymbolId>) {
+        let mut slab = self.fixed.clone();
+        let table = self
+            .plans
+            .iter()
+            .enumerate()
+            .map(|(id, plan)| match *plan {
+                Plan::Fixed { start, len } => (start, len),
+                _ => {
+                    slab.push(id as SymbolId);
+                    (slab.len() as u32 - 1, 1)
+                }
+            })
+            .collect();
+        (table, slab)
+    }
+
+    /// One step of the general engine: `input` rewritten into `out`.
+    #[allow(clippy::too_many_arguments)]
+    fn step(
+        &self,
+        input: &Word,
+        out: &mut Word,
+        step: u32,
+        key: u64,
+        max: usize,
+        arities: &[usize],
+        scratch: &mut Scratch,
+    ) -> Result<(), Error> {
+        out.symbols.clear();
+        out.params.clear();
+        let contexts = self.has_context();
+        if contexts {
+            pair_brackets(
+                &input.symbols,
+                self.open,
+                self.close,
+                &mut scratch.partners,
+                &mut scratch.brackets,
+            );
+            scratch.offsets.clear();
+            if !input.params.is_empty() {
+                let mut offset = 0u32;
+                scratch.offsets.extend(input.symbols.iter().map(|&s| {
+                    let at = offset;
+                    offset += arities[s as usize] as u32;
+                    at
+                }));
+            }
+        }
+        let structure = Structure {
+            symbols: &input.symbols,
+            partners: &scratch.partners,
+            ignored: &self.ignored,
+            open: self.open,
+            close: self.close,
+        };
+        let mut engine = Applier {
+            system: self,
+            input,
+            structure,
+            offsets: &scratch.offsets,
+            arities,
+            key,
+            step,
+            variables: &mut scratch.variables,
+            stack: &mut scratch.stack,
+            found_left: &mut scratch.found_left,
+            found_right: &mut scratch.found_right,
+            backtrack: &mut scratch.backtrack,
+        };
+        let mut p = 0;
+        for (i, &s) in input.symbols.iter().enumerate() {
+            let arity = arities[s as usize];
+            let params = &input.params[p..p + arity];
+            match &self.plans[s as usize] {
+                Plan::Copy => copy(out, s, params),
+                Plan::Fixed { start, len } => out
+                    .symbols
+                    .extend_from_slice(&self.fixed[*start as usize..(*start + *len) as usize]),
+                Plan::Productions(list) => {
+                    if !engine.apply(list, i, params, out)? {
+                        copy(out, s, params);
+                    }
+                }
+            }
+            p += arity;
+            if out.symbols.len() > max {
+                return Err(Error::general(format!(
+                    "step {step}: the word grew past the limit of {} modules (raise the limit, or derive fewer steps)",
+                    group_digits(max)
+                )));
+            }
+        }
+        Ok(())
+    }
+}
+
+/// Appends a module unchanged.
+fn copy(out: &mut Word, symbol: SymbolId, params: &[f64]) {
+    out.symbols.push(symbol);
+    out.params.extend_from_slice(params);
+}
+
+/// One D0L step: exact size first, then one slice copy per module.
+fn step_d0l(
+    input: &Word,
+    out: &mut Word,
+    table: &[(u32, u32)],
+    slab: &[SymbolId],
+    step: u32,
+    max: usize,
+) -> Result<(), Error> {
+    let len: u64 = input
+        .symbols
+        .iter()
+        .map(|&s| u64::from(table[s as usize].1))
+        .sum();
+    if len > max as u64 {
+        return Err(limit_error(step, len as usize, max));
+    }
+    out.symbols.clear();
+    out.symbols.resize(len as usize, 0);
+    let mut at = 0;
+    for &s in &input.symbols {
+        let (start, n) = table[s as usize];
+        let (start, n) = (start as usize, n as usize);
+        out.symbols[at..at + n].copy_from_slice(&slab[start..start + n]);
+        at += n;
+    }
+    Ok(())
+}
+
+/// The error of a step whose word would be too long.
+fn limit_error(step: u32, len: usize, max: usize) -> Error {
+    Error::general(format!(
+        "step {step} would make a word of {} modules, over the limit of {} (raise the limit, or derive fewer steps)",
+        group_digits(len),
+        group_digits(max)
+    ))
+}
+
+/// `12345678` as `12,345,678`.
+fn group_digits(n: usize) -> String {
+    let digits = n.to_string();
+    let mut out = String::new();
+    for (i, c) in digits.chars().enumerate() {
+        if i > 0 && (digits.len() - i) % 3 == 0 {
+            out.push(',');
+        }
+        out.push(c);
+    }
+    out
+}
+
+/// What applying productions to the modules of one step needs.
+struct Applier<'a> {
+    system: &'a LSystem,
+    input: &'a Word,
+    structure: Structure<'a>,
+    offsets: &'a [u32],
+    arities: &'a [usize],
+    key: u64,
+    step: u32,
+    variables: &'a mut Vec<f64>,
+    stack: &'a mut Vec<f64>,
+    found_left: &'a mut Vec<usize>,
+    found_right: &'a mut Vec<usize>,
+    backtrack: &'a mut Vec<(usize, usize)>,
+}
+
+impl Applier<'_> {
+    /// Applies the first production of `list` that matches the module at `at`; false when none
+    /// does.
+    fn apply(
+        &mut self,
+        list: &[u32],
+        at: usize,
+        params: &[f64],
+        out: &mut Word,
+    ) -> Result<bool, Error> {
+        for &index in list {
+            let production = &self.system.productions[index as usize];
+            if !self.bind(production, at, params) {
+                continue;
+            }
+            if let Some(condition) = &production.condition {
+                let value = condition.eval(self.variables, self.stack);
+                if value.is_nan() {
+                    return Err(Error::at(
+                        condition.position,
+                        format!(
+                            "step {}: the condition is not a number (NaN) for {}",
+                            self.step,
+                            self.module_text(at, params)
+                        ),
+                    ));
+                }
+                if value == 0.0 {
+                    continue;
+                }
+            }
+            let alternatives = &production.alternatives;
+            let chosen = if alternatives.len() == 1 {
+                &alternatives[0]
+            } else {
+                let u = rng::draw(self.key, at);
+                alternatives
+                    .iter()
+                    .find(|a| u < a.cumulative)
+                    .unwrap_or(&alternatives[alternatives.len() - 1])
+            };
+            for module in &chosen.modules {
+                out.symbols.push(module.symbol);
+                for arg in &module.args {
+                    let value = arg.eval(self.variables, self.stack);
+                    if !value.is_finite() {
+                        return Err(Error::at(
+                            arg.position,
+                            format!(
+                                "step {}: the parameter is {value}, not a finite number, when rewriting {}",
+                                self.step,
+                                self.module_text(at, params)
+                            ),
+                        ));
+                    }
+                    out.params.push(value);
+                }
+            }
+            return Ok(true);
+        }
+        Ok(false)
+    }
+
+    /// Checks the contexts of `production` at `at` and binds its variables; false when a
+    /// context does not match.
+    fn bind(&mut self, production: &Production, at: usize, params: &[f64]) -> bool {
+        self.variables.clear();
+        self.variables.extend_from_slice(params);
+        self.variables.resize(production.variables, 0.0);
+        if !production.left.is_empty() {
+            self.found_left.resize(production.left.len(), 0);
+            if !self
+                .structure
+                .matches_left(at, &production.left, self.found_left)
+            {
+                return false;
+            }
+            for (k, &base) in production.left_vars.iter().enumerate() {
+                self.copy_params(self.found_left[k], production.left[k], base);
+            }
+        }
+        if !production.right.is_empty() {
+            self.found_right.resize(production.right.len(), 0);
+            if !self.structure.matches_right(
+                at,
+                &production.right,
+                self.found_right,
+                self.backtrack,
+            ) {
+                return false;
+            }
+            for (k, &base) in production.right_vars.iter().enumerate() {
+                self.copy_params(self.found_right[k], production.right[k], base);
+            }
+        }
+        true
+    }
+
+    /// Copies the parameters of the module at `position` (a `symbol`) to the variables from
+    /// `base`.
+    fn copy_params(&mut self, position: usize, symbol: SymbolId, base: u16) {
+        let arity = self.arities[symbol as usize];
+        if arity == 0 {
+            return;
+        }
+        let offset = self.offsets[position] as usize;
+        let base = base as usize;
+        self.variables[base..base + arity]
+            .copy_from_slice(&self.input.params[offset..offset + arity]);
+    }
+
+    /// A module as text, for messages.
+    fn module_text(&self, at: usize, params: &[f64]) -> String {
+        let symbol = self.system.alphabet.symbol(self.input.symbols[at]);
+        let mut text = symbol.name.to_string();
+        if !params.is_empty() {
+            text.push('(');
+            for (k, &v) in params.iter().enumerate() {
+                if k > 0 {
+                    text.push(',');
+                }
+                push_number(&mut text, v);
+            }
+            text.push(')');
+        }
+        text
+    }
+}

@@ -1,0 +1,264 @@
+//! Rewriting with exact expected words: D0L, bracketed, stochastic, context-sensitive (with the
+//! paper's bracket-aware example) and parametric systems (ABOP §1.10).
+
+use shapegram_lsystem::{DeriveOptions, LSystem};
+
+fn system(text: &str) -> LSystem {
+    LSystem::parse(text).unwrap_or_else(|e| panic!("{}", e.render("test", text)))
+}
+
+/// The word after `n` steps.
+fn word(text: &str, n: u32) -> String {
+    let system = system(text);
+    let options = DeriveOptions {
+        iterations: Some(n),
+        ..DeriveOptions::default()
+    };
+    system.word_text(&system.derive(&options).unwrap())
+}
+
+fn count(word: &str, c: char) -> usize {
+    word.chars().filter(|&d| d == c).count()
+}
+
+#[test]
+fn algae_word_lengths_are_fibonacci_numbers() {
+    let algae = "axiom: a\na -> ab\nb -> a\n";
+    assert_eq!(word(algae, 0), "a");
+    assert_eq!(word(algae, 1), "ab");
+    assert_eq!(word(algae, 2), "aba");
+    assert_eq!(word(algae, 5), "abaababaabaab");
+    let (mut a, mut b) = (1usize, 2usize);
+    for n in 1..=25 {
+        assert_eq!(word(algae, n).len(), b, "step {n}");
+        (a, b) = (b, a + b);
+    }
+}
+
+#[test]
+fn koch_curves_have_exact_segment_counts() {
+    // Quadratic Koch island (ABOP Figure 1.7a): each F becomes 8.
+    let island = "angle: 90\naxiom: F-F-F-F\nF -> F-F+F+FF-F-F+F\n";
+    // The paper's Figure 2 (ABOP Figure 1.9b-like): each F becomes 6.
+    let figure2 = "axiom: F-F-F-F\nF -> FF-F-F-F-F\n";
+    // ABOP Figure 1.9a: each F becomes 8, with seven turns.
+    let figure19a = "axiom: F-F-F-F\nF -> FF-F-F-F-F-F+F\n";
+    for n in 0..=5u32 {
+        let island_word = word(island, n);
+        assert_eq!(count(&island_word, 'F'), 4 * 8usize.pow(n));
+        // Turns: 3 in the axiom, and every F adds 6 in each step.
+        let turns = count(&island_word, '+') + count(&island_word, '-');
+        let expected_turns = 3 + (0..n).map(|k| 6 * 4 * 8usize.pow(k)).sum::<usize>();
+        assert_eq!(turns, expected_turns, "step {n}");
+        assert_eq!(count(&word(figure2, n), 'F'), 4 * 6usize.pow(n));
+        assert_eq!(count(&word(figure19a, n), 'F'), 4 * 8usize.pow(n));
+    }
+    assert_eq!(
+        word(island, 1),
+        "F-F+F+FF-F-F+F-F-F+F+FF-F-F+F-F-F+F+FF-F-F+F-F-F+F+FF-F-F+F"
+    );
+}
+
+#[test]
+fn bracketed_plant_of_the_paper() {
+    // The paper's Figure 3: ω: F, δ = 22.5°, F → FF-[-F+F+F]+[+F-F-F].
+    let plant = "angle: 22.5\naxiom: F\nF -> FF-[-F+F+F]+[+F-F-F]\n";
+    assert_eq!(word(plant, 1), "FF-[-F+F+F]+[+F-F-F]");
+    let w = word(plant, 4);
+    assert_eq!(count(&w, 'F'), 8usize.pow(4));
+    assert_eq!(count(&w, '['), count(&w, ']'));
+    assert_eq!(count(&w, '['), 2 * (1 + 8 + 64 + 512));
+}
+
+#[test]
+fn signal_propagates_with_a_left_context() {
+    // The paper's example 3.2.2: b < a → b, b → a on baaaa.
+    let signal = "axiom: baaaa\nb < a -> b\nb -> a\n";
+    let words: Vec<String> = (0..=5).map(|n| word(signal, n)).collect();
+    assert_eq!(
+        words,
+        ["baaaa", "abaaa", "aabaa", "aaaba", "aaaab", "aaaaa"]
+    );
+}
+
+#[test]
+fn context_rules_take_precedence_over_context_free_ones() {
+    // The context-free rule comes first in the file, the context rule still wins where it matches.
+    let text = "axiom: xaaa\na -> c\nx < a -> b\n";
+    assert_eq!(word(text, 1), "xbcc");
+}
+
+#[test]
+fn bracket_aware_context_of_the_paper() {
+    // Example 3.2.3: ω = JFF[J]F[J[J[JF]F], p0: JFF < F > JJF → FJ. The F after [J] matches:
+    // [J] is skipped on the left; on the right the context enters [J[J, skips [JF] and finds F.
+    // The word as printed has an unclosed branch; closed, it derives the same.
+    let text = "axiom: JFF[J]F[J[J[JF]F]\nJFF < F > JJF -> FJ\n";
+    assert_eq!(word(text, 1), "JFF[J]FJ[J[J[JF]F]");
+    let text = "axiom: JFF[J]F[J[J[JF]F]]\nJFF < F > JJF -> FJ\n";
+    assert_eq!(word(text, 1), "JFF[J]FJ[J[J[JF]F]]");
+    // Only that F: with a G instead of the last F, the right context fails.
+    let text = "axiom: JFF[J]F[J[J[JF]G]]\nJFF < F > JJF -> FJ\n";
+    assert_eq!(word(text, 1), "JFF[J]F[J[J[JF]G]]");
+}
+
+#[test]
+fn abop_bracketed_context_example() {
+    // ABOP §1.8: BC < S > G[H]M applies to S in ABC[DE][SG[HI[JK]L]MNO].
+    let text = "axiom: ABC[DE][SG[HI[JK]L]MNO]\nBC < S > G[H]M -> X\n";
+    assert_eq!(word(text, 1), "ABC[DE][XG[HI[JK]L]MNO]");
+    // Without the branch in the word, the right context fails.
+    let text = "axiom: ABC[DE][SGMNO][H]\nBC < S > G[H]M -> X\n";
+    assert_eq!(word(text, 1), "ABC[DE][SGMNO][H]");
+    // A right context never reaches past the end of its branch.
+    let text = "axiom: A[B]C\nB > C -> X\n";
+    assert_eq!(word(text, 1), "A[B]C");
+}
+
+#[test]
+fn ignored_symbols_are_skipped_when_matching_contexts() {
+    let text = "ignore: +-\naxiom: a+-b-c\na < b > c -> X\n";
+    assert_eq!(word(text, 1), "a+-X-c");
+    let text = "axiom: a+-b-c\na < b > c -> X\n";
+    assert_eq!(word(text, 1), "a+-b-c");
+}
+
+#[test]
+fn parametric_example_of_abop_section_1_10() {
+    let text = "\
+axiom: B(2)A(4,4)
+A(x,y) : y <= 3 -> A(x*2, x+y)
+A(x,y) : y > 3 -> B(x)A(x/y, 0)
+B(x) : x < 1 -> C
+B(x) : x >= 1 -> B(x-1)
+";
+    let words: Vec<String> = (0..=5).map(|n| word(text, n)).collect();
+    assert_eq!(
+        words,
+        [
+            "B(2)A(4,4)",
+            "B(1)B(4)A(1,0)",
+            "B(0)B(3)A(2,1)",
+            "CB(2)A(4,3)",
+            "CB(1)A(8,7)",
+            "CB(0)B(8)A(1.1428571428571428,0)",
+        ]
+    );
+}
+
+#[test]
+fn parametric_contexts_bind_their_parameters() {
+    // Each A takes the sum of its own value and its left neighbour's.
+    let text = "axiom: A(1)A(2)A(3)\nA(l) < A(x) -> A(x+l)\n";
+    assert_eq!(word(text, 1), "A(1)A(3)A(5)");
+    assert_eq!(word(text, 2), "A(1)A(4)A(8)");
+}
+
+#[test]
+fn defines_and_labels() {
+    let text = "define: r = 1.5\ndefine: s = r * 2\naxiom: A(s)\np1: A(x) -> A(x * r)B\n";
+    assert_eq!(word(text, 2), "A(6.75)BB");
+}
+
+#[test]
+fn numbers_print_in_shortest_round_trip_form() {
+    let text = "axiom: A(0.1, -0, 1e21, 0.30000000000000004)\n";
+    assert_eq!(
+        word(text, 0),
+        "A(0.1,0,1000000000000000000000,0.30000000000000004)"
+    );
+}
+
+/// The successor chosen for each of the 10,000 A's of a word after one step.
+fn stochastic_word(seed: u64) -> String {
+    let text = format!(
+        "seed: {seed}\naxiom: {}\nA (1) -> x\nA (2) -> y\nA (1) -> z\n",
+        "A".repeat(10_000)
+    );
+    word(&text, 1)
+}
+
+#[test]
+fn stochastic_choices_are_deterministic_per_seed() {
+    assert_eq!(stochastic_word(1), stochastic_word(1));
+    assert_ne!(stochastic_word(1), stochastic_word(2));
+    let options = DeriveOptions {
+        seed: Some(9),
+        ..DeriveOptions::default()
+    };
+    let plant = system(
+        "angle: 30\nn: 5\naxiom: F\nF (0.33) -> F[+F]F[-F]F\nF (0.33) -> F[+F]F\nF (0.34) -> F[-F]F\n",
+    );
+    let a = plant.derive(&options).unwrap();
+    let b = plant.derive(&options).unwrap();
+    assert_eq!(a, b);
+}
+
+#[test]
+fn stochastic_frequencies_follow_the_weights() {
+    let mut counts = [0usize; 3];
+    for seed in 0..20 {
+        let w = stochastic_word(seed);
+        counts[0] += count(&w, 'x');
+        counts[1] += count(&w, 'y');
+        counts[2] += count(&w, 'z');
+    }
+    let total: usize = counts.iter().sum();
+    assert_eq!(total, 200_000);
+    let share = |c: usize| c as f64 / total as f64;
+    // Standard deviation of a share near 0.25 over 200,000 draws is about 0.001.
+    assert!((share(counts[0]) - 0.25).abs() < 0.005, "{counts:?}");
+    assert!((share(counts[1]) - 0.50).abs() < 0.005, "{counts:?}");
+    assert!((share(counts[2]) - 0.25).abs() < 0.005, "{counts:?}");
+}
+
+#[test]
+fn the_draw_of_a_module_depends_only_on_seed_step_and_position() {
+    // Appending a deterministic tail does not change the choices made for the stochastic head.
+    let head = word(
+        "seed: 4\naxiom: AAAAAAAAAAAAAAAAAAAA\nA (1) -> x\nA (1) -> y\n",
+        1,
+    );
+    let with_tail = word(
+        "seed: 4\naxiom: AAAAAAAAAAAAAAAAAAAAQQ\nA (1) -> x\nA (1) -> y\nQ -> QQ\n",
+        1,
+    );
+    assert_eq!(with_tail, format!("{head}QQQQ"));
+}
+
+#[test]
+fn memory_limit_names_the_step_and_the_size() {
+    let algae = system("axiom: a\na -> ab\nb -> a\n");
+    let options = DeriveOptions {
+        iterations: Some(40),
+        max_modules: 1000,
+        ..DeriveOptions::default()
+    };
+    let err = algae.derive(&options).unwrap_err();
+    assert_eq!(
+        err.to_string(),
+        "step 15 would make a word of 1,597 modules, over the limit of 1,000 (raise the limit, or derive fewer steps)"
+    );
+    let parametric = system("axiom: A(1)\nA(x) -> A(x)A(x+1)\n");
+    let err = parametric.derive(&options).unwrap_err();
+    assert_eq!(
+        err.to_string(),
+        "step 10: the word grew past the limit of 1,000 modules (raise the limit, or derive fewer steps)"
+    );
+}
+
+#[test]
+fn values_that_are_not_numbers_are_errors_with_places() {
+    let zero = system("axiom: A(0)\nA(x) -> A(1/x)\n");
+    let err = zero.derive(&DeriveOptions::default()).unwrap_err();
+    assert_eq!(
+        err.to_string(),
+        "2:11: step 1: the parameter is inf, not a finite number, when rewriting A(0)"
+    );
+    let nan = system("axiom: A(-1)\nA(x) : sqrt(x) > 0 -> B\n");
+    let err = nan.derive(&DeriveOptions::default()).unwrap_err();
+    assert_eq!(
+        err.to_string(),
+        "2:8: step 1: the condition is not a number (NaN) for A(-1)"
+    );
+}
