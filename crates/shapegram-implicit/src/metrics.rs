@@ -1,0 +1,113 @@
+//! The verification metrics of Section 4: surface area (eq. 9), volume (eq. 10 and exactly by the
+//! divergence theorem), the concavity and convexity factor (eq. 11) and element counts.
+
+use shapegram_geom::{EdgeReport, Mesh};
+
+use crate::mesher::Meshing;
+
+/// Default angle (degrees) below which two neighbouring faces count as flat for eq. (11).
+pub const DEFAULT_FLAT_ANGLE: f64 = 1.0;
+
+/// Surface area, eq. (9): the sum over faces of half the length of the cross product of two edge
+/// vectors (Newell's method for faces with more than three corners). Summed in face order.
+pub fn surface_area(mesh: &Mesh) -> f64 {
+    mesh.area()
+}
+
+/// Volume enclosed by a closed, outward-oriented mesh (divergence theorem): the sum of the signed
+/// volumes of the cones from a reference point to every face.
+pub fn mesh_volume(mesh: &Mesh) -> f64 {
+    mesh.signed_volume()
+}
+
+/// How the edges of a mesh bend.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Convexity {
+    /// Edges where the surface folds away from its outward normals (as along a cube's edges):
+    /// the paper's `T_G`, signed dihedral angle above 0.
+    pub convex: usize,
+    /// Edges where the surface folds towards its normals (a groove): `T_L`, angle below 0.
+    pub concave: usize,
+    /// Edges whose faces meet at less than the flat angle; counted in neither.
+    pub flat: usize,
+}
+
+impl Convexity {
+    /// Eq. (11): `100 · T_G / (T_G + T_L)`, so 100 % is convex; 100 when no edge bends.
+    pub fn factor(&self) -> f64 {
+        let bent = self.convex + self.concave;
+        if bent == 0 {
+            100.0
+        } else {
+            100.0 * self.convex as f64 / bent as f64
+        }
+    }
+}
+
+/// Classifies every edge shared by exactly two faces by the signed dihedral angle between them:
+/// the angle between their normals, positive when the second face lies behind the first one's
+/// plane (a convex fold), negative in front (concave). Edges bending less than `flat_degrees`
+/// are flat. Boundary and non-manifold edges are skipped.
+pub fn convexity(mesh: &Mesh, flat_degrees: f64) -> Convexity {
+    let normals: Vec<_> = (0..mesh.face_count())
+        .map(|f| mesh.face_normal(f))
+        .collect();
+    let flat_cos = flat_degrees.to_radians().cos();
+    let mut result = Convexity {
+        convex: 0,
+        concave: 0,
+        flat: 0,
+    };
+    for edge in mesh.edges() {
+        let ([f1], [f2]) = (edge.forward.as_slice(), edge.backward.as_slice()) else {
+            continue;
+        };
+        let (n1, n2) = (normals[*f1], normals[*f2]);
+        if n1.dot(n2) >= flat_cos {
+            result.flat += 1;
+        } else if (mesh.face_centroid(*f2) - mesh.position(edge.a)).dot(n1) < 0.0 {
+            result.convex += 1;
+        } else {
+            result.concave += 1;
+        }
+    }
+    result
+}
+
+/// All metrics of a meshed solid.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Metrics {
+    /// Triangles (faces) of the mesh.
+    pub triangles: usize,
+    /// Vertices of the mesh.
+    pub vertices: usize,
+    /// Primitives in the solid's expression tree.
+    pub elements: usize,
+    /// Surface area, eq. (9).
+    pub area: f64,
+    /// Volume by voxel count, eq. (10).
+    pub voxel_volume: f64,
+    /// Volume of the closed mesh by the divergence theorem.
+    pub mesh_volume: f64,
+    /// Edge bends for eq. (11).
+    pub convexity: Convexity,
+    /// How the mesh's edges pair up (watertight when all counts but `edges` are zero).
+    pub edges: EdgeReport,
+}
+
+impl Metrics {
+    /// Measures a meshing of a solid made of `elements` primitives.
+    pub fn measure(meshing: &Meshing, elements: usize) -> Self {
+        let mesh = &meshing.mesh;
+        Self {
+            triangles: mesh.face_count(),
+            vertices: mesh.vertex_count(),
+            elements,
+            area: surface_area(mesh),
+            voxel_volume: meshing.voxel_volume(),
+            mesh_volume: mesh_volume(mesh),
+            convexity: convexity(mesh, DEFAULT_FLAT_ANGLE),
+            edges: mesh.edge_report(),
+        }
+    }
+}

@@ -1,0 +1,364 @@
+//! Implicit solids as expression trees: primitives, rigid and scaling transforms, CSG and morphing.
+//!
+//! The convention is the paper's (Definition 1): the field is positive inside, zero on the surface
+//! and negative outside. Every solid built here has a 1-Lipschitz field (it changes by at most the
+//! distance moved), which the mesher relies on to skip empty space.
+
+use std::sync::Arc;
+
+use glam::{DAffine3, DMat3, DQuat, DVec3};
+use shapegram_geom::Aabb;
+
+use crate::error::{ImplicitError, Result, finite, positive};
+use crate::primitive::Primitive;
+
+/// A node of the expression tree. Children are shared, so copying a solid is cheap.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Node {
+    /// Nothing: the field is −∞ everywhere.
+    Empty,
+    /// A primitive in its local frame.
+    Primitive(Primitive),
+    /// `factor · child(inverse(p))`: the child moved by the affine map whose inverse is stored.
+    /// The factor (the smallest scale, 1 for rigid maps) keeps the field 1-Lipschitz.
+    Transform {
+        /// World-to-local map.
+        inverse: DAffine3,
+        /// What the child's value is multiplied by.
+        factor: f64,
+        /// The transformed solid.
+        child: Arc<Node>,
+    },
+    /// Sum, eq. (2): `max(f, g)`.
+    Union(Arc<Node>, Arc<Node>),
+    /// Difference, eq. (3): `min(f, −g)`.
+    Difference(Arc<Node>, Arc<Node>),
+    /// Intersection, eq. (4): `min(f, g)`.
+    Intersection(Arc<Node>, Arc<Node>),
+    /// Morphing, eq. (5): `f·(1 − a) + g·a`.
+    Morph(Arc<Node>, Arc<Node>, f64),
+    /// Smooth sum: `max` with a round fillet of radius about `k`.
+    SmoothUnion(Arc<Node>, Arc<Node>, f64),
+    /// Smooth difference: `min(f, −g)` with a round fillet.
+    SmoothDifference(Arc<Node>, Arc<Node>, f64),
+    /// Smooth intersection: `min` with a round fillet.
+    SmoothIntersection(Arc<Node>, Arc<Node>, f64),
+}
+
+/// An implicit solid: an expression tree over points of R³.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Solid {
+    root: Arc<Node>,
+}
+
+impl Default for Solid {
+    fn default() -> Self {
+        Self::empty()
+    }
+}
+
+impl Solid {
+    fn from_node(node: Node) -> Self {
+        Self {
+            root: Arc::new(node),
+        }
+    }
+
+    /// The empty solid, where every production starts.
+    pub fn empty() -> Self {
+        Self::from_node(Node::Empty)
+    }
+
+    /// A checked primitive.
+    pub fn primitive(primitive: Primitive) -> Result<Self> {
+        Ok(Self::from_node(Node::Primitive(primitive.validate()?)))
+    }
+
+    /// A ball of radius `radius` centred at the origin.
+    pub fn sphere(radius: f64) -> Result<Self> {
+        Self::primitive(Primitive::Sphere { radius })
+    }
+
+    /// A cuboid with side lengths `size`, centred at the origin.
+    pub fn cuboid(size: DVec3) -> Result<Self> {
+        Self::primitive(Primitive::Cuboid { size })
+    }
+
+    /// A cylinder around the y axis, centred at the origin.
+    pub fn cylinder(radius: f64, height: f64) -> Result<Self> {
+        Self::primitive(Primitive::Cylinder { radius, height })
+    }
+
+    /// A cone around the y axis with its base at `y = -height/2` and apex at `y = +height/2`.
+    pub fn cone(radius: f64, height: f64) -> Result<Self> {
+        Self::primitive(Primitive::Cone { radius, height })
+    }
+
+    /// A pyramid on a `size.x` × `size.z` base at `y = -size.y/2` with its apex above the centre.
+    pub fn pyramid(size: DVec3) -> Result<Self> {
+        Self::primitive(Primitive::Pyramid { size })
+    }
+
+    /// A ring torus in the xz-plane.
+    pub fn torus(major: f64, minor: f64) -> Result<Self> {
+        Self::primitive(Primitive::Torus { major, minor })
+    }
+
+    /// A capsule around the y axis: `length` between the centres of its round caps.
+    pub fn capsule(radius: f64, length: f64) -> Result<Self> {
+        Self::primitive(Primitive::Capsule { radius, length })
+    }
+
+    /// The root of the expression tree.
+    pub fn node(&self) -> &Node {
+        &self.root
+    }
+
+    /// Whether this is the empty solid (by construction, not by evaluation).
+    pub fn is_empty(&self) -> bool {
+        matches!(*self.root, Node::Empty)
+    }
+
+    /// This solid moved by `offset`.
+    pub fn translate(&self, offset: DVec3) -> Result<Self> {
+        for (axis, v) in ["x", "y", "z"].iter().zip(offset.to_array()) {
+            finite(&format!("translation {axis}"), v)?;
+        }
+        Ok(self.mapped(DAffine3::from_translation(offset), 1.0))
+    }
+
+    /// This solid turned by `degrees` around `axis` (right-handed, through the origin).
+    pub fn rotate(&self, axis: DVec3, degrees: f64) -> Result<Self> {
+        finite("rotation angle", degrees)?;
+        if !axis.is_finite() || axis.length_squared() == 0.0 {
+            return Err(ImplicitError::new(format!(
+                "invalid rotation axis {axis}: expected a finite non-zero vector"
+            )));
+        }
+        let turn = DQuat::from_axis_angle(axis.normalize(), degrees.to_radians());
+        Ok(self.mapped(DAffine3::from_quat(turn), 1.0))
+    }
+
+    /// This solid scaled by `scale` along each axis (about the origin). Negative factors mirror.
+    pub fn scale(&self, scale: DVec3) -> Result<Self> {
+        for (axis, v) in ["x", "y", "z"].iter().zip(scale.to_array()) {
+            if !(v.is_finite() && v != 0.0) {
+                return Err(ImplicitError::new(format!(
+                    "invalid scale {axis} {v}: expected a finite non-zero number"
+                )));
+            }
+        }
+        let smallest = scale.abs().min_element();
+        Ok(self.mapped(DAffine3::from_mat3(DMat3::from_diagonal(scale)), smallest))
+    }
+
+    /// This solid under an affine map (`factor` as in [`Node::Transform`]). Nested maps fold into
+    /// one so evaluation pays for one transform however many were applied.
+    fn mapped(&self, map: DAffine3, factor: f64) -> Self {
+        let inverse = map.inverse();
+        match &*self.root {
+            Node::Empty => self.clone(),
+            Node::Transform {
+                inverse: inner,
+                factor: inner_factor,
+                child,
+            } => Self::from_node(Node::Transform {
+                inverse: *inner * inverse,
+                factor: factor * inner_factor,
+                child: child.clone(),
+            }),
+            _ => Self::from_node(Node::Transform {
+                inverse,
+                factor,
+                child: self.root.clone(),
+            }),
+        }
+    }
+
+    /// Sum (eq. 2): points in either solid.
+    pub fn union(&self, other: &Solid) -> Self {
+        Self::from_node(Node::Union(self.root.clone(), other.root.clone()))
+    }
+
+    /// Difference (eq. 3): points of this solid outside `other`.
+    pub fn difference(&self, other: &Solid) -> Self {
+        Self::from_node(Node::Difference(self.root.clone(), other.root.clone()))
+    }
+
+    /// Intersection (eq. 4): points in both solids.
+    pub fn intersection(&self, other: &Solid) -> Self {
+        Self::from_node(Node::Intersection(self.root.clone(), other.root.clone()))
+    }
+
+    /// Morphing (eq. 5): `f·(1 − a) + g·a`, so `a = 0` is this solid and `a = 1` is `other`.
+    pub fn morph(&self, other: &Solid, a: f64) -> Result<Self> {
+        if !(0.0..=1.0).contains(&a) {
+            return Err(ImplicitError::new(format!(
+                "invalid morphing parameter {a}: expected 0 to 1 (0 % to 100 %)"
+            )));
+        }
+        Ok(Self::from_node(Node::Morph(
+            self.root.clone(),
+            other.root.clone(),
+            a,
+        )))
+    }
+
+    /// Smooth sum with a fillet of radius `k` where the surfaces meet.
+    pub fn smooth_union(&self, other: &Solid, k: f64) -> Result<Self> {
+        positive("smoothing radius", k)?;
+        Ok(Self::from_node(Node::SmoothUnion(
+            self.root.clone(),
+            other.root.clone(),
+            k,
+        )))
+    }
+
+    /// Smooth difference with a fillet of radius `k`.
+    pub fn smooth_difference(&self, other: &Solid, k: f64) -> Result<Self> {
+        positive("smoothing radius", k)?;
+        Ok(Self::from_node(Node::SmoothDifference(
+            self.root.clone(),
+            other.root.clone(),
+            k,
+        )))
+    }
+
+    /// Smooth intersection with a fillet of radius `k`.
+    pub fn smooth_intersection(&self, other: &Solid, k: f64) -> Result<Self> {
+        positive("smoothing radius", k)?;
+        Ok(Self::from_node(Node::SmoothIntersection(
+            self.root.clone(),
+            other.root.clone(),
+            k,
+        )))
+    }
+
+    /// The field at `p`: positive inside, zero on the surface, negative outside, −∞ for the
+    /// empty solid.
+    pub fn value(&self, p: DVec3) -> f64 {
+        value(&self.root, p)
+    }
+
+    /// A box holding every point where the field is positive, `None` when there is none for
+    /// certain (the empty solid, disjoint intersections).
+    pub fn bounds(&self) -> Option<Aabb> {
+        bounds(&self.root)
+    }
+
+    /// Number of primitives in the tree (a shared subtree counts each time it is used).
+    pub fn primitive_count(&self) -> usize {
+        count_primitives(&self.root)
+    }
+}
+
+/// The field of `node` at `p`.
+pub(crate) fn value(node: &Node, p: DVec3) -> f64 {
+    match node {
+        Node::Empty => f64::NEG_INFINITY,
+        Node::Primitive(prim) => prim.value(p),
+        Node::Transform {
+            inverse,
+            factor,
+            child,
+        } => factor * value(child, inverse.transform_point3(p)),
+        Node::Union(a, b) => value(a, p).max(value(b, p)),
+        Node::Difference(a, b) => value(a, p).min(-value(b, p)),
+        Node::Intersection(a, b) => value(a, p).min(value(b, p)),
+        Node::Morph(a, b, t) => morph(value(a, p), value(b, p), *t),
+        Node::SmoothUnion(a, b, k) => smooth_max(value(a, p), value(b, p), *k),
+        Node::SmoothDifference(a, b, k) => smooth_min(value(a, p), -value(b, p), *k),
+        Node::SmoothIntersection(a, b, k) => smooth_min(value(a, p), value(b, p), *k),
+    }
+}
+
+/// Eq. (5), exact at the ends so `a = 0` and `a = 1` reproduce the inputs even where one of them
+/// is −∞ (the empty solid).
+pub(crate) fn morph(f: f64, g: f64, a: f64) -> f64 {
+    if a == 0.0 {
+        f
+    } else if a == 1.0 {
+        g
+    } else {
+        f * (1.0 - a) + g * a
+    }
+}
+
+/// The polynomial smooth maximum: equal to `max` when the values differ by more than `k`, and at
+/// most `k/4` above it in between. Its gradient is a convex combination of the inputs' gradients,
+/// so it stays 1-Lipschitz.
+pub(crate) fn smooth_max(f: f64, g: f64, k: f64) -> f64 {
+    if f == g {
+        // Also covers −∞ on both sides, where the blend below would be NaN.
+        return f + 0.25 * k;
+    }
+    let h = (0.5 + 0.5 * (f - g) / k).clamp(0.0, 1.0);
+    if h == 0.0 {
+        g
+    } else if h == 1.0 {
+        f
+    } else {
+        g + (f - g) * h + k * h * (1.0 - h)
+    }
+}
+
+/// The polynomial smooth minimum, the mirror of [`smooth_max`].
+pub(crate) fn smooth_min(f: f64, g: f64, k: f64) -> f64 {
+    -smooth_max(-f, -g, k)
+}
+
+fn bounds(node: &Node) -> Option<Aabb> {
+    match node {
+        Node::Empty => None,
+        Node::Primitive(prim) => {
+            let h = prim.half_extent();
+            Some(Aabb::new(-h, h))
+        }
+        Node::Transform { inverse, child, .. } => {
+            let local = bounds(child)?;
+            let map = inverse.inverse();
+            let corners = (0..8).map(|i| {
+                let pick = |bit: usize, lo: f64, hi: f64| if i >> bit & 1 == 0 { lo } else { hi };
+                map.transform_point3(DVec3::new(
+                    pick(0, local.min.x, local.max.x),
+                    pick(1, local.min.y, local.max.y),
+                    pick(2, local.min.z, local.max.z),
+                ))
+            });
+            Aabb::from_points(corners)
+        }
+        Node::Union(a, b) | Node::Morph(a, b, _) => union_bounds(bounds(a), bounds(b)),
+        Node::SmoothUnion(a, b, k) => union_bounds(bounds(a), bounds(b)).map(|r| Aabb {
+            min: r.min - k * 0.25,
+            max: r.max + k * 0.25,
+        }),
+        Node::Difference(a, _) | Node::SmoothDifference(a, _, _) => bounds(a),
+        Node::Intersection(a, b) | Node::SmoothIntersection(a, b, _) => {
+            let (a, b) = (bounds(a)?, bounds(b)?);
+            let (min, max) = (a.min.max(b.min), a.max.min(b.max));
+            min.cmple(max).all().then_some(Aabb { min, max })
+        }
+    }
+}
+
+fn union_bounds(a: Option<Aabb>, b: Option<Aabb>) -> Option<Aabb> {
+    match (a, b) {
+        (Some(a), Some(b)) => Some(a.union(b)),
+        (a, b) => a.or(b),
+    }
+}
+
+fn count_primitives(node: &Node) -> usize {
+    match node {
+        Node::Empty => 0,
+        Node::Primitive(_) => 1,
+        Node::Transform { child, .. } => count_primitives(child),
+        Node::Union(a, b)
+        | Node::Difference(a, b)
+        | Node::Intersection(a, b)
+        | Node::Morph(a, b, _)
+        | Node::SmoothUnion(a, b, _)
+        | Node::SmoothDifference(a, b, _)
+        | Node::SmoothIntersection(a, b, _) => count_primitives(a) + count_primitives(b),
+    }
+}

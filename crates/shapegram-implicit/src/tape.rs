@@ -1,0 +1,225 @@
+//! A solid compiled to a flat list of instructions that evaluates whole blocks of points at a
+//! time: one dispatch per instruction per block instead of one per node per point.
+
+use glam::DAffine3;
+
+use crate::primitive::Primitive;
+use crate::solid::{Node, Solid, morph, smooth_max, smooth_min};
+
+/// One instruction. Point sets and value slots are numbered; point set 0 is the input.
+#[derive(Clone, Debug)]
+enum Op {
+    Map {
+        src: usize,
+        dst: usize,
+        map: DAffine3,
+    },
+    Primitive {
+        points: usize,
+        out: usize,
+        primitive: Primitive,
+    },
+    Fill {
+        out: usize,
+        value: f64,
+    },
+    Scale {
+        slot: usize,
+        factor: f64,
+    },
+    Binary {
+        kind: Binary,
+        a: usize,
+        b: usize,
+        out: usize,
+    },
+}
+
+#[derive(Clone, Copy, Debug)]
+enum Binary {
+    Max,
+    Min,
+    MinNeg,
+    Morph(f64),
+    SmoothMax(f64),
+    SmoothMin(f64),
+    SmoothMinNeg(f64),
+}
+
+/// A compiled solid.
+#[derive(Clone, Debug)]
+pub struct Tape {
+    ops: Vec<Op>,
+    point_sets: usize,
+    slots: usize,
+    result: usize,
+}
+
+/// Scratch memory for evaluating a tape on blocks of up to `capacity` points; one per thread.
+#[derive(Debug)]
+pub struct Workspace {
+    points: Vec<[Vec<f64>; 3]>,
+    values: Vec<Vec<f64>>,
+}
+
+impl Tape {
+    /// Compiles `solid`.
+    pub fn new(solid: &Solid) -> Self {
+        let mut tape = Self {
+            ops: Vec::new(),
+            point_sets: 1,
+            slots: 0,
+            result: 0,
+        };
+        tape.result = tape.emit(solid.node(), 0);
+        tape
+    }
+
+    /// Scratch memory for blocks of up to `capacity` points.
+    pub fn workspace(&self, capacity: usize) -> Workspace {
+        Workspace {
+            points: (0..self.point_sets)
+                .map(|_| std::array::from_fn(|_| vec![0.0; capacity]))
+                .collect(),
+            values: (0..self.slots).map(|_| vec![0.0; capacity]).collect(),
+        }
+    }
+
+    /// Emits the instructions of `node` evaluated on point set `points`; returns its value slot.
+    fn emit(&mut self, node: &Node, points: usize) -> usize {
+        match node {
+            Node::Empty => {
+                let out = self.slot();
+                self.ops.push(Op::Fill {
+                    out,
+                    value: f64::NEG_INFINITY,
+                });
+                out
+            }
+            Node::Primitive(primitive) => {
+                let out = self.slot();
+                self.ops.push(Op::Primitive {
+                    points,
+                    out,
+                    primitive: *primitive,
+                });
+                out
+            }
+            Node::Transform {
+                inverse,
+                factor,
+                child,
+            } => {
+                let dst = self.point_sets;
+                self.point_sets += 1;
+                self.ops.push(Op::Map {
+                    src: points,
+                    dst,
+                    map: *inverse,
+                });
+                let slot = self.emit(child, dst);
+                if *factor != 1.0 {
+                    self.ops.push(Op::Scale {
+                        slot,
+                        factor: *factor,
+                    });
+                }
+                slot
+            }
+            Node::Union(a, b) => self.binary(Binary::Max, a, b, points),
+            Node::Difference(a, b) => self.binary(Binary::MinNeg, a, b, points),
+            Node::Intersection(a, b) => self.binary(Binary::Min, a, b, points),
+            Node::Morph(a, b, t) => self.binary(Binary::Morph(*t), a, b, points),
+            Node::SmoothUnion(a, b, k) => self.binary(Binary::SmoothMax(*k), a, b, points),
+            Node::SmoothDifference(a, b, k) => self.binary(Binary::SmoothMinNeg(*k), a, b, points),
+            Node::SmoothIntersection(a, b, k) => self.binary(Binary::SmoothMin(*k), a, b, points),
+        }
+    }
+
+    fn binary(&mut self, kind: Binary, a: &Node, b: &Node, points: usize) -> usize {
+        let a = self.emit(a, points);
+        let b = self.emit(b, points);
+        let out = self.slot();
+        self.ops.push(Op::Binary { kind, a, b, out });
+        out
+    }
+
+    fn slot(&mut self) -> usize {
+        self.slots += 1;
+        self.slots - 1
+    }
+
+    /// Evaluates the field at the points `(xs[i], ys[i], zs[i])` into `out`. All slices have
+    /// `out`'s length, at most the workspace's capacity.
+    pub fn eval(&self, ws: &mut Workspace, xs: &[f64], ys: &[f64], zs: &[f64], out: &mut [f64]) {
+        let n = out.len();
+        for (axis, src) in [xs, ys, zs].into_iter().enumerate() {
+            ws.points[0][axis][..n].copy_from_slice(&src[..n]);
+        }
+        for op in &self.ops {
+            match *op {
+                Op::Map { src, dst, ref map } => {
+                    let (from, to) = two_mut(&mut ws.points, src, dst);
+                    let m = map.matrix3;
+                    let t = map.translation;
+                    let [x, y, z] = &from;
+                    let [tx, ty, tz] = to;
+                    for i in 0..n {
+                        let (px, py, pz) = (x[i], y[i], z[i]);
+                        tx[i] = m.x_axis.x * px + m.y_axis.x * py + m.z_axis.x * pz + t.x;
+                        ty[i] = m.x_axis.y * px + m.y_axis.y * py + m.z_axis.y * pz + t.y;
+                        tz[i] = m.x_axis.z * px + m.y_axis.z * py + m.z_axis.z * pz + t.z;
+                    }
+                }
+                Op::Primitive {
+                    points,
+                    out,
+                    primitive,
+                } => {
+                    let [x, y, z] = &ws.points[points];
+                    primitive.values(x, y, z, &mut ws.values[out][..n]);
+                }
+                Op::Fill { out, value } => ws.values[out][..n].fill(value),
+                Op::Scale { slot, factor } => {
+                    for v in &mut ws.values[slot][..n] {
+                        *v *= factor;
+                    }
+                }
+                Op::Binary { kind, a, b, out } => {
+                    let mut result = std::mem::take(&mut ws.values[out]);
+                    let (va, vb) = (&ws.values[a][..n], &ws.values[b][..n]);
+                    let r = &mut result[..n];
+                    match kind {
+                        Binary::Max => zip(r, va, vb, f64::max),
+                        Binary::Min => zip(r, va, vb, f64::min),
+                        Binary::MinNeg => zip(r, va, vb, |f, g| f.min(-g)),
+                        Binary::Morph(t) => zip(r, va, vb, |f, g| morph(f, g, t)),
+                        Binary::SmoothMax(k) => zip(r, va, vb, |f, g| smooth_max(f, g, k)),
+                        Binary::SmoothMin(k) => zip(r, va, vb, |f, g| smooth_min(f, g, k)),
+                        Binary::SmoothMinNeg(k) => zip(r, va, vb, |f, g| smooth_min(f, -g, k)),
+                    }
+                    ws.values[out] = result;
+                }
+            }
+        }
+        out.copy_from_slice(&ws.values[self.result][..n]);
+    }
+}
+
+fn zip(out: &mut [f64], a: &[f64], b: &[f64], f: impl Fn(f64, f64) -> f64) {
+    for ((o, &x), &y) in out.iter_mut().zip(a).zip(b) {
+        *o = f(x, y);
+    }
+}
+
+/// A shared borrow of `v[a]` and a mutable one of `v[b]` (`a != b`).
+fn two_mut<T>(v: &mut [T], a: usize, b: usize) -> (&T, &mut T) {
+    assert_ne!(a, b);
+    if a < b {
+        let (lo, hi) = v.split_at_mut(b);
+        (&lo[a], &mut hi[0])
+    } else {
+        let (lo, hi) = v.split_at_mut(a);
+        (&hi[0], &mut lo[b])
+    }
+}
