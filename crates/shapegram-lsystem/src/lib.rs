@@ -16,14 +16,36 @@ mod context;
 mod cursor;
 mod error;
 mod expr;
+mod geometry;
 mod parse;
 mod rewrite;
 mod rng;
 mod system;
+mod turtle;
 mod word;
 
 pub use alphabet::{Alphabet, Symbol, SymbolId};
 pub use error::{Error, Position};
+pub use geometry::{drawing_to_model, fit_into_box, fit_into_scope};
 pub use rewrite::{DEFAULT_MAX_MODULES, DeriveOptions};
 pub use system::{LSystem, Settings, default_palette};
+pub use turtle::{Drawing, Polygon, Stroke, interpret};
 pub use word::Word;
+
+use shapegram_geom::{Model, Scope};
+
+/// Derives `system`, draws the word with the turtle and fits the model into `scope` (uniformly
+/// scaled, centred on the scope's x and z, standing on its floor): what a shape grammar calls to
+/// plant an L-system in the current shape.
+pub fn model_in_scope(
+    system: &LSystem,
+    options: &DeriveOptions,
+    scope: &Scope,
+) -> Result<Model, Error> {
+    let word = system.derive(options)?;
+    let drawing = interpret(system, &word);
+    Ok(fit_into_scope(
+        &drawing_to_model(&drawing, &system.settings),
+        scope,
+    ))
+}

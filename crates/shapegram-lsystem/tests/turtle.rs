@@ -1,0 +1,176 @@
+//! The turtle: end positions, segment and stroke counts, widths, colours, polygons, and the
+//! tube model built from a drawing.
+
+use glam::DVec3;
+use shapegram_geom::{Scope, primitives};
+use shapegram_lsystem::{
+    DeriveOptions, Drawing, LSystem, drawing_to_model, fit_into_box, fit_into_scope, interpret,
+};
+
+fn draw(text: &str) -> Drawing {
+    let system = LSystem::parse(text).unwrap();
+    interpret(&system, &system.derive(&DeriveOptions::default()).unwrap())
+}
+
+fn close(a: DVec3, b: DVec3) -> bool {
+    (a - b).length() < 1e-9
+}
+
+#[test]
+fn a_square_returns_to_its_start() {
+    let drawing = draw("n: 0\nangle: 90\naxiom: F+F+F+F\n");
+    assert_eq!(drawing.strokes.len(), 1);
+    assert_eq!(drawing.segment_count(), 4);
+    assert!(close(drawing.end, DVec3::ZERO), "{}", drawing.end);
+    let points = &drawing.strokes[0].points;
+    // Heading up first, then + turns left (counter-clockwise seen from +z).
+    assert!(close(points[1], DVec3::Y));
+    assert!(close(points[2], DVec3::new(-1.0, 1.0, 0.0)));
+}
+
+#[test]
+fn moves_without_drawing_split_strokes() {
+    let drawing = draw("n: 0\naxiom: FfF(2)\n");
+    assert_eq!(drawing.strokes.len(), 2);
+    assert_eq!(drawing.segment_count(), 2);
+    assert!(close(drawing.end, DVec3::new(0.0, 4.0, 0.0)));
+    assert!(close(
+        drawing.strokes[1].points[1],
+        DVec3::new(0.0, 4.0, 0.0)
+    ));
+}
+
+#[test]
+fn branches_restore_the_state_and_the_main_stroke_continues() {
+    let drawing = draw("n: 0\nangle: 90\naxiom: F[+F]F[-F(3)]F\n");
+    assert_eq!(drawing.strokes.len(), 3);
+    assert_eq!(drawing.strokes[0].widths.len(), 3);
+    assert!(close(drawing.end, DVec3::new(0.0, 3.0, 0.0)));
+    assert!(close(
+        drawing.strokes[1].points[1],
+        DVec3::new(-1.0, 1.0, 0.0)
+    ));
+    assert!(close(
+        drawing.strokes[2].points[1],
+        DVec3::new(3.0, 2.0, 0.0)
+    ));
+}
+
+#[test]
+fn koch_island_is_closed_with_exact_segment_counts() {
+    for n in 0..=3u32 {
+        let drawing = draw(&format!(
+            "n: {n}\nangle: 90\naxiom: F-F-F-F\nF -> F-F+F+FF-F-F+F\n"
+        ));
+        assert_eq!(drawing.segment_count(), 4 * 8usize.pow(n));
+        assert_eq!(drawing.strokes.len(), 1);
+        assert!(close(drawing.end, DVec3::ZERO));
+    }
+}
+
+#[test]
+fn widths_and_colours() {
+    let drawing = draw("n: 0\nwidth: 0.5\nwidth-factor: 0.5\naxiom: F!F!(3)F'F'(5)F\n");
+    assert_eq!(drawing.strokes.len(), 3);
+    assert_eq!(drawing.strokes[0].widths, [0.5, 0.25, 3.0]);
+    let colors: Vec<usize> = drawing.strokes.iter().map(|s| s.color).collect();
+    assert_eq!(colors, [0, 1, 5]);
+}
+
+#[test]
+fn three_d_rotations() {
+    // Pitch down: the heading turns away from the up vector (+z).
+    assert!(close(draw("n: 0\naxiom: &F\n").end, DVec3::NEG_Z));
+    assert!(close(draw("n: 0\naxiom: ^F\n").end, DVec3::Z));
+    // Roll right, then pitch down.
+    assert!(close(draw("n: 0\naxiom: /&F\n").end, DVec3::X));
+    assert!(close(draw("n: 0\naxiom: \\&F\n").end, DVec3::NEG_X));
+    assert!(close(draw("n: 0\naxiom: |F\n").end, DVec3::NEG_Y));
+    // $ levels the left vector: after pitching down and rolling, a turn stays horizontal.
+    let end = draw("n: 0\nangle: 90\naxiom: &(90)/(30)$+F\n").end;
+    assert!(end.y.abs() < 1e-9, "{end}");
+    assert!((end.length() - 1.0).abs() < 1e-9);
+}
+
+#[test]
+fn polygons_record_their_vertices() {
+    let drawing = draw("n: 0\nangle: 90\naxiom: F{.f.+f.+f.}F\n");
+    assert_eq!(drawing.polygons.len(), 1);
+    let expected = [
+        DVec3::new(0.0, 1.0, 0.0),
+        DVec3::new(0.0, 2.0, 0.0),
+        DVec3::new(-1.0, 2.0, 0.0),
+        DVec3::new(-1.0, 1.0, 0.0),
+    ];
+    for (p, e) in drawing.polygons[0].points.iter().zip(expected) {
+        assert!(close(*p, e));
+    }
+    // Moves inside the polygon drew nothing, and the last F starts a new stroke.
+    assert_eq!(drawing.segment_count(), 2);
+    assert_eq!(drawing.strokes.len(), 2);
+    // Without `.`, the start and every move make the vertices.
+    let implicit = draw("n: 0\nangle: 120\naxiom: {F+F+F}\n");
+    assert_eq!(implicit.polygons[0].points.len(), 4);
+}
+
+#[test]
+fn a_straight_tube_is_a_closed_prism() {
+    let system = LSystem::parse("n: 0\nwidth: 0.2\nsides: 6\naxiom: FF\n").unwrap();
+    let drawing = interpret(&system, system.axiom());
+    let model = drawing_to_model(&drawing, &system.settings);
+    assert_eq!(model.parts.len(), 1);
+    let mesh = &model.parts[0].mesh;
+    assert_eq!(mesh.face_count(), 6 * 2 + 2);
+    assert!(mesh.is_watertight());
+    let prism = primitives::cylinder(DVec3::new(0.2, 2.0, 0.2), 6);
+    assert!((mesh.signed_volume() - prism.signed_volume()).abs() < 1e-12);
+}
+
+#[test]
+fn bent_tubes_stay_closed() {
+    let system = LSystem::parse("n: 2\nangle: 90\naxiom: F-F-F-F\nF -> F-F+F+FF-F-F+F\n").unwrap();
+    let word = system.derive(&DeriveOptions::default()).unwrap();
+    let model = drawing_to_model(&interpret(&system, &word), &system.settings);
+    let mesh = &model.parts[0].mesh;
+    assert!(mesh.is_watertight());
+    // 256 segments, 8 quads each; a straight run of segments shares rings, and 90° bends are
+    // mitred, so there is one tube with two caps.
+    assert_eq!(mesh.face_count(), 256 * 8 + 2);
+    assert!(mesh.signed_volume() > 0.0);
+    // A turn around (180°) cannot be mitred: the tube ends and a new one starts.
+    let system = LSystem::parse("n: 0\naxiom: F|F\n").unwrap();
+    let model = drawing_to_model(&interpret(&system, system.axiom()), &system.settings);
+    assert_eq!(model.parts[0].mesh.face_count(), 2 * (8 + 2));
+}
+
+#[test]
+fn leaves_are_two_sided_parts_of_their_colour() {
+    let system = LSystem::parse("n: 0\nangle: 90\naxiom: F'{.f.+f.+f.}\n").unwrap();
+    let model = drawing_to_model(&interpret(&system, system.axiom()), &system.settings);
+    let names: Vec<&str> = model.parts.iter().map(|p| p.name.as_str()).collect();
+    assert_eq!(names, ["branches-0", "leaves-1"]);
+    let leaves = &model.parts[1].mesh;
+    assert_eq!(leaves.face_count(), 2);
+    assert!((leaves.area() - 2.0).abs() < 1e-12);
+    assert_eq!(model.parts[1].color, system.settings.colors[1]);
+}
+
+#[test]
+fn fitting_keeps_proportions_and_stands_on_the_floor() {
+    let system = LSystem::parse("n: 0\nwidth: 0.2\naxiom: FFFF\n").unwrap();
+    let model = drawing_to_model(&interpret(&system, system.axiom()), &system.settings);
+    let fitted = fit_into_box(&model, DVec3::new(10.0, 2.0, 10.0));
+    let bounds = fitted.bounds().unwrap();
+    // The height, 4 (caps are flat), scales to 2: the box is lowest along y.
+    assert!((bounds.size().y - 2.0).abs() < 1e-9, "{:?}", bounds);
+    assert!(bounds.min.y.abs() < 1e-9);
+    assert!((bounds.center().x - 5.0).abs() < 1e-9);
+    assert!((bounds.center().z - 5.0).abs() < 1e-9);
+    let ratio = bounds.size().x / bounds.size().y;
+    let original = model.bounds().unwrap().size();
+    assert!((ratio - original.x / original.y).abs() < 1e-9);
+    let scope = Scope::axis_aligned(DVec3::new(100.0, 0.0, 50.0), DVec3::new(10.0, 2.0, 10.0));
+    let placed = fit_into_scope(&model, &scope).bounds().unwrap();
+    assert!((placed.min.y).abs() < 1e-9);
+    assert!((placed.center().x - 105.0).abs() < 1e-9);
+}
