@@ -28,6 +28,10 @@ pub(crate) enum Builtin {
     Float,
     Bool,
     Len,
+    Inside,
+    Overlaps,
+    Touches,
+    Occ,
 }
 
 impl Builtin {
@@ -35,10 +39,10 @@ impl Builtin {
     pub const NAMES: &'static [&'static str] = &[
         "rand", "p", "floor", "ceil", "round", "abs", "min", "max", "sqrt", "pow", "exp", "ln",
         "log10", "sin", "cos", "tan", "asin", "acos", "atan", "atan2", "clamp", "str", "float",
-        "bool", "size",
+        "bool", "size", "inside", "overlaps", "touches", "occ",
     ];
 
-    const ALL: [Builtin; 25] = [
+    const ALL: [Builtin; 29] = [
         Self::Rand,
         Self::P,
         Self::Floor,
@@ -64,10 +68,18 @@ impl Builtin {
         Self::Float,
         Self::Bool,
         Self::Len,
+        Self::Inside,
+        Self::Overlaps,
+        Self::Touches,
+        Self::Occ,
     ];
 
     /// The built-in with this name.
     pub fn from_name(name: &str) -> Option<Self> {
+        // The Müller notation asks `Shape.occ("noparent")` (Sunde writes `Scope.occ`).
+        if matches!(name, "Shape.occ" | "Scope.occ") {
+            return Some(Self::Occ);
+        }
         Self::NAMES
             .iter()
             .position(|&n| n == name)
@@ -80,6 +92,8 @@ impl Builtin {
             Self::Rand => (0, 2),
             Self::Min | Self::Max | Self::Pow | Self::Atan2 => (2, 2),
             Self::Clamp => (3, 3),
+            Self::Inside | Self::Overlaps | Self::Touches => (0, 2),
+            Self::Occ => (0, 1),
             _ => (1, 1),
         }
     }
@@ -98,16 +112,26 @@ impl Builtin {
             Self::Float => "float(value)",
             Self::Bool => "bool(value)",
             Self::Len => "size(array)",
+            Self::Inside => "inside([all | intra | inter [, label]])",
+            Self::Overlaps => "overlaps([all | intra | inter [, label]])",
+            Self::Touches => "touches([all | intra | inter [, label]])",
+            Self::Occ => "occ([\"noparent\" | label])",
             _ => "f(number)",
         }
+    }
+
+    /// Whether the built-in asks about other shapes (occlusion), which makes the rules that
+    /// use it wait for the second phase of a derivation.
+    pub fn is_context_query(self) -> bool {
+        matches!(
+            self,
+            Self::Inside | Self::Overlaps | Self::Touches | Self::Occ
+        )
     }
 
     /// CGA functions that parse but are not implemented yet: a warning, and an error if reached.
     pub fn is_known_unsupported(name: &str) -> bool {
         const NAMES: &[&str] = &[
-            "inside",
-            "overlaps",
-            "touches",
             "contextCompare",
             "contextCount",
             "minimumDistance",

@@ -15,6 +15,7 @@ use shapegram_geom::{
 };
 use shapegram_syntax::Span;
 
+use crate::context::{Context, LotMemo, Occluder, Parked, SnapPlane, snap_planes};
 use crate::error::DeriveError;
 use crate::expr::Evaluator;
 use crate::ops::{
@@ -22,7 +23,7 @@ use crate::ops::{
 };
 use crate::program::{CBody, CExpr, CKind, CStmt, Program, RuleId, Sym};
 use crate::rng::child_seed;
-use crate::shape::{FaceTag, Geometry, State, box_mesh, flat_axis};
+use crate::shape::{FaceTag, Geometry, NO_OCCLUDER, State, box_mesh, flat_axis};
 use crate::split::Layout;
 use crate::value::Value;
 
@@ -205,71 +206,65 @@ pub fn derive(
         .iter()
         .map(|s| Arc::from(s.as_str()))
         .collect();
-    let lot_into = |batch: &mut Batch, i: usize, lot: &InitialShape| {
-        if batch.error.is_some() {
-            // An earlier lot of this batch failed: that error is the one reported.
-            return;
-        }
-        let seed = child_seed(options.seed, i as u64);
-        if let Err(e) = derive_lot(
-            program, start, lot, seed, &overrides, &names, options, batch,
-        ) {
-            batch.error = Some(e);
-        }
-    };
-    // Lots derive into batches of consecutive lots, so that leaves are not copied from one
-    // vector per lot into the result: on one thread there is a single batch.
-    let batches: Vec<Batch> = if lots.len() <= 1 || rayon::current_num_threads() == 1 {
-        let mut batch = Batch::new(program);
-        for (i, lot) in lots.iter().enumerate() {
-            lot_into(&mut batch, i, lot);
-            // Room for the lots to come, estimated from those so far (only memory depends on it).
-            let done = i + 1;
-            let estimate = batch.leaves.len() / done * (lots.len() - done);
-            batch.leaves.reserve(estimate);
-        }
-        vec![batch]
+    let phase = if program.context_rules.contains(&true) {
+        Phase::Gather
     } else {
-        lots.par_iter()
-            .enumerate()
-            .fold(
-                || Batch::new(program),
-                |mut batch, (i, lot)| {
-                    lot_into(&mut batch, i, lot);
-                    batch
-                },
-            )
-            .collect()
+        Phase::Only
     };
+    let lot_seed = |i: usize| child_seed(options.seed, i as u64);
+    let batches = in_batches(program, lots.len(), |batch, i| {
+        derive_lot(
+            program,
+            start,
+            &lots[i],
+            i as u32,
+            lot_seed(i),
+            &overrides,
+            &names,
+            options,
+            phase,
+            batch,
+        )
+    });
     let mut all = Derivation::default();
     let mut counts = vec![0usize; program.rules.len()];
-    let total: usize = batches.iter().map(|b| b.leaves.len()).sum();
-    for mut batch in batches {
-        if let Some(e) = batch.error {
-            return Err(e);
-        }
-        // Node numbers of each batch start after those of the batches before it.
-        let base = all.tree.len() as u32;
-        if all.leaves.is_empty() && all.tree.is_empty() {
-            // The first batch needs no renumbering: take its lists as they are.
-            all.leaves = std::mem::take(&mut batch.leaves);
-            all.leaves.reserve_exact(total - all.leaves.len());
-            all.tree = batch.tree;
+    let mut gathered = Gathered::default();
+    for batch in batches {
+        all.absorb(batch, &mut counts, &mut gathered, false)?;
+    }
+    if !gathered.parked.is_empty() {
+        let context = Context::new(gathered.occluders, gathered.snaps, &names);
+        let waiting = by_lot(gathered.parked, gathered.memos);
+        let resume = |batch: &mut Batch, i: usize| {
+            let (memo, parked) = &waiting[i];
+            let lot = parked.first().map_or(0, |p| p.lot);
+            let seed = lot_seed(lot as usize);
+            resume_lot(
+                program,
+                memo.as_ref(),
+                seed,
+                parked,
+                &names,
+                options,
+                &context,
+                batch,
+            )
+        };
+        if options.keep_tree {
+            // Phase 2 numbers its nodes after those of phase 1: one batch, in order.
+            let mut batch = Batch::new(program);
+            batch.tree = std::mem::take(&mut all.tree);
+            for i in 0..waiting.len() {
+                if let Err(e) = resume(&mut batch, i) {
+                    batch.error = Some(e);
+                    break;
+                }
+            }
+            all.absorb(batch, &mut counts, &mut Gathered::default(), true)?;
         } else {
-            all.tree.extend(batch.tree.into_iter().map(|mut n| {
-                n.parent = n.parent.map(|p| p + base);
-                n
-            }));
-            all.leaves.extend(batch.leaves.into_iter().map(|mut l| {
-                l.node = l.node.map(|n| n + base);
-                l
-            }));
-        }
-        all.reports.extend(batch.reports);
-        all.prints.extend(batch.prints);
-        all.stats.shapes += batch.shapes;
-        for (c, n) in counts.iter_mut().zip(&batch.counts) {
-            *c += n;
+            for batch in in_batches(program, waiting.len(), resume) {
+                all.absorb(batch, &mut counts, &mut Gathered::default(), false)?;
+            }
         }
     }
     if all.stats.shapes > options.max_shapes {
@@ -284,8 +279,136 @@ pub fn derive(
     Ok(all)
 }
 
-/// What consecutive lots derived so far: their leaves, tree, output and counts, or the error
-/// of the first lot that failed.
+/// Waiting shapes grouped by lot, in lot order, each group with its lot's constants.
+fn by_lot(parked: Vec<Parked>, memos: Vec<LotMemo>) -> Vec<(Option<LotMemo>, Vec<Parked>)> {
+    let mut groups: Vec<(Option<LotMemo>, Vec<Parked>)> = Vec::new();
+    let mut memos = memos.into_iter().peekable();
+    for p in parked {
+        if groups.last().is_none_or(|(_, g)| g[0].lot != p.lot) {
+            while memos.peek().is_some_and(|m| m.lot < p.lot) {
+                memos.next();
+            }
+            let memo = memos.next_if(|m| m.lot == p.lot);
+            groups.push((memo, Vec::new()));
+        }
+        if let Some((_, group)) = groups.last_mut() {
+            group.push(p);
+        }
+    }
+    groups
+}
+
+/// Runs `work` on the items `0..n` in batches of consecutive items, in parallel when there is
+/// more than one thread; a batch keeps the error of its first failing item and
+/// skips the items after it. Batches come back in item order.
+fn in_batches(
+    program: &Program,
+    n: usize,
+    work: impl Fn(&mut Batch, usize) -> Result<(), DeriveError> + Sync,
+) -> Vec<Batch> {
+    let step = |batch: &mut Batch, i: usize| {
+        if batch.error.is_none() {
+            if let Err(e) = work(batch, i) {
+                batch.error = Some(e);
+            }
+        }
+    };
+    // Items derive into batches of consecutive items, so that leaves are not copied from one
+    // vector per item into the result: on one thread there is a single batch.
+    if n <= 1 || rayon::current_num_threads() == 1 {
+        let mut batch = Batch::new(program);
+        for i in 0..n {
+            step(&mut batch, i);
+            // Room for the items to come, estimated from those so far (only memory depends on
+            // it).
+            let done = i + 1;
+            let estimate = batch.leaves.len() / done * (n - done);
+            batch.leaves.reserve(estimate);
+        }
+        return vec![batch];
+    }
+    (0..n)
+        .into_par_iter()
+        .fold(
+            || Batch::new(program),
+            |mut batch, i| {
+                step(&mut batch, i);
+                batch
+            },
+        )
+        .collect()
+}
+
+/// What phase 1 leaves for phase 2, numbered across all batches.
+#[derive(Default)]
+struct Gathered {
+    parked: Vec<Parked>,
+    occluders: Vec<Occluder>,
+    snaps: Vec<SnapPlane>,
+    memos: Vec<LotMemo>,
+}
+
+impl Derivation {
+    /// Appends a batch's results. Node numbers of the batch start after those already here,
+    /// unless the batch `continues` the tree (it was handed the tree to extend).
+    fn absorb(
+        &mut self,
+        mut batch: Batch,
+        counts: &mut [usize],
+        gathered: &mut Gathered,
+        continues: bool,
+    ) -> Result<(), DeriveError> {
+        if let Some(e) = batch.error {
+            return Err(e);
+        }
+        let base = if continues { 0 } else { self.tree.len() as u32 };
+        if continues || self.leaves.is_empty() && self.tree.is_empty() {
+            // No renumbering needed: append the leaves as they are, take the tree.
+            if self.leaves.is_empty() {
+                self.leaves = std::mem::take(&mut batch.leaves);
+            } else {
+                self.leaves.append(&mut batch.leaves);
+            }
+            self.tree = batch.tree;
+        } else {
+            self.tree.extend(batch.tree.into_iter().map(|mut n| {
+                n.parent = n.parent.map(|p| p + base);
+                n
+            }));
+            self.leaves.extend(batch.leaves.into_iter().map(|mut l| {
+                l.node = l.node.map(|n| n + base);
+                l
+            }));
+        }
+        let occluder_base = gathered.occluders.len() as u32;
+        gathered
+            .occluders
+            .extend(batch.occluders.into_iter().map(|mut o| {
+                if o.parent != NO_OCCLUDER {
+                    o.parent += occluder_base;
+                }
+                o
+            }));
+        gathered
+            .parked
+            .extend(batch.parked.into_iter().map(|mut p| {
+                p.state.rebase(base, occluder_base);
+                p
+            }));
+        gathered.snaps.append(&mut batch.snaps);
+        gathered.memos.append(&mut batch.memos);
+        self.reports.extend(batch.reports);
+        self.prints.extend(batch.prints);
+        self.stats.shapes += batch.shapes;
+        for (c, n) in counts.iter_mut().zip(&batch.counts) {
+            *c += n;
+        }
+        Ok(())
+    }
+}
+
+/// What consecutive lots derived so far: their leaves, tree, output and counts, what they leave
+/// for phase 2, or the error of the first lot that failed.
 struct Batch {
     leaves: Vec<Leaf>,
     tree: Vec<TreeNode>,
@@ -293,6 +416,10 @@ struct Batch {
     prints: Vec<String>,
     shapes: usize,
     counts: Vec<usize>,
+    parked: Vec<Parked>,
+    occluders: Vec<Occluder>,
+    snaps: Vec<SnapPlane>,
+    memos: Vec<LotMemo>,
     error: Option<DeriveError>,
 }
 
@@ -305,6 +432,10 @@ impl Batch {
             prints: Vec::new(),
             shapes: 0,
             counts: vec![0; program.rules.len()],
+            parked: Vec::new(),
+            occluders: Vec::new(),
+            snaps: Vec::new(),
+            memos: Vec::new(),
             error: None,
         }
     }
@@ -392,48 +523,37 @@ enum Work {
     Leaf(Box<State>),
 }
 
-/// Derives one lot into `batch`.
+/// Derives one lot into `batch` (in phase 1 of a derivation with context rules, what waits for
+/// phase 2 goes to the batch too).
 #[allow(clippy::too_many_arguments)]
 fn derive_lot(
     program: &Program,
     start: RuleId,
     lot: &InitialShape,
+    index: u32,
     seed: u64,
     overrides: &[(u32, Value)],
     names: &[Arc<str>],
     options: &DeriveOptions,
+    phase: Phase,
     batch: &mut Batch,
 ) -> Result<(), DeriveError> {
     let (scope, geometry) = initial_shape(&lot.footprint)?;
     let symbol = program.rules[start as usize].symbol;
     let mut state = State::initial(symbol, scope, geometry, seed);
     let mut ev = Evaluator::new(program, seed, scope.origin);
+    ev.lot = index;
     state.attrs = Rc::new(ev.initial_attrs(&mut state, overrides)?);
-    let tree = options.keep_tree.then(|| {
-        let mut tree = std::mem::take(&mut batch.tree);
+    let mut engine = Engine::new(program, ev, names, options, phase, batch);
+    if let Some(tree) = &mut engine.tree {
         state.node = tree.len() as u32;
         tree.push(TreeNode {
             name: names[symbol as usize].clone(),
             parent: None,
             scope,
         });
-        tree
-    });
-    let mut engine = Engine {
-        program,
-        ev,
-        names,
-        options,
-        tree,
-        leaves: std::mem::take(&mut batch.leaves),
-        counts: vec![0; program.rules.len()],
-        applications: 0,
-        shapes: 1,
-        started: Instant::now(),
-        base: usize::MAX,
-        layouts: Vec::new(),
-        spare: Vec::new(),
-    };
+    }
+    engine.shapes = 1;
     let task = Work::Rewrite(Task {
         state: Box::new(state),
         rule: start,
@@ -443,15 +563,61 @@ fn derive_lot(
         Some(n) => engine.run_generations(task, n)?,
         None => engine.run_depth_first(task)?,
     }
-    batch.leaves = engine.leaves;
-    batch.tree = engine.tree.unwrap_or_default();
-    batch.reports.extend(engine.ev.reports);
-    batch.prints.extend(engine.ev.prints);
-    batch.shapes += engine.shapes;
-    for (c, n) in batch.counts.iter_mut().zip(&engine.counts) {
-        *c += n;
+    if !engine.parked.is_empty() {
+        batch.memos.push(LotMemo {
+            lot: index,
+            origin: scope.origin,
+            consts: engine.ev.memo(),
+        });
     }
+    engine.finish(batch);
     Ok(())
+}
+
+/// Derives the shapes of one lot that waited for phase 2, in order, into `batch`.
+#[allow(clippy::too_many_arguments)]
+fn resume_lot(
+    program: &Program,
+    memo: Option<&LotMemo>,
+    seed: u64,
+    parked: &[Parked],
+    names: &[Arc<str>],
+    options: &DeriveOptions,
+    context: &Context,
+    batch: &mut Batch,
+) -> Result<(), DeriveError> {
+    let origin = memo.map_or(DVec3::ZERO, |m| m.origin);
+    let mut ev = Evaluator::new(program, seed, origin);
+    if let Some(memo) = memo {
+        ev.restore(memo.consts.clone());
+    }
+    ev.lot = parked.first().map_or(0, |p| p.lot);
+    ev.context = Some(context);
+    let mut engine = Engine::new(program, ev, names, options, Phase::Answer, batch);
+    for p in parked {
+        let task = Work::Rewrite(Task {
+            state: Box::new(p.state.clone().thaw()),
+            rule: p.rule,
+            args: p.args.clone(),
+        });
+        match options.generations {
+            Some(n) => engine.run_generations(task, n.saturating_sub(p.generation))?,
+            None => engine.run_depth_first(task)?,
+        }
+    }
+    engine.finish(batch);
+    Ok(())
+}
+
+/// Which phase of a derivation the engine runs (see [`crate::context`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Phase {
+    /// The grammar has no context rules: a single phase.
+    Only,
+    /// Phase 1: shapes with context rules wait; occluders and snap planes are recorded.
+    Gather,
+    /// Phase 2: the waiting shapes derive, asking about the shapes of phase 1.
+    Answer,
 }
 
 /// What engine steps return.
@@ -479,9 +645,64 @@ struct Engine<'p> {
     /// boxes themselves are what is kept).
     #[allow(clippy::vec_box)]
     spare: Vec<Box<State>>,
+    phase: Phase,
+    /// The generation being rewritten (generations mode).
+    generation: u32,
+    /// Shapes waiting for phase 2 (phase 1 only).
+    parked: Vec<Parked>,
+    /// Occluders recorded in phase 1, numbered within the batch.
+    occluders: Vec<Occluder>,
+    /// Snap planes recorded in phase 1.
+    snaps: Vec<SnapPlane>,
 }
 
 impl<'p> Engine<'p> {
+    /// An engine deriving into the lists of `batch` (taken from it until [`Engine::finish`]).
+    fn new(
+        program: &'p Program,
+        ev: Evaluator<'p>,
+        names: &'p [Arc<str>],
+        options: &'p DeriveOptions,
+        phase: Phase,
+        batch: &mut Batch,
+    ) -> Self {
+        Self {
+            program,
+            ev,
+            names,
+            options,
+            tree: options.keep_tree.then(|| std::mem::take(&mut batch.tree)),
+            leaves: std::mem::take(&mut batch.leaves),
+            counts: vec![0; program.rules.len()],
+            applications: 0,
+            shapes: 0,
+            started: Instant::now(),
+            base: usize::MAX,
+            layouts: Vec::new(),
+            spare: Vec::new(),
+            phase,
+            generation: 0,
+            parked: Vec::new(),
+            occluders: std::mem::take(&mut batch.occluders),
+            snaps: Vec::new(),
+        }
+    }
+
+    /// Hands the results back to the batch.
+    fn finish(self, batch: &mut Batch) {
+        batch.leaves = self.leaves;
+        batch.tree = self.tree.unwrap_or_default();
+        batch.reports.extend(self.ev.reports);
+        batch.prints.extend(self.ev.prints);
+        batch.shapes += self.shapes;
+        for (c, n) in batch.counts.iter_mut().zip(&self.counts) {
+            *c += n;
+        }
+        batch.parked.extend(self.parked);
+        batch.occluders = self.occluders;
+        batch.snaps.extend(self.snaps);
+    }
+
     fn run_depth_first(&mut self, first: Work) -> Fallible<()> {
         let mut stack = vec![first];
         while let Some(work) = stack.pop() {
@@ -502,7 +723,8 @@ impl<'p> Engine<'p> {
 
     fn run_generations(&mut self, first: Work, generations: u32) -> Fallible<()> {
         let mut current = vec![first];
-        for _ in 0..generations {
+        for generation in 0..generations {
+            self.generation = generation;
             let mut next = Vec::new();
             for work in current {
                 match work {
@@ -528,6 +750,16 @@ impl<'p> Engine<'p> {
 
     /// Applies a shape's rule; new shapes waiting for rules go to `out`, in order.
     fn apply(&mut self, mut task: Task, out: &mut Vec<Work>) -> Fallible<()> {
+        if self.phase == Phase::Gather && self.program.context_rules[task.rule as usize] {
+            self.parked.push(Parked {
+                lot: self.ev.lot,
+                generation: self.generation,
+                rule: task.rule,
+                args: task.args,
+                state: (*task.state).freeze(),
+            });
+            return Ok(());
+        }
         self.counts[task.rule as usize] += 1;
         self.applications += 1;
         if self.applications % 1024 == 0 {
@@ -767,6 +999,10 @@ impl<'p> Engine<'p> {
         if matches!(state.geometry, Geometry::Empty) {
             return;
         }
+        if self.phase == Phase::Gather {
+            self.occluders
+                .extend(Occluder::of(state, None, self.ev.lot));
+        }
         self.leaves.push(Leaf {
             name: self.names[state.symbol as usize].clone(),
             scope: state.scope,
@@ -871,10 +1107,31 @@ impl<'p> Engine<'p> {
             Op::Split {
                 axis,
                 adjust,
+                snap,
                 block,
             } => {
-                self.split(state, *axis, *adjust, block, span, args, out)?;
+                let snaps = match snap {
+                    Some(tag) => Some(self.snap_positions(state, *axis, tag.as_ref(), args)?),
+                    None => None,
+                };
+                self.split(state, *axis, *adjust, snaps, block, span, args, out)?;
                 return Ok(true);
+            }
+            Op::Snap { axes, tag } => {
+                if self.phase == Phase::Gather {
+                    let tag = match tag {
+                        Some(t) => Some(self.ev.string(t, state, args)?),
+                        None => None,
+                    };
+                    let planes = snap_planes(&state.scope, *axes, tag, self.ev.lot);
+                    self.snaps.extend(planes);
+                }
+            }
+            Op::Label(name) => {
+                let name = self.ev.string(name, state, args)?;
+                if self.phase == Phase::Gather {
+                    self.occlude(state, Some(name));
+                }
             }
             Op::Comp { kind, entries } => {
                 self.comp(state, *kind, entries, span, args, out)?;
@@ -971,12 +1228,42 @@ impl<'p> Engine<'p> {
             .map_err(|why| DeriveError::at(format!("cannot insert `{path}`: {why}"), span))
     }
 
+    /// Records the shape as an occluder (when its geometry is a closed solid); its descendants
+    /// will not see it in their queries.
+    fn occlude(&mut self, state: &mut State, label: Option<Arc<str>>) {
+        if let Some(occluder) = Occluder::of(state, label, self.ev.lot) {
+            state.occluder = self.occluders.len() as u32;
+            self.occluders.push(occluder);
+        }
+    }
+
+    /// Where a snapping split of the shape along `axis` moves its boundaries to.
+    fn snap_positions(
+        &mut self,
+        state: &mut State,
+        axis: usize,
+        tag: Option<&CExpr>,
+        args: &[Value],
+    ) -> Fallible<Vec<f64>> {
+        let tag = match tag {
+            Some(t) => Some(self.ev.string(t, state, args)?),
+            None => None,
+        };
+        Ok(match self.ev.context {
+            Some(context) => {
+                context.snap_positions(&state.scope, axis, self.ev.lot, tag.as_deref())
+            }
+            None => Vec::new(),
+        })
+    }
+
     #[allow(clippy::too_many_arguments)]
     fn split(
         &mut self,
         state: &mut State,
         axis: usize,
         adjust: bool,
+        snaps: Option<Vec<f64>>,
         block: &'p crate::ops::SplitBlock,
         span: Span,
         args: &[Value],
@@ -985,6 +1272,9 @@ impl<'p> Engine<'p> {
         let length = state.scope.size[axis];
         let mut layout = self.layouts.pop().unwrap_or_default();
         layout.lay_out(block, length, span, &mut self.ev, state, args)?;
+        if let Some(positions) = snaps {
+            layout.snap(&positions);
+        }
         let result = self.split_parts(state, axis, adjust, &layout, span, args, out);
         self.layouts.push(layout);
         result
@@ -1082,6 +1372,11 @@ impl<'p> Engine<'p> {
         self.count(state.depth + 1, state.symbol, span)?;
         // Its successor, as `State::make_child` would have made it.
         self.count(state.depth + 2, *symbol, *successor_span)?;
+        if self.phase == Phase::Gather {
+            let leaf = Occluder::of_geometry(&scope, &state.geometry, *symbol, None, self.ev.lot);
+            self.occluders
+                .extend(leaf.map(|o| o.with_parent(state.occluder)));
+        }
         if !matches!(state.geometry, Geometry::Empty) {
             self.leaves.push(Leaf {
                 name: self.names[*symbol as usize].clone(),
@@ -1107,6 +1402,9 @@ impl<'p> Engine<'p> {
         let Some(world) = state.geometry.world_mesh(&state.scope) else {
             return Ok(());
         };
+        if self.phase == Phase::Gather {
+            self.occlude(state, None);
+        }
         let components = match kind {
             CompKind::Faces => component::faces(&world),
             CompKind::Edges => component::edges(&world),

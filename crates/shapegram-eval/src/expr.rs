@@ -9,6 +9,7 @@ use shapegram_syntax::{
 };
 
 use crate::builtins::{Builtin, Query};
+use crate::context::{Context, Target};
 use crate::error::DeriveError;
 use crate::program::{CExpr, CKind, Program};
 use crate::rng::Rng;
@@ -39,6 +40,17 @@ pub(crate) struct Evaluator<'p> {
     pub reports: Vec<(String, Value)>,
     /// `print(value)` output, in derivation order.
     pub prints: Vec<String>,
+    /// What occlusion queries look at (phase 2 of a derivation with context rules only).
+    pub context: Option<&'p Context>,
+    /// The lot being derived, by its position among the initial shapes.
+    pub lot: u32,
+}
+
+/// The constants of one lot as far as they were evaluated, with their random stream.
+#[derive(Clone, Debug)]
+pub(crate) struct ConstMemo {
+    consts: Vec<Slot>,
+    rng: Rng,
 }
 
 type Result<T> = std::result::Result<T, DeriveError>;
@@ -54,7 +66,23 @@ impl<'p> Evaluator<'p> {
             initial_origin,
             reports: Vec::new(),
             prints: Vec::new(),
+            context: None,
+            lot: 0,
         }
+    }
+
+    /// The lot's constants so far, to go on with in another evaluator of the same lot.
+    pub fn memo(&self) -> ConstMemo {
+        ConstMemo {
+            consts: self.consts.clone(),
+            rng: self.const_rng.clone(),
+        }
+    }
+
+    /// Goes on with the constants of an earlier evaluator of the same lot.
+    pub fn restore(&mut self, memo: ConstMemo) {
+        self.consts = memo.consts;
+        self.const_rng = memo.rng;
     }
 
     /// Evaluates an expression for a shape; `args` are the values of the enclosing rule's or
@@ -292,6 +320,70 @@ impl<'p> Evaluator<'p> {
         result
     }
 
+    /// `inside(target, label)` and friends, and Müller's `occ(label)`.
+    fn occlusion(
+        &mut self,
+        b: Builtin,
+        params: &[CExpr],
+        shape: &mut State,
+        args: &[Value],
+        span: Span,
+    ) -> Result<Value> {
+        let Some(context) = self.context else {
+            return Err(DeriveError::at(
+                "occlusion queries can only be asked in rules (not in attributes or in rules \
+                 made before the derivation starts)",
+                span,
+            ));
+        };
+        let mut target = Target::All;
+        let mut label = None;
+        if b == Builtin::Occ {
+            // `occ("noparent")`: ancestors never count, so "noparent" is every occluder.
+            if let Some(p) = params.first() {
+                let text = self.word(p, shape, args)?;
+                if !matches!(&*text, "noparent" | "all" | "") {
+                    label = Some(text);
+                }
+            }
+        } else {
+            if let Some(p) = params.first() {
+                let word = self.word(p, shape, args)?;
+                target = Target::from_name(&word).ok_or_else(|| {
+                    DeriveError::at(
+                        format!("expected the target `all`, `intra` or `inter`, found `{word}`"),
+                        p.span,
+                    )
+                })?;
+            }
+            if let Some(p) = params.get(1) {
+                let text = self.string(p, shape, args)?;
+                label = (!text.is_empty()).then_some(text);
+            }
+        }
+        let found = context.query(shape, self.lot, target, label.as_deref());
+        Ok(match b {
+            Builtin::Inside => Value::Bool(found.inside),
+            Builtin::Overlaps => Value::Bool(found.overlaps),
+            Builtin::Touches => Value::Bool(found.touches),
+            _ => Value::string(if found.inside {
+                "full"
+            } else if found.touches {
+                "part"
+            } else {
+                "none"
+            }),
+        })
+    }
+
+    /// A bare word (`intra`) or a string.
+    fn word(&mut self, e: &CExpr, shape: &mut State, args: &[Value]) -> Result<Arc<str>> {
+        match &e.kind {
+            CKind::Selector(word) => Ok(Arc::from(word.as_str())),
+            _ => self.string(e, shape, args),
+        }
+    }
+
     fn builtin(
         &mut self,
         b: Builtin,
@@ -301,6 +393,9 @@ impl<'p> Evaluator<'p> {
         span: Span,
     ) -> Result<Value> {
         match b {
+            Builtin::Inside | Builtin::Overlaps | Builtin::Touches | Builtin::Occ => {
+                return self.occlusion(b, params, shape, args, span);
+            }
             Builtin::Str => {
                 return Ok(Value::string(
                     &self.eval(&params[0], shape, args)?.to_string(),
@@ -374,7 +469,14 @@ impl<'p> Evaluator<'p> {
             Builtin::Atan => n[0].atan() / deg,
             Builtin::Atan2 => n[0].atan2(n[1]) / deg,
             Builtin::Clamp => n[0].max(n[1]).min(n[2]),
-            Builtin::Str | Builtin::Bool | Builtin::Float | Builtin::Len => unreachable!(),
+            Builtin::Str
+            | Builtin::Bool
+            | Builtin::Float
+            | Builtin::Len
+            | Builtin::Inside
+            | Builtin::Overlaps
+            | Builtin::Touches
+            | Builtin::Occ => unreachable!("handled above"),
         };
         if !value.is_finite() {
             return Err(DeriveError::at(

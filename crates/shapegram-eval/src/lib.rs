@@ -9,6 +9,7 @@
 //! the same leaves, in the same order, whatever the number of threads (see [`rng`]).
 
 mod builtins;
+mod context;
 mod engine;
 mod error;
 mod expr;

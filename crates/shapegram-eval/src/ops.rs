@@ -31,8 +31,17 @@ pub(crate) enum Op {
     Split {
         axis: usize,
         adjust: bool,
+        /// `split(x, snap [, "tag"])`: boundaries move to snap planes (with the tag, if given).
+        snap: Option<Option<CExpr>>,
         block: SplitBlock,
     },
+    /// `snap(x [, "tag"])`: snap planes across the given scope axes, at both ends of the scope.
+    Snap {
+        axes: [bool; 3],
+        tag: Option<CExpr>,
+    },
+    /// `label("name")` (or `tag("name")`): names the shape for occlusion queries.
+    Label(CExpr),
     Comp {
         kind: CompKind,
         entries: Vec<CompEntry>,
@@ -189,7 +198,6 @@ const VISUAL_ONLY: &[&str] = &[
     "softenNormals",
     "setNormals",
     "cleanupGeom",
-    "label",
     "setPivot",
     "resetMaterial",
     "annotation",
@@ -271,6 +279,10 @@ const IMPLEMENTED: &[&str] = &[
     "roofHip",
     "roofPyramid",
     "roofShed",
+    "label",
+    "tag",
+    "snap",
+    "Snap",
 ];
 
 /// Whether an operation of this name exists (implemented or not).
@@ -390,6 +402,11 @@ impl Ctx<'_, '_> {
                 self.primitive(Primitive::Sphere, 2, "primitiveSphere(nRows, nColumns)")?
             }
             "split" => self.split()?,
+            "snap" | "Snap" => self.snap()?,
+            "label" | "tag" => {
+                self.arity(1, 1, "label(\"name\")")?;
+                Op::Label(self.args.pop()?)
+            }
             "comp" => self.comp()?,
             "color" => {
                 if !matches!(self.args.len(), 1 | 3 | 4) {
@@ -553,7 +570,8 @@ impl Ctx<'_, '_> {
     }
 
     fn split(&mut self) -> Option<Op> {
-        self.arity(1, 2, "split(x | y | z [, adjust | noAdjust]) { … }")?;
+        const SIGNATURE: &str = "split(x | y | z [, adjust | noAdjust] [, snap [, \"tag\"]]) { … }";
+        self.arity(1, 4, SIGNATURE)?;
         let axis = match self.word(0) {
             Some("x") => 0,
             Some("y") => 1,
@@ -566,14 +584,23 @@ impl Ctx<'_, '_> {
             }
             _ => return self.bad_selector(0, "the split axis `x`, `y` or `z`"),
         };
-        let adjust = match self.args.len() {
-            1 => true,
-            _ => match self.word(1) {
-                Some("adjust") => true,
-                Some("noAdjust") => false,
-                _ => return self.bad_selector(1, "`adjust` or `noAdjust`"),
-            },
-        };
+        let mut adjust = true;
+        let mut snap = None;
+        let mut i = 1;
+        while i < self.args.len() {
+            match self.word(i) {
+                Some("adjust") if snap.is_none() => adjust = true,
+                Some("noAdjust") if snap.is_none() => adjust = false,
+                Some("snap") if snap.is_none() => {
+                    let tag = self.args.get(i + 1).cloned();
+                    i += usize::from(tag.is_some());
+                    snap = Some(tag);
+                    self.c.uses.context = true;
+                }
+                _ => return self.bad_selector(i, "`adjust`, `noAdjust` or `snap`"),
+            }
+            i += 1;
+        }
         let Some(block) = &self.call.block else {
             self.error("`split` needs a `{ size : … }` block".into());
             return None;
@@ -582,7 +609,32 @@ impl Ctx<'_, '_> {
         Some(Op::Split {
             axis,
             adjust,
+            snap,
             block,
+        })
+    }
+
+    /// `snap(x)`, `snap(xy, "tag")`, Müller's `Snap("X")`.
+    fn snap(&mut self) -> Option<Op> {
+        self.arity(1, 2, "snap(x | y | z | xy | … [, \"tag\"])")?;
+        let word = self.word(0).map(str::to_ascii_lowercase);
+        let mut axes = [false; 3];
+        let valid = word.as_deref().is_some_and(|w| {
+            !w.is_empty()
+                && w.chars().all(|c| match c {
+                    'x' | 'y' | 'z' => {
+                        axes[c as usize - 'x' as usize] = true;
+                        true
+                    }
+                    _ => false,
+                })
+        });
+        if !valid {
+            return self.bad_selector(0, "the axes to snap to: `x`, `y`, `z` or a mix like `xz`");
+        }
+        Some(Op::Snap {
+            axes,
+            tag: self.args.get(1).cloned(),
         })
     }
 

@@ -29,6 +29,10 @@ pub struct Program {
     attr_by_name: FxHashMap<String, u32>,
     /// The rule marked `@StartRule`, or else the first rule.
     pub start_rule: Option<RuleId>,
+    /// By rule: whether applying it asks about other shapes (occlusion queries, snapping
+    /// splits), directly or through functions and constants. Such rules wait for the second
+    /// phase of a derivation.
+    pub(crate) context_rules: Vec<bool>,
 }
 
 /// A compiled rule.
@@ -177,6 +181,8 @@ pub(crate) struct Compiler<'g> {
     function_by_name: FxHashMap<&'g str, Vec<(usize, u32)>>,
     /// Parameter count of each rule, by rule id.
     rule_arity: Vec<usize>,
+    /// What the rule, function, constant or attribute being compiled uses.
+    pub(crate) uses: Uses,
     /// Keys of warnings already given, so each missing rule or unsupported operation is
     /// reported once.
     warned: FxHashMap<String, ()>,
@@ -193,6 +199,7 @@ impl<'g> Compiler<'g> {
             const_by_name: FxHashMap::default(),
             function_by_name: FxHashMap::default(),
             rule_arity: grammar.rules.iter().map(|r| r.params.len()).collect(),
+            uses: Uses::default(),
             warned: FxHashMap::default(),
         };
         for (i, rule) in grammar.rules.iter().enumerate() {
@@ -247,39 +254,75 @@ impl<'g> Compiler<'g> {
     }
 
     fn run(&mut self, grammar: &Grammar) -> Program {
-        let attrs = grammar
+        let mut attr_uses = Vec::new();
+        let attrs: Vec<CAttr> = grammar
             .attrs
             .iter()
-            .map(|a| CAttr {
-                name: a.name.name.clone(),
-                value: self.expr(&a.value, &[]),
+            .map(|a| {
+                let value = self.expr(&a.value, &[]);
+                attr_uses.push(std::mem::take(&mut self.uses));
+                CAttr {
+                    name: a.name.name.clone(),
+                    value,
+                }
             })
             .collect();
+        let mut const_uses = Vec::new();
         let consts = grammar
             .consts
             .iter()
-            .map(|c| CConst {
-                value: self.expr(&c.value, &[]),
-                cached: c.is_const,
+            .map(|c| {
+                let value = self.expr(&c.value, &[]);
+                const_uses.push(std::mem::take(&mut self.uses));
+                CConst {
+                    value,
+                    cached: c.is_const,
+                }
             })
             .collect();
+        let mut function_uses = Vec::new();
         let functions = grammar
             .functions
             .iter()
-            .map(|f| CFunction {
-                name: f.name.name.clone(),
-                body: self.expr(&f.body, &f.params),
+            .map(|f| {
+                let body = self.expr(&f.body, &f.params);
+                function_uses.push(std::mem::take(&mut self.uses));
+                CFunction {
+                    name: f.name.name.clone(),
+                    body,
+                }
             })
             .collect();
+        let mut rule_uses = Vec::new();
         let rules = grammar
             .rules
             .iter()
-            .map(|r| CRule {
-                symbol: self.intern(&r.name.name),
-                params: r.params.len(),
-                body: self.body(&r.body, &r.params),
+            .map(|r| {
+                let rule = CRule {
+                    symbol: self.intern(&r.name.name),
+                    params: r.params.len(),
+                    body: self.body(&r.body, &r.params),
+                };
+                rule_uses.push(std::mem::take(&mut self.uses));
+                rule
             })
             .collect();
+        let closure = ContextClosure::new(&function_uses, &const_uses);
+        for (attr, uses) in grammar.attrs.iter().zip(&attr_uses) {
+            if closure.asks(uses) {
+                self.diagnostics.push(
+                    Diagnostic::error(
+                        "attribute values cannot ask about other shapes",
+                        attr.value.span,
+                    )
+                    .with_label("uses an occlusion query")
+                    .with_hint(
+                        "ask in a rule instead: `Tile --> case inside(): Wall else: Window`",
+                    ),
+                );
+            }
+        }
+        let context_rules = rule_uses.iter().map(|u| closure.asks(u)).collect();
         let start_rule = grammar
             .rules
             .iter()
@@ -295,6 +338,7 @@ impl<'g> Compiler<'g> {
             rule_by_name: std::mem::take(&mut self.rule_by_name),
             attr_by_name: std::mem::take(&mut self.attr_by_name),
             start_rule,
+            context_rules,
         }
     }
 
@@ -477,6 +521,7 @@ impl<'g> Compiler<'g> {
             return CKind::Attr(i);
         }
         if let Some(&i) = self.const_by_name.get(name) {
+            self.uses.consts.push(i);
             return CKind::Const(i);
         }
         if let Some(q) = Query::from_name(name) {
@@ -529,9 +574,15 @@ impl<'g> Compiler<'g> {
                 return CKind::Query(q);
             }
         }
-        let compiled: Vec<CExpr> = args.iter().map(|a| self.expr(&a.value, params)).collect();
+        // Occlusion queries take bare target words: `inside(intra)`.
+        let context = Builtin::from_name(&name.name).is_some_and(Builtin::is_context_query);
+        let compiled: Vec<CExpr> = args
+            .iter()
+            .map(|a| self.expr_in(&a.value, params, context))
+            .collect();
         if let Some(overloads) = self.function_by_name.get(name.name.as_str()) {
             if let Some(&(_, f)) = overloads.iter().find(|(n, _)| *n == compiled.len()) {
+                self.uses.functions.push(f);
                 return CKind::Call(f, compiled);
             }
             let counts: Vec<String> = overloads.iter().map(|(n, _)| n.to_string()).collect();
@@ -561,6 +612,7 @@ impl<'g> Compiler<'g> {
                 );
                 return CKind::Value(Value::Number(0.0));
             }
+            self.uses.context |= context;
             return CKind::Builtin(builtin, compiled);
         }
         let candidates: Vec<&str> = self
@@ -597,5 +649,55 @@ impl<'g> Compiler<'g> {
         if self.warned.insert(key.to_owned(), ()).is_none() {
             self.diagnostics.push(d);
         }
+    }
+}
+
+/// What a rule, function, constant or attribute uses, as far as finding context-dependent rules
+/// goes.
+#[derive(Debug, Default)]
+pub(crate) struct Uses {
+    /// It asks about other shapes itself (an occlusion query or a snapping split).
+    pub context: bool,
+    functions: Vec<u32>,
+    consts: Vec<u32>,
+}
+
+/// Which functions and constants ask about other shapes, directly or through each other.
+struct ContextClosure {
+    functions: Vec<bool>,
+    consts: Vec<bool>,
+}
+
+impl ContextClosure {
+    fn new(functions: &[Uses], consts: &[Uses]) -> Self {
+        let mut closure = Self {
+            functions: vec![false; functions.len()],
+            consts: vec![false; consts.len()],
+        };
+        // Each pass marks at least one more item or ends: at most one pass per item.
+        loop {
+            let mut changed = false;
+            for (i, uses) in functions.iter().enumerate() {
+                if !closure.functions[i] && closure.asks(uses) {
+                    closure.functions[i] = true;
+                    changed = true;
+                }
+            }
+            for (i, uses) in consts.iter().enumerate() {
+                if !closure.consts[i] && closure.asks(uses) {
+                    closure.consts[i] = true;
+                    changed = true;
+                }
+            }
+            if !changed {
+                return closure;
+            }
+        }
+    }
+
+    fn asks(&self, uses: &Uses) -> bool {
+        uses.context
+            || uses.functions.iter().any(|&f| self.functions[f as usize])
+            || uses.consts.iter().any(|&c| self.consts[c as usize])
     }
 }

@@ -134,6 +134,66 @@ pub struct State {
     pub children: u64,
     /// The shape's node in the derivation tree (when one is kept).
     pub node: u32,
+    /// The nearest ancestor (or the shape itself) that is an occluder, as an index into the
+    /// occluders of the derivation ([`NO_OCCLUDER`] when none): occlusion queries ignore it and
+    /// its ancestors.
+    pub occluder: u32,
+}
+
+impl FrozenState {
+    /// Renumbers the shape's tree node and occluder when the lists they index are appended to
+    /// longer ones.
+    pub fn rebase(&mut self, node_base: u32, occluder_base: u32) {
+        self.node += node_base;
+        if self.occluder != NO_OCCLUDER {
+            self.occluder += occluder_base;
+        }
+    }
+
+    /// The state again, ready to derive on this thread.
+    pub fn thaw(self) -> State {
+        State {
+            symbol: self.symbol,
+            scope: self.scope,
+            geometry: self.geometry,
+            attrs: Rc::new(self.attrs),
+            color: self.color,
+            material: self.material,
+            split: self.split,
+            comp: self.comp,
+            comp_sel: self.comp_sel,
+            depth: self.depth,
+            seed: self.seed,
+            rng: self.rng,
+            children: self.children,
+            node: self.node,
+            occluder: self.occluder,
+        }
+    }
+}
+
+/// [`State::occluder`] of a shape without an occluding ancestor.
+pub const NO_OCCLUDER: u32 = u32::MAX;
+
+/// A [`State`] that can move between threads (attributes not shared): how shapes waiting for
+/// the second phase of a derivation are kept.
+#[derive(Clone, Debug)]
+pub struct FrozenState {
+    symbol: Sym,
+    scope: Scope,
+    geometry: Geometry,
+    attrs: Vec<Value>,
+    color: Color,
+    material: Option<Arc<str>>,
+    split: (u32, u32),
+    comp: (u32, u32),
+    comp_sel: u8,
+    depth: u32,
+    seed: u64,
+    rng: Rng,
+    children: u64,
+    node: u32,
+    occluder: u32,
 }
 
 impl State {
@@ -154,6 +214,7 @@ impl State {
             rng: Rng::new(seed),
             children: 0,
             node: 0,
+            occluder: NO_OCCLUDER,
         }
     }
 
@@ -191,6 +252,28 @@ impl State {
             rng: self.rng.clone(),
             children: self.children,
             node: self.node,
+            occluder: self.occluder,
+        }
+    }
+
+    /// The state with its attributes copied out of the shared list, so it can change threads.
+    pub fn freeze(self) -> FrozenState {
+        FrozenState {
+            symbol: self.symbol,
+            scope: self.scope,
+            geometry: self.geometry,
+            attrs: Rc::try_unwrap(self.attrs).unwrap_or_else(|shared| (*shared).clone()),
+            color: self.color,
+            material: self.material,
+            split: self.split,
+            comp: self.comp,
+            comp_sel: self.comp_sel,
+            depth: self.depth,
+            seed: self.seed,
+            rng: self.rng,
+            children: self.children,
+            node: self.node,
+            occluder: self.occluder,
         }
     }
 

@@ -30,7 +30,15 @@ pub(crate) struct Part<'a> {
     pub start: f64,
     pub size: f64,
     pub body: &'a [CStmt],
+    /// The top-level repeated group the part came from and its repetition, if any.
+    pub repeat: Option<Repetition>,
 }
+
+/// A repetition of a top-level repeated group: (group number, repetition number).
+pub(crate) type Repetition = (u32, u32);
+
+/// One flattened part: floating or not, nominal size, body, repetition.
+type FlatPart<'a> = (bool, f64, &'a [CStmt], Option<Repetition>);
 
 /// An evaluated entry of a split block. Groups are stored flat, in preorder: a group is
 /// followed by the `len` items inside it.
@@ -51,7 +59,7 @@ enum Item<'a> {
 #[derive(Default)]
 pub(crate) struct Layout<'a> {
     items: Vec<Item<'a>>,
-    flat: Vec<(bool, f64, &'a [CStmt])>,
+    flat: Vec<FlatPart<'a>>,
     /// The parts of the last [`Layout::lay_out`].
     pub parts: Vec<Part<'a>>,
     /// The block (its address) and length of the last layout when its sizes are all literal
@@ -92,7 +100,7 @@ impl<'a> Layout<'a> {
         if let Some(Item::Group { len, .. }) = self.items.first_mut().filter(|_| block.repeat) {
             *len = inside;
         }
-        expand(&self.items, length, &mut self.flat)?;
+        expand(&self.items, length, &mut self.flat, None)?;
         let flat = &self.flat;
         let fixed: f64 = flat.iter().filter(|p| !p.0).map(|p| p.1).sum();
         let floating: f64 = flat.iter().filter(|p| p.0).map(|p| p.1).sum();
@@ -103,7 +111,7 @@ impl<'a> Layout<'a> {
         };
         let eps = 1e-9 * length.abs().max(1.0);
         let mut at = 0.0;
-        for &(is_floating, nominal, body) in flat {
+        for &(is_floating, nominal, body, repeat) in flat {
             let size = if is_floating {
                 nominal * scale
             } else {
@@ -119,6 +127,7 @@ impl<'a> Layout<'a> {
                 start: at,
                 size: size.min(length - at),
                 body,
+                repeat,
             });
             at += size;
         }
@@ -127,6 +136,96 @@ impl<'a> Layout<'a> {
         }
         Ok(())
     }
+}
+
+impl Layout<'_> {
+    /// Moves boundaries of the laid-out parts to snap positions (distances along the axis,
+    /// ascending), as Müller et al. 2006 describe: for each position, the nearest boundary
+    /// moves onto it. A boundary inside a repeated group redistributes the group: its
+    /// repetitions stay evenly spaced on either side of every boundary fixed so far. Boundaries
+    /// between parts of one repetition never snap, the ends of the split never move, and a snap
+    /// that would reorder boundaries or empty a part is skipped. The total size is unchanged.
+    pub(crate) fn snap(&mut self, positions: &[f64]) {
+        self.last = None;
+        let parts = &mut self.parts;
+        let n = parts.len();
+        if n < 2 {
+            return;
+        }
+        let original: Vec<f64> = parts
+            .iter()
+            .map(|p| p.start)
+            .chain(std::iter::once(parts[n - 1].start + parts[n - 1].size))
+            .collect();
+        let movable = |i: usize| {
+            (1..n).contains(&i)
+                && !(parts[i].repeat.is_some() && parts[i].repeat == parts[i - 1].repeat)
+        };
+        let mut fixed: Vec<Option<f64>> = vec![None; n + 1];
+        let mut bounds = original.clone();
+        for &s in positions {
+            let nearest = (1..n)
+                .filter(|&i| movable(i) && fixed[i].is_none())
+                .min_by(|&a, &b| (bounds[a] - s).abs().total_cmp(&(bounds[b] - s).abs()));
+            let Some(i) = nearest else { break };
+            let below = (0..i)
+                .rev()
+                .find(|&j| j == 0 || fixed[j].is_some())
+                .unwrap_or(0);
+            let above = (i + 1..=n)
+                .find(|&j| j == n || fixed[j].is_some())
+                .unwrap_or(n);
+            if !(bounds[below] < s && s < bounds[above]) {
+                continue;
+            }
+            fixed[i] = Some(s);
+            let trial = redistribute(&original, &fixed, parts);
+            if trial.windows(2).all(|w| w[1] > w[0]) {
+                bounds = trial;
+            } else {
+                fixed[i] = None;
+            }
+        }
+        for (i, part) in parts.iter_mut().enumerate() {
+            part.start = bounds[i];
+            part.size = bounds[i + 1] - bounds[i];
+        }
+    }
+}
+
+/// Boundary positions with the fixed ones in place: other boundaries of a repeated group are
+/// spread evenly (an affine map of their original positions) between the group's ends and its
+/// fixed boundaries; boundaries outside groups stay where they were.
+fn redistribute(original: &[f64], fixed: &[Option<f64>], parts: &[Part]) -> Vec<f64> {
+    let mut bounds: Vec<f64> = original
+        .iter()
+        .zip(fixed)
+        .map(|(&o, f)| f.unwrap_or(o))
+        .collect();
+    let group = |i: usize| parts[i].repeat.map(|(g, _)| g);
+    let mut i = 0;
+    while i < parts.len() {
+        let Some(g) = group(i) else {
+            i += 1;
+            continue;
+        };
+        let mut end = i + 1;
+        while end < parts.len() && group(end) == Some(g) {
+            end += 1;
+        }
+        let anchors: Vec<usize> = (i..=end)
+            .filter(|&k| k == i || k == end || fixed[k].is_some())
+            .collect();
+        for pair in anchors.windows(2) {
+            let (a, c) = (pair[0], pair[1]);
+            let scale = (bounds[c] - bounds[a]) / (original[c] - original[a]);
+            for k in a + 1..c {
+                bounds[k] = bounds[a] + (original[k] - original[a]) * scale;
+            }
+        }
+        i = end;
+    }
+    bounds
 }
 
 /// Whether every size in a block is a literal number (absolute, floating or relative), so that
@@ -222,11 +321,13 @@ fn has_floating(items: &[Item]) -> bool {
         .any(|i| matches!(i, Item::Part { floating: true, .. }))
 }
 
-/// Flattens items into `(floating, nominal size, body)` parts, repeating groups as rule 2 says.
+/// Flattens items into parts, repeating groups as rule 2 says. Parts of a top-level repeated
+/// group are marked with their repetition (`within` is the mark of an enclosing one).
 fn expand<'a>(
     items: &[Item<'a>],
     length: f64,
-    out: &mut Vec<(bool, f64, &'a [CStmt])>,
+    out: &mut Vec<FlatPart<'a>>,
+    within: Option<Repetition>,
 ) -> Result<(), DeriveError> {
     let outside: f64 = top(items)
         .map(|(i, inner)| match i {
@@ -243,14 +344,14 @@ fn expand<'a>(
     } else {
         0.0
     };
-    for (item, inner) in top(items) {
+    for (g, (item, inner)) in top(items).enumerate() {
         match item {
             Item::Part {
                 floating,
                 size,
                 body,
-            } => out.push((*floating, *size, body)),
-            Item::Group { repeat: false, .. } => expand(inner, nominal(inner), out)?,
+            } => out.push((*floating, *size, body, within)),
+            Item::Group { repeat: false, .. } => expand(inner, nominal(inner), out, within)?,
             Item::Group {
                 repeat: true, span, ..
             } => {
@@ -275,8 +376,8 @@ fn expand<'a>(
                         "check the sizes: a tiny size in a repeat fills the scope with slivers",
                     ));
                 }
-                for _ in 0..count as usize {
-                    expand(inner, unit, out)?;
+                for r in 0..count as u32 {
+                    expand(inner, unit, out, within.or(Some((g as u32, r))))?;
                 }
             }
         }

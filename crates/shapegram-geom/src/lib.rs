@@ -2,7 +2,8 @@
 //!
 //! Everything here is `f64` and free of I/O: oriented [`Scope`]s, polygon [`Mesh`]es whose faces are
 //! vertex loops, [`primitives`], plane cuts with capping ([`split`]), extrusion, inset, component
-//! extraction and face classification ([`component`]), roofs ([`roof`]), offsets of convex and
+//! extraction and face classification ([`component`]), roofs ([`roof`]), occlusion tests
+//! ([`occlusion`]) with a bounding-volume hierarchy ([`bvh`]), offsets of convex and
 //! non-convex polygons ([`offset`]), fitting assets into scopes ([`fit`]), triangulation and mesh
 //! metrics.
 //!
@@ -13,11 +14,13 @@
 //!   `size` along each axis, and primitives are built to fill the box `[0, size]`.
 
 pub mod aabb;
+pub mod bvh;
 pub mod component;
 pub mod extrude;
 pub mod fit;
 pub mod mesh;
 pub mod model;
+pub mod occlusion;
 pub mod offset;
 mod planar;
 pub mod plane;
@@ -30,6 +33,7 @@ pub mod topology;
 pub mod triangulate;
 
 pub use aabb::Aabb;
+pub use bvh::Bvh;
 pub use component::{Component, ComponentKind, FaceClass};
 pub use glam::{DAffine3, DMat3, DQuat, DVec2, DVec3};
 pub use mesh::Mesh;

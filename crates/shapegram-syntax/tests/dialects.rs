@@ -610,6 +610,7 @@ error: expected the axis \"X\", \"Y\" or \"Z\"
   |
 1 | a ~> Subdiv(\"W\", 1r){ B }
   |             ^^^ in `Subdiv`
+  = hint: \"XS\", \"YS\" and \"ZS\" also snap the parts to snap lines
 "
     );
     assert_eq!(

@@ -87,12 +87,13 @@ pub(super) fn call(
     })
 }
 
-/// `split(axis){ block }`, the lowering of the dialects' subdivisions: its name takes
-/// `name_span`, the span of the operation it stands for (`Subdiv`, `Repeat`, …).
-pub(super) fn split(name_span: Span, axis: Expr, block: Block, span: Span) -> Stmt {
+/// `split(args){ block }` (the axis first, then options such as `snap`), the lowering of the
+/// dialects' subdivisions: its name takes `name_span`, the span of the operation it stands for
+/// (`Subdiv`, `Repeat`, …).
+pub(super) fn split(name_span: Span, args: Vec<Expr>, block: Block, span: Span) -> Stmt {
     call(
         ident("split", name_span),
-        Some(vec![axis]),
+        Some(args),
         Some(block),
         false,
         span,

@@ -364,18 +364,30 @@ impl Parser<'_> {
         None
     }
 
-    /// The split axis written `"X"` or `X`, as `x`, `y` or `z`.
-    fn muller_axis(&mut self, e: Option<&Expr>, call: &Ident) -> Option<Expr> {
+    /// The split axis written `"X"` or `X` as the arguments of `split`: `x`, `y` or `z`, and
+    /// `snap` after it for the snapping forms `"XS"`, `"YS"`, `"ZS"`.
+    fn muller_axis(&mut self, e: Option<&Expr>, call: &Ident) -> Option<Vec<Expr>> {
         let word = e.and_then(|e| match &e.kind {
             ExprKind::String(s) | ExprKind::Name(s) => Some(s.to_ascii_lowercase()),
             _ => None,
         });
-        match (word.as_deref(), e) {
-            (Some(axis @ ("x" | "y" | "z")), Some(e)) => Some(b::name(axis, e.span)),
+        let (axis, snap) = match word.as_deref() {
+            Some(w) => (w.strip_suffix('s').unwrap_or(w), w.ends_with('s')),
+            None => ("", false),
+        };
+        match (axis, e) {
+            ("x" | "y" | "z", Some(e)) => {
+                let mut args = vec![b::name(axis, e.span)];
+                if snap {
+                    args.push(b::name("snap", e.span));
+                }
+                Some(args)
+            }
             _ => {
                 let span = e.map_or(call.span, |e| e.span);
                 let d = Diagnostic::error("expected the axis \"X\", \"Y\" or \"Z\"", span)
-                    .with_label(format!("in `{}`", call.name));
+                    .with_label(format!("in `{}`", call.name))
+                    .with_hint("\"XS\", \"YS\" and \"ZS\" also snap the parts to snap lines");
                 self.report(d);
                 None
             }

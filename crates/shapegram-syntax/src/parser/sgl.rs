@@ -485,7 +485,7 @@ impl Parser<'_> {
         out.push(b::op("t", along(-0.5), span));
         out.push(b::split(
             name.span,
-            b::name(axis_name, axis.span),
+            vec![b::name(axis_name, axis.span)],
             b::block(entries, false, span),
             span,
         ));

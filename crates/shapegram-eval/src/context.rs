@@ -1,0 +1,258 @@
+//! Context-sensitive rules: occlusion queries and snap planes, in two phases.
+//!
+//! A rule that asks about other shapes (`inside()`, `overlaps()`, `touches()`, `occ(…)`) or
+//! splits with `snap` is a *context rule*. Deriving a grammar with context rules takes two
+//! phases, so that no answer depends on the order in which shapes are derived:
+//!
+//! 1. Every lot derives as usual, except that a shape whose rule is a context rule waits. The
+//!    shapes of this phase leave *occluders* behind: every shape that a component split took
+//!    apart, every leaf, and every shape given a `label`, whose geometry is a closed solid
+//!    (a box with volume, or a watertight mesh). `snap(…)` leaves snap planes.
+//! 2. Once all lots are through phase 1, the waiting shapes derive, in order, lot by lot.
+//!    Their queries look at the occluders and snap planes of phase 1 only: shapes made in phase
+//!    2 neither occlude nor snap.
+//!
+//! A query never sees the querying shape's own ancestors (the mass a facade came from always
+//! "occludes" it); it sees every other occluder of its lot (`intra`), of the other lots
+//! (`inter`) or both (`all`, the default), optionally only those with a given label or rule name.
+
+use std::sync::Arc;
+
+use shapegram_geom::occlusion::{Contact, ConvexSolid, Probe, contact, convex_pieces};
+use shapegram_geom::{Aabb, Bvh, DVec3, Scope};
+
+use crate::expr::ConstMemo;
+use crate::program::{RuleId, Sym};
+use crate::shape::{FrozenState, Geometry, NO_OCCLUDER, State};
+use crate::value::Value;
+
+/// Most convex pieces a non-convex solid is cut into for occlusion tests. An occluder that
+/// needs more is not an occluder; a probe that needs more is tested by its surface only.
+const MAX_PIECES: usize = 32;
+
+/// Two boxes closer than this, relative to the size of the querying shape, touch.
+const RELATIVE_TOLERANCE: f64 = 1e-6;
+
+/// A closed solid left by phase 1, for occlusion queries.
+#[derive(Clone, Debug)]
+pub(crate) struct Occluder {
+    pieces: Vec<ConvexSolid>,
+    bounds: Aabb,
+    label: Option<Arc<str>>,
+    symbol: Sym,
+    /// The occluder this one's shape descends from ([`NO_OCCLUDER`] when none).
+    pub parent: u32,
+    lot: u32,
+}
+
+impl Occluder {
+    /// The occluder of a shape, or `None` when its geometry is not a closed solid.
+    pub fn of(state: &State, label: Option<Arc<str>>, lot: u32) -> Option<Self> {
+        Self::of_geometry(&state.scope, &state.geometry, state.symbol, label, lot)
+            .map(|o| o.with_parent(state.occluder))
+    }
+
+    /// The same occluder, descending from another.
+    pub fn with_parent(self, parent: u32) -> Self {
+        Self { parent, ..self }
+    }
+
+    /// The occluder of a scope and geometry (with no parent), if they form a closed solid.
+    pub fn of_geometry(
+        scope: &Scope,
+        geometry: &Geometry,
+        symbol: Sym,
+        label: Option<Arc<str>>,
+        lot: u32,
+    ) -> Option<Self> {
+        let pieces = match geometry {
+            Geometry::Box => vec![ConvexSolid::from_scope(scope)?],
+            Geometry::Mesh(..) => convex_pieces(&geometry.world_mesh(scope)?, MAX_PIECES)?,
+            Geometry::Empty => return None,
+        };
+        let bounds = pieces.iter().map(ConvexSolid::bounds).reduce(Aabb::union)?;
+        Some(Self {
+            pieces,
+            bounds,
+            label,
+            symbol,
+            parent: NO_OCCLUDER,
+            lot,
+        })
+    }
+}
+
+/// A snap plane left by `snap(…)` in phase 1: `normal · p = offset`.
+#[derive(Clone, Debug)]
+pub(crate) struct SnapPlane {
+    pub normal: DVec3,
+    pub offset: f64,
+    pub tag: Option<Arc<str>>,
+    pub lot: u32,
+}
+
+/// A shape waiting for phase 2.
+#[derive(Debug)]
+pub(crate) struct Parked {
+    pub lot: u32,
+    /// The generation it waited at (generations mode).
+    pub generation: u32,
+    pub rule: RuleId,
+    pub args: Vec<Value>,
+    pub state: FrozenState,
+}
+
+/// What phase 1 of one lot leaves for phase 2 besides its waiting shapes: the lot's constants
+/// as far as they were evaluated, so that phase 2 sees the same values.
+#[derive(Debug)]
+pub(crate) struct LotMemo {
+    pub lot: u32,
+    pub origin: DVec3,
+    pub consts: ConstMemo,
+}
+
+/// Which occluders a query looks at.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum Target {
+    /// All lots.
+    All,
+    /// The querying shape's lot.
+    Intra,
+    /// The other lots.
+    Inter,
+}
+
+impl Target {
+    /// The target named by a query argument.
+    pub fn from_name(name: &str) -> Option<Self> {
+        match name {
+            "all" => Some(Self::All),
+            "intra" => Some(Self::Intra),
+            "inter" => Some(Self::Inter),
+            _ => None,
+        }
+    }
+}
+
+/// The occluders and snap planes of phase 1, indexed for the queries of phase 2.
+#[derive(Debug, Default)]
+pub(crate) struct Context {
+    occluders: Vec<Occluder>,
+    bvh: Bvh,
+    /// Snap planes, by lot.
+    snaps: Vec<SnapPlane>,
+    names: Vec<Arc<str>>,
+}
+
+impl Context {
+    /// Indexes the occluders (numbered as their `parent` links expect) and snap planes;
+    /// `names` are the program's symbol names, which labels may also match.
+    pub fn new(occluders: Vec<Occluder>, mut snaps: Vec<SnapPlane>, names: &[Arc<str>]) -> Self {
+        let bounds: Vec<Aabb> = occluders.iter().map(|o| o.bounds).collect();
+        snaps.sort_by_key(|s| s.lot);
+        Self {
+            bvh: Bvh::new(&bounds),
+            occluders,
+            snaps,
+            names: names.to_vec(),
+        }
+    }
+
+    /// How the shape meets the occluders the target and label select (each of `inside`,
+    /// `overlaps`, `touches` holds if it holds for one of them).
+    pub fn query(&self, state: &State, lot: u32, target: Target, label: Option<&str>) -> Contact {
+        let mut found = Contact::default();
+        let Some(probe) = probe(state) else {
+            return found;
+        };
+        let eps = RELATIVE_TOLERANCE * probe.bounds().diagonal().max(1.0);
+        let mut ancestors = Vec::new();
+        let mut at = state.occluder;
+        while at != NO_OCCLUDER && ancestors.len() < self.occluders.len() {
+            ancestors.push(at);
+            at = self.occluders[at as usize].parent;
+        }
+        let bounds = probe.bounds();
+        let reach = Aabb::new(bounds.min - eps, bounds.max + eps);
+        self.bvh.query(&reach, |i| {
+            let occluder = &self.occluders[i as usize];
+            let selected = match target {
+                Target::All => true,
+                Target::Intra => occluder.lot == lot,
+                Target::Inter => occluder.lot != lot,
+            } && label.is_none_or(|l| {
+                occluder.label.as_deref() == Some(l) || &*self.names[occluder.symbol as usize] == l
+            }) && !ancestors.contains(&i);
+            if selected {
+                let c = contact(&probe, &occluder.pieces, eps);
+                found.inside |= c.inside;
+                found.overlaps |= c.overlaps;
+                found.touches |= c.touches;
+            }
+            !(found.inside && found.overlaps && found.touches)
+        });
+        found
+    }
+
+    /// Where the snap planes of the lot (with the tag, if one is given) cross the scope's axis
+    /// strictly inside the scope, as distances from its origin, ascending and without repeats.
+    pub fn snap_positions(
+        &self,
+        scope: &Scope,
+        axis: usize,
+        lot: u32,
+        tag: Option<&str>,
+    ) -> Vec<f64> {
+        let direction = scope.axes.col(axis);
+        let length = scope.size[axis];
+        let eps = RELATIVE_TOLERANCE * length.max(1.0);
+        let start = self.snaps.partition_point(|s| s.lot < lot);
+        let mut positions: Vec<f64> = self.snaps[start..]
+            .iter()
+            .take_while(|s| s.lot == lot)
+            .filter(|s| tag.is_none_or(|t| s.tag.as_deref() == Some(t)))
+            .filter_map(|s| {
+                let along = s.normal.dot(direction);
+                (along.abs() >= 1.0 - 1e-9)
+                    .then(|| (s.offset - s.normal.dot(scope.origin)) / along)
+                    .filter(|&t| t > eps && t < length - eps)
+            })
+            .collect();
+        positions.sort_by(f64::total_cmp);
+        positions.dedup_by(|a, b| (*a - *b).abs() <= eps);
+        positions
+    }
+}
+
+/// The snap planes of `snap(…)` on a scope: across each chosen axis, at both ends of the scope.
+pub(crate) fn snap_planes(
+    scope: &Scope,
+    axes: [bool; 3],
+    tag: Option<Arc<str>>,
+    lot: u32,
+) -> Vec<SnapPlane> {
+    (0..3)
+        .filter(|&a| axes[a])
+        .flat_map(|a| {
+            let normal = scope.axes.col(a);
+            let near = normal.dot(scope.origin);
+            [near, near + scope.size[a]].map(|offset| SnapPlane {
+                normal,
+                offset,
+                tag: tag.clone(),
+                lot,
+            })
+        })
+        .collect()
+}
+
+/// The probe of a shape: its box or its mesh, in world coordinates.
+fn probe(state: &State) -> Option<Probe> {
+    match &state.geometry {
+        Geometry::Box => Probe::from_scope(&state.scope),
+        Geometry::Mesh(..) => {
+            Probe::from_mesh(&state.geometry.world_mesh(&state.scope)?, MAX_PIECES)
+        }
+        Geometry::Empty => None,
+    }
+}
