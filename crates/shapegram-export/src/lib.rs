@@ -15,6 +15,7 @@ mod glb;
 mod obj;
 mod read;
 mod stl;
+mod svg;
 
 use std::path::Path;
 
@@ -25,6 +26,7 @@ pub use glb::write_glb;
 pub use obj::write_obj;
 pub use read::{read_glb, read_obj, read_stl};
 pub use stl::write_stl;
+pub use svg::{SvgDrawing, SvgPolygon, SvgPolyline, write_svg};
 
 /// A file format, chosen by file extension.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
