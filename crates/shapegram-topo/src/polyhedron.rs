@@ -493,6 +493,20 @@ impl Polyhedron {
     }
 }
 
+/// Checks that `faces` over `vertex_count` vertices form a closed surface of genus 0, without
+/// looking at any geometry.
+pub(crate) fn check_topology<F: AsRef<[Index]>>(
+    vertex_count: usize,
+    faces: &[F],
+) -> Result<(), PolyhedronError> {
+    if vertex_count > MAX_VERTICES {
+        return Err(PolyhedronError::Size(format!(
+            "a polyhedron needs 4 to {MAX_VERTICES} vertices, got {vertex_count}"
+        )));
+    }
+    Polyhedron::from_faces_topology(vec![DVec3::ZERO; vertex_count], faces).map(|_| ())
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

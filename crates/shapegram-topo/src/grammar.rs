@@ -1,0 +1,504 @@
+//! The compiled grammar (thesis 3.1.9): lean symbols, prototype shapes and rules of
+//! virtual-vertex instructions, and its `.grammar` file (versioned JSON, see docs/topo.md).
+
+use std::fmt;
+
+use serde::{Deserialize, Serialize};
+use shapegram_geom::{Color, DVec3};
+
+use crate::polyhedron::{self, Index};
+
+/// The `format` field of every `.grammar` file.
+pub const GRAMMAR_FORMAT: &str = "shapegram-topo-grammar";
+/// The version this library writes and reads.
+pub const GRAMMAR_VERSION: u32 = 1;
+/// Most entries any one list of a grammar file may hold: a larger file is corrupt, not a grammar.
+pub const MAX_ENTRIES: usize = 1 << 20;
+
+/// A compiled grammar: symbols with their topology, one prototype shape per named symbol, rules.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Grammar {
+    /// Prototype shapes, used as initial shapes.
+    pub shapes: Vec<GrammarShape>,
+    /// Symbols: named ones first (in project order), then the anonymous terminals.
+    pub symbols: Vec<GrammarSymbol>,
+    /// Rules, grouped by symbol.
+    pub rules: Vec<GrammarRule>,
+}
+
+/// A shape's geometry: positions in the canonical order of its symbol.
+#[derive(Clone, Debug, PartialEq)]
+pub struct GrammarShape {
+    /// The symbol it is an instance of.
+    pub symbol: Index,
+    /// One position per vertex of the symbol.
+    pub vertices: Vec<DVec3>,
+}
+
+/// A symbol's topology and rules.
+#[derive(Clone, Debug, PartialEq)]
+pub struct GrammarSymbol {
+    /// The name; `None` for an anonymous terminal.
+    pub name: Option<String>,
+    /// Colour of its shapes in meshes; `None` for the default grey.
+    pub color: Option<Color>,
+    /// Number of vertices.
+    pub vertex_count: u32,
+    /// Face loops in canonical vertex numbers, counter-clockwise seen from outside.
+    pub faces: Vec<Vec<Index>>,
+    /// Its rules (indices into [`Grammar::rules`]); none for a terminal.
+    pub rules: Vec<Index>,
+}
+
+/// How to make a vertex that the rule's shape does not have yet: `from + t (to − from)`, both
+/// ends indexing the rule's vertex array (the shape's vertices, then earlier virtual vertices).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct VirtualVertex {
+    /// First end.
+    pub from: Index,
+    /// Second end.
+    pub to: Index,
+    /// Interpolation coefficient.
+    pub t: f64,
+}
+
+/// A sub-shape a rule makes: its symbol and its vertices, in the symbol's canonical order, as
+/// indices into the rule's vertex array.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SubShape {
+    /// The symbol (named or anonymous terminal).
+    pub symbol: Index,
+    /// One index per vertex of the symbol.
+    pub vertices: Vec<Index>,
+}
+
+/// A rule on a symbol: virtual-vertex instructions and the sub-shapes built from them.
+#[derive(Clone, Debug, PartialEq)]
+pub struct GrammarRule {
+    /// The symbol it rewrites.
+    pub symbol: Index,
+    /// Its name (for messages).
+    pub name: String,
+    /// Relative weight among the symbol's rules.
+    pub weight: f64,
+    /// Instructions for the vertices the shape does not have.
+    pub virtual_vertices: Vec<VirtualVertex>,
+    /// What the shape becomes; epsilon sub-shapes are left out.
+    pub sub_shapes: Vec<SubShape>,
+}
+
+impl Grammar {
+    /// The symbol called `name` (anonymous terminals have no name).
+    pub fn symbol_named(&self, name: &str) -> Option<Index> {
+        self.symbols
+            .iter()
+            .position(|s| s.name.as_deref() == Some(name))
+            .map(|i| i as Index)
+    }
+
+    /// The prototype shape of `symbol`, if the grammar has one.
+    pub fn shape_of(&self, symbol: Index) -> Option<&GrammarShape> {
+        self.shapes.iter().find(|s| s.symbol == symbol)
+    }
+
+    /// Whether shapes of `symbol` are never rewritten.
+    pub fn is_terminal(&self, symbol: Index) -> bool {
+        self.symbols[symbol as usize].rules.is_empty()
+    }
+
+    /// Names of the named symbols, in order.
+    pub fn symbol_names(&self) -> Vec<&str> {
+        self.symbols
+            .iter()
+            .filter_map(|s| s.name.as_deref())
+            .collect()
+    }
+
+    /// The display name of `symbol`: its name, or `terminal` for an anonymous one.
+    pub fn display_name(&self, symbol: Index) -> &str {
+        self.symbols[symbol as usize]
+            .name
+            .as_deref()
+            .unwrap_or("terminal")
+    }
+
+    /// The grammar as `.grammar` JSON text (pretty-printed, ending in a newline).
+    pub fn to_json(&self) -> String {
+        let file = GrammarFile::from(self);
+        let mut text = serde_json::to_string_pretty(&file).expect("grammar files serialise");
+        text.push('\n');
+        text
+    }
+
+    /// Reads `.grammar` JSON text and checks everything in it.
+    pub fn from_json(text: &str) -> Result<Self, GrammarError> {
+        let file: GrammarFile = serde_json::from_str(text).map_err(|e| GrammarError {
+            location: format!("line {} column {}", e.line(), e.column()),
+            message: json_message(&e),
+        })?;
+        file.into_grammar()
+    }
+
+    /// Checks indices, counts, topology and numbers; the first problem found is returned.
+    pub fn validate(&self) -> Result<(), GrammarError> {
+        let err = |location: String, message: String| Err(GrammarError { location, message });
+        for (name, len) in [
+            ("shapes", self.shapes.len()),
+            ("symbols", self.symbols.len()),
+            ("rules", self.rules.len()),
+        ] {
+            if len > MAX_ENTRIES {
+                return err(name.into(), format!("{len} entries, at most {MAX_ENTRIES}"));
+            }
+        }
+        for (i, symbol) in self.symbols.iter().enumerate() {
+            let at = |field: &str| format!("symbols[{i}].{field}");
+            if let Some(name) = &symbol.name {
+                if name.trim().is_empty() {
+                    return err(at("name"), "a symbol name cannot be blank".into());
+                }
+                if self.symbols[..i]
+                    .iter()
+                    .any(|s| s.name.as_ref() == Some(name))
+                {
+                    return err(at("name"), format!("the name '{name}' is used twice"));
+                }
+            }
+            let n = symbol.vertex_count as usize;
+            if n > polyhedron::MAX_VERTICES {
+                return err(at("vertex_count"), format!("{n} vertices is too many"));
+            }
+            if let Err(e) = polyhedron::check_topology(n, &symbol.faces) {
+                return err(at("faces"), e.to_string());
+            }
+            for (k, &r) in symbol.rules.iter().enumerate() {
+                match self.rules.get(r as usize) {
+                    None => {
+                        return err(
+                            at(&format!("rules[{k}]")),
+                            format!("rule {r} does not exist (there are {})", self.rules.len()),
+                        );
+                    }
+                    Some(rule) if rule.symbol as usize != i => {
+                        return err(
+                            at(&format!("rules[{k}]")),
+                            format!("rule {r} rewrites symbol {}, not this one", rule.symbol),
+                        );
+                    }
+                    _ => {}
+                }
+            }
+        }
+        for (i, shape) in self.shapes.iter().enumerate() {
+            let at = |field: &str| format!("shapes[{i}].{field}");
+            let Some(symbol) = self.symbols.get(shape.symbol as usize) else {
+                return err(at("symbol"), self.no_symbol(shape.symbol));
+            };
+            if shape.vertices.len() != symbol.vertex_count as usize {
+                return err(
+                    at("vertices"),
+                    format!(
+                        "{} positions for a symbol of {} vertices",
+                        shape.vertices.len(),
+                        symbol.vertex_count
+                    ),
+                );
+            }
+            if let Some(k) = shape.vertices.iter().position(|p| !p.is_finite()) {
+                return err(at(&format!("vertices[{k}]")), "not a finite point".into());
+            }
+        }
+        for (i, rule) in self.rules.iter().enumerate() {
+            self.validate_rule(i, rule)?;
+        }
+        Ok(())
+    }
+
+    fn validate_rule(&self, i: usize, rule: &GrammarRule) -> Result<(), GrammarError> {
+        let err = |field: String, message: String| {
+            Err(GrammarError {
+                location: format!("rules[{i}].{field}"),
+                message,
+            })
+        };
+        let Some(symbol) = self.symbols.get(rule.symbol as usize) else {
+            return err("symbol".into(), self.no_symbol(rule.symbol));
+        };
+        if !symbol.rules.contains(&(i as Index)) {
+            return err(
+                "symbol".into(),
+                format!("symbol {} does not list this rule", rule.symbol),
+            );
+        }
+        if !(rule.weight.is_finite() && rule.weight > 0.0) {
+            return err(
+                "weight".into(),
+                format!("{} is not a positive number", rule.weight),
+            );
+        }
+        let base = symbol.vertex_count as usize;
+        for (k, v) in rule.virtual_vertices.iter().enumerate() {
+            let available = base + k;
+            for (end, index) in [("from", v.from), ("to", v.to)] {
+                if index as usize >= available {
+                    return err(
+                        format!("virtual_vertices[{k}].{end}"),
+                        format!(
+                            "vertex {index} does not exist yet ({base} shape vertices and {k} \
+                             earlier virtual vertices)"
+                        ),
+                    );
+                }
+            }
+            if !v.t.is_finite() {
+                return err(
+                    format!("virtual_vertices[{k}].t"),
+                    "not a finite number".into(),
+                );
+            }
+        }
+        let total = base + rule.virtual_vertices.len();
+        for (k, sub) in rule.sub_shapes.iter().enumerate() {
+            let Some(target) = self.symbols.get(sub.symbol as usize) else {
+                return err(
+                    format!("sub_shapes[{k}].symbol"),
+                    self.no_symbol(sub.symbol),
+                );
+            };
+            if sub.vertices.len() != target.vertex_count as usize {
+                return err(
+                    format!("sub_shapes[{k}].vertices"),
+                    format!(
+                        "{} vertices for symbol {} of {} vertices",
+                        sub.vertices.len(),
+                        sub.symbol,
+                        target.vertex_count
+                    ),
+                );
+            }
+            if let Some(j) = sub.vertices.iter().position(|&v| v as usize >= total) {
+                return err(
+                    format!("sub_shapes[{k}].vertices[{j}]"),
+                    format!(
+                        "vertex {} does not exist (the rule has {base} shape and {} virtual \
+                         vertices)",
+                        sub.vertices[j],
+                        rule.virtual_vertices.len()
+                    ),
+                );
+            }
+        }
+        Ok(())
+    }
+
+    fn no_symbol(&self, symbol: Index) -> String {
+        format!(
+            "symbol {symbol} does not exist (there are {})",
+            self.symbols.len()
+        )
+    }
+}
+
+/// A problem in a grammar: where (a JSON path or line and column) and what.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct GrammarError {
+    /// Where: `rules[3].sub_shapes[1].vertices[5]`, or `line 4 column 12` for JSON syntax.
+    pub location: String,
+    /// What is wrong.
+    pub message: String,
+}
+
+impl fmt::Display for GrammarError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "{}: {}", self.location, self.message)
+    }
+}
+
+impl std::error::Error for GrammarError {}
+
+/// A serde error message without serde's own "at line … column …" suffix.
+pub(crate) fn json_message(e: &serde_json::Error) -> String {
+    let text = e.to_string();
+    match text.rfind(" at line ") {
+        Some(cut) => text[..cut].to_owned(),
+        None => text,
+    }
+}
+
+/// `[x, y, z]` in files.
+pub(crate) type Point = [f64; 3];
+
+pub(crate) fn point(p: DVec3) -> Point {
+    p.to_array()
+}
+
+/// The file layout of a `.grammar`.
+#[derive(Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct GrammarFile {
+    format: String,
+    version: u32,
+    symbols: Vec<SymbolEntry>,
+    shapes: Vec<ShapeEntry>,
+    rules: Vec<RuleEntry>,
+}
+
+#[derive(Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct SymbolEntry {
+    name: Option<String>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    color: Option<String>,
+    vertex_count: u32,
+    faces: Vec<Vec<Index>>,
+    rules: Vec<Index>,
+}
+
+#[derive(Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct ShapeEntry {
+    symbol: Index,
+    vertices: Vec<Point>,
+}
+
+#[derive(Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RuleEntry {
+    symbol: Index,
+    name: String,
+    weight: f64,
+    virtual_vertices: Vec<(Index, Index, f64)>,
+    sub_shapes: Vec<SubShapeEntry>,
+}
+
+#[derive(Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct SubShapeEntry {
+    symbol: Index,
+    vertices: Vec<Index>,
+}
+
+impl From<&Grammar> for GrammarFile {
+    fn from(grammar: &Grammar) -> Self {
+        Self {
+            format: GRAMMAR_FORMAT.into(),
+            version: GRAMMAR_VERSION,
+            symbols: grammar
+                .symbols
+                .iter()
+                .map(|s| SymbolEntry {
+                    name: s.name.clone(),
+                    color: s.color.map(|c| c.to_hex()),
+                    vertex_count: s.vertex_count,
+                    faces: s.faces.clone(),
+                    rules: s.rules.clone(),
+                })
+                .collect(),
+            shapes: grammar
+                .shapes
+                .iter()
+                .map(|s| ShapeEntry {
+                    symbol: s.symbol,
+                    vertices: s.vertices.iter().map(|&p| point(p)).collect(),
+                })
+                .collect(),
+            rules: grammar
+                .rules
+                .iter()
+                .map(|r| RuleEntry {
+                    symbol: r.symbol,
+                    name: r.name.clone(),
+                    weight: r.weight,
+                    virtual_vertices: r
+                        .virtual_vertices
+                        .iter()
+                        .map(|v| (v.from, v.to, v.t))
+                        .collect(),
+                    sub_shapes: r
+                        .sub_shapes
+                        .iter()
+                        .map(|s| SubShapeEntry {
+                            symbol: s.symbol,
+                            vertices: s.vertices.clone(),
+                        })
+                        .collect(),
+                })
+                .collect(),
+        }
+    }
+}
+
+impl GrammarFile {
+    fn into_grammar(self) -> Result<Grammar, GrammarError> {
+        if self.format != GRAMMAR_FORMAT {
+            return Err(GrammarError {
+                location: "format".into(),
+                message: format!(
+                    "'{}' is not a topological grammar (expected '{GRAMMAR_FORMAT}')",
+                    self.format.escape_debug()
+                ),
+            });
+        }
+        if self.version != GRAMMAR_VERSION {
+            return Err(GrammarError {
+                location: "version".into(),
+                message: format!(
+                    "version {} is not supported (this build reads version {GRAMMAR_VERSION})",
+                    self.version
+                ),
+            });
+        }
+        let mut symbols = Vec::with_capacity(self.symbols.len());
+        for (i, s) in self.symbols.into_iter().enumerate() {
+            let color = match &s.color {
+                None => None,
+                Some(hex) => Some(Color::from_hex(hex).ok_or_else(|| GrammarError {
+                    location: format!("symbols[{i}].color"),
+                    message: format!("'{}' is not a colour like '#3a6ea5'", hex.escape_debug()),
+                })?),
+            };
+            symbols.push(GrammarSymbol {
+                name: s.name,
+                color,
+                vertex_count: s.vertex_count,
+                faces: s.faces,
+                rules: s.rules,
+            });
+        }
+        let grammar = Grammar {
+            shapes: self
+                .shapes
+                .into_iter()
+                .map(|s| GrammarShape {
+                    symbol: s.symbol,
+                    vertices: s.vertices.into_iter().map(DVec3::from_array).collect(),
+                })
+                .collect(),
+            symbols,
+            rules: self
+                .rules
+                .into_iter()
+                .map(|r| GrammarRule {
+                    symbol: r.symbol,
+                    name: r.name,
+                    weight: r.weight,
+                    virtual_vertices: r
+                        .virtual_vertices
+                        .into_iter()
+                        .map(|(from, to, t)| VirtualVertex { from, to, t })
+                        .collect(),
+                    sub_shapes: r
+                        .sub_shapes
+                        .into_iter()
+                        .map(|s| SubShape {
+                            symbol: s.symbol,
+                            vertices: s.vertices,
+                        })
+                        .collect(),
+                })
+                .collect(),
+        };
+        grammar.validate()?;
+        Ok(grammar)
+    }
+}

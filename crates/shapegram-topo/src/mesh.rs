@@ -1,0 +1,131 @@
+//! Triangle meshes of a grammar state (thesis 3.2.3): faces fan-triangulated (they are convex),
+//! flat normals from the face corners, one coloured part per symbol.
+
+use shapegram_geom::{Color, DVec3, Mesh, Model, Part};
+
+use crate::grammar::Grammar;
+use crate::interpret::{GrammarState, ShapeList};
+use crate::polyhedron::Index;
+
+/// Faces whose area is below this times the square of their longest corner distance are skipped,
+/// so no degenerate triangle reaches an exporter.
+const MIN_RELATIVE_AREA: f64 = 1e-12;
+
+/// The triangles of every shape of one symbol.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct MeshPart {
+    /// The symbol.
+    pub symbol: Index,
+    /// Its name (`terminal` for anonymous terminals).
+    pub name: String,
+    /// Its colour.
+    pub color: Color,
+    /// Corner positions, three or more per face (faces share no vertex, for flat shading).
+    pub positions: Vec<DVec3>,
+    /// The face normal at each corner.
+    pub normals: Vec<DVec3>,
+    /// Triangles as corner indices, counter-clockwise seen from outside.
+    pub triangles: Vec<[u32; 3]>,
+}
+
+/// The triangle mesh of a grammar state: one part per symbol with shapes, in symbol order.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct GrammarMesh {
+    /// The parts.
+    pub parts: Vec<MeshPart>,
+}
+
+impl GrammarMesh {
+    /// Meshes the terminal and the non-terminal shapes of `state`.
+    pub fn new(state: &GrammarState<'_>) -> Self {
+        Self::from_lists(state.grammar(), [state.terminals(), state.non_terminals()])
+    }
+
+    /// Meshes the shapes of `lists`, which must come from `grammar`.
+    pub fn from_lists<'a>(
+        grammar: &Grammar,
+        lists: impl IntoIterator<Item = &'a ShapeList>,
+    ) -> Self {
+        let mut by_symbol: Vec<Option<MeshPart>> = vec![None; grammar.symbols.len()];
+        for list in lists {
+            for i in 0..list.len() {
+                let symbol = list.symbol(i);
+                let part = by_symbol[symbol as usize].get_or_insert_with(|| MeshPart {
+                    symbol,
+                    name: grammar.display_name(symbol).to_owned(),
+                    color: grammar.symbols[symbol as usize].color.unwrap_or_default(),
+                    ..MeshPart::default()
+                });
+                let vertices = list.vertices(i);
+                for face in &grammar.symbols[symbol as usize].faces {
+                    part.add_face(face.iter().map(|&v| vertices[v as usize]));
+                }
+            }
+        }
+        Self {
+            parts: by_symbol.into_iter().flatten().collect(),
+        }
+    }
+
+    /// Number of triangles over all parts.
+    pub fn triangle_count(&self) -> usize {
+        self.parts.iter().map(|p| p.triangles.len()).sum()
+    }
+
+    /// The mesh as a model for the exporters (GLB, OBJ, STL): one part per symbol.
+    pub fn to_model(&self) -> Model {
+        Model {
+            parts: self
+                .parts
+                .iter()
+                .filter(|p| !p.triangles.is_empty())
+                .map(|p| Part {
+                    name: p.name.clone(),
+                    color: p.color,
+                    mesh: Mesh::from_faces(p.positions.clone(), &p.triangles),
+                })
+                .collect(),
+        }
+    }
+}
+
+impl MeshPart {
+    /// Appends one convex face as a triangle fan, unless it has no area.
+    fn add_face(&mut self, corners: impl Iterator<Item = DVec3> + Clone) {
+        let mut points = corners.clone();
+        let Some(first) = points.next() else {
+            return;
+        };
+        let mut area = DVec3::ZERO;
+        let mut reach: f64 = 0.0;
+        let mut previous = DVec3::ZERO;
+        for p in points {
+            let p = p - first;
+            area += previous.cross(p);
+            reach = reach.max(p.length_squared());
+            previous = p;
+        }
+        // Written so that NaN (from overflowing coordinates) also skips the face.
+        let has_area = area.length() > MIN_RELATIVE_AREA * reach;
+        if !has_area {
+            return;
+        }
+        let normal = area.normalize();
+        let base = self.positions.len() as u32;
+        for p in corners {
+            self.positions.push(p);
+            self.normals.push(normal);
+        }
+        let end = self.positions.len() as u32;
+        for k in base + 1..end - 1 {
+            let (a, b, c) = (
+                self.positions[base as usize],
+                self.positions[k as usize],
+                self.positions[k as usize + 1],
+            );
+            if (b - a).cross(c - a).length() > MIN_RELATIVE_AREA * reach {
+                self.triangles.push([base, k, k + 1]);
+            }
+        }
+    }
+}

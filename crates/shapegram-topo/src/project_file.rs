@@ -1,0 +1,331 @@
+//! Project files (thesis 3.1.8): the authoring state as versioned JSON (see docs/topo.md).
+//!
+//! Like the thesis's editor, loading retraces the user's steps: symbols are rebuilt from their
+//! vertices and faces, each rule's tree is replayed cut by cut from its planes, and every
+//! assignment is checked again. Cuts are deterministic, so a loaded project equals the saved one.
+
+use serde::{Deserialize, Serialize};
+use shapegram_geom::{Color, DVec3};
+
+use crate::anchor::Anchor;
+use crate::cut::CutPlane;
+use crate::grammar::{Point, json_message, point};
+use crate::polyhedron::{Index, Polyhedron};
+use crate::project::{Assignment, EditError, NodeId, NodeKind, Project, RuleTree};
+
+/// The `format` field of every project file.
+pub const PROJECT_FORMAT: &str = "shapegram-topo-project";
+/// The version this library writes and reads.
+pub const PROJECT_VERSION: u32 = 1;
+
+/// A problem in a project file: where (a JSON path or line and column) and what.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct ProjectError {
+    /// Where: `rules[1].tree.above.below`, or `line 3 column 9` for JSON syntax.
+    pub location: String,
+    /// What is wrong.
+    pub message: String,
+}
+
+impl std::fmt::Display for ProjectError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "{}: {}", self.location, self.message)
+    }
+}
+
+impl std::error::Error for ProjectError {}
+
+#[derive(Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct ProjectFile {
+    format: String,
+    version: u32,
+    symbols: Vec<SymbolEntry>,
+    rules: Vec<RuleEntry>,
+}
+
+#[derive(Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct SymbolEntry {
+    name: String,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    color: Option<String>,
+    vertices: Vec<Point>,
+    faces: Vec<Vec<Index>>,
+    /// `[face, corner]`.
+    anchor: [Index; 2],
+}
+
+#[derive(Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RuleEntry {
+    name: String,
+    symbol: String,
+    weight: f64,
+    tree: NodeEntry,
+}
+
+#[derive(Serialize, Deserialize)]
+#[serde(rename_all = "snake_case", deny_unknown_fields)]
+enum NodeEntry {
+    Terminal,
+    Epsilon,
+    Symbol {
+        name: String,
+        anchor: [Index; 2],
+    },
+    Cut {
+        /// When the cut was made among the rule's cuts (0 first): replaying cuts in this order
+        /// reproduces node and virtual-vertex numbering exactly.
+        step: u32,
+        point: Point,
+        normal: Point,
+        below: Box<NodeEntry>,
+        above: Box<NodeEntry>,
+    },
+}
+
+impl Project {
+    /// The project as JSON text (pretty-printed, ending in a newline).
+    pub fn to_json(&self) -> String {
+        let file = ProjectFile {
+            format: PROJECT_FORMAT.into(),
+            version: PROJECT_VERSION,
+            symbols: self
+                .symbols
+                .iter()
+                .map(|s| SymbolEntry {
+                    name: s.name.clone(),
+                    color: s.color.map(|c| c.to_hex()),
+                    vertices: s.shape.positions().iter().map(|&p| point(p)).collect(),
+                    faces: s.shape.face_loops(),
+                    anchor: [s.anchor.face, s.anchor.corner],
+                })
+                .collect(),
+            rules: self
+                .rules
+                .iter()
+                .map(|r| RuleEntry {
+                    name: r.name.clone(),
+                    symbol: self.symbols[r.symbol as usize].name.clone(),
+                    weight: r.weight,
+                    tree: self.node_entry(&r.tree, RuleTree::ROOT),
+                })
+                .collect(),
+        };
+        let mut text = serde_json::to_string_pretty(&file).expect("projects serialise");
+        text.push('\n');
+        text
+    }
+
+    fn node_entry(&self, tree: &RuleTree, id: NodeId) -> NodeEntry {
+        match tree.nodes()[id as usize].kind {
+            NodeKind::Leaf(Assignment::Terminal) => NodeEntry::Terminal,
+            NodeKind::Leaf(Assignment::Epsilon) => NodeEntry::Epsilon,
+            NodeKind::Leaf(Assignment::Symbol { symbol, anchor }) => NodeEntry::Symbol {
+                name: self.symbols[symbol as usize].name.clone(),
+                anchor: [anchor.face, anchor.corner],
+            },
+            NodeKind::Cut { plane, children } => NodeEntry::Cut {
+                step: (children[0] - 1) / 2,
+                point: point(plane.point),
+                normal: point(plane.normal),
+                below: Box::new(self.node_entry(tree, children[0])),
+                above: Box::new(self.node_entry(tree, children[1])),
+            },
+        }
+    }
+
+    /// Reads a project from JSON text, replaying every cut and checking every assignment.
+    pub fn from_json(text: &str) -> Result<Self, ProjectError> {
+        let file: ProjectFile = serde_json::from_str(text).map_err(|e| ProjectError {
+            location: format!("line {} column {}", e.line(), e.column()),
+            message: json_message(&e),
+        })?;
+        let fail = |location: String, message: String| ProjectError { location, message };
+        if file.format != PROJECT_FORMAT {
+            return Err(fail(
+                "format".into(),
+                format!(
+                    "'{}' is not a topological grammar project (expected '{PROJECT_FORMAT}')",
+                    file.format.escape_debug()
+                ),
+            ));
+        }
+        if file.version != PROJECT_VERSION {
+            return Err(fail(
+                "version".into(),
+                format!(
+                    "version {} is not supported (this build reads version {PROJECT_VERSION})",
+                    file.version
+                ),
+            ));
+        }
+        let mut project = Project::new();
+        for (i, entry) in file.symbols.into_iter().enumerate() {
+            let at = format!("symbols[{i}]");
+            let positions = entry.vertices.into_iter().map(DVec3::from_array).collect();
+            let shape = Polyhedron::from_faces(positions, &entry.faces)
+                .map_err(|e| fail(at.clone(), e.to_string()))?;
+            let [face, corner] = entry.anchor;
+            let symbol = project
+                .add_symbol(&entry.name, shape, Anchor::new(face, corner))
+                .map_err(|e| fail(at.clone(), e.to_string()))?;
+            if let Some(hex) = entry.color {
+                let color = Color::from_hex(&hex).ok_or_else(|| {
+                    fail(
+                        format!("{at}.color"),
+                        format!("'{}' is not a colour like '#3a6ea5'", hex.escape_debug()),
+                    )
+                })?;
+                project.symbols[symbol as usize].color = Some(color);
+            }
+        }
+        for (r, entry) in file.rules.into_iter().enumerate() {
+            let at = format!("rules[{r}]");
+            let symbol = project.symbol_named(&entry.symbol).ok_or_else(|| {
+                fail(
+                    format!("{at}.symbol"),
+                    format!("there is no symbol '{}'", entry.symbol.escape_debug()),
+                )
+            })?;
+            let rule = project
+                .add_rule(symbol, &entry.name, entry.weight)
+                .map_err(|e| fail(format!("{at}.weight"), e.to_string()))?;
+            project
+                .replay(rule, &entry.tree)
+                .map_err(|(path, e)| fail(format!("{at}.tree{path}"), e.to_string()))?;
+        }
+        Ok(project)
+    }
+
+    /// Rebuilds the tree `root` on `rule`: cuts in their recorded order, then assignments.
+    fn replay(&mut self, rule: Index, root: &NodeEntry) -> Result<(), (String, EditError)> {
+        let mut cuts = Vec::new();
+        let mut leaves = Vec::new();
+        flatten(root, None, String::new(), &mut cuts, &mut leaves);
+        let mut order: Vec<usize> = (0..cuts.len()).collect();
+        order.sort_by_key(|&k| cuts[k].step);
+        let mut made: Vec<Option<[NodeId; 2]>> = vec![None; cuts.len()];
+        for (expected, &k) in order.iter().enumerate() {
+            let item = &cuts[k];
+            if item.step as usize != expected {
+                return Err((
+                    item.path.clone(),
+                    EditError::Invalid(format!(
+                        "cut steps must number the rule's cuts 0 to {} once each; found step {}",
+                        cuts.len() - 1,
+                        item.step
+                    )),
+                ));
+            }
+            let leaf = node_of(item.parent, &made).ok_or_else(|| {
+                (
+                    item.path.clone(),
+                    EditError::Invalid(format!(
+                        "step {} cuts a sub-shape that a later step makes",
+                        item.step
+                    )),
+                )
+            })?;
+            let children = self
+                .plane_cut(rule, leaf, item.plane)
+                .map_err(|e| (item.path.clone(), e))?;
+            made[k] = Some(children);
+        }
+        for leaf in leaves {
+            let id = node_of(leaf.parent, &made).unwrap_or(RuleTree::ROOT);
+            let assignment = match leaf.entry {
+                NodeEntry::Epsilon => Assignment::Epsilon,
+                NodeEntry::Symbol { name, anchor } => {
+                    let symbol = self.symbol_named(name).ok_or_else(|| {
+                        (
+                            leaf.path.clone(),
+                            EditError::NotFound(format!(
+                                "there is no symbol '{}'",
+                                name.escape_debug()
+                            )),
+                        )
+                    })?;
+                    Assignment::Symbol {
+                        symbol,
+                        anchor: Anchor::new(anchor[0], anchor[1]),
+                    }
+                }
+                _ => continue,
+            };
+            self.assign(rule, id, assignment)
+                .map_err(|e| (leaf.path.clone(), e))?;
+        }
+        Ok(())
+    }
+}
+
+/// A cut of a project file's tree: its step, plane, and where it sits (its parent cut and side).
+struct CutItem {
+    step: u32,
+    plane: CutPlane,
+    parent: Option<(usize, usize)>,
+    path: String,
+}
+
+/// A leaf of a project file's tree.
+struct LeafItem<'a> {
+    entry: &'a NodeEntry,
+    parent: Option<(usize, usize)>,
+    path: String,
+}
+
+/// Lists the cuts and leaves of `entry`, each with its parent cut (index into `cuts`, side).
+fn flatten<'a>(
+    entry: &'a NodeEntry,
+    parent: Option<(usize, usize)>,
+    path: String,
+    cuts: &mut Vec<CutItem>,
+    leaves: &mut Vec<LeafItem<'a>>,
+) {
+    match entry {
+        NodeEntry::Cut {
+            step,
+            point,
+            normal,
+            below,
+            above,
+        } => {
+            let index = cuts.len();
+            cuts.push(CutItem {
+                step: *step,
+                plane: CutPlane::new(DVec3::from_array(*point), DVec3::from_array(*normal)),
+                parent,
+                path: path.clone(),
+            });
+            flatten(
+                below,
+                Some((index, 0)),
+                format!("{path}.below"),
+                cuts,
+                leaves,
+            );
+            flatten(
+                above,
+                Some((index, 1)),
+                format!("{path}.above"),
+                cuts,
+                leaves,
+            );
+        }
+        _ => leaves.push(LeafItem {
+            entry,
+            parent,
+            path,
+        }),
+    }
+}
+
+/// The node a file node became: the root, or a child of a cut already replayed.
+fn node_of(parent: Option<(usize, usize)>, made: &[Option<[NodeId; 2]>]) -> Option<NodeId> {
+    match parent {
+        None => Some(RuleTree::ROOT),
+        Some((cut, side)) => made[cut].map(|children| children[side]),
+    }
+}
