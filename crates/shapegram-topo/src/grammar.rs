@@ -125,9 +125,7 @@ impl Grammar {
     /// The grammar as `.grammar` JSON text (pretty-printed, ending in a newline).
     pub fn to_json(&self) -> String {
         let file = GrammarFile::from(self);
-        let mut text = serde_json::to_string_pretty(&file).expect("grammar files serialise");
-        text.push('\n');
-        text
+        crate::json::to_text(&file)
     }
 
     /// Reads `.grammar` JSON text and checks everything in it.

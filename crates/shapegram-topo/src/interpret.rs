@@ -160,7 +160,12 @@ impl<'g> GrammarState<'g> {
                 .collect(),
         };
         let index = grammar.symbol_named(symbol).ok_or_else(unknown)?;
-        let shape = grammar.shape_of(index).ok_or_else(unknown)?;
+        let shape = grammar.shape_of(index).ok_or_else(|| {
+            GenerateError::BadInitialShape(format!(
+                "the grammar has no prototype shape for symbol '{}'",
+                symbol.escape_debug()
+            ))
+        })?;
         Ok(Self {
             grammar,
             seed: 0,

@@ -28,6 +28,7 @@ pub mod demos;
 pub mod editor;
 pub mod grammar;
 pub mod interpret;
+mod json;
 pub mod mesh;
 pub mod polyhedron;
 pub mod project;

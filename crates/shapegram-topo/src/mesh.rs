@@ -105,8 +105,8 @@ impl MeshPart {
             reach = reach.max(p.length_squared());
             previous = p;
         }
-        // Written so that NaN (from overflowing coordinates) also skips the face.
-        let has_area = area.length() > MIN_RELATIVE_AREA * reach;
+        // Written so that NaN and infinity (from overflowing coordinates) also skip the face.
+        let has_area = area.is_finite() && area.length() > MIN_RELATIVE_AREA * reach;
         if !has_area {
             return;
         }

@@ -113,9 +113,7 @@ impl Project {
                 })
                 .collect(),
         };
-        let mut text = serde_json::to_string_pretty(&file).expect("projects serialise");
-        text.push('\n');
-        text
+        crate::json::to_text(&file)
     }
 
     fn node_entry(&self, tree: &RuleTree, id: NodeId) -> NodeEntry {
