@@ -149,15 +149,21 @@ fn add_tube(mesh: &mut Mesh, points: &[DVec3], widths: &[f64], sides: usize) {
 }
 
 /// Adds a polygon as two faces back to back (leaves are seen from both sides), after dropping
-/// repeated points; polygons without area are skipped.
+/// points that repeat their predecessor (a turtle that walks back to its start lands there only
+/// up to rounding); polygons without area are skipped.
 fn add_polygon(mesh: &mut Mesh, polygon: &Polygon) {
+    let Some(bounds) = shapegram_geom::Aabb::from_points(polygon.points.iter().copied()) else {
+        return;
+    };
+    let tolerance = bounds.diagonal() * 1e-9;
+    let same = |a: DVec3, b: DVec3| a.distance(b) <= tolerance;
     let mut points: Vec<DVec3> = Vec::with_capacity(polygon.points.len());
     for &p in &polygon.points {
-        if points.last() != Some(&p) {
+        if points.last().is_none_or(|&q| !same(p, q)) {
             points.push(p);
         }
     }
-    while points.len() > 1 && points.first() == points.last() {
+    while points.len() > 1 && same(points[0], points[points.len() - 1]) {
         points.pop();
     }
     if points.len() < 3 || shapegram_geom::mesh::newell(points.iter().copied()) == DVec3::ZERO {

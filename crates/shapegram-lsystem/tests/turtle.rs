@@ -174,3 +174,18 @@ fn fitting_keeps_proportions_and_stands_on_the_floor() {
     assert!((placed.min.y).abs() < 1e-9);
     assert!((placed.center().x - 105.0).abs() < 1e-9);
 }
+
+#[test]
+fn a_polygon_that_walks_back_to_its_start_closes_without_a_sliver() {
+    // With 72° turns the last vertex lands on the first only up to rounding.
+    let system = LSystem::parse("n: 0\nangle: 72\naxiom: {.f.+f.+f.+f.+f.}\n").unwrap();
+    let drawing = interpret(&system, system.axiom());
+    assert_eq!(drawing.polygons[0].points.len(), 6);
+    let model = drawing_to_model(&drawing, &system.settings);
+    let leaves = &model.parts[0].mesh;
+    assert_eq!(leaves.face(0).len(), 5);
+    assert_eq!(leaves.triangulate().len(), 2 * 3);
+    // A regular pentagon of side 1.
+    let area = 5.0 / 4.0 / (36f64).to_radians().tan();
+    assert!((leaves.area() - 2.0 * area).abs() < 1e-9);
+}

@@ -1,0 +1,237 @@
+//! End-to-end tests of `shapegram lsystem`: every example in examples/*.lsys, words on stdout,
+//! SVG and model output, seeds, and the failures users will meet.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+use shapegram_lsystem::{DeriveOptions, LSystem, drawing_to_model, interpret};
+
+/// A fresh directory under the system temp dir, removed on drop.
+struct TempDir(PathBuf);
+
+impl TempDir {
+    fn new(test: &str) -> Self {
+        let dir =
+            std::env::temp_dir().join(format!("shapegram-lsystem-{}-{test}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        Self(dir)
+    }
+
+    fn path(&self, name: &str) -> String {
+        self.0.join(name).to_string_lossy().into_owned()
+    }
+}
+
+impl Drop for TempDir {
+    fn drop(&mut self) {
+        let _ = std::fs::remove_dir_all(&self.0);
+    }
+}
+
+fn example(name: &str) -> String {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../../examples")
+        .join(name)
+        .to_string_lossy()
+        .into_owned()
+}
+
+fn shapegram(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_shapegram"))
+        .args(args)
+        .output()
+        .unwrap()
+}
+
+/// Runs `shapegram lsystem ARGS`, which must succeed; returns (stdout, stderr).
+fn ok(args: &[&str]) -> (String, String) {
+    let mut all = vec!["lsystem"];
+    all.extend_from_slice(args);
+    let output = shapegram(&all);
+    let stderr = String::from_utf8(output.stderr).unwrap();
+    assert!(output.status.success(), "{args:?} failed: {stderr}");
+    (String::from_utf8(output.stdout).unwrap(), stderr)
+}
+
+/// Runs `shapegram lsystem ARGS`, which must fail with exit code 1; returns stderr.
+fn fails(args: &[&str]) -> String {
+    let mut all = vec!["lsystem"];
+    all.extend_from_slice(args);
+    let output = shapegram(&all);
+    let stderr = String::from_utf8(output.stderr).unwrap();
+    assert_eq!(output.status.code(), Some(1), "{stderr}");
+    assert!(stderr.starts_with("error: "), "{stderr}");
+    assert!(!stderr.contains("panicked"), "{stderr}");
+    assert!(output.stdout.is_empty());
+    stderr
+}
+
+#[test]
+fn string_prints_the_derived_word() {
+    let algae = example("algae.lsys");
+    assert_eq!(ok(&[&algae, "--string", "-q"]).0, "abaababaabaab\n");
+    assert_eq!(ok(&[&algae, "--string", "-q", "-n", "3"]).0, "abaab\n");
+    let parametric = example("parametric.lsys");
+    assert_eq!(ok(&[&parametric, "--string", "-q"]).0, "CB(1)A(8,7)\n");
+    assert_eq!(
+        ok(&[&parametric, "--string", "-q", "-n", "5"]).0,
+        "CB(0)B(8)A(1.1428571428571428,0)\n"
+    );
+    let signal = example("signal.lsys");
+    for (n, expected) in ["baaaa", "abaaa", "aabaa", "aaaba", "aaaab"]
+        .iter()
+        .enumerate()
+    {
+        let (out, _) = ok(&[&signal, "--string", "-q", "-n", &n.to_string()]);
+        assert_eq!(out.trim_end(), *expected);
+    }
+}
+
+#[test]
+fn summary_line_counts_steps_modules_segments_and_polygons() {
+    let dir = TempDir::new("summary");
+    let svg = dir.path("island.svg");
+    let (out, err) = ok(&[&example("koch-island.lsys"), "-o", &svg]);
+    assert!(out.is_empty());
+    assert!(
+        err.starts_with(&format!(
+            "derived {svg}: 3 steps, 3803 modules, 2048 segments, 0 polygons, "
+        )),
+        "{err}"
+    );
+    let (_, quiet) = ok(&[&example("koch-island.lsys"), "-o", &svg, "-q"]);
+    assert!(quiet.is_empty());
+}
+
+#[test]
+fn koch_island_svg_is_one_closed_polyline() {
+    let dir = TempDir::new("koch");
+    let path = dir.path("island.svg");
+    ok(&[&example("koch-island.lsys"), "-o", &path]);
+    let svg = std::fs::read_to_string(&path).unwrap();
+    assert!(svg.starts_with("<svg xmlns=\"http://www.w3.org/2000/svg\""));
+    assert_eq!(svg.matches("<polyline").count(), 1);
+    let points = svg
+        .split("points=\"")
+        .nth(1)
+        .unwrap()
+        .split('"')
+        .next()
+        .unwrap();
+    let points: Vec<&str> = points.split(' ').collect();
+    assert_eq!(points.len(), 4 * 8usize.pow(3) + 1);
+    assert_eq!(points.first(), points.last());
+}
+
+#[test]
+fn every_example_draws() {
+    let dir = TempDir::new("examples");
+    let cases = [
+        ("koch-island.lsys", 2048, 0),
+        ("bush-2d.lsys", 1488, 0),
+        ("stochastic-plant.lsys", 935, 0),
+        // 2^9 - 1 internodes; the leaves of all but the last step's lateral shoots.
+        ("tree-3d.lsys", 511, 247),
+        ("algae.lsys", 0, 0),
+        ("parametric.lsys", 0, 0),
+        ("signal.lsys", 0, 0),
+    ];
+    for (name, segments, polygons) in cases {
+        let path = dir.path(&name.replace(".lsys", ".glb"));
+        let (_, err) = ok(&[&example(name), "-o", &path]);
+        assert!(
+            err.contains(&format!(", {segments} segment"))
+                && err.contains(&format!(", {polygons} polygon")),
+            "{name}: {err}"
+        );
+        if segments > 0 {
+            let model = shapegram_export::load(Path::new(&path)).unwrap();
+            assert!(model.parts.iter().all(|p| !p.mesh.is_empty()), "{name}");
+        } else {
+            assert!(
+                err.contains("warning: the drawing is empty"),
+                "{name}: {err}"
+            );
+        }
+    }
+}
+
+#[test]
+fn tree_model_matches_the_library_and_every_format_writes() {
+    let dir = TempDir::new("tree");
+    let text = std::fs::read_to_string(example("tree-3d.lsys")).unwrap();
+    let system = LSystem::parse(&text).unwrap();
+    let word = system.derive(&DeriveOptions::default()).unwrap();
+    let model = drawing_to_model(&interpret(&system, &word), &system.settings);
+    let names: Vec<&str> = model.parts.iter().map(|p| p.name.as_str()).collect();
+    assert_eq!(names, ["branches-0", "leaves-1"]);
+    // Two faces (front and back) per leaf.
+    assert_eq!(model.parts[1].mesh.face_count(), 2 * 247);
+    assert!(model.parts[0].mesh.is_watertight());
+    let triangles: usize = model.parts.iter().map(|p| p.mesh.triangulate().len()).sum();
+    for extension in ["glb", "obj", "stl"] {
+        let path = dir.path(&format!("tree.{extension}"));
+        ok(&[&example("tree-3d.lsys"), "-o", &path, "-q"]);
+        let loaded = shapegram_export::load(Path::new(&path)).unwrap();
+        let loaded_triangles: usize = loaded
+            .parts
+            .iter()
+            .map(|p| p.mesh.triangulate().len())
+            .sum();
+        assert_eq!(loaded_triangles, triangles, "{extension}");
+    }
+}
+
+#[test]
+fn seeds_choose_the_plant() {
+    let dir = TempDir::new("seeds");
+    let plant = example("stochastic-plant.lsys");
+    let write = |name: &str, seed: &str| {
+        let path = dir.path(name);
+        ok(&[&plant, "-o", &path, "--seed", seed, "-q"]);
+        std::fs::read(path).unwrap()
+    };
+    let a = write("a.svg", "7");
+    assert_eq!(a, write("b.svg", "7"));
+    assert_ne!(a, write("c.svg", "8"));
+    let word = |seed: &str| ok(&[&plant, "--string", "--seed", seed, "-q"]).0;
+    assert_eq!(word("3"), word("3"));
+    assert_ne!(word("3"), word("4"));
+}
+
+#[test]
+fn syntax_errors_show_the_line_and_a_caret() {
+    let dir = TempDir::new("syntax");
+    let path = dir.path("bad.lsys");
+    std::fs::write(&path, "n: 2\naxiom: A\nA -> B(1 +)\n").unwrap();
+    let err = fails(&[&path, "--string"]);
+    assert_eq!(
+        err,
+        format!(
+            "error: {path}:3:11: expected a number, a name or '(', found ')'\n3 | A -> B(1 +)\n  |           ^\n"
+        )
+    );
+}
+
+#[test]
+fn limits_and_bad_arguments_are_one_line_errors() {
+    let algae = example("algae.lsys");
+    let err = fails(&[&algae, "-n", "40", "--max-modules", "1000", "--string"]);
+    assert_eq!(
+        err,
+        format!(
+            "error: {algae}: step 15 would make a word of 1,597 modules, over the limit of 1,000 (raise the limit, or derive fewer steps)\n"
+        )
+    );
+    let err = fails(&[&algae, "-o", "out.png"]);
+    assert_eq!(
+        err,
+        "error: unknown file format 'out.png': use .svg, .glb, .obj or .stl\n"
+    );
+    let err = fails(&["/nonexistent/plant.lsys", "--string"]);
+    assert!(
+        err.starts_with("error: cannot read /nonexistent/plant.lsys: "),
+        "{err}"
+    );
+    assert_eq!(err.lines().count(), 1);
+}
