@@ -2,6 +2,9 @@
 //! and window tiles with stochastic window styles; and a box-only facade grammar that measures
 //! the engine's raw rate. Run on one thread (`RAYON_NUM_THREADS=1`) to get per-core figures.
 //! Criterion prints leaves per second (`elem/s`); the shape counts are printed once up front.
+//! The occluded city puts the lots wall to wall and keeps windows off walls that a neighbour
+//! touches: its summary line gives the occlusion queries per second and the time against the
+//! plain city on the same lots.
 
 use std::hint::black_box;
 use std::time::Instant;
@@ -31,6 +34,14 @@ Roof --> color("#777777")
 Wall --> color("#d9d4c7")
 "##;
 
+/// The city with occlusion-guarded windows: a tile that touches a neighbour is wall.
+fn occluded_city() -> String {
+    CITY.replace(
+        "Tile --> split(x)",
+        "Tile --> case touches() : Wall\n        else : split(x)",
+    )
+}
+
 /// Facades of boxes only: every leaf is a rectangle made by arithmetic.
 const FACADES: &str = r##"
 Lot --> extrude(60) comp(f) { side : Facade }
@@ -46,11 +57,14 @@ fn program(text: &str) -> Program {
         .expect("the benchmark grammar compiles")
 }
 
-/// `count` lots of 20 × 30 m in rows, 5 m apart.
-fn lots(count: usize) -> Vec<InitialShape> {
+/// `count` lots of 20 × 30 m in rows of 40, `gap` m apart.
+fn lots_apart(count: usize, gap: f64) -> Vec<InitialShape> {
     (0..count)
         .map(|i| {
-            let (x, z) = ((i % 40) as f64 * 25.0, (i / 40) as f64 * 35.0);
+            let (x, z) = (
+                (i % 40) as f64 * (20.0 + gap),
+                (i / 40) as f64 * (30.0 + gap),
+            );
             InitialShape::from_xz(&[
                 DVec2::new(x, z),
                 DVec2::new(x + 20.0, z),
@@ -60,6 +74,22 @@ fn lots(count: usize) -> Vec<InitialShape> {
             .expect("a rectangle is a lot")
         })
         .collect()
+}
+
+/// `count` lots of 20 × 30 m in rows, 5 m apart.
+fn lots(count: usize) -> Vec<InitialShape> {
+    lots_apart(count, 5.0)
+}
+
+/// Derives `program` on `lots` `runs` times and returns the fastest time.
+fn fastest(program: &Program, lots: &[InitialShape], runs: usize) -> f64 {
+    (0..runs)
+        .map(|_| {
+            let started = Instant::now();
+            black_box(derive(program, lots, &DeriveOptions::default()).expect("derives"));
+            started.elapsed().as_secs_f64()
+        })
+        .fold(f64::INFINITY, f64::min)
 }
 
 fn bench(c: &mut Criterion) {
@@ -92,6 +122,35 @@ fn bench(c: &mut Criterion) {
             let d = derive(&city, &city_lots, &options).expect("derives");
             black_box(write_glb(&d.to_model(), &ExportOptions::default()))
         })
+    });
+    group.finish();
+
+    let occluded = program(&occluded_city());
+    let touching = lots_apart(1000, 0.0);
+    let once = derive(&occluded, &touching, &options).expect("the occluded city derives");
+    let queries = once
+        .stats
+        .rules
+        .iter()
+        .find(|(name, _)| name == "Tile")
+        .map_or(0, |r| r.1);
+    let with = fastest(&occluded, &touching, 5);
+    let without = fastest(&city, &touching, 5);
+    println!(
+        "occluded city: 1000 touching lots, {queries} occlusion queries, {} leaves; derived in \
+         {:.1} ms against {:.1} ms without occlusion ({:.2}×); {:.2} M queries/s counting all \
+         the extra time as query time",
+        once.stats.leaves,
+        with * 1e3,
+        without * 1e3,
+        with / without,
+        queries as f64 / (with - without).max(1e-9) / 1e6,
+    );
+    let mut group = c.benchmark_group("occluded city");
+    group.sample_size(10);
+    group.throughput(Throughput::Elements(queries as u64));
+    group.bench_function("derive 1000 touching lots (elem = query)", |b| {
+        b.iter(|| black_box(derive(&occluded, &touching, &options).expect("derives")))
     });
     group.finish();
 

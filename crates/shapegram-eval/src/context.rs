@@ -162,17 +162,13 @@ impl Context {
     /// `overlaps`, `touches` holds if it holds for one of them).
     pub fn query(&self, state: &State, lot: u32, target: Target, label: Option<&str>) -> Contact {
         let mut found = Contact::default();
-        let Some(probe) = probe(state) else {
+        let Some(bounds) = bounds(state) else {
             return found;
         };
-        let eps = RELATIVE_TOLERANCE * probe.bounds().diagonal().max(1.0);
-        let mut ancestors = Vec::new();
-        let mut at = state.occluder;
-        while at != NO_OCCLUDER && ancestors.len() < self.occluders.len() {
-            ancestors.push(at);
-            at = self.occluders[at as usize].parent;
-        }
-        let bounds = probe.bounds();
+        let eps = RELATIVE_TOLERANCE * bounds.diagonal().max(1.0);
+        // Most queries find no occluder near them but their own ancestors: they are answered
+        // without building the probe's geometry.
+        let mut near = Vec::new();
         let reach = Aabb::new(bounds.min - eps, bounds.max + eps);
         self.bvh.query(&reach, |i| {
             let occluder = &self.occluders[i as usize];
@@ -182,16 +178,41 @@ impl Context {
                 Target::Inter => occluder.lot != lot,
             } && label.is_none_or(|l| {
                 occluder.label.as_deref() == Some(l) || &*self.names[occluder.symbol as usize] == l
-            }) && !ancestors.contains(&i);
+            }) && !self.is_ancestor(i, state.occluder);
             if selected {
-                let c = contact(&probe, &occluder.pieces, eps);
-                found.inside |= c.inside;
-                found.overlaps |= c.overlaps;
-                found.touches |= c.touches;
+                near.push(i);
             }
-            !(found.inside && found.overlaps && found.touches)
+            true
         });
+        if near.is_empty() {
+            return found;
+        }
+        let Some(probe) = probe(state) else {
+            return found;
+        };
+        for i in near {
+            let c = contact(&probe, &self.occluders[i as usize].pieces, eps);
+            found.inside |= c.inside;
+            found.overlaps |= c.overlaps;
+            found.touches |= c.touches;
+            if found.inside && found.overlaps && found.touches {
+                break;
+            }
+        }
         found
+    }
+
+    /// Whether occluder `i` is `of` or one of its ancestors. Parents come before their
+    /// children, so the walk up ends.
+    fn is_ancestor(&self, i: u32, of: u32) -> bool {
+        let mut at = of;
+        while at != NO_OCCLUDER && at >= i {
+            if at == i {
+                return true;
+            }
+            at = self.occluders[at as usize].parent;
+        }
+        false
     }
 
     /// Where the snap planes of the lot (with the tag, if one is given) cross the scope's axis
@@ -244,6 +265,28 @@ pub(crate) fn snap_planes(
             })
         })
         .collect()
+}
+
+/// The world bounds of a shape's geometry (`None` without geometry).
+fn bounds(state: &State) -> Option<Aabb> {
+    match &state.geometry {
+        Geometry::Box => {
+            let scope = &state.scope;
+            let corners = (0..8).map(|k| {
+                let pick = DVec3::new(
+                    f64::from(k & 1),
+                    f64::from((k >> 1) & 1),
+                    f64::from((k >> 2) & 1),
+                );
+                scope.to_world(pick * scope.size)
+            });
+            Aabb::from_points(corners)
+        }
+        Geometry::Mesh(mesh, _) => {
+            Aabb::from_points(mesh.positions().iter().map(|&p| state.scope.to_world(p)))
+        }
+        Geometry::Empty => None,
+    }
 }
 
 /// The probe of a shape: its box or its mesh, in world coordinates.

@@ -234,20 +234,23 @@ pub fn derive(
     }
     if !gathered.parked.is_empty() {
         let context = Context::new(gathered.occluders, gathered.snaps, &names);
-        let waiting = by_lot(gathered.parked, gathered.memos);
+        // Each lot's waiting shapes are taken by the one batch that resumes that lot.
+        let waiting: Vec<_> = by_lot(gathered.parked, gathered.memos)
+            .into_iter()
+            .map(|group| std::sync::Mutex::new(Some(group)))
+            .collect();
         let resume = |batch: &mut Batch, i: usize| {
-            let (memo, parked) = &waiting[i];
+            let taken = waiting[i]
+                .lock()
+                .unwrap_or_else(std::sync::PoisonError::into_inner)
+                .take();
+            let Some((memo, parked)) = taken else {
+                return Ok(());
+            };
             let lot = parked.first().map_or(0, |p| p.lot);
             let seed = lot_seed(lot as usize);
             resume_lot(
-                program,
-                memo.as_ref(),
-                seed,
-                parked,
-                &names,
-                options,
-                &context,
-                batch,
+                program, memo, seed, parked, &names, options, &context, batch,
             )
         };
         if options.keep_tree {
@@ -578,27 +581,27 @@ fn derive_lot(
 #[allow(clippy::too_many_arguments)]
 fn resume_lot(
     program: &Program,
-    memo: Option<&LotMemo>,
+    memo: Option<LotMemo>,
     seed: u64,
-    parked: &[Parked],
+    parked: Vec<Parked>,
     names: &[Arc<str>],
     options: &DeriveOptions,
     context: &Context,
     batch: &mut Batch,
 ) -> Result<(), DeriveError> {
-    let origin = memo.map_or(DVec3::ZERO, |m| m.origin);
+    let origin = memo.as_ref().map_or(DVec3::ZERO, |m| m.origin);
     let mut ev = Evaluator::new(program, seed, origin);
     if let Some(memo) = memo {
-        ev.restore(memo.consts.clone());
+        ev.restore(memo.consts);
     }
     ev.lot = parked.first().map_or(0, |p| p.lot);
     ev.context = Some(context);
     let mut engine = Engine::new(program, ev, names, options, Phase::Answer, batch);
     for p in parked {
         let task = Work::Rewrite(Task {
-            state: Box::new(p.state.clone().thaw()),
+            state: Box::new(p.state.thaw()),
             rule: p.rule,
-            args: p.args.clone(),
+            args: p.args,
         });
         match options.generations {
             Some(n) => engine.run_generations(task, n.saturating_sub(p.generation))?,

@@ -252,3 +252,25 @@ fn occlusion_errors_have_locations() {
         "{e}"
     );
 }
+
+#[test]
+fn the_setback_example_lines_piers_up_with_the_tower() {
+    let text = std::fs::read_to_string(common::examples().join("setback.cga")).unwrap();
+    // World x of pier edges on the base's front (the face at z = 30).
+    let edges = |text: &str| -> Vec<f64> {
+        let d = run(text, lot(20.0, 30.0));
+        d.leaves
+            .iter()
+            .filter(|l| &*l.name == "PierBlock")
+            .filter_map(|l| l.world_mesh()?.bounds())
+            .filter(|b| (b.min.z - 30.0).abs() < 1e-6 && b.max.y <= 4.0 * 3.4 + 1e-6)
+            .flat_map(|b| [b.min.x, b.max.x])
+            .collect()
+    };
+    let at = |edges: &[f64], x: f64| edges.iter().any(|e| (e - x).abs() < 1e-9);
+    let snapped = edges(&text);
+    // The tower spans x from 6.1 to 6.1 + 8.3.
+    assert!(at(&snapped, 6.1) && at(&snapped, 14.4), "{snapped:?}");
+    let plain = edges(&text.replace("split(x, snap)", "split(x)"));
+    assert!(!at(&plain, 6.1) && !at(&plain, 14.4), "{plain:?}");
+}
