@@ -274,3 +274,74 @@ fn the_setback_example_lines_piers_up_with_the_tower() {
     let plain = edges(&text.replace("split(x, snap)", "split(x)"));
     assert!(!at(&plain, 6.1) && !at(&plain, 14.4), "{plain:?}");
 }
+
+#[test]
+fn courtyard_windows_stay_out_of_the_other_wings() {
+    use shapegram_eval::Value;
+    // The wings as (x0, x1, z0, z1) on the 20 × 30 lot.
+    let u = [
+        (0.0, 7.0, 0.0, 30.0),
+        (13.0, 20.0, 0.0, 30.0),
+        (4.0, 16.0, 21.0, 29.0),
+    ];
+    let l = [(0.0, 7.0, 0.0, 30.0), (4.0, 20.0, 21.0, 29.0)];
+    let text = std::fs::read_to_string(common::examples().join("courtyard.cga")).unwrap();
+    // Windows whose glass lies more than 0.2 m deep inside a wing (their own is 0.12 m).
+    let buried = |text: &str, shape: &str, wings: &[(f64, f64, f64, f64)]| {
+        let options = DeriveOptions {
+            attrs: vec![("shape".into(), Value::string(shape))],
+            ..DeriveOptions::default()
+        };
+        let d = try_run(text, lot(20.0, 30.0), &options).unwrap();
+        let glass: Vec<_> = d
+            .leaves
+            .iter()
+            .filter(|leaf| &*leaf.name == "Glass")
+            .map(|leaf| leaf.world_mesh().unwrap().bounds().unwrap().center())
+            .collect();
+        let inside = glass
+            .iter()
+            .filter(|c| {
+                wings.iter().any(|&(x0, x1, z0, z1)| {
+                    c.x > x0 + 0.2 && c.x < x1 - 0.2 && c.z > z0 + 0.2 && c.z < z1 - 0.2
+                })
+            })
+            .count();
+        (glass.len(), inside)
+    };
+    let blind = text.replace("case overlaps() : Wall", "case false : Wall");
+    for (shape, wings) in [("U", &u[..]), ("L", &l[..])] {
+        let (windows, inside) = buried(&text, shape, wings);
+        assert!(windows > 80, "{shape}: {windows} windows");
+        assert_eq!(inside, 0, "{shape}");
+        let (_, without) = buried(&blind, shape, wings);
+        assert!(
+            without > 0,
+            "{shape}: without the queries windows end up inside wings"
+        );
+    }
+}
+
+#[test]
+fn answers_do_not_depend_on_the_evaluation_order() {
+    // Depth first and in parallel generations, the queries give the same model (the leaves
+    // come out in another order).
+    let program = common::example("courtyard.cga");
+    let depth_first = derive(&program, &[lot(20.0, 30.0)], &DeriveOptions::default()).unwrap();
+    let generations = DeriveOptions {
+        generations: Some(1000),
+        ..DeriveOptions::default()
+    };
+    let in_steps = derive(&program, &[lot(20.0, 30.0)], &generations).unwrap();
+    let census = |d: &Derivation| {
+        let mut leaves: Vec<String> = d
+            .leaves
+            .iter()
+            .map(|l| format!("{} {:.6?} {:.6?}", l.name, l.scope.origin, l.scope.size))
+            .collect();
+        leaves.sort();
+        leaves
+    };
+    assert_eq!(census(&depth_first), census(&in_steps));
+    assert!(count(&depth_first, "Glass") > 100);
+}
