@@ -41,7 +41,11 @@ impl Bond {
     /// (by the inverse transpose) so it keeps facing out of the mapped solid.
     pub fn transformed(&self, map: &DAffine3) -> Self {
         let normal_map = map.matrix3.inverse().transpose();
-        Self::new(map.transform_point3(self.point), normal_map * self.dir)
+        // Rounding leaves traces like 1e-16 in components that should be zero; clear them so
+        // quarter turns keep axis directions exact and labels compare exactly.
+        let dir = (normal_map * self.dir).normalize_or_zero();
+        let dir = DVec3::select(dir.abs().cmplt(DVec3::splat(1e-12)), DVec3::ZERO, dir);
+        Self::new(map.transform_point3(self.point), dir)
     }
 }
 

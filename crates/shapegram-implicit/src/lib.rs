@@ -8,18 +8,22 @@
 //!   [`shapegram_geom::Mesh`].
 
 pub mod bond;
+pub mod cave;
 pub mod error;
 pub mod mesher;
 pub mod metrics;
 pub mod primitive;
 pub mod rng;
+pub mod shape;
 pub mod solid;
 pub mod table;
 pub mod tape;
 
 pub use bond::{Bond, Label};
+pub use cave::{Attach, Cave, CaveBuilder, CaveParams, Direction, Operation, generate};
 pub use error::{ImplicitError, Result};
 pub use mesher::{Grid, MeshOptions, Meshing, mesh, mesh_with_progress};
 pub use metrics::{Convexity, Metrics};
 pub use primitive::Primitive;
+pub use shape::Shape;
 pub use solid::{Node, Solid};

@@ -17,7 +17,7 @@ use shapegram_geom::Mesh;
 
 use crate::error::{ImplicitError, Result, positive};
 use crate::solid::Solid;
-use crate::table::{cases, edge_corners};
+use crate::table::{CENTRE, cases, edge_corners};
 use crate::tape::{Tape, Workspace};
 
 /// Vertices are kept at least this fraction of a cell away from grid corners, so no triangle of
@@ -174,22 +174,24 @@ pub fn mesh_with_progress(
         });
     };
     let grid = grid_for(bounds.min, bounds.size(), h, options.max_cells)?;
-    let mut leaves = Vec::new();
-    let mut inside_cells = 0;
-    let root = Region {
+    let tape = Tape::new(solid);
+    let mut classifier = Classifier {
+        tape: &tape,
+        ws: tape.workspace(1),
+        grid: &grid,
+        block: options.block,
+        leaves: Vec::new(),
+        inside_cells: 0,
+    };
+    classifier.classify(Region {
         lo: [0; 3],
         hi: grid.cells,
-    };
-    classify(
-        solid,
-        &grid,
-        options.block,
-        root,
-        &mut leaves,
-        &mut inside_cells,
-    );
-
-    let tape = Tape::new(solid);
+    });
+    let Classifier {
+        leaves,
+        mut inside_cells,
+        ..
+    } = classifier;
     let capacity = (options.block + 1).pow(3);
     let done = AtomicUsize::new(0);
     let triangles = AtomicUsize::new(0);
@@ -256,57 +258,61 @@ fn grid_for(min: DVec3, size: DVec3, h: f64, max_cells: u64) -> Result<Grid> {
     })
 }
 
-/// Sorts `region` into skipped space and leaf blocks (appended in a fixed depth-first order).
-fn classify(
-    solid: &Solid,
-    grid: &Grid,
+/// Sorts regions into skipped space and leaf blocks.
+struct Classifier<'a> {
+    tape: &'a Tape,
+    ws: Workspace,
+    grid: &'a Grid,
     block: usize,
-    region: Region,
-    leaves: &mut Vec<Region>,
-    inside_cells: &mut u64,
-) {
-    let h = grid.cell_size;
-    let lo = grid.sample(region.lo[0], region.lo[1], region.lo[2]);
-    let hi = grid.sample(region.hi[0], region.hi[1], region.hi[2]);
-    let centre = (lo + hi) * 0.5;
-    // A little slack covers rounding in the field and in the sample positions.
-    let reach = (hi - lo).length() * 0.5 * (1.0 + 1e-9) + h * 1e-6;
-    let v = solid.value(centre);
-    if v < -reach {
-        return;
-    }
-    let on_border = (0..3).any(|a| region.lo[a] == 0 || region.hi[a] == grid.cells[a]);
-    if v > reach && !on_border {
-        *inside_cells += region.cells();
-        return;
-    }
-    let sizes = [0, 1, 2].map(|a| region.hi[a] - region.lo[a]);
-    if sizes.iter().all(|&s| s <= block) {
-        leaves.push(region);
-        return;
-    }
-    // Split long axes at a multiple of the block size so leaves are whole blocks where possible.
-    let cut = |a: usize| {
-        if sizes[a] <= block {
-            None
-        } else {
-            let blocks = sizes[a].div_ceil(block);
-            Some(region.lo[a] + blocks / 2 * block)
+    /// Blocks that may hold surface, in a fixed depth-first order.
+    leaves: Vec<Region>,
+    /// Cells of regions found wholly inside.
+    inside_cells: u64,
+}
+
+impl Classifier<'_> {
+    fn classify(&mut self, region: Region) {
+        let grid = self.grid;
+        let h = grid.cell_size;
+        let lo = grid.sample(region.lo[0], region.lo[1], region.lo[2]);
+        let hi = grid.sample(region.hi[0], region.hi[1], region.hi[2]);
+        let centre = (lo + hi) * 0.5;
+        // A little slack covers rounding in the field and in the sample positions.
+        let reach = (hi - lo).length() * 0.5 * (1.0 + 1e-9) + h * 1e-6;
+        let v = self.tape.value(&mut self.ws, centre);
+        if v < -reach {
+            return;
         }
-    };
-    let cuts = [cut(0), cut(1), cut(2)];
-    let ranges = |a: usize| match cuts[a] {
-        Some(m) => vec![(region.lo[a], m), (m, region.hi[a])],
-        None => vec![(region.lo[a], region.hi[a])],
-    };
-    for &(z0, z1) in &ranges(2) {
-        for &(y0, y1) in &ranges(1) {
-            for &(x0, x1) in &ranges(0) {
-                let child = Region {
-                    lo: [x0, y0, z0],
-                    hi: [x1, y1, z1],
-                };
-                classify(solid, grid, block, child, leaves, inside_cells);
+        let on_border = (0..3).any(|a| region.lo[a] == 0 || region.hi[a] == grid.cells[a]);
+        if v > reach && !on_border {
+            self.inside_cells += region.cells();
+            return;
+        }
+        let block = self.block;
+        let sizes = [0, 1, 2].map(|a| region.hi[a] - region.lo[a]);
+        if sizes.iter().all(|&s| s <= block) {
+            self.leaves.push(region);
+            return;
+        }
+        // Split long axes at a multiple of the block size so leaves are whole blocks where
+        // possible.
+        let ranges = |a: usize| {
+            if sizes[a] <= block {
+                vec![(region.lo[a], region.hi[a])]
+            } else {
+                let m = region.lo[a] + sizes[a].div_ceil(block) / 2 * block;
+                vec![(region.lo[a], m), (m, region.hi[a])]
+            }
+        };
+        let (xs, ys, zs) = (ranges(0), ranges(1), ranges(2));
+        for &(z0, z1) in &zs {
+            for &(y0, y1) in &ys {
+                for &(x0, x1) in &xs {
+                    self.classify(Region {
+                        lo: [x0, y0, z0],
+                        hi: [x1, y1, z1],
+                    });
+                }
             }
         }
     }
@@ -378,16 +384,20 @@ fn mesh_block(
     }
     let edge_vertex = &mut scratch.edge_vertex[..count * 3];
     edge_vertex.fill(u32::MAX);
-    let stride = [1, n[0], n[0] * n[1]];
+    let block = BlockGrid {
+        grid,
+        region,
+        size,
+        n,
+        stride: [1, n[0], n[0] * n[1]],
+    };
     let table = cases();
     let mut out = BlockMesh::default();
     for k in 0..size[2] {
         for j in 0..size[1] {
             for i in 0..size[0] {
                 let base = local(i, j, k);
-                let corner = |c: usize| {
-                    base + (c & 1) * stride[0] + (c >> 1 & 1) * stride[1] + (c >> 2 & 1) * stride[2]
-                };
+                let corner = |c: usize| block.corner(base, c);
                 let pattern = (0..8).fold(0usize, |acc, c| {
                     acc | usize::from(values[corner(c)] > 0.0) << c
                 });
@@ -396,31 +406,38 @@ fn mesh_block(
                     continue;
                 }
                 let case = &table[pattern];
+                // Rings fanned around a centre get one vertex there, private to this cell.
+                let mut centres = [u32::MAX; 4];
+                for (r, centre) in centres
+                    .iter_mut()
+                    .enumerate()
+                    .take(case.ring_count as usize)
+                {
+                    let ring = &case.rings[r][..case.ring_len[r] as usize];
+                    let uses_centre = case.triangles[..case.count as usize]
+                        .iter()
+                        .any(|t| t[0] == CENTRE + r as u8);
+                    if uses_centre {
+                        let sum: DVec3 = ring
+                            .iter()
+                            .map(|&e| {
+                                let v =
+                                    block.vertex(values, edge_vertex, &mut out, base, e as usize);
+                                out.positions[v as usize]
+                            })
+                            .sum();
+                        *centre = out.positions.len() as u32;
+                        out.positions.push(sum / ring.len() as f64);
+                        out.keys.push(u64::MAX);
+                    }
+                }
                 for tri in &case.triangles[..case.count as usize] {
                     let corners = tri.map(|e| {
-                        let e = e as usize;
-                        let axis = e / 4;
-                        let start = corner(edge_corners(e).0);
-                        let slot = start * 3 + axis;
-                        if edge_vertex[slot] == u32::MAX {
-                            edge_vertex[slot] = out.positions.len() as u32;
-                            let (va, vb) = (values[start], values[start + stride[axis]]);
-                            let t =
-                                (va / (va - vb)).clamp(CORNER_CLEARANCE, 1.0 - CORNER_CLEARANCE);
-                            let s = [start % n[0], start / n[0] % n[1], start / (n[0] * n[1])];
-                            let g = [0, 1, 2].map(|a| region.lo[a] + s[a]);
-                            let mut p = grid.sample(g[0], g[1], g[2]);
-                            p[axis] += t * h;
-                            let on_boundary =
-                                (0..3).any(|a| a != axis && (s[a] == 0 || s[a] == size[a]));
-                            out.positions.push(p);
-                            out.keys.push(if on_boundary {
-                                grid.sample_index(g) * 3 + axis as u64
-                            } else {
-                                u64::MAX
-                            });
+                        if e >= CENTRE {
+                            centres[(e - CENTRE) as usize]
+                        } else {
+                            block.vertex(values, edge_vertex, &mut out, base, e as usize)
                         }
-                        edge_vertex[slot]
                     });
                     out.triangles.push(corners);
                 }
@@ -428,6 +445,62 @@ fn mesh_block(
         }
     }
     out
+}
+
+/// Where a block sits in the grid, and how its samples are laid out.
+struct BlockGrid<'a> {
+    grid: &'a Grid,
+    region: &'a Region,
+    /// Cells along each axis.
+    size: [usize; 3],
+    /// Samples along each axis.
+    n: [usize; 3],
+    /// Index steps between neighbouring samples along each axis.
+    stride: [usize; 3],
+}
+
+impl BlockGrid<'_> {
+    /// Sample index of corner `c` of the cell whose first corner is sample `base`.
+    fn corner(&self, base: usize, c: usize) -> usize {
+        base + (c & 1) * self.stride[0]
+            + (c >> 1 & 1) * self.stride[1]
+            + (c >> 2 & 1) * self.stride[2]
+    }
+
+    /// The vertex on edge `e` of the cell at sample `base`, made on first use: linear
+    /// interpolation of the field, kept clear of the edge's ends.
+    fn vertex(
+        &self,
+        values: &[f64],
+        edge_vertex: &mut [u32],
+        out: &mut BlockMesh,
+        base: usize,
+        e: usize,
+    ) -> u32 {
+        let axis = e / 4;
+        let start = self.corner(base, edge_corners(e).0);
+        let slot = start * 3 + axis;
+        if edge_vertex[slot] != u32::MAX {
+            return edge_vertex[slot];
+        }
+        let index = out.positions.len() as u32;
+        edge_vertex[slot] = index;
+        let (va, vb) = (values[start], values[start + self.stride[axis]]);
+        let t = (va / (va - vb)).clamp(CORNER_CLEARANCE, 1.0 - CORNER_CLEARANCE);
+        let n = self.n;
+        let s = [start % n[0], start / n[0] % n[1], start / (n[0] * n[1])];
+        let g = [0, 1, 2].map(|a| self.region.lo[a] + s[a]);
+        let mut p = self.grid.sample(g[0], g[1], g[2]);
+        p[axis] += t * self.grid.cell_size;
+        let on_boundary = (0..3).any(|a| a != axis && (s[a] == 0 || s[a] == self.size[a]));
+        out.positions.push(p);
+        out.keys.push(if on_boundary {
+            self.grid.sample_index(g) * 3 + axis as u64
+        } else {
+            u64::MAX
+        });
+        index
+    }
 }
 
 /// Concatenates the blocks in order, merging the vertices they share.

@@ -114,6 +114,11 @@ impl Solid {
         &self.root
     }
 
+    /// The root as shared, so evaluators can recognise subtrees used more than once.
+    pub(crate) fn shared_node(&self) -> &Arc<Node> {
+        &self.root
+    }
+
     /// Whether this is the empty solid (by construction, not by evaluation).
     pub fn is_empty(&self) -> bool {
         matches!(*self.root, Node::Empty)
@@ -235,7 +240,8 @@ impl Solid {
     }
 
     /// The field at `p`: positive inside, zero on the surface, negative outside, −∞ for the
-    /// empty solid.
+    /// empty solid. This walks the tree once per use of each subtree; for many points compile a
+    /// [`crate::tape::Tape`], which evaluates shared subtrees once.
     pub fn value(&self, p: DVec3) -> f64 {
         value(&self.root, p)
     }
@@ -246,9 +252,10 @@ impl Solid {
         bounds(&self.root)
     }
 
-    /// Number of primitives in the tree (a shared subtree counts each time it is used).
+    /// Number of distinct primitive nodes in the tree (a shared subtree counts once).
     pub fn primitive_count(&self) -> usize {
-        count_primitives(&self.root)
+        let mut seen = rustc_hash::FxHashSet::default();
+        count_primitives(&self.root, &mut seen)
     }
 }
 
@@ -348,17 +355,22 @@ fn union_bounds(a: Option<Aabb>, b: Option<Aabb>) -> Option<Aabb> {
     }
 }
 
-fn count_primitives(node: &Node) -> usize {
-    match node {
+fn count_primitives(node: &Arc<Node>, seen: &mut rustc_hash::FxHashSet<*const Node>) -> usize {
+    if !seen.insert(Arc::as_ptr(node)) {
+        return 0;
+    }
+    match &**node {
         Node::Empty => 0,
         Node::Primitive(_) => 1,
-        Node::Transform { child, .. } => count_primitives(child),
+        Node::Transform { child, .. } => count_primitives(child, seen),
         Node::Union(a, b)
         | Node::Difference(a, b)
         | Node::Intersection(a, b)
         | Node::Morph(a, b, _)
         | Node::SmoothUnion(a, b, _)
         | Node::SmoothDifference(a, b, _)
-        | Node::SmoothIntersection(a, b, _) => count_primitives(a) + count_primitives(b),
+        | Node::SmoothIntersection(a, b, _) => {
+            count_primitives(a, seen) + count_primitives(b, seen)
+        }
     }
 }

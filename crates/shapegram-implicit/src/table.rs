@@ -15,13 +15,23 @@ use std::sync::OnceLock;
 /// Up to this many triangles per case.
 pub const MAX_TRIANGLES: usize = 12;
 
-/// The triangles (as triples of edge numbers) of one inside/outside pattern.
+/// Corner number of a triangle that stands for the centre of ring `r`: `CENTRE + r`.
+pub const CENTRE: u8 = 12;
+
+/// The triangles of one inside/outside pattern.
 #[derive(Clone, Copy, Debug)]
 pub struct Case {
     /// Triangles in use: `triangles[..count]`.
     pub count: u8,
-    /// Edge numbers of each triangle, counter-clockwise seen from outside the solid.
+    /// Corners of each triangle, counter-clockwise seen from outside the solid: edge numbers, or
+    /// [`CENTRE`]` + r` for a vertex at the mean of ring `r`'s vertices.
     pub triangles: [[u8; 3]; MAX_TRIANGLES],
+    /// Rings (closed loops of edges) in use: `rings[..ring_count]`, each `ring_len[r]` long.
+    pub ring_count: u8,
+    /// Edge numbers around each ring.
+    pub rings: [[u8; 12]; 4],
+    /// Length of each ring.
+    pub ring_len: [u8; 4],
 }
 
 /// The table, built on first use.
@@ -72,6 +82,9 @@ fn build_case(pattern: u8) -> Case {
     let mut case = Case {
         count: 0,
         triangles: [[0; 3]; MAX_TRIANGLES],
+        ring_count: 0,
+        rings: [[0; 12]; 4],
+        ring_len: [0; 4],
     };
     let mut seen = [false; 12];
     for start in 0..12 {
@@ -85,12 +98,54 @@ fn build_case(pattern: u8) -> Case {
             ring.push(e);
             e = next[e];
         }
-        for i in 1..ring.len() - 1 {
-            case.triangles[case.count as usize] = [ring[0] as u8, ring[i] as u8, ring[i + 1] as u8];
+        let r = case.ring_count as usize;
+        case.ring_count += 1;
+        case.ring_len[r] = ring.len() as u8;
+        for (slot, &e) in case.rings[r].iter_mut().zip(&ring) {
+            *slot = e as u8;
+        }
+        let mut add = |t: [u8; 3]| {
+            case.triangles[case.count as usize] = t;
             case.count += 1;
+        };
+        match fan_start(&ring) {
+            Some(first) => {
+                ring.rotate_left(first);
+                for i in 1..ring.len() - 1 {
+                    add([ring[0] as u8, ring[i] as u8, ring[i + 1] as u8]);
+                }
+            }
+            None => {
+                for i in 0..ring.len() {
+                    add([
+                        CENTRE + r as u8,
+                        ring[i] as u8,
+                        ring[(i + 1) % ring.len()] as u8,
+                    ]);
+                }
+            }
         }
     }
     case
+}
+
+/// A rotation of the ring whose fan has no diagonal between two edges of one cell face, or
+/// `None`. Such a diagonal lies in the face, and the neighbouring cell may draw the same one:
+/// four triangles on one edge. Rings without a safe fan get a centre vertex instead.
+fn fan_start(ring: &[usize]) -> Option<usize> {
+    let n = ring.len();
+    (0..n).find(|&first| (2..n - 1).all(|i| !share_face(ring[first], ring[(first + i) % n])))
+}
+
+/// Whether cell edges `a` and `b` lie on a common face of the cell.
+fn share_face(a: usize, b: usize) -> bool {
+    let (a0, a1) = edge_corners(a);
+    let (b0, b1) = edge_corners(b);
+    // A face fixes one coordinate bit: both edges keep it at the same value.
+    (0..3).any(|bit| {
+        let value = a0 >> bit & 1;
+        [a0, a1, b0, b1].iter().all(|&c| c >> bit & 1 == value)
+    })
 }
 
 /// The oriented segments `(from edge, to edge)` on the face of the cell normal to `axis` at

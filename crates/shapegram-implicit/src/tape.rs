@@ -1,7 +1,10 @@
 //! A solid compiled to a flat list of instructions that evaluates whole blocks of points at a
 //! time: one dispatch per instruction per block instead of one per node per point.
 
-use glam::DAffine3;
+use std::sync::Arc;
+
+use glam::{DAffine3, DVec3};
+use rustc_hash::FxHashMap;
 
 use crate::primitive::Primitive;
 use crate::solid::{Node, Solid, morph, smooth_max, smooth_min};
@@ -55,6 +58,11 @@ pub struct Tape {
     result: usize,
 }
 
+/// Where an already emitted node's value lives, keyed by the node's address and its point set:
+/// a subtree shared by several parents (as a morphic production shares the base) is evaluated
+/// once per point instead of once per use.
+type Emitted = FxHashMap<(*const Node, usize), usize>;
+
 /// Scratch memory for evaluating a tape on blocks of up to `capacity` points; one per thread.
 #[derive(Debug)]
 pub struct Workspace {
@@ -71,8 +79,15 @@ impl Tape {
             slots: 0,
             result: 0,
         };
-        tape.result = tape.emit(solid.node(), 0);
+        tape.result = tape.emit(solid.shared_node(), 0, &mut Emitted::default());
         tape
+    }
+
+    /// The field at one point (a block of one).
+    pub fn value(&self, ws: &mut Workspace, p: DVec3) -> f64 {
+        let mut out = [0.0];
+        self.eval(ws, &[p.x], &[p.y], &[p.z], &mut out);
+        out[0]
     }
 
     /// Scratch memory for blocks of up to `capacity` points.
@@ -85,8 +100,19 @@ impl Tape {
         }
     }
 
-    /// Emits the instructions of `node` evaluated on point set `points`; returns its value slot.
-    fn emit(&mut self, node: &Node, points: usize) -> usize {
+    /// Emits the instructions of `node` evaluated on point set `points` (once); returns its value
+    /// slot.
+    fn emit(&mut self, node: &Arc<Node>, points: usize, emitted: &mut Emitted) -> usize {
+        let key = (Arc::as_ptr(node), points);
+        if let Some(&slot) = emitted.get(&key) {
+            return slot;
+        }
+        let slot = self.emit_new(node, points, emitted);
+        emitted.insert(key, slot);
+        slot
+    }
+
+    fn emit_new(&mut self, node: &Node, points: usize, emitted: &mut Emitted) -> usize {
         match node {
             Node::Empty => {
                 let out = self.slot();
@@ -117,7 +143,7 @@ impl Tape {
                     dst,
                     map: *inverse,
                 });
-                let slot = self.emit(child, dst);
+                let slot = self.emit(child, dst, emitted);
                 if *factor != 1.0 {
                     self.ops.push(Op::Scale {
                         slot,
@@ -126,19 +152,31 @@ impl Tape {
                 }
                 slot
             }
-            Node::Union(a, b) => self.binary(Binary::Max, a, b, points),
-            Node::Difference(a, b) => self.binary(Binary::MinNeg, a, b, points),
-            Node::Intersection(a, b) => self.binary(Binary::Min, a, b, points),
-            Node::Morph(a, b, t) => self.binary(Binary::Morph(*t), a, b, points),
-            Node::SmoothUnion(a, b, k) => self.binary(Binary::SmoothMax(*k), a, b, points),
-            Node::SmoothDifference(a, b, k) => self.binary(Binary::SmoothMinNeg(*k), a, b, points),
-            Node::SmoothIntersection(a, b, k) => self.binary(Binary::SmoothMin(*k), a, b, points),
+            Node::Union(a, b) => self.binary(Binary::Max, [a, b], points, emitted),
+            Node::Difference(a, b) => self.binary(Binary::MinNeg, [a, b], points, emitted),
+            Node::Intersection(a, b) => self.binary(Binary::Min, [a, b], points, emitted),
+            Node::Morph(a, b, t) => self.binary(Binary::Morph(*t), [a, b], points, emitted),
+            Node::SmoothUnion(a, b, k) => {
+                self.binary(Binary::SmoothMax(*k), [a, b], points, emitted)
+            }
+            Node::SmoothDifference(a, b, k) => {
+                self.binary(Binary::SmoothMinNeg(*k), [a, b], points, emitted)
+            }
+            Node::SmoothIntersection(a, b, k) => {
+                self.binary(Binary::SmoothMin(*k), [a, b], points, emitted)
+            }
         }
     }
 
-    fn binary(&mut self, kind: Binary, a: &Node, b: &Node, points: usize) -> usize {
-        let a = self.emit(a, points);
-        let b = self.emit(b, points);
+    fn binary(
+        &mut self,
+        kind: Binary,
+        [a, b]: [&Arc<Node>; 2],
+        points: usize,
+        emitted: &mut Emitted,
+    ) -> usize {
+        let a = self.emit(a, points, emitted);
+        let b = self.emit(b, points, emitted);
         let out = self.slot();
         self.ops.push(Op::Binary { kind, a, b, out });
         out

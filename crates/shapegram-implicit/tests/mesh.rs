@@ -420,3 +420,36 @@ fn limits_are_errors() {
         "the mesh would have more than 1000 triangles: use larger cells (a lower level of detail)"
     );
 }
+
+proptest::proptest! {
+    #![proptest_config(proptest::prelude::ProptestConfig::with_cases(24))]
+
+    /// Random unions and differences of small balls and boxes at a coarse grid: every ambiguous
+    /// face and cell configuration turns up, and the mesh must stay closed and outward.
+    #[test]
+    fn random_scenes_mesh_closed(
+        parts in proptest::collection::vec(
+            (-1.0..1.0f64, -1.0..1.0f64, -1.0..1.0f64, 0.15..0.6f64, 0..3u8),
+            2..16,
+        ),
+        cells in 6..30usize,
+    ) {
+        let mut scene = Solid::sphere(0.8).unwrap();
+        for (x, y, z, r, kind) in parts {
+            let part = if kind == 2 {
+                Solid::cuboid(DVec3::splat(r * 1.5)).unwrap().rotate(DVec3::new(x, y, 1.0), 40.0 * z).unwrap()
+            } else {
+                Solid::sphere(r).unwrap()
+            };
+            let part = part.translate(DVec3::new(x, y, z)).unwrap();
+            scene = if kind == 1 { scene.difference(&part) } else { scene.union(&part) };
+        }
+        let m = meshed(&scene, cells);
+        if !m.mesh.is_empty() {
+            let report = m.mesh.edge_report();
+            proptest::prop_assert!(report.is_watertight(), "{:?}", report);
+            proptest::prop_assert!(m.mesh.signed_volume() > 0.0);
+            proptest::prop_assert!(smallest_relative_area(&m.mesh, m.grid.cell_size) > 1e-9);
+        }
+    }
+}

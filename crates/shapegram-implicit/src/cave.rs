@@ -1,0 +1,610 @@
+//! The SG+M cave grammar: a base shape grown by classic productions (sum, difference,
+//! intersection at a label) and morphic productions (the base blended with itself plus a new
+//! shape), and the random cave generator driven by the paper's parameters.
+
+use std::fmt;
+use std::str::FromStr;
+
+use glam::DVec3;
+
+use crate::bond::{Bond, Label, matching_bond};
+use crate::error::{ImplicitError, Result};
+use crate::primitive::Primitive;
+use crate::rng::Rng;
+use crate::shape::Shape;
+use crate::solid::Solid;
+use crate::tape::Tape;
+
+/// The labelling direction `L_B`: which open bond of the base the next shape is joined to.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Direction {
+    /// An open bond facing −x.
+    NegX,
+    /// An open bond facing +x.
+    PosX,
+    /// An open bond facing −y.
+    NegY,
+    /// An open bond facing +y.
+    PosY,
+    /// An open bond facing −z.
+    NegZ,
+    /// An open bond facing +z.
+    PosZ,
+    /// Any open bond, chosen by the seed.
+    Random,
+}
+
+impl Direction {
+    /// The unit vector, `None` for [`Direction::Random`].
+    pub fn vector(self) -> Option<DVec3> {
+        Some(match self {
+            Self::NegX => DVec3::NEG_X,
+            Self::PosX => DVec3::X,
+            Self::NegY => DVec3::NEG_Y,
+            Self::PosY => DVec3::Y,
+            Self::NegZ => DVec3::NEG_Z,
+            Self::PosZ => DVec3::Z,
+            Self::Random => return None,
+        })
+    }
+}
+
+impl FromStr for Direction {
+    type Err = ImplicitError;
+
+    fn from_str(text: &str) -> Result<Self> {
+        Ok(match text.to_ascii_lowercase().as_str() {
+            "-x" => Self::NegX,
+            "+x" | "x" => Self::PosX,
+            "-y" => Self::NegY,
+            "+y" | "y" => Self::PosY,
+            "-z" => Self::NegZ,
+            "+z" | "z" => Self::PosZ,
+            "random" => Self::Random,
+            _ => {
+                return Err(ImplicitError::new(format!(
+                    "invalid direction '{}': expected -x, +x, -y, +y, -z, +z or random",
+                    text.escape_debug()
+                )));
+            }
+        })
+    }
+}
+
+impl fmt::Display for Direction {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(match self {
+            Self::NegX => "-x",
+            Self::PosX => "+x",
+            Self::NegY => "-y",
+            Self::PosY => "+y",
+            Self::NegZ => "-z",
+            Self::PosZ => "+z",
+            Self::Random => "random",
+        })
+    }
+}
+
+/// What a production does with its shape.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Operation {
+    /// Classic production, eq. (2).
+    Sum,
+    /// Classic production, eq. (3).
+    Difference,
+    /// Classic production, eq. (4).
+    Intersection,
+    /// Morphic production: `base := morph(base, base ∪ shape, a)`, eq. (5).
+    Morph(f64),
+}
+
+impl Operation {
+    /// The name used in the text form and in reports.
+    pub fn name(&self) -> &'static str {
+        match self {
+            Self::Sum => "sum",
+            Self::Difference => "difference",
+            Self::Intersection => "intersection",
+            Self::Morph(_) => "morph",
+        }
+    }
+}
+
+/// Where a production puts its shape.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Attach {
+    /// At an open bond of the base facing this way. Sums and morphs form a label with the shape's
+    /// opposite bond (pushed into the base by the overlap); differences and intersections centre
+    /// the shape on the bond.
+    Bond(Direction),
+    /// The shape's centre at the centre of the base's bounds: both are free bonds.
+    Centre,
+}
+
+/// One applied production, for reports.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Applied {
+    /// What it did.
+    pub operation: Operation,
+    /// The label it formed: the base's bond and the shape's bond, after moving the shape.
+    pub label: Option<(Bond, Bond)>,
+    /// Primitives the shape brought.
+    pub elements: usize,
+}
+
+/// The base shape of an SG+M derivation and its open bonds.
+#[derive(Clone, Debug)]
+pub struct CaveBuilder {
+    base: Solid,
+    open: Vec<Bond>,
+    overlap: f64,
+    elements: usize,
+    applied: Vec<Applied>,
+}
+
+impl CaveBuilder {
+    /// An empty base. `overlap` (0 to 1) is how far a joined shape reaches into the base, as a
+    /// fraction of its own extent along the label: 0 is the paper's exact gluing of the bond
+    /// points; a little overlap fuses round shapes that would touch at a single point.
+    pub fn new(overlap: f64) -> Result<Self> {
+        if !(0.0..=1.0).contains(&overlap) {
+            return Err(ImplicitError::new(format!(
+                "invalid overlap {overlap}: expected 0 to 1"
+            )));
+        }
+        Ok(Self {
+            base: Solid::empty(),
+            open: Vec::new(),
+            overlap,
+            elements: 0,
+            applied: Vec::new(),
+        })
+    }
+
+    /// The base shape.
+    pub fn solid(&self) -> &Solid {
+        &self.base
+    }
+
+    /// The bonds of the base not yet used by a label.
+    pub fn open_bonds(&self) -> &[Bond] {
+        &self.open
+    }
+
+    /// Primitives added so far.
+    pub fn elements(&self) -> usize {
+        self.elements
+    }
+
+    /// The productions applied so far.
+    pub fn applied(&self) -> &[Applied] {
+        &self.applied
+    }
+
+    /// The base as a shape: its solid, its open bonds and a free bond at the centre of its bounds.
+    pub fn to_shape(&self) -> Shape {
+        let mut bonds = self.open.clone();
+        if let Some(b) = self.base.bounds() {
+            bonds.insert(0, Bond::new(b.center(), DVec3::ZERO));
+        }
+        Shape {
+            solid: self.base.clone(),
+            bonds,
+        }
+    }
+
+    /// Applies one production: `shape` (with `elements` primitives) joined where `attach` says and
+    /// combined with the base by `operation`. `rng` picks among equally good bonds.
+    pub fn apply(
+        &mut self,
+        shape: &Shape,
+        elements: usize,
+        operation: Operation,
+        attach: Attach,
+        rng: &mut Rng,
+    ) -> Result<()> {
+        let joins = matches!(operation, Operation::Sum | Operation::Morph(_));
+        let (placed, label, used) = if self.base.is_empty() {
+            // The first shape stays where it is: there is nothing to join it to.
+            (shape.clone(), None, None)
+        } else {
+            match attach {
+                Attach::Centre => {
+                    let target = self.base.bounds().map_or(DVec3::ZERO, |b| b.center());
+                    let moved = shape.translate(target - shape.centre())?;
+                    let free = Bond::new(target, DVec3::ZERO);
+                    (moved, Some((free, free)), None)
+                }
+                Attach::Bond(direction) => match self.pick_open(direction, rng) {
+                    None => {
+                        return Err(ImplicitError::new(format!(
+                            "the base has no open bond facing {direction} for a {}",
+                            operation.name()
+                        )));
+                    }
+                    Some(i) => {
+                        let b1 = self.open[i];
+                        if joins {
+                            let j = matching_bond(&b1, &shape.bonds).ok_or_else(|| {
+                                ImplicitError::new(format!(
+                                    "the shape has no bond that labels with a bond facing {}",
+                                    Direction::from_vector(b1.dir)
+                                ))
+                            })?;
+                            let extent = shape
+                                .solid
+                                .bounds()
+                                .map_or(0.0, |b| b.size().dot(b1.dir.abs()));
+                            let offset =
+                                b1.point - shape.bonds[j].point - b1.dir * (self.overlap * extent);
+                            let moved = shape.translate(offset)?;
+                            let label = (b1, moved.bonds[j]);
+                            (moved, Some(label), Some(Label { base: i, shape: j }))
+                        } else {
+                            let moved = shape.translate(b1.point - shape.centre())?;
+                            (moved, Some((b1, Bond::new(b1.point, DVec3::ZERO))), None)
+                        }
+                    }
+                },
+            }
+        };
+        let before = self.base.clone();
+        self.base = match operation {
+            Operation::Sum => before.union(&placed.solid),
+            Operation::Difference => before.difference(&placed.solid),
+            Operation::Intersection => before.intersection(&placed.solid),
+            Operation::Morph(a) if before.is_empty() => {
+                // Morphing with nothing would erase the shape (−∞ blends to −∞): place it.
+                let _ = a;
+                placed.solid.clone()
+            }
+            Operation::Morph(a) => before.morph(&before.union(&placed.solid), a)?,
+        };
+        if let Some(label) = used {
+            self.open.remove(label.base);
+        }
+        if joins {
+            let skip = used.map(|l| l.shape);
+            self.open.extend(
+                placed
+                    .bonds
+                    .iter()
+                    .enumerate()
+                    .filter(|&(j, b)| Some(j) != skip && !b.is_free())
+                    .map(|(_, b)| *b),
+            );
+        }
+        let region = match operation {
+            // An intersection may move the surface anywhere.
+            Operation::Intersection => None,
+            _ => placed.solid.bounds(),
+        };
+        self.snap_bonds(region);
+        self.elements += elements;
+        self.applied.push(Applied {
+            operation,
+            label,
+            elements,
+        });
+        Ok(())
+    }
+
+    /// Index of an open bond facing `direction` (any directed one for random), chosen by `rng`.
+    fn pick_open(&self, direction: Direction, rng: &mut Rng) -> Option<usize> {
+        let candidates: Vec<usize> = (0..self.open.len())
+            .filter(|&i| match direction.vector() {
+                Some(v) => (self.open[i].dir - v).length_squared() < 1e-9,
+                None => !self.open[i].is_free(),
+            })
+            .collect();
+        if candidates.is_empty() {
+            return None;
+        }
+        Some(candidates[rng.index(candidates.len())])
+    }
+
+    /// Moves the open bonds near `region` (all for `None`) along their directions onto the new
+    /// surface, dropping those that no longer reach it: a bond buried by a sum or carved away
+    /// by a difference would otherwise join the next shape in mid-air or inside rock.
+    fn snap_bonds(&mut self, region: Option<shapegram_geom::Aabb>) {
+        let Some(bounds) = self.base.bounds() else {
+            self.open.clear();
+            return;
+        };
+        let reach = bounds.size().max_element().max(1e-9);
+        let tape = Tape::new(&self.base);
+        let mut ws = tape.workspace(1);
+        let mut field = |p: DVec3| tape.value(&mut ws, p);
+        self.open.retain_mut(|bond| {
+            if let Some(r) = region {
+                if !r.contains(bond.point, reach * 0.05) {
+                    return true;
+                }
+            }
+            match surface_along(&mut field, bond.point, bond.dir, reach) {
+                Some(p) => {
+                    bond.point = p;
+                    true
+                }
+                None => false,
+            }
+        });
+    }
+}
+
+/// The surface point nearest to `p` along the line `p + t·dir`, looking outward first if `p` is
+/// inside and inward if outside, up to `reach` away; found by stepping then bisection.
+fn surface_along(
+    field: &mut impl FnMut(DVec3) -> f64,
+    p: DVec3,
+    dir: DVec3,
+    reach: f64,
+) -> Option<DVec3> {
+    let inside = field(p) > 0.0;
+    // Walk towards the outside when inside, towards the inside when outside.
+    let step_dir = if inside { dir } else { -dir };
+    let steps = 64;
+    let step = reach / steps as f64;
+    let mut near = 0.0;
+    for s in 1..=steps {
+        let far = s as f64 * step;
+        if (field(p + step_dir * far) > 0.0) != inside {
+            let (mut lo, mut hi) = (near, far);
+            for _ in 0..48 {
+                let mid = 0.5 * (lo + hi);
+                if (field(p + step_dir * mid) > 0.0) == inside {
+                    lo = mid;
+                } else {
+                    hi = mid;
+                }
+            }
+            return Some(p + step_dir * (0.5 * (lo + hi)));
+        }
+        near = far;
+    }
+    None
+}
+
+impl Direction {
+    /// The axis direction nearest to `v`, for messages.
+    fn from_vector(v: DVec3) -> Self {
+        let a = v.abs();
+        if a.x >= a.y && a.x >= a.z {
+            if v.x < 0.0 { Self::NegX } else { Self::PosX }
+        } else if a.y >= a.z {
+            if v.y < 0.0 { Self::NegY } else { Self::PosY }
+        } else if v.z < 0.0 {
+            Self::NegZ
+        } else {
+            Self::PosZ
+        }
+    }
+}
+
+/// The parameters of the SG+M cave generator (Section 3 of the paper).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct CaveParams {
+    /// Level of detail `L_D`, 1 to 32: the grid has `L_D` cells per unit of length.
+    pub lod: u32,
+    /// Classic productions `P_C`.
+    pub classic: u32,
+    /// Morphic productions `P_M`.
+    pub morphic: u32,
+    /// Labelling direction `L_B`.
+    pub direction: Direction,
+    /// Morphing parameter `M_P` in percent, 0 to 100.
+    pub morph_percent: f64,
+    /// Productions per shape `P_S`, 0 to 10: how many sub-productions assemble each shape.
+    pub per_shape: u32,
+    /// Seed of the random choices.
+    pub seed: u64,
+}
+
+impl Default for CaveParams {
+    /// The paper's experiment: `L_D = 10, P_C = 10, P_M = 2, L_B = +X, M_P = 52 %, P_S = 3`.
+    fn default() -> Self {
+        Self {
+            lod: 10,
+            classic: 10,
+            morphic: 2,
+            direction: Direction::PosX,
+            morph_percent: 52.0,
+            per_shape: 3,
+            seed: 1,
+        }
+    }
+}
+
+/// Most productions a generated cave may have (`P_C + P_M`).
+pub const MAX_PRODUCTIONS: u32 = 1000;
+/// How far joined shapes reach into the base in generated caves (see [`CaveBuilder::new`]).
+pub const GENERATED_OVERLAP: f64 = 0.25;
+
+impl CaveParams {
+    /// Checks every parameter's range.
+    pub fn validate(&self) -> Result<()> {
+        if !(1..=32).contains(&self.lod) {
+            return Err(ImplicitError::new(format!(
+                "invalid level of detail {}: expected 1 to 32",
+                self.lod
+            )));
+        }
+        if !(0.0..=100.0).contains(&self.morph_percent) {
+            return Err(ImplicitError::new(format!(
+                "invalid morphing parameter {}%: expected 0 to 100",
+                self.morph_percent
+            )));
+        }
+        if self.per_shape > 10 {
+            return Err(ImplicitError::new(format!(
+                "invalid productions per shape {}: expected 0 to 10",
+                self.per_shape
+            )));
+        }
+        let total = u64::from(self.classic) + u64::from(self.morphic);
+        if total == 0 || total > u64::from(MAX_PRODUCTIONS) {
+            return Err(ImplicitError::new(format!(
+                "invalid number of productions {total} (classic + morphic): expected 1 to \
+                 {MAX_PRODUCTIONS}"
+            )));
+        }
+        Ok(())
+    }
+
+    /// The grid's cell edge `C_E = 1 / L_D`.
+    pub fn cell_size(&self) -> f64 {
+        1.0 / f64::from(self.lod)
+    }
+
+    /// Whether production `i` (0-based) of `P_T = P_C + P_M` is morphic: the morphic ones are
+    /// spread evenly, the last production being morphic whenever there is one.
+    pub fn is_morphic(&self, i: u32) -> bool {
+        let (m, t) = (
+            u64::from(self.morphic),
+            u64::from(self.classic + self.morphic),
+        );
+        let i = u64::from(i);
+        (i + 1) * m / t > i * m / t
+    }
+}
+
+/// A generated cave: the final solid and the derivation that built it.
+#[derive(Clone, Debug)]
+pub struct Cave {
+    /// The base shape after the last production.
+    pub builder: CaveBuilder,
+    /// The parameters it was generated with.
+    pub params: CaveParams,
+}
+
+impl Cave {
+    /// The cave's solid.
+    pub fn solid(&self) -> &Solid {
+        self.builder.solid()
+    }
+}
+
+/// Generates a cave: `P_C + P_M` productions, each joining a shape assembled from one primitive
+/// and `P_S` sub-productions. Classic productions are sums at an open bond facing `L_B` (7 in
+/// 10), differences centred on a random open bond (2 in 10) or intersections with a rounded
+/// shape fitted over the base (1 in 10); morphic productions join a shape like a sum and blend it
+/// in by `M_P`. The same parameters always give the same cave.
+pub fn generate(params: &CaveParams) -> Result<Cave> {
+    params.validate()?;
+    let mut rng = Rng::new(params.seed);
+    let mut builder = CaveBuilder::new(GENERATED_OVERLAP)?;
+    let a = params.morph_percent / 100.0;
+    let total = params.classic + params.morphic;
+    for i in 0..total {
+        let (shape, elements) = assemble(&mut rng, params.per_shape)?;
+        let (operation, attach, shape) = if params.is_morphic(i) {
+            (Operation::Morph(a), Attach::Bond(params.direction), shape)
+        } else {
+            let roll = rng.unit();
+            if roll < 0.7 || builder.solid().is_empty() {
+                (Operation::Sum, Attach::Bond(params.direction), shape)
+            } else if roll < 0.9 {
+                let carver = shape.scale(DVec3::splat(0.6))?;
+                (
+                    Operation::Difference,
+                    Attach::Bond(Direction::Random),
+                    carver,
+                )
+            } else {
+                let trim = fitted_ellipsoid(builder.solid(), 1.2)?;
+                (Operation::Intersection, Attach::Centre, trim)
+            }
+        };
+        let fallback = Attach::Bond(Direction::Random);
+        let attempt = builder.apply(&shape, elements, operation, attach, &mut rng);
+        if attempt.is_err() {
+            // No open bond faces L_B any more (carved or trimmed away): grow from any open bond.
+            builder.apply(&shape, elements, operation, fallback, &mut rng)?;
+        }
+    }
+    Ok(Cave {
+        builder,
+        params: *params,
+    })
+}
+
+/// A shape of one random primitive grown by `per_shape` random sub-productions (sums at its open
+/// bonds, notches carved at them, a trim by a fitted ellipsoid); returns it and its primitive
+/// count.
+fn assemble(rng: &mut Rng, per_shape: u32) -> Result<(Shape, usize)> {
+    let mut part = CaveBuilder::new(GENERATED_OVERLAP)?;
+    let first = random_primitive(rng, 1.0)?;
+    part.apply(&first, 1, Operation::Sum, Attach::Centre, rng)?;
+    for _ in 0..per_shape {
+        let roll = rng.unit();
+        let piece = random_primitive(rng, 0.6)?;
+        let (operation, attach, piece) = if roll < 0.6 {
+            (Operation::Sum, Attach::Bond(Direction::Random), piece)
+        } else if roll < 0.85 {
+            (
+                Operation::Difference,
+                Attach::Bond(Direction::Random),
+                piece.scale(DVec3::splat(0.7))?,
+            )
+        } else {
+            let trim = fitted_ellipsoid(part.solid(), 1.3)?;
+            (Operation::Intersection, Attach::Centre, trim)
+        };
+        if part.open_bonds().is_empty() && attach != Attach::Centre {
+            continue;
+        }
+        part.apply(&piece, 1, operation, attach, rng)?;
+    }
+    Ok((part.to_shape(), part.elements()))
+}
+
+/// A random primitive about `scale` × 2 units across, turned a random number of quarter turns
+/// (so its bonds stay axis-aligned).
+fn random_primitive(rng: &mut Rng, scale: f64) -> Result<Shape> {
+    let kind = rng.index(7);
+    let mut size = |lo: f64, hi: f64| rng.range(lo, hi) * scale;
+    let primitive = match kind {
+        0 => Primitive::Sphere {
+            radius: size(0.9, 1.5),
+        },
+        1 => Primitive::Cuboid {
+            size: DVec3::new(size(1.6, 3.0), size(1.6, 3.0), size(1.6, 3.0)),
+        },
+        2 => Primitive::Cylinder {
+            radius: size(0.8, 1.3),
+            height: size(1.6, 3.0),
+        },
+        3 => Primitive::Cone {
+            radius: size(1.0, 1.6),
+            height: size(2.0, 3.0),
+        },
+        4 => Primitive::Pyramid {
+            size: DVec3::new(size(1.8, 3.0), size(1.8, 3.0), size(1.8, 3.0)),
+        },
+        5 => {
+            let major = size(1.0, 1.5);
+            Primitive::Torus {
+                major,
+                minor: major * size(0.35, 0.55) / scale,
+            }
+        }
+        _ => Primitive::Capsule {
+            radius: size(0.7, 1.1),
+            length: size(0.5, 2.0),
+        },
+    };
+    let turns = rng.index(4) as f64 * 90.0;
+    let axis = [DVec3::X, DVec3::Y, DVec3::Z][rng.index(3)];
+    Shape::primitive(primitive)?.rotate(axis, turns)
+}
+
+/// An ellipsoid centred on the base's bounds whose semi-axes are `cover` times the bounds' half
+/// diagonal projected on each axis: it trims the base's far corners.
+fn fitted_ellipsoid(base: &Solid, cover: f64) -> Result<Shape> {
+    let size = base
+        .bounds()
+        .map_or(DVec3::ONE, |b| b.size())
+        .max(DVec3::splat(1e-3));
+    let radii = size * 0.5 * cover * 3f64.sqrt();
+    Shape::primitive(Primitive::Sphere { radius: 1.0 })?.scale(radii)
+}
