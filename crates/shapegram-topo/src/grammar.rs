@@ -131,7 +131,7 @@ impl Grammar {
     /// Reads `.grammar` JSON text and checks everything in it.
     pub fn from_json(text: &str) -> Result<Self, GrammarError> {
         let file: GrammarFile = serde_json::from_str(text).map_err(|e| GrammarError {
-            location: format!("line {} column {}", e.line(), e.column()),
+            location: format!("{}:{}", e.line(), e.column()),
             message: json_message(&e),
         })?;
         file.into_grammar()
@@ -300,7 +300,7 @@ impl Grammar {
 /// A problem in a grammar: where (a JSON path or line and column) and what.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct GrammarError {
-    /// Where: `rules[3].sub_shapes[1].vertices[5]`, or `line 4 column 12` for JSON syntax.
+    /// Where: `rules[3].sub_shapes[1].vertices[5]`, or `4:12` (line:column) for JSON syntax.
     pub location: String,
     /// What is wrong.
     pub message: String,

@@ -120,8 +120,9 @@ impl fmt::Display for GenerateError {
                 symbol,
             } => write!(
                 f,
-                "generation {generation} would make more than {limit} shapes; symbol '{symbol}' \
-                 keeps growing (fewer generations or a higher shape limit)"
+                "generation {generation} would make more than {limit} shapes, most of them \
+                 '{symbol}' (symbols that keep producing themselves never stop: use fewer \
+                 generations or a higher shape limit)"
             ),
         }
     }

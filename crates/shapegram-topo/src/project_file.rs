@@ -21,7 +21,7 @@ pub const PROJECT_VERSION: u32 = 1;
 /// A problem in a project file: where (a JSON path or line and column) and what.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct ProjectError {
-    /// Where: `rules[1].tree.above.below`, or `line 3 column 9` for JSON syntax.
+    /// Where: `rules[1].tree.above.below`, or `3:9` (line:column) for JSON syntax.
     pub location: String,
     /// What is wrong.
     pub message: String,
@@ -137,7 +137,7 @@ impl Project {
     /// Reads a project from JSON text, replaying every cut and checking every assignment.
     pub fn from_json(text: &str) -> Result<Self, ProjectError> {
         let file: ProjectFile = serde_json::from_str(text).map_err(|e| ProjectError {
-            location: format!("line {} column {}", e.line(), e.column()),
+            location: format!("{}:{}", e.line(), e.column()),
             message: json_message(&e),
         })?;
         let fail = |location: String, message: String| ProjectError { location, message };

@@ -27,19 +27,19 @@ fn project_error(value: &Value) -> String {
 fn json_syntax_errors_give_line_and_column() {
     assert_eq!(
         Grammar::from_json("").unwrap_err().to_string(),
-        "line 1 column 0: EOF while parsing a value"
+        "1:0: EOF while parsing a value"
     );
     assert_eq!(
         Grammar::from_json("{\n  \"format\": 3\n}")
             .unwrap_err()
             .to_string(),
-        "line 2 column 13: invalid type: integer `3`, expected a string"
+        "2:13: invalid type: integer `3`, expected a string"
     );
     assert_eq!(
         Project::from_json("{\"format\": \"x\",}")
             .unwrap_err()
             .to_string(),
-        "line 1 column 16: trailing comma"
+        "1:16: trailing comma"
     );
 }
 

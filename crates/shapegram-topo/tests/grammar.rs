@@ -86,8 +86,8 @@ fn symbols_that_never_terminate_hit_the_shape_limit_with_a_clear_error() {
     );
     assert_eq!(
         error.to_string(),
-        "generation 7 would make more than 100 shapes; symbol 'A' keeps growing (fewer \
-         generations or a higher shape limit)"
+        "generation 7 would make more than 100 shapes, most of them 'A' (symbols that keep \
+         producing themselves never stop: use fewer generations or a higher shape limit)"
     );
     // The state stays at the last complete generation.
     assert_eq!(state.generation(), 6);

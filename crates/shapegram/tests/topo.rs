@@ -1,0 +1,275 @@
+//! End-to-end tests of `shapegram topo`: run the shipped topological grammars to models, compile
+//! their projects, and the failures users will meet.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+use std::sync::atomic::{AtomicUsize, Ordering};
+
+use shapegram_topo::{Grammar, GrammarMesh, GrammarState};
+
+/// A fresh directory under the system temp dir, removed on drop.
+struct TempDir(PathBuf);
+
+impl TempDir {
+    fn new(test: &str) -> Self {
+        static COUNTER: AtomicUsize = AtomicUsize::new(0);
+        let n = COUNTER.fetch_add(1, Ordering::Relaxed);
+        let dir =
+            std::env::temp_dir().join(format!("shapegram-topo-{}-{test}-{n}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        Self(dir)
+    }
+
+    fn path(&self, name: &str) -> PathBuf {
+        self.0.join(name)
+    }
+}
+
+impl Drop for TempDir {
+    fn drop(&mut self) {
+        let _ = std::fs::remove_dir_all(&self.0);
+    }
+}
+
+fn example(name: &str) -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../../examples")
+        .join(name)
+}
+
+fn shapegram<S: AsRef<std::ffi::OsStr>>(args: &[S]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_shapegram"))
+        .args(args)
+        .output()
+        .unwrap()
+}
+
+/// Runs a command that must succeed, returning its stderr.
+fn ok<S: AsRef<std::ffi::OsStr>>(args: &[S]) -> String {
+    let output = shapegram(args);
+    let err = String::from_utf8(output.stderr).unwrap();
+    assert!(output.status.success(), "failed: {err}");
+    err
+}
+
+/// Runs a command that must fail with exit code 1 and one line `error: <expected>`.
+fn fails<S: AsRef<std::ffi::OsStr>>(args: &[S], expected: &str) {
+    let output = shapegram(args);
+    let err = String::from_utf8(output.stderr).unwrap();
+    assert_eq!(output.status.code(), Some(1), "stderr: {err}");
+    assert_eq!(err, format!("error: {expected}\n"));
+    assert!(output.stdout.is_empty());
+}
+
+/// The triangles the library makes for the same run, for comparison with the CLI's file.
+fn expected_triangles(grammar: &str, symbol: &str, seed: u64, generations: u32) -> usize {
+    let text = std::fs::read_to_string(example(grammar)).unwrap();
+    let grammar = Grammar::from_json(&text).unwrap();
+    let mut state = GrammarState::new(&grammar, symbol)
+        .unwrap()
+        .with_seed(seed)
+        .with_generations(generations);
+    state.generate_all().unwrap();
+    GrammarMesh::new(&state).triangle_count()
+}
+
+#[test]
+fn the_house_example_runs_to_a_glb_as_in_the_issue() {
+    let dir = TempDir::new("house");
+    let out = dir.path("house.glb");
+    let grammar = example("topo_house.grammar");
+    let err = ok(&[
+        "topo".as_ref(),
+        grammar.as_os_str(),
+        "--symbol".as_ref(),
+        "House".as_ref(),
+        "--generations".as_ref(),
+        "8".as_ref(),
+        "--seed".as_ref(),
+        "0x2a".as_ref(),
+        "-o".as_ref(),
+        out.as_os_str(),
+    ]);
+    let triangles = expected_triangles("topo_house.grammar", "House", 0x2a, 8);
+    assert_eq!(
+        err,
+        format!(
+            "wrote {}: 8 generations from House: 220 shapes (220 terminal), {triangles} \
+             triangles\n",
+            out.display()
+        )
+    );
+    let model = shapegram_export::load(&out).unwrap();
+    let read: usize = model.parts.iter().map(|p| p.mesh.face_count()).sum();
+    assert_eq!(read, triangles);
+    // Same seed, same bytes.
+    let again = dir.path("again.glb");
+    ok(&[
+        "topo".as_ref(),
+        grammar.as_os_str(),
+        "--symbol".as_ref(),
+        "House".as_ref(),
+        "--seed".as_ref(),
+        "42".as_ref(),
+        "-q".as_ref(),
+        "-o".as_ref(),
+        again.as_os_str(),
+    ]);
+    assert_eq!(std::fs::read(&out).unwrap(), std::fs::read(&again).unwrap());
+}
+
+#[test]
+fn projects_run_directly_and_write_stl_and_obj() {
+    let dir = TempDir::new("formats");
+    let project = example("topo_pyramid.sgproj.json");
+    for name in ["pyramid.stl", "pyramid.obj"] {
+        let out = dir.path(name);
+        let err = ok(&[
+            "topo".as_ref(),
+            project.as_os_str(),
+            "--generations".as_ref(),
+            "4".as_ref(),
+            "-o".as_ref(),
+            out.as_os_str(),
+        ]);
+        assert!(
+            err.ends_with("4 generations from Pyramid: 9 shapes (8 terminal), 92 triangles\n"),
+            "{err}"
+        );
+        let model = shapegram_export::load(&out).unwrap();
+        let triangles: usize = model.parts.iter().map(|p| p.mesh.face_count()).sum();
+        assert_eq!(triangles, 92);
+    }
+    assert_eq!(
+        expected_triangles("topo_pyramid.grammar", "Pyramid", 0, 4),
+        92
+    );
+}
+
+#[test]
+fn compiling_a_project_reproduces_the_shipped_grammar() {
+    let dir = TempDir::new("compile");
+    let out = dir.path("house.grammar");
+    let project = example("topo_house.sgproj.json");
+    let err = ok(&[
+        "topo".as_ref(),
+        "compile".as_ref(),
+        project.as_os_str(),
+        "-o".as_ref(),
+        out.as_os_str(),
+    ]);
+    assert_eq!(
+        err,
+        format!(
+            "wrote {}: 22 symbols (15 non-terminal), 18 rules\n",
+            out.display()
+        )
+    );
+    assert_eq!(
+        std::fs::read(&out).unwrap(),
+        std::fs::read(example("topo_house.grammar")).unwrap()
+    );
+}
+
+#[test]
+fn compiling_never_overwrites_the_project() {
+    let dir = TempDir::new("overwrite");
+    let project = dir.path("steps.sgproj.json");
+    std::fs::copy(example("topo_spiral_steps.sgproj.json"), &project).unwrap();
+    let before = std::fs::read(&project).unwrap();
+    fails(
+        &[
+            "topo".as_ref(),
+            "compile".as_ref(),
+            project.as_os_str(),
+            "-o".as_ref(),
+            project.as_os_str(),
+        ],
+        &format!(
+            "refusing to overwrite the project {} with its grammar: choose another -o",
+            project.display()
+        ),
+    );
+    assert_eq!(std::fs::read(&project).unwrap(), before);
+}
+
+#[test]
+fn bad_inputs_fail_with_one_located_line() {
+    let dir = TempDir::new("bad");
+    let broken = dir.path("broken.grammar");
+    std::fs::write(
+        &broken,
+        "{\n  \"format\": \"shapegram-topo-grammar\",\n  oops\n}",
+    )
+    .unwrap();
+    fails(
+        &["topo".as_ref(), broken.as_os_str()],
+        &format!("{}:3:3: key must be a string", broken.display()),
+    );
+    let edited = dir.path("edited.grammar");
+    let text = std::fs::read_to_string(example("topo_spiral_steps.grammar")).unwrap();
+    std::fs::write(&edited, text.replace("\"weight\": 1.0", "\"weight\": -1.0")).unwrap();
+    fails(
+        &["topo".as_ref(), edited.as_os_str()],
+        &format!(
+            "{}: rules[0].weight: -1 is not a positive number",
+            edited.display()
+        ),
+    );
+    let grammar = example("topo_spiral_steps.grammar");
+    fails(
+        &[
+            "topo".as_ref(),
+            grammar.as_os_str(),
+            "--symbol".as_ref(),
+            "B".as_ref(),
+        ],
+        "the grammar has no symbol 'B' (symbols: A, Step)",
+    );
+    let missing = dir.path("missing.grammar");
+    let output = shapegram(&["topo".as_ref(), missing.as_os_str()]);
+    let err = String::from_utf8(output.stderr).unwrap();
+    assert_eq!(output.status.code(), Some(1));
+    assert!(
+        err.starts_with(&format!("error: cannot read {}: ", missing.display())),
+        "{err}"
+    );
+    fails(
+        &["topo"],
+        "missing GRAMMAR: `shapegram topo GRAMMAR.grammar -o model.glb` or `shapegram topo \
+         compile PROJECT -o GRAMMAR.grammar`",
+    );
+}
+
+#[test]
+fn runaway_grammars_stop_at_the_shape_limit() {
+    let grammar = example("topo_house.grammar");
+    fails(
+        &[
+            "topo".as_ref(),
+            grammar.as_os_str(),
+            "--max-shapes".as_ref(),
+            "50".as_ref(),
+        ],
+        "generation 4 would make more than 50 shapes, most of them 'WindowColumn' (symbols \
+         that keep producing themselves never stop: use fewer generations or a higher shape \
+         limit)",
+    );
+}
+
+#[test]
+fn seeds_are_checked_by_the_parser() {
+    let grammar = example("topo_house.grammar");
+    let output = shapegram(&[
+        "topo".as_ref(),
+        grammar.as_os_str(),
+        "--seed".as_ref(),
+        "0x1000000000000".as_ref(),
+    ]);
+    assert_eq!(output.status.code(), Some(2));
+    let err = String::from_utf8(output.stderr).unwrap();
+    assert!(
+        err.contains("seeds are 48-bit: at most 0xffffffffffff"),
+        "{err}"
+    );
+}
