@@ -209,11 +209,18 @@ impl AssetLoader for FileAssets {
         if let Some(mesh) = cache.get(&full) {
             return Ok(Arc::clone(mesh));
         }
-        let mesh = match shapegram_export::load(&full) {
-            Ok(model) => model.merged_mesh(),
+        let loaded = if full.extension().is_some_and(|e| e == "lsys") {
+            plant(&full)
+        } else {
+            shapegram_export::load(&full)
+                .map(|model| model.merged_mesh())
+                .map_err(|e| e.to_string())
+        };
+        let mesh = match loaded {
+            Ok(mesh) => mesh,
             Err(e) => {
                 let Some(stand_in) = self.stand_in() else {
-                    return Err(e.to_string());
+                    return Err(e);
                 };
                 // Cached, so each missing file is reported once.
                 eprintln!(
@@ -230,6 +237,20 @@ impl AssetLoader for FileAssets {
         cache.insert(full, Arc::clone(&mesh));
         Ok(mesh)
     }
+}
+
+/// The geometry of an L-system file (`i("tree.lsys")`): derived with the settings of the file,
+/// drawn with the turtle, as one mesh that `i` stretches to the scope like any asset.
+fn plant(path: &Path) -> Result<Mesh, String> {
+    let text = std::fs::read_to_string(path)
+        .map_err(|e| format!("cannot read {}: {e}", path.display()))?;
+    let name = path.display().to_string();
+    let system = shapegram_lsystem::LSystem::parse(&text).map_err(|e| e.render(&name, &text))?;
+    let word = system
+        .derive(&shapegram_lsystem::DeriveOptions::default())
+        .map_err(|e| e.render(&name, &text))?;
+    let drawing = shapegram_lsystem::interpret(&system, &word);
+    Ok(shapegram_lsystem::drawing_to_model(&drawing, &system.settings).merged_mesh())
 }
 
 /// The JSON object of `--stats`; field order is output order.

@@ -1087,3 +1087,22 @@ fn check_accepts_the_cityengine_anchor_grammars() {
     assert!(output.status.success(), "{err}");
     assert_eq!(err.lines().filter(|l| l.starts_with("ok: ")).count(), 23);
 }
+
+#[test]
+fn l_systems_are_planted_as_assets() {
+    // The park example: a lawn, paths and a grid of trees, each the L-system of tree-3d.lsys.
+    let park = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples/park.cga");
+    let stats = derive_stats(&park, &[]);
+    assert_eq!(rule(&stats, "Spot"), 6);
+    assert_eq!(stats["leaves"], 13);
+    // Each tree is far more than a box: thousands of triangles of tubes and leaves.
+    assert!(stats["triangles"].as_u64().unwrap() > 6 * 1000, "{stats}");
+
+    // A broken L-system is an error at the insert, with the place in the L-system file.
+    let dir = TempDir::new("lsys-asset");
+    let grammar = dir.path("garden.cga");
+    std::fs::write(&grammar, "Lot --> s(2, 3, 2) i(\"weed.lsys\") Weed.\n").unwrap();
+    std::fs::write(dir.path("weed.lsys"), "n: 3\naxiom: F\nF : -> F\n").unwrap();
+    let err = fails(&["derive", text(&grammar)], 1, "cannot insert `weed.lsys`:");
+    assert!(err.contains("weed.lsys:3:"), "{err}");
+}
