@@ -362,6 +362,10 @@ fn mesh_block(
         }
     }
     let values = &mut scratch.values[..count];
+    let lo = grid.sample(region.lo[0], region.lo[1], region.lo[2]);
+    let hi = grid.sample(region.hi[0], region.hi[1], region.hi[2]);
+    let reach = (hi - lo).length() * 0.5 * (1.0 + 1e-9) + h * 1e-6;
+    let tape = tape.pruned(ws, (lo + hi) * 0.5, reach);
     tape.eval(
         ws,
         &scratch.xs[..count],

@@ -52,29 +52,65 @@ impl Convexity {
 /// plane (a convex fold), negative in front (concave). Edges bending less than `flat_degrees`
 /// are flat. Boundary and non-manifold edges are skipped.
 pub fn convexity(mesh: &Mesh, flat_degrees: f64) -> Convexity {
+    edge_analysis(mesh, flat_degrees).0
+}
+
+/// One pass over the edges of a mesh: how they bend and how they pair up (the same counts as
+/// [`Mesh::edge_report`], found by sorting instead of hashing, which matters for meshes of
+/// millions of triangles).
+pub fn edge_analysis(mesh: &Mesh, flat_degrees: f64) -> (Convexity, EdgeReport) {
+    // (undirected edge key, face, runs from the lower vertex to the higher one)
+    let mut uses: Vec<(u64, u32, bool)> = Vec::with_capacity(mesh.indices_len());
+    for (f, face) in mesh.faces().enumerate() {
+        for (i, &u) in face.iter().enumerate() {
+            let v = face[(i + 1) % face.len()];
+            if u != v {
+                let key = u64::from(u.min(v)) << 32 | u64::from(u.max(v));
+                uses.push((key, f as u32, u < v));
+            }
+        }
+    }
+    uses.sort_unstable();
     let normals: Vec<_> = (0..mesh.face_count())
         .map(|f| mesh.face_normal(f))
         .collect();
     let flat_cos = flat_degrees.to_radians().cos();
-    let mut result = Convexity {
+    let mut bends = Convexity {
         convex: 0,
         concave: 0,
         flat: 0,
     };
-    for edge in mesh.edges() {
-        let ([f1], [f2]) = (edge.forward.as_slice(), edge.backward.as_slice()) else {
-            continue;
-        };
-        let (n1, n2) = (normals[*f1], normals[*f2]);
+    let mut report = EdgeReport::default();
+    for group in uses.chunk_by(|x, y| x.0 == y.0) {
+        report.edges += 1;
+        let forward = group.iter().filter(|u| u.2).count();
+        match (forward, group.len() - forward) {
+            (1, 1) => {}
+            (f, b) if f + b == 1 => {
+                report.boundary += 1;
+                continue;
+            }
+            (f, b) if f + b > 2 => {
+                report.non_manifold += 1;
+                continue;
+            }
+            _ => {
+                report.misoriented += 1;
+                continue;
+            }
+        }
+        let (f1, f2) = (group[0].1 as usize, group[1].1 as usize);
+        let (n1, n2) = (normals[f1], normals[f2]);
+        let corner = mesh.position((group[0].0 >> 32) as u32);
         if n1.dot(n2) >= flat_cos {
-            result.flat += 1;
-        } else if (mesh.face_centroid(*f2) - mesh.position(edge.a)).dot(n1) < 0.0 {
-            result.convex += 1;
+            bends.flat += 1;
+        } else if (mesh.face_centroid(f2) - corner).dot(n1) < 0.0 {
+            bends.convex += 1;
         } else {
-            result.concave += 1;
+            bends.concave += 1;
         }
     }
-    result
+    (bends, report)
 }
 
 /// All metrics of a meshed solid.
@@ -102,6 +138,7 @@ impl Metrics {
     /// Measures a meshing of a solid made of `elements` primitives.
     pub fn measure(meshing: &Meshing, elements: usize) -> Self {
         let mesh = &meshing.mesh;
+        let (convexity, edges) = edge_analysis(mesh, DEFAULT_FLAT_ANGLE);
         Self {
             triangles: mesh.face_count(),
             vertices: mesh.vertex_count(),
@@ -109,8 +146,8 @@ impl Metrics {
             area: surface_area(mesh),
             voxel_volume: meshing.voxel_volume(),
             mesh_volume: mesh_volume(mesh),
-            convexity: convexity(mesh, DEFAULT_FLAT_ANGLE),
-            edges: mesh.edge_report(),
+            convexity,
+            edges,
         }
     }
 }

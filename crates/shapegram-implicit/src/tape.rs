@@ -56,6 +56,8 @@ pub struct Tape {
     point_sets: usize,
     slots: usize,
     result: usize,
+    /// A bound on how fast each slot's final value changes per unit of distance in world space.
+    lipschitz: Vec<f64>,
 }
 
 /// Where an already emitted node's value lives, keyed by the node's address and its point set:
@@ -78,8 +80,9 @@ impl Tape {
             point_sets: 1,
             slots: 0,
             result: 0,
+            lipschitz: Vec::new(),
         };
-        tape.result = tape.emit(solid.shared_node(), 0, &mut Emitted::default());
+        tape.result = tape.emit(solid.shared_node(), 0, 1.0, &mut Emitted::default());
         tape
     }
 
@@ -102,17 +105,19 @@ impl Tape {
 
     /// Emits the instructions of `node` evaluated on point set `points` (once); returns its value
     /// slot.
-    fn emit(&mut self, node: &Arc<Node>, points: usize, emitted: &mut Emitted) -> usize {
+    /// `lip` bounds the node's rate of change in world space.
+    fn emit(&mut self, node: &Arc<Node>, points: usize, lip: f64, emitted: &mut Emitted) -> usize {
         let key = (Arc::as_ptr(node), points);
         if let Some(&slot) = emitted.get(&key) {
             return slot;
         }
-        let slot = self.emit_new(node, points, emitted);
+        let slot = self.emit_new(node, points, lip, emitted);
+        self.lipschitz[slot] = lip;
         emitted.insert(key, slot);
         slot
     }
 
-    fn emit_new(&mut self, node: &Node, points: usize, emitted: &mut Emitted) -> usize {
+    fn emit_new(&mut self, node: &Node, points: usize, lip: f64, emitted: &mut Emitted) -> usize {
         match node {
             Node::Empty => {
                 let out = self.slot();
@@ -143,7 +148,9 @@ impl Tape {
                     dst,
                     map: *inverse,
                 });
-                let slot = self.emit(child, dst, emitted);
+                // The child sees points under the inverse map, which stretches distances by at
+                // most 1 / factor; the factor then scales its values back.
+                let slot = self.emit(child, dst, lip / factor, emitted);
                 if *factor != 1.0 {
                     self.ops.push(Op::Scale {
                         slot,
@@ -152,18 +159,18 @@ impl Tape {
                 }
                 slot
             }
-            Node::Union(a, b) => self.binary(Binary::Max, [a, b], points, emitted),
-            Node::Difference(a, b) => self.binary(Binary::MinNeg, [a, b], points, emitted),
-            Node::Intersection(a, b) => self.binary(Binary::Min, [a, b], points, emitted),
-            Node::Morph(a, b, t) => self.binary(Binary::Morph(*t), [a, b], points, emitted),
+            Node::Union(a, b) => self.binary(Binary::Max, [a, b], points, lip, emitted),
+            Node::Difference(a, b) => self.binary(Binary::MinNeg, [a, b], points, lip, emitted),
+            Node::Intersection(a, b) => self.binary(Binary::Min, [a, b], points, lip, emitted),
+            Node::Morph(a, b, t) => self.binary(Binary::Morph(*t), [a, b], points, lip, emitted),
             Node::SmoothUnion(a, b, k) => {
-                self.binary(Binary::SmoothMax(*k), [a, b], points, emitted)
+                self.binary(Binary::SmoothMax(*k), [a, b], points, lip, emitted)
             }
             Node::SmoothDifference(a, b, k) => {
-                self.binary(Binary::SmoothMinNeg(*k), [a, b], points, emitted)
+                self.binary(Binary::SmoothMinNeg(*k), [a, b], points, lip, emitted)
             }
             Node::SmoothIntersection(a, b, k) => {
-                self.binary(Binary::SmoothMin(*k), [a, b], points, emitted)
+                self.binary(Binary::SmoothMin(*k), [a, b], points, lip, emitted)
             }
         }
     }
@@ -173,10 +180,11 @@ impl Tape {
         kind: Binary,
         [a, b]: [&Arc<Node>; 2],
         points: usize,
+        lip: f64,
         emitted: &mut Emitted,
     ) -> usize {
-        let a = self.emit(a, points, emitted);
-        let b = self.emit(b, points, emitted);
+        let a = self.emit(a, points, lip, emitted);
+        let b = self.emit(b, points, lip, emitted);
         let out = self.slot();
         self.ops.push(Op::Binary { kind, a, b, out });
         out
@@ -184,7 +192,99 @@ impl Tape {
 
     fn slot(&mut self) -> usize {
         self.slots += 1;
+        self.lipschitz.push(1.0);
         self.slots - 1
+    }
+
+    /// The tape specialised to the ball of `radius` around `centre`: where one operand of a
+    /// maximum or minimum wins everywhere in the ball (by the Lipschitz bounds of both around
+    /// their values at the centre), the other operand and everything only it needs are dropped.
+    /// A cave of fifty primitives keeps the few near each block.
+    pub fn pruned(&self, ws: &mut Workspace, centre: DVec3, radius: f64) -> Tape {
+        self.value(ws, centre);
+        let range = |slot: usize| {
+            let v = ws.values[slot][0];
+            let spread = self.lipschitz[slot] * radius;
+            (v - spread, v + spread)
+        };
+        let mut alias: Vec<usize> = (0..self.slots).collect();
+        let mut kept = Vec::with_capacity(self.ops.len());
+        for op in &self.ops {
+            let mut op = op.clone();
+            match &mut op {
+                Op::Binary { kind, a, b, out } => {
+                    (*a, *b) = (alias[*a], alias[*b]);
+                    let ((a_lo, a_hi), (b_lo, b_hi)) = (range(*a), range(*b));
+                    let winner = match *kind {
+                        Binary::Max if a_lo >= b_hi => Some(*a),
+                        Binary::Max if b_lo >= a_hi => Some(*b),
+                        Binary::Min if a_hi <= b_lo => Some(*a),
+                        Binary::Min if b_hi <= a_lo => Some(*b),
+                        Binary::MinNeg if a_hi <= -b_hi => Some(*a),
+                        Binary::SmoothMax(k) if a_lo - k >= b_hi => Some(*a),
+                        Binary::SmoothMax(k) if b_lo - k >= a_hi => Some(*b),
+                        Binary::SmoothMin(k) if a_hi + k <= b_lo => Some(*a),
+                        Binary::SmoothMin(k) if b_hi + k <= a_lo => Some(*b),
+                        Binary::SmoothMinNeg(k) if a_hi + k <= -b_hi => Some(*a),
+                        _ => None,
+                    };
+                    if let Some(w) = winner {
+                        alias[*out] = w;
+                        continue;
+                    }
+                }
+                Op::Scale { slot, .. } => *slot = alias[*slot],
+                _ => {}
+            }
+            kept.push(op);
+        }
+        // Drop what nothing live reads, walking backwards from the result.
+        let result = alias[self.result];
+        let mut live_slot = vec![false; self.slots];
+        let mut live_points = vec![false; self.point_sets];
+        live_slot[result] = true;
+        let mut needed = vec![false; kept.len()];
+        for (i, op) in kept.iter().enumerate().rev() {
+            needed[i] = match *op {
+                Op::Map { src, dst, .. } => {
+                    live_points[src] |= live_points[dst];
+                    live_points[dst]
+                }
+                Op::Primitive { points, out, .. } => {
+                    live_points[points] |= live_slot[out];
+                    live_slot[out]
+                }
+                Op::Fill { out, .. } | Op::Scale { slot: out, .. } => live_slot[out],
+                Op::Binary { a, b, out, .. } => {
+                    if live_slot[out] {
+                        live_slot[a] = true;
+                        live_slot[b] = true;
+                    }
+                    live_slot[out]
+                }
+            };
+        }
+        Tape {
+            ops: kept
+                .into_iter()
+                .zip(needed)
+                .filter_map(|(op, n)| n.then_some(op))
+                .collect(),
+            point_sets: self.point_sets,
+            slots: self.slots,
+            result,
+            lipschitz: self.lipschitz.clone(),
+        }
+    }
+
+    /// Number of instructions (a measure of evaluation cost).
+    pub fn len(&self) -> usize {
+        self.ops.len()
+    }
+
+    /// Whether the tape has no instructions (never: even the empty solid fills its slot).
+    pub fn is_empty(&self) -> bool {
+        self.ops.is_empty()
     }
 
     /// Evaluates the field at the points `(xs[i], ys[i], zs[i])` into `out`. All slices have

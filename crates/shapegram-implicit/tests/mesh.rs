@@ -7,7 +7,7 @@ use std::f64::consts::PI;
 
 use common::{assert_closed_outward, meshed, relative_error, smallest_relative_area};
 use glam::DVec3;
-use shapegram_implicit::metrics::{DEFAULT_FLAT_ANGLE, convexity};
+use shapegram_implicit::metrics::{DEFAULT_FLAT_ANGLE, convexity, edge_analysis};
 use shapegram_implicit::{MeshOptions, Metrics, Solid, mesh};
 
 #[test]
@@ -447,9 +447,53 @@ proptest::proptest! {
         let m = meshed(&scene, cells);
         if !m.mesh.is_empty() {
             let report = m.mesh.edge_report();
+            // The metrics' own edge pass agrees with the kernel's.
+            proptest::prop_assert_eq!(edge_analysis(&m.mesh, 3.0).1, report);
             proptest::prop_assert!(report.is_watertight(), "{:?}", report);
             proptest::prop_assert!(m.mesh.signed_volume() > 0.0);
             proptest::prop_assert!(smallest_relative_area(&m.mesh, m.grid.cell_size) > 1e-9);
         }
+    }
+}
+
+#[test]
+fn convexity_of_exact_polyhedra_and_broken_meshes() {
+    use shapegram_geom::primitives;
+    // Exact convex polyhedra from the kernel: every bent edge is convex.
+    for m in [
+        primitives::cuboid(DVec3::new(1.0, 2.0, 3.0)),
+        primitives::cylinder(DVec3::ONE, 24),
+        primitives::sphere(DVec3::ONE, 24, 12),
+    ] {
+        let (bends, report) = edge_analysis(&m, DEFAULT_FLAT_ANGLE);
+        assert_eq!(bends.factor(), 100.0);
+        assert!(bends.convex > 0 && bends.concave == 0);
+        assert_eq!(report, m.edge_report());
+    }
+    // An L-shaped prism has exactly one concave edge (the inner corner's vertical edge).
+    let l = [
+        (0.0, 0.0),
+        (0.0, 2.0),
+        (1.0, 2.0),
+        (1.0, 1.0),
+        (2.0, 1.0),
+        (2.0, 0.0),
+    ]
+    .map(|(x, z)| DVec3::new(x, 0.0, z));
+    let prism = shapegram_geom::extrude::extrude_polygon(&l, 1.0).unwrap();
+    let (bends, report) = edge_analysis(&prism, DEFAULT_FLAT_ANGLE);
+    assert!(report.is_watertight(), "{report:?}");
+    assert_eq!((bends.convex, bends.concave), (17, 1));
+    assert!((bends.factor() - 100.0 * 17.0 / 18.0).abs() < 1e-12);
+    // A flipped face and a missing face are reported like the kernel does.
+    let cube = primitives::cuboid(DVec3::ONE);
+    let faces: Vec<Vec<u32>> = cube.faces().map(<[u32]>::to_vec).collect();
+    let mut flipped = faces.clone();
+    flipped[0].reverse();
+    let flipped = shapegram_geom::Mesh::from_faces(cube.positions().to_vec(), flipped);
+    let open = shapegram_geom::Mesh::from_faces(cube.positions().to_vec(), &faces[1..]);
+    for m in [flipped, open] {
+        assert_eq!(edge_analysis(&m, DEFAULT_FLAT_ANGLE).1, m.edge_report());
+        assert!(!m.edge_report().is_watertight());
     }
 }
