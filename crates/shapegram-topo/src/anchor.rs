@@ -77,6 +77,8 @@ pub struct CanonicalOrder {
     pub rank: Vec<Index>,
     /// The shape's topology in canonical numbers.
     pub topology: Topology,
+    /// Face of the shape for each face of `topology`, in traversal order.
+    pub faces: Vec<Index>,
 }
 
 /// Numbers the vertices of `shape` from `anchor`; `None` when the anchor names no half-edge.
@@ -105,7 +107,7 @@ pub fn canonical_order(shape: &Polyhedron, anchor: Anchor) -> Option<CanonicalOr
             }
         }
     }
-    let faces = entered
+    let loops = entered
         .iter()
         .map(|&entry| {
             std::iter::successors(Some(entry), |&h| {
@@ -116,11 +118,12 @@ pub fn canonical_order(shape: &Polyhedron, anchor: Anchor) -> Option<CanonicalOr
         })
         .collect();
     Some(CanonicalOrder {
+        faces: entered.iter().map(|&h| shape.face_of(h)).collect(),
         vertices,
         rank,
         topology: Topology {
             vertex_count: shape.vertex_count(),
-            faces,
+            faces: loops,
         },
     })
 }

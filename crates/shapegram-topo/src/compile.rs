@@ -10,11 +10,12 @@
 use std::fmt;
 
 use rustc_hash::FxHashMap;
+use shapegram_geom::Color;
 
 use crate::anchor::{Anchor, Topology, canonical_order};
 use crate::grammar::{Grammar, GrammarRule, GrammarShape, GrammarSymbol, SubShape};
 use crate::polyhedron::Index;
-use crate::project::{Assignment, EditError, NodeKind, Project, check_instance};
+use crate::project::{Assignment, EditError, NodeKind, Project, Symbol, check_instance};
 
 /// Why a project does not compile.
 #[derive(Clone, Debug, PartialEq)]
@@ -53,6 +54,7 @@ pub fn compile(project: &Project) -> Result<Grammar, CompileError> {
         symbols.push(GrammarSymbol {
             name: Some(symbol.name.clone()),
             color: symbol.color,
+            face_colors: canonical_face_colors(symbol, &order.faces),
             vertex_count: symbol.shape.vertex_count() as u32,
             faces: order.topology.faces,
             rules: Vec::new(),
@@ -103,6 +105,7 @@ pub fn compile(project: &Project) -> Result<Grammar, CompileError> {
                     symbols.push(GrammarSymbol {
                         name: None,
                         color: None,
+                        face_colors: Vec::new(),
                         vertex_count: node.shape.vertex_count() as u32,
                         faces: order.topology.faces.clone(),
                         rules: Vec::new(),
@@ -139,4 +142,22 @@ pub fn compile(project: &Project) -> Result<Grammar, CompileError> {
         message: e.message,
     })?;
     Ok(grammar)
+}
+
+/// The symbol's face colours in canonical face order (`faces`: shape face per canonical face);
+/// empty when it has none.
+fn canonical_face_colors(symbol: &Symbol, faces: &[Index]) -> Vec<Option<Color>> {
+    if symbol.face_colors.is_empty() {
+        return Vec::new();
+    }
+    faces
+        .iter()
+        .map(|f| {
+            symbol
+                .face_colors
+                .iter()
+                .find(|(g, _)| g == f)
+                .map(|&(_, c)| c)
+        })
+        .collect()
 }

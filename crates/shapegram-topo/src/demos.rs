@@ -14,6 +14,9 @@ const X: DVec3 = DVec3::X;
 const Y: DVec3 = DVec3::Y;
 const Z: DVec3 = DVec3::Z;
 
+/// The house's wall colour, also used for the gable ends of its roof.
+const WALL_COLOR: &str = "#e6dcc6";
+
 /// Shorthands over [`Project`] for writing grammars as code.
 struct Author {
     project: Project,
@@ -238,7 +241,7 @@ pub fn house() -> Result<Project, EditError> {
         ("Door", DVec3::new(4.0, 2.5, 0.3), None),
         ("Panes", DVec3::new(1.7, 1.4, 0.3), None),
         ("PaneColumn", DVec3::new(0.8, 1.4, 0.3), None),
-        ("Wall", wall, Some("#e6dcc6")),
+        ("Wall", wall, Some(WALL_COLOR)),
         ("Floor", DVec3::new(10.0, 0.2, 8.0), Some("#8a8580")),
         ("Frame", DVec3::new(0.1, 1.0, 0.3), Some("#f6f4ee")),
         ("Glass", DVec3::new(1.0, 1.0, 0.1), Some("#5b8db8")),
@@ -361,7 +364,8 @@ fn recessed(
     a.put(rule, back, symbol)
 }
 
-/// The roof box cut by two 3-point cuts into a triangular prism, ridge along x.
+/// The roof box cut by two 3-point cuts into a triangular prism, ridge along x, its gable ends
+/// coloured as wall.
 fn gable_roof(a: &mut Author) -> Result<Index, EditError> {
     let rule = a.rule("Roof", "gable", 1.0)?;
     let body = gable_cuts(a, rule)?;
@@ -369,6 +373,14 @@ fn gable_roof(a: &mut Author) -> Result<Index, EditError> {
         .project
         .symbol_from_leaf(rule, body, "GableRoof", Anchor::new(0, 0))?;
     a.project.set_color(roof, Color::from_hex("#a63d2f"))?;
+    // The triangular gable ends are wall, not roof tiles.
+    let shape = a.project.symbol(roof)?.shape.clone();
+    for face in 0..shape.face_count() {
+        if shape.face_normal(face).x.abs() > 0.5 {
+            a.project
+                .set_face_color(roof, face, Color::from_hex(WALL_COLOR))?;
+        }
+    }
     Ok(rule)
 }
 

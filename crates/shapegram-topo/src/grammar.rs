@@ -42,6 +42,9 @@ pub struct GrammarSymbol {
     pub name: Option<String>,
     /// Colour of its shapes in meshes; `None` for the default grey.
     pub color: Option<Color>,
+    /// Colours of single faces (one entry per face, in `faces` order), overriding `color`;
+    /// empty when no face has its own colour.
+    pub face_colors: Vec<Option<Color>>,
     /// Number of vertices.
     pub vertex_count: u32,
     /// Face loops in canonical vertex numbers, counter-clockwise seen from outside.
@@ -168,6 +171,16 @@ impl Grammar {
             }
             if let Err(e) = polyhedron::check_topology(n, &symbol.faces) {
                 return err(at("faces"), e.to_string());
+            }
+            if !symbol.face_colors.is_empty() && symbol.face_colors.len() != symbol.faces.len() {
+                return err(
+                    at("face_colors"),
+                    format!(
+                        "{} colours for {} faces (give one per face, null for none)",
+                        symbol.face_colors.len(),
+                        symbol.faces.len()
+                    ),
+                );
             }
             for (k, &r) in symbol.rules.iter().enumerate() {
                 match self.rules.get(r as usize) {
@@ -314,6 +327,20 @@ impl fmt::Display for GrammarError {
 
 impl std::error::Error for GrammarError {}
 
+/// An optional `#rrggbb` colour from a file; `location` names the field for the error.
+fn parse_color(
+    hex: Option<&str>,
+    location: impl FnOnce() -> String,
+) -> Result<Option<Color>, GrammarError> {
+    match hex {
+        None => Ok(None),
+        Some(hex) => Color::from_hex(hex).map(Some).ok_or_else(|| GrammarError {
+            location: location(),
+            message: format!("'{}' is not a colour like '#3a6ea5'", hex.escape_debug()),
+        }),
+    }
+}
+
 /// A serde error message without serde's own "at line … column …" suffix.
 pub(crate) fn json_message(e: &serde_json::Error) -> String {
     let text = e.to_string();
@@ -347,6 +374,8 @@ struct SymbolEntry {
     name: Option<String>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     color: Option<String>,
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    face_colors: Vec<Option<String>>,
     vertex_count: u32,
     faces: Vec<Vec<Index>>,
     rules: Vec<Index>,
@@ -387,6 +416,11 @@ impl From<&Grammar> for GrammarFile {
                 .map(|s| SymbolEntry {
                     name: s.name.clone(),
                     color: s.color.map(|c| c.to_hex()),
+                    face_colors: s
+                        .face_colors
+                        .iter()
+                        .map(|c| c.map(|c| c.to_hex()))
+                        .collect(),
                     vertex_count: s.vertex_count,
                     faces: s.faces.clone(),
                     rules: s.rules.clone(),
@@ -448,16 +482,19 @@ impl GrammarFile {
         }
         let mut symbols = Vec::with_capacity(self.symbols.len());
         for (i, s) in self.symbols.into_iter().enumerate() {
-            let color = match &s.color {
-                None => None,
-                Some(hex) => Some(Color::from_hex(hex).ok_or_else(|| GrammarError {
-                    location: format!("symbols[{i}].color"),
-                    message: format!("'{}' is not a colour like '#3a6ea5'", hex.escape_debug()),
-                })?),
-            };
+            let color = parse_color(s.color.as_deref(), || format!("symbols[{i}].color"))?;
+            let face_colors = s
+                .face_colors
+                .iter()
+                .enumerate()
+                .map(|(f, hex)| {
+                    parse_color(hex.as_deref(), || format!("symbols[{i}].face_colors[{f}]"))
+                })
+                .collect::<Result<_, _>>()?;
             symbols.push(GrammarSymbol {
                 name: s.name,
                 color,
+                face_colors,
                 vertex_count: s.vertex_count,
                 faces: s.faces,
                 rules: s.rules,

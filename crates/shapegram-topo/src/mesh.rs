@@ -11,7 +11,7 @@ use crate::polyhedron::Index;
 /// so no degenerate triangle reaches an exporter.
 const MIN_RELATIVE_AREA: f64 = 1e-12;
 
-/// The triangles of every shape of one symbol.
+/// The triangles of every shape of one symbol (of one colour).
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct MeshPart {
     /// The symbol.
@@ -28,7 +28,8 @@ pub struct MeshPart {
     pub triangles: Vec<[u32; 3]>,
 }
 
-/// The triangle mesh of a grammar state: one part per symbol with shapes, in symbol order.
+/// The triangle mesh of a grammar state: one part per symbol with shapes (and per face colour
+/// of it), in symbol order.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct GrammarMesh {
     /// The parts.
@@ -41,24 +42,41 @@ impl GrammarMesh {
         Self::from_lists(state.grammar(), [state.terminals(), state.non_terminals()])
     }
 
-    /// Meshes the shapes of `lists`, which must come from `grammar`.
+    /// Meshes the shapes of `lists`, which must come from `grammar`. Faces with a colour of
+    /// their own go to a part of that colour (named after the symbol too).
     pub fn from_lists<'a>(
         grammar: &Grammar,
         lists: impl IntoIterator<Item = &'a ShapeList>,
     ) -> Self {
-        let mut by_symbol: Vec<Option<MeshPart>> = vec![None; grammar.symbols.len()];
+        // Per symbol, its parts: the symbol's colour first, then face colours as met.
+        let mut by_symbol: Vec<Vec<MeshPart>> = vec![Vec::new(); grammar.symbols.len()];
         for list in lists {
             for i in 0..list.len() {
                 let symbol = list.symbol(i);
-                let part = by_symbol[symbol as usize].get_or_insert_with(|| MeshPart {
-                    symbol,
-                    name: grammar.display_name(symbol).to_owned(),
-                    color: grammar.symbols[symbol as usize].color.unwrap_or_default(),
-                    ..MeshPart::default()
-                });
+                let entry = &grammar.symbols[symbol as usize];
+                let parts = &mut by_symbol[symbol as usize];
                 let vertices = list.vertices(i);
-                for face in &grammar.symbols[symbol as usize].faces {
-                    part.add_face(face.iter().map(|&v| vertices[v as usize]));
+                for (f, face) in entry.faces.iter().enumerate() {
+                    let color = entry
+                        .face_colors
+                        .get(f)
+                        .copied()
+                        .flatten()
+                        .or(entry.color)
+                        .unwrap_or_default();
+                    let k = match parts.iter().position(|p| p.color == color) {
+                        Some(k) => k,
+                        None => {
+                            parts.push(MeshPart {
+                                symbol,
+                                name: grammar.display_name(symbol).to_owned(),
+                                color,
+                                ..MeshPart::default()
+                            });
+                            parts.len() - 1
+                        }
+                    };
+                    parts[k].add_face(face.iter().map(|&v| vertices[v as usize]));
                 }
             }
         }

@@ -35,6 +35,9 @@ pub struct Symbol {
     pub name: String,
     /// Colour of its shapes in meshes (`None`: default grey).
     pub color: Option<Color>,
+    /// Colours of single faces of the prototype, overriding `color` (face index, colour), in
+    /// increasing face order.
+    pub face_colors: Vec<(Index, Color)>,
     /// The prototype shape: the geometry rules are drawn on and generation starts from.
     pub shape: Polyhedron,
     /// The reference anchor, fixing the symbol's vertex order and so its direction.

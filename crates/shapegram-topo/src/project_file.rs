@@ -50,10 +50,19 @@ struct SymbolEntry {
     name: String,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     color: Option<String>,
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    face_colors: Vec<FaceColorEntry>,
     vertices: Vec<Point>,
     faces: Vec<Vec<Index>>,
     /// `[face, corner]`.
     anchor: [Index; 2],
+}
+
+#[derive(Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct FaceColorEntry {
+    face: Index,
+    color: String,
 }
 
 #[derive(Serialize, Deserialize)]
@@ -97,6 +106,14 @@ impl Project {
                 .map(|s| SymbolEntry {
                     name: s.name.clone(),
                     color: s.color.map(|c| c.to_hex()),
+                    face_colors: s
+                        .face_colors
+                        .iter()
+                        .map(|&(face, c)| FaceColorEntry {
+                            face,
+                            color: c.to_hex(),
+                        })
+                        .collect(),
                     vertices: s.shape.positions().iter().map(|&p| point(p)).collect(),
                     faces: s.shape.face_loops(),
                     anchor: [s.anchor.face, s.anchor.corner],
@@ -177,6 +194,21 @@ impl Project {
                     )
                 })?;
                 project.symbols[symbol as usize].color = Some(color);
+            }
+            for (k, face_color) in entry.face_colors.iter().enumerate() {
+                let at = format!("{at}.face_colors[{k}]");
+                let color = Color::from_hex(&face_color.color).ok_or_else(|| {
+                    fail(
+                        at.clone(),
+                        format!(
+                            "'{}' is not a colour like '#3a6ea5'",
+                            face_color.color.escape_debug()
+                        ),
+                    )
+                })?;
+                project
+                    .set_face_color(symbol, face_color.face, Some(color))
+                    .map_err(|e| fail(at, e.to_string()))?;
             }
         }
         for (r, entry) in file.rules.into_iter().enumerate() {

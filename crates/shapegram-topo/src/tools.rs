@@ -38,6 +38,7 @@ impl Project {
         self.symbols.push(Symbol {
             name: name.to_owned(),
             color: None,
+            face_colors: Vec::new(),
             shape,
             anchor,
         });
@@ -73,6 +74,29 @@ impl Project {
     pub fn set_color(&mut self, symbol: Index, color: Option<Color>) -> Result<(), EditError> {
         self.symbol(symbol)?;
         self.symbols[symbol as usize].color = color;
+        Ok(())
+    }
+
+    /// Sets (or with `None` clears) the colour of one face of symbol `symbol`'s shapes, which
+    /// overrides the symbol's colour there (the thesis's per-face materials, 4.4).
+    pub fn set_face_color(
+        &mut self,
+        symbol: Index,
+        face: Index,
+        color: Option<Color>,
+    ) -> Result<(), EditError> {
+        let faces = self.symbol(symbol)?.shape.face_count();
+        if face >= faces {
+            return Err(EditError::NotFound(format!(
+                "symbol {symbol} has no face {face} (it has {faces})"
+            )));
+        }
+        let colors = &mut self.symbols[symbol as usize].face_colors;
+        colors.retain(|&(f, _)| f != face);
+        if let Some(color) = color {
+            colors.push((face, color));
+            colors.sort_by_key(|&(f, _)| f);
+        }
         Ok(())
     }
 

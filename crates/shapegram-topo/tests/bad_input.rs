@@ -132,6 +132,12 @@ fn bad_numbers_and_names_are_refused() {
         grammar_error(&g),
         "symbols[1].color: '#zz0000' is not a colour like '#3a6ea5'"
     );
+    let mut g = spiral_grammar();
+    g["symbols"][1]["face_colors"] = json!([null, "#ffffff"]);
+    assert_eq!(
+        grammar_error(&g),
+        "symbols[1].face_colors: 2 colours for 6 faces (give one per face, null for none)"
+    );
     let text = spiral_grammar().to_string().replace("4.0", "1e999");
     assert!(
         Grammar::from_json(&text)

@@ -277,6 +277,44 @@ fn a_one_storey_house_with_a_wide_door_has_the_expected_parts() {
 }
 
 #[test]
+fn faces_with_their_own_colour_get_their_own_part() {
+    let grammar = compile(&demos::house().unwrap()).unwrap();
+    let gable = grammar.symbol_named("GableRoof").unwrap();
+    let colors = &grammar.symbols[gable as usize].face_colors;
+    assert_eq!(colors.len(), 5);
+    assert_eq!(colors.iter().filter(|c| c.is_some()).count(), 2);
+    let seed = (0..64)
+        .find(|&seed| {
+            let mut state = GrammarState::new(&grammar, "House")
+                .unwrap()
+                .with_seed(seed)
+                .with_generations(8);
+            state.generate_all().unwrap();
+            (0..state.terminals().len()).any(|i| state.terminals().symbol(i) == gable)
+        })
+        .unwrap();
+    let mut state = GrammarState::new(&grammar, "House")
+        .unwrap()
+        .with_seed(seed)
+        .with_generations(8);
+    state.generate_all().unwrap();
+    let mesh = GrammarMesh::new(&state);
+    let roof_parts: Vec<_> = mesh.parts.iter().filter(|p| p.symbol == gable).collect();
+    assert_eq!(roof_parts.len(), 2);
+    // Two slopes and the underside, two triangles each, in the roof colour; the two gable
+    // triangles in the wall colour.
+    let triangles = |hex: &str| {
+        roof_parts
+            .iter()
+            .find(|p| p.color.to_hex() == hex)
+            .map(|p| p.triangles.len())
+    };
+    assert_eq!(triangles("#a63d2f"), Some(6));
+    assert_eq!(triangles("#e6dcc6"), Some(2));
+    assert!(roof_parts.iter().all(|p| p.name == "GableRoof"));
+}
+
+#[test]
 fn generation_is_deterministic_and_seeds_are_48_bit() {
     let grammar = compile(&demos::house().unwrap()).unwrap();
     let mesh = |seed: u64| {
