@@ -190,41 +190,94 @@ mod tests {
         }
     }
 
-    #[test]
-    fn the_order_ignores_how_the_input_was_indexed() {
-        let shape = cube();
-        let loops = shape.face_loops();
-        // Renumber vertices (reverse), reorder faces (rotate) and start every loop elsewhere.
-        let n = shape.vertex_count() as Index;
-        let renumber = |v: Index| n - 1 - v;
-        let positions: Vec<DVec3> = (0..n).map(|v| shape.position(renumber(v))).collect();
-        let mut faces: Vec<Vec<Index>> = loops
+    /// `shape` with vertices renumbered by `permutation` (old → new), faces listed in another
+    /// order and every loop starting at another corner.
+    fn reindexed(shape: &Polyhedron, permutation: &[Index], turn: usize) -> Polyhedron {
+        let mut positions = vec![DVec3::ZERO; shape.vertex_count()];
+        for (old, &new) in permutation.iter().enumerate() {
+            positions[new as usize] = shape.position(old as Index);
+        }
+        let mut faces: Vec<Vec<Index>> = shape
+            .face_loops()
             .iter()
-            .map(|l| {
-                let mut l: Vec<Index> = l.iter().map(|&v| renumber(v)).collect();
-                l.rotate_left(1);
+            .enumerate()
+            .map(|(f, l)| {
+                let mut l: Vec<Index> = l.iter().map(|&v| permutation[v as usize]).collect();
+                let start = (f + turn) % l.len();
+                l.rotate_left(start);
                 l
             })
             .collect();
-        faces.rotate_left(2);
-        let other = Polyhedron::from_faces(positions, &faces).unwrap();
-        for anchor in all_anchors(&shape) {
-            let h = anchor.half_edge(&shape).unwrap();
-            let (from, to) = (shape.origin(h), shape.destination(h));
+        let start = turn % faces.len();
+        faces.rotate_left(start);
+        Polyhedron::from_faces(positions, &faces).unwrap()
+    }
+
+    /// Checks that every anchor numbers `shape` and its renumbered copy alike.
+    fn assert_same_orders(shape: &Polyhedron, permutation: &[Index], turn: usize) {
+        let other = reindexed(shape, permutation, turn);
+        for anchor in all_anchors(shape) {
+            let h = anchor.half_edge(shape).unwrap();
+            let (from, to) = (
+                permutation[shape.origin(h) as usize],
+                permutation[shape.destination(h) as usize],
+            );
             let same = (0..other.half_edge_count() as Index)
-                .find(|&e| {
-                    other.origin(e) == renumber(from) && other.destination(e) == renumber(to)
-                })
+                .find(|&e| other.origin(e) == from && other.destination(e) == to)
                 .unwrap();
             let same = Anchor::at(&other, same);
             assert_eq!(
-                ordered_positions(&shape, anchor),
+                ordered_positions(shape, anchor),
                 ordered_positions(&other, same)
             );
             assert_eq!(
-                canonical_order(&shape, anchor).unwrap().topology,
+                canonical_order(shape, anchor).unwrap().topology,
                 canonical_order(&other, same).unwrap().topology
             );
+        }
+    }
+
+    #[test]
+    fn the_order_ignores_how_the_input_was_indexed() {
+        let reversed: Vec<Index> = (0..8).rev().collect();
+        assert_same_orders(&cube(), &reversed, 2);
+    }
+
+    mod properties {
+        use proptest::prelude::*;
+
+        use super::*;
+        use crate::cut::{CutPlane, cut};
+
+        proptest! {
+            #[test]
+            fn the_order_ignores_indexing_on_random_convex_solids(
+                planes in proptest::collection::vec(
+                    ((-0.4..0.4f64, -0.4..0.4f64, -0.4..0.4f64), (-1.0..1.0f64, -1.0..1.0f64, -1.0..1.0f64)),
+                    1..5,
+                ),
+                shuffle in proptest::collection::vec(any::<u32>(), 64),
+                turn in 0usize..7,
+            ) {
+                let mut shape = cube();
+                for ((x, y, z), (a, b, c)) in planes {
+                    let plane = CutPlane::new(DVec3::new(x, y, z), DVec3::new(a, b, c));
+                    if let Ok(parts) = cut(&shape, &plane) {
+                        shape = if parts.below.shape.volume() >= parts.above.shape.volume() {
+                            parts.below.shape
+                        } else {
+                            parts.above.shape
+                        };
+                    }
+                }
+                // Fisher–Yates with the drawn numbers.
+                let n = shape.vertex_count();
+                let mut permutation: Vec<Index> = (0..n as Index).collect();
+                for i in (1..n).rev() {
+                    permutation.swap(i, shuffle[i % shuffle.len()] as usize % (i + 1));
+                }
+                assert_same_orders(&shape, &permutation, turn);
+            }
         }
     }
 

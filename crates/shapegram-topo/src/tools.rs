@@ -236,6 +236,47 @@ impl Project {
         self.cut_all(rule, plane, |section| triangle_overlaps(&points, section))
     }
 
+    /// A point for the 3-point cut on an edge of sub-shape `leaf`: on the directed edge `edge`
+    /// (a face and corner, written like an anchor) at `fraction` of its length from its start,
+    /// the distance snapped to a multiple of `grid` when given (the editor's Ctrl); fractions 0
+    /// and 1 are its vertices (the editor's Shift).
+    pub fn edge_point(
+        &self,
+        rule: Index,
+        leaf: NodeId,
+        edge: Anchor,
+        fraction: f64,
+        grid: Option<f64>,
+    ) -> Result<DVec3, EditError> {
+        let shape = &self.rule(rule)?.tree.node(leaf)?.shape;
+        let h = edge.half_edge(shape).ok_or_else(|| {
+            EditError::NotFound(format!(
+                "sub-shape {leaf} has no edge at face {}, corner {}",
+                edge.face, edge.corner
+            ))
+        })?;
+        if !(0.0..=1.0).contains(&fraction) {
+            return Err(EditError::Invalid(format!(
+                "the fraction {fraction} must lie between 0 and 1"
+            )));
+        }
+        let (a, b) = (
+            shape.position(shape.origin(h)),
+            shape.position(shape.destination(h)),
+        );
+        let length = (b - a).length();
+        let mut distance = fraction * length;
+        if let Some(step) = grid {
+            if !(step.is_finite() && step > 0.0) {
+                return Err(EditError::Invalid(format!(
+                    "grid step {step} is not a positive number"
+                )));
+            }
+            distance = ((distance / step).round() * step).min(length);
+        }
+        Ok(a + (b - a) * (distance / length))
+    }
+
     /// Assigns `assignment` to sub-shape `leaf` (a symbol must match the leaf's topology under
     /// the anchor).
     pub fn assign(

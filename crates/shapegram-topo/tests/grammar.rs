@@ -511,6 +511,45 @@ fn cutting_tools_place_their_planes_as_described() {
 }
 
 #[test]
+fn three_cut_points_can_sit_on_edges_snapped_to_a_grid() {
+    let mut p = Project::new();
+    let a = p.add_box_symbol("A", DVec3::new(4.0, 2.0, 2.0)).unwrap();
+    let rule = p.add_rule(a, "corner", 1.0).unwrap();
+    // Face 2 is the bottom [0, 1, 5, 4]; corner 0 runs from (0,0,0) to (4,0,0).
+    let along = Anchor::new(2, 0);
+    let p1 = p
+        .edge_point(rule, RuleTree::ROOT, along, 0.3, Some(1.0))
+        .unwrap();
+    assert_eq!(p1, DVec3::new(1.0, 0.0, 0.0));
+    // Corner 3 of the bottom runs from (0,0,2) back to (0,0,0).
+    let p2 = p
+        .edge_point(rule, RuleTree::ROOT, Anchor::new(2, 3), 0.5, None)
+        .unwrap();
+    assert_eq!(p2, DVec3::new(0.0, 0.0, 1.0));
+    // Face 0 is −x [0, 4, 6, 2]; corner 3 runs down from (0,2,0) to (0,0,0).
+    let p3 = p
+        .edge_point(rule, RuleTree::ROOT, Anchor::new(0, 3), 0.75, None)
+        .unwrap();
+    assert_eq!(p3, DVec3::new(0.0, 0.5, 0.0));
+    let cuts = p.three_point_cut(rule, [p1, p2, p3]).unwrap();
+    assert_eq!(cuts.len(), 1);
+    let tree = &p.rules[0].tree;
+    let corner = tree.node(cuts[0][0]).unwrap();
+    let rest = tree.node(cuts[0][1]).unwrap();
+    // The corner tetrahedron (0,0,0), (1,0,0), (0,0,1), (0,0.5,0): volume 1 × 1 × 0.5 / 6.
+    let small = corner.shape.volume().min(rest.shape.volume());
+    assert!((small - 0.5 / 6.0).abs() < 1e-12);
+    assert!(
+        p.edge_point(rule, RuleTree::ROOT, along, 1.5, None)
+            .is_err()
+    );
+    assert!(
+        p.edge_point(rule, RuleTree::ROOT, Anchor::new(9, 0), 0.5, None)
+            .is_err()
+    );
+}
+
+#[test]
 fn topology_mismatches_are_refused_with_a_reason() {
     let mut p = Project::new();
     let a = p.add_box_symbol("A", DVec3::ONE).unwrap();
