@@ -170,8 +170,7 @@ impl Project {
         fraction: f64,
         grid: Option<f64>,
     ) -> Result<[NodeId; 2], EditError> {
-        let prism = self.prism(rule, leaf, base)?;
-        let mut distance = fraction * prism.height;
+        let mut distance = fraction * self.prism_height(rule, leaf, base)?;
         if let Some(step) = grid {
             if !(step.is_finite() && step > 0.0) {
                 return Err(EditError::Invalid(format!(
@@ -453,8 +452,8 @@ impl Project {
         ))
     }
 
-    /// Checks that `leaf` is a prism on `base` and measures it.
-    fn prism(&self, rule: Index, leaf: NodeId, base: Index) -> Result<Prism, EditError> {
+    /// The height of sub-shape `leaf` over `base`, after checking that it is a prism on it.
+    fn prism_height(&self, rule: Index, leaf: NodeId, base: Index) -> Result<f64, EditError> {
         let shape = &self.rule(rule)?.tree.node(leaf)?.shape;
         if base >= shape.face_count() {
             return Err(EditError::NotFound(format!(
@@ -477,8 +476,7 @@ impl Project {
                 "sub-shape {leaf} is not a prism with face {base} as a base"
             )));
         };
-        let height = (shape.face_centroid(base) - shape.face_centroid(opposite)).dot(normal);
-        Ok(Prism { height })
+        Ok((shape.face_centroid(base) - shape.face_centroid(opposite)).dot(normal))
     }
 
     /// Cuts prism `leaf` at each of the increasing `fractions` of its height from `base`;
@@ -490,14 +488,14 @@ impl Project {
         base: Index,
         fractions: &[f64],
     ) -> Result<Vec<NodeId>, EditError> {
-        let prism = self.prism(rule, leaf, base)?;
+        let height = self.prism_height(rule, leaf, base)?;
         let first = self.face_plane(rule, leaf, base, 0.0)?;
         let snapshot = self.rules[rule as usize].tree.clone();
         let mut parts = Vec::with_capacity(fractions.len() + 1);
         let mut rest = leaf;
         for &fraction in fractions {
             let plane = CutPlane::new(
-                first.point - first.normal * (fraction * prism.height),
+                first.point - first.normal * (fraction * height),
                 first.normal,
             );
             match self.plane_cut(rule, rest, plane) {
@@ -560,11 +558,6 @@ impl Project {
         }
         Ok(out)
     }
-}
-
-/// The measurements of a prism.
-struct Prism {
-    height: f64,
 }
 
 fn check_weight(weight: f64) -> Result<(), EditError> {
