@@ -18,6 +18,9 @@ use crate::rng::{child_seed, mix, unit};
 pub const SEED_MASK: u64 = (1 << 48) - 1;
 /// The default limit on live shapes (terminal plus non-terminal).
 pub const DEFAULT_MAX_SHAPES: usize = 1_000_000;
+/// The default limit on the vertex positions all live shapes hold together (about 800 MB), so
+/// that a few shapes of huge symbols cannot exhaust memory either.
+pub const DEFAULT_MAX_VERTICES: usize = 1 << 25;
 
 /// Shapes stored back to back: a symbol, a seed and a run of positions each.
 #[derive(Clone, Debug, Default, PartialEq)]
@@ -92,6 +95,13 @@ pub enum GenerateError {
     },
     /// The initial shape has the wrong number of vertices, or a non-finite one.
     BadInitialShape(String),
+    /// The next generation would hold more vertex positions than allowed.
+    TooManyVertices {
+        /// The limit.
+        limit: usize,
+        /// The generation that would have exceeded it.
+        generation: u32,
+    },
     /// The next generation would hold more shapes than allowed: usually a symbol whose rules
     /// keep producing itself.
     TooManyShapes {
@@ -114,6 +124,11 @@ impl fmt::Display for GenerateError {
                 available.join(", ")
             ),
             Self::BadInitialShape(reason) => write!(f, "bad initial shape: {reason}"),
+            Self::TooManyVertices { limit, generation } => write!(
+                f,
+                "generation {generation} would hold more than {limit} vertices (use fewer \
+                 generations or a higher vertex limit)"
+            ),
             Self::TooManyShapes {
                 limit,
                 generation,
@@ -139,6 +154,9 @@ pub struct GrammarState<'g> {
     pub generations: u32,
     /// Most live shapes allowed; exceeding it is [`GenerateError::TooManyShapes`].
     pub max_shapes: usize,
+    /// Most vertex positions all live shapes may hold; exceeding it is
+    /// [`GenerateError::TooManyVertices`].
+    pub max_vertices: usize,
     initial_symbol: Index,
     initial_shape: Vec<DVec3>,
     generation: u32,
@@ -172,6 +190,7 @@ impl<'g> GrammarState<'g> {
             seed: 0,
             generations: 1,
             max_shapes: DEFAULT_MAX_SHAPES,
+            max_vertices: DEFAULT_MAX_VERTICES,
             initial_symbol: index,
             initial_shape: shape.vertices.clone(),
             generation: 0,
@@ -294,6 +313,13 @@ impl<'g> GrammarState<'g> {
                     child_seed(seed, ordinal as u32),
                     sub.vertices.iter().map(|&v| scratch[v as usize]),
                 );
+            }
+            if self.terminals.positions.len() + self.next.positions.len() > self.max_vertices {
+                self.truncate_terminals(terminals_before, positions_before);
+                return Err(GenerateError::TooManyVertices {
+                    limit: self.max_vertices,
+                    generation: self.generation + 1,
+                });
             }
             if self.terminals.len() + self.next.len() > self.max_shapes {
                 let error = GenerateError::TooManyShapes {

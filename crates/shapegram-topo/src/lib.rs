@@ -44,7 +44,9 @@ pub use grammar::{
     GRAMMAR_FORMAT, GRAMMAR_VERSION, Grammar, GrammarError, GrammarRule, GrammarShape,
     GrammarSymbol, SubShape, VirtualVertex,
 };
-pub use interpret::{GenerateError, GrammarState, SEED_MASK, ShapeList};
+pub use interpret::{
+    DEFAULT_MAX_SHAPES, DEFAULT_MAX_VERTICES, GenerateError, GrammarState, SEED_MASK, ShapeList,
+};
 pub use mesh::{GrammarMesh, MeshPart};
 pub use polyhedron::{Index, Polyhedron, PolyhedronError};
 pub use project::{Assignment, EditError, Node, NodeId, NodeKind, Project, Rule, RuleTree, Symbol};

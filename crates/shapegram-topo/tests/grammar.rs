@@ -92,6 +92,17 @@ fn symbols_that_never_terminate_hit_the_shape_limit_with_a_clear_error() {
     // The state stays at the last complete generation.
     assert_eq!(state.generation(), 6);
     assert_eq!(state.non_terminals().len(), 64);
+    // A vertex limit works the same way: 8 vertices a box, 2^4 boxes in generation 4.
+    let mut state = GrammarState::new(&grammar, "A")
+        .unwrap()
+        .with_generations(30);
+    state.max_vertices = 100;
+    assert_eq!(
+        state.generate_all().unwrap_err().to_string(),
+        "generation 4 would hold more than 100 vertices (use fewer generations or a higher \
+         vertex limit)"
+    );
+    assert_eq!(state.generation(), 3);
     // Bounded by generations instead, it simply stops.
     let mut state = GrammarState::new(&grammar, "A")
         .unwrap()
