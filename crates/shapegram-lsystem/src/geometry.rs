@@ -9,7 +9,7 @@
 
 use std::collections::BTreeMap;
 
-use glam::{DQuat, DVec3};
+use glam::DVec3;
 use shapegram_geom::{Color, DAffine3, Mesh, Model, Part, Scope};
 
 use crate::system::Settings;
@@ -29,9 +29,10 @@ pub fn drawing_to_model(drawing: &Drawing, settings: &Settings) -> Model {
         settings.colors.clone()
     };
     let slot = |color: usize| color % palette.len();
+    let mut tubes = TubeBuilder::new(settings.sides.max(3) as usize);
     for stroke in &drawing.strokes {
         let mesh = meshes.entry((slot(stroke.color), 0)).or_default();
-        add_stroke(mesh, stroke, settings.sides.max(3) as usize);
+        tubes.add_stroke(mesh, stroke);
     }
     for polygon in &drawing.polygons {
         let mesh = meshes.entry((slot(polygon.color), 1)).or_default();
@@ -49,103 +50,119 @@ pub fn drawing_to_model(drawing: &Drawing, settings: &Settings) -> Model {
     Model { parts }
 }
 
-/// Adds the tubes of one stroke, split at bends too sharp to mitre.
-fn add_stroke(mesh: &mut Mesh, stroke: &Stroke, sides: usize) {
-    let mut start = 0;
-    for k in 1..stroke.widths.len() {
-        let incoming = stroke.points[k] - stroke.points[k - 1];
-        let outgoing = stroke.points[k + 1] - stroke.points[k];
-        if incoming
-            .normalize_or_zero()
-            .dot(outgoing.normalize_or_zero())
-            < SHARPEST_BEND_COS
-        {
-            add_tube(
-                mesh,
-                &stroke.points[start..=k],
-                &stroke.widths[start..k],
-                sides,
-            );
-            start = k;
-        }
-    }
-    add_tube(
-        mesh,
-        &stroke.points[start..],
-        &stroke.widths[start..],
-        sides,
-    );
+/// `v` scaled to length 1 (`v` must not be zero). The standard library's square root is the
+/// exact IEEE operation, like glam's, and runs in hardware.
+fn unit(v: DVec3) -> DVec3 {
+    v / v.dot(v).sqrt()
 }
 
-/// Adds one closed tube through `points` (at least two) with a width per segment.
-fn add_tube(mesh: &mut Mesh, points: &[DVec3], widths: &[f64], sides: usize) {
-    let segments = widths.len();
-    if segments == 0 {
-        return;
+/// Builds tubes; keeps the ring's cosines and sines and a scratch face between tubes.
+struct TubeBuilder {
+    sides: usize,
+    /// Cosine and sine of each ring vertex's angle.
+    circle: Vec<(f64, f64)>,
+    face: Vec<u32>,
+}
+
+impl TubeBuilder {
+    fn new(sides: usize) -> Self {
+        let circle = (0..sides)
+            .map(|j| {
+                let (sin, cos) = (std::f64::consts::TAU * j as f64 / sides as f64).sin_cos();
+                (cos, sin)
+            })
+            .collect();
+        Self {
+            sides,
+            circle,
+            face: Vec::with_capacity(sides),
+        }
     }
-    let direction = |k: usize| (points[k + 1] - points[k]).normalize();
-    let mut d = direction(0);
-    let mut u = d.any_orthonormal_vector();
-    let mut v = d.cross(u);
-    let (sin, cos): (Vec<f64>, Vec<f64>) = (0..sides)
-        .map(|j| (std::f64::consts::TAU * j as f64 / sides as f64).sin_cos())
-        .unzip();
-    let mut rings: Vec<u32> = Vec::with_capacity(segments + 1);
-    let ring = |mesh: &mut Mesh,
-                center: DVec3,
-                radius: f64,
-                u: DVec3,
-                v: DVec3,
-                miter: Option<(DVec3, DVec3)>| {
-        let first = mesh.vertex_count() as u32;
-        for j in 0..sides {
-            let mut q = center + (u * cos[j] + v * sin[j]) * radius;
-            if let Some((along, normal)) = miter {
-                // Slide the point along the incoming segment onto the mitre plane.
-                let t = -(q - center).dot(normal) / along.dot(normal);
-                q += along * t;
+
+    /// Adds the tubes of one stroke, split at bends too sharp to mitre.
+    fn add_stroke(&mut self, mesh: &mut Mesh, stroke: &Stroke) {
+        let mut start = 0;
+        for k in 1..stroke.widths.len() {
+            let incoming = unit(stroke.points[k] - stroke.points[k - 1]);
+            let outgoing = unit(stroke.points[k + 1] - stroke.points[k]);
+            if incoming.dot(outgoing) < SHARPEST_BEND_COS {
+                self.add_tube(mesh, &stroke.points[start..=k], &stroke.widths[start..k]);
+                start = k;
             }
+        }
+        self.add_tube(mesh, &stroke.points[start..], &stroke.widths[start..]);
+    }
+
+    /// Adds a ring of vertices around `center` in the plane of `u` and `v`, slid along `along`
+    /// onto the plane through `center` with normal `miter` when given; returns its first index.
+    fn ring(
+        &self,
+        mesh: &mut Mesh,
+        center: DVec3,
+        radius: f64,
+        (u, v): (DVec3, DVec3),
+        miter: Option<(DVec3, DVec3)>,
+    ) -> u32 {
+        let first = mesh.vertex_count() as u32;
+        for &(cos, sin) in &self.circle {
+            let offset = (u * cos + v * sin) * radius;
+            let q = match miter {
+                Some((along, normal)) => {
+                    center + offset - along * (offset.dot(normal) / along.dot(normal))
+                }
+                None => center + offset,
+            };
             mesh.add_vertex(q);
         }
         first
-    };
-    rings.push(ring(mesh, points[0], widths[0] / 2.0, u, v, None));
-    for k in 1..segments {
-        let next = direction(k);
-        let normal = (d + next).normalize();
-        rings.push(ring(
-            mesh,
-            points[k],
-            widths[k] / 2.0,
-            u,
-            v,
-            Some((d, normal)),
-        ));
-        let turn = DQuat::from_rotation_arc(d, next);
-        u = (turn * u).normalize();
-        v = next.cross(u);
-        d = next;
     }
-    rings.push(ring(
-        mesh,
-        points[segments],
-        widths[segments - 1] / 2.0,
-        u,
-        v,
-        None,
-    ));
-    let n = sides as u32;
-    for pair in rings.windows(2) {
-        let (a, b) = (pair[0], pair[1]);
-        for j in 0..n {
-            let j1 = (j + 1) % n;
-            mesh.add_face(&[a + j, a + j1, b + j1, b + j]);
+
+    /// Adds one closed tube through `points` (at least two, no repeats) with a width per
+    /// segment. Rings are added one after the other, so ring `k` starts at `first + k * sides`.
+    fn add_tube(&mut self, mesh: &mut Mesh, points: &[DVec3], widths: &[f64]) {
+        let segments = widths.len();
+        if segments == 0 {
+            return;
         }
+        let mut d = unit(points[1] - points[0]);
+        let mut u = d.any_orthonormal_vector();
+        let mut v = d.cross(u);
+        let first = self.ring(mesh, points[0], widths[0] / 2.0, (u, v), None);
+        for k in 1..segments {
+            let next = unit(points[k + 1] - points[k]);
+            let normal = unit(d + next);
+            self.ring(mesh, points[k], widths[k] / 2.0, (u, v), Some((d, normal)));
+            // Parallel transport: the rotation taking d to next, applied to u (Rodrigues'
+            // formula without trigonometry, fine for bends below 180°).
+            let (c, axis) = (d.dot(next), d.cross(next));
+            u = u * c + axis.cross(u) + axis * (axis.dot(u) / (1.0 + c));
+            u = unit(u - next * u.dot(next));
+            v = next.cross(u);
+            d = next;
+        }
+        self.ring(
+            mesh,
+            points[segments],
+            widths[segments - 1] / 2.0,
+            (u, v),
+            None,
+        );
+        let n = self.sides as u32;
+        for k in 0..segments as u32 {
+            let (a, b) = (first + k * n, first + (k + 1) * n);
+            for j in 0..n {
+                let j1 = if j + 1 == n { 0 } else { j + 1 };
+                mesh.add_face(&[a + j, a + j1, b + j1, b + j]);
+            }
+        }
+        let end = first + segments as u32 * n;
+        self.face.clear();
+        self.face.extend((0..n).rev().map(|j| first + j));
+        mesh.add_face(&self.face);
+        self.face.clear();
+        self.face.extend((0..n).map(|j| end + j));
+        mesh.add_face(&self.face);
     }
-    let start: Vec<u32> = (0..n).rev().map(|j| rings[0] + j).collect();
-    let end: Vec<u32> = (0..n).map(|j| rings[segments] + j).collect();
-    mesh.add_face(&start);
-    mesh.add_face(&end);
 }
 
 /// Adds a polygon as two faces back to back (leaves are seen from both sides), after dropping

@@ -1,0 +1,84 @@
+//! L-system throughput: a D0L curve, a bracketed stochastic plant and a parametric tree derived
+//! to 10⁷ modules and more (criterion's `elem/s` = modules of the final word per second), and a
+//! word of about 10⁶ segments drawn by the turtle, built into a tube model and written as GLB
+//! bytes (`elem/s` = segments per second).
+//!
+//! Run with `cargo bench -p shapegram-lsystem`; on one core for comparable numbers.
+
+use std::hint::black_box;
+use std::time::Duration;
+
+use criterion::{Criterion, Throughput, criterion_group, criterion_main};
+use shapegram_export::{ExportOptions, write_glb};
+use shapegram_lsystem::{DeriveOptions, LSystem, drawing_to_model, interpret};
+
+/// The quadratic Koch island, 7 steps: 8.4 million F and 15.7 million modules.
+const KOCH: &str = "n: 7\nangle: 90\naxiom: F-F-F-F\nF -> F-F+F+FF-F-F+F\n";
+
+/// The paper's stochastic plant (Figure 4), 13 steps: about 10⁷ modules.
+const STOCHASTIC: &str = "n: 13\nangle: 30\nseed: 1\naxiom: F\n\
+    F (0.33) -> F[+F]F[-F]F\nF (0.33) -> F[+F]F\nF (0.34) -> F[-F]F\n";
+
+/// Honda's tree (ABOP Figure 2.6) with two parameters per module, 21 steps: 1.5 × 10⁷ modules.
+const PARAMETRIC: &str = "n: 21\n\
+    define: r1 = 0.9\ndefine: r2 = 0.6\ndefine: a0 = 45\ndefine: a2 = 45\n\
+    define: d = 137.5\ndefine: wr = 0.707\n\
+    axiom: A(1,10)\n\
+    A(l,w) -> !(w)F(l)[&(a0)B(l*r2,w*wr)]/(d)A(l*r1,w*wr)\n\
+    B(l,w) -> !(w)F(l)[-(a2)$C(l*r2,w*wr)]C(l*r1,w*wr)\n\
+    C(l,w) -> !(w)F(l)[+(a2)$B(l*r2,w*wr)]B(l*r1,w*wr)\n";
+
+/// A bracketed plant with 4¹⁰ = 1,048,576 segments.
+const MILLION_SEGMENTS: &str = "n: 10\nangle: 25.7\nsides: 5\naxiom: F\nF -> F[+F][-F]F\n";
+
+fn bench_derive(c: &mut Criterion, name: &str, text: &str) {
+    let system = LSystem::parse(text).unwrap();
+    let options = DeriveOptions {
+        max_modules: 200_000_000,
+        ..DeriveOptions::default()
+    };
+    let modules = system.derive(&options).unwrap().len();
+    let mut group = c.benchmark_group(name);
+    group.sample_size(10);
+    group.measurement_time(Duration::from_secs(8));
+    group.throughput(Throughput::Elements(modules as u64));
+    group.bench_function(format!("derive to {modules} modules"), |b| {
+        b.iter(|| black_box(system.derive(&options).unwrap()))
+    });
+    group.finish();
+}
+
+fn bench_turtle(c: &mut Criterion) {
+    let system = LSystem::parse(MILLION_SEGMENTS).unwrap();
+    let word = system.derive(&DeriveOptions::default()).unwrap();
+    let segments = interpret(&system, &word).segment_count();
+    let mut group = c.benchmark_group("turtle");
+    group.sample_size(10);
+    group.measurement_time(Duration::from_secs(10));
+    group.throughput(Throughput::Elements(segments as u64));
+    group.bench_function(format!("{segments} segments: turtle"), |b| {
+        b.iter(|| black_box(interpret(&system, black_box(&word))))
+    });
+    let drawing = interpret(&system, &word);
+    group.bench_function(format!("{segments} segments: tube model"), |b| {
+        b.iter(|| black_box(drawing_to_model(black_box(&drawing), &system.settings)))
+    });
+    group.bench_function(format!("{segments} segments: word to GLB bytes"), |b| {
+        b.iter(|| {
+            let drawing = interpret(&system, black_box(&word));
+            let model = drawing_to_model(&drawing, &system.settings);
+            black_box(write_glb(&model, &ExportOptions::default()))
+        })
+    });
+    group.finish();
+}
+
+fn bench(c: &mut Criterion) {
+    bench_derive(c, "D0L Koch island", KOCH);
+    bench_derive(c, "stochastic bracketed plant", STOCHASTIC);
+    bench_derive(c, "parametric Honda tree", PARAMETRIC);
+    bench_turtle(c);
+}
+
+criterion_group!(benches, bench);
+criterion_main!(benches);
