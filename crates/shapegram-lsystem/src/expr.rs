@@ -229,9 +229,9 @@ pub(crate) fn parse(
 ) -> Result<Expr, Error> {
     cursor.skip_space();
     let position = cursor.position();
-    let mut ops = Vec::new();
+    let mut ops = Emitter::default();
     binary(cursor, names, 0, &mut ops)?;
-    let folded = fold(&ops);
+    let folded = fold(&ops.ops);
     Ok(Expr {
         ops: folded,
         position,
@@ -243,7 +243,7 @@ fn binary(
     cursor: &mut Cursor,
     names: &dyn Fn(&str) -> Option<Name>,
     min: u8,
-    ops: &mut Vec<Op>,
+    ops: &mut Emitter,
 ) -> Result<(), Error> {
     unary(cursor, names, ops)?;
     loop {
@@ -297,11 +297,46 @@ fn operator(cursor: &mut Cursor) -> Option<Binary> {
     Some(op)
 }
 
-/// Parses a prefix operator and its operand, or a primary.
+/// How deeply expressions may nest (parentheses, prefix operators, powers), so that hostile
+/// input cannot exhaust the stack.
+const MAX_DEPTH: u32 = 256;
+
+/// The program being compiled, and how deep the parser is.
+#[derive(Default)]
+struct Emitter {
+    ops: Vec<Op>,
+    depth: u32,
+}
+
+impl Emitter {
+    fn push(&mut self, op: Op) {
+        self.ops.push(op);
+    }
+}
+
+/// Parses a prefix operator and its operand, or a primary (every nesting passes here, so this
+/// is where depth is limited).
 fn unary(
     cursor: &mut Cursor,
     names: &dyn Fn(&str) -> Option<Name>,
-    ops: &mut Vec<Op>,
+    ops: &mut Emitter,
+) -> Result<(), Error> {
+    if ops.depth >= MAX_DEPTH {
+        return Err(cursor.error(format!(
+            "the expression nests more than {MAX_DEPTH} levels deep"
+        )));
+    }
+    ops.depth += 1;
+    let result = unary_unlimited(cursor, names, ops);
+    ops.depth -= 1;
+    result
+}
+
+/// [`unary`] without the depth check.
+fn unary_unlimited(
+    cursor: &mut Cursor,
+    names: &dyn Fn(&str) -> Option<Name>,
+    ops: &mut Emitter,
 ) -> Result<(), Error> {
     cursor.skip_space();
     match cursor.peek() {
@@ -333,7 +368,7 @@ fn unary(
 fn power_tail(
     cursor: &mut Cursor,
     names: &dyn Fn(&str) -> Option<Name>,
-    ops: &mut Vec<Op>,
+    ops: &mut Emitter,
 ) -> Result<(), Error> {
     cursor.skip_space();
     let save = cursor.clone();
@@ -350,7 +385,7 @@ fn power_tail(
 fn primary(
     cursor: &mut Cursor,
     names: &dyn Fn(&str) -> Option<Name>,
-    ops: &mut Vec<Op>,
+    ops: &mut Emitter,
 ) -> Result<(), Error> {
     cursor.skip_space();
     let start = cursor.index();
@@ -406,7 +441,7 @@ fn call(
     names: &dyn Fn(&str) -> Option<Name>,
     name: &str,
     start: usize,
-    ops: &mut Vec<Op>,
+    ops: &mut Emitter,
 ) -> Result<(), Error> {
     let Some((function, arity)) = Function::by_name(name) else {
         return Err(Error::at(
@@ -527,6 +562,20 @@ mod tests {
         assert_eq!(eval("min(x, 4) + max(1, 2) + sqrt(16)", &[7.0]), 10.0);
         assert_eq!(eval("7 % 4", &[]), 3.0);
         assert!((eval("sin(30)", &[]) - 0.5).abs() < 1e-12);
+    }
+
+    #[test]
+    fn deep_nesting_is_an_error_not_a_stack_overflow() {
+        for text in [
+            "(".repeat(100_000),
+            "-".repeat(100_000),
+            "2^".repeat(100_000),
+        ] {
+            let chars: Vec<char> = format!("{text}1").chars().collect();
+            let mut cursor = Cursor::new(&chars, 0, chars.len(), 1);
+            let err = parse(&mut cursor, &|_: &str| None).unwrap_err();
+            assert!(err.message.contains("nests more than 256 levels"), "{err}");
+        }
     }
 
     #[test]
