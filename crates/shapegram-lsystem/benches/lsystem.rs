@@ -15,7 +15,7 @@ use shapegram_lsystem::{DeriveOptions, LSystem, drawing_to_model, interpret};
 /// The quadratic Koch island, 7 steps: 8.4 million F and 15.7 million modules.
 const KOCH: &str = "n: 7\nangle: 90\naxiom: F-F-F-F\nF -> F-F+F+FF-F-F+F\n";
 
-/// The paper's stochastic plant (Figure 4), 13 steps: about 10⁷ modules.
+/// The paper's stochastic plant (Figure 4), 13 steps: about 7.5 × 10⁷ modules.
 const STOCHASTIC: &str = "n: 13\nangle: 30\nseed: 1\naxiom: F\n\
     F (0.33) -> F[+F]F[-F]F\nF (0.33) -> F[+F]F\nF (0.34) -> F[-F]F\n";
 

@@ -138,6 +138,7 @@ impl Binary {
         }
     }
 
+    #[inline]
     fn apply(self, a: f64, b: f64) -> f64 {
         // A comparison with NaN is not false but undefined: the condition failed to evaluate.
         if a.is_nan() || b.is_nan() {
@@ -181,7 +182,21 @@ impl Expr {
     }
 
     /// Evaluates with `variables` bound, using `stack` as scratch space.
+    #[inline]
     pub fn eval(&self, variables: &[f64], stack: &mut Vec<f64>) -> f64 {
+        // Most successor parameters are a constant, a variable or `x op c`: no stack needed.
+        match *self.ops.as_slice() {
+            [Op::Constant(c)] => c,
+            [Op::Variable(v)] => variables[v as usize],
+            [Op::Variable(v), Op::Constant(c), Op::Binary(op)] => {
+                op.apply(variables[v as usize], c)
+            }
+            _ => self.run(variables, stack),
+        }
+    }
+
+    /// Runs the stack program.
+    fn run(&self, variables: &[f64], stack: &mut Vec<f64>) -> f64 {
         stack.clear();
         for op in &self.ops {
             match *op {

@@ -167,22 +167,36 @@ impl LSystem {
             found_right: &mut scratch.found_right,
             backtrack: &mut scratch.backtrack,
         };
-        let mut p = 0;
-        for (i, &s) in input.symbols.iter().enumerate() {
-            let arity = arities[s as usize];
-            let params = &input.params[p..p + arity];
-            match &self.plans[s as usize] {
-                Plan::Copy => copy(out, s, params),
-                Plan::Fixed { start, len } => out
-                    .symbols
-                    .extend_from_slice(&self.fixed[*start as usize..(*start + *len) as usize]),
-                Plan::Productions(list) => {
-                    if !engine.apply(list, i, params, out)? {
-                        copy(out, s, params);
+        let symbols = &input.symbols;
+        let n = symbols.len();
+        let (mut i, mut p) = (0, 0);
+        while i < n {
+            // Terminal symbols pile up as a word grows: copy runs of them in one go.
+            let (run, param_run) = (i, p);
+            while i < n && matches!(self.plans[symbols[i] as usize], Plan::Copy) {
+                p += arities[symbols[i] as usize];
+                i += 1;
+            }
+            out.symbols.extend_from_slice(&symbols[run..i]);
+            out.params.extend_from_slice(&input.params[param_run..p]);
+            if i < n {
+                let s = symbols[i];
+                let arity = arities[s as usize];
+                let params = &input.params[p..p + arity];
+                match &self.plans[s as usize] {
+                    Plan::Copy => {}
+                    Plan::Fixed { start, len } => out
+                        .symbols
+                        .extend_from_slice(&self.fixed[*start as usize..(*start + *len) as usize]),
+                    Plan::Productions(list) => {
+                        if !engine.apply(list, i, params, out)? {
+                            copy(out, s, params);
+                        }
                     }
                 }
+                p += arity;
+                i += 1;
             }
-            p += arity;
             if out.symbols.len() > max {
                 return Err(Error::general(format!(
                     "step {step}: the word grew past the limit of {} modules (raise the limit, or derive fewer steps)",
