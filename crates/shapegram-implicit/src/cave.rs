@@ -289,13 +289,15 @@ impl CaveBuilder {
         Ok(())
     }
 
+    /// Whether some open bond faces `direction` (any directed one for random).
+    pub fn has_open(&self, direction: Direction) -> bool {
+        self.open.iter().any(|b| faces(b, direction))
+    }
+
     /// Index of an open bond facing `direction` (any directed one for random), chosen by `rng`.
     fn pick_open(&self, direction: Direction, rng: &mut Rng) -> Option<usize> {
         let candidates: Vec<usize> = (0..self.open.len())
-            .filter(|&i| match direction.vector() {
-                Some(v) => (self.open[i].dir - v).length_squared() < 1e-9,
-                None => !self.open[i].is_free(),
-            })
+            .filter(|&i| faces(&self.open[i], direction))
             .collect();
         if candidates.is_empty() {
             return None;
@@ -329,6 +331,14 @@ impl CaveBuilder {
                 None => false,
             }
         });
+    }
+}
+
+/// Whether `bond` faces `direction` (any direction but none for random).
+fn faces(bond: &Bond, direction: Direction) -> bool {
+    match direction.vector() {
+        Some(v) => (bond.dir - v).length_squared() < 1e-9,
+        None => !bond.is_free(),
     }
 }
 
@@ -485,18 +495,29 @@ impl Cave {
 }
 
 /// Generates a cave: `P_C + P_M` productions, each joining a shape assembled from one primitive
-/// and `P_S` sub-productions. Classic productions are sums at an open bond facing `L_B` (7 in
-/// 10), differences centred on a random open bond (2 in 10) or intersections with a rounded
-/// shape fitted over the base (1 in 10); morphic productions join a shape like a sum and blend it
-/// in by `M_P`. The same parameters always give the same cave.
+/// and `P_S` sub-productions, on an empty base (see [`grow`]). The same parameters always give
+/// the same cave.
 pub fn generate(params: &CaveParams) -> Result<Cave> {
     params.validate()?;
     let mut rng = Rng::new(params.seed);
     let mut builder = CaveBuilder::new(GENERATED_OVERLAP)?;
+    grow(&mut builder, params, &mut rng)?;
+    Ok(Cave {
+        builder,
+        params: *params,
+    })
+}
+
+/// Applies `P_C + P_M` random productions to `builder`. Classic productions are sums at an open
+/// bond facing `L_B` (7 in 10), differences centred on a random open bond (2 in 10) or
+/// intersections with an ellipsoid fitted over the base (1 in 10); morphic productions join a
+/// shape like a sum and blend it in by `M_P`. `params.lod` and `params.seed` are not used here.
+pub fn grow(builder: &mut CaveBuilder, params: &CaveParams, rng: &mut Rng) -> Result<()> {
+    params.validate()?;
     let a = params.morph_percent / 100.0;
     let total = params.classic + params.morphic;
     for i in 0..total {
-        let (shape, elements) = assemble(&mut rng, params.per_shape)?;
+        let (shape, elements) = assemble(rng, params.per_shape)?;
         let (operation, attach, shape) = if params.is_morphic(i) {
             (Operation::Morph(a), Attach::Bond(params.direction), shape)
         } else {
@@ -515,17 +536,27 @@ pub fn generate(params: &CaveParams) -> Result<Cave> {
                 (Operation::Intersection, Attach::Centre, trim)
             }
         };
-        let fallback = Attach::Bond(Direction::Random);
-        let attempt = builder.apply(&shape, elements, operation, attach, &mut rng);
-        if attempt.is_err() {
+        let stuck = match attach {
+            Attach::Bond(d) => !builder.has_open(d) && !builder.solid().is_empty(),
+            Attach::Centre => false,
+        };
+        if stuck {
             // No open bond faces L_B any more (carved or trimmed away): grow from any open bond.
-            builder.apply(&shape, elements, operation, fallback, &mut rng)?;
+            if builder.open_bonds().is_empty() {
+                continue;
+            }
+            builder.apply(
+                &shape,
+                elements,
+                operation,
+                Attach::Bond(Direction::Random),
+                rng,
+            )?;
+        } else {
+            builder.apply(&shape, elements, operation, attach, rng)?;
         }
     }
-    Ok(Cave {
-        builder,
-        params: *params,
-    })
+    Ok(())
 }
 
 /// A shape of one random primitive grown by `per_shape` random sub-productions (sums at its open

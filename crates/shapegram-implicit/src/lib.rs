@@ -18,12 +18,14 @@ pub mod shape;
 pub mod solid;
 pub mod table;
 pub mod tape;
+pub mod text;
 
 pub use bond::{Bond, Label};
-pub use cave::{Attach, Cave, CaveBuilder, CaveParams, Direction, Operation, generate};
+pub use cave::{Attach, Cave, CaveBuilder, CaveParams, Direction, Operation, generate, grow};
 pub use error::{ImplicitError, Result};
 pub use mesher::{Grid, MeshOptions, Meshing, mesh, mesh_with_progress};
 pub use metrics::{Convexity, Metrics};
 pub use primitive::Primitive;
 pub use shape::Shape;
 pub use solid::{Node, Solid};
+pub use text::{CaveProgram, TextError};
