@@ -345,3 +345,26 @@ fn answers_do_not_depend_on_the_evaluation_order() {
     assert_eq!(census(&depth_first), census(&in_steps));
     assert!(count(&depth_first, "Glass") > 100);
 }
+
+#[test]
+fn the_derivation_tree_links_shapes_of_both_phases() {
+    let grammar = format!("{TWO_BLOCKS}\nFace --> case touches() : Touching. else : Free.");
+    let options = DeriveOptions {
+        keep_tree: true,
+        ..DeriveOptions::default()
+    };
+    let d = try_run(&grammar, lot(20.0, 10.0), &options).unwrap();
+    assert_eq!(d.leaves.len(), 10);
+    for leaf in &d.leaves {
+        // Up the tree from every leaf, phase 2 or not, to the lot.
+        let mut path = Vec::new();
+        let mut at = leaf.node;
+        while let Some(node) = at {
+            let node = &d.tree[node as usize];
+            path.push(&*node.name);
+            at = node.parent;
+        }
+        assert_eq!(path.last(), Some(&"Lot"), "{}: {path:?}", leaf.name);
+        assert!(path.contains(&"Mass"), "{}: {path:?}", leaf.name);
+    }
+}
