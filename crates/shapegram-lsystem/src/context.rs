@@ -3,12 +3,16 @@
 //! - Left context is read along the path towards the root: a complete bracketed branch to the
 //!   left (a sibling) is skipped, and the `[` that opens the branch a module sits in is stepped
 //!   over, so the module before the branch counts as its left neighbour.
-//! - Right context is read towards the tips: a `[` in the word may be entered (the context
-//!   continues into that branch) or skipped as a whole (the context continues after it), and the
-//!   first that works wins (a `[` without a partner can only be entered); a `]` ends the
-//!   branch, so nothing after it is right context. A `[`
-//!   in the pattern must match a branch (the first sibling branch that fits) and a `]` in the
-//!   pattern skips what is left of the current branch in the word.
+//! - Right context is read towards the tips, along the axis first: a complete branch is skipped
+//!   (ABOP's convention, after Hogeweg and Hesper), and a `]` ends the current branch, so nothing
+//!   after it is right context. A `[` in the pattern must match a branch in the word (the first
+//!   sibling branch that fits) and a `]` in the pattern skips what is left of the current branch.
+//!   A `[` without a partner can only be entered.
+//! - The paper's reading goes further: its example 3.2.3 matches `JJF` in `[J[J[JF]F]` by
+//!   entering two branches and skipping one. So when no production of a symbol matches along the
+//!   axis, the rewriting engine tries again in *branch mode*, where each branch the axis would
+//!   skip may be entered instead when the axis does not fit (axis first, then the branch, by
+//!   backtracking).
 //! - Symbols in the ignore set are skipped on both sides.
 
 use crate::alphabet::SymbolId;
@@ -87,19 +91,22 @@ impl Structure<'_> {
     /// Whether `pattern` (in reading order, brackets allowed) is the right context of the module
     /// at `at`; the positions of the matched modules go to `found` (brackets' entries unused).
     /// `backtrack` is scratch space.
+    /// With `enter` false, the context follows the axis (branches are skipped); with `enter`
+    /// true, a branch may also be entered when the axis does not fit.
     pub fn matches_right(
         &self,
         at: usize,
         pattern: &[SymbolId],
         found: &mut [usize],
         backtrack: &mut Vec<(usize, usize)>,
+        enter: bool,
     ) -> bool {
         backtrack.clear();
         let n = self.symbols.len();
         let mut i = at + 1;
         let mut k = 0;
         loop {
-            if self.run_right(&mut i, &mut k, pattern, found, backtrack, n) {
+            if self.run_right(&mut i, &mut k, pattern, found, backtrack, n, enter) {
                 return true;
             }
             // Resume at the last branch that was entered, this time skipping it.
@@ -114,7 +121,9 @@ impl Structure<'_> {
     }
 
     /// Matches forward from word index `i` and pattern index `k` until the pattern is done
-    /// (true) or a mismatch (false); every branch entered leaves a way back in `backtrack`.
+    /// (true) or a mismatch (false); every choice between a branch and what follows it leaves
+    /// the other way in `backtrack`.
+    #[allow(clippy::too_many_arguments)]
     fn run_right(
         &self,
         i: &mut usize,
@@ -123,6 +132,7 @@ impl Structure<'_> {
         found: &mut [usize],
         backtrack: &mut Vec<(usize, usize)>,
         n: usize,
+        enter: bool,
     ) -> bool {
         while *k < pattern.len() {
             let want = pattern[*k];
@@ -154,13 +164,24 @@ impl Structure<'_> {
             }
             let s = self.symbols[*i];
             if s == self.open {
-                // A branch that never closes can be entered but not skipped.
-                if let Some(&j) = self.partners.get(*i).filter(|&&j| j != UNMATCHED) {
-                    backtrack.push((j as usize + 1, *k));
-                }
-                *i += 1;
+                let partner = self.partners[*i];
                 if want == self.open {
+                    // Enter the branch; should it not fit, try its next sibling.
+                    if partner != UNMATCHED {
+                        backtrack.push((partner as usize + 1, *k));
+                    }
+                    *i += 1;
                     *k += 1;
+                } else if partner == UNMATCHED {
+                    // A branch that never closes holds the rest of the word: go on inside.
+                    *i += 1;
+                } else {
+                    // Follow the axis past the branch; in branch mode, the branch is the
+                    // alternative should the axis not fit.
+                    if enter {
+                        backtrack.push((*i + 1, *k));
+                    }
+                    *i = partner as usize + 1;
                 }
                 continue;
             }

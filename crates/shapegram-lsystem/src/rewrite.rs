@@ -265,6 +265,17 @@ fn group_digits(n: usize) -> String {
     out
 }
 
+/// The passes over a symbol's productions.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Pass {
+    /// Context-sensitive productions, right contexts along the axis.
+    Axis,
+    /// Productions with a right context, which may now enter branches.
+    Branches,
+    /// Context-free productions.
+    Free,
+}
+
 /// What applying productions to the modules of one step needs.
 struct Applier<'a> {
     system: &'a LSystem,
@@ -283,7 +294,9 @@ struct Applier<'a> {
 
 impl Applier<'_> {
     /// Applies the first production of `list` that matches the module at `at`; false when none
-    /// does.
+    /// does. Context-sensitive productions come first, with right contexts read along the axis;
+    /// then, if none matched, again with right contexts that may enter branches (the paper's
+    /// reading); then the context-free ones.
     fn apply(
         &mut self,
         list: &[u32],
@@ -291,62 +304,83 @@ impl Applier<'_> {
         params: &[f64],
         out: &mut Word,
     ) -> Result<bool, Error> {
-        for &index in list {
-            let production = &self.system.productions[index as usize];
-            if !self.bind(production, at, params) {
-                continue;
+        for pass in [Pass::Axis, Pass::Branches, Pass::Free] {
+            for &index in list {
+                let production = &self.system.productions[index as usize];
+                let eligible = match pass {
+                    Pass::Axis => production.has_context(),
+                    Pass::Branches => !production.right.is_empty(),
+                    Pass::Free => !production.has_context(),
+                };
+                if !eligible || !self.bind(production, at, params, pass == Pass::Branches) {
+                    continue;
+                }
+                if self.rewrite(production, at, params, out)? {
+                    return Ok(true);
+                }
             }
-            if let Some(condition) = &production.condition {
-                let value = condition.eval(self.variables, self.stack);
-                if value.is_nan() {
+        }
+        Ok(false)
+    }
+
+    /// Applies `production` (whose contexts matched, variables bound) unless its condition is
+    /// false; whether it applied.
+    fn rewrite(
+        &mut self,
+        production: &Production,
+        at: usize,
+        params: &[f64],
+        out: &mut Word,
+    ) -> Result<bool, Error> {
+        if let Some(condition) = &production.condition {
+            let value = condition.eval(self.variables, self.stack);
+            if value.is_nan() {
+                return Err(Error::at(
+                    condition.position,
+                    format!(
+                        "step {}: the condition is not a number (NaN) for {}",
+                        self.step,
+                        self.module_text(at, params)
+                    ),
+                ));
+            }
+            if value == 0.0 {
+                return Ok(false);
+            }
+        }
+        let alternatives = &production.alternatives;
+        let chosen = if alternatives.len() == 1 {
+            &alternatives[0]
+        } else {
+            let u = rng::draw(self.key, at);
+            alternatives
+                .iter()
+                .find(|a| u < a.cumulative)
+                .unwrap_or(&alternatives[alternatives.len() - 1])
+        };
+        for module in &chosen.modules {
+            out.symbols.push(module.symbol);
+            for arg in &module.args {
+                let value = arg.eval(self.variables, self.stack);
+                if !value.is_finite() {
                     return Err(Error::at(
-                        condition.position,
+                        arg.position,
                         format!(
-                            "step {}: the condition is not a number (NaN) for {}",
+                            "step {}: the parameter is {value}, not a finite number, when rewriting {}",
                             self.step,
                             self.module_text(at, params)
                         ),
                     ));
                 }
-                if value == 0.0 {
-                    continue;
-                }
+                out.params.push(value);
             }
-            let alternatives = &production.alternatives;
-            let chosen = if alternatives.len() == 1 {
-                &alternatives[0]
-            } else {
-                let u = rng::draw(self.key, at);
-                alternatives
-                    .iter()
-                    .find(|a| u < a.cumulative)
-                    .unwrap_or(&alternatives[alternatives.len() - 1])
-            };
-            for module in &chosen.modules {
-                out.symbols.push(module.symbol);
-                for arg in &module.args {
-                    let value = arg.eval(self.variables, self.stack);
-                    if !value.is_finite() {
-                        return Err(Error::at(
-                            arg.position,
-                            format!(
-                                "step {}: the parameter is {value}, not a finite number, when rewriting {}",
-                                self.step,
-                                self.module_text(at, params)
-                            ),
-                        ));
-                    }
-                    out.params.push(value);
-                }
-            }
-            return Ok(true);
         }
-        Ok(false)
+        Ok(true)
     }
 
     /// Checks the contexts of `production` at `at` and binds its variables; false when a
     /// context does not match.
-    fn bind(&mut self, production: &Production, at: usize, params: &[f64]) -> bool {
+    fn bind(&mut self, production: &Production, at: usize, params: &[f64], enter: bool) -> bool {
         self.variables.clear();
         self.variables.extend_from_slice(params);
         self.variables.resize(production.variables, 0.0);
@@ -369,6 +403,7 @@ impl Applier<'_> {
                 &production.right,
                 self.found_right,
                 self.backtrack,
+                enter,
             ) {
                 return false;
             }

@@ -91,7 +91,8 @@ fn context_rules_take_precedence_over_context_free_ones() {
 #[test]
 fn bracket_aware_context_of_the_paper() {
     // Example 3.2.3: ω = JFF[J]F[J[J[JF]F], p0: JFF < F > JJF → FJ. The F after [J] matches:
-    // [J] is skipped on the left; on the right the context enters [J[J, skips [JF] and finds F.
+    // [J] is skipped on the left; on the right, nothing fits along the axis, so branch mode
+    // enters [J[J, skips [JF] and finds F.
     // The word as printed has an unclosed branch; closed, it derives the same.
     let text = "axiom: JFF[J]F[J[J[JF]F]\nJFF < F > JJF -> FJ\n";
     assert_eq!(word(text, 1), "JFF[J]FJ[J[J[JF]F]");
@@ -113,6 +114,22 @@ fn abop_bracketed_context_example() {
     // A right context never reaches past the end of its branch.
     let text = "axiom: A[B]C\nB > C -> X\n";
     assert_eq!(word(text, 1), "A[B]C");
+}
+
+#[test]
+fn right_contexts_follow_the_axis_before_entering_branches() {
+    // Along the axis, the right neighbour of A in A[B]C is C, whatever the production order.
+    let text = "axiom: A[B]C\nA > B -> X\nA > C -> Y\n";
+    assert_eq!(word(text, 1), "Y[B]C");
+    let text = "axiom: A[B]C\nA > C -> Y\nA > B -> X\n";
+    assert_eq!(word(text, 1), "Y[B]C");
+    // When nothing matches along the axis, the branch is entered (the paper's reading).
+    let text = "axiom: A[B]C\nA > B -> X\n";
+    assert_eq!(word(text, 1), "X[B]C");
+    // A context-free production yields to a context-sensitive one that matches only in branch
+    // mode, and applies where none matches at all.
+    let text = "axiom: A[B]CA\nA -> Z\nA > B -> X\n";
+    assert_eq!(word(text, 1), "X[B]CZ");
 }
 
 #[test]

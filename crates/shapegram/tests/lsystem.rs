@@ -135,6 +135,7 @@ fn every_example_draws() {
         ("algae.lsys", 0, 0),
         ("parametric.lsys", 0, 0),
         ("signal.lsys", 0, 0),
+        ("context-plant.lsys", 2501, 0),
     ];
     for (name, segments, polygons) in cases {
         let path = dir.path(&name.replace(".lsys", ".glb"));
