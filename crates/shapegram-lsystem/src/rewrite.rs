@@ -23,7 +23,8 @@ pub struct DeriveOptions {
     pub iterations: Option<u32>,
     /// Seed of stochastic choices (overrides `seed:`).
     pub seed: Option<u64>,
-    /// A word may not grow beyond this many modules; a step that would is an error.
+    /// A word may not grow beyond this many modules, nor hold more parameters than this; a
+    /// step that would is an error.
     pub max_modules: usize,
 }
 
@@ -200,6 +201,13 @@ impl LSystem {
             if out.symbols.len() > max {
                 return Err(Error::general(format!(
                     "step {step}: the word grew past the limit of {} modules (raise the limit, or derive fewer steps)",
+                    group_digits(max)
+                )));
+            }
+            // Parameters count against the same limit, so memory stays bounded by it.
+            if out.params.len() > max {
+                return Err(Error::general(format!(
+                    "step {step}: the word's parameters grew past the limit of {} values (raise the module limit, or derive fewer steps)",
                     group_digits(max)
                 )));
             }

@@ -265,6 +265,48 @@ fn memory_limit_names_the_step_and_the_size() {
 }
 
 #[test]
+fn parameters_count_against_the_limit() {
+    let wide = system("axiom: A(1,2,3,4)\nA(a,b,c,d) -> A(a,b,c,d)A(a,b,c,d)\n");
+    let options = DeriveOptions {
+        iterations: Some(20),
+        max_modules: 1000,
+        ..DeriveOptions::default()
+    };
+    let err = wide.derive(&options).unwrap_err();
+    assert_eq!(
+        err.to_string(),
+        "step 8: the word's parameters grew past the limit of 1,000 values (raise the module limit, or derive fewer steps)"
+    );
+}
+
+/// The same productions, once as they are and once behind an always-true condition, which
+/// forces the general engine instead of the D0L fast path: the words must agree.
+fn fast_and_general(axiom: &str, productions: &[(char, String)], n: u32) -> (String, String) {
+    let mut fast = format!("axiom: {axiom}\n");
+    let mut general = fast.clone();
+    for (pred, succ) in productions {
+        fast.push_str(&format!("{pred} -> {succ}\n"));
+        general.push_str(&format!("{pred} : 1 -> {succ}\n"));
+    }
+    (word(&fast, n), word(&general, n))
+}
+
+proptest::proptest! {
+    #![proptest_config(proptest::prelude::ProptestConfig::with_cases(200))]
+
+    #[test]
+    fn d0l_fast_path_agrees_with_the_general_engine(
+        axiom in "[AB+\\[\\]]{1,4}",
+        a in "[AB+\\[\\]]{0,4}",
+        b in "[AB+\\[\\]]{0,4}",
+        n in 0u32..5,
+    ) {
+        let (fast, general) = fast_and_general(&axiom, &[('A', a), ('B', b)], n);
+        proptest::prop_assert_eq!(fast, general);
+    }
+}
+
+#[test]
 fn values_that_are_not_numbers_are_errors_with_places() {
     let zero = system("axiom: A(0)\nA(x) -> A(1/x)\n");
     let err = zero.derive(&DeriveOptions::default()).unwrap_err();
