@@ -59,7 +59,7 @@ struct RawProduction {
     predecessor: PatternModule,
     right: Vec<PatternModule>,
     condition: Option<Expr>,
-    weight: Option<(f64, Position)>,
+    weight: Option<f64>,
     successor: Vec<RawModule>,
 }
 
@@ -139,7 +139,6 @@ pub(crate) fn parse(text: &str) -> Result<LSystem, Error> {
         raws.push(production(line, arrow, &constants)?);
     }
     let productions = group(raws, &mut alphabet, &axiom_modules)?;
-    check_settings(&settings, &alphabet)?;
     Ok(LSystem::assemble(settings, alphabet, axiom, productions))
 }
 
@@ -278,7 +277,15 @@ fn setting(
             }
             settings.sides = sides as u32;
         }
-        "ignore" => settings.ignore = symbols(cursor),
+        "ignore" => {
+            settings.ignore = symbols(cursor);
+            if settings.ignore.iter().any(|&c| c == '[' || c == ']') {
+                return Err(Error::at(
+                    value_position,
+                    "brackets cannot be ignored: they give words their branch structure",
+                ));
+            }
+        }
         "draw" => settings.draw = symbols(cursor),
         "move" => settings.moves = symbols(cursor),
         _ => {
@@ -320,16 +327,6 @@ fn colors(chars: &[char], start: usize, line: u32) -> Result<Vec<Color>, Error> 
         ));
     }
     Ok(result)
-}
-
-/// Settings that only make sense together with the alphabet.
-fn check_settings(settings: &Settings, _alphabet: &Alphabet) -> Result<(), Error> {
-    if settings.ignore.iter().any(|&c| c == '[' || c == ']') {
-        return Err(Error::general(
-            "brackets cannot be ignored: they give words their branch structure",
-        ));
-    }
-    Ok(())
 }
 
 /// A sequence of modules with argument expressions (an axiom or a successor).
@@ -538,22 +535,22 @@ fn production(
     }
 
     // Variables: the predecessor's parameters, then each context module's, left to right.
-    let mut formals: Vec<(String, Position)> = Vec::new();
+    let mut formals: Vec<&str> = Vec::new();
     for module in std::iter::once(&predecessor).chain(&left).chain(&right) {
         for name in &module.formals {
-            if formals.iter().any(|(n, _)| n == name) {
+            if formals.contains(&name.as_str()) {
                 return Err(Error::at(
                     module.position,
                     format!("the parameter name '{name}' is used twice in this production"),
                 ));
             }
-            formals.push((name.clone(), module.position));
+            formals.push(name);
         }
     }
     let names = |name: &str| {
         formals
             .iter()
-            .position(|(n, _)| n == name)
+            .position(|&n| n == name)
             .map(|i| Name::Variable(i as u16))
             .or_else(|| constants.get(name).map(|&c| Name::Constant(c)))
     };
@@ -625,7 +622,7 @@ fn weight(
     start: usize,
     end: usize,
     constants: &FxHashMap<String, f64>,
-) -> Result<(usize, Option<(f64, Position)>), Error> {
+) -> Result<(usize, Option<f64>), Error> {
     let chars = &line.chars;
     let mut last = end;
     while last > start && chars[last - 1].is_whitespace() {
@@ -667,7 +664,7 @@ fn weight(
             format!("a weight must be positive, not {value}"),
         ));
     }
-    Ok((open, Some((value, position))))
+    Ok((open, Some(value)))
 }
 
 /// Interns the axiom's modules and evaluates their (constant) parameters.
@@ -818,13 +815,13 @@ fn build_production(
     let (left, left_vars) = context(alphabet, &first.left)?;
     let (right, right_vars) = context(alphabet, &first.right)?;
 
-    let total: f64 = members.iter().map(|m| m.weight.map_or(1.0, |w| w.0)).sum();
+    let total: f64 = members.iter().map(|m| m.weight.unwrap_or(1.0)).sum();
     let mut cumulative = 0.0;
     let mut alternatives = Vec::with_capacity(members.len());
     let count = members.len();
     let condition = first.condition.clone();
     for (k, member) in members.into_iter().enumerate() {
-        cumulative += member.weight.map_or(1.0, |w| w.0) / total;
+        cumulative += member.weight.unwrap_or(1.0) / total;
         let mut modules = Vec::with_capacity(member.successor.len());
         for module in member.successor {
             modules.push(SuccessorModule {

@@ -153,8 +153,8 @@ fn malformed_settings() {
         ),
         ("axiom: A(1/0)\n", "1:10: the value is not a finite number"),
         (
-            "ignore: [\naxiom: A\n",
-            "brackets cannot be ignored: they give words their branch structure",
+            "ignore: +[\naxiom: A\n",
+            "1:9: brackets cannot be ignored: they give words their branch structure",
         ),
     ];
     for (text, expected) in cases {

@@ -25,7 +25,8 @@ use crate::{Failure, counted, print_stdout};
         See docs/lsystem.md for the format and the turtle commands.",
     after_help = "Examples:\n  \
         shapegram lsystem examples/koch-island.lsys -o island.svg\n  \
-        shapegram lsystem examples/tree.lsys -o tree.glb --seed 3\n  \
+        shapegram lsystem examples/tree-3d.lsys -o tree.glb\n  \
+        shapegram lsystem examples/stochastic-plant.lsys -o plant.svg --seed 3\n  \
         shapegram lsystem examples/algae.lsys -n 5 --string"
 )]
 pub struct LsystemArgs {
