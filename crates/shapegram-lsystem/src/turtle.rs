@@ -192,10 +192,15 @@ pub fn interpret(system: &LSystem, word: &Word) -> Drawing {
                 let length = param.unwrap_or(settings.step);
                 let start = state.position;
                 state.position += state.heading * length;
+                // A step too short to register, or one that leaves the finite numbers, draws
+                // nothing: it would only make degenerate geometry.
+                let drawable = (state.position - start).length_squared() > 0.0
+                    && state.position.is_finite()
+                    && state.width > 0.0;
                 if let Some(polygon) = polygons.last_mut() {
                     polygon.implicit.push(state.position);
                     state.stroke = None;
-                } else if draw && length != 0.0 && state.width > 0.0 {
+                } else if draw && drawable {
                     let index = *state.stroke.get_or_insert_with(|| {
                         drawing.strokes.push(Stroke {
                             points: vec![start],

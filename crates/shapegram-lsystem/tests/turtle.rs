@@ -189,3 +189,35 @@ fn a_polygon_that_walks_back_to_its_start_closes_without_a_sliver() {
     let area = 5.0 / 4.0 / (36f64).to_radians().tan();
     assert!((leaves.area() - 2.0 * area).abs() < 1e-9);
 }
+
+proptest::proptest! {
+    #![proptest_config(proptest::prelude::ProptestConfig::with_cases(300))]
+
+    /// Any word of turtle commands, with any parameters, draws finite geometry without panicking,
+    /// and every tube of the model is closed.
+    #[test]
+    fn any_turtle_word_gives_finite_closed_tubes(
+        commands in proptest::collection::vec((0usize..17, proptest::option::of(-1e3f64..1e3)), 0..60),
+        tiny in proptest::bool::ANY,
+    ) {
+        const NAMES: [char; 17] = ['F', 'f', 'G', '+', '-', '&', '^', '\\', '/', '|', '$', '[', ']', '!', '\'', '{', '.'];
+        let mut axiom = String::new();
+        for (k, param) in commands {
+            axiom.push(NAMES[k]);
+            if let (Some(p), false) = (param, matches!(NAMES[k], '[' | ']')) {
+                let p = if tiny && NAMES[k] == 'F' { p * 1e-300 } else { p };
+                axiom.push_str(&format!("({p})"));
+            }
+        }
+        axiom.push('}');
+        let system = LSystem::parse(&format!("n: 0\nangle: 33\naxiom: {axiom}\n")).unwrap();
+        let drawing = interpret(&system, system.axiom());
+        let model = drawing_to_model(&drawing, &system.settings);
+        for part in &model.parts {
+            proptest::prop_assert!(part.mesh.positions().iter().all(|p| p.is_finite()));
+            if part.name.starts_with("branches") {
+                proptest::prop_assert!(part.mesh.is_watertight(), "{}", axiom);
+            }
+        }
+    }
+}
