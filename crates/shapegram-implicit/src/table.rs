@@ -205,3 +205,83 @@ fn orient(e1: usize, e2: usize, witness: usize, axis: usize, side: usize) -> (us
         (e2, e1)
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Edges of the triangles of `case` as (from, to) corner keys, centres numbered after edges.
+    fn directed_edges(case: &Case) -> Vec<(u8, u8)> {
+        case.triangles[..case.count as usize]
+            .iter()
+            .flat_map(|t| [(t[0], t[1]), (t[1], t[2]), (t[2], t[0])])
+            .collect()
+    }
+
+    #[test]
+    fn every_case_is_a_patch_bounded_by_its_face_segments() {
+        let table = cases();
+        for pattern in 0..256usize {
+            let case = &table[pattern];
+            let inside = |c: usize| pattern >> c & 1 == 1;
+            let crossing = (0..12)
+                .filter(|&e| {
+                    let (a, b) = edge_corners(e);
+                    inside(a) != inside(b)
+                })
+                .count();
+            // Each crossed edge is on exactly one ring, and only crossed edges are.
+            let ring_edges: usize = case.ring_len[..case.ring_count as usize]
+                .iter()
+                .map(|&l| l as usize)
+                .sum();
+            assert_eq!(ring_edges, crossing, "pattern {pattern}");
+            let edges = directed_edges(case);
+            let count = |a: u8, b: u8| edges.iter().filter(|&&e| e == (a, b)).count();
+            let mut boundary = Vec::new();
+            for &(a, b) in &edges {
+                match (count(a, b), count(b, a)) {
+                    (1, 1) => {}
+                    (1, 0) => boundary.push((a as usize, b as usize)),
+                    other => panic!("pattern {pattern}: edge {a}-{b} used {other:?}"),
+                }
+            }
+            // The open edges of the patch are exactly the face segments, in their orientation.
+            let mut segments: Vec<(usize, usize)> = (0..3)
+                .flat_map(|axis| (0..2).map(move |side| (axis, side)))
+                .flat_map(|(axis, side)| face_segments(axis, side, &inside))
+                .collect();
+            boundary.sort_unstable();
+            segments.sort_unstable();
+            assert_eq!(boundary, segments, "pattern {pattern}");
+            // No triangle repeats an edge.
+            for t in &case.triangles[..case.count as usize] {
+                assert!(
+                    t[0] != t[1] && t[1] != t[2] && t[0] != t[2],
+                    "pattern {pattern}"
+                );
+            }
+        }
+        assert_eq!(table[0].count + table[255].count, 0);
+        // One corner inside: a single triangle; a face of four inside corners: two.
+        assert_eq!(table[1].count, 1);
+        assert_eq!(table[0b0000_1111].count, 2);
+    }
+
+    #[test]
+    fn complementary_patterns_use_the_same_edges() {
+        let table = cases();
+        for pattern in 0..256usize {
+            let edges = |p: usize| {
+                let mut e: Vec<u8> = table[p].rings[..table[p].ring_count as usize]
+                    .iter()
+                    .zip(&table[p].ring_len)
+                    .flat_map(|(r, &l)| r[..l as usize].to_vec())
+                    .collect();
+                e.sort_unstable();
+                e
+            };
+            assert_eq!(edges(pattern), edges(255 - pattern), "pattern {pattern}");
+        }
+    }
+}

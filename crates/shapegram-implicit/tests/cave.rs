@@ -418,3 +418,49 @@ fn bad_parameters_are_errors() {
         "invalid overlap 1.5: expected 0 to 1"
     );
 }
+
+proptest::proptest! {
+    #![proptest_config(proptest::prelude::ProptestConfig::with_cases(16))]
+
+    /// Any sequence of productions gives a closed, outward mesh (or a clear error when no bond
+    /// is left to join at).
+    #[test]
+    fn random_productions_mesh_closed(
+        steps in proptest::collection::vec((0..7usize, 0..4usize, 0..7usize, 0.5..1.5f64), 1..10),
+        overlap in 0.0..0.5f64,
+    ) {
+        let mut rng = Rng::new(3);
+        let mut cave = CaveBuilder::new(overlap).unwrap();
+        let directions = [
+            Direction::NegX, Direction::PosX, Direction::NegY, Direction::PosY,
+            Direction::NegZ, Direction::PosZ, Direction::Random,
+        ];
+        for (kind, op, dir, size) in steps {
+            let primitive = match kind {
+                0 => Primitive::Sphere { radius: size },
+                1 => Primitive::Cuboid { size: DVec3::new(size, 1.0, 2.0 * size) },
+                2 => Primitive::Cylinder { radius: size * 0.5, height: 2.0 },
+                3 => Primitive::Cone { radius: size, height: 1.5 },
+                4 => Primitive::Pyramid { size: DVec3::new(1.5, size, 1.0) },
+                5 => Primitive::Torus { major: size, minor: size * 0.3 },
+                _ => Primitive::Capsule { radius: 0.4, length: size },
+            };
+            let shape = Shape::primitive(primitive).unwrap();
+            let (operation, attach) = match op {
+                0 => (Operation::Sum, Attach::Bond(directions[dir])),
+                1 => (Operation::Difference, Attach::Bond(directions[dir])),
+                2 => (Operation::Intersection, Attach::Centre),
+                _ => (Operation::Morph(0.5), Attach::Bond(directions[dir])),
+            };
+            if let Err(e) = cave.apply(&shape, 1, operation, attach, &mut rng) {
+                proptest::prop_assert!(e.to_string().starts_with("the base has no open bond"), "{e}");
+            }
+        }
+        let m = mesh(cave.solid(), &MeshOptions::with_cell_size(0.15)).unwrap();
+        if !m.mesh.is_empty() {
+            let metrics = Metrics::measure(&m, cave.elements());
+            proptest::prop_assert!(metrics.edges.is_watertight(), "{:?}", metrics.edges);
+            proptest::prop_assert!(metrics.mesh_volume > 0.0);
+        }
+    }
+}

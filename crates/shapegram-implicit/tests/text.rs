@@ -278,3 +278,32 @@ fn definitions_that_double_up_hit_the_budget() {
         "41:1: the solids are too large: more than 1000000 parts evaluated"
     );
 }
+
+proptest::proptest! {
+    #![proptest_config(proptest::prelude::ProptestConfig::with_cases(400))]
+
+    /// Token soup never panics: it parses (and then runs) or fails with a located error.
+    #[test]
+    fn token_soup_never_panics(
+        tokens in proptest::collection::vec(
+            proptest::sample::select(vec![
+                "add", "subtract", "intersect", "morph", "let", "a", "b", "=", "sphere", "box",
+                "torus", "cone", "pyramid", "capsule", "cylinder", "(", ")", ",", "1", "0", "-2",
+                "0.5", "1e3", "%", "+", "-", "&", ".", "move", "rotate", "scale", "x", "at", "+x",
+                "centre", "random", "rand", "smooth_union", "lod", "seed", "overlap", "direction",
+                "\n", "\n", "\n", "#", "{", "}", "$", "é",
+            ]),
+            0..40,
+        )
+    ) {
+        let text = tokens.join(" ");
+        match parse(&text) {
+            Err(e) => proptest::prop_assert!(e.line >= 1 && e.column >= 1, "{e}"),
+            Ok(program) => {
+                if let Err(e) = program.run(None) {
+                    proptest::prop_assert!(e.line >= 1 && e.column >= 1, "{e}");
+                }
+            }
+        }
+    }
+}
