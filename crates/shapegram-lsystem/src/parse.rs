@@ -96,14 +96,33 @@ pub(crate) fn parse(text: &str) -> Result<LSystem, Error> {
             continue;
         }
         let key_start = cursor.index();
-        let key = setting_key(&mut cursor).ok_or_else(|| {
-            cursor.error("expected a setting like `n: 5` or a production like `A -> AB`")
-        })?;
-        let key = match key.as_str() {
-            "ω" => "axiom".to_string(),
-            "colours" => "colors".to_string(),
-            _ => key,
+        let key = match directive(&line.chars) {
+            Some((word, after)) => {
+                cursor = line.cursor(after, line.end);
+                cursor.skip_space();
+                cursor.eat(':');
+                word.to_string()
+            }
+            None => {
+                if is_section_marker(&line.chars[..line.end]) {
+                    continue;
+                }
+                setting_key(&mut cursor).ok_or_else(|| {
+                    cursor.error("expected a setting like `n: 5` or a production like `A -> AB`")
+                })?
+            }
         };
+        if matches!(
+            key.as_str(),
+            "homomorphism" | "decomposition" | "interpretation"
+        ) {
+            return Err(Error::at(
+                cursor.position_of(key_start),
+                format!(
+                    "{key} rules are not supported: write drawing symbols with `draw:` and `move:`"
+                ),
+            ));
+        }
         if key != "define"
             && let Some(first) = seen.insert(key.clone(), line.number)
         {
@@ -142,13 +161,25 @@ pub(crate) fn parse(text: &str) -> Result<LSystem, Error> {
     Ok(LSystem::assemble(settings, alphabet, axiom, productions))
 }
 
+/// Whether the line is one of L-Py's and cpfg's section lines (`Lsystem: 1`, `production:`,
+/// `endlsystem`), which carry nothing here.
+fn is_section_marker(chars: &[char]) -> bool {
+    let text: String = chars.iter().collect::<String>().trim().to_lowercase();
+    let head = text.split(':').next().unwrap_or("").trim();
+    matches!(
+        head,
+        "lsystem" | "production" | "productions" | "endlsystem" | "endrule"
+    )
+}
+
 /// Where a `#` comment starts (the line length when there is none). In `colors:` lines, a `#`
 /// directly followed by a character other than a space starts a colour, not a comment.
 fn comment_start(chars: &[char]) -> usize {
     let text: String = chars.iter().collect();
     let trimmed = text.trim_start();
     let is_colors = trimmed.starts_with("colors") || trimmed.starts_with("colours");
-    (0..chars.len())
+    let from = directive(chars).map_or(0, |(_, after)| after);
+    (from..chars.len())
         .find(|&i| {
             chars[i] == '#' && !(is_colors && chars.get(i + 1).is_some_and(|c| !c.is_whitespace()))
         })
@@ -164,38 +195,76 @@ fn find_arrow(chars: &[char]) -> Option<usize> {
             ')' => depth -= 1,
             '→' if depth == 0 => return Some(i),
             '-' if depth == 0 && chars.get(i + 1) == Some(&'>') => return Some(i),
+            // L-Py's and cpfg's long arrow.
+            '-' if depth == 0
+                && chars.get(i + 1) == Some(&'-')
+                && chars.get(i + 2) == Some(&'>') =>
+            {
+                return Some(i);
+            }
             _ => {}
         }
     }
     None
 }
 
-/// The width of the arrow at `index`.
+/// The width of the arrow at `index`: `→`, `->` or `-->`.
 fn arrow_width(chars: &[char], index: usize) -> usize {
-    if chars[index] == '→' { 1 } else { 2 }
+    match (chars[index], chars.get(index + 1)) {
+        ('→', _) => 1,
+        (_, Some('-')) => 3,
+        _ => 2,
+    }
 }
 
-/// Reads `key:` and returns the key.
+/// Reads `key:` and returns the key, lower-case, with the aliases of other notations mapped to
+/// ours (`derivation length:` as in L-Py and cpfg, `ω:` and `δ:` as in ABOP).
 fn setting_key(cursor: &mut Cursor) -> Option<String> {
     let start = cursor.index();
     while cursor
         .peek()
-        .is_some_and(|c| c.is_alphanumeric() || c == '-' || c == '_')
+        .is_some_and(|c| c.is_alphanumeric() || c == '-' || c == '_' || c == ' ')
     {
         cursor.bump();
     }
-    let key = cursor.text_since(start);
+    let key = cursor.text_since(start).trim_end().to_lowercase();
     cursor.skip_space();
-    (!key.is_empty() && cursor.eat(':')).then_some(key)
+    if key.is_empty() || !cursor.eat(':') {
+        return None;
+    }
+    Some(
+        match key.as_str() {
+            "ω" => "axiom",
+            "δ" | "delta" => "angle",
+            "derivation length" | "derivation-length" | "iterations" => "n",
+            "colours" => "colors",
+            other => other,
+        }
+        .to_string(),
+    )
 }
 
-/// `define: name = expression`.
+/// A cpfg-style directive at the start of a line, `#define NAME value` or `#ignore: symbols`:
+/// its kind and the index after its word.
+fn directive(chars: &[char]) -> Option<(&'static str, usize)> {
+    let start = chars.iter().position(|c| !c.is_whitespace())?;
+    let rest: String = chars[start..].iter().take(8).collect();
+    ["define", "ignore"].into_iter().find_map(|word| {
+        let after = start + 1 + word.len();
+        let boundary = chars
+            .get(after)
+            .is_none_or(|&c| c.is_whitespace() || c == ':');
+        (rest.starts_with('#') && rest[1..].starts_with(word) && boundary).then_some((word, after))
+    })
+}
+
+/// `define: name = expression` (the `=` may be left out, as in cpfg's `#define name value`).
 fn define(cursor: &mut Cursor, constants: &FxHashMap<String, f64>) -> Result<(String, f64), Error> {
     let name = cursor
         .identifier()
         .ok_or_else(|| cursor.error("expected a name after `define:`, as in `define: r = 0.5`"))?;
     cursor.skip_space();
-    if !cursor.eat('=') {
+    if !cursor.eat('=') && cursor.at_end() {
         return Err(cursor.error(format!(
             "expected '=' after the name '{name}', found {}",
             describe(cursor.peek())

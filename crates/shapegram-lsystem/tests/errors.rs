@@ -139,8 +139,8 @@ fn malformed_settings() {
             "2:9: expected a name after `define:`, as in `define: r = 0.5`",
         ),
         (
-            "axiom: A\ndefine: r 4\n",
-            "2:11: expected '=' after the name 'r', found '4'",
+            "axiom: A\ndefine: r\n",
+            "2:10: expected '=' after the name 'r', found the end of the line",
         ),
         (
             "axiom: A\ncolors: #12345z\n",
@@ -160,6 +160,10 @@ fn malformed_settings() {
     for (text, expected) in cases {
         assert_eq!(error(text), expected, "{text}");
     }
+    assert_eq!(
+        error("axiom: A\nhomomorphism:\n"),
+        "2:1: homomorphism rules are not supported: write drawing symbols with `draw:` and `move:`"
+    );
 }
 
 #[test]

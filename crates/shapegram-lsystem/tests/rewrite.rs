@@ -321,3 +321,29 @@ fn values_that_are_not_numbers_are_errors_with_places() {
         "2:8: step 1: the condition is not a number (NaN) for A(-1)"
     );
 }
+
+#[test]
+fn cpfg_and_l_py_notation_paste_in() {
+    let text = "\
+#define R 2
+#ignore: +-
+Lsystem: 1
+derivation length: 2
+Axiom: A(1)+B
+A(x) --> A(x*R)
+B > A(x) --> C
+A(x) < B --> D
+endlsystem
+";
+    // The right context of B skips nothing (B is last); its left context skips the ignored +.
+    assert_eq!(word(text, 1), "A(2)+D");
+    let system = system(text);
+    assert_eq!(system.settings.iterations, 2);
+    assert_eq!(system.settings.ignore, ['+', '-']);
+    let abop = "δ: 22.5\nω: F\np1: F → F[+F]F\n";
+    assert_eq!(system_angle(abop), 22.5);
+}
+
+fn system_angle(text: &str) -> f64 {
+    system(text).settings.angle
+}
