@@ -15,6 +15,8 @@
 //!   backtracking).
 //! - Symbols in the ignore set are skipped on both sides.
 
+use std::cell::Cell;
+
 use crate::alphabet::SymbolId;
 
 /// Marks "no matching bracket" in [`Structure::partners`].
@@ -28,6 +30,9 @@ pub(crate) struct Structure<'a> {
     pub ignored: &'a [bool],
     pub open: SymbolId,
     pub close: SymbolId,
+    /// Symbols looked at so far, so that the caller can stop pathological searches (long runs
+    /// of ignored symbols or sibling branches scanned again for every module).
+    pub work: Cell<u64>,
 }
 
 /// The partner of each bracket of `symbols` (`UNMATCHED` for other modules and for brackets
@@ -65,6 +70,7 @@ impl Structure<'_> {
         let mut i = at;
         for k in (0..pattern.len()).rev() {
             loop {
+                self.work.set(self.work.get() + 1);
                 if i == 0 {
                     return false;
                 }
@@ -135,10 +141,12 @@ impl Structure<'_> {
         enter: bool,
     ) -> bool {
         while *k < pattern.len() {
+            self.work.set(self.work.get() + 1);
             let want = pattern[*k];
             if want == self.close {
                 // Skip the rest of the current branch, then its `]`.
                 loop {
+                    self.work.set(self.work.get() + 1);
                     if *i >= n {
                         return false;
                     }

@@ -6,6 +6,8 @@
 //! one precomputed slice per module. Everything else goes module by module through its
 //! symbol's productions.
 
+use std::cell::Cell;
+
 use crate::alphabet::SymbolId;
 use crate::context::{Structure, pair_brackets};
 use crate::error::Error;
@@ -153,7 +155,11 @@ impl LSystem {
             ignored: &self.ignored,
             open: self.open,
             close: self.close,
+            work: Cell::new(0),
         };
+        // Far more than any sensible system needs (a few symbols per production tried), far
+        // less than the quadratic work of a pathological one.
+        let budget = 1024 * input.symbols.len() as u64 + 1_000_000;
         let mut engine = Applier {
             system: self,
             input,
@@ -192,6 +198,12 @@ impl LSystem {
                     Plan::Productions(list) => {
                         if !engine.apply(list, i, params, out)? {
                             copy(out, s, params);
+                        }
+                        if engine.structure.work.get() > budget {
+                            return Err(Error::general(format!(
+                                "step {step}: matching contexts takes too long (at module {i} of {}): long runs of ignored symbols or of sibling branches are searched again for every module",
+                                group_digits(n)
+                            )));
                         }
                     }
                 }

@@ -307,6 +307,18 @@ proptest::proptest! {
 }
 
 #[test]
+fn pathological_context_searches_stop_with_an_error() {
+    // Every A looks right across all the ignored A's after it: quadratic work.
+    let text = format!("ignore: A\naxiom: {}B\nA > B -> C\n", "A".repeat(50_000));
+    let err = system(&text).derive(&DeriveOptions::default()).unwrap_err();
+    assert!(
+        err.message
+            .starts_with("step 1: matching contexts takes too long (at module "),
+        "{err}"
+    );
+}
+
+#[test]
 fn values_that_are_not_numbers_are_errors_with_places() {
     let zero = system("axiom: A(0)\nA(x) -> A(1/x)\n");
     let err = zero.derive(&DeriveOptions::default()).unwrap_err();
