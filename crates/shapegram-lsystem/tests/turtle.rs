@@ -5,6 +5,7 @@ use glam::DVec3;
 use shapegram_geom::{Scope, primitives};
 use shapegram_lsystem::{
     DeriveOptions, Drawing, LSystem, drawing_to_model, fit_into_box, fit_into_scope, interpret,
+    model_in_scope,
 };
 
 fn draw(text: &str) -> Drawing {
@@ -188,6 +189,28 @@ fn a_polygon_that_walks_back_to_its_start_closes_without_a_sliver() {
     // A regular pentagon of side 1.
     let area = 5.0 / 4.0 / (36f64).to_radians().tan();
     assert!((leaves.area() - 2.0 * area).abs() < 1e-9);
+}
+
+#[test]
+fn an_l_system_planted_in_a_rotated_scope_stays_inside_it() {
+    let tree =
+        LSystem::parse("n: 4\nangle: 25\nwidth: 0.3\naxiom: F\nF -> F[+F]F[-F][&F]F\n").unwrap();
+    let mut scope = Scope::axis_aligned(DVec3::new(10.0, 0.0, -4.0), DVec3::new(3.0, 8.0, 3.0));
+    scope.rotate_world(DVec3::Y, 30.0, scope.origin);
+    let model = model_in_scope(&tree, &DeriveOptions::default(), &scope).unwrap();
+    assert!(!model.parts.is_empty());
+    let eps = 1e-9;
+    let mut top: f64 = 0.0;
+    for part in &model.parts {
+        for &p in part.mesh.positions() {
+            let local = scope.to_local(p);
+            assert!(local.cmpge(DVec3::splat(-eps)).all(), "{local}");
+            assert!(local.cmple(scope.size + eps).all(), "{local}");
+            top = top.max(local.y);
+        }
+    }
+    // The tree is taller than wide, so it reaches the top of the scope.
+    assert!((top - 8.0).abs() < 1e-9, "{top}");
 }
 
 proptest::proptest! {
