@@ -19,7 +19,8 @@ use crate::turtle::{Drawing, Polygon, Stroke};
 const SHARPEST_BEND_COS: f64 = -0.5;
 
 /// The model of a drawing: tubes with `settings.sides` sides and leaves, coloured from
-/// `settings.colors` (colour indices past the end wrap around). Parts come in palette order,
+/// `settings.colors` (colour indices past its end take its last colour, so palettes work as
+/// gradients). Parts come in palette order,
 /// branches before leaves of the same colour.
 pub fn drawing_to_model(drawing: &Drawing, settings: &Settings) -> Model {
     let mut meshes: BTreeMap<(usize, u8), Mesh> = BTreeMap::new();
@@ -28,7 +29,7 @@ pub fn drawing_to_model(drawing: &Drawing, settings: &Settings) -> Model {
     } else {
         settings.colors.clone()
     };
-    let slot = |color: usize| color % palette.len();
+    let slot = |color: usize| color.min(palette.len() - 1);
     let mut tubes = TubeBuilder::new(settings.sides.max(3) as usize);
     for stroke in &drawing.strokes {
         let mesh = meshes.entry((slot(stroke.color), 0)).or_default();

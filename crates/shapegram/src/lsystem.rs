@@ -202,7 +202,7 @@ fn svg_drawing(drawing: &Drawing, settings: &Settings) -> SvgDrawing {
     let color = |index: usize| {
         settings
             .colors
-            .get(index % settings.colors.len().max(1))
+            .get(index.min(settings.colors.len().saturating_sub(1)))
             .copied()
             .unwrap_or_default()
     };

@@ -136,6 +136,7 @@ fn every_example_draws() {
         ("parametric.lsys", 0, 0),
         ("signal.lsys", 0, 0),
         ("context-plant.lsys", 2501, 0),
+        ("bush-3d.lsys", 3891, 1284),
     ];
     for (name, segments, polygons) in cases {
         let path = dir.path(&name.replace(".lsys", ".glb"));
