@@ -359,3 +359,123 @@ endlsystem
 fn system_angle(text: &str) -> f64 {
     system(text).settings.angle
 }
+
+/// The left neighbour of every module along the path to the root, worked out forwards with a
+/// stack (a different algorithm from the engine's backward search): `None` at the root, after
+/// a `]` without partner, and for brackets and ignored symbols.
+fn path_parents(word: &[char], ignored: char) -> Vec<Option<usize>> {
+    const BROKEN: usize = usize::MAX;
+    let mut parents = vec![None; word.len()];
+    let mut last: Option<usize> = None;
+    let mut stack = Vec::new();
+    for (i, &c) in word.iter().enumerate() {
+        match c {
+            '[' => stack.push(last),
+            ']' => last = stack.pop().unwrap_or(Some(BROKEN)),
+            c if c == ignored => {}
+            _ => {
+                parents[i] = last.filter(|&p| p != BROKEN);
+                last = Some(i);
+            }
+        }
+    }
+    parents
+}
+
+proptest::proptest! {
+    #![proptest_config(proptest::prelude::ProptestConfig::with_cases(300))]
+
+    /// `A B < C` rewrites exactly the C's whose path to the root reads B, then A.
+    #[test]
+    fn left_contexts_follow_the_path_to_the_root(word in "[ABC+\\[\\]]{1,24}") {
+        // `A -> A` and `B -> B` put A and B into a successor, so the context is always valid.
+        let text = format!("ignore: +\naxiom: {word}\nA B < C -> X\nA -> A\nB -> B\n");
+        let derived = self::word(&text, 1);
+        let chars: Vec<char> = word.chars().collect();
+        let parents = path_parents(&chars, '+');
+        let expected: String = chars
+            .iter()
+            .enumerate()
+            .map(|(i, &c)| {
+                let b = parents[i].filter(|&p| chars[p] == 'B');
+                let a = b.and_then(|b| parents[b]).filter(|&p| chars[p] == 'A');
+                if c == 'C' && a.is_some() { 'X' } else { c }
+            })
+            .collect();
+        proptest::prop_assert_eq!(derived, expected);
+    }
+}
+
+/// The positions a right context can continue at after reading up to `from`: the next module
+/// along the axis or, entering branches, inside any branch that starts on the way (a plain
+/// recursive definition of what the engine finds by backtracking).
+fn right_candidates(word: &[char], partners: &[Option<usize>], from: usize, out: &mut Vec<usize>) {
+    let mut i = from;
+    while i < word.len() {
+        match word[i] {
+            '+' => i += 1,
+            ']' => return,
+            '[' => match partners[i] {
+                Some(j) => {
+                    right_candidates(word, partners, i + 1, out);
+                    i = j + 1;
+                }
+                None => i += 1,
+            },
+            _ => {
+                out.push(i);
+                return;
+            }
+        }
+    }
+}
+
+/// Whether `pattern` can be read to the right of `at` in any way (axis or branches).
+fn right_matches(word: &[char], partners: &[Option<usize>], at: usize, pattern: &[char]) -> bool {
+    let Some((&first, rest)) = pattern.split_first() else {
+        return true;
+    };
+    let mut candidates = Vec::new();
+    right_candidates(word, partners, at + 1, &mut candidates);
+    candidates
+        .into_iter()
+        .any(|c| word[c] == first && right_matches(word, partners, c, rest))
+}
+
+fn bracket_partners(word: &[char]) -> Vec<Option<usize>> {
+    let mut partners = vec![None; word.len()];
+    let mut stack = Vec::new();
+    for (i, &c) in word.iter().enumerate() {
+        if c == '[' {
+            stack.push(i);
+        } else if c == ']'
+            && let Some(j) = stack.pop()
+        {
+            partners[i] = Some(j);
+            partners[j] = Some(i);
+        }
+    }
+    partners
+}
+
+proptest::proptest! {
+    #![proptest_config(proptest::prelude::ProptestConfig::with_cases(300))]
+
+    /// With one production `C > A B`, a C is rewritten exactly when A B can be read to its
+    /// right along the axis or, failing that, through branches.
+    #[test]
+    fn right_contexts_match_along_the_axis_or_through_branches(word in "[ABC+\\[\\]]{1,24}") {
+        let text = format!("ignore: +\naxiom: {word}\nC > A B -> X\nA -> A\nB -> B\n");
+        let derived = self::word(&text, 1);
+        let chars: Vec<char> = word.chars().collect();
+        let partners = bracket_partners(&chars);
+        let expected: String = chars
+            .iter()
+            .enumerate()
+            .map(|(i, &c)| {
+                if c == 'C' && right_matches(&chars, &partners, i, &['A', 'B']) { 'X' } else { c }
+            })
+            .collect();
+        proptest::prop_assert_eq!(derived, expected);
+    }
+}
