@@ -43,7 +43,8 @@ pub fn model_in_scope(
     scope: &Scope,
 ) -> Result<Model, Error> {
     let word = system.derive(options)?;
-    let drawing = interpret(system, &word);
+    let shown = system.interpretation(&word, options)?;
+    let drawing = interpret(system, &shown);
     Ok(fit_into_scope(
         &drawing_to_model(&drawing, &system.settings),
         scope,

@@ -53,6 +53,7 @@ pub(crate) fn parse(text: &str) -> Result<LSystem, Error> {
     let mut seen: FxHashMap<String, u32> = FxHashMap::default();
     let mut axiom_line: Option<(&Line, usize)> = None;
     let mut production_lines = Vec::new();
+    let mut section = Section::Productions;
 
     for line in &lines {
         let mut cursor = line.cursor(0, line.end);
@@ -60,7 +61,7 @@ pub(crate) fn parse(text: &str) -> Result<LSystem, Error> {
             continue;
         }
         if let Some(arrow) = find_arrow(&line.chars[..line.end]) {
-            production_lines.push((line, arrow));
+            production_lines.push((line, arrow, section));
             continue;
         }
         let key_start = cursor.index();
@@ -72,7 +73,8 @@ pub(crate) fn parse(text: &str) -> Result<LSystem, Error> {
                 word.to_string()
             }
             None => {
-                if is_section_marker(&line.chars[..line.end]) {
+                if let Some(next) = section_of(&line.chars[..line.end]) {
+                    section = next;
                     continue;
                 }
                 settings::setting_key(&mut cursor).ok_or_else(|| {
@@ -80,15 +82,10 @@ pub(crate) fn parse(text: &str) -> Result<LSystem, Error> {
                 })?
             }
         };
-        if matches!(
-            key.as_str(),
-            "homomorphism" | "decomposition" | "interpretation"
-        ) {
+        if key == "decomposition" {
             return Err(Error::at(
                 cursor.position_of(key_start),
-                format!(
-                    "{key} rules are not supported: write drawing symbols with `draw:` and `move:`"
-                ),
+                "decomposition rules are not supported (interpretation rules are: `homomorphism:`)",
             ));
         }
         if key != "define"
@@ -122,23 +119,49 @@ pub(crate) fn parse(text: &str) -> Result<LSystem, Error> {
     let axiom_modules = production::modules(&mut cursor, &constant_names)?;
     let axiom = assemble::build_axiom(&axiom_modules, &mut alphabet)?;
 
-    let mut raws = Vec::with_capacity(production_lines.len());
-    for (line, arrow) in production_lines {
-        raws.push(production::production(line, arrow, &constants)?);
+    let mut raws = Vec::new();
+    let mut interpretation_raws = Vec::new();
+    for (line, arrow, section) in production_lines {
+        let raw = production::production(line, arrow, &constants)?;
+        match section {
+            Section::Productions => raws.push(raw),
+            Section::Interpretation => interpretation_raws.push(raw),
+        }
     }
-    let productions = assemble::group(raws, &mut alphabet, &axiom_modules)?;
-    Ok(LSystem::assemble(settings, alphabet, axiom, productions))
+    let produced = assemble::produced(&axiom_modules, raws.iter().chain(&interpretation_raws));
+    let productions = assemble::group(raws, &mut alphabet, &produced)?;
+    let interpretation = assemble::group(interpretation_raws, &mut alphabet, &produced)?;
+    Ok(LSystem::assemble(
+        settings,
+        alphabet,
+        axiom,
+        productions,
+        interpretation,
+    ))
 }
 
-/// Whether the line is one of L-Py's and cpfg's section lines (`Lsystem: 1`, `production:`,
-/// `endlsystem`), which carry nothing here.
-fn is_section_marker(chars: &[char]) -> bool {
+/// Which rules a production line adds to.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Section {
+    /// The productions of the derivation.
+    Productions,
+    /// Interpretation rules, applied once before drawing (`homomorphism:`).
+    Interpretation,
+}
+
+/// The section a line of L-Py's and cpfg's section syntax starts: `homomorphism:` (or
+/// `interpretation:`) starts interpretation rules; `Lsystem: 1`, `production:` and `endlsystem`
+/// go back to (or stay with) the derivation's productions. `None` for other lines.
+fn section_of(chars: &[char]) -> Option<Section> {
     let text: String = chars.iter().collect::<String>().trim().to_lowercase();
     let head = text.split(':').next().unwrap_or("").trim();
-    matches!(
-        head,
-        "lsystem" | "production" | "productions" | "endlsystem" | "endrule"
-    )
+    match head {
+        "lsystem" | "production" | "productions" | "endlsystem" | "endrule" => {
+            Some(Section::Productions)
+        }
+        "homomorphism" | "interpretation" => Some(Section::Interpretation),
+        _ => None,
+    }
 }
 
 /// Where a `#` comment starts (the line length when there is none). In `colors:` lines, a `#`

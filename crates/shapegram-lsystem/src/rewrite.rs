@@ -6,13 +6,14 @@
 //! one precomputed slice per module. Everything else goes module by module through its
 //! symbol's productions.
 
+use std::borrow::Cow;
 use std::cell::Cell;
 
 use crate::alphabet::SymbolId;
 use crate::context::{Structure, pair_brackets};
 use crate::error::Error;
 use crate::rng;
-use crate::system::{LSystem, Plan, Production};
+use crate::system::{LSystem, Plan, Production, Rules};
 use crate::word::{Word, push_number};
 
 /// Default limit on the number of modules of a word.
@@ -36,6 +37,24 @@ impl Default for DeriveOptions {
             iterations: None,
             seed: None,
             max_modules: DEFAULT_MAX_MODULES,
+        }
+    }
+}
+
+/// Which rewriting pass a message is about.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Stage {
+    /// A derivation step, from 1.
+    Step(u32),
+    /// The interpretation rules, applied once before drawing.
+    Interpretation,
+}
+
+impl std::fmt::Display for Stage {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Self::Step(step) => write!(f, "step {step}"),
+            Self::Interpretation => f.write_str("interpretation"),
         }
     }
 }
@@ -82,26 +101,64 @@ impl LSystem {
             }
             return Ok(word);
         }
-        let arities: Vec<usize> = self
-            .alphabet
-            .symbols()
-            .iter()
-            .map(|s| s.arity as usize)
-            .collect();
+        let arities = self.arities();
         let mut scratch = Scratch::default();
         for step in 1..=iterations {
             let key = rng::step_key(seed, step);
-            self.step(&word, &mut next, step, key, max, &arities, &mut scratch)?;
+            let pass = Pass {
+                rules: &self.rules,
+                stage: Stage::Step(step),
+                key,
+                max,
+                arities: &arities,
+            };
+            self.step(&pass, &word, &mut next, &mut scratch)?;
             std::mem::swap(&mut word, &mut next);
             progress(step, word.len());
         }
         Ok(word)
     }
 
+    /// The word the turtle draws: `word` with the interpretation rules (the `homomorphism:`
+    /// section) applied once, in parallel like a derivation step; `word` itself when there are
+    /// none. The seed and the module limit come from `options`.
+    pub fn interpretation<'a>(
+        &self,
+        word: &'a Word,
+        options: &DeriveOptions,
+    ) -> Result<Cow<'a, Word>, Error> {
+        if self.interpretation.is_empty() {
+            return Ok(Cow::Borrowed(word));
+        }
+        let seed = options.seed.unwrap_or(self.settings.seed);
+        let arities = self.arities();
+        let pass = Pass {
+            rules: &self.interpretation,
+            stage: Stage::Interpretation,
+            // Its own stream: the interpretation never repeats a derivation step's draws.
+            key: rng::step_key(seed, u32::MAX),
+            max: options.max_modules,
+            arities: &arities,
+        };
+        let mut out = Word::default();
+        self.step(&pass, word, &mut out, &mut Scratch::default())?;
+        Ok(Cow::Owned(out))
+    }
+
+    /// The number of parameters of each symbol, by id.
+    fn arities(&self) -> Vec<usize> {
+        self.alphabet
+            .symbols()
+            .iter()
+            .map(|s| s.arity as usize)
+            .collect()
+    }
+
     /// Per symbol, the slice of `slab` it becomes in a D0L system.
     fn d0l_table(&self) -> (Vec<(u32, u32)>, Vec<SymbolId>) {
-        let mut slab = self.fixed.clone();
+        let mut slab = self.rules.fixed.clone();
         let table = self
+            .rules
             .plans
             .iter()
             .enumerate()
@@ -116,21 +173,18 @@ impl LSystem {
         (table, slab)
     }
 
-    /// One step of the general engine: `input` rewritten into `out`.
-    #[allow(clippy::too_many_arguments)]
+    /// One step of the general engine: `input` rewritten into `out` by `pass.rules`.
     fn step(
         &self,
+        pass: &Pass,
         input: &Word,
         out: &mut Word,
-        step: u32,
-        key: u64,
-        max: usize,
-        arities: &[usize],
         scratch: &mut Scratch,
     ) -> Result<(), Error> {
+        let (rules, stage, max, arities) = (pass.rules, pass.stage, pass.max, pass.arities);
         out.symbols.clear();
         out.params.clear();
-        let contexts = self.has_context();
+        let contexts = rules.has_context();
         if contexts {
             pair_brackets(
                 &input.symbols,
@@ -162,12 +216,13 @@ impl LSystem {
         let budget = 1024 * input.symbols.len() as u64 + 1_000_000;
         let mut engine = Applier {
             system: self,
+            rules,
             input,
             structure,
             offsets: &scratch.offsets,
             arities,
-            key,
-            step,
+            key: pass.key,
+            stage,
             variables: &mut scratch.variables,
             stack: &mut scratch.stack,
             found_left: &mut scratch.found_left,
@@ -180,7 +235,7 @@ impl LSystem {
         while i < n {
             // Terminal symbols pile up as a word grows: copy runs of them in one go.
             let (run, param_run) = (i, p);
-            while i < n && matches!(self.plans[symbols[i] as usize], Plan::Copy) {
+            while i < n && matches!(rules.plans[symbols[i] as usize], Plan::Copy) {
                 p += arities[symbols[i] as usize];
                 i += 1;
             }
@@ -190,18 +245,18 @@ impl LSystem {
                 let s = symbols[i];
                 let arity = arities[s as usize];
                 let params = &input.params[p..p + arity];
-                match &self.plans[s as usize] {
+                match &rules.plans[s as usize] {
                     Plan::Copy => {}
                     Plan::Fixed { start, len } => out
                         .symbols
-                        .extend_from_slice(&self.fixed[*start as usize..(*start + *len) as usize]),
+                        .extend_from_slice(&rules.fixed[*start as usize..(*start + *len) as usize]),
                     Plan::Productions(list) => {
                         if !engine.apply(list, i, params, out)? {
                             copy(out, s, params);
                         }
                         if engine.structure.work.get() > budget {
                             return Err(Error::general(format!(
-                                "step {step}: matching contexts takes too long (at module {i} of {}): long runs of ignored symbols or of sibling branches are searched again for every module",
+                                "{stage}: matching contexts takes too long (at module {i} of {}): long runs of ignored symbols or of sibling branches are searched again for every module",
                                 group_digits(n)
                             )));
                         }
@@ -212,14 +267,14 @@ impl LSystem {
             }
             if out.symbols.len() > max {
                 return Err(Error::general(format!(
-                    "step {step}: the word grew past the limit of {} modules (raise the limit, or derive fewer steps)",
+                    "{stage}: the word grew past the limit of {} modules (raise the limit, or derive fewer steps)",
                     group_digits(max)
                 )));
             }
             // Parameters count against the same limit, so memory stays bounded by it.
             if out.params.len() > max {
                 return Err(Error::general(format!(
-                    "step {step}: the word's parameters grew past the limit of {} values (raise the module limit, or derive fewer steps)",
+                    "{stage}: the word's parameters grew past the limit of {} values (raise the module limit, or derive fewer steps)",
                     group_digits(max)
                 )));
             }
@@ -285,9 +340,9 @@ fn group_digits(n: usize) -> String {
     out
 }
 
-/// The passes over a symbol's productions.
+/// The rounds of attempts over a symbol's productions.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-enum Pass {
+enum Attempt {
     /// Context-sensitive productions, right contexts along the axis.
     Axis,
     /// Productions with a right context, which may now enter branches.
@@ -296,15 +351,26 @@ enum Pass {
     Free,
 }
 
+/// What one rewriting pass over a word uses: its rules, its name in messages, its random
+/// stream, the module limit and each symbol's number of parameters.
+struct Pass<'a> {
+    rules: &'a Rules,
+    stage: Stage,
+    key: u64,
+    max: usize,
+    arities: &'a [usize],
+}
+
 /// What applying productions to the modules of one step needs.
 struct Applier<'a> {
     system: &'a LSystem,
+    rules: &'a Rules,
     input: &'a Word,
     structure: Structure<'a>,
     offsets: &'a [u32],
     arities: &'a [usize],
     key: u64,
-    step: u32,
+    stage: Stage,
     variables: &'a mut Vec<f64>,
     stack: &'a mut Vec<f64>,
     found_left: &'a mut Vec<usize>,
@@ -324,15 +390,15 @@ impl Applier<'_> {
         params: &[f64],
         out: &mut Word,
     ) -> Result<bool, Error> {
-        for pass in [Pass::Axis, Pass::Branches, Pass::Free] {
+        for attempt in [Attempt::Axis, Attempt::Branches, Attempt::Free] {
             for &index in list {
-                let production = &self.system.productions[index as usize];
-                let eligible = match pass {
-                    Pass::Axis => production.has_context(),
-                    Pass::Branches => !production.right.is_empty(),
-                    Pass::Free => !production.has_context(),
+                let production = &self.rules.productions[index as usize];
+                let eligible = match attempt {
+                    Attempt::Axis => production.has_context(),
+                    Attempt::Branches => !production.right.is_empty(),
+                    Attempt::Free => !production.has_context(),
                 };
-                if !eligible || !self.bind(production, at, params, pass == Pass::Branches) {
+                if !eligible || !self.bind(production, at, params, attempt == Attempt::Branches) {
                     continue;
                 }
                 if self.rewrite(production, at, params, out)? {
@@ -358,8 +424,8 @@ impl Applier<'_> {
                 return Err(Error::at(
                     condition.position,
                     format!(
-                        "step {}: the condition is not a number (NaN) for {}",
-                        self.step,
+                        "{}: the condition is not a number (NaN) for {}",
+                        self.stage,
                         self.module_text(at, params)
                     ),
                 ));
@@ -386,8 +452,8 @@ impl Applier<'_> {
                     return Err(Error::at(
                         arg.position,
                         format!(
-                            "step {}: the parameter is {value}, not a finite number, when rewriting {}",
-                            self.step,
+                            "{}: the parameter is {value}, not a finite number, when rewriting {}",
+                            self.stage,
                             self.module_text(at, params)
                         ),
                     ));

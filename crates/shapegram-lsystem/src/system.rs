@@ -127,6 +127,64 @@ pub(crate) enum Plan {
     Productions(Vec<u32>),
 }
 
+/// Productions with the plan of each symbol: the derivation's rules, or the interpretation
+/// rules applied once before drawing.
+#[derive(Clone, Debug, Default)]
+pub(crate) struct Rules {
+    pub productions: Vec<Production>,
+    /// Per symbol id.
+    pub plans: Vec<Plan>,
+    /// The symbols of fixed successors, back to back.
+    pub fixed: Vec<SymbolId>,
+}
+
+impl Rules {
+    /// The rules for an alphabet of `symbols` symbols, with each symbol's plan worked out.
+    pub fn new(productions: Vec<Production>, symbols: usize) -> Self {
+        let mut plans = vec![Plan::Copy; symbols];
+        let mut fixed = Vec::new();
+        for (id, plan) in plans.iter_mut().enumerate() {
+            let mine: Vec<u32> = (0..productions.len() as u32)
+                .filter(|&p| productions[p as usize].predecessor as usize == id)
+                .collect();
+            *plan = match mine.as_slice() {
+                [] => Plan::Copy,
+                [only] if productions[*only as usize].is_fixed() => {
+                    let start = fixed.len() as u32;
+                    let modules = &productions[*only as usize].alternatives[0].modules;
+                    fixed.extend(modules.iter().map(|m| m.symbol));
+                    Plan::Fixed {
+                        start,
+                        len: modules.len() as u32,
+                    }
+                }
+                _ => {
+                    let (mut order, free): (Vec<u32>, Vec<u32>) = mine
+                        .iter()
+                        .partition(|&&p| productions[p as usize].has_context());
+                    order.extend(free);
+                    Plan::Productions(order)
+                }
+            };
+        }
+        Self {
+            productions,
+            plans,
+            fixed,
+        }
+    }
+
+    /// Whether any production needs contexts.
+    pub fn has_context(&self) -> bool {
+        self.productions.iter().any(Production::has_context)
+    }
+
+    /// Whether there are no productions.
+    pub fn is_empty(&self) -> bool {
+        self.productions.is_empty()
+    }
+}
+
 /// A complete L-system, ready to derive.
 #[derive(Clone, Debug)]
 pub struct LSystem {
@@ -134,10 +192,10 @@ pub struct LSystem {
     pub settings: Settings,
     pub(crate) alphabet: Alphabet,
     pub(crate) axiom: Word,
-    pub(crate) productions: Vec<Production>,
-    pub(crate) plans: Vec<Plan>,
-    /// The symbols of fixed successors, back to back.
-    pub(crate) fixed: Vec<SymbolId>,
+    /// The productions of the derivation.
+    pub(crate) rules: Rules,
+    /// The interpretation rules (`homomorphism:` section), applied once before drawing.
+    pub(crate) interpretation: Rules,
     /// Per symbol id: skipped when matching contexts.
     pub(crate) ignored: Vec<bool>,
     /// The ids of `[` and `]`, or `SymbolId::MAX` when unused.
@@ -166,16 +224,12 @@ impl LSystem {
         word.to_text(&self.alphabet)
     }
 
-    /// Whether any production needs contexts.
-    pub(crate) fn has_context(&self) -> bool {
-        self.productions.iter().any(Production::has_context)
-    }
-
     /// Whether every step is a plain table lookup: no parameters anywhere and only fixed
     /// productions.
     pub(crate) fn is_d0l(&self) -> bool {
         self.alphabet.symbols().iter().all(|s| s.arity == 0)
             && self
+                .rules
                 .plans
                 .iter()
                 .all(|p| matches!(p, Plan::Copy | Plan::Fixed { .. }))
@@ -187,33 +241,8 @@ impl LSystem {
         alphabet: Alphabet,
         axiom: Word,
         productions: Vec<Production>,
+        interpretation: Vec<Production>,
     ) -> Self {
-        let mut plans = vec![Plan::Copy; alphabet.len()];
-        let mut fixed = Vec::new();
-        for (id, plan) in plans.iter_mut().enumerate() {
-            let mine: Vec<u32> = (0..productions.len() as u32)
-                .filter(|&p| productions[p as usize].predecessor as usize == id)
-                .collect();
-            *plan = match mine.as_slice() {
-                [] => Plan::Copy,
-                [only] if productions[*only as usize].is_fixed() => {
-                    let start = fixed.len() as u32;
-                    let modules = &productions[*only as usize].alternatives[0].modules;
-                    fixed.extend(modules.iter().map(|m| m.symbol));
-                    Plan::Fixed {
-                        start,
-                        len: modules.len() as u32,
-                    }
-                }
-                _ => {
-                    let (mut order, free): (Vec<u32>, Vec<u32>) = mine
-                        .iter()
-                        .partition(|&&p| productions[p as usize].has_context());
-                    order.extend(free);
-                    Plan::Productions(order)
-                }
-            };
-        }
         let ignored = alphabet
             .symbols()
             .iter()
@@ -222,12 +251,11 @@ impl LSystem {
         let open = alphabet.id('[', 0).unwrap_or(SymbolId::MAX);
         let close = alphabet.id(']', 0).unwrap_or(SymbolId::MAX);
         Self {
+            rules: Rules::new(productions, alphabet.len()),
+            interpretation: Rules::new(interpretation, alphabet.len()),
             settings,
             alphabet,
             axiom,
-            productions,
-            plans,
-            fixed,
             ignored,
             open,
             close,

@@ -161,8 +161,8 @@ fn malformed_settings() {
         assert_eq!(error(text), expected, "{text}");
     }
     assert_eq!(
-        error("axiom: A\nhomomorphism:\n"),
-        "2:1: homomorphism rules are not supported: write drawing symbols with `draw:` and `move:`"
+        error("axiom: A\ndecomposition:\n"),
+        "2:1: decomposition rules are not supported (interpretation rules are: `homomorphism:`)"
     );
 }
 

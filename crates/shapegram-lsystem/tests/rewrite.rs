@@ -479,3 +479,40 @@ proptest::proptest! {
         proptest::prop_assert_eq!(derived, expected);
     }
 }
+
+#[test]
+fn interpretation_rules_apply_once_before_drawing() {
+    let text = "\
+n: 2
+axiom: A(1)
+A(x) -> A(x+1)B
+homomorphism:
+A(x) -> F(x*2)[+F]
+B -> F
+";
+    let system = system(text);
+    let options = DeriveOptions::default();
+    let word = system.derive(&options).unwrap();
+    // The derivation itself does not see the interpretation rules.
+    assert_eq!(system.word_text(&word), "A(3)BB");
+    let shown = system.interpretation(&word, &options).unwrap();
+    // Applied once: the F they produce is not rewritten again.
+    assert_eq!(system.word_text(&shown), "F(6)[+F]FF");
+    // Without interpretation rules, the word is drawn as it is.
+    let plain = self::system("axiom: AB\n");
+    let word = plain.derive(&options).unwrap();
+    assert!(matches!(
+        plain.interpretation(&word, &options).unwrap(),
+        std::borrow::Cow::Borrowed(_)
+    ));
+    // Their errors name the interpretation.
+    let failing = self::system("axiom: A(0)\ninterpretation:\nA(x) -> F(1/x)\n");
+    let word = failing.derive(&options).unwrap();
+    assert_eq!(
+        failing
+            .interpretation(&word, &options)
+            .unwrap_err()
+            .to_string(),
+        "3:11: interpretation: the parameter is inf, not a finite number, when rewriting A(0)"
+    );
+}

@@ -114,7 +114,10 @@ pub fn run(args: &LsystemArgs) -> Result<(), Failure> {
     }
     let mut drawn = None;
     if let (Some(path), Some(output)) = (&args.output, output) {
-        let drawing = interpret(&system, &word);
+        let shown = system
+            .interpretation(&word, &options)
+            .map_err(|e| reported(&e.render(&name, &text)))?;
+        let drawing = interpret(&system, &shown);
         match output {
             Output::Svg => {
                 std::fs::write(path, write_svg(&svg_drawing(&drawing, &system.settings)))

@@ -202,6 +202,21 @@ fn seeds_choose_the_plant() {
 }
 
 #[test]
+fn interpretation_rules_change_the_drawing_not_the_word() {
+    let dir = TempDir::new("homomorphism");
+    let path = dir.path("h.lsys");
+    std::fs::write(
+        &path,
+        "n: 2\naxiom: A\nA -> AB\nhomomorphism:\nA -> F[+F]\nB -> F\n",
+    )
+    .unwrap();
+    assert_eq!(ok(&[&path, "--string", "-q"]).0, "ABB\n");
+    let svg = dir.path("h.svg");
+    let (_, err) = ok(&[&path, "-o", &svg]);
+    assert!(err.contains(", 4 segments, 0 polygons, "), "{err}");
+}
+
+#[test]
 fn syntax_errors_show_the_line_and_a_caret() {
     let dir = TempDir::new("syntax");
     let path = dir.path("bad.lsys");

@@ -45,28 +45,31 @@ fn intern(
         .ok_or_else(|| Error::at(position, "too many different symbols (at most 65,535)"))
 }
 
+/// Every symbol a word can hold: the axiom's and the successors'.
+pub(super) fn produced<'a>(
+    axiom: &[RawModule],
+    raws: impl Iterator<Item = &'a RawProduction>,
+) -> Vec<Symbol> {
+    let symbol = |m: &RawModule| Symbol {
+        name: m.name,
+        arity: m.args.len() as u8,
+    };
+    let mut produced: Vec<Symbol> = axiom.iter().map(symbol).collect();
+    for raw in raws {
+        produced.extend(raw.successor.iter().map(symbol));
+    }
+    produced.sort_unstable_by_key(|s| (s.name, s.arity));
+    produced.dedup();
+    produced
+}
+
 /// Groups productions with the same left side (stochastic alternatives), interns their symbols
-/// and checks that contexts can ever match.
+/// and checks that contexts can ever match (`produced`: the symbols words can hold).
 pub(super) fn group(
     raws: Vec<RawProduction>,
     alphabet: &mut Alphabet,
-    axiom: &[RawModule],
+    produced: &[Symbol],
 ) -> Result<Vec<Production>, Error> {
-    // Every symbol a word can hold: the axiom's and the successors'.
-    let mut produced: Vec<Symbol> = axiom
-        .iter()
-        .map(|m| Symbol {
-            name: m.name,
-            arity: m.args.len() as u8,
-        })
-        .collect();
-    for raw in &raws {
-        produced.extend(raw.successor.iter().map(|m| Symbol {
-            name: m.name,
-            arity: m.args.len() as u8,
-        }));
-    }
-
     let mut order: Vec<String> = Vec::new();
     let mut groups: FxHashMap<String, Vec<RawProduction>> = FxHashMap::default();
     for raw in raws {
@@ -95,7 +98,7 @@ pub(super) fn group(
                 ));
             }
         }
-        productions.push(build_production(members, alphabet, &produced)?);
+        productions.push(build_production(members, alphabet, produced)?);
     }
     Ok(productions)
 }
