@@ -3,7 +3,8 @@
 
 use std::collections::{BTreeMap, BTreeSet};
 
-use shapegram_geom::triangulate::Triangulator;
+use shapegram_geom::mesh::newell;
+use shapegram_geom::triangulate::{Triangulator, is_convex};
 use shapegram_geom::{Color, DVec3, Mesh};
 
 /// Whether face `i` is written at all. Faces without area (zero Newell normal) have no side to
@@ -33,19 +34,30 @@ pub(crate) fn flat_faces(mesh: &Mesh, mut visit: impl FnMut(FlatFace<'_>)) {
     let mut used = Vec::new();
     let mut corners = Vec::new();
     let mut triangles = Vec::new();
+    let mut fanned;
     for i in 0..mesh.face_count() {
-        if !face_is_exportable(mesh, i) {
-            continue;
-        }
         points.clear();
         points.extend(mesh.face_points(i));
+        let normal = newell(points.iter().copied());
+        if normal == DVec3::ZERO || !points.iter().all(|p| p.as_vec3().is_finite()) {
+            continue;
+        }
         rounded.clear();
         rounded.extend(points.iter().map(|p| p.as_vec3().to_array()));
         used.clear();
         used.resize(points.len(), u32::MAX);
         corners.clear();
         triangles.clear();
-        for triangle in triangulator.triangulate(&points, &[]) {
+        // Triangles and convex quads, most faces of real models, need no triangulator.
+        let fan: &[[u32; 3]] = match points.len() {
+            3 => &[[0, 1, 2]],
+            4 if is_convex(&points) => &[[0, 1, 2], [0, 2, 3]],
+            _ => {
+                fanned = triangulator.triangulate(&points, &[]);
+                &fanned
+            }
+        };
+        for &triangle in fan {
             if !has_f32_area(triangle.map(|c| rounded[c as usize])) {
                 continue;
             }
@@ -60,12 +72,20 @@ pub(crate) fn flat_faces(mesh: &Mesh, mut visit: impl FnMut(FlatFace<'_>)) {
         }
         if !triangles.is_empty() {
             visit(FlatFace {
-                normal: mesh.face_normal(i).as_vec3().normalize().to_array(),
+                normal: unit(normal),
                 corners: &corners,
                 triangles: &triangles,
             });
         }
     }
+}
+
+/// A Newell normal as a unit f32 vector. `f64::sqrt` is correctly rounded on every platform, like
+/// glam's libm one, but runs as one instruction.
+fn unit(normal: DVec3) -> [f32; 3] {
+    (normal / normal.length_squared().sqrt())
+        .as_vec3()
+        .to_array()
 }
 
 /// Whether a triangle of f32 corners spans an angle that f32 can resolve: the sine of its angle

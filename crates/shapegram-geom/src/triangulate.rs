@@ -205,7 +205,9 @@ pub fn is_convex(points: &[DVec3]) -> bool {
         let a = points[i];
         let b = points[(i + 1) % n];
         let c = points[(i + 2) % n];
-        (b - a).cross(c - b).dot(normal) >= -1e-12 * normal.length() * (c - a).length()
+        // turn ≥ -1e-12 · |normal| · |c - a|, squared to spare two square roots.
+        let turn = (b - a).cross(c - b).dot(normal);
+        turn >= 0.0 || turn * turn <= 1e-24 * normal.length_squared() * (c - a).length_squared()
     })
 }
 
