@@ -294,32 +294,57 @@ impl CaveBuilder {
         self.open.iter().any(|b| faces(b, direction))
     }
 
-    /// Index of an open bond facing `direction` (any directed one for random), chosen by `rng`.
+    /// Index of an open bond facing `direction`, chosen by `rng` among those at the front: no
+    /// more than [`FRONT_DEPTH`] behind the one furthest along the direction, so the cave grows
+    /// on along `L_B` (as a tunnel) instead of filling in around old bonds. For random, any
+    /// directed open bond.
     fn pick_open(&self, direction: Direction, rng: &mut Rng) -> Option<usize> {
-        let candidates: Vec<usize> = (0..self.open.len())
-            .filter(|&i| faces(&self.open[i], direction))
-            .collect();
+        let facing = (0..self.open.len()).filter(|&i| faces(&self.open[i], direction));
+        let candidates: Vec<usize> = match direction.vector() {
+            None => facing.collect(),
+            Some(v) => {
+                let reach = |i: usize| self.open[i].point.dot(v);
+                let front = facing.clone().map(reach).fold(f64::NEG_INFINITY, f64::max);
+                facing
+                    .filter(|&i| reach(i) >= front - FRONT_DEPTH)
+                    .collect()
+            }
+        };
         if candidates.is_empty() {
             return None;
         }
         Some(candidates[rng.index(candidates.len())])
     }
 
-    /// Moves the open bonds near `region` (all for `None`) along their directions onto the new
-    /// surface, dropping those that no longer reach it: a bond buried by a sum or carved away
-    /// by a difference would otherwise join the next shape in mid-air or inside rock.
+    /// Moves the open bonds near `region` (all for `None`) that the production left outside
+    /// the solid back along their directions onto the surface, and drops those buried inside it
+    /// or too far out: a shape joined there would sit inside rock or in mid-air.
     fn snap_bonds(&mut self, region: Option<shapegram_geom::Aabb>) {
         let Some(bounds) = self.base.bounds() else {
             self.open.clear();
             return;
         };
-        let reach = bounds.size().max_element().max(1e-9);
-        let tape = Tape::new(&self.base);
-        let mut ws = tape.workspace(1);
+        let full = Tape::new(&self.base);
+        let mut ws = full.workspace(1);
+        // Near a local change, search as far as the new shape is long, with the tape cut down to
+        // what matters around it; after an intersection, everywhere.
+        let (tape, reach, near) = match region {
+            Some(r) => {
+                let reach = r.size().max_element().max(1e-9);
+                let margin = reach * 0.05;
+                let radius = (r.diagonal() * 0.5 + margin + reach) * 1.01;
+                (
+                    full.pruned(&mut ws, r.center(), radius),
+                    reach,
+                    Some((r, margin)),
+                )
+            }
+            None => (full, bounds.size().max_element().max(1e-9), None),
+        };
         let mut field = |p: DVec3| tape.value(&mut ws, p);
         self.open.retain_mut(|bond| {
-            if let Some(r) = region {
-                if !r.contains(bond.point, reach * 0.05) {
+            if let Some((r, margin)) = near {
+                if !r.contains(bond.point, margin) {
                     return true;
                 }
             }
@@ -334,6 +359,10 @@ impl CaveBuilder {
     }
 }
 
+/// How far behind the foremost open bond facing the labelling direction another may be and still
+/// be chosen, in units of length (about half a generated primitive).
+pub const FRONT_DEPTH: f64 = 1.5;
+
 /// Whether `bond` faces `direction` (any direction but none for random).
 fn faces(bond: &Bond, direction: Direction) -> bool {
     match direction.vector() {
@@ -342,33 +371,39 @@ fn faces(bond: &Bond, direction: Direction) -> bool {
     }
 }
 
-/// The surface point nearest to `p` along the line `p + t·dir`, looking outward first if `p` is
-/// inside and inward if outside, up to `reach` away; found by stepping then bisection.
+/// Where the line from `p` inward (along `−dir`) first meets the surface, up to `reach` away;
+/// `p` itself when it is on the surface, `None` when it is inside the solid (buried) or the line
+/// misses. Found by stepping, then bisection.
 fn surface_along(
     field: &mut impl FnMut(DVec3) -> f64,
     p: DVec3,
     dir: DVec3,
     reach: f64,
 ) -> Option<DVec3> {
-    let inside = field(p) > 0.0;
-    // Walk towards the outside when inside, towards the inside when outside.
-    let step_dir = if inside { dir } else { -dir };
-    let steps = 64;
-    let step = reach / steps as f64;
+    let here = field(p);
+    if here.abs() <= reach * 1e-12 {
+        // Bonds of untouched primitives lie exactly on the surface.
+        return Some(p);
+    }
+    if here > 0.0 {
+        return None;
+    }
+    let steps = 32;
+    let step = reach / f64::from(steps);
     let mut near = 0.0;
     for s in 1..=steps {
-        let far = s as f64 * step;
-        if (field(p + step_dir * far) > 0.0) != inside {
+        let far = f64::from(s) * step;
+        if field(p - dir * far) > 0.0 {
             let (mut lo, mut hi) = (near, far);
-            for _ in 0..48 {
+            for _ in 0..40 {
                 let mid = 0.5 * (lo + hi);
-                if (field(p + step_dir * mid) > 0.0) == inside {
-                    lo = mid;
-                } else {
+                if field(p - dir * mid) > 0.0 {
                     hi = mid;
+                } else {
+                    lo = mid;
                 }
             }
-            return Some(p + step_dir * (0.5 * (lo + hi)));
+            return Some(p - dir * hi);
         }
         near = far;
     }
@@ -522,10 +557,10 @@ pub fn grow(builder: &mut CaveBuilder, params: &CaveParams, rng: &mut Rng) -> Re
             (Operation::Morph(a), Attach::Bond(params.direction), shape)
         } else {
             let roll = rng.unit();
-            if roll < 0.7 || builder.solid().is_empty() {
+            if roll < 0.55 || builder.solid().is_empty() {
                 (Operation::Sum, Attach::Bond(params.direction), shape)
             } else if roll < 0.9 {
-                let carver = shape.scale(DVec3::splat(0.6))?;
+                let carver = shape.scale(DVec3::splat(0.9))?;
                 (
                     Operation::Difference,
                     Attach::Bond(Direction::Random),
@@ -569,13 +604,13 @@ fn assemble(rng: &mut Rng, per_shape: u32) -> Result<(Shape, usize)> {
     for _ in 0..per_shape {
         let roll = rng.unit();
         let piece = random_primitive(rng, 0.6)?;
-        let (operation, attach, piece) = if roll < 0.6 {
+        let (operation, attach, piece) = if roll < 0.45 {
             (Operation::Sum, Attach::Bond(Direction::Random), piece)
-        } else if roll < 0.85 {
+        } else if roll < 0.9 {
             (
                 Operation::Difference,
                 Attach::Bond(Direction::Random),
-                piece.scale(DVec3::splat(0.7))?,
+                piece.scale(DVec3::splat(0.8))?,
             )
         } else {
             let trim = fitted_ellipsoid(part.solid(), 1.3)?;

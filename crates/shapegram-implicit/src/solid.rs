@@ -28,6 +28,8 @@ pub enum Node {
         factor: f64,
         /// The transformed solid.
         child: Arc<Node>,
+        /// The child's bounds in its own frame, kept so folding maps stays exact and cheap.
+        child_bounds: Option<Aabb>,
     },
     /// Sum, eq. (2): `max(f, g)`.
     Union(Arc<Node>, Arc<Node>),
@@ -49,6 +51,10 @@ pub enum Node {
 #[derive(Clone, Debug, PartialEq)]
 pub struct Solid {
     root: Arc<Node>,
+    /// Worked out when the node is made, from the children's: asking is O(1) however large
+    /// the tree and however often subtrees are shared (a morphic production uses the base
+    /// twice, so walking the tree would double with every one).
+    bounds: Option<Aabb>,
 }
 
 impl Default for Solid {
@@ -58,20 +64,26 @@ impl Default for Solid {
 }
 
 impl Solid {
-    fn from_node(node: Node) -> Self {
+    fn from_node(node: Node, bounds: Option<Aabb>) -> Self {
         Self {
             root: Arc::new(node),
+            bounds,
         }
     }
 
     /// The empty solid, where every production starts.
     pub fn empty() -> Self {
-        Self::from_node(Node::Empty)
+        Self::from_node(Node::Empty, None)
     }
 
     /// A checked primitive.
     pub fn primitive(primitive: Primitive) -> Result<Self> {
-        Ok(Self::from_node(Node::Primitive(primitive.validate()?)))
+        let primitive = primitive.validate()?;
+        let h = primitive.half_extent();
+        Ok(Self::from_node(
+            Node::Primitive(primitive),
+            Some(Aabb::new(-h, h)),
+        ))
     }
 
     /// A ball of radius `radius` centred at the origin.
@@ -167,32 +179,53 @@ impl Solid {
                 inverse: inner,
                 factor: inner_factor,
                 child,
-            } => Self::from_node(Node::Transform {
-                inverse: *inner * inverse,
-                factor: factor * inner_factor,
-                child: child.clone(),
-            }),
-            _ => Self::from_node(Node::Transform {
-                inverse,
-                factor,
-                child: self.root.clone(),
-            }),
+                child_bounds,
+            } => {
+                let combined = *inner * inverse;
+                Self::from_node(
+                    Node::Transform {
+                        inverse: combined,
+                        factor: factor * inner_factor,
+                        child: child.clone(),
+                        child_bounds: *child_bounds,
+                    },
+                    child_bounds.map(|b| mapped_box(b, &combined.inverse())),
+                )
+            }
+            _ => Self::from_node(
+                Node::Transform {
+                    inverse,
+                    factor,
+                    child: self.root.clone(),
+                    child_bounds: self.bounds,
+                },
+                self.bounds.map(|b| mapped_box(b, &map)),
+            ),
         }
     }
 
     /// Sum (eq. 2): points in either solid.
     pub fn union(&self, other: &Solid) -> Self {
-        Self::from_node(Node::Union(self.root.clone(), other.root.clone()))
+        Self::from_node(
+            Node::Union(self.root.clone(), other.root.clone()),
+            union_bounds(self.bounds, other.bounds),
+        )
     }
 
     /// Difference (eq. 3): points of this solid outside `other`.
     pub fn difference(&self, other: &Solid) -> Self {
-        Self::from_node(Node::Difference(self.root.clone(), other.root.clone()))
+        Self::from_node(
+            Node::Difference(self.root.clone(), other.root.clone()),
+            self.bounds,
+        )
     }
 
     /// Intersection (eq. 4): points in both solids.
     pub fn intersection(&self, other: &Solid) -> Self {
-        Self::from_node(Node::Intersection(self.root.clone(), other.root.clone()))
+        Self::from_node(
+            Node::Intersection(self.root.clone(), other.root.clone()),
+            intersect_bounds(self.bounds, other.bounds),
+        )
     }
 
     /// Morphing (eq. 5): `f·(1 − a) + g·a`, so `a = 0` is this solid and `a = 1` is `other`.
@@ -202,41 +235,40 @@ impl Solid {
                 "invalid morphing parameter {a}: expected 0 to 1 (0 % to 100 %)"
             )));
         }
-        Ok(Self::from_node(Node::Morph(
-            self.root.clone(),
-            other.root.clone(),
-            a,
-        )))
+        Ok(Self::from_node(
+            Node::Morph(self.root.clone(), other.root.clone(), a),
+            union_bounds(self.bounds, other.bounds),
+        ))
     }
 
     /// Smooth sum with a fillet of radius `k` where the surfaces meet.
     pub fn smooth_union(&self, other: &Solid, k: f64) -> Result<Self> {
         positive("smoothing radius", k)?;
-        Ok(Self::from_node(Node::SmoothUnion(
-            self.root.clone(),
-            other.root.clone(),
-            k,
-        )))
+        Ok(Self::from_node(
+            Node::SmoothUnion(self.root.clone(), other.root.clone(), k),
+            union_bounds(self.bounds, other.bounds).map(|r| Aabb {
+                min: r.min - k * 0.25,
+                max: r.max + k * 0.25,
+            }),
+        ))
     }
 
     /// Smooth difference with a fillet of radius `k`.
     pub fn smooth_difference(&self, other: &Solid, k: f64) -> Result<Self> {
         positive("smoothing radius", k)?;
-        Ok(Self::from_node(Node::SmoothDifference(
-            self.root.clone(),
-            other.root.clone(),
-            k,
-        )))
+        Ok(Self::from_node(
+            Node::SmoothDifference(self.root.clone(), other.root.clone(), k),
+            self.bounds,
+        ))
     }
 
     /// Smooth intersection with a fillet of radius `k`.
     pub fn smooth_intersection(&self, other: &Solid, k: f64) -> Result<Self> {
         positive("smoothing radius", k)?;
-        Ok(Self::from_node(Node::SmoothIntersection(
-            self.root.clone(),
-            other.root.clone(),
-            k,
-        )))
+        Ok(Self::from_node(
+            Node::SmoothIntersection(self.root.clone(), other.root.clone(), k),
+            intersect_bounds(self.bounds, other.bounds),
+        ))
     }
 
     /// The field at `p`: positive inside, zero on the surface, negative outside, −∞ for the
@@ -249,7 +281,7 @@ impl Solid {
     /// A box holding every point where the field is positive, `None` when there is none for
     /// certain (the empty solid, disjoint intersections).
     pub fn bounds(&self) -> Option<Aabb> {
-        bounds(&self.root)
+        self.bounds
     }
 
     /// Number of distinct primitive nodes in the tree (a shared subtree counts once).
@@ -268,6 +300,7 @@ pub(crate) fn value(node: &Node, p: DVec3) -> f64 {
             inverse,
             factor,
             child,
+            ..
         } => factor * value(child, inverse.transform_point3(p)),
         Node::Union(a, b) => value(a, p).max(value(b, p)),
         Node::Difference(a, b) => value(a, p).min(-value(b, p)),
@@ -280,12 +313,16 @@ pub(crate) fn value(node: &Node, p: DVec3) -> f64 {
 }
 
 /// Eq. (5), exact at the ends so `a = 0` and `a = 1` reproduce the inputs even where one of them
-/// is −∞ (the empty solid).
+/// is −∞ (the empty solid), and exact when both inputs are equal.
 pub(crate) fn morph(f: f64, g: f64, a: f64) -> f64 {
-    if a == 0.0 {
+    if a == 0.0 || f == g {
         f
     } else if a == 1.0 {
         g
+    } else if f.is_finite() && g.is_finite() {
+        // The same as f·(1 − a) + g·a, written so that blending a value with itself gives it
+        // back exactly (which lets evaluators skip a morph of a shape with itself).
+        f + (g - f) * a
     } else {
         f * (1.0 - a) + g * a
     }
@@ -314,38 +351,23 @@ pub(crate) fn smooth_min(f: f64, g: f64, k: f64) -> f64 {
     -smooth_max(-f, -g, k)
 }
 
-fn bounds(node: &Node) -> Option<Aabb> {
-    match node {
-        Node::Empty => None,
-        Node::Primitive(prim) => {
-            let h = prim.half_extent();
-            Some(Aabb::new(-h, h))
-        }
-        Node::Transform { inverse, child, .. } => {
-            let local = bounds(child)?;
-            let map = inverse.inverse();
-            let corners = (0..8).map(|i| {
-                let pick = |bit: usize, lo: f64, hi: f64| if i >> bit & 1 == 0 { lo } else { hi };
-                map.transform_point3(DVec3::new(
-                    pick(0, local.min.x, local.max.x),
-                    pick(1, local.min.y, local.max.y),
-                    pick(2, local.min.z, local.max.z),
-                ))
-            });
-            Aabb::from_points(corners)
-        }
-        Node::Union(a, b) | Node::Morph(a, b, _) => union_bounds(bounds(a), bounds(b)),
-        Node::SmoothUnion(a, b, k) => union_bounds(bounds(a), bounds(b)).map(|r| Aabb {
-            min: r.min - k * 0.25,
-            max: r.max + k * 0.25,
-        }),
-        Node::Difference(a, _) | Node::SmoothDifference(a, _, _) => bounds(a),
-        Node::Intersection(a, b) | Node::SmoothIntersection(a, b, _) => {
-            let (a, b) = (bounds(a)?, bounds(b)?);
-            let (min, max) = (a.min.max(b.min), a.max.min(b.max));
-            min.cmple(max).all().then_some(Aabb { min, max })
-        }
-    }
+/// The box holding `b` mapped by `map`.
+fn mapped_box(b: Aabb, map: &DAffine3) -> Aabb {
+    let corners = (0..8).map(|i| {
+        let pick = |bit: usize, lo: f64, hi: f64| if i >> bit & 1 == 0 { lo } else { hi };
+        map.transform_point3(DVec3::new(
+            pick(0, b.min.x, b.max.x),
+            pick(1, b.min.y, b.max.y),
+            pick(2, b.min.z, b.max.z),
+        ))
+    });
+    Aabb::from_points(corners).expect("eight corners")
+}
+
+fn intersect_bounds(a: Option<Aabb>, b: Option<Aabb>) -> Option<Aabb> {
+    let (a, b) = (a?, b?);
+    let (min, max) = (a.min.max(b.min), a.max.min(b.max));
+    min.cmple(max).all().then_some(Aabb { min, max })
 }
 
 fn union_bounds(a: Option<Aabb>, b: Option<Aabb>) -> Option<Aabb> {

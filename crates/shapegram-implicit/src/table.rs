@@ -221,8 +221,7 @@ mod tests {
     #[test]
     fn every_case_is_a_patch_bounded_by_its_face_segments() {
         let table = cases();
-        for pattern in 0..256usize {
-            let case = &table[pattern];
+        for (pattern, case) in table.iter().enumerate() {
             let inside = |c: usize| pattern >> c & 1 == 1;
             let crossing = (0..12)
                 .filter(|&e| {

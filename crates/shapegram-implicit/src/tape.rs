@@ -38,7 +38,7 @@ enum Op {
     },
 }
 
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Copy, Debug, PartialEq)]
 enum Binary {
     Max,
     Min,
@@ -140,6 +140,7 @@ impl Tape {
                 inverse,
                 factor,
                 child,
+                ..
             } => {
                 let dst = self.point_sets;
                 self.point_sets += 1;
@@ -196,10 +197,11 @@ impl Tape {
         self.slots - 1
     }
 
-    /// The tape specialised to the ball of `radius` around `centre`: where one operand of a
-    /// maximum or minimum wins everywhere in the ball (by the Lipschitz bounds of both around
-    /// their values at the centre), the other operand and everything only it needs are dropped.
-    /// A cave of fifty primitives keeps the few near each block.
+    /// The tape specialised to the ball of `radius` around `centre`, giving exactly the same
+    /// result everywhere in the ball: where an operand of a maximum or minimum cannot win
+    /// anywhere in the ball (by Lipschitz bounds around the values at the centre), it and
+    /// everything only it needs are dropped. A cave of fifty primitives keeps the few near each
+    /// block.
     pub fn pruned(&self, ws: &mut Workspace, centre: DVec3, radius: f64) -> Tape {
         self.value(ws, centre);
         let range = |slot: usize| {
@@ -207,20 +209,60 @@ impl Tape {
             let spread = self.lipschitz[slot] * radius;
             (v - spread, v + spread)
         };
+        // First compare siblings; then, on what is left (where chains of sums are no longer
+        // shared with morphs that turned out to blend a shape with itself), bound each operand
+        // by the whole chain above it.
+        let unbounded = (
+            vec![f64::NEG_INFINITY; self.slots],
+            vec![f64::INFINITY; self.slots],
+        );
+        let (ops, result) = self.prune_pass(&self.ops, self.result, &range, &unbounded);
+        let (ops, result) = self.live(ops, result);
+        let limits = self.limits_from_above(&ops, result, &range);
+        let (ops, result) = self.prune_pass(&ops, result, &range, &limits);
+        let (ops, result) = self.live(ops, result);
+        Tape {
+            ops,
+            point_sets: self.point_sets,
+            slots: self.slots,
+            result,
+            lipschitz: self.lipschitz.clone(),
+        }
+    }
+
+    /// One pass of pruning: each binary operation whose outcome is decided in the ball becomes an
+    /// alias of the operand that decides it. `limits` are the floors and ceilings of
+    /// [`Tape::limits_from_above`].
+    fn prune_pass(
+        &self,
+        ops: &[Op],
+        result: usize,
+        range: &impl Fn(usize) -> (f64, f64),
+        (floor, ceiling): &(Vec<f64>, Vec<f64>),
+    ) -> (Vec<Op>, usize) {
         let mut alias: Vec<usize> = (0..self.slots).collect();
-        let mut kept = Vec::with_capacity(self.ops.len());
-        for op in &self.ops {
+        let mut kept = Vec::with_capacity(ops.len());
+        for op in ops {
             let mut op = op.clone();
             match &mut op {
                 Op::Binary { kind, a, b, out } => {
                     (*a, *b) = (alias[*a], alias[*b]);
                     let ((a_lo, a_hi), (b_lo, b_hi)) = (range(*a), range(*b));
+                    let (f, c) = (floor[*out], ceiling[*out]);
                     let winner = match *kind {
-                        Binary::Max if a_lo >= b_hi => Some(*a),
-                        Binary::Max if b_lo >= a_hi => Some(*b),
-                        Binary::Min if a_hi <= b_lo => Some(*a),
-                        Binary::Min if b_hi <= a_lo => Some(*b),
-                        Binary::MinNeg if a_hi <= -b_hi => Some(*a),
+                        _ if a == b
+                            && !matches!(kind, Binary::MinNeg | Binary::SmoothMinNeg(_)) =>
+                        {
+                            // max(f, f), min(f, f) and morph(f, f, t) are f exactly; the smooth
+                            // ones are not (they bulge), so leave those.
+                            matches!(kind, Binary::Max | Binary::Min | Binary::Morph(_))
+                                .then_some(*a)
+                        }
+                        Binary::Max if a_lo >= b_hi || b_hi < f => Some(*a),
+                        Binary::Max if b_lo >= a_hi || a_hi < f => Some(*b),
+                        Binary::Min if a_hi <= b_lo || b_lo > c => Some(*a),
+                        Binary::Min if b_hi <= a_lo || a_lo > c => Some(*b),
+                        Binary::MinNeg if a_hi <= -b_hi || -b_hi > c => Some(*a),
                         Binary::SmoothMax(k) if a_lo - k >= b_hi => Some(*a),
                         Binary::SmoothMax(k) if b_lo - k >= a_hi => Some(*b),
                         Binary::SmoothMin(k) if a_hi + k <= b_lo => Some(*a),
@@ -238,13 +280,16 @@ impl Tape {
             }
             kept.push(op);
         }
-        // Drop what nothing live reads, walking backwards from the result.
-        let result = alias[self.result];
+        (kept, alias[result])
+    }
+
+    /// `ops` without what nothing reads on the way to `result`.
+    fn live(&self, ops: Vec<Op>, result: usize) -> (Vec<Op>, usize) {
         let mut live_slot = vec![false; self.slots];
         let mut live_points = vec![false; self.point_sets];
         live_slot[result] = true;
-        let mut needed = vec![false; kept.len()];
-        for (i, op) in kept.iter().enumerate().rev() {
+        let mut needed = vec![false; ops.len()];
+        for (i, op) in ops.iter().enumerate().rev() {
             needed[i] = match *op {
                 Op::Map { src, dst, .. } => {
                     live_points[src] |= live_points[dst];
@@ -264,17 +309,78 @@ impl Tape {
                 }
             };
         }
-        Tape {
-            ops: kept
-                .into_iter()
-                .zip(needed)
-                .filter_map(|(op, n)| n.then_some(op))
-                .collect(),
-            point_sets: self.point_sets,
-            slots: self.slots,
-            result,
-            lipschitz: self.lipschitz.clone(),
+        let ops = ops
+            .into_iter()
+            .zip(needed)
+            .filter_map(|(op, n)| n.then_some(op))
+            .collect();
+        (ops, result)
+    }
+
+    /// For every slot that is a maximum (minimum), a value below (above) which an operand cannot
+    /// matter anywhere in the ball: its own lower (upper) bound, raised (lowered) by that of the
+    /// maximum (minimum) it alone feeds. In a long chain of sums only the root's bound tells
+    /// that a far-away part never wins; comparing siblings alone would keep the whole chain.
+    /// Dropping such an operand changes the value of the slots between it and the root, which
+    /// nothing else reads, but not the root's. Slots scaled in place by a transform are left out
+    /// (their producing op sees them unscaled).
+    fn limits_from_above(
+        &self,
+        ops: &[Op],
+        result: usize,
+        range: &impl Fn(usize) -> (f64, f64),
+    ) -> (Vec<f64>, Vec<f64>) {
+        let mut uses = vec![0u32; self.slots];
+        let mut scaled = vec![false; self.slots];
+        uses[result] += 1;
+        for op in ops {
+            match *op {
+                Op::Binary { a, b, .. } => {
+                    uses[a] += 1;
+                    uses[b] += 1;
+                }
+                Op::Scale { slot, .. } => scaled[slot] = true,
+                _ => {}
+            }
         }
+        let mut floor = vec![f64::NEG_INFINITY; self.slots];
+        let mut ceiling = vec![f64::INFINITY; self.slots];
+        for op in ops.iter().rev() {
+            let Op::Binary { kind, a, b, out } = *op else {
+                continue;
+            };
+            if scaled[out] {
+                continue;
+            }
+            let (lo, hi) = range(out);
+            let only = |slot: usize| uses[slot] == 1 && !scaled[slot];
+            match kind {
+                Binary::Max => {
+                    floor[out] = floor[out].max(lo);
+                    for child in [a, b] {
+                        if only(child) {
+                            floor[child] = floor[child].max(floor[out]);
+                        }
+                    }
+                }
+                Binary::Min | Binary::MinNeg => {
+                    ceiling[out] = ceiling[out].min(hi);
+                    if only(a) {
+                        ceiling[a] = ceiling[a].min(ceiling[out]);
+                    }
+                    if only(b) {
+                        if kind == Binary::Min {
+                            ceiling[b] = ceiling[b].min(ceiling[out]);
+                        } else {
+                            // min(a, −b): −b matters only below the ceiling, b above its negation.
+                            floor[b] = floor[b].max(-ceiling[out]);
+                        }
+                    }
+                }
+                _ => {}
+            }
+        }
+        (floor, ceiling)
     }
 
     /// Number of instructions (a measure of evaluation cost).

@@ -781,8 +781,9 @@ struct Runner<'a> {
     current: Pos,
 }
 
-/// Deepest chain of expressions through names.
-const MAX_NAME_DEPTH: usize = 1024;
+/// Deepest nesting of operations, transforms and names in one production's solid: evaluation and
+/// the solid's own walks recurse that deep.
+const MAX_NESTING: usize = 128;
 
 /// Most expression nodes one run may evaluate.
 const MAX_EVALUATED: u64 = 1_000_000;
@@ -858,9 +859,10 @@ impl<'a> Runner<'a> {
                 "the solids are too large: more than {MAX_EVALUATED} parts evaluated"
             )));
         }
-        if depth > MAX_NAME_DEPTH {
+        if depth > MAX_NESTING {
             return Err(self.current.error(format!(
-                "solids nest deeper than {MAX_NAME_DEPTH} (through names that use names)"
+                "the solid nests deeper than {MAX_NESTING} operations and names: build it from \
+                 fewer, wider parts"
             )));
         }
         Ok(match expr {

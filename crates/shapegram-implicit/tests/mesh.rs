@@ -497,3 +497,47 @@ fn convexity_of_exact_polyhedra_and_broken_meshes() {
         assert!(!m.edge_report().is_watertight());
     }
 }
+
+proptest::proptest! {
+    #![proptest_config(proptest::prelude::ProptestConfig::with_cases(64))]
+
+    /// A tape pruned to a ball gives exactly the full tape's values everywhere in the ball.
+    #[test]
+    fn pruned_tapes_agree_inside_their_ball(
+        parts in proptest::collection::vec(
+            (-3.0..3.0f64, -3.0..3.0f64, -3.0..3.0f64, 0.2..1.5f64, 0..6u8),
+            1..24,
+        ),
+        centre in (-3.0..3.0f64, -3.0..3.0f64, -3.0..3.0f64),
+        radius in 0.05..2.0f64,
+    ) {
+        use shapegram_implicit::tape::Tape;
+        let mut scene = Solid::empty();
+        for (i, (x, y, z, r, kind)) in parts.into_iter().enumerate() {
+            let part = Solid::sphere(r).unwrap()
+                .scale(DVec3::new(1.0, 0.5 + r, 1.0)).unwrap()
+                .translate(DVec3::new(x, y, z)).unwrap();
+            scene = match kind {
+                0 | 1 => scene.union(&part),
+                2 => scene.difference(&part),
+                3 => scene.intersection(&part.scale(DVec3::splat(3.0)).unwrap()),
+                4 => scene.morph(&scene.union(&part), 0.4).unwrap(),
+                _ if i % 2 == 0 => part.union(&scene),
+                _ => scene.smooth_union(&part, 0.3).unwrap(),
+            };
+        }
+        let tape = Tape::new(&scene);
+        let mut ws = tape.workspace(64);
+        let c = DVec3::new(centre.0, centre.1, centre.2);
+        let pruned = tape.pruned(&mut ws, c, radius);
+        proptest::prop_assert!(pruned.len() <= tape.len());
+        for i in 0..64 {
+            let t = f64::from(i);
+            let dir = DVec3::new((t * 1.7).sin(), (t * 2.3).cos(), (t * 0.9).sin()).normalize();
+            let p = c + dir * radius * ((t * 0.37).sin().abs());
+            let full = tape.value(&mut ws, p);
+            let part = pruned.value(&mut ws, p);
+            proptest::prop_assert!(full == part || (full.is_infinite() && part.is_infinite()), "{} vs {}", full, part);
+        }
+    }
+}

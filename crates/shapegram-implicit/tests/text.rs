@@ -256,13 +256,22 @@ fn long_expressions_and_deep_names_are_errors() {
         "1:3087: more than 256 operators and transforms in one statement: split it with 'let'"
     );
     let mut chain = String::from("let a0 = sphere(1)\n");
-    for i in 1..1100 {
+    for i in 1..150 {
         chain += &format!("let a{i} = a{}\n", i - 1);
     }
-    chain += "add a1099\n";
+    chain += "add a149\n";
     assert_eq!(
         error(&chain),
-        "1101:1: solids nest deeper than 1024 (through names that use names)"
+        "151:1: the solid nests deeper than 128 operations and names: build it from fewer, wider parts"
+    );
+    let mut deep = format!("let a0 = sphere(1){}\n", " + sphere(1)".repeat(200));
+    for i in 1..8 {
+        deep += &format!("let a{i} = a{}{}\n", i - 1, " + sphere(1)".repeat(200));
+    }
+    deep += "add a7\n";
+    assert_eq!(
+        error(&deep),
+        "9:1: the solid nests deeper than 128 operations and names: build it from fewer, wider parts"
     );
 }
 
