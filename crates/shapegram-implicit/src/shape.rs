@@ -51,6 +51,14 @@ impl Shape {
         })
     }
 
+    /// The shape under any invertible affine map (see [`Solid::transform`]).
+    pub fn transform(&self, map: &DAffine3) -> Result<Self> {
+        Ok(Self {
+            solid: self.solid.transform(map)?,
+            bonds: self.map_bonds(map),
+        })
+    }
+
     fn map_bonds(&self, map: &DAffine3) -> Vec<Bond> {
         self.bonds.iter().map(|b| b.transformed(map)).collect()
     }

@@ -169,6 +169,27 @@ impl Solid {
         Ok(self.mapped(DAffine3::from_mat3(DMat3::from_diagonal(scale)), smallest))
     }
 
+    /// This solid under any invertible affine map (for example a scope's local-to-world map):
+    /// rotations, non-uniform scales, shears and mirrors alike. The field is multiplied by the
+    /// map's smallest singular value, which keeps it 1-Lipschitz.
+    pub fn transform(&self, map: &DAffine3) -> Result<Self> {
+        let m = map.matrix3;
+        let finite = m.to_cols_array().iter().all(|v| v.is_finite()) && map.translation.is_finite();
+        let det = m.determinant();
+        if !finite || det == 0.0 || !det.is_finite() {
+            return Err(ImplicitError::new(
+                "invalid transform: expected a finite map that can be inverted",
+            ));
+        }
+        let smallest = smallest_singular_value(m);
+        if !(smallest > 0.0 && smallest.is_finite()) {
+            return Err(ImplicitError::new(
+                "invalid transform: expected a finite map that can be inverted",
+            ));
+        }
+        Ok(self.mapped(*map, smallest))
+    }
+
     /// This solid under an affine map (`factor` as in [`Node::Transform`]). Nested maps fold into
     /// one so evaluation pays for one transform however many were applied.
     fn mapped(&self, map: DAffine3, factor: f64) -> Self {
@@ -349,6 +370,29 @@ pub(crate) fn smooth_max(f: f64, g: f64, k: f64) -> f64 {
 /// The polynomial smooth minimum, the mirror of [`smooth_max`].
 pub(crate) fn smooth_min(f: f64, g: f64, k: f64) -> f64 {
     -smooth_max(-f, -g, k)
+}
+
+/// The smallest singular value of `m` (the square root of the smallest eigenvalue of `mᵀm`, by the
+/// closed form for symmetric 3 × 3 matrices), shaded down a little so rounding cannot overstate
+/// it.
+fn smallest_singular_value(m: DMat3) -> f64 {
+    let a = m.transpose() * m;
+    let (a00, a11, a22) = (a.x_axis.x, a.y_axis.y, a.z_axis.z);
+    let (a01, a02, a12) = (a.y_axis.x, a.z_axis.x, a.z_axis.y);
+    let off = a01 * a01 + a02 * a02 + a12 * a12;
+    let q = (a00 + a11 + a22) / 3.0;
+    let smallest = if off <= f64::EPSILON * q * q {
+        a00.min(a11).min(a22)
+    } else {
+        let p2 = (a00 - q).powi(2) + (a11 - q).powi(2) + (a22 - q).powi(2) + 2.0 * off;
+        let p = (p2 / 6.0).sqrt();
+        let b = (a - DMat3::from_diagonal(DVec3::splat(q))) * (1.0 / p);
+        let r = (b.determinant() / 2.0).clamp(-1.0, 1.0);
+        let phi = r.acos() / 3.0;
+        // The eigenvalues are q + 2p·cos(φ + 2πk/3); k = 1 gives the smallest.
+        q + 2.0 * p * (phi + 2.0 * std::f64::consts::PI / 3.0).cos()
+    };
+    smallest.max(0.0).sqrt() * (1.0 - 1e-9)
 }
 
 /// The box holding `b` mapped by `map`.

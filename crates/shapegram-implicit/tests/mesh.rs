@@ -541,3 +541,57 @@ proptest::proptest! {
         }
     }
 }
+
+#[test]
+fn any_affine_map_keeps_the_field_a_distance_bound() {
+    use glam::{DAffine3, DMat3, DQuat};
+    let ball = Solid::sphere(1.0).unwrap();
+    // A scope-like map: rotate, scale unevenly, shear a little, move.
+    let map = DAffine3::from_translation(DVec3::new(2.0, -1.0, 0.5))
+        * DAffine3::from_quat(DQuat::from_axis_angle(
+            DVec3::new(1.0, 2.0, 3.0).normalize(),
+            0.7,
+        ))
+        * DAffine3::from_mat3(DMat3::from_cols(
+            DVec3::new(2.0, 0.0, 0.0),
+            DVec3::new(0.3, 0.5, 0.0),
+            DVec3::new(0.0, 0.0, 1.2),
+        ));
+    let moved = ball.transform(&map).unwrap();
+    // Inside where the preimage is inside; the field never changes faster than the distance.
+    assert!(moved.value(map.transform_point3(DVec3::new(0.5, 0.2, 0.1))) > 0.0);
+    assert!(moved.value(map.transform_point3(DVec3::new(0.9, 0.5, 0.3))) < 0.0);
+    let points: Vec<DVec3> = (0..400)
+        .map(|i| {
+            let t = f64::from(i);
+            DVec3::new((t * 0.31).sin(), (t * 0.17).cos(), (t * 0.73).sin()) * 3.0
+        })
+        .collect();
+    let mut steepest: f64 = 0.0;
+    for w in points.windows(2) {
+        let step = (w[1] - w[0]).normalize() * 1e-3;
+        let slope = (moved.value(w[0] + step) - moved.value(w[0])).abs() / 1e-3;
+        assert!(slope <= 1.0 + 1e-6, "{slope}");
+        steepest = steepest.max(slope);
+    }
+    // Not flattened more than needed: somewhere the field is nearly as steep as allowed.
+    assert!(steepest > 0.8, "{steepest}");
+    // The mesh encloses |det| times the ball's volume.
+    let m = meshed(&moved, 120);
+    assert_closed_outward(&m.mesh);
+    let exact = 4.0 / 3.0 * PI * map.matrix3.determinant().abs();
+    assert!(relative_error(m.mesh.signed_volume(), exact) < 0.005);
+    // A rotation keeps the field exactly a distance (factor 1, up to rounding).
+    let turned = ball
+        .transform(&DAffine3::from_quat(DQuat::from_rotation_y(1.0)))
+        .unwrap();
+    assert!((turned.value(DVec3::ZERO) - 1.0).abs() < 1e-8);
+    assert_eq!(
+        ball.transform(&DAffine3::from_mat3(DMat3::from_diagonal(DVec3::new(
+            1.0, 0.0, 1.0
+        ))))
+        .unwrap_err()
+        .to_string(),
+        "invalid transform: expected a finite map that can be inverted"
+    );
+}
