@@ -121,6 +121,16 @@ pub enum Attach {
     Centre,
 }
 
+/// Where a production's shape ended up.
+struct Placement {
+    /// The shape, moved.
+    shape: Shape,
+    /// The bonds that met, for reports.
+    label: Option<(Bond, Bond)>,
+    /// The label, when bonds were used up (sums and morphs).
+    used: Option<Label>,
+}
+
 /// One applied production, for reports.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Applied {
@@ -204,60 +214,18 @@ impl CaveBuilder {
         rng: &mut Rng,
     ) -> Result<()> {
         let joins = matches!(operation, Operation::Sum | Operation::Morph(_));
-        let (placed, label, used) = if self.base.is_empty() {
-            // The first shape stays where it is: there is nothing to join it to.
-            (shape.clone(), None, None)
-        } else {
-            match attach {
-                Attach::Centre => {
-                    let target = self.base.bounds().map_or(DVec3::ZERO, |b| b.center());
-                    let moved = shape.translate(target - shape.centre())?;
-                    let free = Bond::new(target, DVec3::ZERO);
-                    (moved, Some((free, free)), None)
-                }
-                Attach::Bond(direction) => match self.pick_open(direction, rng) {
-                    None => {
-                        return Err(ImplicitError::new(format!(
-                            "the base has no open bond facing {direction} for a {}",
-                            operation.name()
-                        )));
-                    }
-                    Some(i) => {
-                        let b1 = self.open[i];
-                        if joins {
-                            let j = matching_bond(&b1, &shape.bonds).ok_or_else(|| {
-                                ImplicitError::new(format!(
-                                    "the shape has no bond that labels with a bond facing {}",
-                                    Direction::from_vector(b1.dir)
-                                ))
-                            })?;
-                            let extent = shape
-                                .solid
-                                .bounds()
-                                .map_or(0.0, |b| b.size().dot(b1.dir.abs()));
-                            let offset =
-                                b1.point - shape.bonds[j].point - b1.dir * (self.overlap * extent);
-                            let moved = shape.translate(offset)?;
-                            let label = (b1, moved.bonds[j]);
-                            (moved, Some(label), Some(Label { base: i, shape: j }))
-                        } else {
-                            let moved = shape.translate(b1.point - shape.centre())?;
-                            (moved, Some((b1, Bond::new(b1.point, DVec3::ZERO))), None)
-                        }
-                    }
-                },
-            }
-        };
+        let Placement {
+            shape: placed,
+            label,
+            used,
+        } = self.place(shape, operation, attach, rng)?;
         let before = self.base.clone();
         self.base = match operation {
             Operation::Sum => before.union(&placed.solid),
             Operation::Difference => before.difference(&placed.solid),
             Operation::Intersection => before.intersection(&placed.solid),
-            Operation::Morph(a) if before.is_empty() => {
-                // Morphing with nothing would erase the shape (−∞ blends to −∞): place it.
-                let _ = a;
-                placed.solid.clone()
-            }
+            // Morphing with nothing would erase the shape (−∞ blends to −∞): place it.
+            Operation::Morph(_) if before.is_empty() => placed.solid.clone(),
             Operation::Morph(a) => before.morph(&before.union(&placed.solid), a)?,
         };
         if let Some(label) = used {
@@ -287,6 +255,67 @@ impl CaveBuilder {
             elements,
         });
         Ok(())
+    }
+
+    /// Where a production puts `shape` (see [`Attach`]).
+    fn place(
+        &self,
+        shape: &Shape,
+        operation: Operation,
+        attach: Attach,
+        rng: &mut Rng,
+    ) -> Result<Placement> {
+        if self.base.is_empty() {
+            // The first shape stays where it is: there is nothing to join it to.
+            return Ok(Placement {
+                shape: shape.clone(),
+                label: None,
+                used: None,
+            });
+        }
+        let i = match attach {
+            Attach::Centre => {
+                let target = self.base.bounds().map_or(DVec3::ZERO, |b| b.center());
+                let free = Bond::new(target, DVec3::ZERO);
+                return Ok(Placement {
+                    shape: shape.translate(target - shape.centre())?,
+                    label: Some((free, free)),
+                    used: None,
+                });
+            }
+            Attach::Bond(direction) => self.pick_open(direction, rng).ok_or_else(|| {
+                ImplicitError::new(format!(
+                    "the base has no open bond facing {direction} for a {}",
+                    operation.name()
+                ))
+            })?,
+        };
+        let b1 = self.open[i];
+        if !matches!(operation, Operation::Sum | Operation::Morph(_)) {
+            // Cutting shapes are centred on the bond (their free centre bond labels with it).
+            return Ok(Placement {
+                shape: shape.translate(b1.point - shape.centre())?,
+                label: Some((b1, Bond::new(b1.point, DVec3::ZERO))),
+                used: None,
+            });
+        }
+        let j = matching_bond(&b1, &shape.bonds).ok_or_else(|| {
+            ImplicitError::new(format!(
+                "the shape has no bond that labels with a bond facing {}",
+                Direction::from_vector(b1.dir)
+            ))
+        })?;
+        let extent = shape
+            .solid
+            .bounds()
+            .map_or(0.0, |b| b.size().dot(b1.dir.abs()));
+        let offset = b1.point - shape.bonds[j].point - b1.dir * (self.overlap * extent);
+        let moved = shape.translate(offset)?;
+        Ok(Placement {
+            label: Some((b1, moved.bonds[j])),
+            shape: moved,
+            used: Some(Label { base: i, shape: j }),
+        })
     }
 
     /// Whether some open bond faces `direction` (any directed one for random).
