@@ -242,12 +242,7 @@ impl CaveBuilder {
                     .map(|(_, b)| *b),
             );
         }
-        let region = match operation {
-            // An intersection may move the surface anywhere.
-            Operation::Intersection => None,
-            _ => placed.solid.bounds(),
-        };
-        self.snap_bonds(region);
+        self.snap_bonds(&placed.solid, operation);
         self.elements += elements;
         self.applied.push(Applied {
             operation,
@@ -345,37 +340,45 @@ impl CaveBuilder {
         Some(candidates[rng.index(candidates.len())])
     }
 
-    /// Moves the open bonds near `region` (all for `None`) that the production left outside
-    /// the solid back along their directions onto the surface, and drops those buried inside it
-    /// or too far out: a shape joined there would sit inside rock or in mid-air.
-    fn snap_bonds(&mut self, region: Option<shapegram_geom::Aabb>) {
+    /// Moves the open bonds that the production left outside the solid (carved away by a
+    /// difference or an intersection, or on a shape a morph only half grew) back along their
+    /// directions onto the surface, and drops those buried inside it or too far out: a shape
+    /// joined there would sit inside rock or in mid-air. Only bonds the new shape touches can
+    /// have moved off the surface (inside it for the other operations, outside or on it for an
+    /// intersection), so only those are looked at, with the base's tape cut down to the shape's
+    /// surroundings where it is local.
+    fn snap_bonds(&mut self, shape: &Solid, operation: Operation) {
         let Some(bounds) = self.base.bounds() else {
             self.open.clear();
             return;
         };
+        let Some(region) = shape.bounds() else {
+            // An empty shape changed nothing (an intersection with it left no bounds above).
+            return;
+        };
+        let shape_tape = Tape::new(shape);
+        let mut shape_ws = shape_tape.workspace(1);
+        let intersection = operation == Operation::Intersection;
+        let eps = bounds.size().max_element() * 1e-9;
+        let mut touched = |p: DVec3| {
+            let g = shape_tape.value(&mut shape_ws, p);
+            if intersection { g < eps } else { g > -eps }
+        };
         let full = Tape::new(&self.base);
         let mut ws = full.workspace(1);
-        // Near a local change, search as far as the new shape is long, with the tape cut down to
-        // what matters around it; after an intersection, everywhere.
-        let (tape, reach, near) = match region {
-            Some(r) => {
-                let reach = r.size().max_element().max(1e-9);
-                let margin = reach * 0.05;
-                let radius = (r.diagonal() * 0.5 + margin + reach) * 1.01;
-                (
-                    full.pruned(&mut ws, r.center(), radius),
-                    reach,
-                    Some((r, margin)),
-                )
-            }
-            None => (full, bounds.size().max_element().max(1e-9), None),
+        let (tape, reach) = if intersection {
+            // An intersection may move the surface anywhere.
+            (full, bounds.size().max_element().max(1e-9))
+        } else {
+            // Touched bonds lie in the shape's bounds: search as far as the shape is long.
+            let reach = region.size().max_element().max(1e-9);
+            let radius = (region.diagonal() * 0.5 + eps + reach) * 1.01;
+            (full.pruned(&mut ws, region.center(), radius), reach)
         };
         let mut field = |p: DVec3| tape.value(&mut ws, p);
         self.open.retain_mut(|bond| {
-            if let Some((r, margin)) = near {
-                if !r.contains(bond.point, margin) {
-                    return true;
-                }
+            if !touched(bond.point) {
+                return true;
             }
             match surface_along(&mut field, bond.point, bond.dir, reach) {
                 Some(p) => {

@@ -8,6 +8,7 @@
 //! surface are meshed in parallel, each with the compiled [`Tape`], and joined in a fixed order:
 //! the output is the same whatever the thread count.
 
+use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 
 use glam::DVec3;
@@ -174,19 +175,19 @@ pub fn mesh_with_progress(
         });
     };
     let grid = grid_for(bounds.min, bounds.size(), h, options.max_cells)?;
-    let tape = Tape::new(solid);
+    let tape = Arc::new(Tape::new(solid));
     let mut classifier = Classifier {
-        tape: &tape,
         ws: tape.workspace(1),
         grid: &grid,
         block: options.block,
         leaves: Vec::new(),
         inside_cells: 0,
     };
-    classifier.classify(Region {
+    let root = Region {
         lo: [0; 3],
         hi: grid.cells,
-    });
+    };
+    classifier.classify(root, &tape);
     let Classifier {
         leaves,
         mut inside_cells,
@@ -200,11 +201,11 @@ pub fn mesh_with_progress(
         .par_iter()
         .map_init(
             || (tape.workspace(capacity), Scratch::new(capacity)),
-            |(ws, scratch), region| {
+            |(ws, scratch), leaf| {
                 if over_limit.load(Ordering::Relaxed) {
                     return BlockMesh::default();
                 }
-                let block = mesh_block(&tape, ws, scratch, &grid, region);
+                let block = mesh_block(&leaf.tape, ws, scratch, &grid, &leaf.region);
                 let total = triangles.fetch_add(block.triangles.len(), Ordering::Relaxed)
                     + block.triangles.len();
                 if total > options.max_triangles {
@@ -223,7 +224,7 @@ pub fn mesh_with_progress(
     }
     let evaluated_samples = leaves
         .iter()
-        .map(|r| {
+        .map(|Leaf { region: r, .. }| {
             (0..3)
                 .map(|a| (r.hi[a] - r.lo[a] + 1) as u64)
                 .product::<u64>()
@@ -258,20 +259,27 @@ fn grid_for(min: DVec3, size: DVec3, h: f64, max_cells: u64) -> Result<Grid> {
     })
 }
 
+/// A block that may hold surface, with the tape pruned to the region it was split from.
+struct Leaf {
+    region: Region,
+    tape: Arc<Tape>,
+}
+
 /// Sorts regions into skipped space and leaf blocks.
 struct Classifier<'a> {
-    tape: &'a Tape,
+    /// Scratch for single-point evaluations of the tape and its pruned copies.
     ws: Workspace,
     grid: &'a Grid,
     block: usize,
     /// Blocks that may hold surface, in a fixed depth-first order.
-    leaves: Vec<Region>,
+    leaves: Vec<Leaf>,
     /// Cells of regions found wholly inside.
     inside_cells: u64,
 }
 
 impl Classifier<'_> {
-    fn classify(&mut self, region: Region) {
+    /// Sorts `region`, where `tape` (pruned for an enclosing region) gives the field.
+    fn classify(&mut self, region: Region, tape: &Arc<Tape>) {
         let grid = self.grid;
         let h = grid.cell_size;
         let lo = grid.sample(region.lo[0], region.lo[1], region.lo[2]);
@@ -279,7 +287,7 @@ impl Classifier<'_> {
         let centre = (lo + hi) * 0.5;
         // A little slack covers rounding in the field and in the sample positions.
         let reach = (hi - lo).length() * 0.5 * (1.0 + 1e-9) + h * 1e-6;
-        let v = self.tape.value(&mut self.ws, centre);
+        let v = tape.value(&mut self.ws, centre);
         if v < -reach {
             return;
         }
@@ -291,9 +299,15 @@ impl Classifier<'_> {
         let block = self.block;
         let sizes = [0, 1, 2].map(|a| region.hi[a] - region.lo[a]);
         if sizes.iter().all(|&s| s <= block) {
-            self.leaves.push(region);
+            self.leaves.push(Leaf {
+                region,
+                tape: tape.clone(),
+            });
             return;
         }
+        // The children see only what can matter in this region: far parts of a large solid
+        // drop out on the way down.
+        let tape = Arc::new(tape.pruned(&mut self.ws, centre, reach));
         // Split long axes at a multiple of the block size so leaves are whole blocks where
         // possible.
         let ranges = |a: usize| {
@@ -308,10 +322,11 @@ impl Classifier<'_> {
         for &(z0, z1) in &zs {
             for &(y0, y1) in &ys {
                 for &(x0, x1) in &xs {
-                    self.classify(Region {
+                    let child = Region {
                         lo: [x0, y0, z0],
                         hi: [x1, y1, z1],
-                    });
+                    };
+                    self.classify(child, &tape);
                 }
             }
         }
