@@ -209,8 +209,11 @@ impl AssetLoader for FileAssets {
         if let Some(mesh) = cache.get(&full) {
             return Ok(Arc::clone(mesh));
         }
-        let loaded = if full.extension().is_some_and(|e| e == "lsys") {
+        let extension = full.extension().and_then(|e| e.to_str());
+        let loaded = if extension == Some("lsys") {
             plant(&full)
+        } else if extension == Some("cave") {
+            carve(&full)
         } else {
             shapegram_export::load(&full)
                 .map(|model| model.merged_mesh())
@@ -251,6 +254,30 @@ fn plant(path: &Path) -> Result<Mesh, String> {
         .map_err(|e| e.render(&name, &text))?;
     let drawing = shapegram_lsystem::interpret(&system, &word);
     Ok(shapegram_lsystem::drawing_to_model(&drawing, &system.settings).merged_mesh())
+}
+
+/// The geometry of an implicit grammar (`i("grotto.cave")`): its productions run with the seed
+/// of the file and meshed at its level of detail, as one closed mesh that `i` stretches to the
+/// scope like any asset.
+fn carve(path: &Path) -> Result<Mesh, String> {
+    let (text, name) = read_text(path)?;
+    let located = |e: shapegram_implicit::TextError| format!("{name}:{e}");
+    let program = shapegram_implicit::text::parse(&text).map_err(located)?;
+    let run = program.run(None).map_err(located)?;
+    let lod = program
+        .lod
+        .unwrap_or(shapegram_implicit::CaveParams::default().lod);
+    let options = shapegram_implicit::MeshOptions::with_cell_size(1.0 / f64::from(lod));
+    shapegram_implicit::mesh(run.builder.solid(), &options)
+        .map(|meshing| meshing.mesh)
+        .map_err(|e| format!("{name}: {e}"))
+}
+
+/// A text file and its name for messages.
+fn read_text(path: &Path) -> Result<(String, String), String> {
+    let name = path.display().to_string();
+    let text = std::fs::read_to_string(path).map_err(|e| format!("cannot read {name}: {e}"))?;
+    Ok((text, name))
 }
 
 /// The JSON object of `--stats`; field order is output order.

@@ -1106,3 +1106,23 @@ fn l_systems_are_planted_as_assets() {
     let err = fails(&["derive", text(&grammar)], 1, "cannot insert `weed.lsys`:");
     assert!(err.contains("weed.lsys:3:"), "{err}");
 }
+
+#[test]
+fn implicit_grammars_are_inserted_as_closed_meshes() {
+    // A unit sphere meshed at 8 cells per unit, stretched to 10 × 4 × 8: an ellipsoid of volume
+    // 4/3 π · 5 · 2 · 4 (the mesh is within 1 % of it).
+    let dir = TempDir::new("cave-asset");
+    let grammar = dir.path("rock.cga");
+    std::fs::write(&grammar, "Lot --> s(10, 4, 8) i(\"rock.cave\") Rock.\n").unwrap();
+    std::fs::write(dir.path("rock.cave"), "lod 8\nadd sphere(1)\n").unwrap();
+    let out = dir.path("rock.glb");
+    ok(&["derive", text(&grammar), "-o", text(&out)]);
+    let info = info_json(&out);
+    assert_eq!(info["watertight"], true);
+    assert_eq!(info["bounds"]["size"], serde_json::json!([10.0, 4.0, 8.0]));
+    assert_relative(num(&info, "volume"), 4.0 / 3.0 * PI * 5.0 * 2.0 * 4.0, 0.01);
+
+    std::fs::write(dir.path("rock.cave"), "lod 8\nadd sphere(-1)\n").unwrap();
+    let err = fails(&["derive", text(&grammar)], 1, "cannot insert `rock.cave`:");
+    assert!(err.contains("rock.cave:2:"), "{err}");
+}
