@@ -1,43 +1,14 @@
 //! End-to-end tests of `shapegram cave`: the paper's experiment and the examples through the
 //! binary, metrics as JSON, byte-identical output, and the errors users will meet.
 
-use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
-use std::sync::atomic::{AtomicUsize, Ordering};
 
+mod common;
+
+use common::{TempDir, example};
 use serde_json::Value;
 use shapegram_implicit::text::parse;
 use shapegram_implicit::{CaveParams, MeshOptions, Metrics, generate, mesh};
-
-/// A fresh directory under the system temp dir, removed on drop.
-struct TempDir(PathBuf);
-
-impl TempDir {
-    fn new(test: &str) -> Self {
-        static COUNTER: AtomicUsize = AtomicUsize::new(0);
-        let n = COUNTER.fetch_add(1, Ordering::Relaxed);
-        let dir =
-            std::env::temp_dir().join(format!("shapegram-cave-{}-{test}-{n}", std::process::id()));
-        std::fs::create_dir_all(&dir).unwrap();
-        Self(dir)
-    }
-
-    fn path(&self, name: &str) -> PathBuf {
-        self.0.join(name)
-    }
-}
-
-impl Drop for TempDir {
-    fn drop(&mut self) {
-        let _ = std::fs::remove_dir_all(&self.0);
-    }
-}
-
-fn example(name: &str) -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("../../examples")
-        .join(name)
-}
 
 fn shapegram<S: AsRef<std::ffi::OsStr>>(args: &[S], threads: Option<&str>) -> Output {
     let mut command = Command::new(env!("CARGO_BIN_EXE_shapegram"));

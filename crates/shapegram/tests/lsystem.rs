@@ -1,46 +1,21 @@
 //! End-to-end tests of `shapegram lsystem`: every example in examples/*.lsys, words on stdout,
 //! SVG and model output, seeds, and the failures users will meet.
 
-use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+use std::path::Path;
 
+mod common;
+
+use common::{TempDir, shapegram};
 use shapegram_lsystem::{DeriveOptions, LSystem, drawing_to_model, interpret};
 
-/// A fresh directory under the system temp dir, removed on drop.
-struct TempDir(PathBuf);
-
-impl TempDir {
-    fn new(test: &str) -> Self {
-        let dir =
-            std::env::temp_dir().join(format!("shapegram-lsystem-{}-{test}", std::process::id()));
-        std::fs::create_dir_all(&dir).unwrap();
-        Self(dir)
-    }
-
-    fn path(&self, name: &str) -> String {
-        self.0.join(name).to_string_lossy().into_owned()
-    }
+/// A path as a command-line argument.
+fn arg(path: &Path) -> String {
+    path.to_string_lossy().into_owned()
 }
 
-impl Drop for TempDir {
-    fn drop(&mut self) {
-        let _ = std::fs::remove_dir_all(&self.0);
-    }
-}
-
+/// An example file as a command-line argument.
 fn example(name: &str) -> String {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("../../examples")
-        .join(name)
-        .to_string_lossy()
-        .into_owned()
-}
-
-fn shapegram(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_shapegram"))
-        .args(args)
-        .output()
-        .unwrap()
+    arg(&common::example(name))
 }
 
 /// Runs `shapegram lsystem ARGS`, which must succeed; returns (stdout, stderr).
@@ -90,7 +65,7 @@ fn string_prints_the_derived_word() {
 #[test]
 fn summary_line_counts_steps_modules_segments_and_polygons() {
     let dir = TempDir::new("summary");
-    let svg = dir.path("island.svg");
+    let svg = arg(&dir.path("island.svg"));
     let (out, err) = ok(&[&example("koch-island.lsys"), "-o", &svg]);
     assert!(out.is_empty());
     assert!(
@@ -106,7 +81,7 @@ fn summary_line_counts_steps_modules_segments_and_polygons() {
 #[test]
 fn koch_island_svg_is_one_closed_polyline() {
     let dir = TempDir::new("koch");
-    let path = dir.path("island.svg");
+    let path = arg(&dir.path("island.svg"));
     ok(&[&example("koch-island.lsys"), "-o", &path]);
     let svg = std::fs::read_to_string(&path).unwrap();
     assert!(svg.starts_with("<svg xmlns=\"http://www.w3.org/2000/svg\""));
@@ -139,7 +114,7 @@ fn every_example_draws() {
         ("bush-3d.lsys", 3891, 1284),
     ];
     for (name, segments, polygons) in cases {
-        let path = dir.path(&name.replace(".lsys", ".glb"));
+        let path = arg(&dir.path(&name.replace(".lsys", ".glb")));
         let (_, err) = ok(&[&example(name), "-o", &path]);
         assert!(
             err.contains(&format!(", {segments} segment"))
@@ -172,7 +147,7 @@ fn tree_model_matches_the_library_and_every_format_writes() {
     assert!(model.parts[0].mesh.is_watertight());
     let triangles: usize = model.parts.iter().map(|p| p.mesh.triangulate().len()).sum();
     for extension in ["glb", "obj", "stl"] {
-        let path = dir.path(&format!("tree.{extension}"));
+        let path = arg(&dir.path(&format!("tree.{extension}")));
         ok(&[&example("tree-3d.lsys"), "-o", &path, "-q"]);
         let loaded = shapegram_export::load(Path::new(&path)).unwrap();
         let loaded_triangles: usize = loaded
@@ -189,7 +164,7 @@ fn seeds_choose_the_plant() {
     let dir = TempDir::new("seeds");
     let plant = example("stochastic-plant.lsys");
     let write = |name: &str, seed: &str| {
-        let path = dir.path(name);
+        let path = arg(&dir.path(name));
         ok(&[&plant, "-o", &path, "--seed", seed, "-q"]);
         std::fs::read(path).unwrap()
     };
@@ -204,14 +179,14 @@ fn seeds_choose_the_plant() {
 #[test]
 fn interpretation_rules_change_the_drawing_not_the_word() {
     let dir = TempDir::new("homomorphism");
-    let path = dir.path("h.lsys");
+    let path = arg(&dir.path("h.lsys"));
     std::fs::write(
         &path,
         "n: 2\naxiom: A\nA -> AB\nhomomorphism:\nA -> F[+F]\nB -> F\n",
     )
     .unwrap();
     assert_eq!(ok(&[&path, "--string", "-q"]).0, "ABB\n");
-    let svg = dir.path("h.svg");
+    let svg = arg(&dir.path("h.svg"));
     let (_, err) = ok(&[&path, "-o", &svg]);
     assert!(err.contains(", 4 segments, 0 polygons, "), "{err}");
 }
@@ -219,7 +194,7 @@ fn interpretation_rules_change_the_drawing_not_the_word() {
 #[test]
 fn syntax_errors_show_the_line_and_a_caret() {
     let dir = TempDir::new("syntax");
-    let path = dir.path("bad.lsys");
+    let path = arg(&dir.path("bad.lsys"));
     std::fs::write(&path, "n: 2\naxiom: A\nA -> B(1 +)\n").unwrap();
     let err = fails(&[&path, "--string"]);
     assert_eq!(
