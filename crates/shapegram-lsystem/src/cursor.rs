@@ -49,6 +49,30 @@ impl<'a> Cursor<'a> {
         }
     }
 
+    /// The items of a parenthesised list whose `(` was just eaten, through the `)`. `after`
+    /// says what an item is (`after a parameter name`) when neither `,` nor `)` follows one.
+    pub fn list_rest<T>(
+        &mut self,
+        after: &str,
+        mut item: impl FnMut(&mut Self) -> Result<T, Error>,
+    ) -> Result<Vec<T>, Error> {
+        let mut items = Vec::new();
+        loop {
+            items.push(item(self)?);
+            self.skip_space();
+            if self.eat(',') {
+                continue;
+            }
+            if self.eat(')') {
+                return Ok(items);
+            }
+            return Err(self.error(format!(
+                "expected ',' or ')' {after}, found {}",
+                describe(self.peek())
+            )));
+        }
+    }
+
     /// Skips spaces and tabs.
     pub fn skip_space(&mut self) {
         while self.peek().is_some_and(char::is_whitespace) {

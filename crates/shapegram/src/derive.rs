@@ -125,7 +125,7 @@ fn derive_failure(source: &SourceFile, error: &DeriveError) -> Failure {
 }
 
 /// `8.4 ms`, or `2.31 s` from one second on.
-fn duration(d: Duration) -> String {
+pub fn duration(d: Duration) -> String {
     let ms = d.as_secs_f64() * 1e3;
     if ms < 1000.0 {
         format!("{ms:.1} ms")

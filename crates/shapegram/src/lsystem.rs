@@ -13,6 +13,7 @@ use shapegram_lsystem::{
     DEFAULT_MAX_MODULES, DeriveOptions, Drawing, LSystem, Settings, drawing_to_model, interpret,
 };
 
+use crate::derive::duration;
 use crate::{Failure, counted, print_stdout};
 
 /// Arguments of `shapegram lsystem`.
@@ -231,14 +232,4 @@ fn svg_drawing(drawing: &Drawing, settings: &Settings) -> SvgDrawing {
         });
     }
     svg
-}
-
-/// `8.4 ms`, or `2.31 s` from one second on.
-fn duration(d: Duration) -> String {
-    let ms = d.as_secs_f64() * 1e3;
-    if ms < 1000.0 {
-        format!("{ms:.1} ms")
-    } else {
-        format!("{:.2} s", ms / 1e3)
-    }
 }

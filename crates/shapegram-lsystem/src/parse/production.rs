@@ -53,20 +53,8 @@ pub(super) fn modules(
         let name = module_name(cursor)?;
         let mut args = Vec::new();
         if cursor.eat('(') {
-            loop {
-                args.push(expr::parse(cursor, names)?);
-                cursor.skip_space();
-                if cursor.eat(',') {
-                    continue;
-                }
-                if cursor.eat(')') {
-                    break;
-                }
-                return Err(cursor.error(format!(
-                    "expected ',' or ')' after a parameter of '{name}', found {}",
-                    describe(cursor.peek())
-                )));
-            }
+            let after = format!("after a parameter of '{name}'");
+            args = cursor.list_rest(&after, |cursor| expr::parse(cursor, names))?;
         }
         check_arity(name, args.len(), position)?;
         result.push(RawModule {
@@ -119,27 +107,15 @@ fn patterns(cursor: &mut Cursor, what: &str) -> Result<Vec<PatternModule>, Error
         let name = module_name(cursor)?;
         let mut formals = Vec::new();
         if cursor.eat('(') {
-            loop {
+            formals = cursor.list_rest("after a parameter name", |cursor| {
                 cursor.skip_space();
-                let formal = cursor.identifier().ok_or_else(|| {
+                cursor.identifier().ok_or_else(|| {
                     cursor.error(format!(
                         "expected a parameter name in the {what}, found {}",
                         describe(cursor.peek())
                     ))
-                })?;
-                formals.push(formal);
-                cursor.skip_space();
-                if cursor.eat(',') {
-                    continue;
-                }
-                if cursor.eat(')') {
-                    break;
-                }
-                return Err(cursor.error(format!(
-                    "expected ',' or ')' after a parameter name, found {}",
-                    describe(cursor.peek())
-                )));
-            }
+                })
+            })?;
         }
         check_arity(name, formals.len(), position)?;
         result.push(PatternModule {
