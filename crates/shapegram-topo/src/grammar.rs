@@ -3,6 +3,7 @@
 
 use std::fmt;
 
+use rustc_hash::FxHashSet;
 use serde::{Deserialize, Serialize};
 use shapegram_geom::{Color, DVec3};
 
@@ -152,16 +153,17 @@ impl Grammar {
                 return err(name.into(), format!("{len} entries, at most {MAX_ENTRIES}"));
             }
         }
+        // Names seen so far, and whether each rule is listed by its symbol: looked up, not
+        // searched, so that lists of a million entries load in linear time.
+        let mut names: FxHashSet<&str> = FxHashSet::default();
+        let mut listed = vec![false; self.rules.len()];
         for (i, symbol) in self.symbols.iter().enumerate() {
             let at = |field: &str| format!("symbols[{i}].{field}");
             if let Some(name) = &symbol.name {
                 if name.trim().is_empty() {
                     return err(at("name"), "a symbol name cannot be blank".into());
                 }
-                if self.symbols[..i]
-                    .iter()
-                    .any(|s| s.name.as_ref() == Some(name))
-                {
+                if !names.insert(name) {
                     return err(at("name"), format!("the name '{name}' is used twice"));
                 }
             }
@@ -196,7 +198,13 @@ impl Grammar {
                             format!("rule {r} rewrites symbol {}, not this one", rule.symbol),
                         );
                     }
-                    _ => {}
+                    Some(_) if listed[r as usize] => {
+                        return err(
+                            at(&format!("rules[{k}]")),
+                            format!("rule {r} is listed twice"),
+                        );
+                    }
+                    Some(_) => listed[r as usize] = true,
                 }
             }
         }
@@ -220,12 +228,18 @@ impl Grammar {
             }
         }
         for (i, rule) in self.rules.iter().enumerate() {
-            self.validate_rule(i, rule)?;
+            self.validate_rule(i, rule, listed[i])?;
         }
         Ok(())
     }
 
-    fn validate_rule(&self, i: usize, rule: &GrammarRule) -> Result<(), GrammarError> {
+    /// Checks rule `i`; `listed`: whether its symbol lists it.
+    fn validate_rule(
+        &self,
+        i: usize,
+        rule: &GrammarRule,
+        listed: bool,
+    ) -> Result<(), GrammarError> {
         let err = |field: String, message: String| {
             Err(GrammarError {
                 location: format!("rules[{i}].{field}"),
@@ -235,7 +249,7 @@ impl Grammar {
         let Some(symbol) = self.symbols.get(rule.symbol as usize) else {
             return err("symbol".into(), self.no_symbol(rule.symbol));
         };
-        if !symbol.rules.contains(&(i as Index)) {
+        if !listed {
             return err(
                 "symbol".into(),
                 format!("symbol {} does not list this rule", rule.symbol),

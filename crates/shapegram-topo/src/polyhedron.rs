@@ -170,6 +170,9 @@ impl Polyhedron {
             face_edge: Vec::with_capacity(faces.len()),
         };
         let mut edge_of: FxHashMap<(Index, Index), Index> = FxHashMap::default();
+        // The last face (plus one) that used each vertex: finds repeated corners in one pass,
+        // so a face of a million corners costs a million steps, not half a trillion.
+        let mut used_by = vec![0usize; n];
         for (f, face) in faces.iter().enumerate() {
             let face = face.as_ref();
             let bad = |reason: String| PolyhedronError::BadFace { face: f, reason };
@@ -179,10 +182,11 @@ impl Polyhedron {
             if let Some(&v) = face.iter().find(|&&v| v as usize >= n) {
                 return Err(bad(format!("corner {v} is not a vertex (there are {n})")));
             }
-            for (k, v) in face.iter().enumerate() {
-                if face[..k].contains(v) {
+            for &v in face {
+                if used_by[v as usize] == f + 1 {
                     return Err(bad(format!("vertex {v} appears twice")));
                 }
+                used_by[v as usize] = f + 1;
             }
             let first = shape.origin.len() as Index;
             let len = face.len() as Index;

@@ -18,6 +18,12 @@ pub const PROJECT_FORMAT: &str = "shapegram-topo-project";
 /// The version this library writes and reads.
 pub const PROJECT_VERSION: u32 = 1;
 
+/// Most vertices the sub-shapes of all rule trees of a loaded project may hold together (about
+/// 300 MB): every rule copies its symbol's shape and every cut adds two parts, so a small file
+/// naming a big symbol in many rules or cuts could otherwise exhaust memory. Hand-made projects
+/// hold thousands.
+const MAX_PROJECT_VERTICES: usize = 1 << 21;
+
 /// A problem in a project file: where (a JSON path or line and column) and what.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub struct ProjectError {
@@ -211,6 +217,7 @@ impl Project {
                     .map_err(|e| fail(at, e.to_string()))?;
             }
         }
+        let mut held = 0;
         for (r, entry) in file.rules.into_iter().enumerate() {
             let at = format!("rules[{r}]");
             let symbol = project.symbol_named(&entry.symbol).ok_or_else(|| {
@@ -219,18 +226,29 @@ impl Project {
                     format!("there is no symbol '{}'", entry.symbol.escape_debug()),
                 )
             })?;
+            held += project.symbols[symbol as usize].shape.vertex_count();
+            if held > MAX_PROJECT_VERTICES {
+                return Err(fail(at, too_big()));
+            }
             let rule = project
                 .add_rule(symbol, &entry.name, entry.weight)
                 .map_err(|e| fail(format!("{at}.weight"), e.to_string()))?;
             project
-                .replay(rule, &entry.tree)
+                .replay(rule, &entry.tree, &mut held)
                 .map_err(|(path, e)| fail(format!("{at}.tree{path}"), e.to_string()))?;
         }
         Ok(project)
     }
 
     /// Rebuilds the tree `root` on `rule`: cuts in their recorded order, then assignments.
-    fn replay(&mut self, rule: Index, root: &NodeEntry) -> Result<(), (String, EditError)> {
+    /// `held` counts the vertices of all sub-shapes made so far, against
+    /// [`MAX_PROJECT_VERTICES`].
+    fn replay(
+        &mut self,
+        rule: Index,
+        root: &NodeEntry,
+        held: &mut usize,
+    ) -> Result<(), (String, EditError)> {
         let mut cuts = Vec::new();
         let mut leaves = Vec::new();
         flatten(root, None, String::new(), &mut cuts, &mut leaves);
@@ -261,6 +279,14 @@ impl Project {
             let children = self
                 .plane_cut(rule, leaf, item.plane)
                 .map_err(|e| (item.path.clone(), e))?;
+            let nodes = self.rules[rule as usize].tree.nodes();
+            *held += children
+                .iter()
+                .map(|&c| nodes[c as usize].shape.vertex_count())
+                .sum::<usize>();
+            if *held > MAX_PROJECT_VERTICES {
+                return Err((item.path.clone(), EditError::Invalid(too_big())));
+            }
             made[k] = Some(children);
         }
         for leaf in leaves {
@@ -289,6 +315,14 @@ impl Project {
         }
         Ok(())
     }
+}
+
+/// The message for a project over [`MAX_PROJECT_VERTICES`].
+fn too_big() -> String {
+    format!(
+        "the rules' sub-shapes would hold more than {MAX_PROJECT_VERTICES} vertices together \
+         (hand-made projects hold thousands)"
+    )
 }
 
 /// A cut of a project file's tree: its step, plane, and where it sits (its parent cut and side).

@@ -228,3 +228,115 @@ proptest! {
         }
     }
 }
+
+/// Runs `work` on another thread and fails the test if it takes longer than `seconds`: the
+/// inputs below take milliseconds to check in linear time and minutes in quadratic time.
+fn finishes_within<T: Send + 'static>(
+    seconds: u64,
+    work: impl FnOnce() -> T + Send + 'static,
+) -> T {
+    let (send, receive) = std::sync::mpsc::channel();
+    std::thread::spawn(move || send.send(work()));
+    receive
+        .recv_timeout(std::time::Duration::from_secs(seconds))
+        .expect("checking took too long (is a check quadratic in the input size?)")
+}
+
+/// A pyramid over an `n`-gon: faces (base first, then the sides) and positions.
+fn pyramid(n: u32) -> (Vec<Vec<u32>>, Vec<[f64; 3]>) {
+    let mut faces = vec![(0..n).rev().collect::<Vec<_>>()];
+    faces.extend((0..n).map(|i| vec![i, (i + 1) % n, n]));
+    let mut positions: Vec<[f64; 3]> = (0..n)
+        .map(|i| {
+            let angle = std::f64::consts::TAU * f64::from(i) / f64::from(n);
+            [angle.cos(), 0.0, -angle.sin()]
+        })
+        .collect();
+    positions.push([0.0, 1.0, 0.0]);
+    (faces, positions)
+}
+
+#[test]
+fn huge_faces_and_lists_are_checked_in_linear_time() {
+    // A face of 300,000 corners: checking its corners pairwise took minutes.
+    let mut g = spiral_grammar();
+    let (faces, _) = pyramid(300_000);
+    g["symbols"].as_array_mut().unwrap().push(json!({
+        "name": "Big", "vertex_count": 300_001, "faces": faces, "rules": []
+    }));
+    let text = g.to_string();
+    let grammar = finishes_within(20, move || Grammar::from_json(&text)).unwrap();
+    assert_eq!(grammar.symbols[2].faces[0].len(), 300_000);
+
+    // 100,000 rules of one symbol, and 100,000 symbols: each rule was looked for in its
+    // symbol's list, each name compared with every earlier one.
+    let base = Grammar::from_json(&spiral_grammar().to_string()).unwrap();
+    let mut many_rules = base.clone();
+    many_rules.rules = vec![base.rules[0].clone(); 100_000];
+    many_rules.symbols[0].rules = (0..100_000).collect();
+    let mut many_symbols = base.clone();
+    for k in 0..100_000 {
+        let mut symbol = base.symbols[1].clone();
+        symbol.name = Some(format!("S{k}"));
+        many_symbols.symbols.push(symbol);
+    }
+    let results = finishes_within(20, move || [many_rules.validate(), many_symbols.validate()]);
+    assert_eq!(results, [Ok(()), Ok(())]);
+}
+
+#[test]
+fn repeated_corners_and_rules_are_refused() {
+    let mut g = spiral_grammar();
+    g["symbols"][0]["faces"][0] = json!([0, 3, 0, 1]);
+    assert_eq!(
+        grammar_error(&g),
+        "symbols[0].faces: face 0: vertex 0 appears twice"
+    );
+    // A rule listed twice would be chosen twice as often as its weight says.
+    let mut g = spiral_grammar();
+    g["symbols"][0]["rules"] = json!([0, 0]);
+    assert_eq!(
+        grammar_error(&g),
+        "symbols[0].rules[1]: rule 0 is listed twice"
+    );
+}
+
+/// A project of one symbol, a pyramid over a `n`-gon, and `rules`.
+fn pyramid_project(n: u32, rules: Vec<Value>) -> Value {
+    let (faces, vertices) = pyramid(n);
+    json!({
+        "format": "shapegram-topo-project",
+        "version": 1,
+        "symbols": [{ "name": "P", "vertices": vertices, "faces": faces, "anchor": [0, 0] }],
+        "rules": rules,
+    })
+}
+
+#[test]
+fn projects_too_big_for_memory_are_refused() {
+    // Every rule copies its symbol's shape: 1,100 rules of a 2,001-vertex symbol would hold
+    // 2.2 million vertices (a 60 kB file may name 40,000 rules of a larger one).
+    let rule = json!({ "name": "r", "symbol": "P", "weight": 1.0, "tree": "terminal" });
+    let p = pyramid_project(2000, vec![rule; 1100]);
+    assert_eq!(
+        project_error(&p),
+        "rules[1048]: the rules' sub-shapes would hold more than 2097152 vertices together \
+         (hand-made projects hold thousands)"
+    );
+    // Every cut adds two parts: 1,047 rules hold 2,095,047 vertices, the next one's root
+    // 2,001 more, and its cut (a frustum and a pyramid) 6,001 more.
+    let rule = json!({ "name": "r", "symbol": "P", "weight": 1.0, "tree": "terminal" });
+    let mut rules = vec![rule; 1048];
+    rules[1047]["tree"] = json!({ "cut": {
+        "step": 0, "point": [0.0, 0.5, 0.0], "normal": [0.0, 1.0, 0.0],
+        "below": "terminal", "above": "terminal" } });
+    assert_eq!(
+        project_error(&pyramid_project(2000, rules.clone())),
+        "rules[1047].tree: the rules' sub-shapes would hold more than 2097152 vertices \
+         together (hand-made projects hold thousands)"
+    );
+    // Three rules fewer (2,097,046 vertices) load.
+    rules.drain(..3);
+    let project = Project::from_json(&pyramid_project(2000, rules).to_string()).unwrap();
+    assert_eq!(project.rules[1044].tree.nodes().len(), 3);
+}
