@@ -27,6 +27,12 @@ pub struct Grammar {
     pub rules: Vec<GrammarRule>,
 }
 
+/// Largest coordinate of a shape's vertex, in absolute value.
+pub const MAX_COORDINATE: f64 = 1e15;
+
+/// How far outside `0..=1` an interpolation coefficient may stray by rounding.
+const T_TOLERANCE: f64 = 1e-9;
+
 /// A shape's geometry: positions in the canonical order of its symbol.
 #[derive(Clone, Debug, PartialEq)]
 pub struct GrammarShape {
@@ -226,6 +232,17 @@ impl Grammar {
             if let Some(k) = shape.vertices.iter().position(|p| !p.is_finite()) {
                 return err(at(&format!("vertices[{k}]")), "not a finite point".into());
             }
+            // Beyond this, face normals and areas overflow f64 and faces vanish from meshes.
+            if let Some(k) = shape
+                .vertices
+                .iter()
+                .position(|p| p.abs().max_element() > MAX_COORDINATE)
+            {
+                return err(
+                    at(&format!("vertices[{k}]")),
+                    format!("a coordinate beyond ±{MAX_COORDINATE:e}"),
+                );
+            }
         }
         for (i, rule) in self.rules.iter().enumerate() {
             self.validate_rule(i, rule, listed[i])?;
@@ -275,10 +292,11 @@ impl Grammar {
                     );
                 }
             }
-            if !v.t.is_finite() {
+            // Cuts put new vertices on edges: between their two parents.
+            if !(-T_TOLERANCE..=1.0 + T_TOLERANCE).contains(&v.t) {
                 return err(
                     format!("virtual_vertices[{k}].t"),
-                    "not a finite number".into(),
+                    format!("{:e} is not between 0 and 1", v.t),
                 );
             }
         }

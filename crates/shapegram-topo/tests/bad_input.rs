@@ -138,6 +138,20 @@ fn bad_numbers_and_names_are_refused() {
         grammar_error(&g),
         "symbols[1].face_colors: 2 colours for 6 faces (give one per face, null for none)"
     );
+    // Coefficients off the edge, and coordinates so large that areas overflow, would make
+    // faces vanish from the meshes without a word.
+    let mut g = spiral_grammar();
+    g["rules"][0]["virtual_vertices"][1][2] = json!(1e300);
+    assert_eq!(
+        grammar_error(&g),
+        "rules[0].virtual_vertices[1].t: 1e300 is not between 0 and 1"
+    );
+    let mut g = spiral_grammar();
+    g["shapes"][0]["vertices"][2] = json!([4.0, 4.0, 4e307]);
+    assert_eq!(
+        grammar_error(&g),
+        "shapes[0].vertices[2]: a coordinate beyond ±1e15"
+    );
     let text = spiral_grammar().to_string().replace("4.0", "1e999");
     assert!(
         Grammar::from_json(&text)
