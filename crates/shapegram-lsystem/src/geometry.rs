@@ -12,6 +12,8 @@ use std::collections::BTreeMap;
 use glam::DVec3;
 use shapegram_geom::{Color, DAffine3, Mesh, Model, Part, Scope};
 
+use crate::error::Error;
+use crate::rewrite::group_digits;
 use crate::system::Settings;
 use crate::turtle::{Drawing, Polygon, Stroke};
 
@@ -51,6 +53,55 @@ pub fn drawing_to_model(drawing: &Drawing, settings: &Settings) -> Model {
     Model { parts }
 }
 
+/// Default limit on the vertices of a drawing's model: about the size of a cave's largest mesh,
+/// a few gigabytes once written.
+pub const DEFAULT_MAX_VERTICES: usize = 10_000_000;
+
+/// The model of a drawing like [`drawing_to_model`], or an error when it would have more than
+/// `max_vertices` vertices, found before any geometry is built: a word of a few million modules
+/// draws fine as SVG but makes tubes of `sides` vertices per point.
+pub fn drawing_to_model_within(
+    drawing: &Drawing,
+    settings: &Settings,
+    max_vertices: usize,
+) -> Result<Model, Error> {
+    let vertices = model_vertex_count(drawing, settings);
+    if vertices > max_vertices {
+        return Err(Error::general(format!(
+            "the model would have up to {} vertices, over the limit of {} (derive fewer steps, use fewer sides, or draw an SVG)",
+            group_digits(vertices),
+            group_digits(max_vertices)
+        )));
+    }
+    Ok(drawing_to_model(drawing, settings))
+}
+
+/// The most vertices [`drawing_to_model`] makes for `drawing`: a ring of `sides` per point of each
+/// tube, and every polygon point twice (front and back; repeated points are dropped).
+fn model_vertex_count(drawing: &Drawing, settings: &Settings) -> usize {
+    let sides = settings.sides.max(3) as usize;
+    let rings: usize = drawing
+        .strokes
+        .iter()
+        .filter(|s| !s.widths.is_empty())
+        .map(|s| s.points.len() + sharp_bends(s).count())
+        .sum();
+    let polygon_points: usize = drawing.polygons.iter().map(|p| p.points.len()).sum();
+    rings
+        .saturating_mul(sides)
+        .saturating_add(polygon_points.saturating_mul(2))
+}
+
+/// The points of a stroke where it bends too sharply to mitre, so one tube ends and the next
+/// starts.
+fn sharp_bends(stroke: &Stroke) -> impl Iterator<Item = usize> + '_ {
+    (1..stroke.widths.len()).filter(|&k| {
+        let incoming = unit(stroke.points[k] - stroke.points[k - 1]);
+        let outgoing = unit(stroke.points[k + 1] - stroke.points[k]);
+        incoming.dot(outgoing) < SHARPEST_BEND_COS
+    })
+}
+
 /// `v` scaled to length 1 (`v` must not be zero). The standard library's square root is the
 /// exact IEEE operation, like glam's, and runs in hardware.
 fn unit(v: DVec3) -> DVec3 {
@@ -83,13 +134,9 @@ impl TubeBuilder {
     /// Adds the tubes of one stroke, split at bends too sharp to mitre.
     fn add_stroke(&mut self, mesh: &mut Mesh, stroke: &Stroke) {
         let mut start = 0;
-        for k in 1..stroke.widths.len() {
-            let incoming = unit(stroke.points[k] - stroke.points[k - 1]);
-            let outgoing = unit(stroke.points[k + 1] - stroke.points[k]);
-            if incoming.dot(outgoing) < SHARPEST_BEND_COS {
-                self.add_tube(mesh, &stroke.points[start..=k], &stroke.widths[start..k]);
-                start = k;
-            }
+        for k in sharp_bends(stroke) {
+            self.add_tube(mesh, &stroke.points[start..=k], &stroke.widths[start..k]);
+            start = k;
         }
         self.add_tube(mesh, &stroke.points[start..], &stroke.widths[start..]);
     }

@@ -26,8 +26,10 @@ mod word;
 
 pub use alphabet::{Alphabet, Symbol, SymbolId};
 pub use error::{Error, Position};
-pub use geometry::{drawing_to_model, fit_into_box, fit_into_scope};
-pub use rewrite::{DEFAULT_MAX_MODULES, DeriveOptions};
+pub use geometry::{
+    DEFAULT_MAX_VERTICES, drawing_to_model, drawing_to_model_within, fit_into_box, fit_into_scope,
+};
+pub use rewrite::{DEFAULT_MAX_MODULES, DeriveOptions, MAX_ITERATIONS};
 pub use system::{LSystem, Settings, default_palette};
 pub use turtle::{Drawing, Polygon, Stroke, interpret};
 pub use word::Word;
@@ -36,7 +38,8 @@ use shapegram_geom::{Model, Scope};
 
 /// Derives `system`, draws the word with the turtle and fits the model into `scope` (uniformly
 /// scaled, centred on the scope's x and z, standing on its floor): what a shape grammar calls to
-/// plant an L-system in the current shape.
+/// plant an L-system in the current shape. A model over [`DEFAULT_MAX_VERTICES`] vertices is an
+/// error.
 pub fn model_in_scope(
     system: &LSystem,
     options: &DeriveOptions,
@@ -45,8 +48,6 @@ pub fn model_in_scope(
     let word = system.derive(options)?;
     let shown = system.interpretation(&word, options)?;
     let drawing = interpret(system, &shown);
-    Ok(fit_into_scope(
-        &drawing_to_model(&drawing, &system.settings),
-        scope,
-    ))
+    let model = drawing_to_model_within(&drawing, &system.settings, DEFAULT_MAX_VERTICES)?;
+    Ok(fit_into_scope(&model, scope))
 }

@@ -19,10 +19,14 @@ use crate::word::{Word, push_number};
 /// Default limit on the number of modules of a word.
 pub const DEFAULT_MAX_MODULES: usize = 50_000_000;
 
+/// Largest derivation length, from `n:` or [`DeriveOptions::iterations`]: a word that stops
+/// growing would otherwise be rewritten for billions of steps.
+pub const MAX_ITERATIONS: u32 = 10_000;
+
 /// Choices of one derivation; `None` takes the value from the L-system's settings.
 #[derive(Clone, Debug)]
 pub struct DeriveOptions {
-    /// Derivation length (overrides `n:`).
+    /// Derivation length (overrides `n:`), at most [`MAX_ITERATIONS`].
     pub iterations: Option<u32>,
     /// Seed of stochastic choices (overrides `seed:`).
     pub seed: Option<u64>,
@@ -85,6 +89,13 @@ impl LSystem {
         mut progress: impl FnMut(u32, usize),
     ) -> Result<Word, Error> {
         let iterations = options.iterations.unwrap_or(self.settings.iterations);
+        if iterations > MAX_ITERATIONS {
+            return Err(Error::general(format!(
+                "{} derivation steps asked for; at most {} are allowed",
+                group_digits(iterations as usize),
+                group_digits(MAX_ITERATIONS as usize)
+            )));
+        }
         let seed = options.seed.unwrap_or(self.settings.seed);
         let max = options.max_modules;
         if self.axiom.len() > max {
@@ -328,7 +339,7 @@ fn limit_error(step: u32, len: usize, max: usize) -> Error {
 }
 
 /// `12345678` as `12,345,678`.
-fn group_digits(n: usize) -> String {
+pub(crate) fn group_digits(n: usize) -> String {
     let digits = n.to_string();
     let mut out = String::new();
     for (i, c) in digits.chars().enumerate() {

@@ -167,6 +167,27 @@ fn malformed_settings() {
 }
 
 #[test]
+fn derivation_length_is_limited_from_options_too() {
+    // The word stays one module long: only the limit stops a billion steps.
+    let system = LSystem::parse("axiom: A\nA -> A\n").unwrap();
+    let derive = |n| {
+        system.derive(&DeriveOptions {
+            iterations: Some(n),
+            ..DeriveOptions::default()
+        })
+    };
+    assert_eq!(
+        derive(10_001).unwrap_err().to_string(),
+        "10,001 derivation steps asked for; at most 10,000 are allowed"
+    );
+    assert_eq!(
+        derive(1_000_000_000).unwrap_err().to_string(),
+        "1,000,000,000 derivation steps asked for; at most 10,000 are allowed"
+    );
+    assert_eq!(system.word_text(&derive(10_000).unwrap()), "A");
+}
+
+#[test]
 fn errors_render_with_a_caret() {
     let text = "axiom: A\nA -> B(1 +)\n";
     let err = LSystem::parse(text).unwrap_err();

@@ -4,8 +4,8 @@
 use glam::DVec3;
 use shapegram_geom::{Scope, primitives};
 use shapegram_lsystem::{
-    DeriveOptions, Drawing, LSystem, drawing_to_model, fit_into_box, fit_into_scope, interpret,
-    model_in_scope,
+    DeriveOptions, Drawing, LSystem, drawing_to_model, drawing_to_model_within, fit_into_box,
+    fit_into_scope, interpret, model_in_scope,
 };
 
 fn draw(text: &str) -> Drawing {
@@ -142,6 +142,36 @@ fn bent_tubes_stay_closed() {
     let system = LSystem::parse("n: 0\naxiom: F|F\n").unwrap();
     let model = drawing_to_model(&interpret(&system, system.axiom()), &system.settings);
     assert_eq!(model.parts[0].mesh.face_count(), 2 * (8 + 2));
+}
+
+#[test]
+fn models_over_the_vertex_limit_are_refused_before_they_are_built() {
+    // Two tubes (the turn around splits the stroke) of two rings each, and a square leaf drawn
+    // on both sides: 4 · 8 + 2 · 4 vertices.
+    let system = LSystem::parse("n: 0\nangle: 90\naxiom: F|F{.f.+f.+f.}\n").unwrap();
+    let drawing = interpret(&system, system.axiom());
+    let model = drawing_to_model(&drawing, &system.settings);
+    let vertices: usize = model.parts.iter().map(|p| p.mesh.vertex_count()).sum();
+    assert_eq!(vertices, 40);
+    let within = drawing_to_model_within(&drawing, &system.settings, 40).unwrap();
+    assert_eq!(within.parts.len(), model.parts.len());
+    assert_eq!(
+        drawing_to_model_within(&drawing, &system.settings, 39)
+            .unwrap_err()
+            .to_string(),
+        "the model would have up to 40 vertices, over the limit of 39 (derive fewer steps, use fewer sides, or draw an SVG)"
+    );
+    // A plain line of 2¹⁷ segments with 64 sides is over 8 million vertices.
+    let system = LSystem::parse("n: 17\nsides: 64\naxiom: F\nF -> FF\n").unwrap();
+    let word = system.derive(&DeriveOptions::default()).unwrap();
+    let drawing = interpret(&system, &word);
+    let err = drawing_to_model_within(&drawing, &system.settings, 1_000_000).unwrap_err();
+    assert!(
+        err.message.starts_with(
+            "the model would have up to 8,388,672 vertices, over the limit of 1,000,000"
+        ),
+        "{err}"
+    );
 }
 
 #[test]

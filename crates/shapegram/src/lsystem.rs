@@ -10,7 +10,8 @@ use indicatif::{ProgressBar, ProgressStyle};
 use shapegram_export::{ExportOptions, Format, SvgDrawing, SvgPolygon, SvgPolyline, write_svg};
 use shapegram_geom::DVec2;
 use shapegram_lsystem::{
-    DEFAULT_MAX_MODULES, DeriveOptions, Drawing, LSystem, Settings, drawing_to_model, interpret,
+    DEFAULT_MAX_MODULES, DEFAULT_MAX_VERTICES, DeriveOptions, Drawing, LSystem, Settings,
+    drawing_to_model_within, interpret,
 };
 
 use crate::derive::duration;
@@ -50,6 +51,9 @@ pub struct LsystemArgs {
     /// Stop with an error when a word would grow beyond this many modules
     #[arg(long, value_name = "N", default_value_t = DEFAULT_MAX_MODULES)]
     pub max_modules: usize,
+    /// Stop with an error when a model (GLB, OBJ, STL) would have more than this many vertices
+    #[arg(long, value_name = "N", default_value_t = DEFAULT_MAX_VERTICES)]
+    pub max_vertices: usize,
     /// Do not print the summary line on stderr
     #[arg(short, long)]
     pub quiet: bool,
@@ -125,7 +129,8 @@ pub fn run(args: &LsystemArgs) -> Result<(), Failure> {
                     .map_err(|e| Failure::new(format!("cannot write {}: {e}", path.display())))?
             }
             Output::Model(_) => {
-                let model = drawing_to_model(&drawing, &system.settings);
+                let model = drawing_to_model_within(&drawing, &system.settings, args.max_vertices)
+                    .map_err(|e| reported(&e.render(&name, &text)))?;
                 shapegram_export::save(&model, path, &ExportOptions::default())?;
             }
         }

@@ -215,6 +215,28 @@ fn limits_and_bad_arguments_are_one_line_errors() {
             "error: {algae}: step 15 would make a word of 1,597 modules, over the limit of 1,000 (raise the limit, or derive fewer steps)\n"
         )
     );
+    // A word that never grows must not make a huge `-n` run for billions of steps.
+    let err = fails(&[&algae, "-n", "4000000000", "--string"]);
+    assert_eq!(
+        err,
+        format!(
+            "error: {algae}: 4,000,000,000 derivation steps asked for; at most 10,000 are allowed\n"
+        )
+    );
+    // Tubes have a ring of vertices per point: a long line is refused before it is built.
+    let dir = TempDir::new("vertices");
+    let line = arg(&dir.path("line.lsys"));
+    std::fs::write(&line, "n: 10\naxiom: F\nF -> FF\n").unwrap();
+    let glb = arg(&dir.path("line.glb"));
+    let err = fails(&[&line, "-o", &glb, "--max-vertices", "8199"]);
+    assert_eq!(
+        err,
+        format!(
+            "error: {line}: the model would have up to 8,200 vertices, over the limit of 8,199 (derive fewer steps, use fewer sides, or draw an SVG)\n"
+        )
+    );
+    assert!(!dir.path("line.glb").exists());
+    ok(&[&line, "-o", &glb, "--max-vertices", "8200"]);
     let err = fails(&[&algae, "-o", "out.png"]);
     assert_eq!(
         err,

@@ -6,10 +6,8 @@ use shapegram_geom::Color;
 use crate::cursor::{Cursor, describe};
 use crate::error::{Error, Position};
 use crate::expr::{self, Name};
+use crate::rewrite::MAX_ITERATIONS;
 use crate::system::Settings;
-
-/// Largest accepted `n:`; more steps than this never finish for a growing word anyway.
-const MAX_ITERATIONS: u32 = 10_000;
 
 /// The setting keys, for the hint on an unknown key.
 const KEYS: &str =
