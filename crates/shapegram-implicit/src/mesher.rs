@@ -240,16 +240,39 @@ pub fn mesh_with_progress(
     })
 }
 
+/// How far from the origin, in cells, a grid may reach: there a coordinate's rounding error is
+/// still below 2⁻¹⁶ of a cell (a double has 52 fraction bits). Further out, neighbouring samples
+/// would round to the same point and the mesh would silently collapse.
+const MAX_REACH_CELLS: f64 = (1u64 << 36) as f64;
+
 /// The padded grid over a box at `min` of extent `size`.
 fn grid_for(min: DVec3, size: DVec3, h: f64, max_cells: u64) -> Result<Grid> {
     let padding = 1.5 * h;
     let cells = size.to_array().map(|s| (s / h).ceil() + 3.0);
     let total: f64 = cells.iter().product();
     if !total.is_finite() || total > max_cells as f64 {
+        // Integers up to 10¹⁵ in full, larger ones (a solid of size 10³⁰⁰) in scientific form.
+        let count = |c: f64| {
+            if c < 1e15 {
+                format!("{c}")
+            } else {
+                format!("{c:.3e}")
+            }
+        };
         return Err(ImplicitError::new(format!(
             "a grid of {} × {} × {} cells exceeds the limit of {max_cells} cells: use larger \
              cells (a lower level of detail)",
-            cells[0], cells[1], cells[2]
+            count(cells[0]),
+            count(cells[1]),
+            count(cells[2])
+        )));
+    }
+    let reach = min.abs().max((min + size).abs()).max_element() + padding;
+    if reach / h > MAX_REACH_CELLS {
+        return Err(ImplicitError::new(format!(
+            "the solid reaches {reach:.3e} units from the origin, too far for cells of {h}: \
+             coordinates there are not precise enough; move it nearer the origin or use larger \
+             cells"
         )));
     }
     Ok(Grid {

@@ -413,6 +413,31 @@ fn limits_are_errors() {
         "a grid of 20003 × 20003 × 20003 cells exceeds the limit of 8589934592 cells: use larger \
          cells (a lower level of detail)"
     );
+    assert_eq!(
+        mesh(
+            &Solid::sphere(1e300).unwrap(),
+            &MeshOptions::with_cell_size(0.1)
+        )
+        .unwrap_err()
+        .to_string(),
+        "a grid of 2.000e301 × 2.000e301 × 2.000e301 cells exceeds the limit of 8589934592 \
+         cells: use larger cells (a lower level of detail)"
+    );
+    // So far from the origin, samples a cell apart round to the same point: no mesh, an error.
+    for far in [1e300, 1e12] {
+        let moved = s.translate(DVec3::new(far, 0.0, -1.0)).unwrap();
+        let err = mesh(&moved, &MeshOptions::with_cell_size(0.1)).unwrap_err();
+        assert!(
+            err.to_string()
+                .contains("units from the origin, too far for cells of 0.1"),
+            "{err}"
+        );
+    }
+    // Nearer, the same sphere meshes as it does at the origin.
+    let at_origin = mesh(&s, &MeshOptions::with_cell_size(0.1)).unwrap();
+    let moved = s.translate(DVec3::new(1e6, 0.0, -1.0)).unwrap();
+    let near = mesh(&moved, &MeshOptions::with_cell_size(0.1)).unwrap();
+    assert_eq!(near.mesh.face_count(), at_origin.mesh.face_count());
     let mut options = MeshOptions::cells_along_longest(&s, 64);
     options.max_triangles = 1000;
     assert_eq!(
