@@ -77,6 +77,11 @@ pub fn write_glb(model: &Model, options: &ExportOptions) -> Vec<u8> {
             primitives.len() - 1
         });
         let target = &mut primitives[slot].1;
+        if target.indices.is_empty() {
+            // The first part of a colour: its lists become the primitive's, uncopied.
+            *target = geometry;
+            continue;
+        }
         let base = target.positions.len() as u32;
         target.positions.extend(geometry.positions);
         target.normals.extend(geometry.normals);
@@ -207,6 +212,8 @@ impl Builder {
         min_max: Option<(serde_json::Value, serde_json::Value)>,
     ) -> json::Index<json::Accessor> {
         let offset = self.bin.len();
+        // Reserved up front: large models would otherwise copy the buffer as it grows.
+        self.bin.reserve(std::mem::size_of_val(elements) + 3);
         for element in elements {
             element.write_le(&mut self.bin);
         }

@@ -99,7 +99,8 @@ impl Triangulator {
 /// on the other side runs straight past that corner, drop the corner altogether, or leave two
 /// triangles whose edges overlap along the line. Dropping the slivers and splitting every triangle
 /// whose edge passes through a corner at that corner keeps the triangles covering the polygon and
-/// makes them share whole edges again, each with area. The scan is O(triangles · corners).
+/// makes them share whole edges again, each with area. The scan is O(triangles · corners); a
+/// self-intersecting polygon may be left partly unrepaired rather than repaired forever.
 fn make_conforming(triangles: &mut Vec<[u32; 3]>, flat: &[DVec2]) {
     // `c` within 10⁻¹² · |ab| of the line through `a` and `b`. A triangle is a sliver when a corner
     // is that close to its longest edge, the same test that finds corners on edges below.
@@ -117,9 +118,12 @@ fn make_conforming(triangles: &mut Vec<[u32; 3]>, flat: &[DVec2]) {
         longest.is_none_or(|(p, q, r)| on_line(p, q, r))
     };
     triangles.retain(|t| !sliver(t));
-    // Each split removes one corner from the inside of an edge, so this ends.
+    // For a simple polygon each split removes one corner from the inside of an edge, a few
+    // splits per corner at most. A polygon that crosses itself can keep producing new corner-edge
+    // contacts, so the splits are bounded: past the budget the triangles stay as they are.
+    let mut budget = 16 * flat.len() + 64;
     let mut k = 0;
-    while k < triangles.len() {
+    while k < triangles.len() && budget > 0 {
         let t = triangles[k];
         let split = (0..3).find_map(|e| {
             let (p, q) = (t[e], t[(e + 1) % 3]);
@@ -139,6 +143,7 @@ fn make_conforming(triangles: &mut Vec<[u32; 3]>, flat: &[DVec2]) {
                 let (p, q, r) = (t[e], t[(e + 1) % 3], t[(e + 2) % 3]);
                 triangles[k] = [p, v, r];
                 triangles.push([v, q, r]);
+                budget -= 1;
             }
             None => k += 1,
         }

@@ -253,7 +253,13 @@ fn plant(path: &Path) -> Result<Mesh, String> {
         .derive(&shapegram_lsystem::DeriveOptions::default())
         .map_err(|e| e.render(&name, &text))?;
     let drawing = shapegram_lsystem::interpret(&system, &word);
-    Ok(shapegram_lsystem::drawing_to_model(&drawing, &system.settings).merged_mesh())
+    let model = shapegram_lsystem::drawing_to_model_within(
+        &drawing,
+        &system.settings,
+        shapegram_lsystem::DEFAULT_MAX_VERTICES,
+    )
+    .map_err(|e| e.render(&name, &text))?;
+    Ok(model.merged_mesh())
 }
 
 /// The geometry of an implicit grammar (`i("grotto.cave")`): its productions run with the seed
