@@ -332,8 +332,9 @@ fn step_d0l(
 /// The error of a step whose word would be too long.
 fn limit_error(step: u32, len: usize, max: usize) -> Error {
     Error::general(format!(
-        "step {step} would make a word of {} modules, over the limit of {} (raise the limit, or derive fewer steps)",
+        "step {step} would make a word of {} module{}, over the limit of {} (raise the limit, or derive fewer steps)",
         group_digits(len),
+        if len == 1 { "" } else { "s" },
         group_digits(max)
     ))
 }

@@ -256,6 +256,14 @@ fn memory_limit_names_the_step_and_the_size() {
         err.to_string(),
         "step 15 would make a word of 1,597 modules, over the limit of 1,000 (raise the limit, or derive fewer steps)"
     );
+    let none = DeriveOptions {
+        max_modules: 0,
+        ..options
+    };
+    assert_eq!(
+        algae.derive(&none).unwrap_err().to_string(),
+        "step 0 would make a word of 1 module, over the limit of 0 (raise the limit, or derive fewer steps)"
+    );
     let parametric = system("axiom: A(1)\nA(x) -> A(x)A(x+1)\n");
     let err = parametric.derive(&options).unwrap_err();
     assert_eq!(
