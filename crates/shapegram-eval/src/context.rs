@@ -48,22 +48,19 @@ pub(crate) struct Occluder {
 impl Occluder {
     /// The occluder of a shape, or `None` when its geometry is not a closed solid.
     pub fn of(state: &State, label: Option<Arc<str>>, lot: u32) -> Option<Self> {
-        Self::of_geometry(&state.scope, &state.geometry, state.symbol, label, lot)
-            .map(|o| o.with_parent(state.occluder))
+        let (scope, geometry) = (&state.scope, &state.geometry);
+        Self::new(scope, geometry, state.symbol, label, lot, state.occluder)
     }
 
-    /// The same occluder, descending from another.
-    pub fn with_parent(self, parent: u32) -> Self {
-        Self { parent, ..self }
-    }
-
-    /// The occluder of a scope and geometry (with no parent), if they form a closed solid.
-    pub fn of_geometry(
+    /// The occluder of a scope and geometry descending from occluder `parent`, if they form a
+    /// closed solid.
+    pub fn new(
         scope: &Scope,
         geometry: &Geometry,
         symbol: Sym,
         label: Option<Arc<str>>,
         lot: u32,
+        parent: u32,
     ) -> Option<Self> {
         let pieces = match geometry {
             Geometry::Box => vec![ConvexSolid::from_scope(scope)?],
@@ -76,7 +73,7 @@ impl Occluder {
             bounds,
             label,
             symbol,
-            parent: NO_OCCLUDER,
+            parent,
             lot,
         })
     }
@@ -94,7 +91,6 @@ pub(crate) struct SnapPlane {
 /// A shape waiting for phase 2.
 #[derive(Debug)]
 pub(crate) struct Parked {
-    pub lot: u32,
     /// The generation it waited at (generations mode).
     pub generation: u32,
     pub rule: RuleId,
@@ -102,13 +98,14 @@ pub(crate) struct Parked {
     pub state: FrozenState,
 }
 
-/// What phase 1 of one lot leaves for phase 2 besides its waiting shapes: the lot's constants
-/// as far as they were evaluated, so that phase 2 sees the same values.
+/// The shapes of one lot waiting for phase 2, in the order they started waiting, with the lot's
+/// constants as far as phase 1 evaluated them, so that phase 2 sees the same values.
 #[derive(Debug)]
-pub(crate) struct LotMemo {
+pub(crate) struct Waiting {
     pub lot: u32,
     pub origin: DVec3,
     pub consts: ConstMemo,
+    pub shapes: Vec<Parked>,
 }
 
 /// Which occluders a query looks at.
@@ -270,18 +267,7 @@ pub(crate) fn snap_planes(
 /// The world bounds of a shape's geometry (`None` without geometry).
 fn bounds(state: &State) -> Option<Aabb> {
     match &state.geometry {
-        Geometry::Box => {
-            let scope = &state.scope;
-            let corners = (0..8).map(|k| {
-                let pick = DVec3::new(
-                    f64::from(k & 1),
-                    f64::from((k >> 1) & 1),
-                    f64::from((k >> 2) & 1),
-                );
-                scope.to_world(pick * scope.size)
-            });
-            Aabb::from_points(corners)
-        }
+        Geometry::Box => Some(state.scope.aabb()),
         Geometry::Mesh(mesh, _) => {
             Aabb::from_points(mesh.positions().iter().map(|&p| state.scope.to_world(p)))
         }

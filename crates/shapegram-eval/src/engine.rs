@@ -15,7 +15,7 @@ use shapegram_geom::{
 };
 use shapegram_syntax::Span;
 
-use crate::context::{Context, LotMemo, Occluder, Parked, SnapPlane, snap_planes};
+use crate::context::{Context, Occluder, Parked, SnapPlane, Waiting, snap_planes};
 use crate::error::DeriveError;
 use crate::expr::Evaluator;
 use crate::ops::{
@@ -212,7 +212,7 @@ pub fn derive(
         Phase::Only
     };
     let lot_seed = |i: usize| child_seed(options.seed, i as u64);
-    let batches = in_batches(program, lots.len(), |batch, i| {
+    let batches = in_batches(program, lots.len(), None, |batch, i| {
         derive_lot(
             program,
             start,
@@ -227,47 +227,41 @@ pub fn derive(
         )
     });
     let mut all = Derivation::default();
+    all.leaves
+        .reserve_exact(batches.iter().map(|b| b.leaves.len()).sum());
     let mut counts = vec![0usize; program.rules.len()];
     let mut gathered = Gathered::default();
     for batch in batches {
         all.absorb(batch, &mut counts, &mut gathered, false)?;
     }
-    if !gathered.parked.is_empty() {
+    if !gathered.waiting.is_empty() {
         let context = Context::new(gathered.occluders, gathered.snaps, &names);
         // Each lot's waiting shapes are taken by the one batch that resumes that lot.
-        let waiting: Vec<_> = by_lot(gathered.parked, gathered.memos)
+        let waiting: Vec<_> = gathered
+            .waiting
             .into_iter()
-            .map(|group| std::sync::Mutex::new(Some(group)))
+            .map(|w| std::sync::Mutex::new(Some(w)))
             .collect();
         let resume = |batch: &mut Batch, i: usize| {
             let taken = waiting[i]
                 .lock()
                 .unwrap_or_else(std::sync::PoisonError::into_inner)
                 .take();
-            let Some((memo, parked)) = taken else {
+            let Some(waiting) = taken else {
                 return Ok(());
             };
-            let lot = parked.first().map_or(0, |p| p.lot);
-            let seed = lot_seed(lot as usize);
-            resume_lot(
-                program, memo, seed, parked, &names, options, &context, batch,
-            )
+            let seed = lot_seed(waiting.lot as usize);
+            resume_lot(program, waiting, seed, &names, options, &context, batch)
         };
-        if options.keep_tree {
-            // Phase 2 numbers its nodes after those of phase 1: one batch, in order.
-            let mut batch = Batch::new(program);
-            batch.tree = std::mem::take(&mut all.tree);
-            for i in 0..waiting.len() {
-                if let Err(e) = resume(&mut batch, i) {
-                    batch.error = Some(e);
-                    break;
-                }
-            }
-            all.absorb(batch, &mut counts, &mut Gathered::default(), true)?;
-        } else {
-            for batch in in_batches(program, waiting.len(), resume) {
-                all.absorb(batch, &mut counts, &mut Gathered::default(), false)?;
-            }
+        // With a tree, phase 2 numbers its nodes after those of phase 1: one batch, in order.
+        let tree = options.keep_tree.then(|| std::mem::take(&mut all.tree));
+        for batch in in_batches(program, waiting.len(), tree, resume) {
+            all.absorb(
+                batch,
+                &mut counts,
+                &mut Gathered::default(),
+                options.keep_tree,
+            )?;
         }
     }
     if all.stats.shapes > options.max_shapes {
@@ -282,31 +276,14 @@ pub fn derive(
     Ok(all)
 }
 
-/// Waiting shapes grouped by lot, in lot order, each group with its lot's constants.
-fn by_lot(parked: Vec<Parked>, memos: Vec<LotMemo>) -> Vec<(Option<LotMemo>, Vec<Parked>)> {
-    let mut groups: Vec<(Option<LotMemo>, Vec<Parked>)> = Vec::new();
-    let mut memos = memos.into_iter().peekable();
-    for p in parked {
-        if groups.last().is_none_or(|(_, g)| g[0].lot != p.lot) {
-            while memos.peek().is_some_and(|m| m.lot < p.lot) {
-                memos.next();
-            }
-            let memo = memos.next_if(|m| m.lot == p.lot);
-            groups.push((memo, Vec::new()));
-        }
-        if let Some((_, group)) = groups.last_mut() {
-            group.push(p);
-        }
-    }
-    groups
-}
-
 /// Runs `work` on the items `0..n` in batches of consecutive items, in parallel when there is
-/// more than one thread; a batch keeps the error of its first failing item and
-/// skips the items after it. Batches come back in item order.
+/// more than one thread and no `tree` to extend (then in one batch that starts with it); a batch
+/// keeps the error of its first failing item and skips the items after it. Batches come back in
+/// item order.
 fn in_batches(
     program: &Program,
     n: usize,
+    tree: Option<Vec<TreeNode>>,
     work: impl Fn(&mut Batch, usize) -> Result<(), DeriveError> + Sync,
 ) -> Vec<Batch> {
     let step = |batch: &mut Batch, i: usize| {
@@ -318,8 +295,9 @@ fn in_batches(
     };
     // Items derive into batches of consecutive items, so that leaves are not copied from one
     // vector per item into the result: on one thread there is a single batch.
-    if n <= 1 || rayon::current_num_threads() == 1 {
+    if n <= 1 || rayon::current_num_threads() == 1 || tree.is_some() {
         let mut batch = Batch::new(program);
+        batch.tree = tree.unwrap_or_default();
         for i in 0..n {
             step(&mut batch, i);
             // Room for the items to come, estimated from those so far (only memory depends on
@@ -345,10 +323,9 @@ fn in_batches(
 /// What phase 1 leaves for phase 2, numbered across all batches.
 #[derive(Default)]
 struct Gathered {
-    parked: Vec<Parked>,
+    waiting: Vec<Waiting>,
     occluders: Vec<Occluder>,
     snaps: Vec<SnapPlane>,
-    memos: Vec<LotMemo>,
 }
 
 impl Derivation {
@@ -392,14 +369,13 @@ impl Derivation {
                 }
                 o
             }));
-        gathered
-            .parked
-            .extend(batch.parked.into_iter().map(|mut p| {
-                p.state.rebase(base, occluder_base);
-                p
-            }));
+        for mut lot in batch.waiting {
+            for shape in &mut lot.shapes {
+                shape.state.rebase(base, occluder_base);
+            }
+            gathered.waiting.push(lot);
+        }
         gathered.snaps.append(&mut batch.snaps);
-        gathered.memos.append(&mut batch.memos);
         self.reports.extend(batch.reports);
         self.prints.extend(batch.prints);
         self.stats.shapes += batch.shapes;
@@ -419,10 +395,9 @@ struct Batch {
     prints: Vec<String>,
     shapes: usize,
     counts: Vec<usize>,
-    parked: Vec<Parked>,
+    waiting: Vec<Waiting>,
     occluders: Vec<Occluder>,
     snaps: Vec<SnapPlane>,
-    memos: Vec<LotMemo>,
     error: Option<DeriveError>,
 }
 
@@ -435,10 +410,9 @@ impl Batch {
             prints: Vec::new(),
             shapes: 0,
             counts: vec![0; program.rules.len()],
-            parked: Vec::new(),
+            waiting: Vec::new(),
             occluders: Vec::new(),
             snaps: Vec::new(),
-            memos: Vec::new(),
             error: None,
         }
     }
@@ -567,10 +541,11 @@ fn derive_lot(
         None => engine.run_depth_first(task)?,
     }
     if !engine.parked.is_empty() {
-        batch.memos.push(LotMemo {
+        batch.waiting.push(Waiting {
             lot: index,
             origin: scope.origin,
             consts: engine.ev.memo(),
+            shapes: std::mem::take(&mut engine.parked),
         });
     }
     engine.finish(batch);
@@ -581,23 +556,19 @@ fn derive_lot(
 #[allow(clippy::too_many_arguments)]
 fn resume_lot(
     program: &Program,
-    memo: Option<LotMemo>,
+    waiting: Waiting,
     seed: u64,
-    parked: Vec<Parked>,
     names: &[Arc<str>],
     options: &DeriveOptions,
     context: &Context,
     batch: &mut Batch,
 ) -> Result<(), DeriveError> {
-    let origin = memo.as_ref().map_or(DVec3::ZERO, |m| m.origin);
-    let mut ev = Evaluator::new(program, seed, origin);
-    if let Some(memo) = memo {
-        ev.restore(memo.consts);
-    }
-    ev.lot = parked.first().map_or(0, |p| p.lot);
+    let mut ev = Evaluator::new(program, seed, waiting.origin);
+    ev.restore(waiting.consts);
+    ev.lot = waiting.lot;
     ev.context = Some(context);
     let mut engine = Engine::new(program, ev, names, options, Phase::Answer, batch);
-    for p in parked {
+    for p in waiting.shapes {
         let task = Work::Rewrite(Task {
             state: Box::new(p.state.thaw()),
             rule: p.rule,
@@ -651,7 +622,7 @@ struct Engine<'p> {
     phase: Phase,
     /// The generation being rewritten (generations mode).
     generation: u32,
-    /// Shapes waiting for phase 2 (phase 1 only).
+    /// Shapes of this lot waiting for phase 2 (phase 1 only).
     parked: Vec<Parked>,
     /// Occluders recorded in phase 1, numbered within the batch.
     occluders: Vec<Occluder>,
@@ -701,7 +672,6 @@ impl<'p> Engine<'p> {
         for (c, n) in batch.counts.iter_mut().zip(&self.counts) {
             *c += n;
         }
-        batch.parked.extend(self.parked);
         batch.occluders = self.occluders;
         batch.snaps.extend(self.snaps);
     }
@@ -755,7 +725,6 @@ impl<'p> Engine<'p> {
     fn apply(&mut self, mut task: Task, out: &mut Vec<Work>) -> Fallible<()> {
         if self.phase == Phase::Gather && self.program.context_rules[task.rule as usize] {
             self.parked.push(Parked {
-                lot: self.ev.lot,
                 generation: self.generation,
                 rule: task.rule,
                 args: task.args,
@@ -1122,11 +1091,8 @@ impl<'p> Engine<'p> {
             }
             Op::Snap { axes, tag } => {
                 if self.phase == Phase::Gather {
-                    let tag = match tag {
-                        Some(t) => Some(self.ev.string(t, state, args)?),
-                        None => None,
-                    };
-                    let planes = snap_planes(&state.scope, *axes, tag, self.ev.lot);
+                    let tag = tag.as_ref().map(|t| self.ev.string(t, state, args));
+                    let planes = snap_planes(&state.scope, *axes, tag.transpose()?, self.ev.lot);
                     self.snaps.extend(planes);
                 }
             }
@@ -1248,10 +1214,7 @@ impl<'p> Engine<'p> {
         tag: Option<&CExpr>,
         args: &[Value],
     ) -> Fallible<Vec<f64>> {
-        let tag = match tag {
-            Some(t) => Some(self.ev.string(t, state, args)?),
-            None => None,
-        };
+        let tag = tag.map(|t| self.ev.string(t, state, args)).transpose()?;
         Ok(match self.ev.context {
             Some(context) => {
                 context.snap_positions(&state.scope, axis, self.ev.lot, tag.as_deref())
@@ -1376,9 +1339,9 @@ impl<'p> Engine<'p> {
         // Its successor, as `State::make_child` would have made it.
         self.count(state.depth + 2, *symbol, *successor_span)?;
         if self.phase == Phase::Gather {
-            let leaf = Occluder::of_geometry(&scope, &state.geometry, *symbol, None, self.ev.lot);
-            self.occluders
-                .extend(leaf.map(|o| o.with_parent(state.occluder)));
+            let (lot, parent) = (self.ev.lot, state.occluder);
+            let leaf = Occluder::new(&scope, &state.geometry, *symbol, None, lot, parent);
+            self.occluders.extend(leaf);
         }
         if !matches!(state.geometry, Geometry::Empty) {
             self.leaves.push(Leaf {
