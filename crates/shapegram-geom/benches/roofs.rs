@@ -2,6 +2,10 @@
 //! (rectilinear, with many simultaneous skeleton events) and an L. One element = one roof or one
 //! inside/border split.
 
+// The kernel tests' shapes (the L footprint among them).
+#[path = "../tests/common/mod.rs"]
+mod common;
+
 use std::hint::black_box;
 
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
@@ -42,26 +46,11 @@ fn comb(teeth: u32) -> Vec<DVec3> {
         .collect()
 }
 
-fn l_shape() -> Vec<DVec3> {
-    let l = [
-        (0.0, 0.0),
-        (4.0, 0.0),
-        (4.0, 2.0),
-        (2.0, 2.0),
-        (2.0, 4.0),
-        (0.0, 4.0),
-    ];
-    footprint(&l.map(|(x, z)| DVec2::new(x, z)))
-        .expect("an L is a valid footprint")
-        .face_points(0)
-        .collect()
-}
-
 fn bench(c: &mut Criterion) {
     let shapes = [
         ("40-gon", forty_gon()),
         ("comb", comb(12)),
-        ("L", l_shape()),
+        ("L", common::l_footprint()),
     ];
     let mut group = c.benchmark_group("roofs");
     group.throughput(Throughput::Elements(1));

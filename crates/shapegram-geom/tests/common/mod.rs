@@ -7,18 +7,18 @@ use shapegram_geom::{DVec2, DVec3, Mesh, extrude::extrude_polygon, primitives};
 /// An L-shaped footprint extruded to a non-convex prism: the 4×4 square at the origin minus
 /// `[2,4]×[2,4]` (in x and z), height 3. Volume 12 · 3 = 36.
 pub fn l_prism() -> Mesh {
-    let l = [
-        (0.0, 0.0),
-        (4.0, 0.0),
-        (4.0, 2.0),
-        (2.0, 2.0),
-        (2.0, 4.0),
-        (0.0, 4.0),
-    ];
-    let footprint = primitives::footprint(&l.map(|(x, z)| DVec2::new(x, z))).unwrap();
-    let points: Vec<DVec3> = footprint.face_points(0).collect();
-    extrude_polygon(&points, 3.0).unwrap()
+    prism(&L_OUTLINE, 3.0)
 }
+
+/// The 4 × 4 square minus `[2,4] × [2,4]`, as `(x, z)` corners: area 12.
+const L_OUTLINE: [(f64, f64); 6] = [
+    (0.0, 0.0),
+    (4.0, 0.0),
+    (4.0, 2.0),
+    (2.0, 2.0),
+    (2.0, 4.0),
+    (0.0, 4.0),
+];
 
 /// A U-shaped prism, open towards +z: the 6×4 rectangle minus `[2,4]×[1,4]`, height 2.
 /// Volume (24 − 6) · 2 = 36.
@@ -89,14 +89,7 @@ pub fn footprint_loop(outline: &[(f64, f64)]) -> Vec<DVec3> {
 
 /// The L of [`l_prism`] as a footprint loop: the 4×4 square minus `[2,4]×[2,4]`, area 12.
 pub fn l_footprint() -> Vec<DVec3> {
-    footprint_loop(&[
-        (0.0, 0.0),
-        (4.0, 0.0),
-        (4.0, 2.0),
-        (2.0, 2.0),
-        (2.0, 4.0),
-        (0.0, 4.0),
-    ])
+    footprint_loop(&L_OUTLINE)
 }
 
 /// Area of a planar polygon.
