@@ -6,7 +6,6 @@ use std::path::PathBuf;
 use std::time::{Duration, Instant};
 
 use clap::Args;
-use indicatif::{ProgressBar, ProgressStyle};
 use serde::Serialize;
 use shapegram_export::{ExportOptions, Format};
 use shapegram_geom::{Color, Model};
@@ -16,6 +15,8 @@ use shapegram_implicit::{
     mesh_with_progress, text,
 };
 
+use crate::derive::millis;
+use crate::progress::LateBar;
 use crate::{Failure, counted, print_stdout};
 
 /// The colour of cave rock in the written model.
@@ -99,10 +100,12 @@ pub fn run(args: &CaveArgs) -> Result<(), Failure> {
     let meshing_started = Instant::now();
     let options = MeshOptions::with_cell_size(1.0 / f64::from(grown.lod));
     let show_progress = !args.quiet && std::io::stderr().is_terminal();
-    let meshing = with_progress(show_progress, |progress| {
-        mesh_with_progress(grown.builder.solid(), &options, progress)
-    })
-    .map_err(|e| Failure::new(e.to_string()))?;
+    let bar = LateBar::new(show_progress, "{bar:30} meshing {pos}/{len} blocks");
+    let meshing = mesh_with_progress(grown.builder.solid(), &options, &|done, total| {
+        bar.update(done as u64, total as u64, String::new)
+    });
+    bar.finish();
+    let meshing = meshing.map_err(|e| Failure::new(e.to_string()))?;
     let mesh_time = meshing_started.elapsed();
 
     let export_started = Instant::now();
@@ -217,39 +220,9 @@ fn from_file(args: &CaveArgs, file: &std::path::Path) -> Result<Grown, Failure> 
     })
 }
 
-/// Runs `work` with a progress bar over the mesher's blocks when `show` (a terminal), shown only
-/// once the work has taken half a second.
-fn with_progress<T>(show: bool, work: impl FnOnce(&(dyn Fn(usize, usize) + Sync)) -> T) -> T {
-    if !show {
-        return work(&|_, _| {});
-    }
-    let started = Instant::now();
-    let bar = ProgressBar::hidden();
-    if let Ok(style) = ProgressStyle::with_template("{bar:30} meshing {pos}/{len} blocks") {
-        bar.set_style(style);
-    }
-    let shown = std::sync::OnceLock::new();
-    let result = work(&|done, total| {
-        if started.elapsed() < Duration::from_millis(500) {
-            return;
-        }
-        shown.get_or_init(|| {
-            bar.set_length(total as u64);
-            bar.set_draw_target(indicatif::ProgressDrawTarget::stderr());
-        });
-        bar.set_position(done as u64);
-    });
-    bar.finish_and_clear();
-    result
-}
-
 /// `0.84 s`.
 fn seconds(d: Duration) -> String {
     format!("{:.2} s", d.as_secs_f64())
-}
-
-fn millis(d: Duration) -> f64 {
-    (d.as_secs_f64() * 1e6).round() / 1e3
 }
 
 /// The JSON object of `--stats`; field order is output order.

@@ -135,7 +135,7 @@ pub fn duration(d: Duration) -> String {
 }
 
 /// Milliseconds rounded to microseconds, for JSON.
-fn millis(d: Duration) -> f64 {
+pub fn millis(d: Duration) -> f64 {
     (d.as_secs_f64() * 1e6).round() / 1e3
 }
 

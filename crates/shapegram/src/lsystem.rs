@@ -3,10 +3,9 @@
 
 use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
-use std::time::{Duration, Instant};
+use std::time::Instant;
 
 use clap::Args;
-use indicatif::{ProgressBar, ProgressStyle};
 use shapegram_export::{ExportOptions, Format, SvgDrawing, SvgPolygon, SvgPolyline, write_svg};
 use shapegram_geom::DVec2;
 use shapegram_lsystem::{
@@ -15,6 +14,7 @@ use shapegram_lsystem::{
 };
 
 use crate::derive::duration;
+use crate::progress::LateBar;
 use crate::{Failure, counted, print_stdout};
 
 /// Arguments of `shapegram lsystem`.
@@ -183,25 +183,13 @@ fn derive(
     progress: bool,
 ) -> Result<shapegram_lsystem::Word, shapegram_lsystem::Error> {
     let steps = options.iterations.unwrap_or(system.settings.iterations);
-    let started = Instant::now();
-    let mut bar: Option<ProgressBar> = None;
+    let bar = LateBar::new(progress, "{bar:30} step {pos}/{len}: {msg}");
     let result = system.derive_with_progress(options, |step, modules| {
-        if !progress || started.elapsed() < Duration::from_millis(500) {
-            return;
-        }
-        let bar = bar.get_or_insert_with(|| {
-            let bar = ProgressBar::new(u64::from(steps));
-            if let Ok(style) = ProgressStyle::with_template("{bar:30} step {pos}/{len}: {msg}") {
-                bar.set_style(style);
-            }
-            bar
+        bar.update(u64::from(step), u64::from(steps), || {
+            counted(modules, "module", "modules")
         });
-        bar.set_position(u64::from(step));
-        bar.set_message(counted(modules, "module", "modules"));
     });
-    if let Some(bar) = bar {
-        bar.finish_and_clear();
-    }
+    bar.finish();
     result
 }
 

@@ -10,6 +10,7 @@ mod info;
 mod lots;
 mod lsystem;
 mod primitive;
+mod progress;
 mod topo;
 
 use std::io::{self, Write};
