@@ -19,7 +19,7 @@ use crate::{Aabb, DVec3, Mesh, Scope, mesh::newell, primitives, split::split, tr
 pub struct ConvexSolid {
     /// Outward unit normals and offsets of the face planes (`normal · p = offset`).
     planes: Vec<(DVec3, f64)>,
-    faces: Vec<Vec<DVec3>>,
+    faces: Vec<Face>,
     centre: DVec3,
     bounds: Aabb,
 }
@@ -38,20 +38,20 @@ impl ConvexSolid {
     /// A convex closed mesh as a solid (faces may wind either way), or `None` without volume.
     fn from_convex_mesh(mesh: &Mesh) -> Option<Self> {
         let bounds = mesh.bounds()?;
-        let faces: Vec<Vec<DVec3>> = (0..mesh.face_count())
-            .map(|f| mesh.face_points(f).collect())
-            .filter(|f: &Vec<DVec3>| newell(f.iter().copied()).length() > 0.0)
+        let faces: Vec<Face> = (0..mesh.face_count())
+            .filter_map(|f| Face::new(mesh.face_points(f).collect()))
             .collect();
-        let count = faces.iter().map(Vec::len).sum::<usize>().max(1);
-        let centre = faces.iter().flatten().copied().sum::<DVec3>() / count as f64;
+        let count = faces.iter().map(|f| f.points.len()).sum::<usize>().max(1);
+        let centre = faces.iter().flat_map(|f| &f.points).sum::<DVec3>() / count as f64;
         let planes: Vec<(DVec3, f64)> = faces
             .iter()
             .map(|f| {
-                let mut normal = newell(f.iter().copied()).normalize();
-                if normal.dot(f[0] - centre) < 0.0 {
+                let corner = f.points[0];
+                let mut normal = newell(f.points.iter().copied()).normalize();
+                if normal.dot(corner - centre) < 0.0 {
                     normal = -normal;
                 }
-                (normal, normal.dot(f[0]))
+                (normal, normal.dot(corner))
             })
             .collect();
         let solid = planes.len() >= 4 && bounds.size().cmpgt(DVec3::ZERO).all();
@@ -73,9 +73,7 @@ impl ConvexSolid {
         self.faces
             .iter()
             .zip(&self.planes)
-            .map(|(f, &(n, d))| {
-                newell(f.iter().copied()).length() * 0.5 * (d - n.dot(self.centre)) / 3.0
-            })
+            .map(|(f, &(n, d))| f.area * (d - n.dot(self.centre)) / 3.0)
             .sum()
     }
 
@@ -204,7 +202,7 @@ impl Probe {
         match flat {
             0 => {
                 let solid = ConvexSolid::from_scope(scope)?;
-                let faces = solid.faces.iter().cloned().filter_map(Face::new).collect();
+                let faces = solid.faces.clone();
                 Some(Self {
                     bounds: solid.bounds,
                     faces,
@@ -343,10 +341,7 @@ fn solids_overlap(
                 && (q.contains(c.centre, -eps)
                     || c.contains(q.centre, -eps)
                     || c.faces.iter().any(|f| {
-                        let perimeter = (0..f.len())
-                            .map(|i| f[i].distance(f[(i + 1) % f.len()]))
-                            .sum();
-                        q.clipped_area(f, -eps, a, b) > threshold(perimeter, eps)
+                        q.clipped_area(&f.points, -eps, a, b) > threshold(f.perimeter, eps)
                     }))
         })
     })
