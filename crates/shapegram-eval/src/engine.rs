@@ -168,12 +168,16 @@ impl Derivation {
                     name: leaf.name.to_string(),
                     color: leaf.color,
                     mesh: Mesh::new(),
+                    normals: Vec::new(),
                 });
                 parts.len() - 1
             });
             parts[i].mesh.append(&mesh);
         }
-        Model { parts }
+        Model {
+            parts,
+            lines: Vec::new(),
+        }
     }
 }
 

@@ -14,6 +14,7 @@ fn part(name: &str, hex: &str, mesh: Mesh, at: DVec3) -> Part {
         name: name.to_owned(),
         color: Color::from_hex(hex).unwrap_or_default(),
         mesh: mesh.transformed(&DAffine3::from_translation(at)),
+        normals: Vec::new(),
     }
 }
 
@@ -78,6 +79,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             // Non-convex caps exercise the ear-clipping path.
             part("annex", "#2c3e50", annex(), DVec3::new(-3.0, 0.0, 1.0)),
         ],
+        lines: Vec::new(),
     };
     // More than 65535 flat-shaded vertices, so the u32 index path is exercised.
     let big = Model::single(

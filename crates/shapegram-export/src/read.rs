@@ -77,7 +77,10 @@ pub fn read_glb(bytes: &[u8]) -> Result<Model, Error> {
             );
         }
     }
-    Ok(Model { parts })
+    Ok(Model {
+        parts,
+        lines: Vec::new(),
+    })
 }
 
 /// Splits GLB bytes into the JSON chunk and the optional BIN chunk, checking every length.
@@ -364,7 +367,10 @@ pub(crate) fn read_obj_with(
             Mesh::from_faces(positions, faces),
         );
     }
-    Ok(Model { parts })
+    Ok(Model {
+        parts,
+        lines: Vec::new(),
+    })
 }
 
 /// Reads an STL file, binary or ASCII, as one part named "stl".
@@ -408,11 +414,19 @@ pub fn read_stl(bytes: &[u8]) -> Result<Model, Error> {
         Color::default(),
         Mesh::from_faces(positions, faces),
     );
-    Ok(Model { parts })
+    Ok(Model {
+        parts,
+        lines: Vec::new(),
+    })
 }
 
 fn push_part(parts: &mut Vec<Part>, name: String, color: Color, mesh: Mesh) {
     if !mesh.is_empty() {
-        parts.push(Part { name, color, mesh });
+        parts.push(Part {
+            name,
+            color,
+            mesh,
+            normals: Vec::new(),
+        });
     }
 }

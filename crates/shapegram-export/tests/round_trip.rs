@@ -247,13 +247,16 @@ fn glb_of_an_empty_model_is_valid_and_reads_back_empty() {
                 name: "sliver".into(),
                 color: RED,
                 mesh: collapsed,
+                ..Part::default()
             },
             Part {
                 name: "nan".into(),
                 color: BLUE,
                 mesh: nan,
+                ..Part::default()
             },
         ],
+        lines: Vec::new(),
     };
     for options in [GROUPED, MERGED] {
         let bytes = write_glb(&model, &options);
@@ -513,13 +516,16 @@ fn obj_material_names_stay_unique_for_near_colours() {
                 name: "a".into(),
                 color: a,
                 mesh: cuboid(DVec3::ONE),
+                ..Part::default()
             },
             Part {
                 name: "b".into(),
                 color: b,
                 mesh: cuboid(DVec3::ONE),
+                ..Part::default()
             },
         ],
+        lines: Vec::new(),
     };
     let (obj, mtl) = write_obj(&model, &GROUPED, "m.mtl");
     assert!(obj.contains("usemtl color_808080\n") && obj.contains("usemtl color_808080_2\n"));

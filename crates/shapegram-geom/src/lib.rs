@@ -37,7 +37,7 @@ pub use bvh::Bvh;
 pub use component::{Component, ComponentKind, FaceClass};
 pub use glam::{DAffine3, DMat3, DQuat, DVec2, DVec3};
 pub use mesh::Mesh;
-pub use model::{Color, Model, Part};
+pub use model::{Color, Lines, Model, Part};
 pub use plane::Plane;
 pub use scope::{Pivot, Scope};
 pub use topology::EdgeReport;

@@ -1,5 +1,7 @@
 //! A model ready for export: named, coloured meshes.
 
+use glam::DVec3;
+
 use crate::{Aabb, Mesh};
 
 /// An sRGB colour (as in `#rrggbb` notation) with straight alpha, each channel in `0..=1`.
@@ -113,13 +115,31 @@ pub struct Part {
     pub color: Color,
     /// Geometry in world coordinates.
     pub mesh: Mesh,
+    /// Smooth shading: one unit normal per mesh vertex, shared by the faces around it. Empty
+    /// for flat shading, where each face is lit by its own normal.
+    pub normals: Vec<DVec3>,
 }
 
-/// A whole model: the parts in a stable order.
+/// Line segments drawn without thickness, such as turtle strokes shown as a viewer's lines.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Lines {
+    /// Group name; used for OBJ groups and glTF nodes.
+    pub name: String,
+    /// Line colour.
+    pub color: Color,
+    /// Points in world coordinates.
+    pub points: Vec<DVec3>,
+    /// Segments as pairs of indices into `points`.
+    pub segments: Vec<[u32; 2]>,
+}
+
+/// A whole model: the parts and line sets in a stable order.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Model {
     /// Parts in output order.
     pub parts: Vec<Part>,
+    /// Line sets in output order, after the parts.
+    pub lines: Vec<Lines>,
 }
 
 impl Model {
@@ -130,7 +150,9 @@ impl Model {
                 name: name.into(),
                 color,
                 mesh,
+                normals: Vec::new(),
             }],
+            lines: Vec::new(),
         }
     }
 

@@ -48,9 +48,13 @@ pub fn drawing_to_model(drawing: &Drawing, settings: &Settings) -> Model {
             name: format!("{}-{color}", if kind == 0 { "branches" } else { "leaves" }),
             color: palette[color],
             mesh,
+            normals: Vec::new(),
         })
         .collect();
-    Model { parts }
+    Model {
+        parts,
+        lines: Vec::new(),
+    }
 }
 
 /// Default limit on the vertices of a drawing's model: about the size of a cave's largest mesh,
@@ -286,7 +290,9 @@ fn transformed(model: &Model, map: &DAffine3) -> Model {
                 name: part.name.clone(),
                 color: part.color,
                 mesh: part.mesh.transformed(map),
+                normals: Vec::new(),
             })
             .collect(),
+        lines: Vec::new(),
     }
 }

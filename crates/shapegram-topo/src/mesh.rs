@@ -101,8 +101,10 @@ impl GrammarMesh {
                     name: p.name.clone(),
                     color: p.color,
                     mesh: Mesh::from_faces(p.positions.clone(), &p.triangles),
+                    normals: Vec::new(),
                 })
                 .collect(),
+            lines: Vec::new(),
         }
     }
 }

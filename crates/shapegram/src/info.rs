@@ -291,6 +291,7 @@ mod tests {
         };
         let model = Model {
             parts: vec![part(unit), part(shifted)],
+            lines: Vec::new(),
         };
         let info = MeshInfo::from_model(&model);
         assert_eq!(info.parts, 2);

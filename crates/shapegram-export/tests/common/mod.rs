@@ -21,6 +21,7 @@ fn part(name: &str, color: Color, mesh: Mesh, at: DVec3) -> Part {
         name: name.to_owned(),
         color,
         mesh: mesh.transformed(&DAffine3::from_translation(at)),
+        normals: Vec::new(),
     }
 }
 
@@ -61,6 +62,7 @@ pub fn sample_model() -> Model {
             ),
             part("lot", GREY, quad(6.0, 4.0), DVec3::new(-3.0, -0.01, -2.0)),
         ],
+        lines: Vec::new(),
     }
 }
 
