@@ -133,6 +133,40 @@ impl Mesh {
         self.face_points(i).sum::<DVec3>() / n
     }
 
+    /// One unit normal per vertex for smooth shading: the area-weighted mean of the normals of
+    /// the faces around it. A vertex whose faces cancel out (both sides of a sheet) takes the
+    /// normal of its first non-degenerate face, and a vertex without one points up (+y), so the
+    /// result never holds NaN or zero vectors.
+    pub fn vertex_normals(&self) -> Vec<DVec3> {
+        let mut sums = vec![DVec3::ZERO; self.positions.len()];
+        // Newell's vector is twice the face's vector area, so summing it weights by area.
+        let face_vectors: Vec<DVec3> = (0..self.face_count())
+            .map(|i| newell(self.face_points(i)))
+            .collect();
+        for (face, vector) in self.faces().zip(&face_vectors) {
+            for &v in face {
+                sums[v as usize] += *vector;
+            }
+        }
+        let mut normals: Vec<DVec3> = sums.iter().map(|s| s.normalize_or_zero()).collect();
+        if normals.iter().any(|n| *n == DVec3::ZERO) {
+            for (face, vector) in self.faces().zip(&face_vectors) {
+                let unit = vector.normalize_or_zero();
+                for &v in face {
+                    if normals[v as usize] == DVec3::ZERO {
+                        normals[v as usize] = unit;
+                    }
+                }
+            }
+            for n in &mut normals {
+                if *n == DVec3::ZERO {
+                    *n = DVec3::Y;
+                }
+            }
+        }
+        normals
+    }
+
     /// Total number of face corners (the length of all loops together).
     pub fn indices_len(&self) -> usize {
         self.indices.len()
@@ -277,4 +311,61 @@ pub fn newell(points: impl Iterator<Item = DVec3> + Clone) -> DVec3 {
     let local = points.map(move |p| p - first);
     let next = local.clone().skip(1).chain(std::iter::once(DVec3::ZERO));
     local.zip(next).map(|(a, b)| a.cross(b)).sum()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::primitives;
+
+    #[test]
+    fn cube_corners_point_along_their_diagonals() {
+        let cube = primitives::cuboid(DVec3::ONE);
+        let normals = cube.vertex_normals();
+        assert_eq!(normals.len(), cube.vertex_count());
+        let centre = DVec3::splat(0.5);
+        for (p, n) in cube.positions().iter().zip(&normals) {
+            let diagonal = (*p - centre).normalize();
+            assert!((*n - diagonal).length() < 1e-12, "{p} has {n}");
+        }
+    }
+
+    #[test]
+    fn larger_faces_weigh_more() {
+        // A vertex shared by a 2x1 face in the xy-plane and a 1x1 face in the yz-plane.
+        let positions = vec![
+            DVec3::ZERO,
+            DVec3::new(2.0, 0.0, 0.0),
+            DVec3::new(2.0, 1.0, 0.0),
+            DVec3::new(0.0, 1.0, 0.0),
+            DVec3::new(0.0, 0.0, -1.0),
+            DVec3::new(0.0, 1.0, -1.0),
+        ];
+        let mesh = Mesh::from_faces(positions, [[0u32, 1, 2, 3], [0, 3, 5, 4]]);
+        let normals = mesh.vertex_normals();
+        let expected = DVec3::new(-1.0, 0.0, 2.0).normalize();
+        assert!((normals[0] - expected).length() < 1e-12, "{}", normals[0]);
+        assert_eq!(normals[1], DVec3::Z);
+        assert_eq!(normals[4], DVec3::NEG_X);
+    }
+
+    #[test]
+    fn cancelling_unused_and_degenerate_vertices_get_unit_normals() {
+        // Two copies of a triangle facing opposite ways, a degenerate sliver and an unused vertex.
+        let positions = vec![
+            DVec3::ZERO,
+            DVec3::X,
+            DVec3::Z,
+            DVec3::new(5.0, 0.0, 0.0),
+            DVec3::new(6.0, 0.0, 0.0),
+            DVec3::new(7.0, 0.0, 0.0),
+            DVec3::new(9.0, 9.0, 9.0),
+        ];
+        let mesh = Mesh::from_faces(positions, [[0u32, 1, 2], [0, 2, 1], [3, 4, 5]]);
+        let normals = mesh.vertex_normals();
+        assert_eq!(normals[0], DVec3::NEG_Y);
+        assert_eq!(normals[3], DVec3::Y);
+        assert_eq!(normals[6], DVec3::Y);
+        assert!(normals.iter().all(|n| (n.length() - 1.0).abs() < 1e-12));
+    }
 }

@@ -133,6 +133,13 @@ pub struct Lines {
     pub segments: Vec<[u32; 2]>,
 }
 
+impl Lines {
+    /// Bounds of the points, `None` for a line set without points.
+    pub fn bounds(&self) -> Option<Aabb> {
+        Aabb::from_points(self.points.iter().copied())
+    }
+}
+
 /// A whole model: the parts and line sets in a stable order.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Model {
@@ -165,11 +172,35 @@ impl Model {
         all
     }
 
-    /// Bounds of all parts, `None` when the model has no vertices.
+    /// Bounds of all parts and line sets, `None` when the model has no vertices or points.
     pub fn bounds(&self) -> Option<Aabb> {
-        self.parts
-            .iter()
-            .filter_map(|p| p.mesh.bounds())
-            .reduce(Aabb::union)
+        let parts = self.parts.iter().filter_map(|p| p.mesh.bounds());
+        let lines = self.lines.iter().filter_map(Lines::bounds);
+        parts.chain(lines).reduce(Aabb::union)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::primitives;
+
+    #[test]
+    fn bounds_cover_parts_and_lines() {
+        let mut model = Model::single("box", Color::default(), primitives::cuboid(DVec3::ONE));
+        model.lines.push(Lines {
+            name: "stroke".into(),
+            color: Color::default(),
+            points: vec![DVec3::new(-1.0, 0.5, 0.5), DVec3::new(0.5, 3.0, 0.5)],
+            segments: vec![[0, 1]],
+        });
+        let bounds = model.bounds().unwrap();
+        assert_eq!(bounds.min, DVec3::new(-1.0, 0.0, 0.0));
+        assert_eq!(bounds.max, DVec3::new(1.0, 3.0, 1.0));
+        model.parts.clear();
+        let lines_only = model.bounds().unwrap();
+        assert_eq!(lines_only.min, DVec3::new(-1.0, 0.5, 0.5));
+        assert_eq!(lines_only.max, DVec3::new(0.5, 3.0, 0.5));
+        assert_eq!(Model::default().bounds(), None);
     }
 }
