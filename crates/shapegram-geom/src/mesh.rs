@@ -149,7 +149,7 @@ impl Mesh {
             }
         }
         let mut normals: Vec<DVec3> = sums.iter().map(|s| s.normalize_or_zero()).collect();
-        if normals.iter().any(|n| *n == DVec3::ZERO) {
+        if normals.contains(&DVec3::ZERO) {
             for (face, vector) in self.faces().zip(&face_vectors) {
                 let unit = vector.normalize_or_zero();
                 for &v in face {
