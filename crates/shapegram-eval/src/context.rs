@@ -20,10 +20,11 @@ use std::sync::Arc;
 
 use shapegram_geom::occlusion::{Contact, ConvexSolid, Probe, contact, convex_pieces};
 use shapegram_geom::{Aabb, Bvh, DVec3, Scope};
+use shapegram_implicit::Solid;
 
 use crate::expr::ConstMemo;
 use crate::program::{RuleId, Sym};
-use crate::shape::{FrozenState, Geometry, NO_OCCLUDER, State};
+use crate::shape::{Csg, CsgOp, FrozenState, Geometry, NO_OCCLUDER, State};
 use crate::value::Value;
 
 /// Most convex pieces a non-convex solid is cut into for occlusion tests. An occluder that
@@ -65,6 +66,24 @@ impl Occluder {
         let pieces = match geometry {
             Geometry::Box => vec![ConvexSolid::from_scope(scope)?],
             Geometry::Mesh(..) => convex_pieces(&geometry.world_mesh(scope)?, MAX_PIECES)?,
+            // Members that carve or trim a group add nothing to occlude.
+            Geometry::Implicit(implicit)
+                if matches!(
+                    implicit.csg,
+                    Some(Csg {
+                        op: CsgOp::Subtract(_) | CsgOp::Intersect(_),
+                        ..
+                    })
+                ) =>
+            {
+                return None;
+            }
+            Geometry::Implicit(implicit) => {
+                vec![ConvexSolid::from_scope(&solid_box(
+                    scope,
+                    &implicit.solid,
+                )?)?]
+            }
             Geometry::Empty => return None,
         };
         let bounds = pieces.iter().map(ConvexSolid::bounds).reduce(Aabb::union)?;
@@ -271,8 +290,19 @@ fn bounds(state: &State) -> Option<Aabb> {
         Geometry::Mesh(mesh, _) => {
             Aabb::from_points(mesh.positions().iter().map(|&p| state.scope.to_world(p)))
         }
+        Geometry::Implicit(implicit) => Some(solid_box(&state.scope, &implicit.solid)?.aabb()),
         Geometry::Empty => None,
     }
+}
+
+/// The box around an implicit solid in the frame of its scope: what stands for it in occlusion.
+fn solid_box(scope: &Scope, solid: &Solid) -> Option<Scope> {
+    let local = solid.bounds()?;
+    Some(Scope::new(
+        scope.to_world(local.min),
+        scope.axes,
+        local.size(),
+    ))
 }
 
 /// The probe of a shape: its box or its mesh, in world coordinates.
@@ -281,6 +311,9 @@ fn probe(state: &State) -> Option<Probe> {
         Geometry::Box => Probe::from_scope(&state.scope),
         Geometry::Mesh(..) => {
             Probe::from_mesh(&state.geometry.world_mesh(&state.scope)?, MAX_PIECES)
+        }
+        Geometry::Implicit(implicit) => {
+            Probe::from_scope(&solid_box(&state.scope, &implicit.solid)?)
         }
         Geometry::Empty => None,
     }

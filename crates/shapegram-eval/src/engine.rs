@@ -19,11 +19,14 @@ use crate::context::{Context, Occluder, Parked, SnapPlane, Waiting, snap_planes}
 use crate::error::DeriveError;
 use crate::expr::Evaluator;
 use crate::ops::{
-    CompEntry, CompKind, CompSelector, OffsetKeep, Op, Primitive, RoofKind, SetTarget,
+    CompEntry, CompKind, CompSelector, CsgKind, ImplicitKind, OffsetKeep, Op, Primitive, RoofKind,
+    SetTarget,
 };
 use crate::program::{CBody, CExpr, CKind, CStmt, Program, RuleId, Sym};
 use crate::rng::child_seed;
-use crate::shape::{FaceTag, Geometry, NO_OCCLUDER, State, box_mesh, flat_axis};
+use crate::shape::{
+    Csg, CsgOp, FaceTag, Geometry, Implicit, NO_OCCLUDER, State, box_mesh, flat_axis, moved,
+};
 use crate::split::Layout;
 use crate::value::Value;
 
@@ -54,6 +57,9 @@ pub struct DeriveOptions {
     pub assets: Option<Arc<dyn AssetLoader>>,
     /// Keep the derivation tree (every shape that existed) in [`Derivation::tree`].
     pub keep_tree: bool,
+    /// Edge length of the grid cells implicit solids are meshed with; `None` picks one per
+    /// group from its size and its smallest member.
+    pub implicit_cell: Option<f64>,
 }
 
 impl Default for DeriveOptions {
@@ -68,6 +74,7 @@ impl Default for DeriveOptions {
             generations: None,
             assets: None,
             keep_tree: false,
+            implicit_cell: None,
         }
     }
 }
@@ -105,6 +112,8 @@ pub struct Leaf {
     pub material: Option<Arc<str>>,
     /// Its node in [`Derivation::tree`], when the tree is kept.
     pub node: Option<u32>,
+    /// The initial shape it grew from, as an index into the derivation's initial shapes.
+    pub lot: u32,
 }
 
 /// A shape in the derivation tree.
@@ -148,17 +157,25 @@ pub struct Derivation {
     /// Every shape that existed, parents before children, when [`DeriveOptions::keep_tree`]
     /// is set; empty otherwise.
     pub tree: Vec<TreeNode>,
+    /// The implicit solids of the leaves, meshed with smooth normals: a part per CSG group of
+    /// each initial shape, then a part per solid that belongs to no group.
+    pub solids: Vec<ModelPart>,
     /// Counts.
     pub stats: Stats,
 }
 
 impl Derivation {
     /// The leaves as a model: one part per (symbol, colour) in order of first appearance, each
-    /// holding the world-space geometry of its leaves.
+    /// holding the world-space geometry of its leaves, then the meshed implicit [`solids`].
+    ///
+    /// [`solids`]: Derivation::solids
     pub fn to_model(&self) -> Model {
         let mut parts: Vec<ModelPart> = Vec::new();
         let mut slot: FxHashMap<(&str, [u32; 4]), usize> = FxHashMap::default();
         for leaf in &self.leaves {
+            if matches!(leaf.geometry, Geometry::Implicit(_)) {
+                continue;
+            }
             let Some(mesh) = leaf.world_mesh() else {
                 continue;
             };
@@ -174,6 +191,7 @@ impl Derivation {
             });
             parts[i].mesh.append(&mesh);
         }
+        parts.extend(self.solids.iter().cloned());
         Model {
             parts,
             lines: Vec::new(),
@@ -188,6 +206,13 @@ pub fn derive(
     options: &DeriveOptions,
 ) -> Result<Derivation, DeriveError> {
     let start = start_rule(program, options)?;
+    if let Some(cell) = options.implicit_cell
+        && !(cell.is_finite() && cell > 0.0)
+    {
+        return Err(DeriveError::general(format!(
+            "implicit cell size {cell}: expected a finite number above 0"
+        )));
+    }
     let overrides = options
         .attrs
         .iter()
@@ -277,6 +302,7 @@ pub fn derive(
     }
     all.stats.leaves = all.leaves.len();
     all.stats.rules = rule_counts(program, &counts);
+    all.solids = crate::solids::mesh_solids(&all.leaves, options.implicit_cell)?;
     Ok(all)
 }
 
@@ -986,6 +1012,7 @@ impl<'p> Engine<'p> {
             color: state.color,
             material: state.material.take(),
             node: self.tree.is_some().then_some(state.node),
+            lot: self.ev.lot,
         });
     }
 
@@ -1139,6 +1166,30 @@ impl<'p> Engine<'p> {
                 let values = self.numbers(params, state, args)?;
                 roof(state, *kind, &values, span)?;
             }
+            Op::Implicit(kind) => implicit(state, *kind, span)?,
+            Op::Csg {
+                kind,
+                group,
+                amount,
+            } => {
+                let group = match self.ev.eval(group, state, args)? {
+                    Value::Str(name) => name,
+                    v => {
+                        return Err(DeriveError::at(
+                            format!(
+                                "expected a group name (a string), found a {}",
+                                v.type_name()
+                            ),
+                            group.span,
+                        ));
+                    }
+                };
+                let amount = match amount {
+                    Some(e) => Some((self.ev.number(e, state, args)?, e.span)),
+                    None => None,
+                };
+                join_group(state, *kind, group, amount, span)?;
+            }
             Op::Ignored => {}
         }
         Ok(false)
@@ -1275,17 +1326,30 @@ impl<'p> Engine<'p> {
             }
             _ => None,
         };
+        let solid = match &state.geometry {
+            Geometry::Implicit(implicit) => Some(implicit.solid.clone()),
+            _ => None,
+        };
         for (i, part) in parts.iter().enumerate() {
             // The part's scope, worked out from the parent's.
             let mut scope = state.scope;
             scope.translate(DVec3::AXES[axis] * part.start);
             scope.size[axis] = part.size;
-            if slabs.is_none() && self.leaf_part(state, part.body, scope, span, out)? {
+            if slabs.is_none()
+                && solid.is_none()
+                && self.leaf_part(state, part.body, scope, span, out)?
+            {
                 continue;
             }
             let mut child = state.spawn();
             child.split = (i as u32, total);
             child.scope = scope;
+            if let Some(solid) = &solid {
+                let Some(slab) = slab_of(solid, axis, part.start, part.size) else {
+                    continue;
+                };
+                child.geometry = state.geometry.with_solid(slab);
+            }
             if let Some((cuts, pieces)) = &slabs {
                 let at = cuts.iter().position(|&c| c == part.start).unwrap_or(0);
                 let mut piece = pieces[at + 1].clone();
@@ -1355,6 +1419,7 @@ impl<'p> Engine<'p> {
                 color: state.color,
                 material: state.material.clone(),
                 node: None,
+                lot: self.ev.lot,
             });
         }
         Ok(true)
@@ -1369,6 +1434,13 @@ impl<'p> Engine<'p> {
         args: &[Value],
         out: &mut Vec<Work>,
     ) -> Fallible<()> {
+        if matches!(state.geometry, Geometry::Implicit(_)) {
+            return Err(DeriveError::at(
+                "comp needs faces, edges or vertices, but an implicit solid has none until it is meshed",
+                span,
+            )
+            .with_hint("split the shape into parts first, then make the parts implicit"));
+        }
         let Some(world) = state.geometry.world_mesh(&state.scope) else {
             return Ok(());
         };
@@ -1541,6 +1613,113 @@ fn primitive(state: &mut State, kind: Primitive, counts: &[f64], span: Span) -> 
     Ok(())
 }
 
+/// The part of `solid` between `start` and `start + size` along `axis`, in the frame of a part
+/// starting there (`None` when nothing of the solid lies there).
+fn slab_of(
+    solid: &shapegram_implicit::Solid,
+    axis: usize,
+    start: f64,
+    size: f64,
+) -> Option<shapegram_implicit::Solid> {
+    let shifted = solid.translate(-DVec3::AXES[axis] * start).ok()?;
+    let bounds = shifted.bounds()?;
+    // The slab spans the solid's bounds (with a margin) across the split axis.
+    let mut lo = bounds.min - DVec3::ONE;
+    let mut hi = bounds.max + DVec3::ONE;
+    lo[axis] = 0.0;
+    hi[axis] = size;
+    if lo[axis] >= bounds.max[axis] || hi[axis] <= bounds.min[axis] || size <= 0.0 {
+        return None;
+    }
+    let slab = shapegram_implicit::Solid::cuboid(hi - lo)
+        .and_then(|b| b.translate((lo + hi) / 2.0))
+        .ok()?;
+    Some(shifted.intersection(&slab))
+}
+
+/// `implicit(kind)`: the shape becomes the solid `kind` filling its scope.
+fn implicit(state: &mut State, kind: ImplicitKind, span: Span) -> Fallible<()> {
+    let size = state.scope.size;
+    if !size.cmpgt(DVec3::ZERO).all() {
+        return Err(DeriveError::at(
+            format!(
+                "implicit({}) needs a scope with volume, but its size is {} × {} × {}",
+                ImplicitKind::NAMES[kind as usize],
+                size.x,
+                size.y,
+                size.z
+            ),
+            span,
+        )
+        .with_hint("extrude the shape first, or give it a size with `s(…)`"));
+    }
+    let solid = crate::solids::fitted(kind, size).map_err(|e| {
+        DeriveError::at(
+            format!("implicit({}): {e}", ImplicitKind::NAMES[kind as usize]),
+            span,
+        )
+    })?;
+    state.geometry = Geometry::Implicit(Arc::new(Implicit { solid, csg: None }));
+    Ok(())
+}
+
+/// `csg("group", union)` and friends: the shape's solid (a box becomes one) joins `group`.
+fn join_group(
+    state: &mut State,
+    kind: CsgKind,
+    group: Arc<str>,
+    amount: Option<(f64, Span)>,
+    span: Span,
+) -> Fallible<()> {
+    let name = match kind {
+        CsgKind::Union => "union",
+        CsgKind::Subtract => "subtract",
+        CsgKind::Intersect => "intersect",
+        CsgKind::Morph => "morph",
+    };
+    let value = match amount {
+        None => 0.0,
+        Some((a, at)) if kind == CsgKind::Morph && !(0.0..=1.0).contains(&a) => {
+            return Err(DeriveError::at(
+                format!(
+                    "morph amount {a}: expected 0 (the group as it is) to 1 (the member added)"
+                ),
+                at,
+            ));
+        }
+        Some((k, at)) if !(k.is_finite() && k >= 0.0) => {
+            return Err(DeriveError::at(
+                format!("fillet radius {k}: expected a finite number of at least 0"),
+                at,
+            ));
+        }
+        Some((a, _)) => a,
+    };
+    let op = match kind {
+        CsgKind::Union => CsgOp::Union(value),
+        CsgKind::Subtract => CsgOp::Subtract(value),
+        CsgKind::Intersect => CsgOp::Intersect(value),
+        CsgKind::Morph => CsgOp::Morph(value),
+    };
+    let solid = match &state.geometry {
+        Geometry::Implicit(implicit) => implicit.solid.clone(),
+        Geometry::Box if state.scope.size.cmpgt(DVec3::ZERO).all() => {
+            crate::solids::fitted(ImplicitKind::Box, state.scope.size)
+                .map_err(|e| DeriveError::at(format!("csg(\"{group}\", {name}): {e}"), span))?
+        }
+        _ => {
+            return Err(DeriveError::at(
+                format!("csg(\"{group}\", {name}) needs an implicit solid or a box with volume"),
+                span,
+            )
+            .with_hint("make the shape a solid first, e.g. `implicit(sphere)`"));
+        }
+    };
+    let csg = Some(Csg { group, op, span });
+    state.geometry = Geometry::Implicit(Arc::new(Implicit { solid, csg }));
+    Ok(())
+}
+
 fn set(state: &mut State, target: &SetTarget, value: Value, span: Span) -> Fallible<()> {
     let wrong = |what: &str, v: &Value| {
         DeriveError::at(format!("expected {what}, found a {}", v.type_name()), span)
@@ -1575,9 +1754,22 @@ fn set(state: &mut State, target: &SetTarget, value: Value, span: Span) -> Falli
 
 /// Moves the scope to new axes, fitted around the geometry, which stays where it is.
 fn refit(state: &mut State, axes: DMat3) {
-    let scope = match state.geometry.world_mesh(&state.scope) {
-        Some(mesh) => Scope::fit(axes, mesh.positions().iter().copied()),
-        None => Scope::new(state.scope.origin, axes, state.scope.size),
+    let scope = match &state.geometry {
+        // The box around the solid stands in for its surface, which is not made yet.
+        Geometry::Implicit(implicit) => match implicit.solid.bounds() {
+            Some(local) => {
+                let corners = Scope::new(DVec3::ZERO, DMat3::IDENTITY, local.size());
+                let corners = corners
+                    .corners()
+                    .map(|c| state.scope.to_world(local.min + c));
+                Scope::fit(axes, corners)
+            }
+            None => Scope::new(state.scope.origin, axes, state.scope.size),
+        },
+        geometry => match geometry.world_mesh(&state.scope) {
+            Some(mesh) => Scope::fit(axes, mesh.positions().iter().copied()),
+            None => Scope::new(state.scope.origin, axes, state.scope.size),
+        },
     };
     state.rescope(scope);
 }
@@ -1611,9 +1803,6 @@ fn mirror(state: &mut State, flags: [bool; 3]) {
     if !flags.contains(&true) {
         return;
     }
-    let Some(mesh) = state.geometry.local_mesh(state.scope.size) else {
-        return;
-    };
     let size = state.scope.size;
     let mut scale = DVec3::ONE;
     let mut shift = DVec3::ZERO;
@@ -1625,6 +1814,13 @@ fn mirror(state: &mut State, flags: [bool; 3]) {
     }
     let map = shapegram_geom::DAffine3::from_translation(shift)
         * shapegram_geom::DAffine3::from_scale(scale);
+    if let Geometry::Implicit(implicit) = &state.geometry {
+        state.geometry = state.geometry.with_solid(moved(&implicit.solid, map));
+        return;
+    }
+    let Some(mesh) = state.geometry.local_mesh(state.scope.size) else {
+        return;
+    };
     let tags = state.geometry.tags().map(Arc::from);
     state.geometry = Geometry::Mesh(Arc::new(mesh.transformed(&map)), tags);
 }

@@ -17,11 +17,12 @@ mod ops;
 mod program;
 pub mod rng;
 mod shape;
+mod solids;
 mod split;
 mod value;
 
 pub use engine::{AssetLoader, Derivation, DeriveOptions, InitialShape, Leaf, Stats, derive};
 pub use error::DeriveError;
 pub use program::{Program, RuleId, Sym};
-pub use shape::{FaceTag, Geometry};
+pub use shape::{Csg, CsgOp, FaceTag, Geometry, Implicit};
 pub use value::Value;

@@ -56,6 +56,15 @@ pub(crate) enum Op {
         keep: OffsetKeep,
     },
     Roof(RoofKind, Vec<CExpr>),
+    /// `implicit(sphere)`: the shape becomes an implicit solid filling its scope.
+    Implicit(ImplicitKind),
+    /// `csg("group", union [, fillet])` and friends: the shape's solid joins a CSG group.
+    Csg {
+        kind: CsgKind,
+        group: CExpr,
+        /// The fillet radius, or the amount of a morph.
+        amount: Option<CExpr>,
+    },
     /// Parsed and accepted, but without effect on the model yet (texturing and the like).
     Ignored,
 }
@@ -69,6 +78,48 @@ pub(crate) enum Primitive {
     Sphere,
     Quad,
     Pyramid,
+}
+
+/// The solids of `implicit(…)`, each fitted to the scope.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum ImplicitKind {
+    Box,
+    Sphere,
+    Cylinder,
+    Cone,
+    Pyramid,
+    Torus,
+    Capsule,
+}
+
+impl ImplicitKind {
+    /// The words `implicit(…)` accepts, in this order.
+    pub const NAMES: [&str; 7] = [
+        "box", "sphere", "cylinder", "cone", "pyramid", "torus", "capsule",
+    ];
+    const ALL: [Self; 7] = [
+        Self::Box,
+        Self::Sphere,
+        Self::Cylinder,
+        Self::Cone,
+        Self::Pyramid,
+        Self::Torus,
+        Self::Capsule,
+    ];
+
+    fn from_name(name: &str) -> Option<Self> {
+        let i = Self::NAMES.iter().position(|&n| n == name)?;
+        Some(Self::ALL[i])
+    }
+}
+
+/// The CSG group operations.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum CsgKind {
+    Union,
+    Subtract,
+    Intersect,
+    Morph,
 }
 
 /// What `comp` splits into.
@@ -283,6 +334,8 @@ const IMPLEMENTED: &[&str] = &[
     "tag",
     "snap",
     "Snap",
+    "implicit",
+    "csg",
 ];
 
 /// Whether an operation of this name exists (implemented or not).
@@ -433,6 +486,8 @@ impl Ctx<'_, '_> {
             "roofHip" => self.roof(RoofKind::Hip, "roofHip(angle [, overhang])")?,
             "roofPyramid" => self.roof(RoofKind::Pyramid, "roofPyramid(angle)")?,
             "roofShed" => self.roof(RoofKind::Shed, "roofShed(angle [, edgeIndex])")?,
+            "implicit" => self.implicit()?,
+            "csg" => self.csg()?,
             _ => unreachable!("`{name}` is listed in IMPLEMENTED but not built"),
         };
         let needs_block = matches!(op, Op::Split { .. } | Op::Comp { .. });
@@ -746,6 +801,42 @@ impl Ctx<'_, '_> {
         Some(Op::Offset {
             distance: self.args.pop()?,
             keep,
+        })
+    }
+
+    fn implicit(&mut self) -> Option<Op> {
+        self.arity(
+            1,
+            1,
+            "implicit(box | sphere | cylinder | cone | pyramid | torus | capsule)",
+        )?;
+        match self.word(0).and_then(ImplicitKind::from_name) {
+            Some(kind) => Some(Op::Implicit(kind)),
+            None => self.bad_selector(
+                0,
+                "a solid: `box`, `sphere`, `cylinder`, `cone`, `pyramid`, `torus` or `capsule`",
+            ),
+        }
+    }
+
+    fn csg(&mut self) -> Option<Op> {
+        let signature = "csg(\"group\", union | subtract | intersect [, fillet]) | csg(\"group\", morph, amount)";
+        self.arity(2, 3, signature)?;
+        let kind = match self.word(1) {
+            Some("union") => CsgKind::Union,
+            Some("subtract") => CsgKind::Subtract,
+            Some("intersect") => CsgKind::Intersect,
+            Some("morph") => CsgKind::Morph,
+            _ => return self.bad_selector(1, "`union`, `subtract`, `intersect` or `morph`"),
+        };
+        if kind == CsgKind::Morph && self.args.len() < 3 {
+            return self.wrong_arity(signature);
+        }
+        let amount = (self.args.len() == 3).then(|| self.args.pop()).flatten();
+        Some(Op::Csg {
+            kind,
+            group: self.args.swap_remove(0),
+            amount,
         })
     }
 

@@ -4,6 +4,8 @@ use std::rc::Rc;
 use std::sync::Arc;
 
 use shapegram_geom::{Color, DAffine3, DVec3, Mesh, Scope, primitives};
+use shapegram_implicit::{MeshOptions, Solid};
+use shapegram_syntax::Span;
 
 use crate::program::Sym;
 use crate::rng::{Rng, child_seed};
@@ -19,8 +21,63 @@ pub enum Geometry {
     /// A polygon mesh in scope-local coordinates, with optional per-face tags (`offset` marks
     /// faces as inside or border).
     Mesh(Arc<Mesh>, Option<Arc<[FaceTag]>>),
+    /// An implicit solid in scope-local coordinates (`implicit(sphere)`), possibly a member of
+    /// a CSG group; meshed when the model is made.
+    Implicit(Arc<Implicit>),
     /// No geometry: edges and vertices of a component split, until something is inserted.
     Empty,
+}
+
+/// An implicit solid and the CSG group it belongs to, if any.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Implicit {
+    /// The solid, in scope-local coordinates.
+    pub solid: Solid,
+    /// Its membership of a group (`csg("rock", union)` and friends); `None` for a solid meshed
+    /// alone.
+    pub csg: Option<Csg>,
+}
+
+/// How an implicit solid joins a named group: the members of a group (within one initial shape)
+/// are combined into one solid and meshed as one surface.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Csg {
+    /// The group's name.
+    pub group: Arc<str>,
+    /// What the member does to the group.
+    pub op: CsgOp,
+    /// The operation that made it a member, for error messages.
+    pub span: Span,
+}
+
+/// What a member does to its group's solid.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum CsgOp {
+    /// Adds the member (`csg(…, union)`), with a round fillet of this radius where it meets the rest
+    /// (0 for a sharp seam).
+    Union(f64),
+    /// Blends the group towards the group with the member added, by this amount in `0..=1`
+    /// (`csg(…, morph, a)`, the SG+M morphic production).
+    Morph(f64),
+    /// Carves the member away (`csg(…, subtract)`), filleted like a union.
+    Subtract(f64),
+    /// Keeps only what lies inside the member (`csg(…, intersect)`), filleted like a union.
+    Intersect(f64),
+}
+
+/// Cells along the longest side of an implicit solid's bounds when an operation needs it as
+/// polygons (a `comp`, a query of its area) or it is meshed alone.
+pub const IMPLICIT_CELLS: usize = 48;
+
+/// The mesh of an implicit solid with [`IMPLICIT_CELLS`] cells along its longest side (`None`
+/// when it is empty).
+pub fn implicit_mesh(solid: &Solid) -> Option<Mesh> {
+    if solid.is_empty() {
+        return None;
+    }
+    let options = MeshOptions::cells_along_longest(solid, IMPLICIT_CELLS);
+    let mesh = shapegram_implicit::mesh(solid, &options).ok()?.mesh;
+    (!mesh.is_empty()).then_some(mesh)
 }
 
 /// A tag on a face, set by operations whose result later component splits select from.
@@ -46,8 +103,18 @@ impl Geometry {
         match self {
             Self::Box => box_mesh(size),
             Self::Mesh(mesh, _) => Some((**mesh).clone()),
+            Self::Implicit(implicit) => implicit_mesh(&implicit.solid),
             Self::Empty => None,
         }
+    }
+
+    /// An implicit geometry holding `solid`, with the membership of `self` when it is implicit.
+    pub fn with_solid(&self, solid: Solid) -> Self {
+        let csg = match self {
+            Self::Implicit(implicit) => implicit.csg.clone(),
+            _ => None,
+        };
+        Self::Implicit(Arc::new(Implicit { solid, csg }))
     }
 
     /// The geometry in world coordinates.
@@ -292,7 +359,12 @@ impl State {
 
     /// Replaces the scope while keeping the geometry where it is in world space.
     pub fn rescope(&mut self, scope: Scope) {
-        if let Some(mut mesh) = self.geometry.world_mesh(&self.scope) {
+        if let Geometry::Implicit(implicit) = &self.geometry {
+            self.geometry = self.geometry.with_solid(moved(
+                &implicit.solid,
+                scope.world_to_local() * self.scope.local_to_world(),
+            ));
+        } else if let Some(mut mesh) = self.geometry.world_mesh(&self.scope) {
             mesh.transform(&scope.world_to_local());
             let tags = self.geometry.tags().map(Arc::from);
             self.geometry = Geometry::Mesh(Arc::new(mesh), tags);
@@ -312,12 +384,28 @@ impl State {
     /// Sets the scope size, scaling mesh geometry along (CGA `s`). Axes of zero size keep the
     /// geometry's own extent along them.
     pub fn resize(&mut self, size: DVec3) {
-        if let Geometry::Mesh(mesh, tags) = &self.geometry {
-            let old = self.scope.size;
-            let factor = DVec3::select(old.cmpeq(DVec3::ZERO), DVec3::ONE, size / old);
-            let scaled = mesh.transformed(&DAffine3::from_scale(factor));
-            self.geometry = Geometry::Mesh(Arc::new(scaled), tags.clone());
+        let old = self.scope.size;
+        let factor = DVec3::select(old.cmpeq(DVec3::ZERO), DVec3::ONE, size / old);
+        match &self.geometry {
+            Geometry::Mesh(mesh, tags) => {
+                let scaled = mesh.transformed(&DAffine3::from_scale(factor));
+                self.geometry = Geometry::Mesh(Arc::new(scaled), tags.clone());
+            }
+            // A zero size squashes the solid flat, which would leave nothing to mesh; it keeps
+            // its extent along such axes, as meshes keep theirs when the scope was flat.
+            Geometry::Implicit(implicit) => {
+                let factor = DVec3::select(factor.cmpeq(DVec3::ZERO), DVec3::ONE, factor);
+                let map = DAffine3::from_scale(factor);
+                self.geometry = self.geometry.with_solid(moved(&implicit.solid, map));
+            }
+            Geometry::Box | Geometry::Empty => {}
         }
         self.scope.size = size;
     }
+}
+
+/// `solid` under `map`, an invertible affine map made of scope frames and finite non-zero
+/// scales; should it fail to invert all the same (sizes beyond f64 range), the solid stays put.
+pub fn moved(solid: &Solid, map: DAffine3) -> Solid {
+    solid.transform(&map).unwrap_or_else(|_| solid.clone())
 }

@@ -12,6 +12,7 @@ pub mod cave;
 pub mod error;
 pub mod mesher;
 pub mod metrics;
+pub mod normals;
 pub mod primitive;
 pub mod rng;
 pub mod shape;
@@ -25,6 +26,7 @@ pub use cave::{Attach, Cave, CaveBuilder, CaveParams, Direction, Operation, gene
 pub use error::{ImplicitError, Result};
 pub use mesher::{Grid, MeshOptions, Meshing, mesh, mesh_with_progress};
 pub use metrics::{Convexity, Metrics};
+pub use normals::surface_normals;
 pub use primitive::Primitive;
 pub use shape::Shape;
 pub use solid::{Node, Solid};

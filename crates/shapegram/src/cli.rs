@@ -230,6 +230,11 @@ pub struct DeriveArgs {
     /// Stop with an error when one lot takes longer than this (0: no limit)
     #[arg(long, value_name = "SECONDS", default_value_t = 60.0, value_parser = parse_timeout)]
     pub timeout: f64,
+    /// Edge length of the grid cells that implicit solids (`implicit(…)`, `csg(…)`) are
+    /// meshed with [default: per group, 8 cells across its smallest member, 32 to 512 along its
+    /// longest side]
+    #[arg(long, value_name = "SIZE", value_parser = parse_cell)]
+    pub implicit_cell: Option<f64>,
     /// Keep one group per leaf symbol and colour (OBJ groups, glTF nodes, named after the symbol)
     /// instead of merging everything of one colour
     #[arg(long)]
@@ -326,6 +331,13 @@ fn parse_timeout(text: &str) -> Result<f64, String> {
     match text.trim().parse::<f64>() {
         Ok(s) if (0.0..=1e9).contains(&s) => Ok(s),
         _ => Err("expected a number of seconds, like 60 or 0.5 (0: no limit)".to_owned()),
+    }
+}
+
+fn parse_cell(text: &str) -> Result<f64, String> {
+    match text.trim().parse::<f64>() {
+        Ok(h) if h.is_finite() && h > 0.0 => Ok(h),
+        _ => Err("expected a cell size above 0, like 0.25".to_owned()),
     }
 }
 

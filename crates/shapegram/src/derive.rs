@@ -48,6 +48,7 @@ pub fn run(args: &DeriveArgs) -> Result<(), Failure> {
         generations: args.generations,
         assets: Some(Arc::new(FileAssets::new(folder, args.missing_assets))),
         keep_tree: false,
+        implicit_cell: args.implicit_cell,
     };
 
     let started = Instant::now();
