@@ -7,7 +7,7 @@ use std::path::PathBuf;
 use shapegram_export::{ExportOptions, save};
 use shapegram_geom::extrude::extrude_polygon;
 use shapegram_geom::primitives::{cone, cuboid, cylinder, pyramid, quad, sphere};
-use shapegram_geom::{Color, DAffine3, DVec3, Mesh, Model, Part};
+use shapegram_geom::{Color, DAffine3, DVec3, Lines, Mesh, Model, Part};
 
 fn part(name: &str, hex: &str, mesh: Mesh, at: DVec3) -> Part {
     Part {
@@ -15,6 +15,29 @@ fn part(name: &str, hex: &str, mesh: Mesh, at: DVec3) -> Part {
         color: Color::from_hex(hex).unwrap_or_default(),
         mesh: mesh.transformed(&DAffine3::from_translation(at)),
         normals: Vec::new(),
+    }
+}
+
+/// A part shaded smooth: one normal per shared vertex.
+fn smooth(name: &str, hex: &str, mesh: Mesh, at: DVec3) -> Part {
+    let mut part = part(name, hex, mesh, at);
+    part.normals = part.mesh.vertex_normals();
+    part
+}
+
+/// A helix of `points` points as one line set.
+fn helix(name: &str, hex: &str, points: u32, turns: f64) -> Lines {
+    let step = turns * std::f64::consts::TAU / f64::from(points - 1);
+    Lines {
+        name: name.to_owned(),
+        color: Color::from_hex(hex).unwrap_or_default(),
+        points: (0..points)
+            .map(|i| {
+                let angle = step * f64::from(i);
+                DVec3::new(angle.cos() + 6.0, angle / 4.0, angle.sin())
+            })
+            .collect(),
+        segments: (1..points).map(|i| [i - 1, i]).collect(),
     }
 }
 
@@ -78,15 +101,36 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             ),
             // Non-convex caps exercise the ear-clipping path.
             part("annex", "#2c3e50", annex(), DVec3::new(-3.0, 0.0, 1.0)),
+            // Smooth next to flat in one colour: one primitive when merged.
+            smooth(
+                "smooth dome",
+                "#27ae60",
+                sphere(DVec3::splat(1.5), 32, 16),
+                DVec3::new(-2.0, 0.0, -2.0),
+            ),
         ],
-        lines: Vec::new(),
+        // The wall's colour: a LINES primitive beside its triangles.
+        lines: vec![helix("helix", "#c0392b", 200, 3.0)],
     };
-    // More than 65535 flat-shaded vertices, so the u32 index path is exercised.
-    let big = Model::single(
-        "ball",
-        Color::default(),
-        sphere(DVec3::splat(10.0), 256, 128),
-    );
+    // More than 65535 flat-shaded vertices, smooth vertices and points, so the u32 index paths
+    // are exercised.
+    let big = Model {
+        parts: vec![
+            part(
+                "ball",
+                "#cccccc",
+                sphere(DVec3::splat(10.0), 256, 128),
+                DVec3::ZERO,
+            ),
+            smooth(
+                "smooth ball",
+                "#cccccc",
+                sphere(DVec3::splat(10.0), 400, 200),
+                DVec3::new(12.0, 0.0, 0.0),
+            ),
+        ],
+        lines: vec![helix("long helix", "#3a6ea5", 70_000, 50.0)],
+    };
     let grouped = ExportOptions {
         group_by_part: true,
     };
@@ -95,6 +139,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     save(&scene, &dir.join("scene-merged.glb"), &merged)?;
     save(&Model::default(), &dir.join("empty.glb"), &merged)?;
     save(&big, &dir.join("big.glb"), &merged)?;
+    save(&big, &dir.join("big-grouped.glb"), &grouped)?;
     save(&scene, &dir.join("scene.obj"), &grouped)?;
     save(&scene, &dir.join("scene.stl"), &merged)?;
     println!("wrote samples to {}", dir.display());

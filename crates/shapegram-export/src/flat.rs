@@ -1,11 +1,12 @@
 //! What the writers share: which faces make it into a file, their f32 triangles, and the
 //! materials (one per distinct colour, in order of first appearance).
 
+use std::borrow::Cow;
 use std::collections::{BTreeMap, BTreeSet};
 
 use shapegram_geom::mesh::newell;
 use shapegram_geom::triangulate::{Triangulator, is_convex};
-use shapegram_geom::{Color, DVec3, Mesh};
+use shapegram_geom::{Color, DVec3, Mesh, Part};
 
 /// Whether face `i` is written at all. Faces without area (zero Newell normal) have no side to
 /// show and no valid normal, and corners that are not finite in f32 (NaN, infinite, or beyond
@@ -13,6 +14,46 @@ use shapegram_geom::{Color, DVec3, Mesh};
 /// drops both.
 pub(crate) fn face_is_exportable(mesh: &Mesh, i: usize) -> bool {
     mesh.face_normal(i) != DVec3::ZERO && mesh.face_points(i).all(|p| p.as_vec3().is_finite())
+}
+
+/// Whether a part is shaded smooth: it has one normal per vertex. Parts whose normals do not
+/// match their vertices in number are written flat.
+pub(crate) fn is_smooth(part: &Part) -> bool {
+    !part.normals.is_empty() && part.normals.len() == part.mesh.vertex_count()
+}
+
+/// The part's normals, where those that cannot be made unit (zero or not finite) are replaced
+/// by the normal of the first exportable face around their vertex.
+pub(crate) fn usable_normals(part: &Part) -> Cow<'_, [DVec3]> {
+    let usable = |n: &DVec3| {
+        let length = n.length();
+        length > 0.0 && (*n / length).as_vec3().is_finite()
+    };
+    let mut normals = Cow::Borrowed(part.normals.as_slice());
+    if !normals.iter().all(usable) {
+        let fixed = normals.to_mut();
+        let mesh = &part.mesh;
+        for i in (0..mesh.face_count()).filter(|&i| face_is_exportable(mesh, i)) {
+            for &v in mesh.face(i) {
+                if !usable(&fixed[v as usize]) {
+                    fixed[v as usize] = mesh.face_normal(i);
+                }
+            }
+        }
+    }
+    normals
+}
+
+/// Whether a segment of a line set is written: both points exist, are finite in f32 and stay
+/// apart when rounded to f32.
+pub(crate) fn segment_is_exportable(points: &[DVec3], segment: [u32; 2]) -> bool {
+    let point = |i: u32| {
+        points
+            .get(i as usize)
+            .map(|p| p.as_vec3())
+            .filter(|p| p.is_finite())
+    };
+    matches!((point(segment[0]), point(segment[1])), (Some(p), Some(q)) if p != q)
 }
 
 /// A face converted to f32: its unit normal, the corners its triangles use, and the triangles
@@ -23,44 +64,75 @@ pub(crate) struct FlatFace<'a> {
     pub triangles: &'a [[u32; 3]],
 }
 
-/// Calls `visit` for every exportable face that keeps at least one triangle, in face order.
+/// Splits faces into the triangles the writers emit, with scratch space kept between faces.
 ///
-/// Triangles that lose their area when the corners are rounded to f32 are dropped here, because
-/// the validator and slicers see the f32 geometry, not ours.
+/// Triangles that lose their area when the corners are rounded to f32 are dropped, because the
+/// validator and slicers see the f32 geometry, not ours.
+#[derive(Default)]
+pub(crate) struct FaceSplitter {
+    triangulator: Triangulator,
+    points: Vec<DVec3>,
+    rounded: Vec<[f32; 3]>,
+    fanned: Vec<[u32; 3]>,
+}
+
+impl FaceSplitter {
+    /// The Newell normal of face `i` and its triangles as corner positions within the loop
+    /// (appended to `out`), or `None` for a face that is not written at all (see
+    /// [`face_is_exportable`]); a face may keep no triangle.
+    pub fn split(&mut self, mesh: &Mesh, i: usize, out: &mut Vec<[u32; 3]>) -> Option<DVec3> {
+        self.points.clear();
+        self.points.extend(mesh.face_points(i));
+        let normal = newell(self.points.iter().copied());
+        if normal == DVec3::ZERO || !self.points.iter().all(|p| p.as_vec3().is_finite()) {
+            return None;
+        }
+        self.rounded.clear();
+        self.rounded
+            .extend(self.points.iter().map(|p| p.as_vec3().to_array()));
+        // Triangles and convex quads, most faces of real models, need no triangulator.
+        let fan: &[[u32; 3]] = match self.points.len() {
+            3 => &[[0, 1, 2]],
+            4 if is_convex(&self.points) => &[[0, 1, 2], [0, 2, 3]],
+            _ => {
+                self.fanned = self.triangulator.triangulate(&self.points, &[]);
+                &self.fanned
+            }
+        };
+        out.extend(
+            fan.iter()
+                .filter(|t| has_f32_area(t.map(|c| self.rounded[c as usize]))),
+        );
+        Some(normal)
+    }
+
+    /// The f32 corners of the face last split.
+    fn rounded(&self) -> &[[f32; 3]] {
+        &self.rounded
+    }
+}
+
+/// Calls `visit` for every exportable face that keeps at least one triangle, in face order.
 pub(crate) fn flat_faces(mesh: &Mesh, mut visit: impl FnMut(FlatFace<'_>)) {
-    let mut triangulator = Triangulator::new();
-    let mut points = Vec::new();
-    let mut rounded = Vec::new();
+    let mut splitter = FaceSplitter::default();
+    let mut fan = Vec::new();
     let mut used = Vec::new();
     let mut corners = Vec::new();
     let mut triangles = Vec::new();
-    let mut fanned;
     for i in 0..mesh.face_count() {
-        points.clear();
-        points.extend(mesh.face_points(i));
-        let normal = newell(points.iter().copied());
-        if normal == DVec3::ZERO || !points.iter().all(|p| p.as_vec3().is_finite()) {
+        fan.clear();
+        let Some(normal) = splitter.split(mesh, i, &mut fan) else {
+            continue;
+        };
+        if fan.is_empty() {
             continue;
         }
-        rounded.clear();
-        rounded.extend(points.iter().map(|p| p.as_vec3().to_array()));
+        let rounded = splitter.rounded();
         used.clear();
-        used.resize(points.len(), u32::MAX);
+        used.resize(rounded.len(), u32::MAX);
         corners.clear();
         triangles.clear();
-        // Triangles and convex quads, most faces of real models, need no triangulator.
-        let fan: &[[u32; 3]] = match points.len() {
-            3 => &[[0, 1, 2]],
-            4 if is_convex(&points) => &[[0, 1, 2], [0, 2, 3]],
-            _ => {
-                fanned = triangulator.triangulate(&points, &[]);
-                &fanned
-            }
-        };
-        for &triangle in fan {
-            if !has_f32_area(triangle.map(|c| rounded[c as usize])) {
-                continue;
-            }
+        for &triangle in &fan {
             triangles.push(triangle.map(|c| {
                 let slot = &mut used[c as usize];
                 if *slot == u32::MAX {
@@ -70,19 +142,17 @@ pub(crate) fn flat_faces(mesh: &Mesh, mut visit: impl FnMut(FlatFace<'_>)) {
                 *slot
             }));
         }
-        if !triangles.is_empty() {
-            visit(FlatFace {
-                normal: unit(normal),
-                corners: &corners,
-                triangles: &triangles,
-            });
-        }
+        visit(FlatFace {
+            normal: unit(normal),
+            corners: &corners,
+            triangles: &triangles,
+        });
     }
 }
 
 /// A Newell normal as a unit f32 vector. `f64::sqrt` is correctly rounded on every platform, like
 /// glam's libm one, but runs as one instruction.
-fn unit(normal: DVec3) -> [f32; 3] {
+pub(crate) fn unit(normal: DVec3) -> [f32; 3] {
     (normal / normal.length_squared().sqrt())
         .as_vec3()
         .to_array()

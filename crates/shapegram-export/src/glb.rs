@@ -1,97 +1,426 @@
 //! Binary glTF 2.0 (GLB) writer: `gltf-json` types serialised by serde_json, framed by hand.
 //!
-//! Layout: one root node "shapegram" (scene 0) whose children carry the meshes. Shading is flat:
-//! every face gets its own vertices (shared by the face's triangles) with the face normal. Each
-//! accessor has its own tightly packed buffer view, 4-byte aligned, in one buffer.
+//! Layout: one root node "shapegram" (scene 0) whose children carry the meshes. A flat part (no
+//! `normals`) gives every face its own vertices, shared by the face's triangles, with the face
+//! normal; a smooth part keeps its shared vertices with their normals; a line set becomes a
+//! LINES primitive of its points (POSITION only). Each accessor has its own tightly packed
+//! buffer view, 4-byte aligned, in one buffer.
+//!
+//! The file is planned first (sizes, bounds, the JSON chunk) and then streamed: shared vertices
+//! and points go from the model straight to the writer, so a large model is never held twice.
 
+use std::borrow::Cow;
 use std::collections::BTreeMap;
+use std::io::{self, Write};
 
 use gltf_json as json;
 use json::validation::{Checked::Valid, USize64};
-use shapegram_geom::{Color, Model};
+use shapegram_geom::{Color, DVec3, Lines, Mesh, Model, Part};
 
 use crate::ExportOptions;
-use crate::flat::{Palette, flat_faces};
+use crate::flat::{
+    FaceSplitter, Palette, flat_faces, is_smooth, segment_is_exportable, unit, usable_normals,
+};
 
 /// GLB framing constants from the glTF 2.0 specification, section "Binary glTF Layout".
 pub(crate) const MAGIC: &[u8; 4] = b"glTF";
 pub(crate) const CHUNK_JSON: u32 = 0x4E4F_534A;
 pub(crate) const CHUNK_BIN: u32 = 0x004E_4942;
 
-/// The triangles of one primitive, flat-shaded.
-#[derive(Default)]
-struct Geometry {
-    positions: Vec<[f32; 3]>,
-    normals: Vec<[f32; 3]>,
-    indices: Vec<u32>,
+/// Vertices taken from a model's own list: all of them, or those in `keep` (in that order) when
+/// some are not used by anything written.
+struct Shared<'a> {
+    all: &'a [DVec3],
+    keep: Option<Vec<u32>>,
 }
 
-impl Geometry {
-    fn add_mesh(&mut self, mesh: &shapegram_geom::Mesh) {
-        flat_faces(mesh, |face| {
-            let base = self.positions.len() as u32;
-            self.positions.extend_from_slice(face.corners);
-            self.normals
-                .extend(std::iter::repeat_n(face.normal, face.corners.len()));
-            self.indices
-                .extend(face.triangles.iter().flatten().map(|&c| base + c));
-        });
+impl Shared<'_> {
+    fn len(&self) -> usize {
+        self.keep.as_ref().map_or(self.all.len(), Vec::len)
+    }
+
+    /// Calls `visit` with the index in `all` of every vertex written, in order.
+    fn each(&self, mut visit: impl FnMut(usize)) {
+        match &self.keep {
+            Some(keep) => keep.iter().for_each(|&v| visit(v as usize)),
+            None => (0..self.all.len()).for_each(visit),
+        }
     }
 }
 
-/// A glTF mesh to be: node/mesh name and its primitives as (material, geometry).
-struct Group {
+/// Keeps only the vertices `indices` use, renumbering `indices` when some are left out.
+fn shared<'a>(all: &'a [DVec3], indices: &mut Cow<'_, [u32]>) -> Shared<'a> {
+    let mut used = vec![false; all.len()];
+    for &v in indices.iter() {
+        used[v as usize] = true;
+    }
+    if used.iter().all(|&u| u) {
+        return Shared { all, keep: None };
+    }
+    let mut remap = vec![u32::MAX; all.len()];
+    let mut keep = Vec::new();
+    for (v, _) in used.iter().enumerate().filter(|(_, u)| **u) {
+        remap[v] = keep.len() as u32;
+        keep.push(v as u32);
+    }
+    for v in indices.to_mut().iter_mut() {
+        *v = remap[*v as usize];
+    }
+    Shared {
+        all,
+        keep: Some(keep),
+    }
+}
+
+/// Part of a primitive's vertex data, with indices counted from its own first vertex.
+enum Chunk<'a> {
+    /// Flat-shaded faces: corners per face, each with the face normal.
+    Flat {
+        positions: Vec<[f32; 3]>,
+        normals: Vec<[f32; 3]>,
+        indices: Vec<u32>,
+    },
+    /// A smooth part's shared vertices with their normals.
+    Smooth {
+        vertices: Shared<'a>,
+        normals: Cow<'a, [DVec3]>,
+        indices: Vec<u32>,
+    },
+    /// A line set's points and segments.
+    Lines {
+        points: Shared<'a>,
+        indices: Cow<'a, [u32]>,
+    },
+}
+
+impl<'a> Chunk<'a> {
+    /// A part's triangles: smooth when it has one normal per vertex, flat otherwise.
+    fn of_part(part: &'a Part) -> Option<Self> {
+        let chunk = if is_smooth(part) {
+            smooth_chunk(part)
+        } else {
+            flat_chunk(&part.mesh)
+        };
+        (chunk.index_count() > 0).then_some(chunk)
+    }
+
+    /// A line set's segments (those [`segment_is_exportable`] keeps).
+    fn of_lines(lines: &'a Lines) -> Option<Self> {
+        let drawn = |s: &[u32; 2]| segment_is_exportable(&lines.points, *s);
+        let mut indices: Cow<'_, [u32]> = if lines.segments.iter().all(drawn) {
+            Cow::Borrowed(lines.segments.as_flattened())
+        } else {
+            Cow::Owned(
+                lines
+                    .segments
+                    .iter()
+                    .filter(|s| drawn(s))
+                    .flatten()
+                    .copied()
+                    .collect(),
+            )
+        };
+        if indices.is_empty() {
+            return None;
+        }
+        let points = shared(&lines.points, &mut indices);
+        Some(Self::Lines { points, indices })
+    }
+
+    fn vertex_count(&self) -> usize {
+        match self {
+            Self::Flat { positions, .. } => positions.len(),
+            Self::Smooth { vertices, .. } => vertices.len(),
+            Self::Lines { points, .. } => points.len(),
+        }
+    }
+
+    fn indices(&self) -> &[u32] {
+        match self {
+            Self::Flat { indices, .. } | Self::Smooth { indices, .. } => indices,
+            Self::Lines { indices, .. } => indices,
+        }
+    }
+
+    fn index_count(&self) -> usize {
+        self.indices().len()
+    }
+
+    /// Calls `visit` with every f32 position, in vertex order.
+    fn positions(&self, mut visit: impl FnMut([f32; 3])) {
+        match self {
+            Self::Flat { positions, .. } => positions.iter().copied().for_each(visit),
+            Self::Smooth {
+                vertices: shared, ..
+            }
+            | Self::Lines { points: shared, .. } => {
+                shared.each(|v| visit(shared.all[v].as_vec3().to_array()))
+            }
+        }
+    }
+
+    /// Calls `visit` with every f32 unit normal, in vertex order (none for lines).
+    fn normals(&self, mut visit: impl FnMut([f32; 3])) {
+        match self {
+            Self::Flat { normals, .. } => normals.iter().copied().for_each(visit),
+            Self::Smooth {
+                vertices, normals, ..
+            } => vertices.each(|v| visit(unit(normals[v]))),
+            Self::Lines { .. } => {}
+        }
+    }
+}
+
+/// A mesh's faces with vertices of their own, as flat shading needs.
+fn flat_chunk(mesh: &Mesh) -> Chunk<'static> {
+    let (mut positions, mut normals, mut indices) = (Vec::new(), Vec::new(), Vec::new());
+    flat_faces(mesh, |face| {
+        let base = positions.len() as u32;
+        positions.extend_from_slice(face.corners);
+        normals.extend(std::iter::repeat_n(face.normal, face.corners.len()));
+        indices.extend(face.triangles.iter().flatten().map(|&c| base + c));
+    });
+    Chunk::Flat {
+        positions,
+        normals,
+        indices,
+    }
+}
+
+/// A smooth part's faces over its shared vertices (see [`usable_normals`]).
+fn smooth_chunk(part: &Part) -> Chunk<'_> {
+    let mesh = &part.mesh;
+    let mut splitter = FaceSplitter::default();
+    let mut fan = Vec::new();
+    // Every corner beyond the first two of a face adds a triangle.
+    let mut indices =
+        Vec::with_capacity(3 * mesh.indices_len().saturating_sub(2 * mesh.face_count()));
+    for i in 0..mesh.face_count() {
+        fan.clear();
+        if splitter.split(mesh, i, &mut fan).is_none() || fan.is_empty() {
+            continue;
+        }
+        let face = mesh.face(i);
+        indices.extend(fan.iter().flatten().map(|&c| face[c as usize]));
+    }
+    let normals = usable_normals(part);
+    let mut indices = Cow::Owned(indices);
+    let vertices = shared(mesh.positions(), &mut indices);
+    Chunk::Smooth {
+        vertices,
+        normals,
+        indices: indices.into_owned(),
+    }
+}
+
+/// One glTF primitive to be: its material, its mode and the chunks whose data it concatenates.
+struct Primitive<'a> {
+    material: usize,
+    lines: bool,
+    chunks: Vec<Chunk<'a>>,
+}
+
+impl Primitive<'_> {
+    fn vertex_count(&self) -> usize {
+        self.chunks.iter().map(Chunk::vertex_count).sum()
+    }
+
+    fn index_count(&self) -> usize {
+        self.chunks.iter().map(Chunk::index_count).sum()
+    }
+
+    /// Whether indices need u32: the largest u16 is reserved (primitive restart), hence `>=`.
+    fn wide(&self) -> bool {
+        self.vertex_count() >= usize::from(u16::MAX)
+    }
+
+    /// Component-wise min and max of the f32 positions exactly as written (the spec requires
+    /// them on POSITION and validators compare them bit for bit).
+    fn bounds(&self) -> ([f32; 3], [f32; 3]) {
+        let mut min = [f32::INFINITY; 3];
+        let mut max = [f32::NEG_INFINITY; 3];
+        for chunk in &self.chunks {
+            chunk.positions(|p| {
+                for k in 0..3 {
+                    min[k] = min[k].min(p[k]);
+                    max[k] = max[k].max(p[k]);
+                }
+            });
+        }
+        (min, max)
+    }
+}
+
+/// A glTF mesh to be: node/mesh name and its primitives.
+struct Group<'a> {
     name: String,
-    primitives: Vec<(usize, Geometry)>,
+    primitives: Vec<Primitive<'a>>,
 }
 
 /// The model as GLB bytes; see the module docs for the layout.
+///
+/// # Panics
+/// If the file would pass the 4 GiB that GLB lengths can express.
 pub fn write_glb(model: &Model, options: &ExportOptions) -> Vec<u8> {
-    let mut palette = Palette::default();
-    let mut groups: Vec<Group> = Vec::new();
-    // Material index -> primitive slot in the single merged group.
-    let mut merged: BTreeMap<usize, usize> = BTreeMap::new();
-    for part in &model.parts {
-        let mut geometry = Geometry::default();
-        geometry.add_mesh(&part.mesh);
-        if geometry.indices.is_empty() {
-            continue;
-        }
-        let material = palette.material(part.color);
-        if options.group_by_part {
-            groups.push(Group {
-                name: part.name.clone(),
-                primitives: vec![(material, geometry)],
+    let plan = Plan::new(model, options);
+    let mut out = Vec::with_capacity(plan.len());
+    if let Err(e) = plan.write(&mut out) {
+        panic!("{e}");
+    }
+    out
+}
+
+/// Writes the model as GLB to `out` without building the file in memory (see [`write_glb`]).
+/// Wrap files in a `BufWriter`: the data goes out in pieces of a dozen bytes. A file over the
+/// 4 GiB that GLB lengths can express is an `InvalidInput` error, found before anything is
+/// written.
+pub fn write_glb_to(
+    model: &Model,
+    options: &ExportOptions,
+    out: &mut impl Write,
+) -> io::Result<()> {
+    Plan::new(model, options).write(out)
+}
+
+/// The file laid out: the JSON chunk and the primitives whose data fill the BIN chunk.
+struct Plan<'a> {
+    json: Vec<u8>,
+    groups: Vec<Group<'a>>,
+    bin_len: usize,
+}
+
+impl<'a> Plan<'a> {
+    fn new(model: &'a Model, options: &ExportOptions) -> Self {
+        let mut palette = Palette::default();
+        let chunks = model
+            .parts
+            .iter()
+            .filter_map(|part| Some((&part.name, part.color, false, Chunk::of_part(part)?)));
+        let line_chunks = model
+            .lines
+            .iter()
+            .filter_map(|lines| Some((&lines.name, lines.color, true, Chunk::of_lines(lines)?)));
+        let mut groups: Vec<Group<'a>> = Vec::new();
+        // (material, lines) -> primitive slot in the single merged group; triangles and lines of
+        // one colour stay apart since a primitive has one mode.
+        let mut merged: BTreeMap<(usize, bool), usize> = BTreeMap::new();
+        for (name, color, lines, chunk) in chunks.chain(line_chunks) {
+            let material = palette.material(color);
+            if options.group_by_part {
+                groups.push(Group {
+                    name: name.clone(),
+                    primitives: vec![Primitive {
+                        material,
+                        lines,
+                        chunks: vec![chunk],
+                    }],
+                });
+                continue;
+            }
+            if groups.is_empty() {
+                groups.push(Group {
+                    name: "model".to_owned(),
+                    primitives: Vec::new(),
+                });
+            }
+            let primitives = &mut groups[0].primitives;
+            let slot = *merged.entry((material, lines)).or_insert_with(|| {
+                primitives.push(Primitive {
+                    material,
+                    lines,
+                    chunks: Vec::new(),
+                });
+                primitives.len() - 1
             });
-            continue;
+            primitives[slot].chunks.push(chunk);
         }
-        if groups.is_empty() {
-            groups.push(Group {
-                name: "model".to_owned(),
-                primitives: Vec::new(),
-            });
+        let (json, bin_len) = document(&palette, &groups);
+        Self {
+            json,
+            groups,
+            bin_len,
         }
-        let primitives = &mut groups[0].primitives;
-        let slot = *merged.entry(material).or_insert_with(|| {
-            primitives.push((material, Geometry::default()));
-            primitives.len() - 1
-        });
-        let target = &mut primitives[slot].1;
-        if target.indices.is_empty() {
-            // The first part of a colour: its lists become the primitive's, uncopied.
-            *target = geometry;
-            continue;
-        }
-        let base = target.positions.len() as u32;
-        target.positions.extend(geometry.positions);
-        target.normals.extend(geometry.normals);
-        target
-            .indices
-            .extend(geometry.indices.iter().map(|i| base + i));
     }
 
+    /// The size of the file in bytes.
+    fn len(&self) -> usize {
+        let bin_chunk = if self.bin_len == 0 {
+            0
+        } else {
+            8 + self.bin_len
+        };
+        12 + 8 + self.json.len() + bin_chunk
+    }
+
+    fn write(&self, out: &mut impl Write) -> io::Result<()> {
+        if u32::try_from(self.len()).is_err() {
+            return Err(io::Error::new(
+                io::ErrorKind::InvalidInput,
+                format!(
+                    "the GLB file would have {} bytes, over the 4 GiB the format allows",
+                    self.len()
+                ),
+            ));
+        }
+        let word = |v: usize| (v as u32).to_le_bytes();
+        out.write_all(MAGIC)?;
+        out.write_all(&2u32.to_le_bytes())?;
+        out.write_all(&word(self.len()))?;
+        out.write_all(&word(self.json.len()))?;
+        out.write_all(&CHUNK_JSON.to_le_bytes())?;
+        out.write_all(&self.json)?;
+        if self.bin_len == 0 {
+            return Ok(());
+        }
+        out.write_all(&word(self.bin_len))?;
+        out.write_all(&CHUNK_BIN.to_le_bytes())?;
+        let mut result = Ok(());
+        // Collects the first error of the per-element writes, which cannot return early.
+        let mut put = |bytes: &[u8]| {
+            if result.is_ok() {
+                result = out.write_all(bytes);
+            }
+        };
+        let vec3 = |v: [f32; 3]| {
+            let mut bytes = [0u8; 12];
+            for (slot, x) in bytes.chunks_exact_mut(4).zip(v) {
+                slot.copy_from_slice(&x.to_le_bytes());
+            }
+            bytes
+        };
+        for primitive in self.groups.iter().flat_map(|g| &g.primitives) {
+            for chunk in &primitive.chunks {
+                chunk.positions(|p| put(&vec3(p)));
+            }
+            if !primitive.lines {
+                for chunk in &primitive.chunks {
+                    chunk.normals(|n| put(&vec3(n)));
+                }
+            }
+            let wide = primitive.wide();
+            let mut base = 0u32;
+            for chunk in &primitive.chunks {
+                for &i in chunk.indices() {
+                    if wide {
+                        put(&(base + i).to_le_bytes());
+                    } else {
+                        put(&((base + i) as u16).to_le_bytes());
+                    }
+                }
+                base += chunk.vertex_count() as u32;
+            }
+            if !wide && primitive.index_count() % 2 == 1 {
+                put(&[0, 0]);
+            }
+        }
+        result
+    }
+}
+
+/// The JSON chunk (padded with spaces to 4 bytes) and the length of the BIN chunk.
+fn document(palette: &Palette, groups: &[Group<'_>]) -> (Vec<u8>, usize) {
     let mut builder = Builder::default();
-    // The root goes first so that it is node 0; its children are filled in by `finish`.
+    // The root goes first so that it is node 0; its children are filled in below.
     builder.root.push(json::Node {
         name: Some("shapegram".to_owned()),
         ..Default::default()
@@ -103,11 +432,11 @@ pub fn write_glb(model: &Model, options: &ExportOptions) -> Vec<u8> {
             .push(material(Color { r, g, b, a }.to_linear(), name));
     }
     let mut children = Vec::new();
-    for group in &groups {
+    for group in groups {
         let primitives = group
             .primitives
             .iter()
-            .map(|(material, geometry)| builder.primitive(*material, geometry))
+            .map(|primitive| builder.primitive(primitive))
             .collect();
         let mesh = builder.root.push(json::Mesh {
             extensions: None,
@@ -145,81 +474,78 @@ fn material(rgba: [f32; 4], name: String) -> json::Material {
     }
 }
 
-/// The JSON document and the BIN chunk being filled.
+/// The JSON document being filled and the length of the BIN chunk so far.
 #[derive(Default)]
 struct Builder {
     root: json::Root,
-    bin: Vec<u8>,
+    bin_len: usize,
 }
 
 impl Builder {
-    fn primitive(&mut self, material: usize, geometry: &Geometry) -> json::mesh::Primitive {
-        let (min, max) = bounds(&geometry.positions);
+    /// The primitive's accessors, in the order [`Plan::write`] writes their data.
+    fn primitive(&mut self, primitive: &Primitive<'_>) -> json::mesh::Primitive {
+        use json::accessor::{ComponentType, Type};
+        use json::buffer::Target;
+        let vertices = primitive.vertex_count();
+        let (min, max) = primitive.bounds();
         let positions = self.accessor(
-            &geometry.positions,
-            json::buffer::Target::ArrayBuffer,
-            json::accessor::ComponentType::F32,
-            json::accessor::Type::Vec3,
+            vertices,
+            12,
+            Target::ArrayBuffer,
+            (ComponentType::F32, Type::Vec3),
             Some((min.to_vec().into(), max.to_vec().into())),
         );
-        let normals = self.accessor(
-            &geometry.normals,
-            json::buffer::Target::ArrayBuffer,
-            json::accessor::ComponentType::F32,
-            json::accessor::Type::Vec3,
+        let mut attributes = BTreeMap::from([(Valid(json::mesh::Semantic::Positions), positions)]);
+        if !primitive.lines {
+            let normals = self.accessor(
+                vertices,
+                12,
+                Target::ArrayBuffer,
+                (ComponentType::F32, Type::Vec3),
+                None,
+            );
+            attributes.insert(Valid(json::mesh::Semantic::Normals), normals);
+        }
+        let (size, component) = if primitive.wide() {
+            (4, ComponentType::U32)
+        } else {
+            (2, ComponentType::U16)
+        };
+        let indices = self.accessor(
+            primitive.index_count(),
+            size,
+            Target::ElementArrayBuffer,
+            (component, Type::Scalar),
             None,
         );
-        // The largest value of the index type is reserved (primitive restart), hence `<`.
-        let indices = if geometry.positions.len() < usize::from(u16::MAX) {
-            let small: Vec<u16> = geometry.indices.iter().map(|&i| i as u16).collect();
-            self.accessor(
-                &small,
-                json::buffer::Target::ElementArrayBuffer,
-                json::accessor::ComponentType::U16,
-                json::accessor::Type::Scalar,
-                None,
-            )
-        } else {
-            self.accessor(
-                &geometry.indices,
-                json::buffer::Target::ElementArrayBuffer,
-                json::accessor::ComponentType::U32,
-                json::accessor::Type::Scalar,
-                None,
-            )
-        };
         json::mesh::Primitive {
-            attributes: BTreeMap::from([
-                (Valid(json::mesh::Semantic::Positions), positions),
-                (Valid(json::mesh::Semantic::Normals), normals),
-            ]),
+            attributes,
             extensions: None,
             extras: Default::default(),
             indices: Some(indices),
-            material: Some(json::Index::new(material as u32)),
-            mode: Valid(json::mesh::Mode::Triangles),
+            material: Some(json::Index::new(primitive.material as u32)),
+            mode: Valid(if primitive.lines {
+                json::mesh::Mode::Lines
+            } else {
+                json::mesh::Mode::Triangles
+            }),
             targets: None,
         }
     }
 
-    /// Appends the elements as a buffer view of their own and returns an accessor over it.
-    fn accessor<T: Element>(
+    /// A buffer view of its own for `count` elements of `size` bytes, and an accessor over it.
+    fn accessor(
         &mut self,
-        elements: &[T],
+        count: usize,
+        size: usize,
         target: json::buffer::Target,
-        component: json::accessor::ComponentType,
-        kind: json::accessor::Type,
+        (component, kind): (json::accessor::ComponentType, json::accessor::Type),
         min_max: Option<(serde_json::Value, serde_json::Value)>,
     ) -> json::Index<json::Accessor> {
-        let offset = self.bin.len();
-        // Reserved up front: large models would otherwise copy the buffer as it grows.
-        self.bin.reserve(std::mem::size_of_val(elements) + 3);
-        for element in elements {
-            element.write_le(&mut self.bin);
-        }
-        let length = self.bin.len() - offset;
+        let offset = self.bin_len;
+        let length = count * size;
         // Every view starts on a 4-byte boundary, as f32 and u32 accessors require.
-        self.bin.resize(self.bin.len().next_multiple_of(4), 0);
+        self.bin_len = (offset + length).next_multiple_of(4);
         let view = self.root.push(json::buffer::View {
             buffer: json::Index::new(0),
             byte_length: USize64::from(length),
@@ -234,7 +560,7 @@ impl Builder {
         self.root.push(json::Accessor {
             buffer_view: Some(view),
             byte_offset: None,
-            count: USize64::from(elements.len()),
+            count: USize64::from(count),
             component_type: Valid(json::accessor::GenericComponentType(component)),
             extensions: None,
             extras: Default::default(),
@@ -247,8 +573,9 @@ impl Builder {
         })
     }
 
-    /// Adds the root node, scene and buffer, and frames JSON and BIN as GLB.
-    fn finish(mut self, children: Vec<json::Index<json::Node>>) -> Vec<u8> {
+    /// Adds the root's children, the scene and the buffer; returns the padded JSON text and the
+    /// BIN chunk's length.
+    fn finish(mut self, children: Vec<json::Index<json::Node>>) -> (Vec<u8>, usize) {
         self.root.nodes[0].children = (!children.is_empty()).then_some(children);
         let scene = self.root.push(json::Scene {
             extensions: None,
@@ -258,9 +585,9 @@ impl Builder {
         });
         self.root.scene = Some(scene);
         self.root.asset.generator = Some(format!("shapegram {}", env!("CARGO_PKG_VERSION")));
-        if !self.bin.is_empty() {
+        if self.bin_len > 0 {
             self.root.push(json::Buffer {
-                byte_length: USize64::from(self.bin.len()),
+                byte_length: USize64::from(self.bin_len),
                 extensions: None,
                 extras: Default::default(),
                 name: None,
@@ -270,64 +597,6 @@ impl Builder {
         let mut text = serde_json::to_vec(&self.root)
             .expect("gltf-json types always serialise (no maps with non-string keys)");
         text.resize(text.len().next_multiple_of(4), b' ');
-
-        let bin_chunk = if self.bin.is_empty() {
-            0
-        } else {
-            8 + self.bin.len()
-        };
-        let total = 12 + 8 + text.len() + bin_chunk;
-        let mut out = Vec::with_capacity(total);
-        out.extend_from_slice(MAGIC);
-        out.extend_from_slice(&2u32.to_le_bytes());
-        out.extend_from_slice(&(total as u32).to_le_bytes());
-        out.extend_from_slice(&(text.len() as u32).to_le_bytes());
-        out.extend_from_slice(&CHUNK_JSON.to_le_bytes());
-        out.extend_from_slice(&text);
-        if !self.bin.is_empty() {
-            out.extend_from_slice(&(self.bin.len() as u32).to_le_bytes());
-            out.extend_from_slice(&CHUNK_BIN.to_le_bytes());
-            out.extend_from_slice(&self.bin);
-        }
-        out
-    }
-}
-
-/// Component-wise min and max of the f32 positions exactly as written (the spec requires them
-/// on POSITION and validators compare them bit for bit).
-fn bounds(positions: &[[f32; 3]]) -> ([f32; 3], [f32; 3]) {
-    let mut min = [f32::INFINITY; 3];
-    let mut max = [f32::NEG_INFINITY; 3];
-    for p in positions {
-        for k in 0..3 {
-            min[k] = min[k].min(p[k]);
-            max[k] = max[k].max(p[k]);
-        }
-    }
-    (min, max)
-}
-
-/// Values that go into the BIN chunk, little-endian as glTF requires.
-trait Element {
-    fn write_le(&self, out: &mut Vec<u8>);
-}
-
-impl Element for [f32; 3] {
-    fn write_le(&self, out: &mut Vec<u8>) {
-        for v in self {
-            out.extend_from_slice(&v.to_le_bytes());
-        }
-    }
-}
-
-impl Element for u16 {
-    fn write_le(&self, out: &mut Vec<u8>) {
-        out.extend_from_slice(&self.to_le_bytes());
-    }
-}
-
-impl Element for u32 {
-    fn write_le(&self, out: &mut Vec<u8>) {
-        out.extend_from_slice(&self.to_le_bytes());
+        (text, self.bin_len)
     }
 }

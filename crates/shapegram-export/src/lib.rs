@@ -5,7 +5,10 @@
 //! first part that uses their colour, nothing depends on hash order, floats are printed with
 //! Rust's shortest round-trip formatting). Every writer drops faces without area or with
 //! non-finite corners, and GLB/STL also drop triangles that lose their area in f32; parts left
-//! without faces are not written.
+//! without faces are not written. Parts with one normal per vertex are written smooth (shared
+//! vertices with their normals) to GLB and OBJ; line sets become GLB LINES primitives and OBJ
+//! `l` elements (STL holds triangles only and leaves them out). Segments between points that
+//! are not finite or coincide in f32 are dropped, as are points no segment uses.
 //!
 //! Readers treat their input as untrusted and return [`Error`] rather than panic.
 
@@ -17,15 +20,17 @@ mod read;
 mod stl;
 mod svg;
 
+use std::fs::File;
+use std::io::{BufWriter, Write};
 use std::path::Path;
 
 use shapegram_geom::Model;
 
 pub use error::Error;
-pub use glb::write_glb;
-pub use obj::write_obj;
+pub use glb::{write_glb, write_glb_to};
+pub use obj::{write_obj, write_obj_to};
 pub use read::{read_glb, read_obj, read_stl};
-pub use stl::write_stl;
+pub use stl::{write_stl, write_stl_to};
 pub use svg::{SvgDrawing, SvgPolygon, SvgPolyline, write_svg};
 
 /// A file format, chosen by file extension.
@@ -82,28 +87,41 @@ pub struct ExportOptions {
 }
 
 /// Writes to `path` in the format of its extension; OBJ also writes the .mtl beside it (same
-/// stem). Parent directories must exist.
+/// stem). Parent directories must exist. Files are streamed through a buffer rather than built
+/// in memory first. STL holds triangles only: line sets are left out.
 pub fn save(model: &Model, path: &Path, options: &ExportOptions) -> Result<(), Error> {
-    let write = |file: &Path, bytes: &[u8]| {
-        std::fs::write(file, bytes).map_err(|source| Error::Write {
-            path: file.to_path_buf(),
-            source,
-        })
+    let failed = |file: &Path| {
+        let file = file.to_path_buf();
+        move |source| Error::Write { path: file, source }
     };
     match Format::from_path(path)? {
-        Format::Glb => write(path, &write_glb(model, options)),
-        Format::Stl => write(path, &write_stl(model)),
+        Format::Glb => stream(path, |out| write_glb_to(model, options, out)).map_err(failed(path)),
+        Format::Stl => stream(path, |out| write_stl_to(model, out)).map_err(failed(path)),
         Format::Obj => {
             let mtl_path = path.with_extension("mtl");
             let mtl_name = mtl_path
                 .file_name()
                 .map(|n| n.to_string_lossy().into_owned())
                 .unwrap_or_default();
-            let (obj, mtl) = write_obj(model, options, &mtl_name);
-            write(path, obj.as_bytes())?;
-            write(&mtl_path, mtl.as_bytes())
+            let mut mtl = String::new();
+            stream(path, |out| {
+                mtl = write_obj_to(model, options, &mtl_name, out)?;
+                Ok(())
+            })
+            .map_err(failed(path))?;
+            std::fs::write(&mtl_path, mtl).map_err(failed(&mtl_path))
         }
     }
+}
+
+/// Creates `path` and hands `write` a buffered writer on it, flushing at the end.
+fn stream(
+    path: &Path,
+    write: impl FnOnce(&mut BufWriter<File>) -> std::io::Result<()>,
+) -> std::io::Result<()> {
+    let mut out = BufWriter::with_capacity(1 << 20, File::create(path)?);
+    write(&mut out)?;
+    out.flush()
 }
 
 /// Reads a file by extension; for OBJ, an MTL named by `mtllib` beside it gives the colours

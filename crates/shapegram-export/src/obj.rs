@@ -1,26 +1,43 @@
 //! Wavefront OBJ + MTL writer.
 //!
-//! Faces stay polygons (`f a//n b//n c//n d//n`), one `vn` per face. Numbers are written with
-//! Rust's `{}` formatting: the shortest decimal that reads back as the same f64 (f32 for colours),
-//! never in exponent notation, so files are exact, deterministic and readable by every parser.
+//! Faces stay polygons. A flat part writes one `vn` per face (`f a//n b//n c//n`); a smooth
+//! part one `vn` per vertex, in the order of its `v` lines (`f a//a' b//b' c//c'`). A line set
+//! writes its points and one `l a b` per segment, in an object of its own. Numbers are written
+//! with Rust's `{}` formatting: the shortest decimal that reads back as the same f64 (f32 for
+//! colours), never in exponent notation, so files are exact, deterministic and readable by every
+//! parser.
 
-use std::fmt::Write;
+use std::borrow::Cow;
+use std::fmt::Write as _;
+use std::io::{self, Write};
 
-use shapegram_geom::{Mesh, Model};
+use shapegram_geom::{DVec3, Mesh, Model};
 
 use crate::ExportOptions;
-use crate::flat::{Palette, face_is_exportable, sanitized_name};
+use crate::flat::{
+    Palette, face_is_exportable, is_smooth, sanitized_name, segment_is_exportable, usable_normals,
+};
 
-/// Faces of one part that go into the file.
-struct Piece<'a> {
-    mesh: &'a Mesh,
-    faces: Vec<usize>,
+/// What one part or line set puts into an object.
+enum Piece<'a> {
+    /// Faces of a part, with one normal per vertex when `normals` is given.
+    Faces {
+        mesh: &'a Mesh,
+        faces: Vec<usize>,
+        normals: Option<Cow<'a, [DVec3]>>,
+    },
+    /// Segments of a line set.
+    Segments {
+        points: &'a [DVec3],
+        segments: Vec<[u32; 2]>,
+    },
 }
 
-/// One `o` block: name, material index and the parts it holds.
+/// One `o` block: name, material index, whether it holds lines, and its pieces.
 struct Object<'a> {
     name: String,
     material: usize,
+    lines: bool,
     pieces: Vec<Piece<'a>>,
 }
 
@@ -31,30 +48,70 @@ fn num(x: f64) -> f64 {
 
 /// OBJ text that references `mtl_file_name` via `mtllib`, and the MTL text.
 pub fn write_obj(model: &Model, options: &ExportOptions, mtl_file_name: &str) -> (String, String) {
+    let mut obj = Vec::new();
+    let mtl = write_obj_to(model, options, mtl_file_name, &mut obj)
+        .expect("writing to a Vec cannot fail");
+    let obj = String::from_utf8(obj).expect("OBJ text is built from strings");
+    (obj, mtl)
+}
+
+/// Writes the OBJ text to `out` (wrap files in a `BufWriter`) and returns the MTL text; see
+/// [`write_obj`].
+pub fn write_obj_to(
+    model: &Model,
+    options: &ExportOptions,
+    mtl_file_name: &str,
+    out: &mut impl Write,
+) -> io::Result<String> {
     let mut palette = Palette::default();
     let mut objects: Vec<Object<'_>> = Vec::new();
-    for part in &model.parts {
+    let parts = model.parts.iter().map(|part| {
         let faces: Vec<usize> = (0..part.mesh.face_count())
             .filter(|&i| face_is_exportable(&part.mesh, i))
             .collect();
-        if faces.is_empty() {
-            continue;
-        }
-        let material = palette.material(part.color);
-        let piece = Piece {
+        let normals = is_smooth(part).then(|| usable_normals(part));
+        let piece = Piece::Faces {
             mesh: &part.mesh,
             faces,
+            normals,
         };
+        (&part.name, part.color, false, piece)
+    });
+    let lines = model.lines.iter().map(|lines| {
+        let segments: Vec<[u32; 2]> = lines
+            .segments
+            .iter()
+            .copied()
+            .filter(|&s| segment_is_exportable(&lines.points, s))
+            .collect();
+        let piece = Piece::Segments {
+            points: &lines.points,
+            segments,
+        };
+        (&lines.name, lines.color, true, piece)
+    });
+    for (name, color, lines, piece) in parts.chain(lines) {
+        let empty = match &piece {
+            Piece::Faces { faces, .. } => faces.is_empty(),
+            Piece::Segments { segments, .. } => segments.is_empty(),
+        };
+        if empty {
+            continue;
+        }
+        let material = palette.material(color);
         let existing = if options.group_by_part {
             None
         } else {
-            objects.iter_mut().find(|o| o.material == material)
+            objects
+                .iter_mut()
+                .find(|o| o.material == material && o.lines == lines)
         };
         match existing {
             Some(object) => object.pieces.push(piece),
             None => objects.push(Object {
-                name: sanitized_name(&part.name),
+                name: sanitized_name(name),
                 material,
+                lines,
                 pieces: vec![piece],
             }),
         }
@@ -63,57 +120,29 @@ pub fn write_obj(model: &Model, options: &ExportOptions, mtl_file_name: &str) ->
     if !options.group_by_part {
         for object in &mut objects {
             object.name.clone_from(&material_names[object.material]);
+            if object.lines {
+                object.name.push_str("_lines");
+            }
         }
     }
 
-    let mut obj = String::new();
-    let mut line = |text: std::fmt::Arguments<'_>| {
-        obj.write_fmt(text)
-            .expect("writing to a String cannot fail");
-        obj.push('\n');
-    };
-    line(format_args!("# shapegram {}", env!("CARGO_PKG_VERSION")));
-    line(format_args!("mtllib {mtl_file_name}"));
-    // OBJ indices are global and 1-based.
-    let (mut vertex_base, mut normal_base) = (1usize, 1usize);
-    let mut remap = Vec::new();
+    writeln!(out, "# shapegram {}", env!("CARGO_PKG_VERSION"))?;
+    writeln!(out, "mtllib {mtl_file_name}")?;
+    let mut numbering = Numbering::default();
     for object in &objects {
-        line(format_args!("o {}", object.name));
-        line(format_args!("usemtl {}", material_names[object.material]));
+        writeln!(out, "o {}", object.name)?;
+        writeln!(out, "usemtl {}", material_names[object.material])?;
         for piece in &object.pieces {
-            let mesh = piece.mesh;
-            // Only vertices that kept faces use, in mesh order.
-            remap.clear();
-            remap.resize(mesh.vertex_count(), usize::MAX);
-            for &f in &piece.faces {
-                for &v in mesh.face(f) {
-                    remap[v as usize] = 0;
+            match piece {
+                Piece::Faces {
+                    mesh,
+                    faces,
+                    normals,
+                } => numbering.write_faces(out, mesh, faces, normals.as_deref())?,
+                Piece::Segments { points, segments } => {
+                    numbering.write_segments(out, points, segments)?
                 }
             }
-            let mut next = vertex_base;
-            for (v, slot) in remap.iter_mut().enumerate() {
-                if *slot == 0 {
-                    *slot = next;
-                    next += 1;
-                    let p = mesh.position(v as u32);
-                    line(format_args!("v {} {} {}", num(p.x), num(p.y), num(p.z)));
-                }
-            }
-            vertex_base = next;
-            for &f in &piece.faces {
-                let n = mesh.face_normal(f);
-                line(format_args!("vn {} {} {}", num(n.x), num(n.y), num(n.z)));
-            }
-            for (k, &f) in piece.faces.iter().enumerate() {
-                let normal = normal_base + k;
-                let mut face = String::from("f");
-                for &v in mesh.face(f) {
-                    write!(face, " {}//{normal}", remap[v as usize])
-                        .expect("writing to a String cannot fail");
-                }
-                line(format_args!("{face}"));
-            }
-            normal_base += piece.faces.len();
         }
     }
 
@@ -121,5 +150,114 @@ pub fn write_obj(model: &Model, options: &ExportOptions, mtl_file_name: &str) ->
     for (name, [r, g, b, a]) in material_names.iter().zip(palette.colors()) {
         mtl.push_str(&format!("\nnewmtl {name}\nKd {r} {g} {b}\nd {a}\n"));
     }
-    (obj, mtl)
+    Ok(mtl)
+}
+
+/// The file's running vertex and normal numbers (OBJ indices are global and 1-based) and the
+/// renumbering of the piece at hand.
+struct Numbering {
+    next_vertex: usize,
+    next_normal: usize,
+    remap: Vec<usize>,
+}
+
+impl Default for Numbering {
+    fn default() -> Self {
+        Self {
+            next_vertex: 1,
+            next_normal: 1,
+            remap: Vec::new(),
+        }
+    }
+}
+
+impl Numbering {
+    /// Writes the used vertices of `positions` (those `corners` lists) in their order and
+    /// numbers them; returns the number of the first.
+    fn write_vertices(
+        &mut self,
+        out: &mut impl Write,
+        positions: &[DVec3],
+        corners: impl Iterator<Item = u32>,
+    ) -> io::Result<usize> {
+        self.remap.clear();
+        self.remap.resize(positions.len(), usize::MAX);
+        for v in corners {
+            self.remap[v as usize] = 0;
+        }
+        let first = self.next_vertex;
+        for (slot, p) in self.remap.iter_mut().zip(positions) {
+            if *slot == 0 {
+                *slot = self.next_vertex;
+                self.next_vertex += 1;
+                writeln!(out, "v {} {} {}", num(p.x), num(p.y), num(p.z))?;
+            }
+        }
+        Ok(first)
+    }
+
+    fn write_faces(
+        &mut self,
+        out: &mut impl Write,
+        mesh: &Mesh,
+        faces: &[usize],
+        normals: Option<&[DVec3]>,
+    ) -> io::Result<()> {
+        let corners = faces.iter().flat_map(|&f| mesh.face(f).iter().copied());
+        let first = self.write_vertices(out, mesh.positions(), corners)?;
+        let mut unit = |n: DVec3| -> io::Result<()> {
+            let n = n / n.length();
+            writeln!(out, "vn {} {} {}", num(n.x), num(n.y), num(n.z))
+        };
+        match normals {
+            Some(normals) => {
+                for (slot, &n) in self.remap.iter().zip(normals) {
+                    if *slot != usize::MAX {
+                        unit(n)?;
+                    }
+                }
+            }
+            None => {
+                for &f in faces {
+                    unit(mesh.face_normal(f))?;
+                }
+            }
+        }
+        let mut line = String::new();
+        for (k, &f) in faces.iter().enumerate() {
+            line.clear();
+            line.push('f');
+            for &v in mesh.face(f) {
+                let vertex = self.remap[v as usize];
+                let normal = match normals {
+                    Some(_) => self.next_normal + (vertex - first),
+                    None => self.next_normal + k,
+                };
+                write!(line, " {vertex}//{normal}").expect("writing to a String cannot fail");
+            }
+            writeln!(out, "{line}")?;
+        }
+        self.next_normal += match normals {
+            Some(_) => self.next_vertex - first,
+            None => faces.len(),
+        };
+        Ok(())
+    }
+
+    fn write_segments(
+        &mut self,
+        out: &mut impl Write,
+        points: &[DVec3],
+        segments: &[[u32; 2]],
+    ) -> io::Result<()> {
+        self.write_vertices(out, points, segments.iter().flatten().copied())?;
+        for &[a, b] in segments {
+            writeln!(
+                out,
+                "l {} {}",
+                self.remap[a as usize], self.remap[b as usize]
+            )?;
+        }
+        Ok(())
+    }
 }

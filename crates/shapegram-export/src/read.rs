@@ -2,7 +2,10 @@
 //!
 //! Meshes come back with the vertices as the file stores them (GLB and STL: one per corner or
 //! per flat-shaded face); weld with [`Mesh::welded`] to recover connectivity. Parts without faces
-//! are dropped, as the writers drop them.
+//! are dropped, as the writers drop them. A part comes back smooth (with `normals`) when every
+//! vertex has one normal and some vertex is shared by faces that are not coplanar, which
+//! flat-shaded data never does. Line primitives (GLB) and `l` elements (OBJ) come back as line
+//! sets.
 
 use std::borrow::Cow;
 use std::io::Cursor;
@@ -10,14 +13,15 @@ use std::path::Path;
 
 use gltf::accessor::{DataType, Dimensions};
 use gltf::mesh::Mode;
-use shapegram_geom::{Color, DAffine3, DVec3, Mesh, Model, Part};
+use shapegram_geom::{Color, DAffine3, DVec3, Lines, Mesh, Model, Part};
 
 use crate::glb::{CHUNK_BIN, CHUNK_JSON, MAGIC};
 use crate::{Error, Format};
 
 /// Reads a GLB file (binary glTF 2.0): triangle primitives of the default scene, in world
-/// coordinates, one part per primitive named after its node, coloured by `baseColorFactor`.
-/// Points and lines are skipped; strips and fans become triangles.
+/// coordinates, one part per primitive named after its node, coloured by `baseColorFactor`;
+/// line primitives likewise as line sets. Points are skipped; strips and fans become triangles,
+/// line strips and loops segments.
 pub fn read_glb(bytes: &[u8]) -> Result<Model, Error> {
     let broken = |message: String| Error::broken(Format::Glb, message);
     let (json, bin) = split_glb(bytes).map_err(broken)?;
@@ -43,7 +47,7 @@ pub fn read_glb(bytes: &[u8]) -> Result<Model, Error> {
     let document = gltf::Document::from_json(root)
         .map_err(|e| broken(e.to_string().trim_end_matches(';').to_owned()))?;
     let blob = bin.unwrap_or_default();
-    let mut parts = Vec::new();
+    let mut model = Model::default();
     for (node, world) in scene_nodes(&document).map_err(broken)? {
         let Some(mesh) = node.mesh() else {
             continue;
@@ -60,27 +64,40 @@ pub fn read_glb(bytes: &[u8]) -> Result<Model, Error> {
                     primitive.index()
                 ))
             };
-            let Some(mut part_mesh) = read_primitive(&primitive, blob).map_err(context)? else {
-                continue;
-            };
-            part_mesh.transform(&world);
             // glTF colour factors are linear light; our colours are sRGB.
             let factor = primitive
                 .material()
                 .pbr_metallic_roughness()
                 .base_color_factor();
-            push_part(
-                &mut parts,
-                name.clone(),
-                Color::from_linear(factor),
-                part_mesh,
-            );
+            let color = Color::from_linear(factor);
+            match read_primitive(&primitive, blob).map_err(context)? {
+                Read::Triangles(mut part_mesh, mut normals) => {
+                    part_mesh.transform(&world);
+                    transform_normals(&mut normals, &world);
+                    push_part(&mut model.parts, name.clone(), color, part_mesh, normals);
+                }
+                Read::Lines(mut points, segments) => {
+                    for p in &mut points {
+                        *p = world.transform_point3(*p);
+                    }
+                    push_lines(&mut model.lines, name.clone(), color, points, segments);
+                }
+                Read::Nothing => {}
+            }
         }
     }
-    Ok(Model {
-        parts,
-        lines: Vec::new(),
-    })
+    Ok(model)
+}
+
+/// Normals under a node's transform: by the inverse transpose of its linear part, renormalised.
+fn transform_normals(normals: &mut [DVec3], world: &DAffine3) {
+    if *world == DAffine3::IDENTITY {
+        return;
+    }
+    let map = world.matrix3.inverse().transpose();
+    for n in normals {
+        *n = (map * *n).normalize_or_zero();
+    }
 }
 
 /// Splits GLB bytes into the JSON chunk and the optional BIN chunk, checking every length.
@@ -180,13 +197,20 @@ fn scene_nodes(document: &gltf::Document) -> Result<Vec<(gltf::Node<'_>, DAffine
     Ok(out)
 }
 
-/// The triangles of a primitive as a mesh in node space, or `None` for points and lines.
-fn read_primitive(primitive: &gltf::Primitive<'_>, blob: &[u8]) -> Result<Option<Mesh>, String> {
-    if matches!(
-        primitive.mode(),
-        Mode::Points | Mode::Lines | Mode::LineLoop | Mode::LineStrip
-    ) {
-        return Ok(None);
+/// What a primitive holds, in node space.
+enum Read {
+    /// Triangles, with the normals of a smooth primitive (empty for flat data).
+    Triangles(Mesh, Vec<DVec3>),
+    /// Points and segments.
+    Lines(Vec<DVec3>, Vec<[u32; 2]>),
+    /// Points only, which a model does not hold.
+    Nothing,
+}
+
+/// The triangles or segments of a primitive.
+fn read_primitive(primitive: &gltf::Primitive<'_>, blob: &[u8]) -> Result<Read, String> {
+    if primitive.mode() == Mode::Points {
+        return Ok(Read::Nothing);
     }
     let position = primitive
         .get(&gltf::Semantic::Positions)
@@ -202,14 +226,27 @@ fn read_primitive(primitive: &gltf::Primitive<'_>, blob: &[u8]) -> Result<Option
         )
         .map_err(|e| format!("indices: {e}"))?;
     }
+    let normal = primitive.get(&gltf::Semantic::Normals);
+    if let Some(normal) = &normal {
+        check_accessor(normal, blob, &[DataType::F32], Dimensions::Vec3)
+            .map_err(|e| format!("NORMAL: {e}"))?;
+        if normal.count() != position.count() {
+            return Err(format!(
+                "NORMAL has {} elements for {} vertices",
+                normal.count(),
+                position.count()
+            ));
+        }
+    }
     let reader = primitive.reader(|buffer| match buffer.source() {
         gltf::buffer::Source::Bin => Some(blob),
         gltf::buffer::Source::Uri(_) => None,
     });
+    let vector = |v: [f32; 3]| DVec3::from(v.map(f64::from));
     let positions: Vec<DVec3> = reader
         .read_positions()
         .ok_or("POSITION data is unreadable")?
-        .map(|p| DVec3::from(p.map(f64::from)))
+        .map(vector)
         .collect();
     let order: Vec<u32> = match reader.read_indices() {
         Some(indices) => indices.into_u32().collect(),
@@ -223,6 +260,10 @@ fn read_primitive(primitive: &gltf::Primitive<'_>, blob: &[u8]) -> Result<Option
     }
     let n = order.len();
     let triangles: Vec<[u32; 3]> = match primitive.mode() {
+        Mode::Lines | Mode::LineStrip | Mode::LineLoop => {
+            return line_segments(primitive.mode(), &order)
+                .map(|segments| Read::Lines(positions, segments));
+        }
         Mode::TriangleStrip => (2..n)
             .map(|i| {
                 // Every other strip triangle is reversed to keep the winding consistent.
@@ -241,7 +282,68 @@ fn read_primitive(primitive: &gltf::Primitive<'_>, blob: &[u8]) -> Result<Option
             order.chunks_exact(3).map(|t| [t[0], t[1], t[2]]).collect()
         }
     };
-    Ok(Some(Mesh::from_faces(positions, triangles)))
+    let mesh = Mesh::from_faces(positions, triangles);
+    let normals = match reader.read_normals() {
+        Some(normals) if normal.is_some() => smooth_normals(&mesh, normals.map(vector).collect()),
+        _ => Vec::new(),
+    };
+    Ok(Read::Triangles(mesh, normals))
+}
+
+/// The segments of a line, line strip or line loop primitive.
+fn line_segments(mode: Mode, order: &[u32]) -> Result<Vec<[u32; 2]>, String> {
+    let n = order.len();
+    Ok(match mode {
+        Mode::LineStrip => order.windows(2).map(|w| [w[0], w[1]]).collect(),
+        Mode::LineLoop if n >= 2 => order
+            .windows(2)
+            .map(|w| [w[0], w[1]])
+            .chain(std::iter::once([order[n - 1], order[0]]))
+            .collect(),
+        Mode::LineLoop => Vec::new(),
+        _ => {
+            if n % 2 != 0 {
+                return Err(format!("{n} ends is not a whole number of segments"));
+            }
+            order.chunks_exact(2).map(|s| [s[0], s[1]]).collect()
+        }
+    })
+}
+
+/// `normals` (one per vertex) as a part's smooth normals: kept, made unit, when they are all
+/// usable and some vertex is shared by faces that are not coplanar (more than about 0.06°
+/// apart); empty otherwise, since flat-shaded data repeats each face's normal at corners of its
+/// own.
+fn smooth_normals(mesh: &Mesh, normals: Vec<DVec3>) -> Vec<DVec3> {
+    const SAME_PLANE_COS: f64 = 1.0 - 5e-7;
+    if normals.len() != mesh.vertex_count() {
+        return Vec::new();
+    }
+    let mut first = vec![DVec3::ZERO; mesh.vertex_count()];
+    let mut shared = false;
+    'faces: for i in 0..mesh.face_count() {
+        let n = mesh.face_normal(i);
+        if n == DVec3::ZERO {
+            continue;
+        }
+        for &v in mesh.face(i) {
+            let seen = &mut first[v as usize];
+            if *seen == DVec3::ZERO {
+                *seen = n;
+            } else if seen.dot(n) < SAME_PLANE_COS {
+                shared = true;
+                break 'faces;
+            }
+        }
+    }
+    let units: Option<Vec<DVec3>> = normals
+        .iter()
+        .map(|n| n.try_normalize().filter(|u| u.is_finite()))
+        .collect();
+    match units {
+        Some(units) if shared => units,
+        _ => Vec::new(),
+    }
 }
 
 /// Makes sure gltf's accessor reader will neither panic nor read past the data: gltf 1.4 only
@@ -293,8 +395,10 @@ fn check_accessor(
 }
 
 /// Reads a Wavefront OBJ text. Each `o`/`g` group becomes a part (split further where `usemtl`
-/// changes between materials found in `mtllib`); faces stay polygons. Without an MTL the colour
-/// is the default one.
+/// changes between materials found in `mtllib`); faces stay polygons. The `l` elements of a
+/// group become a line set of the same name (a polyline `l a b c` one segment per pair). Without
+/// an MTL the colour is the default one. A part is smooth when each vertex has one normal and
+/// the group holds no lines.
 pub fn read_obj(text: &str) -> Result<Model, Error> {
     read_obj_with(text, |_| Err(tobj::LoadError::OpenFileFailed))
 }
@@ -311,14 +415,16 @@ pub(crate) fn read_obj_with(
         single_index: false,
         triangulate: false,
         ignore_points: true,
-        ignore_lines: true,
+        ignore_lines: false,
         ..Default::default()
     };
+    // tobj reads `l a b c` as a face; as pairs it reads them as segments.
+    let text = split_polylines(text);
     let (models, materials) = tobj::load_obj_buf(&mut text.as_bytes(), &options, load_mtl)
         .map_err(|e| broken(e.to_string()))?;
     // A missing or broken MTL only costs the colours.
     let materials = materials.unwrap_or_default();
-    let mut parts = Vec::new();
+    let mut model_out = Model::default();
     for model in models {
         let m = &model.mesh;
         let color = m
@@ -346,6 +452,7 @@ pub(crate) fn read_obj_with(
             m.face_arities.as_slice().into()
         };
         let mut faces = Vec::with_capacity(arities.len());
+        let mut segments = Vec::new();
         let mut rest = m.indices.as_slice();
         for &arity in arities.iter() {
             let Some((face, tail)) = rest.split_at_checked(arity as usize) else {
@@ -357,20 +464,99 @@ pub(crate) fn read_obj_with(
                     model.name
                 )));
             }
-            faces.push(face);
+            match face {
+                &[a, b] => segments.push([a, b]),
+                _ => faces.push(face),
+            }
             rest = tail;
         }
+        let normals = if segments.is_empty() {
+            obj_vertex_normals(m, positions.len())
+        } else {
+            None
+        };
+        let lines = (!segments.is_empty()).then(|| compact_lines(&positions, segments));
+        let mesh = Mesh::from_faces(positions, faces);
+        let normals = normals.map_or_else(Vec::new, |n| smooth_normals(&mesh, n));
         push_part(
-            &mut parts,
-            model.name,
+            &mut model_out.parts,
+            model.name.clone(),
             color,
-            Mesh::from_faces(positions, faces),
+            mesh,
+            normals,
         );
+        if let Some((points, segments)) = lines {
+            push_lines(&mut model_out.lines, model.name, color, points, segments);
+        }
     }
-    Ok(Model {
-        parts,
-        lines: Vec::new(),
-    })
+    Ok(model_out)
+}
+
+/// The text with every polyline `l a b c …` written as segments `l a b`, `l b c`, ….
+fn split_polylines(text: &str) -> Cow<'_, str> {
+    let is_polyline = |line: &str| {
+        let mut words = line.split_whitespace();
+        words.next() == Some("l") && words.count() > 2
+    };
+    if !text.lines().any(is_polyline) {
+        return Cow::Borrowed(text);
+    }
+    let mut out = String::with_capacity(text.len());
+    for line in text.lines() {
+        if is_polyline(line) {
+            let ends: Vec<&str> = line.split_whitespace().skip(1).collect();
+            for pair in ends.windows(2) {
+                out.push_str(&format!("l {} {}\n", pair[0], pair[1]));
+            }
+        } else {
+            out.push_str(line);
+            out.push('\n');
+        }
+    }
+    Cow::Owned(out)
+}
+
+/// One normal per vertex when every corner names one and each vertex is always given the same.
+fn obj_vertex_normals(mesh: &tobj::Mesh, vertices: usize) -> Option<Vec<DVec3>> {
+    if mesh.normal_indices.len() != mesh.indices.len() {
+        return None;
+    }
+    let mut chosen = vec![u32::MAX; vertices];
+    for (&v, &n) in mesh.indices.iter().zip(&mesh.normal_indices) {
+        let slot = chosen.get_mut(v as usize)?;
+        if *slot != u32::MAX && *slot != n {
+            return None;
+        }
+        *slot = n;
+    }
+    chosen
+        .iter()
+        .map(|&n| {
+            let n = n as usize;
+            let xyz = mesh.normals.get(3 * n..3 * n + 3)?;
+            Some(DVec3::new(xyz[0], xyz[1], xyz[2]))
+        })
+        .collect()
+}
+
+/// The points the segments use, in their order, and the segments renumbered.
+fn compact_lines(positions: &[DVec3], segments: Vec<[u32; 2]>) -> (Vec<DVec3>, Vec<[u32; 2]>) {
+    let mut remap = vec![u32::MAX; positions.len()];
+    let mut points = Vec::new();
+    let segments = segments
+        .into_iter()
+        .map(|s| {
+            s.map(|v| {
+                let slot = &mut remap[v as usize];
+                if *slot == u32::MAX {
+                    *slot = points.len() as u32;
+                    points.push(positions[v as usize]);
+                }
+                *slot
+            })
+        })
+        .collect();
+    (points, segments)
 }
 
 /// Reads an STL file, binary or ASCII, as one part named "stl".
@@ -413,6 +599,7 @@ pub fn read_stl(bytes: &[u8]) -> Result<Model, Error> {
         "stl".to_owned(),
         Color::default(),
         Mesh::from_faces(positions, faces),
+        Vec::new(),
     );
     Ok(Model {
         parts,
@@ -420,13 +607,30 @@ pub fn read_stl(bytes: &[u8]) -> Result<Model, Error> {
     })
 }
 
-fn push_part(parts: &mut Vec<Part>, name: String, color: Color, mesh: Mesh) {
+fn push_part(parts: &mut Vec<Part>, name: String, color: Color, mesh: Mesh, normals: Vec<DVec3>) {
     if !mesh.is_empty() {
         parts.push(Part {
             name,
             color,
             mesh,
-            normals: Vec::new(),
+            normals,
+        });
+    }
+}
+
+fn push_lines(
+    lines: &mut Vec<Lines>,
+    name: String,
+    color: Color,
+    points: Vec<DVec3>,
+    segments: Vec<[u32; 2]>,
+) {
+    if !segments.is_empty() {
+        lines.push(Lines {
+            name,
+            color,
+            points,
+            segments,
         });
     }
 }
