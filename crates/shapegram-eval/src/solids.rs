@@ -63,13 +63,13 @@ pub(crate) fn fitted(kind: ImplicitKind, size: DVec3) -> Result<Solid, String> {
 
 /// Cells along the longest side of a group's bounds, at least and at most, when the cell size
 /// is chosen automatically.
-const CELLS_AT_LEAST: f64 = 32.0;
-const CELLS_AT_MOST: f64 = 512.0;
+const CELLS_AT_LEAST: f64 = 64.0;
+const CELLS_AT_MOST: f64 = 256.0;
 /// Cells across the smallest member, when that asks for more than [`CELLS_AT_LEAST`].
-const CELLS_PER_MEMBER: f64 = 8.0;
+const CELLS_PER_MEMBER: f64 = 4.0;
 
-/// The automatic cell size of a group: fine enough for 8 cells across its smallest member and
-/// 32 along its longest side, but no finer than 512 along that side (to bound the work).
+/// The automatic cell size of a group: fine enough for 4 cells across its smallest member and
+/// 64 along its longest side, but no finer than 256 along that side (to bound the work).
 fn cell_size(longest: f64, smallest_member: f64) -> f64 {
     let wanted = (smallest_member / CELLS_PER_MEMBER).min(longest / CELLS_AT_LEAST);
     wanted.max(longest / CELLS_AT_MOST)

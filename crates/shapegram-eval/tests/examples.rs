@@ -87,3 +87,107 @@ fn block_is_the_readme_tutorial() {
     let roof = roof.parts.iter().find(|p| p.name == "Roof").unwrap();
     assert!(roof.mesh.is_watertight());
 }
+
+/// Whether `p` lies inside the closed mesh: an odd number of its triangles above `p` (a
+/// vertical ray; `p` is chosen off any vertex or edge).
+fn inside(mesh: &shapegram_geom::Mesh, p: shapegram_geom::DVec3) -> bool {
+    let mut crossings = 0;
+    for i in 0..mesh.face_count() {
+        let corners: Vec<_> = mesh.face_points(i).collect();
+        let [a, b, c] = [corners[0], corners[1], corners[2]];
+        let area = |u: shapegram_geom::DVec3, v: shapegram_geom::DVec3| {
+            (u.x - p.x) * (v.z - p.z) - (v.x - p.x) * (u.z - p.z)
+        };
+        let (s, t, u) = (area(a, b), area(b, c), area(c, a));
+        if !((s > 0.0 && t > 0.0 && u > 0.0) || (s < 0.0 && t < 0.0 && u < 0.0)) {
+            continue;
+        }
+        let total = s + t + u;
+        let y = (t * a.y + u * b.y + s * c.y) / total;
+        if y > p.y {
+            crossings += 1;
+        }
+    }
+    crossings % 2 == 1
+}
+
+/// The genus of a closed triangle mesh: its number of through holes (Euler: V − E + F = 2 − 2g).
+fn genus(mesh: &shapegram_geom::Mesh) -> i64 {
+    let v = mesh.vertex_count() as i64;
+    let f = mesh.face_count() as i64;
+    (2 - (v - f / 2)) / 2
+}
+
+#[test]
+fn aqueduct_carves_an_arch_through_the_wall_for_every_bay() {
+    let program = example("aqueduct.cga");
+    let d = derive(
+        &program,
+        &[common::lot(20.0, 30.0)],
+        &DeriveOptions::default(),
+    )
+    .unwrap();
+    let count = |rule: &str| d.stats.rules.iter().find(|(n, _)| n == rule).map(|r| r.1);
+    // 42 m in bays of about 6.5 m below (6) and 3.25 m above (13).
+    assert_eq!(count("Bay"), Some(6 + 13));
+    assert_eq!(d.solids.len(), 1);
+    let aqueduct = &d.solids[0];
+    assert_eq!(aqueduct.name, "aqueduct");
+    assert_eq!(aqueduct.color.to_hex(), "#c8b28a");
+    assert!(aqueduct.mesh.is_watertight());
+    assert_eq!(aqueduct.normals.len(), aqueduct.mesh.vertex_count());
+    // One solid with a hole through it per upper arch (the lower arches open onto the ground,
+    // notches rather than holes).
+    assert_eq!(genus(&aqueduct.mesh), 13);
+    let size = aqueduct.mesh.bounds().unwrap().size();
+    // 42 long, 20 high, 4 deep with a cornice standing out 0.3 m on either side.
+    assert!(
+        (size - shapegram_geom::DVec3::new(42.0, 20.0, 4.6))
+            .abs()
+            .max_element()
+            < 0.1,
+        "{size}"
+    );
+    // Centred on the 20 m lot, the first lower bay spans x = -11 to -4: the middle of its
+    // arch is open, the pier after it is stone.
+    let (x0, z) = (-7.5 + 0.013, 15.017);
+    assert!(!inside(
+        &aqueduct.mesh,
+        shapegram_geom::DVec3::new(x0, 5.0, z)
+    ));
+    assert!(inside(
+        &aqueduct.mesh,
+        shapegram_geom::DVec3::new(x0 + 3.5, 5.0, z)
+    ));
+}
+
+#[test]
+fn outcrop_fuses_its_blocks_and_keeps_the_tunnel_open() {
+    let program = example("outcrop.cga");
+    let lot = common::lot(20.0, 30.0);
+    let run = |seed: u64| {
+        let options = DeriveOptions {
+            seed,
+            ..DeriveOptions::default()
+        };
+        derive(&program, std::slice::from_ref(&lot), &options).unwrap()
+    };
+    for seed in [0, 3] {
+        let d = run(seed);
+        assert_eq!(d.solids.len(), 1);
+        let rock = &d.solids[0];
+        assert_eq!(rock.name, "outcrop");
+        assert!(rock.mesh.is_watertight(), "seed {seed}");
+        // Cut flat at the ground.
+        let bounds = rock.mesh.bounds().unwrap();
+        assert!(bounds.min.y.abs() < 1e-9, "{bounds:?}");
+        // The bore runs along x through the middle of the lot, with room to walk.
+        for x in [0.37, 6.13, 10.07, 13.91, 19.63] {
+            let p = shapegram_geom::DVec3::new(x, 1.51, 15.013);
+            assert!(!inside(&rock.mesh, p), "seed {seed}: rock at {p}");
+        }
+        // Fourteen slabs of 1.1 m with 0.3 m gaps along the 20 m path.
+        assert_eq!(d.leaves.iter().filter(|l| &*l.name == "Slab").count(), 14);
+    }
+    assert_ne!(run(0).solids, run(3).solids);
+}

@@ -231,7 +231,7 @@ pub struct DeriveArgs {
     #[arg(long, value_name = "SECONDS", default_value_t = 60.0, value_parser = parse_timeout)]
     pub timeout: f64,
     /// Edge length of the grid cells that implicit solids (`implicit(…)`, `csg(…)`) are
-    /// meshed with [default: per group, 8 cells across its smallest member, 32 to 512 along its
+    /// meshed with [default: per group, 4 cells across its smallest member, 64 to 256 along its
     /// longest side]
     #[arg(long, value_name = "SIZE", value_parser = parse_cell)]
     pub implicit_cell: Option<f64>,
