@@ -7,7 +7,7 @@ use std::process::{Command, Output};
 
 mod common;
 
-use common::{TempDir, shapegram};
+use common::{TempDir, example, shapegram};
 use serde_json::Value;
 use shapegram_geom::DVec3;
 use shapegram_geom::primitives::{cylinder_volume, sphere_volume};
@@ -1096,4 +1096,44 @@ fn implicit_grammars_are_inserted_as_closed_meshes() {
     std::fs::write(dir.path("rock.cave"), "lod 8\nadd sphere(-1)\n").unwrap();
     let err = fails(&["derive", text(&grammar)], 1, "cannot insert `rock.cave`:");
     assert!(err.contains("rock.cave:2:"), "{err}");
+}
+
+#[test]
+fn implicit_solids_are_written_smooth_and_their_detail_is_an_option() {
+    let dir = TempDir::new("implicit");
+    let grammar = example("outcrop.cga");
+    let out = dir.path("outcrop.glb");
+    ok(&["derive", text(&grammar), "--group", "-q", "-o", text(&out)]);
+    let model = shapegram_export::load(&out).unwrap();
+    let rock = model.parts.iter().find(|p| p.name == "outcrop").unwrap();
+    assert!(rock.mesh.is_watertight());
+    assert_eq!(rock.normals.len(), rock.mesh.vertex_count());
+    assert!(
+        model
+            .parts
+            .iter()
+            .any(|p| p.name == "Slab" && p.normals.is_empty())
+    );
+
+    let coarse = dir.path("coarse.glb");
+    ok(&[
+        "derive",
+        text(&grammar),
+        "--group",
+        "-q",
+        "--implicit-cell",
+        "2",
+        "-o",
+        text(&coarse),
+    ]);
+    let coarse = shapegram_export::load(&coarse).unwrap();
+    let coarse_rock = coarse.parts.iter().find(|p| p.name == "outcrop").unwrap();
+    assert!(coarse_rock.mesh.face_count() * 2 < rock.mesh.face_count());
+
+    let err = fails(
+        &["derive", text(&grammar), "--implicit-cell", "0"],
+        2,
+        "invalid value '0' for '--implicit-cell <SIZE>'",
+    );
+    assert!(err.contains("expected a cell size above 0"), "{err}");
 }
