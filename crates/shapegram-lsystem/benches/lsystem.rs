@@ -1,7 +1,7 @@
 //! L-system throughput: a D0L curve, a bracketed stochastic plant and a parametric tree derived
 //! to 10⁷ modules and more (criterion's `elem/s` = modules of the final word per second), and a
-//! word of about 10⁶ segments drawn by the turtle, built into a tube model and written as GLB
-//! bytes (`elem/s` = segments per second).
+//! word of about 10⁶ segments drawn by the turtle, built into a tube model or a line model and
+//! written as GLB bytes (`elem/s` = segments per second).
 //!
 //! Run with `cargo bench -p shapegram-lsystem`; on one core for comparable numbers.
 
@@ -10,7 +10,7 @@ use std::time::Duration;
 
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
 use shapegram_export::{ExportOptions, write_glb};
-use shapegram_lsystem::{DeriveOptions, LSystem, drawing_to_model, interpret};
+use shapegram_lsystem::{DeriveOptions, LSystem, drawing_to_lines, drawing_to_model, interpret};
 
 /// The quadratic Koch island, 7 steps: 8.4 million F and 15.7 million modules.
 const KOCH: &str = "n: 7\nangle: 90\naxiom: F-F-F-F\nF -> F-F+F+FF-F-F+F\n";
@@ -63,6 +63,9 @@ fn bench_turtle(c: &mut Criterion) {
     group.bench_function(format!("{segments} segments: tube model"), |b| {
         b.iter(|| black_box(drawing_to_model(black_box(&drawing), &system.settings)))
     });
+    group.bench_function(format!("{segments} segments: line model"), |b| {
+        b.iter(|| black_box(drawing_to_lines(black_box(&drawing), &system.settings)))
+    });
     group.bench_function(format!("{segments} segments: word to GLB bytes"), |b| {
         b.iter(|| {
             let drawing = interpret(&system, black_box(&word));
@@ -70,6 +73,16 @@ fn bench_turtle(c: &mut Criterion) {
             black_box(write_glb(&model, &ExportOptions::default()))
         })
     });
+    group.bench_function(
+        format!("{segments} segments: word to GLB bytes as lines"),
+        |b| {
+            b.iter(|| {
+                let drawing = interpret(&system, black_box(&word));
+                let model = drawing_to_lines(&drawing, &system.settings);
+                black_box(write_glb(&model, &ExportOptions::default()))
+            })
+        },
+    );
     group.finish();
 }
 

@@ -1,16 +1,21 @@
-//! A turtle drawing as a 3D model: strokes become tubes, polygons become two-sided faces, one
-//! part per kind and colour.
+//! A turtle drawing as a 3D model: strokes become tubes (or line sets), polygons become
+//! two-sided faces, one part per kind and colour.
 //!
 //! A tube is a generalised cylinder along its stroke: a ring of `sides` vertices at every point,
 //! mitred at the joints (the ring lies in the plane that halves the bend) and carried along the
 //! stroke by parallel transport, so it does not twist. Each segment tapers from its own width
 //! to the next one's. Both ends are capped, so every tube is closed. A bend sharper than 120°
-//! would fold the mitre, so the tube ends there and a new one starts.
+//! would fold the mitre, so the tube ends there and a new one starts. Tubes are smooth-shaded:
+//! each ring vertex has the radial normal of its ring's frame, and the caps share the ring
+//! vertices (so tubes stay closed by index) and their normals.
+//!
+//! As lines, every stroke is a polyline of its own points and the segments between them:
+//! a few dozen bytes per segment instead of hundreds, for words of millions of segments.
 
 use std::collections::BTreeMap;
 
 use glam::DVec3;
-use shapegram_geom::{Color, DAffine3, Mesh, Model, Part, Scope};
+use shapegram_geom::{Color, DAffine3, Lines, Mesh, Model, Part, Scope};
 
 use crate::error::Error;
 use crate::rewrite::group_digits;
@@ -25,36 +30,114 @@ const SHARPEST_BEND_COS: f64 = -0.5;
 /// gradients). Parts come in palette order,
 /// branches before leaves of the same colour.
 pub fn drawing_to_model(drawing: &Drawing, settings: &Settings) -> Model {
-    let mut meshes: BTreeMap<(usize, u8), Mesh> = BTreeMap::new();
-    let palette = if settings.colors.is_empty() {
-        vec![Color::default()]
-    } else {
-        settings.colors.clone()
-    };
-    let slot = |color: usize| color.min(palette.len() - 1);
-    let mut tubes = TubeBuilder::new(settings.sides.max(3) as usize);
+    let palette = Palette::of(settings);
+    let mut tubes: BTreeMap<usize, (Mesh, Vec<DVec3>)> = BTreeMap::new();
+    let mut builder = TubeBuilder::new(settings.sides.max(3) as usize);
     for stroke in &drawing.strokes {
-        let mesh = meshes.entry((slot(stroke.color), 0)).or_default();
-        tubes.add_stroke(mesh, stroke);
+        let (mesh, normals) = tubes.entry(palette.slot(stroke.color)).or_default();
+        builder.add_stroke(mesh, normals, stroke);
     }
-    for polygon in &drawing.polygons {
-        let mesh = meshes.entry((slot(polygon.color), 1)).or_default();
-        add_polygon(mesh, polygon);
-    }
-    let parts = meshes
+    let mut parts: BTreeMap<(usize, u8), Part> = tubes
         .into_iter()
-        .filter(|(_, mesh)| !mesh.is_empty())
-        .map(|((color, kind), mesh)| Part {
-            name: format!("{}-{color}", if kind == 0 { "branches" } else { "leaves" }),
-            color: palette[color],
-            mesh,
-            normals: Vec::new(),
+        .filter(|(_, (mesh, _))| !mesh.is_empty())
+        .map(|(slot, (mesh, normals))| {
+            let part = Part {
+                name: format!("branches-{slot}"),
+                color: palette.colors[slot],
+                mesh,
+                normals,
+            };
+            ((slot, 0), part)
         })
         .collect();
+    parts.extend(leaves(drawing, &palette).map(|(slot, part)| ((slot, 1), part)));
     Model {
-        parts,
+        parts: parts.into_values().collect(),
         lines: Vec::new(),
     }
+}
+
+/// The model of a drawing with strokes as line sets (one per colour, named `branches-i`, points
+/// shared along each stroke) and polygons as leaves like [`drawing_to_model`]'s. Line sets come
+/// in palette order, after the leaf parts.
+pub fn drawing_to_lines(drawing: &Drawing, settings: &Settings) -> Model {
+    let palette = Palette::of(settings);
+    // Sized first: a word of a million segments would otherwise copy its points as they grow.
+    let mut sizes: BTreeMap<usize, (usize, usize)> = BTreeMap::new();
+    for stroke in drawing.strokes.iter().filter(|s| !s.widths.is_empty()) {
+        let size = sizes.entry(palette.slot(stroke.color)).or_default();
+        size.0 += stroke.points.len();
+        size.1 += stroke.widths.len();
+    }
+    let mut lines: BTreeMap<usize, Lines> = sizes
+        .into_iter()
+        .map(|(slot, (points, segments))| {
+            let lines = Lines {
+                name: format!("branches-{slot}"),
+                color: palette.colors[slot],
+                points: Vec::with_capacity(points),
+                segments: Vec::with_capacity(segments),
+            };
+            (slot, lines)
+        })
+        .collect();
+    for stroke in drawing.strokes.iter().filter(|s| !s.widths.is_empty()) {
+        let Some(set) = lines.get_mut(&palette.slot(stroke.color)) else {
+            continue;
+        };
+        let first = set.points.len() as u32;
+        set.points.extend_from_slice(&stroke.points);
+        set.segments
+            .extend((0..stroke.widths.len() as u32).map(|k| [first + k, first + k + 1]));
+    }
+    Model {
+        parts: leaves(drawing, &palette).map(|(_, part)| part).collect(),
+        lines: lines.into_values().collect(),
+    }
+}
+
+/// The colours parts take: the settings' palette, or the default colour when it is empty.
+struct Palette {
+    colors: Vec<Color>,
+}
+
+impl Palette {
+    fn of(settings: &Settings) -> Self {
+        let colors = if settings.colors.is_empty() {
+            vec![Color::default()]
+        } else {
+            settings.colors.clone()
+        };
+        Self { colors }
+    }
+
+    /// The palette entry of a colour index: past the end, the last one.
+    fn slot(&self, color: usize) -> usize {
+        color.min(self.colors.len() - 1)
+    }
+}
+
+/// The polygons as flat-shaded `leaves-i` parts with their palette slots, in palette order.
+fn leaves<'a>(drawing: &Drawing, palette: &'a Palette) -> impl Iterator<Item = (usize, Part)> + 'a {
+    let mut meshes: BTreeMap<usize, Mesh> = BTreeMap::new();
+    for polygon in &drawing.polygons {
+        add_polygon(
+            meshes.entry(palette.slot(polygon.color)).or_default(),
+            polygon,
+        );
+    }
+    meshes
+        .into_iter()
+        .filter(|(_, mesh)| !mesh.is_empty())
+        .map(|(slot, mesh)| {
+            let part = Part {
+                name: format!("leaves-{slot}"),
+                color: palette.colors[slot],
+                mesh,
+                normals: Vec::new(),
+            };
+            (slot, part)
+        })
 }
 
 /// Default limit on the vertices of a drawing's model: about the size of a cave's largest mesh,
@@ -69,15 +152,33 @@ pub fn drawing_to_model_within(
     settings: &Settings,
     max_vertices: usize,
 ) -> Result<Model, Error> {
-    let vertices = model_vertex_count(drawing, settings);
+    let hint = "derive fewer steps, use fewer sides, draw lines, or draw an SVG";
+    within(model_vertex_count(drawing, settings), max_vertices, hint)?;
+    Ok(drawing_to_model(drawing, settings))
+}
+
+/// The model of a drawing like [`drawing_to_lines`], or an error when its points and leaf
+/// vertices would number more than `max_vertices`.
+pub fn drawing_to_lines_within(
+    drawing: &Drawing,
+    settings: &Settings,
+    max_vertices: usize,
+) -> Result<Model, Error> {
+    let hint = "derive fewer steps or draw an SVG";
+    within(lines_vertex_count(drawing), max_vertices, hint)?;
+    Ok(drawing_to_lines(drawing, settings))
+}
+
+/// An error naming `hint` when `vertices` is over the limit.
+fn within(vertices: usize, max_vertices: usize, hint: &str) -> Result<(), Error> {
     if vertices > max_vertices {
         return Err(Error::general(format!(
-            "the model would have up to {} vertices, over the limit of {} (derive fewer steps, use fewer sides, or draw an SVG)",
+            "the model would have up to {} vertices, over the limit of {} ({hint})",
             group_digits(vertices),
             group_digits(max_vertices)
         )));
     }
-    Ok(drawing_to_model(drawing, settings))
+    Ok(())
 }
 
 /// The most vertices [`drawing_to_model`] makes for `drawing`: a ring of `sides` per point of each
@@ -90,10 +191,26 @@ fn model_vertex_count(drawing: &Drawing, settings: &Settings) -> usize {
         .filter(|s| !s.widths.is_empty())
         .map(|s| s.points.len() + sharp_bends(s).count())
         .sum();
-    let polygon_points: usize = drawing.polygons.iter().map(|p| p.points.len()).sum();
     rings
         .saturating_mul(sides)
-        .saturating_add(polygon_points.saturating_mul(2))
+        .saturating_add(leaf_vertex_count(drawing))
+}
+
+/// The most vertices [`drawing_to_lines`] makes: the strokes' points and the leaves' vertices.
+fn lines_vertex_count(drawing: &Drawing) -> usize {
+    let points: usize = drawing
+        .strokes
+        .iter()
+        .filter(|s| !s.widths.is_empty())
+        .map(|s| s.points.len())
+        .sum();
+    points.saturating_add(leaf_vertex_count(drawing))
+}
+
+/// Every polygon point twice (front and back; repeated points are dropped).
+fn leaf_vertex_count(drawing: &Drawing) -> usize {
+    let points: usize = drawing.polygons.iter().map(|p| p.points.len()).sum();
+    points.saturating_mul(2)
 }
 
 /// The points of a stroke where it bends too sharply to mitre, so one tube ends and the next
@@ -110,6 +227,12 @@ fn sharp_bends(stroke: &Stroke) -> impl Iterator<Item = usize> + '_ {
 /// exact IEEE operation, like glam's, and runs in hardware.
 fn unit(v: DVec3) -> DVec3 {
     v / v.dot(v).sqrt()
+}
+
+/// Where tubes go: a mesh and its vertex normals, kept side by side.
+struct Tube<'a> {
+    mesh: &'a mut Mesh,
+    normals: &'a mut Vec<DVec3>,
 }
 
 /// Builds tubes; keeps the ring's cosines and sines and a scratch face between tubes.
@@ -135,43 +258,52 @@ impl TubeBuilder {
         }
     }
 
-    /// Adds the tubes of one stroke, split at bends too sharp to mitre.
-    fn add_stroke(&mut self, mesh: &mut Mesh, stroke: &Stroke) {
+    /// Adds the tubes of one stroke, split at bends too sharp to mitre, with a normal per
+    /// vertex.
+    fn add_stroke(&mut self, mesh: &mut Mesh, normals: &mut Vec<DVec3>, stroke: &Stroke) {
         let mut start = 0;
+        let mut tube = Tube { mesh, normals };
         for k in sharp_bends(stroke) {
-            self.add_tube(mesh, &stroke.points[start..=k], &stroke.widths[start..k]);
+            self.add_tube(
+                &mut tube,
+                &stroke.points[start..=k],
+                &stroke.widths[start..k],
+            );
             start = k;
         }
-        self.add_tube(mesh, &stroke.points[start..], &stroke.widths[start..]);
+        self.add_tube(&mut tube, &stroke.points[start..], &stroke.widths[start..]);
     }
 
     /// Adds a ring of vertices around `center` in the plane of `u` and `v`, slid along `along`
-    /// onto the plane through `center` with normal `miter` when given; returns its first index.
+    /// onto the plane through `center` with normal `miter` when given, each with its radial
+    /// normal; returns its first index.
     fn ring(
         &self,
-        mesh: &mut Mesh,
+        tube: &mut Tube<'_>,
         center: DVec3,
         radius: f64,
         (u, v): (DVec3, DVec3),
         miter: Option<(DVec3, DVec3)>,
     ) -> u32 {
-        let first = mesh.vertex_count() as u32;
+        let first = tube.mesh.vertex_count() as u32;
         for &(cos, sin) in &self.circle {
-            let offset = (u * cos + v * sin) * radius;
+            let radial = u * cos + v * sin;
+            let offset = radial * radius;
             let q = match miter {
                 Some((along, normal)) => {
                     center + offset - along * (offset.dot(normal) / along.dot(normal))
                 }
                 None => center + offset,
             };
-            mesh.add_vertex(q);
+            tube.mesh.add_vertex(q);
+            tube.normals.push(radial);
         }
         first
     }
 
     /// Adds one closed tube through `points` (at least two, no repeats) with a width per
     /// segment. Rings are added one after the other, so ring `k` starts at `first + k * sides`.
-    fn add_tube(&mut self, mesh: &mut Mesh, points: &[DVec3], widths: &[f64]) {
+    fn add_tube(&mut self, tube: &mut Tube<'_>, points: &[DVec3], widths: &[f64]) {
         let segments = widths.len();
         if segments == 0 {
             return;
@@ -179,11 +311,11 @@ impl TubeBuilder {
         let mut d = unit(points[1] - points[0]);
         let mut u = d.any_orthonormal_vector();
         let mut v = d.cross(u);
-        let first = self.ring(mesh, points[0], widths[0] / 2.0, (u, v), None);
+        let first = self.ring(tube, points[0], widths[0] / 2.0, (u, v), None);
         for k in 1..segments {
             let next = unit(points[k + 1] - points[k]);
             let normal = unit(d + next);
-            self.ring(mesh, points[k], widths[k] / 2.0, (u, v), Some((d, normal)));
+            self.ring(tube, points[k], widths[k] / 2.0, (u, v), Some((d, normal)));
             // Parallel transport: the rotation taking d to next, applied to u (Rodrigues'
             // formula without trigonometry, fine for bends below 180°).
             let (c, axis) = (d.dot(next), d.cross(next));
@@ -193,12 +325,13 @@ impl TubeBuilder {
             d = next;
         }
         self.ring(
-            mesh,
+            tube,
             points[segments],
             widths[segments - 1] / 2.0,
             (u, v),
             None,
         );
+        let mesh = &mut *tube.mesh;
         let n = self.sides as u32;
         for k in 0..segments as u32 {
             let (a, b) = (first + k * n, first + (k + 1) * n);
@@ -281,7 +414,10 @@ pub fn fit_into_scope(model: &Model, scope: &Scope) -> Model {
     transformed(&local, &scope.local_to_world())
 }
 
+/// The model under an affine map: positions and points mapped, normals by the inverse transpose
+/// of the linear part and made unit again, so smooth shading survives scaling and mirroring.
 fn transformed(model: &Model, map: &DAffine3) -> Model {
+    let normal_map = map.matrix3.inverse().transpose();
     Model {
         parts: model
             .parts
@@ -290,9 +426,26 @@ fn transformed(model: &Model, map: &DAffine3) -> Model {
                 name: part.name.clone(),
                 color: part.color,
                 mesh: part.mesh.transformed(map),
-                normals: Vec::new(),
+                normals: part
+                    .normals
+                    .iter()
+                    .map(|&n| (normal_map * n).normalize_or(n))
+                    .collect(),
             })
             .collect(),
-        lines: Vec::new(),
+        lines: model
+            .lines
+            .iter()
+            .map(|lines| Lines {
+                name: lines.name.clone(),
+                color: lines.color,
+                points: lines
+                    .points
+                    .iter()
+                    .map(|&p| map.transform_point3(p))
+                    .collect(),
+                segments: lines.segments.clone(),
+            })
+            .collect(),
     }
 }

@@ -27,7 +27,8 @@ mod word;
 pub use alphabet::{Alphabet, Symbol, SymbolId};
 pub use error::{Error, Position};
 pub use geometry::{
-    DEFAULT_MAX_VERTICES, drawing_to_model, drawing_to_model_within, fit_into_box, fit_into_scope,
+    DEFAULT_MAX_VERTICES, drawing_to_lines, drawing_to_lines_within, drawing_to_model,
+    drawing_to_model_within, fit_into_box, fit_into_scope,
 };
 pub use rewrite::{DEFAULT_MAX_MODULES, DeriveOptions, MAX_ITERATIONS};
 pub use system::{LSystem, Settings, default_palette};

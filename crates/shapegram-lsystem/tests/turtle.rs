@@ -4,8 +4,8 @@
 use glam::DVec3;
 use shapegram_geom::{Scope, primitives};
 use shapegram_lsystem::{
-    DeriveOptions, Drawing, LSystem, drawing_to_model, drawing_to_model_within, fit_into_box,
-    fit_into_scope, interpret, model_in_scope,
+    DeriveOptions, Drawing, LSystem, drawing_to_lines, drawing_to_lines_within, drawing_to_model,
+    drawing_to_model_within, fit_into_box, fit_into_scope, interpret, model_in_scope,
 };
 
 fn draw(text: &str) -> Drawing {
@@ -145,6 +145,95 @@ fn bent_tubes_stay_closed() {
 }
 
 #[test]
+fn tubes_are_smooth_with_radial_normals() {
+    let system = LSystem::parse("n: 0\nwidth: 0.2\nsides: 6\naxiom: FF\n").unwrap();
+    let model = drawing_to_model(&interpret(&system, system.axiom()), &system.settings);
+    let part = &model.parts[0];
+    assert_eq!(part.normals.len(), part.mesh.vertex_count());
+    assert_eq!(part.normals.len(), 3 * 6);
+    // The stroke runs up the y axis: each normal is horizontal, pointing at its vertex.
+    for (p, n) in part.mesh.positions().iter().zip(&part.normals) {
+        let radial = DVec3::new(p.x, 0.0, p.z) / 0.1;
+        assert!(close(*n, radial), "{p}: {n}");
+    }
+    // Bent, branching tubes: unit normals pointing away from the stroke at each ring.
+    let system = LSystem::parse("n: 2\nangle: 90\naxiom: F-F-F-F\nF -> F-F+F+FF-F-F+F\n").unwrap();
+    let drawing = interpret(&system, &system.derive(&DeriveOptions::default()).unwrap());
+    let model = drawing_to_model(&drawing, &system.settings);
+    let part = &model.parts[0];
+    let stroke = &drawing.strokes[0];
+    assert_eq!(part.mesh.vertex_count(), 8 * stroke.points.len());
+    for (v, (p, n)) in part.mesh.positions().iter().zip(&part.normals).enumerate() {
+        assert!((n.length() - 1.0).abs() < 1e-12);
+        assert!(n.dot(*p - stroke.points[v / 8]) > 0.0, "vertex {v}");
+    }
+}
+
+#[test]
+fn fitting_carries_normals_and_lines_into_the_scope() {
+    let system = LSystem::parse("n: 0\nwidth: 0.2\nsides: 6\nangle: 90\naxiom: FF+F\n").unwrap();
+    let drawing = interpret(&system, system.axiom());
+    let mut scope = Scope::axis_aligned(DVec3::new(10.0, 0.0, -4.0), DVec3::new(3.0, 8.0, 3.0));
+    scope.rotate_world(DVec3::Y, 30.0, scope.origin);
+    let rotation = glam::DQuat::from_axis_angle(DVec3::Y, 30f64.to_radians());
+    let tubes = drawing_to_model(&drawing, &system.settings);
+    let placed = fit_into_scope(&tubes, &scope);
+    let (before, after) = (&tubes.parts[0], &placed.parts[0]);
+    assert_eq!(after.normals.len(), before.normals.len());
+    for (n, m) in before.normals.iter().zip(&after.normals) {
+        assert!(close(rotation * *n, *m), "{n} became {m}");
+    }
+    // A mirrored box flips loops and normals alike: they still point out of the tube.
+    let mirrored = fit_into_box(&tubes, DVec3::new(-3.0, 8.0, 3.0));
+    assert!(mirrored.parts[0].mesh.signed_volume() > 0.0);
+
+    let lines = fit_into_scope(&drawing_to_lines(&drawing, &system.settings), &scope);
+    assert_eq!(lines.lines[0].points.len(), 4);
+    for &p in &lines.lines[0].points {
+        let local = scope.to_local(p);
+        assert!(local.cmpge(DVec3::splat(-1e-9)).all(), "{local}");
+        assert!(local.cmple(scope.size + 1e-9).all(), "{local}");
+    }
+}
+
+#[test]
+fn strokes_as_lines_share_their_points() {
+    let system = LSystem::parse("n: 0\nangle: 90\naxiom: FF[+F'F]F'{.f.+f.+f.}\n").unwrap();
+    let drawing = interpret(&system, system.axiom());
+    assert_eq!(drawing.strokes.len(), 3);
+    let model = drawing_to_lines(&drawing, &system.settings);
+    let names: Vec<&str> = model.lines.iter().map(|l| l.name.as_str()).collect();
+    assert_eq!(names, ["branches-0", "branches-1"]);
+    let parts: Vec<&str> = model.parts.iter().map(|p| p.name.as_str()).collect();
+    assert_eq!(parts, ["leaves-1"]);
+    // Colour 0: the trunk, which goes on after the branch (four points, three segments), and
+    // the branch's first segment; colour 1: the branch's second segment.
+    let zero = &model.lines[0];
+    assert_eq!(zero.points.len(), 6);
+    assert_eq!(zero.segments, [[0, 1], [1, 2], [2, 3], [4, 5]]);
+    assert_eq!(zero.color, system.settings.colors[0]);
+    let one = &model.lines[1];
+    assert_eq!(one.points.len(), 2);
+    assert_eq!(one.segments, [[0, 1]]);
+    let segments: usize = model.lines.iter().map(|l| l.segments.len()).sum();
+    assert_eq!(segments, drawing.segment_count());
+    for lines in &model.lines {
+        for &[a, b] in &lines.segments {
+            let length = lines.points[a as usize].distance(lines.points[b as usize]);
+            assert!((length - 1.0).abs() < 1e-12, "{length}");
+        }
+    }
+    // The budget counts points and leaf vertices: 6 + 2 + 2 · 4.
+    assert!(drawing_to_lines_within(&drawing, &system.settings, 16).is_ok());
+    assert_eq!(
+        drawing_to_lines_within(&drawing, &system.settings, 15)
+            .unwrap_err()
+            .to_string(),
+        "the model would have up to 16 vertices, over the limit of 15 (derive fewer steps or draw an SVG)"
+    );
+}
+
+#[test]
 fn models_over_the_vertex_limit_are_refused_before_they_are_built() {
     // Two tubes (the turn around splits the stroke) of two rings each, and a square leaf drawn
     // on both sides: 4 · 8 + 2 · 4 vertices.
@@ -159,7 +248,7 @@ fn models_over_the_vertex_limit_are_refused_before_they_are_built() {
         drawing_to_model_within(&drawing, &system.settings, 39)
             .unwrap_err()
             .to_string(),
-        "the model would have up to 40 vertices, over the limit of 39 (derive fewer steps, use fewer sides, or draw an SVG)"
+        "the model would have up to 40 vertices, over the limit of 39 (derive fewer steps, use fewer sides, draw lines, or draw an SVG)"
     );
     // A plain line of 2¹⁷ segments with 64 sides is over 8 million vertices.
     let system = LSystem::parse("n: 17\nsides: 64\naxiom: F\nF -> FF\n").unwrap();
@@ -270,7 +359,12 @@ proptest::proptest! {
             proptest::prop_assert!(part.mesh.positions().iter().all(|p| p.is_finite()));
             if part.name.starts_with("branches") {
                 proptest::prop_assert!(part.mesh.is_watertight(), "{}", axiom);
+                proptest::prop_assert_eq!(part.normals.len(), part.mesh.vertex_count());
+                proptest::prop_assert!(part.normals.iter().all(|n| (n.length() - 1.0).abs() < 1e-9));
             }
         }
+        let lines = drawing_to_lines(&drawing, &system.settings);
+        let segments: usize = lines.lines.iter().map(|l| l.segments.len()).sum();
+        proptest::prop_assert_eq!(segments, drawing.segment_count());
     }
 }
