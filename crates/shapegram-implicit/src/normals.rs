@@ -49,8 +49,18 @@ fn gradients(tape: &Tape, points: &[DVec3], h: f64) -> Vec<DVec3> {
             }
         }
     }
+    // The mesher emits vertices block by block, so a chunk lies close together: the tape
+    // pruned to the ball around it gives the same values for less work.
+    let centre = points.iter().copied().sum::<DVec3>() / n.max(1) as f64;
+    let radius = points
+        .iter()
+        .map(|p| p.distance(centre))
+        .fold(0.0, f64::max)
+        + 2.0 * h;
+    let local = tape.pruned(&mut ws, centre, radius);
+    let mut ws = local.workspace(6 * n);
     let mut values = vec![0.0; 6 * n];
-    tape.eval(&mut ws, &xs, &ys, &zs, &mut values);
+    local.eval(&mut ws, &xs, &ys, &zs, &mut values);
     values
         .chunks_exact(6)
         .map(|v| {
