@@ -7,12 +7,14 @@ use std::time::{Duration, Instant};
 use rayon::prelude::*;
 use rustc_hash::FxHashMap;
 use shapegram_geom::{
-    Color, DMat3, DVec3, FaceClass, Mesh, Model, Part as ModelPart, Pivot, Scope, component,
+    Color, DAffine3, DMat3, DVec3, FaceClass, Mesh, Model, Part as ModelPart, Pivot, Scope,
+    component,
     extrude::{extrude_along, extrude_polygon},
     mesh::newell,
     primitives,
     split::split_slabs,
 };
+use shapegram_implicit::Solid;
 use shapegram_syntax::Span;
 
 use crate::context::{Context, Occluder, Parked, SnapPlane, Waiting, snap_planes};
@@ -30,10 +32,17 @@ use crate::shape::{
 use crate::split::Layout;
 use crate::value::Value;
 
-/// Loads the assets that `i("path")` inserts (built-in assets are handled by the engine).
+/// Loads the assets that `i("path")` inserts (built-in assets are handled by the engine) and
+/// the implicit grammars that `implicit("path")` runs.
 pub trait AssetLoader: Send + Sync {
     /// The mesh stored at `path`, or a one-line reason why it cannot be had.
     fn load(&self, path: &str) -> Result<Arc<Mesh>, String>;
+
+    /// The implicit solid that the grammar at `path` makes, or a one-line reason why it cannot
+    /// be had.
+    fn solid(&self, path: &str) -> Result<Solid, String> {
+        Err(format!("cannot read `{path}` as an implicit grammar here"))
+    }
 }
 
 /// How to derive.
@@ -1167,6 +1176,11 @@ impl<'p> Engine<'p> {
                 roof(state, *kind, &values, span)?;
             }
             Op::Implicit(kind) => implicit(state, *kind, span)?,
+            Op::ImplicitFile(path) => {
+                let file = self.ev.string(path, state, args)?;
+                let solid = self.implicit_file(&file, path.span)?;
+                implicit_in_scope(state, &solid, &file, span)?;
+            }
             Op::Csg {
                 kind,
                 group,
@@ -1250,6 +1264,19 @@ impl<'p> Engine<'p> {
         loader
             .load(path)
             .map_err(|why| DeriveError::at(format!("cannot insert `{path}`: {why}"), span))
+    }
+
+    /// The solid of the implicit grammar at `path`.
+    fn implicit_file(&self, path: &str, span: Span) -> Fallible<Solid> {
+        let Some(loader) = &self.options.assets else {
+            return Err(DeriveError::at(
+                format!("cannot run `{path}`: no asset folder is set"),
+                span,
+            ));
+        };
+        loader
+            .solid(path)
+            .map_err(|why| DeriveError::at(format!("cannot run `{path}`: {why}"), span))
     }
 
     /// Records the shape as an occluder (when its geometry is a closed solid); its descendants
@@ -1356,9 +1383,7 @@ impl<'p> Engine<'p> {
                 if piece.is_empty() {
                     continue;
                 }
-                piece.transform(&shapegram_geom::DAffine3::from_translation(
-                    -DVec3::AXES[axis] * part.start,
-                ));
+                piece.transform(&DAffine3::from_translation(-DVec3::AXES[axis] * part.start));
                 child.geometry = Geometry::mesh(piece);
                 if adjust {
                     let axes = child.scope.axes;
@@ -1663,6 +1688,27 @@ fn implicit(state: &mut State, kind: ImplicitKind, span: Span) -> Fallible<()> {
     Ok(())
 }
 
+/// `implicit("file.cave")`: the shape becomes `solid` with its bounds stretched to the scope,
+/// which must have volume.
+fn implicit_in_scope(state: &mut State, solid: &Solid, file: &str, span: Span) -> Fallible<()> {
+    let size = state.scope.size;
+    let bounds = solid.bounds().filter(|b| b.size().cmpgt(DVec3::ZERO).all());
+    let (true, Some(bounds)) = (size.cmpgt(DVec3::ZERO).all(), bounds) else {
+        return Err(DeriveError::at(
+            format!(
+                "implicit(\"{file}\") needs a scope with volume and a grammar that makes a solid"
+            ),
+            span,
+        ));
+    };
+    let map = DAffine3::from_scale(size / bounds.size()) * DAffine3::from_translation(-bounds.min);
+    let solid = solid
+        .transform(&map)
+        .map_err(|e| DeriveError::at(format!("implicit(\"{file}\"): {}", e.message()), span))?;
+    state.geometry = Geometry::Implicit(Arc::new(Implicit { solid, csg: None }));
+    Ok(())
+}
+
 /// `csg("group", union)` and friends: the shape's solid (a box becomes one) joins `group`.
 fn join_group(
     state: &mut State,
@@ -1812,8 +1858,7 @@ fn mirror(state: &mut State, flags: [bool; 3]) {
             shift[i] = size[i];
         }
     }
-    let map = shapegram_geom::DAffine3::from_translation(shift)
-        * shapegram_geom::DAffine3::from_scale(scale);
+    let map = DAffine3::from_translation(shift) * DAffine3::from_scale(scale);
     if let Geometry::Implicit(implicit) = &state.geometry {
         state.geometry = state.geometry.with_solid(moved(&implicit.solid, map));
         return;

@@ -58,6 +58,8 @@ pub(crate) enum Op {
     Roof(RoofKind, Vec<CExpr>),
     /// `implicit(sphere)`: the shape becomes an implicit solid filling its scope.
     Implicit(ImplicitKind),
+    /// `implicit("grotto.cave")`: the solid of an implicit grammar, stretched to the scope.
+    ImplicitFile(CExpr),
     /// `csg("group", union [, fillet])` and friends: the shape's solid joins a CSG group.
     Csg {
         kind: CsgKind,
@@ -808,15 +810,19 @@ impl Ctx<'_, '_> {
         self.arity(
             1,
             1,
-            "implicit(box | sphere | cylinder | cone | pyramid | torus | capsule)",
+            "implicit(box | sphere | cylinder | cone | pyramid | torus | capsule | \"file.cave\")",
         )?;
-        match self.word(0).and_then(ImplicitKind::from_name) {
-            Some(kind) => Some(Op::Implicit(kind)),
-            None => self.bad_selector(
-                0,
-                "a solid: `box`, `sphere`, `cylinder`, `cone`, `pyramid`, `torus` or `capsule`",
-            ),
+        if let Some(kind) = self.word(0).and_then(ImplicitKind::from_name) {
+            return Some(Op::Implicit(kind));
         }
+        // Anything else but a bare word is the path of an implicit grammar.
+        if matches!(self.args[0].kind, CKind::Selector(_)) {
+            return self.bad_selector(
+                0,
+                "a solid: `box`, `sphere`, `cylinder`, `cone`, `pyramid`, `torus` or `capsule`, or the path of a .cave file",
+            );
+        }
+        Some(Op::ImplicitFile(self.args.pop()?))
     }
 
     fn csg(&mut self) -> Option<Op> {

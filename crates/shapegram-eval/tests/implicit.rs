@@ -355,3 +355,42 @@ fn bad_uses_are_errors_with_spans() {
     let errors = compile_errors("Lot --> csg(\"g\", morph) S.").join("\n");
     assert!(errors.contains("the signature is `csg("), "{errors}");
 }
+
+/// Serves one implicit grammar, `ball.cave`, whose solid is a unit ball.
+struct OneBall;
+
+impl shapegram_eval::AssetLoader for OneBall {
+    fn load(&self, path: &str) -> Result<std::sync::Arc<shapegram_geom::Mesh>, String> {
+        Err(format!("no mesh `{path}`"))
+    }
+
+    fn solid(&self, path: &str) -> Result<shapegram_implicit::Solid, String> {
+        match path {
+            "ball.cave" => shapegram_implicit::Solid::sphere(1.0).map_err(|e| e.to_string()),
+            _ => Err("no such grammar".to_owned()),
+        }
+    }
+}
+
+#[test]
+fn an_implicit_grammar_is_stretched_to_the_scope() {
+    let options = DeriveOptions {
+        assets: Some(std::sync::Arc::new(OneBall)),
+        ..DeriveOptions::default()
+    };
+    let text = "Lot --> extrude(2) implicit(\"ball.cave\") csg(\"g\", union) B.";
+    let d = try_run(text, lot(4.0, 4.0), &options).unwrap();
+    assert_near(volume(&d.solids[0]), 4.0 / 3.0 * PI * 2.0 * 1.0 * 2.0, 0.01);
+    let size = d.solids[0].mesh.bounds().unwrap().size();
+    assert!(
+        (size - DVec3::new(4.0, 2.0, 4.0)).abs().max_element() < 0.05,
+        "{size}"
+    );
+
+    let missing = "Lot --> extrude(2) implicit(\"rock.cave\") B.";
+    let e = try_run(missing, lot(4.0, 4.0), &options).unwrap_err();
+    assert_eq!(e.message, "cannot run `rock.cave`: no such grammar");
+    assert_eq!(&missing[e.span.unwrap().range()], "\"rock.cave\"");
+    let e = try_run(missing, lot(4.0, 4.0), &DeriveOptions::default()).unwrap_err();
+    assert_eq!(e.message, "cannot run `rock.cave`: no asset folder is set");
+}

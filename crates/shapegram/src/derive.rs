@@ -12,6 +12,7 @@ use serde::ser::SerializeMap;
 use shapegram_eval::{AssetLoader, Derivation, DeriveError, DeriveOptions, Value};
 use shapegram_export::{ExportOptions, Format};
 use shapegram_geom::{DVec3, Mesh, Model};
+use shapegram_implicit::Solid;
 use shapegram_syntax::SourceFile;
 
 use crate::cli::{DeriveArgs, MissingAssets};
@@ -180,6 +181,7 @@ struct FileAssets {
     folder: PathBuf,
     missing: MissingAssets,
     cache: Mutex<HashMap<PathBuf, Arc<Mesh>>>,
+    solids: Mutex<HashMap<PathBuf, Solid>>,
 }
 
 impl FileAssets {
@@ -188,6 +190,7 @@ impl FileAssets {
             folder,
             missing,
             cache: Mutex::new(HashMap::new()),
+            solids: Mutex::new(HashMap::new()),
         }
     }
 
@@ -241,6 +244,22 @@ impl AssetLoader for FileAssets {
         cache.insert(full, Arc::clone(&mesh));
         Ok(mesh)
     }
+
+    /// `implicit("grotto.cave")`: the grammar's solid, run once per file. Files that cannot be
+    /// read are always an error (`--missing-assets` is about `i()`).
+    fn solid(&self, path: &str) -> Result<Solid, String> {
+        let full = self.folder.join(path);
+        let mut solids = self.solids.lock().unwrap_or_else(PoisonError::into_inner);
+        if let Some(solid) = solids.get(&full) {
+            return Ok(solid.clone());
+        }
+        if full.extension().and_then(|e| e.to_str()) != Some("cave") {
+            return Err("only implicit grammars (.cave files) make implicit solids".to_owned());
+        }
+        let (solid, _) = cave_solid(&full)?;
+        solids.insert(full, solid.clone());
+        Ok(solid)
+    }
 }
 
 /// The geometry of an L-system file (`i("tree.lsys")`): derived with the settings of the file,
@@ -267,6 +286,15 @@ fn plant(path: &Path) -> Result<Mesh, String> {
 /// of the file and meshed at its level of detail, as one closed mesh that `i` stretches to the
 /// scope like any asset.
 fn carve(path: &Path) -> Result<Mesh, String> {
+    let (solid, lod) = cave_solid(path)?;
+    let options = shapegram_implicit::MeshOptions::with_cell_size(1.0 / f64::from(lod));
+    shapegram_implicit::mesh(&solid, &options)
+        .map(|meshing| meshing.mesh)
+        .map_err(|e| format!("{}: {e}", path.display()))
+}
+
+/// The solid an implicit grammar makes with the seed of its file, and its level of detail.
+fn cave_solid(path: &Path) -> Result<(Solid, u32), String> {
     let (text, name) = read_text(path)?;
     let located = |e: shapegram_implicit::TextError| format!("{name}:{e}");
     let program = shapegram_implicit::text::parse(&text).map_err(located)?;
@@ -274,10 +302,7 @@ fn carve(path: &Path) -> Result<Mesh, String> {
     let lod = program
         .lod
         .unwrap_or(shapegram_implicit::CaveParams::default().lod);
-    let options = shapegram_implicit::MeshOptions::with_cell_size(1.0 / f64::from(lod));
-    shapegram_implicit::mesh(run.builder.solid(), &options)
-        .map(|meshing| meshing.mesh)
-        .map_err(|e| format!("{name}: {e}"))
+    Ok((run.builder.solid().clone(), lod))
 }
 
 /// A text file and its name for messages.

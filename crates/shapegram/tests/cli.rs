@@ -1137,3 +1137,47 @@ fn implicit_solids_are_written_smooth_and_their_detail_is_an_option() {
     );
     assert!(err.contains("expected a cell size above 0"), "{err}");
 }
+
+#[test]
+fn an_implicit_grammar_joins_a_group_and_is_carved() {
+    let dir = TempDir::new("implicit-file");
+    std::fs::copy(example("grotto.cave"), dir.path("grotto.cave")).unwrap();
+    let whole = dir.path("whole.cga");
+    std::fs::write(
+        &whole,
+        "Lot --> extrude(8) implicit(\"grotto.cave\") csg(\"g\", union) Cave.\n",
+    )
+    .unwrap();
+    // The same, with the right half of the scope carved away.
+    let half = dir.path("half.cga");
+    std::fs::write(
+        &half,
+        "Lot --> extrude(8) [ implicit(\"grotto.cave\") csg(\"g\", union) Cave. ]\n\
+         s('0.5, '1, '1) t('1, 0, 0) csg(\"g\", subtract) Cut.\n",
+    )
+    .unwrap();
+    let lot = "0,0 20,0 20,10 0,10";
+    let (a, b) = (dir.path("whole.glb"), dir.path("half.glb"));
+    ok(&["derive", text(&whole), "--lot", lot, "-q", "-o", text(&a)]);
+    ok(&["derive", text(&half), "--lot", lot, "-q", "-o", text(&b)]);
+    let (a, b) = (info_json(&a), info_json(&b));
+    assert_eq!(a["watertight"], true, "{a}");
+    assert_eq!(b["watertight"], true, "{b}");
+    // Stretched to the 20 × 8 × 10 scope; the carved one ends halfway along x.
+    assert_relative(a["bounds"]["size"][0].as_f64().unwrap(), 20.0, 0.02);
+    assert!(
+        b["bounds"]["max"][0].as_f64().unwrap() <= 10.0 + 1e-6,
+        "{b}"
+    );
+    let (va, vb) = (num(&a, "volume"), num(&b, "volume"));
+    assert!(vb > 0.2 * va && vb < 0.8 * va, "{vb} of {va}");
+
+    let wrong = dir.path("wrong.cga");
+    std::fs::write(&wrong, "Lot --> extrude(8) implicit(\"rock.obj\") R.\n").unwrap();
+    let err = fails(
+        &["derive", text(&wrong)],
+        1,
+        "cannot run `rock.obj`: only implicit grammars (.cave files) make implicit solids",
+    );
+    assert!(err.contains("wrong.cga:1:29"), "{err}");
+}
