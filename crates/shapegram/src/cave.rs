@@ -109,8 +109,10 @@ pub fn run(args: &CaveArgs) -> Result<(), Failure> {
     let mesh_time = meshing_started.elapsed();
 
     let export_started = Instant::now();
-    let model = Model::single("cave", ROCK, meshing.mesh.clone());
     if let Some(output) = &args.output {
+        // Smooth shading: marching-cubes surfaces look faceted with a normal per triangle.
+        let mut model = Model::single("cave", ROCK, meshing.mesh.clone());
+        model.parts[0].normals = meshing.mesh.vertex_normals();
         shapegram_export::save(&model, output, &ExportOptions::default())?;
     }
     let export_time = export_started.elapsed();

@@ -1,5 +1,5 @@
 //! `shapegram lsystem`: derive an L-system, then print its word or draw it with the turtle as
-//! SVG (2D) or as a tube model (GLB, OBJ, STL).
+//! SVG (2D), as a tube model (GLB, OBJ, STL) or as a line model (GLB, OBJ).
 
 use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
@@ -10,7 +10,7 @@ use shapegram_export::{ExportOptions, Format, SvgDrawing, SvgPolygon, SvgPolylin
 use shapegram_geom::DVec2;
 use shapegram_lsystem::{
     DEFAULT_MAX_MODULES, DEFAULT_MAX_VERTICES, DeriveOptions, Drawing, LSystem, Settings,
-    drawing_to_model_within, interpret,
+    drawing_to_lines_within, drawing_to_model_within, interpret,
 };
 
 use crate::derive::duration;
@@ -24,10 +24,15 @@ use crate::{Failure, counted, print_stdout};
         The file holds settings (n, angle, step, width, seed, ignore, define, axiom, ...) and \
         productions, one per line: `F -> F[+F]F[-F]F`, `F (0.33) -> ...` (stochastic), \
         `b < a > c -> ...` (context), `A(x,y) : y <= 3 -> A(2*x, x+y)` (parametric). \
-        See docs/lsystem.md for the format and the turtle commands.",
+        See docs/lsystem.md for the format and the turtle commands.\n\n\
+        Models draw strokes as smooth-shaded tubes of `sides:` sides; with --lines, as line \
+        segments without thickness (GLB LINES primitives, OBJ `l` elements), which are ten \
+        times smaller and quicker for words of millions of segments. Polygons (leaves) stay \
+        faces either way.",
     after_help = "Examples:\n  \
         shapegram lsystem examples/koch-island.lsys -o island.svg\n  \
         shapegram lsystem examples/tree-3d.lsys -o tree.glb\n  \
+        shapegram lsystem examples/bush-3d.lsys --lines -o bush-lines.glb\n  \
         shapegram lsystem examples/stochastic-plant.lsys -o plant.svg --seed 3\n  \
         shapegram lsystem examples/algae.lsys -n 5 --string"
 )]
@@ -48,10 +53,15 @@ pub struct LsystemArgs {
     /// Print the derived word on stdout
     #[arg(long)]
     pub string: bool,
+    /// Draw strokes as lines without thickness instead of tubes (.glb or .obj; STL holds
+    /// triangles only)
+    #[arg(long)]
+    pub lines: bool,
     /// Stop with an error when a word would grow beyond this many modules
     #[arg(long, value_name = "N", default_value_t = DEFAULT_MAX_MODULES)]
     pub max_modules: usize,
     /// Stop with an error when a model (GLB, OBJ, STL) would have more than this many vertices
+    /// (tube rings count `sides` each; with --lines, every point counts one)
     #[arg(long, value_name = "N", default_value_t = DEFAULT_MAX_VERTICES)]
     pub max_vertices: usize,
     /// Do not print the summary line on stderr
@@ -88,6 +98,11 @@ impl Output {
 pub fn run(args: &LsystemArgs) -> Result<(), Failure> {
     // Cheap checks first, so that a typo fails before any work.
     let output = args.output.as_deref().map(Output::of).transpose()?;
+    if args.lines && output == Some(Output::Model(Format::Stl)) {
+        return Err(Failure::new(
+            "STL holds triangles only; --lines needs a .glb or .obj output",
+        ));
+    }
     let name = args.file.display().to_string();
     let bytes =
         std::fs::read(&args.file).map_err(|e| Failure::new(format!("cannot read {name}: {e}")))?;
@@ -129,7 +144,12 @@ pub fn run(args: &LsystemArgs) -> Result<(), Failure> {
                     .map_err(|e| Failure::new(format!("cannot write {}: {e}", path.display())))?
             }
             Output::Model(_) => {
-                let model = drawing_to_model_within(&drawing, &system.settings, args.max_vertices)
+                let build = if args.lines {
+                    drawing_to_lines_within
+                } else {
+                    drawing_to_model_within
+                };
+                let model = build(&drawing, &system.settings, args.max_vertices)
                     .map_err(|e| reported(&e.render(&name, &text)))?;
                 shapegram_export::save(&model, path, &ExportOptions::default())?;
             }

@@ -72,8 +72,13 @@ fn the_papers_experiment_with_stats() {
     assert_eq!(json["watertight"], true);
     let cf = json["convexity_factor"].as_f64().unwrap();
     assert!((40.0..=75.0).contains(&cf), "{cf}");
-    // The file read back: the same triangles, closed.
+    // The file read back: the same triangles, closed, smooth-shaded with one normal per shared
+    // vertex (the mesher's own vertices, none duplicated per triangle).
     let model = shapegram_export::load(&out).unwrap();
+    let part = &model.parts[0];
+    assert_eq!(part.mesh.vertex_count(), metrics.vertices);
+    assert_eq!(part.normals.len(), metrics.vertices);
+    assert!(part.normals.iter().all(|n| (n.length() - 1.0).abs() < 1e-6));
     let back = model.merged_mesh().welded(0.0);
     assert_eq!(back.face_count(), metrics.triangles);
     assert!(back.is_watertight());

@@ -6,7 +6,7 @@ use std::path::Path;
 mod common;
 
 use common::{TempDir, shapegram};
-use shapegram_lsystem::{DeriveOptions, LSystem, drawing_to_model, interpret};
+use shapegram_lsystem::{DeriveOptions, LSystem, drawing_to_lines, drawing_to_model, interpret};
 
 /// A path as a command-line argument.
 fn arg(path: &Path) -> String {
@@ -160,6 +160,76 @@ fn tree_model_matches_the_library_and_every_format_writes() {
 }
 
 #[test]
+fn tubes_read_back_smooth_with_a_normal_per_vertex() {
+    let dir = TempDir::new("smooth");
+    let text = std::fs::read_to_string(example("tree-3d.lsys")).unwrap();
+    let system = LSystem::parse(&text).unwrap();
+    let word = system.derive(&DeriveOptions::default()).unwrap();
+    let model = drawing_to_model(&interpret(&system, &word), &system.settings);
+    let vertices = model.parts[0].mesh.vertex_count();
+    for extension in ["glb", "obj"] {
+        let path = arg(&dir.path(&format!("tree.{extension}")));
+        ok(&[&example("tree-3d.lsys"), "-o", &path, "-q"]);
+        let loaded = shapegram_export::load(Path::new(&path)).unwrap();
+        let branches = &loaded.parts[0];
+        assert_eq!(branches.mesh.vertex_count(), vertices, "{extension}");
+        assert_eq!(branches.normals.len(), vertices, "{extension}");
+        assert!(branches.mesh.is_watertight(), "{extension}");
+        // Leaves stay flat.
+        assert!(loaded.parts[1].normals.is_empty(), "{extension}");
+    }
+}
+
+#[test]
+fn lines_write_one_segment_per_drawn_segment() {
+    let dir = TempDir::new("lines");
+    let text = std::fs::read_to_string(example("bush-3d.lsys")).unwrap();
+    let system = LSystem::parse(&text).unwrap();
+    let word = system.derive(&DeriveOptions::default()).unwrap();
+    let drawing = interpret(&system, &word);
+    assert_eq!(drawing.segment_count(), 3891);
+    let model = drawing_to_lines(&drawing, &system.settings);
+    let points: usize = model.lines.iter().map(|l| l.points.len()).sum();
+    let leaf_faces: usize = model.parts.iter().map(|p| p.mesh.face_count()).sum();
+    assert_eq!(leaf_faces, 2 * 1284);
+    for extension in ["glb", "obj"] {
+        let path = arg(&dir.path(&format!("bush.{extension}")));
+        let (_, err) = ok(&[&example("bush-3d.lsys"), "--lines", "-o", &path]);
+        assert!(err.contains(", 3891 segments, 1284 polygons, "), "{err}");
+        let loaded = shapegram_export::load(Path::new(&path)).unwrap();
+        let segments: usize = loaded.lines.iter().map(|l| l.segments.len()).sum();
+        assert_eq!(segments, 3891, "{extension}");
+        let loaded_points: usize = loaded.lines.iter().map(|l| l.points.len()).sum();
+        assert_eq!(loaded_points, points, "{extension}");
+        let loaded_faces: usize = loaded.parts.iter().map(|p| p.mesh.face_count()).sum();
+        // GLB holds the leaves' triangles, OBJ their polygons.
+        let want = if extension == "obj" {
+            leaf_faces
+        } else {
+            model.parts.iter().map(|p| p.mesh.triangulate().len()).sum()
+        };
+        assert_eq!(loaded_faces, want, "{extension}");
+    }
+    // Without leaves, lines are a small fraction of the tubes' size.
+    let (tubes, lines) = (arg(&dir.path("tubes.glb")), arg(&dir.path("lines.glb")));
+    ok(&[&example("stochastic-plant.lsys"), "-o", &tubes, "-q"]);
+    ok(&[
+        &example("stochastic-plant.lsys"),
+        "--lines",
+        "-o",
+        &lines,
+        "-q",
+    ]);
+    let size = |p: &str| std::fs::metadata(p).unwrap().len();
+    assert!(
+        size(&lines) * 10 < size(&tubes),
+        "{} vs {}",
+        size(&lines),
+        size(&tubes)
+    );
+}
+
+#[test]
 fn seeds_choose_the_plant() {
     let dir = TempDir::new("seeds");
     let plant = example("stochastic-plant.lsys");
@@ -232,11 +302,28 @@ fn limits_and_bad_arguments_are_one_line_errors() {
     assert_eq!(
         err,
         format!(
-            "error: {line}: the model would have up to 8,200 vertices, over the limit of 8,199 (derive fewer steps, use fewer sides, or draw an SVG)\n"
+            "error: {line}: the model would have up to 8,200 vertices, over the limit of 8,199 (derive fewer steps, use fewer sides, draw lines, or draw an SVG)\n"
         )
     );
     assert!(!dir.path("line.glb").exists());
     ok(&[&line, "-o", &glb, "--max-vertices", "8200"]);
+    // As lines, the same stroke is its 1025 points.
+    let err = fails(&[&line, "--lines", "-o", &glb, "--max-vertices", "1024"]);
+    assert_eq!(
+        err,
+        format!(
+            "error: {line}: the model would have up to 1,025 vertices, over the limit of 1,024 (derive fewer steps or draw an SVG)\n"
+        )
+    );
+    ok(&[&line, "--lines", "-o", &glb, "--max-vertices", "1025"]);
+    // STL has no lines: refused before any work.
+    let stl = arg(&dir.path("line.stl"));
+    let err = fails(&[&line, "--lines", "-o", &stl]);
+    assert_eq!(
+        err,
+        "error: STL holds triangles only; --lines needs a .glb or .obj output\n"
+    );
+    assert!(!dir.path("line.stl").exists());
     let err = fails(&[&algae, "-o", "out.png"]);
     assert_eq!(
         err,
