@@ -3,7 +3,6 @@
 use std::collections::HashMap;
 use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
-use std::sync::mpsc::{self, RecvTimeoutError};
 use std::sync::{Arc, Mutex, PoisonError};
 use std::time::{Duration, Instant};
 
@@ -16,6 +15,7 @@ use shapegram_implicit::Solid;
 use shapegram_syntax::SourceFile;
 
 use crate::cli::{DeriveArgs, MissingAssets};
+use crate::progress::with_spinner;
 use crate::{Failure, counted, grammar, lots, print_stdout};
 
 /// Derives, writes and reports.
@@ -54,7 +54,8 @@ pub fn run(args: &DeriveArgs) -> Result<(), Failure> {
 
     let started = Instant::now();
     let spinner = !args.quiet && std::io::stderr().is_terminal();
-    let result = with_spinner(spinner, source.name(), || {
+    let label = format!("deriving {}", source.name());
+    let result = with_spinner(spinner, &label, || {
         shapegram_eval::derive(&program, &lots, &options)
     });
     let derive_time = started.elapsed();
@@ -139,39 +140,6 @@ pub fn duration(d: Duration) -> String {
 /// Milliseconds rounded to microseconds, for JSON.
 pub fn millis(d: Duration) -> f64 {
     (d.as_secs_f64() * 1e6).round() / 1e3
-}
-
-/// Runs `work`, showing a spinner on stderr (when `enabled`) if it takes longer than half a
-/// second. The engine has no progress callback, so the spinner only says that work goes on.
-fn with_spinner<T>(enabled: bool, label: &str, work: impl FnOnce() -> T) -> T {
-    if !enabled {
-        return work();
-    }
-    let (done, finished) = mpsc::channel::<()>();
-    std::thread::scope(|scope| {
-        scope.spawn(move || {
-            let started = Instant::now();
-            let mut wait = Duration::from_millis(500);
-            let mut shown = false;
-            for frame in ['|', '/', '-', '\\'].into_iter().cycle() {
-                match finished.recv_timeout(wait) {
-                    Err(RecvTimeoutError::Timeout) => {}
-                    _ => break,
-                }
-                let seconds = started.elapsed().as_secs_f64();
-                eprint!("\r{frame} deriving {label}: {seconds:.1} s ");
-                shown = true;
-                wait = Duration::from_millis(100);
-            }
-            if shown {
-                // Erase the spinner's line.
-                eprint!("\r\x1b[2K");
-            }
-        });
-        let result = work();
-        drop(done);
-        result
-    })
 }
 
 /// Assets for `i("path")`: files relative to the grammar's folder (absolute paths as they are),

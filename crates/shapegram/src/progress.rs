@@ -1,6 +1,7 @@
 //! Progress bars for long runs.
 
 use std::sync::OnceLock;
+use std::sync::mpsc::{self, RecvTimeoutError};
 use std::time::{Duration, Instant};
 
 use indicatif::{ProgressBar, ProgressDrawTarget, ProgressStyle};
@@ -53,4 +54,32 @@ impl LateBar {
             bar.finish_and_clear();
         }
     }
+}
+
+/// Runs `work`, showing a spinner with `label` and the time so far on stderr (when `enabled`)
+/// once it has taken half a second: for work that cannot say how far along it is.
+pub fn with_spinner<T>(enabled: bool, label: &str, work: impl FnOnce() -> T) -> T {
+    if !enabled {
+        return work();
+    }
+    let (done, finished) = mpsc::channel::<()>();
+    std::thread::scope(|scope| {
+        scope.spawn(move || {
+            if finished.recv_timeout(DELAY) != Err(RecvTimeoutError::Timeout) {
+                return;
+            }
+            let spinner = ProgressBar::with_draw_target(None, ProgressDrawTarget::stderr());
+            if let Ok(style) = ProgressStyle::with_template("{spinner} {msg}: {elapsed}") {
+                spinner.set_style(style);
+            }
+            spinner.set_message(label.to_owned());
+            spinner.enable_steady_tick(Duration::from_millis(100));
+            // Returns when `done` is dropped.
+            let _ = finished.recv();
+            spinner.finish_and_clear();
+        });
+        let result = work();
+        drop(done);
+        result
+    })
 }
