@@ -19,7 +19,7 @@
 use std::sync::Arc;
 
 use shapegram_geom::occlusion::{Contact, ConvexSolid, Probe, contact, convex_pieces};
-use shapegram_geom::{Aabb, Bvh, DVec3, Scope};
+use shapegram_geom::{Aabb, Bvh, DVec3, Mesh, Scope};
 use shapegram_implicit::Solid;
 
 use crate::expr::ConstMemo;
@@ -63,9 +63,26 @@ impl Occluder {
         lot: u32,
         parent: u32,
     ) -> Option<Self> {
+        Self::with_world_mesh(scope, geometry, None, symbol, label, lot, parent)
+    }
+
+    /// Like [`Occluder::new`], with the geometry's world mesh when the caller has made it
+    /// already (a component split needs it too).
+    pub fn with_world_mesh(
+        scope: &Scope,
+        geometry: &Geometry,
+        world: Option<&Mesh>,
+        symbol: Sym,
+        label: Option<Arc<str>>,
+        lot: u32,
+        parent: u32,
+    ) -> Option<Self> {
         let pieces = match geometry {
             Geometry::Box => vec![ConvexSolid::from_scope(scope)?],
-            Geometry::Mesh(..) => convex_pieces(&geometry.world_mesh(scope)?, MAX_PIECES)?,
+            Geometry::Mesh(..) => match world {
+                Some(mesh) => convex_pieces(mesh, MAX_PIECES)?,
+                None => convex_pieces(&geometry.world_mesh(scope)?, MAX_PIECES)?,
+            },
             // Members that carve or trim a group add nothing to occlude.
             Geometry::Implicit(implicit)
                 if matches!(

@@ -1139,7 +1139,7 @@ impl<'p> Engine<'p> {
             Op::Label(name) => {
                 let name = self.ev.string(name, state, args)?;
                 if self.phase == Phase::Gather {
-                    self.occlude(state, Some(name));
+                    self.occlude(state, Some(name), None);
                 }
             }
             Op::Comp { kind, entries } => {
@@ -1281,8 +1281,12 @@ impl<'p> Engine<'p> {
 
     /// Records the shape as an occluder (when its geometry is a closed solid); its descendants
     /// will not see it in their queries.
-    fn occlude(&mut self, state: &mut State, label: Option<Arc<str>>) {
-        if let Some(occluder) = Occluder::of(state, label, self.ev.lot) {
+    fn occlude(&mut self, state: &mut State, label: Option<Arc<str>>, world: Option<&Mesh>) {
+        let (scope, geometry, symbol) = (&state.scope, &state.geometry, state.symbol);
+        let (lot, parent) = (self.ev.lot, state.occluder);
+        if let Some(occluder) =
+            Occluder::with_world_mesh(scope, geometry, world, symbol, label, lot, parent)
+        {
             state.occluder = self.occluders.len() as u32;
             self.occluders.push(occluder);
         }
@@ -1470,7 +1474,7 @@ impl<'p> Engine<'p> {
             return Ok(());
         };
         if self.phase == Phase::Gather {
-            self.occlude(state, None);
+            self.occlude(state, None, Some(&world));
         }
         let components = match kind {
             CompKind::Faces => component::faces(&world),
