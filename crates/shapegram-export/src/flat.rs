@@ -25,9 +25,11 @@ pub(crate) fn is_smooth(part: &Part) -> bool {
 /// The part's normals, where those that cannot be made unit (zero or not finite) are replaced
 /// by the normal of the first exportable face around their vertex.
 pub(crate) fn usable_normals(part: &Part) -> Cow<'_, [DVec3]> {
+    // A finite, non-zero squared length makes a unit vector; no square root needed (glam's
+    // is a software one here, and parts have millions of normals).
     let usable = |n: &DVec3| {
-        let length = n.length();
-        length > 0.0 && (*n / length).as_vec3().is_finite()
+        let squared = n.length_squared();
+        squared > 0.0 && squared.is_finite()
     };
     let mut normals = Cow::Borrowed(part.normals.as_slice());
     if !normals.iter().all(usable) {
