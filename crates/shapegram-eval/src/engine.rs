@@ -21,8 +21,8 @@ use crate::context::{Context, Occluder, Parked, SnapPlane, Waiting, snap_planes}
 use crate::error::DeriveError;
 use crate::expr::Evaluator;
 use crate::ops::{
-    CompEntry, CompKind, CompSelector, CsgKind, ImplicitKind, OffsetKeep, Op, Primitive, RoofKind,
-    SetTarget,
+    CompEntry, CompKind, CompSelector, CsgKind, EdgeChoice, FaceChoice, ImplicitKind, OffsetKeep,
+    Op, Primitive, RoofKind, SetTarget,
 };
 use crate::program::{CBody, CExpr, CKind, CStmt, Program, RuleId, Sym};
 use crate::rng::child_seed;
@@ -1101,6 +1101,27 @@ impl<'p> Engine<'p> {
                 mirror(state, f);
             }
             Op::AlignScopeToAxes(axis) => align_scope(state, *axis),
+            Op::AlignScopeToGeometry { z_up, face, edge } => {
+                let face = match face {
+                    FaceChoice::Index(e) => FacePick::Index(self.index(e, state, args)?),
+                    FaceChoice::Lowest => FacePick::Lowest,
+                    FaceChoice::Largest => FacePick::Largest,
+                    FaceChoice::Any => FacePick::Any,
+                };
+                let edge = match edge {
+                    EdgeChoice::Index(e) => EdgePick::Index(self.index(e, state, args)?),
+                    EdgeChoice::Lowest => EdgePick::Lowest,
+                    EdgeChoice::Longest => EdgePick::Longest,
+                };
+                if let Some(axes) = geometry_axes(state, *z_up, face, edge) {
+                    refit(state, axes);
+                }
+            }
+            Op::AlignScopeToGeometryBBox { first, second } => {
+                if let Some(axes) = bbox_axes(state, *first, *second) {
+                    refit(state, axes);
+                }
+            }
             Op::RotateScope(v) => {
                 let v = self.vector(v, state, args)?;
                 let mut turned = state.scope;
@@ -1207,6 +1228,18 @@ impl<'p> Engine<'p> {
             Op::Ignored => {}
         }
         Ok(false)
+    }
+
+    /// Evaluates a face or edge index: a whole number, negative ones counting from the end.
+    fn index(&mut self, e: &CExpr, state: &mut State, args: &[Value]) -> Fallible<i64> {
+        let n = self.ev.number(e, state, args)?;
+        if n.fract() != 0.0 || n.abs() > 1e15 {
+            return Err(DeriveError::at(
+                format!("index {n}: expected a whole number"),
+                e.span,
+            ));
+        }
+        Ok(n as i64)
     }
 
     /// Evaluates operation arguments that must all be numbers.
@@ -1822,6 +1855,102 @@ fn refit(state: &mut State, axes: DMat3) {
         },
     };
     state.rescope(scope);
+}
+
+/// The face `alignScopeToGeometry` takes, evaluated.
+enum FacePick {
+    Index(i64),
+    Lowest,
+    Largest,
+    Any,
+}
+
+/// The edge `alignScopeToGeometry` takes, evaluated.
+enum EdgePick {
+    Index(i64),
+    Lowest,
+    Longest,
+}
+
+/// CGA `alignScopeToGeometry`: x along the picked edge of the picked face, the face's normal as
+/// y (`yUp`) or z (`zUp`); `None` for shapes without faces or a degenerate edge.
+fn geometry_axes(state: &State, z_up: bool, face: FacePick, edge: EdgePick) -> Option<DMat3> {
+    let world = state.geometry.world_mesh(&state.scope)?;
+    let n = world.face_count();
+    if n == 0 {
+        return None;
+    }
+    let wrap = |i: i64, len: usize| i.rem_euclid(len as i64) as usize;
+    // Edges of face `f` as (start, end).
+    let edges = |f: usize| {
+        let points: Vec<DVec3> = world.face_points(f).collect();
+        let k = points.len();
+        (0..k).map(move |j| (points[j], points[(j + 1) % k]))
+    };
+    // How an edge selector ranks edges: smaller is better.
+    let rank = |(a, b): (DVec3, DVec3)| match edge {
+        EdgePick::Lowest => (a.y + b.y) / 2.0,
+        EdgePick::Longest => -a.distance(b),
+        EdgePick::Index(_) => 0.0,
+    };
+    let best = |scores: &mut dyn Iterator<Item = (f64, usize)>| {
+        scores
+            .fold(None, |best: Option<(f64, usize)>, (v, i)| match best {
+                Some((w, _)) if w <= v => best,
+                _ => Some((v, i)),
+            })
+            .map(|(_, i)| i)
+    };
+    let f = match face {
+        FacePick::Index(i) => wrap(i, n),
+        // The lowest by its centre: a box's walls reach down as far as its bottom does.
+        FacePick::Lowest => best(&mut (0..n).map(|f| (world.face_centroid(f).y, f)))?,
+        FacePick::Largest => best(&mut (0..n).map(|f| (-world.face_area(f), f)))?,
+        FacePick::Any => best(&mut (0..n).map(|f| {
+            let score = edges(f).map(rank).fold(f64::INFINITY, f64::min);
+            (score, f)
+        }))?,
+    };
+    let (a, b) = match edge {
+        EdgePick::Index(j) => edges(f).nth(wrap(j, world.face(f).len()))?,
+        _ => {
+            let all: Vec<(DVec3, DVec3)> = edges(f).collect();
+            all[best(&mut all.iter().enumerate().map(|(j, &e)| (rank(e), j)))?]
+        }
+    };
+    let normal = world.face_normal(f).try_normalize()?;
+    let x = (b - a).reject_from(normal).try_normalize()?;
+    Some(if z_up {
+        DMat3::from_cols(x, normal.cross(x), normal)
+    } else {
+        DMat3::from_cols(x, normal, x.cross(normal))
+    })
+}
+
+/// CGA `alignScopeToGeometryBBox`: the scope's axes `first` and `second` turned about the third
+/// so that they span the minimum-area rectangle around the geometry seen along it, `first` along
+/// its longer side (pointing the way the old `first` axis did, as far as it can).
+fn bbox_axes(state: &State, first: usize, second: usize) -> Option<DMat3> {
+    let world = state.geometry.world_mesh(&state.scope)?;
+    let fixed = 3 - first - second;
+    let axes = state.scope.axes;
+    let (u, v) = (axes.col(first), axes.col(second));
+    let flat: Vec<shapegram_geom::DVec2> = world
+        .positions()
+        .iter()
+        .map(|p| shapegram_geom::DVec2::new(p.dot(u), p.dot(v)))
+        .collect();
+    let rectangle = shapegram_geom::rectangle::min_area_rectangle(&flat)?;
+    let mut along = rectangle.long_axis;
+    if along.x < 0.0 {
+        along = -along;
+    }
+    let mut cols = [DVec3::ZERO; 3];
+    cols[fixed] = axes.col(fixed);
+    cols[first] = u * along.x + v * along.y;
+    // The remaining axis completes a right-handed frame (x = y × z, y = z × x, z = x × y).
+    cols[second] = cols[(second + 1) % 3].cross(cols[(second + 2) % 3]);
+    Some(DMat3::from_cols(cols[0], cols[1], cols[2]))
 }
 
 /// CGA `alignScopeToAxes`: all axes to the world's, or one axis to the world's keeping the

@@ -25,6 +25,19 @@ pub(crate) enum Op {
     Center([bool; 3]),
     Mirror([CExpr; 3]),
     AlignScopeToAxes(Option<usize>),
+    /// `alignScopeToGeometry(yUp | zUp, face, edge)`: axes along an edge of a face, the face's
+    /// normal up.
+    AlignScopeToGeometry {
+        z_up: bool,
+        face: FaceChoice,
+        edge: EdgeChoice,
+    },
+    /// `alignScopeToGeometryBBox(xz)`: the first two axes along the minimum-area rectangle
+    /// around the geometry seen along the third, the first along its longer side.
+    AlignScopeToGeometryBBox {
+        first: usize,
+        second: usize,
+    },
     RotateScope([CExpr; 3]),
     Insert(CExpr),
     Primitive(Primitive, Vec<CExpr>),
@@ -80,6 +93,24 @@ pub(crate) enum Primitive {
     Sphere,
     Quad,
     Pyramid,
+}
+
+/// Which face `alignScopeToGeometry` takes.
+#[derive(Debug)]
+pub(crate) enum FaceChoice {
+    Index(CExpr),
+    Lowest,
+    Largest,
+    /// The face of the edge the edge choice picks among all edges.
+    Any,
+}
+
+/// Which edge of the face `alignScopeToGeometry` takes.
+#[derive(Debug)]
+pub(crate) enum EdgeChoice {
+    Index(CExpr),
+    Lowest,
+    Longest,
 }
 
 /// The solids of `implicit(…)`, each fitted to the scope.
@@ -275,7 +306,6 @@ const UNSUPPORTED: &[&str] = &[
     "footprint",
     "deleteHoles",
     "resetGeometry",
-    "alignScopeToGeometry",
     "mirrorScope",
     "rectify",
     "simplify",
@@ -338,6 +368,8 @@ const IMPLEMENTED: &[&str] = &[
     "Snap",
     "implicit",
     "csg",
+    "alignScopeToGeometry",
+    "alignScopeToGeometryBBox",
 ];
 
 /// Whether an operation of this name exists (implemented or not).
@@ -441,6 +473,8 @@ impl Ctx<'_, '_> {
             "center" => Op::Center(self.axes_selector("center(xyz)")?),
             "mirror" => Op::Mirror(self.three("mirror(x, y, z)")?),
             "alignScopeToAxes" => self.align()?,
+            "alignScopeToGeometry" => self.align_to_geometry()?,
+            "alignScopeToGeometryBBox" => self.align_to_bbox()?,
             "rotateScope" => Op::RotateScope(self.three("rotateScope(x, y, z)")?),
             "i" | "insert" => {
                 self.arity(1, 3, "i(path)")?;
@@ -804,6 +838,66 @@ impl Ctx<'_, '_> {
             distance: self.args.pop()?,
             keep,
         })
+    }
+
+    fn align_to_geometry(&mut self) -> Option<Op> {
+        self.arity(
+            3,
+            3,
+            "alignScopeToGeometry(yUp | zUp, faceIndex | world.lowest | largest | any, edgeIndex | world.lowest | longest)",
+        )?;
+        let z_up = match self.word(0) {
+            Some("yUp") => false,
+            Some("zUp") => true,
+            _ => return self.bad_selector(0, "`yUp` or `zUp` (`xUp` is not supported)"),
+        };
+        let is_word = |a: &CExpr| matches!(a.kind, CKind::Selector(_));
+        let (face_word, edge_word) = (
+            self.word(1).map(str::to_owned),
+            self.word(2).map(str::to_owned),
+        );
+        let edge = match edge_word.as_deref() {
+            Some("world.lowest") => EdgeChoice::Lowest,
+            Some("longest") => EdgeChoice::Longest,
+            _ if is_word(&self.args[2]) => {
+                return self.bad_selector(2, "an edge index, `world.lowest` or `longest`");
+            }
+            _ => EdgeChoice::Index(self.args.pop()?),
+        };
+        let face = match face_word.as_deref() {
+            Some("world.lowest") => FaceChoice::Lowest,
+            Some("largest") => FaceChoice::Largest,
+            Some("any") if !matches!(edge, EdgeChoice::Index(_)) => FaceChoice::Any,
+            Some("any") => {
+                return self.bad_selector(
+                    1,
+                    "a face index, `world.lowest` or `largest` (`any` needs an edge selector)",
+                );
+            }
+            _ if is_word(&self.args[1]) => {
+                return self.bad_selector(1, "a face index, `world.lowest`, `largest` or `any`");
+            }
+            _ => FaceChoice::Index(self.args.swap_remove(1)),
+        };
+        Some(Op::AlignScopeToGeometry { z_up, face, edge })
+    }
+
+    fn align_to_bbox(&mut self) -> Option<Op> {
+        self.arity(
+            1,
+            1,
+            "alignScopeToGeometryBBox(xy | yx | xz | zx | yz | zy)",
+        )?;
+        let axes: Vec<usize> = self
+            .word(0)
+            .map(|w| w.chars().filter_map(|c| "xyz".find(c)).collect())
+            .unwrap_or_default();
+        match axes[..] {
+            [first, second] if first != second && self.word(0).is_some_and(|w| w.len() == 2) => {
+                Some(Op::AlignScopeToGeometryBBox { first, second })
+            }
+            _ => self.bad_selector(0, "two axes: `xy`, `yx`, `xz`, `zx`, `yz` or `zy`"),
+        }
     }
 
     fn implicit(&mut self) -> Option<Op> {

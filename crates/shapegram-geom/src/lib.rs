@@ -25,6 +25,7 @@ pub mod offset;
 mod planar;
 pub mod plane;
 pub mod primitives;
+pub mod rectangle;
 pub mod roof;
 pub mod scope;
 mod skeleton;
