@@ -48,14 +48,10 @@ impl Shared<'_> {
     }
 }
 
-/// Keeps only the vertices `indices` use, renumbering `indices` when some are left out.
-fn shared<'a>(all: &'a [DVec3], indices: &mut Cow<'_, [u32]>) -> Shared<'a> {
-    let mut used = vec![false; all.len()];
-    for &v in indices.iter() {
-        used[v as usize] = true;
-    }
+/// The vertices marked `used`, and when some are not, the new number of each used one.
+fn shared<'a>(all: &'a [DVec3], used: &[bool]) -> (Shared<'a>, Option<Vec<u32>>) {
     if used.iter().all(|&u| u) {
-        return Shared { all, keep: None };
+        return (Shared { all, keep: None }, None);
     }
     let mut remap = vec![u32::MAX; all.len()];
     let mut keep = Vec::new();
@@ -63,13 +59,11 @@ fn shared<'a>(all: &'a [DVec3], indices: &mut Cow<'_, [u32]>) -> Shared<'a> {
         remap[v] = keep.len() as u32;
         keep.push(v as u32);
     }
-    for v in indices.to_mut().iter_mut() {
-        *v = remap[*v as usize];
-    }
-    Shared {
+    let shared = Shared {
         all,
         keep: Some(keep),
-    }
+    };
+    (shared, Some(remap))
 }
 
 /// Part of a primitive's vertex data, with indices counted from its own first vertex.
@@ -80,11 +74,16 @@ enum Chunk<'a> {
         normals: Vec<[f32; 3]>,
         indices: Vec<u32>,
     },
-    /// A smooth part's shared vertices with their normals.
+    /// A smooth part's shared vertices with their normals. Its `count` indices are not kept:
+    /// they are made again from the faces as they are written, which saves a buffer the size
+    /// of the index data (tubes of a million segments have tens of millions of indices).
     Smooth {
+        mesh: &'a Mesh,
         vertices: Shared<'a>,
+        /// The new number of each vertex, when some are left out.
+        remap: Option<Vec<u32>>,
         normals: Cow<'a, [DVec3]>,
-        indices: Vec<u32>,
+        count: usize,
     },
     /// A line set's points and segments.
     Lines {
@@ -123,7 +122,16 @@ impl<'a> Chunk<'a> {
         if indices.is_empty() {
             return None;
         }
-        let points = shared(&lines.points, &mut indices);
+        let mut used = vec![false; lines.points.len()];
+        for &v in indices.iter() {
+            used[v as usize] = true;
+        }
+        let (points, remap) = shared(&lines.points, &used);
+        if let Some(remap) = remap {
+            for v in indices.to_mut().iter_mut() {
+                *v = remap[*v as usize];
+            }
+        }
         Some(Self::Lines { points, indices })
     }
 
@@ -135,15 +143,25 @@ impl<'a> Chunk<'a> {
         }
     }
 
-    fn indices(&self) -> &[u32] {
+    /// Calls `visit` with every index, counted from the chunk's first vertex.
+    fn indices(&self, mut visit: impl FnMut(u32)) {
         match self {
-            Self::Flat { indices, .. } | Self::Smooth { indices, .. } => indices,
-            Self::Lines { indices, .. } => indices,
+            Self::Flat { indices, .. } => indices.iter().copied().for_each(visit),
+            Self::Lines { indices, .. } => indices.iter().copied().for_each(visit),
+            Self::Smooth { mesh, remap, .. } => smooth_triangles(mesh, |triangle| {
+                for v in triangle {
+                    visit(remap.as_ref().map_or(v, |r| r[v as usize]));
+                }
+            }),
         }
     }
 
     fn index_count(&self) -> usize {
-        self.indices().len()
+        match self {
+            Self::Flat { indices, .. } => indices.len(),
+            Self::Lines { indices, .. } => indices.len(),
+            Self::Smooth { count, .. } => *count,
+        }
     }
 
     /// Calls `visit` with every f32 position, in vertex order.
@@ -190,26 +208,37 @@ fn flat_chunk(mesh: &Mesh) -> Chunk<'static> {
 /// A smooth part's faces over its shared vertices (see [`usable_normals`]).
 fn smooth_chunk(part: &Part) -> Chunk<'_> {
     let mesh = &part.mesh;
+    let mut used = vec![false; mesh.vertex_count()];
+    let mut count = 0;
+    smooth_triangles(mesh, |triangle| {
+        for v in triangle {
+            used[v as usize] = true;
+        }
+        count += 3;
+    });
+    let (vertices, remap) = shared(mesh.positions(), &used);
+    Chunk::Smooth {
+        mesh,
+        vertices,
+        remap,
+        normals: usable_normals(part),
+        count,
+    }
+}
+
+/// Calls `visit` with every triangle written of a smooth mesh, as mesh vertex numbers.
+fn smooth_triangles(mesh: &Mesh, mut visit: impl FnMut([u32; 3])) {
     let mut splitter = FaceSplitter::default();
     let mut fan = Vec::new();
-    // Every corner beyond the first two of a face adds a triangle.
-    let mut indices =
-        Vec::with_capacity(3 * mesh.indices_len().saturating_sub(2 * mesh.face_count()));
     for i in 0..mesh.face_count() {
         fan.clear();
-        if splitter.split(mesh, i, &mut fan).is_none() || fan.is_empty() {
+        if splitter.split(mesh, i, &mut fan).is_none() {
             continue;
         }
         let face = mesh.face(i);
-        indices.extend(fan.iter().flatten().map(|&c| face[c as usize]));
-    }
-    let normals = usable_normals(part);
-    let mut indices = Cow::Owned(indices);
-    let vertices = shared(mesh.positions(), &mut indices);
-    Chunk::Smooth {
-        vertices,
-        normals,
-        indices: indices.into_owned(),
+        for triangle in &fan {
+            visit(triangle.map(|c| face[c as usize]));
+        }
     }
 }
 
@@ -400,13 +429,13 @@ impl<'a> Plan<'a> {
             let wide = primitive.wide();
             let mut base = 0u32;
             for chunk in &primitive.chunks {
-                for &i in chunk.indices() {
+                chunk.indices(|i| {
                     if wide {
                         put(&(base + i).to_le_bytes());
                     } else {
                         put(&((base + i) as u16).to_le_bytes());
                     }
-                }
+                });
                 base += chunk.vertex_count() as u32;
             }
             if !wide && primitive.index_count() % 2 == 1 {

@@ -195,6 +195,33 @@ fn unusable_normals_become_face_normals_and_unused_vertices_go() {
 }
 
 #[test]
+fn smooth_vertices_left_out_renumber_the_rest() {
+    // The cube behind an unused NaN vertex, so every index moves down by one when written.
+    let cube = cuboid(DVec3::ONE);
+    let mut positions = vec![DVec3::splat(f64::NAN)];
+    positions.extend_from_slice(cube.positions());
+    let faces: Vec<Vec<u32>> = cube
+        .faces()
+        .map(|f| f.iter().map(|v| v + 1).collect())
+        .collect();
+    let part = smooth("cube", Mesh::from_faces(positions, faces));
+    let model = Model {
+        parts: vec![part],
+        lines: Vec::new(),
+    };
+    for options in [GROUPED, MERGED] {
+        let read = &read_glb(&write_glb(&model, &options)).unwrap().parts[0];
+        assert_eq!(read.mesh.positions(), cube.positions());
+        assert_eq!(read.mesh.face_count(), 12);
+        assert!(read.mesh.is_watertight());
+        assert_close(read.mesh.signed_volume(), 1.0, 1e-12, "volume");
+        for (p, n) in read.mesh.positions().iter().zip(&read.normals) {
+            assert!((*n - (*p - 0.5).normalize()).length() < 1e-6, "{p}: {n}");
+        }
+    }
+}
+
+#[test]
 fn glb_lines_are_a_primitive_of_their_own() {
     let model = Model {
         parts: vec![Part {
