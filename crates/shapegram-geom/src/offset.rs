@@ -12,7 +12,7 @@ use crate::{
     DVec2, DVec3,
     mesh::newell,
     planar::{Polygon, is_convex, kept_corners, signed_area},
-    skeleton::{Skeleton, propagate},
+    skeleton::{Skeleton, propagate, propagate_weighted},
 };
 
 /// Moves every edge of a convex planar polygon (counter-clockwise about its normal) outward by
@@ -227,4 +227,97 @@ impl Wavefront {
             _ => polygon.frame.lift(self.skeleton.nodes[i].p, 0.0),
         }
     }
+}
+
+/// The strip a setback cuts along one edge.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Strip {
+    /// The edge's index in the polygon (corners on a straight line dropped first).
+    pub edge: usize,
+    /// The edge's start and end corners.
+    pub ends: [DVec3; 2],
+    /// The strip, counter-clockwise about the polygon's normal, starting with the edge.
+    pub polygon: Vec<DVec3>,
+}
+
+/// What CGA's `setback` cuts from a polygon: a strip along each selected edge and what remains.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Setback {
+    /// The strips of the selected edges, in edge order (edges whose strip has no area left out).
+    pub strips: Vec<Strip>,
+    /// The rest of the polygon: none, one or (for a waisted polygon) several loops.
+    pub remainder: Vec<Vec<DVec3>>,
+}
+
+/// CGA's `setback(distance)` on a simple planar polygon (counter-clockwise about its normal,
+/// convex or not): the edges for which `selected(index, start, end)` holds move inward by
+/// `distance` while the others stay, the corners between them sliding along the edges that stay
+/// (a weighted straight skeleton). The strips the moving edges sweep and the remainder tile the
+/// polygon. Corners on a straight line are dropped before edges are counted. `None` for invalid
+/// input (see [`offset_polygon`]), a distance that is negative or not finite, or a setback so
+/// deep that a moving edge runs onto the line of one that stays (where no weighted skeleton
+/// exists); a distance of zero or no selected edge leaves the polygon whole.
+pub fn setback(
+    points: &[DVec3],
+    distance: f64,
+    selected: impl Fn(usize, DVec3, DVec3) -> bool,
+) -> Option<Setback> {
+    let polygon = Polygon::new(points, true)?;
+    if !(distance.is_finite() && distance >= 0.0) {
+        return None;
+    }
+    let n = polygon.world.len();
+    let ends = |i: usize| [polygon.world[i], polygon.world[(i + 1) % n]];
+    let speeds: Vec<f64> = (0..n)
+        .map(|i| {
+            let [a, b] = ends(i);
+            if selected(i, a, b) { 1.0 } else { 0.0 }
+        })
+        .collect();
+    if distance == 0.0 || !speeds.contains(&1.0) {
+        return Some(Setback {
+            strips: Vec::new(),
+            remainder: vec![polygon.world],
+        });
+    }
+    let skeleton = propagate_weighted(&polygon.flat, &speeds, distance, true)?;
+    let world = |i: usize| match i < n {
+        true => polygon.world[i],
+        false => polygon.frame.lift(skeleton.nodes[i].p, 0.0),
+    };
+    let area = |loop_: &[usize]| {
+        let flat: Vec<DVec2> = loop_.iter().map(|&k| skeleton.nodes[k].p).collect();
+        signed_area(&flat)
+    };
+    let tiny = polygon.eps * polygon.eps;
+    let strips: Vec<usize> = (0..n)
+        .filter(|&i| speeds[i] == 1.0 && area(&skeleton.faces[i]) > tiny)
+        .collect();
+    let remainder: Vec<&Vec<usize>> = skeleton.front.iter().filter(|l| area(l) > tiny).collect();
+    // A moving edge that runs onto the line of an edge that stays has no weighted skeleton
+    // (the corner between them cannot keep to both): the pieces would not tile the polygon,
+    // which is refused rather than returned.
+    let pieces: f64 = strips
+        .iter()
+        .map(|&i| area(&skeleton.faces[i]))
+        .sum::<f64>()
+        + remainder.iter().map(|l| area(l)).sum::<f64>();
+    let whole = signed_area(&polygon.flat);
+    if (pieces - whole).abs() > 1e-9 * whole.max(1.0) + tiny * n as f64 {
+        return None;
+    }
+    Some(Setback {
+        strips: strips
+            .into_iter()
+            .map(|i| Strip {
+                edge: i,
+                ends: ends(i),
+                polygon: skeleton.faces[i].iter().map(|&k| world(k)).collect(),
+            })
+            .collect(),
+        remainder: remainder
+            .into_iter()
+            .map(|l| l.iter().map(|&k| world(k)).collect())
+            .collect(),
+    })
 }

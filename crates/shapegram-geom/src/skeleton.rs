@@ -64,6 +64,20 @@ struct Line {
     dir: DVec2,
     /// Unit normal pointing away from the side the wavefront moves into.
     out: DVec2,
+    /// How fast the edge moves (1 for a straight skeleton; 0 keeps it where it is).
+    speed: f64,
+}
+
+impl Line {
+    /// How far the edge has moved by `time`.
+    fn moved(&self, time: f64) -> f64 {
+        // Unit speeds skip the product, so plain skeletons round exactly as they always did.
+        if self.speed == 1.0 {
+            time
+        } else {
+            time * self.speed
+        }
+    }
 }
 
 /// A corner of the moving wavefront, between the edges of input edges `e_in` and `e_out`.
@@ -97,8 +111,23 @@ struct Propagation {
 /// input has a zero-length edge or a corner that turns back, or when the propagation cannot
 /// resolve an event consistently.
 pub(crate) fn propagate(polygon: &[DVec2], until: f64, require_ccw: bool) -> Option<Skeleton> {
+    propagate_weighted(polygon, &vec![1.0; polygon.len()], until, require_ccw)
+}
+
+/// Like [`propagate`], with edge `i` moving at `speeds[i]` (0 or more): a weighted straight
+/// skeleton. Edges of speed 0 stay put and the corners beside them slide along them, which is
+/// how a setback moves some edges of a lot and not others.
+pub(crate) fn propagate_weighted(
+    polygon: &[DVec2],
+    speeds: &[f64],
+    until: f64,
+    require_ccw: bool,
+) -> Option<Skeleton> {
     let n = polygon.len();
-    if n < 3 || until.is_nan() || until <= 0.0 {
+    if n < 3 || until.is_nan() || until <= 0.0 || speeds.len() != n {
+        return None;
+    }
+    if speeds.iter().any(|w| !(w.is_finite() && *w >= 0.0)) {
         return None;
     }
     let lines = (0..n)
@@ -108,6 +137,7 @@ pub(crate) fn propagate(polygon: &[DVec2], until: f64, require_ccw: bool) -> Opt
                 point: polygon[i],
                 dir,
                 out: DVec2::new(dir.y, -dir.x),
+                speed: speeds[i],
             })
         })
         .collect::<Option<Vec<_>>>()?;
@@ -175,9 +205,23 @@ impl Propagation {
     /// edges run in opposite directions to within about 10⁻⁸ rad (a hair-thin spike, whose corner
     /// would run at a speed that rounding makes meaningless).
     fn velocity(&self, e_in: usize, e_out: usize) -> Option<DVec2> {
-        let (o1, o2) = (self.lines[e_in].out, self.lines[e_out].out);
-        let denominator = 1.0 + o1.dot(o2);
-        (denominator > 1e-16).then(|| -(o1 + o2) / denominator)
+        let (a, b) = (self.lines[e_in], self.lines[e_out]);
+        let (o1, o2) = (a.out, b.out);
+        let cosine = o1.dot(o2);
+        if a.speed == b.speed {
+            let denominator = 1.0 + cosine;
+            let unit = (denominator > 1e-16).then(|| -(o1 + o2) / denominator)?;
+            return Some(if a.speed == 1.0 { unit } else { unit * a.speed });
+        }
+        // v·o1 = −w1 and v·o2 = −w2, solved for v = α·o1 + β·o2; edges of different speeds
+        // meeting in a straight line have no corner that keeps to both.
+        let sine2 = 1.0 - cosine * cosine;
+        if sine2 <= 1e-16 {
+            return None;
+        }
+        let alpha = (-a.speed + b.speed * cosine) / sine2;
+        let beta = (-b.speed + a.speed * cosine) / sine2;
+        Some(o1 * alpha + o2 * beta)
     }
 
     /// The node at `p` made at the current time, reusing one within tolerance.
@@ -243,7 +287,7 @@ impl Propagation {
                     let (a, b) = (&lp[j], &lp[k]);
                     let line = self.lines[a.e_out];
                     let gap = (c.p - a.p).dot(line.out);
-                    let closing = 1.0 + c.vel.dot(line.out);
+                    let closing = line.speed + c.vel.dot(line.out);
                     if gap >= 0.0 || closing <= 1e-12 {
                         continue;
                     }
@@ -386,7 +430,7 @@ impl Propagation {
             a += o.x * o.x;
             b += o.x * o.y;
             c += o.y * o.y;
-            r += o * (line.point.dot(o) - self.now);
+            r += o * (line.point.dot(o) - line.moved(self.now));
         }
         let det = a * c - b * b;
         if det <= 1e-6 * (a + c) * (a + c) {
@@ -409,8 +453,8 @@ impl Propagation {
         if sine.abs() < 1e-3 {
             return None;
         }
-        let start = a.point - a.out * self.now;
-        let along = (-self.now - (start - b.point).dot(b.out)) / sine;
+        let start = a.point - a.out * a.moved(self.now);
+        let along = (-b.moved(self.now) - (start - b.point).dot(b.out)) / sine;
         Some(start + a.dir * along)
     }
 
