@@ -48,10 +48,14 @@ impl Shared<'_> {
     }
 }
 
-/// The vertices marked `used`, and when some are not, the new number of each used one.
-fn shared<'a>(all: &'a [DVec3], used: &[bool]) -> (Shared<'a>, Option<Vec<u32>>) {
+/// Keeps only the vertices `indices` use, renumbering `indices` when some are left out.
+fn shared<'a>(all: &'a [DVec3], indices: &mut Cow<'_, [u32]>) -> Shared<'a> {
+    let mut used = vec![false; all.len()];
+    for &v in indices.iter() {
+        used[v as usize] = true;
+    }
     if used.iter().all(|&u| u) {
-        return (Shared { all, keep: None }, None);
+        return Shared { all, keep: None };
     }
     let mut remap = vec![u32::MAX; all.len()];
     let mut keep = Vec::new();
@@ -59,11 +63,13 @@ fn shared<'a>(all: &'a [DVec3], used: &[bool]) -> (Shared<'a>, Option<Vec<u32>>)
         remap[v] = keep.len() as u32;
         keep.push(v as u32);
     }
-    let shared = Shared {
+    for v in indices.to_mut().iter_mut() {
+        *v = remap[*v as usize];
+    }
+    Shared {
         all,
         keep: Some(keep),
-    };
-    (shared, Some(remap))
+    }
 }
 
 /// Part of a primitive's vertex data, with indices counted from its own first vertex.
@@ -74,16 +80,11 @@ enum Chunk<'a> {
         normals: Vec<[f32; 3]>,
         indices: Vec<u32>,
     },
-    /// A smooth part's shared vertices with their normals. Its `count` indices are not kept:
-    /// they are made again from the faces as they are written, which saves a buffer the size
-    /// of the index data (tubes of a million segments have tens of millions of indices).
+    /// A smooth part's shared vertices with their normals.
     Smooth {
-        mesh: &'a Mesh,
         vertices: Shared<'a>,
-        /// The new number of each vertex, when some are left out.
-        remap: Option<Vec<u32>>,
         normals: Cow<'a, [DVec3]>,
-        count: usize,
+        indices: Vec<u32>,
     },
     /// A line set's points and segments.
     Lines {
@@ -122,16 +123,7 @@ impl<'a> Chunk<'a> {
         if indices.is_empty() {
             return None;
         }
-        let mut used = vec![false; lines.points.len()];
-        for &v in indices.iter() {
-            used[v as usize] = true;
-        }
-        let (points, remap) = shared(&lines.points, &used);
-        if let Some(remap) = remap {
-            for v in indices.to_mut().iter_mut() {
-                *v = remap[*v as usize];
-            }
-        }
+        let points = shared(&lines.points, &mut indices);
         Some(Self::Lines { points, indices })
     }
 
@@ -143,25 +135,15 @@ impl<'a> Chunk<'a> {
         }
     }
 
-    /// Calls `visit` with every index, counted from the chunk's first vertex.
-    fn indices(&self, mut visit: impl FnMut(u32)) {
+    fn indices(&self) -> &[u32] {
         match self {
-            Self::Flat { indices, .. } => indices.iter().copied().for_each(visit),
-            Self::Lines { indices, .. } => indices.iter().copied().for_each(visit),
-            Self::Smooth { mesh, remap, .. } => smooth_triangles(mesh, |triangle| {
-                for v in triangle {
-                    visit(remap.as_ref().map_or(v, |r| r[v as usize]));
-                }
-            }),
+            Self::Flat { indices, .. } | Self::Smooth { indices, .. } => indices,
+            Self::Lines { indices, .. } => indices,
         }
     }
 
     fn index_count(&self) -> usize {
-        match self {
-            Self::Flat { indices, .. } => indices.len(),
-            Self::Lines { indices, .. } => indices.len(),
-            Self::Smooth { count, .. } => *count,
-        }
+        self.indices().len()
     }
 
     /// Calls `visit` with every f32 position, in vertex order.
@@ -208,37 +190,26 @@ fn flat_chunk(mesh: &Mesh) -> Chunk<'static> {
 /// A smooth part's faces over its shared vertices (see [`usable_normals`]).
 fn smooth_chunk(part: &Part) -> Chunk<'_> {
     let mesh = &part.mesh;
-    let mut used = vec![false; mesh.vertex_count()];
-    let mut count = 0;
-    smooth_triangles(mesh, |triangle| {
-        for v in triangle {
-            used[v as usize] = true;
-        }
-        count += 3;
-    });
-    let (vertices, remap) = shared(mesh.positions(), &used);
-    Chunk::Smooth {
-        mesh,
-        vertices,
-        remap,
-        normals: usable_normals(part),
-        count,
-    }
-}
-
-/// Calls `visit` with every triangle written of a smooth mesh, as mesh vertex numbers.
-fn smooth_triangles(mesh: &Mesh, mut visit: impl FnMut([u32; 3])) {
     let mut splitter = FaceSplitter::default();
     let mut fan = Vec::new();
+    // Every corner beyond the first two of a face adds a triangle.
+    let mut indices =
+        Vec::with_capacity(3 * mesh.indices_len().saturating_sub(2 * mesh.face_count()));
     for i in 0..mesh.face_count() {
         fan.clear();
-        if splitter.split(mesh, i, &mut fan).is_none() {
+        if splitter.split(mesh, i, &mut fan).is_none() || fan.is_empty() {
             continue;
         }
         let face = mesh.face(i);
-        for triangle in &fan {
-            visit(triangle.map(|c| face[c as usize]));
-        }
+        indices.extend(fan.iter().flatten().map(|&c| face[c as usize]));
+    }
+    let normals = usable_normals(part);
+    let mut indices = Cow::Owned(indices);
+    let vertices = shared(mesh.positions(), &mut indices);
+    Chunk::Smooth {
+        vertices,
+        normals,
+        indices: indices.into_owned(),
     }
 }
 
@@ -429,13 +400,13 @@ impl<'a> Plan<'a> {
             let wide = primitive.wide();
             let mut base = 0u32;
             for chunk in &primitive.chunks {
-                chunk.indices(|i| {
+                for &i in chunk.indices() {
                     if wide {
                         put(&(base + i).to_le_bytes());
                     } else {
                         put(&((base + i) as u16).to_le_bytes());
                     }
-                });
+                }
                 base += chunk.vertex_count() as u32;
             }
             if !wide && primitive.index_count() % 2 == 1 {
