@@ -12,7 +12,7 @@ use crate::{
     DVec2, DVec3,
     mesh::newell,
     planar::{Polygon, is_convex, kept_corners, signed_area},
-    skeleton::{Skeleton, propagate, propagate_weighted},
+    skeleton::{Skeleton, outline, propagate, propagate_weighted},
 };
 
 /// Moves every edge of a convex planar polygon (counter-clockwise about its normal) outward by
@@ -240,47 +240,53 @@ pub struct Strip {
     pub polygon: Vec<DVec3>,
 }
 
-/// What CGA's `setback` cuts from a polygon: a strip along each selected edge and what remains.
+/// What CGA's `setback` cuts from a polygon: a strip along each moving edge and what remains.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Setback {
-    /// The strips of the selected edges, in edge order (edges whose strip has no area left out).
+    /// The strips of the moving edges, in edge order (edges whose strip has no area left out).
     pub strips: Vec<Strip>,
+    /// The outline of all strips together (CGA's `shape` of `shapeL` and friends), one loop per
+    /// connected piece, counter-clockwise.
+    pub outline: Vec<Vec<DVec3>>,
     /// The rest of the polygon: none, one or (for a waisted polygon) several loops.
     pub remainder: Vec<Vec<DVec3>>,
 }
 
-/// CGA's `setback(distance)` on a simple planar polygon (counter-clockwise about its normal,
-/// convex or not): the edges for which `selected(index, start, end)` holds move inward by
-/// `distance` while the others stay, the corners between them sliding along the edges that stay
-/// (a weighted straight skeleton). The strips the moving edges sweep and the remainder tile the
-/// polygon. Corners on a straight line are dropped before edges are counted. `None` for invalid
-/// input (see [`offset_polygon`]), a distance that is negative or not finite, or a setback so
-/// deep that a moving edge runs onto the line of one that stays (where no weighted skeleton
-/// exists); a distance of zero or no selected edge leaves the polygon whole.
-pub fn setback(
-    points: &[DVec3],
-    distance: f64,
-    selected: impl Fn(usize, DVec3, DVec3) -> bool,
-) -> Option<Setback> {
+/// CGA's `setback` on a simple planar polygon (counter-clockwise about its normal, convex or
+/// not): edge `i` moves inward by `distance(i, start, end)` (0 or more; 0 stays where it is) and
+/// the corners between edges slide along the lines of their neighbours (a weighted straight
+/// skeleton; edges of equal distance meet in mitres). The strips the moving edges sweep and the
+/// remainder tile the polygon. Corners on a straight line are dropped before edges are counted.
+/// `None` for invalid input (see [`offset_polygon`]), a distance that is negative or not
+/// finite, or a setback so deep that a moving edge runs onto the line of an edge moving slower
+/// (where no weighted skeleton goes on); when no edge moves the polygon stays whole.
+pub fn setback(points: &[DVec3], distance: impl Fn(usize, DVec3, DVec3) -> f64) -> Option<Setback> {
     let polygon = Polygon::new(points, true)?;
-    if !(distance.is_finite() && distance >= 0.0) {
-        return None;
-    }
     let n = polygon.world.len();
     let ends = |i: usize| [polygon.world[i], polygon.world[(i + 1) % n]];
-    let speeds: Vec<f64> = (0..n)
+    let distances: Vec<f64> = (0..n)
         .map(|i| {
             let [a, b] = ends(i);
-            if selected(i, a, b) { 1.0 } else { 0.0 }
+            distance(i, a, b)
         })
         .collect();
-    if distance == 0.0 || !speeds.contains(&1.0) {
+    if distances.iter().any(|d| !(d.is_finite() && *d >= 0.0)) {
+        return None;
+    }
+    let deepest = distances.iter().copied().fold(0.0, f64::max);
+    if deepest == 0.0 {
         return Some(Setback {
             strips: Vec::new(),
+            outline: Vec::new(),
             remainder: vec![polygon.world],
         });
     }
-    let skeleton = propagate_weighted(&polygon.flat, &speeds, distance, true)?;
+    // The deepest edges move at unit speed, exactly.
+    let speeds: Vec<f64> = distances
+        .iter()
+        .map(|&d| if d == deepest { 1.0 } else { d / deepest })
+        .collect();
+    let skeleton = propagate_weighted(&polygon.flat, &speeds, deepest, true)?;
     let world = |i: usize| match i < n {
         true => polygon.world[i],
         false => polygon.frame.lift(skeleton.nodes[i].p, 0.0),
@@ -291,12 +297,12 @@ pub fn setback(
     };
     let tiny = polygon.eps * polygon.eps;
     let strips: Vec<usize> = (0..n)
-        .filter(|&i| speeds[i] == 1.0 && area(&skeleton.faces[i]) > tiny)
+        .filter(|&i| speeds[i] > 0.0 && area(&skeleton.faces[i]) > tiny)
         .collect();
     let remainder: Vec<&Vec<usize>> = skeleton.front.iter().filter(|l| area(l) > tiny).collect();
-    // A moving edge that runs onto the line of an edge that stays has no weighted skeleton
-    // (the corner between them cannot keep to both): the pieces would not tile the polygon,
-    // which is refused rather than returned.
+    // A moving edge that runs onto the line of a slower one has no weighted skeleton (the
+    // corner between them cannot keep to both): the pieces would not tile the polygon, which is
+    // refused rather than returned.
     let pieces: f64 = strips
         .iter()
         .map(|&i| area(&skeleton.faces[i]))
@@ -306,18 +312,30 @@ pub fn setback(
     if (pieces - whole).abs() > 1e-9 * whole.max(1.0) + tiny * n as f64 {
         return None;
     }
+    let faces: Vec<&[usize]> = strips
+        .iter()
+        .map(|&i| skeleton.faces[i].as_slice())
+        .collect();
+    let loops = |loops: &[&[usize]]| -> Vec<Vec<DVec3>> {
+        loops
+            .iter()
+            .map(|l| l.iter().map(|&k| world(k)).collect())
+            .collect()
+    };
+    let positions: Vec<DVec2> = skeleton.nodes.iter().map(|node| node.p).collect();
+    let outline = outline(&faces, &positions)?;
+    let outline: Vec<&[usize]> = outline.iter().map(Vec::as_slice).collect();
+    let remainder: Vec<&[usize]> = remainder.iter().map(|l| l.as_slice()).collect();
     Some(Setback {
         strips: strips
-            .into_iter()
-            .map(|i| Strip {
+            .iter()
+            .map(|&i| Strip {
                 edge: i,
                 ends: ends(i),
-                polygon: skeleton.faces[i].iter().map(|&k| world(k)).collect(),
+                polygon: loops(&[skeleton.faces[i].as_slice()]).remove(0),
             })
             .collect(),
-        remainder: remainder
-            .into_iter()
-            .map(|l| l.iter().map(|&k| world(k)).collect())
-            .collect(),
+        outline: loops(&outline),
+        remainder: loops(&remainder),
     })
 }

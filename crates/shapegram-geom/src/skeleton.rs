@@ -600,3 +600,61 @@ fn chain(edges: &[(usize, usize)]) -> Option<Vec<usize>> {
     }
     (face.len() == total).then_some(face)
 }
+
+/// The outline of the union of `faces` (node loops at `positions` that share nodes and tile a
+/// region): the directed edges that no other face runs back along, chained into loops in the
+/// order their first edges appear. Where the region touches itself at a node, each loop turns
+/// as far left as it can there, so every loop comes out simple. `None` if the edges do not
+/// close into loops.
+pub(crate) fn outline(faces: &[&[usize]], positions: &[DVec2]) -> Option<Vec<Vec<usize>>> {
+    let edges: Vec<(usize, usize)> = faces
+        .iter()
+        .flat_map(|f| (0..f.len()).map(move |i| (f[i], f[(i + 1) % f.len()])))
+        .filter(|(a, b)| a != b)
+        .collect();
+    let all: rustc_hash::FxHashSet<(usize, usize)> = edges.iter().copied().collect();
+    let boundary: Vec<(usize, usize)> = edges
+        .into_iter()
+        .filter(|&(a, b)| !all.contains(&(b, a)))
+        .collect();
+    let mut leaving: HashMap<usize, Vec<usize>> = HashMap::default();
+    for &(a, b) in &boundary {
+        leaving.entry(a).or_default().push(b);
+    }
+    let mut used: rustc_hash::FxHashSet<(usize, usize)> = rustc_hash::FxHashSet::default();
+    let mut loops = Vec::new();
+    for &first in &boundary {
+        if used.contains(&first) {
+            continue;
+        }
+        let mut loop_ = Vec::new();
+        let (mut from, mut at) = first;
+        used.insert(first);
+        loop {
+            loop_.push(from);
+            if at == first.0 {
+                break;
+            }
+            if loop_.len() > boundary.len() {
+                return None;
+            }
+            let incoming = positions[at] - positions[from];
+            let next = leaving
+                .get(&at)?
+                .iter()
+                .copied()
+                .filter(|&b| !used.contains(&(at, b)))
+                .max_by(|&b, &c| {
+                    let turn = |b: usize| {
+                        let out = positions[b] - positions[at];
+                        incoming.perp_dot(out).atan2(incoming.dot(out))
+                    };
+                    turn(b).total_cmp(&turn(c))
+                })?;
+            used.insert((at, next));
+            (from, at) = (at, next);
+        }
+        loops.push(loop_);
+    }
+    Some(loops)
+}
