@@ -92,10 +92,21 @@ impl FaceSplitter {
         self.rounded.clear();
         self.rounded
             .extend(self.points.iter().map(|p| p.as_vec3().to_array()));
-        // Triangles and convex quads, most faces of real models, need no triangulator.
-        let fan: &[[u32; 3]] = match self.points.len() {
+        // Triangles and convex quads, most faces of real models, need no triangulator; nor do
+        // other convex polygons (such as tube caps) whose fan keeps every triangle, which is
+        // what the triangulator would return for them.
+        let n = self.points.len() as u32;
+        let fan: &[[u32; 3]] = match n {
             3 => &[[0, 1, 2]],
             4 if is_convex(&self.points) => &[[0, 1, 2], [0, 2, 3]],
+            _ if is_convex(&self.points)
+                && (1..n - 1)
+                    .all(|i| has_f32_area([0, i, i + 1].map(|c| self.rounded[c as usize]))) =>
+            {
+                self.fanned.clear();
+                self.fanned.extend((1..n - 1).map(|i| [0, i, i + 1]));
+                &self.fanned
+            }
             _ => {
                 self.fanned = self.triangulator.triangulate(&self.points, &[]);
                 &self.fanned
