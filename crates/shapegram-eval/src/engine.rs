@@ -21,8 +21,8 @@ use crate::context::{Context, Occluder, Parked, SnapPlane, Waiting, snap_planes}
 use crate::error::DeriveError;
 use crate::expr::Evaluator;
 use crate::ops::{
-    CompEntry, CompKind, CompSelector, CsgKind, EdgeChoice, FaceChoice, ImplicitKind, OffsetKeep,
-    Op, Primitive, RoofKind, SetTarget,
+    CompEntry, CompKind, CompSelector, CsgKind, Depths, EdgeChoice, FaceChoice, ImplicitKind,
+    OffsetKeep, Op, Primitive, RoofKind, SetTarget,
 };
 use crate::program::{CBody, CExpr, CKind, CStmt, Program, RuleId, Sym};
 use crate::rng::child_seed;
@@ -1167,6 +1167,38 @@ impl<'p> Engine<'p> {
                 self.comp(state, *kind, entries, span, args, out)?;
                 return Ok(true);
             }
+            Op::Setback {
+                depths,
+                entries,
+                shape,
+                remainder,
+            } => {
+                let depth = |ev: &mut Evaluator, e: &CExpr, state: &mut State| {
+                    let d = ev.number(e, state, args)?;
+                    if d < 0.0 {
+                        return Err(DeriveError::at(
+                            format!("setback distance {d}: expected 0 or more"),
+                            e.span,
+                        ));
+                    }
+                    Ok(d)
+                };
+                let depths = match depths {
+                    Depths::Selected(e) => EdgeDepths::Selected(depth(&mut self.ev, e, state)?),
+                    Depths::ByClass(list) => EdgeDepths::ByClass(
+                        list.iter()
+                            .map(|(class, e)| Ok((*class, depth(&mut self.ev, e, state)?)))
+                            .collect::<Fallible<Vec<_>>>()?,
+                    ),
+                };
+                let outputs = SetbackOutputs {
+                    entries,
+                    shape: shape.as_ref(),
+                    remainder: remainder.as_ref(),
+                };
+                self.setback(state, &depths, outputs, span, args, out)?;
+                return Ok(true);
+            }
             Op::Color(params) => state.color = self.color(params, state, args)?,
             Op::Set(target, value) => {
                 let v = self.ev.eval(value, state, args)?;
@@ -1576,6 +1608,181 @@ impl<'p> Engine<'p> {
             }
         }
         Ok(())
+    }
+}
+
+impl<'p> Engine<'p> {
+    /// CGA `setback` and `shapeL/U/O`: each face of a flat shape is cut into strips along the
+    /// edges that move, their outline and the remainder. A strip goes to the first entry that
+    /// selects its edge, with its scope along the edge and y along the face's normal; the outline
+    /// (`shape`) and the remainder keep the shape's axes.
+    fn setback(
+        &mut self,
+        state: &mut State,
+        depths: &EdgeDepths,
+        outputs: SetbackOutputs<'p>,
+        span: Span,
+        args: &[Value],
+        out: &mut Vec<Work>,
+    ) -> Fallible<()> {
+        let entries = outputs.entries;
+        let world = flat_faces(state, "setback", span)?;
+        let scope = state.scope;
+        // Strips by entry, the outline's pieces (each its polygons) and remainder loops.
+        let mut strips: Vec<Vec<(DVec3, Vec<DVec3>)>> = vec![Vec::new(); entries.len()];
+        let (mut outline, mut rest): (Vec<Vec<Vec<DVec3>>>, Vec<Vec<DVec3>>) =
+            (Vec::new(), Vec::new());
+        for f in 0..world.face_count() {
+            let points: Vec<DVec3> = world.face_points(f).collect();
+            let normal = world.face_normal(f);
+            let outward = |a: DVec3, b: DVec3| (b - a).cross(normal);
+            let taker = |i: usize, a: DVec3, b: DVec3| {
+                entries
+                    .iter()
+                    .position(|e| takes_edge(&e.selector, outward(a, b), i, &scope))
+            };
+            let distance = |i: usize, a: DVec3, b: DVec3| match depths {
+                EdgeDepths::Selected(d) => taker(i, a, b).map_or(0.0, |_| *d),
+                EdgeDepths::ByClass(list) => {
+                    let class = FaceClass::of(outward(a, b), &scope);
+                    list.iter()
+                        .find(|(c, _)| *c == class)
+                        .map_or(0.0, |(_, d)| *d)
+                }
+            };
+            let cut = shapegram_geom::offset::setback(&points, distance).ok_or_else(|| {
+                DeriveError::at(
+                    "setback cannot cut this shape: a polygon that is not simple, or a setback so deep that an edge that moves runs onto one that moves slower",
+                    span,
+                )
+            })?;
+            // Faces hold no holes: an outline around a hole (shapeO's ring) stays as its strips.
+            let holed = cut
+                .outline
+                .iter()
+                .any(|l| newell(l.iter().copied()).dot(normal) < 0.0);
+            if holed {
+                outline.push(cut.strips.iter().map(|s| s.polygon.clone()).collect());
+            } else {
+                outline.extend(cut.outline.into_iter().map(|l| vec![l]));
+            }
+            for strip in cut.strips {
+                let [a, b] = strip.ends;
+                if let Some(e) = taker(strip.edge, a, b) {
+                    strips[e].push((normal, strip.polygon));
+                }
+            }
+            rest.extend(cut.remainder);
+        }
+        for (entry, chosen) in entries.iter().zip(&strips) {
+            let pieces: Vec<Piece> = chosen
+                .iter()
+                .filter_map(|(normal, polygon)| {
+                    let x = (polygon[1] - polygon[0]).try_normalize()?;
+                    let y = normal.try_normalize()?;
+                    Some((DMat3::from_cols(x, y, x.cross(y)), vec![polygon.as_slice()]))
+                })
+                .collect();
+            let code = entry.selector.code();
+            self.flat_children(
+                state,
+                pieces,
+                entry.merge,
+                code,
+                &entry.body,
+                span,
+                args,
+                out,
+            )?;
+        }
+        if let Some((merge, body)) = outputs.shape {
+            let pieces = outline
+                .iter()
+                .map(|polygons| (scope.axes, polygons.iter().map(Vec::as_slice).collect()))
+                .collect();
+            self.flat_children(state, pieces, *merge, 0, body, span, args, out)?;
+        }
+        if let Some((merge, body)) = outputs.remainder {
+            let pieces = rest
+                .iter()
+                .map(|p| (scope.axes, vec![p.as_slice()]))
+                .collect();
+            self.flat_children(state, pieces, *merge, 0, body, span, args, out)?;
+        }
+        Ok(())
+    }
+
+    /// Derives a child per piece (or one for all when `merge`), each a set of polygons with a
+    /// scope of the given axes fitted around them.
+    #[allow(clippy::too_many_arguments)]
+    fn flat_children(
+        &mut self,
+        state: &mut State,
+        pieces: Vec<Piece>,
+        merge: bool,
+        selector: u8,
+        body: &'p [CStmt],
+        span: Span,
+        args: &[Value],
+        out: &mut Vec<Work>,
+    ) -> Fallible<()> {
+        let pieces = match pieces.first() {
+            Some(&(axes, _)) if merge => {
+                vec![(axes, pieces.into_iter().flat_map(|p| p.1).collect())]
+            }
+            _ => pieces,
+        };
+        let total = pieces.len() as u32;
+        for (i, (axes, polygons)) in pieces.into_iter().enumerate() {
+            let mut mesh = Mesh::new();
+            for polygon in &polygons {
+                mesh.append(&Mesh::from_polygon(polygon));
+            }
+            let mut child = state.spawn();
+            child.comp = (i as u32, total);
+            child.comp_sel = selector;
+            child.scope = Scope::fit(axes, mesh.positions().iter().copied());
+            mesh.transform(&child.scope.world_to_local());
+            let single = polygons.len() == 1;
+            child.geometry = if single && fills_box(mesh.positions(), child.scope.size) {
+                Geometry::Box
+            } else {
+                Geometry::mesh(mesh)
+            };
+            self.admit(&mut child, span)?;
+            self.run_stmts(body, &mut child, args, out)?;
+        }
+        Ok(())
+    }
+}
+
+/// Polygons that become one shape, with the axes of its scope.
+type Piece<'a> = (DMat3, Vec<&'a [DVec3]>);
+
+/// How far the edges of a setback move, evaluated.
+enum EdgeDepths {
+    /// The edges that entries select, by this distance.
+    Selected(f64),
+    /// Edges by the class of their outward direction.
+    ByClass(Vec<(FaceClass, f64)>),
+}
+
+/// Where the pieces of a setback go.
+struct SetbackOutputs<'p> {
+    entries: &'p [CompEntry],
+    shape: Option<&'p (bool, Vec<CStmt>)>,
+    remainder: Option<&'p (bool, Vec<CStmt>)>,
+}
+
+/// Whether a setback entry's selector takes the edge `index` whose outward direction (in the
+/// face's plane) is `outward`.
+fn takes_edge(selector: &CompSelector, outward: DVec3, index: usize, scope: &Scope) -> bool {
+    match selector {
+        CompSelector::All => true,
+        CompSelector::Index(i) => *i == index,
+        CompSelector::Class(class) => FaceClass::of(outward, scope) == *class,
+        CompSelector::Side => FaceClass::of(outward, scope).is_side(),
+        _ => false,
     }
 }
 

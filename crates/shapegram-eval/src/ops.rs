@@ -59,6 +59,17 @@ pub(crate) enum Op {
         kind: CompKind,
         entries: Vec<CompEntry>,
     },
+    /// `setback(d) { front : … | remainder : … }` and `shapeL(front, left) { shape : … |
+    /// remainder : … }` (and `shapeU`, `shapeO`): strips along edges, their outline, the rest.
+    Setback {
+        depths: Depths,
+        /// Entries selecting the edges that move (setback), each taking their strips.
+        entries: Vec<CompEntry>,
+        /// The `shape` entry (shapeL/U/O): whether it merges (`shape = …`) and its body.
+        shape: Option<(bool, Vec<CStmt>)>,
+        /// The `remainder` entry, likewise.
+        remainder: Option<(bool, Vec<CStmt>)>,
+    },
     Color(Vec<CExpr>),
     Set(SetTarget, CExpr),
     Report(CExpr, CExpr),
@@ -93,6 +104,15 @@ pub(crate) enum Primitive {
     Sphere,
     Quad,
     Pyramid,
+}
+
+/// How far each edge of a setback moves.
+#[derive(Debug)]
+pub(crate) enum Depths {
+    /// The edges the entries select, all by this distance.
+    Selected(CExpr),
+    /// Edges by the class of their outward direction (shapeL/U/O); other edges stay.
+    ByClass(Vec<(FaceClass, CExpr)>),
 }
 
 /// Which face `alignScopeToGeometry` takes.
@@ -289,12 +309,8 @@ const VISUAL_ONLY: &[&str] = &[
 
 /// CGA operations that are recognised but not implemented yet.
 const UNSUPPORTED: &[&str] = &[
-    "setback",
     "setbackPerEdge",
     "setbackToArea",
-    "shapeL",
-    "shapeU",
-    "shapeO",
     "innerRect",
     "innerRectangle",
     "innerCircle",
@@ -370,6 +386,10 @@ const IMPLEMENTED: &[&str] = &[
     "csg",
     "alignScopeToGeometry",
     "alignScopeToGeometryBBox",
+    "setback",
+    "shapeL",
+    "shapeU",
+    "shapeO",
 ];
 
 /// Whether an operation of this name exists (implemented or not).
@@ -497,6 +517,24 @@ impl Ctx<'_, '_> {
                 Op::Label(self.args.pop()?)
             }
             "comp" => self.comp()?,
+            "setback" => self.setback()?,
+            "shapeL" => self.shape_luo(
+                &[FaceClass::Front, FaceClass::Left],
+                "shapeL(frontDepth, leftWidth)",
+            )?,
+            "shapeU" => self.shape_luo(
+                &[FaceClass::Front, FaceClass::Right, FaceClass::Left],
+                "shapeU(frontDepth, rightWidth, leftWidth)",
+            )?,
+            "shapeO" => self.shape_luo(
+                &[
+                    FaceClass::Front,
+                    FaceClass::Right,
+                    FaceClass::Back,
+                    FaceClass::Left,
+                ],
+                "shapeO(frontDepth, rightWidth, backDepth, leftWidth)",
+            )?,
             "color" => {
                 if !matches!(self.args.len(), 1 | 3 | 4) {
                     return self.wrong_arity("color(\"#rrggbb\") | color(r, g, b)");
@@ -526,7 +564,7 @@ impl Ctx<'_, '_> {
             "csg" => self.csg()?,
             _ => unreachable!("`{name}` is listed in IMPLEMENTED but not built"),
         };
-        let needs_block = matches!(op, Op::Split { .. } | Op::Comp { .. });
+        let needs_block = matches!(op, Op::Split { .. } | Op::Comp { .. } | Op::Setback { .. });
         if !needs_block && self.call.block.is_some() {
             self.error(format!("`{name}` takes no `{{…}}` block"));
             return None;
@@ -774,6 +812,82 @@ impl Ctx<'_, '_> {
         Some(Op::Comp { kind, entries })
     }
 
+    fn setback(&mut self) -> Option<Op> {
+        self.arity(1, 1, "setback(distance) { selector : … | remainder : … }")?;
+        let blocks = self.setback_block("setback", false)?;
+        Some(Op::Setback {
+            depths: Depths::Selected(self.args.pop()?),
+            entries: blocks.0,
+            shape: None,
+            remainder: blocks.2,
+        })
+    }
+
+    fn shape_luo(&mut self, classes: &[FaceClass], signature: &str) -> Option<Op> {
+        self.arity(classes.len(), classes.len(), signature)?;
+        let name = self.call.name.name.clone();
+        let (_, shape, remainder) = self.setback_block(&name, true)?;
+        let depths = classes.iter().copied().zip(self.args.drain(..)).collect();
+        Some(Op::Setback {
+            depths: Depths::ByClass(depths),
+            entries: Vec::new(),
+            shape,
+            remainder,
+        })
+    }
+
+    /// The block of a setback operation: edge entries (setback), or `shape` (shapeL/U/O), and
+    /// `remainder`.
+    #[allow(clippy::type_complexity)]
+    fn setback_block(
+        &mut self,
+        name: &str,
+        luo: bool,
+    ) -> Option<(
+        Vec<CompEntry>,
+        Option<(bool, Vec<CStmt>)>,
+        Option<(bool, Vec<CStmt>)>,
+    )> {
+        let Some(block) = &self.call.block else {
+            let first = if luo { "shape" } else { "selector" };
+            self.error(format!(
+                "`{name}` needs a `{{ {first} : … | remainder : … }}` block"
+            ));
+            return None;
+        };
+        let (mut entries, mut shape, mut remainder) = (Vec::new(), None, None);
+        for entry in &block.entries {
+            let BlockEntry::Part {
+                key,
+                merge,
+                body,
+                span,
+            } = entry
+            else {
+                self.error(format!("`{name}` takes `selector : …` entries, not groups"));
+                return None;
+            };
+            let body = self.c.stmts(body, self.params);
+            match &key.kind {
+                ast::ExprKind::Name(n) if n == "remainder" => remainder = Some((*merge, body)),
+                ast::ExprKind::Name(n) if luo && n == "shape" => shape = Some((*merge, body)),
+                _ if luo => {
+                    self.c.report(Diagnostic::error(
+                        format!("`{name}` selects `shape` or `remainder`"),
+                        *span,
+                    ));
+                    return None;
+                }
+                _ => entries.push(CompEntry {
+                    selector: edge_selector(self.c, key, *span),
+                    merge: *merge,
+                    body,
+                }),
+            }
+        }
+        Some((entries, shape, remainder))
+    }
+
     fn set(&mut self) -> Option<Op> {
         self.arity(2, 2, "set(attribute, value)")?;
         let value = self.args.pop()?;
@@ -982,6 +1096,39 @@ fn comp_selector(c: &mut Compiler, key: &ast::Expr, span: Span) -> CompSelector 
             CompSelector::Never
         }
     }
+}
+
+/// A selector of the edges a `setback` moves: a face class of the edge's outward direction
+/// (`street.front` and `object.front` read as `front`, there being no streets), `side`, `all` or
+/// an index.
+fn edge_selector(c: &mut Compiler, key: &ast::Expr, span: Span) -> CompSelector {
+    let selector = match &key.kind {
+        ast::ExprKind::Name(n) => {
+            let word = n
+                .strip_prefix("street.")
+                .or_else(|| n.strip_prefix("object."))
+                .unwrap_or(n);
+            let plain = ast::Expr {
+                kind: ast::ExprKind::Name(word.into()),
+                span: key.span,
+            };
+            comp_selector(c, &plain, span)
+        }
+        _ => comp_selector(c, key, span),
+    };
+    if let CompSelector::Vertical
+    | CompSelector::Horizontal
+    | CompSelector::Aslant
+    | CompSelector::Inside
+    | CompSelector::Border = selector
+    {
+        c.report(Diagnostic::warning(
+            "this selector is for faces, not the edges of a setback: it selects nothing",
+            span,
+        ));
+        return CompSelector::Never;
+    }
+    selector
 }
 
 fn split_block(c: &mut Compiler, block: &ast::Block, params: &[ast::Ident]) -> Option<SplitBlock> {
