@@ -1614,7 +1614,8 @@ impl<'p> Engine<'p> {
 impl<'p> Engine<'p> {
     /// CGA `setback` and `shapeL/U/O`: each face of a flat shape is cut into strips along the
     /// edges that move, their outline and the remainder. A strip goes to the first entry that
-    /// selects its edge, with its scope along the edge and y along the face's normal; the outline
+    /// selects its edge, with its scope's x along the edge, y along the face's normal and z into
+    /// the strip; the outline
     /// (`shape`) and the remainder keep the shape's axes.
     fn setback(
         &mut self,
@@ -1678,7 +1679,8 @@ impl<'p> Engine<'p> {
             let pieces: Vec<Piece> = chosen
                 .iter()
                 .filter_map(|(normal, polygon)| {
-                    let x = (polygon[1] - polygon[0]).try_normalize()?;
+                    // Like a lot along its front edge: x along the edge, z into the strip.
+                    let x = (polygon[0] - polygon[1]).try_normalize()?;
                     let y = normal.try_normalize()?;
                     Some((DMat3::from_cols(x, y, x.cross(y)), vec![polygon.as_slice()]))
                 })

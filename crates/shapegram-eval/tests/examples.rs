@@ -191,3 +191,39 @@ fn outcrop_fuses_its_blocks_and_keeps_the_tunnel_open() {
     }
     assert_ne!(run(0).solids, run(3).solids);
 }
+
+#[test]
+fn villa_sets_back_a_garden_and_paths_and_builds_a_u() {
+    let program = example("villa.cga");
+    let d = derive(
+        &program,
+        &[common::lot(20.0, 30.0)],
+        &DeriveOptions::default(),
+    )
+    .unwrap();
+    let leaf = |name: &str| -> Vec<&shapegram_eval::Leaf> {
+        d.leaves.iter().filter(|l| &*l.name == name).collect()
+    };
+    // One hedge along the street (the lot's front, z = 30), 1.1 m high.
+    let hedge = leaf("Hedge");
+    assert_eq!(hedge.len(), 1);
+    let bounds = hedge[0].world_mesh().unwrap().bounds().unwrap();
+    assert!(
+        (bounds.max.z - 30.0).abs() < 1e-9 && (bounds.min.z - 29.2).abs() < 1e-9,
+        "{bounds:?}"
+    );
+    assert!((bounds.max.y - 1.1).abs() < 1e-9);
+    // Paths round the plot behind the garden (all four of its edges), a pool in the courtyard.
+    assert_eq!(leaf("Path").len(), 4);
+    assert_eq!(leaf("Pool").len(), 1);
+    // The U is as wide as the plot inside the paths (20 − 2 · 1.5), its roof 0.5 beyond.
+    let model = d.to_model();
+    let roof = model.parts.iter().find(|p| p.name == "Roof").unwrap();
+    let roof_bounds = roof.mesh.bounds().unwrap();
+    assert!(
+        (roof_bounds.size().x - (17.0 + 1.0)).abs() < 1e-9,
+        "{roof_bounds:?}"
+    );
+    let count = |rule: &str| d.stats.rules.iter().find(|(n, _)| n == rule).map(|r| r.1);
+    assert_eq!(count("Facade"), Some(8));
+}
