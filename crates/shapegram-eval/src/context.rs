@@ -24,7 +24,7 @@ use shapegram_implicit::Solid;
 
 use crate::expr::ConstMemo;
 use crate::program::{RuleId, Sym};
-use crate::shape::{Csg, CsgOp, FrozenState, Geometry, NO_OCCLUDER, State};
+use crate::shape::{FrozenState, Geometry, NO_OCCLUDER, State};
 use crate::value::Value;
 
 /// Most convex pieces a non-convex solid is cut into for occlusion tests. An occluder that
@@ -50,25 +50,21 @@ impl Occluder {
     /// The occluder of a shape, or `None` when its geometry is not a closed solid.
     pub fn of(state: &State, label: Option<Arc<str>>, lot: u32) -> Option<Self> {
         let (scope, geometry) = (&state.scope, &state.geometry);
-        Self::new(scope, geometry, state.symbol, label, lot, state.occluder)
+        Self::new(
+            scope,
+            geometry,
+            None,
+            state.symbol,
+            label,
+            lot,
+            state.occluder,
+        )
     }
 
     /// The occluder of a scope and geometry descending from occluder `parent`, if they form a
-    /// closed solid.
+    /// closed solid; `world` is the geometry's world mesh when the caller has made it already (a
+    /// component split needs it too).
     pub fn new(
-        scope: &Scope,
-        geometry: &Geometry,
-        symbol: Sym,
-        label: Option<Arc<str>>,
-        lot: u32,
-        parent: u32,
-    ) -> Option<Self> {
-        Self::with_world_mesh(scope, geometry, None, symbol, label, lot, parent)
-    }
-
-    /// Like [`Occluder::new`], with the geometry's world mesh when the caller has made it
-    /// already (a component split needs it too).
-    pub fn with_world_mesh(
         scope: &Scope,
         geometry: &Geometry,
         world: Option<&Mesh>,
@@ -84,15 +80,7 @@ impl Occluder {
                 None => convex_pieces(&geometry.world_mesh(scope)?, MAX_PIECES)?,
             },
             // Members that carve or trim a group add nothing to occlude.
-            Geometry::Implicit(implicit)
-                if matches!(
-                    implicit.csg,
-                    Some(Csg {
-                        op: CsgOp::Subtract(_) | CsgOp::Intersect(_),
-                        ..
-                    })
-                ) =>
-            {
+            Geometry::Implicit(implicit) if implicit.csg.as_ref().is_some_and(|c| !c.op.adds()) => {
                 return None;
             }
             Geometry::Implicit(implicit) => {

@@ -27,7 +27,7 @@ use crate::ops::{
 use crate::program::{CBody, CExpr, CKind, CStmt, Program, RuleId, Sym};
 use crate::rng::child_seed;
 use crate::shape::{
-    Csg, CsgOp, FaceTag, Geometry, Implicit, NO_OCCLUDER, State, box_mesh, flat_axis, moved,
+    Csg, FaceTag, Geometry, Implicit, NO_OCCLUDER, State, box_mesh, flat_axis, moved,
 };
 use crate::split::Layout;
 use crate::value::Value;
@@ -311,7 +311,8 @@ pub fn derive(
     }
     all.stats.leaves = all.leaves.len();
     all.stats.rules = rule_counts(program, &counts);
-    all.solids = crate::solids::mesh_solids(&all.leaves, options.implicit_cell)?;
+    all.solids =
+        crate::solids::mesh_solids(&all.leaves, options.implicit_cell, options.time_budget)?;
     Ok(all)
 }
 
@@ -1102,6 +1103,7 @@ impl<'p> Engine<'p> {
             }
             Op::AlignScopeToAxes(axis) => align_scope(state, *axis),
             Op::AlignScopeToGeometry { z_up, face, edge } => {
+                no_solid(state, "alignScopeToGeometry", span)?;
                 let face = match face {
                     FaceChoice::Index(e) => FacePick::Index(self.index(e, state, args)?),
                     FaceChoice::Lowest => FacePick::Lowest,
@@ -1214,6 +1216,7 @@ impl<'p> Engine<'p> {
                 self.ev.prints.push(text);
             }
             Op::ReverseNormals => {
+                no_solid(state, "reverseNormals", span)?;
                 if let Some(mut mesh) = state.geometry.local_mesh(state.scope.size) {
                     mesh.flip();
                     let tags = state.geometry.tags().map(Arc::from);
@@ -1349,9 +1352,7 @@ impl<'p> Engine<'p> {
     fn occlude(&mut self, state: &mut State, label: Option<Arc<str>>, world: Option<&Mesh>) {
         let (scope, geometry, symbol) = (&state.scope, &state.geometry, state.symbol);
         let (lot, parent) = (self.ev.lot, state.occluder);
-        if let Some(occluder) =
-            Occluder::with_world_mesh(scope, geometry, world, symbol, label, lot, parent)
-        {
+        if let Some(occluder) = Occluder::new(scope, geometry, world, symbol, label, lot, parent) {
             state.occluder = self.occluders.len() as u32;
             self.occluders.push(occluder);
         }
@@ -1445,6 +1446,10 @@ impl<'p> Engine<'p> {
                     continue;
                 };
                 child.geometry = state.geometry.with_solid(slab);
+                if adjust {
+                    let axes = child.scope.axes;
+                    refit(&mut child, axes);
+                }
             }
             if let Some((cuts, pieces)) = &slabs {
                 let at = cuts.iter().position(|&c| c == part.start).unwrap_or(0);
@@ -1502,7 +1507,7 @@ impl<'p> Engine<'p> {
         self.count(state.depth + 2, *symbol, *successor_span)?;
         if self.phase == Phase::Gather {
             let (lot, parent) = (self.ev.lot, state.occluder);
-            let leaf = Occluder::new(&scope, &state.geometry, *symbol, None, lot, parent);
+            let leaf = Occluder::new(&scope, &state.geometry, None, *symbol, None, lot, parent);
             self.occluders.extend(leaf);
         }
         if !matches!(state.geometry, Geometry::Empty) {
@@ -1528,13 +1533,7 @@ impl<'p> Engine<'p> {
         args: &[Value],
         out: &mut Vec<Work>,
     ) -> Fallible<()> {
-        if matches!(state.geometry, Geometry::Implicit(_)) {
-            return Err(DeriveError::at(
-                "comp needs faces, edges or vertices, but an implicit solid has none until it is meshed",
-                span,
-            )
-            .with_hint("split the shape into parts first, then make the parts implicit"));
-        }
+        no_solid(state, "comp", span)?;
         let Some(world) = state.geometry.world_mesh(&state.scope) else {
             return Ok(());
         };
@@ -1884,6 +1883,18 @@ fn primitive(state: &mut State, kind: Primitive, counts: &[f64], span: Span) -> 
     Ok(())
 }
 
+/// An error for operations that need faces on a shape that holds an implicit solid.
+fn no_solid(state: &State, op: &str, span: Span) -> Fallible<()> {
+    if !matches!(state.geometry, Geometry::Implicit(_)) {
+        return Ok(());
+    }
+    Err(DeriveError::at(
+        format!("{op} needs faces, but an implicit solid has none until the model is made"),
+        span,
+    )
+    .with_hint("split the shape into parts first, then make the parts implicit"))
+}
+
 /// The part of `solid` between `start` and `start + size` along `axis`, in the frame of a part
 /// starting there (`None` when nothing of the solid lies there).
 fn slab_of(
@@ -1915,7 +1926,7 @@ fn implicit(state: &mut State, kind: ImplicitKind, span: Span) -> Fallible<()> {
         return Err(DeriveError::at(
             format!(
                 "implicit({}) needs a scope with volume, but its size is {} × {} × {}",
-                ImplicitKind::NAMES[kind as usize],
+                kind.name(),
                 size.x,
                 size.y,
                 size.z
@@ -1924,13 +1935,13 @@ fn implicit(state: &mut State, kind: ImplicitKind, span: Span) -> Fallible<()> {
         )
         .with_hint("extrude the shape first, or give it a size with `s(…)`"));
     }
-    let solid = crate::solids::fitted(kind, size).map_err(|e| {
-        DeriveError::at(
-            format!("implicit({}): {e}", ImplicitKind::NAMES[kind as usize]),
-            span,
-        )
-    })?;
-    state.geometry = Geometry::Implicit(Arc::new(Implicit { solid, csg: None }));
+    let solid = crate::solids::fitted(kind, size)
+        .map_err(|e| DeriveError::at(format!("implicit({}): {e}", kind.name()), span))?;
+    state.geometry = Geometry::Implicit(Arc::new(Implicit {
+        solid,
+        csg: None,
+        span,
+    }));
     Ok(())
 }
 
@@ -1951,7 +1962,11 @@ fn implicit_in_scope(state: &mut State, solid: &Solid, file: &str, span: Span) -
     let solid = solid
         .transform(&map)
         .map_err(|e| DeriveError::at(format!("implicit(\"{file}\"): {}", e.message()), span))?;
-    state.geometry = Geometry::Implicit(Arc::new(Implicit { solid, csg: None }));
+    state.geometry = Geometry::Implicit(Arc::new(Implicit {
+        solid,
+        csg: None,
+        span,
+    }));
     Ok(())
 }
 
@@ -1963,12 +1978,7 @@ fn join_group(
     amount: Option<(f64, Span)>,
     span: Span,
 ) -> Fallible<()> {
-    let name = match kind {
-        CsgKind::Union => "union",
-        CsgKind::Subtract => "subtract",
-        CsgKind::Intersect => "intersect",
-        CsgKind::Morph => "morph",
-    };
+    let name = kind.name();
     let value = match amount {
         None => 0.0,
         Some((a, at)) if kind == CsgKind::Morph && !(0.0..=1.0).contains(&a) => {
@@ -1987,12 +1997,7 @@ fn join_group(
         }
         Some((a, _)) => a,
     };
-    let op = match kind {
-        CsgKind::Union => CsgOp::Union(value),
-        CsgKind::Subtract => CsgOp::Subtract(value),
-        CsgKind::Intersect => CsgOp::Intersect(value),
-        CsgKind::Morph => CsgOp::Morph(value),
-    };
+    let op = kind.op(value);
     let solid = match &state.geometry {
         Geometry::Implicit(implicit) => implicit.solid.clone(),
         Geometry::Box if state.scope.size.cmpgt(DVec3::ZERO).all() => {
@@ -2004,11 +2009,13 @@ fn join_group(
                 format!("csg(\"{group}\", {name}) needs an implicit solid or a box with volume"),
                 span,
             )
-            .with_hint("make the shape a solid first, e.g. `implicit(sphere)`"));
+            .with_hint(
+                "polygon meshes are not solids: fill the scope with one first, e.g. `implicit(box)`",
+            ));
         }
     };
     let csg = Some(Csg { group, op, span });
-    state.geometry = Geometry::Implicit(Arc::new(Implicit { solid, csg }));
+    state.geometry = Geometry::Implicit(Arc::new(Implicit { solid, csg, span }));
     Ok(())
 }
 
@@ -2046,22 +2053,11 @@ fn set(state: &mut State, target: &SetTarget, value: Value, span: Span) -> Falli
 
 /// Moves the scope to new axes, fitted around the geometry, which stays where it is.
 fn refit(state: &mut State, axes: DMat3) {
-    let scope = match &state.geometry {
-        // The box around the solid stands in for its surface, which is not made yet.
-        Geometry::Implicit(implicit) => match implicit.solid.bounds() {
-            Some(local) => {
-                let corners = Scope::new(DVec3::ZERO, DMat3::IDENTITY, local.size());
-                let corners = corners
-                    .corners()
-                    .map(|c| state.scope.to_world(local.min + c));
-                Scope::fit(axes, corners)
-            }
-            None => Scope::new(state.scope.origin, axes, state.scope.size),
-        },
-        geometry => match geometry.world_mesh(&state.scope) {
-            Some(mesh) => Scope::fit(axes, mesh.positions().iter().copied()),
-            None => Scope::new(state.scope.origin, axes, state.scope.size),
-        },
+    // A solid is fitted by a coarse mesh of it (to within a cell), not by its bounds, which
+    // would grow with every turn.
+    let scope = match state.geometry.world_mesh(&state.scope) {
+        Some(mesh) => Scope::fit(axes, mesh.positions().iter().copied()),
+        None => Scope::new(state.scope.origin, axes, state.scope.size),
     };
     state.rescope(scope);
 }

@@ -7,6 +7,7 @@ use shapegram_syntax::{
 };
 
 use crate::program::{CExpr, CKind, CStmt, Compiler};
+use crate::shape::CsgOp;
 use crate::value::Value;
 
 /// A compiled shape operation.
@@ -146,23 +147,30 @@ pub(crate) enum ImplicitKind {
 }
 
 impl ImplicitKind {
-    /// The words `implicit(…)` accepts, in this order.
-    pub const NAMES: [&str; 7] = [
-        "box", "sphere", "cylinder", "cone", "pyramid", "torus", "capsule",
-    ];
-    const ALL: [Self; 7] = [
-        Self::Box,
-        Self::Sphere,
-        Self::Cylinder,
-        Self::Cone,
-        Self::Pyramid,
-        Self::Torus,
-        Self::Capsule,
+    /// Each kind with the word `implicit(…)` takes for it.
+    pub const NAMED: [(Self, &str); 7] = [
+        (Self::Box, "box"),
+        (Self::Sphere, "sphere"),
+        (Self::Cylinder, "cylinder"),
+        (Self::Cone, "cone"),
+        (Self::Pyramid, "pyramid"),
+        (Self::Torus, "torus"),
+        (Self::Capsule, "capsule"),
     ];
 
+    /// The word for this kind.
+    pub fn name(self) -> &'static str {
+        Self::NAMED
+            .iter()
+            .find(|(k, _)| *k == self)
+            .map_or("", |(_, n)| n)
+    }
+
     fn from_name(name: &str) -> Option<Self> {
-        let i = Self::NAMES.iter().position(|&n| n == name)?;
-        Some(Self::ALL[i])
+        Self::NAMED
+            .iter()
+            .find(|(_, n)| *n == name)
+            .map(|(k, _)| *k)
     }
 }
 
@@ -173,6 +181,28 @@ pub(crate) enum CsgKind {
     Subtract,
     Intersect,
     Morph,
+}
+
+impl CsgKind {
+    /// The word in `csg(group, word)`.
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Union => "union",
+            Self::Subtract => "subtract",
+            Self::Intersect => "intersect",
+            Self::Morph => "morph",
+        }
+    }
+
+    /// The operation with its fillet radius or morph amount.
+    pub fn op(self, amount: f64) -> CsgOp {
+        match self {
+            Self::Union => CsgOp::Union(amount),
+            Self::Subtract => CsgOp::Subtract(amount),
+            Self::Intersect => CsgOp::Intersect(amount),
+            Self::Morph => CsgOp::Morph(amount),
+        }
+    }
 }
 
 /// What `comp` splits into.
@@ -1036,12 +1066,15 @@ impl Ctx<'_, '_> {
     fn csg(&mut self) -> Option<Op> {
         let signature = "csg(\"group\", union | subtract | intersect [, fillet]) | csg(\"group\", morph, amount)";
         self.arity(2, 3, signature)?;
-        let kind = match self.word(1) {
-            Some("union") => CsgKind::Union,
-            Some("subtract") => CsgKind::Subtract,
-            Some("intersect") => CsgKind::Intersect,
-            Some("morph") => CsgKind::Morph,
-            _ => return self.bad_selector(1, "`union`, `subtract`, `intersect` or `morph`"),
+        let kinds = [
+            CsgKind::Union,
+            CsgKind::Subtract,
+            CsgKind::Intersect,
+            CsgKind::Morph,
+        ];
+        let word = self.word(1);
+        let Some(kind) = kinds.into_iter().find(|k| word == Some(k.name())) else {
+            return self.bad_selector(1, "`union`, `subtract`, `intersect` or `morph`");
         };
         if kind == CsgKind::Morph && self.args.len() < 3 {
             return self.wrong_arity(signature);

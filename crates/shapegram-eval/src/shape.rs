@@ -34,8 +34,10 @@ pub struct Implicit {
     /// The solid, in scope-local coordinates.
     pub solid: Solid,
     /// Its membership of a group (`csg("rock", union)` and friends); `None` for a solid meshed
-    /// alone.
+    /// with the other solids of its rule and colour.
     pub csg: Option<Csg>,
+    /// The operation that made the solid, for error messages.
+    pub span: Span,
 }
 
 /// How an implicit solid joins a named group: the members of a group (within one initial shape)
@@ -65,8 +67,15 @@ pub enum CsgOp {
     Intersect(f64),
 }
 
-/// Cells along the longest side of an implicit solid's bounds when an operation needs it as
-/// polygons (a `comp`, a query of its area) or it is meshed alone.
+impl CsgOp {
+    /// Whether the member adds to its group (`union`, `morph`) rather than carving or trimming.
+    pub fn adds(self) -> bool {
+        matches!(self, Self::Union(_) | Self::Morph(_))
+    }
+}
+
+/// Cells along the longest side of an implicit solid's bounds when it is meshed during the
+/// derivation: for geometry queries (`geometry.area`) and for fitting scopes around it.
 pub const IMPLICIT_CELLS: usize = 48;
 
 /// The mesh of an implicit solid with [`IMPLICIT_CELLS`] cells along its longest side (`None`
@@ -109,12 +118,16 @@ impl Geometry {
     }
 
     /// An implicit geometry holding `solid`, with the membership of `self` when it is implicit.
+    /// (`self` must be implicit; anything else keeps its own geometry).
     pub fn with_solid(&self, solid: Solid) -> Self {
-        let csg = match self {
-            Self::Implicit(implicit) => implicit.csg.clone(),
-            _ => None,
-        };
-        Self::Implicit(Arc::new(Implicit { solid, csg }))
+        match self {
+            Self::Implicit(implicit) => Self::Implicit(Arc::new(Implicit {
+                solid,
+                csg: implicit.csg.clone(),
+                span: implicit.span,
+            })),
+            other => other.clone(),
+        }
     }
 
     /// The geometry in world coordinates.
@@ -391,10 +404,11 @@ impl State {
                 let scaled = mesh.transformed(&DAffine3::from_scale(factor));
                 self.geometry = Geometry::Mesh(Arc::new(scaled), tags.clone());
             }
-            // A zero size squashes the solid flat, which would leave nothing to mesh; it keeps
-            // its extent along such axes, as meshes keep theirs when the scope was flat.
+            // A zero size squashes a solid to nothing.
+            Geometry::Implicit(_) if factor.cmpeq(DVec3::ZERO).any() => {
+                self.geometry = Geometry::Empty;
+            }
             Geometry::Implicit(implicit) => {
-                let factor = DVec3::select(factor.cmpeq(DVec3::ZERO), DVec3::ONE, factor);
                 let map = DAffine3::from_scale(factor);
                 self.geometry = self.geometry.with_solid(moved(&implicit.solid, map));
             }

@@ -3,6 +3,7 @@
 //! initial shape) is combined into one solid and meshed as one smooth surface.
 
 use std::sync::Arc;
+use std::time::{Duration, Instant};
 
 use rayon::prelude::*;
 use rustc_hash::FxHashMap;
@@ -75,6 +76,14 @@ fn cell_size(longest: f64, smallest_member: f64) -> f64 {
     wanted.max(longest / CELLS_AT_MOST)
 }
 
+/// What members share a group: a named CSG group, or the rule and colour of solids that join
+/// none; either way within one initial shape.
+#[derive(Clone, Copy, PartialEq, Eq, Hash)]
+enum GroupKey<'a> {
+    Named(u32, &'a str),
+    Rule(u32, &'a str, [u32; 4]),
+}
+
 /// One group to mesh: its members in leaf order, and what it is called and coloured.
 struct Group<'a> {
     name: Arc<str>,
@@ -82,40 +91,47 @@ struct Group<'a> {
     members: Vec<(&'a Leaf, &'a Implicit)>,
 }
 
+/// The span of the operation that made a member what it is.
+fn span_of(implicit: &Implicit) -> Span {
+    implicit.csg.as_ref().map_or(implicit.span, |c| c.span)
+}
+
 /// The implicit leaves meshed: a part per CSG group of each initial shape, named after the group
-/// and coloured like its first adding member, then a part per solid meshed alone, named and
-/// coloured like its leaf; groups in order of their first member, solids in leaf order. Grid
-/// cells have edge `cell` when given, else a size picked per group (see [`cell_size`]).
-pub(crate) fn mesh_solids(leaves: &[Leaf], cell: Option<f64>) -> Result<Vec<Part>, DeriveError> {
+/// and coloured like its first adding member, and a part per rule and colour of each initial
+/// shape for the solids in no group (overlapping ones merge), named after the rule; in order of
+/// their first members. Grid cells have edge `cell` when given, else a size picked per group
+/// (see [`cell_size`]). Meshing a group may take `time_budget` (like deriving a lot).
+pub(crate) fn mesh_solids(
+    leaves: &[Leaf],
+    cell: Option<f64>,
+    time_budget: Option<Duration>,
+) -> Result<Vec<Part>, DeriveError> {
     let mut groups: Vec<Group> = Vec::new();
-    let mut index: FxHashMap<(u32, &str), usize> = FxHashMap::default();
+    let mut index: FxHashMap<GroupKey, usize> = FxHashMap::default();
     for leaf in leaves {
         let Geometry::Implicit(implicit) = &leaf.geometry else {
             continue;
         };
         let (name, key) = match &implicit.csg {
-            Some(csg) => (csg.group.clone(), Some((leaf.lot, &*csg.group))),
-            None => (leaf.name.clone(), None),
-        };
-        let slot = match key.and_then(|k| index.get(&k)) {
-            Some(&i) => i,
+            Some(csg) => (csg.group.clone(), GroupKey::Named(leaf.lot, &csg.group)),
             None => {
-                groups.push(Group {
-                    name,
-                    color: None,
-                    members: Vec::new(),
-                });
-                if let Some(k) = key {
-                    index.insert(k, groups.len() - 1);
-                }
-                groups.len() - 1
+                let color = leaf.color.to_array().map(f32::to_bits);
+                (
+                    leaf.name.clone(),
+                    GroupKey::Rule(leaf.lot, &leaf.name, color),
+                )
             }
         };
+        let slot = *index.entry(key).or_insert_with(|| {
+            groups.push(Group {
+                name,
+                color: None,
+                members: Vec::new(),
+            });
+            groups.len() - 1
+        });
         let group = &mut groups[slot];
-        let adds = !matches!(
-            implicit.csg.as_ref().map(|c| c.op),
-            Some(CsgOp::Subtract(_) | CsgOp::Intersect(_))
-        );
+        let adds = implicit.csg.as_ref().is_none_or(|c| c.op.adds());
         if adds && group.color.is_none() {
             group.color = Some(leaf.color);
         }
@@ -123,32 +139,37 @@ pub(crate) fn mesh_solids(leaves: &[Leaf], cell: Option<f64>) -> Result<Vec<Part
     }
     groups
         .par_iter()
-        .map(|group| mesh_group(group, cell))
+        .map(|group| mesh_group(group, cell, time_budget))
         .filter_map(Result::transpose)
         .collect()
 }
 
 /// The group's solid meshed, or `None` when nothing of it is left.
-fn mesh_group(group: &Group, cell: Option<f64>) -> Result<Option<Part>, DeriveError> {
+fn mesh_group(
+    group: &Group,
+    cell: Option<f64>,
+    time_budget: Option<Duration>,
+) -> Result<Option<Part>, DeriveError> {
     let Some((solid, span)) = combine(&group.members)? else {
         return Ok(None);
     };
     let Some(bounds) = solid.bounds() else {
         return Ok(None);
     };
-    let smallest = group
-        .members
-        .iter()
-        .map(|(leaf, _)| leaf.scope.size.min_element())
-        .fold(f64::INFINITY, f64::min);
-    let h = cell.unwrap_or_else(|| cell_size(bounds.size().max_element(), smallest));
-    let meshing =
-        shapegram_implicit::mesh(&solid, &MeshOptions::with_cell_size(h)).map_err(|e| {
-            DeriveError::at(
-                format!("cannot mesh `{}`: {}", group.name, e.message()),
-                span,
-            )
-        })?;
+    let h = match cell {
+        Some(h) => h,
+        None => automatic_cell(group, bounds.size().max_element())?,
+    };
+    let options = MeshOptions {
+        deadline: time_budget.map(|t| Instant::now() + t),
+        ..MeshOptions::with_cell_size(h)
+    };
+    let meshing = shapegram_implicit::mesh(&solid, &options).map_err(|e| {
+        DeriveError::at(
+            format!("cannot mesh `{}`: {}", group.name, e.message()),
+            span,
+        )
+    })?;
     if meshing.mesh.is_empty() {
         return Ok(None);
     }
@@ -159,6 +180,50 @@ fn mesh_group(group: &Group, cell: Option<f64>) -> Result<Option<Part>, DeriveEr
         mesh: meshing.mesh,
         normals,
     }))
+}
+
+/// The automatic cell size of a group `longest` long (see [`cell_size`]); an error when its
+/// thinnest member would get less than two cells across, and so vanish from the mesh.
+fn automatic_cell(group: &Group, longest: f64) -> Result<f64, DeriveError> {
+    let (thinnest, span) = group
+        .members
+        .iter()
+        .filter_map(|(_, implicit)| {
+            let size = implicit.solid.bounds()?.size().min_element();
+            Some((size, span_of(implicit)))
+        })
+        .fold((f64::INFINITY, Span::default()), |a, b| {
+            if b.0 < a.0 { b } else { a }
+        });
+    let h = cell_size(longest, thinnest);
+    if thinnest < 2.0 * h {
+        return Err(DeriveError::at(
+            format!(
+                "`{}` has a member {thinnest} thin, less than two of the {h} cells it can be meshed with at its size ({longest} long): it would vanish",
+                group.name
+            ),
+            span,
+        )
+        .with_hint("choose the cell size with --implicit-cell, or make the member thicker"));
+    }
+    Ok(h)
+}
+
+/// An error when a fillet is larger than the solids it joins together: it would swell them into
+/// a blob (or, past the range of numbers, empty them).
+fn check_fillet(op: CsgOp, base: &Solid, member: &Solid, at: Span) -> Result<(), DeriveError> {
+    let (CsgOp::Union(k) | CsgOp::Subtract(k) | CsgOp::Intersect(k)) = op else {
+        return Ok(());
+    };
+    let extent = |s: &Solid| s.bounds().map_or(0.0, |b| b.size().max_element());
+    let limit = extent(base).max(extent(member));
+    if k > limit {
+        return Err(DeriveError::at(
+            format!("fillet radius {k} is larger than the solids it joins ({limit} across)"),
+            at,
+        ));
+    }
+    Ok(())
 }
 
 /// The members combined in world coordinates, with the span of the first member's operation:
@@ -179,13 +244,14 @@ fn combine(members: &[(&Leaf, &Implicit)]) -> Result<Option<(Solid, Span)>, Deri
             if phase != pass {
                 continue;
             }
-            let at = implicit.csg.as_ref().map_or(Span::default(), |c| c.span);
+            let at = span_of(implicit);
             span.get_or_insert(at);
             let fail = |e: shapegram_implicit::ImplicitError| DeriveError::at(e.message(), at);
             let member = implicit
                 .solid
                 .transform(&leaf.scope.local_to_world())
                 .map_err(fail)?;
+            check_fillet(op, &base, &member, at)?;
             base = match op {
                 _ if base.is_empty() && pass == 0 => member,
                 CsgOp::Union(k) if k > 0.0 => base.smooth_union(&member, k).map_err(fail)?,

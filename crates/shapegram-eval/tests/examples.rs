@@ -227,3 +227,22 @@ fn villa_sets_back_a_garden_and_paths_and_builds_a_u() {
     let count = |rule: &str| d.stats.rules.iter().find(|(n, _)| n == rule).map(|r| r.1);
     assert_eq!(count("Facade"), Some(8));
 }
+
+#[test]
+fn implicit_examples_take_lots_of_any_shape() {
+    let skewed = shapegram_eval::InitialShape::from_xz(
+        &[(0.0, 40.0), (30.0, 45.0), (25.0, 80.0), (0.0, 70.0)]
+            .map(|(x, z)| shapegram_geom::DVec2::new(x, z)),
+    )
+    .unwrap();
+    for name in ["aqueduct.cga", "outcrop.cga"] {
+        let d = derive(
+            &example(name),
+            std::slice::from_ref(&skewed),
+            &DeriveOptions::default(),
+        )
+        .unwrap();
+        assert_eq!(d.solids.len(), 1, "{name}");
+        assert!(d.solids[0].mesh.is_watertight(), "{name}");
+    }
+}

@@ -153,23 +153,105 @@ fn intersect_keeps_the_common_part_and_morph_blends() {
 
 #[test]
 fn a_fillet_adds_material_where_members_meet() {
+    // Two unit balls 1.5 apart meet in a sharp crease; a fillet of 0.5 fills it in.
     let text = |k: &str| {
         format!(
-            "Lot --> extrude(1) split(x) {{ 2 : A | 2 : A }}
-             A --> implicit(box) csg(\"g\", union{k}) Done."
+            "Lot --> extrude(2) split(x) {{ 2 : A | 1 : NIL | 2 : B }}
+             A --> implicit(sphere) csg(\"g\", union{k}) Done.
+             B --> t(-1.5, 0, 0) implicit(sphere) csg(\"g\", union{k}) Done."
         )
     };
-    let sharp = volume(&solids(&text(""), 4.0, 1.0)[0]);
-    let round = volume(&solids(&text(", 0.5"), 4.0, 1.0)[0]);
-    // Marching cubes bevel a box's edges by a fraction of a cell.
-    assert_near(sharp, 4.0, 0.02);
-    // Side by side boxes meet face to face, so a fillet has no crease to fill: the same volume
-    // within the meshing's accuracy, and never less.
-    assert!(round >= sharp - 0.02, "{round} < {sharp}");
+    let sharp = volume(&solids(&text(""), 5.0, 2.0)[0]);
+    let round = volume(&solids(&text(", 0.5"), 5.0, 2.0)[0]);
+    let ball = 4.0 / 3.0 * PI;
+    assert_near(sharp, 2.0 * ball - PI * 5.5 * 0.25 / 12.0, 0.01);
+    assert!(round > sharp + 0.1, "{round} is not above {sharp}");
+    // A fillet larger than the solids would swell them into a blob: an error.
+    let e = try_run(&text(", 1000"), lot(5.0, 2.0), &DeriveOptions::default()).unwrap_err();
+    assert!(
+        e.message
+            .starts_with("fillet radius 1000 is larger than the solids"),
+        "{}",
+        e.message
+    );
 }
 
 #[test]
-fn groups_are_per_initial_shape_and_solids_alone_per_leaf() {
+fn turns_zero_sizes_and_adjusted_splits_keep_scopes_tight() {
+    // Turning the scope there and back leaves it as it was (fitted to the surface, not to a
+    // box that grows with every turn).
+    let d = run(
+        "Lot --> extrude(10) implicit(sphere) rotateScope(0, 45, 0) rotateScope(0, -45, 0)
+         report(\"sx\", scope.sx) S.",
+        lot(10.0, 10.0),
+    );
+    let sx = match d.reports[0].1 {
+        shapegram_eval::Value::Number(n) => n,
+        _ => unreachable!(),
+    };
+    assert!((sx - 10.0).abs() < 0.5, "{sx}");
+    // A zero size squashes a solid to nothing.
+    let flat = run(
+        "Lot --> extrude(10) implicit(sphere) s('1, 0, '1) S.",
+        lot(10.0, 10.0),
+    );
+    assert!(flat.solids.is_empty());
+    // Slabs of a ball are fitted to the ball's cross-section at them.
+    let d = run(
+        "Lot --> extrude(10) implicit(sphere) split(x) { 1 : report(\"sy\", scope.sy) X. }*",
+        lot(10.0, 10.0),
+    );
+    let sy: Vec<f64> = d
+        .reports
+        .iter()
+        .map(|(_, v)| match v {
+            shapegram_eval::Value::Number(n) => *n,
+            _ => unreachable!(),
+        })
+        .collect();
+    assert_eq!(sy.len(), 10);
+    assert!(sy[0] < 7.0 && sy[4] > 9.5, "{sy:?}");
+}
+
+#[test]
+fn members_too_thin_to_mesh_are_errors_and_the_time_budget_holds() {
+    let plate = "Lot --> extrude(0.02) implicit(box) Plate.";
+    let e = try_run(plate, lot(20.0, 20.0), &DeriveOptions::default()).unwrap_err();
+    assert!(
+        e.message.starts_with("`Plate` has a member 0.02 thin"),
+        "{}",
+        e.message
+    );
+    assert_eq!(&plate[e.span.unwrap().range()], "implicit(box)");
+    // With a cell size given, it is meshed as asked.
+    let fine = DeriveOptions {
+        implicit_cell: Some(0.005),
+        ..DeriveOptions::default()
+    };
+    assert_eq!(
+        try_run(plate, lot(2.0, 2.0), &fine).unwrap().solids.len(),
+        1
+    );
+    let slow = DeriveOptions {
+        implicit_cell: Some(0.002),
+        time_budget: Some(std::time::Duration::from_millis(1)),
+        ..DeriveOptions::default()
+    };
+    let e = try_run(
+        "Lot --> extrude(4) implicit(sphere) Ball.",
+        lot(4.0, 4.0),
+        &slow,
+    )
+    .unwrap_err();
+    assert!(
+        e.message.contains("took longer than the time allowed"),
+        "{}",
+        e.message
+    );
+}
+
+#[test]
+fn groups_are_per_initial_shape_and_solids_alone_per_rule() {
     let program = compile(
         "Lot --> extrude(1) [ implicit(sphere) csg(\"g\", union) A. ] t(0, 1, 0) implicit(box) Alone.",
     );
@@ -197,8 +279,9 @@ fn groups_are_per_initial_shape_and_solids_alone_per_leaf() {
 fn a_split_cuts_the_solid_into_slabs() {
     // A ball split in half along x: each half is closed and half the volume; as members of one
     // group the halves make the ball again.
+    // Coloured apart, the halves are two parts (solids of one rule and colour would merge).
     let halves = solids(
-        "Lot --> extrude(2) implicit(sphere) split(x) { '0.5 : Half | '0.5 : Half }
+        "Lot --> extrude(2) implicit(sphere) split(x) { '0.5 : color(\"#ff0000\") Half | '0.5 : Half }
          Half --> Done.",
         2.0,
         2.0,
@@ -341,6 +424,18 @@ fn bad_uses_are_errors_with_spans() {
     );
     let e = err("Lot --> extrude(1) implicit(box) comp(f) { all : F. }");
     assert!(e.message.starts_with("comp needs faces"), "{}", e.message);
+    let e = err("Lot --> extrude(1) implicit(box) reverseNormals() F.");
+    assert!(
+        e.message.starts_with("reverseNormals needs faces"),
+        "{}",
+        e.message
+    );
+    let e = err("Lot --> extrude(1) implicit(box) alignScopeToGeometry(yUp, 0, 0) F.");
+    assert!(
+        e.message.starts_with("alignScopeToGeometry needs faces"),
+        "{}",
+        e.message
+    );
 
     let errors = compile_errors("Lot --> implicit(blob) S.").join("\n");
     assert!(

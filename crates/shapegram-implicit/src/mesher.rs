@@ -10,6 +10,7 @@
 
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
+use std::time::Instant;
 
 use glam::DVec3;
 use rayon::prelude::*;
@@ -41,6 +42,8 @@ pub struct MeshOptions {
     pub max_cells: u64,
     /// The mesh may have at most this many triangles.
     pub max_triangles: usize,
+    /// Meshing stops with an error when it is still at work at this time.
+    pub deadline: Option<Instant>,
 }
 
 impl MeshOptions {
@@ -51,6 +54,7 @@ impl MeshOptions {
             block: 8,
             max_cells: DEFAULT_MAX_CELLS,
             max_triangles: DEFAULT_MAX_TRIANGLES,
+            deadline: None,
         }
     }
 
@@ -197,12 +201,17 @@ pub fn mesh_with_progress(
     let done = AtomicUsize::new(0);
     let triangles = AtomicUsize::new(0);
     let over_limit = AtomicBool::new(false);
+    let late = AtomicBool::new(false);
     let blocks: Vec<BlockMesh> = leaves
         .par_iter()
         .map_init(
             || (tape.workspace(capacity), Scratch::new(capacity)),
             |(ws, scratch), leaf| {
-                if over_limit.load(Ordering::Relaxed) {
+                if over_limit.load(Ordering::Relaxed) || late.load(Ordering::Relaxed) {
+                    return BlockMesh::default();
+                }
+                if options.deadline.is_some_and(|d| Instant::now() > d) {
+                    late.store(true, Ordering::Relaxed);
                     return BlockMesh::default();
                 }
                 let block = mesh_block(&leaf.tape, ws, scratch, &grid, &leaf.region);
@@ -221,6 +230,11 @@ pub fn mesh_with_progress(
             "the mesh would have more than {} triangles: use larger cells (a lower level of detail)",
             options.max_triangles
         )));
+    }
+    if late.load(Ordering::Relaxed) {
+        return Err(ImplicitError::new(
+            "meshing took longer than the time allowed: use larger cells (a lower level of detail)",
+        ));
     }
     let evaluated_samples = leaves
         .iter()

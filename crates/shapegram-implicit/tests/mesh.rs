@@ -620,3 +620,15 @@ fn any_affine_map_keeps_the_field_a_distance_bound() {
         "invalid transform: expected a finite map that can be inverted"
     );
 }
+
+#[test]
+fn a_deadline_that_has_passed_stops_meshing_with_an_error() {
+    let ball = Solid::sphere(1.0).unwrap();
+    let options = MeshOptions {
+        deadline: Some(std::time::Instant::now()),
+        ..MeshOptions::with_cell_size(0.01)
+    };
+    let e = shapegram_implicit::mesh(&ball, &options).unwrap_err();
+    assert!(e.message().starts_with("meshing took longer than the time allowed"), "{}", e.message());
+    assert!(shapegram_implicit::mesh(&ball, &MeshOptions::with_cell_size(0.1)).is_ok());
+}
