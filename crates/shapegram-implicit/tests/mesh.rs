@@ -629,6 +629,11 @@ fn a_deadline_that_has_passed_stops_meshing_with_an_error() {
         ..MeshOptions::with_cell_size(0.01)
     };
     let e = shapegram_implicit::mesh(&ball, &options).unwrap_err();
-    assert!(e.message().starts_with("meshing took longer than the time allowed"), "{}", e.message());
+    assert!(
+        e.message()
+            .starts_with("meshing took longer than the time allowed"),
+        "{}",
+        e.message()
+    );
     assert!(shapegram_implicit::mesh(&ball, &MeshOptions::with_cell_size(0.1)).is_ok());
 }
