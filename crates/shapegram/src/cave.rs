@@ -110,9 +110,12 @@ pub fn run(args: &CaveArgs) -> Result<(), Failure> {
 
     let export_started = Instant::now();
     if let Some(output) = &args.output {
-        // Smooth shading: marching-cubes surfaces look faceted with a normal per triangle.
+        // Smooth shading from the field's gradient: marching-cubes surfaces look faceted with a
+        // normal per triangle, and averaged normals would round off the creases CSG makes.
         let mut model = Model::single("cave", ROCK, meshing.mesh.clone());
-        model.parts[0].normals = meshing.mesh.vertex_normals();
+        let step = options.cell_size / 2.0;
+        model.parts[0].normals =
+            shapegram_implicit::surface_normals(grown.builder.solid(), &meshing.mesh, step);
         shapegram_export::save(&model, output, &ExportOptions::default())?;
     }
     let export_time = export_started.elapsed();

@@ -66,6 +66,8 @@ pub struct MeshInfo {
     pub faces: usize,
     /// Triangles covering the faces.
     pub triangles: usize,
+    /// Line segments (of line sets, such as L-system strokes drawn as lines).
+    pub segments: usize,
     /// Axis-aligned bounds, `None` for a model without vertices.
     pub bounds: Option<Bounds>,
     /// Total surface area.
@@ -143,6 +145,7 @@ impl MeshInfo {
             vertices: welded.vertex_count(),
             faces: welded.face_count(),
             triangles: triangles.len(),
+            segments: model.lines.iter().map(|l| l.segments.len()).sum(),
             bounds: aabb.map(|b| Bounds {
                 min: b.min.to_array(),
                 max: b.max.to_array(),
@@ -169,6 +172,7 @@ impl fmt::Display for MeshInfo {
         line(f, "vertices", format_args!("{} (welded)", self.vertices))?;
         line(f, "faces", format_args!("{}", self.faces))?;
         line(f, "triangles", format_args!("{}", self.triangles))?;
+        line(f, "segments", format_args!("{}", self.segments))?;
         match &self.bounds {
             Some(b) => {
                 let [x, y, z] = b.size.map(number);
@@ -345,6 +349,7 @@ mod tests {
                 "vertices",
                 "faces",
                 "triangles",
+                "segments",
                 "bounds",
                 "size",
                 "area",
@@ -364,7 +369,7 @@ mod tests {
     fn json_keeps_the_field_order() {
         let model = Model::single("q", Color::default(), primitives::quad(2.0, 3.0));
         let json = serde_json::to_string(&MeshInfo::from_model(&model)).unwrap();
-        assert!(json.starts_with(r#"{"parts":1,"vertices":4,"faces":1,"triangles":2,"bounds":{"min":[0.0,0.0,0.0],"max":[2.0,0.0,3.0],"size":[2.0,0.0,3.0]},"area":6.0,"volume":"#));
+        assert!(json.starts_with(r#"{"parts":1,"vertices":4,"faces":1,"triangles":2,"segments":0,"bounds":{"min":[0.0,0.0,0.0],"max":[2.0,0.0,3.0],"size":[2.0,0.0,3.0]},"area":6.0,"volume":"#));
         assert!(json.ends_with(r#""watertight":false,"edges":{"total":4,"boundary":4,"non_manifold":0,"misoriented":0},"degenerate_triangles":0}"#));
     }
 

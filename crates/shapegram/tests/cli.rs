@@ -113,6 +113,7 @@ fn info_json_is_one_line_with_keys_in_a_stable_order() {
         "vertices",
         "faces",
         "triangles",
+        "segments",
         "bounds",
         "area",
         "volume",

@@ -209,6 +209,10 @@ fn lines_write_one_segment_per_drawn_segment() {
             model.parts.iter().map(|p| p.mesh.triangulate().len()).sum()
         };
         assert_eq!(loaded_faces, want, "{extension}");
+        // `info` counts the segments too.
+        let info = shapegram(&["info", "--json", &path]);
+        let json: serde_json::Value = serde_json::from_slice(&info.stdout).unwrap();
+        assert_eq!(json["segments"], 3891, "{extension}");
     }
     // Without leaves, lines are a small fraction of the tubes' size.
     let (tubes, lines) = (arg(&dir.path("tubes.glb")), arg(&dir.path("lines.glb")));
