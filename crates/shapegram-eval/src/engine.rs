@@ -1937,12 +1937,14 @@ fn implicit(state: &mut State, kind: ImplicitKind, span: Span) -> Fallible<()> {
     }
     let solid = crate::solids::fitted(kind, size)
         .map_err(|e| DeriveError::at(format!("implicit({}): {e}", kind.name()), span))?;
-    state.geometry = Geometry::Implicit(Arc::new(Implicit {
-        solid,
-        csg: None,
-        span,
-    }));
+    set_solid(state, solid, span);
     Ok(())
+}
+
+/// Makes the shape's geometry `solid`, in no group, made by the operation at `span`.
+fn set_solid(state: &mut State, solid: Solid, span: Span) {
+    let csg = None;
+    state.geometry = Geometry::Implicit(Arc::new(Implicit { solid, csg, span }));
 }
 
 /// `implicit("file.cave")`: the shape becomes `solid` with its bounds stretched to the scope,
@@ -1962,11 +1964,7 @@ fn implicit_in_scope(state: &mut State, solid: &Solid, file: &str, span: Span) -
     let solid = solid
         .transform(&map)
         .map_err(|e| DeriveError::at(format!("implicit(\"{file}\"): {}", e.message()), span))?;
-    state.geometry = Geometry::Implicit(Arc::new(Implicit {
-        solid,
-        csg: None,
-        span,
-    }));
+    set_solid(state, solid, span);
     Ok(())
 }
 

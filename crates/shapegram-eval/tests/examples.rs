@@ -7,15 +7,15 @@ use std::path::PathBuf;
 use common::example;
 use shapegram_eval::{DeriveOptions, derive};
 
+/// The example `name` derived on a 20 × 30 lot (the CLI's default).
+fn on_default_lot(name: &str) -> shapegram_eval::Derivation {
+    let lot = common::lot(20.0, 30.0);
+    derive(&example(name), &[lot], &DeriveOptions::default()).unwrap()
+}
+
 #[test]
 fn office() {
-    let program = example("office.cga");
-    let d = derive(
-        &program,
-        &[common::lot(20.0, 30.0)],
-        &DeriveOptions::default(),
-    )
-    .unwrap();
+    let d = on_default_lot("office.cga");
     assert_eq!(d.stats.leaves, 1047);
     let count = |rule: &str| d.stats.rules.iter().find(|(n, _)| n == rule).map(|r| r.1);
     // Four facades of 8 floors; the 16 m wide tower faces hold 5 tiles, the 24 m ones 7.
@@ -71,13 +71,7 @@ fn block_is_the_readme_tutorial() {
         readme.contains(&format!("```\n{file}```")),
         "README and examples/block.cga differ"
     );
-    let program = example("block.cga");
-    let d = derive(
-        &program,
-        &[common::lot(20.0, 30.0)],
-        &DeriveOptions::default(),
-    )
-    .unwrap();
+    let d = on_default_lot("block.cga");
     let count = |rule: &str| d.stats.rules.iter().find(|(n, _)| n == rule).map(|r| r.1);
     // 12 m: a 4 m ground floor and two floors; tiles: 6 per floor on the 20 m faces, 9 on the 30 m.
     assert_eq!(count("Floor"), Some(8));
@@ -120,13 +114,7 @@ fn genus(mesh: &shapegram_geom::Mesh) -> i64 {
 
 #[test]
 fn aqueduct_carves_an_arch_through_the_wall_for_every_bay() {
-    let program = example("aqueduct.cga");
-    let d = derive(
-        &program,
-        &[common::lot(20.0, 30.0)],
-        &DeriveOptions::default(),
-    )
-    .unwrap();
+    let d = on_default_lot("aqueduct.cga");
     let count = |rule: &str| d.stats.rules.iter().find(|(n, _)| n == rule).map(|r| r.1);
     // 42 m in bays of about 6.5 m below (6) and 3.25 m above (13).
     assert_eq!(count("Bay"), Some(6 + 13));
@@ -194,13 +182,7 @@ fn outcrop_fuses_its_blocks_and_keeps_the_tunnel_open() {
 
 #[test]
 fn villa_sets_back_a_garden_and_paths_and_builds_a_u() {
-    let program = example("villa.cga");
-    let d = derive(
-        &program,
-        &[common::lot(20.0, 30.0)],
-        &DeriveOptions::default(),
-    )
-    .unwrap();
+    let d = on_default_lot("villa.cga");
     let leaf = |name: &str| -> Vec<&shapegram_eval::Leaf> {
         d.leaves.iter().filter(|l| &*l.name == name).collect()
     };
