@@ -7,7 +7,7 @@ use std::time::{Duration, Instant};
 
 use rayon::prelude::*;
 use rustc_hash::FxHashMap;
-use shapegram_geom::{Color, DVec3, Part};
+use shapegram_geom::{Aabb, Color, DVec3, Part};
 use shapegram_implicit::{MeshOptions, Solid};
 use shapegram_syntax::Span;
 
@@ -158,7 +158,7 @@ fn mesh_group(
     };
     let h = match cell {
         Some(h) => h,
-        None => automatic_cell(group, bounds.size().max_element())?,
+        None => automatic_cell(group, bounds, span)?,
     };
     let options = MeshOptions {
         deadline: time_budget.map(|t| Instant::now() + t),
@@ -182,29 +182,27 @@ fn mesh_group(
     }))
 }
 
-/// The automatic cell size of a group `longest` long (see [`cell_size`]); an error when its
-/// thinnest member would get less than two cells across, and so vanish from the mesh.
-fn automatic_cell(group: &Group, longest: f64) -> Result<f64, DeriveError> {
-    let (thinnest, span) = group
+/// The automatic cell size of a group whose solid has `bounds` (see [`cell_size`]); an error
+/// when the solid is less than two cells thick all through, and so would vanish from the mesh.
+/// (A thin member among thicker ones is not checked: slabs of one solid are thin, and whole.)
+fn automatic_cell(group: &Group, bounds: Aabb, span: Span) -> Result<f64, DeriveError> {
+    let thinnest = group
         .members
         .iter()
-        .filter_map(|(_, implicit)| {
-            let size = implicit.solid.bounds()?.size().min_element();
-            Some((size, span_of(implicit)))
-        })
-        .fold((f64::INFINITY, Span::default()), |a, b| {
-            if b.0 < a.0 { b } else { a }
-        });
+        .filter_map(|(_, implicit)| implicit.solid.bounds())
+        .map(|b| b.size().min_element())
+        .fold(f64::INFINITY, f64::min);
+    let (longest, thickness) = (bounds.size().max_element(), bounds.size().min_element());
     let h = cell_size(longest, thinnest);
-    if thinnest < 2.0 * h {
+    if thickness < 2.0 * h {
         return Err(DeriveError::at(
             format!(
-                "`{}` has a member {thinnest} thin, less than two of the {h} cells it can be meshed with at its size ({longest} long): it would vanish",
+                "`{}` is {thickness} thin, less than two of the {h} cells it can be meshed with at its size ({longest} long): it would vanish",
                 group.name
             ),
             span,
         )
-        .with_hint("choose the cell size with --implicit-cell, or make the member thicker"));
+        .with_hint("choose the cell size with --implicit-cell, or make it thicker"));
     }
     Ok(h)
 }
@@ -234,6 +232,10 @@ fn combine(members: &[(&Leaf, &Implicit)]) -> Result<Option<(Solid, Span)>, Deri
     let mut base = Solid::empty();
     let mut span = None;
     for pass in 0..3 {
+        // Sharp members wait to be joined in one balanced tree: maxima and minima are exact, so
+        // this changes no value, but a chain of hundreds (the slabs of a split) would make every
+        // evaluation walk all of it.
+        let mut sharp: Vec<Solid> = Vec::new();
         for (leaf, implicit) in members {
             let op = implicit.csg.as_ref().map_or(CsgOp::Union(0.0), |c| c.op);
             let phase = match op {
@@ -251,25 +253,55 @@ fn combine(members: &[(&Leaf, &Implicit)]) -> Result<Option<(Solid, Span)>, Deri
                 .solid
                 .transform(&leaf.scope.local_to_world())
                 .map_err(fail)?;
+            if let CsgOp::Union(0.0) | CsgOp::Subtract(0.0) | CsgOp::Intersect(0.0) = op {
+                sharp.push(member);
+                continue;
+            }
+            base = join_sharp(pass, base, std::mem::take(&mut sharp));
             check_fillet(op, &base, &member, at)?;
             base = match op {
                 _ if base.is_empty() && pass == 0 => member,
-                CsgOp::Union(k) if k > 0.0 => base.smooth_union(&member, k).map_err(fail)?,
-                CsgOp::Union(_) => base.union(&member),
+                CsgOp::Union(k) => base.smooth_union(&member, k).map_err(fail)?,
                 CsgOp::Morph(a) => base.morph(&base.union(&member), a).map_err(fail)?,
-                CsgOp::Subtract(k) if k > 0.0 => {
-                    base.smooth_difference(&member, k).map_err(fail)?
-                }
-                CsgOp::Subtract(_) => base.difference(&member),
-                CsgOp::Intersect(k) if k > 0.0 => {
-                    base.smooth_intersection(&member, k).map_err(fail)?
-                }
-                CsgOp::Intersect(_) => base.intersection(&member),
+                CsgOp::Subtract(k) => base.smooth_difference(&member, k).map_err(fail)?,
+                CsgOp::Intersect(k) => base.smooth_intersection(&member, k).map_err(fail)?,
             };
         }
+        base = join_sharp(pass, base, sharp);
         if pass == 0 && base.is_empty() {
             return Ok(None);
         }
     }
     Ok(span.map(|s| (base, s)))
+}
+
+/// `base` with the sharp members of pass `pass` joined in: added (pass 0), carved away (1) or
+/// trimmed to (2).
+fn join_sharp(pass: usize, base: Solid, sharp: Vec<Solid>) -> Solid {
+    let trims = pass == 2;
+    let Some(joined) = balanced(sharp, trims) else {
+        return base;
+    };
+    match pass {
+        0 if base.is_empty() => joined,
+        0 => base.union(&joined),
+        1 => base.difference(&joined),
+        _ => base.intersection(&joined),
+    }
+}
+
+/// The union (or, for `intersect`, the intersection) of `solids` as a balanced tree.
+fn balanced(mut solids: Vec<Solid>, intersect: bool) -> Option<Solid> {
+    while solids.len() > 1 {
+        solids = solids
+            .chunks(2)
+            .map(|pair| match pair {
+                [a, b] if intersect => a.intersection(b),
+                [a, b] => a.union(b),
+                [a] => a.clone(),
+                _ => unreachable!("chunks of two"),
+            })
+            .collect();
+    }
+    solids.pop()
 }

@@ -218,11 +218,20 @@ fn members_too_thin_to_mesh_are_errors_and_the_time_budget_holds() {
     let plate = "Lot --> extrude(0.02) implicit(box) Plate.";
     let e = try_run(plate, lot(20.0, 20.0), &DeriveOptions::default()).unwrap_err();
     assert!(
-        e.message.starts_with("`Plate` has a member 0.02 thin"),
+        e.message.starts_with("`Plate` is 0.02 thin"),
         "{}",
         e.message
     );
     assert_eq!(&plate[e.span.unwrap().range()], "implicit(box)");
+    // Thin slabs of a thick solid are no trouble.
+    let slabs = "Lot --> extrude(10) implicit(sphere) csg(\"g\", union) split(x) { 0.5 : A. }*";
+    assert_eq!(
+        try_run(slabs, lot(10.0, 10.0), &DeriveOptions::default())
+            .unwrap()
+            .solids
+            .len(),
+        1
+    );
     // With a cell size given, it is meshed as asked.
     let fine = DeriveOptions {
         implicit_cell: Some(0.005),
