@@ -38,7 +38,6 @@ pub fn surface_normals(solid: &Solid, mesh: &Mesh, step: f64) -> Vec<DVec3> {
 /// The negated, normalised gradients at `points` (zero where there is none to normalise).
 fn gradients(tape: &Tape, points: &[DVec3], h: f64) -> Vec<DVec3> {
     let n = points.len();
-    let mut ws = tape.workspace(6 * n);
     let (mut xs, mut ys, mut zs) = (vec![0.0; 6 * n], vec![0.0; 6 * n], vec![0.0; 6 * n]);
     for (i, &p) in points.iter().enumerate() {
         for (k, axis) in DVec3::AXES.iter().enumerate() {
@@ -57,7 +56,8 @@ fn gradients(tape: &Tape, points: &[DVec3], h: f64) -> Vec<DVec3> {
         .map(|p| p.distance(centre))
         .fold(0.0, f64::max)
         + 2.0 * h;
-    let local = tape.pruned(&mut ws, centre, radius);
+    // The whole tape is only evaluated at the centre: room for one point is enough.
+    let local = tape.pruned(&mut tape.workspace(1), centre, radius);
     let mut ws = local.workspace(6 * n);
     let mut values = vec![0.0; 6 * n];
     local.eval(&mut ws, &xs, &ys, &zs, &mut values);
