@@ -468,7 +468,7 @@ fn rule_counts(program: &Program, counts: &[usize]) -> Vec<(String, usize)> {
 }
 
 fn start_rule(program: &Program, options: &DeriveOptions) -> Result<RuleId, DeriveError> {
-    match &options.start_rule {
+    let id = match &options.start_rule {
         Some(name) => program.rule(name, 0).ok_or_else(|| {
             let mut e = DeriveError::general(format!(
                 "the grammar has no rule `{name}` without parameters"
@@ -477,11 +477,26 @@ fn start_rule(program: &Program, options: &DeriveOptions) -> Result<RuleId, Deri
                 e = e.with_hint(format!("did you mean `{close}`?"));
             }
             e
-        }),
+        })?,
         None => program
             .start_rule
-            .ok_or_else(|| DeriveError::general("the grammar has no rules")),
+            .ok_or_else(|| DeriveError::general("the grammar has no rules"))?,
+    };
+    let rule = &program.rules[id as usize];
+    if rule.params > 0 {
+        let count = match rule.params {
+            1 => "1 parameter".to_owned(),
+            n => format!("{n} parameters"),
+        };
+        return Err(DeriveError::general(format!(
+            "the start rule `{}` takes {count}, but a lot has no values for them",
+            program.symbol_name(rule.symbol),
+        ))
+        .with_hint(
+            "start from a rule without parameters: mark it @StartRule, or name it with --start",
+        ));
     }
+    Ok(id)
 }
 
 /// The scope and geometry of an initial shape: x along the first edge, y along the normal, the

@@ -323,10 +323,12 @@ impl<'g> Compiler<'g> {
             }
         }
         let context_rules = rule_uses.iter().map(|u| closure.asks(u)).collect();
+        // Without `@StartRule`, the first rule a shape can start from: one without parameters.
         let start_rule = grammar
             .rules
             .iter()
             .position(ast::Rule::is_start_rule)
+            .or_else(|| grammar.rules.iter().position(|r| r.params.is_empty()))
             .or((!grammar.rules.is_empty()).then_some(0))
             .map(|i| i as RuleId);
         Program {

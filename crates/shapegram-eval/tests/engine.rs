@@ -559,3 +559,31 @@ fn offset_splits_a_lot_into_inside_and_border() {
         "the inset vanished"
     );
 }
+
+#[test]
+fn a_start_rule_with_parameters_is_an_error_not_a_crash() {
+    // Without @StartRule, the first rule without parameters starts.
+    let d = run(
+        "Wing(w) --> s(w, '1, '1) X\nLot --> Wing(3)",
+        lot(10.0, 10.0),
+    );
+    assert_eq!(names(&d), ["X"]);
+    let err = try_run(
+        "@StartRule\nWing(w, h) --> X",
+        lot(1.0, 1.0),
+        &DeriveOptions::default(),
+    )
+    .unwrap_err();
+    assert_eq!(
+        err.message,
+        "the start rule `Wing` takes 2 parameters, but a lot has no values for them"
+    );
+    // Only rules with parameters: the first is the start, and the same error.
+    let err = try_run("Wing(w) --> X", lot(1.0, 1.0), &DeriveOptions::default()).unwrap_err();
+    assert!(
+        err.message
+            .starts_with("the start rule `Wing` takes 1 parameter,"),
+        "{}",
+        err.message
+    );
+}
