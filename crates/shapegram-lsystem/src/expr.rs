@@ -145,6 +145,16 @@ impl Binary {
             return f64::NAN;
         }
         let truth = |t: bool| if t { 1.0 } else { 0.0 };
+        // Parameters are always finite, so an infinite operand of a comparison or a logical
+        // operator comes from a division by zero or an overflow: undefined as well, rather than
+        // a condition that quietly holds.
+        let logical = !matches!(
+            self,
+            Self::Add | Self::Subtract | Self::Multiply | Self::Divide | Self::Remainder | Self::Power
+        );
+        if logical && !(a.is_finite() && b.is_finite()) {
+            return f64::NAN;
+        }
         match self {
             Self::Or => truth(a != 0.0 || b != 0.0),
             Self::And => truth(a != 0.0 && b != 0.0),
@@ -173,6 +183,12 @@ pub(crate) struct Expr {
 }
 
 impl Expr {
+    /// A text equal for two expressions exactly when they compute alike: variables by their
+    /// place in the production, not their names (`x > 1` in `A(x)` is `y > 1` in `A(y)`).
+    pub fn program_key(&self) -> String {
+        format!("{:?}", self.ops)
+    }
+
     /// The value when the expression uses no variables.
     pub fn constant(&self) -> Option<f64> {
         match self.ops.as_slice() {

@@ -129,8 +129,9 @@ pub(crate) fn parse(text: &str) -> Result<LSystem, Error> {
         }
     }
     let produced = assemble::produced(&axiom_modules, raws.iter().chain(&interpretation_raws));
-    let productions = assemble::group(raws, &mut alphabet, &produced)?;
-    let interpretation = assemble::group(interpretation_raws, &mut alphabet, &produced)?;
+    let ignored = &settings.ignore;
+    let productions = assemble::group(raws, &mut alphabet, &produced, ignored)?;
+    let interpretation = assemble::group(interpretation_raws, &mut alphabet, &produced, ignored)?;
     Ok(LSystem::assemble(
         settings,
         alphabet,

@@ -278,15 +278,19 @@ impl LSystem {
             }
             if out.symbols.len() > max {
                 return Err(Error::general(format!(
-                    "{stage}: the word grew past the limit of {} modules (raise the limit, or derive fewer steps)",
-                    group_digits(max)
+                    "{stage}: the word grew past the limit of {} modules after rewriting {} of the {} modules before it (raise the limit, or derive fewer steps)",
+                    group_digits(max),
+                    group_digits(i),
+                    group_digits(n)
                 )));
             }
             // Parameters count against the same limit, so memory stays bounded by it.
             if out.params.len() > max {
                 return Err(Error::general(format!(
-                    "{stage}: the word's parameters grew past the limit of {} values (raise the module limit, or derive fewer steps)",
-                    group_digits(max)
+                    "{stage}: the word's parameters grew past the limit of {} values after rewriting {} of the {} modules before it (raise the module limit, or derive fewer steps)",
+                    group_digits(max),
+                    group_digits(i),
+                    group_digits(n)
                 )));
             }
         }
@@ -432,11 +436,11 @@ impl Applier<'_> {
     ) -> Result<bool, Error> {
         if let Some(condition) = &production.condition {
             let value = condition.eval(self.variables, self.stack);
-            if value.is_nan() {
+            if !value.is_finite() {
                 return Err(Error::at(
                     condition.position,
                     format!(
-                        "{}: the condition is not a number (NaN) for {}",
+                        "{}: the condition cannot be evaluated for {} (it divides by zero, overflows or leaves a function's domain)",
                         self.stage,
                         self.module_text(at, params)
                     ),

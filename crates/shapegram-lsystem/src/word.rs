@@ -67,10 +67,17 @@ impl Word {
     }
 }
 
-/// Appends `value` in the shortest decimal form that reads back as the same `f64`.
+/// Appends `value` in the shortest decimal form that reads back as the same `f64`: plain
+/// digits, or an exponent (`1e-300`, `2.5e22`) for magnitudes below 10⁻⁶ or from 10²¹ on, where
+/// plain digits would run to hundreds of zeros.
 pub(crate) fn push_number(text: &mut String, value: f64) {
     use std::fmt::Write;
     // -0 and 0 are the same parameter value; printing "-0" would only confuse.
     let value = if value == 0.0 { 0.0 } else { value };
-    let _ = write!(text, "{value}");
+    let magnitude = value.abs();
+    let _ = if value != 0.0 && !(1e-6..1e21).contains(&magnitude) {
+        write!(text, "{value:e}")
+    } else {
+        write!(text, "{value}")
+    };
 }

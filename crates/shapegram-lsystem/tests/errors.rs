@@ -98,6 +98,10 @@ fn unknown_symbols_in_contexts() {
         error("axiom: A(1)A(2)\nA < A(x) -> B\n"),
         "2:1: 'A' never has 0 parameters in a word (it has 1), so this context could never match"
     );
+    assert_eq!(
+        error("ignore: F\naxiom: JFFJ\nJF < F > J -> G\n"),
+        "3:2: 'F' is in the ignore set, which context matching skips, so this context could never match (drop it from the context or from `ignore:`)"
+    );
 }
 
 #[test]

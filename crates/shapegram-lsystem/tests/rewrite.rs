@@ -179,11 +179,14 @@ fn defines_and_labels() {
 
 #[test]
 fn numbers_print_in_shortest_round_trip_form() {
-    let text = "axiom: A(0.1, -0, 1e21, 0.30000000000000004)\n";
+    let text = "axiom: A(0.1, -0, 1e20, 1e21, 0.30000000000000004, 0.000001, 1e-300, -2.5e-7)\n";
+    let printed = word(text, 0);
     assert_eq!(
-        word(text, 0),
-        "A(0.1,0,1000000000000000000000,0.30000000000000004)"
+        printed,
+        "A(0.1,0,100000000000000000000,1e21,0.30000000000000004,0.000001,1e-300,-2.5e-7)"
     );
+    // What is printed reads back as the same word.
+    assert_eq!(word(&format!("axiom: {printed}\n"), 0), printed);
 }
 
 /// The successor chosen for each of the 10,000 A's of a word after one step.
@@ -193,6 +196,24 @@ fn stochastic_word(seed: u64) -> String {
         "A".repeat(10_000)
     );
     word(&text, 1)
+}
+
+#[test]
+fn alternatives_are_grouped_by_their_left_side_whatever_the_parameter_names() {
+    let text = format!(
+        "axiom: {}\nA(x) (1) : x > 0 -> B\nA(y) (1) : y > 0 -> C\nA(z) : z < 0 -> D\n",
+        "A(1)".repeat(1000)
+    );
+    let derived = word(&text, 1);
+    let (b, c) = (derived.matches('B').count(), derived.matches('C').count());
+    assert_eq!((b + c, derived.matches('D').count()), (1000, 0));
+    assert!((400..=600).contains(&b), "{b} of 1000 chose B");
+    // Two unweighted productions differing only in parameter names are one left side twice.
+    let err = LSystem::parse("axiom: A(1)\nA(x) -> B\nA(y) -> C\n").unwrap_err();
+    assert_eq!(
+        err.to_string(),
+        "3:1: another production with the same left side is on line 2: give each alternative a weight, as in `A (0.5) -> …`"
+    );
 }
 
 #[test]
@@ -268,7 +289,7 @@ fn memory_limit_names_the_step_and_the_size() {
     let err = parametric.derive(&options).unwrap_err();
     assert_eq!(
         err.to_string(),
-        "step 10: the word grew past the limit of 1,000 modules (raise the limit, or derive fewer steps)"
+        "step 10: the word grew past the limit of 1,000 modules after rewriting 501 of the 512 modules before it (raise the limit, or derive fewer steps)"
     );
 }
 
@@ -283,7 +304,7 @@ fn parameters_count_against_the_limit() {
     let err = wide.derive(&options).unwrap_err();
     assert_eq!(
         err.to_string(),
-        "step 8: the word's parameters grew past the limit of 1,000 values (raise the module limit, or derive fewer steps)"
+        "step 8: the word's parameters grew past the limit of 1,000 values after rewriting 126 of the 128 modules before it (raise the module limit, or derive fewer steps)"
     );
 }
 
@@ -338,8 +359,18 @@ fn values_that_are_not_numbers_are_errors_with_places() {
     let err = nan.derive(&DeriveOptions::default()).unwrap_err();
     assert_eq!(
         err.to_string(),
-        "2:8: step 1: the condition is not a number (NaN) for A(-1)"
+        "2:8: step 1: the condition cannot be evaluated for A(-1) (it divides by zero, overflows or leaves a function's domain)"
     );
+    // A division by zero makes no condition hold, whichever way it is compared.
+    for condition in ["x/0 > 1", "x/0 < 1", "x/0", "!(x/0 == 0)", "x/0 > 1 || x > 0"] {
+        let text = format!("axiom: A(1)\nA(x) : {condition} -> B\n");
+        let err = system(&text).derive(&DeriveOptions::default()).unwrap_err();
+        assert!(
+            err.to_string()
+                .starts_with("2:8: step 1: the condition cannot be evaluated for A(1)"),
+            "{condition}: {err}"
+        );
+    }
 }
 
 #[test]

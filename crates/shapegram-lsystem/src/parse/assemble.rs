@@ -64,11 +64,13 @@ pub(super) fn produced<'a>(
 }
 
 /// Groups productions with the same left side (stochastic alternatives), interns their symbols
-/// and checks that contexts can ever match (`produced`: the symbols words can hold).
+/// and checks that contexts can ever match (`produced`: the symbols words can hold; `ignored`:
+/// the symbols context matching skips).
 pub(super) fn group(
     raws: Vec<RawProduction>,
     alphabet: &mut Alphabet,
     produced: &[Symbol],
+    ignored: &[char],
 ) -> Result<Vec<Production>, Error> {
     let mut order: Vec<String> = Vec::new();
     let mut groups: FxHashMap<String, Vec<RawProduction>> = FxHashMap::default();
@@ -98,7 +100,7 @@ pub(super) fn group(
                 ));
             }
         }
-        productions.push(build_production(members, alphabet, produced)?);
+        productions.push(build_production(members, alphabet, produced, ignored)?);
     }
     Ok(productions)
 }
@@ -108,6 +110,7 @@ fn build_production(
     members: Vec<RawProduction>,
     alphabet: &mut Alphabet,
     produced: &[Symbol],
+    ignored: &[char],
 ) -> Result<Production, Error> {
     let first = &members[0];
     let pattern_id = |alphabet: &mut Alphabet, module: &PatternModule, context: bool| {
@@ -116,6 +119,15 @@ fn build_production(
             arity: module.formals.len() as u8,
         };
         let structural = module.name == '[' || module.name == ']';
+        if context && ignored.contains(&module.name) {
+            return Err(Error::at(
+                module.position,
+                format!(
+                    "'{}' is in the ignore set, which context matching skips, so this context could never match (drop it from the context or from `ignore:`)",
+                    module.name
+                ),
+            ));
+        }
         if context && !structural && !produced.contains(&symbol) {
             let mut arities: Vec<u8> = produced
                 .iter()

@@ -32,7 +32,8 @@ pub(super) struct PatternModule {
 /// One production line before productions with the same left side are grouped.
 pub(super) struct RawProduction {
     pub(super) position: Position,
-    /// The left side without spaces or weight: productions with equal keys are alternatives.
+    /// The left side's modules, arities and condition program: productions with equal keys are
+    /// alternatives.
     pub(super) key: String,
     pub(super) left: Vec<PatternModule>,
     pub(super) predecessor: PatternModule,
@@ -265,11 +266,21 @@ pub(super) fn production(
     let mut cursor = line.cursor(arrow + arrow_width(chars, arrow), line.end);
     let successor = modules(&mut cursor, &names)?;
 
-    let key: String = chars[start..main_end]
-        .iter()
-        .chain(colon.map_or(&[][..], |c| &chars[c..arrow]))
-        .filter(|c| !c.is_whitespace())
-        .collect();
+    // Parameter names do not tell left sides apart: `A(x) (1) -> B` and `A(y) (1) -> C` are
+    // alternatives of one stochastic production.
+    let pattern = |modules: &[PatternModule]| -> String {
+        modules
+            .iter()
+            .map(|m| format!("{}/{} ", m.name, m.formals.len()))
+            .collect()
+    };
+    let key = format!(
+        "{}< {}> {}: {}",
+        pattern(&left),
+        pattern(std::slice::from_ref(&predecessor)),
+        pattern(&right),
+        condition.as_ref().map_or_else(String::new, Expr::program_key)
+    );
     let position = Position {
         column: predecessor.position.column,
         ..position
