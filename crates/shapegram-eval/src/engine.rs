@@ -38,11 +38,37 @@ pub trait AssetLoader: Send + Sync {
     /// The mesh stored at `path`, or a one-line reason why it cannot be had.
     fn load(&self, path: &str) -> Result<Arc<Mesh>, String>;
 
+    /// What `i("path")` inserts in a shape that asks for variant `variant` (below
+    /// [`ASSET_VARIANTS`]) of assets grown from a seed, such as stochastic L-systems; fixed
+    /// files ignore it. By default [`load`](Self::load)'s mesh, stretched to the scope.
+    fn asset(&self, path: &str, variant: u32) -> Result<Asset, String> {
+        let _ = variant;
+        Ok(Asset {
+            mesh: self.load(path)?,
+            proportional: false,
+        })
+    }
+
     /// The implicit solid that the grammar at `path` makes, or a one-line reason why it cannot
     /// be had.
     fn solid(&self, path: &str) -> Result<Solid, String> {
         Err(format!("cannot read `{path}` as an implicit grammar here"))
     }
+}
+
+/// How many variants of a seeded asset (see [`AssetLoader::asset`]) the shapes of a derivation
+/// choose among, each by its own random stream: enough for a varied park, few enough that a
+/// city of trees grows each variant once.
+pub const ASSET_VARIANTS: u32 = 8;
+
+/// An asset for `i()` and how it is placed.
+#[derive(Clone, Debug)]
+pub struct Asset {
+    /// The geometry, in the asset's own coordinates.
+    pub mesh: Arc<Mesh>,
+    /// Scaled uniformly to fit inside the scope, centred in x and z and standing on the scope's
+    /// floor (a planted tree keeps its shape), instead of stretched to the scope as CGA's `i()`.
+    pub proportional: bool,
 }
 
 /// How to derive.
@@ -1147,7 +1173,10 @@ impl<'p> Engine<'p> {
             }
             Op::Insert(path) => {
                 let file = self.ev.string(path, state, args)?;
-                let asset = self.asset(&file, path.span)?;
+                // From the shape's seed, not its stream, so asking for a variant draws nothing
+                // that later random choices of the shape would miss.
+                let variant = (child_seed(state.seed, u64::MAX) % u64::from(ASSET_VARIANTS)) as u32;
+                let asset = self.asset(&file, variant, path.span)?;
                 insert(state, &asset);
             }
             Op::Primitive(kind, params) => {
@@ -1333,9 +1362,12 @@ impl<'p> Engine<'p> {
         })
     }
 
-    fn asset(&self, path: &str, span: Span) -> Fallible<Arc<Mesh>> {
+    fn asset(&self, path: &str, variant: u32, span: Span) -> Fallible<Asset> {
         if let Some(mesh) = builtin_asset(path) {
-            return Ok(Arc::new(mesh));
+            return Ok(Asset {
+                mesh: Arc::new(mesh),
+                proportional: false,
+            });
         }
         let Some(loader) = &self.options.assets else {
             return Err(DeriveError::at(
@@ -1345,7 +1377,7 @@ impl<'p> Engine<'p> {
             .with_hint("use a built-in asset such as \"builtin:cube\""));
         };
         loader
-            .load(path)
+            .asset(path, variant)
             .map_err(|why| DeriveError::at(format!("cannot insert `{path}`: {why}"), span))
     }
 
@@ -1843,14 +1875,19 @@ fn builtin_asset(path: &str) -> Option<Mesh> {
     })
 }
 
-/// Fits an asset into the scope (CGA `i`, see `shapegram_geom::fit`); along axes where the
-/// scope has no size the scope takes the asset's fitted extent.
-fn insert(state: &mut State, asset: &Mesh) {
-    if asset.is_empty() {
+/// Fits an asset into the scope (CGA `i`, see `shapegram_geom::fit`), stretched or keeping its
+/// proportions; along axes where the scope has no size the scope takes the asset's fitted
+/// extent.
+fn insert(state: &mut State, asset: &Asset) {
+    if asset.mesh.is_empty() {
         state.geometry = Geometry::Empty;
         return;
     }
-    let mut local = shapegram_geom::fit::fit_into_scope(asset, &state.scope);
+    let mut local = if asset.proportional {
+        shapegram_geom::fit::fit_proportionally_into_scope(&asset.mesh, &state.scope)
+    } else {
+        shapegram_geom::fit::fit_into_scope(&asset.mesh, &state.scope)
+    };
     local.transform(&state.scope.world_to_local());
     if let Some(bounds) = local.bounds() {
         let size = &mut state.scope.size;

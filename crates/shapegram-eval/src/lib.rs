@@ -21,7 +21,10 @@ mod solids;
 mod split;
 mod value;
 
-pub use engine::{AssetLoader, Derivation, DeriveOptions, InitialShape, Leaf, Stats, derive};
+pub use engine::{
+    ASSET_VARIANTS, Asset, AssetLoader, Derivation, DeriveOptions, InitialShape, Leaf, Stats,
+    derive,
+};
 pub use error::DeriveError;
 pub use program::{Program, RuleId, Sym};
 pub use shape::{Csg, CsgOp, FaceTag, Geometry, Implicit};

@@ -10,11 +10,14 @@
 //! - an asset that is flat along an axis where the scope is not stays flat there, at the scope's
 //!   origin side, instead of dividing by zero.
 //!
+//! [`fit_proportionally_into_scope`] keeps the asset's proportions instead (planted L-systems):
+//! scaled uniformly to fit inside the scope, centred in x and z, standing on the scope's floor.
+//!
 //! Sizes count as zero below 10⁻⁹ of the largest size, so scopes fitted around flat faces (whose
 //! depth is rounding noise) count as flat. Negative scope sizes mirror the asset (CGA `s(-1, …)`),
 //! with face loops reversed so normals keep pointing outward.
 
-use crate::{DAffine3, DVec3, Mesh, RELATIVE_EPSILON, Scope};
+use crate::{Aabb, DAffine3, DVec3, Mesh, RELATIVE_EPSILON, Scope};
 
 /// CGA `i()`: the asset scaled per axis so its bounding box fills the scope, its bounding box's
 /// minimum corner at the scope's origin, in the scope's axes. See the module docs for flat scopes
@@ -53,4 +56,34 @@ pub fn fit_into_scope(mesh: &Mesh, scope: &Scope) -> Mesh {
 /// A mesh given in a scope's local coordinates, placed in world coordinates (no scaling).
 pub fn mesh_in_scope(mesh: &Mesh, scope: &Scope) -> Mesh {
     mesh.transformed(&scope.local_to_world())
+}
+
+/// The map that scales a box of `bounds` uniformly (keeping its proportions) to fit the box from
+/// the origin to `size`, centred in x and z and standing on y = 0. Axes where either box is flat
+/// do not limit the scale; when every axis is flat the scale is 1.
+pub fn proportional_map(bounds: &Aabb, size: DVec3) -> DAffine3 {
+    let extent = bounds.size();
+    let tiny = 1e-12 * extent.max_element().max(size.max_element());
+    let scale = (0..3)
+        .filter(|&k| size[k] > tiny && extent[k] > tiny)
+        .map(|k| size[k] / extent[k])
+        .reduce(f64::min)
+        .unwrap_or(1.0);
+    let offset = DVec3::new(
+        (size.x - extent.x * scale) / 2.0,
+        0.0,
+        (size.z - extent.z * scale) / 2.0,
+    );
+    DAffine3::from_translation(offset)
+        * DAffine3::from_scale(DVec3::splat(scale))
+        * DAffine3::from_translation(-bounds.min)
+}
+
+/// The asset scaled uniformly to fit inside the scope (see [`proportional_map`]) and placed in
+/// world space with the scope's origin and axes. An empty mesh is returned unchanged.
+pub fn fit_proportionally_into_scope(mesh: &Mesh, scope: &Scope) -> Mesh {
+    let Some(bounds) = mesh.bounds() else {
+        return mesh.clone();
+    };
+    mesh.transformed(&(scope.local_to_world() * proportional_map(&bounds, scope.size)))
 }

@@ -3,7 +3,7 @@
 
 use shapegram_geom::{
     DAffine3, DMat3, DVec3, Mesh, Scope, component,
-    fit::{fit_into_scope, mesh_in_scope},
+    fit::{fit_into_scope, fit_proportionally_into_scope, mesh_in_scope},
     primitives::{cuboid, quad},
 };
 
@@ -114,4 +114,21 @@ fn mesh_in_scope_maps_local_to_world() {
         assert!(placed.positions().iter().any(|p| p.distance(corner) < EPS));
     }
     assert!((placed.signed_volume() - scope.volume()).abs() < EPS);
+}
+
+#[test]
+fn proportional_fits_keep_the_shape_centred_on_the_floor() {
+    // The 1 × 2 × 4 asset in a 6 × 3 × 6 scope: z limits the scale to 1.5, so the asset is
+    // 1.5 × 3 × 6, centred in x (2.25 on either side) and standing on y = 0.
+    let scope = turned(DVec3::new(6.0, 3.0, 6.0));
+    let fitted = fit_proportionally_into_scope(&asset(), &scope);
+    let (min, max) = local_bounds(&fitted, &scope);
+    assert_vec_close(min, DVec3::new(2.25, 0.0, 0.0));
+    assert_vec_close(max, DVec3::new(3.75, 3.0, 6.0));
+    // A flat scope axis does not limit the scale: y alone does (2 → 1).
+    let flat = turned(DVec3::new(5.0, 1.0, 0.0));
+    let (min, max) = local_bounds(&fit_proportionally_into_scope(&asset(), &flat), &flat);
+    assert_vec_close(min, DVec3::new(2.25, 0.0, -1.0));
+    assert_vec_close(max, DVec3::new(2.75, 1.0, 1.0));
+    assert!(fit_proportionally_into_scope(&Mesh::new(), &scope).is_empty());
 }

@@ -150,7 +150,12 @@ impl Binary {
         // a condition that quietly holds.
         let logical = !matches!(
             self,
-            Self::Add | Self::Subtract | Self::Multiply | Self::Divide | Self::Remainder | Self::Power
+            Self::Add
+                | Self::Subtract
+                | Self::Multiply
+                | Self::Divide
+                | Self::Remainder
+                | Self::Power
         );
         if logical && !(a.is_finite() && b.is_finite()) {
             return f64::NAN;

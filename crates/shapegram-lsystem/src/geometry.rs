@@ -15,6 +15,7 @@
 use std::collections::BTreeMap;
 
 use glam::DVec3;
+use shapegram_geom::fit::proportional_map;
 use shapegram_geom::{Color, DAffine3, Lines, Mesh, Model, Part, Scope};
 
 use crate::error::Error;
@@ -389,22 +390,7 @@ pub fn fit_into_box(model: &Model, size: DVec3) -> Model {
     let Some(bounds) = model.bounds() else {
         return model.clone();
     };
-    let extent = bounds.size();
-    let tiny = 1e-12 * extent.max_element().max(size.max_element());
-    let scale = (0..3)
-        .filter(|&k| size[k] > tiny && extent[k] > tiny)
-        .map(|k| size[k] / extent[k])
-        .reduce(f64::min)
-        .unwrap_or(1.0);
-    let offset = DVec3::new(
-        (size.x - extent.x * scale) / 2.0,
-        0.0,
-        (size.z - extent.z * scale) / 2.0,
-    );
-    let map = DAffine3::from_translation(offset)
-        * DAffine3::from_scale(DVec3::splat(scale))
-        * DAffine3::from_translation(-bounds.min);
-    transformed(model, &map)
+    transformed(model, &proportional_map(&bounds, size))
 }
 
 /// The model fitted into the scope's box (see [`fit_into_box`]) and placed in world space with

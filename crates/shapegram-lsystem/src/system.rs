@@ -183,6 +183,11 @@ impl Rules {
     pub fn is_empty(&self) -> bool {
         self.productions.is_empty()
     }
+
+    /// Whether any production chooses among alternatives at random.
+    pub fn is_stochastic(&self) -> bool {
+        self.productions.iter().any(|p| p.alternatives.len() > 1)
+    }
 }
 
 /// A complete L-system, ready to derive.
@@ -207,6 +212,12 @@ impl LSystem {
     /// Parses the text format described in `docs/lsystem.md`.
     pub fn parse(text: &str) -> Result<Self, Error> {
         crate::parse::parse(text)
+    }
+
+    /// Whether the word depends on the seed: some production or interpretation rule chooses
+    /// among alternatives at random.
+    pub fn is_stochastic(&self) -> bool {
+        self.rules.is_stochastic() || self.interpretation.is_stochastic()
     }
 
     /// The symbols of this L-system.

@@ -8,7 +8,9 @@ use std::time::{Duration, Instant};
 
 use serde::Serialize;
 use serde::ser::SerializeMap;
-use shapegram_eval::{AssetLoader, Derivation, DeriveError, DeriveOptions, Value};
+use shapegram_eval::{
+    ASSET_VARIANTS, Asset, AssetLoader, Derivation, DeriveError, DeriveOptions, Value,
+};
 use shapegram_export::{ExportOptions, Format};
 use shapegram_geom::{DVec3, Mesh, Model};
 use shapegram_implicit::Solid;
@@ -143,12 +145,14 @@ pub fn millis(d: Duration) -> f64 {
 }
 
 /// Assets for `i("path")`: files relative to the grammar's folder (absolute paths as they are),
-/// read once each with `shapegram_export::load`, all parts merged into one mesh. Files that
-/// cannot be read are an error, or stand-ins as `--missing-assets` says.
+/// read once each with `shapegram_export::load`, all parts merged into one mesh; L-system files
+/// are grown once per variant. Files that cannot be read are an error, or stand-ins as
+/// `--missing-assets` says.
 struct FileAssets {
     folder: PathBuf,
     missing: MissingAssets,
     cache: Mutex<HashMap<PathBuf, Arc<Mesh>>>,
+    plants: Mutex<HashMap<(PathBuf, u32), Arc<Mesh>>>,
     solids: Mutex<HashMap<PathBuf, Solid>>,
 }
 
@@ -158,6 +162,7 @@ impl FileAssets {
             folder,
             missing,
             cache: Mutex::new(HashMap::new()),
+            plants: Mutex::new(HashMap::new()),
             solids: Mutex::new(HashMap::new()),
         }
     }
@@ -170,6 +175,28 @@ impl FileAssets {
             MissingAssets::Skip => Some(Mesh::new()),
         }
     }
+
+    /// The mesh loaded, or the stand-in for a file that cannot be read (reported once per
+    /// file, since callers cache what they get).
+    fn or_stand_in(&self, loaded: Result<Mesh, String>) -> Result<Arc<Mesh>, String> {
+        let mesh = match loaded {
+            Ok(mesh) => mesh,
+            Err(e) => {
+                let Some(stand_in) = self.stand_in() else {
+                    return Err(e);
+                };
+                eprintln!(
+                    "warning: {e}: inserting {}",
+                    match self.missing {
+                        MissingAssets::Cube => "a cube instead",
+                        _ => "nothing",
+                    }
+                );
+                stand_in
+            }
+        };
+        Ok(Arc::new(mesh))
+    }
 }
 
 impl AssetLoader for FileAssets {
@@ -181,36 +208,49 @@ impl AssetLoader for FileAssets {
         if let Some(mesh) = cache.get(&full) {
             return Ok(Arc::clone(mesh));
         }
-        let extension = full.extension().and_then(|e| e.to_str());
-        let loaded = if extension == Some("lsys") {
-            plant(&full)
-        } else if extension == Some("cave") {
-            carve(&full)
-        } else {
-            shapegram_export::load(&full)
+        let loaded = match full.extension().and_then(|e| e.to_str()) {
+            Some("lsys") => plant(&full, 0).map(|(mesh, _)| mesh),
+            Some("cave") => carve(&full),
+            _ => shapegram_export::load(&full)
                 .map(|model| model.merged_mesh())
-                .map_err(|e| e.to_string())
+                .map_err(|e| e.to_string()),
         };
-        let mesh = match loaded {
-            Ok(mesh) => mesh,
-            Err(e) => {
-                let Some(stand_in) = self.stand_in() else {
-                    return Err(e);
-                };
-                // Cached, so each missing file is reported once.
-                eprintln!(
-                    "warning: {e}: inserting {}",
-                    match self.missing {
-                        MissingAssets::Cube => "a cube instead",
-                        _ => "nothing",
-                    }
-                );
-                stand_in
-            }
-        };
-        let mesh = Arc::new(mesh);
+        let mesh = self.or_stand_in(loaded)?;
         cache.insert(full, Arc::clone(&mesh));
         Ok(mesh)
+    }
+
+    /// L-systems keep their proportions, and stochastic ones grow one tree per variant.
+    fn asset(&self, path: &str, variant: u32) -> Result<Asset, String> {
+        let full = self.folder.join(path);
+        if full.extension().and_then(|e| e.to_str()) != Some("lsys") {
+            return Ok(Asset {
+                mesh: self.load(path)?,
+                proportional: false,
+            });
+        }
+        let mut plants = self.plants.lock().unwrap_or_else(PoisonError::into_inner);
+        let key = (full, variant);
+        let mesh = match plants.get(&key) {
+            Some(mesh) => Arc::clone(mesh),
+            None => {
+                let grown = plant(&key.0, variant);
+                // A system without random choices grows the same tree for every variant.
+                let variants = match &grown {
+                    Ok((_, true)) => variant..variant + 1,
+                    _ => 0..ASSET_VARIANTS,
+                };
+                let mesh = self.or_stand_in(grown.map(|(mesh, _)| mesh))?;
+                for v in variants {
+                    plants.insert((key.0.clone(), v), Arc::clone(&mesh));
+                }
+                mesh
+            }
+        };
+        Ok(Asset {
+            mesh,
+            proportional: true,
+        })
     }
 
     /// `implicit("grotto.cave")`: the grammar's solid, run once per file. Files that cannot be
@@ -231,23 +271,30 @@ impl AssetLoader for FileAssets {
 }
 
 /// The geometry of an L-system file (`i("tree.lsys")`): derived with the settings of the file,
-/// drawn with the turtle, as one mesh that `i` stretches to the scope like any asset.
-fn plant(path: &Path) -> Result<Mesh, String> {
-    let text = std::fs::read_to_string(path)
-        .map_err(|e| format!("cannot read {}: {e}", path.display()))?;
-    let name = path.display().to_string();
+/// interpreted by its homomorphism rules and drawn with the turtle, as one mesh. A stochastic
+/// system's variant `k` derives with the file's seed plus `k`, so variant 0 is the tree that
+/// `shapegram lsystem` draws; other systems ignore the variant. Also says whether the system is
+/// stochastic.
+fn plant(path: &Path, variant: u32) -> Result<(Mesh, bool), String> {
+    let (text, name) = read_text(path)?;
     let system = shapegram_lsystem::LSystem::parse(&text).map_err(|e| e.render(&name, &text))?;
-    let word = system
-        .derive(&shapegram_lsystem::DeriveOptions::default())
-        .map_err(|e| e.render(&name, &text))?;
-    let drawing = shapegram_lsystem::interpret(&system, &word);
+    let options = shapegram_lsystem::DeriveOptions {
+        seed: system
+            .is_stochastic()
+            .then(|| system.settings.seed.wrapping_add(u64::from(variant))),
+        ..shapegram_lsystem::DeriveOptions::default()
+    };
+    let located = |e: shapegram_lsystem::Error| e.render(&name, &text);
+    let word = system.derive(&options).map_err(located)?;
+    let shown = system.interpretation(&word, &options).map_err(located)?;
+    let drawing = shapegram_lsystem::interpret(&system, &shown);
     let model = shapegram_lsystem::drawing_to_model_within(
         &drawing,
         &system.settings,
         shapegram_lsystem::DEFAULT_MAX_VERTICES,
     )
-    .map_err(|e| e.render(&name, &text))?;
-    Ok(model.merged_mesh())
+    .map_err(located)?;
+    Ok((model.merged_mesh(), system.is_stochastic()))
 }
 
 /// The geometry of an implicit grammar (`i("grotto.cave")`): its productions run with the seed

@@ -1091,13 +1091,18 @@ fn the_cityengine_anchor_grammars_derive_or_fail_with_a_message() {
 
 #[test]
 fn l_systems_are_planted_as_assets() {
-    // The park example: a lawn, paths and a grid of trees, each the L-system of tree-3d.lsys.
+    // The park example: a lawn, paths and a grid of spots, four with a tree of tree-3d.lsys
+    // and two with three shrubs each of the stochastic shrub-3d.lsys.
     let park = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples/park.cga");
     let stats = derive_stats(&park, &[]);
     assert_eq!(rule(&stats, "Spot"), 6);
-    assert_eq!(stats["leaves"], 13);
-    // Each tree is far more than a box: thousands of triangles of tubes and leaves.
-    assert!(stats["triangles"].as_u64().unwrap() > 6 * 1000, "{stats}");
+    assert_eq!(rule(&stats, "Shrub"), 6);
+    assert_eq!(stats["leaves"], 1 + 6 + 4 + 6);
+    // Each plant is far more than a box: thousands of triangles of tubes and leaves.
+    assert!(stats["triangles"].as_u64().unwrap() > 10 * 3000, "{stats}");
+    // Another seed grows other shrubs (the trees are not stochastic).
+    let other = derive_stats(&park, &["--seed", "1"]);
+    assert_ne!(other["triangles"], stats["triangles"]);
 
     // A broken L-system is an error at the insert, with the place in the L-system file.
     let dir = TempDir::new("lsys-asset");
@@ -1106,6 +1111,78 @@ fn l_systems_are_planted_as_assets() {
     std::fs::write(dir.path("weed.lsys"), "n: 3\naxiom: F\nF : -> F\n").unwrap();
     let err = fails(&["derive", text(&grammar)], 1, "cannot insert `weed.lsys`:");
     assert!(err.contains("weed.lsys:3:"), "{err}");
+}
+
+/// The bounds (min, size) of a model file, from `info --json`.
+fn bounds(path: &Path) -> ([f64; 3], [f64; 3]) {
+    let info = info_json(path);
+    let vector = |key: &str| -> [f64; 3] {
+        std::array::from_fn(|k| info["bounds"][key][k].as_f64().expect("a coordinate"))
+    };
+    (vector("min"), vector("size"))
+}
+
+#[test]
+fn planted_l_systems_keep_their_proportions_and_interpretation() {
+    let dir = TempDir::new("lsys-fit");
+    // Drawn alone, the plant's own size; `B` exists only for drawing (a homomorphism rule).
+    let plant = dir.path("plant.lsys");
+    std::fs::write(
+        &plant,
+        "n: 2\nangle: 90\nwidth: 0.2\nsides: 4\naxiom: A\nA -> AB\nhomomorphism:\nA -> F\nB -> F[+F]\n",
+    )
+    .unwrap();
+    let alone = dir.path("alone.obj");
+    ok(&["lsystem", "-q", text(&plant), "-o", text(&alone)]);
+    let (_, own) = bounds(&alone);
+    assert!(own[1] > own[0] && own[1] > 2.0, "{own:?}");
+
+    // Planted in a 6 × 5 × 6 scope: scaled by 5 / height, centred in x and z, on the floor.
+    let grammar = dir.path("garden.cga");
+    std::fs::write(&grammar, "Lot --> s(6, 5, 6) i(\"plant.lsys\") Plant.\n").unwrap();
+    let planted = dir.path("planted.obj");
+    ok(&["derive", "-q", text(&grammar), "-o", text(&planted)]);
+    let (min, size) = bounds(&planted);
+    let scale = 5.0 / own[1];
+    for k in 0..3 {
+        assert!(
+            (size[k] - own[k] * scale).abs() < 1e-4,
+            "{size:?} vs {own:?}"
+        );
+    }
+    assert!((min[0] - (6.0 - size[0]) / 2.0).abs() < 1e-4, "{min:?}");
+    assert!(min[1].abs() < 1e-6, "{min:?}");
+}
+
+#[test]
+fn stochastic_l_systems_grow_variants_per_shape() {
+    let dir = TempDir::new("lsys-variants");
+    // One segment or four: tubes of 3 sides have 8 or 26 triangles.
+    std::fs::write(
+        dir.path("weed.lsys"),
+        "n: 1\nsides: 3\naxiom: A\nA (1) -> F\nA (1) -> FFFF\n",
+    )
+    .unwrap();
+    let grammar = dir.path("meadow.cga");
+    std::fs::write(
+        &grammar,
+        "Lot --> split(x) { ~1 : Spot }*\nSpot --> s('1, 2, '1) i(\"weed.lsys\") Weed.\n",
+    )
+    .unwrap();
+    let stats = derive_stats(&grammar, &["--lot", "0,0 16,0 16,2 0,2"]);
+    assert_eq!(rule(&stats, "Spot"), 16);
+    let triangles = stats["triangles"].as_u64().unwrap();
+    let tall = (triangles - 16 * 8) / (26 - 8);
+    assert_eq!(16 * 8 + tall * (26 - 8), triangles, "{stats}");
+    assert!((1..16).contains(&tall), "{tall} of 16 weeds are tall");
+    // The same seed plants the same meadow; the choice follows the run's seed.
+    let meadow = |seed: &str| {
+        derive_stats(&grammar, &["--lot", "0,0 16,0 16,2 0,2", "--seed", seed])["triangles"]
+            .as_u64()
+            .unwrap()
+    };
+    assert_eq!(meadow("0"), triangles);
+    assert_ne!(meadow("1"), triangles);
 }
 
 #[test]

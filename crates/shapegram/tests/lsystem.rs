@@ -112,6 +112,8 @@ fn every_example_draws() {
         ("signal.lsys", 0, 0),
         ("context-plant.lsys", 2501, 0),
         ("bush-3d.lsys", 3891, 1284),
+        // Seed 0 of the stochastic shrub.
+        ("shrub-3d.lsys", 218, 76),
     ];
     for (name, segments, polygons) in cases {
         let path = arg(&dir.path(&name.replace(".lsys", ".glb")));

@@ -279,7 +279,9 @@ pub(super) fn production(
         pattern(&left),
         pattern(std::slice::from_ref(&predecessor)),
         pattern(&right),
-        condition.as_ref().map_or_else(String::new, Expr::program_key)
+        condition
+            .as_ref()
+            .map_or_else(String::new, Expr::program_key)
     );
     let position = Position {
         column: predecessor.position.column,
