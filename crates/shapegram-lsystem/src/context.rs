@@ -31,8 +31,11 @@ pub(crate) struct Structure<'a> {
     pub open: SymbolId,
     pub close: SymbolId,
     /// Symbols looked at so far, so that the caller can stop pathological searches (long runs
-    /// of ignored symbols or sibling branches scanned again for every module).
+    /// of ignored symbols or sibling branches scanned again for every module, or backtracking
+    /// through thousands of branches for one module).
     pub work: Cell<u64>,
+    /// The work after which every search gives up at once (and the caller reports it).
+    pub budget: u64,
 }
 
 /// The partner of each bracket of `symbols` (`UNMATCHED` for other modules and for brackets
@@ -64,14 +67,20 @@ impl Structure<'_> {
         self.ignored[s as usize]
     }
 
+    /// Counts one symbol looked at; false once the budget is spent.
+    fn tick(&self) -> bool {
+        let work = self.work.get() + 1;
+        self.work.set(work);
+        work <= self.budget
+    }
+
     /// Whether `pattern` (in reading order) is the left context of the module at `at`; the
     /// positions of the matched modules go to `found`.
     pub fn matches_left(&self, at: usize, pattern: &[SymbolId], found: &mut [usize]) -> bool {
         let mut i = at;
         for k in (0..pattern.len()).rev() {
             loop {
-                self.work.set(self.work.get() + 1);
-                if i == 0 {
+                if !self.tick() || i == 0 {
                     return false;
                 }
                 i -= 1;
@@ -141,13 +150,14 @@ impl Structure<'_> {
         enter: bool,
     ) -> bool {
         while *k < pattern.len() {
-            self.work.set(self.work.get() + 1);
+            if !self.tick() {
+                return false;
+            }
             let want = pattern[*k];
             if want == self.close {
                 // Skip the rest of the current branch, then its `]`.
                 loop {
-                    self.work.set(self.work.get() + 1);
-                    if *i >= n {
+                    if !self.tick() || *i >= n {
                         return false;
                     }
                     let s = self.symbols[*i];

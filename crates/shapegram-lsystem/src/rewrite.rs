@@ -221,10 +221,10 @@ impl LSystem {
             open: self.open,
             close: self.close,
             work: Cell::new(0),
+            // Far more than any sensible system needs (a few symbols per production tried), far
+            // less than the quadratic work of a pathological one.
+            budget: 1024 * input.symbols.len() as u64 + 1_000_000,
         };
-        // Far more than any sensible system needs (a few symbols per production tried), far
-        // less than the quadratic work of a pathological one.
-        let budget = 1024 * input.symbols.len() as u64 + 1_000_000;
         let mut engine = Applier {
             system: self,
             rules,
@@ -265,9 +265,9 @@ impl LSystem {
                         if !engine.apply(list, i, params, out)? {
                             copy(out, s, params);
                         }
-                        if engine.structure.work.get() > budget {
+                        if engine.structure.work.get() > engine.structure.budget {
                             return Err(Error::general(format!(
-                                "{stage}: matching contexts takes too long (at module {i} of {}): long runs of ignored symbols or of sibling branches are searched again for every module",
+                                "{stage}: matching contexts takes too long (at module {i} of {}): the searches run through long runs of ignored symbols or of sibling branches, for many modules or for this one",
                                 group_digits(n)
                             )));
                         }

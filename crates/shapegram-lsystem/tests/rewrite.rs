@@ -345,6 +345,17 @@ fn pathological_context_searches_stop_with_an_error() {
             .starts_with("step 1: matching contexts takes too long (at module "),
         "{err}"
     );
+    // One module whose right context backtracks through every sibling branch, each time
+    // running past all the others: quadratic work for a single search, stopped inside it.
+    let text = format!(
+        "axiom: X{}C\nX > [A]B -> Y\nC -> B\n",
+        "[A]".repeat(100_000)
+    );
+    let err = system(&text).derive(&DeriveOptions::default()).unwrap_err();
+    assert_eq!(
+        err.message,
+        "step 1: matching contexts takes too long (at module 0 of 300,002): the searches run through long runs of ignored symbols or of sibling branches, for many modules or for this one"
+    );
 }
 
 #[test]
