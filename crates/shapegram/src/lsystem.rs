@@ -14,7 +14,7 @@ use shapegram_lsystem::{
 };
 
 use crate::derive::duration;
-use crate::progress::LateBar;
+use crate::progress::{LateBar, with_spinner};
 use crate::{Failure, counted, print_stdout};
 
 /// Arguments of `shapegram lsystem`.
@@ -120,12 +120,9 @@ pub fn run(args: &LsystemArgs) -> Result<(), Failure> {
         max_modules: args.max_modules,
     };
     let started = Instant::now();
-    let word = derive(
-        &system,
-        &options,
-        !args.quiet && std::io::stderr().is_terminal(),
-    )
-    .map_err(|e| reported(&e.render(&name, &text)))?;
+    let progress = !args.quiet && std::io::stderr().is_terminal();
+    let word =
+        derive(&system, &options, progress).map_err(|e| reported(&e.render(&name, &text)))?;
 
     if args.string {
         let mut line = system.word_text(&word);
@@ -134,26 +131,32 @@ pub fn run(args: &LsystemArgs) -> Result<(), Failure> {
     }
     let mut drawn = None;
     if let (Some(path), Some(output)) = (&args.output, output) {
-        let shown = system
-            .interpretation(&word, &options)
-            .map_err(|e| reported(&e.render(&name, &text)))?;
-        let drawing = interpret(&system, &shown);
-        match output {
-            Output::Svg => {
-                std::fs::write(path, write_svg(&svg_drawing(&drawing, &system.settings)))
-                    .map_err(|e| Failure::new(format!("cannot write {}: {e}", path.display())))?
+        let label = format!("drawing {}", path.display());
+        let drawing = with_spinner(progress, &label, || {
+            let shown = system
+                .interpretation(&word, &options)
+                .map_err(|e| reported(&e.render(&name, &text)))?;
+            let drawing = interpret(&system, &shown);
+            match output {
+                Output::Svg => {
+                    std::fs::write(path, write_svg(&svg_drawing(&drawing, &system.settings)))
+                        .map_err(|e| {
+                            Failure::new(format!("cannot write {}: {e}", path.display()))
+                        })?
+                }
+                Output::Model(_) => {
+                    let build = if args.lines {
+                        drawing_to_lines_within
+                    } else {
+                        drawing_to_model_within
+                    };
+                    let model = build(&drawing, &system.settings, args.max_vertices)
+                        .map_err(|e| reported(&e.render(&name, &text)))?;
+                    shapegram_export::save(&model, path, &ExportOptions::default())?;
+                }
             }
-            Output::Model(_) => {
-                let build = if args.lines {
-                    drawing_to_lines_within
-                } else {
-                    drawing_to_model_within
-                };
-                let model = build(&drawing, &system.settings, args.max_vertices)
-                    .map_err(|e| reported(&e.render(&name, &text)))?;
-                shapegram_export::save(&model, path, &ExportOptions::default())?;
-            }
-        }
+            Ok::<_, Failure>(drawing)
+        })?;
         drawn = Some(drawing);
     }
 
