@@ -212,9 +212,11 @@ impl Mesh {
         Aabb::from_points(self.positions.iter().copied())
     }
 
-    /// Total surface area.
+    /// Total surface area; 0 (not −0, which an empty float sum gives) for a mesh without faces.
     pub fn area(&self) -> f64 {
-        (0..self.face_count()).map(|i| self.face_area(i)).sum()
+        (0..self.face_count())
+            .map(|i| self.face_area(i))
+            .fold(0.0, |sum, a| sum + a)
     }
 
     /// Signed volume enclosed by the faces: positive for a closed mesh with outward normals.

@@ -320,3 +320,11 @@ fn welding_with_zero_or_tiny_tolerance_merges_only_equal_positions() {
     assert_eq!(welded.face_count(), 0);
     assert_eq!(welded.vertex_count(), 3);
 }
+
+#[test]
+fn an_empty_mesh_has_no_area_and_no_volume() {
+    let empty = Mesh::new();
+    // Positive zero: JSON reports and text output print "-0" otherwise.
+    assert!(empty.area() == 0.0 && empty.area().is_sign_positive());
+    assert!(empty.signed_volume() == 0.0 && empty.signed_volume().is_sign_positive());
+}
