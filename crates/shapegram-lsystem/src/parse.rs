@@ -13,7 +13,7 @@ use rustc_hash::FxHashMap;
 
 use crate::alphabet::Alphabet;
 use crate::cursor::Cursor;
-use crate::error::Error;
+use crate::error::{Error, Position};
 use crate::expr::Name;
 use crate::system::{LSystem, Settings};
 
@@ -63,6 +63,12 @@ pub(crate) fn parse(text: &str) -> Result<LSystem, Error> {
         if let Some(arrow) = find_arrow(&line.chars[..line.end]) {
             production_lines.push((line, arrow, section));
             continue;
+        }
+        if let Some(open) = unclosed_before_arrow(&line.chars[..line.end]) {
+            return Err(Error::at(
+                Position::new(line.number, open as u32 + 1),
+                "this '(' is not closed before the production's arrow",
+            ));
         }
         let key_start = cursor.index();
         let key = match directive(&line.chars) {
@@ -195,6 +201,24 @@ fn find_arrow(chars: &[char]) -> Option<usize> {
             {
                 return Some(i);
             }
+            _ => {}
+        }
+    }
+    None
+}
+
+/// The `(` left open where an arrow stands inside parentheses (`F(x -> F`): the line is a
+/// production with a typo, not a setting.
+fn unclosed_before_arrow(chars: &[char]) -> Option<usize> {
+    let mut open = Vec::new();
+    for (i, &c) in chars.iter().enumerate() {
+        match c {
+            '(' => open.push(i),
+            ')' => {
+                open.pop();
+            }
+            '→' => return open.last().copied(),
+            '-' if chars.get(i + 1) == Some(&'>') => return open.last().copied(),
             _ => {}
         }
     }

@@ -22,6 +22,14 @@ fn malformed_productions() {
             "2:2: the predecessor must be exactly one module, found 0",
         ),
         (
+            "axiom: A\nA(x -> B\n",
+            "2:2: this '(' is not closed before the production's arrow",
+        ),
+        (
+            "axiom: A\nA(x) : (x > 1 -> B\n",
+            "2:8: this '(' is not closed before the production's arrow",
+        ),
+        (
             "axiom: A\nA -> B(1\n",
             "2:9: expected ',' or ')' after a parameter of 'B', found the end of the line",
         ),
