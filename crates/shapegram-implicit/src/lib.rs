@@ -26,7 +26,7 @@ pub use cave::{Attach, Cave, CaveBuilder, CaveParams, Direction, Operation, gene
 pub use error::{ImplicitError, Result};
 pub use mesher::{Grid, MeshOptions, Meshing, mesh, mesh_with_progress};
 pub use metrics::{Convexity, Metrics};
-pub use normals::surface_normals;
+pub use normals::{surface_normals, surface_normals_with_progress};
 pub use primitive::Primitive;
 pub use shape::Shape;
 pub use solid::{Node, Solid};

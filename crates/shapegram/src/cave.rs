@@ -12,7 +12,7 @@ use shapegram_geom::{Color, Model};
 use shapegram_implicit::metrics::DEFAULT_FLAT_ANGLE;
 use shapegram_implicit::{
     CaveBuilder, CaveParams, Direction, MeshOptions, Meshing, Metrics, Operation, generate,
-    mesh_with_progress, text,
+    mesh_with_progress, surface_normals_with_progress, text,
 };
 
 use crate::derive::millis;
@@ -87,9 +87,7 @@ struct Grown {
 /// Grows, meshes, writes and reports.
 pub fn run(args: &CaveArgs) -> Result<(), Failure> {
     // Cheap checks first, so that a typo fails before any work.
-    if let Some(output) = &args.output {
-        Format::from_path(output)?;
-    }
+    let format = args.output.as_deref().map(Format::from_path).transpose()?;
     let started = Instant::now();
     let grown = match &args.file {
         Some(file) => from_file(args, file)?,
@@ -110,12 +108,20 @@ pub fn run(args: &CaveArgs) -> Result<(), Failure> {
 
     let export_started = Instant::now();
     if let Some(output) = &args.output {
-        // Smooth shading from the field's gradient: marching-cubes surfaces look faceted with a
-        // normal per triangle, and averaged normals would round off the creases CSG makes.
         let mut model = Model::single("cave", ROCK, meshing.mesh.clone());
-        let step = options.cell_size / 2.0;
-        model.parts[0].normals =
-            shapegram_implicit::surface_normals(grown.builder.solid(), &meshing.mesh, step);
+        // Smooth shading from the field's gradient: marching-cubes surfaces look faceted with a
+        // normal per triangle, and averaged normals would round off the creases CSG makes. STL
+        // keeps no normals per vertex, so they would be worked out for nothing.
+        if format != Some(Format::Stl) {
+            let bar = LateBar::new(show_progress, "{bar:30} shading {pos}/{len} vertex groups");
+            model.parts[0].normals = surface_normals_with_progress(
+                grown.builder.solid(),
+                &meshing.mesh,
+                options.cell_size / 2.0,
+                &|done, total| bar.update(done as u64, total as u64, String::new),
+            );
+            bar.finish();
+        }
         shapegram_export::save(&model, output, &ExportOptions::default())?;
     }
     let export_time = export_started.elapsed();
