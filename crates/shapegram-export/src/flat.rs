@@ -5,7 +5,7 @@ use std::borrow::Cow;
 use std::collections::{BTreeMap, BTreeSet};
 
 use shapegram_geom::mesh::newell;
-use shapegram_geom::triangulate::{Triangulator, is_convex};
+use shapegram_geom::triangulate::{Triangulator, is_convex_about};
 use shapegram_geom::{Color, DVec3, Mesh, Part};
 
 /// Whether face `i` is written at all. Faces without area (zero Newell normal) have no side to
@@ -96,12 +96,19 @@ impl FaceSplitter {
         // other convex polygons (such as tube caps) whose fan keeps every triangle, which is
         // what the triangulator would return for them.
         let n = self.points.len() as u32;
+        let rounded = &self.rounded;
+        let corners = |t: &[u32; 3]| {
+            [
+                rounded[t[0] as usize],
+                rounded[t[1] as usize],
+                rounded[t[2] as usize],
+            ]
+        };
         let fan: &[[u32; 3]] = match n {
             3 => &[[0, 1, 2]],
-            4 if is_convex(&self.points) => &[[0, 1, 2], [0, 2, 3]],
-            _ if is_convex(&self.points)
-                && (1..n - 1)
-                    .all(|i| has_f32_area([0, i, i + 1].map(|c| self.rounded[c as usize]))) =>
+            4 if is_convex_about(&self.points, normal) => &[[0, 1, 2], [0, 2, 3]],
+            _ if is_convex_about(&self.points, normal)
+                && (1..n - 1).all(|i| has_f32_area(corners(&[0, i, i + 1]))) =>
             {
                 self.fanned.clear();
                 self.fanned.extend((1..n - 1).map(|i| [0, i, i + 1]));
@@ -112,10 +119,11 @@ impl FaceSplitter {
                 &self.fanned
             }
         };
-        out.extend(
-            fan.iter()
-                .filter(|t| has_f32_area(t.map(|c| self.rounded[c as usize]))),
-        );
+        for t in fan {
+            if has_f32_area(corners(t)) {
+                out.push(*t);
+            }
+        }
         Some(normal)
     }
 
@@ -173,8 +181,12 @@ pub(crate) fn unit(normal: DVec3) -> [f32; 3] {
 
 /// Whether a triangle of f32 corners spans an angle that f32 can resolve: the sine of its angle
 /// at the first corner is above f32 precision (so slivers of collinear corners count as empty).
-fn has_f32_area(corners: [[f32; 3]; 3]) -> bool {
-    let [a, b, c] = corners.map(|p| DVec3::from(p.map(f64::from)));
+#[inline]
+fn has_f32_area([a, b, c]: [[f32; 3]; 3]) -> bool {
+    // Element by element: `array::map` went out of line through the stack here, and that
+    // round trip cost more than the arithmetic.
+    let wide = |p: [f32; 3]| DVec3::new(f64::from(p[0]), f64::from(p[1]), f64::from(p[2]));
+    let (a, b, c) = (wide(a), wide(b), wide(c));
     let (ab, ac) = (b - a, c - a);
     let cross = ab.cross(ac).length_squared();
     let eps = f64::from(f32::EPSILON);

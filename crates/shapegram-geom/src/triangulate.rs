@@ -204,7 +204,11 @@ pub fn plane_basis(normal: DVec3) -> (DVec3, DVec3) {
 
 /// Whether a planar loop is convex (no reflex corner; collinear corners allowed).
 pub fn is_convex(points: &[DVec3]) -> bool {
-    let normal = newell(points.iter().copied());
+    is_convex_about(points, newell(points.iter().copied()))
+}
+
+/// [`is_convex`] for a caller that has the polygon's Newell normal already.
+pub fn is_convex_about(points: &[DVec3], normal: DVec3) -> bool {
     let n = points.len();
     (0..n).all(|i| {
         let a = points[i];
