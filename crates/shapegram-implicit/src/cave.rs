@@ -213,12 +213,23 @@ impl CaveBuilder {
         attach: Attach,
         rng: &mut Rng,
     ) -> Result<()> {
+        let placement = self.place(shape, operation, attach, rng)?;
+        self.commit(placement, elements, operation)
+    }
+
+    /// Combines a placed shape with the base by `operation` and updates the open bonds.
+    fn commit(
+        &mut self,
+        placement: Placement,
+        elements: usize,
+        operation: Operation,
+    ) -> Result<()> {
         let joins = matches!(operation, Operation::Sum | Operation::Morph(_));
         let Placement {
             shape: placed,
             label,
             used,
-        } = self.place(shape, operation, attach, rng)?;
+        } = placement;
         let before = self.base.clone();
         self.base = match operation {
             Operation::Sum => before.union(&placed.solid),
@@ -250,6 +261,51 @@ impl CaveBuilder {
             elements,
         });
         Ok(())
+    }
+
+    /// Carves a notch (a difference) at a random open bond that cannot cut the base in two:
+    /// `carver` is centred `lift` times its half-extent outside the bond, along the bond's
+    /// direction, and shrunk so that it reaches no more than `depth` times as far behind the bond
+    /// as the solid does. A carver centred on the bond at full size could bite through a thin
+    /// part and leave pieces floating.
+    fn bite(
+        &mut self,
+        carver: &Shape,
+        elements: usize,
+        (lift, depth): (f64, f64),
+        rng: &mut Rng,
+    ) -> Result<()> {
+        let i = self
+            .pick_open(Direction::Random, rng)
+            .ok_or_else(|| ImplicitError::new("the base has no open bond for a difference"))?;
+        let b1 = self.open[i];
+        let extent = carver
+            .solid
+            .bounds()
+            .map_or(0.0, |b| b.size().dot(b1.dir.abs()));
+        let full = Tape::new(&self.base);
+        let mut ws = full.workspace(1);
+        let tape = full.pruned(&mut ws, b1.point, extent * 1.01);
+        // How far the solid reaches behind the bond, in 48 steps up to the carver's extent.
+        let steps = 48;
+        let thickness = (1..=steps)
+            .map(|s| extent * f64::from(s) / f64::from(steps))
+            .find(|&t| tape.value(&mut ws, b1.point - b1.dir * t) <= 0.0)
+            .unwrap_or(extent);
+        let reach = 0.5 * extent * (1.0 - lift);
+        let scale = if reach > 0.0 {
+            (depth * thickness / reach).min(1.0)
+        } else {
+            1.0
+        };
+        let scaled = carver.scale(DVec3::splat(scale))?;
+        let target = b1.point + b1.dir * (0.5 * lift * extent * scale);
+        let placement = Placement {
+            shape: scaled.translate(target - scaled.centre())?,
+            label: Some((b1, Bond::new(b1.point, DVec3::ZERO))),
+            used: None,
+        };
+        self.commit(placement, elements, Operation::Difference)
     }
 
     /// Where a production puts `shape` (see [`Attach`]).
@@ -575,43 +631,84 @@ pub fn generate(params: &CaveParams) -> Result<Cave> {
     })
 }
 
+/// The classic productions of the generator in percent: sums, differences (notches), and
+/// intersections.
+const CLASSIC_MIX: [u32; 3] = [50, 40, 10];
+/// The sub-productions that assemble a shape in percent: sums, notches and trims.
+const SUB_MIX: [u32; 3] = [45, 45, 10];
+/// The primitives a production's shape starts from: box, cylinder, cone, pyramid and torus (the
+/// indices of [`random_primitive`]). Balls and capsules only come as smaller pieces and notches:
+/// as whole chambers their round sides, bent on every edge of coarse grids, would push the
+/// convexity factor above the paper's range at `L_D` up to 10.
+const MAIN_KINDS: [usize; 5] = [1, 2, 3, 4, 5];
+/// Every primitive kind, for the pieces and notches of a shape.
+const ALL_KINDS: [usize; 7] = [0, 1, 2, 3, 4, 5, 6];
+/// A classic notch: an ellipsoid with semi-axes this fraction of the production's shape's
+/// bounds (round, so the hollow it leaves is concave all over)…
+const NOTCH_COVER: f64 = 0.45;
+/// …centred 0.4 of its semi-axis outside the bond and reaching at most half as deep as the rock
+/// behind it (see [`CaveBuilder::bite`]).
+const NOTCH_BITE: (f64, f64) = (0.4, 0.5);
+/// A shape's notches: primitives this fraction of the size of the one the shape starts from…
+const SUB_NOTCH_SCALE: f64 = 0.48;
+/// …centred on the bond and reaching at most half as deep as the shape behind it.
+const SUB_NOTCH_BITE: (f64, f64) = (0.0, 0.5);
+
 /// Applies `P_C + P_M` random productions to `builder`. Classic productions are sums at an open
-/// bond facing `L_B` (7 in 10), differences centred on a random open bond (2 in 10) or
-/// intersections with an ellipsoid fitted over the base (1 in 10); morphic productions join a
-/// shape like a sum and blend it in by `M_P`. `params.lod` and `params.seed` are not used here.
+/// bond facing `L_B` (half of them), notches carved by an ellipsoid at a random open bond (4 in
+/// 10) or intersections with an ellipsoid fitted over the base (1 in 10), dealt in these numbers
+/// and shuffled; morphic productions join a shape like a sum and blend it in by `M_P`.
+/// `params.lod` and `params.seed` are not used here.
 pub fn grow(builder: &mut CaveBuilder, params: &CaveParams, rng: &mut Rng) -> Result<()> {
     params.validate()?;
     let a = params.morph_percent / 100.0;
     let total = params.classic + params.morphic;
+    let mut decks = Decks {
+        classic: Deck::new(&apportion(params.classic, &CLASSIC_MIX)),
+        sub: Deck::new(&apportion(total * params.per_shape, &SUB_MIX)),
+        main: Deck::of(&MAIN_KINDS),
+        piece: Deck::of(&ALL_KINDS),
+        notch: Deck::of(&ALL_KINDS),
+    };
     for i in 0..total {
-        let (shape, elements) = assemble(rng, params.per_shape)?;
+        let (shape, elements) = assemble(rng, params.per_shape, &mut decks)?;
         let (operation, attach, shape) = if params.is_morphic(i) {
             (Operation::Morph(a), Attach::Bond(params.direction), shape)
+        } else if builder.solid().is_empty() {
+            // The first shape is always summed: use up a sum, so the mix stays as dealt.
+            decks.classic.take(0);
+            (Operation::Sum, Attach::Bond(params.direction), shape)
         } else {
-            let roll = rng.unit();
-            if roll < 0.55 || builder.solid().is_empty() {
-                (Operation::Sum, Attach::Bond(params.direction), shape)
-            } else if roll < 0.9 {
-                let carver = shape.scale(DVec3::splat(0.9))?;
-                (
-                    Operation::Difference,
-                    Attach::Bond(Direction::Random),
-                    carver,
-                )
-            } else {
-                let trim = fitted_ellipsoid(builder.solid(), 1.2)?;
-                (Operation::Intersection, Attach::Centre, trim)
+            match decks.classic.draw(rng) {
+                0 => (Operation::Sum, Attach::Bond(params.direction), shape),
+                1 => {
+                    let size = shape.solid.bounds().map_or(DVec3::ONE, |b| b.size());
+                    let carver = Shape::primitive(Primitive::Sphere { radius: 1.0 })?
+                        .scale(size * NOTCH_COVER)?
+                        .translate(shape.centre())?;
+                    (
+                        Operation::Difference,
+                        Attach::Bond(Direction::Random),
+                        carver,
+                    )
+                }
+                _ => {
+                    let trim = fitted_ellipsoid(builder.solid(), 1.2)?;
+                    (Operation::Intersection, Attach::Centre, trim)
+                }
             }
         };
         let stuck = match attach {
             Attach::Bond(d) => !builder.has_open(d) && !builder.solid().is_empty(),
             Attach::Centre => false,
         };
-        if stuck {
+        if stuck && builder.open_bonds().is_empty() {
+            continue;
+        }
+        if operation == Operation::Difference {
+            builder.bite(&shape, elements, NOTCH_BITE, rng)?;
+        } else if stuck {
             // No open bond faces L_B any more (carved or trimmed away): grow from any open bond.
-            if builder.open_bonds().is_empty() {
-                continue;
-            }
             builder.apply(
                 &shape,
                 elements,
@@ -626,40 +723,128 @@ pub fn grow(builder: &mut CaveBuilder, params: &CaveParams, rng: &mut Rng) -> Re
     Ok(())
 }
 
-/// A shape of one random primitive grown by `per_shape` random sub-productions (sums at its open
-/// bonds, notches carved at them, a trim by a fitted ellipsoid); returns it and its primitive
-/// count.
-fn assemble(rng: &mut Rng, per_shape: u32) -> Result<(Shape, usize)> {
+/// The draws of one run of the generator.
+struct Decks {
+    /// Classic productions: indices into [`CLASSIC_MIX`].
+    classic: Deck,
+    /// Sub-productions: indices into [`SUB_MIX`].
+    sub: Deck,
+    /// Primitive kinds of the shapes.
+    main: Deck,
+    /// Primitive kinds of the pieces summed to them.
+    piece: Deck,
+    /// Primitive kinds of their notches.
+    notch: Deck,
+}
+
+/// Choices dealt from a shuffled round that holds each as often as its share says, dealt again
+/// when it runs out. Drawn independently at 4 in 10, ten classic productions would now and then
+/// carve no notch or seven, and the convexity factor would swing with them; dealt, every cave
+/// gets the intended mix.
+struct Deck {
+    round: Vec<usize>,
+    left: Vec<usize>,
+}
+
+impl Deck {
+    /// A deck whose round holds choice `i` `counts[i]` times.
+    fn new(counts: &[usize]) -> Self {
+        let round = counts
+            .iter()
+            .enumerate()
+            .flat_map(|(i, &n)| std::iter::repeat_n(i, n))
+            .collect();
+        Self {
+            round,
+            left: Vec::new(),
+        }
+    }
+
+    /// A deck whose round holds each of `choices` once.
+    fn of(choices: &[usize]) -> Self {
+        Self {
+            round: choices.to_vec(),
+            left: Vec::new(),
+        }
+    }
+
+    /// The next choice (the round must not be empty).
+    fn draw(&mut self, rng: &mut Rng) -> usize {
+        self.refill();
+        let i = rng.index(self.left.len());
+        self.left.swap_remove(i)
+    }
+
+    /// Removes one `choice` from the round, if it still holds one.
+    fn take(&mut self, choice: usize) {
+        self.refill();
+        if let Some(i) = self.left.iter().position(|&c| c == choice) {
+            self.left.swap_remove(i);
+        }
+    }
+
+    /// Deals a new round when the last one is used up.
+    fn refill(&mut self) {
+        if self.left.is_empty() {
+            self.left.clone_from(&self.round);
+        }
+    }
+}
+
+/// `total` split in the proportions `percent` (which sum to 100) by largest remainders, ties to
+/// the earlier share.
+fn apportion(total: u32, percent: &[u32]) -> Vec<usize> {
+    let total = u64::from(total);
+    let mut counts: Vec<usize> = percent
+        .iter()
+        .map(|&p| (total * u64::from(p) / 100) as usize)
+        .collect();
+    let given: usize = counts.iter().sum();
+    let mut order: Vec<usize> = (0..percent.len()).collect();
+    order.sort_by_key(|&i| std::cmp::Reverse(total * u64::from(percent[i]) % 100));
+    for &i in order.iter().take(total as usize - given) {
+        counts[i] += 1;
+    }
+    counts
+}
+
+/// A shape of one random primitive grown by `per_shape` random sub-productions (notches carved
+/// at its open bonds, sums at them, a trim by a fitted ellipsoid); returns it and its primitive
+/// count. The notches come first: carved after the sums, they could cut a piece off.
+fn assemble(rng: &mut Rng, per_shape: u32, decks: &mut Decks) -> Result<(Shape, usize)> {
     let mut part = CaveBuilder::new(GENERATED_OVERLAP)?;
-    let first = random_primitive(rng, 1.0)?;
+    let kind = decks.main.draw(rng);
+    let first = random_primitive(rng, 1.0, kind)?;
     part.apply(&first, 1, Operation::Sum, Attach::Centre, rng)?;
-    for _ in 0..per_shape {
-        let roll = rng.unit();
-        let piece = random_primitive(rng, 0.6)?;
-        let (operation, attach, piece) = if roll < 0.45 {
-            (Operation::Sum, Attach::Bond(Direction::Random), piece)
-        } else if roll < 0.9 {
-            (
-                Operation::Difference,
-                Attach::Bond(Direction::Random),
-                piece.scale(DVec3::splat(0.8))?,
-            )
-        } else {
+    let mut picks: Vec<usize> = (0..per_shape).map(|_| decks.sub.draw(rng)).collect();
+    picks.sort_by_key(|&p| [1, 0, 2][p]);
+    for pick in picks {
+        if pick == 2 {
             let trim = fitted_ellipsoid(part.solid(), 1.3)?;
-            (Operation::Intersection, Attach::Centre, trim)
-        };
-        if part.open_bonds().is_empty() && attach != Attach::Centre {
+            part.apply(&trim, 1, Operation::Intersection, Attach::Centre, rng)?;
             continue;
         }
-        part.apply(&piece, 1, operation, attach, rng)?;
+        if part.open_bonds().is_empty() {
+            continue;
+        }
+        if pick == 0 {
+            let kind = decks.piece.draw(rng);
+            let piece = random_primitive(rng, 0.6, kind)?;
+            let attach = Attach::Bond(Direction::Random);
+            part.apply(&piece, 1, Operation::Sum, attach, rng)?;
+        } else {
+            let kind = decks.notch.draw(rng);
+            let notch = random_primitive(rng, SUB_NOTCH_SCALE, kind)?;
+            part.bite(&notch, 1, SUB_NOTCH_BITE, rng)?;
+        }
     }
     Ok((part.to_shape(), part.elements()))
 }
 
-/// A random primitive about `scale` × 2 units across, turned a random number of quarter turns
-/// (so its bonds stay axis-aligned).
-fn random_primitive(rng: &mut Rng, scale: f64) -> Result<Shape> {
-    let kind = rng.index(7);
+/// A random primitive of kind `kind` (0 to 6: sphere, box, cylinder, cone, pyramid, torus,
+/// capsule) about `scale` × 2 units across, turned a random number of quarter turns (so its
+/// bonds stay axis-aligned).
+fn random_primitive(rng: &mut Rng, scale: f64, kind: usize) -> Result<Shape> {
     let mut size = |lo: f64, hi: f64| rng.range(lo, hi) * scale;
     let primitive = match kind {
         0 => Primitive::Sphere {
@@ -683,7 +868,7 @@ fn random_primitive(rng: &mut Rng, scale: f64) -> Result<Shape> {
             let major = size(1.0, 1.5);
             Primitive::Torus {
                 major,
-                minor: major * size(0.35, 0.55) / scale,
+                minor: major * size(0.45, 0.65) / scale,
             }
         }
         _ => Primitive::Capsule {
@@ -697,7 +882,8 @@ fn random_primitive(rng: &mut Rng, scale: f64) -> Result<Shape> {
 }
 
 /// An ellipsoid centred on the base's bounds whose semi-axes are `cover` times the bounds' half
-/// diagonal projected on each axis: it trims the base's far corners.
+/// diagonal projected on each axis: with `cover` of 1 it passes through the bounds' corners, with
+/// more (as the generator uses) it holds the whole base and trims only what lies beyond.
 fn fitted_ellipsoid(base: &Solid, cover: f64) -> Result<Shape> {
     let size = base
         .bounds()

@@ -123,6 +123,27 @@ impl Primitive {
         }
     }
 
+    /// How fast, per unit `c`, the box holding `{f > −c}` grows past [`Self::half_extent`] along
+    /// each axis. The exact distances grow by `c` (rate 1). The cone's and the pyramid's fields
+    /// are distances to their planes, which fall behind the true distance past the apex and the
+    /// base rim: `{f > −c}` is the solid with every plane moved out by `c`, whose apex rises by
+    /// `c / sin` of the side's slope from the axis and whose base widens by more than `c`.
+    pub(crate) fn level_rate(&self) -> DVec3 {
+        match *self {
+            Self::Cone { radius, height } => {
+                let norm = radius.hypot(height);
+                let side = (norm + radius) / height;
+                DVec3::new(side, norm / radius, side)
+            }
+            Self::Pyramid { size } => {
+                let (a, h, c) = (size.x * 0.5, size.y, size.z * 0.5);
+                let (na, nc) = (a.hypot(h), c.hypot(h));
+                DVec3::new((na + a) / h, (na / a).min(nc / c), (nc + c) / h)
+            }
+            _ => DVec3::ONE,
+        }
+    }
+
     /// The field at one point: positive inside, zero on the surface, negative outside.
     pub fn value(&self, p: DVec3) -> f64 {
         let mut out = [0.0];

@@ -30,6 +30,9 @@ pub enum Node {
         child: Arc<Node>,
         /// The child's bounds in its own frame, kept so folding maps stays exact and cheap.
         child_bounds: Option<Aabb>,
+        /// The child's [`Reach`] in its own frame, for the same reason (boxed: it is needed only
+        /// when maps fold, and would make every node larger).
+        child_reach: Option<Box<Reach>>,
     },
     /// Sum, eq. (2): `max(f, g)`.
     Union(Arc<Node>, Arc<Node>),
@@ -55,6 +58,90 @@ pub struct Solid {
     /// the tree and however often subtrees are shared (a morphic production uses the base
     /// twice, so walking the tree would double with every one).
     bounds: Option<Aabb>,
+    /// Where the field comes near zero from below, for the bounds of smooth sums.
+    reach: Option<Reach>,
+}
+
+/// Where a field exceeds any level below zero: every point where it is above `−c` (for any
+/// `c ≥ 0`) lies in the box `[min − c·rate, max + c·rate]`. The bounds of a solid hold only
+/// where its field is positive; a smooth sum raises fields by up to `k/4`, so it must know where
+/// its members exceed `−k/4`. That is not within `k/4` of their bounds unless the fields are
+/// exact distances: a field scaled by the smallest factor of a stretch, or the cone's distance
+/// to its planes near the apex, falls behind the distance, and `rate` says by how much.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Reach {
+    /// The box's lower corner at level 0 (it may lie above `max` on an axis: a disjoint
+    /// intersection reaches nothing at level 0 but something lower down).
+    min: DVec3,
+    /// The box's upper corner at level 0.
+    max: DVec3,
+    /// How far the box grows on each side per unit the level goes down, along each axis.
+    rate: DVec3,
+}
+
+impl Reach {
+    /// The reach of a primitive in its own frame.
+    fn primitive(primitive: &Primitive) -> Self {
+        let h = primitive.half_extent();
+        Self {
+            min: -h,
+            max: h,
+            rate: primitive.level_rate(),
+        }
+    }
+
+    /// The box holding every point where the field exceeds `−c`, `None` when it is empty.
+    fn at(&self, c: f64) -> Option<Aabb> {
+        let (min, max) = (self.min - self.rate * c, self.max + self.rate * c);
+        min.cmple(max).all().then_some(Aabb { min, max })
+    }
+
+    /// The reach of `factor · f(map⁻¹(p))`: `{f' > −c}` is the map of `{f > −c/factor}`, and a
+    /// box of half-size `w` maps into one of half-size `|M|·w` (which holds for the negative
+    /// half-sizes of a box that is empty at level 0 too, at every level where it is not).
+    fn mapped(&self, map: &DAffine3, factor: f64) -> Self {
+        let m = map.matrix3.abs();
+        let centre = map.transform_point3((self.min + self.max) * 0.5);
+        let half = m * ((self.max - self.min) * 0.5);
+        Self {
+            min: centre - half,
+            max: centre + half,
+            rate: m * self.rate / factor,
+        }
+    }
+
+    /// The reach of a field `k` above this one at most: its level `−c` lies within this one's
+    /// level `−c − k`.
+    fn lowered(&self, k: f64) -> Self {
+        Self {
+            min: self.min - self.rate * k,
+            max: self.max + self.rate * k,
+            rate: self.rate,
+        }
+    }
+
+    /// A reach holding both (for maxima and morphs, which never exceed the larger input).
+    fn hull(a: Option<Self>, b: Option<Self>) -> Option<Self> {
+        match (a, b) {
+            (Some(a), Some(b)) => Some(Self {
+                min: a.min.min(b.min),
+                max: a.max.max(b.max),
+                rate: a.rate.max(b.rate),
+            }),
+            (a, b) => a.or(b),
+        }
+    }
+
+    /// A reach holding where both reach (for minima): on each side the tighter limit, growing
+    /// at the faster rate, stays outside both limits at every level.
+    fn meet(a: Option<Self>, b: Option<Self>) -> Option<Self> {
+        let (a, b) = (a?, b?);
+        Some(Self {
+            min: a.min.max(b.min),
+            max: a.max.min(b.max),
+            rate: a.rate.max(b.rate),
+        })
+    }
 }
 
 impl Default for Solid {
@@ -64,16 +151,17 @@ impl Default for Solid {
 }
 
 impl Solid {
-    fn from_node(node: Node, bounds: Option<Aabb>) -> Self {
+    fn from_node(node: Node, bounds: Option<Aabb>, reach: Option<Reach>) -> Self {
         Self {
             root: Arc::new(node),
             bounds,
+            reach,
         }
     }
 
     /// The empty solid, where every production starts.
     pub fn empty() -> Self {
-        Self::from_node(Node::Empty, None)
+        Self::from_node(Node::Empty, None, None)
     }
 
     /// A checked primitive.
@@ -83,6 +171,7 @@ impl Solid {
         Ok(Self::from_node(
             Node::Primitive(primitive),
             Some(Aabb::new(-h, h)),
+            Some(Reach::primitive(&primitive)),
         ))
     }
 
@@ -201,16 +290,20 @@ impl Solid {
                 factor: inner_factor,
                 child,
                 child_bounds,
+                child_reach,
             } => {
                 let combined = *inner * inverse;
+                let (map, factor) = (combined.inverse(), factor * inner_factor);
                 Self::from_node(
                     Node::Transform {
                         inverse: combined,
-                        factor: factor * inner_factor,
+                        factor,
                         child: child.clone(),
                         child_bounds: *child_bounds,
+                        child_reach: child_reach.clone(),
                     },
-                    child_bounds.map(|b| mapped_box(b, &combined.inverse())),
+                    child_bounds.map(|b| mapped_box(b, &map)),
+                    child_reach.as_ref().map(|r| r.mapped(&map, factor)),
                 )
             }
             _ => Self::from_node(
@@ -219,8 +312,10 @@ impl Solid {
                     factor,
                     child: self.root.clone(),
                     child_bounds: self.bounds,
+                    child_reach: self.reach.map(Box::new),
                 },
                 self.bounds.map(|b| mapped_box(b, &map)),
+                self.reach.map(|r| r.mapped(&map, factor)),
             ),
         }
     }
@@ -230,6 +325,7 @@ impl Solid {
         Self::from_node(
             Node::Union(self.root.clone(), other.root.clone()),
             union_bounds(self.bounds, other.bounds),
+            Reach::hull(self.reach, other.reach),
         )
     }
 
@@ -238,6 +334,7 @@ impl Solid {
         Self::from_node(
             Node::Difference(self.root.clone(), other.root.clone()),
             self.bounds,
+            self.reach,
         )
     }
 
@@ -246,6 +343,7 @@ impl Solid {
         Self::from_node(
             Node::Intersection(self.root.clone(), other.root.clone()),
             intersect_bounds(self.bounds, other.bounds),
+            Reach::meet(self.reach, other.reach),
         )
     }
 
@@ -256,39 +354,57 @@ impl Solid {
                 "invalid morphing parameter {a}: expected 0 to 1 (0 % to 100 %)"
             )));
         }
+        // A blend never exceeds the larger input, so it lies where either does.
         Ok(Self::from_node(
             Node::Morph(self.root.clone(), other.root.clone(), a),
             union_bounds(self.bounds, other.bounds),
+            Reach::hull(self.reach, other.reach),
         ))
     }
 
     /// Smooth sum with a fillet of radius `k` where the surfaces meet.
     pub fn smooth_union(&self, other: &Solid, k: f64) -> Result<Self> {
         positive("smoothing radius", k)?;
+        // The smooth maximum exceeds the larger input only where the inputs differ by less than
+        // k, and by at most k/4: past the members' own solids it reaches only where the larger
+        // exceeds −k/4 and both exceed −5k/4. That is where their reaches say, not within k/4 of
+        // their bounds (which is as far only when the fields are exact distances).
+        let q = 0.25 * k;
+        let sharp = Reach::hull(self.reach, other.reach);
+        let near = Reach::meet(
+            self.reach.map(|r| r.lowered(5.0 * q)),
+            other.reach.map(|r| r.lowered(5.0 * q)),
+        );
+        let swell = Reach::meet(sharp.map(|r| r.lowered(q)), near);
         Ok(Self::from_node(
             Node::SmoothUnion(self.root.clone(), other.root.clone(), k),
-            union_bounds(self.bounds, other.bounds).map(|r| Aabb {
-                min: r.min - k * 0.25,
-                max: r.max + k * 0.25,
-            }),
+            union_bounds(
+                union_bounds(self.bounds, other.bounds),
+                swell.and_then(|r| r.at(0.0)),
+            ),
+            Reach::hull(sharp, swell),
         ))
     }
 
     /// Smooth difference with a fillet of radius `k`.
     pub fn smooth_difference(&self, other: &Solid, k: f64) -> Result<Self> {
         positive("smoothing radius", k)?;
+        // The smooth minimum never exceeds the smaller input: no larger than this solid.
         Ok(Self::from_node(
             Node::SmoothDifference(self.root.clone(), other.root.clone(), k),
             self.bounds,
+            self.reach,
         ))
     }
 
     /// Smooth intersection with a fillet of radius `k`.
     pub fn smooth_intersection(&self, other: &Solid, k: f64) -> Result<Self> {
         positive("smoothing radius", k)?;
+        // The smooth minimum never exceeds the smaller input: within both solids.
         Ok(Self::from_node(
             Node::SmoothIntersection(self.root.clone(), other.root.clone(), k),
             intersect_bounds(self.bounds, other.bounds),
+            Reach::meet(self.reach, other.reach),
         ))
     }
 

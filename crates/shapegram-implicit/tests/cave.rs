@@ -260,25 +260,31 @@ fn the_papers_experiment() {
 
 #[test]
 fn generated_caves_score_forty_to_seventy_five_percent() {
-    // The factor varies from cave to cave (64–78 % over the first twenty seeds at L_D = 10):
-    // each stays near the paper's range and their mean inside it.
-    let mut sum = 0.0;
-    for seed in 1..=8 {
-        let params = CaveParams {
+    // Every cave, not only their mean, falls in the paper's range: with its parameters the
+    // first forty seeds score 58–69 % at L_D = 10, and 54–72 % without sub-productions
+    // (P_S = 0), whose caves are chains of single primitives.
+    let default = CaveParams::default();
+    let cases = (0..20)
+        .map(|seed| CaveParams { seed, ..default })
+        .chain((0..4).map(|seed| CaveParams {
             seed,
-            ..CaveParams::default()
-        };
+            per_shape: 0,
+            ..default
+        }));
+    for params in cases {
         let (_, metrics) = mesh_cave(&params);
         assert!(
             metrics.edges.is_watertight() && metrics.mesh_volume > 0.0,
             "{metrics:?}"
         );
         let cf = metrics.convexity.factor();
-        assert!((40.0..=80.0).contains(&cf), "seed {seed}: {cf}");
-        sum += cf;
+        assert!(
+            (40.0..=75.0).contains(&cf),
+            "seed {} per shape {}: {cf}",
+            params.seed,
+            params.per_shape
+        );
     }
-    let mean = sum / 8.0;
-    assert!((40.0..=75.0).contains(&mean), "{mean}");
 }
 
 #[test]
