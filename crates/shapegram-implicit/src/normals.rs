@@ -20,7 +20,7 @@ use crate::tape::{Tape, Workspace};
 const CHUNK: usize = 256;
 
 /// Most vertices whose samples one evaluation of the tape takes: a workspace holds a value per
-/// sample for every slot of the whole tape, so a small one is quicker to allocate.
+/// sample for every value live at once, so a small one stays in cache.
 const PIECE: usize = 64;
 
 /// Bits of a Morton key per axis (three make 63 bits).
@@ -61,8 +61,8 @@ pub fn surface_normals_with_progress(
     splitter.split(0, points.len(), &tape, 3 * MORTON_BITS);
     let groups = splitter.groups;
     let done = AtomicUsize::new(0);
-    // Every pruned tape keeps the whole tape's slots, so one workspace fits them all; a long
-    // tape makes it megabytes, so each is shared by a few runs of groups per thread.
+    // A workspace grows to fit the largest tape it prunes (one sample per value of it), so each
+    // is shared by a few runs of groups per thread.
     let batch = groups.len().div_ceil(4 * rayon::current_num_threads());
     let per_group: Vec<Vec<DVec3>> = groups
         .par_iter()
