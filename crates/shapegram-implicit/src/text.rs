@@ -865,107 +865,133 @@ impl<'a> Runner<'a> {
                  fewer, wider parts"
             )));
         }
-        Ok(match expr {
-            Expr::Primitive(kind, args, pos) => {
-                let v: Vec<f64> = args.iter().map(|n| n.value(&mut self.rng)).collect();
-                let primitive = match kind.as_str() {
-                    "sphere" => Primitive::Sphere { radius: v[0] },
-                    "box" => Primitive::Cuboid {
-                        size: DVec3::new(v[0], v[1], v[2]),
-                    },
-                    "cylinder" => Primitive::Cylinder {
-                        radius: v[0],
-                        height: v[1],
-                    },
-                    "cone" => Primitive::Cone {
-                        radius: v[0],
-                        height: v[1],
-                    },
-                    "pyramid" => Primitive::Pyramid {
-                        size: DVec3::new(v[0], v[1], v[2]),
-                    },
-                    "torus" => Primitive::Torus {
-                        major: v[0],
-                        minor: v[1],
-                    },
-                    _ => Primitive::Capsule {
-                        radius: v[0],
-                        length: v[1],
-                    },
-                };
-                Value {
-                    shape: Shape::primitive(primitive).map_err(|e| pos.wrap(e))?,
-                    elements: 1,
-                }
-            }
-            Expr::Name(index, _) => self.eval(&self.definitions[*index], depth + 1)?,
+        // The recursion stays in this frame and the work of each node in a function of its
+        // own, so that a frame holds the operands and little else: nesting runs to
+        // MAX_NESTING deep on a thread's default stack, in debug builds too.
+        match expr {
+            Expr::Primitive(kind, args, pos) => self.primitive(kind, args, *pos),
+            Expr::Name(index, _) => self.eval(&self.definitions[*index], depth + 1),
             Expr::Binary(op, a, b, _) => {
                 let (a, b) = (self.eval(a, depth + 1)?, self.eval(b, depth + 1)?);
-                let shape = match op {
-                    '+' => a.shape.union(&b.shape),
-                    '-' => a.shape.difference(&b.shape),
-                    _ => a.shape.intersection(&b.shape),
-                };
-                Value {
-                    shape,
-                    elements: a.elements + b.elements,
-                }
+                Ok(combined(*op, a, b))
             }
             Expr::Morph(a, b, t, pos) => {
                 let (a, b) = (self.eval(a, depth + 1)?, self.eval(b, depth + 1)?);
                 let t = t.value(&mut self.rng);
-                Value {
-                    shape: a.shape.morph(&b.shape, t).map_err(|e| pos.wrap(e))?,
-                    elements: a.elements + b.elements,
-                }
+                morphed(a, b, t, *pos)
             }
             Expr::Smooth(kind, a, b, k, pos) => {
                 let (a, b) = (self.eval(a, depth + 1)?, self.eval(b, depth + 1)?);
                 let k = k.value(&mut self.rng);
-                let solid = match kind.as_str() {
-                    "smooth_union" => a.shape.solid.smooth_union(&b.shape.solid, k),
-                    "smooth_difference" => a.shape.solid.smooth_difference(&b.shape.solid, k),
-                    _ => a.shape.solid.smooth_intersection(&b.shape.solid, k),
-                }
-                .map_err(|e| pos.wrap(e))?;
-                let mut bonds = a.shape.bonds.clone();
-                if kind == "smooth_union" {
-                    bonds.extend(&b.shape.bonds);
-                }
-                Value {
-                    shape: Shape { solid, bonds },
-                    elements: a.elements + b.elements,
-                }
+                smoothed(kind, a, b, k, *pos)
             }
             Expr::Move(e, v, pos) => {
                 let inner = self.eval(e, depth + 1)?;
                 let offset = DVec3::from_array(v.map(|n| n.value(&mut self.rng)));
-                Value {
-                    shape: inner.shape.translate(offset).map_err(|e| pos.wrap(e))?,
-                    elements: inner.elements,
-                }
+                transformed(inner, *pos, |shape| shape.translate(offset))
             }
             Expr::Rotate(e, axis, degrees, pos) => {
                 let inner = self.eval(e, depth + 1)?;
                 let degrees = degrees.value(&mut self.rng);
-                Value {
-                    shape: inner
-                        .shape
-                        .rotate(*axis, degrees)
-                        .map_err(|e| pos.wrap(e))?,
-                    elements: inner.elements,
-                }
+                transformed(inner, *pos, |shape| shape.rotate(*axis, degrees))
             }
             Expr::Scale(e, v, pos) => {
                 let inner = self.eval(e, depth + 1)?;
                 let scale = DVec3::from_array(v.map(|n| n.value(&mut self.rng)));
-                Value {
-                    shape: inner.shape.scale(scale).map_err(|e| pos.wrap(e))?,
-                    elements: inner.elements,
-                }
+                transformed(inner, *pos, |shape| shape.scale(scale))
             }
+        }
+    }
+
+    /// A primitive with its arguments drawn.
+    #[inline(never)]
+    fn primitive(&mut self, kind: &str, args: &[Num], pos: Pos) -> Result<Value, TextError> {
+        let v: Vec<f64> = args.iter().map(|n| n.value(&mut self.rng)).collect();
+        let primitive = match kind {
+            "sphere" => Primitive::Sphere { radius: v[0] },
+            "box" => Primitive::Cuboid {
+                size: DVec3::new(v[0], v[1], v[2]),
+            },
+            "cylinder" => Primitive::Cylinder {
+                radius: v[0],
+                height: v[1],
+            },
+            "cone" => Primitive::Cone {
+                radius: v[0],
+                height: v[1],
+            },
+            "pyramid" => Primitive::Pyramid {
+                size: DVec3::new(v[0], v[1], v[2]),
+            },
+            "torus" => Primitive::Torus {
+                major: v[0],
+                minor: v[1],
+            },
+            _ => Primitive::Capsule {
+                radius: v[0],
+                length: v[1],
+            },
+        };
+        Ok(Value {
+            shape: Shape::primitive(primitive).map_err(|e| pos.wrap(e))?,
+            elements: 1,
         })
     }
+}
+
+/// `a + b`, `a - b` or `a & b`.
+#[inline(never)]
+fn combined(op: char, a: Value, b: Value) -> Value {
+    let shape = match op {
+        '+' => a.shape.union(&b.shape),
+        '-' => a.shape.difference(&b.shape),
+        _ => a.shape.intersection(&b.shape),
+    };
+    Value {
+        shape,
+        elements: a.elements + b.elements,
+    }
+}
+
+/// `morph(a, b, t)`.
+#[inline(never)]
+fn morphed(a: Value, b: Value, t: f64, pos: Pos) -> Result<Value, TextError> {
+    Ok(Value {
+        shape: a.shape.morph(&b.shape, t).map_err(|e| pos.wrap(e))?,
+        elements: a.elements + b.elements,
+    })
+}
+
+/// `smooth_union(a, b, k)` and its kin; only a union keeps the bonds of both.
+#[inline(never)]
+fn smoothed(kind: &str, a: Value, b: Value, k: f64, pos: Pos) -> Result<Value, TextError> {
+    let solid = match kind {
+        "smooth_union" => a.shape.solid.smooth_union(&b.shape.solid, k),
+        "smooth_difference" => a.shape.solid.smooth_difference(&b.shape.solid, k),
+        _ => a.shape.solid.smooth_intersection(&b.shape.solid, k),
+    }
+    .map_err(|e| pos.wrap(e))?;
+    let mut bonds = a.shape.bonds;
+    if kind == "smooth_union" {
+        bonds.extend(&b.shape.bonds);
+    }
+    Ok(Value {
+        shape: Shape { solid, bonds },
+        elements: a.elements + b.elements,
+    })
+}
+
+/// A moved, turned or scaled value.
+#[inline(never)]
+fn transformed(
+    inner: Value,
+    pos: Pos,
+    map: impl FnOnce(&Shape) -> crate::Result<Shape>,
+) -> Result<Value, TextError> {
+    Ok(Value {
+        shape: map(&inner.shape).map_err(|e| pos.wrap(e))?,
+        elements: inner.elements,
+    })
 }
 
 /// Adds up the productions `statements` apply (after `before` others), failing where the total
