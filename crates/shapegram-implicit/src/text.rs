@@ -697,7 +697,14 @@ impl Parser<'_> {
             return Ok(e);
         }
         let Some((Token::Name(name), _)) = self.peek().cloned() else {
-            return Err(self.expected("a solid: a primitive, a name, morph(…) or '('"));
+            let mut error = self.expected("a solid: a primitive, a name, morph(…) or '('");
+            if matches!(self.peek(), Some((Token::Number(..), _))) {
+                // `morph hall -5%` reads as the difference `hall - 5`.
+                error.message.push_str(
+                    " (after a solid, + - & combine it with another; a morphing amount is 0 to 100 %, as in `morph hall 55%`)",
+                );
+            }
+            return Err(error);
         };
         self.at += 1;
         if let Some(&(_, count)) = PRIMITIVES.iter().find(|(n, _)| *n == name) {

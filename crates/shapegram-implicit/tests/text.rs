@@ -316,3 +316,11 @@ proptest::proptest! {
         }
     }
 }
+
+#[test]
+fn a_number_where_a_solid_belongs_explains_the_morphing_amount() {
+    assert_eq!(
+        error("add sphere(1)\nmorph sphere(1) -5%\n"),
+        "2:18: expected a solid: a primitive, a name, morph(…) or '(', found number 5 (after a solid, + - & combine it with another; a morphing amount is 0 to 100 %, as in `morph hall 55%`)"
+    );
+}
