@@ -41,8 +41,7 @@ pub trait AssetLoader: Send + Sync {
     /// What `i("path")` inserts in a shape that asks for variant `variant` (below
     /// [`ASSET_VARIANTS`]) of assets grown from a seed, such as stochastic L-systems; fixed
     /// files ignore it. By default [`load`](Self::load)'s mesh, stretched to the scope.
-    fn asset(&self, path: &str, variant: u32) -> Result<Asset, String> {
-        let _ = variant;
+    fn asset(&self, path: &str, _variant: u32) -> Result<Asset, String> {
         Ok(Asset {
             mesh: self.load(path)?,
             proportional: false,

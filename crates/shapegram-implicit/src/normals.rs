@@ -11,7 +11,7 @@ use std::sync::atomic::{AtomicUsize, Ordering};
 
 use glam::DVec3;
 use rayon::prelude::*;
-use shapegram_geom::Mesh;
+use shapegram_geom::{Aabb, Mesh};
 
 use crate::solid::Solid;
 use crate::tape::{Tape, Workspace};
@@ -43,12 +43,12 @@ pub fn surface_normals_with_progress(
     progress: &(dyn Fn(usize, usize) + Sync),
 ) -> Vec<DVec3> {
     let positions = mesh.positions();
-    if positions.is_empty() {
+    let Some(bounds) = Aabb::from_points(positions.iter().copied()) else {
         return Vec::new();
-    }
+    };
     let h = step.abs().max(f64::MIN_POSITIVE);
     let tape = Arc::new(Tape::new(solid));
-    let (keys, order) = morton_order(positions);
+    let (keys, order) = morton_order(positions, &bounds);
     // In curve order, so that the runs below read contiguous memory.
     let points: Vec<DVec3> = order.par_iter().map(|&v| positions[v as usize]).collect();
     let mut splitter = Splitter {
@@ -96,9 +96,8 @@ pub fn surface_normals_with_progress(
 /// curve are close in space, and those in any cell of the curve's octree are a run of the list.
 /// The key quantises positions over their bounding box; ties are broken by index, so the order
 /// is one and the same whatever the thread count.
-fn morton_order(positions: &[DVec3]) -> (Vec<u64>, Vec<u32>) {
-    let (lo, hi) = bounding_box(positions);
-    let extent = (hi - lo).max_element();
+fn morton_order(positions: &[DVec3], bounds: &Aabb) -> (Vec<u64>, Vec<u32>) {
+    let (lo, extent) = (bounds.min, bounds.size().max_element());
     let scale = if extent > 0.0 && extent.is_finite() {
         f64::from((1u32 << MORTON_BITS) - 1) / extent
     } else {
@@ -127,15 +126,6 @@ fn spread(x: u32) -> u64 {
     x = (x | x << 4) & 0x10c3_0c30_c30c_30c3;
     x = (x | x << 2) & 0x1249_2492_4924_9249;
     x
-}
-
-/// The smallest box holding `points` (ignoring NaN coordinates).
-fn bounding_box(points: &[DVec3]) -> (DVec3, DVec3) {
-    points
-        .iter()
-        .fold((DVec3::INFINITY, DVec3::NEG_INFINITY), |(lo, hi), &p| {
-            (lo.min(p), hi.max(p))
-        })
 }
 
 /// A run of the vertices in curve order, with the tape pruned for a ball around an enclosing
@@ -201,8 +191,9 @@ impl Splitter<'_> {
 /// A ball holding every sample the central differences take around `points`, with room to
 /// spare for rounding.
 fn ball(points: &[DVec3], h: f64) -> (DVec3, f64) {
-    let (lo, hi) = bounding_box(points);
-    ((lo + hi) * 0.5, (hi - lo).length() * 0.5 + 2.0 * h)
+    Aabb::from_points(points.iter().copied()).map_or((DVec3::ZERO, 2.0 * h), |b| {
+        (b.center(), b.diagonal() * 0.5 + 2.0 * h)
+    })
 }
 
 /// Per-thread buffers for one group's samples.

@@ -37,18 +37,21 @@ pub use word::Word;
 
 use shapegram_geom::{Model, Scope};
 
-/// Derives `system`, draws the word with the turtle and fits the model into `scope` (uniformly
-/// scaled, centred on the scope's x and z, standing on its floor): what a shape grammar calls to
-/// plant an L-system in the current shape. A model over [`DEFAULT_MAX_VERTICES`] vertices is an
-/// error.
+/// Derives `system`, rewrites the word by its interpretation rules and draws it with the turtle
+/// as tubes and leaves. A model over [`DEFAULT_MAX_VERTICES`] vertices is an error.
+pub fn model(system: &LSystem, options: &DeriveOptions) -> Result<Model, Error> {
+    let word = system.derive(options)?;
+    let shown = system.interpretation(&word, options)?;
+    let drawing = interpret(system, &shown);
+    drawing_to_model_within(&drawing, &system.settings, DEFAULT_MAX_VERTICES)
+}
+
+/// [`model`] fitted into `scope` (uniformly scaled, centred on the scope's x and z, standing on
+/// its floor): what a shape grammar calls to plant an L-system in the current shape.
 pub fn model_in_scope(
     system: &LSystem,
     options: &DeriveOptions,
     scope: &Scope,
 ) -> Result<Model, Error> {
-    let word = system.derive(options)?;
-    let shown = system.interpretation(&word, options)?;
-    let drawing = interpret(system, &shown);
-    let model = drawing_to_model_within(&drawing, &system.settings, DEFAULT_MAX_VERTICES)?;
-    Ok(fit_into_scope(&model, scope))
+    Ok(fit_into_scope(&model(system, options)?, scope))
 }

@@ -192,19 +192,24 @@ fn find_arrow(chars: &[char]) -> Option<usize> {
         match c {
             '(' => depth += 1,
             ')' => depth -= 1,
-            '→' if depth == 0 => return Some(i),
-            '-' if depth == 0 && chars.get(i + 1) == Some(&'>') => return Some(i),
-            // L-Py's and cpfg's long arrow.
-            '-' if depth == 0
-                && chars.get(i + 1) == Some(&'-')
-                && chars.get(i + 2) == Some(&'>') =>
-            {
-                return Some(i);
-            }
+            _ if depth == 0 && is_arrow(chars, i) => return Some(i),
             _ => {}
         }
     }
     None
+}
+
+/// Whether an arrow starts at `i`: `→`, `->` or L-Py's and cpfg's long `-->`.
+fn is_arrow(chars: &[char], i: usize) -> bool {
+    match chars[i] {
+        '→' => true,
+        '-' => match chars.get(i + 1) {
+            Some('>') => true,
+            Some('-') => chars.get(i + 2) == Some(&'>'),
+            _ => false,
+        },
+        _ => false,
+    }
 }
 
 /// The `(` left open where an arrow stands inside parentheses (`F(x -> F`): the line is a
@@ -217,8 +222,7 @@ fn unclosed_before_arrow(chars: &[char]) -> Option<usize> {
             ')' => {
                 open.pop();
             }
-            '→' => return open.last().copied(),
-            '-' if chars.get(i + 1) == Some(&'>') => return open.last().copied(),
+            _ if is_arrow(chars, i) => return open.last().copied(),
             _ => {}
         }
     }

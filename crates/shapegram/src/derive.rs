@@ -284,16 +284,7 @@ fn plant(path: &Path, variant: u32) -> Result<(Mesh, bool), String> {
             .then(|| system.settings.seed.wrapping_add(u64::from(variant))),
         ..shapegram_lsystem::DeriveOptions::default()
     };
-    let located = |e: shapegram_lsystem::Error| e.render(&name, &text);
-    let word = system.derive(&options).map_err(located)?;
-    let shown = system.interpretation(&word, &options).map_err(located)?;
-    let drawing = shapegram_lsystem::interpret(&system, &shown);
-    let model = shapegram_lsystem::drawing_to_model_within(
-        &drawing,
-        &system.settings,
-        shapegram_lsystem::DEFAULT_MAX_VERTICES,
-    )
-    .map_err(located)?;
+    let model = shapegram_lsystem::model(&system, &options).map_err(|e| e.render(&name, &text))?;
     Ok((model.merged_mesh(), system.is_stochastic()))
 }
 
