@@ -3,18 +3,14 @@
 
 use std::f64::consts::PI;
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+use std::process::Command;
 
 mod common;
 
-use common::{TempDir, example, shapegram};
+use common::{TempDir, example, shapegram, stderr};
 use serde_json::Value;
 use shapegram_geom::DVec3;
 use shapegram_geom::primitives::{cylinder_volume, sphere_volume};
-
-fn stderr(output: &Output) -> String {
-    String::from_utf8(output.stderr.clone()).unwrap()
-}
 
 /// Runs a command that must succeed, returning its stderr.
 fn ok<S: AsRef<std::ffi::OsStr>>(args: &[S]) -> String {
@@ -1022,71 +1018,6 @@ fn check_reports_each_file() {
     let err = stderr(&output);
     assert!(err.starts_with("error: cannot read "), "{err}");
     assert!(err.contains(&format!("ok: {}", text(&good))), "{err}");
-}
-
-/// Every grammar file under `dir`, sorted.
-fn cga_files(dir: &Path) -> Vec<PathBuf> {
-    let mut files = Vec::new();
-    for entry in std::fs::read_dir(dir).unwrap() {
-        let path = entry.unwrap().path();
-        if path.is_dir() {
-            files.extend(cga_files(&path));
-        } else if path.extension().is_some_and(|e| e == "cga") {
-            files.push(path);
-        }
-    }
-    files.sort();
-    files
-}
-
-#[test]
-fn check_accepts_the_cityengine_anchor_grammars() {
-    let anchors =
-        Path::new(env!("CARGO_MANIFEST_DIR")).join("../../../shared/anchors/cityengine-cga");
-    if !anchors.is_dir() {
-        eprintln!("skipped: no anchor grammars at {}", anchors.display());
-        return;
-    }
-    let files = cga_files(&anchors);
-    assert_eq!(files.len(), 23, "{files:?}");
-    let output = shapegram(
-        &std::iter::once("check".as_ref())
-            .chain(std::iter::once("--quiet-warnings".as_ref()))
-            .chain(files.iter().map(|f| f.as_os_str()))
-            .collect::<Vec<&std::ffi::OsStr>>(),
-    );
-    let err = stderr(&output);
-    assert!(output.status.success(), "{err}");
-    assert_eq!(err.lines().filter(|l| l.starts_with("ok: ")).count(), 23);
-}
-
-#[test]
-fn the_cityengine_anchor_grammars_derive_or_fail_with_a_message() {
-    let anchors =
-        Path::new(env!("CARGO_MANIFEST_DIR")).join("../../../shared/anchors/cityengine-cga");
-    if !anchors.is_dir() {
-        eprintln!("skipped: no anchor grammars at {}", anchors.display());
-        return;
-    }
-    let mut derived = 0;
-    for file in cga_files(&anchors) {
-        let output = shapegram(&[
-            "derive".as_ref(),
-            file.as_os_str(),
-            "-q".as_ref(),
-            "--missing-assets".as_ref(),
-            "cube".as_ref(),
-        ]);
-        let err = stderr(&output);
-        assert!(!err.contains("panicked"), "{}: {err}", file.display());
-        match output.status.code() {
-            Some(0) => derived += 1,
-            Some(1) => assert!(err.starts_with("error: "), "{}: {err}", file.display()),
-            code => panic!("{}: exit {code:?}: {err}", file.display()),
-        }
-    }
-    // The rest use features not supported yet (`geometry.nHoles`, `comp` as a function).
-    assert_eq!(derived, 21, "of 23");
 }
 
 #[test]

@@ -46,3 +46,8 @@ pub fn shapegram<S: AsRef<std::ffi::OsStr>>(args: &[S]) -> Output {
         .output()
         .unwrap()
 }
+
+/// What a run of the binary wrote to stderr.
+pub fn stderr(output: &Output) -> String {
+    String::from_utf8(output.stderr.clone()).unwrap()
+}

@@ -1,0 +1,68 @@
+//! The `shapegram` binary over the CityEngine corpus: every real rule file checks, derives or
+//! fails with a message, and the rule packages match PRT's reference list. Without the corpus
+//! these tests are reported as ignored (see `shapegram-corpus`).
+
+mod common;
+
+use common::{shapegram, stderr};
+use shapegram_corpus::{Corpus, corpus_tests};
+
+fn check_accepts_the_cityengine_anchor_grammars(corpus: &Corpus) {
+    let files = corpus.cga_files();
+    assert_eq!(files.len(), 23, "{files:?}");
+    let mut args = vec!["check".into(), "--quiet-warnings".into()];
+    args.extend(files.iter().map(|f| f.clone().into_os_string()));
+    let output = shapegram(&args);
+    let err = stderr(&output);
+    assert!(output.status.success(), "{err}");
+    assert_eq!(err.lines().filter(|l| l.starts_with("ok: ")).count(), 23);
+}
+
+fn the_cityengine_anchor_grammars_derive_or_fail_with_a_message(corpus: &Corpus) {
+    let mut derived = 0;
+    for file in corpus.cga_files() {
+        let output = shapegram(&[
+            "derive".as_ref(),
+            file.as_os_str(),
+            "-q".as_ref(),
+            "--missing-assets".as_ref(),
+            "cube".as_ref(),
+        ]);
+        let err = stderr(&output);
+        assert!(!err.contains("panicked"), "{}: {err}", file.display());
+        match output.status.code() {
+            Some(0) => derived += 1,
+            Some(1) => assert!(err.starts_with("error: "), "{}: {err}", file.display()),
+            code => panic!("{}: exit {code:?}: {err}", file.display()),
+        }
+    }
+    // The rest use features not supported yet (`geometry.nHoles`, `comp` as a function).
+    assert_eq!(derived, 21, "of 23");
+}
+
+/// PRT's reference output covers 16 packages, each present as an archive and extracted.
+fn the_prt_reference_names_every_rule_package(corpus: &Corpus) {
+    let path = corpus.rpk().join("prt-reference.json");
+    let text = std::fs::read_to_string(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+    let reference: serde_json::Value = serde_json::from_str(&text).expect("valid JSON");
+    let packages = reference.as_array().expect("a list of packages");
+    assert_eq!(packages.len(), 16);
+    for package in packages {
+        let name = package["package"].as_str().expect("a package name");
+        let rpk = package["rpk"].as_str().expect("an archive name");
+        assert!(corpus.rpk().join(rpk).is_file(), "{rpk}");
+        assert!(corpus.rpk().join(name).is_dir(), "{name}");
+        assert_eq!(
+            package["prt"]["bbox"]["size"].as_array().map(Vec::len),
+            Some(3),
+            "{name}"
+        );
+    }
+    assert_eq!(Corpus::files(&corpus.rpk(), "rpk").len(), 16);
+}
+
+corpus_tests!(
+    check_accepts_the_cityengine_anchor_grammars,
+    the_cityengine_anchor_grammars_derive_or_fail_with_a_message,
+    the_prt_reference_names_every_rule_package,
+);
