@@ -1,5 +1,5 @@
 //! Shapegram's file formats: GLB (binary glTF 2.0), OBJ + MTL and binary STL, written from and
-//! read into [`shapegram_geom::Model`].
+//! read into [`shapegram_geom::Model`]; GeoJSON polygons read as footprints.
 //!
 //! Writers are deterministic: the same model gives the same bytes (materials are ordered by the
 //! first part that uses their colour, nothing depends on hash order, floats are printed with
@@ -14,6 +14,7 @@
 
 mod error;
 mod flat;
+mod geojson;
 mod glb;
 mod obj;
 mod read;
@@ -27,6 +28,7 @@ use std::path::Path;
 use shapegram_geom::Model;
 
 pub use error::Error;
+pub use geojson::{Footprints, read_geojson};
 pub use glb::{write_glb, write_glb_to};
 pub use obj::{write_obj, write_obj_to};
 pub use read::{read_glb, read_obj, read_stl};

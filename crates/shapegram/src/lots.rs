@@ -3,7 +3,6 @@
 
 use std::path::Path;
 
-use serde_json::Value as Json;
 use shapegram_eval::InitialShape;
 use shapegram_geom::{DVec2, DVec3, mesh::newell};
 
@@ -116,25 +115,20 @@ fn lot_normal(points: &[DVec3]) -> Option<DVec3> {
     newell(points.iter().copied()).try_normalize()
 }
 
-/// What a GeoJSON walk found.
-#[derive(Default)]
-struct GeoJson {
-    lots: Vec<InitialShape>,
-    holes: usize,
-    not_polygons: usize,
-    without_area: usize,
-}
-
-/// Lots from GeoJSON text: the exterior ring of every Polygon and MultiPolygon in a
-/// FeatureCollection, Feature, geometry or GeometryCollection. GeoJSON x is world x and GeoJSON y
-/// is world −z, so north is −z. Holes, other geometry types and polygons without area are
-/// skipped with a warning; anything malformed is an error (one line, naming the file).
+/// Lots from GeoJSON text (see [`shapegram_export::read_geojson`]): holes, other geometry
+/// types and polygons without area are skipped with a warning; anything malformed is an error
+/// (one line, naming the file).
 pub fn from_geojson(text: &str, name: &str) -> Result<(Vec<InitialShape>, Vec<String>), String> {
-    let json: Json =
-        serde_json::from_str(text).map_err(|e| format!("invalid GeoJSON in {name}: {e}"))?;
-    let mut found = GeoJson::default();
-    walk(&json, "the top level", &mut found)
+    let found = shapegram_export::read_geojson(text)
         .map_err(|e| format!("invalid GeoJSON in {name}: {e}"))?;
+    let mut lots = Vec::new();
+    let mut without_area = found.empty;
+    for ring in &found.rings {
+        match InitialShape::from_xz(ring) {
+            Some(lot) => lots.push(lot),
+            None => without_area += 1,
+        }
+    }
     let mut warnings = Vec::new();
     if found.holes > 0 {
         warnings.push(format!(
@@ -149,97 +143,13 @@ pub fn from_geojson(text: &str, name: &str) -> Result<(Vec<InitialShape>, Vec<St
             if found.not_polygons == 1 { "is" } else { "are" }
         ));
     }
-    if found.without_area > 0 {
+    if without_area > 0 {
         warnings.push(format!(
             "{name}: skipped {} without area",
-            crate::counted(found.without_area, "polygon", "polygons")
+            crate::counted(without_area, "polygon", "polygons")
         ));
     }
-    Ok((found.lots, warnings))
-}
-
-fn walk(json: &Json, at: &str, found: &mut GeoJson) -> Result<(), String> {
-    let kind = json
-        .get("type")
-        .and_then(Json::as_str)
-        .ok_or_else(|| format!("{at} is not a GeoJSON object with a \"type\""))?;
-    let member = |key: &str| {
-        json.get(key)
-            .ok_or_else(|| format!("{at} (a {kind}) has no \"{key}\""))
-    };
-    let array = |key: &str| {
-        member(key)?
-            .as_array()
-            .ok_or_else(|| format!("\"{key}\" of {at} is not an array"))
-    };
-    match kind {
-        "FeatureCollection" => {
-            for (i, feature) in array("features")?.iter().enumerate() {
-                walk(feature, &format!("features[{i}]"), found)?;
-            }
-        }
-        "Feature" => match member("geometry")? {
-            Json::Null => found.not_polygons += 1,
-            geometry => walk(geometry, &format!("the geometry of {at}"), found)?,
-        },
-        "GeometryCollection" => {
-            for (i, geometry) in array("geometries")?.iter().enumerate() {
-                walk(geometry, &format!("geometries[{i}] of {at}"), found)?;
-            }
-        }
-        "Polygon" => polygon(member("coordinates")?, at, found)?,
-        "MultiPolygon" => {
-            for (i, rings) in array("coordinates")?.iter().enumerate() {
-                polygon(rings, &format!("polygon {i} of {at}"), found)?;
-            }
-        }
-        "Point" | "MultiPoint" | "LineString" | "MultiLineString" => found.not_polygons += 1,
-        other => return Err(format!("{at} has the unknown type \"{other}\"")),
-    }
-    Ok(())
-}
-
-/// The exterior ring of a polygon's `coordinates` as a lot.
-fn polygon(rings: &Json, at: &str, found: &mut GeoJson) -> Result<(), String> {
-    let rings = rings
-        .as_array()
-        .ok_or_else(|| format!("the coordinates of {at} are not a list of rings"))?;
-    let Some(exterior) = rings.first() else {
-        found.without_area += 1;
-        return Ok(());
-    };
-    found.holes += rings.len() - 1;
-    let positions = exterior
-        .as_array()
-        .ok_or_else(|| format!("the outer ring of {at} is not a list of positions"))?;
-    let mut points = positions
-        .iter()
-        .map(|p| position(p).ok_or_else(|| format!("{at} has a position that is not [x, y]: {p}")))
-        .collect::<Result<Vec<DVec2>, String>>()?;
-    // GeoJSON rings repeat their first position at the end.
-    if points.len() > 1 && points.first() == points.last() {
-        points.pop();
-    }
-    match InitialShape::from_xz(&points) {
-        Some(lot) => found.lots.push(lot),
-        None => found.without_area += 1,
-    }
-    Ok(())
-}
-
-/// A GeoJSON position `[x, y]` or `[x, y, z]` as world (x, z) = (x, −y).
-fn position(p: &Json) -> Option<DVec2> {
-    let numbers = p.as_array()?;
-    let coordinate = |i: usize| {
-        numbers
-            .get(i)?
-            .as_f64()
-            .filter(|v| v.is_finite() && v.abs() <= f64::from(f32::MAX))
-    };
-    if !(2..=3).contains(&numbers.len()) {
-        return None;
-    }
-    Some(DVec2::new(coordinate(0)?, -coordinate(1)?))
+    Ok((lots, warnings))
 }
 
 #[cfg(test)]

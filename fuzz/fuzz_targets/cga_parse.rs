@@ -11,7 +11,11 @@ fuzz_target!(|text: &str| {
     let parsed = parse(&source);
     for d in &parsed.diagnostics {
         let (start, end) = (d.span.start as usize, d.span.end as usize);
-        assert!(start <= end && end <= text.len(), "span out of range: {:?}", d.span);
+        assert!(
+            start <= end && end <= text.len(),
+            "span out of range: {:?}",
+            d.span
+        );
         assert!(text.is_char_boundary(start) && text.is_char_boundary(end));
         source.render(d);
     }

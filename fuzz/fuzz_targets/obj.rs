@@ -1,0 +1,16 @@
+//! An OBJ file (a model for `info`, an asset for `i()`, lots for `--lots`): read, then measured as `shapegram info` measures it and written in every format.
+
+#![no_main]
+
+use libfuzzer_sys::fuzz_target;
+
+fuzz_target!(|bytes: &[u8]| {
+    let Ok(text) = std::str::from_utf8(bytes) else {
+        return;
+    };
+    let read = shapegram_export::read_obj(text);
+    match read {
+        Ok(model) => shapegram_fuzz::finish(&model),
+        Err(error) => drop(error.to_string()),
+    }
+});
