@@ -152,6 +152,23 @@ pub fn flat_axis(size: DVec3) -> Option<usize> {
     (zero.len() == 1).then(|| zero[0])
 }
 
+/// Whether a local polygon is exactly the flat box of its scope (a rectangle at its corners).
+pub fn fills_box(local: &[DVec3], size: DVec3) -> bool {
+    let Some(axis) = flat_axis(size) else {
+        return false;
+    };
+    let eps = 1e-9 * size.length().max(1.0);
+    local.len() == 4
+        && local.iter().all(|p| {
+            (0..3).all(|i| {
+                i == axis && p[i].abs() <= eps
+                    || i != axis && (p[i].abs() <= eps || (p[i] - size[i]).abs() <= eps)
+            })
+        })
+        && (Mesh::from_polygon(local).area() - size[(axis + 1) % 3] * size[(axis + 2) % 3]).abs()
+            <= eps * size.length().max(1.0)
+}
+
 /// The mesh of a box geometry in local coordinates: a cuboid, a rectangle facing the positive
 /// direction of its one flat axis, or nothing.
 pub fn box_mesh(size: DVec3) -> Option<Mesh> {

@@ -1,0 +1,417 @@
+//! Deriving lots: the entry point [`derive`], lots derived in batches (in parallel when there
+//! are threads to spare), and the two phases of grammars with context rules.
+
+use std::rc::Rc;
+use std::sync::Arc;
+
+use rayon::prelude::*;
+use shapegram_geom::{DMat3, DVec3, Mesh, Scope, mesh::newell};
+
+use super::machine::{Engine, Phase, Task, Work};
+use super::{Derivation, DeriveOptions, InitialShape, Leaf, TreeNode};
+use crate::context::{Context, Occluder, SnapPlane, Waiting};
+use crate::error::DeriveError;
+use crate::expr::Evaluator;
+use crate::program::{Program, RuleId};
+use crate::rng::child_seed;
+use crate::shape::{Geometry, NO_OCCLUDER, State, fills_box};
+use crate::value::Value;
+
+/// Derives a model from each initial shape, in parallel, and returns the results in order.
+pub fn derive(
+    program: &Program,
+    lots: &[InitialShape],
+    options: &DeriveOptions,
+) -> Result<Derivation, DeriveError> {
+    let start = start_rule(program, options)?;
+    if let Some(cell) = options.implicit_cell
+        && !(cell.is_finite() && cell > 0.0)
+    {
+        return Err(DeriveError::general(format!(
+            "implicit cell size {cell}: expected a finite number above 0"
+        )));
+    }
+    let overrides = options
+        .attrs
+        .iter()
+        .map(|(name, value)| {
+            program
+                .attr(name)
+                .map(|i| (i, value.clone()))
+                .ok_or_else(|| {
+                    let mut e =
+                        DeriveError::general(format!("the grammar has no attribute `{name}`"));
+                    if let Some(close) = shapegram_syntax::suggest(name, program.attr_names()) {
+                        e = e.with_hint(format!("did you mean `{close}`?"));
+                    }
+                    e
+                })
+        })
+        .collect::<Result<Vec<_>, _>>()?;
+    let names: Vec<Arc<str>> = program
+        .symbols
+        .iter()
+        .map(|s| Arc::from(s.as_str()))
+        .collect();
+    let phase = if program.context_rules.contains(&true) {
+        Phase::Gather
+    } else {
+        Phase::Only
+    };
+    let lot_seed = |i: usize| child_seed(options.seed, i as u64);
+    let batches = in_batches(program, lots.len(), None, |batch, i| {
+        derive_lot(
+            program,
+            start,
+            &lots[i],
+            i as u32,
+            lot_seed(i),
+            &overrides,
+            &names,
+            options,
+            phase,
+            batch,
+        )
+    });
+    let mut all = Derivation::default();
+    all.leaves
+        .reserve_exact(batches.iter().map(|b| b.leaves.len()).sum());
+    let mut counts = vec![0usize; program.rules.len()];
+    let mut gathered = Gathered::default();
+    for batch in batches {
+        all.absorb(batch, &mut counts, &mut gathered, false)?;
+    }
+    if !gathered.waiting.is_empty() {
+        let context = Context::new(gathered.occluders, gathered.snaps, &names);
+        // Each lot's waiting shapes are taken by the one batch that resumes that lot.
+        let waiting: Vec<_> = gathered
+            .waiting
+            .into_iter()
+            .map(|w| std::sync::Mutex::new(Some(w)))
+            .collect();
+        let resume = |batch: &mut Batch, i: usize| {
+            let taken = waiting[i]
+                .lock()
+                .unwrap_or_else(std::sync::PoisonError::into_inner)
+                .take();
+            let Some(waiting) = taken else {
+                return Ok(());
+            };
+            let seed = lot_seed(waiting.lot as usize);
+            resume_lot(program, waiting, seed, &names, options, &context, batch)
+        };
+        // With a tree, phase 2 numbers its nodes after those of phase 1: one batch, in order.
+        let tree = options.keep_tree.then(|| std::mem::take(&mut all.tree));
+        for batch in in_batches(program, waiting.len(), tree, resume) {
+            all.absorb(
+                batch,
+                &mut counts,
+                &mut Gathered::default(),
+                options.keep_tree,
+            )?;
+        }
+    }
+    if all.stats.shapes > options.max_shapes {
+        return Err(DeriveError::general(format!(
+            "the derivation made more than {} shapes",
+            options.max_shapes
+        ))
+        .with_hint("raise the limit (--max-shapes) or derive fewer initial shapes"));
+    }
+    all.stats.leaves = all.leaves.len();
+    all.stats.rules = rule_counts(program, &counts);
+    all.solids =
+        crate::solids::mesh_solids(&all.leaves, options.implicit_cell, options.time_budget)?;
+    Ok(all)
+}
+
+/// Runs `work` on the items `0..n` in batches of consecutive items, in parallel when there is
+/// more than one thread and no `tree` to extend (then in one batch that starts with it); a batch
+/// keeps the error of its first failing item and skips the items after it. Batches come back in
+/// item order.
+fn in_batches(
+    program: &Program,
+    n: usize,
+    tree: Option<Vec<TreeNode>>,
+    work: impl Fn(&mut Batch, usize) -> Result<(), DeriveError> + Sync,
+) -> Vec<Batch> {
+    let step = |batch: &mut Batch, i: usize| {
+        if batch.error.is_none() {
+            if let Err(e) = work(batch, i) {
+                batch.error = Some(e);
+            }
+        }
+    };
+    // Items derive into batches of consecutive items, so that leaves are not copied from one
+    // vector per item into the result: on one thread there is a single batch.
+    if n <= 1 || rayon::current_num_threads() == 1 || tree.is_some() {
+        let mut batch = Batch::new(program);
+        batch.tree = tree.unwrap_or_default();
+        for i in 0..n {
+            step(&mut batch, i);
+            // Room for the items to come, estimated from those so far (only memory depends on
+            // it).
+            let done = i + 1;
+            let estimate = batch.leaves.len() / done * (n - done);
+            batch.leaves.reserve(estimate);
+        }
+        return vec![batch];
+    }
+    (0..n)
+        .into_par_iter()
+        .fold(
+            || Batch::new(program),
+            |mut batch, i| {
+                step(&mut batch, i);
+                batch
+            },
+        )
+        .collect()
+}
+
+/// What phase 1 leaves for phase 2, numbered across all batches.
+#[derive(Default)]
+struct Gathered {
+    waiting: Vec<Waiting>,
+    occluders: Vec<Occluder>,
+    snaps: Vec<SnapPlane>,
+}
+
+impl Derivation {
+    /// Appends a batch's results. Node numbers of the batch start after those already here,
+    /// unless the batch `continues` the tree (it was handed the tree to extend).
+    fn absorb(
+        &mut self,
+        mut batch: Batch,
+        counts: &mut [usize],
+        gathered: &mut Gathered,
+        continues: bool,
+    ) -> Result<(), DeriveError> {
+        if let Some(e) = batch.error {
+            return Err(e);
+        }
+        let base = if continues { 0 } else { self.tree.len() as u32 };
+        if continues || self.leaves.is_empty() && self.tree.is_empty() {
+            // No renumbering needed: append the leaves as they are, take the tree.
+            if self.leaves.is_empty() {
+                self.leaves = std::mem::take(&mut batch.leaves);
+            } else {
+                self.leaves.append(&mut batch.leaves);
+            }
+            self.tree = batch.tree;
+        } else {
+            self.tree.extend(batch.tree.into_iter().map(|mut n| {
+                n.parent = n.parent.map(|p| p + base);
+                n
+            }));
+            self.leaves.extend(batch.leaves.into_iter().map(|mut l| {
+                l.node = l.node.map(|n| n + base);
+                l
+            }));
+        }
+        let occluder_base = gathered.occluders.len() as u32;
+        gathered
+            .occluders
+            .extend(batch.occluders.into_iter().map(|mut o| {
+                if o.parent != NO_OCCLUDER {
+                    o.parent += occluder_base;
+                }
+                o
+            }));
+        for mut lot in batch.waiting {
+            for shape in &mut lot.shapes {
+                shape.state.rebase(base, occluder_base);
+            }
+            gathered.waiting.push(lot);
+        }
+        gathered.snaps.append(&mut batch.snaps);
+        self.reports.extend(batch.reports);
+        self.prints.extend(batch.prints);
+        self.stats.shapes += batch.shapes;
+        for (c, n) in counts.iter_mut().zip(&batch.counts) {
+            *c += n;
+        }
+        Ok(())
+    }
+}
+
+/// What consecutive lots derived so far: their leaves, tree, output and counts, what they leave
+/// for phase 2, or the error of the first lot that failed.
+pub(super) struct Batch {
+    pub(super) leaves: Vec<Leaf>,
+    pub(super) tree: Vec<TreeNode>,
+    pub(super) reports: Vec<(String, Value)>,
+    pub(super) prints: Vec<String>,
+    pub(super) shapes: usize,
+    pub(super) counts: Vec<usize>,
+    waiting: Vec<Waiting>,
+    pub(super) occluders: Vec<Occluder>,
+    pub(super) snaps: Vec<SnapPlane>,
+    error: Option<DeriveError>,
+}
+
+impl Batch {
+    fn new(program: &Program) -> Self {
+        Self {
+            leaves: Vec::new(),
+            tree: Vec::new(),
+            reports: Vec::new(),
+            prints: Vec::new(),
+            shapes: 0,
+            counts: vec![0; program.rules.len()],
+            waiting: Vec::new(),
+            occluders: Vec::new(),
+            snaps: Vec::new(),
+            error: None,
+        }
+    }
+}
+
+fn rule_counts(program: &Program, counts: &[usize]) -> Vec<(String, usize)> {
+    program
+        .rules
+        .iter()
+        .zip(counts)
+        .map(|(r, &n)| (program.symbol_name(r.symbol).to_owned(), n))
+        .collect()
+}
+
+fn start_rule(program: &Program, options: &DeriveOptions) -> Result<RuleId, DeriveError> {
+    let id = match &options.start_rule {
+        Some(name) => program.rule(name, 0).ok_or_else(|| {
+            let mut e = DeriveError::general(format!(
+                "the grammar has no rule `{name}` without parameters"
+            ));
+            if let Some(close) = shapegram_syntax::suggest(name, program.rule_names()) {
+                e = e.with_hint(format!("did you mean `{close}`?"));
+            }
+            e
+        })?,
+        None => program
+            .start_rule
+            .ok_or_else(|| DeriveError::general("the grammar has no rules"))?,
+    };
+    let rule = &program.rules[id as usize];
+    if rule.params > 0 {
+        let count = match rule.params {
+            1 => "1 parameter".to_owned(),
+            n => format!("{n} parameters"),
+        };
+        return Err(DeriveError::general(format!(
+            "the start rule `{}` takes {count}, but a lot has no values for them",
+            program.symbol_name(rule.symbol),
+        ))
+        .with_hint(
+            "start from a rule without parameters: mark it @StartRule, or name it with --start",
+        ));
+    }
+    Ok(id)
+}
+
+/// The scope and geometry of an initial shape: x along the first edge, y along the normal, the
+/// box fitted around the polygon (CGA's initial scope).
+fn initial_shape(footprint: &[DVec3]) -> Result<(Scope, Geometry), DeriveError> {
+    let normal = newell(footprint.iter().copied()).normalize_or_zero();
+    let finite = footprint.iter().all(|p| p.is_finite());
+    let x = footprint
+        .iter()
+        .zip(footprint.iter().cycle().skip(1))
+        .find_map(|(a, b)| (*b - *a).reject_from(normal).try_normalize());
+    let (Some(x), true) = (x, finite && normal != DVec3::ZERO) else {
+        return Err(DeriveError::general(
+            "an initial shape has no area (fewer than three distinct corners, or all in a line)",
+        ));
+    };
+    let axes = DMat3::from_cols(x, normal, x.cross(normal));
+    let scope = Scope::fit(axes, footprint.iter().copied());
+    let local: Vec<DVec3> = footprint.iter().map(|&p| scope.to_local(p)).collect();
+    let geometry = if fills_box(&local, scope.size) {
+        Geometry::Box
+    } else {
+        Geometry::mesh(Mesh::from_polygon(&local))
+    };
+    Ok((scope, geometry))
+}
+
+/// Derives one lot into `batch` (in phase 1 of a derivation with context rules, what waits for
+/// phase 2 goes to the batch too).
+#[allow(clippy::too_many_arguments)]
+fn derive_lot(
+    program: &Program,
+    start: RuleId,
+    lot: &InitialShape,
+    index: u32,
+    seed: u64,
+    overrides: &[(u32, Value)],
+    names: &[Arc<str>],
+    options: &DeriveOptions,
+    phase: Phase,
+    batch: &mut Batch,
+) -> Result<(), DeriveError> {
+    let (scope, geometry) = initial_shape(&lot.footprint)?;
+    let symbol = program.rules[start as usize].symbol;
+    let mut state = State::initial(symbol, scope, geometry, seed);
+    let mut ev = Evaluator::new(program, seed, scope.origin);
+    ev.lot = index;
+    state.attrs = Rc::new(ev.initial_attrs(&mut state, overrides)?);
+    let mut engine = Engine::new(program, ev, names, options, phase, batch);
+    if let Some(tree) = &mut engine.tree {
+        state.node = tree.len() as u32;
+        tree.push(TreeNode {
+            name: names[symbol as usize].clone(),
+            parent: None,
+            scope,
+        });
+    }
+    engine.shapes = 1;
+    let task = Work::Rewrite(Task {
+        state: Box::new(state),
+        rule: start,
+        args: Vec::new(),
+    });
+    match options.generations {
+        Some(n) => engine.run_generations(task, n)?,
+        None => engine.run_depth_first(task)?,
+    }
+    if !engine.parked.is_empty() {
+        batch.waiting.push(Waiting {
+            lot: index,
+            origin: scope.origin,
+            consts: engine.ev.memo(),
+            shapes: std::mem::take(&mut engine.parked),
+        });
+    }
+    engine.finish(batch);
+    Ok(())
+}
+
+/// Derives the shapes of one lot that waited for phase 2, in order, into `batch`.
+#[allow(clippy::too_many_arguments)]
+fn resume_lot(
+    program: &Program,
+    waiting: Waiting,
+    seed: u64,
+    names: &[Arc<str>],
+    options: &DeriveOptions,
+    context: &Context,
+    batch: &mut Batch,
+) -> Result<(), DeriveError> {
+    let mut ev = Evaluator::new(program, seed, waiting.origin);
+    ev.restore(waiting.consts);
+    ev.lot = waiting.lot;
+    ev.context = Some(context);
+    let mut engine = Engine::new(program, ev, names, options, Phase::Answer, batch);
+    for p in waiting.shapes {
+        let task = Work::Rewrite(Task {
+            state: Box::new(p.state.thaw()),
+            rule: p.rule,
+            args: p.args,
+        });
+        match options.generations {
+            Some(n) => engine.run_generations(task, n.saturating_sub(p.generation))?,
+            None => engine.run_depth_first(task)?,
+        }
+    }
+    engine.finish(batch);
+    Ok(())
+}

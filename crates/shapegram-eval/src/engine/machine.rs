@@ -1,0 +1,436 @@
+//! The engine of one lot: the machine's state, its work queue (depth first or in generations),
+//! rule bodies and statements, the limits, and where new shapes and leaves go.
+
+use std::sync::Arc;
+use std::time::Instant;
+
+use shapegram_geom::Scope;
+use shapegram_syntax::Span;
+
+use super::derive::Batch;
+use super::{DeriveOptions, Fallible, Leaf, TreeNode};
+use crate::context::{Occluder, Parked, SnapPlane};
+use crate::error::DeriveError;
+use crate::expr::Evaluator;
+use crate::ops::Op;
+use crate::program::{CBody, CStmt, Program, RuleId, Sym};
+use crate::shape::{Geometry, State};
+use crate::split::Layout;
+use crate::value::Value;
+
+/// One shape waiting for its rule.
+pub(super) struct Task {
+    pub(super) state: Box<State>,
+    pub(super) rule: RuleId,
+    pub(super) args: Vec<Value>,
+}
+
+/// What a rule application leaves behind, in order: shapes to rewrite and finished leaves.
+/// Keeping both in one list makes the leaves come out in depth-first order of the tree.
+pub(super) enum Work {
+    Rewrite(Task),
+    Leaf(Box<State>),
+}
+
+/// Which phase of a derivation the engine runs (see [`crate::context`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(super) enum Phase {
+    /// The grammar has no context rules: a single phase.
+    Only,
+    /// Phase 1: shapes with context rules wait; occluders and snap planes are recorded.
+    Gather,
+    /// Phase 2: the waiting shapes derive, asking about the shapes of phase 1.
+    Answer,
+}
+
+/// The engine deriving one lot: the program, the evaluator with the lot's constants, what the
+/// lot made so far and the limits it counts against.
+pub(super) struct Engine<'p> {
+    program: &'p Program,
+    pub(super) ev: Evaluator<'p>,
+    pub(super) names: &'p [Arc<str>],
+    pub(super) options: &'p DeriveOptions,
+    pub(super) tree: Option<Vec<TreeNode>>,
+    pub(super) leaves: Vec<Leaf>,
+    counts: Vec<usize>,
+    /// Rule applications so far; the clock is read every 1024 of them.
+    applications: usize,
+    pub(super) shapes: usize,
+    started: Instant,
+    /// Where the outputs of the rule being applied start on the depth-first stack: while none
+    /// is there, a new leaf is next in depth-first order and goes straight to `leaves`.
+    /// `usize::MAX` when rewriting in generations.
+    pub(super) base: usize,
+    /// Split layouts to reuse (splits nest, so there can be several in use).
+    pub(super) layouts: Vec<Layout<'p>>,
+    /// Allocations of rewritten shapes, for the next shapes that wait for their rules (the
+    /// boxes themselves are what is kept).
+    #[allow(clippy::vec_box)]
+    spare: Vec<Box<State>>,
+    pub(super) phase: Phase,
+    /// The generation being rewritten (generations mode).
+    generation: u32,
+    /// Shapes of this lot waiting for phase 2 (phase 1 only).
+    pub(super) parked: Vec<Parked>,
+    /// Occluders recorded in phase 1, numbered within the batch.
+    pub(super) occluders: Vec<Occluder>,
+    /// Snap planes recorded in phase 1.
+    pub(super) snaps: Vec<SnapPlane>,
+}
+
+impl<'p> Engine<'p> {
+    /// An engine deriving into the lists of `batch` (taken from it until [`Engine::finish`]).
+    pub(super) fn new(
+        program: &'p Program,
+        ev: Evaluator<'p>,
+        names: &'p [Arc<str>],
+        options: &'p DeriveOptions,
+        phase: Phase,
+        batch: &mut Batch,
+    ) -> Self {
+        Self {
+            program,
+            ev,
+            names,
+            options,
+            tree: options.keep_tree.then(|| std::mem::take(&mut batch.tree)),
+            leaves: std::mem::take(&mut batch.leaves),
+            counts: vec![0; program.rules.len()],
+            applications: 0,
+            shapes: 0,
+            started: Instant::now(),
+            base: usize::MAX,
+            layouts: Vec::new(),
+            spare: Vec::new(),
+            phase,
+            generation: 0,
+            parked: Vec::new(),
+            occluders: std::mem::take(&mut batch.occluders),
+            snaps: Vec::new(),
+        }
+    }
+
+    /// Hands the results back to the batch.
+    pub(super) fn finish(self, batch: &mut Batch) {
+        batch.leaves = self.leaves;
+        batch.tree = self.tree.unwrap_or_default();
+        batch.reports.extend(self.ev.reports);
+        batch.prints.extend(self.ev.prints);
+        batch.shapes += self.shapes;
+        for (c, n) in batch.counts.iter_mut().zip(&self.counts) {
+            *c += n;
+        }
+        batch.occluders = self.occluders;
+        batch.snaps.extend(self.snaps);
+    }
+
+    pub(super) fn run_depth_first(&mut self, first: Work) -> Fallible<()> {
+        let mut stack = vec![first];
+        while let Some(work) = stack.pop() {
+            match work {
+                Work::Leaf(mut state) => self.emit(&mut state),
+                Work::Rewrite(task) => {
+                    let base = stack.len();
+                    self.base = base;
+                    self.apply(task, &mut stack)?;
+                    // Reversed, so the first child is derived first.
+                    stack[base..].reverse();
+                }
+            }
+        }
+        self.base = usize::MAX;
+        Ok(())
+    }
+
+    pub(super) fn run_generations(&mut self, first: Work, generations: u32) -> Fallible<()> {
+        let mut current = vec![first];
+        for generation in 0..generations {
+            self.generation = generation;
+            let mut next = Vec::new();
+            for work in current {
+                match work {
+                    Work::Leaf(state) => next.push(Work::Leaf(state)),
+                    Work::Rewrite(task) => self.apply(task, &mut next)?,
+                }
+            }
+            current = next;
+            if !current.iter().any(|w| matches!(w, Work::Rewrite(_))) {
+                break;
+            }
+        }
+        // Shapes still waiting for their rule when the generations run out are leaves too.
+        for work in current {
+            match work {
+                Work::Leaf(mut state) | Work::Rewrite(Task { mut state, .. }) => {
+                    self.emit(&mut state)
+                }
+            }
+        }
+        Ok(())
+    }
+
+    /// Applies a shape's rule; new shapes waiting for rules go to `out`, in order.
+    fn apply(&mut self, mut task: Task, out: &mut Vec<Work>) -> Fallible<()> {
+        if self.phase == Phase::Gather && self.program.context_rules[task.rule as usize] {
+            self.parked.push(Parked {
+                generation: self.generation,
+                rule: task.rule,
+                args: task.args,
+                state: (*task.state).freeze(),
+            });
+            return Ok(());
+        }
+        self.counts[task.rule as usize] += 1;
+        self.applications += 1;
+        if self.applications % 1024 == 0 {
+            self.check_time(task.rule)?;
+        }
+        let program = self.program;
+        let result = self.run_body(
+            &program.rules[task.rule as usize].body,
+            &mut task.state,
+            &task.args,
+            out,
+        );
+        if self.spare.len() < 64 {
+            // Only the allocation is kept: no need to hold on to a mesh.
+            task.state.geometry = Geometry::Empty;
+            self.spare.push(task.state);
+        }
+        result
+    }
+
+    fn run_body(
+        &mut self,
+        body: &'p CBody,
+        state: &mut State,
+        args: &[Value],
+        out: &mut Vec<Work>,
+    ) -> Fallible<()> {
+        match body {
+            CBody::Sequence(stmts) => self.run_stmts(stmts, state, args, out),
+            CBody::Cases(arms, otherwise) => {
+                for (cond, branch) in arms {
+                    if self.ev.condition(cond, state, args)? {
+                        return self.run_body(branch, state, args, out);
+                    }
+                }
+                self.run_body(otherwise, state, args, out)
+            }
+            CBody::Stochastic(arms, otherwise) => {
+                let draw = state.rng.next_f64() * 100.0;
+                let mut acc = 0.0;
+                for (percent, branch) in arms {
+                    acc += self.ev.number(percent, state, args)?;
+                    if draw < acc {
+                        return self.run_body(branch, state, args, out);
+                    }
+                }
+                self.run_body(otherwise, state, args, out)
+            }
+        }
+    }
+
+    /// Runs statements on a shape. A shape that made no successors and no parts, and was not
+    /// deleted, is a leaf. The shape is used up: what is left of it afterwards is to be dropped.
+    pub(super) fn run_stmts(
+        &mut self,
+        stmts: &'p [CStmt],
+        state: &mut State,
+        args: &[Value],
+        out: &mut Vec<Work>,
+    ) -> Fallible<()> {
+        let mut produced = false;
+        // What `center` centres in: the scope the statements started with, or the last pushed
+        // (only kept when a `center` needs it).
+        let centers = stmts
+            .iter()
+            .any(|s| matches!(s, CStmt::Op(Op::Center(_), _)));
+        let mut anchor = if centers {
+            state.scope
+        } else {
+            Scope::default()
+        };
+        let mut saved: Vec<(State, Scope)> = Vec::new();
+        for (i, stmt) in stmts.iter().enumerate() {
+            match stmt {
+                CStmt::Push => {
+                    saved.push((state.clone(), anchor));
+                    anchor = state.scope;
+                }
+                CStmt::Pop(span) => {
+                    let Some((mut restored, outer)) = saved.pop() else {
+                        return Err(DeriveError::at("`]` without a matching `[`", *span));
+                    };
+                    // The shape's identity goes on: children made inside the brackets keep
+                    // their seeds distinct from those made after.
+                    restored.children = state.children;
+                    restored.rng = state.rng.clone();
+                    *state = restored;
+                    anchor = outer;
+                }
+                CStmt::Nil => return Ok(()),
+                CStmt::Successor {
+                    symbol,
+                    rule,
+                    args: exprs,
+                    terminal,
+                    span,
+                } => {
+                    let values = if exprs.is_empty() {
+                        Vec::new()
+                    } else {
+                        exprs
+                            .iter()
+                            .map(|e| self.ev.eval(e, state, args))
+                            .collect::<Fallible<Vec<_>>>()?
+                    };
+                    let rule = rule.filter(|_| !terminal);
+                    if i + 1 == stmts.len() {
+                        // A successor that ends the statements takes the shape itself.
+                        state.make_child();
+                        return self.successor(state, *symbol, rule, values, *span, out);
+                    }
+                    let mut child = state.spawn();
+                    self.successor(&mut child, *symbol, rule, values, *span, out)?;
+                    produced = true;
+                }
+                CStmt::Op(op, span) => {
+                    produced |= self.op(op, *span, state, &anchor, args, out)?;
+                }
+            }
+        }
+        if !produced {
+            self.leaf(state, out);
+        }
+        Ok(())
+    }
+
+    /// Counts a new shape against the limits and enters it in the derivation tree. The shape
+    /// still carries its parent's node number, which becomes its parent link.
+    pub(super) fn admit(&mut self, state: &mut State, span: Span) -> Fallible<()> {
+        if let Some(tree) = &mut self.tree {
+            tree.push(TreeNode {
+                name: self.names[state.symbol as usize].clone(),
+                parent: Some(state.node),
+                scope: state.scope,
+            });
+            state.node = (tree.len() - 1) as u32;
+        }
+        self.count(state.depth, state.symbol, span)
+    }
+
+    /// Counts a new shape of the given depth and symbol against the limits.
+    pub(super) fn count(&mut self, depth: u32, symbol: Sym, span: Span) -> Fallible<()> {
+        self.shapes += 1;
+        if self.shapes > self.options.max_shapes {
+            let rule = self.busiest_rule();
+            return Err(DeriveError::at(
+                format!(
+                    "the derivation made more than {} shapes; rule `{rule}` was applied most often",
+                    self.options.max_shapes
+                ),
+                span,
+            )
+            .with_hint("a rule that keeps making successors needs a condition that ends it"));
+        }
+        if depth > self.options.max_depth {
+            let name = self.program.symbol_name(symbol);
+            return Err(DeriveError::at(
+                format!(
+                    "the derivation is more than {} shapes deep at `{name}`: a rule keeps rewriting without end",
+                    self.options.max_depth
+                ),
+                span,
+            )
+            .with_hint("guard the recursion with `case …` on the scope size or a counter parameter"));
+        }
+        Ok(())
+    }
+
+    fn busiest_rule(&self) -> &str {
+        let (i, _) = self
+            .counts
+            .iter()
+            .enumerate()
+            .max_by_key(|&(i, n)| (*n, std::cmp::Reverse(i)))
+            .unwrap_or((0, &0));
+        self.program
+            .rules
+            .get(i)
+            .map_or("?", |r| self.program.symbol_name(r.symbol))
+    }
+
+    fn check_time(&self, rule: RuleId) -> Fallible<()> {
+        if let Some(budget) = self.options.time_budget {
+            if self.started.elapsed() > budget {
+                let name = self
+                    .program
+                    .symbol_name(self.program.rules[rule as usize].symbol);
+                return Err(DeriveError::general(format!(
+                    "the derivation took longer than {budget:?} (last rule: `{name}`, busiest: `{}`)",
+                    self.busiest_rule()
+                )));
+            }
+        }
+        Ok(())
+    }
+
+    /// A new shape for a successor symbol: rewritten later with its rule, or a leaf.
+    fn successor(
+        &mut self,
+        state: &mut State,
+        symbol: Sym,
+        rule: Option<RuleId>,
+        args: Vec<Value>,
+        span: Span,
+        out: &mut Vec<Work>,
+    ) -> Fallible<()> {
+        state.symbol = symbol;
+        self.admit(state, span)?;
+        match rule {
+            Some(rule) => {
+                let state = match self.spare.pop() {
+                    Some(mut spare) => {
+                        *spare = state.take();
+                        spare
+                    }
+                    None => Box::new(state.take()),
+                };
+                out.push(Work::Rewrite(Task { state, rule, args }));
+            }
+            None => self.leaf(state, out),
+        }
+        Ok(())
+    }
+
+    /// A finished shape: a leaf now when it is next in depth-first order, else later. Takes
+    /// what it needs from the state.
+    fn leaf(&mut self, state: &mut State, out: &mut Vec<Work>) {
+        if out.len() == self.base {
+            self.emit(state);
+        } else {
+            out.push(Work::Leaf(Box::new(state.take())));
+        }
+    }
+
+    /// Adds a shape to the leaves (unless it has no geometry), taking its geometry.
+    fn emit(&mut self, state: &mut State) {
+        if matches!(state.geometry, Geometry::Empty) {
+            return;
+        }
+        if self.phase == Phase::Gather {
+            self.occluders
+                .extend(Occluder::of(state, None, self.ev.lot));
+        }
+        self.leaves.push(Leaf {
+            name: self.names[state.symbol as usize].clone(),
+            scope: state.scope,
+            geometry: std::mem::replace(&mut state.geometry, Geometry::Empty),
+            color: state.color,
+            material: state.material.take(),
+            node: self.tree.is_some().then_some(state.node),
+            lot: self.ev.lot,
+        });
+    }
+}
