@@ -8,12 +8,15 @@ use shapegram_geom::Scope;
 use shapegram_syntax::Span;
 
 use super::derive::Batch;
+use super::footprint::{SetbackOutputs, reverse_normals};
+use super::implicit::implicit;
+use super::scope::{align_to_axes, align_to_bbox, center};
 use super::{DeriveOptions, Fallible, Leaf, TreeNode};
 use crate::context::{Occluder, Parked, SnapPlane};
 use crate::error::DeriveError;
 use crate::expr::Evaluator;
 use crate::ops::Op;
-use crate::program::{CBody, CStmt, Program, RuleId, Sym};
+use crate::program::{CBody, CExpr, CStmt, Program, RuleId, Sym};
 use crate::shape::{Geometry, State};
 use crate::split::Layout;
 use crate::value::Value;
@@ -432,5 +435,97 @@ impl<'p> Engine<'p> {
             node: self.tree.is_some().then_some(state.node),
             lot: self.ev.lot,
         });
+    }
+
+    /// Applies an operation: the family module of the operation does the work. Returns whether
+    /// it made new shapes (splits), which ends the current shape's chance of becoming a leaf.
+    fn op(
+        &mut self,
+        op: &'p Op,
+        span: Span,
+        state: &mut State,
+        anchor: &Scope,
+        args: &[Value],
+        out: &mut Vec<Work>,
+    ) -> Fallible<bool> {
+        match op {
+            Op::Extrude { world_up, distance } => {
+                self.extrude(state, *world_up, distance, span, args)?
+            }
+            Op::Translate(v) => self.translate(state, v, args)?,
+            Op::Rotate {
+                about_center,
+                degrees,
+            } => self.rotate(state, *about_center, degrees, args)?,
+            Op::Size(v) => self.size(state, v, args)?,
+            Op::Center(axes) => center(state, anchor, *axes),
+            Op::Mirror(flags) => self.mirror(state, flags, args)?,
+            Op::AlignScopeToAxes(axis) => align_to_axes(state, *axis),
+            Op::AlignScopeToGeometry { z_up, face, edge } => {
+                self.align_to_geometry(state, *z_up, face, edge, span, args)?
+            }
+            Op::AlignScopeToGeometryBBox { first, second } => align_to_bbox(state, *first, *second),
+            Op::RotateScope(v) => self.rotate_scope(state, v, args)?,
+            Op::Insert(path) => self.insert(state, path, args)?,
+            Op::Primitive(kind, params) => self.primitive(state, *kind, params, span, args)?,
+            Op::Split {
+                axis,
+                adjust,
+                snap,
+                block,
+            } => {
+                self.split(state, *axis, *adjust, snap.as_ref(), block, span, args, out)?;
+                return Ok(true);
+            }
+            Op::Snap { axes, tag } => self.snap(state, *axes, tag.as_ref(), args)?,
+            Op::Label(name) => self.label(state, name, args)?,
+            Op::Comp { kind, entries } => {
+                self.comp(state, *kind, entries, span, args, out)?;
+                return Ok(true);
+            }
+            Op::Setback {
+                depths,
+                entries,
+                shape,
+                remainder,
+            } => {
+                let outputs = SetbackOutputs {
+                    entries,
+                    shape: shape.as_ref(),
+                    remainder: remainder.as_ref(),
+                };
+                self.setback(state, depths, outputs, span, args, out)?;
+                return Ok(true);
+            }
+            Op::Color(params) => state.color = self.color(state, params, args)?,
+            Op::Set(target, value) => self.set(state, target, value, args)?,
+            Op::Report(key, value) => self.report(state, key, value, args)?,
+            Op::Print(value) => self.print(state, value, args)?,
+            Op::ReverseNormals => reverse_normals(state, span)?,
+            Op::Offset { distance, keep } => self.offset(state, distance, *keep, span, args)?,
+            Op::Roof(kind, params) => self.roof(state, *kind, params, span, args)?,
+            Op::Implicit(kind) => implicit(state, *kind, span)?,
+            Op::ImplicitFile(path) => self.implicit_file(state, path, span, args)?,
+            Op::Csg {
+                kind,
+                group,
+                amount,
+            } => self.csg(state, *kind, group, amount.as_ref(), span, args)?,
+            Op::Ignored => {}
+        }
+        Ok(false)
+    }
+
+    /// Evaluates operation arguments that must all be numbers.
+    pub(super) fn numbers(
+        &mut self,
+        params: &[CExpr],
+        state: &mut State,
+        args: &[Value],
+    ) -> Fallible<Vec<f64>> {
+        params
+            .iter()
+            .map(|p| self.ev.number(p, state, args))
+            .collect()
     }
 }

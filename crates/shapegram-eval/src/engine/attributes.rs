@@ -1,0 +1,120 @@
+//! What a shape carries besides its geometry, and what a derivation tells besides the model:
+//! `color`, `set` (attributes, colour channels, material name), `report` and `print`.
+
+use std::rc::Rc;
+use std::sync::Arc;
+
+use shapegram_geom::Color;
+
+use super::Fallible;
+use super::machine::Engine;
+use crate::error::DeriveError;
+use crate::ops::SetTarget;
+use crate::program::{CExpr, CKind};
+use crate::shape::State;
+use crate::value::Value;
+
+impl Engine<'_> {
+    /// The colour `color("#rrggbb")` or `color(r, g, b [, a])` gives (channels from 0 to 1,
+    /// clamped).
+    pub(super) fn color(
+        &mut self,
+        state: &mut State,
+        params: &[CExpr],
+        args: &[Value],
+    ) -> Fallible<Color> {
+        if let [one] = params {
+            if let CKind::Value(Value::Str(text)) = &one.kind {
+                // Most colours are literals: no need to go through the evaluator.
+                if let Some(c) = Color::from_hex(text) {
+                    return Ok(c);
+                }
+            }
+            let text = self.ev.string(one, state, args)?;
+            return Color::from_hex(&text).ok_or_else(|| {
+                DeriveError::at(
+                    format!("`{text}` is not a colour like \"#3a6ea5\""),
+                    one.span,
+                )
+            });
+        }
+        let mut c = [1.0f32; 4];
+        for (i, p) in params.iter().enumerate() {
+            c[i] = self.ev.number(p, state, args)?.clamp(0.0, 1.0) as f32;
+        }
+        Ok(Color {
+            r: c[0],
+            g: c[1],
+            b: c[2],
+            a: c[3],
+        })
+    }
+
+    /// CGA `set(target, value)`: an attribute, the colour or a channel of it, or the material
+    /// name.
+    pub(super) fn set(
+        &mut self,
+        state: &mut State,
+        target: &SetTarget,
+        value: &CExpr,
+        args: &[Value],
+    ) -> Fallible<()> {
+        let span = value.span;
+        let value = self.ev.eval(value, state, args)?;
+        let wrong = |what: &str, v: &Value| {
+            DeriveError::at(format!("expected {what}, found a {}", v.type_name()), span)
+        };
+        match target {
+            SetTarget::Attr(i) => Rc::make_mut(&mut state.attrs)[*i as usize] = value,
+            SetTarget::Color(None) => match &value {
+                Value::Str(s) => {
+                    state.color = Color::from_hex(s).ok_or_else(|| {
+                        DeriveError::at(format!("`{s}` is not a colour like \"#3a6ea5\""), span)
+                    })?;
+                }
+                v => return Err(wrong("a colour string", v)),
+            },
+            SetTarget::Color(Some(channel)) => match value {
+                Value::Number(n) => {
+                    let c = n.clamp(0.0, 1.0) as f32;
+                    match channel {
+                        0 => state.color.r = c,
+                        1 => state.color.g = c,
+                        2 => state.color.b = c,
+                        _ => state.color.a = c,
+                    }
+                }
+                v => return Err(wrong("a number", &v)),
+            },
+            SetTarget::MaterialName => state.material = Some(Arc::from(value.to_string().as_str())),
+            SetTarget::Ignored => {}
+        }
+        Ok(())
+    }
+
+    /// `report(key, value)`: a value for the derivation's reports.
+    pub(super) fn report(
+        &mut self,
+        state: &mut State,
+        key: &CExpr,
+        value: &CExpr,
+        args: &[Value],
+    ) -> Fallible<()> {
+        let key = self.ev.eval(key, state, args)?.to_string();
+        let value = self.ev.eval(value, state, args)?;
+        self.ev.reports.push((key, value));
+        Ok(())
+    }
+
+    /// `print(value)`: a line of the derivation's printed output.
+    pub(super) fn print(
+        &mut self,
+        state: &mut State,
+        value: &CExpr,
+        args: &[Value],
+    ) -> Fallible<()> {
+        let text = self.ev.eval(value, state, args)?.to_string();
+        self.ev.prints.push(text);
+        Ok(())
+    }
+}

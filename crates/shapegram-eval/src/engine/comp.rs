@@ -1,0 +1,129 @@
+//! CGA `comp(f | e | v) { selector : … }`: the faces, edges or vertices of the shape, each a
+//! new shape with a scope of its own, going to the first entry whose selector takes it (or,
+//! with `selector = …`, all of an entry's in one shape).
+
+use shapegram_geom::{DVec3, FaceClass, Mesh, Scope, component};
+use shapegram_syntax::Span;
+
+use super::Fallible;
+use super::implicit::no_solid;
+use super::machine::{Engine, Phase, Work};
+use crate::ops::{CompEntry, CompKind, CompSelector};
+use crate::shape::{FaceTag, Geometry, State, fills_box};
+use crate::value::Value;
+
+impl<'p> Engine<'p> {
+    /// Splits the shape into its components and derives each with its entry's body; faces
+    /// become flat shapes (boxes where they are rectangles), edges and vertices shapes without
+    /// geometry.
+    pub(super) fn comp(
+        &mut self,
+        state: &mut State,
+        kind: CompKind,
+        entries: &'p [CompEntry],
+        span: Span,
+        args: &[Value],
+        out: &mut Vec<Work>,
+    ) -> Fallible<()> {
+        no_solid(state, "comp", span)?;
+        let Some(world) = state.geometry.world_mesh(&state.scope) else {
+            return Ok(());
+        };
+        if self.phase == Phase::Gather {
+            self.occlude(state, None, Some(&world));
+        }
+        let components = match kind {
+            CompKind::Faces => component::faces(&world),
+            CompKind::Edges => component::edges(&world),
+            CompKind::Vertices => component::vertices(&world),
+        };
+        let tags = state.geometry.tags();
+        let mut assigned: Vec<Vec<usize>> = vec![Vec::new(); entries.len()];
+        for (c, comp) in components.iter().enumerate() {
+            let tag = tags
+                .and_then(|t| t.get(comp.source))
+                .copied()
+                .unwrap_or(FaceTag::None);
+            if let Some(e) = entries
+                .iter()
+                .position(|e| selects(&e.selector, comp, c, tag, &state.scope, kind))
+            {
+                assigned[e].push(c);
+            }
+        }
+        for (entry, chosen) in entries.iter().zip(&assigned) {
+            if chosen.is_empty() {
+                continue;
+            }
+            if entry.merge {
+                let mut merged = Mesh::new();
+                for &c in chosen {
+                    merged.append(&Mesh::from_polygon(&components[c].points));
+                }
+                let mut child = state.spawn();
+                child.comp = (0, 1);
+                child.comp_sel = entry.selector.code();
+                child.scope = Scope::fit(
+                    components[chosen[0]].scope.axes,
+                    merged.positions().iter().copied(),
+                );
+                merged.transform(&child.scope.world_to_local());
+                child.geometry = Geometry::mesh(merged);
+                self.admit(&mut child, span)?;
+                self.run_stmts(&entry.body, &mut child, args, out)?;
+                continue;
+            }
+            for (i, &c) in chosen.iter().enumerate() {
+                let comp = &components[c];
+                let mut child = state.spawn();
+                child.comp = (i as u32, chosen.len() as u32);
+                child.comp_sel = entry.selector.code();
+                child.scope = comp.scope;
+                child.geometry = match kind {
+                    CompKind::Faces => {
+                        let local: Vec<DVec3> = comp
+                            .points
+                            .iter()
+                            .map(|&p| comp.scope.to_local(p))
+                            .collect();
+                        if fills_box(&local, comp.scope.size) {
+                            Geometry::Box
+                        } else {
+                            Geometry::mesh(Mesh::from_polygon(&local))
+                        }
+                    }
+                    CompKind::Edges | CompKind::Vertices => Geometry::Empty,
+                };
+                self.admit(&mut child, span)?;
+                self.run_stmts(&entry.body, &mut child, args, out)?;
+            }
+        }
+        Ok(())
+    }
+}
+
+/// Whether an entry's selector takes a component.
+fn selects(
+    selector: &CompSelector,
+    comp: &component::Component,
+    index: usize,
+    tag: FaceTag,
+    scope: &Scope,
+    kind: CompKind,
+) -> bool {
+    // Angle of the normal from world up decides vertical, horizontal and aslant.
+    let up = comp.normal.y.abs();
+    match selector {
+        CompSelector::All => true,
+        CompSelector::Index(i) => *i == index,
+        CompSelector::Never => false,
+        _ if kind != CompKind::Faces => false,
+        CompSelector::Class(class) => FaceClass::of(comp.normal, scope) == *class,
+        CompSelector::Side => FaceClass::of(comp.normal, scope).is_side(),
+        CompSelector::Horizontal => up >= 30f64.to_radians().cos(),
+        CompSelector::Vertical => up <= 60f64.to_radians().cos(),
+        CompSelector::Aslant => up < 30f64.to_radians().cos() && up > 60f64.to_radians().cos(),
+        CompSelector::Inside => tag == FaceTag::Inside,
+        CompSelector::Border => tag == FaceTag::Border,
+    }
+}

@@ -1,0 +1,364 @@
+//! Operations on the faces of flat shapes (lots, and the faces `comp` makes): `extrude`,
+//! `offset`, `setback` with `shapeL`, `shapeU` and `shapeO`, and `reverseNormals`. Roofs, which
+//! also build on faces, have [`super::roof`].
+
+use std::sync::Arc;
+
+use shapegram_geom::{
+    DMat3, DVec3, FaceClass, Mesh, Scope,
+    extrude::{extrude_along, extrude_polygon},
+    mesh::newell,
+};
+use shapegram_syntax::Span;
+
+use super::Fallible;
+use super::implicit::no_solid;
+use super::machine::{Engine, Work};
+use crate::error::DeriveError;
+use crate::expr::Evaluator;
+use crate::ops::{CompEntry, CompSelector, Depths, OffsetKeep};
+use crate::program::{CExpr, CStmt};
+use crate::shape::{FaceTag, Geometry, State, fills_box, flat_axis};
+use crate::value::Value;
+
+impl<'p> Engine<'p> {
+    /// CGA `extrude`: every face pushed along its normal (or world up); the new scope keeps x as
+    /// far as it can, takes y along the extrusion and is fitted around the result.
+    pub(super) fn extrude(
+        &mut self,
+        state: &mut State,
+        world_up: bool,
+        distance: &CExpr,
+        span: Span,
+        args: &[Value],
+    ) -> Fallible<()> {
+        let distance = self.ev.number(distance, state, args)?;
+        if distance == 0.0 {
+            return Ok(());
+        }
+        let scope = state.scope;
+        let flat = flat_axis(scope.size);
+        let world = flat_faces(state, "extrude", span)?;
+        let mut solid = Mesh::new();
+        let mut direction = DVec3::ZERO;
+        for f in 0..world.face_count() {
+            let points: Vec<DVec3> = world.face_points(f).collect();
+            let normal = world.face_normal(f);
+            let prism = if world_up {
+                extrude_along(&points, DVec3::Y * distance)
+            } else {
+                extrude_polygon(&points, distance)
+            };
+            if let Some(prism) = prism {
+                if direction == DVec3::ZERO {
+                    direction = if world_up { DVec3::Y } else { normal };
+                }
+                solid.append(&prism);
+            }
+        }
+        if solid.is_empty() {
+            return Ok(());
+        }
+        let fitted = Scope::fit(
+            grown_axes(&scope, direction),
+            solid.positions().iter().copied(),
+        );
+        // A flat box extruded along its own axis stays a box.
+        let stays_box = state.geometry == Geometry::Box
+            && flat.is_some_and(|k| scope.axes.col(k).abs_diff_eq(direction, 1e-12));
+        state.geometry = if stays_box {
+            Geometry::Box
+        } else {
+            solid.transform(&fitted.world_to_local());
+            Geometry::mesh(solid)
+        };
+        state.scope = fitted;
+        Ok(())
+    }
+
+    /// CGA `offset(d)`: every face shrunk (negative `d`) or grown (positive) by `d`, the ring
+    /// between old and new outline kept as border faces; `inside` or `border` keeps only those.
+    pub(super) fn offset(
+        &mut self,
+        state: &mut State,
+        distance: &CExpr,
+        keep: OffsetKeep,
+        span: Span,
+        args: &[Value],
+    ) -> Fallible<()> {
+        let distance = self.ev.number(distance, state, args)?;
+        let world = flat_faces(state, "offset", span)?;
+        let mut mesh = Mesh::new();
+        let mut tags = Vec::new();
+        for f in 0..world.face_count() {
+            let points: Vec<DVec3> = world.face_points(f).collect();
+            let (inside, border) = shapegram_geom::offset::inset_border(&points, distance);
+            for (loops, tag, wanted) in [
+                (inside, FaceTag::Inside, keep != OffsetKeep::Border),
+                (border, FaceTag::Border, keep != OffsetKeep::Inside),
+            ] {
+                for points in loops.iter().filter(|_| wanted) {
+                    mesh.append(&Mesh::from_polygon(points));
+                    tags.push(tag);
+                }
+            }
+        }
+        if mesh.is_empty() {
+            state.geometry = Geometry::Empty;
+            return Ok(());
+        }
+        let scope = Scope::fit(state.scope.axes, mesh.positions().iter().copied());
+        mesh.transform(&scope.world_to_local());
+        state.scope = scope;
+        state.geometry = Geometry::Mesh(Arc::new(mesh), Some(tags.into()));
+        Ok(())
+    }
+
+    /// CGA `setback` and `shapeL/U/O`: each face of a flat shape is cut into strips along the
+    /// edges that move, their outline and the remainder. A strip goes to the first entry that
+    /// selects its edge, with its scope's x along the edge, y along the face's normal and z into
+    /// the strip; the outline (`shape`) and the remainder keep the shape's axes.
+    pub(super) fn setback(
+        &mut self,
+        state: &mut State,
+        depths: &Depths,
+        outputs: SetbackOutputs<'p>,
+        span: Span,
+        args: &[Value],
+        out: &mut Vec<Work>,
+    ) -> Fallible<()> {
+        let depths = &self.edge_depths(state, depths, args)?;
+        let entries = outputs.entries;
+        let world = flat_faces(state, "setback", span)?;
+        let scope = state.scope;
+        // Strips by entry, the outline's pieces (each its polygons) and remainder loops.
+        let mut strips: Vec<Vec<(DVec3, Vec<DVec3>)>> = vec![Vec::new(); entries.len()];
+        let (mut outline, mut rest): (Vec<Vec<Vec<DVec3>>>, Vec<Vec<DVec3>>) =
+            (Vec::new(), Vec::new());
+        for f in 0..world.face_count() {
+            let points: Vec<DVec3> = world.face_points(f).collect();
+            let normal = world.face_normal(f);
+            let outward = |a: DVec3, b: DVec3| (b - a).cross(normal);
+            let taker = |i: usize, a: DVec3, b: DVec3| {
+                entries
+                    .iter()
+                    .position(|e| takes_edge(&e.selector, outward(a, b), i, &scope))
+            };
+            let distance = |i: usize, a: DVec3, b: DVec3| match depths {
+                EdgeDepths::Selected(d) => taker(i, a, b).map_or(0.0, |_| *d),
+                EdgeDepths::ByClass(list) => {
+                    let class = FaceClass::of(outward(a, b), &scope);
+                    list.iter()
+                        .find(|(c, _)| *c == class)
+                        .map_or(0.0, |(_, d)| *d)
+                }
+            };
+            let cut = shapegram_geom::offset::setback(&points, distance).ok_or_else(|| {
+                DeriveError::at(
+                    "setback cannot cut this shape: a polygon that is not simple, or a setback so deep that an edge that moves runs onto one that moves slower",
+                    span,
+                )
+            })?;
+            // Faces hold no holes: an outline around a hole (shapeO's ring) stays as its strips.
+            let holed = cut
+                .outline
+                .iter()
+                .any(|l| newell(l.iter().copied()).dot(normal) < 0.0);
+            if holed {
+                outline.push(cut.strips.iter().map(|s| s.polygon.clone()).collect());
+            } else {
+                outline.extend(cut.outline.into_iter().map(|l| vec![l]));
+            }
+            for strip in cut.strips {
+                let [a, b] = strip.ends;
+                if let Some(e) = taker(strip.edge, a, b) {
+                    strips[e].push((normal, strip.polygon));
+                }
+            }
+            rest.extend(cut.remainder);
+        }
+        for (entry, chosen) in entries.iter().zip(&strips) {
+            let pieces: Vec<Piece> = chosen
+                .iter()
+                .filter_map(|(normal, polygon)| {
+                    // Like a lot along its front edge: x along the edge, z into the strip.
+                    let x = (polygon[0] - polygon[1]).try_normalize()?;
+                    let y = normal.try_normalize()?;
+                    Some((DMat3::from_cols(x, y, x.cross(y)), vec![polygon.as_slice()]))
+                })
+                .collect();
+            let code = entry.selector.code();
+            self.flat_children(
+                state,
+                pieces,
+                entry.merge,
+                code,
+                &entry.body,
+                span,
+                args,
+                out,
+            )?;
+        }
+        if let Some((merge, body)) = outputs.shape {
+            let pieces = outline
+                .iter()
+                .map(|polygons| (scope.axes, polygons.iter().map(Vec::as_slice).collect()))
+                .collect();
+            self.flat_children(state, pieces, *merge, 0, body, span, args, out)?;
+        }
+        if let Some((merge, body)) = outputs.remainder {
+            let pieces = rest
+                .iter()
+                .map(|p| (scope.axes, vec![p.as_slice()]))
+                .collect();
+            self.flat_children(state, pieces, *merge, 0, body, span, args, out)?;
+        }
+        Ok(())
+    }
+
+    /// How far the edges of a setback move: the distances evaluated, none below 0.
+    fn edge_depths(
+        &mut self,
+        state: &mut State,
+        depths: &Depths,
+        args: &[Value],
+    ) -> Fallible<EdgeDepths> {
+        let depth = |ev: &mut Evaluator, e: &CExpr, state: &mut State| {
+            let d = ev.number(e, state, args)?;
+            if d < 0.0 {
+                return Err(DeriveError::at(
+                    format!("setback distance {d}: expected 0 or more"),
+                    e.span,
+                ));
+            }
+            Ok(d)
+        };
+        Ok(match depths {
+            Depths::Selected(e) => EdgeDepths::Selected(depth(&mut self.ev, e, state)?),
+            Depths::ByClass(list) => EdgeDepths::ByClass(
+                list.iter()
+                    .map(|(class, e)| Ok((*class, depth(&mut self.ev, e, state)?)))
+                    .collect::<Fallible<Vec<_>>>()?,
+            ),
+        })
+    }
+
+    /// Derives a child per piece (or one for all when `merge`), each a set of polygons with a
+    /// scope of the given axes fitted around them.
+    #[allow(clippy::too_many_arguments)]
+    fn flat_children(
+        &mut self,
+        state: &mut State,
+        pieces: Vec<Piece>,
+        merge: bool,
+        selector: u8,
+        body: &'p [CStmt],
+        span: Span,
+        args: &[Value],
+        out: &mut Vec<Work>,
+    ) -> Fallible<()> {
+        let pieces = match pieces.first() {
+            Some(&(axes, _)) if merge => {
+                vec![(axes, pieces.into_iter().flat_map(|p| p.1).collect())]
+            }
+            _ => pieces,
+        };
+        let total = pieces.len() as u32;
+        for (i, (axes, polygons)) in pieces.into_iter().enumerate() {
+            let mut mesh = Mesh::new();
+            for polygon in &polygons {
+                mesh.append(&Mesh::from_polygon(polygon));
+            }
+            let mut child = state.spawn();
+            child.comp = (i as u32, total);
+            child.comp_sel = selector;
+            child.scope = Scope::fit(axes, mesh.positions().iter().copied());
+            mesh.transform(&child.scope.world_to_local());
+            let single = polygons.len() == 1;
+            child.geometry = if single && fills_box(mesh.positions(), child.scope.size) {
+                Geometry::Box
+            } else {
+                Geometry::mesh(mesh)
+            };
+            self.admit(&mut child, span)?;
+            self.run_stmts(body, &mut child, args, out)?;
+        }
+        Ok(())
+    }
+}
+
+/// Polygons that become one shape, with the axes of its scope.
+type Piece<'a> = (DMat3, Vec<&'a [DVec3]>);
+
+/// How far the edges of a setback move, evaluated.
+enum EdgeDepths {
+    /// The edges that entries select, by this distance.
+    Selected(f64),
+    /// Edges by the class of their outward direction.
+    ByClass(Vec<(FaceClass, f64)>),
+}
+
+/// Where the pieces of a setback go.
+pub(super) struct SetbackOutputs<'p> {
+    /// Entries selecting the edges that move, each taking their strips (setback).
+    pub(super) entries: &'p [CompEntry],
+    /// The outline's entry, whether it merges and its body (shapeL/U/O).
+    pub(super) shape: Option<&'p (bool, Vec<CStmt>)>,
+    /// The remainder's entry, likewise.
+    pub(super) remainder: Option<&'p (bool, Vec<CStmt>)>,
+}
+
+/// Whether a setback entry's selector takes the edge `index` whose outward direction (in the
+/// face's plane) is `outward`.
+fn takes_edge(selector: &CompSelector, outward: DVec3, index: usize, scope: &Scope) -> bool {
+    match selector {
+        CompSelector::All => true,
+        CompSelector::Index(i) => *i == index,
+        CompSelector::Class(class) => FaceClass::of(outward, scope) == *class,
+        CompSelector::Side => FaceClass::of(outward, scope).is_side(),
+        _ => false,
+    }
+}
+
+/// CGA `reverseNormals`: every face of the geometry turned the other way.
+pub(super) fn reverse_normals(state: &mut State, span: Span) -> Fallible<()> {
+    no_solid(state, "reverseNormals", span)?;
+    if let Some(mut mesh) = state.geometry.local_mesh(state.scope.size) {
+        mesh.flip();
+        let tags = state.geometry.tags().map(Arc::from);
+        state.geometry = Geometry::Mesh(Arc::new(mesh), tags);
+    }
+    Ok(())
+}
+
+/// The faces of a flat shape in world coordinates, for the operations that build on polygons
+/// (`extrude`, `offset`, roofs); an error for shapes without geometry and for volumes.
+pub(super) fn flat_faces(state: &State, op: &str, span: Span) -> Fallible<Mesh> {
+    let Some(world) = state.geometry.world_mesh(&state.scope) else {
+        return Err(DeriveError::at(
+            format!("{op} needs a polygon, but the shape has no geometry"),
+            span,
+        ));
+    };
+    let volume = flat_axis(state.scope.size).is_none() && state.geometry == Geometry::Box;
+    if volume || world.is_watertight() {
+        return Err(DeriveError::at(
+            format!("{op} needs a flat shape (a polygon), but this shape is a volume"),
+            span,
+        )
+        .with_hint(format!(
+            "apply it to a face: `comp(f) {{ top : {op}(…) X }}`"
+        )));
+    }
+    Ok(world)
+}
+
+/// The scope axes for a solid grown from faces along `up`: x kept as far as it can be, y up.
+pub(super) fn grown_axes(scope: &Scope, up: DVec3) -> DMat3 {
+    let x = scope
+        .x_axis()
+        .reject_from(up)
+        .try_normalize()
+        .unwrap_or_else(|| up.any_orthonormal_vector());
+    DMat3::from_cols(x, up, x.cross(up))
+}

@@ -1,0 +1,180 @@
+//! What a shape is given to hold: `i("path")` with an asset from a file (through the
+//! [`AssetLoader`]) or a built-in one, and the `primitive…()` shapes.
+
+use std::sync::Arc;
+
+use shapegram_geom::{DVec3, Mesh, primitives};
+use shapegram_implicit::Solid;
+use shapegram_syntax::Span;
+
+use super::Fallible;
+use super::machine::Engine;
+use crate::error::DeriveError;
+use crate::ops::Primitive;
+use crate::program::CExpr;
+use crate::rng::child_seed;
+use crate::shape::{Geometry, State, box_mesh};
+use crate::value::Value;
+
+/// Loads the assets that `i("path")` inserts (built-in assets are handled by the engine) and
+/// the implicit grammars that `implicit("path")` runs.
+pub trait AssetLoader: Send + Sync {
+    /// The mesh stored at `path`, or a one-line reason why it cannot be had.
+    fn load(&self, path: &str) -> Result<Arc<Mesh>, String>;
+
+    /// What `i("path")` inserts in a shape that asks for variant `variant` (below
+    /// [`ASSET_VARIANTS`]) of assets grown from a seed, such as stochastic L-systems; fixed
+    /// files ignore it. By default [`load`](Self::load)'s mesh, stretched to the scope.
+    fn asset(&self, path: &str, _variant: u32) -> Result<Asset, String> {
+        Ok(Asset {
+            mesh: self.load(path)?,
+            proportional: false,
+        })
+    }
+
+    /// The implicit solid that the grammar at `path` makes, or a one-line reason why it cannot
+    /// be had.
+    fn solid(&self, path: &str) -> Result<Solid, String> {
+        Err(format!("cannot read `{path}` as an implicit grammar here"))
+    }
+}
+
+/// How many variants of a seeded asset (see [`AssetLoader::asset`]) the shapes of a derivation
+/// choose among, each by its own random stream: enough for a varied park, few enough that a
+/// city of trees grows each variant once.
+pub const ASSET_VARIANTS: u32 = 8;
+
+/// An asset for `i()` and how it is placed.
+#[derive(Clone, Debug)]
+pub struct Asset {
+    /// The geometry, in the asset's own coordinates.
+    pub mesh: Arc<Mesh>,
+    /// Scaled uniformly to fit inside the scope, centred in x and z and standing on the scope's
+    /// floor (a planted tree keeps its shape), instead of stretched to the scope as CGA's `i()`.
+    pub proportional: bool,
+}
+
+impl Engine<'_> {
+    /// CGA `i("path")`: the asset at the path fitted into the scope (see [`fit_asset`]); a
+    /// seeded asset in the variant the shape's seed picks.
+    pub(super) fn insert(
+        &mut self,
+        state: &mut State,
+        path: &CExpr,
+        args: &[Value],
+    ) -> Fallible<()> {
+        let file = self.ev.string(path, state, args)?;
+        // From the shape's seed, not its stream, so asking for a variant draws nothing
+        // that later random choices of the shape would miss.
+        let variant = (child_seed(state.seed, u64::MAX) % u64::from(ASSET_VARIANTS)) as u32;
+        let asset = self.asset(&file, variant, path.span)?;
+        fit_asset(state, &asset);
+        Ok(())
+    }
+
+    /// `primitiveCube()` and friends: the shape becomes the primitive filling its scope, with
+    /// as many subdivisions as its arguments ask for.
+    pub(super) fn primitive(
+        &mut self,
+        state: &mut State,
+        kind: Primitive,
+        params: &[CExpr],
+        span: Span,
+        args: &[Value],
+    ) -> Fallible<()> {
+        let counts = self.numbers(params, state, args)?;
+        // A primitive in a flat scope gets unit size along the flat axes.
+        let size = DVec3::select(
+            state.scope.size.cmpeq(DVec3::ZERO),
+            DVec3::ONE,
+            state.scope.size,
+        );
+        let count = |i: usize, default: u32| -> Fallible<u32> {
+            match counts.get(i) {
+                None => Ok(default),
+                Some(&n) if (3.0..=100_000.0).contains(&n) => Ok(n as u32),
+                Some(&n) => Err(DeriveError::at(
+                    format!("{n} subdivisions: expected 3 to 100000"),
+                    span,
+                )),
+            }
+        };
+        state.scope.size = size;
+        state.geometry = match kind {
+            Primitive::Cube => Geometry::Box,
+            Primitive::Quad => {
+                state.scope.size.z = 0.0;
+                Geometry::Box
+            }
+            Primitive::Pyramid => Geometry::mesh(primitives::pyramid(size)),
+            Primitive::Cylinder => Geometry::mesh(primitives::cylinder(size, count(0, 16)?)),
+            Primitive::Cone => Geometry::mesh(primitives::cone(size, count(0, 16)?)),
+            Primitive::Sphere => {
+                let rings = count(0, 16)?;
+                Geometry::mesh(primitives::sphere(size, count(1, 2 * rings)?, rings))
+            }
+        };
+        Ok(())
+    }
+
+    /// The asset `i("path")` inserts: a built-in one, or variant `variant` of what the
+    /// loader finds at `path`.
+    fn asset(&self, path: &str, variant: u32, span: Span) -> Fallible<Asset> {
+        if let Some(mesh) = builtin_asset(path) {
+            return Ok(Asset {
+                mesh: Arc::new(mesh),
+                proportional: false,
+            });
+        }
+        let Some(loader) = &self.options.assets else {
+            return Err(DeriveError::at(
+                format!("cannot insert `{path}`: no asset folder is set"),
+                span,
+            )
+            .with_hint("use a built-in asset such as \"builtin:cube\""));
+        };
+        loader
+            .asset(path, variant)
+            .map_err(|why| DeriveError::at(format!("cannot insert `{path}`: {why}"), span))
+    }
+}
+
+/// CGA's built-in assets, each filling the unit box.
+fn builtin_asset(path: &str) -> Option<Mesh> {
+    let name = path.strip_prefix("builtin:")?;
+    let name = name.split(':').next().unwrap_or(name);
+    Some(match name {
+        "cube" => primitives::cuboid(DVec3::ONE),
+        "cylinder" => primitives::cylinder(DVec3::ONE, 32),
+        "cone" => primitives::cone(DVec3::ONE, 32),
+        "sphere" => primitives::sphere(DVec3::ONE, 32, 16),
+        "pyramid" => primitives::pyramid(DVec3::ONE),
+        "quad" => box_mesh(DVec3::new(1.0, 1.0, 0.0))?,
+        _ => return None,
+    })
+}
+
+/// Fits an asset into the scope (CGA `i`, see `shapegram_geom::fit`), stretched or keeping its
+/// proportions; along axes where the scope has no size the scope takes the asset's fitted
+/// extent.
+fn fit_asset(state: &mut State, asset: &Asset) {
+    if asset.mesh.is_empty() {
+        state.geometry = Geometry::Empty;
+        return;
+    }
+    let mut local = if asset.proportional {
+        shapegram_geom::fit::fit_proportionally_into_scope(&asset.mesh, &state.scope)
+    } else {
+        shapegram_geom::fit::fit_into_scope(&asset.mesh, &state.scope)
+    };
+    local.transform(&state.scope.world_to_local());
+    if let Some(bounds) = local.bounds() {
+        let size = &mut state.scope.size;
+        for i in 0..3 {
+            if size[i] == 0.0 {
+                size[i] = bounds.max[i];
+            }
+        }
+    }
+    state.geometry = Geometry::mesh(local);
+}

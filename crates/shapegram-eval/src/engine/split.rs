@@ -1,0 +1,199 @@
+//! `split(x | y | z) { … }`: the shape cut into parts along an axis of its scope, sized and
+//! repeated as [`Layout`] works out; each part is a new shape with its slab of the geometry (a
+//! mesh cut into slabs, a solid intersected with one, a box by its scope alone).
+
+use shapegram_geom::{DAffine3, DVec3, Scope, split::split_slabs};
+use shapegram_syntax::Span;
+
+use super::machine::{Engine, Phase, Work};
+use super::scope::refit;
+use super::{Fallible, Leaf};
+use crate::context::Occluder;
+use crate::ops::SplitBlock;
+use crate::program::{CExpr, CStmt};
+use crate::shape::{Geometry, State};
+use crate::split::Layout;
+use crate::value::Value;
+
+impl<'p> Engine<'p> {
+    /// CGA `split(axis [, adjust | noAdjust] [, snap [, "tag"]]) { … }`: the parts laid out
+    /// along `axis` (their boundaries moved onto snap planes with `snap`), then derived one by
+    /// one.
+    #[allow(clippy::too_many_arguments)]
+    pub(super) fn split(
+        &mut self,
+        state: &mut State,
+        axis: usize,
+        adjust: bool,
+        snap: Option<&Option<CExpr>>,
+        block: &'p SplitBlock,
+        span: Span,
+        args: &[Value],
+        out: &mut Vec<Work>,
+    ) -> Fallible<()> {
+        let snaps = match snap {
+            Some(tag) => Some(self.snap_positions(state, axis, tag.as_ref(), args)?),
+            None => None,
+        };
+        let length = state.scope.size[axis];
+        let mut layout = self.layouts.pop().unwrap_or_default();
+        layout.lay_out(block, length, span, &mut self.ev, state, args)?;
+        if let Some(positions) = snaps {
+            layout.snap(&positions);
+        }
+        let result = self.split_parts(state, axis, adjust, &layout, span, args, out);
+        self.layouts.push(layout);
+        result
+    }
+
+    /// Derives the parts of a split, each with its slab of the geometry.
+    #[allow(clippy::too_many_arguments)]
+    fn split_parts(
+        &mut self,
+        state: &mut State,
+        axis: usize,
+        adjust: bool,
+        layout: &Layout<'p>,
+        span: Span,
+        args: &[Value],
+        out: &mut Vec<Work>,
+    ) -> Fallible<()> {
+        let parts = &layout.parts;
+        let total = parts.len() as u32;
+        let slabs = match &state.geometry {
+            Geometry::Mesh(mesh, _) => {
+                let mut cuts: Vec<f64> = parts
+                    .iter()
+                    .flat_map(|p| [p.start, p.start + p.size])
+                    .collect();
+                cuts.dedup();
+                let pieces = split_slabs(mesh, DVec3::AXES[axis], &cuts);
+                Some((cuts, pieces))
+            }
+            _ => None,
+        };
+        let solid = match &state.geometry {
+            Geometry::Implicit(implicit) => Some(implicit.solid.clone()),
+            _ => None,
+        };
+        for (i, part) in parts.iter().enumerate() {
+            // The part's scope, worked out from the parent's.
+            let mut scope = state.scope;
+            scope.translate(DVec3::AXES[axis] * part.start);
+            scope.size[axis] = part.size;
+            if slabs.is_none()
+                && solid.is_none()
+                && self.leaf_part(state, part.body, scope, span, out)?
+            {
+                continue;
+            }
+            let mut child = state.spawn();
+            child.split = (i as u32, total);
+            child.scope = scope;
+            if let Some(solid) = &solid {
+                let Some(slab) = slab_of(solid, axis, part.start, part.size) else {
+                    continue;
+                };
+                child.geometry = state.geometry.with_solid(slab);
+                if adjust {
+                    let axes = child.scope.axes;
+                    refit(&mut child, axes);
+                }
+            }
+            if let Some((cuts, pieces)) = &slabs {
+                let at = cuts.iter().position(|&c| c == part.start).unwrap_or(0);
+                let mut piece = pieces[at + 1].clone();
+                if piece.is_empty() {
+                    continue;
+                }
+                piece.transform(&DAffine3::from_translation(-DVec3::AXES[axis] * part.start));
+                child.geometry = Geometry::mesh(piece);
+                if adjust {
+                    let axes = child.scope.axes;
+                    refit(&mut child, axes);
+                }
+            }
+            self.admit(&mut child, span)?;
+            self.run_stmts(part.body, &mut child, args, out)?;
+        }
+        Ok(())
+    }
+
+    /// The common part of a box split that is at once a leaf (`{ 1 : Wall. }`), made without
+    /// making the part's shape and its successor: only their counts and the leaf are left of
+    /// them, and the parent's count of children. Returns whether the part was such a part.
+    fn leaf_part(
+        &mut self,
+        state: &mut State,
+        body: &[CStmt],
+        scope: Scope,
+        span: Span,
+        out: &[Work],
+    ) -> Fallible<bool> {
+        let [
+            CStmt::Successor {
+                symbol,
+                rule,
+                args,
+                terminal,
+                span: successor_span,
+            },
+        ] = body
+        else {
+            return Ok(false);
+        };
+        if !args.is_empty()
+            || (rule.is_some() && !terminal)
+            || self.tree.is_some()
+            || out.len() != self.base
+        {
+            return Ok(false);
+        }
+        // The part, as `State::spawn` would have made it.
+        state.children += 1;
+        self.count(state.depth + 1, state.symbol, span)?;
+        // Its successor, as `State::make_child` would have made it.
+        self.count(state.depth + 2, *symbol, *successor_span)?;
+        if self.phase == Phase::Gather {
+            let (lot, parent) = (self.ev.lot, state.occluder);
+            let leaf = Occluder::new(&scope, &state.geometry, None, *symbol, None, lot, parent);
+            self.occluders.extend(leaf);
+        }
+        if !matches!(state.geometry, Geometry::Empty) {
+            self.leaves.push(Leaf {
+                name: self.names[*symbol as usize].clone(),
+                scope,
+                geometry: state.geometry.clone(),
+                color: state.color,
+                material: state.material.clone(),
+                node: None,
+                lot: self.ev.lot,
+            });
+        }
+        Ok(true)
+    }
+}
+
+/// The part of `solid` between `start` and `start + size` along `axis`, in the frame of a part
+/// starting there (`None` when nothing of the solid lies there).
+fn slab_of(
+    solid: &shapegram_implicit::Solid,
+    axis: usize,
+    start: f64,
+    size: f64,
+) -> Option<shapegram_implicit::Solid> {
+    let shifted = solid.translate(-DVec3::AXES[axis] * start).ok()?;
+    let bounds = shifted.bounds()?;
+    // The slab spans the solid's bounds (with a margin) across the split axis.
+    let mut lo = bounds.min - DVec3::ONE;
+    let mut hi = bounds.max + DVec3::ONE;
+    lo[axis] = 0.0;
+    hi[axis] = size;
+    if lo[axis] >= bounds.max[axis] || hi[axis] <= bounds.min[axis] || size <= 0.0 {
+        return None;
+    }
+    let slab = shapegram_implicit::Solid::cuboid(hi - lo)
+        .and_then(|b| b.translate((lo + hi) / 2.0))
+        .ok()?;
+    Some(shifted.intersection(&slab))
+}
