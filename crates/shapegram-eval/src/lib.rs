@@ -18,7 +18,6 @@ mod program;
 pub mod rng;
 mod shape;
 mod solids;
-mod split;
 mod value;
 
 pub use engine::{

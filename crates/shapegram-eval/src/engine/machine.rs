@@ -11,6 +11,7 @@ use super::derive::Batch;
 use super::footprint::{SetbackOutputs, reverse_normals};
 use super::implicit::implicit;
 use super::scope::{align_to_axes, align_to_bbox, center};
+use super::split::Layout;
 use super::{DeriveOptions, Fallible, Leaf, TreeNode};
 use crate::context::{Occluder, Parked, SnapPlane};
 use crate::error::DeriveError;
@@ -18,7 +19,6 @@ use crate::expr::Evaluator;
 use crate::ops::Op;
 use crate::program::{CBody, CExpr, CStmt, Program, RuleId, Sym};
 use crate::shape::{Geometry, State};
-use crate::split::Layout;
 use crate::value::Value;
 
 /// One shape waiting for its rule.

@@ -2,6 +2,8 @@
 //! repeated as [`Layout`] works out; each part is a new shape with its slab of the geometry (a
 //! mesh cut into slabs, a solid intersected with one, a box by its scope alone).
 
+mod layout;
+
 use shapegram_geom::{DAffine3, DVec3, Scope, split::split_slabs};
 use shapegram_syntax::Span;
 
@@ -12,8 +14,9 @@ use crate::context::Occluder;
 use crate::ops::SplitBlock;
 use crate::program::{CExpr, CStmt};
 use crate::shape::{Geometry, State};
-use crate::split::Layout;
 use crate::value::Value;
+
+pub(super) use layout::Layout;
 
 impl<'p> Engine<'p> {
     /// CGA `split(axis [, adjust | noAdjust] [, snap [, "tag"]]) { … }`: the parts laid out

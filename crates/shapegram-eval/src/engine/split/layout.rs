@@ -23,10 +23,10 @@ use crate::shape::State;
 use crate::value::Value;
 
 /// At most this many parts per split, so a typo cannot exhaust memory before the shape limit.
-pub(crate) const MAX_PARTS: usize = 1_000_000;
+const MAX_PARTS: usize = 1_000_000;
 
 /// One laid-out part: where it starts and ends along the axis, and what to do with it.
-pub(crate) struct Part<'a> {
+pub(in crate::engine) struct Part<'a> {
     pub start: f64,
     pub size: f64,
     pub body: &'a [CStmt],
@@ -35,7 +35,7 @@ pub(crate) struct Part<'a> {
 }
 
 /// A repetition of a top-level repeated group: (group number, repetition number).
-pub(crate) type Repetition = (u32, u32);
+pub(in crate::engine) type Repetition = (u32, u32);
 
 /// One flattened part: floating or not, nominal size, body, repetition.
 type FlatPart<'a> = (bool, f64, &'a [CStmt], Option<Repetition>);
@@ -57,7 +57,7 @@ enum Item<'a> {
 
 /// The working lists of a split, kept between splits so that laying out allocates nothing.
 #[derive(Default)]
-pub(crate) struct Layout<'a> {
+pub(in crate::engine) struct Layout<'a> {
     items: Vec<Item<'a>>,
     flat: Vec<FlatPart<'a>>,
     /// The parts of the last [`Layout::lay_out`].
@@ -70,7 +70,7 @@ pub(crate) struct Layout<'a> {
 
 impl<'a> Layout<'a> {
     /// Lays out the parts of `block` along a length into [`Layout::parts`].
-    pub(crate) fn lay_out(
+    pub(super) fn lay_out(
         &mut self,
         block: &'a SplitBlock,
         length: f64,
@@ -145,7 +145,7 @@ impl Layout<'_> {
     /// repetitions stay evenly spaced on either side of every boundary fixed so far. Boundaries
     /// between parts of one repetition never snap, the ends of the split never move, and a snap
     /// that would reorder boundaries or empty a part is skipped. The total size is unchanged.
-    pub(crate) fn snap(&mut self, positions: &[f64]) {
+    pub(super) fn snap(&mut self, positions: &[f64]) {
         self.last = None;
         let parts = &mut self.parts;
         let n = parts.len();
