@@ -1,4 +1,4 @@
-//! Deriving lots: the entry point [`derive`], lots derived in batches (in parallel when there
+//! Deriving lots: the entry point [`derive()`], lots derived in batches (in parallel when there
 //! are threads to spare), and the two phases of grammars with context rules.
 
 use std::rc::Rc;

@@ -127,6 +127,7 @@ impl<'p> Engine<'p> {
         batch.snaps.extend(self.snaps);
     }
 
+    /// Derives `first` and all that comes of it, depth first: leaves in depth-first order.
     pub(super) fn run_depth_first(&mut self, first: Work) -> Fallible<()> {
         let mut stack = vec![first];
         while let Some(work) = stack.pop() {
@@ -145,6 +146,8 @@ impl<'p> Engine<'p> {
         Ok(())
     }
 
+    /// Derives `first` in parallel generations (every shape of one generation rewritten
+    /// before the next), stopping after `generations` of them.
     pub(super) fn run_generations(&mut self, first: Work, generations: u32) -> Fallible<()> {
         let mut current = vec![first];
         for generation in 0..generations {
