@@ -11,6 +11,7 @@ use shapegram_geom::{Color, DAffine3, DVec3, Lines, Mesh, Model, Part};
 
 fn part(name: &str, hex: &str, mesh: Mesh, at: DVec3) -> Part {
     Part {
+        bone: None,
         name: name.to_owned(),
         color: Color::from_hex(hex).unwrap_or_default(),
         mesh: mesh.transformed(&DAffine3::from_translation(at)),
@@ -62,6 +63,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     );
     std::fs::create_dir_all(&dir)?;
     let scene = Model {
+        skeletons: Vec::new(),
         parts: vec![
             part(
                 "wall",
@@ -115,6 +117,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     // More than 65535 flat-shaded vertices, smooth vertices and points, so the u32 index paths
     // are exercised.
     let big = Model {
+        skeletons: Vec::new(),
         parts: vec![
             part(
                 "ball",

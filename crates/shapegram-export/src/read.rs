@@ -602,6 +602,7 @@ pub fn read_stl(bytes: &[u8]) -> Result<Model, Error> {
         Vec::new(),
     );
     Ok(Model {
+        skeletons: Vec::new(),
         parts,
         lines: Vec::new(),
     })
@@ -610,6 +611,7 @@ pub fn read_stl(bytes: &[u8]) -> Result<Model, Error> {
 fn push_part(parts: &mut Vec<Part>, name: String, color: Color, mesh: Mesh, normals: Vec<DVec3>) {
     if !mesh.is_empty() {
         parts.push(Part {
+            bone: None,
             name,
             color,
             mesh,

@@ -241,6 +241,7 @@ fn glb_of_an_empty_model_is_valid_and_reads_back_empty() {
     ]);
     let nan = Mesh::from_polygon(&[DVec3::ZERO, DVec3::X, DVec3::new(f64::NAN, 1.0, 0.0)]);
     let model = Model {
+        skeletons: Vec::new(),
         parts: vec![
             Part::default(),
             Part {
@@ -511,6 +512,7 @@ fn obj_material_names_stay_unique_for_near_colours() {
     let a = Color::rgb(0.5, 0.5, 0.5);
     let b = Color::rgb(0.5001, 0.5, 0.5);
     let model = Model {
+        skeletons: Vec::new(),
         parts: vec![
             Part {
                 name: "a".into(),

@@ -20,6 +20,7 @@ const MERGED: ExportOptions = ExportOptions {
 
 fn smooth(name: &str, mesh: Mesh) -> Part {
     Part {
+        bone: None,
         name: name.to_owned(),
         color: GREEN,
         normals: mesh.vertex_normals(),
@@ -96,6 +97,7 @@ fn vec3s(json: &Value, bin: &[u8], accessor: &Value) -> Vec<[f32; 3]> {
 #[test]
 fn glb_smooth_cube_keeps_its_eight_corners() {
     let model = Model {
+        skeletons: Vec::new(),
         parts: vec![smooth("cube", cuboid(DVec3::ONE))],
         lines: Vec::new(),
     };
@@ -117,6 +119,7 @@ fn glb_smooth_cube_keeps_its_eight_corners() {
 fn glb_smooth_part_round_trips_with_its_normals() {
     let part = ball();
     let model = Model {
+        skeletons: Vec::new(),
         parts: vec![part.clone()],
         lines: Vec::new(),
     };
@@ -178,6 +181,7 @@ fn unusable_normals_become_face_normals_and_unused_vertices_go() {
     part.mesh.add_vertex(DVec3::splat(f64::INFINITY));
     part.normals.push(DVec3::ZERO);
     let model = Model {
+        skeletons: Vec::new(),
         parts: vec![part],
         lines: Vec::new(),
     };
@@ -206,6 +210,7 @@ fn smooth_vertices_left_out_renumber_the_rest() {
         .collect();
     let part = smooth("cube", Mesh::from_faces(positions, faces));
     let model = Model {
+        skeletons: Vec::new(),
         parts: vec![part],
         lines: Vec::new(),
     };
@@ -224,7 +229,9 @@ fn smooth_vertices_left_out_renumber_the_rest() {
 #[test]
 fn glb_lines_are_a_primitive_of_their_own() {
     let model = Model {
+        skeletons: Vec::new(),
         parts: vec![Part {
+            bone: None,
             name: "box".to_owned(),
             color: RED,
             mesh: cuboid(DVec3::ONE),
@@ -284,6 +291,7 @@ fn glb_lines_past_65535_points_use_u32_indices() {
         segments: (0..n - 1).map(|i| [i, i + 1]).collect(),
     };
     let model = Model {
+        skeletons: Vec::new(),
         parts: Vec::new(),
         lines: vec![lines.clone()],
     };
@@ -300,6 +308,7 @@ fn glb_lines_past_65535_points_use_u32_indices() {
 #[test]
 fn glb_reader_turns_line_strips_and_loops_into_segments() {
     let model = Model {
+        skeletons: Vec::new(),
         parts: Vec::new(),
         lines: vec![stroke()],
     };
@@ -321,6 +330,7 @@ fn obj_smooth_part_and_lines_round_trip_exactly() {
     flat.name = "flat ball".to_owned();
     flat.normals.clear();
     let model = Model {
+        skeletons: Vec::new(),
         parts: vec![part.clone(), flat],
         lines: vec![stroke()],
     };
@@ -394,11 +404,13 @@ fn obj_reader_splits_polylines_into_segments() {
 #[test]
 fn stl_leaves_lines_out() {
     let only_lines = Model {
+        skeletons: Vec::new(),
         parts: Vec::new(),
         lines: vec![stroke()],
     };
     assert_eq!(write_stl(&only_lines).len(), 84);
     let with_box = Model {
+        skeletons: Vec::new(),
         parts: vec![smooth("cube", cuboid(DVec3::ONE))],
         lines: vec![stroke()],
     };

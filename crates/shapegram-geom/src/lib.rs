@@ -38,9 +38,10 @@ pub use bvh::Bvh;
 pub use component::{Component, ComponentKind, FaceClass};
 pub use glam::{DAffine3, DMat3, DQuat, DVec2, DVec3};
 pub use mesh::Mesh;
-pub use model::{Color, Lines, Model, Part};
+pub use model::{Bone, Color, Lines, Model, Part};
 pub use plane::Plane;
 pub use scope::{Pivot, Scope};
+pub use shapegram_kinematics as kinematics;
 pub use topology::EdgeReport;
 
 /// Relative tolerance used to decide that a point lies on a plane or that two points coincide.

@@ -2,6 +2,8 @@
 
 use glam::DVec3;
 
+use shapegram_kinematics::{Frame, SectionId, Skeleton};
+
 use crate::{Aabb, Mesh};
 
 /// An sRGB colour (as in `#rrggbb` notation) with straight alpha, each channel in `0..=1`.
@@ -118,6 +120,18 @@ pub struct Part {
     /// Smooth shading: one unit normal per mesh vertex, shared by the faces around it. Empty
     /// for flat shading, where each face is lit by its own normal.
     pub normals: Vec<DVec3>,
+    /// The skeleton section the part is rigidly attached to, if the model has skeletons; the
+    /// mesh is then in the rest pose.
+    pub bone: Option<Bone>,
+}
+
+/// Where a part hangs in the model's skeletons.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct Bone {
+    /// Index into [`Model::skeletons`].
+    pub skeleton: u32,
+    /// The section within that skeleton.
+    pub section: SectionId,
 }
 
 /// Line segments drawn without thickness, such as turtle strokes shown as a viewer's lines.
@@ -140,13 +154,16 @@ impl Lines {
     }
 }
 
-/// A whole model: the parts and line sets in a stable order.
+/// A whole model: the parts and line sets in a stable order, and the skeletons that pose them.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Model {
     /// Parts in output order.
     pub parts: Vec<Part>,
     /// Line sets in output order, after the parts.
     pub lines: Vec<Lines>,
+    /// Kinematic skeletons (one per initial shape that has one); parts name theirs in
+    /// [`Part::bone`].
+    pub skeletons: Vec<Skeleton>,
 }
 
 impl Model {
@@ -157,9 +174,38 @@ impl Model {
                 name: name.into(),
                 color,
                 mesh,
-                normals: Vec::new(),
+                ..Part::default()
             }],
-            lines: Vec::new(),
+            ..Model::default()
+        }
+    }
+
+    /// The model in its current pose: every part attached to a skeleton moved rigidly from the
+    /// rest pose by its section's pose (normals turned with it), the skeletons dropped. What
+    /// formats without skins (OBJ, STL) write.
+    pub fn posed(&self) -> Model {
+        let motions: Vec<Vec<Frame>> = self.skeletons.iter().map(Skeleton::skinning).collect();
+        let parts = self
+            .parts
+            .iter()
+            .map(|part| {
+                let mut part = part.clone();
+                if let Some(bone) = part.bone.take() {
+                    let motion = motions[bone.skeleton as usize][bone.section.index()];
+                    if motion != Frame::IDENTITY {
+                        part.mesh.transform(&motion.to_affine());
+                        for n in &mut part.normals {
+                            *n = motion.transform_vector(*n);
+                        }
+                    }
+                }
+                part
+            })
+            .collect();
+        Model {
+            parts,
+            lines: self.lines.clone(),
+            skeletons: Vec::new(),
         }
     }
 

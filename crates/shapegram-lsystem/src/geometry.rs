@@ -43,6 +43,7 @@ pub fn drawing_to_model(drawing: &Drawing, settings: &Settings) -> Model {
         .filter(|(_, (mesh, _))| !mesh.is_empty())
         .map(|(slot, (mesh, normals))| {
             let part = Part {
+                bone: None,
                 name: format!("branches-{slot}"),
                 color: palette.colors[slot],
                 mesh,
@@ -53,6 +54,7 @@ pub fn drawing_to_model(drawing: &Drawing, settings: &Settings) -> Model {
         .collect();
     parts.extend(leaves(drawing, &palette).map(|(slot, part)| ((slot, 1), part)));
     Model {
+        skeletons: Vec::new(),
         parts: parts.into_values().collect(),
         lines: Vec::new(),
     }
@@ -92,6 +94,7 @@ pub fn drawing_to_lines(drawing: &Drawing, settings: &Settings) -> Model {
             .extend((0..stroke.widths.len() as u32).map(|k| [first + k, first + k + 1]));
     }
     Model {
+        skeletons: Vec::new(),
         parts: leaves(drawing, &palette).map(|(_, part)| part).collect(),
         lines: lines.into_values().collect(),
     }
@@ -132,6 +135,7 @@ fn leaves<'a>(drawing: &Drawing, palette: &'a Palette) -> impl Iterator<Item = (
         .filter(|(_, mesh)| !mesh.is_empty())
         .map(|(slot, mesh)| {
             let part = Part {
+                bone: None,
                 name: format!("leaves-{slot}"),
                 color: palette.colors[slot],
                 mesh,
@@ -405,10 +409,12 @@ pub fn fit_into_scope(model: &Model, scope: &Scope) -> Model {
 fn transformed(model: &Model, map: &DAffine3) -> Model {
     let normal_map = map.matrix3.inverse().transpose();
     Model {
+        skeletons: Vec::new(),
         parts: model
             .parts
             .iter()
             .map(|part| Part {
+                bone: None,
                 name: part.name.clone(),
                 color: part.color,
                 mesh: part.mesh.transformed(map),

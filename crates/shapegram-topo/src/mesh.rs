@@ -93,11 +93,13 @@ impl GrammarMesh {
     /// The mesh as a model for the exporters (GLB, OBJ, STL): one part per symbol.
     pub fn to_model(&self) -> Model {
         Model {
+            skeletons: Vec::new(),
             parts: self
                 .parts
                 .iter()
                 .filter(|p| !p.triangles.is_empty())
                 .map(|p| Part {
+                    bone: None,
                     name: p.name.clone(),
                     color: p.color,
                     mesh: Mesh::from_faces(p.positions.clone(), &p.triangles),

@@ -294,6 +294,7 @@ mod tests {
             ..Part::default()
         };
         let model = Model {
+            skeletons: Vec::new(),
             parts: vec![part(unit), part(shifted)],
             lines: Vec::new(),
         };

@@ -191,6 +191,7 @@ impl Derivation {
             let key = (&*leaf.name, leaf.color.to_array().map(f32::to_bits));
             let i = *slot.entry(key).or_insert_with(|| {
                 parts.push(ModelPart {
+                    bone: None,
                     name: leaf.name.to_string(),
                     color: leaf.color,
                     mesh: Mesh::new(),
@@ -202,6 +203,7 @@ impl Derivation {
         }
         parts.extend(self.solids.iter().cloned());
         Model {
+            skeletons: Vec::new(),
             parts,
             lines: Vec::new(),
         }

@@ -18,6 +18,7 @@ pub const GREY: Color = Color::rgb(0.5, 0.5, 0.5);
 
 fn part(name: &str, color: Color, mesh: Mesh, at: DVec3) -> Part {
     Part {
+        bone: None,
         name: name.to_owned(),
         color,
         mesh: mesh.transformed(&DAffine3::from_translation(at)),
@@ -29,6 +30,7 @@ fn part(name: &str, color: Color, mesh: Mesh, at: DVec3) -> Part {
 /// rest are disjoint closed solids. Coordinates are not all representable in f32 (0.1 steps).
 pub fn sample_model() -> Model {
     Model {
+        skeletons: Vec::new(),
         parts: vec![
             part(
                 "front wall",
