@@ -47,6 +47,8 @@ pub(crate) enum Op {
         adjust: bool,
         /// `split(x, snap [, "tag"])`: boundaries move to snap planes (with the tag, if given).
         snap: Option<Option<CExpr>>,
+        /// How the parts join the skeleton.
+        joints: SplitJoints,
         block: SplitBlock,
     },
     /// `snap(x [, "tag"])`: snap planes across the given scope axes, at both ends of the scope.
@@ -92,8 +94,38 @@ pub(crate) enum Op {
         /// The fillet radius, or the amount of a morph.
         amount: Option<CExpr>,
     },
+    /// `joint(x, y, z)`: the shape's joint moves to this point of its scope (metres, or `'`
+    /// fractions of the scope's size), its axes along the scope's.
+    Joint([CExpr; 3]),
+    /// `rotationLimits(axis, min, max)` (degrees) and `translationLimits(axis, min, max)`
+    /// (metres): how far the joint may move about or along one of its axes.
+    JointLimits {
+        rotation: bool,
+        axis: usize,
+        min: CExpr,
+        max: CExpr,
+    },
+    /// `rotateJoint(x, y, z)` (degrees) and `translateJoint(x, y, z)` (metres): the joint's
+    /// current pose, within its limits.
+    JointPose {
+        rotation: bool,
+        values: [CExpr; 3],
+    },
     /// Parsed and accepted, but without effect on the model yet (texturing and the like).
     Ignored,
+}
+
+/// How the parts of a split join the kinematic skeleton (§4.1 of the Procedural Skeletons
+/// paper).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum SplitJoints {
+    /// Sequential when the split axis runs along the shape's bone, else parallel when the
+    /// shape allows it, else sequential.
+    Auto,
+    /// A chain: each part a child of the one before, the shape's children moved to the last.
+    Sequential,
+    /// A fork: each part a child of the shape's parent.
+    Parallel,
 }
 
 /// Built-in primitives inserted by `primitiveCube()` and friends.
@@ -420,6 +452,11 @@ const IMPLEMENTED: &[&str] = &[
     "shapeL",
     "shapeU",
     "shapeO",
+    "joint",
+    "rotationLimits",
+    "translationLimits",
+    "rotateJoint",
+    "translateJoint",
 ];
 
 /// Whether an operation of this name exists (implemented or not).
@@ -541,6 +578,28 @@ impl Ctx<'_, '_> {
                 self.primitive(Primitive::Sphere, 2, "primitiveSphere(nRows, nColumns)")?
             }
             "split" => self.split()?,
+            "joint" => {
+                self.c.kinematic = true;
+                Op::Joint(self.three("joint(x, y, z)")?)
+            }
+            "rotationLimits" => self.joint_limits(true)?,
+            "translationLimits" => self.joint_limits(false)?,
+            "rotateJoint" => {
+                self.c.kinematic = true;
+                let values = self.three("rotateJoint(x, y, z)")?;
+                Op::JointPose {
+                    rotation: true,
+                    values,
+                }
+            }
+            "translateJoint" => {
+                self.c.kinematic = true;
+                let values = self.three("translateJoint(x, y, z)")?;
+                Op::JointPose {
+                    rotation: false,
+                    values,
+                }
+            }
             "snap" | "Snap" => self.snap()?,
             "label" | "tag" => {
                 self.arity(1, 1, "label(\"name\")")?;
@@ -729,8 +788,8 @@ impl Ctx<'_, '_> {
     }
 
     fn split(&mut self) -> Option<Op> {
-        const SIGNATURE: &str = "split(x | y | z [, adjust | noAdjust] [, snap [, \"tag\"]]) { … }";
-        self.arity(1, 4, SIGNATURE)?;
+        const SIGNATURE: &str = "split(x | y | z [, adjust | noAdjust] [, sequential | parallel] [, snap [, \"tag\"]]) { … }";
+        self.arity(1, 5, SIGNATURE)?;
         let axis = match self.word(0) {
             Some("x") => 0,
             Some("y") => 1,
@@ -745,18 +804,32 @@ impl Ctx<'_, '_> {
         };
         let mut adjust = true;
         let mut snap = None;
+        let mut joints = SplitJoints::Auto;
         let mut i = 1;
         while i < self.args.len() {
             match self.word(i) {
                 Some("adjust") if snap.is_none() => adjust = true,
                 Some("noAdjust") if snap.is_none() => adjust = false,
+                Some("sequential") if snap.is_none() => {
+                    joints = SplitJoints::Sequential;
+                    self.c.kinematic = true;
+                }
+                Some("parallel") if snap.is_none() => {
+                    joints = SplitJoints::Parallel;
+                    self.c.kinematic = true;
+                }
                 Some("snap") if snap.is_none() => {
                     let tag = self.args.get(i + 1).cloned();
                     i += usize::from(tag.is_some());
                     snap = Some(tag);
                     self.c.uses.context = true;
                 }
-                _ => return self.bad_selector(i, "`adjust`, `noAdjust` or `snap`"),
+                _ => {
+                    return self.bad_selector(
+                        i,
+                        "`adjust`, `noAdjust`, `sequential`, `parallel` or `snap`",
+                    );
+                }
             }
             i += 1;
         }
@@ -769,7 +842,33 @@ impl Ctx<'_, '_> {
             axis,
             adjust,
             snap,
+            joints,
             block,
+        })
+    }
+
+    /// `rotationLimits(axis, min, max)` and `translationLimits(axis, min, max)`.
+    fn joint_limits(&mut self, rotation: bool) -> Option<Op> {
+        let name = if rotation {
+            "rotationLimits"
+        } else {
+            "translationLimits"
+        };
+        self.c.kinematic = true;
+        self.arity(3, 3, &format!("{name}(x | y | z, min, max)"))?;
+        let axis = match self.word(0) {
+            Some("x") => 0,
+            Some("y") => 1,
+            Some("z") => 2,
+            _ => return self.bad_selector(0, "the joint axis `x`, `y` or `z`"),
+        };
+        let max = self.args.pop()?;
+        let min = self.args.pop()?;
+        Some(Op::JointLimits {
+            rotation,
+            axis,
+            min,
+            max,
         })
     }
 

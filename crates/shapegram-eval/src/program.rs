@@ -33,6 +33,8 @@ pub struct Program {
     /// splits), directly or through functions and constants. Such rules wait for the second
     /// phase of a derivation.
     pub(crate) context_rules: Vec<bool>,
+    /// Whether any rule uses a kinematic operation: only then is a skeleton built.
+    pub(crate) kinematic: bool,
 }
 
 /// A compiled rule.
@@ -186,6 +188,8 @@ pub(crate) struct Compiler<'g> {
     /// Keys of warnings already given, so each missing rule or unsupported operation is
     /// reported once.
     warned: FxHashMap<String, ()>,
+    /// Whether a kinematic operation was compiled.
+    pub(crate) kinematic: bool,
 }
 
 impl<'g> Compiler<'g> {
@@ -201,6 +205,7 @@ impl<'g> Compiler<'g> {
             rule_arity: grammar.rules.iter().map(|r| r.params.len()).collect(),
             uses: Uses::default(),
             warned: FxHashMap::default(),
+            kinematic: false,
         };
         for (i, rule) in grammar.rules.iter().enumerate() {
             let list = c.rule_by_name.entry(rule.name.name.clone()).or_default();
@@ -341,6 +346,7 @@ impl<'g> Compiler<'g> {
             attr_by_name: std::mem::take(&mut self.attr_by_name),
             start_rule,
             context_rules,
+            kinematic: self.kinematic,
         }
     }
 

@@ -235,6 +235,9 @@ pub struct State {
     /// occluders of the derivation ([`NO_OCCLUDER`] when none): occlusion queries ignore it and
     /// its ancestors.
     pub occluder: u32,
+    /// The kinematic section the shape is attached to, in its lot's skeleton (0, the root,
+    /// when the grammar builds none).
+    pub section: u32,
 }
 
 impl FrozenState {
@@ -265,6 +268,7 @@ impl FrozenState {
             children: self.children,
             node: self.node,
             occluder: self.occluder,
+            section: self.section,
         }
     }
 }
@@ -291,6 +295,7 @@ pub struct FrozenState {
     children: u64,
     node: u32,
     occluder: u32,
+    section: u32,
 }
 
 impl State {
@@ -312,6 +317,7 @@ impl State {
             children: 0,
             node: 0,
             occluder: NO_OCCLUDER,
+            section: 0,
         }
     }
 
@@ -350,6 +356,7 @@ impl State {
             children: self.children,
             node: self.node,
             occluder: self.occluder,
+            section: self.section,
         }
     }
 
@@ -371,6 +378,7 @@ impl State {
             children: self.children,
             node: self.node,
             occluder: self.occluder,
+            section: self.section,
         }
     }
 

@@ -51,6 +51,7 @@ impl<'p> Engine<'p> {
                 assigned[e].push(c);
             }
         }
+        let mut made = 0;
         for (entry, chosen) in entries.iter().zip(&assigned) {
             if chosen.is_empty() {
                 continue;
@@ -67,6 +68,7 @@ impl<'p> Engine<'p> {
                     components[chosen[0]].scope.axes,
                     merged.positions().iter().copied(),
                 );
+                self.hang_component(state, &mut child, &entry.body, &mut made);
                 merged.transform(&child.scope.world_to_local());
                 child.geometry = Geometry::mesh(merged);
                 self.admit(&mut child, span)?;
@@ -79,6 +81,7 @@ impl<'p> Engine<'p> {
                 child.comp = (i as u32, chosen.len() as u32);
                 child.comp_sel = entry.selector.code();
                 child.scope = comp.scope;
+                self.hang_component(state, &mut child, &entry.body, &mut made);
                 child.geometry = match kind {
                     CompKind::Faces => {
                         let local: Vec<DVec3> = comp

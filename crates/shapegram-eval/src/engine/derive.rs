@@ -6,6 +6,7 @@ use std::sync::Arc;
 
 use rayon::prelude::*;
 use shapegram_geom::{DMat3, DVec3, Mesh, Scope, mesh::newell};
+use shapegram_kinematics::{Frame, Skeleton};
 
 use super::machine::{Engine, Phase, Task, Work};
 use super::{Derivation, DeriveOptions, InitialShape, Leaf, TreeNode};
@@ -54,6 +55,12 @@ pub fn derive(
         .map(|s| Arc::from(s.as_str()))
         .collect();
     let phase = if program.context_rules.contains(&true) {
+        if program.kinematic {
+            return Err(DeriveError::general(
+                "kinematic operations and context queries (occlusion, snapping) in one grammar are not supported yet",
+            )
+            .with_hint("derive the posable parts with a grammar of their own"));
+        }
         Phase::Gather
     } else {
         Phase::Only
@@ -190,6 +197,7 @@ impl Derivation {
         if let Some(e) = batch.error {
             return Err(e);
         }
+        self.skeletons.append(&mut batch.skeletons);
         let base = if continues { 0 } else { self.tree.len() as u32 };
         if continues || self.leaves.is_empty() && self.tree.is_empty() {
             // No renumbering needed: append the leaves as they are, take the tree.
@@ -247,6 +255,8 @@ pub(super) struct Batch {
     waiting: Vec<Waiting>,
     pub(super) occluders: Vec<Occluder>,
     pub(super) snaps: Vec<SnapPlane>,
+    /// Each lot's skeleton, by lot, when the grammar builds them.
+    pub(super) skeletons: Vec<(u32, Skeleton)>,
     error: Option<DeriveError>,
 }
 
@@ -260,6 +270,7 @@ impl Batch {
             shapes: 0,
             counts: vec![0; program.rules.len()],
             waiting: Vec::new(),
+            skeletons: Vec::new(),
             occluders: Vec::new(),
             snaps: Vec::new(),
             error: None,
@@ -355,6 +366,11 @@ fn derive_lot(
     ev.lot = index;
     state.attrs = Rc::new(ev.initial_attrs(&mut state, overrides)?);
     let mut engine = Engine::new(program, ev, names, options, phase, batch);
+    if program.kinematic {
+        // The model's pivot: the initial scope's origin, with its axes.
+        let root = Frame::from_axes(scope.origin, scope.axes);
+        engine.skeleton = Some(Skeleton::new(root, names[symbol as usize].to_string()));
+    }
     if let Some(tree) = &mut engine.tree {
         state.node = tree.len() as u32;
         tree.push(TreeNode {

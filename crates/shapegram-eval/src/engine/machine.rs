@@ -79,6 +79,8 @@ pub(super) struct Engine<'p> {
     pub(super) occluders: Vec<Occluder>,
     /// Snap planes recorded in phase 1.
     pub(super) snaps: Vec<SnapPlane>,
+    /// The lot's kinematic skeleton, when the grammar builds one.
+    pub(super) skeleton: Option<shapegram_kinematics::Skeleton>,
 }
 
 impl<'p> Engine<'p> {
@@ -110,6 +112,7 @@ impl<'p> Engine<'p> {
             parked: Vec::new(),
             occluders: std::mem::take(&mut batch.occluders),
             snaps: Vec::new(),
+            skeleton: None,
         }
     }
 
@@ -125,6 +128,9 @@ impl<'p> Engine<'p> {
         }
         batch.occluders = self.occluders;
         batch.snaps.extend(self.snaps);
+        batch
+            .skeletons
+            .extend(self.skeleton.map(|s| (self.ev.lot, s)));
     }
 
     /// Derives `first` and all that comes of it, depth first: leaves in depth-first order.
@@ -437,6 +443,7 @@ impl<'p> Engine<'p> {
             material: state.material.take(),
             node: self.tree.is_some().then_some(state.node),
             lot: self.ev.lot,
+            section: state.section,
         });
     }
 
@@ -475,9 +482,11 @@ impl<'p> Engine<'p> {
                 axis,
                 adjust,
                 snap,
+                joints,
                 block,
             } => {
-                self.split(state, *axis, *adjust, snap.as_ref(), block, span, args, out)?;
+                let how = (*adjust, *joints);
+                self.split(state, *axis, how, snap.as_ref(), block, span, args, out)?;
                 return Ok(true);
             }
             Op::Snap { axes, tag } => self.snap(state, *axes, tag.as_ref(), args)?,
@@ -514,6 +523,16 @@ impl<'p> Engine<'p> {
                 group,
                 amount,
             } => self.csg(state, *kind, group, amount.as_ref(), span, args)?,
+            Op::Joint(at) => self.place_joint(state, at, args)?,
+            Op::JointLimits {
+                rotation,
+                axis,
+                min,
+                max,
+            } => self.limit_joint(state, *rotation, *axis, (min, max), span, args)?,
+            Op::JointPose { rotation, values } => {
+                self.pose_joint(state, *rotation, values, span, args)?
+            }
             Op::Ignored => {}
         }
         Ok(false)

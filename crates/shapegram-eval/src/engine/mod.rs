@@ -27,6 +27,7 @@ mod derive;
 mod footprint;
 mod implicit;
 mod insert;
+mod kinematics;
 mod machine;
 mod roof;
 mod scope;
@@ -36,7 +37,8 @@ use std::sync::Arc;
 use std::time::Duration;
 
 use rustc_hash::FxHashMap;
-use shapegram_geom::{Color, DVec3, Mesh, Model, Part as ModelPart, Scope, primitives};
+use shapegram_geom::{Bone, Color, DVec3, Mesh, Model, Part as ModelPart, Scope, primitives};
+use shapegram_kinematics::{SectionId, Skeleton};
 
 use crate::error::DeriveError;
 use crate::shape::Geometry;
@@ -123,6 +125,9 @@ pub struct Leaf {
     pub node: Option<u32>,
     /// The initial shape it grew from, as an index into the derivation's initial shapes.
     pub lot: u32,
+    /// The kinematic section it hangs from, in the skeleton of its lot (see
+    /// [`Derivation::skeletons`]); 0 when the grammar builds none.
+    pub section: u32,
 }
 
 /// A shape in the derivation tree.
@@ -169,6 +174,9 @@ pub struct Derivation {
     /// The implicit solids of the leaves, meshed with smooth normals: a part per CSG group of
     /// each initial shape, then a part per solid that belongs to no group.
     pub solids: Vec<ModelPart>,
+    /// The kinematic skeletons, one per initial shape, by initial shape, when the grammar uses
+    /// kinematic operations; empty otherwise.
+    pub skeletons: Vec<(u32, Skeleton)>,
     /// Counts.
     pub stats: Stats,
 }
@@ -180,7 +188,13 @@ impl Derivation {
     /// [`solids`]: Derivation::solids
     pub fn to_model(&self) -> Model {
         let mut parts: Vec<ModelPart> = Vec::new();
-        let mut slot: FxHashMap<(&str, [u32; 4]), usize> = FxHashMap::default();
+        let mut slot: FxHashMap<(&str, [u32; 4], Option<Bone>), usize> = FxHashMap::default();
+        let skeleton_of: FxHashMap<u32, u32> = self
+            .skeletons
+            .iter()
+            .enumerate()
+            .map(|(i, (lot, _))| (*lot, i as u32))
+            .collect();
         for leaf in &self.leaves {
             if matches!(leaf.geometry, Geometry::Implicit(_)) {
                 continue;
@@ -188,10 +202,14 @@ impl Derivation {
             let Some(mesh) = leaf.world_mesh() else {
                 continue;
             };
-            let key = (&*leaf.name, leaf.color.to_array().map(f32::to_bits));
+            let bone = skeleton_of.get(&leaf.lot).map(|&skeleton| Bone {
+                skeleton,
+                section: SectionId(leaf.section),
+            });
+            let key = (&*leaf.name, leaf.color.to_array().map(f32::to_bits), bone);
             let i = *slot.entry(key).or_insert_with(|| {
                 parts.push(ModelPart {
-                    bone: None,
+                    bone,
                     name: leaf.name.to_string(),
                     color: leaf.color,
                     mesh: Mesh::new(),
@@ -203,7 +221,7 @@ impl Derivation {
         }
         parts.extend(self.solids.iter().cloned());
         Model {
-            skeletons: Vec::new(),
+            skeletons: self.skeletons.iter().map(|(_, s)| s.clone()).collect(),
             parts,
             lines: Vec::new(),
         }

@@ -139,7 +139,12 @@ impl Engine<'_> {
     }
 
     /// Evaluates three operation arguments, resolving relative ones against the scope size.
-    fn vector(&mut self, exprs: &[CExpr; 3], state: &mut State, args: &[Value]) -> Fallible<DVec3> {
+    pub(super) fn vector(
+        &mut self,
+        exprs: &[CExpr; 3],
+        state: &mut State,
+        args: &[Value],
+    ) -> Fallible<DVec3> {
         let mut v = DVec3::ZERO;
         for (i, e) in exprs.iter().enumerate() {
             v[i] = match &e.kind {

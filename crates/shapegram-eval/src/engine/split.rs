@@ -11,7 +11,7 @@ use super::machine::{Engine, Phase, Work};
 use super::scope::refit;
 use super::{Fallible, Leaf};
 use crate::context::Occluder;
-use crate::ops::SplitBlock;
+use crate::ops::{SplitBlock, SplitJoints};
 use crate::program::{CExpr, CStmt};
 use crate::shape::{Geometry, State};
 use crate::value::Value;
@@ -27,7 +27,7 @@ impl<'p> Engine<'p> {
         &mut self,
         state: &mut State,
         axis: usize,
-        adjust: bool,
+        (adjust, joints): (bool, SplitJoints),
         snap: Option<&Option<CExpr>>,
         block: &'p SplitBlock,
         span: Span,
@@ -44,7 +44,7 @@ impl<'p> Engine<'p> {
         if let Some(positions) = snaps {
             layout.snap(&positions);
         }
-        let result = self.split_parts(state, axis, adjust, &layout, span, args, out);
+        let result = self.split_parts(state, axis, (adjust, joints), &layout, span, args, out);
         self.layouts.push(layout);
         result
     }
@@ -55,7 +55,7 @@ impl<'p> Engine<'p> {
         &mut self,
         state: &mut State,
         axis: usize,
-        adjust: bool,
+        (adjust, joints): (bool, SplitJoints),
         layout: &Layout<'p>,
         span: Span,
         args: &[Value],
@@ -63,6 +63,8 @@ impl<'p> Engine<'p> {
     ) -> Fallible<()> {
         let parts = &layout.parts;
         let total = parts.len() as u32;
+        let extents = parts.iter().map(|p| (p.start, p.size, p.body));
+        let sections = self.split_sections(state, axis, extents, joints, span)?;
         let slabs = match &state.geometry {
             Geometry::Mesh(mesh, _) => {
                 let mut cuts: Vec<f64> = parts
@@ -84,13 +86,15 @@ impl<'p> Engine<'p> {
             let mut scope = state.scope;
             scope.translate(DVec3::AXES[axis] * part.start);
             scope.size[axis] = part.size;
+            let section = sections.as_ref().map_or(state.section, |s| s[i]);
             if slabs.is_none()
                 && solid.is_none()
-                && self.leaf_part(state, part.body, scope, span, out)?
+                && self.leaf_part(state, part.body, (scope, section), span, out)?
             {
                 continue;
             }
             let mut child = state.spawn();
+            child.section = section;
             child.split = (i as u32, total);
             child.scope = scope;
             if let Some(solid) = &solid {
@@ -129,7 +133,7 @@ impl<'p> Engine<'p> {
         &mut self,
         state: &mut State,
         body: &[CStmt],
-        scope: Scope,
+        (scope, section): (Scope, u32),
         span: Span,
         out: &[Work],
     ) -> Fallible<bool> {
@@ -171,6 +175,7 @@ impl<'p> Engine<'p> {
                 material: state.material.clone(),
                 node: None,
                 lot: self.ev.lot,
+                section,
             });
         }
         Ok(true)

@@ -1,0 +1,289 @@
+//! What the operations do to the kinematic skeleton (Ilčík, Fiedler, Purgathofer and Wimmer,
+//! "Procedural Skeletons", §4.1): a split makes a chain or a fork of sections, components hang
+//! from the shape's section, and the kinematic operations place the shape's joint, limit it and
+//! pose it. Every other operation keeps the shape's section. Only a grammar that uses a
+//! kinematic operation builds a skeleton; without one the split and component hooks return at
+//! once.
+
+use shapegram_geom::{DMat3, DVec3, Scope};
+use shapegram_kinematics::{Frame, KinematicError, Range, SectionId, Skeleton};
+use shapegram_syntax::Span;
+
+use super::Fallible;
+use super::machine::Engine;
+use crate::error::DeriveError;
+use crate::ops::SplitJoints;
+use crate::program::{CExpr, CStmt, Sym};
+use crate::shape::State;
+use crate::value::Value;
+
+/// A split is sequential when its axis is within this angle of the shape's bone (the line from
+/// its parent's joint to its own); the paper leaves the threshold open.
+const ALONG_BONE_DEGREES: f64 = 30.0;
+
+impl Engine<'_> {
+    /// The sections of a split's parts, given as (start, size) along `axis` and the body that
+    /// derives them (which names them); `None` when the grammar builds no skeleton.
+    pub(super) fn split_sections<'b>(
+        &mut self,
+        state: &State,
+        axis: usize,
+        parts: impl ExactSizeIterator<Item = (f64, f64, &'b [CStmt])>,
+        joints: SplitJoints,
+        span: Span,
+    ) -> Fallible<Option<Vec<u32>>> {
+        let Some(skeleton) = &mut self.skeleton else {
+            return Ok(None);
+        };
+        let section = SectionId(state.section);
+        let rest = skeleton.section(section).rest;
+        let direction = state.scope.axes.col(axis);
+        // Joints lie on the line through the shape's joint along the split direction.
+        let on_line = |t: f64| {
+            let p = state.scope.origin + direction * t;
+            Frame {
+                rotation: rest.rotation,
+                translation: rest.translation + direction * (p - rest.translation).dot(direction),
+            }
+        };
+        let names = self.names;
+        let named = |i: usize, body: &[CStmt], frame: Frame| {
+            let symbol = first_successor(body).unwrap_or(state.symbol);
+            (
+                frame,
+                section_name(&names[symbol as usize], state.seed, i as u64),
+            )
+        };
+        let kind = match joints {
+            SplitJoints::Auto => automatic(skeleton, section, direction),
+            kind => kind,
+        };
+        let ids = match kind {
+            SplitJoints::Parallel => {
+                let frames = parts
+                    .enumerate()
+                    .map(|(i, (start, size, body))| named(i, body, on_line(start + size / 2.0)));
+                skeleton
+                    .parallel(section, frames)
+                    .map_err(|e| kinematic_error(e, span))?
+            }
+            _ => {
+                let frames = parts
+                    .enumerate()
+                    .skip(1)
+                    .map(|(i, (start, _, body))| named(i, body, on_line(start)));
+                skeleton.sequential(section, frames)
+            }
+        };
+        Ok(Some(ids.into_iter().map(|s| s.0).collect()))
+    }
+
+    /// A component split's component hangs from the shape's section by a joint at its centre
+    /// with z along its normal (the component scope's z); `made` counts the components so far,
+    /// for their names.
+    pub(super) fn hang_component(
+        &mut self,
+        state: &State,
+        child: &mut State,
+        body: &[CStmt],
+        made: &mut u64,
+    ) {
+        let Some(skeleton) = &mut self.skeleton else {
+            return;
+        };
+        let section = SectionId(state.section);
+        let rest = skeleton.section(section).rest;
+        let frame = frame_of(&child.scope, child.scope.center(), rest);
+        let symbol = first_successor(body).unwrap_or(state.symbol);
+        let name = section_name(&self.names[symbol as usize], state.seed, !*made);
+        *made += 1;
+        child.section = skeleton.add_child(section, frame, name).0;
+    }
+
+    /// `joint(x, y, z)`: the joint placement rule. The joint moves to the point of the scope,
+    /// its axes along the scope's; nothing else moves.
+    pub(super) fn place_joint(
+        &mut self,
+        state: &mut State,
+        at: &[CExpr; 3],
+        args: &[Value],
+    ) -> Fallible<()> {
+        let local = self.vector(at, state, args)?;
+        let skeleton = self.skeleton_mut();
+        let section = SectionId(state.section);
+        let rest = skeleton.section(section).rest;
+        skeleton.place_joint(
+            section,
+            frame_of(&state.scope, state.scope.to_world(local), rest),
+        );
+        Ok(())
+    }
+
+    /// `rotationLimits(axis, min, max)` and `translationLimits(axis, min, max)`.
+    #[allow(clippy::too_many_arguments)]
+    pub(super) fn limit_joint(
+        &mut self,
+        state: &mut State,
+        rotation: bool,
+        axis: usize,
+        (min, max): (&CExpr, &CExpr),
+        span: Span,
+        args: &[Value],
+    ) -> Fallible<()> {
+        let range = Range::new(
+            self.ev.number(min, state, args)?,
+            self.ev.number(max, state, args)?,
+        );
+        let skeleton = self.skeleton_mut();
+        let section = SectionId(state.section);
+        let mut limits = skeleton.section(section).limits;
+        if rotation {
+            limits.rotation[axis] = range;
+        } else {
+            limits.translation[axis] = range;
+        }
+        let moved = skeleton
+            .set_limits(section, limits)
+            .map_err(|e| kinematic_error(e, span))?;
+        match moved.first() {
+            None => Ok(()),
+            Some(clamped) => Err(DeriveError::at(
+                format!("the joint's current pose leaves the new limits: {clamped}"),
+                span,
+            )
+            .with_hint("set the limits before the pose (rotateJoint, translateJoint)")),
+        }
+    }
+
+    /// `rotateJoint(x, y, z)` and `translateJoint(x, y, z)`: the current pose. A pose outside
+    /// the joint's limits is an error, not clamped: a grammar's pose is meant as written.
+    pub(super) fn pose_joint(
+        &mut self,
+        state: &mut State,
+        rotation: bool,
+        values: &[CExpr; 3],
+        span: Span,
+        args: &[Value],
+    ) -> Fallible<()> {
+        let mut v = DVec3::ZERO;
+        for (i, e) in values.iter().enumerate() {
+            v[i] = self.ev.number(e, state, args)?;
+        }
+        let skeleton = self.skeleton_mut();
+        let section = SectionId(state.section);
+        let current = skeleton.section(section);
+        let mut pose = current.pose;
+        let limits = current.limits;
+        if rotation {
+            pose.rotation = v;
+        } else {
+            pose.translation = v;
+        }
+        let (_, clamped) = limits.clamp(&pose);
+        if let Some(c) = clamped.first() {
+            let ranges = if c.rotation {
+                limits.rotation
+            } else {
+                limits.translation
+            };
+            let range = ranges[c.axis as usize];
+            let unit = if c.rotation { "°" } else { " m" };
+            return Err(DeriveError::at(
+                format!(
+                    "the {} {} {} of {}{unit} is outside the joint's limits ({}{unit} to {}{unit})",
+                    if c.rotation {
+                        "rotation"
+                    } else {
+                        "translation"
+                    },
+                    if c.rotation { "about" } else { "along" },
+                    c.axis.name(),
+                    c.requested,
+                    range.min,
+                    range.max
+                ),
+                span,
+            )
+            .with_hint(format!(
+                "free the axis first: `{}({}, min, max)`",
+                if c.rotation {
+                    "rotationLimits"
+                } else {
+                    "translationLimits"
+                },
+                c.axis.name()
+            )));
+        }
+        skeleton
+            .set_pose(section, pose)
+            .map_err(|e| kinematic_error(e, span))?;
+        Ok(())
+    }
+
+    /// The skeleton of a grammar with kinematic operations (there always is one then).
+    fn skeleton_mut(&mut self) -> &mut Skeleton {
+        self.skeleton
+            .as_mut()
+            .expect("a grammar with kinematic operations builds a skeleton")
+    }
+}
+
+/// The split kind the paper picks for plain CGA splits: sequential along the bone, else
+/// parallel where the shape allows a fork, else sequential.
+fn automatic(skeleton: &Skeleton, section: SectionId, direction: DVec3) -> SplitJoints {
+    let s = skeleton.section(section);
+    let Some(parent) = s.parent else {
+        return SplitJoints::Sequential;
+    };
+    let bone = s.rest.translation - skeleton.section(parent).rest.translation;
+    let along = bone
+        .try_normalize()
+        .is_some_and(|b| b.dot(direction).abs() >= ALONG_BONE_DEGREES.to_radians().cos());
+    if along || !s.children().is_empty() {
+        SplitJoints::Sequential
+    } else {
+        SplitJoints::Parallel
+    }
+}
+
+/// A joint frame at `at` with the scope's axes, or with `fallback`'s orientation when the
+/// scope's axes are not a rotation (a mirrored or degenerate scope).
+fn frame_of(scope: &Scope, at: DVec3, fallback: Frame) -> Frame {
+    let axes: DMat3 = scope.axes;
+    let rotation_like = (axes.determinant() - 1.0).abs() < 1e-6
+        && (axes.transpose() * axes - DMat3::IDENTITY)
+            .to_cols_array()
+            .iter()
+            .all(|e| e.abs() < 1e-6);
+    if rotation_like {
+        Frame::from_axes(at, axes)
+    } else {
+        Frame {
+            rotation: fallback.rotation,
+            translation: at,
+        }
+    }
+}
+
+/// A short name that stays the same when the grammar is derived again: the rule that made the
+/// section and a hash of the shape's place in the derivation and the part's index.
+pub(super) fn section_name(symbol: &str, seed: u64, part: u64) -> String {
+    let mut z = seed ^ part.wrapping_mul(0x9E37_79B9_7F4A_7C15);
+    z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+    z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+    z ^= z >> 31;
+    format!("{symbol}_{:06x}", z & 0xFF_FFFF)
+}
+
+/// The symbol of the first successor of a body: the rule a part or component becomes, which
+/// names its section.
+fn first_successor(body: &[CStmt]) -> Option<Sym> {
+    body.iter().find_map(|s| match s {
+        CStmt::Successor { symbol, .. } => Some(*symbol),
+        _ => None,
+    })
+}
+
+fn kinematic_error(error: KinematicError, span: Span) -> DeriveError {
+    DeriveError::at(error.to_string(), span)
+}

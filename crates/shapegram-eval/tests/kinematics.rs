@@ -1,0 +1,240 @@
+//! Kinematic skeletons built while deriving (the Procedural Skeletons paper, §4.1): how
+//! splits, components and the kinematic operations shape the skeleton, and what a pose does to
+//! the model.
+
+mod common;
+
+use common::{lot, run, try_run};
+use shapegram_eval::{Derivation, DeriveOptions};
+use shapegram_geom::{DVec3, Model, kinematics::SectionId};
+use shapegram_syntax::Span;
+
+/// The rotating tower of Algorithm 1 in the main syntax: a basement and five floors of 3 m,
+/// the joints on the tower's axis, each floor turned by `twist` against the one below.
+const TOWER: &str = "attr twist = 0
+@StartRule
+Lot --> extrude(18.5) joint('0.5, 0, '0.5) split(y) { 3.5 : Basement | { ~3 : Floor }* }
+Floor --> rotationLimits(y, -90, 90) rotateJoint(0, twist, 0) comp(f) { side : Facade | top : Slab. }
+Facade --> split(x) { { ~2.5 : Pane. }* }
+Basement --> Base.
+";
+
+fn tower(twist: f64) -> Derivation {
+    let options = DeriveOptions {
+        attrs: vec![("twist".into(), shapegram_eval::Value::Number(twist))],
+        ..DeriveOptions::default()
+    };
+    try_run(TOWER, lot(20.0, 30.0), &options).unwrap()
+}
+
+fn close(a: DVec3, b: DVec3) -> bool {
+    (a - b).length() < 1e-9
+}
+
+#[test]
+fn the_floors_form_a_chain_with_joints_on_the_split_planes_and_the_axis() {
+    let d = tower(0.0);
+    assert_eq!(d.skeletons.len(), 1);
+    let skeleton = &d.skeletons[0].1;
+    assert!(skeleton.is_tree());
+    // The chain: root (the lot, then the basement) and five floors, each the child of the one
+    // below, joints at the centre of the footprint on the planes y = 3.5, 6.5, …
+    let mut floor = skeleton.root();
+    for k in 0..5 {
+        let next = skeleton
+            .section(floor)
+            .children()
+            .iter()
+            .copied()
+            .find(|c| skeleton.section(*c).name.starts_with("Floor_"))
+            .unwrap_or_else(|| panic!("floor {k} has no successor"));
+        let at = skeleton.section(next).rest.translation;
+        assert!(
+            close(at, DVec3::new(10.0, 3.5 + 3.0 * f64::from(k), 15.0)),
+            "floor {k} at {at}"
+        );
+        floor = next;
+    }
+}
+
+#[test]
+fn turning_the_floors_turns_each_one_and_everything_above_it() {
+    let d = tower(90.0);
+    let model = d.to_model();
+    let skeleton = &d.skeletons[0].1;
+    let floors: Vec<SectionId> = {
+        let mut chain = vec![skeleton.root()];
+        while let Some(next) = skeleton
+            .section(*chain.last().unwrap())
+            .children()
+            .iter()
+            .copied()
+            .find(|c| skeleton.section(*c).name.starts_with("Floor_"))
+        {
+            chain.push(next);
+        }
+        chain
+    };
+    assert_eq!(floors.len(), 6);
+    // Floor k (k = 1…5) is turned by k · 90° about the vertical axis through (10, 15): odd
+    // floors lie 30 m along x and 20 m along z, even ones as the lot does.
+    for (k, &floor) in floors.iter().enumerate().skip(1) {
+        let (min, max) = posed_bounds(&model, floor, skeleton);
+        let size = max - min;
+        let expected = if k % 2 == 1 {
+            (30.0, 20.0)
+        } else {
+            (20.0, 30.0)
+        };
+        assert!(
+            (size.x - expected.0).abs() < 1e-9 && (size.z - expected.1).abs() < 1e-9,
+            "floor {k}: {size}"
+        );
+        assert!(close(
+            (min + max) / 2.0 * DVec3::new(1.0, 0.0, 1.0),
+            DVec3::new(10.0, 0.0, 15.0)
+        ));
+    }
+    // The basement does not move.
+    let (min, max) = posed_bounds(&model, floors[0], skeleton);
+    assert!(
+        close(min, DVec3::ZERO) && close(max, DVec3::new(20.0, 3.5, 30.0)),
+        "{min} {max}"
+    );
+}
+
+/// The posed bounds of every part hanging from `section` or a section below it whose chain to
+/// `section` passes no other floor (the floor's own facades and panes).
+fn posed_bounds(
+    model: &Model,
+    section: SectionId,
+    skeleton: &shapegram_geom::kinematics::Skeleton,
+) -> (DVec3, DVec3) {
+    let motions = skeleton.skinning();
+    let owned = |mut s: SectionId| loop {
+        if s == section {
+            return true;
+        }
+        if skeleton.section(s).name.starts_with("Floor_") || s == skeleton.root() {
+            return false;
+        }
+        match skeleton.section(s).parent {
+            Some(p) => s = p,
+            None => return false,
+        }
+    };
+    let mut min = DVec3::INFINITY;
+    let mut max = DVec3::NEG_INFINITY;
+    for part in &model.parts {
+        let Some(bone) = part.bone else { continue };
+        if !owned(bone.section) {
+            continue;
+        }
+        let motion = motions[bone.section.index()];
+        for &p in part.mesh.positions() {
+            let q = motion.transform_point(p);
+            min = min.min(q);
+            max = max.max(q);
+        }
+    }
+    (min, max)
+}
+
+#[test]
+fn facade_splits_fork_from_the_floor_and_components_hang_from_their_shape() {
+    let d = tower(0.0);
+    let skeleton = &d.skeletons[0].1;
+    let model = d.to_model();
+    for part in model.parts.iter().filter(|p| p.name == "Pane") {
+        let section = skeleton.section(part.bone.unwrap().section);
+        // A pane's parent is its floor (a fork of the facade's parent), not the facade.
+        let parent = skeleton.section(section.parent.unwrap());
+        assert!(
+            parent.name.starts_with("Floor_"),
+            "{} under {}",
+            section.name,
+            parent.name
+        );
+    }
+    for part in model.parts.iter().filter(|p| p.name == "Slab") {
+        let section = skeleton.section(part.bone.unwrap().section);
+        assert!(section.name.starts_with("Slab_"), "{}", section.name);
+        // z along the slab's normal (up), joint at its centre.
+        let rest = section.rest;
+        assert!(close(rest.transform_vector(DVec3::Z), DVec3::Y));
+        assert!(close(
+            rest.translation * DVec3::new(1.0, 0.0, 1.0),
+            DVec3::new(10.0, 0.0, 15.0)
+        ));
+    }
+}
+
+#[test]
+fn a_pose_outside_the_limits_is_an_error_at_the_operation() {
+    let error = tower_error(120.0);
+    assert_eq!(
+        error.message,
+        "the rotation about y of 120° is outside the joint's limits (-90° to 90°)"
+    );
+    let span = error.span.unwrap();
+    assert_eq!(
+        &TOWER[span.start as usize..span.end as usize],
+        "rotateJoint(0, twist, 0)"
+    );
+}
+
+fn tower_error(twist: f64) -> shapegram_eval::DeriveError {
+    let options = DeriveOptions {
+        attrs: vec![("twist".into(), shapegram_eval::Value::Number(twist))],
+        ..DeriveOptions::default()
+    };
+    try_run(TOWER, lot(20.0, 30.0), &options).unwrap_err()
+}
+
+#[test]
+fn a_parallel_split_of_the_root_is_an_error_with_its_span() {
+    let text = "Lot --> extrude(3) split(x, parallel) { ~1 : A. }*";
+    let error = try_run(text, lot(4.0, 4.0), &DeriveOptions::default()).unwrap_err();
+    assert!(
+        error
+            .message
+            .starts_with("a parallel split needs a shape with a kinematic parent")
+    );
+    let Span { start, end } = error.span.unwrap();
+    assert!(text[start as usize..end as usize].starts_with("split(x, parallel)"));
+}
+
+#[test]
+fn reversed_limits_are_an_error() {
+    let text = "Lot --> rotationLimits(z, 10, -10) A.";
+    let error = try_run(text, lot(4.0, 4.0), &DeriveOptions::default()).unwrap_err();
+    assert_eq!(
+        error.message,
+        "the rotation limit about z runs from 10 to -10: the minimum must not exceed the maximum"
+    );
+}
+
+#[test]
+fn grammars_without_kinematic_operations_build_no_skeleton() {
+    let d = run("Lot --> extrude(3) split(y) { ~1 : A. }*", lot(4.0, 4.0));
+    assert!(d.skeletons.is_empty());
+    assert!(d.to_model().parts.iter().all(|p| p.bone.is_none()));
+}
+
+#[test]
+fn section_names_are_stable_and_unique_enough() {
+    let a = tower(30.0);
+    let b = tower(30.0);
+    let names = |d: &Derivation| -> Vec<String> {
+        d.skeletons[0]
+            .1
+            .sections()
+            .map(|(_, s)| s.name.clone())
+            .collect()
+    };
+    assert_eq!(names(&a), names(&b));
+    let mut unique = names(&a);
+    unique.sort();
+    unique.dedup();
+    assert_eq!(unique.len(), a.skeletons[0].1.len());
+}
