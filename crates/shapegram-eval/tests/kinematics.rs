@@ -145,7 +145,7 @@ fn facade_splits_fork_from_the_floor_and_components_hang_from_their_shape() {
     let d = tower(0.0);
     let skeleton = &d.skeletons[0].1;
     let model = d.to_model();
-    for part in model.parts.iter().filter(|p| p.name == "Pane") {
+    for part in model.parts.iter().filter(|p| p.name == "Glass") {
         let section = skeleton.section(part.bone.unwrap().section);
         // A pane's parent is its floor (a fork of the facade's parent), not the facade.
         let parent = skeleton.section(section.parent.unwrap());
@@ -237,4 +237,43 @@ fn section_names_are_stable_and_unique_enough() {
     unique.sort();
     unique.dedup();
     assert_eq!(unique.len(), a.skeletons[0].1.len());
+}
+
+#[test]
+fn the_twisting_tower_example_chains_its_floors_and_forks_its_facades() {
+    let text = std::fs::read_to_string(common::examples().join("rotating_tower.cga")).unwrap();
+    let d = run(&text, lot(20.0, 30.0));
+    let skeleton = &d.skeletons[0].1;
+    assert!(skeleton.is_tree());
+    let model = d.to_model();
+    // Every pane hangs from its storey's facade split (a fork from the storey).
+    let panes: Vec<_> = model.parts.iter().filter(|p| p.name == "Glass").collect();
+    assert!(!panes.is_empty());
+    for pane in panes {
+        let section = skeleton.section(pane.bone.unwrap().section);
+        let parent = skeleton.section(section.parent.unwrap());
+        assert!(
+            parent.name.starts_with("Storey_"),
+            "{} under {}",
+            section.name,
+            parent.name
+        );
+    }
+    // Twelve floors turned by 4° each: the top one by 48°.
+    let floors: Vec<_> = skeleton
+        .sections()
+        .filter(|(_, s)| s.name.starts_with("Floor_"))
+        .map(|(id, _)| id)
+        .collect();
+    assert_eq!(floors.len(), 12);
+    let posed = skeleton.posed();
+    let top = floors
+        .iter()
+        .max_by(|a, b| {
+            let y = |s: &SectionId| skeleton.section(*s).rest.translation.y;
+            y(a).total_cmp(&y(b))
+        })
+        .unwrap();
+    let x = posed[top.index()].transform_vector(DVec3::X);
+    assert!(((-x.z).atan2(x.x).to_degrees() - 48.0).abs() < 1e-9);
 }

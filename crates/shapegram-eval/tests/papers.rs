@@ -363,3 +363,71 @@ fn medieval_house_sections() {
     assert_eq!(sizes[..2], [0, 0]);
     assert!(sizes[2..].iter().all(|&n| n > 0), "{sizes:?}");
 }
+
+// --- Seed 004, Algorithm 1 (Müller et al. 2006 notation with KinematicRotation) ---------------
+
+/// The floors of the rotating tower, bottom to top: the chain of sections from the root whose
+/// names start with `Floor_` or `Floors_` (the first floor keeps the section of `Floors`, which the repeat
+/// split sequentially).
+fn floor_chain(
+    skeleton: &shapegram_geom::kinematics::Skeleton,
+) -> Vec<shapegram_geom::kinematics::SectionId> {
+    let mut chain = vec![skeleton.root()];
+    while let Some(next) = skeleton
+        .section(*chain.last().unwrap())
+        .children()
+        .iter()
+        .copied()
+        .find(|c| {
+            let name = &skeleton.section(*c).name;
+            name.starts_with("Floor_") || name.starts_with("Floors_")
+        })
+    {
+        chain.push(next);
+    }
+    chain.split_off(1)
+}
+
+#[test]
+fn algorithm_1_rotating_tower() {
+    let program = example("rotating_tower.mul", Dialect::Muller2006);
+    let d = run(&program, 0, &[("CurrentRot", 15.0)]);
+    assert_eq!(count(&d, "Floor"), 6);
+    let skeleton = &d.skeletons[0].1;
+    assert!(skeleton.is_tree());
+    let floors = floor_chain(skeleton);
+    assert_eq!(
+        floors.len(),
+        6,
+        "six floors of 3 m above the 3.5 m basement, in one chain"
+    );
+    let posed = skeleton.posed();
+    for (k, &floor) in floors.iter().enumerate() {
+        let section = skeleton.section(floor);
+        // The joints on the tower's axis (the lot's centre), on the planes between floors.
+        let at = section.rest.translation;
+        assert!(
+            close(at, DVec3::new(10.0, 3.5 + 3.0 * k as f64, 15.0), 1e-9),
+            "{at}"
+        );
+        assert_eq!(section.limits.rotation[1].max, 45.0);
+        assert_eq!(section.pose.rotation, DVec3::new(0.0, 15.0, 0.0));
+        // Turns add up towards the top: floor k is turned by (k + 1) · 15° about y.
+        let x = posed[floor.index()].transform_vector(DVec3::X);
+        let angle = (-x.z).atan2(x.x).to_degrees();
+        assert!(
+            (angle - 15.0 * (k + 1) as f64).abs() < 1e-9,
+            "floor {k}: {angle}°"
+        );
+    }
+    // Beyond RotLimits is an error at the operation.
+    let options = DeriveOptions {
+        attrs: vec![("CurrentRot".into(), Value::Number(50.0))],
+        ..DeriveOptions::default()
+    };
+    let error = derive(&program, &[common::lot(20.0, 30.0)], &options).unwrap_err();
+    assert_eq!(
+        error.message,
+        "the rotation about y of 50° is outside the joint's limits (-45° to 45°)"
+    );
+}

@@ -367,8 +367,9 @@ fn derive_lot(
     state.attrs = Rc::new(ev.initial_attrs(&mut state, overrides)?);
     let mut engine = Engine::new(program, ev, names, options, phase, batch);
     if program.kinematic {
-        // The model's pivot: the initial scope's origin, with its axes.
-        let root = Frame::from_axes(scope.origin, scope.axes);
+        // The model's pivot: the centre of the lot's scope on the ground, with its axes.
+        let pivot = scope.to_world(scope.size * DVec3::new(0.5, 0.0, 0.5));
+        let root = Frame::from_axes(pivot, scope.axes);
         engine.skeleton = Some(Skeleton::new(root, names[symbol as usize].to_string()));
     }
     if let Some(tree) = &mut engine.tree {

@@ -52,6 +52,17 @@ pub(super) fn floating(e: Expr) -> Expr {
     expr(ExprKind::Floating(Box::new(e)), span)
 }
 
+pub(super) fn negated(e: Expr) -> Expr {
+    let span = e.span;
+    expr(
+        ExprKind::Unary {
+            op: UnaryOp::Neg,
+            operand: Box::new(e),
+        },
+        span,
+    )
+}
+
 pub(super) fn binary(op: BinaryOp, lhs: Expr, rhs: Expr) -> Expr {
     let span = lhs.span.to(rhs.span);
     expr(

@@ -333,6 +333,21 @@ impl Parser<'_> {
                     out.push(b::op("r", angles, span));
                 }
             }
+            // Algorithm 1 of the Procedural Skeletons paper: the joint turns about the scope's
+            // y axis (up, as `Subdiv("Y", …)` stacks the floors) within ±limit, posed at
+            // `current` (degrees).
+            ("KinematicRotation", None) if args.is_some() => {
+                let signature = "KinematicRotation(limit, current)";
+                if let Some(mut v) = self.muller_args(&name, values, 2, span, signature) {
+                    let current = v.pop().expect("two arguments");
+                    let limit = v.pop().expect("two arguments");
+                    let axis = b::name("y", name.span);
+                    let min = b::negated(limit.clone());
+                    out.push(b::op("rotationLimits", vec![axis, min, limit], span));
+                    let zero = || b::number(0.0, span);
+                    out.push(b::op("rotateJoint", vec![zero(), current, zero()], span));
+                }
+            }
             ("I", None) if args.is_some() => {
                 if let Some(mut v) = self.muller_args(&name, values, 1, span, "I(\"name\")") {
                     self.lower_instance(v.remove(0), span, out);
