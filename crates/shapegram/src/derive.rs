@@ -332,6 +332,40 @@ struct StatsJson<'a> {
     export_ms: f64,
     rules: Ordered<usize>,
     reports: Ordered<ReportSummary>,
+    /// Only for grammars that build skeletons.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    skeleton: Option<SkeletonJson>,
+}
+
+/// The skeletons' counts in `--stats`: sections, the joints linking them to a parent, and the
+/// joints whose limits let them move.
+#[derive(Serialize)]
+struct SkeletonJson {
+    skeletons: usize,
+    sections: usize,
+    joints: usize,
+    free_joints: usize,
+}
+
+impl SkeletonJson {
+    fn of(model: &Model) -> Option<Self> {
+        if model.skeletons.is_empty() {
+            return None;
+        }
+        let sections = model.skeletons.iter().map(|s| s.len()).sum();
+        let free_joints = model
+            .skeletons
+            .iter()
+            .flat_map(|s| s.sections())
+            .filter(|(_, s)| s.limits.is_free())
+            .count();
+        Some(Self {
+            skeletons: model.skeletons.len(),
+            sections,
+            joints: sections - model.skeletons.len(),
+            free_joints,
+        })
+    }
 }
 
 impl<'a> StatsJson<'a> {
@@ -365,6 +399,7 @@ impl<'a> StatsJson<'a> {
             export_ms: millis(export_time),
             rules,
             reports,
+            skeleton: SkeletonJson::of(model),
         }
     }
 }

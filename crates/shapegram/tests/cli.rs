@@ -1219,3 +1219,19 @@ fn an_implicit_grammar_joins_a_group_and_is_carved() {
     );
     assert!(err.contains("wrong.cga:1:29"), "{err}");
 }
+
+#[test]
+fn stats_count_the_skeleton_of_a_kinematic_grammar() {
+    let stats = derive_stats(&example("rotating_tower.cga"), &[]);
+    let skeleton = &stats["skeleton"];
+    assert_eq!(skeleton["skeletons"], 1);
+    // The root (lot and lobby), 12 floors and their 12 storeys in one chain, 6 faces for each
+    // slab, storey and the lobby (78 + 6), and a section per facade part: 1,200 on the floors
+    // and 56 on the lobby.
+    assert_eq!(skeleton["sections"], 1 + 12 + 12 + 2 * 72 + 6 + 1200 + 56);
+    assert_eq!(skeleton["joints"], 1430);
+    // Only the floors turn.
+    assert_eq!(skeleton["free_joints"], 12);
+    let plain = derive_stats(&example("house.cga"), &[]);
+    assert!(plain.get("skeleton").is_none());
+}
