@@ -277,3 +277,133 @@ fn the_twisting_tower_example_chains_its_floors_and_forks_its_facades() {
     let x = posed[top.index()].transform_vector(DVec3::X);
     assert!(((-x.z).atan2(x.x).to_degrees() - 48.0).abs() < 1e-9);
 }
+
+/// Generated grammars: a chain of rules, each one operation whose successors are later rules.
+mod generated {
+    use proptest::prelude::*;
+
+    use super::*;
+
+    /// One rule's body; `next` picks later rules (or a leaf) for its successors.
+    #[derive(Clone, Debug)]
+    enum Body {
+        Split {
+            axis: usize,
+            kind: usize,
+            parts: Vec<u8>,
+            repeat: bool,
+        },
+        Comp(Vec<u8>),
+        Joint(u8),
+        Pose(u8),
+        Nil,
+        Leaf,
+    }
+
+    fn body() -> impl Strategy<Value = Body> {
+        let next = || prop::collection::vec(any::<u8>(), 1..4);
+        prop_oneof![
+            (0..3usize, 0..3usize, next(), any::<bool>()).prop_map(
+                |(axis, kind, parts, repeat)| {
+                    Body::Split {
+                        axis,
+                        kind,
+                        parts,
+                        repeat,
+                    }
+                }
+            ),
+            next().prop_map(Body::Comp),
+            any::<u8>().prop_map(Body::Joint),
+            any::<u8>().prop_map(Body::Pose),
+            Just(Body::Nil),
+            Just(Body::Leaf),
+        ]
+    }
+
+    /// The successor of rule `i` picked by `n`: a later rule, or a leaf.
+    fn successor(i: usize, rules: usize, n: u8) -> String {
+        let j = i + 1 + usize::from(n) % (rules - i);
+        if j >= rules {
+            "Leaf.".into()
+        } else {
+            format!("R{j}")
+        }
+    }
+
+    fn grammar(bodies: &[Body]) -> String {
+        let rules = bodies.len();
+        let mut text = String::from("@StartRule\nLot --> extrude(9) R0\n");
+        for (i, b) in bodies.iter().enumerate() {
+            let next = |n: u8| successor(i, rules, n);
+            let body = match b {
+                Body::Split {
+                    axis,
+                    kind,
+                    parts,
+                    repeat,
+                } => {
+                    let axis = ["x", "y", "z"][*axis];
+                    let kind = ["", ", sequential", ", parallel"][*kind];
+                    let entries: Vec<String> =
+                        parts.iter().map(|&n| format!("~1 : {}", next(n))).collect();
+                    if *repeat {
+                        format!("split({axis}{kind}) {{ {{ {} }}* }}", entries.join(" | "))
+                    } else {
+                        format!("split({axis}{kind}) {{ {} }}", entries.join(" | "))
+                    }
+                }
+                Body::Comp(parts) => {
+                    let selectors = ["side", "top", "bottom"];
+                    let entries: Vec<String> = parts
+                        .iter()
+                        .zip(selectors)
+                        .map(|(&n, s)| format!("{s} : {}", next(n)))
+                        .collect();
+                    format!("comp(f) {{ {} }}", entries.join(" | "))
+                }
+                Body::Joint(n) => format!("joint('0.3, 0, '0.7) {}", next(*n)),
+                Body::Pose(n) => {
+                    format!(
+                        "rotationLimits(y, -30, 30) rotateJoint(0, 10, 0) {}",
+                        next(*n)
+                    )
+                }
+                Body::Nil => "NIL".into(),
+                Body::Leaf => "Leaf.".into(),
+            };
+            text.push_str(&format!("R{i} --> {body}\n"));
+        }
+        text
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig::with_cases(200))]
+
+        /// Whatever the grammar, the sections form one rooted tree (Lemmas 4.1–4.2, Corollary
+        /// 4.3), every leaf hangs from one of them, and the pose moves leaves rigidly; the only
+        /// error is a parallel split where the paper forbids one.
+        #[test]
+        fn any_grammar_builds_one_rooted_tree(bodies in prop::collection::vec(body(), 1..7)) {
+            let text = format!("{}R_unused --> rotateJoint(0, 0, 0) Leaf.\n", grammar(&bodies));
+            let options = DeriveOptions { max_shapes: 20_000, ..DeriveOptions::default() };
+            match try_run(&text, lot(8.0, 6.0), &options) {
+                Err(e) => prop_assert!(
+                    e.message.starts_with("a parallel split needs"),
+                    "{}\n{text}", e.message
+                ),
+                Ok(d) => {
+                    prop_assert_eq!(d.skeletons.len(), 1);
+                    let skeleton = &d.skeletons[0].1;
+                    prop_assert!(skeleton.is_tree(), "{text}");
+                    for leaf in &d.leaves {
+                        prop_assert!((leaf.section as usize) < skeleton.len());
+                    }
+                    for frame in skeleton.posed() {
+                        prop_assert!(frame.is_finite());
+                    }
+                }
+            }
+        }
+    }
+}
