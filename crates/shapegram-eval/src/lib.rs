@@ -22,7 +22,7 @@ mod value;
 
 pub use engine::{
     ASSET_VARIANTS, Asset, AssetLoader, Derivation, DeriveOptions, InitialShape, Leaf, Stats,
-    derive,
+    TreeNode, derive,
 };
 pub use error::DeriveError;
 pub use program::{Program, RuleId, Sym};
