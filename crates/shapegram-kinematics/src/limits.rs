@@ -95,6 +95,27 @@ impl Limits {
             .any(Range::is_free)
     }
 
+    /// Checks that `pose` is finite and within the limits (the first component outside them is
+    /// the error).
+    pub fn admit(&self, pose: &Pose) -> Result<(), KinematicError> {
+        pose.validate()?;
+        let (_, clamped) = self.clamp(pose);
+        match clamped.first() {
+            None => Ok(()),
+            Some(&clamped) => {
+                let ranges = if clamped.rotation {
+                    &self.rotation
+                } else {
+                    &self.translation
+                };
+                Err(KinematicError::OutsideLimits {
+                    clamped,
+                    range: ranges[clamped.axis as usize],
+                })
+            }
+        }
+    }
+
     /// `pose` with every component brought into its range, and what had to be moved.
     pub fn clamp(&self, pose: &Pose) -> (Pose, Vec<Clamped>) {
         let mut clamped = Vec::new();
@@ -212,6 +233,13 @@ pub enum KinematicError {
     ParallelAtRoot,
     /// A parallel split of a section with children (they would need several parents).
     ParallelWithChildren,
+    /// A pose component outside the joint's limits.
+    OutsideLimits {
+        /// The component, and the limit it would be clamped to.
+        clamped: Clamped,
+        /// The range of that axis.
+        range: Range,
+    },
 }
 
 impl fmt::Display for KinematicError {
@@ -226,6 +254,21 @@ impl fmt::Display for KinematicError {
             Self::ParallelAtRoot => f.write_str(
                 "a parallel split needs a shape with a kinematic parent, and this shape is the skeleton's root: split sequentially, or split a child",
             ),
+            Self::OutsideLimits { clamped, range } => {
+                let (kind, unit) = if clamped.rotation {
+                    ("rotation about", "°")
+                } else {
+                    ("translation along", " m")
+                };
+                write!(
+                    f,
+                    "the {kind} {} of {}{unit} is outside the joint's limits ({}{unit} to {}{unit})",
+                    clamped.axis.name(),
+                    clamped.requested,
+                    range.min,
+                    range.max
+                )
+            }
             Self::ParallelWithChildren => f.write_str(
                 "a parallel split needs a shape without kinematic children, and this shape has some: split sequentially",
             ),

@@ -184,6 +184,15 @@ impl Skeleton {
         Ok(clamped)
     }
 
+    /// A new pose, which must lie within the limits (see [`Limits::admit`]); a refused pose
+    /// changes nothing.
+    pub fn pose_within(&mut self, section: SectionId, pose: Pose) -> Result<(), KinematicError> {
+        let s = &mut self.sections[section.index()];
+        s.limits.admit(&pose)?;
+        s.pose = pose;
+        Ok(())
+    }
+
     /// The current translation and rotation rules: a new pose, clamped into the limits (what
     /// was clamped is returned, for a warning).
     pub fn set_pose(
@@ -212,6 +221,13 @@ impl Skeleton {
     /// (a glTF joint node's TRS).
     pub fn local(&self, section: SectionId) -> Frame {
         self.joint(section).mul(&self.section(section).pose.frame())
+    }
+
+    /// The first section called `name`.
+    pub fn find(&self, name: &str) -> Option<SectionId> {
+        self.sections()
+            .find(|(_, s)| s.name == name)
+            .map(|(id, _)| id)
     }
 
     /// Sections in an order where every parent comes before its children (depth first from

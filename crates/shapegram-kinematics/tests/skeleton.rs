@@ -218,6 +218,17 @@ fn poses_outside_the_limits_are_clamped_and_reported() {
         45.0,
         "a refused pose changes nothing"
     );
+    let outside = Pose {
+        rotation: DVec3::new(0.0, 0.0, -50.0),
+        translation: DVec3::ZERO,
+    };
+    assert_eq!(
+        skeleton.pose_within(arm, outside).unwrap_err().to_string(),
+        "the rotation about z of -50° is outside the joint's limits (-45° to 45°)"
+    );
+    assert_eq!(skeleton.section(arm).pose.rotation.z, 45.0);
+    assert_eq!(skeleton.find("Arm"), Some(arm));
+    assert_eq!(skeleton.find("Leg"), None);
 }
 
 /// One rule application on a random section.

@@ -171,53 +171,31 @@ impl Engine<'_> {
         }
         let skeleton = self.skeleton_mut();
         let section = SectionId(state.section);
-        let current = skeleton.section(section);
-        let mut pose = current.pose;
-        let limits = current.limits;
+        let mut pose = skeleton.section(section).pose;
         if rotation {
             pose.rotation = v;
         } else {
             pose.translation = v;
         }
-        let (_, clamped) = limits.clamp(&pose);
-        if let Some(c) = clamped.first() {
-            let ranges = if c.rotation {
-                limits.rotation
-            } else {
-                limits.translation
-            };
-            let range = ranges[c.axis as usize];
-            let unit = if c.rotation { "°" } else { " m" };
-            return Err(DeriveError::at(
-                format!(
-                    "the {} {} {} of {}{unit} is outside the joint's limits ({}{unit} to {}{unit})",
-                    if c.rotation {
-                        "rotation"
+        skeleton.pose_within(section, pose).map_err(|e| {
+            let hint = match &e {
+                KinematicError::OutsideLimits { clamped, .. } => Some(format!(
+                    "free the axis first: `{}({}, min, max)`",
+                    if clamped.rotation {
+                        "rotationLimits"
                     } else {
-                        "translation"
+                        "translationLimits"
                     },
-                    if c.rotation { "about" } else { "along" },
-                    c.axis.name(),
-                    c.requested,
-                    range.min,
-                    range.max
-                ),
-                span,
-            )
-            .with_hint(format!(
-                "free the axis first: `{}({}, min, max)`",
-                if c.rotation {
-                    "rotationLimits"
-                } else {
-                    "translationLimits"
-                },
-                c.axis.name()
-            )));
-        }
-        skeleton
-            .set_pose(section, pose)
-            .map_err(|e| kinematic_error(e, span))?;
-        Ok(())
+                    clamped.axis.name()
+                )),
+                _ => None,
+            };
+            let error = kinematic_error(e, span);
+            match hint {
+                Some(hint) => error.with_hint(hint),
+                None => error,
+            }
+        })
     }
 
     /// The skeleton of a grammar with kinematic operations (there always is one then).
