@@ -218,6 +218,10 @@ pub struct DeriveArgs {
     /// Override an attribute of the grammar: a number, true/false, or else a string (repeatable)
     #[arg(long, value_name = "NAME=VALUE", value_parser = parse_attr)]
     pub attr: Vec<(String, String)>,
+    /// Pose joints by name after deriving: a JSON object from joint names to {"rotation": [x, y,
+    /// z], "translation": [x, y, z]} (degrees, metres), each within its joint's limits
+    #[arg(long, value_name = "FILE")]
+    pub pose: Option<PathBuf>,
     /// Rewrite in parallel generations and stop after N of them (shapes left become leaves)
     #[arg(long, value_name = "N")]
     pub generations: Option<u32>,

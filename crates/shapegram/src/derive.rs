@@ -73,7 +73,10 @@ pub fn run(args: &DeriveArgs) -> Result<(), Failure> {
     eprint!("{prints}");
 
     let export_started = Instant::now();
-    let model = derivation.to_model();
+    let mut model = derivation.to_model();
+    if let Some(pose) = &args.pose {
+        crate::pose::apply(pose, &mut model)?;
+    }
     if let Some(output) = &args.output {
         let options = ExportOptions {
             group_by_part: args.group,

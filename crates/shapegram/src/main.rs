@@ -9,6 +9,7 @@ mod grammar;
 mod info;
 mod lots;
 mod lsystem;
+mod pose;
 mod primitive;
 mod progress;
 mod topo;

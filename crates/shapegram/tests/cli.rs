@@ -1235,3 +1235,17 @@ fn stats_count_the_skeleton_of_a_kinematic_grammar() {
     let plain = derive_stats(&example("house.cga"), &[]);
     assert!(plain.get("skeleton").is_none());
 }
+
+#[test]
+fn a_pose_file_names_joints_and_an_unknown_one_is_an_error() {
+    let dir = TempDir::new("pose");
+    let pose = dir.path("pose.json");
+    std::fs::write(&pose, r#"{"Elbow": {"rotation": [0, 10, 0]}}"#).unwrap();
+    let tower = example("rotating_tower.cga");
+    let output = shapegram(&["derive", text(&tower), "--pose", text(&pose), "-q"]);
+    assert_eq!(output.status.code(), Some(1));
+    assert_eq!(
+        stderr(&output),
+        format!("error: {}: the model has no joint named Elbow\n", pose.display())
+    );
+}
