@@ -4,9 +4,44 @@
 use std::borrow::Cow;
 use std::collections::{BTreeMap, BTreeSet};
 
+use std::io;
+
 use shapegram_geom::mesh::newell;
 use shapegram_geom::triangulate::{Triangulator, is_convex_about};
-use shapegram_geom::{Color, DVec3, Mesh, Part};
+use shapegram_geom::{Color, DVec3, Mesh, Model, Part};
+
+/// An `InvalidInput` error for the first part whose bone names a skeleton or section the model
+/// does not have (posing or skinning it would index out of bounds).
+pub(crate) fn check_bones(model: &Model) -> io::Result<()> {
+    for (i, part) in model.parts.iter().enumerate() {
+        let Some(bone) = part.bone else { continue };
+        let exists = model
+            .skeletons
+            .get(bone.skeleton as usize)
+            .is_some_and(|skeleton| bone.section.index() < skeleton.len());
+        if !exists {
+            return Err(io::Error::new(
+                io::ErrorKind::InvalidInput,
+                format!(
+                    "part {i} ('{}') hangs from section {} of skeleton {}, which the model does not have",
+                    part.name, bone.section.0, bone.skeleton
+                ),
+            ));
+        }
+    }
+    Ok(())
+}
+
+/// The model as formats without skins write it: in its current pose ([`Model::posed`]), or
+/// borrowed as it is when no part hangs from a skeleton.
+pub(crate) fn posed(model: &Model) -> io::Result<Cow<'_, Model>> {
+    check_bones(model)?;
+    Ok(if model.parts.iter().any(|p| p.bone.is_some()) {
+        Cow::Owned(model.posed())
+    } else {
+        Cow::Borrowed(model)
+    })
+}
 
 /// Whether face `i` is written at all. Faces without area (zero Newell normal) have no side to
 /// show and no valid normal, and corners that are not finite in f32 (NaN, infinite, or beyond

@@ -6,6 +6,15 @@
 //! LINES primitive of its points (POSITION only). Each accessor has its own tightly packed
 //! buffer view, 4-byte aligned, in one buffer.
 //!
+//! Skeletons become glTF skins (see [`skin`]): parts with a [`Part::bone`] go into meshes of
+//! their own per skin (merged: one mesh node per skin, one primitive per material; grouped: one
+//! node per part), on nodes that carry `skin` and no transformation and are scene roots beside
+//! "shapegram" (the validator warns about skinned mesh nodes with a parent). Their vertices
+//! stay in the rest pose, as the model holds them, and follow their section's joint rigidly:
+//! `JOINTS_0` = [joint, 0, 0, 0] (u8 up to 256 joints, u16 beyond) and `WEIGHTS_0` =
+//! [1, 0, 0, 0] as normalized u8. The joint nodes carry the current pose, so viewers show the
+//! model posed. Models without bound parts are written exactly as before skins existed.
+//!
 //! The file is planned first (sizes, bounds, the JSON chunk) and then streamed: shared vertices
 //! and points go from the model straight to the writer, so a large model is never held twice.
 
@@ -19,8 +28,13 @@ use shapegram_geom::{Color, DVec3, Lines, Mesh, Model, Part};
 
 use crate::ExportOptions;
 use crate::flat::{
-    FaceSplitter, Palette, flat_faces, is_smooth, segment_is_exportable, unit, usable_normals,
+    FaceSplitter, Palette, check_bones, flat_faces, is_smooth, segment_is_exportable, unit,
+    usable_normals,
 };
+
+mod skin;
+
+use skin::Skin;
 
 /// GLB framing constants from the glTF 2.0 specification, section "Binary glTF Layout".
 pub(crate) const MAGIC: &[u8; 4] = b"glTF";
@@ -213,11 +227,21 @@ fn smooth_chunk(part: &Part) -> Chunk<'_> {
     }
 }
 
-/// One glTF primitive to be: its material, its mode and the chunks whose data it concatenates.
+/// One glTF primitive to be: its material, its mode, its skinning and the chunks whose data it
+/// concatenates.
 struct Primitive<'a> {
     material: usize,
     lines: bool,
+    skinned: Option<Skinned>,
     chunks: Vec<Chunk<'a>>,
+}
+
+/// How a skinned primitive's vertices name their joints.
+struct Skinned {
+    /// Whether the skin needs u16 joint indices.
+    wide: bool,
+    /// The joint of each chunk, which all its vertices follow rigidly.
+    joints: Vec<u16>,
 }
 
 impl Primitive<'_> {
@@ -251,95 +275,143 @@ impl Primitive<'_> {
     }
 }
 
-/// A glTF mesh to be: node/mesh name and its primitives.
+/// A glTF mesh to be: node/mesh name, the skin (index into [`Plan::skins`]) that deforms it,
+/// and its primitives.
 struct Group<'a> {
     name: String,
+    skin: Option<usize>,
     primitives: Vec<Primitive<'a>>,
 }
 
 /// The model as GLB bytes; see the module docs for the layout.
 ///
 /// # Panics
-/// If the file would pass the 4 GiB that GLB lengths can express.
+/// On the errors [`write_glb_to`] reports: a file over 4 GiB, or skeletons that cannot be
+/// written.
 pub fn write_glb(model: &Model, options: &ExportOptions) -> Vec<u8> {
-    let plan = Plan::new(model, options);
-    let mut out = Vec::with_capacity(plan.len());
-    if let Err(e) = plan.write(&mut out) {
-        panic!("{e}");
-    }
-    out
+    let written = Plan::new(model, options).and_then(|plan| {
+        let mut out = Vec::with_capacity(plan.len());
+        plan.write(&mut out).map(|()| out)
+    });
+    written.unwrap_or_else(|e| panic!("{e}"))
 }
 
 /// Writes the model as GLB to `out` without building the file in memory (see [`write_glb`]).
-/// Wrap files in a `BufWriter`: the data goes out in pieces of a dozen bytes. A file over the
-/// 4 GiB that GLB lengths can express is an `InvalidInput` error, found before anything is
-/// written.
+/// Wrap files in a `BufWriter`: the data goes out in pieces of a dozen bytes. These are
+/// `InvalidInput` errors, found before anything is written: a file over the 4 GiB that GLB
+/// lengths can express, a part whose bone names a section the model does not have, and a
+/// skeleton with bound parts that is no tree or has more than 65,536 sections.
 pub fn write_glb_to(
     model: &Model,
     options: &ExportOptions,
     out: &mut impl Write,
 ) -> io::Result<()> {
-    Plan::new(model, options).write(out)
+    Plan::new(model, options)?.write(out)
 }
 
-/// The file laid out: the JSON chunk and the primitives whose data fill the BIN chunk.
+/// The file laid out: the JSON chunk, the primitives and skins whose data fill the BIN chunk.
 struct Plan<'a> {
     json: Vec<u8>,
     groups: Vec<Group<'a>>,
+    skins: Vec<Skin<'a>>,
     bin_len: usize,
 }
 
 impl<'a> Plan<'a> {
-    fn new(model: &'a Model, options: &ExportOptions) -> Self {
-        let mut palette = Palette::default();
-        let chunks = model
+    fn new(model: &'a Model, options: &ExportOptions) -> io::Result<Self> {
+        check_bones(model)?;
+        let parts: Vec<(&Part, Chunk<'a>)> = model
             .parts
             .iter()
-            .filter_map(|part| Some((&part.name, part.color, false, Chunk::of_part(part)?)));
-        let line_chunks = model
-            .lines
-            .iter()
-            .filter_map(|lines| Some((&lines.name, lines.color, true, Chunk::of_lines(lines)?)));
+            .filter_map(|part| Some((part, Chunk::of_part(part)?)))
+            .collect();
+        // A skin per skeleton that some written part hangs from, in skeleton order.
+        let mut used = vec![false; model.skeletons.len()];
+        for bone in parts.iter().filter_map(|(part, _)| part.bone) {
+            used[bone.skeleton as usize] = true;
+        }
+        let mut skins = Vec::new();
+        let mut skin_of = vec![None; model.skeletons.len()];
+        for (index, _) in used.iter().enumerate().filter(|(_, used)| **used) {
+            skin_of[index] = Some(skins.len());
+            skins.push(Skin::new(&model.skeletons[index], index)?);
+        }
+        let chunks = parts.into_iter().map(|(part, chunk)| {
+            let joint = part.bone.map(|bone| {
+                let skin =
+                    skin_of[bone.skeleton as usize].expect("every bound skeleton has a skin");
+                (skin, skins[skin].joint(bone.section))
+            });
+            (&part.name, part.color, false, joint, chunk)
+        });
+        let line_chunks = model.lines.iter().filter_map(|lines| {
+            Some((
+                &lines.name,
+                lines.color,
+                true,
+                None,
+                Chunk::of_lines(lines)?,
+            ))
+        });
+        let mut palette = Palette::default();
         let mut groups: Vec<Group<'a>> = Vec::new();
-        // (material, lines) -> primitive slot in the single merged group; triangles and lines of
-        // one colour stay apart since a primitive has one mode.
-        let mut merged: BTreeMap<(usize, bool), usize> = BTreeMap::new();
-        for (name, color, lines, chunk) in chunks.chain(line_chunks) {
+        // Skin (or none) -> merged group, so skinned and unskinned parts and the parts of two
+        // skins never share a mesh.
+        let mut merged_groups: BTreeMap<Option<usize>, usize> = BTreeMap::new();
+        // (group, material, lines) -> primitive slot in that group; triangles and lines of one
+        // colour stay apart since a primitive has one mode.
+        let mut merged: BTreeMap<(usize, usize, bool), usize> = BTreeMap::new();
+        for (name, color, lines, joint, chunk) in chunks.chain(line_chunks) {
             let material = palette.material(color);
+            let skin = joint.map(|(skin, _)| skin);
+            let skinned = |joints| Skinned {
+                wide: skins[skin.expect("only skinned chunks have joints")].wide(),
+                joints,
+            };
             if options.group_by_part {
                 groups.push(Group {
                     name: name.clone(),
+                    skin,
                     primitives: vec![Primitive {
                         material,
                         lines,
+                        skinned: joint.map(|(_, j)| skinned(vec![j])),
                         chunks: vec![chunk],
                     }],
                 });
                 continue;
             }
-            if groups.is_empty() {
+            let group = *merged_groups.entry(skin).or_insert_with(|| {
                 groups.push(Group {
-                    name: "model".to_owned(),
+                    name: skin.map_or_else(|| "model".to_owned(), |s| skins[s].mesh_name()),
+                    skin,
                     primitives: Vec::new(),
                 });
-            }
-            let primitives = &mut groups[0].primitives;
-            let slot = *merged.entry((material, lines)).or_insert_with(|| {
+                groups.len() - 1
+            });
+            let primitives = &mut groups[group].primitives;
+            let slot = *merged.entry((group, material, lines)).or_insert_with(|| {
                 primitives.push(Primitive {
                     material,
                     lines,
+                    skinned: joint.map(|_| skinned(Vec::new())),
                     chunks: Vec::new(),
                 });
                 primitives.len() - 1
             });
-            primitives[slot].chunks.push(chunk);
+            let primitive = &mut primitives[slot];
+            primitive.chunks.push(chunk);
+            if let (Some(skinned), Some((_, j))) = (&mut primitive.skinned, joint) {
+                skinned.joints.push(j);
+            }
         }
-        let (json, bin_len) = document(&palette, &groups);
-        Self {
+        let (json, bin_len) = document(&palette, &groups, &skins);
+        Ok(Self {
             json,
             groups,
+            skins,
             bin_len,
-        }
+        })
     }
 
     /// The size of the file in bytes.
@@ -397,6 +469,23 @@ impl<'a> Plan<'a> {
                     chunk.normals(|n| put(&vec3(n)));
                 }
             }
+            if let Some(skinned) = &primitive.skinned {
+                for (chunk, &joint) in primitive.chunks.iter().zip(&skinned.joints) {
+                    let [low, high] = joint.to_le_bytes();
+                    let joints: &[u8] = if skinned.wide {
+                        &[low, high, 0, 0, 0, 0, 0, 0]
+                    } else {
+                        &[low, 0, 0, 0]
+                    };
+                    for _ in 0..chunk.vertex_count() {
+                        put(joints);
+                    }
+                }
+                // Weight 1 for the first joint, as normalized u8.
+                for _ in 0..primitive.vertex_count() {
+                    put(&[u8::MAX, 0, 0, 0]);
+                }
+            }
             let wide = primitive.wide();
             let mut base = 0u32;
             for chunk in &primitive.chunks {
@@ -413,12 +502,19 @@ impl<'a> Plan<'a> {
                 put(&[0, 0]);
             }
         }
+        for skin in &self.skins {
+            skin.inverse_bind_matrices(|matrix| {
+                for x in matrix {
+                    put(&x.to_le_bytes());
+                }
+            });
+        }
         result
     }
 }
 
 /// The JSON chunk (padded with spaces to 4 bytes) and the length of the BIN chunk.
-fn document(palette: &Palette, groups: &[Group<'_>]) -> (Vec<u8>, usize) {
+fn document(palette: &Palette, groups: &[Group<'_>], skins: &[Skin<'_>]) -> (Vec<u8>, usize) {
     let mut builder = Builder::default();
     // The root goes first so that it is node 0; its children are filled in below.
     builder.root.push(json::Node {
@@ -432,6 +528,7 @@ fn document(palette: &Palette, groups: &[Group<'_>]) -> (Vec<u8>, usize) {
             .push(material(Color { r, g, b, a }.to_linear(), name));
     }
     let mut children = Vec::new();
+    let mut roots = vec![json::Index::new(0)];
     for group in groups {
         let primitives = group
             .primitives
@@ -445,13 +542,25 @@ fn document(palette: &Palette, groups: &[Group<'_>]) -> (Vec<u8>, usize) {
             primitives,
             weights: None,
         });
-        children.push(builder.root.push(json::Node {
+        // Skins are added after every mesh node, in the order of `skins`.
+        let node = builder.root.push(json::Node {
             mesh: Some(mesh),
             name: Some(group.name.clone()),
+            skin: group.skin.map(|s| json::Index::new(s as u32)),
             ..Default::default()
-        }));
+        });
+        // A skinned mesh node is a scene root: the validator warns when one has a parent,
+        // whose transformation skinning would ignore.
+        if group.skin.is_some() {
+            roots.push(node);
+        } else {
+            children.push(node);
+        }
     }
-    builder.finish(children)
+    for skin in skins {
+        children.push(skin.push(&mut builder));
+    }
+    builder.finish(children, roots)
 }
 
 fn material(rgba: [f32; 4], name: String) -> json::Material {
@@ -491,7 +600,7 @@ impl Builder {
         let positions = self.accessor(
             vertices,
             12,
-            Target::ArrayBuffer,
+            Some(Target::ArrayBuffer),
             (ComponentType::F32, Type::Vec3),
             Some((min.to_vec().into(), max.to_vec().into())),
         );
@@ -500,11 +609,35 @@ impl Builder {
             let normals = self.accessor(
                 vertices,
                 12,
-                Target::ArrayBuffer,
+                Some(Target::ArrayBuffer),
                 (ComponentType::F32, Type::Vec3),
                 None,
             );
             attributes.insert(Valid(json::mesh::Semantic::Normals), normals);
+        }
+        if let Some(skinned) = &primitive.skinned {
+            let (size, component) = if skinned.wide {
+                (8, ComponentType::U16)
+            } else {
+                (4, ComponentType::U8)
+            };
+            let joints = self.accessor(
+                vertices,
+                size,
+                Some(Target::ArrayBuffer),
+                (component, Type::Vec4),
+                None,
+            );
+            attributes.insert(Valid(json::mesh::Semantic::Joints(0)), joints);
+            let weights = self.accessor(
+                vertices,
+                4,
+                Some(Target::ArrayBuffer),
+                (ComponentType::U8, Type::Vec4),
+                None,
+            );
+            self.root.accessors[weights.value()].normalized = true;
+            attributes.insert(Valid(json::mesh::Semantic::Weights(0)), weights);
         }
         let (size, component) = if primitive.wide() {
             (4, ComponentType::U32)
@@ -514,7 +647,7 @@ impl Builder {
         let indices = self.accessor(
             primitive.index_count(),
             size,
-            Target::ElementArrayBuffer,
+            Some(Target::ElementArrayBuffer),
             (component, Type::Scalar),
             None,
         );
@@ -538,7 +671,7 @@ impl Builder {
         &mut self,
         count: usize,
         size: usize,
-        target: json::buffer::Target,
+        target: Option<json::buffer::Target>,
         (component, kind): (json::accessor::ComponentType, json::accessor::Type),
         min_max: Option<(serde_json::Value, serde_json::Value)>,
     ) -> json::Index<json::Accessor> {
@@ -554,7 +687,7 @@ impl Builder {
             extensions: None,
             extras: Default::default(),
             name: None,
-            target: Some(Valid(target)),
+            target: target.map(Valid),
         });
         let (min, max) = min_max.unzip();
         self.root.push(json::Accessor {
@@ -573,15 +706,19 @@ impl Builder {
         })
     }
 
-    /// Adds the root's children, the scene and the buffer; returns the padded JSON text and the
-    /// BIN chunk's length.
-    fn finish(mut self, children: Vec<json::Index<json::Node>>) -> (Vec<u8>, usize) {
+    /// Adds the root's children, the scene with its root nodes and the buffer; returns the
+    /// padded JSON text and the BIN chunk's length.
+    fn finish(
+        mut self,
+        children: Vec<json::Index<json::Node>>,
+        roots: Vec<json::Index<json::Node>>,
+    ) -> (Vec<u8>, usize) {
         self.root.nodes[0].children = (!children.is_empty()).then_some(children);
         let scene = self.root.push(json::Scene {
             extensions: None,
             extras: Default::default(),
             name: None,
-            nodes: vec![json::Index::new(0)],
+            nodes: roots,
         });
         self.root.scene = Some(scene);
         self.root.asset.generator = Some(format!("shapegram {}", env!("CARGO_PKG_VERSION")));

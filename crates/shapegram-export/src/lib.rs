@@ -10,6 +10,12 @@
 //! `l` elements (STL holds triangles only and leaves them out). Segments between points that
 //! are not finite or coincide in f32 are dropped, as are points no segment uses.
 //!
+//! Kinematic skeletons ([`Model::skeletons`]) go into GLB as glTF skins: rest-pose vertices
+//! bound rigidly to one joint each, joint nodes posed, limits and pose in the joints' extras
+//! (`docs/kinematics.md`). OBJ and STL have no skins and write the posed model
+//! ([`Model::posed`]) instead. A model without bound parts is written exactly as it would be
+//! without skeletons.
+//!
 //! Readers treat their input as untrusted and return [`Error`] rather than panic.
 
 mod error;
@@ -90,7 +96,8 @@ pub struct ExportOptions {
 
 /// Writes to `path` in the format of its extension; OBJ also writes the .mtl beside it (same
 /// stem). Parent directories must exist. Files are streamed through a buffer rather than built
-/// in memory first. STL holds triangles only: line sets are left out.
+/// in memory first. STL holds triangles only: line sets are left out. GLB keeps skeletons as
+/// skins; OBJ and STL write the model in its current pose.
 pub fn save(model: &Model, path: &Path, options: &ExportOptions) -> Result<(), Error> {
     let failed = |file: &Path| {
         let file = file.to_path_buf();

@@ -6,6 +6,9 @@
 //! with Rust's `{}` formatting: the shortest decimal that reads back as the same f64 (f32 for
 //! colours), never in exponent notation, so files are exact, deterministic and readable by every
 //! parser.
+//!
+//! OBJ has no skins, so parts that hang from a skeleton are written in the current pose
+//! ([`Model::posed`]).
 
 use std::borrow::Cow;
 use std::fmt::Write as _;
@@ -15,7 +18,8 @@ use shapegram_geom::{DVec3, Mesh, Model};
 
 use crate::ExportOptions;
 use crate::flat::{
-    Palette, face_is_exportable, is_smooth, sanitized_name, segment_is_exportable, usable_normals,
+    Palette, face_is_exportable, is_smooth, posed, sanitized_name, segment_is_exportable,
+    usable_normals,
 };
 
 /// What one part or line set puts into an object.
@@ -47,22 +51,27 @@ fn num(x: f64) -> f64 {
 }
 
 /// OBJ text that references `mtl_file_name` via `mtllib`, and the MTL text.
+///
+/// # Panics
+/// If a part's bone names a section the model does not have (see [`write_obj_to`]).
 pub fn write_obj(model: &Model, options: &ExportOptions, mtl_file_name: &str) -> (String, String) {
     let mut obj = Vec::new();
-    let mtl = write_obj_to(model, options, mtl_file_name, &mut obj)
-        .expect("writing to a Vec cannot fail");
+    let mtl =
+        write_obj_to(model, options, mtl_file_name, &mut obj).unwrap_or_else(|e| panic!("{e}"));
     let obj = String::from_utf8(obj).expect("OBJ text is built from strings");
     (obj, mtl)
 }
 
 /// Writes the OBJ text to `out` (wrap files in a `BufWriter`) and returns the MTL text; see
-/// [`write_obj`].
+/// [`write_obj`]. A part whose bone names a section the model does not have is an
+/// `InvalidInput` error, found before anything is written.
 pub fn write_obj_to(
     model: &Model,
     options: &ExportOptions,
     mtl_file_name: &str,
     out: &mut impl Write,
 ) -> io::Result<String> {
+    let model = posed(model)?;
     let mut palette = Palette::default();
     let mut objects: Vec<Object<'_>> = Vec::new();
     let parts = model.parts.iter().map(|part| {

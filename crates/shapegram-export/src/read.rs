@@ -5,7 +5,8 @@
 //! are dropped, as the writers drop them. A part comes back smooth (with `normals`) when every
 //! vertex has one normal and some vertex is shared by faces that are not coplanar, which
 //! flat-shaded data never does. Line primitives (GLB) and `l` elements (OBJ) come back as line
-//! sets.
+//! sets. Skins are not applied: skinned meshes come back as stored, in the rest pose, and
+//! without skeletons.
 
 use std::borrow::Cow;
 use std::io::Cursor;

@@ -1,25 +1,33 @@
 //! Binary STL writer: 80-byte header, triangle count, then 50 bytes per triangle.
+//!
+//! STL has no skins, so parts that hang from a skeleton are written in the current pose
+//! ([`Model::posed`]).
 
 use std::io::{self, Cursor, Seek, SeekFrom, Write};
 
 use shapegram_geom::Model;
 
-use crate::flat::flat_faces;
+use crate::flat::{flat_faces, posed};
 
 /// The header text. It must not start with "solid", which readers take for ASCII STL.
 const HEADER: &[u8] = b"shapegram";
 
 /// The model as binary STL (all parts merged; STL has no groups or colours, and holds
 /// triangles only, so line sets are left out).
+///
+/// # Panics
+/// If a part's bone names a section the model does not have (see [`write_stl_to`]).
 pub fn write_stl(model: &Model) -> Vec<u8> {
     let mut out = Cursor::new(Vec::new());
-    write_stl_to(model, &mut out).expect("writing to a Vec cannot fail");
+    write_stl_to(model, &mut out).unwrap_or_else(|e| panic!("{e}"));
     out.into_inner()
 }
 
 /// Writes the model as binary STL to `out` (see [`write_stl`]), going back to fill in the
-/// triangle count at the end; wrap files in a `BufWriter`.
+/// triangle count at the end; wrap files in a `BufWriter`. A part whose bone names a section
+/// the model does not have is an `InvalidInput` error, found before anything is written.
 pub fn write_stl_to(model: &Model, out: &mut (impl Write + Seek)) -> io::Result<()> {
+    let model = posed(model)?;
     let start = out.stream_position()?;
     let mut header = [0u8; 84];
     header[..HEADER.len()].copy_from_slice(HEADER);
