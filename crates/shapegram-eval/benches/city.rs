@@ -4,7 +4,8 @@
 //! Criterion prints leaves per second (`elem/s`); the shape counts are printed once up front.
 //! The occluded city puts the lots wall to wall and keeps windows off walls that a neighbour
 //! touches: its summary line gives the occlusion queries per second and the time against the
-//! plain city on the same lots.
+//! plain city on the same lots. The hinged city opens every window on a hinge: its line gives
+//! the time against the plain city, the cost of building skeletons.
 
 use std::hint::black_box;
 use std::time::Instant;
@@ -39,6 +40,15 @@ fn occluded_city() -> String {
     CITY.replace(
         "Tile --> split(x)",
         "Tile --> case touches() : Wall\n        else : split(x)",
+    )
+}
+
+/// The city with every window hinged on its left edge and opened 30°: a skeleton per lot with a
+/// section per split part and component (the cost of kinematics).
+fn hinged_city() -> String {
+    CITY.replace(
+        "Window --> 40%",
+        "Window --> joint(0, 0, 0) rotationLimits(y, 0, 90) rotateJoint(0, 30, 0) Casement\nCasement --> 40%",
     )
 }
 
@@ -153,6 +163,20 @@ fn bench(c: &mut Criterion) {
         b.iter(|| black_box(derive(&occluded, &touching, &options).expect("derives")))
     });
     group.finish();
+
+    let hinged = program(&hinged_city());
+    let once = derive(&hinged, &city_lots, &options).expect("the hinged city derives");
+    let sections: usize = once.skeletons.iter().map(|(_, s)| s.len()).sum();
+    let with = fastest(&hinged, &city_lots, 5);
+    let without = fastest(&city, &city_lots, 5);
+    println!(
+        "hinged city: 1000 lots, {} leaves, {sections} sections; derived in {:.1} ms against \
+         {:.1} ms without kinematics ({:.2}×; the target is at most 1.3×)",
+        once.stats.leaves,
+        with * 1e3,
+        without * 1e3,
+        with / without,
+    );
 
     let facades = program(FACADES);
     let facade_lots = lots(20);

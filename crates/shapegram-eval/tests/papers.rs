@@ -373,16 +373,10 @@ fn floor_chain(
     skeleton: &shapegram_geom::kinematics::Skeleton,
 ) -> Vec<shapegram_geom::kinematics::SectionId> {
     let mut chain = vec![skeleton.root()];
-    while let Some(next) = skeleton
-        .section(*chain.last().unwrap())
-        .children()
-        .iter()
-        .copied()
-        .find(|c| {
-            let name = &skeleton.section(*c).name;
-            name.starts_with("Floor_") || name.starts_with("Floors_")
-        })
-    {
+    while let Some(next) = skeleton.children(*chain.last().unwrap()).find(|c| {
+        let name = &skeleton.section(*c).name;
+        name.base() == "Floor" || name.base() == "Floors"
+    }) {
         chain.push(next);
     }
     chain.split_off(1)
@@ -410,8 +404,8 @@ fn algorithm_1_rotating_tower() {
             close(at, DVec3::new(10.0, 3.5 + 3.0 * k as f64, 15.0), 1e-9),
             "{at}"
         );
-        assert_eq!(section.limits.rotation[1].max, 45.0);
-        assert_eq!(section.pose.rotation, DVec3::new(0.0, 15.0, 0.0));
+        assert_eq!(section.limits().rotation[1].max, 45.0);
+        assert_eq!(section.pose().rotation, DVec3::new(0.0, 15.0, 0.0));
         // Turns add up towards the top: floor k is turned by (k + 1) · 15° about y.
         let x = posed[floor.index()].transform_vector(DVec3::X);
         let angle = (-x.z).atan2(x.x).to_degrees();

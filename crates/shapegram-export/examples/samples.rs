@@ -66,7 +66,7 @@ fn skinned_tower() -> Result<Model, Box<dyn std::error::Error>> {
         let plane = Frame::from_translation(DVec3::new(0.0, 3.0 * f64::from(k), 0.0));
         (plane, format!("Floor {k}"))
     });
-    let floors = skeleton.sequential(skeleton.root(), planes);
+    let floors = skeleton.sequential(skeleton.root(), planes).to_vec();
     let mut limits = Limits::default();
     limits.rotation[1] = Range::new(-90.0, 90.0);
     skeleton.set_limits(floors[2], limits)?;
@@ -125,7 +125,7 @@ fn skinned_flower() -> Result<Model, Box<dyn std::error::Error>> {
         };
         (rest, format!("Petal {i}"))
     });
-    let sections = skeleton.components(skeleton.root(), frames);
+    let sections = skeleton.components(skeleton.root(), frames).to_vec();
     let mut limits = Limits::default();
     limits.rotation[2] = Range::new(-60.0, 60.0);
     let mut parts = Vec::new();

@@ -57,13 +57,15 @@ fn floor_box(k: usize) -> Mesh {
 /// that need sanitising, two of them equal once sanitised.
 fn tower() -> (Skeleton, Vec<SectionId>) {
     let mut skeleton = Skeleton::new(Frame::IDENTITY, "Tower");
-    let floors = skeleton.sequential(
-        skeleton.root(),
-        [
-            (at(0.0, 3.0, 0.0), "floor:1/Étage".to_owned()),
-            (at(0.0, 6.0, 0.0), "floor_1__tage".to_owned()),
-        ],
-    );
+    let floors = skeleton
+        .sequential(
+            skeleton.root(),
+            [
+                (at(0.0, 3.0, 0.0), "floor:1/Étage".to_owned()),
+                (at(0.0, 6.0, 0.0), "floor_1__tage".to_owned()),
+            ],
+        )
+        .to_vec();
     let mut limits = Limits::default();
     limits.rotation[1] = Range::new(-90.0, 90.0);
     limits.translation[0] = Range::new(0.0, 0.5);
@@ -81,7 +83,9 @@ fn tower() -> (Skeleton, Vec<SectionId>) {
 /// by 20° more.
 fn fork() -> (Skeleton, Vec<SectionId>) {
     let mut skeleton = Skeleton::new(at(10.0, 0.0, 0.0), "Tree");
-    let chain = skeleton.sequential(skeleton.root(), [(at(10.0, 1.0, 0.0), "trunk".to_owned())]);
+    let chain = skeleton
+        .sequential(skeleton.root(), [(at(10.0, 1.0, 0.0), "trunk".to_owned())])
+        .to_vec();
     let tilted = |degrees: f64| Frame {
         rotation: DQuat::from_rotation_z(degrees.to_radians()),
         translation: DVec3::new(10.0, 1.0, 0.5),
@@ -94,7 +98,8 @@ fn fork() -> (Skeleton, Vec<SectionId>) {
                 (tilted(-45.0), "branch".to_owned()),
             ],
         )
-        .unwrap();
+        .unwrap()
+        .to_vec();
     let mut limits = Limits::default();
     limits.rotation[2] = Range::new(-45.0, 45.0);
     skeleton.set_limits(branches[0], limits).unwrap();
@@ -165,7 +170,7 @@ fn scene() -> Model {
 fn fan(n: usize) -> Model {
     let mut skeleton = Skeleton::new(Frame::IDENTITY, "Fan");
     let frames = (1..n).map(|i| (at(i as f64, 0.0, 0.0), "w".repeat(100)));
-    let sections = skeleton.components(skeleton.root(), frames);
+    let sections = skeleton.components(skeleton.root(), frames).to_vec();
     let parts = sections
         .iter()
         .enumerate()

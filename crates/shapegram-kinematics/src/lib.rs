@@ -15,8 +15,10 @@
 
 mod frame;
 mod limits;
+mod name;
 mod skeleton;
 
 pub use frame::Frame;
 pub use limits::{Axis, Clamped, KinematicError, Limits, Pose, Range};
-pub use skeleton::{Section, SectionId, Skeleton};
+pub use name::Name;
+pub use skeleton::{Children, Parts, Section, SectionId, Skeleton};

@@ -1,7 +1,7 @@
 //! The skeleton: an arena of sections linked into one rooted tree, with the operations the
 //! grammar's rules perform on it (§4.1 of the paper).
 
-use crate::{Clamped, Frame, KinematicError, Limits, Pose};
+use crate::{Clamped, Frame, KinematicError, Limits, Name, Pose};
 
 /// A section's index in its skeleton.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
@@ -14,26 +14,127 @@ impl SectionId {
     }
 }
 
-/// A rigid part of the skeleton and the joint that links it to its parent.
+/// No section: the end of a list of children.
+const NONE: u32 = u32::MAX;
+
+/// A rigid part of the skeleton and the joint that links it to its parent. Most sections of a
+/// model are locked at rest, so limits and pose take room only once set, and children are a
+/// linked list, so a section costs no allocation of its own.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Section {
     /// A name that stays the same when the grammar is derived again (the engine's choice).
-    pub name: String,
+    pub name: Name,
     /// The joint's frame in model space in the rest pose.
     pub rest: Frame,
-    /// How far the joint may move.
-    pub limits: Limits,
-    /// The joint's current pose, within `limits`.
-    pub pose: Pose,
     /// The parent section; `None` for the root.
     pub parent: Option<SectionId>,
-    children: Vec<SectionId>,
+    motion: Option<Box<Motion>>,
+    first_child: u32,
+    last_child: u32,
+    next_sibling: u32,
+}
+
+/// A joint's limits and pose, once either is set.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+struct Motion {
+    limits: Limits,
+    pose: Pose,
 }
 
 impl Section {
-    /// The sections whose parent this is, in the order they were linked.
-    pub fn children(&self) -> &[SectionId] {
-        &self.children
+    fn new(name: Name, rest: Frame, parent: Option<SectionId>) -> Self {
+        Self {
+            name,
+            rest,
+            parent,
+            motion: None,
+            first_child: NONE,
+            last_child: NONE,
+            next_sibling: NONE,
+        }
+    }
+
+    /// How far the joint may move (locked unless set).
+    pub fn limits(&self) -> Limits {
+        self.motion
+            .as_ref()
+            .map_or_else(Limits::default, |m| m.limits)
+    }
+
+    /// The joint's current pose, within its limits (the rest pose unless set).
+    pub fn pose(&self) -> Pose {
+        self.motion.as_ref().map_or_else(Pose::default, |m| m.pose)
+    }
+
+    /// Whether the section has kinematic children.
+    pub fn has_children(&self) -> bool {
+        self.first_child != NONE
+    }
+
+    fn motion(&mut self) -> &mut Motion {
+        self.motion.get_or_insert_with(Box::default)
+    }
+}
+
+/// The children of a section, in the order they were linked.
+pub struct Children<'s> {
+    sections: &'s [Section],
+    next: u32,
+}
+
+impl Iterator for Children<'_> {
+    type Item = SectionId;
+
+    fn next(&mut self) -> Option<SectionId> {
+        let id = self.next;
+        let section = self.sections.get(id as usize)?;
+        self.next = section.next_sibling;
+        Some(SectionId(id))
+    }
+}
+
+/// The sections of the parts a split or component split made, in part order, without a list:
+/// new sections are numbered consecutively, and the first part of a sequential split keeps the
+/// section that was split.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Parts {
+    kept: Option<SectionId>,
+    first_new: u32,
+    len: u32,
+}
+
+impl Parts {
+    /// Number of parts.
+    pub fn len(&self) -> usize {
+        self.len as usize
+    }
+
+    /// Whether there are no parts.
+    pub fn is_empty(&self) -> bool {
+        self.len == 0
+    }
+
+    /// The section of part `i`.
+    ///
+    /// # Panics
+    /// If `i` is not below [`Parts::len`].
+    pub fn get(&self, i: usize) -> SectionId {
+        assert!(i < self.len(), "part {i} of {}", self.len);
+        match self.kept {
+            Some(kept) if i == 0 => kept,
+            Some(_) => SectionId(self.first_new + i as u32 - 1),
+            None => SectionId(self.first_new + i as u32),
+        }
+    }
+
+    /// The parts' sections in order.
+    pub fn iter(&self) -> impl Iterator<Item = SectionId> + '_ {
+        (0..self.len()).map(|i| self.get(i))
+    }
+
+    /// The parts' sections as a list.
+    pub fn to_vec(&self) -> Vec<SectionId> {
+        self.iter().collect()
     }
 }
 
@@ -45,17 +146,16 @@ pub struct Skeleton {
 
 impl Skeleton {
     /// A skeleton of one section, the root, with its joint at `rest` (the model's pivot).
-    pub fn new(rest: Frame, name: impl Into<String>) -> Self {
-        Self {
-            sections: vec![Section {
-                name: name.into(),
-                rest,
-                limits: Limits::default(),
-                pose: Pose::default(),
-                parent: None,
-                children: Vec::new(),
-            }],
-        }
+    pub fn new(rest: Frame, name: impl Into<Name>) -> Self {
+        Self::with_capacity(rest, name, 1)
+    }
+
+    /// [`Skeleton::new`] with room for `sections` sections, so that growing to about that many
+    /// moves none.
+    pub fn with_capacity(rest: Frame, name: impl Into<Name>, sections: usize) -> Self {
+        let mut all = Vec::with_capacity(sections.max(1));
+        all.push(Section::new(name.into(), rest, None));
+        Self { sections: all }
     }
 
     /// The root section.
@@ -78,6 +178,14 @@ impl Skeleton {
         &self.sections[id.index()]
     }
 
+    /// The children of a section, in the order they were linked.
+    pub fn children(&self, id: SectionId) -> Children<'_> {
+        Children {
+            sections: &self.sections,
+            next: self.section(id).first_child,
+        }
+    }
+
     /// Every section with its id, in id order.
     pub fn sections(&self) -> impl Iterator<Item = (SectionId, &Section)> {
         (0..).map(SectionId).zip(&self.sections)
@@ -88,80 +196,114 @@ impl Skeleton {
         &mut self,
         parent: SectionId,
         rest: Frame,
-        name: impl Into<String>,
+        name: impl Into<Name>,
     ) -> SectionId {
-        let id = SectionId(u32::try_from(self.sections.len()).expect("fewer than 2³² sections"));
-        self.sections.push(Section {
-            name: name.into(),
-            rest,
-            limits: Limits::default(),
-            pose: Pose::default(),
-            parent: Some(parent),
-            children: Vec::new(),
-        });
-        self.sections[parent.index()].children.push(id);
-        id
+        let id = u32::try_from(self.sections.len())
+            .ok()
+            .filter(|&id| id != NONE)
+            .expect("fewer than 2³² − 1 sections");
+        self.sections
+            .push(Section::new(name.into(), rest, Some(parent)));
+        self.link(parent, id, id);
+        SectionId(id)
+    }
+
+    /// Appends the list of siblings `first..=last` (already linked among themselves) to the
+    /// children of `parent`.
+    fn link(&mut self, parent: SectionId, first: u32, last: u32) {
+        let p = &mut self.sections[parent.index()];
+        let previous = std::mem::replace(&mut p.last_child, last);
+        if previous == NONE {
+            p.first_child = first;
+        } else {
+            self.sections[previous as usize].next_sibling = first;
+        }
     }
 
     /// A component split: one new child of `section` per frame (each component's joint at its
     /// centre, z along its normal).
-    pub fn components(
+    pub fn components<N: Into<Name>>(
         &mut self,
         section: SectionId,
-        frames: impl IntoIterator<Item = (Frame, String)>,
-    ) -> Vec<SectionId> {
-        frames
-            .into_iter()
-            .map(|(rest, name)| self.add_child(section, rest, name))
-            .collect()
+        frames: impl IntoIterator<Item = (Frame, N)>,
+    ) -> Parts {
+        self.children_of(section, None, frames)
+    }
+
+    /// New children of `parent`, one per frame, after the part `kept` if any.
+    fn children_of<N: Into<Name>>(
+        &mut self,
+        parent: SectionId,
+        kept: Option<SectionId>,
+        frames: impl IntoIterator<Item = (Frame, N)>,
+    ) -> Parts {
+        let first_new = self.sections.len() as u32;
+        for (rest, name) in frames {
+            self.add_child(parent, rest, name);
+        }
+        Parts {
+            kept,
+            first_new,
+            len: self.sections.len() as u32 - first_new + u32::from(kept.is_some()),
+        }
     }
 
     /// A sequential split into a chain: the first part keeps `section`, each further part is a
     /// child of the one before with its joint at its frame (on the split plane), and the
     /// section's children move to the last part. Returns the parts' sections in order.
-    pub fn sequential(
+    pub fn sequential<N: Into<Name>>(
         &mut self,
         section: SectionId,
-        frames: impl IntoIterator<Item = (Frame, String)>,
-    ) -> Vec<SectionId> {
-        let children = std::mem::take(&mut self.sections[section.index()].children);
-        let mut chain = vec![section];
+        frames: impl IntoIterator<Item = (Frame, N)>,
+    ) -> Parts {
+        let s = &mut self.sections[section.index()];
+        let children = (
+            std::mem::replace(&mut s.first_child, NONE),
+            std::mem::replace(&mut s.last_child, NONE),
+        );
+        let first_new = self.sections.len() as u32;
+        let mut last = section;
         for (rest, name) in frames {
-            let previous = *chain.last().expect("the chain starts with the section");
-            chain.push(self.add_child(previous, rest, name));
+            last = self.add_child(last, rest, name);
         }
-        let last = *chain.last().expect("the chain starts with the section");
         self.adopt(last, children);
-        chain
+        Parts {
+            kept: Some(section),
+            first_new,
+            len: self.sections.len() as u32 - first_new + 1,
+        }
     }
 
     /// A parallel split (a fork): one new child of the section's parent per frame. The section
     /// must have a parent and no children.
-    pub fn parallel(
+    pub fn parallel<N: Into<Name>>(
         &mut self,
         section: SectionId,
-        frames: impl IntoIterator<Item = (Frame, String)>,
-    ) -> Result<Vec<SectionId>, KinematicError> {
+        frames: impl IntoIterator<Item = (Frame, N)>,
+    ) -> Result<Parts, KinematicError> {
         let parent = self
             .section(section)
             .parent
             .ok_or(KinematicError::ParallelAtRoot)?;
-        if !self.section(section).children.is_empty() {
+        if self.section(section).has_children() {
             return Err(KinematicError::ParallelWithChildren);
         }
-        Ok(frames
-            .into_iter()
-            .map(|(rest, name)| self.add_child(parent, rest, name))
-            .collect())
+        Ok(self.children_of(parent, None, frames))
     }
 
-    /// Makes `children` children of `parent`. Their rest frames stay, so nothing moves: their
-    /// joints are now measured from `parent`.
-    fn adopt(&mut self, parent: SectionId, children: Vec<SectionId>) {
-        for &child in &children {
-            self.sections[child.index()].parent = Some(parent);
+    /// Makes the sibling list `(first, last)` children of `parent`. Their rest frames stay, so
+    /// nothing moves: their joints are now measured from `parent`.
+    fn adopt(&mut self, parent: SectionId, (first, last): (u32, u32)) {
+        if first == NONE {
+            return;
         }
-        self.sections[parent.index()].children.extend(children);
+        let mut child = first;
+        while child != NONE {
+            let c = &mut self.sections[child as usize];
+            c.parent = Some(parent);
+            child = c.next_sibling;
+        }
+        self.link(parent, first, last);
     }
 
     /// The joint placement rule: the section's joint moves to `rest`; its children keep their
@@ -177,10 +319,10 @@ impl Skeleton {
         limits: Limits,
     ) -> Result<Vec<Clamped>, KinematicError> {
         limits.validate()?;
-        let s = &mut self.sections[section.index()];
-        s.limits = limits;
-        let (pose, clamped) = limits.clamp(&s.pose);
-        s.pose = pose;
+        let motion = self.sections[section.index()].motion();
+        motion.limits = limits;
+        let (pose, clamped) = limits.clamp(&motion.pose);
+        motion.pose = pose;
         Ok(clamped)
     }
 
@@ -188,8 +330,8 @@ impl Skeleton {
     /// changes nothing.
     pub fn pose_within(&mut self, section: SectionId, pose: Pose) -> Result<(), KinematicError> {
         let s = &mut self.sections[section.index()];
-        s.limits.admit(&pose)?;
-        s.pose = pose;
+        s.limits().admit(&pose)?;
+        s.motion().pose = pose;
         Ok(())
     }
 
@@ -202,8 +344,8 @@ impl Skeleton {
     ) -> Result<Vec<Clamped>, KinematicError> {
         pose.validate()?;
         let s = &mut self.sections[section.index()];
-        let (pose, clamped) = s.limits.clamp(&pose);
-        s.pose = pose;
+        let (pose, clamped) = s.limits().clamp(&pose);
+        s.motion().pose = pose;
         Ok(clamped)
     }
 
@@ -220,13 +362,17 @@ impl Skeleton {
     /// The joint with its pose applied: the section's transformation relative to its parent
     /// (a glTF joint node's TRS).
     pub fn local(&self, section: SectionId) -> Frame {
-        self.joint(section).mul(&self.section(section).pose.frame())
+        let s = self.section(section);
+        match &s.motion {
+            Some(motion) if !motion.pose.is_rest() => self.joint(section).mul(&motion.pose.frame()),
+            _ => self.joint(section),
+        }
     }
 
     /// The first section called `name`.
     pub fn find(&self, name: &str) -> Option<SectionId> {
         self.sections()
-            .find(|(_, s)| s.name == name)
+            .find(|(_, s)| s.name.matches(name))
             .map(|(id, _)| id)
     }
 
@@ -234,14 +380,29 @@ impl Skeleton {
     /// the root, children in link order).
     pub fn order(&self) -> Vec<SectionId> {
         let mut order = Vec::with_capacity(self.sections.len());
-        let mut stack = vec![self.root()];
+        let mut id = 0u32;
         // A cycle cannot arise from the operations above; the bound keeps a corrupted skeleton
         // from looping, and `is_tree` reports it.
-        while let Some(id) = stack.pop()
-            && order.len() <= self.sections.len()
-        {
-            order.push(id);
-            stack.extend(self.section(id).children.iter().rev());
+        while order.len() <= self.sections.len() {
+            order.push(SectionId(id));
+            let s = &self.sections[id as usize];
+            if s.first_child != NONE {
+                id = s.first_child;
+                continue;
+            }
+            // Up to the nearest ancestor with a next sibling.
+            let mut at = id;
+            loop {
+                let s = &self.sections[at as usize];
+                if s.next_sibling != NONE {
+                    id = s.next_sibling;
+                    break;
+                }
+                match s.parent {
+                    Some(parent) if parent.0 != 0 => at = parent.0,
+                    _ => return order,
+                }
+            }
         }
         order
     }
@@ -269,8 +430,8 @@ impl Skeleton {
             .collect()
     }
 
-    /// Whether the sections form one tree rooted at section 0: every parent link is matched by
-    /// a child link and every section is reached from the root exactly once.
+    /// Whether the sections form one tree rooted at section 0: every child link is matched by
+    /// the child's parent link and every section is reached from the root exactly once.
     pub fn is_tree(&self) -> bool {
         let order = self.order();
         if order.len() != self.sections.len() || self.sections[0].parent.is_some() {
@@ -283,9 +444,14 @@ impl Skeleton {
             }
         }
         self.sections().all(|(id, s)| {
-            s.children
-                .iter()
-                .all(|c| self.section(*c).parent == Some(id))
+            let mut count = 0;
+            let matched = self.children(id).all(|c| {
+                count += 1;
+                count <= self.sections.len() && self.section(c).parent == Some(id)
+            });
+            matched
+                && (s.last_child == NONE) == (s.first_child == NONE)
+                && self.children(id).last().map_or(NONE, |c| c.0) == s.last_child
         })
     }
 }

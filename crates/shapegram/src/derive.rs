@@ -360,7 +360,7 @@ impl SkeletonJson {
             .skeletons
             .iter()
             .flat_map(|s| s.sections())
-            .filter(|(_, s)| s.limits.is_free())
+            .filter(|(_, s)| s.limits().is_free())
             .count();
         Some(Self {
             skeletons: model.skeletons.len(),

@@ -35,7 +35,7 @@ fn apply_text(text: &str, model: &mut Model) -> Result<(), String> {
                 continue;
             };
             found = true;
-            let mut posed = skeleton.section(section).pose;
+            let mut posed = skeleton.section(section).pose();
             let fields = pose.as_object().ok_or_else(|| {
                 format!("{joint}: expected {{\"rotation\": [x, y, z], \"translation\": [x, y, z]}}")
             })?;
@@ -58,11 +58,12 @@ fn apply_text(text: &str, model: &mut Model) -> Result<(), String> {
                 .map_err(|e| format!("{joint}: {e}"))?;
         }
         if !found {
-            let names = model
+            let names: Vec<String> = model
                 .skeletons
                 .iter()
-                .flat_map(|s| s.sections().map(|(_, s)| s.name.as_str()));
-            let hint = shapegram_syntax::suggest(joint, names)
+                .flat_map(|s| s.sections().map(|(_, s)| s.name.to_string()))
+                .collect();
+            let hint = shapegram_syntax::suggest(joint, names.iter().map(String::as_str))
                 .map(|n| format!(" (did you mean {n}?)"))
                 .unwrap_or_default();
             return Err(format!("the model has no joint named {joint}{hint}"));
@@ -105,7 +106,7 @@ mod tests {
         apply_text(r#"{"Door_abc123": {"rotation": [0, 75, 0]}}"#, &mut m).unwrap();
         let door = m.skeletons[0].find("Door_abc123").unwrap();
         assert_eq!(
-            m.skeletons[0].section(door).pose.rotation,
+            m.skeletons[0].section(door).pose().rotation,
             DVec3::new(0.0, 75.0, 0.0)
         );
     }

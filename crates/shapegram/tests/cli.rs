@@ -1246,6 +1246,9 @@ fn a_pose_file_names_joints_and_an_unknown_one_is_an_error() {
     assert_eq!(output.status.code(), Some(1));
     assert_eq!(
         stderr(&output),
-        format!("error: {}: the model has no joint named Elbow\n", pose.display())
+        format!(
+            "error: {}: the model has no joint named Elbow\n",
+            pose.display()
+        )
     );
 }

@@ -6,7 +6,7 @@ use std::sync::Arc;
 
 use rayon::prelude::*;
 use shapegram_geom::{DMat3, DVec3, Mesh, Scope, mesh::newell};
-use shapegram_kinematics::{Frame, Skeleton};
+use shapegram_kinematics::{Frame, Name, Skeleton};
 
 use super::machine::{Engine, Phase, Task, Work};
 use super::{Derivation, DeriveOptions, InitialShape, Leaf, TreeNode};
@@ -365,12 +365,20 @@ fn derive_lot(
     let mut ev = Evaluator::new(program, seed, scope.origin);
     ev.lot = index;
     state.attrs = Rc::new(ev.initial_attrs(&mut state, overrides)?);
+    // Lots of one grammar grow skeletons of similar sizes: room for the largest so far.
+    let room = batch
+        .skeletons
+        .iter()
+        .map(|(_, s)| s.len())
+        .max()
+        .unwrap_or(1);
     let mut engine = Engine::new(program, ev, names, options, phase, batch);
     if program.kinematic {
         // The model's pivot: the centre of the lot's scope on the ground, with its axes.
         let pivot = scope.to_world(scope.size * DVec3::new(0.5, 0.0, 0.5));
         let root = Frame::from_axes(pivot, scope.axes);
-        engine.skeleton = Some(Skeleton::new(root, names[symbol as usize].to_string()));
+        let name = Name::new(names[symbol as usize].clone());
+        engine.skeleton = Some(Skeleton::with_capacity(root, name, room));
     }
     if let Some(tree) = &mut engine.tree {
         state.node = tree.len() as u32;

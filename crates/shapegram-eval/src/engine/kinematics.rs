@@ -6,7 +6,9 @@
 //! once.
 
 use shapegram_geom::{DMat3, DVec3, Scope};
-use shapegram_kinematics::{Frame, KinematicError, Range, SectionId, Skeleton};
+use std::sync::Arc;
+
+use shapegram_kinematics::{Frame, KinematicError, Name, Parts, Range, SectionId, Skeleton};
 use shapegram_syntax::Span;
 
 use super::Fallible;
@@ -31,7 +33,7 @@ impl Engine<'_> {
         parts: impl ExactSizeIterator<Item = (f64, f64, &'b [CStmt])>,
         joints: SplitJoints,
         span: Span,
-    ) -> Fallible<Option<Vec<u32>>> {
+    ) -> Fallible<Option<Parts>> {
         let Some(skeleton) = &mut self.skeleton else {
             return Ok(None);
         };
@@ -75,7 +77,7 @@ impl Engine<'_> {
                 skeleton.sequential(section, frames)
             }
         };
-        Ok(Some(ids.into_iter().map(|s| s.0).collect()))
+        Ok(Some(ids))
     }
 
     /// A component split's component hangs from the shape's section by a joint at its centre
@@ -136,7 +138,7 @@ impl Engine<'_> {
         );
         let skeleton = self.skeleton_mut();
         let section = SectionId(state.section);
-        let mut limits = skeleton.section(section).limits;
+        let mut limits = skeleton.section(section).limits();
         if rotation {
             limits.rotation[axis] = range;
         } else {
@@ -171,7 +173,7 @@ impl Engine<'_> {
         }
         let skeleton = self.skeleton_mut();
         let section = SectionId(state.section);
-        let mut pose = skeleton.section(section).pose;
+        let mut pose = skeleton.section(section).pose();
         if rotation {
             pose.rotation = v;
         } else {
@@ -217,7 +219,7 @@ fn automatic(skeleton: &Skeleton, section: SectionId, direction: DVec3) -> Split
     let along = bone
         .try_normalize()
         .is_some_and(|b| b.dot(direction).abs() >= ALONG_BONE_DEGREES.to_radians().cos());
-    if along || !s.children().is_empty() {
+    if along || s.has_children() {
         SplitJoints::Sequential
     } else {
         SplitJoints::Parallel
@@ -227,13 +229,9 @@ fn automatic(skeleton: &Skeleton, section: SectionId, direction: DVec3) -> Split
 /// A joint frame at `at` with the scope's axes, or with `fallback`'s orientation when the
 /// scope's axes are not a rotation (a mirrored or degenerate scope).
 fn frame_of(scope: &Scope, at: DVec3, fallback: Frame) -> Frame {
+    // Scope axes are orthonormal; a mirror makes them left-handed.
     let axes: DMat3 = scope.axes;
-    let rotation_like = (axes.determinant() - 1.0).abs() < 1e-6
-        && (axes.transpose() * axes - DMat3::IDENTITY)
-            .to_cols_array()
-            .iter()
-            .all(|e| e.abs() < 1e-6);
-    if rotation_like {
+    if axes.determinant() > 0.5 {
         Frame::from_axes(at, axes)
     } else {
         Frame {
@@ -243,14 +241,14 @@ fn frame_of(scope: &Scope, at: DVec3, fallback: Frame) -> Frame {
     }
 }
 
-/// A short name that stays the same when the grammar is derived again: the rule that made the
-/// section and a hash of the shape's place in the derivation and the part's index.
-pub(super) fn section_name(symbol: &str, seed: u64, part: u64) -> String {
+/// A short name that stays the same when the grammar is derived again: the rule of the part
+/// and a hash of the shape's place in the derivation and the part's index.
+pub(super) fn section_name(symbol: &Arc<str>, seed: u64, part: u64) -> Name {
     let mut z = seed ^ part.wrapping_mul(0x9E37_79B9_7F4A_7C15);
     z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
     z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
     z ^= z >> 31;
-    format!("{symbol}_{:06x}", z & 0xFF_FFFF)
+    Name::tagged(Arc::clone(symbol), z as u32)
 }
 
 /// The symbol of the first successor of a body: the rule a part or component becomes, which

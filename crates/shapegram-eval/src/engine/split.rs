@@ -86,7 +86,7 @@ impl<'p> Engine<'p> {
             let mut scope = state.scope;
             scope.translate(DVec3::AXES[axis] * part.start);
             scope.size[axis] = part.size;
-            let section = sections.as_ref().map_or(state.section, |s| s[i]);
+            let section = sections.map_or(state.section, |s| s.get(i).0);
             if slabs.is_none()
                 && solid.is_none()
                 && self.leaf_part(state, part.body, (scope, section), span, out)?

@@ -56,7 +56,11 @@ impl<'a> Skin<'a> {
         for (joint, id) in order.iter().enumerate() {
             joint_of[id.index()] = joint as u16;
         }
-        let names = unique_names(order.iter().map(|&id| skeleton.section(id).name.as_str()));
+        let names = unique_names(
+            order
+                .iter()
+                .map(|&id| skeleton.section(id).name.to_string()),
+        );
         Ok(Self {
             skeleton,
             index,
@@ -179,13 +183,13 @@ fn joint_name(name: &str) -> String {
 
 /// Joint names made unique in order: a name already taken gets `_2`, `_3`… (the name cut short
 /// to leave room), the first keeps it as it is.
-fn unique_names<'n>(names: impl Iterator<Item = &'n str>) -> Vec<String> {
+fn unique_names(names: impl Iterator<Item = String>) -> Vec<String> {
     let mut taken = BTreeSet::new();
     // The next suffix to try per name, so that many equal names take linear time.
     let mut next: BTreeMap<String, usize> = BTreeMap::new();
     names
         .map(|name| {
-            let base = joint_name(name);
+            let base = joint_name(&name);
             if taken.insert(base.clone()) {
                 return base;
             }
@@ -244,13 +248,13 @@ fn joint_extras(section: &Section, rest: &Frame) -> Box<json::extras::RawValue> 
     let value = json!({
         "shapegram": {
             "joint": {
-                "section": section.name,
+                "section": section.name.to_string(),
                 "rest_translation_m": rest.translation.to_array().map(tidy),
                 "rest_rotation_xyzw": rest.rotation.to_array().map(tidy),
-                "rotation_limits_deg": ranges(&section.limits.rotation),
-                "translation_limits_m": ranges(&section.limits.translation),
-                "pose_rotation_deg": section.pose.rotation.to_array().map(tidy),
-                "pose_translation_m": section.pose.translation.to_array().map(tidy),
+                "rotation_limits_deg": ranges(&section.limits().rotation),
+                "translation_limits_m": ranges(&section.limits().translation),
+                "pose_rotation_deg": section.pose().rotation.to_array().map(tidy),
+                "pose_translation_m": section.pose().translation.to_array().map(tidy),
             }
         }
     });
