@@ -419,6 +419,7 @@ pub(crate) fn read_obj_with(
         ignore_lines: false,
         ..Default::default()
     };
+    check_obj_indices(text).map_err(broken)?;
     // tobj reads `l a b c` as a face; as pairs it reads them as segments.
     let text = split_polylines(text);
     let (models, materials) = tobj::load_obj_buf(&mut text.as_bytes(), &options, load_mtl)
@@ -491,6 +492,62 @@ pub(crate) fn read_obj_with(
         }
     }
     Ok(model_out)
+}
+
+/// Checks that every index of a face, line or point element names an element of the file:
+/// positive ones at most the file's count, negative (relative) ones at most the count declared
+/// before the line. tobj multiplies indices unchecked, so an index past the end overflows.
+fn check_obj_indices(text: &str) -> Result<(), String> {
+    const KINDS: [(&str, &str); 3] = [
+        ("v", "vertex"),
+        ("vt", "texture coordinate"),
+        ("vn", "normal"),
+    ];
+    let mut total = [0i64; 3];
+    for line in text.lines() {
+        if let Some(k) = line
+            .split_whitespace()
+            .next()
+            .and_then(|w| KINDS.iter().position(|(tag, _)| *tag == w))
+        {
+            total[k] += 1;
+        }
+    }
+    let mut before = [0i64; 3];
+    for (n, line) in text.lines().enumerate() {
+        let mut words = line.split_whitespace();
+        let Some(tag) = words.next() else {
+            continue;
+        };
+        if let Some(k) = KINDS.iter().position(|(t, _)| *t == tag) {
+            before[k] += 1;
+            continue;
+        }
+        if !matches!(tag, "f" | "l" | "p") {
+            continue;
+        }
+        for word in words {
+            for (k, part) in word.split('/').enumerate().take(3) {
+                // Empty parts are absent indices; unreadable ones are tobj's to report.
+                let Ok(index) = part.parse::<i64>() else {
+                    continue;
+                };
+                let (limit, scope) = if index < 0 {
+                    (before[k], "before it")
+                } else {
+                    (total[k], "in the file")
+                };
+                if index == 0 || index.unsigned_abs() > limit as u64 {
+                    let (_, kind) = KINDS[k];
+                    return Err(format!(
+                        "line {}: {kind} index {index} is out of range ({limit} declared {scope})",
+                        n + 1
+                    ));
+                }
+            }
+        }
+    }
+    Ok(())
 }
 
 /// The text with every polyline `l a b c …` written as segments `l a b`, `l b c`, ….
