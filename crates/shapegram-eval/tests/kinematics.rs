@@ -401,3 +401,40 @@ mod generated {
         }
     }
 }
+
+#[test]
+fn a_posed_part_keeps_its_pose_when_split_further() {
+    // The sash turns on its hinge and is then split into glass and frame: both must turn.
+    let text = "attr open = 90
+Lot --> extrude(3) comp(f) { front : Window }
+Window --> joint(0, 0, 0) rotationLimits(y, 0, 100) rotateJoint(0, open, 0)
+           split(x) { 0.2 : Frame. | ~1 : Glass. | 0.2 : Frame. }";
+    let d = run(text, lot(4.0, 4.0));
+    let skeleton = &d.skeletons[0].1;
+    let motions = skeleton.skinning();
+    for leaf in &d.leaves {
+        let motion = motions[leaf.section as usize];
+        let corner = leaf.scope.to_world(DVec3::new(leaf.scope.size.x, 0.0, 0.0));
+        assert!(
+            !close(motion.transform_point(corner), corner),
+            "{} does not swing with the sash",
+            leaf.name
+        );
+    }
+}
+
+#[test]
+fn limits_that_leave_out_the_rest_pose_start_the_joint_at_the_nearest_limit() {
+    let text = "Lot --> extrude(3) rotationLimits(z, -160, -30) Stick.";
+    let d = run(text, lot(4.0, 4.0));
+    let root = d.skeletons[0].1.section(SectionId(0));
+    assert_eq!(root.pose().rotation.z, -30.0);
+    // A pose the grammar set is not moved by later limits: that is an error.
+    let text =
+        "Lot --> rotationLimits(z, -90, 90) rotateJoint(0, 0, 60) rotationLimits(z, -45, 45) A.";
+    let error = try_run(text, lot(4.0, 4.0), &DeriveOptions::default()).unwrap_err();
+    assert_eq!(
+        error.message,
+        "the joint's pose leaves the new limits: the rotation about z of 60° is outside the joint's limits (-45° to 45°)"
+    );
+}

@@ -144,17 +144,20 @@ impl Engine<'_> {
         } else {
             limits.translation[axis] = range;
         }
-        let moved = skeleton
+        // A joint at rest outside its limits starts at the nearest limit; a pose the grammar
+        // set is never changed behind its back.
+        let pose = skeleton.section(section).pose();
+        if !pose.is_rest() {
+            limits.validate().map_err(|e| kinematic_error(e, span))?;
+            limits.admit(&pose).map_err(|e| {
+                DeriveError::at(format!("the joint's pose leaves the new limits: {e}"), span)
+                    .with_hint("set the limits before the pose (rotateJoint, translateJoint)")
+            })?;
+        }
+        skeleton
             .set_limits(section, limits)
             .map_err(|e| kinematic_error(e, span))?;
-        match moved.first() {
-            None => Ok(()),
-            Some(clamped) => Err(DeriveError::at(
-                format!("the joint's current pose leaves the new limits: {clamped}"),
-                span,
-            )
-            .with_hint("set the limits before the pose (rotateJoint, translateJoint)")),
-        }
+        Ok(())
     }
 
     /// `rotateJoint(x, y, z)` and `translateJoint(x, y, z)`: the current pose. A pose outside
@@ -209,7 +212,8 @@ impl Engine<'_> {
 }
 
 /// The split kind the paper picks for plain CGA splits: sequential along the bone, else
-/// parallel where the shape allows a fork, else sequential.
+/// parallel where the shape allows a fork, else sequential. A shape whose joint may move is
+/// split sequentially too, so that its parts move with it.
 fn automatic(skeleton: &Skeleton, section: SectionId, direction: DVec3) -> SplitJoints {
     let s = skeleton.section(section);
     let Some(parent) = s.parent else {
@@ -219,7 +223,9 @@ fn automatic(skeleton: &Skeleton, section: SectionId, direction: DVec3) -> Split
     let along = bone
         .try_normalize()
         .is_some_and(|b| b.dot(direction).abs() >= ALONG_BONE_DEGREES.to_radians().cos());
-    if along || s.has_children() {
+    // A fork would hang the parts from the parent, past a joint the grammar freed or posed:
+    // they would not move with it.
+    if along || s.has_children() || s.limits().is_free() {
         SplitJoints::Sequential
     } else {
         SplitJoints::Parallel
