@@ -8,15 +8,5 @@ use shapegram_syntax::{SourceFile, parse};
 
 fuzz_target!(|text: &str| {
     let source = SourceFile::new("fuzz.cga", text);
-    let parsed = parse(&source);
-    for d in &parsed.diagnostics {
-        let (start, end) = (d.span.start as usize, d.span.end as usize);
-        assert!(
-            start <= end && end <= text.len(),
-            "span out of range: {:?}",
-            d.span
-        );
-        assert!(text.is_char_boundary(start) && text.is_char_boundary(end));
-        source.render(d);
-    }
+    shapegram_fuzz::render(&source, &parse(&source).diagnostics);
 });

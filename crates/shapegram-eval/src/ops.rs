@@ -584,19 +584,11 @@ impl Ctx<'_, '_> {
             }
             "rotationLimits" => self.joint_limits(true)?,
             "translationLimits" => self.joint_limits(false)?,
-            "rotateJoint" => {
+            "rotateJoint" | "translateJoint" => {
                 self.c.kinematic = true;
-                let values = self.three("rotateJoint(x, y, z)")?;
+                let values = self.three(&format!("{name}(x, y, z)"))?;
                 Op::JointPose {
-                    rotation: true,
-                    values,
-                }
-            }
-            "translateJoint" => {
-                self.c.kinematic = true;
-                let values = self.three("translateJoint(x, y, z)")?;
-                Op::JointPose {
-                    rotation: false,
+                    rotation: name == "rotateJoint",
                     values,
                 }
             }

@@ -197,18 +197,29 @@ pub struct Clamped {
     pub limit: f64,
 }
 
-impl fmt::Display for Clamped {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+impl Clamped {
+    /// `the rotation about y of 120°`, and the unit for further values.
+    fn describe(&self) -> (String, &'static str) {
         let (kind, unit) = if self.rotation {
             ("rotation about", "°")
         } else {
             ("translation along", " m")
         };
+        let what = format!(
+            "the {kind} {} of {}{unit}",
+            self.axis.name(),
+            self.requested
+        );
+        (what, unit)
+    }
+}
+
+impl fmt::Display for Clamped {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let (what, unit) = self.describe();
         write!(
             f,
-            "the {kind} {} of {}{unit} is outside the joint's limits; clamped to {}{unit}",
-            self.axis.name(),
-            self.requested,
+            "{what} is outside the joint's limits; clamped to {}{unit}",
             self.limit
         )
     }
@@ -255,18 +266,11 @@ impl fmt::Display for KinematicError {
                 "a parallel split needs a shape with a kinematic parent, and this shape is the skeleton's root: split sequentially, or split a child",
             ),
             Self::OutsideLimits { clamped, range } => {
-                let (kind, unit) = if clamped.rotation {
-                    ("rotation about", "°")
-                } else {
-                    ("translation along", " m")
-                };
+                let (what, unit) = clamped.describe();
                 write!(
                     f,
-                    "the {kind} {} of {}{unit} is outside the joint's limits ({}{unit} to {}{unit})",
-                    clamped.axis.name(),
-                    clamped.requested,
-                    range.min,
-                    range.max
+                    "{what} is outside the joint's limits ({}{unit} to {}{unit})",
+                    range.min, range.max
                 )
             }
             Self::ParallelWithChildren => f.write_str(
