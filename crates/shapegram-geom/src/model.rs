@@ -180,6 +180,33 @@ impl Model {
         }
     }
 
+    /// The model with each skeleton reduced to its free joints (see
+    /// [`Skeleton::without_locked`]): parts hang from the nearest section that may move, and
+    /// the model poses exactly as before.
+    pub fn with_free_joints_only(&self) -> Model {
+        let reduced: Vec<(Skeleton, Vec<SectionId>)> = self
+            .skeletons
+            .iter()
+            .map(Skeleton::without_locked)
+            .collect();
+        let parts = self
+            .parts
+            .iter()
+            .map(|part| {
+                let mut part = part.clone();
+                if let Some(bone) = &mut part.bone {
+                    bone.section = reduced[bone.skeleton as usize].1[bone.section.index()];
+                }
+                part
+            })
+            .collect();
+        Model {
+            parts,
+            lines: self.lines.clone(),
+            skeletons: reduced.into_iter().map(|(s, _)| s).collect(),
+        }
+    }
+
     /// The model in its current pose: every part attached to a skeleton moved rigidly from the
     /// rest pose by its section's pose (normals turned with it), the skeletons dropped. What
     /// formats without skins (OBJ, STL) write.

@@ -369,6 +369,29 @@ impl Skeleton {
         }
     }
 
+    /// The skeleton with every locked section folded into its nearest ancestor that may move
+    /// (or the root), and for each old section its section in the new one. A locked joint never
+    /// moves its section against its parent, so everything posed stays where it was: a rig
+    /// with a bone per free joint instead of one per part.
+    pub fn without_locked(&self) -> (Skeleton, Vec<SectionId>) {
+        let root = &self.sections[0];
+        let mut kept = Skeleton::new(root.rest, root.name.clone());
+        kept.sections[0].motion = root.motion.clone();
+        let mut map = vec![SectionId(0); self.sections.len()];
+        for id in self.order().into_iter().skip(1) {
+            let s = self.section(id);
+            let parent = map[s.parent.expect("only the root has no parent").index()];
+            map[id.index()] = if s.limits().is_free() {
+                let new = kept.add_child(parent, s.rest, s.name.clone());
+                kept.sections[new.index()].motion = s.motion.clone();
+                new
+            } else {
+                parent
+            };
+        }
+        (kept, map)
+    }
+
     /// The first section called `name`.
     pub fn find(&self, name: &str) -> Option<SectionId> {
         self.sections()

@@ -319,3 +319,34 @@ proptest! {
         }
     }
 }
+
+#[test]
+fn folding_locked_sections_keeps_one_per_free_joint_and_every_pose() {
+    let (mut skeleton, floors) = tower();
+    // Floors 2 and 4 may turn; the others are locked. Each floor has two locked panes.
+    for &k in &[2, 4] {
+        skeleton.set_limits(floors[k], free_yaw()).unwrap();
+        skeleton.set_pose(floors[k], yaw(30.0 * k as f64)).unwrap();
+    }
+    for &floor in &floors {
+        for side in [-1.0, 1.0] {
+            let y = skeleton.section(floor).rest.translation.y + 1.0;
+            skeleton.add_child(floor, at(side, y, 2.0), "Pane");
+        }
+    }
+    let (rig, map) = skeleton.without_locked();
+    assert_eq!(rig.len(), 3, "the root and the two free floors");
+    assert!(rig.is_tree());
+    assert_eq!(
+        rig.section(map[floors[4].index()]).parent,
+        Some(map[floors[2].index()])
+    );
+    // Every section moves as the section it was folded into, so posed geometry is unchanged.
+    let (before, after) = (skeleton.skinning(), rig.skinning());
+    let p = DVec3::new(1.0, 5.0, 2.0);
+    for (id, _) in skeleton.sections() {
+        let (a, b) = (before[id.index()], after[map[id.index()].index()]);
+        assert!(close(a.transform_point(p), b.transform_point(p)), "{id:?}");
+    }
+    assert_eq!(rig.section(map[floors[4].index()]).pose(), yaw(120.0));
+}

@@ -222,6 +222,10 @@ pub struct DeriveArgs {
     /// z], "translation": [x, y, z]} (degrees, metres), each within its joint's limits
     #[arg(long, value_name = "FILE")]
     pub pose: Option<PathBuf>,
+    /// Fold every locked joint into the nearest joint that may move, so the skeleton keeps a
+    /// bone per free joint rather than one per part (the model poses the same)
+    #[arg(long)]
+    pub merge_locked: bool,
     /// Rewrite in parallel generations and stop after N of them (shapes left become leaves)
     #[arg(long, value_name = "N")]
     pub generations: Option<u32>,

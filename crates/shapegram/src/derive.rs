@@ -77,6 +77,9 @@ pub fn run(args: &DeriveArgs) -> Result<(), Failure> {
     if let Some(pose) = &args.pose {
         crate::pose::apply(pose, &mut model)?;
     }
+    if args.merge_locked {
+        model = model.with_free_joints_only();
+    }
     if let Some(output) = &args.output {
         let options = ExportOptions {
             group_by_part: args.group,

@@ -1252,3 +1252,33 @@ fn a_pose_file_names_joints_and_an_unknown_one_is_an_error() {
         )
     );
 }
+
+#[test]
+fn merging_locked_joints_keeps_a_bone_per_free_joint_and_the_posed_model() {
+    let dir = TempDir::new("merge-locked");
+    let excavator = example("excavator.cga");
+    let all = derive_stats(&excavator, &[]);
+    assert_eq!(all["skeleton"]["sections"], 35);
+    let merged = derive_stats(&excavator, &["--merge-locked"]);
+    // The root and the four free joints: upper structure, boom, stick, bucket.
+    assert_eq!(merged["skeleton"]["sections"], 5);
+    assert_eq!(merged["skeleton"]["free_joints"], 4);
+    // The posed model is the same either way.
+    let (a, b) = (dir.path("all.stl"), dir.path("merged.stl"));
+    ok(&["derive", text(&excavator), "-o", text(&a), "-q"]);
+    ok(&[
+        "derive",
+        text(&excavator),
+        "-o",
+        text(&b),
+        "-q",
+        "--merge-locked",
+    ]);
+    let points = |path: &Path| {
+        let model = shapegram_export::load(path).unwrap();
+        model.merged_mesh().positions().to_vec()
+    };
+    let (a, b) = (points(&a), points(&b));
+    assert_eq!(a.len(), b.len());
+    assert!(a.iter().zip(&b).all(|(p, q)| (*p - *q).length() < 1e-5));
+}
