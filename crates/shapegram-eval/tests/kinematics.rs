@@ -438,3 +438,41 @@ fn limits_that_leave_out_the_rest_pose_start_the_joint_at_the_nearest_limit() {
         "the joint's pose leaves the new limits: the rotation about z of 60° is outside the joint's limits (-45° to 45°)"
     );
 }
+
+#[test]
+fn skeletons_are_the_same_whatever_the_thread_count() {
+    let program = common::compile(TOWER);
+    let lots: Vec<_> = (0..12)
+        .map(|i| {
+            let x = f64::from(i) * 30.0;
+            shapegram_eval::InitialShape::from_xz(&[
+                shapegram_geom::DVec2::new(x, 0.0),
+                shapegram_geom::DVec2::new(x + 20.0, 0.0),
+                shapegram_geom::DVec2::new(x + 20.0, 30.0),
+                shapegram_geom::DVec2::new(x, 30.0),
+            ])
+            .unwrap()
+        })
+        .collect();
+    let options = DeriveOptions {
+        attrs: vec![("twist".into(), shapegram_eval::Value::Number(20.0))],
+        ..DeriveOptions::default()
+    };
+    let with = |threads: usize| {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap();
+        pool.install(|| shapegram_eval::derive(&program, &lots, &options).unwrap())
+    };
+    let (one, four) = (with(1), with(4));
+    assert_eq!(one.skeletons.len(), 12);
+    assert_eq!(one.skeletons, four.skeletons);
+    let sections = |d: &Derivation| {
+        d.leaves
+            .iter()
+            .map(|l| (l.lot, l.section))
+            .collect::<Vec<_>>()
+    };
+    assert_eq!(sections(&one), sections(&four));
+}
