@@ -476,3 +476,42 @@ fn skeletons_are_the_same_whatever_the_thread_count() {
     };
     assert_eq!(sections(&one), sections(&four));
 }
+
+#[test]
+fn any_node_of_the_derivation_tree_can_be_shown_posed() {
+    let options = DeriveOptions {
+        attrs: vec![("twist".into(), shapegram_eval::Value::Number(90.0))],
+        keep_tree: true,
+        ..DeriveOptions::default()
+    };
+    let d = try_run(TOWER, lot(20.0, 30.0), &options).unwrap();
+    // The nodes of the floors' sections (a shape is entered in the tree at each operation that
+    // makes a new one, named after the rule it came from): one node per floor section, bottom
+    // to top. Each turns by 90° more than the one below: the centre of its scope stays on the
+    // axis, its +x side swings about it.
+    let skeleton = &d.skeletons[0].1;
+    let mut floors: Vec<usize> = (0..d.tree.len())
+        .filter(|&n| skeleton.section(SectionId(d.tree[n].section)).name.base() == "Floor")
+        .collect();
+    floors.sort_by_key(|&n| d.tree[n].section);
+    floors.dedup_by_key(|n| d.tree[*n].section);
+    assert_eq!(floors.len(), 5);
+    for (k, &node) in floors.iter().enumerate() {
+        let motion = d.node_motion(node).unwrap();
+        let scope = d.tree[node].scope;
+        let centre = scope.center();
+        assert!(close(motion.transform_point(centre), centre));
+        let corner = scope.to_world(DVec3::new(scope.size.x, 0.0, scope.size.z * 0.5));
+        let turned = motion.transform_point(corner) - centre;
+        let expected = [DVec3::new(0.0, 0.0, -10.0), DVec3::new(-10.0, 0.0, 0.0)];
+        let want = match (k + 1) % 4 {
+            1 => expected[0],
+            2 => expected[1],
+            3 => -expected[0],
+            _ => -expected[1],
+        };
+        let (got, want) = (turned * DVec3::new(1.0, 0.0, 1.0), want);
+        assert!(close(got, want), "floor {k}: {got} instead of {want}");
+    }
+    assert_eq!(d.node_motion(d.tree.len()), None);
+}

@@ -443,6 +443,23 @@ impl Skeleton {
         posed
     }
 
+    /// The rigid motion of one section from the rest pose to the current pose (see
+    /// [`Skeleton::skinning`]), walking only its chain to the root; `None` for an unknown id.
+    pub fn motion(&self, section: SectionId) -> Option<Frame> {
+        let mut chain = Vec::new();
+        let mut at = Some(section);
+        while let Some(id) = at {
+            let s = self.sections.get(id.index())?;
+            chain.push(id);
+            at = s.parent.filter(|_| chain.len() <= self.sections.len());
+        }
+        let posed = chain
+            .iter()
+            .rev()
+            .fold(Frame::IDENTITY, |posed, &id| posed.mul(&self.local(id)));
+        Some(posed.mul(&self.section(section).rest.inverse()))
+    }
+
     /// Per section, the rigid motion that takes geometry attached to it from the rest pose to
     /// the current pose: `posed · rest⁻¹`.
     pub fn skinning(&self) -> Vec<Frame> {

@@ -349,4 +349,13 @@ fn folding_locked_sections_keeps_one_per_free_joint_and_every_pose() {
         assert!(close(a.transform_point(p), b.transform_point(p)), "{id:?}");
     }
     assert_eq!(rig.section(map[floors[4].index()]).pose(), yaw(120.0));
+    // One section's motion, walking its chain only, is its skinning transformation.
+    for (id, _) in skeleton.sections() {
+        let one = skeleton.motion(id).unwrap();
+        assert!(close(
+            one.transform_point(p),
+            before[id.index()].transform_point(p)
+        ));
+    }
+    assert_eq!(skeleton.motion(SectionId(999)), None);
 }

@@ -386,6 +386,8 @@ fn derive_lot(
             name: names[symbol as usize].clone(),
             parent: None,
             scope,
+            lot: index,
+            section: 0,
         });
     }
     engine.shapes = 1;

@@ -326,6 +326,8 @@ impl<'p> Engine<'p> {
                 name: self.names[state.symbol as usize].clone(),
                 parent: Some(state.node),
                 scope: state.scope,
+                lot: self.ev.lot,
+                section: state.section,
             });
             state.node = (tree.len() - 1) as u32;
         }

@@ -38,7 +38,7 @@ use std::time::Duration;
 
 use rustc_hash::FxHashMap;
 use shapegram_geom::{Bone, Color, DVec3, Mesh, Model, Part as ModelPart, Scope, primitives};
-use shapegram_kinematics::{SectionId, Skeleton};
+use shapegram_kinematics::{Frame, SectionId, Skeleton};
 
 use crate::error::DeriveError;
 use crate::shape::Geometry;
@@ -139,6 +139,11 @@ pub struct TreeNode {
     pub parent: Option<u32>,
     /// Its scope when it was made (its birth snapshot).
     pub scope: Scope,
+    /// The initial shape it grew from.
+    pub lot: u32,
+    /// The kinematic section it was attached to when it was made (0 without a skeleton): with
+    /// [`Derivation::node_motion`] any shape of the tree can be shown posed.
+    pub section: u32,
 }
 
 impl Leaf {
@@ -182,6 +187,15 @@ pub struct Derivation {
 }
 
 impl Derivation {
+    /// The rigid motion that takes tree node `node` (its scope and geometry, in the rest pose)
+    /// into the current pose of its section; `None` when its lot has no skeleton or there is
+    /// no such node. Visual debugging shows any shape of the derivation posed with it.
+    pub fn node_motion(&self, node: usize) -> Option<Frame> {
+        let n = self.tree.get(node)?;
+        let (_, skeleton) = self.skeletons.iter().find(|(lot, _)| *lot == n.lot)?;
+        skeleton.motion(SectionId(n.section))
+    }
+
     /// The leaves as a model: one part per (symbol, colour) in order of first appearance, each
     /// holding the world-space geometry of its leaves, then the meshed implicit [`solids`].
     ///
