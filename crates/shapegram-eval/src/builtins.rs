@@ -8,6 +8,9 @@ pub(crate) enum Builtin {
     Floor,
     Ceil,
     Round,
+    Rint,
+    IsNan,
+    IsInf,
     Abs,
     Min,
     Max,
@@ -37,17 +40,20 @@ pub(crate) enum Builtin {
 impl Builtin {
     /// Every built-in's name, in the order of [`Builtin::ALL`].
     pub const NAMES: &'static [&'static str] = &[
-        "rand", "p", "floor", "ceil", "round", "abs", "min", "max", "sqrt", "pow", "exp", "ln",
+        "rand", "p", "floor", "ceil", "round", "rint", "isnan", "isinf", "abs", "min", "max", "sqrt", "pow", "exp", "ln",
         "log10", "sin", "cos", "tan", "asin", "acos", "atan", "atan2", "clamp", "str", "float",
         "bool", "size", "inside", "overlaps", "touches", "occ",
     ];
 
-    const ALL: [Builtin; 29] = [
+    const ALL: [Builtin; 32] = [
         Self::Rand,
         Self::P,
         Self::Floor,
         Self::Ceil,
         Self::Round,
+        Self::Rint,
+        Self::IsNan,
+        Self::IsInf,
         Self::Abs,
         Self::Min,
         Self::Max,

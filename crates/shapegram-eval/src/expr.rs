@@ -452,6 +452,12 @@ impl<'p> Evaluator<'p> {
             Builtin::Floor => n[0].floor(),
             Builtin::Ceil => n[0].ceil(),
             Builtin::Round => n[0].round(),
+            // CGA's rint is C's: to the nearest integer, halves to the even one.
+            Builtin::Rint => n[0].round_ties_even(),
+            // Kept for CGA files that test their numbers: an expression that is not a finite
+            // number is an error here, so these are false for every number that gets this far.
+            Builtin::IsNan => return Ok(Value::Bool(n[0].is_nan())),
+            Builtin::IsInf => return Ok(Value::Bool(n[0].is_infinite())),
             Builtin::Abs => n[0].abs(),
             Builtin::Min => n[0].min(n[1]),
             Builtin::Max => n[0].max(n[1]),

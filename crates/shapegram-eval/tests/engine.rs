@@ -587,3 +587,13 @@ fn a_start_rule_with_parameters_is_an_error_not_a_crash() {
         err.message
     );
 }
+
+#[test]
+fn rint_rounds_halves_to_even_and_numbers_are_never_nan_or_infinite() {
+    let d = run(
+        "Lot --> print(rint(2.5) + \" \" + rint(3.5) + \" \" + rint(-2.5) + \" \" + rint(2.6))
+               print(isnan(1) + \" \" + isinf(1e300 * 10))",
+        lot(3.0, 4.0),
+    );
+    assert_eq!(d.prints, ["2 4 -2 3", "false false"]);
+}
