@@ -13,6 +13,7 @@ mod context;
 mod engine;
 mod error;
 mod expr;
+mod named_poses;
 mod ops;
 mod program;
 pub mod rng;

@@ -35,6 +35,8 @@ pub struct Program {
     pub(crate) context_rules: Vec<bool>,
     /// Whether any rule uses a kinematic operation: only then is a skeleton built.
     pub(crate) kinematic: bool,
+    /// The named poses of `@Pose` annotations, in order of first appearance.
+    named_poses: Vec<(String, Vec<(String, Value)>)>,
 }
 
 /// A compiled rule.
@@ -166,6 +168,13 @@ impl Program {
     /// Names of the attributes, in file order.
     pub fn attr_names(&self) -> impl Iterator<Item = &str> {
         self.attrs.iter().map(|a| a.name.as_str())
+    }
+
+    /// The named poses of the grammar's `@Pose("open", 95)` annotations: each pose's name and
+    /// the attribute values it sets (other attributes keep theirs), in order of first
+    /// appearance.
+    pub fn named_poses(&self) -> Vec<(String, Vec<(String, Value)>)> {
+        self.named_poses.clone()
     }
 }
 
@@ -328,6 +337,7 @@ impl<'g> Compiler<'g> {
             }
         }
         let context_rules = rule_uses.iter().map(|u| closure.asks(u)).collect();
+        let named_poses = crate::named_poses::compile(grammar, &mut self.diagnostics);
         // Without `@StartRule`, the first rule a shape can start from: one without parameters.
         let start_rule = grammar
             .rules
@@ -347,6 +357,7 @@ impl<'g> Compiler<'g> {
             start_rule,
             context_rules,
             kinematic: self.kinematic,
+            named_poses,
         }
     }
 

@@ -21,4 +21,4 @@ mod skeleton;
 pub use frame::Frame;
 pub use limits::{Axis, Clamped, KinematicError, Limits, Pose, Range};
 pub use name::Name;
-pub use skeleton::{Children, Parts, Section, SectionId, Skeleton};
+pub use skeleton::{Children, NamedPose, Parts, Section, SectionId, Skeleton};

@@ -14,6 +14,11 @@ impl SectionId {
     }
 }
 
+/// A parent for messages: "section 3", or "no parent".
+fn parent_text(parent: Option<SectionId>) -> String {
+    parent.map_or_else(|| "no parent".to_owned(), |p| format!("section {}", p.0))
+}
+
 /// No section: the end of a list of children.
 const NONE: u32 = u32::MAX;
 
@@ -138,10 +143,29 @@ impl Parts {
     }
 }
 
+/// A pose of the whole skeleton kept under a name (`@Pose("open", 95)` in a grammar): each
+/// section's pose, indexed by section.
+#[derive(Clone, Debug, PartialEq)]
+pub struct NamedPose {
+    /// The pose's name.
+    pub name: String,
+    /// Each section's pose in it, by section index.
+    pub poses: Vec<Pose>,
+}
+
+impl NamedPose {
+    /// The pose of one section in this named pose (the rest pose for an unknown id).
+    pub fn pose(&self, section: SectionId) -> Pose {
+        self.poses.get(section.index()).copied().unwrap_or_default()
+    }
+}
+
 /// A tree of sections. Section 0 is the root; the paper's rules never make a second one.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Skeleton {
     sections: Vec<Section>,
+    /// Named poses, in the order they were added.
+    named_poses: Vec<NamedPose>,
 }
 
 impl Skeleton {
@@ -155,7 +179,10 @@ impl Skeleton {
     pub fn with_capacity(rest: Frame, name: impl Into<Name>, sections: usize) -> Self {
         let mut all = Vec::with_capacity(sections.max(1));
         all.push(Section::new(name.into(), rest, None));
-        Self { sections: all }
+        Self {
+            sections: all,
+            named_poses: Vec::new(),
+        }
     }
 
     /// The root section.
@@ -369,6 +396,61 @@ impl Skeleton {
         }
     }
 
+    /// The joint with `pose` applied instead of the current pose: what [`Skeleton::local`]
+    /// would be with the section in that pose (for a named pose, say).
+    pub fn local_in(&self, section: SectionId, pose: &Pose) -> Frame {
+        if pose.is_rest() {
+            self.joint(section)
+        } else {
+            self.joint(section).mul(&pose.frame())
+        }
+    }
+
+    /// Keeps the poses of `posed` under `name` (replacing a named pose of that name): `posed`
+    /// is this skeleton derived again with other attribute values, so it must have the same
+    /// structure, section for section (count, names and parents); each section's
+    /// [`Section::pose`] is recorded. An error says what differs.
+    pub fn add_named_pose(&mut self, name: &str, posed: &Skeleton) -> Result<(), String> {
+        if posed.len() != self.len() {
+            return Err(format!(
+                "{} sections instead of {}",
+                posed.len(),
+                self.len()
+            ));
+        }
+        for ((id, mine), (_, theirs)) in self.sections().zip(posed.sections()) {
+            if mine.name != theirs.name || mine.parent != theirs.parent {
+                return Err(format!(
+                    "section {} is `{}` under {}, not `{}` under {}",
+                    id.0,
+                    theirs.name,
+                    parent_text(theirs.parent),
+                    mine.name,
+                    parent_text(mine.parent)
+                ));
+            }
+        }
+        let pose = NamedPose {
+            name: name.to_owned(),
+            poses: posed.sections.iter().map(Section::pose).collect(),
+        };
+        match self.named_poses.iter_mut().find(|p| p.name == name) {
+            Some(existing) => *existing = pose,
+            None => self.named_poses.push(pose),
+        }
+        Ok(())
+    }
+
+    /// The named poses, in the order they were first added.
+    pub fn named_poses(&self) -> &[NamedPose] {
+        &self.named_poses
+    }
+
+    /// The named pose called `name`, if any.
+    pub fn named_pose(&self, name: &str) -> Option<&NamedPose> {
+        self.named_poses.iter().find(|p| p.name == name)
+    }
+
     /// The skeleton with every locked section folded into its nearest ancestor that may move
     /// (or the root), and for each old section its section in the new one. A locked joint never
     /// moves its section against its parent, so everything posed stays where it was: a rig
@@ -378,17 +460,28 @@ impl Skeleton {
         let mut kept = Skeleton::new(root.rest, root.name.clone());
         kept.sections[0].motion = root.motion.clone();
         let mut map = vec![SectionId(0); self.sections.len()];
+        // The old section of each new one, for the named poses.
+        let mut old = vec![SectionId(0)];
         for id in self.order().into_iter().skip(1) {
             let s = self.section(id);
             let parent = map[s.parent.expect("only the root has no parent").index()];
             map[id.index()] = if s.limits().is_free() {
                 let new = kept.add_child(parent, s.rest, s.name.clone());
                 kept.sections[new.index()].motion = s.motion.clone();
+                old.push(id);
                 new
             } else {
                 parent
             };
         }
+        kept.named_poses = self
+            .named_poses
+            .iter()
+            .map(|named| NamedPose {
+                name: named.name.clone(),
+                poses: old.iter().map(|&id| named.pose(id)).collect(),
+            })
+            .collect();
         (kept, map)
     }
 
