@@ -14,6 +14,8 @@
 //! `JOINTS_0` = [joint, 0, 0, 0] (u8 up to 256 joints, u16 beyond) and `WEIGHTS_0` =
 //! [1, 0, 0, 0] as normalized u8. The joint nodes carry the current pose, so viewers show the
 //! model posed. Models without bound parts are written exactly as before skins existed.
+//! A skeleton's named poses become one-keyframe animations of its free joints (see
+//! [`animation`]), after the skins; without named poses there is no `animations`.
 //!
 //! The file is planned first (sizes, bounds, the JSON chunk) and then streamed: shared vertices
 //! and points go from the model straight to the writer, so a large model is never held twice.
@@ -32,8 +34,10 @@ use crate::flat::{
     usable_normals,
 };
 
+mod animation;
 mod skin;
 
+use animation::Animation;
 use skin::Skin;
 
 /// GLB framing constants from the glTF 2.0 specification, section "Binary glTF Layout".
@@ -314,6 +318,8 @@ struct Plan<'a> {
     json: Vec<u8>,
     groups: Vec<Group<'a>>,
     skins: Vec<Skin<'a>>,
+    /// The skeletons' named poses, written after the skins.
+    animations: Vec<Animation>,
     bin_len: usize,
 }
 
@@ -405,11 +411,13 @@ impl<'a> Plan<'a> {
                 skinned.joints.push(j);
             }
         }
-        let (json, bin_len) = document(&palette, &groups, &skins);
+        let animations = Animation::of_skins(&skins);
+        let (json, bin_len) = document(&palette, &groups, &skins, &animations);
         Ok(Self {
             json,
             groups,
             skins,
+            animations,
             bin_len,
         })
     }
@@ -509,12 +517,25 @@ impl<'a> Plan<'a> {
                 }
             });
         }
+        // Every animation value is 4, 12 or 16 bytes, so no view needs padding.
+        for animation in &self.animations {
+            animation.data(|values| {
+                for x in values {
+                    put(&x.to_le_bytes());
+                }
+            });
+        }
         result
     }
 }
 
 /// The JSON chunk (padded with spaces to 4 bytes) and the length of the BIN chunk.
-fn document(palette: &Palette, groups: &[Group<'_>], skins: &[Skin<'_>]) -> (Vec<u8>, usize) {
+fn document(
+    palette: &Palette,
+    groups: &[Group<'_>],
+    skins: &[Skin<'_>],
+    animations: &[Animation],
+) -> (Vec<u8>, usize) {
     let mut builder = Builder::default();
     // The root goes first so that it is node 0; its children are filled in below.
     builder.root.push(json::Node {
@@ -557,8 +578,14 @@ fn document(palette: &Palette, groups: &[Group<'_>], skins: &[Skin<'_>]) -> (Vec
             children.push(node);
         }
     }
+    let mut joints = Vec::with_capacity(skins.len());
     for skin in skins {
-        children.push(skin.push(&mut builder));
+        let (armature, nodes) = skin.push(&mut builder);
+        children.push(armature);
+        joints.push(nodes);
+    }
+    for animation in animations {
+        animation.push(&mut builder, &joints);
     }
     builder.finish(children, roots)
 }

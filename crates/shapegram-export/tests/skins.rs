@@ -765,3 +765,129 @@ fn a_skinned_file_reads_back_in_the_rest_pose_without_bones() {
         );
     }
 }
+
+/// The scene with named poses: "up" for both skeletons (the tower's middle floor turned the
+/// other way, the tree's branch bent up), "down" for the tree only.
+fn posed_scene() -> Model {
+    let mut model = scene();
+    let (mut tower_up, floors) = tower();
+    let turn = Pose {
+        rotation: DVec3::new(0.0, -60.0, 0.0),
+        translation: DVec3::new(0.5, 0.0, 0.0),
+    };
+    tower_up.set_pose(floors[1], turn).unwrap();
+    let bent = |degrees: f64| {
+        let (mut tree, sections) = fork();
+        let pose = Pose {
+            rotation: DVec3::new(0.0, 0.0, degrees),
+            translation: DVec3::ZERO,
+        };
+        tree.set_pose(sections[2], pose).unwrap();
+        tree
+    };
+    model.skeletons[0].add_named_pose("up", &tower_up).unwrap();
+    model.skeletons[1]
+        .add_named_pose("up", &bent(40.0))
+        .unwrap();
+    model.skeletons[1]
+        .add_named_pose("down", &bent(-30.0))
+        .unwrap();
+    model
+}
+
+#[test]
+fn named_poses_become_one_keyframe_animations_of_the_free_joints() {
+    let model = posed_scene();
+    for options in [MERGED, GROUPED] {
+        let bytes = write_glb(&model, &options);
+        let read = Read::new(&bytes);
+        let animations: Vec<_> = read.gltf.animations().collect();
+        let names: Vec<_> = animations.iter().map(|a| a.name().unwrap()).collect();
+        assert_eq!(names, ["up", "down"]);
+        // One free joint in each skeleton: "up" moves both, "down" the tree only.
+        let counts: Vec<_> = animations.iter().map(|a| a.channels().count()).collect();
+        assert_eq!(counts, [4, 2]);
+        let skins: Vec<_> = read.gltf.skins().collect();
+        for animation in &animations {
+            let name = animation.name().unwrap();
+            let mut seen = Vec::new();
+            for channel in animation.channels() {
+                let node = channel.target().node().index();
+                // The target is a joint node of a skin whose skeleton has the pose.
+                let (k, j) = skins
+                    .iter()
+                    .enumerate()
+                    .find_map(|(k, s)| Some((k, s.joints().position(|n| n.index() == node)?)))
+                    .expect("every channel targets a joint node");
+                let skeleton = &model.skeletons[k];
+                let id = skeleton.order()[j];
+                assert!(skeleton.section(id).limits().is_free());
+                let named = skeleton
+                    .named_pose(name)
+                    .expect("the skeleton has the pose");
+                let local = skeleton.local_in(id, &named.pose(id));
+                let sampler = channel.sampler();
+                assert_eq!(
+                    sampler.interpolation(),
+                    gltf::animation::Interpolation::Linear
+                );
+                let input = sampler.input();
+                assert_eq!(input.count(), 1);
+                assert_eq!(input.min(), Some(json!([0.0])));
+                assert_eq!(input.max(), Some(json!([0.0])));
+                let output = sampler.output();
+                assert_eq!(output.count(), 1);
+                assert_eq!(output.data_type(), DataType::F32);
+                for accessor in [&input, &output] {
+                    let view = accessor.view().unwrap();
+                    assert_eq!(view.target(), None);
+                    assert_eq!(view.offset() % 4, 0);
+                }
+                let reader = channel.reader(|_| Some(read.blob()));
+                let times: Vec<f32> = reader.read_inputs().unwrap().collect();
+                assert_eq!(times, [0.0]);
+                match reader.read_outputs().unwrap() {
+                    gltf::animation::util::ReadOutputs::Translations(t) => {
+                        let t: Vec<[f32; 3]> = t.collect();
+                        assert_eq!(t, [local.translation.as_vec3().to_array()]);
+                        seen.push((node, "translation"));
+                    }
+                    gltf::animation::util::ReadOutputs::Rotations(r) => {
+                        let r: Vec<[f32; 4]> = r.into_f32().collect();
+                        let q = local.rotation.normalize().as_quat().to_array();
+                        assert!(
+                            r[0].iter().zip(q).all(|(a, b)| (a - b).abs() < 1e-7),
+                            "{r:?} vs {q:?}"
+                        );
+                        seen.push((node, "rotation"));
+                    }
+                    _ => panic!("only translations and rotations"),
+                }
+            }
+            // A translation and a rotation per joint, never two of one kind.
+            seen.sort_unstable();
+            seen.dedup();
+            assert_eq!(seen.len(), animation.channels().count());
+        }
+        // The joint nodes still carry the current pose.
+        let tower = &model.skeletons[0];
+        let middle = tower.order()[1];
+        let node = skins[0].joints().nth(1).unwrap();
+        let (t, _, _) = node.transform().decomposed();
+        assert_eq!(t, tower.local(middle).translation.as_vec3().to_array());
+    }
+}
+
+#[test]
+fn files_without_named_poses_have_no_animations_and_merged_rigs_keep_them() {
+    let read = Read::new(&write_glb(&scene(), &MERGED));
+    assert!(read.json.get("animations").is_none());
+    let merged = posed_scene().with_free_joints_only();
+    let read = Read::new(&write_glb(&merged, &MERGED));
+    let counts: Vec<_> = read
+        .gltf
+        .animations()
+        .map(|a| (a.name().unwrap().to_owned(), a.channels().count()))
+        .collect();
+    assert_eq!(counts, [("up".to_owned(), 4), ("down".to_owned(), 2)]);
+}

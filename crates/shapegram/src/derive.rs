@@ -77,6 +77,14 @@ pub fn run(args: &DeriveArgs) -> Result<(), Failure> {
     if let Some(pose) = &args.pose {
         crate::pose::apply(pose, &mut model)?;
     }
+    let named_poses = program.named_poses();
+    let glb = match &args.output {
+        Some(output) => matches!(Format::from_path(output)?, Format::Glb),
+        None => false,
+    };
+    if glb && !named_poses.is_empty() {
+        add_named_poses(&program, &lots, &options, &named_poses, &source, &mut model)?;
+    }
     if args.merge_locked {
         model = model.with_free_joints_only();
     }
@@ -106,7 +114,7 @@ pub fn run(args: &DeriveArgs) -> Result<(), Failure> {
         );
     }
     if args.stats {
-        let json = StatsJson::new(
+        let mut json = StatsJson::new(
             source.name(),
             lots.len(),
             args.seed,
@@ -115,10 +123,61 @@ pub fn run(args: &DeriveArgs) -> Result<(), Failure> {
             derive_time,
             export_time,
         );
+        json.named_poses = named_poses.into_iter().map(|(name, _)| name).collect();
         let mut text = serde_json::to_string(&json)
             .map_err(|e| Failure::new(format!("cannot render JSON: {e}")))?;
         text.push('\n');
         print_stdout(&text)?;
+    }
+    Ok(())
+}
+
+/// Derives once more per named pose, with the pose's attribute values over the user's, and
+/// keeps each lot's skeleton as that named pose of the model's skeleton: the GLB writes them as
+/// animations.
+fn add_named_poses(
+    program: &shapegram_eval::Program,
+    lots: &[shapegram_eval::InitialShape],
+    options: &DeriveOptions,
+    named_poses: &[(String, Vec<(String, Value)>)],
+    source: &SourceFile,
+    model: &mut Model,
+) -> Result<(), Failure> {
+    for (name, overrides) in named_poses {
+        let mut posed_options = options.clone();
+        posed_options
+            .attrs
+            .retain(|(attr, _)| !overrides.iter().any(|(a, _)| a == attr));
+        posed_options.attrs.extend(overrides.iter().cloned());
+        let derivation = shapegram_eval::derive(program, lots, &posed_options).map_err(|e| {
+            if e.to_diagnostic().is_some() {
+                eprintln!("in the pose '{name}':");
+                derive_failure(source, &e)
+            } else {
+                Failure::new(format!(
+                    "in the pose '{name}': {}",
+                    e.message.replace('\n', " ")
+                ))
+                .with_hints(e.hints.clone())
+            }
+        })?;
+        let posed = derivation.to_model();
+        let changed =
+            |why: String| Failure::new(format!("the pose '{name}' changes the skeleton ({why})"));
+        if posed.skeletons.len() != model.skeletons.len() {
+            return Err(changed(format!(
+                "{} skeletons instead of {}",
+                posed.skeletons.len(),
+                model.skeletons.len()
+            )));
+        }
+        for (index, (skeleton, posed)) in
+            model.skeletons.iter_mut().zip(&posed.skeletons).enumerate()
+        {
+            skeleton
+                .add_named_pose(name, posed)
+                .map_err(|why| changed(format!("skeleton {index}: {why}")))?;
+        }
     }
     Ok(())
 }
@@ -341,6 +400,9 @@ struct StatsJson<'a> {
     /// Only for grammars that build skeletons.
     #[serde(skip_serializing_if = "Option::is_none")]
     skeleton: Option<SkeletonJson>,
+    /// The grammar's named poses (`@Pose`), only when it has some.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    named_poses: Vec<String>,
 }
 
 /// The skeletons' counts in `--stats`: sections, the joints linking them to a parent, and the
@@ -406,6 +468,7 @@ impl<'a> StatsJson<'a> {
             rules,
             reports,
             skeleton: SkeletonJson::of(model),
+            named_poses: Vec::new(),
         }
     }
 }

@@ -1282,3 +1282,147 @@ fn merging_locked_joints_keeps_a_bone_per_free_joint_and_the_posed_model() {
     assert_eq!(a.len(), b.len());
     assert!(a.iter().zip(&b).all(|(p, q)| (*p - *q).length() < 1e-5));
 }
+
+/// The JSON chunk of a GLB file.
+fn glb_json(path: &Path) -> Value {
+    let bytes = std::fs::read(path).unwrap();
+    assert_eq!(&bytes[..4], b"glTF");
+    let len = u32::from_le_bytes(bytes[12..16].try_into().unwrap()) as usize;
+    serde_json::from_slice(&bytes[20..20 + len]).unwrap()
+}
+
+#[test]
+fn named_poses_become_animations_named_after_them() {
+    let dir = TempDir::new("named-poses");
+    let house = example("hinged_house.cga");
+    let glb = dir.path("house.glb");
+    ok(&["derive", text(&house), "-o", text(&glb), "-q"]);
+    let json = glb_json(&glb);
+    let animations = json["animations"].as_array().expect("animations");
+    let names: Vec<&str> = animations
+        .iter()
+        .map(|a| a["name"].as_str().unwrap())
+        .collect();
+    assert_eq!(names, ["closed", "open"]);
+    let joints: Vec<u64> = json["skins"][0]["joints"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|j| j.as_u64().unwrap())
+        .collect();
+    let nodes = json["nodes"].as_array().unwrap();
+    let free = joints
+        .iter()
+        .filter(|&&j| {
+            let limits = &nodes[j as usize]["extras"]["shapegram"]["joint"]["rotation_limits_deg"];
+            limits
+                .as_array()
+                .unwrap()
+                .iter()
+                .any(|r| r[0].as_f64() < r[1].as_f64())
+        })
+        .count();
+    assert!(free > 2, "the door and the window sashes");
+    for animation in animations {
+        let channels = animation["channels"].as_array().unwrap();
+        // A translation and a rotation per free joint, each on a joint node.
+        assert_eq!(channels.len(), 2 * free);
+        for channel in channels {
+            let node = channel["target"]["node"].as_u64().unwrap();
+            assert!(joints.contains(&node));
+            assert!(matches!(
+                channel["target"]["path"].as_str(),
+                Some("translation" | "rotation")
+            ));
+        }
+    }
+    // The same door in "closed" and "open": shut, then turned about y by 95°.
+    let door = joints
+        .iter()
+        .copied()
+        .find(|&j| {
+            nodes[j as usize]["name"]
+                .as_str()
+                .unwrap()
+                .starts_with("Door_")
+        })
+        .unwrap();
+    let bytes = std::fs::read(&glb).unwrap();
+    let json_len = u32::from_le_bytes(bytes[12..16].try_into().unwrap()) as usize;
+    let bin = 20 + json_len + 8;
+    let accessors = json["accessors"].as_array().unwrap();
+    let rotation_of = |animation: &Value| {
+        let channel = animation["channels"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .find(|c| c["target"]["node"] == door && c["target"]["path"] == "rotation")
+            .unwrap();
+        let sampler = &animation["samplers"][channel["sampler"].as_u64().unwrap() as usize];
+        assert_eq!(sampler["interpolation"], "LINEAR");
+        let input = &accessors[sampler["input"].as_u64().unwrap() as usize];
+        assert_eq!(input["min"], serde_json::json!([0.0]));
+        assert_eq!(input["max"], serde_json::json!([0.0]));
+        let output = &accessors[sampler["output"].as_u64().unwrap() as usize];
+        assert_eq!(output["type"], "VEC4");
+        let view = &json["bufferViews"][output["bufferView"].as_u64().unwrap() as usize];
+        let at = bin + view["byteOffset"].as_u64().unwrap() as usize;
+        bytes[at..at + 16]
+            .chunks_exact(4)
+            .map(|b| f64::from(f32::from_le_bytes(b.try_into().unwrap())))
+            .collect::<Vec<f64>>()
+    };
+    let (closed, open) = (rotation_of(&animations[0]), rotation_of(&animations[1]));
+    let dot: f64 = closed.iter().zip(&open).map(|(a, b)| a * b).sum();
+    assert!(
+        (dot.abs() - 47.5f64.to_radians().cos()).abs() < 1e-5,
+        "{closed:?} {open:?}"
+    );
+    // The grammar's named poses are listed by --stats.
+    let stats = derive_stats(&house, &[]);
+    assert_eq!(stats["named_poses"], serde_json::json!(["closed", "open"]));
+    assert!(
+        derive_stats(&example("house.cga"), &[])
+            .get("named_poses")
+            .is_none()
+    );
+    // Merged, the rig keeps them.
+    let merged = dir.path("merged.glb");
+    ok(&[
+        "derive",
+        text(&house),
+        "-o",
+        text(&merged),
+        "-q",
+        "--merge-locked",
+    ]);
+    let json = glb_json(&merged);
+    assert_eq!(json["animations"].as_array().unwrap().len(), 2);
+}
+
+#[test]
+fn a_named_pose_that_changes_the_skeleton_is_an_error_naming_it() {
+    let dir = TempDir::new("named-pose-changes");
+    let grammar = dir.path("g.cga");
+    std::fs::write(
+        &grammar,
+        "@Pose(\"wide\", 2)\nattr n = 1\n\
+         Lot --> extrude(1) rotationLimits(y, -90, 90) A\n\
+         A --> case n > 1 : comp(f) { side : B } else : B\n",
+    )
+    .unwrap();
+    let out = dir.path("g.glb");
+    let err = fails_one_line(
+        &["derive", text(&grammar), "-o", text(&out), "-q"],
+        "the pose 'wide' changes the skeleton (",
+    );
+    assert!(err.contains("sections instead of"), "{err}");
+    // Other formats have no animations, so they derive once.
+    ok(&[
+        "derive",
+        text(&grammar),
+        "-o",
+        text(&dir.path("g.obj")),
+        "-q",
+    ]);
+}

@@ -70,6 +70,16 @@ impl<'a> Skin<'a> {
         })
     }
 
+    /// The skeleton this skin writes.
+    pub fn skeleton(&self) -> &'a Skeleton {
+        self.skeleton
+    }
+
+    /// Sections in joint order: parents before children.
+    pub fn order(&self) -> &[SectionId] {
+        &self.order
+    }
+
     /// The joint index of a section.
     pub fn joint(&self, section: SectionId) -> u16 {
         self.joint_of[section.index()]
@@ -93,8 +103,11 @@ impl<'a> Skin<'a> {
 
     /// Adds the armature node, the joint nodes under it and the inverse bind matrices'
     /// accessor (its data comes after everything added before), then the skin; returns the
-    /// armature node, a child of the root.
-    pub fn push(&self, builder: &mut super::Builder) -> json::Index<json::Node> {
+    /// armature node, a child of the root, and the joint nodes in joint order.
+    pub fn push(
+        &self,
+        builder: &mut super::Builder,
+    ) -> (json::Index<json::Node>, Vec<json::Index<json::Node>>) {
         let armature = builder.root.push(json::Node {
             name: Some(self.armature_name()),
             ..Default::default()
@@ -136,11 +149,11 @@ impl<'a> Skin<'a> {
             extensions: None,
             extras: Default::default(),
             inverse_bind_matrices: Some(matrices),
-            joints: nodes,
+            joints: nodes.clone(),
             name: Some(self.armature_name()),
             skeleton: Some(armature),
         });
-        armature
+        (armature, nodes)
     }
 
     /// Calls `visit` with each joint's inverse bind matrix, in joint order.
