@@ -40,9 +40,9 @@ pub(crate) enum Builtin {
 impl Builtin {
     /// Every built-in's name, in the order of [`Builtin::ALL`].
     pub const NAMES: &'static [&'static str] = &[
-        "rand", "p", "floor", "ceil", "round", "rint", "isnan", "isinf", "abs", "min", "max", "sqrt", "pow", "exp", "ln",
-        "log10", "sin", "cos", "tan", "asin", "acos", "atan", "atan2", "clamp", "str", "float",
-        "bool", "size", "inside", "overlaps", "touches", "occ",
+        "rand", "p", "floor", "ceil", "round", "rint", "isnan", "isinf", "abs", "min", "max",
+        "sqrt", "pow", "exp", "ln", "log10", "sin", "cos", "tan", "asin", "acos", "atan", "atan2",
+        "clamp", "str", "float", "bool", "size", "inside", "overlaps", "touches", "occ",
     ];
 
     const ALL: [Builtin; 32] = [
