@@ -9,7 +9,7 @@ use crate::{Failure, counted};
 pub fn run(args: &CheckArgs) -> Result<(), Failure> {
     let mut failed = 0;
     for path in &args.files {
-        let source = match grammar::read(path) {
+        let source = match grammar::read(path, !args.quiet_warnings) {
             Ok(source) => source,
             Err(failure) => {
                 if let Some(message) = failure.message {

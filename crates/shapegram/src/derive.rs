@@ -32,7 +32,7 @@ pub fn run(args: &DeriveArgs) -> Result<(), Failure> {
             eprintln!("warning: {warning}");
         }
     }
-    let source = grammar::read(&args.grammar)?;
+    let source = grammar::read(&args.grammar, !args.quiet)?;
     let program =
         grammar::compile(&source, !args.quiet, args.dialect.dialect()).into_program(&source)?;
 

@@ -35,17 +35,32 @@ pub fn error_summary(errors: usize, file: &str) -> String {
     format!("{} in {file}", counted(errors.max(1), "error", "errors"))
 }
 
-/// Reads a grammar file as UTF-8 text, named by the path as given.
-pub fn read(path: &Path) -> Result<SourceFile, Failure> {
+/// Reads a grammar file, named by the path as given: UTF-8 text (a byte-order mark dropped),
+/// or else Windows-1252, which CityEngine writes on Windows (Latin-1 files read the same but
+/// for bytes 0x80–0x9F, which Latin-1 leaves to control characters). Reading it so prints a
+/// warning when `warn` is set.
+pub fn read(path: &Path, warn: bool) -> Result<SourceFile, Failure> {
     let name = path.display().to_string();
     let bytes =
         std::fs::read(path).map_err(|e| Failure::new(format!("cannot read {name}: {e}")))?;
-    let text = String::from_utf8(bytes).map_err(|e| {
-        Failure::new(format!(
-            "cannot read {name}: not UTF-8 text (invalid byte at offset {})",
-            e.utf8_error().valid_up_to()
-        ))
-    })?;
+    let text = match String::from_utf8(bytes) {
+        Ok(mut text) => {
+            if text.starts_with('\u{feff}') {
+                text.drain(..'\u{feff}'.len_utf8());
+            }
+            text
+        }
+        Err(e) => {
+            let at = e.utf8_error().valid_up_to();
+            if warn {
+                eprintln!(
+                    "warning: {name} is not UTF-8 (byte {at}): read as Windows-1252, as CityEngine writes rule files on Windows"
+                );
+            }
+            let (text, _) = encoding_rs::WINDOWS_1252.decode_without_bom_handling(e.as_bytes());
+            text.into_owned()
+        }
+    };
     Ok(SourceFile::new(name, text))
 }
 

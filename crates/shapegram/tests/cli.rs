@@ -1426,3 +1426,36 @@ fn a_named_pose_that_changes_the_skeleton_is_an_error_naming_it() {
         "-q",
     ]);
 }
+
+#[test]
+fn rule_files_from_cityengine_on_windows_read_as_windows_1252() {
+    let dir = TempDir::new("windows-1252");
+    let grammar = dir.path("cafe.cga");
+    // "Café 5€" in Windows-1252: é is 0xE9 and € is 0x80 (a control character in Latin-1).
+    let mut bytes = b"attr sign = \"Caf".to_vec();
+    bytes.extend([0xE9]);
+    bytes.extend(b" 5");
+    bytes.extend([0x80]);
+    bytes.extend(b"\"\nLot --> print(sign) extrude(3) Block.\n");
+    std::fs::write(&grammar, &bytes).unwrap();
+    let output = shapegram(&["derive", text(&grammar)]);
+    let err = stderr(&output);
+    assert!(output.status.success(), "{err}");
+    assert!(
+        err.starts_with(&format!(
+            "warning: {} is not UTF-8 (byte 16): read as Windows-1252, as CityEngine writes rule files on Windows\nprint: Café 5€\n",
+            text(&grammar)
+        )),
+        "{err}"
+    );
+    let quiet = shapegram(&["derive", text(&grammar), "-q"]);
+    assert_eq!(stderr(&quiet), "print: Café 5€\n");
+    // A UTF-8 file with a byte-order mark reads without a word.
+    let marked = dir.path("marked.cga");
+    std::fs::write(&marked, b"\xEF\xBB\xBFLot --> extrude(3) Block.\n").unwrap();
+    let err = ok(&["check", text(&marked)]);
+    assert_eq!(
+        err,
+        format!("ok: {} (1 rule, 0 attributes, 0 warnings)\n", text(&marked))
+    );
+}
