@@ -9,9 +9,8 @@
 
 use gltf_json as json;
 use json::validation::Checked::Valid;
-use shapegram_geom::kinematics::Frame;
 
-use super::skin::Skin;
+use super::skin::{Skin, f32_trs};
 
 /// One named pose about to be written as an animation.
 pub(super) struct Animation {
@@ -54,7 +53,7 @@ impl Animation {
                             continue;
                         }
                         let (translation, rotation) =
-                            keyframe(&skeleton.local_in(id, &named.pose(id)));
+                            f32_trs(&skeleton.local_in(id, &named.pose(id)));
                         keys.push(Key {
                             skin: index,
                             joint: skin.joint(id),
@@ -131,17 +130,4 @@ impl Animation {
             visit(&key.rotation);
         }
     }
-}
-
-/// A joint's local transformation as an f32 translation and unit quaternion (x, y, z, w).
-fn keyframe(frame: &Frame) -> ([f32; 3], [f32; 4]) {
-    // `+ 0.0` turns -0 into 0, as for the joint nodes.
-    let translation = frame.translation.as_vec3().to_array().map(|x| x + 0.0);
-    let rotation = frame
-        .rotation
-        .normalize()
-        .as_quat()
-        .to_array()
-        .map(|x| x + 0.0);
-    (translation, rotation)
 }

@@ -221,8 +221,9 @@ fn unique_names(names: impl Iterator<Item = String>) -> Vec<String> {
         .collect()
 }
 
-/// A joint node's translation and rotation in f32, each left out when it is the identity.
-fn trs(frame: &Frame) -> (Option<[f32; 3]>, Option<json::scene::UnitQuaternion>) {
+/// A joint's transformation as an f32 translation and unit quaternion (x, y, z, w), as joint
+/// nodes and pose keyframes write it.
+pub(super) fn f32_trs(frame: &Frame) -> ([f32; 3], [f32; 4]) {
     // `+ 0.0` turns -0 into 0, so equal transformations print the same.
     let translation = frame.translation.as_vec3().to_array().map(|x| x + 0.0);
     let rotation = frame
@@ -231,6 +232,12 @@ fn trs(frame: &Frame) -> (Option<[f32; 3]>, Option<json::scene::UnitQuaternion>)
         .as_quat()
         .to_array()
         .map(|x| x + 0.0);
+    (translation, rotation)
+}
+
+/// A joint node's translation and rotation in f32, each left out when it is the identity.
+fn trs(frame: &Frame) -> (Option<[f32; 3]>, Option<json::scene::UnitQuaternion>) {
+    let (translation, rotation) = f32_trs(frame);
     (
         (translation != [0.0; 3]).then_some(translation),
         (rotation != [0.0, 0.0, 0.0, 1.0]).then_some(json::scene::UnitQuaternion(rotation)),
