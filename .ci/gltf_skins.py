@@ -111,6 +111,17 @@ def main():
     skins = gltf.get("skins", [])
     if not skins:
         fail(f"{args.glb}: no skins")
+    # Blender's importer makes the first animation the armature's action, so the pose it shows
+    # is that clip's (a grammar's first named pose): its keyframes stand in for the nodes' own
+    # translations and rotations.
+    animations = gltf.get("animations", [])
+    if animations:
+        first = animations[0]
+        for channel in first["channels"]:
+            target = channel["target"]
+            if target.get("path") in ("translation", "rotation"):
+                output = first["samplers"][channel["sampler"]]["output"]
+                nodes[target["node"]][target["path"]] = list(accessor(gltf, binary, output)[0])
     parent = {}
     for i, node in enumerate(nodes):
         for child in node.get("children", []):
