@@ -19,12 +19,16 @@ Facade --> split(x) { { ~2.5 : Pane. }* }
 Basement --> Base.
 ";
 
-fn tower(twist: f64) -> Derivation {
-    let options = DeriveOptions {
+/// Options that turn each floor of the tower by `twist` degrees.
+fn twisted(twist: f64) -> DeriveOptions {
+    DeriveOptions {
         attrs: vec![("twist".into(), shapegram_eval::Value::Number(twist))],
         ..DeriveOptions::default()
-    };
-    try_run(TOWER, lot(20.0, 30.0), &options).unwrap()
+    }
+}
+
+fn tower(twist: f64) -> Derivation {
+    try_run(TOWER, lot(20.0, 30.0), &twisted(twist)).unwrap()
 }
 
 fn close(a: DVec3, b: DVec3) -> bool {
@@ -178,11 +182,7 @@ fn a_pose_outside_the_limits_is_an_error_at_the_operation() {
 }
 
 fn tower_error(twist: f64) -> shapegram_eval::DeriveError {
-    let options = DeriveOptions {
-        attrs: vec![("twist".into(), shapegram_eval::Value::Number(twist))],
-        ..DeriveOptions::default()
-    };
-    try_run(TOWER, lot(20.0, 30.0), &options).unwrap_err()
+    try_run(TOWER, lot(20.0, 30.0), &twisted(twist)).unwrap_err()
 }
 
 #[test]
@@ -454,10 +454,7 @@ fn skeletons_are_the_same_whatever_the_thread_count() {
             .unwrap()
         })
         .collect();
-    let options = DeriveOptions {
-        attrs: vec![("twist".into(), shapegram_eval::Value::Number(20.0))],
-        ..DeriveOptions::default()
-    };
+    let options = twisted(20.0);
     let with = |threads: usize| {
         let pool = rayon::ThreadPoolBuilder::new()
             .num_threads(threads)
@@ -480,9 +477,8 @@ fn skeletons_are_the_same_whatever_the_thread_count() {
 #[test]
 fn any_node_of_the_derivation_tree_can_be_shown_posed() {
     let options = DeriveOptions {
-        attrs: vec![("twist".into(), shapegram_eval::Value::Number(90.0))],
         keep_tree: true,
-        ..DeriveOptions::default()
+        ..twisted(90.0)
     };
     let d = try_run(TOWER, lot(20.0, 30.0), &options).unwrap();
     // The nodes of the floors' sections (a shape is entered in the tree at each operation that

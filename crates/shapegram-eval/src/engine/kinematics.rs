@@ -5,9 +5,9 @@
 //! kinematic operation builds a skeleton; without one the split and component hooks return at
 //! once.
 
-use shapegram_geom::{DMat3, DVec3, Scope};
 use std::sync::Arc;
 
+use shapegram_geom::{DMat3, DVec3, Scope};
 use shapegram_kinematics::{Frame, KinematicError, Name, Parts, Range, SectionId, Skeleton};
 use shapegram_syntax::Span;
 
@@ -16,6 +16,7 @@ use super::machine::Engine;
 use crate::error::DeriveError;
 use crate::ops::SplitJoints;
 use crate::program::{CExpr, CStmt, Sym};
+use crate::rng::mix;
 use crate::shape::State;
 use crate::value::Value;
 
@@ -249,12 +250,9 @@ fn frame_of(scope: &Scope, at: DVec3, fallback: Frame) -> Frame {
 
 /// A short name that stays the same when the grammar is derived again: the rule of the part
 /// and a hash of the shape's place in the derivation and the part's index.
-pub(super) fn section_name(symbol: &Arc<str>, seed: u64, part: u64) -> Name {
-    let mut z = seed ^ part.wrapping_mul(0x9E37_79B9_7F4A_7C15);
-    z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-    z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-    z ^= z >> 31;
-    Name::tagged(Arc::clone(symbol), z as u32)
+fn section_name(symbol: &Arc<str>, seed: u64, part: u64) -> Name {
+    let hash = mix(seed ^ part.wrapping_mul(0x9E37_79B9_7F4A_7C15));
+    Name::tagged(Arc::clone(symbol), hash as u32)
 }
 
 /// The symbol of the first successor of a body: the rule a part or component becomes, which
