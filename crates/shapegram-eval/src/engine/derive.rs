@@ -257,6 +257,9 @@ pub(super) struct Batch {
     pub(super) snaps: Vec<SnapPlane>,
     /// Each lot's skeleton, by lot, when the grammar builds them.
     pub(super) skeletons: Vec<(u32, Skeleton)>,
+    /// The most sections a skeleton of the batch has: lots of one grammar grow skeletons of
+    /// similar sizes, so the next one starts with room for that many.
+    pub(super) skeleton_room: usize,
     error: Option<DeriveError>,
 }
 
@@ -271,6 +274,7 @@ impl Batch {
             counts: vec![0; program.rules.len()],
             waiting: Vec::new(),
             skeletons: Vec::new(),
+            skeleton_room: 1,
             occluders: Vec::new(),
             snaps: Vec::new(),
             error: None,
@@ -365,13 +369,7 @@ fn derive_lot(
     let mut ev = Evaluator::new(program, seed, scope.origin);
     ev.lot = index;
     state.attrs = Rc::new(ev.initial_attrs(&mut state, overrides)?);
-    // Lots of one grammar grow skeletons of similar sizes: room for the largest so far.
-    let room = batch
-        .skeletons
-        .iter()
-        .map(|(_, s)| s.len())
-        .max()
-        .unwrap_or(1);
+    let room = batch.skeleton_room;
     let mut engine = Engine::new(program, ev, names, options, phase, batch);
     if program.kinematic {
         // The model's pivot: the centre of the lot's scope on the ground, with its axes.

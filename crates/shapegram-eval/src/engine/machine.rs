@@ -128,9 +128,10 @@ impl<'p> Engine<'p> {
         }
         batch.occluders = self.occluders;
         batch.snaps.extend(self.snaps);
-        batch
-            .skeletons
-            .extend(self.skeleton.map(|s| (self.ev.lot, s)));
+        if let Some(skeleton) = self.skeleton {
+            batch.skeleton_room = batch.skeleton_room.max(skeleton.len());
+            batch.skeletons.push((self.ev.lot, skeleton));
+        }
     }
 
     /// Derives `first` and all that comes of it, depth first: leaves in depth-first order.
