@@ -44,6 +44,18 @@ pub(crate) struct Evaluator<'p> {
     pub context: Option<&'p Context>,
     /// The lot being derived, by its position among the initial shapes.
     pub lot: u32,
+    /// Every constant's first evaluation, in order, when the derivation keeps a trace.
+    pub const_log: Option<Vec<ConstEvent>>,
+}
+
+/// A constant's first evaluation in a lot: which constant, its value, and the constants'
+/// random stream after it. Two derivations of a lot whose logs agree so far hold the same
+/// constants with the same stream.
+#[derive(Clone, Debug, PartialEq)]
+pub(crate) struct ConstEvent {
+    index: u32,
+    value: Value,
+    rng: Rng,
 }
 
 /// The constants of one lot as far as they were evaluated, with their random stream.
@@ -68,6 +80,19 @@ impl<'p> Evaluator<'p> {
             prints: Vec::new(),
             context: None,
             lot: 0,
+            const_log: None,
+        }
+    }
+
+    /// Takes on constants evaluated elsewhere in the same order: their values, the stream after
+    /// the last, and their entries in the log.
+    pub fn replay_consts(&mut self, events: &[ConstEvent]) {
+        for event in events {
+            self.consts[event.index as usize] = Slot::Done(event.value.clone());
+            self.const_rng = event.rng.clone();
+        }
+        if let Some(log) = &mut self.const_log {
+            log.extend_from_slice(events);
         }
     }
 
@@ -291,6 +316,13 @@ impl<'p> Evaluator<'p> {
         std::mem::swap(&mut scratch.rng, &mut self.const_rng);
         let value = result?;
         self.consts[i as usize] = Slot::Done(value.clone());
+        if let Some(log) = &mut self.const_log {
+            log.push(ConstEvent {
+                index: i,
+                value: value.clone(),
+                rng: self.const_rng.clone(),
+            });
+        }
         Ok(value)
     }
 

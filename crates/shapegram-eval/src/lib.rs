@@ -13,6 +13,7 @@ mod context;
 mod engine;
 mod error;
 mod expr;
+mod fingerprint;
 mod named_poses;
 mod ops;
 mod program;
@@ -22,8 +23,8 @@ mod solids;
 mod value;
 
 pub use engine::{
-    ASSET_VARIANTS, Asset, AssetLoader, Derivation, DeriveOptions, InitialShape, Leaf, Stats,
-    TreeNode, derive,
+    ASSET_VARIANTS, Asset, AssetLoader, Derivation, DeriveOptions, InitialShape, Leaf,
+    Rederivation, Stats, Trace, TreeNode, derive, derive_again,
 };
 pub use error::DeriveError;
 pub use program::{Program, RuleId, Sym};

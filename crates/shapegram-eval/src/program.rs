@@ -9,6 +9,7 @@ use shapegram_syntax::{
 };
 
 use crate::builtins::{Builtin, Query};
+use crate::fingerprint::Fingerprints;
 use crate::ops::{self, Op};
 use crate::value::Value;
 
@@ -37,6 +38,8 @@ pub struct Program {
     pub(crate) kinematic: bool,
     /// The named poses of `@Pose` annotations, in order of first appearance.
     named_poses: Vec<(String, Vec<(String, Value)>)>,
+    /// What tells an edited rule from an unchanged one when deriving again.
+    pub(crate) fingerprints: Fingerprints,
 }
 
 /// A compiled rule.
@@ -358,6 +361,7 @@ impl<'g> Compiler<'g> {
             context_rules,
             kinematic: self.kinematic,
             named_poses,
+            fingerprints: Fingerprints::of(grammar),
         }
     }
 

@@ -8,7 +8,7 @@
 /// never change with a dependency upgrade.
 ///
 /// The seed is mixed on the first draw, not when the stream is made: most shapes never draw.
-#[derive(Clone, Debug)]
+#[derive(Clone, Debug, PartialEq, Eq)]
 pub struct Rng {
     state: u64,
     mixed: bool,

@@ -52,6 +52,7 @@ pub fn run(args: &DeriveArgs) -> Result<(), Failure> {
         assets: Some(Arc::new(FileAssets::new(folder, args.missing_assets))),
         keep_tree: false,
         implicit_cell: args.implicit_cell,
+        trace: false,
     };
 
     let started = Instant::now();

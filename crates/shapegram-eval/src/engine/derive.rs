@@ -9,6 +9,8 @@ use shapegram_geom::{DMat3, DVec3, Mesh, Scope, mesh::newell};
 use shapegram_kinematics::{Frame, Name, Skeleton};
 
 use super::machine::{Engine, Phase, Task, Work};
+use super::reuse::{Old, Previous};
+use super::trace::{LotTrace, finish_trace};
 use super::{Derivation, DeriveOptions, InitialShape, Leaf, TreeNode};
 use crate::context::{Context, Occluder, SnapPlane, Waiting};
 use crate::error::DeriveError;
@@ -24,6 +26,17 @@ pub fn derive(
     lots: &[InitialShape],
     options: &DeriveOptions,
 ) -> Result<Derivation, DeriveError> {
+    Ok(run(program, lots, options, None)?.0)
+}
+
+/// Derives, reusing what `old` derived with unchanged rules; returns the derivation and the
+/// number of rule applications reused.
+pub(super) fn run(
+    program: &Program,
+    lots: &[InitialShape],
+    options: &DeriveOptions,
+    old: Option<&Old>,
+) -> Result<(Derivation, usize), DeriveError> {
     let start = start_rule(program, options)?;
     if let Some(cell) = options.implicit_cell
         && !(cell.is_finite() && cell > 0.0)
@@ -66,27 +79,35 @@ pub fn derive(
         Phase::Only
     };
     let lot_seed = |i: usize| child_seed(options.seed, i as u64);
+    // Only a depth-first derivation in one phase is recorded, or derived again.
+    let traced = phase == Phase::Only && options.generations.is_none();
     let batches = in_batches(program, lots.len(), None, |batch, i| {
-        derive_lot(
-            program,
+        let how = Lot {
             start,
-            &lots[i],
-            i as u32,
-            lot_seed(i),
-            &overrides,
-            &names,
-            options,
+            index: i as u32,
+            seed: lot_seed(i),
+            overrides: &overrides,
+            names: &names,
             phase,
-            batch,
-        )
+            trace: options.trace && traced,
+            previous: old.filter(|_| traced).and_then(|old| old.previous(i)),
+        };
+        derive_lot(program, &lots[i], how, options, batch)
     });
     let mut all = Derivation::default();
     all.leaves
         .reserve_exact(batches.iter().map(|b| b.leaves.len()).sum());
     let mut counts = vec![0usize; program.rules.len()];
     let mut gathered = Gathered::default();
-    for batch in batches {
+    let mut traces = Vec::new();
+    let mut reused = 0;
+    for mut batch in batches {
+        traces.append(&mut batch.traces);
+        reused += batch.reused;
         all.absorb(batch, &mut counts, &mut gathered, false)?;
+    }
+    if options.trace && traced {
+        all.trace = Some(finish_trace(traces, program, lots, options));
     }
     if !gathered.waiting.is_empty() {
         let context = Context::new(gathered.occluders, gathered.snaps, &names);
@@ -129,7 +150,7 @@ pub fn derive(
     all.stats.rules = rule_counts(program, &counts);
     all.solids =
         crate::solids::mesh_solids(&all.leaves, options.implicit_cell, options.time_budget)?;
-    Ok(all)
+    Ok((all, reused))
 }
 
 /// Runs `work` on the items `0..n` in batches of consecutive items, in parallel when there is
@@ -257,6 +278,10 @@ pub(super) struct Batch {
     pub(super) snaps: Vec<SnapPlane>,
     /// Each lot's skeleton, by lot, when the grammar builds them.
     pub(super) skeletons: Vec<(u32, Skeleton)>,
+    /// Each lot's trace, when the derivation keeps one.
+    pub(super) traces: Vec<LotTrace>,
+    /// Rule applications taken from a previous derivation.
+    pub(super) reused: usize,
     /// The most sections a skeleton of the batch has: lots of one grammar grow skeletons of
     /// similar sizes, so the next one starts with room for that many.
     pub(super) skeleton_room: usize,
@@ -274,6 +299,8 @@ impl Batch {
             counts: vec![0; program.rules.len()],
             waiting: Vec::new(),
             skeletons: Vec::new(),
+            traces: Vec::new(),
+            reused: 0,
             skeleton_room: 1,
             occluders: Vec::new(),
             snaps: Vec::new(),
@@ -348,21 +375,37 @@ fn initial_shape(footprint: &[DVec3]) -> Result<(Scope, Geometry), DeriveError> 
     Ok((scope, geometry))
 }
 
-/// Derives one lot into `batch` (in phase 1 of a derivation with context rules, what waits for
-/// phase 2 goes to the batch too).
-#[allow(clippy::too_many_arguments)]
-fn derive_lot(
-    program: &Program,
+/// How to derive one lot: its start rule, number and seed, the attribute values, the symbols'
+/// names, the phase, whether to record a trace, and its previous derivation if any.
+struct Lot<'a> {
     start: RuleId,
-    lot: &InitialShape,
     index: u32,
     seed: u64,
-    overrides: &[(u32, Value)],
-    names: &[Arc<str>],
-    options: &DeriveOptions,
+    overrides: &'a [(u32, Value)],
+    names: &'a [Arc<str>],
     phase: Phase,
+    trace: bool,
+    previous: Option<Previous<'a>>,
+}
+
+/// Derives one lot into `batch` (in phase 1 of a derivation with context rules, what waits for
+/// phase 2 goes to the batch too).
+fn derive_lot<'a>(
+    program: &'a Program,
+    lot: &InitialShape,
+    how: Lot<'a>,
+    options: &'a DeriveOptions,
     batch: &mut Batch,
 ) -> Result<(), DeriveError> {
+    let Lot {
+        start,
+        index,
+        seed,
+        overrides,
+        names,
+        phase,
+        ..
+    } = how;
     let (scope, geometry) = initial_shape(&lot.footprint)?;
     let symbol = program.rules[start as usize].symbol;
     let mut state = State::initial(symbol, scope, geometry, seed);
@@ -371,6 +414,10 @@ fn derive_lot(
     state.attrs = Rc::new(ev.initial_attrs(&mut state, overrides)?);
     let room = batch.skeleton_room;
     let mut engine = Engine::new(program, ev, names, options, phase, batch);
+    if how.trace {
+        engine.start_recording();
+    }
+    engine.previous = how.previous;
     if program.kinematic {
         // The model's pivot: the centre of the lot's scope on the ground, with its axes.
         let pivot = scope.to_world(scope.size * DVec3::new(0.5, 0.0, 0.5));

@@ -13,6 +13,7 @@ use shapegram_syntax::Span;
 
 use super::Fallible;
 use super::machine::Engine;
+use super::trace::Edit;
 use crate::error::DeriveError;
 use crate::ops::SplitJoints;
 use crate::program::{CExpr, CStmt, Sym};
@@ -61,23 +62,22 @@ impl Engine<'_> {
             SplitJoints::Auto => automatic(skeleton, section, direction),
             kind => kind,
         };
-        let ids = match kind {
-            SplitJoints::Parallel => {
-                let frames = parts
-                    .enumerate()
-                    .map(|(i, (start, size, body))| named(i, body, on_line(start + size / 2.0)));
-                skeleton
-                    .parallel(section, frames)
-                    .map_err(|e| kinematic_error(e, span))?
-            }
-            _ => {
-                let frames = parts
-                    .enumerate()
-                    .skip(1)
-                    .map(|(i, (start, _, body))| named(i, body, on_line(start)));
-                skeleton.sequential(section, frames)
-            }
+        let parallel = kind == SplitJoints::Parallel;
+        let ids = if parallel {
+            let frames = parts
+                .enumerate()
+                .map(|(i, (start, size, body))| named(i, body, on_line(start + size / 2.0)));
+            skeleton
+                .parallel(section, frames)
+                .map_err(|e| kinematic_error(e, span))?
+        } else {
+            let frames = parts
+                .enumerate()
+                .skip(1)
+                .map(|(i, (start, _, body))| named(i, body, on_line(start)));
+            skeleton.sequential(section, frames)
         };
+        self.record_split(section, ids, parallel);
         Ok(Some(ids))
     }
 
@@ -101,6 +101,14 @@ impl Engine<'_> {
         let name = section_name(&self.names[symbol as usize], state.seed, !*made);
         *made += 1;
         child.section = skeleton.add_child(section, frame, name).0;
+        self.record_edit(|skeleton| {
+            let new = skeleton.section(SectionId(child.section));
+            Edit::Component {
+                parent: section.0,
+                rest: new.rest,
+                name: new.name.clone(),
+            }
+        });
     }
 
     /// `joint(x, y, z)`: the joint placement rule. The joint moves to the point of the scope,
@@ -115,10 +123,12 @@ impl Engine<'_> {
         let skeleton = self.skeleton_mut();
         let section = SectionId(state.section);
         let rest = skeleton.section(section).rest;
-        skeleton.place_joint(
-            section,
-            frame_of(&state.scope, state.scope.to_world(local), rest),
-        );
+        let rest = frame_of(&state.scope, state.scope.to_world(local), rest);
+        skeleton.place_joint(section, rest);
+        self.record_edit(|_| Edit::Joint {
+            section: section.0,
+            rest,
+        });
         Ok(())
     }
 
@@ -158,6 +168,10 @@ impl Engine<'_> {
         skeleton
             .set_limits(section, limits)
             .map_err(|e| kinematic_error(e, span))?;
+        self.record_edit(|_| Edit::Limits {
+            section: section.0,
+            limits,
+        });
         Ok(())
     }
 
@@ -183,7 +197,14 @@ impl Engine<'_> {
         } else {
             pose.translation = v;
         }
-        skeleton.pose_within(section, pose).map_err(|e| {
+        let posed = skeleton.pose_within(section, pose);
+        if posed.is_ok() {
+            self.record_edit(|_| Edit::Pose {
+                section: section.0,
+                pose,
+            });
+        }
+        posed.map_err(|e| {
             let hint = match &e {
                 KinematicError::OutsideLimits { clamped, .. } => Some(format!(
                     "free the axis first: `{}({}, min, max)`",

@@ -10,8 +10,10 @@ use shapegram_syntax::Span;
 use super::derive::Batch;
 use super::footprint::{SetbackOutputs, reverse_normals};
 use super::implicit::implicit;
+use super::reuse::Previous;
 use super::scope::{align_to_axes, align_to_bbox, center};
 use super::split::Layout;
+use super::trace::Recorder;
 use super::{DeriveOptions, Fallible, Leaf, TreeNode};
 use crate::context::{Occluder, Parked, SnapPlane};
 use crate::error::DeriveError;
@@ -55,9 +57,9 @@ pub(super) struct Engine<'p> {
     pub(super) options: &'p DeriveOptions,
     pub(super) tree: Option<Vec<TreeNode>>,
     pub(super) leaves: Vec<Leaf>,
-    counts: Vec<usize>,
+    pub(super) counts: Vec<usize>,
     /// Rule applications so far; the clock is read every 1024 of them.
-    applications: usize,
+    pub(super) applications: usize,
     pub(super) shapes: usize,
     started: Instant,
     /// Where the outputs of the rule being applied start on the depth-first stack: while none
@@ -81,6 +83,10 @@ pub(super) struct Engine<'p> {
     pub(super) snaps: Vec<SnapPlane>,
     /// The lot's kinematic skeleton, when the grammar builds one.
     pub(super) skeleton: Option<shapegram_kinematics::Skeleton>,
+    /// What the lot records for deriving it again, when the derivation keeps a trace.
+    pub(super) recorder: Option<Recorder>,
+    /// The lot's previous derivation, when deriving it again.
+    pub(super) previous: Option<Previous<'p>>,
 }
 
 impl<'p> Engine<'p> {
@@ -113,11 +119,20 @@ impl<'p> Engine<'p> {
             occluders: std::mem::take(&mut batch.occluders),
             snaps: Vec::new(),
             skeleton: None,
+            recorder: None,
+            previous: None,
         }
     }
 
     /// Hands the results back to the batch.
-    pub(super) fn finish(self, batch: &mut Batch) {
+    pub(super) fn finish(mut self, batch: &mut Batch) {
+        if let Some(mut recorder) = self.recorder.take() {
+            recorder.trace.consts = self.ev.const_log.take().unwrap_or_default();
+            batch.traces.push(recorder.trace);
+        }
+        if let Some(previous) = &self.previous {
+            batch.reused += previous.reused;
+        }
         batch.leaves = self.leaves;
         batch.tree = self.tree.unwrap_or_default();
         batch.reports.extend(self.ev.reports);
@@ -137,11 +152,26 @@ impl<'p> Engine<'p> {
     /// Derives `first` and all that comes of it, depth first: leaves in depth-first order.
     pub(super) fn run_depth_first(&mut self, first: Work) -> Fallible<()> {
         let mut stack = vec![first];
-        while let Some(work) = stack.pop() {
+        let tracing = self.recorder.is_some() || self.previous.is_some();
+        loop {
+            if tracing {
+                // Subtrees end when the stack is back where it was below their shapes.
+                self.close_applications(stack.len());
+                self.leave_fresh(stack.len());
+            }
+            let Some(work) = stack.pop() else {
+                break;
+            };
             match work {
                 Work::Leaf(mut state) => self.emit(&mut state),
                 Work::Rewrite(task) => {
                     let base = stack.len();
+                    if tracing {
+                        if self.reuse(&task, base)? {
+                            continue;
+                        }
+                        self.open_application(&task, base);
+                    }
                     self.base = base;
                     self.apply(task, &mut stack)?;
                     // Reversed, so the first child is derived first.

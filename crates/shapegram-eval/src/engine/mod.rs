@@ -29,9 +29,11 @@ mod implicit;
 mod insert;
 mod kinematics;
 mod machine;
+mod reuse;
 mod roof;
 mod scope;
 mod split;
+mod trace;
 
 use std::sync::Arc;
 use std::time::Duration;
@@ -46,6 +48,8 @@ use crate::value::Value;
 
 pub use derive::derive;
 pub use insert::{ASSET_VARIANTS, Asset, AssetLoader};
+pub use reuse::{Rederivation, derive_again};
+pub use trace::Trace;
 
 /// How to derive.
 #[derive(Clone)]
@@ -71,6 +75,9 @@ pub struct DeriveOptions {
     /// Edge length of the grid cells implicit solids are meshed with; `None` picks one per
     /// group from its size and its smallest member.
     pub implicit_cell: Option<f64>,
+    /// Keep a [`Trace`] in [`Derivation::trace`], so that [`derive_again`] can reuse this
+    /// derivation after rules change (depth-first derivations without context rules only).
+    pub trace: bool,
 }
 
 impl Default for DeriveOptions {
@@ -86,6 +93,7 @@ impl Default for DeriveOptions {
             assets: None,
             keep_tree: false,
             implicit_cell: None,
+            trace: false,
         }
     }
 }
@@ -184,6 +192,8 @@ pub struct Derivation {
     pub skeletons: Vec<(u32, Skeleton)>,
     /// Counts.
     pub stats: Stats,
+    /// What [`derive_again`] reuses, when [`DeriveOptions::trace`] was set.
+    pub trace: Option<Arc<Trace>>,
 }
 
 impl Derivation {

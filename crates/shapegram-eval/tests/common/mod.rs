@@ -1,6 +1,8 @@
 //! Running grammar text through parser, compiler and engine.
 #![allow(dead_code)]
 
+pub mod generated;
+
 use std::path::PathBuf;
 
 use shapegram_eval::{Derivation, DeriveError, DeriveOptions, InitialShape, Program, derive};

@@ -1,0 +1,437 @@
+//! What a derivation records so that it can be derived again after a rule changes (§4.4 of the
+//! "Procedural Skeletons" paper): every rule application in depth-first order with the extent
+//! of what its subtree made, what the subtree read of the skeleton outside itself, the
+//! skeleton edits and the constants' first evaluations. See [`super::reuse`] for the use.
+
+use std::sync::Arc;
+
+use shapegram_kinematics::{Frame, Limits, Name, Parts, Pose, SectionId, Skeleton};
+
+use super::machine::{Engine, Task};
+use super::{DeriveOptions, InitialShape};
+use crate::expr::ConstEvent;
+use crate::fingerprint::Fingerprints;
+use crate::program::{Program, RuleId};
+use crate::value::Value;
+
+/// What a derivation recorded for [`crate::derive_again`]; kept in [`crate::Derivation::trace`]
+/// when [`DeriveOptions::trace`] is set.
+#[derive(Debug)]
+pub struct Trace {
+    pub(super) lots: Vec<LotTrace>,
+    pub(super) key: Key,
+}
+
+impl Trace {
+    /// Rule applications recorded, over all lots.
+    pub fn applications(&self) -> usize {
+        self.lots.iter().map(|l| l.applications.len()).sum()
+    }
+}
+
+/// Everything a derivation depends on besides its program's rules: the grammar's frame (see
+/// [`Fingerprints`]), the options and the lots.
+#[derive(Debug)]
+pub(super) struct Key {
+    pub fingerprints: Fingerprints,
+    kinematic: bool,
+    seed: u64,
+    attrs: Vec<(String, Value)>,
+    start_rule: Option<String>,
+    max_shapes: usize,
+    max_depth: u32,
+    keep_tree: bool,
+    implicit_cell: Option<f64>,
+    lots: Vec<InitialShape>,
+}
+
+impl Key {
+    pub(super) fn new(program: &Program, lots: &[InitialShape], options: &DeriveOptions) -> Self {
+        Self {
+            fingerprints: program.fingerprints.clone(),
+            kinematic: program.kinematic,
+            seed: options.seed,
+            attrs: options.attrs.clone(),
+            start_rule: options.start_rule.clone(),
+            max_shapes: options.max_shapes,
+            max_depth: options.max_depth,
+            keep_tree: options.keep_tree,
+            implicit_cell: options.implicit_cell,
+            lots: lots.to_vec(),
+        }
+    }
+
+    /// Why a derivation with key `new` can reuse nothing of one with this key, if it cannot.
+    pub(super) fn refuses(&self, new: &Key) -> Option<&'static str> {
+        let (old, now) = (&self.fingerprints, &new.fingerprints);
+        if old.frame != now.frame || old.rules.len() != now.rules.len() {
+            Some("the grammar's attributes, constants, functions or list of rules changed")
+        } else if self.kinematic != new.kinematic {
+            Some("the grammar started or stopped using kinematic operations")
+        } else if self.lots != new.lots {
+            Some("the lots changed")
+        } else if (
+            self.seed,
+            &self.attrs,
+            &self.start_rule,
+            self.max_shapes,
+            self.max_depth,
+            self.keep_tree,
+            self.implicit_cell,
+        ) != (
+            new.seed,
+            &new.attrs,
+            &new.start_rule,
+            new.max_shapes,
+            new.max_depth,
+            new.keep_tree,
+            new.implicit_cell,
+        ) {
+            Some("the seed, the attribute values or the options changed")
+        } else {
+            None
+        }
+    }
+}
+
+/// How far each list a lot's derivation fills had come, counted from the lot's start.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub(super) struct Marks {
+    pub leaves: usize,
+    pub nodes: usize,
+    pub sections: usize,
+    pub reports: usize,
+    pub prints: usize,
+    pub shapes: usize,
+    pub consts: usize,
+    pub edits: usize,
+}
+
+impl Marks {
+    /// `self` moved by the distance from `from` to `to`, list by list.
+    pub fn shifted(self, from: Marks, to: Marks) -> Marks {
+        let f = |v: usize, a: usize, b: usize| v + b - a;
+        Marks {
+            leaves: f(self.leaves, from.leaves, to.leaves),
+            nodes: f(self.nodes, from.nodes, to.nodes),
+            sections: f(self.sections, from.sections, to.sections),
+            reports: f(self.reports, from.reports, to.reports),
+            prints: f(self.prints, from.prints, to.prints),
+            shapes: f(self.shapes, from.shapes, to.shapes),
+            consts: f(self.consts, from.consts, to.consts),
+            edits: f(self.edits, from.edits, to.edits),
+        }
+    }
+}
+
+/// One rule application and the subtree it roots.
+#[derive(Clone, Debug)]
+pub(super) struct Application {
+    pub rule: RuleId,
+    /// The index of the first application after its subtree.
+    pub end: usize,
+    /// The shape's tree node, counted from the lot's first (0 without a tree).
+    pub node: usize,
+    /// The shape's section.
+    pub section: u32,
+    pub start: Marks,
+    pub finish: Marks,
+    /// What the subtree reads of the skeleton outside itself, as it was at its start (only
+    /// with a skeleton).
+    pub inputs: Option<Box<SectionInputs>>,
+}
+
+/// What a subtree's operations read of sections it did not make: its shape's section (the
+/// joint, limits and pose, and whether it has children) and that section's parent's joint.
+/// Nothing else outside the subtree is read (Theorem 4.4: a subtree connects to the rest of the
+/// skeleton only through its root's section).
+#[derive(Clone, Debug, PartialEq)]
+pub(super) struct SectionInputs {
+    rest: Frame,
+    limits: Limits,
+    pose: Pose,
+    has_children: bool,
+    parent_rest: Option<Frame>,
+}
+
+impl SectionInputs {
+    pub(super) fn of(skeleton: &Skeleton, section: SectionId) -> Self {
+        let s = skeleton.section(section);
+        Self {
+            rest: s.rest,
+            limits: s.limits(),
+            pose: s.pose(),
+            has_children: s.has_children(),
+            parent_rest: s.parent.map(|p| skeleton.section(p).rest),
+        }
+    }
+}
+
+/// A change the derivation made to the skeleton, in the terms of the skeleton's own operations,
+/// so that replaying it does what the operation did.
+#[derive(Clone, Debug)]
+pub(super) enum Edit {
+    Component {
+        parent: u32,
+        rest: Frame,
+        name: Name,
+    },
+    Sequential {
+        section: u32,
+        parts: Vec<(Frame, Name)>,
+    },
+    Parallel {
+        section: u32,
+        parts: Vec<(Frame, Name)>,
+    },
+    Joint {
+        section: u32,
+        rest: Frame,
+    },
+    Limits {
+        section: u32,
+        limits: Limits,
+    },
+    Pose {
+        section: u32,
+        pose: Pose,
+    },
+}
+
+impl Edit {
+    /// The edit with its sections renamed by `map`.
+    pub(super) fn mapped(&self, mut map: impl FnMut(u32) -> u32) -> Edit {
+        match self {
+            Edit::Component { parent, rest, name } => Edit::Component {
+                parent: map(*parent),
+                rest: *rest,
+                name: name.clone(),
+            },
+            Edit::Sequential { section, parts } => Edit::Sequential {
+                section: map(*section),
+                parts: parts.clone(),
+            },
+            Edit::Parallel { section, parts } => Edit::Parallel {
+                section: map(*section),
+                parts: parts.clone(),
+            },
+            Edit::Joint { section, rest } => Edit::Joint {
+                section: map(*section),
+                rest: *rest,
+            },
+            Edit::Limits { section, limits } => Edit::Limits {
+                section: map(*section),
+                limits: *limits,
+            },
+            Edit::Pose { section, pose } => Edit::Pose {
+                section: map(*section),
+                pose: *pose,
+            },
+        }
+    }
+
+    /// Does to `skeleton` what the recorded operation did. The operations that can refuse
+    /// (a fork at the root, a pose outside the limits) did not refuse when recorded, on a
+    /// skeleton that read the same, so they do not refuse now: a refusal is returned as text.
+    pub(super) fn apply(&self, skeleton: &mut Skeleton) -> Result<(), String> {
+        match self {
+            Edit::Component { parent, rest, name } => {
+                skeleton.add_child(SectionId(*parent), *rest, name.clone());
+            }
+            Edit::Sequential { section, parts } => {
+                skeleton.sequential(SectionId(*section), parts.iter().cloned());
+            }
+            Edit::Parallel { section, parts } => {
+                skeleton
+                    .parallel(SectionId(*section), parts.iter().cloned())
+                    .map_err(|e| e.to_string())?;
+            }
+            Edit::Joint { section, rest } => skeleton.place_joint(SectionId(*section), *rest),
+            Edit::Limits { section, limits } => {
+                skeleton
+                    .set_limits(SectionId(*section), *limits)
+                    .map_err(|e| e.to_string())?;
+            }
+            Edit::Pose { section, pose } => skeleton
+                .pose_within(SectionId(*section), *pose)
+                .map_err(|e| e.to_string())?,
+        }
+        Ok(())
+    }
+}
+
+/// What one lot's derivation recorded.
+#[derive(Debug, Default)]
+pub(super) struct LotTrace {
+    pub applications: Vec<Application>,
+    pub edits: Vec<Edit>,
+    pub consts: Vec<ConstEvent>,
+}
+
+impl LotTrace {
+    /// What the whole lot made.
+    pub fn totals(&self) -> Marks {
+        self.applications
+            .first()
+            .map_or_else(Marks::default, |a| a.finish)
+    }
+}
+
+/// The engine's recording of one lot.
+pub(super) struct Recorder {
+    pub trace: LotTrace,
+    /// Open applications: the depth of the work stack below each, and its index.
+    open: Vec<(usize, usize)>,
+    /// Where the lot's leaves and tree nodes start in the batch's lists.
+    leaves_base: usize,
+    nodes_base: usize,
+}
+
+impl Engine<'_> {
+    /// Starts recording a lot whose leaves and tree nodes will follow those there now.
+    pub(super) fn start_recording(&mut self) {
+        self.recorder = Some(Recorder {
+            trace: LotTrace::default(),
+            open: Vec::new(),
+            leaves_base: self.leaves.len(),
+            nodes_base: self.tree.as_ref().map_or(0, Vec::len),
+        });
+        self.ev.const_log = Some(Vec::new());
+    }
+
+    /// How far the lot has come.
+    pub(super) fn marks(&self) -> Marks {
+        let (leaves_base, nodes_base, edits) = self.recorder.as_ref().map_or((0, 0, 0), |r| {
+            (r.leaves_base, r.nodes_base, r.trace.edits.len())
+        });
+        Marks {
+            leaves: self.leaves.len() - leaves_base,
+            nodes: self.tree.as_ref().map_or(0, |t| t.len() - nodes_base),
+            sections: self.skeleton.as_ref().map_or(0, Skeleton::len),
+            reports: self.ev.reports.len(),
+            prints: self.ev.prints.len(),
+            shapes: self.shapes,
+            consts: self.ev.const_log.as_ref().map_or(0, Vec::len),
+            edits,
+        }
+    }
+
+    /// The lot-relative number of a tree node of the batch.
+    pub(super) fn lot_node(&self, node: u32) -> usize {
+        let base = self.recorder.as_ref().map_or(0, |r| r.nodes_base);
+        (node as usize).saturating_sub(base)
+    }
+
+    /// The batch's number of a lot-relative tree node.
+    pub(super) fn batch_node(&self, node: usize) -> u32 {
+        let base = self.recorder.as_ref().map_or(0, |r| r.nodes_base);
+        (base + node) as u32
+    }
+
+    /// Records the start of a rule application, applied with the work stack `depth` deep below
+    /// it.
+    pub(super) fn open_application(&mut self, task: &Task, depth: usize) {
+        let start = self.marks();
+        let node = if self.tree.is_some() {
+            self.lot_node(task.state.node)
+        } else {
+            0
+        };
+        let inputs = self
+            .skeleton
+            .as_ref()
+            .map(|s| Box::new(SectionInputs::of(s, SectionId(task.state.section))));
+        let Some(recorder) = &mut self.recorder else {
+            return;
+        };
+        let index = recorder.trace.applications.len();
+        recorder.trace.applications.push(Application {
+            rule: task.rule,
+            end: index + 1,
+            node,
+            section: task.state.section,
+            start,
+            finish: start,
+            inputs,
+        });
+        recorder.open.push((depth, index));
+    }
+
+    /// Records the end of the applications whose subtrees are done: those applied with the
+    /// work stack at least `depth` deep below them, now that it is `depth` deep.
+    pub(super) fn close_applications(&mut self, depth: usize) {
+        let closing = self
+            .recorder
+            .as_ref()
+            .is_some_and(|r| r.open.last().is_some_and(|&(d, _)| d >= depth));
+        if !closing {
+            return;
+        }
+        let marks = self.marks();
+        let recorder = self.recorder.as_mut().expect("checked above");
+        let count = recorder.trace.applications.len();
+        while let Some(&(d, index)) = recorder.open.last() {
+            if d < depth {
+                break;
+            }
+            recorder.open.pop();
+            let application = &mut recorder.trace.applications[index];
+            application.end = count;
+            application.finish = marks;
+        }
+    }
+
+    /// Records a skeleton edit.
+    pub(super) fn record_edit(&mut self, edit: impl FnOnce(&Skeleton) -> Edit) {
+        if let (Some(recorder), Some(skeleton)) = (&mut self.recorder, &self.skeleton) {
+            recorder.trace.edits.push(edit(skeleton));
+        }
+    }
+
+    /// Records a split's new sections, read back from the skeleton.
+    pub(super) fn record_split(&mut self, section: SectionId, parts: Parts, parallel: bool) {
+        self.record_edit(|skeleton| {
+            let new: Vec<(Frame, Name)> = parts
+                .iter()
+                .filter(|&id| id != section)
+                .map(|id| {
+                    let s = skeleton.section(id);
+                    (s.rest, s.name.clone())
+                })
+                .collect();
+            if parallel {
+                Edit::Parallel {
+                    section: section.0,
+                    parts: new,
+                }
+            } else {
+                Edit::Sequential {
+                    section: section.0,
+                    parts: new,
+                }
+            }
+        });
+    }
+}
+
+/// The recorded lots with what their derivation depended on.
+pub(super) fn finish_trace(
+    lots: Vec<LotTrace>,
+    program: &Program,
+    initial: &[InitialShape],
+    options: &DeriveOptions,
+) -> Arc<Trace> {
+    Arc::new(Trace {
+        lots,
+        key: Key::new(program, initial, options),
+    })
+}
+
+/// Which rules of the new grammar differ from the old one's, by rule.
+pub(super) fn changed_rules(old: &Fingerprints, new: &Fingerprints) -> Vec<bool> {
+    old.rules
+        .iter()
+        .zip(&new.rules)
+        .map(|(a, b)| a != b)
+        .collect()
+}
