@@ -18,6 +18,7 @@ mod ops;
 mod program;
 pub mod rng;
 mod shape;
+mod snapshot;
 mod solids;
 mod value;
 
