@@ -1283,6 +1283,47 @@ fn merging_locked_joints_keeps_a_bone_per_free_joint_and_the_posed_model() {
     assert!(a.iter().zip(&b).all(|(p, q)| (*p - *q).length() < 1e-5));
 }
 
+#[test]
+fn generations_of_a_kinematic_grammar_are_written_posed() {
+    // After three generations the excavator's upper structure has been turned by cabTurn on
+    // its axis through the lot's centre (10, 15): turned 90° instead of 0°, each of its
+    // vertices goes from (x, y, z) to (10 + z − 15, y, 15 − x + 10); the undercarriage stays.
+    let dir = TempDir::new("generations-posed");
+    let excavator = example("excavator.cga");
+    let points = |turn: &str| {
+        let out = dir.path(&format!("turn{turn}.stl"));
+        let attr = format!("cabTurn={turn}");
+        ok(&[
+            "derive",
+            text(&excavator),
+            "--generations",
+            "3",
+            "--attr",
+            &attr,
+            "-o",
+            text(&out),
+            "-q",
+        ]);
+        shapegram_export::load(&out)
+            .unwrap()
+            .merged_mesh()
+            .positions()
+            .to_vec()
+    };
+    let (straight, turned) = (points("0"), points("90"));
+    assert_eq!(straight.len(), turned.len());
+    let mut moved = 0;
+    for (a, b) in straight.iter().zip(&turned) {
+        if (*a - *b).length() < 1e-5 {
+            continue;
+        }
+        moved += 1;
+        let want = DVec3::new(10.0 + a.z - 15.0, a.y, 15.0 - a.x + 10.0);
+        assert!((*b - want).length() < 1e-4, "{a} went to {b}, not {want}");
+    }
+    assert!(moved > 0 && moved < straight.len(), "{moved} moved");
+}
+
 /// The JSON chunk of a GLB file.
 fn glb_json(path: &Path) -> Value {
     let bytes = std::fs::read(path).unwrap();
