@@ -25,9 +25,9 @@ impl Derivation {
     ///   component split with nothing inserted). The tree does not say when such a shape
     ///   ended, and leaving it out makes the state at the last node the model's own leaves.
     ///
-    /// Lots derive one after another in the tree's order (with context rules: every lot's
-    /// first phase, then every lot's second), so a lot not started by `node` is not there yet
-    /// and one finished before it is there whole. Needs [`DeriveOptions::keep_tree`]; an error
+    /// The tree numbers lots one after another (with context rules: every lot's first phase,
+    /// then every lot's second), so a lot not started by `node` is not there yet and one
+    /// finished before it is there whole. Needs [`DeriveOptions::keep_tree`]; an error
     /// without a tree or for a node past the last one.
     ///
     /// [`DeriveOptions::keep_tree`]: crate::DeriveOptions::keep_tree
