@@ -19,6 +19,7 @@ mod ops;
 mod program;
 pub mod rng;
 mod shape;
+mod snapshot;
 mod solids;
 mod value;
 

@@ -79,13 +79,17 @@ pub enum Command {
             --attr.\n\n\
             Assets inserted with i(\"path\") are read relative to the grammar's folder (OBJ,\n\
             GLB or STL). print() output goes to stderr as `print: ` lines (also with -q).\n\
-            Without -o nothing is written, which is useful with --stats.",
+            Without -o nothing is written, which is useful with --stats.\n\n\
+            To see how a model came about, --generations N stops after N parallel rewriting\n\
+            steps and --at-node N writes the state right after shape N was made (numbered\n\
+            from 0), both posed by the model's skeleton (docs/kinematics.md).",
         after_help = "Examples:\n  \
             shapegram derive house.cga -o house.glb\n  \
             shapegram derive house.cga --attr height=20 --seed 3 -o tall.obj\n  \
             shapegram derive house.cga --lot \"0,0 30,0 30,12 12,12 12,25 0,25\" -o l-house.glb\n  \
             shapegram derive house.cga --lots parcels.geojson --group -o block.glb\n  \
             shapegram derive house.cga --stats -q | jq .rules\n  \
+            shapegram derive excavator.cga --at-node 40 -o step.glb\n  \
             shapegram derive menger.sgl --dialect sgl -o menger.glb"
     )]
     Derive(DeriveArgs),
@@ -229,6 +233,12 @@ pub struct DeriveArgs {
     /// Rewrite in parallel generations and stop after N of them (shapes left become leaves)
     #[arg(long, value_name = "N")]
     pub generations: Option<u32>,
+    /// Write the derivation as it stood right after shape N was made, posed (visual
+    /// debugging): every shape there was then, as its leaf geometry or, when it was rewritten
+    /// later, as its scope box. Shapes are numbered from 0 in the order they were made, lot
+    /// after lot, up to the shape count less one
+    #[arg(long, value_name = "N")]
+    pub at_node: Option<usize>,
     /// Stop with an error after this many shapes
     #[arg(long, value_name = "N", default_value_t = 10_000_000)]
     pub max_shapes: usize,

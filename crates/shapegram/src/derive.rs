@@ -50,7 +50,8 @@ pub fn run(args: &DeriveArgs) -> Result<(), Failure> {
         time_budget: (args.timeout > 0.0).then(|| Duration::from_secs_f64(args.timeout)),
         generations: args.generations,
         assets: Some(Arc::new(FileAssets::new(folder, args.missing_assets))),
-        keep_tree: false,
+        // The tree is what a state at a node is made from.
+        keep_tree: args.at_node.is_some(),
         implicit_cell: args.implicit_cell,
         trace: false,
     };
@@ -74,7 +75,12 @@ pub fn run(args: &DeriveArgs) -> Result<(), Failure> {
     eprint!("{prints}");
 
     let export_started = Instant::now();
-    let mut model = derivation.to_model();
+    let mut model = match args.at_node {
+        Some(node) => derivation
+            .model_at_node(node)
+            .map_err(|e| Failure::new(e.message).with_hints(e.hints))?,
+        None => derivation.to_model(),
+    };
     if let Some(pose) = &args.pose {
         crate::pose::apply(pose, &mut model)?;
     }
@@ -101,10 +107,13 @@ pub fn run(args: &DeriveArgs) -> Result<(), Failure> {
         if model.parts.iter().all(|p| p.mesh.is_empty()) {
             eprintln!("warning: the model is empty: no leaf has geometry");
         }
-        let target = match &args.output {
+        let mut target = match &args.output {
             Some(output) => output.display().to_string(),
             None => format!("{} (no output file)", source.name()),
         };
+        if let Some(node) = args.at_node {
+            target.push_str(&format!(" at node {node} of {}", derivation.tree.len()));
+        }
         let stats = &derivation.stats;
         eprintln!(
             "derived {target}: {}, {}, {}, {}",
@@ -125,6 +134,7 @@ pub fn run(args: &DeriveArgs) -> Result<(), Failure> {
             export_time,
         );
         json.named_poses = named_poses.into_iter().map(|(name, _)| name).collect();
+        json.at_node = args.at_node;
         let mut text = serde_json::to_string(&json)
             .map_err(|e| Failure::new(format!("cannot render JSON: {e}")))?;
         text.push('\n');
@@ -404,6 +414,9 @@ struct StatsJson<'a> {
     /// The grammar's named poses (`@Pose`), only when it has some.
     #[serde(skip_serializing_if = "Vec::is_empty")]
     named_poses: Vec<String>,
+    /// The node of `--at-node`, whose state `faces` and `triangles` count; only when given.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    at_node: Option<usize>,
 }
 
 /// The skeletons' counts in `--stats`: sections, the joints linking them to a parent, and the
@@ -470,6 +483,7 @@ impl<'a> StatsJson<'a> {
             reports,
             skeleton: SkeletonJson::of(model),
             named_poses: Vec::new(),
+            at_node: None,
         }
     }
 }

@@ -1283,6 +1283,144 @@ fn merging_locked_joints_keeps_a_bone_per_free_joint_and_the_posed_model() {
     assert!(a.iter().zip(&b).all(|(p, q)| (*p - *q).length() < 1e-5));
 }
 
+/// A wall and a door hinged on its left edge (at x = 1), opened 90° about y, then split into a
+/// panel and a lintel rewritten once more; on the 3 × 4 lot [`DOOR_LOT`] every part is 3 high
+/// and 4 deep. Its tree: 0 `Lot`, 1 a part, 2 `Wall`, 3 a part, 4 `Door`, 5 a part, 6 `Panel`,
+/// 7 a part, 8 `Lintel`, 9 `Beam`.
+const DOOR: &str = "attr open = 90
+Lot --> extrude(3) split(x) { 1 : Wall. | ~1 : Door }
+Door --> joint(0, 0, 0) rotationLimits(y, 0, 100) rotateJoint(0, open, 0)
+         split(y) { ~1 : Panel. | 0.5 : Lintel }
+Lintel --> color(\"#ff0000\") Beam.
+";
+
+const DOOR_LOT: &str = "0,0 3,0 3,4 0,4";
+
+/// Bounds of a file's vertices as stored, rounded to 1e-4 (posed for STL, rest pose for GLB).
+fn rounded_bounds(path: &Path) -> [[f64; 3]; 2] {
+    let bounds = shapegram_export::load(path).unwrap().bounds().unwrap();
+    let round = |v: DVec3| v.to_array().map(|c| (c * 1e4).round() / 1e4 + 0.0);
+    [round(bounds.min), round(bounds.max)]
+}
+
+#[test]
+fn the_derivation_at_a_node_is_written_posed() {
+    let dir = TempDir::new("at-node");
+    let grammar = dir.path("door.cga");
+    std::fs::write(&grammar, DOOR).unwrap();
+    let derive = |node: &str, out: &Path, extra: &[&str]| {
+        let mut args = vec!["derive", text(&grammar), "--lot", DOOR_LOT];
+        args.extend(["--at-node", node, "-o", text(out)]);
+        args.extend_from_slice(extra);
+        ok(&args)
+    };
+    // Node 8: the wall and the panel (leaves) and the lintel (rewritten later, as its box),
+    // one part each, hanging from the skeleton's root, the door and the door's upper part.
+    let glb = dir.path("at8.glb");
+    let err = derive("8", &glb, &["--group"]);
+    assert!(
+        err.starts_with(&format!("derived {} at node 8 of 10: ", text(&glb))),
+        "{err}"
+    );
+    let info = info_json(&glb);
+    assert_eq!(info["parts"], 3, "{info}");
+    assert_eq!(info["vertices"], 24, "{info}");
+    assert_eq!(info["triangles"], 36, "{info}");
+    let names: Vec<String> = shapegram_export::load(&glb)
+        .unwrap()
+        .parts
+        .into_iter()
+        .map(|p| p.name)
+        .collect();
+    assert_eq!(names, ["Wall", "Panel", "Lintel"]);
+    let json = glb_json(&glb);
+    assert_eq!(json["skins"].as_array().unwrap().len(), 1);
+    assert_eq!(json["skins"][0]["joints"].as_array().unwrap().len(), 3);
+    // The GLB keeps the rest pose for its skin; the STL holds the posed state: the door turned
+    // about its hinge reaches 4 m along x and 2 m in front of the lot.
+    assert_eq!(rounded_bounds(&glb), [[0.0; 3], [3.0, 3.0, 4.0]]);
+    let stl = dir.path("at8.stl");
+    derive("8", &stl, &["-q"]);
+    assert_eq!(rounded_bounds(&stl), [[0.0, 0.0, -2.0], [5.0, 3.0, 4.0]]);
+    // --stats count the state written and name the node.
+    let stats = derive_stats(
+        &grammar,
+        &["--lot", DOOR_LOT, "--at-node", "8", "-o", text(&glb)],
+    );
+    assert_eq!(stats["at_node"], 8);
+    assert_eq!(stats["shapes"], 10);
+    assert_eq!(stats["leaves"], 3);
+    assert_eq!(stats["faces"], 18);
+    // The root: the lot's rectangle.
+    let root = dir.path("at0.stl");
+    derive("0", &root, &["-q"]);
+    assert_eq!(rounded_bounds(&root), [[0.0; 3], [3.0, 0.0, 4.0]]);
+
+    // Past the last node: an error with the node count, and nothing written.
+    let missing = dir.path("at10.glb");
+    let output = shapegram(&[
+        "derive",
+        text(&grammar),
+        "--lot",
+        DOOR_LOT,
+        "--at-node",
+        "10",
+        "-o",
+        text(&missing),
+    ]);
+    assert_eq!(output.status.code(), Some(1));
+    assert_eq!(
+        stderr(&output),
+        "error: there is no node 10: the derivation tree has 10 nodes (0 to 9)\n"
+    );
+    assert!(!missing.exists());
+
+    let help = String::from_utf8(shapegram(&["derive", "--help"]).stdout).unwrap();
+    assert!(help.contains("--at-node <N>"), "{help}");
+    assert!(help.contains("shapegram derive excavator.cga --at-node 40 -o step.glb"));
+}
+
+#[test]
+fn generations_of_a_kinematic_grammar_are_written_posed() {
+    // After three generations the excavator's upper structure has been turned by cabTurn on
+    // its axis through the lot's centre (10, 15): turned 90° instead of 0°, each of its
+    // vertices goes from (x, y, z) to (10 + z − 15, y, 15 − x + 10); the undercarriage stays.
+    let dir = TempDir::new("generations-posed");
+    let excavator = example("excavator.cga");
+    let points = |turn: &str| {
+        let out = dir.path(&format!("turn{turn}.stl"));
+        let attr = format!("cabTurn={turn}");
+        ok(&[
+            "derive",
+            text(&excavator),
+            "--generations",
+            "3",
+            "--attr",
+            &attr,
+            "-o",
+            text(&out),
+            "-q",
+        ]);
+        shapegram_export::load(&out)
+            .unwrap()
+            .merged_mesh()
+            .positions()
+            .to_vec()
+    };
+    let (straight, turned) = (points("0"), points("90"));
+    assert_eq!(straight.len(), turned.len());
+    let mut moved = 0;
+    for (a, b) in straight.iter().zip(&turned) {
+        if (*a - *b).length() < 1e-5 {
+            continue;
+        }
+        moved += 1;
+        let want = DVec3::new(10.0 + a.z - 15.0, a.y, 15.0 - a.x + 10.0);
+        assert!((*b - want).length() < 1e-4, "{a} went to {b}, not {want}");
+    }
+    assert!(moved > 0 && moved < straight.len(), "{moved} moved");
+}
+
 /// The JSON chunk of a GLB file.
 fn glb_json(path: &Path) -> Value {
     let bytes = std::fs::read(path).unwrap();
