@@ -412,10 +412,21 @@ fn derive_lot<'a>(
     let mut ev = Evaluator::new(program, seed, scope.origin);
     ev.lot = index;
     state.attrs = Rc::new(ev.initial_attrs(&mut state, overrides)?);
-    let room = batch.skeleton_room;
+    // A lot derived again grows to about its previous size.
+    let previous = how
+        .previous
+        .as_ref()
+        .map(Previous::totals)
+        .unwrap_or_default();
+    let room = batch.skeleton_room.max(previous.sections);
     let mut engine = Engine::new(program, ev, names, options, phase, batch);
+    engine.leaves.reserve(previous.leaves);
+    if let Some(tree) = &mut engine.tree {
+        tree.reserve(previous.nodes);
+    }
     if how.trace {
         engine.start_recording();
+        engine.reserve_trace(how.previous.as_ref());
     }
     engine.previous = how.previous;
     if program.kinematic {

@@ -101,13 +101,9 @@ impl Engine<'_> {
         let name = section_name(&self.names[symbol as usize], state.seed, !*made);
         *made += 1;
         child.section = skeleton.add_child(section, frame, name).0;
-        self.record_edit(|skeleton| {
-            let new = skeleton.section(SectionId(child.section));
-            Edit::Component {
-                parent: section.0,
-                rest: new.rest,
-                name: new.name.clone(),
-            }
+        self.record_edit(|| Edit::Component {
+            parent: section.0,
+            section: child.section,
         });
     }
 
@@ -125,7 +121,7 @@ impl Engine<'_> {
         let rest = skeleton.section(section).rest;
         let rest = frame_of(&state.scope, state.scope.to_world(local), rest);
         skeleton.place_joint(section, rest);
-        self.record_edit(|_| Edit::Joint {
+        self.record_edit(|| Edit::Joint {
             section: section.0,
             rest,
         });
@@ -168,9 +164,9 @@ impl Engine<'_> {
         skeleton
             .set_limits(section, limits)
             .map_err(|e| kinematic_error(e, span))?;
-        self.record_edit(|_| Edit::Limits {
+        self.record_edit(|| Edit::Limits {
             section: section.0,
-            limits,
+            limits: Box::new(limits),
         });
         Ok(())
     }
@@ -199,7 +195,7 @@ impl Engine<'_> {
         }
         let posed = skeleton.pose_within(section, pose);
         if posed.is_ok() {
-            self.record_edit(|_| Edit::Pose {
+            self.record_edit(|| Edit::Pose {
                 section: section.0,
                 pose,
             });

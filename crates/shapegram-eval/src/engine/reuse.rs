@@ -13,7 +13,7 @@
 //! dependencies changed is derived afresh. The result is the full derivation of the new
 //! grammar, byte for byte.
 
-use shapegram_kinematics::SectionId;
+use shapegram_kinematics::{SectionId, Skeleton};
 
 use super::derive::run;
 use super::machine::{Engine, Task};
@@ -135,8 +135,14 @@ impl<'a> Old<'a> {
         let dirty = (0..applications.len())
             .map(|i| before[applications[i].end] > before[i])
             .collect();
+        let skeleton = d
+            .skeletons
+            .iter()
+            .find(|(l, _)| *l as usize == lot)
+            .map(|(_, s)| s);
         Some(Previous {
             trace,
+            skeleton,
             leaves: d.leaves.get(start.leaves..start.leaves + totals.leaves)?,
             tree: d.tree.get(start.nodes..start.nodes + totals.nodes)?,
             nodes_base: start.nodes,
@@ -159,6 +165,8 @@ impl<'a> Old<'a> {
 /// One lot of the previous derivation, as the engine deriving it again walks through it.
 pub(super) struct Previous<'a> {
     trace: &'a LotTrace,
+    /// The lot's skeleton, which holds the joints and names of the sections its edits made.
+    skeleton: Option<&'a Skeleton>,
     leaves: &'a [Leaf],
     tree: &'a [TreeNode],
     /// The previous derivation's number of the lot's first tree node.
@@ -183,6 +191,16 @@ pub(super) struct Previous<'a> {
 }
 
 impl Previous<'_> {
+    /// What the lot made before.
+    pub(super) fn totals(&self) -> Marks {
+        self.trace.totals()
+    }
+
+    /// How many rule applications and skeleton edits the lot recorded before.
+    pub(super) fn recorded(&self) -> (usize, usize) {
+        (self.trace.applications.len(), self.trace.edits.len())
+    }
+
     /// Whether the constants evaluated so far, `log`, are the `count` the previous derivation
     /// had evaluated at this point, with the same values and random stream.
     fn consts_agree(&mut self, log: &[ConstEvent], count: usize) -> bool {
@@ -271,14 +289,15 @@ impl Engine<'_> {
             .previous
             .as_ref()
             .expect("splicing a previous derivation");
-        let (trace, leaves, tree, reports, prints, nodes_base) = (
-            previous.trace,
-            previous.leaves,
-            previous.tree,
-            previous.reports,
-            previous.prints,
-            previous.nodes_base,
-        );
+        let Previous {
+            trace,
+            leaves,
+            tree,
+            reports,
+            prints,
+            nodes_base,
+            ..
+        } = *previous;
         let application = &trace.applications[i];
         let (start, finish) = (application.start, application.finish);
         let now = self.marks();
@@ -309,21 +328,14 @@ impl Engine<'_> {
             Ok((first_node + node(old as usize - nodes_base)?) as u32)
         };
 
-        for edit in &trace.edits[start.edits..finish.edits] {
-            let mut failed = None;
-            let edit = edit.mapped(|s| {
-                section(s).unwrap_or_else(|e| {
-                    failed = Some(e);
-                    s
-                })
-            });
-            if let Some(e) = failed {
-                return Err(e);
-            }
+        if let Some(recorded) = previous.skeleton {
             let skeleton = self.skeleton.as_mut().ok_or_else(|| lost("no skeleton"))?;
-            edit.apply(skeleton).map_err(|e| lost(&e))?;
-            if let Some(recorder) = &mut self.recorder {
-                recorder.trace.edits.push(edit);
+            let map = |s: u32| section(s).map_err(|e| e.message);
+            for edit in &trace.edits[start.edits..finish.edits] {
+                let edit = edit.replay(recorded, skeleton, map).map_err(|e| lost(&e))?;
+                if let Some(recorder) = &mut self.recorder {
+                    recorder.trace.edits.push(edit);
+                }
             }
         }
         if let Some(new) = &mut self.tree {

@@ -5,9 +5,10 @@
 
 use std::sync::Arc;
 
-use shapegram_kinematics::{Frame, Limits, Name, Parts, Pose, SectionId, Skeleton};
+use shapegram_kinematics::{Frame, Limits, Parts, Pose, SectionId, Skeleton};
 
 use super::machine::{Engine, Task};
+use super::reuse::Previous;
 use super::{DeriveOptions, InitialShape};
 use crate::expr::ConstEvent;
 use crate::fingerprint::Fingerprints;
@@ -168,21 +169,28 @@ impl SectionInputs {
 }
 
 /// A change the derivation made to the skeleton, in the terms of the skeleton's own operations,
-/// so that replaying it does what the operation did.
+/// so that replaying it does what the operation did. New sections are named by their ids: the
+/// derivation's skeleton holds their joints and names, which nothing changes after the subtree
+/// that made them (only its shapes hang from them, and joints are placed on a shape's own
+/// section), so a replay reads them there.
 #[derive(Clone, Debug)]
 pub(super) enum Edit {
+    /// `section` was made as a child of `parent` (a component).
     Component {
         parent: u32,
-        rest: Frame,
-        name: Name,
+        section: u32,
     },
+    /// `section` was split in a chain of the new sections `first..first + len`.
     Sequential {
         section: u32,
-        parts: Vec<(Frame, Name)>,
+        first: u32,
+        len: u32,
     },
+    /// `section` was split in a fork of the new sections `first..first + len`.
     Parallel {
         section: u32,
-        parts: Vec<(Frame, Name)>,
+        first: u32,
+        len: u32,
     },
     Joint {
         section: u32,
@@ -190,7 +198,7 @@ pub(super) enum Edit {
     },
     Limits {
         section: u32,
-        limits: Limits,
+        limits: Box<Limits>,
     },
     Pose {
         section: u32,
@@ -199,64 +207,91 @@ pub(super) enum Edit {
 }
 
 impl Edit {
-    /// The edit with its sections renamed by `map`.
-    pub(super) fn mapped(&self, mut map: impl FnMut(u32) -> u32) -> Edit {
-        match self {
-            Edit::Component { parent, rest, name } => Edit::Component {
-                parent: map(*parent),
-                rest: *rest,
-                name: name.clone(),
-            },
-            Edit::Sequential { section, parts } => Edit::Sequential {
-                section: map(*section),
-                parts: parts.clone(),
-            },
-            Edit::Parallel { section, parts } => Edit::Parallel {
-                section: map(*section),
-                parts: parts.clone(),
-            },
-            Edit::Joint { section, rest } => Edit::Joint {
-                section: map(*section),
-                rest: *rest,
-            },
-            Edit::Limits { section, limits } => Edit::Limits {
-                section: map(*section),
-                limits: *limits,
-            },
-            Edit::Pose { section, pose } => Edit::Pose {
-                section: map(*section),
-                pose: *pose,
-            },
-        }
-    }
-
-    /// Does to `skeleton` what the recorded operation did. The operations that can refuse
-    /// (a fork at the root, a pose outside the limits) did not refuse when recorded, on a
-    /// skeleton that read the same, so they do not refuse now: a refusal is returned as text.
-    pub(super) fn apply(&self, skeleton: &mut Skeleton) -> Result<(), String> {
-        match self {
-            Edit::Component { parent, rest, name } => {
-                skeleton.add_child(SectionId(*parent), *rest, name.clone());
+    /// Does to `skeleton` what the recorded operation did to `recorded`, the skeleton it was
+    /// recorded in, with sections renamed by `map` (which names the sections about to be made
+    /// too); returns the edit in the new names. The operations that can refuse (a fork at the
+    /// root, a pose outside the limits) did not refuse when recorded, on a skeleton that read
+    /// the same, so they do not refuse now: a refusal is returned as text.
+    pub(super) fn replay(
+        &self,
+        recorded: &Skeleton,
+        skeleton: &mut Skeleton,
+        map: impl Fn(u32) -> Result<u32, String>,
+    ) -> Result<Edit, String> {
+        let made = |first: u32, len: u32| {
+            (first..first + len).map(|id| {
+                let s = recorded.section(SectionId(id));
+                (s.rest, s.name.clone())
+            })
+        };
+        let next = skeleton.len() as u32;
+        Ok(match self {
+            Edit::Component { parent, section } => {
+                let parent = map(*parent)?;
+                let s = recorded.section(SectionId(*section));
+                let made = skeleton.add_child(SectionId(parent), s.rest, s.name.clone());
+                Edit::Component {
+                    parent,
+                    section: made.0,
+                }
             }
-            Edit::Sequential { section, parts } => {
-                skeleton.sequential(SectionId(*section), parts.iter().cloned());
+            Edit::Sequential {
+                section,
+                first,
+                len,
+            } => {
+                let section = map(*section)?;
+                skeleton.sequential(SectionId(section), made(*first, *len));
+                Edit::Sequential {
+                    section,
+                    first: next,
+                    len: *len,
+                }
             }
-            Edit::Parallel { section, parts } => {
+            Edit::Parallel {
+                section,
+                first,
+                len,
+            } => {
+                let section = map(*section)?;
                 skeleton
-                    .parallel(SectionId(*section), parts.iter().cloned())
+                    .parallel(SectionId(section), made(*first, *len))
                     .map_err(|e| e.to_string())?;
+                Edit::Parallel {
+                    section,
+                    first: next,
+                    len: *len,
+                }
             }
-            Edit::Joint { section, rest } => skeleton.place_joint(SectionId(*section), *rest),
+            Edit::Joint { section, rest } => {
+                let section = map(*section)?;
+                skeleton.place_joint(SectionId(section), *rest);
+                Edit::Joint {
+                    section,
+                    rest: *rest,
+                }
+            }
             Edit::Limits { section, limits } => {
+                let section = map(*section)?;
                 skeleton
-                    .set_limits(SectionId(*section), *limits)
+                    .set_limits(SectionId(section), **limits)
                     .map_err(|e| e.to_string())?;
+                Edit::Limits {
+                    section,
+                    limits: limits.clone(),
+                }
             }
-            Edit::Pose { section, pose } => skeleton
-                .pose_within(SectionId(*section), *pose)
-                .map_err(|e| e.to_string())?,
-        }
-        Ok(())
+            Edit::Pose { section, pose } => {
+                let section = map(*section)?;
+                skeleton
+                    .pose_within(SectionId(section), *pose)
+                    .map_err(|e| e.to_string())?;
+                Edit::Pose {
+                    section,
+                    pose: *pose,
+                }
+            }
+        })
     }
 }
 
@@ -297,6 +332,15 @@ impl Engine<'_> {
             nodes_base: self.tree.as_ref().map_or(0, Vec::len),
         });
         self.ev.const_log = Some(Vec::new());
+    }
+
+    /// Makes room in the trace for as much as `previous` recorded.
+    pub(super) fn reserve_trace(&mut self, previous: Option<&Previous>) {
+        if let (Some(recorder), Some(previous)) = (&mut self.recorder, previous) {
+            let (applications, edits) = previous.recorded();
+            recorder.trace.applications.reserve(applications);
+            recorder.trace.edits.reserve(edits);
+        }
     }
 
     /// How far the lot has come.
@@ -382,32 +426,29 @@ impl Engine<'_> {
     }
 
     /// Records a skeleton edit.
-    pub(super) fn record_edit(&mut self, edit: impl FnOnce(&Skeleton) -> Edit) {
-        if let (Some(recorder), Some(skeleton)) = (&mut self.recorder, &self.skeleton) {
-            recorder.trace.edits.push(edit(skeleton));
+    pub(super) fn record_edit(&mut self, edit: impl FnOnce() -> Edit) {
+        if let Some(recorder) = &mut self.recorder {
+            recorder.trace.edits.push(edit());
         }
     }
 
-    /// Records a split's new sections, read back from the skeleton.
+    /// Records a split's new sections.
     pub(super) fn record_split(&mut self, section: SectionId, parts: Parts, parallel: bool) {
-        self.record_edit(|skeleton| {
-            let new: Vec<(Frame, Name)> = parts
-                .iter()
-                .filter(|&id| id != section)
-                .map(|id| {
-                    let s = skeleton.section(id);
-                    (s.rest, s.name.clone())
-                })
-                .collect();
+        // A chain keeps the split section as its first part.
+        let new = parts.len() as u32 - u32::from(!parallel);
+        let first = parts.iter().find(|&id| id != section).map_or(0, |id| id.0);
+        self.record_edit(|| {
             if parallel {
                 Edit::Parallel {
                     section: section.0,
-                    parts: new,
+                    first,
+                    len: new,
                 }
             } else {
                 Edit::Sequential {
                     section: section.0,
-                    parts: new,
+                    first,
+                    len: new,
                 }
             }
         });
