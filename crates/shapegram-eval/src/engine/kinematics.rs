@@ -7,7 +7,7 @@
 
 use std::sync::Arc;
 
-use shapegram_geom::{DMat3, DVec3, Scope};
+use shapegram_geom::{DMat3, DQuat, DVec3, Scope};
 use shapegram_kinematics::{Frame, KinematicError, Name, Parts, Range, SectionId, Skeleton};
 use shapegram_syntax::Span;
 
@@ -96,7 +96,9 @@ impl Engine<'_> {
         };
         let section = SectionId(state.section);
         let rest = skeleton.section(section).rest;
-        let frame = frame_of(&child.scope, child.scope.center(), rest);
+        let frame = self
+            .last_rotation
+            .frame(&child.scope, child.scope.center(), rest);
         let symbol = first_successor(body).unwrap_or(state.symbol);
         let name = section_name(&self.names[symbol as usize], state.seed, !*made);
         *made += 1;
@@ -116,11 +118,12 @@ impl Engine<'_> {
         args: &[Value],
     ) -> Fallible<()> {
         let local = self.vector(at, state, args)?;
-        let skeleton = self.skeleton_mut();
         let section = SectionId(state.section);
-        let rest = skeleton.section(section).rest;
-        let rest = frame_of(&state.scope, state.scope.to_world(local), rest);
-        skeleton.place_joint(section, rest);
+        let rest = self.skeleton_mut().section(section).rest;
+        let rest = self
+            .last_rotation
+            .frame(&state.scope, state.scope.to_world(local), rest);
+        self.skeleton_mut().place_joint(section, rest);
         self.record_edit(|| Edit::Joint {
             section: section.0,
             rest,
@@ -237,29 +240,46 @@ fn automatic(skeleton: &Skeleton, section: SectionId, direction: DVec3) -> Split
     let Some(parent) = s.parent else {
         return SplitJoints::Sequential;
     };
-    let bone = s.rest.translation - skeleton.section(parent).rest.translation;
-    let along = bone
-        .try_normalize()
-        .is_some_and(|b| b.dot(direction).abs() >= ALONG_BONE_DEGREES.to_radians().cos());
     // A fork would hang the parts from the parent, past a joint the grammar freed or posed:
     // they would not move with it.
-    if along || s.has_children() || s.limits().is_free() {
+    if s.has_children() || s.limits().is_free() {
+        return SplitJoints::Sequential;
+    }
+    // Along the bone: |bone · direction| ≥ cos θ |bone| (the direction is a unit vector),
+    // squared to spare a square root per split.
+    let bone = s.rest.translation - skeleton.section(parent).rest.translation;
+    let cos = ALONG_BONE_DEGREES.to_radians().cos();
+    let along = bone.dot(direction).powi(2) >= cos * cos * bone.length_squared()
+        && bone.length_squared() > 0.0;
+    if along {
         SplitJoints::Sequential
     } else {
         SplitJoints::Parallel
     }
 }
 
-/// A joint frame at `at` with the scope's axes, or with `fallback`'s orientation when the
-/// scope's axes are not a rotation (a mirrored or degenerate scope).
-fn frame_of(scope: &Scope, at: DVec3, fallback: Frame) -> Frame {
-    // Scope axes are orthonormal; a mirror makes them left-handed.
-    let axes: DMat3 = scope.axes;
-    if axes.determinant() > 0.5 {
-        Frame::from_axes(at, axes)
-    } else {
+/// The rotation of the last scope axes a joint took, since the shapes of one facade or floor
+/// share their axes and turning axes into a rotation takes two square roots.
+#[derive(Clone, Copy, Default)]
+pub(super) struct LastRotation(Option<(DMat3, DQuat)>);
+
+impl LastRotation {
+    /// A joint frame at `at` with the scope's axes, or with `fallback`'s orientation when the
+    /// scope's axes are not a rotation (a mirrored or degenerate scope).
+    fn frame(&mut self, scope: &Scope, at: DVec3, fallback: Frame) -> Frame {
+        let axes: DMat3 = scope.axes;
+        let rotation = match self.0 {
+            Some((last, rotation)) if last == axes => rotation,
+            // Scope axes are orthonormal; a mirror makes them left-handed.
+            _ if axes.determinant() > 0.5 => {
+                let rotation = Frame::from_axes(at, axes).rotation;
+                self.0 = Some((axes, rotation));
+                rotation
+            }
+            _ => fallback.rotation,
+        };
         Frame {
-            rotation: fallback.rotation,
+            rotation,
             translation: at,
         }
     }

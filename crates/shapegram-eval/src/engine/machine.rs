@@ -10,6 +10,7 @@ use shapegram_syntax::Span;
 use super::derive::Batch;
 use super::footprint::{SetbackOutputs, reverse_normals};
 use super::implicit::implicit;
+use super::kinematics::LastRotation;
 use super::reuse::Previous;
 use super::scope::{align_to_axes, align_to_bbox, center};
 use super::split::Layout;
@@ -87,6 +88,8 @@ pub(super) struct Engine<'p> {
     pub(super) recorder: Option<Recorder>,
     /// The lot's previous derivation, when deriving it again.
     pub(super) previous: Option<Previous<'p>>,
+    /// The rotation joints took last (see [`LastRotation`]).
+    pub(super) last_rotation: LastRotation,
 }
 
 impl<'p> Engine<'p> {
@@ -121,6 +124,7 @@ impl<'p> Engine<'p> {
             skeleton: None,
             recorder: None,
             previous: None,
+            last_rotation: LastRotation::default(),
         }
     }
 
