@@ -47,9 +47,9 @@ fn the_floors_form_a_chain_with_joints_on_the_split_planes_and_the_axis() {
     for k in 0..5 {
         let next = skeleton
             .children(floor)
-            .find(|c| skeleton.section(*c).name.base() == "Floor")
+            .find(|c| skeleton.section(*c).name().base() == "Floor")
             .unwrap_or_else(|| panic!("floor {k} has no successor"));
-        let at = skeleton.section(next).rest.translation;
+        let at = skeleton.section(next).rest().translation;
         assert!(
             close(at, DVec3::new(10.0, 3.5 + 3.0 * f64::from(k), 15.0)),
             "floor {k} at {at}"
@@ -67,7 +67,7 @@ fn turning_the_floors_turns_each_one_and_everything_above_it() {
         let mut chain = vec![skeleton.root()];
         while let Some(next) = skeleton
             .children(*chain.last().unwrap())
-            .find(|c| skeleton.section(*c).name.base() == "Floor")
+            .find(|c| skeleton.section(*c).name().base() == "Floor")
         {
             chain.push(next);
         }
@@ -113,10 +113,10 @@ fn posed_bounds(
         if s == section {
             return true;
         }
-        if skeleton.section(s).name.base() == "Floor" || s == skeleton.root() {
+        if skeleton.section(s).name().base() == "Floor" || s == skeleton.root() {
             return false;
         }
-        match skeleton.section(s).parent {
+        match skeleton.section(s).parent() {
             Some(p) => s = p,
             None => return false,
         }
@@ -146,19 +146,19 @@ fn facade_splits_fork_from_the_floor_and_components_hang_from_their_shape() {
     for part in model.parts.iter().filter(|p| p.name == "Glass") {
         let section = skeleton.section(part.bone.unwrap().section);
         // A pane's parent is its floor (a fork of the facade's parent), not the facade.
-        let parent = skeleton.section(section.parent.unwrap());
+        let parent = skeleton.section(section.parent().unwrap());
         assert!(
-            parent.name.base() == "Floor",
+            parent.name().base() == "Floor",
             "{} under {}",
-            section.name,
-            parent.name
+            section.name(),
+            parent.name()
         );
     }
     for part in model.parts.iter().filter(|p| p.name == "Slab") {
         let section = skeleton.section(part.bone.unwrap().section);
-        assert!(section.name.base() == "Slab", "{}", section.name);
+        assert!(section.name().base() == "Slab", "{}", section.name());
         // z along the slab's normal (up), joint at its centre.
-        let rest = section.rest;
+        let rest = section.rest();
         assert!(close(rest.transform_vector(DVec3::Z), DVec3::Y));
         assert!(close(
             rest.translation * DVec3::new(1.0, 0.0, 1.0),
@@ -223,7 +223,7 @@ fn section_names_are_stable_and_unique_enough() {
         d.skeletons[0]
             .1
             .sections()
-            .map(|(_, s)| s.name.to_string())
+            .map(|(_, s)| s.name().to_string())
             .collect()
     };
     assert_eq!(names(&a), names(&b));
@@ -245,18 +245,18 @@ fn the_twisting_tower_example_chains_its_floors_and_forks_its_facades() {
     assert!(!panes.is_empty());
     for pane in panes {
         let section = skeleton.section(pane.bone.unwrap().section);
-        let parent = skeleton.section(section.parent.unwrap());
+        let parent = skeleton.section(section.parent().unwrap());
         assert!(
-            parent.name.base() == "Storey",
+            parent.name().base() == "Storey",
             "{} under {}",
-            section.name,
-            parent.name
+            section.name(),
+            parent.name()
         );
     }
     // Twelve floors turned by 4° each: the top one by 48°.
     let floors: Vec<_> = skeleton
         .sections()
-        .filter(|(_, s)| s.name.base() == "Floor")
+        .filter(|(_, s)| s.name().base() == "Floor")
         .map(|(id, _)| id)
         .collect();
     assert_eq!(floors.len(), 12);
@@ -264,7 +264,7 @@ fn the_twisting_tower_example_chains_its_floors_and_forks_its_facades() {
     let top = floors
         .iter()
         .max_by(|a, b| {
-            let y = |s: &SectionId| skeleton.section(*s).rest.translation.y;
+            let y = |s: &SectionId| skeleton.section(*s).rest().translation.y;
             y(a).total_cmp(&y(b))
         })
         .unwrap();
@@ -395,7 +395,7 @@ fn any_node_of_the_derivation_tree_can_be_shown_posed() {
     // axis, its +x side swings about it.
     let skeleton = &d.skeletons[0].1;
     let mut floors: Vec<usize> = (0..d.tree.len())
-        .filter(|&n| skeleton.section(SectionId(d.tree[n].section)).name.base() == "Floor")
+        .filter(|&n| skeleton.section(SectionId(d.tree[n].section)).name().base() == "Floor")
         .collect();
     floors.sort_by_key(|&n| d.tree[n].section);
     floors.dedup_by_key(|n| d.tree[*n].section);

@@ -56,7 +56,7 @@ fn named(skeleton: &Skeleton, rule: &str) -> Vec<SectionId> {
     let prefix = format!("{rule}_");
     skeleton
         .sections()
-        .filter(|(_, s)| s.name.to_string().starts_with(&prefix))
+        .filter(|(_, s)| s.name().to_string().starts_with(&prefix))
         .map(|(id, _)| id)
         .collect()
 }
@@ -75,13 +75,13 @@ fn section_of(rule: &'static str) -> impl Fn(&Skeleton) -> SectionId {
 
 /// The rule that made a section: its name without the hash.
 fn rule_of(skeleton: &Skeleton, id: SectionId) -> String {
-    let mut name = skeleton.section(id).name.to_string();
+    let mut name = skeleton.section(id).name().to_string();
     name.truncate(name.rfind('_').expect("names end in a hash"));
     name
 }
 
 fn parent(skeleton: &Skeleton, id: SectionId) -> SectionId {
-    skeleton.section(id).parent.expect("not the root")
+    skeleton.section(id).parent().expect("not the root")
 }
 
 /// `section` and every section below it.
@@ -231,13 +231,13 @@ fn excavator_is_one_chain_from_the_undercarriage_to_the_bucket() {
             free_axes.filter(|r| r.is_free()).count(),
             1,
             "{}",
-            s.section(id).name
+            s.section(id).name()
         );
     }
     // The rest pose: the turning axis at the slewing ring's top (0.95 m), the arm stretched out
     // ahead at 1.95 m: boom foot 1.1 m ahead of the axis, stick pin 5.7 m further, bucket pin
     // 2.9 m further.
-    let at = |id: SectionId| s.section(id).rest.translation;
+    let at = |id: SectionId| s.section(id).rest().translation;
     assert_close(at(upper), DVec3::new(10.0, 0.95, 15.0), "turning axis");
     assert_close(at(boom), DVec3::new(10.0, 1.95, 13.9), "boom foot");
     assert_close(at(stick), DVec3::new(10.0, 1.95, 8.2), "stick pin");
@@ -245,13 +245,13 @@ fn excavator_is_one_chain_from_the_undercarriage_to_the_bucket() {
     // The hinges turn about the machine's axis across the arm (world x), the cab about y.
     for id in [boom, stick, bucket] {
         assert_close(
-            s.section(id).rest.transform_vector(DVec3::Z),
+            s.section(id).rest().transform_vector(DVec3::Z),
             DVec3::X,
             "hinge axis",
         );
     }
     assert_close(
-        s.section(upper).rest.transform_vector(DVec3::Y),
+        s.section(upper).rest().transform_vector(DVec3::Y),
         DVec3::Y,
         "turning axis",
     );
@@ -451,7 +451,7 @@ fn robot_has_eighteen_free_joints_in_forks_and_chains() {
     // 0.12 m plinth; the shoulders at the arms' slots, half a slot below the torso's top.
     let mut hips: Vec<DVec3> = named(s, "Leg")
         .iter()
-        .map(|id| s.section(*id).rest.translation)
+        .map(|id| s.section(*id).rest().translation)
         .collect();
     hips.sort_by(|a, b| a.x.total_cmp(&b.x));
     assert_close(
@@ -477,7 +477,7 @@ fn robot_has_eighteen_free_joints_in_forks_and_chains() {
 fn right_of(s: &Skeleton, rule: &str) -> DVec3 {
     named(s, rule)
         .iter()
-        .map(|id| s.section(*id).rest.translation)
+        .map(|id| s.section(*id).rest().translation)
         .max_by(|a, b| a.x.total_cmp(&b.x))
         .unwrap()
 }
@@ -487,7 +487,7 @@ fn right_section(s: &Skeleton, rule: &str) -> SectionId {
     *named(s, rule)
         .iter()
         .max_by(|a, b| {
-            let x = |id: &SectionId| s.section(*id).rest.translation.x;
+            let x = |id: &SectionId| s.section(*id).rest().translation.x;
             x(a).total_cmp(&x(b))
         })
         .unwrap()
@@ -560,7 +560,7 @@ fn robot_each_joint_moves_only_the_limb_below_it() {
     let left_shin = *named(s, "Shin")
         .iter()
         .min_by(|x, y| {
-            let x_of = |id: &SectionId| s.section(*id).rest.translation.x;
+            let x_of = |id: &SectionId| s.section(*id).rest().translation.x;
             x_of(x).total_cmp(&x_of(y))
         })
         .unwrap();
@@ -650,7 +650,7 @@ fn hinged_house_has_a_free_joint_per_door_and_window() {
         assert!(
             matches!(rule_of(s, id).as_str(), "Sash" | "Door"),
             "{}",
-            section.name
+            section.name()
         );
         let limits = limits(s, id);
         assert_eq!(
@@ -662,7 +662,7 @@ fn hinged_house_has_a_free_joint_per_door_and_window() {
         // Forks: every door and sash hangs from the house (the root), and its joint's y is up.
         assert_eq!(parent(s, id), s.root());
         assert_close(
-            section.rest.transform_vector(DVec3::Y),
+            section.rest().transform_vector(DVec3::Y),
             DVec3::Y,
             "hinge axis",
         );
@@ -687,7 +687,7 @@ fn hinged_house_door_swings_inwards_about_its_hinge_edge() {
     // The leaf: 1.1 m wide, in the front facade (z = 19.5, facing +z) 0.15 m behind its face.
     // Its joint is on the hinge edge, x = 0 of its scope: the leaf's inner left edge.
     let leaf = a.iter().position(|l| l.name == "DoorLeaf").unwrap();
-    let hinge = s.section(one(s, "Door")).rest.translation;
+    let hinge = s.section(one(s, "Door")).rest().translation;
     let (x0, x1) = a[leaf]
         .rest
         .iter()
@@ -783,12 +783,12 @@ fn clocks(s: &Skeleton) -> Vec<(SectionId, SectionId)> {
     hours
         .into_iter()
         .map(|h| {
-            let at = s.section(h).rest;
+            let at = s.section(h).rest();
             let normal = at.transform_vector(DVec3::Z);
             let m = *minutes
                 .iter()
                 .find(|m| {
-                    let d = s.section(**m).rest.translation - at.translation;
+                    let d = s.section(**m).rest().translation - at.translation;
                     d.cross(normal).length() < 1e-9 && d.length() < 0.5
                 })
                 .expect("a minute hand on the hour hand's axis");
@@ -799,7 +799,7 @@ fn clocks(s: &Skeleton) -> Vec<(SectionId, SectionId)> {
 
 /// A hand's angle, clockwise from twelve as seen from outside, in degrees (0 to 360).
 fn hand_angle(s: &Skeleton, hand: SectionId) -> f64 {
-    let rest = s.section(hand).rest;
+    let rest = s.section(hand).rest();
     let (right, up) = (
         rest.transform_vector(DVec3::X),
         rest.transform_vector(DVec3::Y),
@@ -836,10 +836,10 @@ fn clock_tower_hands_hinge_at_each_clock_centre() {
             assert_eq!((r.min, r.max), (-360.0, 360.0));
             // The joint: on the clock's centre line (the clock storey is 6.6 m wide, 16 to
             // 21 m up), in front of the dial by the thickness of the hands before it.
-            let normal = section.rest.transform_vector(DVec3::Z);
+            let normal = section.rest().transform_vector(DVec3::Z);
             let centre = DVec3::new(10.0, 18.5, 15.0) + 3.3 * normal;
             assert_close(
-                section.rest.translation,
+                section.rest().translation,
                 centre + offset * normal,
                 "hand joint",
             );
@@ -885,7 +885,7 @@ fn clock_tower_hands_show_the_time() {
     let s = skeleton(&d);
     let posed = posed_leaves(&d);
     for (h, m) in clocks(s) {
-        let rest = s.section(h).rest;
+        let rest = s.section(h).rest();
         let centre = rest.translation;
         let (right, up) = (
             rest.transform_vector(DVec3::X),

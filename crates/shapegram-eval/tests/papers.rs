@@ -374,7 +374,7 @@ fn floor_chain(
 ) -> Vec<shapegram_geom::kinematics::SectionId> {
     let mut chain = vec![skeleton.root()];
     while let Some(next) = skeleton.children(*chain.last().unwrap()).find(|c| {
-        let name = &skeleton.section(*c).name;
+        let name = &skeleton.section(*c).name();
         name.base() == "Floor" || name.base() == "Floors"
     }) {
         chain.push(next);
@@ -399,7 +399,7 @@ fn algorithm_1_rotating_tower() {
     for (k, &floor) in floors.iter().enumerate() {
         let section = skeleton.section(floor);
         // The joints on the tower's axis (the lot's centre), on the planes between floors.
-        let at = section.rest.translation;
+        let at = section.rest().translation;
         assert!(
             close(at, DVec3::new(10.0, 3.5 + 3.0 * k as f64, 15.0), 1e-9),
             "{at}"

@@ -138,7 +138,7 @@ fn skinned_flower() -> Result<Model, Box<dyn std::error::Error>> {
                 translation: DVec3::ZERO,
             },
         )?;
-        let rest = skeleton.section(section).rest.to_affine();
+        let rest = skeleton.section(section).rest().to_affine();
         let petal = cuboid(DVec3::new(1.5, 0.05, 0.2))
             .transformed(&(rest * DAffine3::from_translation(DVec3::new(0.0, 0.0, -0.1))));
         parts.push(Part {

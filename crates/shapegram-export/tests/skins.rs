@@ -151,7 +151,7 @@ fn scene() -> Model {
         bone(1, sections[1]),
     ));
     for (i, &s) in sections[2..].iter().enumerate() {
-        let mesh = branch_mesh(&tree.section(s).rest);
+        let mesh = branch_mesh(&tree.section(s).rest());
         parts.push(part(&format!("branch {i}"), WOOD, mesh, bone(1, s)));
     }
     Model {
@@ -341,7 +341,7 @@ fn each_skeleton_becomes_a_skin_under_an_armature_with_its_sections_in_order() {
             let order = skeleton.order();
             assert_eq!(joints.len(), skeleton.len());
             for (j, &id) in order.iter().enumerate() {
-                let expected_parent = match skeleton.section(id).parent {
+                let expected_parent = match skeleton.section(id).parent() {
                     Some(p) => joints[order.iter().position(|&o| o == p).unwrap()],
                     None => armature.index(),
                 };
@@ -393,11 +393,11 @@ fn inverse_bind_matrices_undo_the_rest_frames_in_a_view_of_their_own() {
         let matrices = read.inverse_bind_matrices(&skin);
         assert_eq!(matrices.len(), skeleton.len());
         for (ibm, id) in matrices.iter().zip(skeleton.order()) {
-            let product = *ibm * skeleton.section(id).rest.to_affine();
+            let product = *ibm * skeleton.section(id).rest().to_affine();
             assert!(
                 product.abs_diff_eq(DAffine3::IDENTITY, 1e-6),
                 "{:?}: {product:?}",
-                skeleton.section(id).name
+                skeleton.section(id).name()
             );
         }
         let accessor = skin.inverse_bind_matrices().unwrap();

@@ -20,5 +20,5 @@ mod skeleton;
 
 pub use frame::Frame;
 pub use limits::{Axis, Clamped, KinematicError, Limits, Pose, Range};
-pub use name::Name;
+pub use name::{Name, NameKey, Names, SectionName, Tagged};
 pub use skeleton::{Children, NamedPose, Parts, Section, SectionId, Skeleton};

@@ -1,6 +1,9 @@
 //! The skeleton: an arena of sections linked into one rooted tree, with the operations the
 //! grammar's rules perform on it (§4.1 of the paper).
 
+use glam::{DQuat, DVec3};
+
+use crate::name::{NameKey, Names, SectionName};
 use crate::{Clamped, Frame, KinematicError, Limits, Name, Pose};
 
 /// A section's index in its skeleton.
@@ -19,21 +22,24 @@ fn parent_text(parent: Option<SectionId>) -> String {
     parent.map_or_else(|| "no parent".to_owned(), |p| format!("section {}", p.0))
 }
 
-/// No section: the end of a list of children.
+/// No section (the end of a list of children, the root's parent) and no motion.
 const NONE: u32 = u32::MAX;
 
-/// A rigid part of the skeleton and the joint that links it to its parent. Most sections of a
-/// model are locked at rest, so limits and pose take room only once set, and children are a
-/// linked list, so a section costs no allocation of its own.
-#[derive(Clone, Debug, PartialEq)]
-pub struct Section {
-    /// A name that stays the same when the grammar is derived again (the engine's choice).
-    pub name: Name,
-    /// The joint's frame in model space in the rest pose.
-    pub rest: Frame,
-    /// The parent section; `None` for the root.
-    pub parent: Option<SectionId>,
-    motion: Option<Box<Motion>>,
+/// A rigid part of the skeleton and the joint that links it to its parent, as kept: a city has
+/// millions, so a section is 56 bytes with no pointer. Its joint's rotation and its rule name
+/// are indices into tables of the skeleton (the parts of a split share their rotation), limits
+/// and pose are kept apart once set (most joints stay locked at rest), and children are a
+/// linked list.
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct Stored {
+    /// The joint's position in model space in the rest pose.
+    translation: DVec3,
+    /// The joint's orientation in the rest pose, in [`Skeleton::rotations`].
+    rotation: u32,
+    name: NameKey,
+    parent: u32,
+    /// Limits and pose, in [`Skeleton::motions`], or `NONE` while locked at rest.
+    motion: u32,
     first_child: u32,
     last_child: u32,
     next_sibling: u32,
@@ -46,44 +52,94 @@ struct Motion {
     pose: Pose,
 }
 
-impl Section {
-    fn new(name: Name, rest: Frame, parent: Option<SectionId>) -> Self {
-        Self {
-            name,
-            rest,
-            parent,
-            motion: None,
-            first_child: NONE,
-            last_child: NONE,
-            next_sibling: NONE,
+/// A section of a skeleton, to read: its name, joint, limits, pose and links.
+#[derive(Clone, Copy)]
+pub struct Section<'s> {
+    skeleton: &'s Skeleton,
+    stored: &'s Stored,
+}
+
+impl Section<'_> {
+    /// A name that stays the same when the grammar is derived again (the engine's choice).
+    pub fn name(&self) -> Name {
+        self.skeleton.names.name(self.stored.name)
+    }
+
+    /// The rule part of the name.
+    pub fn base(&self) -> &str {
+        self.skeleton.names.base(self.stored.name)
+    }
+
+    /// Whether the name reads `text`, without writing it out.
+    pub fn name_reads(&self, text: &str) -> bool {
+        self.skeleton.names.reads(self.stored.name, text)
+    }
+
+    /// The joint's frame in model space in the rest pose.
+    pub fn rest(&self) -> Frame {
+        Frame {
+            rotation: self.skeleton.rotations[self.stored.rotation as usize],
+            translation: self.stored.translation,
         }
+    }
+
+    /// The parent section; `None` for the root.
+    pub fn parent(&self) -> Option<SectionId> {
+        (self.stored.parent != NONE).then_some(SectionId(self.stored.parent))
     }
 
     /// How far the joint may move (locked unless set).
     pub fn limits(&self) -> Limits {
-        self.motion
-            .as_ref()
+        self.kept_motion()
             .map_or_else(Limits::default, |m| m.limits)
+    }
+
+    /// Whether the joint may move at all (its limits leave some axis free).
+    pub fn is_free(&self) -> bool {
+        self.kept_motion().is_some_and(|m| m.limits.is_free())
     }
 
     /// The joint's current pose, within its limits (the rest pose unless set).
     pub fn pose(&self) -> Pose {
-        self.motion.as_ref().map_or_else(Pose::default, |m| m.pose)
+        self.kept_motion().map_or_else(Pose::default, |m| m.pose)
     }
 
     /// Whether the section has kinematic children.
     pub fn has_children(&self) -> bool {
-        self.first_child != NONE
+        self.stored.first_child != NONE
     }
 
-    fn motion(&mut self) -> &mut Motion {
-        self.motion.get_or_insert_with(Box::default)
+    fn kept_motion(&self) -> Option<&Motion> {
+        self.skeleton.motions.get(self.stored.motion as usize)
+    }
+
+    fn motion(&self) -> Motion {
+        self.kept_motion().copied().unwrap_or_default()
+    }
+}
+
+/// A section of another skeleton names a new section alike.
+impl SectionName for Section<'_> {
+    fn key(self, names: &mut Names) -> NameKey {
+        self.skeleton.names.copy_to(self.stored.name, names)
+    }
+}
+
+impl std::fmt::Debug for Section<'_> {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Section")
+            .field("name", &self.name().to_string())
+            .field("rest", &self.rest())
+            .field("parent", &self.parent())
+            .field("limits", &self.limits())
+            .field("pose", &self.pose())
+            .finish()
     }
 }
 
 /// The children of a section, in the order they were linked.
 pub struct Children<'s> {
-    sections: &'s [Section],
+    sections: &'s [Stored],
     next: u32,
 }
 
@@ -161,26 +217,44 @@ impl NamedPose {
 }
 
 /// A tree of sections. Section 0 is the root; the paper's rules never make a second one.
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug)]
 pub struct Skeleton {
-    sections: Vec<Section>,
+    sections: Vec<Stored>,
+    /// The joints' rotations, shared by sections that have the same one.
+    rotations: Vec<DQuat>,
+    /// The limits and poses of the sections that have them.
+    motions: Vec<Motion>,
+    names: Names,
     /// Named poses, in the order they were added.
     named_poses: Vec<NamedPose>,
 }
 
 impl Skeleton {
     /// A skeleton of one section, the root, with its joint at `rest` (the model's pivot).
-    pub fn new(rest: Frame, name: impl Into<Name>) -> Self {
+    pub fn new(rest: Frame, name: impl SectionName) -> Self {
         Self::with_capacity(rest, name, 1)
     }
 
     /// [`Skeleton::new`] with room for `sections` sections, so that growing to about that many
     /// moves none.
-    pub fn with_capacity(rest: Frame, name: impl Into<Name>, sections: usize) -> Self {
+    pub fn with_capacity(rest: Frame, name: impl SectionName, sections: usize) -> Self {
+        let mut names = Names::default();
         let mut all = Vec::with_capacity(sections.max(1));
-        all.push(Section::new(name.into(), rest, None));
+        all.push(Stored {
+            translation: rest.translation,
+            rotation: 0,
+            name: name.key(&mut names),
+            parent: NONE,
+            motion: NONE,
+            first_child: NONE,
+            last_child: NONE,
+            next_sibling: NONE,
+        });
         Self {
             sections: all,
+            rotations: vec![rest.rotation],
+            motions: Vec::new(),
+            names,
             named_poses: Vec::new(),
         }
     }
@@ -201,21 +275,46 @@ impl Skeleton {
     }
 
     /// A section.
-    pub fn section(&self, id: SectionId) -> &Section {
-        &self.sections[id.index()]
+    ///
+    /// # Panics
+    /// For an id the skeleton does not have.
+    pub fn section(&self, id: SectionId) -> Section<'_> {
+        Section {
+            skeleton: self,
+            stored: &self.sections[id.index()],
+        }
     }
 
     /// The children of a section, in the order they were linked.
     pub fn children(&self, id: SectionId) -> Children<'_> {
         Children {
             sections: &self.sections,
-            next: self.section(id).first_child,
+            next: self.sections[id.index()].first_child,
         }
     }
 
     /// Every section with its id, in id order.
-    pub fn sections(&self) -> impl Iterator<Item = (SectionId, &Section)> {
-        (0..).map(SectionId).zip(&self.sections)
+    pub fn sections(&self) -> impl Iterator<Item = (SectionId, Section<'_>)> {
+        (0..)
+            .map(SectionId)
+            .zip(self.sections.iter().map(|stored| Section {
+                skeleton: self,
+                stored,
+            }))
+    }
+
+    /// The index of `rotation` in the table, checking the rotations most likely to be the same
+    /// first: `hint`'s (the parent's, or the section's own) and the last one added.
+    fn rotation(&mut self, rotation: DQuat, hint: u32) -> u32 {
+        if self.rotations.get(hint as usize) == Some(&rotation) {
+            return hint;
+        }
+        let last = self.rotations.len() - 1;
+        if self.rotations[last] == rotation {
+            return last as u32;
+        }
+        self.rotations.push(rotation);
+        last as u32 + 1
     }
 
     /// A new section under `parent` with its joint at `rest`, locked, in the rest pose.
@@ -223,14 +322,24 @@ impl Skeleton {
         &mut self,
         parent: SectionId,
         rest: Frame,
-        name: impl Into<Name>,
+        name: impl SectionName,
     ) -> SectionId {
         let id = u32::try_from(self.sections.len())
             .ok()
             .filter(|&id| id != NONE)
             .expect("fewer than 2³² − 1 sections");
-        self.sections
-            .push(Section::new(name.into(), rest, Some(parent)));
+        let rotation = self.rotation(rest.rotation, self.sections[parent.index()].rotation);
+        let name = name.key(&mut self.names);
+        self.sections.push(Stored {
+            translation: rest.translation,
+            rotation,
+            name,
+            parent: parent.0,
+            motion: NONE,
+            first_child: NONE,
+            last_child: NONE,
+            next_sibling: NONE,
+        });
         self.link(parent, id, id);
         SectionId(id)
     }
@@ -249,7 +358,7 @@ impl Skeleton {
 
     /// A component split: one new child of `section` per frame (each component's joint at its
     /// centre, z along its normal).
-    pub fn components<N: Into<Name>>(
+    pub fn components<N: SectionName>(
         &mut self,
         section: SectionId,
         frames: impl IntoIterator<Item = (Frame, N)>,
@@ -258,7 +367,7 @@ impl Skeleton {
     }
 
     /// New children of `parent`, one per frame, after the part `kept` if any.
-    fn children_of<N: Into<Name>>(
+    fn children_of<N: SectionName>(
         &mut self,
         parent: SectionId,
         kept: Option<SectionId>,
@@ -278,7 +387,7 @@ impl Skeleton {
     /// A sequential split into a chain: the first part keeps `section`, each further part is a
     /// child of the one before with its joint at its frame (on the split plane), and the
     /// section's children move to the last part. Returns the parts' sections in order.
-    pub fn sequential<N: Into<Name>>(
+    pub fn sequential<N: SectionName>(
         &mut self,
         section: SectionId,
         frames: impl IntoIterator<Item = (Frame, N)>,
@@ -303,16 +412,14 @@ impl Skeleton {
 
     /// A parallel split (a fork): one new child of the section's parent per frame. The section
     /// must have a parent and no children.
-    pub fn parallel<N: Into<Name>>(
+    pub fn parallel<N: SectionName>(
         &mut self,
         section: SectionId,
         frames: impl IntoIterator<Item = (Frame, N)>,
     ) -> Result<Parts, KinematicError> {
-        let parent = self
-            .section(section)
-            .parent
-            .ok_or(KinematicError::ParallelAtRoot)?;
-        if self.section(section).has_children() {
+        let s = self.section(section);
+        let parent = s.parent().ok_or(KinematicError::ParallelAtRoot)?;
+        if s.has_children() {
             return Err(KinematicError::ParallelWithChildren);
         }
         Ok(self.children_of(parent, None, frames))
@@ -327,7 +434,7 @@ impl Skeleton {
         let mut child = first;
         while child != NONE {
             let c = &mut self.sections[child as usize];
-            c.parent = Some(parent);
+            c.parent = parent.0;
             child = c.next_sibling;
         }
         self.link(parent, first, last);
@@ -336,7 +443,37 @@ impl Skeleton {
     /// The joint placement rule: the section's joint moves to `rest`; its children keep their
     /// rest frames, so only the pivot changes.
     pub fn place_joint(&mut self, section: SectionId, rest: Frame) {
-        self.sections[section.index()].rest = rest;
+        let s = self.sections[section.index()];
+        let hint = if s.parent == NONE {
+            s.rotation
+        } else {
+            self.sections[s.parent as usize].rotation
+        };
+        let rotation = if self.rotations[s.rotation as usize] == rest.rotation {
+            s.rotation
+        } else {
+            self.rotation(rest.rotation, hint)
+        };
+        let s = &mut self.sections[section.index()];
+        s.translation = rest.translation;
+        s.rotation = rotation;
+    }
+
+    /// Gives the section a new motion. Motions are shared and never changed in place: the
+    /// joints of a city's windows all move alike, so a new motion is looked for among the last
+    /// few kept before it is added.
+    fn set_motion(&mut self, section: SectionId, motion: Motion) {
+        const LOOK_BACK: usize = 4;
+        let recent = self.motions.len().saturating_sub(LOOK_BACK);
+        let index = match self.motions[recent..].iter().rposition(|m| *m == motion) {
+            Some(i) => recent + i,
+            None => {
+                self.motions.push(motion);
+                self.motions.len() - 1
+            }
+        };
+        self.sections[section.index()].motion =
+            u32::try_from(index).expect("fewer than 2³² motions");
     }
 
     /// The limitation rule: new limits, with the current pose clamped into them.
@@ -346,19 +483,17 @@ impl Skeleton {
         limits: Limits,
     ) -> Result<Vec<Clamped>, KinematicError> {
         limits.validate()?;
-        let motion = self.sections[section.index()].motion();
-        motion.limits = limits;
-        let (pose, clamped) = limits.clamp(&motion.pose);
-        motion.pose = pose;
+        let (pose, clamped) = limits.clamp(&self.section(section).pose());
+        self.set_motion(section, Motion { limits, pose });
         Ok(clamped)
     }
 
     /// A new pose, which must lie within the limits (see [`Limits::admit`]); a refused pose
     /// changes nothing.
     pub fn pose_within(&mut self, section: SectionId, pose: Pose) -> Result<(), KinematicError> {
-        let s = &mut self.sections[section.index()];
-        s.limits().admit(&pose)?;
-        s.motion().pose = pose;
+        let limits = self.section(section).limits();
+        limits.admit(&pose)?;
+        self.set_motion(section, Motion { limits, pose });
         Ok(())
     }
 
@@ -370,9 +505,9 @@ impl Skeleton {
         pose: Pose,
     ) -> Result<Vec<Clamped>, KinematicError> {
         pose.validate()?;
-        let s = &mut self.sections[section.index()];
-        let (pose, clamped) = s.limits().clamp(&pose);
-        s.motion().pose = pose;
+        let limits = self.section(section).limits();
+        let (pose, clamped) = limits.clamp(&pose);
+        self.set_motion(section, Motion { limits, pose });
         Ok(clamped)
     }
 
@@ -380,20 +515,16 @@ impl Skeleton {
     /// (the root's relative to the model).
     pub fn joint(&self, section: SectionId) -> Frame {
         let s = self.section(section);
-        match s.parent {
-            Some(parent) => self.section(parent).rest.inverse().mul(&s.rest),
-            None => s.rest,
+        match s.parent() {
+            Some(parent) => self.section(parent).rest().inverse().mul(&s.rest()),
+            None => s.rest(),
         }
     }
 
     /// The joint with its pose applied: the section's transformation relative to its parent
     /// (a glTF joint node's TRS).
     pub fn local(&self, section: SectionId) -> Frame {
-        let s = self.section(section);
-        match &s.motion {
-            Some(motion) if !motion.pose.is_rest() => self.joint(section).mul(&motion.pose.frame()),
-            _ => self.joint(section),
-        }
+        self.local_in(section, &self.section(section).pose())
     }
 
     /// The joint with `pose` applied instead of the current pose: what [`Skeleton::local`]
@@ -419,20 +550,20 @@ impl Skeleton {
             ));
         }
         for ((id, mine), (_, theirs)) in self.sections().zip(posed.sections()) {
-            if mine.name != theirs.name || mine.parent != theirs.parent {
+            if mine.name() != theirs.name() || mine.parent() != theirs.parent() {
                 return Err(format!(
                     "section {} is `{}` under {}, not `{}` under {}",
                     id.0,
-                    theirs.name,
-                    parent_text(theirs.parent),
-                    mine.name,
-                    parent_text(mine.parent)
+                    theirs.name(),
+                    parent_text(theirs.parent()),
+                    mine.name(),
+                    parent_text(mine.parent())
                 ));
             }
         }
         let pose = NamedPose {
             name: name.to_owned(),
-            poses: posed.sections.iter().map(Section::pose).collect(),
+            poses: posed.sections().map(|(_, s)| s.pose()).collect(),
         };
         match self.named_poses.iter_mut().find(|p| p.name == name) {
             Some(existing) => *existing = pose,
@@ -456,18 +587,23 @@ impl Skeleton {
     /// moves its section against its parent, so everything posed stays where it was: a rig
     /// with a bone per free joint instead of one per part.
     pub fn without_locked(&self) -> (Skeleton, Vec<SectionId>) {
-        let root = &self.sections[0];
-        let mut kept = Skeleton::new(root.rest, root.name.clone());
-        kept.sections[0].motion = root.motion.clone();
+        let root = self.section(self.root());
+        let mut kept = Skeleton::new(root.rest(), root.name());
+        let copy_motion = |kept: &mut Skeleton, new: SectionId, old: Section<'_>| {
+            if old.stored.motion != NONE {
+                kept.set_motion(new, old.motion());
+            }
+        };
+        copy_motion(&mut kept, SectionId(0), root);
         let mut map = vec![SectionId(0); self.sections.len()];
         // The old section of each new one, for the named poses.
         let mut old = vec![SectionId(0)];
         for id in self.order().into_iter().skip(1) {
             let s = self.section(id);
-            let parent = map[s.parent.expect("only the root has no parent").index()];
+            let parent = map[s.parent().expect("only the root has no parent").index()];
             map[id.index()] = if s.limits().is_free() {
-                let new = kept.add_child(parent, s.rest, s.name.clone());
-                kept.sections[new.index()].motion = s.motion.clone();
+                let new = kept.add_child(parent, s.rest(), s.name());
+                copy_motion(&mut kept, new, s);
                 old.push(id);
                 new
             } else {
@@ -488,7 +624,7 @@ impl Skeleton {
     /// The first section called `name`.
     pub fn find(&self, name: &str) -> Option<SectionId> {
         self.sections()
-            .find(|(_, s)| s.name.matches(name))
+            .find(|(_, s)| s.name_reads(name))
             .map(|(id, _)| id)
     }
 
@@ -515,8 +651,8 @@ impl Skeleton {
                     break;
                 }
                 match s.parent {
-                    Some(parent) if parent.0 != 0 => at = parent.0,
-                    _ => return order,
+                    NONE | 0 => return order,
+                    parent => at = parent,
                 }
             }
         }
@@ -528,7 +664,7 @@ impl Skeleton {
         let mut posed = vec![Frame::IDENTITY; self.sections.len()];
         for id in self.order() {
             let local = self.local(id);
-            posed[id.index()] = match self.section(id).parent {
+            posed[id.index()] = match self.section(id).parent() {
                 Some(parent) => posed[parent.index()].mul(&local),
                 None => local,
             };
@@ -544,13 +680,14 @@ impl Skeleton {
         while let Some(id) = at {
             let s = self.sections.get(id.index())?;
             chain.push(id);
-            at = s.parent.filter(|_| chain.len() <= self.sections.len());
+            at = (s.parent != NONE && chain.len() <= self.sections.len())
+                .then_some(SectionId(s.parent));
         }
         let posed = chain
             .iter()
             .rev()
             .fold(Frame::IDENTITY, |posed, &id| posed.mul(&self.local(id)));
-        Some(posed.mul(&self.section(section).rest.inverse()))
+        Some(posed.mul(&self.section(section).rest().inverse()))
     }
 
     /// Per section, the rigid motion that takes geometry attached to it from the rest pose to
@@ -558,8 +695,8 @@ impl Skeleton {
     pub fn skinning(&self) -> Vec<Frame> {
         self.posed()
             .iter()
-            .zip(&self.sections)
-            .map(|(posed, s)| posed.mul(&s.rest.inverse()))
+            .zip(self.sections())
+            .map(|(posed, (_, s))| posed.mul(&s.rest().inverse()))
             .collect()
     }
 
@@ -567,7 +704,7 @@ impl Skeleton {
     /// the child's parent link and every section is reached from the root exactly once.
     pub fn is_tree(&self) -> bool {
         let order = self.order();
-        if order.len() != self.sections.len() || self.sections[0].parent.is_some() {
+        if order.len() != self.sections.len() || self.sections[0].parent != NONE {
             return false;
         }
         let mut seen = vec![false; self.sections.len()];
@@ -576,15 +713,37 @@ impl Skeleton {
                 return false;
             }
         }
-        self.sections().all(|(id, s)| {
+        self.sections.iter().enumerate().all(|(id, s)| {
+            let id = SectionId(id as u32);
             let mut count = 0;
             let matched = self.children(id).all(|c| {
                 count += 1;
-                count <= self.sections.len() && self.section(c).parent == Some(id)
+                count <= self.sections.len() && self.sections[c.index()].parent == id.0
             });
             matched
                 && (s.last_child == NONE) == (s.first_child == NONE)
                 && self.children(id).last().map_or(NONE, |c| c.0) == s.last_child
         })
+    }
+}
+
+/// Skeletons are equal when their sections are, section for section (name, joint, links,
+/// limits and pose), and their named poses are: how the tables behind them are laid out does
+/// not matter.
+impl PartialEq for Skeleton {
+    fn eq(&self, other: &Self) -> bool {
+        self.len() == other.len()
+            && self.named_poses == other.named_poses
+            && self
+                .sections()
+                .zip(other.sections())
+                .all(|((_, a), (_, b))| {
+                    let (x, y) = (a.stored, b.stored);
+                    (x.parent, x.first_child, x.last_child, x.next_sibling)
+                        == (y.parent, y.first_child, y.last_child, y.next_sibling)
+                        && a.rest() == b.rest()
+                        && a.name() == b.name()
+                        && a.motion() == b.motion()
+                })
     }
 }

@@ -54,7 +54,7 @@ fn a_sequential_split_puts_the_joints_on_the_split_planes() {
     assert_eq!(floors.len(), 6);
     assert_eq!(floors[0], skeleton.root());
     for (k, pair) in floors.windows(2).enumerate() {
-        assert_eq!(skeleton.section(pair[1]).parent, Some(pair[0]));
+        assert_eq!(skeleton.section(pair[1]).parent(), Some(pair[0]));
         let joint = skeleton.joint(pair[1]);
         let expected = if k == 0 { 0.5 } else { 3.0 };
         assert!(
@@ -102,7 +102,7 @@ fn a_sequential_split_hands_the_children_to_the_last_part_without_moving_them() 
             named([at(0.0, 4.0, 0.0), at(0.0, 7.0, 0.0)]),
         )
         .to_vec();
-    assert_eq!(skeleton.section(hand).parent, Some(parts[2]));
+    assert_eq!(skeleton.section(hand).parent(), Some(parts[2]));
     assert_eq!(skeleton.children(parts[2]).collect::<Vec<_>>(), [hand]);
     assert_eq!(
         skeleton.children(skeleton.root()).collect::<Vec<_>>(),
@@ -138,7 +138,7 @@ fn a_parallel_split_forks_from_the_parent_and_refuses_the_root_and_sections_with
     assert!(
         fingers
             .iter()
-            .all(|f| skeleton.section(*f).parent == Some(skeleton.root()))
+            .all(|f| skeleton.section(*f).parent() == Some(skeleton.root()))
     );
     assert_eq!(
         skeleton.parallel(skeleton.root(), named([Frame::IDENTITY])),
@@ -288,13 +288,13 @@ proptest! {
                 Step::Parallel(s, n) => {
                     let id = pick(s);
                     let section = skeleton.section(id);
-                    let allowed = section.parent.is_some() && !section.has_children();
+                    let allowed = section.parent().is_some() && !section.has_children();
                     prop_assert_eq!(skeleton.parallel(id, frames(s, n)).is_ok(), allowed);
                 }
                 Step::Place(s) => {
                     let id = pick(s);
                     skeleton.place_joint(id, frames(s, 1)[0].0);
-                    births[id.index()] = skeleton.section(id).rest;
+                    births[id.index()] = skeleton.section(id).rest();
                 }
                 Step::Pose(s, a) => {
                     let id = pick(s);
@@ -302,12 +302,12 @@ proptest! {
                     skeleton.set_pose(id, yaw(a)).unwrap();
                 }
             }
-            births.extend(skeleton.sections().skip(births.len()).map(|(_, s)| s.rest));
+            births.extend(skeleton.sections().skip(births.len()).map(|(_, s)| s.rest()));
             prop_assert!(skeleton.is_tree());
         }
         // Joints never change after birth (Theorem 4.9): only links do.
         for (id, section) in skeleton.sections() {
-            prop_assert_eq!(section.rest, births[id.index()]);
+            prop_assert_eq!(section.rest(), births[id.index()]);
         }
         // In the rest pose nothing moves.
         let mut rest = skeleton.clone();
@@ -330,7 +330,7 @@ fn folding_locked_sections_keeps_one_per_free_joint_and_every_pose() {
     }
     for &floor in &floors {
         for side in [-1.0, 1.0] {
-            let y = skeleton.section(floor).rest.translation.y + 1.0;
+            let y = skeleton.section(floor).rest().translation.y + 1.0;
             skeleton.add_child(floor, at(side, y, 2.0), "Pane");
         }
     }
@@ -338,7 +338,7 @@ fn folding_locked_sections_keeps_one_per_free_joint_and_every_pose() {
     assert_eq!(rig.len(), 3, "the root and the two free floors");
     assert!(rig.is_tree());
     assert_eq!(
-        rig.section(map[floors[4].index()]).parent,
+        rig.section(map[floors[4].index()]).parent(),
         Some(map[floors[2].index()])
     );
     // Every section moves as the section it was folded into, so posed geometry is unchanged.

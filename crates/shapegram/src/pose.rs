@@ -61,7 +61,7 @@ fn apply_text(text: &str, model: &mut Model) -> Result<(), String> {
             let names: Vec<String> = model
                 .skeletons
                 .iter()
-                .flat_map(|s| s.sections().map(|(_, s)| s.name.to_string()))
+                .flat_map(|s| s.sections().map(|(_, s)| s.name().to_string()))
                 .collect();
             let hint = shapegram_syntax::suggest(joint, names.iter().map(String::as_str))
                 .map(|n| format!(" (did you mean {n}?)"))

@@ -8,7 +8,7 @@
 use std::sync::Arc;
 
 use shapegram_geom::{DMat3, DQuat, DVec3, Scope};
-use shapegram_kinematics::{Frame, KinematicError, Name, Parts, Range, SectionId, Skeleton};
+use shapegram_kinematics::{Frame, KinematicError, Parts, Range, SectionId, Skeleton, Tagged};
 use shapegram_syntax::Span;
 
 use super::Fallible;
@@ -40,7 +40,7 @@ impl Engine<'_> {
             return Ok(None);
         };
         let section = SectionId(state.section);
-        let rest = skeleton.section(section).rest;
+        let rest = skeleton.section(section).rest();
         let direction = state.scope.axes.col(axis);
         // Joints lie on the line through the shape's joint along the split direction.
         let on_line = |t: f64| {
@@ -95,7 +95,7 @@ impl Engine<'_> {
             return;
         };
         let section = SectionId(state.section);
-        let rest = skeleton.section(section).rest;
+        let rest = skeleton.section(section).rest();
         let frame = self
             .last_rotation
             .frame(&child.scope, child.scope.center(), rest);
@@ -119,14 +119,14 @@ impl Engine<'_> {
     ) -> Fallible<()> {
         let local = self.vector(at, state, args)?;
         let section = SectionId(state.section);
-        let rest = self.skeleton_mut().section(section).rest;
+        let rest = self.skeleton_mut().section(section).rest();
         let rest = self
             .last_rotation
             .frame(&state.scope, state.scope.to_world(local), rest);
         self.skeleton_mut().place_joint(section, rest);
         self.record_edit(|| Edit::Joint {
             section: section.0,
-            rest,
+            rest: Box::new(rest),
         });
         Ok(())
     }
@@ -200,7 +200,7 @@ impl Engine<'_> {
         if posed.is_ok() {
             self.record_edit(|| Edit::Pose {
                 section: section.0,
-                pose,
+                pose: Box::new(pose),
             });
         }
         posed.map_err(|e| {
@@ -237,17 +237,17 @@ impl Engine<'_> {
 /// split sequentially too, so that its parts move with it.
 fn automatic(skeleton: &Skeleton, section: SectionId, direction: DVec3) -> SplitJoints {
     let s = skeleton.section(section);
-    let Some(parent) = s.parent else {
+    let Some(parent) = s.parent() else {
         return SplitJoints::Sequential;
     };
     // A fork would hang the parts from the parent, past a joint the grammar freed or posed:
     // they would not move with it.
-    if s.has_children() || s.limits().is_free() {
+    if s.has_children() || s.is_free() {
         return SplitJoints::Sequential;
     }
     // Along the bone: |bone · direction| ≥ cos θ |bone| (the direction is a unit vector),
     // squared to spare a square root per split.
-    let bone = s.rest.translation - skeleton.section(parent).rest.translation;
+    let bone = s.rest().translation - skeleton.section(parent).rest().translation;
     let cos = ALONG_BONE_DEGREES.to_radians().cos();
     let along = bone.dot(direction).powi(2) >= cos * cos * bone.length_squared()
         && bone.length_squared() > 0.0;
@@ -287,9 +287,12 @@ impl LastRotation {
 
 /// A short name that stays the same when the grammar is derived again: the rule of the part
 /// and a hash of the shape's place in the derivation and the part's index.
-fn section_name(symbol: &Arc<str>, seed: u64, part: u64) -> Name {
+fn section_name(symbol: &Arc<str>, seed: u64, part: u64) -> Tagged<'_> {
     let hash = mix(seed ^ part.wrapping_mul(0x9E37_79B9_7F4A_7C15));
-    Name::tagged(Arc::clone(symbol), hash as u32)
+    Tagged {
+        rule: symbol,
+        tag: hash as u32,
+    }
 }
 
 /// The symbol of the first successor of a body: the rule a part or component becomes, which

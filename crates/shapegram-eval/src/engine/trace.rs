@@ -159,11 +159,11 @@ impl SectionInputs {
     pub(super) fn of(skeleton: &Skeleton, section: SectionId) -> Self {
         let s = skeleton.section(section);
         Self {
-            rest: s.rest,
+            rest: s.rest(),
             limits: s.limits(),
             pose: s.pose(),
             has_children: s.has_children(),
-            parent_rest: s.parent.map(|p| skeleton.section(p).rest),
+            parent_rest: s.parent().map(|p| skeleton.section(p).rest()),
         }
     }
 }
@@ -192,9 +192,10 @@ pub(super) enum Edit {
         first: u32,
         len: u32,
     },
+    // The values of the rarer edits are boxed, so that an edit takes 16 bytes.
     Joint {
         section: u32,
-        rest: Frame,
+        rest: Box<Frame>,
     },
     Limits {
         section: u32,
@@ -202,7 +203,7 @@ pub(super) enum Edit {
     },
     Pose {
         section: u32,
-        pose: Pose,
+        pose: Box<Pose>,
     },
 }
 
@@ -221,7 +222,7 @@ impl Edit {
         let made = |first: u32, len: u32| {
             (first..first + len).map(|id| {
                 let s = recorded.section(SectionId(id));
-                (s.rest, s.name.clone())
+                (s.rest(), s)
             })
         };
         let next = skeleton.len() as u32;
@@ -229,7 +230,7 @@ impl Edit {
             Edit::Component { parent, section } => {
                 let parent = map(*parent)?;
                 let s = recorded.section(SectionId(*section));
-                let made = skeleton.add_child(SectionId(parent), s.rest, s.name.clone());
+                let made = skeleton.add_child(SectionId(parent), s.rest(), s);
                 Edit::Component {
                     parent,
                     section: made.0,
@@ -265,10 +266,10 @@ impl Edit {
             }
             Edit::Joint { section, rest } => {
                 let section = map(*section)?;
-                skeleton.place_joint(SectionId(section), *rest);
+                skeleton.place_joint(SectionId(section), **rest);
                 Edit::Joint {
                     section,
-                    rest: *rest,
+                    rest: rest.clone(),
                 }
             }
             Edit::Limits { section, limits } => {
@@ -284,11 +285,11 @@ impl Edit {
             Edit::Pose { section, pose } => {
                 let section = map(*section)?;
                 skeleton
-                    .pose_within(SectionId(section), *pose)
+                    .pose_within(SectionId(section), **pose)
                     .map_err(|e| e.to_string())?;
                 Edit::Pose {
                     section,
-                    pose: *pose,
+                    pose: pose.clone(),
                 }
             }
         })

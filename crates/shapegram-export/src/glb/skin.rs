@@ -59,7 +59,7 @@ impl<'a> Skin<'a> {
         let names = unique_names(
             order
                 .iter()
-                .map(|&id| skeleton.section(id).name.to_string()),
+                .map(|&id| skeleton.section(id).name().to_string()),
         );
         Ok(Self {
             skeleton,
@@ -125,7 +125,7 @@ impl<'a> Skin<'a> {
                 extras: Some(joint_extras(section, &self.skeleton.joint(id))),
                 ..Default::default()
             });
-            let parent = match section.parent {
+            let parent = match section.parent() {
                 Some(parent) => nodes[usize::from(self.joint(parent))],
                 None => armature,
             };
@@ -159,7 +159,7 @@ impl<'a> Skin<'a> {
     /// Calls `visit` with each joint's inverse bind matrix, in joint order.
     pub fn inverse_bind_matrices(&self, mut visit: impl FnMut([f32; 16])) {
         for &id in &self.order {
-            visit(inverse_bind_matrix(&self.skeleton.section(id).rest));
+            visit(inverse_bind_matrix(&self.skeleton.section(id).rest()));
         }
     }
 }
@@ -262,13 +262,13 @@ fn inverse_bind_matrix(rest: &Frame) -> [f32; 16] {
 /// The joint's metadata, read by the studio and the Blender and Godot runtimes: the section's
 /// own name, its rest transformation relative to its parent, its limits and its pose. Keys and
 /// units are documented in `docs/kinematics.md` and stay stable.
-fn joint_extras(section: &Section, rest: &Frame) -> Box<json::extras::RawValue> {
+fn joint_extras(section: Section<'_>, rest: &Frame) -> Box<json::extras::RawValue> {
     let tidy = |x: f64| x + 0.0;
     let ranges = |r: &[Range; 3]| r.map(|r| [tidy(r.min), tidy(r.max)]);
     let value = json!({
         "shapegram": {
             "joint": {
-                "section": section.name.to_string(),
+                "section": section.name().to_string(),
                 "rest_translation_m": rest.translation.to_array().map(tidy),
                 "rest_rotation_xyzw": rest.rotation.to_array().map(tidy),
                 "rotation_limits_deg": ranges(&section.limits().rotation),
