@@ -19,8 +19,9 @@
 use std::sync::Arc;
 
 use shapegram_geom::occlusion::{Contact, ConvexSolid, Probe, contact, convex_pieces};
-use shapegram_geom::{Aabb, Bvh, DVec3, Mesh, Scope};
+use shapegram_geom::{Aabb, Bvh, DMat3, DVec3, Mesh, Scope};
 use shapegram_implicit::Solid;
+use shapegram_kinematics::{Frame, Skeleton};
 
 use crate::expr::ConstMemo;
 use crate::program::{RuleId, Sym};
@@ -44,6 +45,9 @@ pub(crate) struct Occluder {
     /// The occluder this one's shape descends from ([`NO_OCCLUDER`] when none).
     pub parent: u32,
     lot: u32,
+    /// In a grammar with a skeleton: the shape's section, and its scope and geometry in the
+    /// rest pose, to place the occluder where the pose puts it once phase 1 is done.
+    posable: Option<Box<(u32, Scope, Geometry)>>,
 }
 
 impl Occluder {
@@ -99,8 +103,57 @@ impl Occluder {
             symbol,
             parent,
             lot,
+            posable: None,
         })
     }
+
+    /// The lot it belongs to.
+    pub fn lot(&self) -> u32 {
+        self.lot
+    }
+
+    /// The occluder of a shape hanging from `section`, to be posed with it (see
+    /// [`Occluder::pose`]).
+    pub fn hanging_from(mut self, section: u32, scope: &Scope, geometry: &Geometry) -> Self {
+        self.posable = Some(Box::new((section, *scope, geometry.clone())));
+        self
+    }
+
+    /// Moves the occluder to where the skeleton's pose puts it: `motions` are the rigid
+    /// motions from the rest pose of its lot's sections.
+    pub fn pose(&mut self, motions: &[Frame]) {
+        let Some((section, scope, geometry)) = self.posable.as_deref() else {
+            return;
+        };
+        let Some(motion) = motions
+            .get(*section as usize)
+            .filter(|m| **m != Frame::IDENTITY)
+        else {
+            return;
+        };
+        let posed = posed_scope(scope, motion);
+        if let Some(moved) = Self::new(
+            &posed,
+            geometry,
+            None,
+            self.symbol,
+            None,
+            self.lot,
+            self.parent,
+        ) {
+            self.pieces = moved.pieces;
+            self.bounds = moved.bounds;
+        }
+    }
+}
+
+/// A scope moved rigidly by `motion` (its geometry, relative to it, moves along).
+pub(crate) fn posed_scope(scope: &Scope, motion: &Frame) -> Scope {
+    Scope::new(
+        motion.transform_point(scope.origin),
+        DMat3::from_quat(motion.rotation) * scope.axes,
+        scope.size,
+    )
 }
 
 /// A snap plane left by `snap(…)` in phase 1: `normal · p = offset`.
@@ -110,6 +163,18 @@ pub(crate) struct SnapPlane {
     pub offset: f64,
     pub tag: Option<Arc<str>>,
     pub lot: u32,
+    /// The section of the shape that left it (0 without a skeleton).
+    pub section: u32,
+}
+
+impl SnapPlane {
+    /// Moves the plane to where the skeleton's pose puts it (see [`Occluder::pose`]).
+    pub fn pose(&mut self, motions: &[Frame]) {
+        if let Some(motion) = motions.get(self.section as usize) {
+            self.normal = motion.transform_vector(self.normal);
+            self.offset += self.normal.dot(motion.translation);
+        }
+    }
 }
 
 /// A shape waiting for phase 2.
@@ -130,6 +195,8 @@ pub(crate) struct Waiting {
     pub origin: DVec3,
     pub consts: ConstMemo,
     pub shapes: Vec<Parked>,
+    /// The lot's skeleton as phase 1 left it, which phase 2 goes on building.
+    pub skeleton: Option<Skeleton>,
 }
 
 /// Which occluders a query looks at.
@@ -180,10 +247,23 @@ impl Context {
     }
 
     /// How the shape meets the occluders the target and label select (each of `inside`,
-    /// `overlaps`, `touches` holds if it holds for one of them).
-    pub fn query(&self, state: &State, lot: u32, target: Target, label: Option<&str>) -> Contact {
+    /// `overlaps`, `touches` holds if it holds for one of them), placed by `motion` when its
+    /// skeleton poses it.
+    pub fn query(
+        &self,
+        state: &State,
+        motion: Option<&Frame>,
+        lot: u32,
+        target: Target,
+        label: Option<&str>,
+    ) -> Contact {
         let mut found = Contact::default();
-        let Some(bounds) = bounds(state) else {
+        let scope = match motion {
+            Some(motion) if *motion != Frame::IDENTITY => posed_scope(&state.scope, motion),
+            _ => state.scope,
+        };
+        let geometry = &state.geometry;
+        let Some(bounds) = bounds(&scope, geometry) else {
             return found;
         };
         let eps = RELATIVE_TOLERANCE * bounds.diagonal().max(1.0);
@@ -208,7 +288,7 @@ impl Context {
         if near.is_empty() {
             return found;
         }
-        let Some(probe) = probe(state) else {
+        let Some(probe) = probe(&scope, geometry) else {
             return found;
         };
         for i in near {
@@ -266,12 +346,14 @@ impl Context {
     }
 }
 
-/// The snap planes of `snap(…)` on a scope: across each chosen axis, at both ends of the scope.
+/// The snap planes of `snap(…)` on a scope hanging from `section`: across each chosen axis, at
+/// both ends of the scope.
 pub(crate) fn snap_planes(
     scope: &Scope,
     axes: [bool; 3],
     tag: Option<Arc<str>>,
     lot: u32,
+    section: u32,
 ) -> Vec<SnapPlane> {
     (0..3)
         .filter(|&a| axes[a])
@@ -283,19 +365,20 @@ pub(crate) fn snap_planes(
                 offset,
                 tag: tag.clone(),
                 lot,
+                section,
             })
         })
         .collect()
 }
 
 /// The world bounds of a shape's geometry (`None` without geometry).
-fn bounds(state: &State) -> Option<Aabb> {
-    match &state.geometry {
-        Geometry::Box => Some(state.scope.aabb()),
+fn bounds(scope: &Scope, geometry: &Geometry) -> Option<Aabb> {
+    match geometry {
+        Geometry::Box => Some(scope.aabb()),
         Geometry::Mesh(mesh, _) => {
-            Aabb::from_points(mesh.positions().iter().map(|&p| state.scope.to_world(p)))
+            Aabb::from_points(mesh.positions().iter().map(|&p| scope.to_world(p)))
         }
-        Geometry::Implicit(implicit) => Some(solid_box(&state.scope, &implicit.solid)?.aabb()),
+        Geometry::Implicit(implicit) => Some(solid_box(scope, &implicit.solid)?.aabb()),
         Geometry::Empty => None,
     }
 }
@@ -311,15 +394,11 @@ fn solid_box(scope: &Scope, solid: &Solid) -> Option<Scope> {
 }
 
 /// The probe of a shape: its box or its mesh, in world coordinates.
-fn probe(state: &State) -> Option<Probe> {
-    match &state.geometry {
-        Geometry::Box => Probe::from_scope(&state.scope),
-        Geometry::Mesh(..) => {
-            Probe::from_mesh(&state.geometry.world_mesh(&state.scope)?, MAX_PIECES)
-        }
-        Geometry::Implicit(implicit) => {
-            Probe::from_scope(&solid_box(&state.scope, &implicit.solid)?)
-        }
+fn probe(scope: &Scope, geometry: &Geometry) -> Option<Probe> {
+    match geometry {
+        Geometry::Box => Probe::from_scope(scope),
+        Geometry::Mesh(..) => Probe::from_mesh(&geometry.world_mesh(scope)?, MAX_PIECES),
+        Geometry::Implicit(implicit) => Probe::from_scope(&solid_box(scope, &implicit.solid)?),
         Geometry::Empty => None,
     }
 }

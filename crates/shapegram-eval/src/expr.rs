@@ -15,6 +15,7 @@ use crate::program::{CExpr, CKind, Program};
 use crate::rng::Rng;
 use crate::shape::{Geometry, State};
 use crate::value::Value;
+use shapegram_kinematics::Frame;
 
 /// How deep user functions may call each other before the derivation stops with an error.
 const MAX_CALL_DEPTH: usize = 256;
@@ -46,6 +47,9 @@ pub(crate) struct Evaluator<'p> {
     pub lot: u32,
     /// Every constant's first evaluation, in order, when the derivation keeps a trace.
     pub const_log: Option<Vec<ConstEvent>>,
+    /// In phase 2 of a grammar with a skeleton: the rigid motion from the rest pose of each of
+    /// the lot's sections, by which occlusion queries place a shape.
+    pub motions: Vec<Frame>,
 }
 
 /// A constant's first evaluation in a lot: which constant, its value, and the constants'
@@ -81,6 +85,7 @@ impl<'p> Evaluator<'p> {
             context: None,
             lot: 0,
             const_log: None,
+            motions: Vec::new(),
         }
     }
 
@@ -393,7 +398,8 @@ impl<'p> Evaluator<'p> {
                 label = (!text.is_empty()).then_some(text);
             }
         }
-        let found = context.query(shape, self.lot, target, label.as_deref());
+        let motion = self.motions.get(shape.section as usize);
+        let found = context.query(shape, motion, self.lot, target, label.as_deref());
         Ok(match b {
             Builtin::Inside => Value::Bool(found.inside),
             Builtin::Overlaps => Value::Bool(found.overlaps),

@@ -419,3 +419,128 @@ fn any_node_of_the_derivation_tree_can_be_shown_posed() {
     }
     assert_eq!(d.node_motion(d.tree.len()), None);
 }
+
+/// A door of a storey and a probe beside it: both hang from the storey's parent (a fork), so
+/// each turns on its own joint.
+const DOOR_AND_PROBE: &str = "attr open = 0
+attr turn = 0
+Lot --> extrude(3) split(y, sequential) { 0.1 : Floor. | ~1 : Storey }
+Storey --> split(x, parallel) { 1 : Door | 1 : Probe | ~1 : Rest. }
+Door --> joint('1, 0, '0.5) rotationLimits(y, -180, 180) rotateJoint(0, open, 0)
+         label(\"door\") Slab.
+Probe --> joint('0, 0, '0.5) rotationLimits(y, -180, 180) rotateJoint(0, turn, 0) Check
+Check --> case overlaps(all, \"door\") : Hit.
+          case touches(all, \"door\") : Beside.
+          else : Clear.
+";
+
+/// The leaf that the probe became.
+fn probe_result(open: f64, turn: f64) -> String {
+    let options = DeriveOptions {
+        attrs: vec![
+            ("open".into(), shapegram_eval::Value::Number(open)),
+            ("turn".into(), shapegram_eval::Value::Number(turn)),
+        ],
+        ..DeriveOptions::default()
+    };
+    let d = try_run(DOOR_AND_PROBE, lot(4.0, 2.0), &options).unwrap();
+    let results: Vec<&str> = d
+        .leaves
+        .iter()
+        .map(|l| &*l.name)
+        .filter(|n| ["Hit", "Beside", "Clear"].contains(n))
+        .collect();
+    assert_eq!(results.len(), 1, "{results:?}");
+    results[0].to_owned()
+}
+
+#[test]
+fn occlusion_queries_see_occluders_where_the_pose_puts_them() {
+    // At rest the door (x 0–1) only touches the probe (x 1–2); turned 180° about its joint on
+    // its right edge it lies where the probe is; turned 90° it stands across the probe's half.
+    assert_eq!(probe_result(0.0, 0.0), "Beside");
+    assert_eq!(probe_result(180.0, 0.0), "Hit");
+    assert_eq!(probe_result(-90.0, 0.0), "Hit");
+}
+
+#[test]
+fn occlusion_queries_place_the_asking_shape_by_its_pose() {
+    // The probe turned 180° about its joint on its left edge lies where the door is.
+    assert_eq!(probe_result(0.0, 180.0), "Hit");
+    // Turned by both, the two swap places and still meet along x = 1.
+    assert_eq!(probe_result(180.0, 180.0), "Beside");
+}
+
+#[test]
+fn snapping_splits_snap_to_lines_where_the_pose_puts_them() {
+    // The marker's snap lines (x = 0 and 1 at rest) move with its joint by 2.5 m along x; the
+    // wall splits in 1 m parts, of which the boundary nearest each line moves onto it.
+    let text = "attr shift = 2.5
+Lot --> extrude(3) split(y, sequential) { 0.1 : Floor. | ~1 : Storey }
+Storey --> split(z, parallel) { 1 : Marker | ~1 : Wall }
+Marker --> s(1, '1, '1) translationLimits(x, 0, 5) translateJoint(shift, 0, 0) snap(x) Post.
+Wall --> split(x, snap) { { ~1 : Part. }* }
+";
+    let cuts = |shift: f64| {
+        let options = DeriveOptions {
+            attrs: vec![("shift".into(), shapegram_eval::Value::Number(shift))],
+            ..DeriveOptions::default()
+        };
+        let d = try_run(text, lot(8.0, 3.0), &options).unwrap();
+        let mut xs: Vec<f64> = d
+            .leaves
+            .iter()
+            .filter(|l| &*l.name == "Part")
+            .map(|l| (l.scope.origin.x * 1e6).round() / 1e6)
+            .collect();
+        xs.sort_by(f64::total_cmp);
+        xs
+    };
+    let at_rest = cuts(0.0);
+    let shifted = cuts(2.5);
+    assert!(at_rest.contains(&1.0), "{at_rest:?}");
+    assert!(
+        shifted.contains(&2.5) && shifted.contains(&3.5),
+        "{shifted:?}"
+    );
+    assert!(!shifted.contains(&1.0), "{shifted:?}");
+}
+
+#[test]
+fn posed_occlusion_is_the_same_whatever_the_thread_count() {
+    let program = common::compile(DOOR_AND_PROBE);
+    // Lots side by side, so that doors of one lot also meet the probes of the next.
+    let lots: Vec<_> = (0..9)
+        .map(|i| {
+            let x = f64::from(i) * 4.0;
+            shapegram_eval::InitialShape::from_xz(&[
+                shapegram_geom::DVec2::new(x, 0.0),
+                shapegram_geom::DVec2::new(x + 4.0, 0.0),
+                shapegram_geom::DVec2::new(x + 4.0, 2.0),
+                shapegram_geom::DVec2::new(x, 2.0),
+            ])
+            .unwrap()
+        })
+        .collect();
+    let options = DeriveOptions {
+        attrs: vec![("open".into(), shapegram_eval::Value::Number(-90.0))],
+        ..DeriveOptions::default()
+    };
+    let with = |threads: usize| {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap();
+        pool.install(|| shapegram_eval::derive(&program, &lots, &options).unwrap())
+    };
+    let (one, four) = (with(1), with(4));
+    assert_eq!(one.leaves, four.leaves);
+    assert_eq!(one.skeletons, four.skeletons);
+    // Skeletons come by lot, though the lots with waiting shapes finish in phase 2.
+    let lots: Vec<u32> = one.skeletons.iter().map(|(lot, _)| *lot).collect();
+    assert_eq!(lots, (0..9).collect::<Vec<_>>());
+    assert_eq!(
+        common::names(&one).iter().filter(|n| **n == "Hit").count(),
+        9
+    );
+}

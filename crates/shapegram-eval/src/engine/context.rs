@@ -4,13 +4,13 @@
 
 use std::sync::Arc;
 
-use shapegram_geom::Mesh;
+use shapegram_geom::{Mesh, Scope};
 
 use super::Fallible;
 use super::machine::{Engine, Phase};
-use crate::context::{Occluder, snap_planes};
+use crate::context::{Occluder, posed_scope, snap_planes};
 use crate::program::CExpr;
-use crate::shape::State;
+use crate::shape::{Geometry, State};
 use crate::value::Value;
 
 impl Engine<'_> {
@@ -39,7 +39,8 @@ impl Engine<'_> {
     ) -> Fallible<()> {
         if self.phase == Phase::Gather {
             let tag = tag.map(|t| self.ev.string(t, state, args));
-            let planes = snap_planes(&state.scope, axes, tag.transpose()?, self.ev.lot);
+            let (lot, section) = (self.ev.lot, state.section);
+            let planes = snap_planes(&state.scope, axes, tag.transpose()?, lot, section);
             self.snaps.extend(planes);
         }
         Ok(())
@@ -55,9 +56,25 @@ impl Engine<'_> {
     ) {
         let (scope, geometry, symbol) = (&state.scope, &state.geometry, state.symbol);
         let (lot, parent) = (self.ev.lot, state.occluder);
-        if let Some(occluder) = Occluder::new(scope, geometry, world, symbol, label, lot, parent) {
+        let occluder = Occluder::new(scope, geometry, world, symbol, label, lot, parent);
+        if let Some(occluder) = self.posable(occluder, state.section, scope, geometry) {
             state.occluder = self.occluders.len() as u32;
             self.occluders.push(occluder);
+        }
+    }
+
+    /// An occluder of a shape hanging from `section`, made posable when the grammar builds a
+    /// skeleton: phase 2 sees it where the pose puts it.
+    pub(super) fn posable(
+        &self,
+        occluder: Option<Occluder>,
+        section: u32,
+        scope: &Scope,
+        geometry: &Geometry,
+    ) -> Option<Occluder> {
+        match &self.skeleton {
+            Some(_) => Some(occluder?.hanging_from(section, scope, geometry)),
+            None => occluder,
         }
     }
 
@@ -70,10 +87,14 @@ impl Engine<'_> {
         args: &[Value],
     ) -> Fallible<Vec<f64>> {
         let tag = tag.map(|t| self.ev.string(t, state, args)).transpose()?;
+        // Positions along the axis do not change when the scope is posed; the planes are
+        // placed by the pose, so the scope is too.
+        let scope = match self.ev.motions.get(state.section as usize) {
+            Some(motion) => posed_scope(&state.scope, motion),
+            None => state.scope,
+        };
         Ok(match self.ev.context {
-            Some(context) => {
-                context.snap_positions(&state.scope, axis, self.ev.lot, tag.as_deref())
-            }
+            Some(context) => context.snap_positions(&scope, axis, self.ev.lot, tag.as_deref()),
             None => Vec::new(),
         })
     }

@@ -5,6 +5,7 @@ use std::rc::Rc;
 use std::sync::Arc;
 
 use rayon::prelude::*;
+use rustc_hash::FxHashMap;
 use shapegram_geom::{DMat3, DVec3, Mesh, Scope, mesh::newell};
 use shapegram_kinematics::{Frame, Name, Skeleton};
 
@@ -68,12 +69,6 @@ pub(super) fn run(
         .map(|s| Arc::from(s.as_str()))
         .collect();
     let phase = if program.context_rules.contains(&true) {
-        if program.kinematic {
-            return Err(DeriveError::general(
-                "kinematic operations and context queries (occlusion, snapping) in one grammar are not supported yet",
-            )
-            .with_hint("derive the posable parts with a grammar of their own"));
-        }
         Phase::Gather
     } else {
         Phase::Only
@@ -110,6 +105,11 @@ pub(super) fn run(
         all.trace = Some(finish_trace(traces, program, lots, options));
     }
     if !gathered.waiting.is_empty() {
+        let motions = if program.kinematic {
+            pose_context(&all.skeletons, &mut gathered)
+        } else {
+            Vec::new()
+        };
         let context = Context::new(gathered.occluders, gathered.snaps, &names);
         // Each lot's waiting shapes are taken by the one batch that resumes that lot.
         let waiting: Vec<_> = gathered
@@ -126,7 +126,10 @@ pub(super) fn run(
                 return Ok(());
             };
             let seed = lot_seed(waiting.lot as usize);
-            resume_lot(program, waiting, seed, &names, options, &context, batch)
+            let motions = motions.get(i).cloned().unwrap_or_default();
+            resume_lot(
+                program, waiting, motions, seed, &names, options, &context, batch,
+            )
         };
         // With a tree, phase 2 numbers its nodes after those of phase 1: one batch, in order.
         let tree = options.keep_tree.then(|| std::mem::take(&mut all.tree));
@@ -138,6 +141,8 @@ pub(super) fn run(
                 options.keep_tree,
             )?;
         }
+        // Lots that waited for phase 2 hand in their skeletons after the others.
+        all.skeletons.sort_by_key(|(lot, _)| *lot);
     }
     if all.stats.shapes > options.max_shapes {
         return Err(DeriveError::general(format!(
@@ -462,17 +467,58 @@ fn derive_lot<'a>(
             origin: scope.origin,
             consts: engine.ev.memo(),
             shapes: std::mem::take(&mut engine.parked),
+            skeleton: engine.skeleton.take(),
         });
     }
     engine.finish(batch);
     Ok(())
 }
 
-/// Derives the shapes of one lot that waited for phase 2, in order, into `batch`.
+/// Places the occluders and snap planes of phase 1 where the skeletons' poses put them, and
+/// returns, for each lot waiting for phase 2 in order, the rigid motions of its sections from
+/// the rest pose: the queries of phase 2 see the model posed as phase 1 left it.
+fn pose_context(done: &[(u32, Skeleton)], gathered: &mut Gathered) -> Vec<Vec<Frame>> {
+    let waiting: Vec<Vec<Frame>> = gathered
+        .waiting
+        .iter()
+        .map(|w| {
+            w.skeleton
+                .as_ref()
+                .map(Skeleton::skinning)
+                .unwrap_or_default()
+        })
+        .collect();
+    let mut by_lot: FxHashMap<u32, Vec<Frame>> = done
+        .iter()
+        .map(|(lot, skeleton)| (*lot, skeleton.skinning()))
+        .collect();
+    by_lot.extend(
+        gathered
+            .waiting
+            .iter()
+            .map(|w| w.lot)
+            .zip(waiting.iter().cloned()),
+    );
+    for occluder in &mut gathered.occluders {
+        if let Some(motions) = by_lot.get(&occluder.lot()) {
+            occluder.pose(motions);
+        }
+    }
+    for plane in &mut gathered.snaps {
+        if let Some(motions) = by_lot.get(&plane.lot) {
+            plane.pose(motions);
+        }
+    }
+    waiting
+}
+
+/// Derives the shapes of one lot that waited for phase 2, in order, into `batch`; `motions`
+/// place its shapes for occlusion queries.
 #[allow(clippy::too_many_arguments)]
 fn resume_lot(
     program: &Program,
     waiting: Waiting,
+    motions: Vec<Frame>,
     seed: u64,
     names: &[Arc<str>],
     options: &DeriveOptions,
@@ -483,7 +529,9 @@ fn resume_lot(
     ev.restore(waiting.consts);
     ev.lot = waiting.lot;
     ev.context = Some(context);
+    ev.motions = motions;
     let mut engine = Engine::new(program, ev, names, options, Phase::Answer, batch);
+    engine.skeleton = waiting.skeleton;
     for p in waiting.shapes {
         let task = Work::Rewrite(Task {
             state: Box::new(p.state.thaw()),

@@ -12,7 +12,7 @@ use shapegram_kinematics::{Frame, KinematicError, Parts, Range, SectionId, Skele
 use shapegram_syntax::Span;
 
 use super::Fallible;
-use super::machine::Engine;
+use super::machine::{Engine, Phase};
 use super::trace::Edit;
 use crate::error::DeriveError;
 use crate::ops::SplitJoints;
@@ -78,6 +78,7 @@ impl Engine<'_> {
             skeleton.sequential(section, frames)
         };
         self.record_split(section, ids, parallel);
+        self.follow_new_sections();
         Ok(Some(ids))
     }
 
@@ -107,6 +108,27 @@ impl Engine<'_> {
             parent: section.0,
             section: child.section,
         });
+        self.follow_new_sections();
+    }
+
+    /// In phase 2 of a grammar with context rules, occlusion queries place a shape by the pose
+    /// phase 1 left (see `Evaluator::motions`): a section made since moves with its parent,
+    /// as it does at rest.
+    fn follow_new_sections(&mut self) {
+        let Some(skeleton) = &self.skeleton else {
+            return;
+        };
+        let motions = &mut self.ev.motions;
+        if self.phase != Phase::Answer || motions.is_empty() {
+            return;
+        }
+        for id in motions.len()..skeleton.len() {
+            let parent = skeleton.section(SectionId(id as u32)).parent();
+            let motion = parent
+                .and_then(|p| motions.get(p.index()).copied())
+                .unwrap_or(Frame::IDENTITY);
+            motions.push(motion);
+        }
     }
 
     /// `joint(x, y, z)`: the joint placement rule. The joint moves to the point of the scope,

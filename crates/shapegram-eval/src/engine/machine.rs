@@ -469,8 +469,9 @@ impl<'p> Engine<'p> {
             return;
         }
         if self.phase == Phase::Gather {
-            self.occluders
-                .extend(Occluder::of(state, None, self.ev.lot));
+            let occluder = Occluder::of(state, None, self.ev.lot);
+            let occluder = self.posable(occluder, state.section, &state.scope, &state.geometry);
+            self.occluders.extend(occluder);
         }
         self.leaves.push(Leaf {
             name: self.names[state.symbol as usize].clone(),

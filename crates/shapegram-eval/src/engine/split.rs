@@ -164,6 +164,7 @@ impl<'p> Engine<'p> {
         if self.phase == Phase::Gather {
             let (lot, parent) = (self.ev.lot, state.occluder);
             let leaf = Occluder::new(&scope, &state.geometry, None, *symbol, None, lot, parent);
+            let leaf = self.posable(leaf, section, &scope, &state.geometry);
             self.occluders.extend(leaf);
         }
         if !matches!(state.geometry, Geometry::Empty) {
