@@ -51,6 +51,30 @@ pub(crate) fn compile(
             overrides.push((attr.name.name.clone(), value));
         }
     }
+    // Only attributes have values a pose can set: the annotation anywhere else does nothing.
+    let elsewhere = grammar
+        .consts
+        .iter()
+        .map(|c| (&c.annotations, "a constant"))
+        .chain(
+            grammar
+                .functions
+                .iter()
+                .map(|f| (&f.annotations, "a function")),
+        )
+        .chain(grammar.rules.iter().map(|r| (&r.annotations, "a rule")));
+    for (annotations, what) in elsewhere {
+        for annotation in annotations.iter().filter(|a| a.name.name == POSE) {
+            diagnostics.push(
+                Diagnostic::warning(
+                    format!("`@Pose` on {what} does nothing: poses set attributes"),
+                    annotation.span,
+                )
+                .with_label("ignored")
+                .with_hint("put it on the `attr` whose value the pose sets"),
+            );
+        }
+    }
     poses
 }
 

@@ -120,3 +120,31 @@ fn the_hinged_house_names_its_poses() {
     let names: Vec<&str> = poses.iter().map(|(n, _)| n.as_str()).collect();
     assert_eq!(names, ["closed", "open"]);
 }
+
+#[test]
+fn a_pose_anywhere_but_on_an_attribute_is_a_warning_at_the_annotation() {
+    let text = "@Pose(\"open\", 90)\nconst wide = 3\n@Pose(\"open\", 1)\n@StartRule\nLot --> extrude(wide) X.\n";
+    let source = shapegram_syntax::SourceFile::new("test.cga", text);
+    let parsed = shapegram_syntax::parse(&source);
+    assert!(!parsed.has_errors(), "{:?}", parsed.diagnostics);
+    let (program, diagnostics) = shapegram_eval::Program::compile(&parsed.grammar);
+    let program = program.expect("a warning is no error");
+    assert!(program.named_poses().is_empty());
+    let warnings: Vec<(String, &str)> = diagnostics
+        .iter()
+        .map(|d| (d.message.clone(), &text[d.span.range()]))
+        .collect();
+    assert_eq!(
+        warnings,
+        [
+            (
+                "`@Pose` on a constant does nothing: poses set attributes".to_owned(),
+                "@Pose(\"open\", 90)"
+            ),
+            (
+                "`@Pose` on a rule does nothing: poses set attributes".to_owned(),
+                "@Pose(\"open\", 1)"
+            ),
+        ]
+    );
+}
