@@ -320,6 +320,60 @@ proptest! {
     }
 }
 
+proptest! {
+    /// Theorem 4.4: rules applied only to a shape and what it derives leave the subtree linked
+    /// to the rest of the skeleton exactly as the shape was: only by its parent (the shape's
+    /// own section, or that section's parent for a fork) and, at one section only (Corollary
+    /// 4.6), by its children.
+    #[test]
+    fn an_isolated_subtree_links_out_only_as_its_root_did(
+        steps in prop::collection::vec(step(), 1..30),
+        children in 0..3u8,
+    ) {
+        // P ── A ── children of A; A is the shape whose subtree derives.
+        let mut skeleton = Skeleton::new(Frame::IDENTITY, "P");
+        let a = skeleton.add_child(skeleton.root(), at(0.0, 1.0, 0.0), "A");
+        let old: Vec<SectionId> = (0..children)
+            .map(|i| skeleton.add_child(a, at(f64::from(i), 2.0, 0.0), format!("C{i}")))
+            .collect();
+        let first_new = skeleton.len();
+        // The subtree's sections: A and every section made from here on.
+        let subtree = |skeleton: &Skeleton| -> Vec<SectionId> {
+            std::iter::once(a).chain((first_new..skeleton.len()).map(|i| SectionId(i as u32))).collect()
+        };
+        for step in steps {
+            let ours = subtree(&skeleton);
+            let pick = |s: usize| ours[s % ours.len()];
+            match step {
+                Step::Components(s, n) => { skeleton.components(pick(s), frames(s, n)); }
+                Step::Sequential(s, n) => { skeleton.sequential(pick(s), frames(s, n)); }
+                Step::Parallel(s, n) => { let _ = skeleton.parallel(pick(s), frames(s, n)); }
+                Step::Place(s) => skeleton.place_joint(pick(s), frames(s, 1)[0].0),
+                Step::Pose(s, angle) => {
+                    skeleton.set_limits(pick(s), free_yaw()).unwrap();
+                    skeleton.set_pose(pick(s), yaw(angle)).unwrap();
+                }
+            }
+        }
+        let ours = subtree(&skeleton);
+        let root = skeleton.root();
+        for &n in &ours {
+            let parent = skeleton.section(n).parent().expect("only P is a root");
+            prop_assert!(ours.contains(&parent) || parent == root, "{n:?} under {parent:?}");
+            for child in skeleton.children(n) {
+                prop_assert!(ours.contains(&child) || old.contains(&child));
+            }
+        }
+        // A's children all hang from one section of the subtree.
+        let holders: Vec<SectionId> = old
+            .iter()
+            .map(|&c| skeleton.section(c).parent().expect("a child has a parent"))
+            .collect();
+        prop_assert!(holders.iter().all(|h| ours.contains(h) && *h == holders[0]));
+        prop_assert!(skeleton.is_tree());
+    }
+}
+
 #[test]
 fn folding_locked_sections_keeps_one_per_free_joint_and_every_pose() {
     let (mut skeleton, floors) = tower();
