@@ -1,6 +1,6 @@
 //! Shape operations: compiling calls such as `split(y){…}` or `extrude(10)` into [`Op`]s.
 
-use shapegram_geom::FaceClass;
+use shapegram_geom::{Color, FaceClass};
 use shapegram_syntax::{
     Diagnostic, Span,
     ast::{self, BlockEntry},
@@ -74,6 +74,8 @@ pub(crate) enum Op {
         remainder: Option<(bool, Vec<CStmt>)>,
     },
     Color(Vec<CExpr>),
+    /// `color("#rrggbb")` with a literal: parsed once, when compiled.
+    ColorLiteral(Color),
     Set(SetTarget, CExpr),
     Report(CExpr, CExpr),
     Print(CExpr),
@@ -620,7 +622,19 @@ impl Ctx<'_, '_> {
                 if !matches!(self.args.len(), 1 | 3 | 4) {
                     return self.wrong_arity("color(\"#rrggbb\") | color(r, g, b)");
                 }
-                Op::Color(std::mem::take(&mut self.args))
+                let args = std::mem::take(&mut self.args);
+                match args.as_slice() {
+                    [
+                        CExpr {
+                            kind: CKind::Value(Value::Str(text)),
+                            ..
+                        },
+                    ] => match Color::from_hex(text) {
+                        Some(color) => Op::ColorLiteral(color),
+                        None => Op::Color(args),
+                    },
+                    _ => Op::Color(args),
+                }
             }
             "set" => self.set()?,
             "report" => {

@@ -10,7 +10,7 @@ use super::Fallible;
 use super::machine::Engine;
 use crate::error::DeriveError;
 use crate::ops::SetTarget;
-use crate::program::{CExpr, CKind};
+use crate::program::CExpr;
 use crate::shape::State;
 use crate::value::Value;
 
@@ -24,12 +24,6 @@ impl Engine<'_> {
         args: &[Value],
     ) -> Fallible<Color> {
         if let [one] = params {
-            if let CKind::Value(Value::Str(text)) = &one.kind {
-                // Most colours are literals: no need to go through the evaluator.
-                if let Some(c) = Color::from_hex(text) {
-                    return Ok(c);
-                }
-            }
             let text = self.ev.string(one, state, args)?;
             return Color::from_hex(&text).ok_or_else(|| {
                 DeriveError::at(

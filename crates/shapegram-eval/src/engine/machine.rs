@@ -548,6 +548,7 @@ impl<'p> Engine<'p> {
                 return Ok(true);
             }
             Op::Color(params) => state.color = self.color(state, params, args)?,
+            Op::ColorLiteral(color) => state.color = *color,
             Op::Set(target, value) => self.set(state, target, value, args)?,
             Op::Report(key, value) => self.report(state, key, value, args)?,
             Op::Print(value) => self.print(state, value, args)?,
