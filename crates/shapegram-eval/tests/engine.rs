@@ -150,9 +150,69 @@ fn scope_operations() {
     let s = &d.leaves[0].scope;
     assert!(close(s.origin, DVec3::new(2.5, 0.0, 5.0)));
     assert!(
-        close(s.size, DVec3::new(5.0, 1.0, 10.0)),
-        "a flat cube gets unit height"
+        close(s.size, DVec3::new(5.0, 7.5, 10.0)),
+        "a flat cube is as high as the mean of its other sizes, as in CityEngine"
     );
+}
+
+/// An asset whose box is not at the origin: 1 × 2 × 3 from (1, 2, 3).
+struct OffsetBox;
+
+impl shapegram_eval::AssetLoader for OffsetBox {
+    fn load(&self, _: &str) -> Result<std::sync::Arc<shapegram_geom::Mesh>, String> {
+        let cuboid = shapegram_geom::primitives::cuboid(DVec3::new(1.0, 2.0, 3.0));
+        let moved = shapegram_geom::DAffine3::from_translation(DVec3::new(1.0, 2.0, 3.0));
+        Ok(std::sync::Arc::new(cuboid.transformed(&moved)))
+    }
+}
+
+#[test]
+fn inserts_into_scopes_with_zero_sizes_follow_cityengine() {
+    let options = DeriveOptions {
+        assets: Some(std::sync::Arc::new(OffsetBox)),
+        ..DeriveOptions::default()
+    };
+    // The scope and the world box of the inserted asset, on a 10 × 20 lot at the origin.
+    let insert = |scale: &str| {
+        let text = format!("Lot --> extrude(8) t(1, 1, 1) s({scale}) i(\"box.obj\") X");
+        let d = try_run(&text, lot(10.0, 20.0), &options).unwrap();
+        let leaf = &d.leaves[0];
+        let mesh = leaf.world_mesh().unwrap();
+        let bounds = mesh.bounds().unwrap();
+        (leaf.scope.origin, leaf.scope.size, bounds.min, bounds.max)
+    };
+    let near = |a: DVec3, b: [f64; 3]| close(a, DVec3::from_array(b));
+    // All zero: the asset as it is, relative to the scope's origin; the scope moves onto it.
+    let (origin, size, min, max) = insert("0, 0, 0");
+    assert!(
+        near(origin, [2.0, 3.0, 4.0]) && near(size, [1.0, 2.0, 3.0]),
+        "{origin} {size}"
+    );
+    assert!(
+        near(min, [2.0, 3.0, 4.0]) && near(max, [3.0, 5.0, 7.0]),
+        "{min} {max}"
+    );
+    // Two zero: one factor (4 / 1) for all, and the asset's offset scaled along the zero axes.
+    let (origin, size, min, max) = insert("4, 0, 0");
+    assert!(
+        near(origin, [1.0, 9.0, 13.0]) && near(size, [4.0, 8.0, 12.0]),
+        "{origin} {size}"
+    );
+    assert!(
+        near(min, [1.0, 9.0, 13.0]) && near(max, [5.0, 17.0, 25.0]),
+        "{min} {max}"
+    );
+    // One zero: the mean of the other factors (2 and 4 / 3) along it, and no move.
+    let (origin, size, _, max) = insert("2, 0, 4");
+    let mean = (2.0 + 4.0 / 3.0) / 2.0;
+    assert!(near(origin, [1.0, 1.0, 1.0]), "{origin}");
+    assert!(near(size, [2.0, 2.0 * mean, 4.0]), "{size}");
+    assert!(near(max, [3.0, 1.0 + 2.0 * mean, 5.0]), "{max}");
+    // A primitive is a unit asset: on a flat 20 × 30 lot, a cube 25 high (PRT's measure).
+    let d = run("Lot --> primitiveCube() X", lot(20.0, 30.0));
+    assert!(close(d.leaves[0].scope.size, DVec3::new(20.0, 25.0, 30.0)));
+    let d = run("Lot --> i(\"builtin:cube\") X", lot(20.0, 30.0));
+    assert!(close(d.leaves[0].scope.size, DVec3::new(20.0, 25.0, 30.0)));
 }
 
 #[test]

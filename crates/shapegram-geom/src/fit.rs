@@ -58,6 +58,60 @@ pub fn mesh_in_scope(mesh: &Mesh, scope: &Scope) -> Mesh {
     mesh.transformed(&scope.local_to_world())
 }
 
+/// CGA's rules for inserting into a scope with zero sizes: the scope takes sizes (and may move)
+/// before the asset is fitted, and keeps them for later operations. With `bounds` the asset's
+/// box (size `a`, minimum corner `m`, in its own coordinates):
+/// - every size zero: the scope takes the asset's size and moves by `m`, so the asset lands
+///   unchanged relative to the scope's origin;
+/// - two sizes zero: one factor `f`, the other size over the asset's along it; the zero sizes
+///   become `f·a` and the scope moves by `f·m` along them (the asset scales uniformly, keeping
+///   its offset from the origin);
+/// - one size zero: it becomes the mean of the other two axes' factors times the asset's size
+///   along it; the scope stays where it is.
+///
+/// Axes along which the asset is flat too keep size zero. A scope without zero sizes is left
+/// as it is.
+pub fn adapt_scope_to_asset(scope: &mut Scope, bounds: &Aabb) {
+    let (a, m) = (bounds.size(), bounds.min);
+    let zero: [bool; 3] = std::array::from_fn(|k| {
+        scope.size[k].abs() <= RELATIVE_EPSILON * scope.size.abs().max_element()
+    });
+    let factor = |k: usize| (a[k] > 0.0).then(|| scope.size[k] / a[k]);
+    let (size, shift) = match zero.iter().filter(|&&z| z).count() {
+        0 => return,
+        3 => (a, m),
+        2 => {
+            let k = zero.iter().position(|&z| !z).expect("one size is not zero");
+            let f = factor(k).unwrap_or(1.0);
+            let flat = |v: DVec3| {
+                DVec3::from_array(std::array::from_fn(
+                    |i| {
+                        if zero[i] { f * v[i] } else { 0.0 }
+                    },
+                ))
+            };
+            (
+                flat(a) + DVec3::select(zero.map(|z| !z).into(), scope.size, DVec3::ZERO),
+                flat(m),
+            )
+        }
+        _ => {
+            let k = zero.iter().position(|&z| z).expect("one size is zero");
+            let factors: Vec<f64> = (0..3).filter(|&i| i != k).filter_map(factor).collect();
+            let mean = if factors.is_empty() {
+                1.0
+            } else {
+                factors.iter().sum::<f64>() / factors.len() as f64
+            };
+            let mut size = scope.size;
+            size[k] = mean * a[k];
+            (size, DVec3::ZERO)
+        }
+    };
+    scope.origin = scope.to_world(shift);
+    scope.size = size;
+}
+
 /// The map that scales a box of `bounds` uniformly (keeping its proportions) to fit the box from
 /// the origin to `size`, centred in x and z and standing on y = 0. Axes where either box is flat
 /// do not limit the scale; when every axis is flat the scale is 1.

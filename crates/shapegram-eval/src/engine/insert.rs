@@ -3,7 +3,8 @@
 
 use std::sync::Arc;
 
-use shapegram_geom::{DVec3, Mesh, primitives};
+use shapegram_geom::fit::adapt_scope_to_asset;
+use shapegram_geom::{Aabb, DVec3, Mesh, primitives};
 use shapegram_implicit::Solid;
 use shapegram_syntax::Span;
 
@@ -83,12 +84,14 @@ impl Engine<'_> {
         args: &[Value],
     ) -> Fallible<()> {
         let counts = self.numbers(params, state, args)?;
-        // A primitive in a flat scope gets unit size along the flat axes.
-        let size = DVec3::select(
-            state.scope.size.cmpeq(DVec3::ZERO),
-            DVec3::ONE,
-            state.scope.size,
-        );
+        // A primitive is a unit asset: a flat scope takes sizes by `i()`'s rules (a cube on a
+        // 20 × 30 lot is 25 high, the mean of the other two).
+        let unit = match kind {
+            Primitive::Quad => DVec3::new(1.0, 1.0, 0.0),
+            _ => DVec3::ONE,
+        };
+        adapt_scope_to_asset(&mut state.scope, &Aabb::new(DVec3::ZERO, unit));
+        let size = state.scope.size;
         let count = |i: usize, default: u32| -> Fallible<u32> {
             match counts.get(i) {
                 None => Ok(default),
@@ -99,13 +102,8 @@ impl Engine<'_> {
                 )),
             }
         };
-        state.scope.size = size;
         state.geometry = match kind {
-            Primitive::Cube => Geometry::Box,
-            Primitive::Quad => {
-                state.scope.size.z = 0.0;
-                Geometry::Box
-            }
+            Primitive::Cube | Primitive::Quad => Geometry::Box,
             Primitive::Pyramid => Geometry::mesh(primitives::pyramid(size)),
             Primitive::Cylinder => Geometry::mesh(primitives::cylinder(size, count(0, 16)?)),
             Primitive::Cone => Geometry::mesh(primitives::cone(size, count(0, 16)?)),
@@ -154,17 +152,18 @@ fn builtin_asset(path: &str) -> Option<Mesh> {
     })
 }
 
-/// Fits an asset into the scope (CGA `i`, see `shapegram_geom::fit`), stretched or keeping its
-/// proportions; along axes where the scope has no size the scope takes the asset's fitted
-/// extent.
+/// Fits an asset into the scope (CGA `i`, see `shapegram_geom::fit`): stretched, after a scope
+/// with zero sizes took sizes by CGA's rules ([`adapt_scope_to_asset`]); or keeping its
+/// proportions, the scope then taking the asset's fitted extent along axes where it has none.
 fn fit_asset(state: &mut State, asset: &Asset) {
-    if asset.mesh.is_empty() {
+    let Some(bounds) = asset.mesh.bounds().filter(|_| !asset.mesh.is_empty()) else {
         state.geometry = Geometry::Empty;
         return;
-    }
+    };
     let mut local = if asset.proportional {
         shapegram_geom::fit::fit_proportionally_into_scope(&asset.mesh, &state.scope)
     } else {
+        adapt_scope_to_asset(&mut state.scope, &bounds);
         shapegram_geom::fit::fit_into_scope(&asset.mesh, &state.scope)
     };
     local.transform(&state.scope.world_to_local());
