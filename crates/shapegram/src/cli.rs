@@ -77,8 +77,10 @@ pub enum Command {
             Lots are derived in parallel; the result is the same whatever the number of\n\
             threads (RAYON_NUM_THREADS) and depends only on the grammar, the lots, --seed and\n\
             --attr.\n\n\
-            Assets inserted with i(\"path\") are read relative to the grammar's folder (OBJ,\n\
-            GLB or STL). print() output goes to stderr as `print: ` lines (also with -q).\n\
+            Assets inserted with i(\"path\") (OBJ, GLB or STL) are looked up as CityEngine\n\
+            does: beside the grammar, then in the project's assets/ folder (the nearest folder\n\
+            at or above the grammar's that has one), then in the project. print() output goes\n\
+            to stderr as `print: ` lines (also with -q).\n\
             Without -o nothing is written, which is useful with --stats.\n\n\
             To see how a model came about, --generations N stops after N parallel rewriting\n\
             steps and --at-node N writes the state right after shape N was made (numbered\n\

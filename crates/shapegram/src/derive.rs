@@ -226,6 +226,9 @@ pub fn millis(d: Duration) -> f64 {
 /// `--missing-assets` says.
 struct FileAssets {
     folder: PathBuf,
+    /// The CityEngine project the grammar is in: the nearest folder at or above the grammar's
+    /// that has an `assets` folder.
+    project: Option<PathBuf>,
     missing: MissingAssets,
     cache: Mutex<HashMap<PathBuf, Arc<Mesh>>>,
     plants: Mutex<HashMap<(PathBuf, u32), Arc<Mesh>>>,
@@ -234,13 +237,45 @@ struct FileAssets {
 
 impl FileAssets {
     fn new(folder: PathBuf, missing: MissingAssets) -> Self {
+        let project = folder
+            .ancestors()
+            .find(|a| a.join("assets").is_dir())
+            .map(Path::to_path_buf);
         Self {
             folder,
+            project,
             missing,
             cache: Mutex::new(HashMap::new()),
             plants: Mutex::new(HashMap::new()),
             solids: Mutex::new(HashMap::new()),
         }
+    }
+
+    /// Where `path` is, searched as CityEngine does: next to the grammar, then in the project's
+    /// `assets` folder, then in the project; a path starting with `/` is in the workspace (the
+    /// folder holding the project). The first place that has the file, or else the first place.
+    fn find(&self, path: &str) -> PathBuf {
+        let mut places = Vec::new();
+        match path.strip_prefix('/') {
+            Some(in_workspace) => {
+                if let Some(workspace) = self.project.as_deref().and_then(Path::parent) {
+                    places.push(workspace.join(in_workspace));
+                }
+                places.push(self.folder.join(in_workspace));
+            }
+            None => {
+                places.push(self.folder.join(path));
+                if let Some(project) = &self.project {
+                    places.push(project.join("assets").join(path));
+                    places.push(project.join(path));
+                }
+            }
+        }
+        places
+            .iter()
+            .find(|p| p.is_file())
+            .unwrap_or(&places[0])
+            .clone()
     }
 
     /// What stands in for a file that cannot be read, if anything does.
@@ -277,7 +312,7 @@ impl FileAssets {
 
 impl AssetLoader for FileAssets {
     fn load(&self, path: &str) -> Result<Arc<Mesh>, String> {
-        let full = self.folder.join(path);
+        let full = self.find(path);
         // Loading under the lock means each file is read once even when lots derived in
         // parallel ask for it together.
         let mut cache = self.cache.lock().unwrap_or_else(PoisonError::into_inner);
@@ -298,7 +333,7 @@ impl AssetLoader for FileAssets {
 
     /// L-systems keep their proportions, and stochastic ones grow one tree per variant.
     fn asset(&self, path: &str, variant: u32) -> Result<Asset, String> {
-        let full = self.folder.join(path);
+        let full = self.find(path);
         if full.extension().and_then(|e| e.to_str()) != Some("lsys") {
             return Ok(Asset {
                 mesh: self.load(path)?,
@@ -332,7 +367,7 @@ impl AssetLoader for FileAssets {
     /// `implicit("grotto.cave")`: the grammar's solid, run once per file. Files that cannot be
     /// read are always an error (`--missing-assets` is about `i()`).
     fn solid(&self, path: &str) -> Result<Solid, String> {
-        let full = self.folder.join(path);
+        let full = self.find(path);
         let mut solids = self.solids.lock().unwrap_or_else(PoisonError::into_inner);
         if let Some(solid) = solids.get(&full) {
             return Ok(solid.clone());

@@ -891,6 +891,59 @@ fn assets_are_read_relative_to_the_grammar() {
 }
 
 #[test]
+fn assets_are_found_as_cityengine_finds_them_in_a_project() {
+    // A CityEngine project: rules in `rules/`, assets in `assets/`, and a file at its root.
+    let dir = TempDir::new("project");
+    std::fs::create_dir_all(dir.path("city/rules")).unwrap();
+    std::fs::create_dir_all(dir.path("city/assets/facade")).unwrap();
+    std::fs::create_dir_all(dir.path("city/extra")).unwrap();
+    for (kind, file) in [
+        ("box", "city/assets/facade/win.obj"),
+        ("cylinder", "city/extra/post.obj"),
+        ("sphere", "city/rules/ball.obj"),
+    ] {
+        ok(&["primitive", kind, "-q", "-o", text(&dir.path(file))]);
+    }
+    let grammar = dir.path("city/rules/street.cga");
+    let count = |insert: &str| {
+        std::fs::write(
+            &grammar,
+            format!("@StartRule\nLot --> extrude(6) i(\"{insert}\") X.\n"),
+        )
+        .unwrap();
+        let output = shapegram(&["derive", text(&grammar), "--stats", "-q"]);
+        assert!(output.status.success(), "{insert}: {}", stderr(&output));
+        let stats: Value = serde_json::from_slice(&output.stdout).unwrap();
+        stats["triangles"].as_u64().unwrap()
+    };
+    // Beside the grammar, then in the project's assets, then in the project; a path starting
+    // with `/` names the project in the workspace.
+    let (ball, cube, post) = (
+        count("ball.obj"),
+        count("facade/win.obj"),
+        count("extra/post.obj"),
+    );
+    assert_eq!(cube, 12);
+    assert!(
+        ball != cube && post != cube && ball != post,
+        "{ball} {cube} {post}"
+    );
+    assert_eq!(count("/city/assets/facade/win.obj"), 12);
+    // A file in none of the places is an error naming the place beside the grammar.
+    std::fs::write(
+        &grammar,
+        "@StartRule\nLot --> extrude(6) i(\"facade/door.obj\") X.\n",
+    )
+    .unwrap();
+    let err = fails(
+        &["derive", text(&grammar)],
+        1,
+        "cannot insert `facade/door.obj`",
+    );
+    assert!(err.contains("rules/facade/door.obj"), "{err}");
+}
+
+#[test]
 fn syntax_errors_show_the_place_and_end_with_a_count() {
     let dir = TempDir::new("syntax");
     let grammar = dir.path("broken.cga");
