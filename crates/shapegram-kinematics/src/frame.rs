@@ -27,6 +27,7 @@ impl Frame {
     };
 
     /// A frame from its origin and orthonormal, right-handed axes (the columns of `axes`).
+    #[inline]
     pub fn from_axes(origin: DVec3, axes: DMat3) -> Self {
         Self {
             rotation: DQuat::from_mat3(&axes).normalize(),
@@ -51,6 +52,7 @@ impl Frame {
     }
 
     /// `self · other`: first `other`, then `self`.
+    #[inline]
     pub fn mul(&self, other: &Frame) -> Frame {
         Frame {
             rotation: (self.rotation * other.rotation).normalize(),
@@ -59,6 +61,7 @@ impl Frame {
     }
 
     /// The inverse transformation.
+    #[inline]
     pub fn inverse(&self) -> Frame {
         let rotation = self.rotation.conjugate();
         Frame {
@@ -68,11 +71,13 @@ impl Frame {
     }
 
     /// A point moved by the transformation.
+    #[inline]
     pub fn transform_point(&self, point: DVec3) -> DVec3 {
         self.rotation * point + self.translation
     }
 
     /// A direction turned by the rotation.
+    #[inline]
     pub fn transform_vector(&self, vector: DVec3) -> DVec3 {
         self.rotation * vector
     }

@@ -48,6 +48,7 @@ impl Range {
     }
 
     /// Whether the range allows any movement.
+    #[inline]
     pub fn is_free(&self) -> bool {
         self.min < self.max
     }
@@ -99,6 +100,9 @@ impl Limits {
     /// the error).
     pub fn admit(&self, pose: &Pose) -> Result<(), KinematicError> {
         pose.validate()?;
+        if self.contains(pose) {
+            return Ok(());
+        }
         let (_, clamped) = self.clamp(pose);
         match clamped.first() {
             None => Ok(()),
@@ -116,8 +120,21 @@ impl Limits {
         }
     }
 
+    /// Whether every component of `pose` lies within its range (the usual case, checked
+    /// before anything is clamped).
+    #[inline]
+    fn contains(&self, pose: &Pose) -> bool {
+        let within = |v: DVec3, ranges: &[Range; 3]| {
+            (0..3).all(|i| ranges[i].min <= v[i] && v[i] <= ranges[i].max)
+        };
+        within(pose.rotation, &self.rotation) && within(pose.translation, &self.translation)
+    }
+
     /// `pose` with every component brought into its range, and what had to be moved.
     pub fn clamp(&self, pose: &Pose) -> (Pose, Vec<Clamped>) {
+        if self.contains(pose) {
+            return (*pose, Vec::new());
+        }
         let mut clamped = Vec::new();
         let mut fit = |requested: DVec3, ranges: &[Range; 3], rotation: bool| {
             let mut value = requested;
@@ -160,6 +177,7 @@ pub struct Pose {
 
 impl Pose {
     /// Whether the pose is the rest pose.
+    #[inline]
     pub fn is_rest(&self) -> bool {
         self.rotation == DVec3::ZERO && self.translation == DVec3::ZERO
     }

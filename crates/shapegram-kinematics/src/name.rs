@@ -85,7 +85,7 @@ fn reads(base: &str, tag: Option<u32>, text: &str) -> bool {
 const NO_TAG: u32 = u32::MAX;
 
 /// A rule name's place in a skeleton's table of names.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
 struct Base(u32);
 
 /// A section's name as a skeleton keeps it: eight bytes, its rule name in the skeleton's
@@ -105,8 +105,9 @@ pub struct Names {
     /// a few shared strings, found here without hashing them. The table keeps each of these
     /// strings alive, so an address cannot come to stand for another text.
     by_address: FxHashMap<usize, Base>,
-    /// The last string looked up by address: the parts of a split are mostly of one rule.
-    last: Option<(usize, Base)>,
+    /// The strings looked up last, by address (a few slots picked by address bits): the parts
+    /// of a split are of one or two rules.
+    recent: [(usize, Base); 4],
     /// Strings of texts already in the table, kept for their addresses in `by_address`.
     aliases: Vec<Arc<str>>,
 }
@@ -115,13 +116,14 @@ impl Names {
     /// The rule name's place in the table, adding it when new.
     fn intern(&mut self, base: &Arc<str>) -> Base {
         let address = Arc::as_ptr(base).cast::<u8>() as usize;
-        if let Some((last, id)) = self.last
-            && last == address
-        {
+        // Allocations are 16-byte aligned: the bits above those pick the slot.
+        let slot = (address >> 4) & 3;
+        let (known, id) = self.recent[slot];
+        if known == address {
             return id;
         }
         if let Some(&id) = self.by_address.get(&address) {
-            self.last = Some((address, id));
+            self.recent[slot] = (address, id);
             return id;
         }
         if let Some(&id) = self.ids.get(base) {
@@ -129,14 +131,14 @@ impl Names {
             // so that its address can be cached too.
             self.aliases.push(Arc::clone(base));
             self.by_address.insert(address, id);
-            self.last = Some((address, id));
+            self.recent[slot] = (address, id);
             return id;
         }
         let id = Base(u32::try_from(self.bases.len()).expect("fewer than 2³² rule names"));
         self.bases.push(Arc::clone(base));
         self.ids.insert(Arc::clone(base), id);
         self.by_address.insert(address, id);
-        self.last = Some((address, id));
+        self.recent[slot] = (address, id);
         id
     }
 
@@ -196,6 +198,7 @@ pub struct Tagged<'a> {
 }
 
 impl SectionName for Tagged<'_> {
+    #[inline]
     fn key(self, names: &mut Names) -> NameKey {
         NameKey {
             base: names.intern(self.rule),

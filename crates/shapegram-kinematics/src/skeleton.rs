@@ -12,6 +12,7 @@ pub struct SectionId(pub u32);
 
 impl SectionId {
     /// The index as `usize`.
+    #[inline]
     pub fn index(self) -> usize {
         self.0 as usize
     }
@@ -48,8 +49,9 @@ struct Stored {
 /// A joint's limits and pose, once either is set.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 struct Motion {
-    limits: Limits,
+    // The pose first: motions that differ mostly differ in it, and equality compares in order.
     pose: Pose,
+    limits: Limits,
 }
 
 /// A section of a skeleton, to read: its name, joint, limits, pose and links.
@@ -76,6 +78,7 @@ impl Section<'_> {
     }
 
     /// The joint's frame in model space in the rest pose.
+    #[inline]
     pub fn rest(&self) -> Frame {
         Frame {
             rotation: self.skeleton.rotations[self.stored.rotation as usize],
@@ -84,31 +87,37 @@ impl Section<'_> {
     }
 
     /// The parent section; `None` for the root.
+    #[inline]
     pub fn parent(&self) -> Option<SectionId> {
         (self.stored.parent != NONE).then_some(SectionId(self.stored.parent))
     }
 
     /// How far the joint may move (locked unless set).
+    #[inline]
     pub fn limits(&self) -> Limits {
         self.kept_motion()
             .map_or_else(Limits::default, |m| m.limits)
     }
 
     /// Whether the joint may move at all (its limits leave some axis free).
+    #[inline]
     pub fn is_free(&self) -> bool {
         self.kept_motion().is_some_and(|m| m.limits.is_free())
     }
 
     /// The joint's current pose, within its limits (the rest pose unless set).
+    #[inline]
     pub fn pose(&self) -> Pose {
         self.kept_motion().map_or_else(Pose::default, |m| m.pose)
     }
 
     /// Whether the section has kinematic children.
+    #[inline]
     pub fn has_children(&self) -> bool {
         self.stored.first_child != NONE
     }
 
+    #[inline]
     fn kept_motion(&self) -> Option<&Motion> {
         self.skeleton.motions.get(self.stored.motion as usize)
     }
@@ -166,6 +175,7 @@ pub struct Parts {
 
 impl Parts {
     /// Number of parts.
+    #[inline]
     pub fn len(&self) -> usize {
         self.len as usize
     }
@@ -179,6 +189,7 @@ impl Parts {
     ///
     /// # Panics
     /// If `i` is not below [`Parts::len`].
+    #[inline]
     pub fn get(&self, i: usize) -> SectionId {
         assert!(i < self.len(), "part {i} of {}", self.len);
         match self.kept {
@@ -260,6 +271,7 @@ impl Skeleton {
     }
 
     /// The root section.
+    #[inline]
     pub fn root(&self) -> SectionId {
         SectionId(0)
     }
@@ -278,6 +290,7 @@ impl Skeleton {
     ///
     /// # Panics
     /// For an id the skeleton does not have.
+    #[inline]
     pub fn section(&self, id: SectionId) -> Section<'_> {
         Section {
             skeleton: self,
@@ -305,6 +318,7 @@ impl Skeleton {
 
     /// The index of `rotation` in the table, checking the rotations most likely to be the same
     /// first: `hint`'s (the parent's, or the section's own) and the last one added.
+    #[inline]
     fn rotation(&mut self, rotation: DQuat, hint: u32) -> u32 {
         if self.rotations.get(hint as usize) == Some(&rotation) {
             return hint;
@@ -318,6 +332,7 @@ impl Skeleton {
     }
 
     /// A new section under `parent` with its joint at `rest`, locked, in the rest pose.
+    #[inline]
     pub fn add_child(
         &mut self,
         parent: SectionId,
@@ -346,6 +361,7 @@ impl Skeleton {
 
     /// Appends the list of siblings `first..=last` (already linked among themselves) to the
     /// children of `parent`.
+    #[inline]
     fn link(&mut self, parent: SectionId, first: u32, last: u32) {
         let p = &mut self.sections[parent.index()];
         let previous = std::mem::replace(&mut p.last_child, last);
@@ -463,7 +479,7 @@ impl Skeleton {
     /// joints of a city's windows all move alike, so a new motion is looked for among the last
     /// few kept before it is added.
     fn set_motion(&mut self, section: SectionId, motion: Motion) {
-        const LOOK_BACK: usize = 4;
+        const LOOK_BACK: usize = 2;
         let recent = self.motions.len().saturating_sub(LOOK_BACK);
         let index = match self.motions[recent..].iter().rposition(|m| *m == motion) {
             Some(i) => recent + i,
