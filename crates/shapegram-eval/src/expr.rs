@@ -173,30 +173,60 @@ impl<'p> Evaluator<'p> {
                 }
                 self.eval(otherwise, shape, args)?
             }
-            CKind::Array(items) => Value::Array(
-                items
-                    .iter()
-                    .map(|i| self.eval(i, shape, args))
-                    .collect::<Result<Vec<_>>>()?
-                    .into(),
-            ),
-            CKind::Index(target, index) => {
+            CKind::Array(items) => {
+                let mut values = Vec::with_capacity(items.len());
+                for item in items {
+                    match (&item.kind, self.eval(item, shape, args)?) {
+                        // `[1:3, 7]` is `[1, 2, 3, 7]`.
+                        (CKind::Range(..), Value::Array(range)) => values.extend_from_slice(&range),
+                        (_, value) => values.push(value),
+                    }
+                }
+                Value::Array(values.into())
+            }
+            CKind::Range(start, step, end) => {
+                let from = self.number(start, shape, args)?;
+                let by = match step {
+                    Some(step) => self.number(step, shape, args)?,
+                    None => 1.0,
+                };
+                let to = self.number(end, shape, args)?;
+                Value::Array(range(from, by, to, e.span)?.into())
+            }
+            CKind::Index(target, index, column) => {
                 let array = self.eval(target, shape, args)?;
-                let i = self.number(index, shape, args)?;
                 let Value::Array(items) = array else {
                     return Err(DeriveError::at(
                         format!("cannot index a {}", array.type_name()),
                         target.span,
                     ));
                 };
-                let at = i.floor();
-                if at < 0.0 || at >= items.len() as f64 {
-                    return Err(DeriveError::at(
-                        format!("index {i} is out of range for an array of {}", items.len()),
-                        index.span,
-                    ));
+                let rows = self.eval(index, shape, args)?;
+                match column {
+                    None => select(&items, &rows, index.span)?,
+                    Some(column) => {
+                        let columns = self.eval(column, shape, args)?;
+                        let picked = select(&items, &rows, index.span)?;
+                        match (&rows, picked) {
+                            // One row: pick in it.
+                            (Value::Number(_), Value::Array(row)) => {
+                                select(&row, &columns, column.span)?
+                            }
+                            // Several rows: pick in each, a column of them or a smaller table.
+                            (Value::Array(_), Value::Array(picked)) => {
+                                let mut out = Vec::with_capacity(picked.len());
+                                for row in picked.iter() {
+                                    let Value::Array(row) = row else {
+                                        return Err(not_2d(target.span));
+                                    };
+                                    out.push(select(row, &columns, column.span)?);
+                                }
+                                Value::Array(out.into())
+                            }
+                            _ => return Err(not_2d(target.span)),
+                        }
+                    }
                 }
-                items[at as usize].clone()
             }
             CKind::Relative(_) | CKind::Floating(_) => {
                 return Err(DeriveError::at(
@@ -660,4 +690,70 @@ fn binary_symbol(op: BinaryOp) -> &'static str {
         And => "&&",
         Or => "||",
     }
+}
+
+/// Most numbers a range may hold: enough for any table, few enough to stop a runaway range.
+const MAX_RANGE: usize = 10_000_000;
+
+/// The numbers of `from:by:to`: from `from` in steps of `by` while not past `to`.
+fn range(from: f64, by: f64, to: f64, span: Span) -> Result<Vec<Value>> {
+    if !(from.is_finite() && by.is_finite() && to.is_finite()) || by == 0.0 {
+        return Err(DeriveError::at(
+            format!("the range {from}:{by}:{to} needs finite ends and a step other than 0"),
+            span,
+        ));
+    }
+    // A step that divides the span up to rounding still reaches the end: 0:0.1:0.3 has 4.
+    let count = ((to - from) / by + 1e-9).floor() + 1.0;
+    if count > MAX_RANGE as f64 {
+        return Err(DeriveError::at(
+            format!("the range {from}:{by}:{to} has more than {MAX_RANGE} numbers"),
+            span,
+        ));
+    }
+    let count = count.max(0.0) as usize;
+    Ok((0..count)
+        .map(|i| Value::Number(from + by * i as f64))
+        .collect())
+}
+
+/// The element of `items` at the index `at` (a number), or the elements at the indices of an
+/// array of numbers, as an array.
+fn select(items: &[Value], at: &Value, span: Span) -> Result<Value> {
+    let one = |i: f64| {
+        let k = i.floor();
+        if k < 0.0 || k >= items.len() as f64 {
+            return Err(DeriveError::at(
+                format!("index {i} is out of range for an array of {}", items.len()),
+                span,
+            ));
+        }
+        Ok(items[k as usize].clone())
+    };
+    match at {
+        Value::Number(i) => one(*i),
+        Value::Array(indices) => indices
+            .iter()
+            .map(|i| match i {
+                Value::Number(i) => one(*i),
+                other => Err(DeriveError::at(
+                    format!("an index must be a number, found a {}", other.type_name()),
+                    span,
+                )),
+            })
+            .collect::<Result<Vec<_>>>()
+            .map(|v| Value::Array(v.into())),
+        other => Err(DeriveError::at(
+            format!("an index must be a number, found a {}", other.type_name()),
+            span,
+        )),
+    }
+}
+
+/// Two indices on an array that is not a table of rows.
+fn not_2d(span: Span) -> DeriveError {
+    DeriveError::at(
+        "two indices need a 2D array (rows written `[a, b; c, d]`)",
+        span,
+    )
 }

@@ -118,8 +118,12 @@ pub(crate) enum CKind {
     Conditional(Box<CExpr>, Box<CExpr>, Box<CExpr>),
     Cases(Vec<(CExpr, CExpr)>, Box<CExpr>),
     Stochastic(Vec<(CExpr, CExpr)>, Box<CExpr>),
+    /// `[a, b, …]`; a range among the elements adds its numbers.
     Array(Vec<CExpr>),
-    Index(Box<CExpr>, Box<CExpr>),
+    /// `a[i]` or `a[row, column]`.
+    Index(Box<CExpr>, Box<CExpr>, Option<Box<CExpr>>),
+    /// `start:end` or `start:step:end`.
+    Range(Box<CExpr>, Option<Box<CExpr>>, Box<CExpr>),
     Relative(Box<CExpr>),
     Floating(Box<CExpr>),
     /// A bare word in an operation argument: `x`, `front`, `scopeCenter`, `world.up`.
@@ -508,7 +512,20 @@ impl<'g> Compiler<'g> {
             }
             ExprKind::Name(name) => self.name(name, e.span, params, selectors),
             ExprKind::Call { name, args } => self.call_expr(name, args, params),
-            ExprKind::Index { target, index } => CKind::Index(sub(self, target), sub(self, index)),
+            ExprKind::Index {
+                target,
+                index,
+                column,
+            } => CKind::Index(
+                sub(self, target),
+                sub(self, index),
+                column.as_ref().map(|c| sub(self, c)),
+            ),
+            ExprKind::Range { start, step, end } => CKind::Range(
+                sub(self, start),
+                step.as_ref().map(|s| sub(self, s)),
+                sub(self, end),
+            ),
             ExprKind::Unary { op, operand } => CKind::Unary(*op, sub(self, operand)),
             ExprKind::Binary { op, lhs, rhs } => CKind::Binary(*op, sub(self, lhs), sub(self, rhs)),
             ExprKind::Conditional {

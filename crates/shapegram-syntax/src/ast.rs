@@ -259,12 +259,26 @@ pub enum ExprKind {
         /// The arguments.
         args: Vec<Argument>,
     },
-    /// `a[i]`.
+    /// `a[i]`, or `a[row, column]` for a 2D array; an index may be a [`ExprKind::Range`] or an
+    /// array of indices, which selects several elements.
     Index {
         /// The array.
         target: Box<Expr>,
-        /// The index.
+        /// The index (the row's, for a 2D array).
         index: Box<Expr>,
+        /// The column's index, for a 2D array.
+        column: Option<Box<Expr>>,
+    },
+    /// CGA's colon operator `start:end` or `start:step:end`, written in array brackets (an
+    /// element of `[…]` or an index): the numbers from `start` to `end` in steps of `step`
+    /// (1 unless given), `end` included when reached.
+    Range {
+        /// The first number.
+        start: Box<Expr>,
+        /// The step, when written.
+        step: Option<Box<Expr>>,
+        /// The last number.
+        end: Box<Expr>,
     },
     /// A prefix operator.
     Unary {

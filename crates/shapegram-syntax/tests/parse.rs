@@ -517,3 +517,25 @@ fn byte_order_mark_and_crlf_line_endings() {
         "error: expected `:` after the split size, found `X`\n --> test.cga:2:19\n  |\n2 | C --> split(x){ 1 X }\n  |                   ^ expected `:` here\n"
     );
 }
+
+#[test]
+fn colon_ranges_and_two_indices_in_brackets() {
+    assert_eq!(value("[1:5]"), "[1:5]");
+    assert_eq!(value("[0:2 ; 3, 3, 3]"), "[[0:2], [3, 3, 3]]");
+    assert_eq!(value("m[1:n, 0]"), "m[1:n, 0]");
+    assert_eq!(value("m[n:-1:1, 4]"), "m[n:(-1):1, 4]");
+    assert_eq!(value("m[i + 1]"), "m[(i + 1)]");
+    // Outside brackets a colon still ends a case condition.
+    assert_eq!(
+        body("case a[0:1] == b : X else : Y"),
+        "(case [(a[0:1] == b) => (X)] [else => (Y)])"
+    );
+}
+
+#[test]
+fn scatter_takes_a_body_without_a_selector() {
+    assert_eq!(
+        body("scatter(surface, 10, uniform){ Plant.Generate(p) } NIL"),
+        "(scatter(surface, 10, uniform){all : (Plant.Generate(p))} NIL)"
+    );
+}

@@ -5,7 +5,7 @@
 //! next `else` belongs to the enclosing construct.
 
 use super::{Fail, PResult, Parser, Start};
-use crate::ast::{Block, BlockEntry, Body, Call, Stmt};
+use crate::ast::{Block, BlockEntry, Body, Call, Expr, ExprKind, Stmt};
 use crate::lexer::TokenKind;
 use crate::{Diagnostic, Span};
 
@@ -202,6 +202,20 @@ impl Parser<'_> {
         if self.at(&TokenKind::LBrace) {
             return Ok(BlockEntry::Group(self.block(key_kind)?));
         }
+        if key_kind == BODY_ONLY {
+            // The body applies to every part the operation makes: its key is `all`.
+            let start = self.span();
+            let body = self.statements(false)?;
+            return Ok(BlockEntry::Part {
+                key: Expr {
+                    kind: ExprKind::Name("all".to_owned()),
+                    span: Span::new(start.start as usize, start.start as usize),
+                },
+                merge: false,
+                body,
+                span: self.span_from(start),
+            });
+        }
         if !self.at_expression_start() {
             return Err(self.error_expected(&format!("a {key_kind}"), "in the block"));
         }
@@ -245,7 +259,12 @@ pub(super) struct Braced<T> {
 fn key_kind(operation: &str) -> &'static str {
     if operation.starts_with("split") {
         "split size"
+    } else if operation == "scatter" {
+        BODY_ONLY
     } else {
         "selector"
     }
 }
+
+/// The key kind of blocks whose one entry is a body without a key (`scatter(…){ Tree }`).
+const BODY_ONLY: &str = "body";

@@ -208,13 +208,40 @@ impl Parser<'_> {
 
     fn index(&mut self, target: Expr) -> PResult<Expr> {
         self.bump();
-        let index = self.expr()?;
+        let index = self.bracket_item()?;
+        let column = match self.eat(&TokenKind::Comma) {
+            Some(_) => Some(Box::new(self.bracket_item()?)),
+            None => None,
+        };
         let close = self.expect(&TokenKind::RBracket, "`]`", "after the index")?;
         Ok(Expr {
             span: target.span.to(close),
             kind: ExprKind::Index {
                 target: Box::new(target),
                 index: Box::new(index),
+                column,
+            },
+        })
+    }
+
+    /// An expression in array brackets, where CGA's colon operator may make it a range:
+    /// `a`, `a:b` or `a:step:b`.
+    fn bracket_item(&mut self) -> PResult<Expr> {
+        let start = self.expr()?;
+        if self.eat(&TokenKind::Colon).is_none() {
+            return Ok(start);
+        }
+        let second = self.expr()?;
+        let (step, end) = match self.eat(&TokenKind::Colon) {
+            Some(_) => (Some(Box::new(second)), self.expr()?),
+            None => (None, second),
+        };
+        Ok(Expr {
+            span: start.span.to(end.span),
+            kind: ExprKind::Range {
+                start: Box::new(start),
+                step,
+                end: Box::new(end),
             },
         })
     }
@@ -395,7 +422,7 @@ impl Parser<'_> {
         let mut row_spans = vec![self.span()];
         if !self.at(&TokenKind::RBracket) {
             loop {
-                let element = self.expr()?;
+                let element = self.bracket_item()?;
                 let last = rows.len() - 1;
                 row_spans[last] = if rows[last].is_empty() {
                     element.span

@@ -819,9 +819,23 @@ fn rename_queries(e: &mut Expr) {
             }
         }
         ExprKind::Array(items) => items.iter_mut().for_each(rename_queries),
-        ExprKind::Index { target, index } => {
+        ExprKind::Index {
+            target,
+            index,
+            column,
+        } => {
             rename_queries(target);
             rename_queries(index);
+            if let Some(column) = column {
+                rename_queries(column);
+            }
+        }
+        ExprKind::Range { start, step, end } => {
+            rename_queries(start);
+            if let Some(step) = step {
+                rename_queries(step);
+            }
+            rename_queries(end);
         }
         ExprKind::Unary { operand, .. } => rename_queries(operand),
         ExprKind::Binary { lhs, rhs, .. } => {

@@ -132,7 +132,26 @@ pub fn expr(e: &Expr) -> String {
         }
         ExprKind::Name(n) => n.clone(),
         ExprKind::Call { name, args } => format!("{}({})", name.name, args_str(args)),
-        ExprKind::Index { target, index } => format!("{}[{}]", expr(target), expr(index)),
+        ExprKind::Index {
+            target,
+            index,
+            column: None,
+        } => format!("{}[{}]", expr(target), expr(index)),
+        ExprKind::Index {
+            target,
+            index,
+            column: Some(column),
+        } => format!("{}[{}, {}]", expr(target), expr(index), expr(column)),
+        ExprKind::Range {
+            start,
+            step: None,
+            end,
+        } => format!("{}:{}", expr(start), expr(end)),
+        ExprKind::Range {
+            start,
+            step: Some(step),
+            end,
+        } => format!("{}:{}:{}", expr(start), expr(step), expr(end)),
         ExprKind::Unary { op, operand } => {
             let op = match op {
                 UnaryOp::Neg => "-",
