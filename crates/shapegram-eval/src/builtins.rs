@@ -1,5 +1,7 @@
 //! Built-in functions and shape queries of the expression language.
 
+use crate::text::Text;
+
 /// A built-in function.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub(crate) enum Builtin {
@@ -35,6 +37,8 @@ pub(crate) enum Builtin {
     Overlaps,
     Touches,
     Occ,
+    /// A string or string-list function.
+    Text(Text),
 }
 
 impl Builtin {
@@ -90,6 +94,12 @@ impl Builtin {
             .iter()
             .position(|&n| n == name)
             .map(|i| Self::ALL[i])
+            .or_else(|| Text::from_name(name).map(Self::Text))
+    }
+
+    /// Every built-in's name, the string functions' included.
+    pub fn all_names() -> impl Iterator<Item = &'static str> {
+        Self::NAMES.iter().copied().chain(Text::names())
     }
 
     /// Fewest and most arguments.
@@ -100,6 +110,7 @@ impl Builtin {
             Self::Clamp => (3, 3),
             Self::Inside | Self::Overlaps | Self::Touches => (0, 2),
             Self::Occ => (0, 1),
+            Self::Text(t) => t.arity(),
             _ => (1, 1),
         }
     }
@@ -122,6 +133,7 @@ impl Builtin {
             Self::Overlaps => "overlaps([all | intra | inter [, label]])",
             Self::Touches => "touches([all | intra | inter [, label]])",
             Self::Occ => "occ([\"noparent\" | label])",
+            Self::Text(t) => t.signature(),
             _ => "f(number)",
         }
     }
@@ -159,22 +171,7 @@ impl Builtin {
             "readFloatTable",
             "readTextFile",
             "getTreeKey",
-            "find",
-            "count",
             "index",
-            "len",
-            "listAdd",
-            "listClean",
-            "listCount",
-            "listIndex",
-            "listItem",
-            "listRandom",
-            "listRange",
-            "listRemove",
-            "listSize",
-            "substring",
-            "replace",
-            "splitString",
             "comp",
             "isInside",
             "isOccluded",

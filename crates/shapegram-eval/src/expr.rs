@@ -14,6 +14,7 @@ use crate::error::DeriveError;
 use crate::program::{CExpr, CKind, Program};
 use crate::rng::Rng;
 use crate::shape::{Geometry, State};
+use crate::text::{Out, Text};
 use crate::value::Value;
 use shapegram_kinematics::Frame;
 
@@ -444,6 +445,47 @@ impl<'p> Evaluator<'p> {
         })
     }
 
+    /// A string or string-list function: its numeric arguments as numbers, the others as
+    /// strings (`listFromArray` takes an array of strings).
+    fn text(
+        &mut self,
+        t: Text,
+        params: &[CExpr],
+        shape: &mut State,
+        args: &[Value],
+        span: Span,
+    ) -> Result<Value> {
+        if t == Text::ListFromArray {
+            return match self.eval(&params[0], shape, args)? {
+                Value::Array(items) => Ok(Value::string(
+                    &items.iter().map(|i| format!("{i};")).collect::<String>(),
+                )),
+                other => Err(DeriveError::at(
+                    format!("expected an array, found a {}", other.type_name()),
+                    params[0].span,
+                )),
+            };
+        }
+        let mut strings = Vec::new();
+        let mut numbers = Vec::new();
+        for (i, p) in params.iter().enumerate() {
+            if t.numeric(i) {
+                numbers.push(self.number(p, shape, args)?);
+            } else {
+                strings.push(self.string(p, shape, args)?);
+            }
+        }
+        let texts: Vec<&str> = strings.iter().map(|s| &**s).collect();
+        let out = t
+            .apply(&texts, &numbers, || shape.rng.next_f64())
+            .map_err(|e| DeriveError::at(e, span))?;
+        Ok(match out {
+            Out::Number(n) => Value::Number(n),
+            Out::Str(s) => Value::string(&s),
+            Out::Strings(parts) => Value::Array(parts.iter().map(|p| Value::string(p)).collect()),
+        })
+    }
+
     /// A bare word (`intra`) or a string.
     fn word(&mut self, e: &CExpr, shape: &mut State, args: &[Value]) -> Result<Arc<str>> {
         match &e.kind {
@@ -464,6 +506,7 @@ impl<'p> Evaluator<'p> {
             Builtin::Inside | Builtin::Overlaps | Builtin::Touches | Builtin::Occ => {
                 return self.occlusion(b, params, shape, args, span);
             }
+            Builtin::Text(t) => return self.text(t, params, shape, args, span),
             Builtin::Str => {
                 return Ok(Value::string(
                     &self.eval(&params[0], shape, args)?.to_string(),
@@ -550,7 +593,8 @@ impl<'p> Evaluator<'p> {
             | Builtin::Inside
             | Builtin::Overlaps
             | Builtin::Touches
-            | Builtin::Occ => unreachable!("handled above"),
+            | Builtin::Occ
+            | Builtin::Text(_) => unreachable!("handled above"),
         };
         if !value.is_finite() {
             return Err(DeriveError::at(

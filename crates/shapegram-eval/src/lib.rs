@@ -21,6 +21,7 @@ pub mod rng;
 mod shape;
 mod snapshot;
 mod solids;
+mod text;
 mod value;
 
 pub use engine::{

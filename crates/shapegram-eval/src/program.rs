@@ -655,12 +655,10 @@ impl<'g> Compiler<'g> {
             self.uses.context |= context;
             return CKind::Builtin(builtin, compiled);
         }
-        let candidates: Vec<&str> = self
-            .function_by_name
-            .keys()
-            .copied()
-            .chain(Builtin::NAMES.iter().copied())
-            .collect();
+        let mut candidates: Vec<&str> = self.function_by_name.keys().copied().collect();
+        for builtin in Builtin::all_names() {
+            candidates.push(builtin);
+        }
         let mut d = Diagnostic::error(format!("unknown function `{}`", name.name), name.span);
         if let Some(close) = suggest(&name.name, candidates) {
             d = d.with_hint(format!("did you mean `{close}`?"));

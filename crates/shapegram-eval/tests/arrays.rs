@@ -104,3 +104,25 @@ fn bad_ranges_and_indices_are_errors_at_the_expression() {
         )
     );
 }
+
+#[test]
+fn string_and_list_functions_run_in_grammars() {
+    assert_eq!(
+        printed(&[
+            "findFirst(\"oak;elm;\", \"elm\")",
+            "count(\"a-b-c\", \"-\")",
+            "substring(\"facade\", 1, 4)",
+            "listItem(\"oak;elm;ash;\", 2)",
+            "listSize(\"oak;elm;ash;\")",
+            "listFromArray([\"a\", \"b\"])",
+            "splitString(\"1,2,3\", \",\")",
+            "getSuffix(\"tex/wall.jpg\", \".\")",
+        ]),
+        ["4", "2", "aca", "ash", "3", "a;b;", "[1,2,3]", "jpg"]
+    );
+    // listRandom draws from the shape's stream: the same seed picks the same item.
+    let text = "Lot --> print(listRandom(\"a;b;c;d;e;f;g;h;\")) X.\n";
+    let first = run(text, lot(4.0, 4.0)).prints;
+    assert_eq!(first, run(text, lot(4.0, 4.0)).prints);
+    assert_eq!(first[0].len(), 1);
+}
