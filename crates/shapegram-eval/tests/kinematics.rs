@@ -544,3 +544,29 @@ fn posed_occlusion_is_the_same_whatever_the_thread_count() {
         9
     );
 }
+
+#[test]
+fn a_joint_may_lie_outside_the_shape_but_must_be_a_number() {
+    // A hinge 2 m beside the leaf: allowed, the leaf swings about it.
+    let text = "Lot --> extrude(2) s(1, '1, 0.1) Leaf
+Leaf --> joint(3, 0, 0) rotationLimits(y, -90, 90) rotateJoint(0, 90, 0) Panel.";
+    let d = run(text, lot(4.0, 4.0));
+    let skeleton = &d.skeletons[0].1;
+    let section = shapegram_geom::kinematics::SectionId(d.leaves[0].section);
+    let joint = skeleton.section(section).rest().translation;
+    assert!(
+        (joint.x - 3.0).abs() < 1e-12 && joint.y.abs() < 1e-12,
+        "{joint}"
+    );
+    let motion = skeleton.motion(section).unwrap();
+    // The leaf's origin corner, 3 m from the hinge, swings a quarter turn about it.
+    let corner = motion.transform_point(d.leaves[0].scope.origin);
+    assert!(
+        (corner - DVec3::new(3.0, 0.0, 3.0)).length() < 1e-9,
+        "{corner}"
+    );
+    // A position that is not a number is an error at the operation.
+    let text = "Lot --> extrude(2) Leaf\nLeaf --> joint(0 / 0, 0, 0) Panel.";
+    let error = try_run(text, lot(4.0, 4.0), &DeriveOptions::default()).unwrap_err();
+    assert!(error.span.is_some(), "{}", error.message);
+}
