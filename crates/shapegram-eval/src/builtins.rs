@@ -37,6 +37,13 @@ pub(crate) enum Builtin {
     Overlaps,
     Touches,
     Occ,
+    IsRectangular,
+    IsConcave,
+    IsPlanar,
+    IsClosedSurface,
+    EdgeCount,
+    BoundaryLength,
+    Height,
     /// A string or string-list function.
     Text(Text),
 }
@@ -44,12 +51,48 @@ pub(crate) enum Builtin {
 impl Builtin {
     /// Every built-in's name, in the order of [`Builtin::ALL`].
     pub const NAMES: &'static [&'static str] = &[
-        "rand", "p", "floor", "ceil", "round", "rint", "isnan", "isinf", "abs", "min", "max",
-        "sqrt", "pow", "exp", "ln", "log10", "sin", "cos", "tan", "asin", "acos", "atan", "atan2",
-        "clamp", "str", "float", "bool", "size", "inside", "overlaps", "touches", "occ",
+        "rand",
+        "p",
+        "floor",
+        "ceil",
+        "round",
+        "rint",
+        "isnan",
+        "isinf",
+        "abs",
+        "min",
+        "max",
+        "sqrt",
+        "pow",
+        "exp",
+        "ln",
+        "log10",
+        "sin",
+        "cos",
+        "tan",
+        "asin",
+        "acos",
+        "atan",
+        "atan2",
+        "clamp",
+        "str",
+        "float",
+        "bool",
+        "size",
+        "inside",
+        "overlaps",
+        "touches",
+        "occ",
+        "geometry.isRectangular",
+        "geometry.isConcave",
+        "geometry.isPlanar",
+        "geometry.isClosedSurface",
+        "geometry.nEdges",
+        "geometry.boundaryLength",
+        "geometry.height",
     ];
 
-    const ALL: [Builtin; 32] = [
+    const ALL: [Builtin; 39] = [
         Self::Rand,
         Self::P,
         Self::Floor,
@@ -82,6 +125,13 @@ impl Builtin {
         Self::Overlaps,
         Self::Touches,
         Self::Occ,
+        Self::IsRectangular,
+        Self::IsConcave,
+        Self::IsPlanar,
+        Self::IsClosedSurface,
+        Self::EdgeCount,
+        Self::BoundaryLength,
+        Self::Height,
     ];
 
     /// The built-in with this name.
@@ -110,6 +160,11 @@ impl Builtin {
             Self::Clamp => (3, 3),
             Self::Inside | Self::Overlaps | Self::Touches => (0, 2),
             Self::Occ => (0, 1),
+            Self::IsConcave
+            | Self::IsClosedSurface
+            | Self::EdgeCount
+            | Self::BoundaryLength
+            | Self::Height => (0, 0),
             Self::Text(t) => t.arity(),
             _ => (1, 1),
         }
@@ -133,6 +188,13 @@ impl Builtin {
             Self::Overlaps => "overlaps([all | intra | inter [, label]])",
             Self::Touches => "touches([all | intra | inter [, label]])",
             Self::Occ => "occ([\"noparent\" | label])",
+            Self::IsRectangular => "geometry.isRectangular(tolerance)",
+            Self::IsPlanar => "geometry.isPlanar(tolerance)",
+            Self::IsConcave => "geometry.isConcave()",
+            Self::IsClosedSurface => "geometry.isClosedSurface()",
+            Self::EdgeCount => "geometry.nEdges()",
+            Self::BoundaryLength => "geometry.boundaryLength()",
+            Self::Height => "geometry.height()",
             Self::Text(t) => t.signature(),
             _ => "f(number)",
         }
@@ -200,13 +262,8 @@ impl Builtin {
             "fileDirectory",
             "fileExtension",
             "fileBasename",
-            "geometry.isRectangular",
-            "geometry.isPlanar",
-            "geometry.isConcave",
-            "geometry.isClosedSurface",
             "geometry.isOriented",
             "geometry.angle",
-            "geometry.height",
             "geometry.du",
             "geometry.dv",
             "geometry.uMin",
@@ -214,8 +271,6 @@ impl Builtin {
             "geometry.vMin",
             "geometry.vMax",
             "geometry.nHoles",
-            "geometry.nEdges",
-            "geometry.boundaryLength",
         ];
         NAMES.contains(&name)
     }

@@ -445,6 +445,40 @@ impl<'p> Evaluator<'p> {
         })
     }
 
+    /// `geometry.isRectangular(tolerance)` and the other questions about the shape's mesh
+    /// (see `shapegram_geom::shape_metrics`); a shape without geometry has no faces.
+    fn measure(
+        &mut self,
+        b: Builtin,
+        params: &[CExpr],
+        shape: &mut State,
+        args: &[Value],
+    ) -> Result<Value> {
+        use shapegram_geom::shape_metrics as m;
+        let tolerance = match params.first() {
+            Some(p) => self.number(p, shape, args)?,
+            None => 0.0,
+        };
+        let scope = shape.scope;
+        if b == Builtin::Height {
+            let height = shape
+                .geometry
+                .world_mesh(&scope)
+                .and_then(|mesh| mesh.bounds())
+                .map_or(0.0, |b| b.size().y);
+            return Ok(Value::Number(height));
+        }
+        let mesh = shape.geometry.local_mesh(scope.size).unwrap_or_default();
+        Ok(match b {
+            Builtin::IsRectangular => Value::Bool(m::is_rectangular(&mesh, tolerance)),
+            Builtin::IsConcave => Value::Bool(m::is_concave(&mesh)),
+            Builtin::IsPlanar => Value::Bool(m::is_planar(&mesh, tolerance)),
+            Builtin::IsClosedSurface => Value::Bool(m::is_closed_surface(&mesh)),
+            Builtin::EdgeCount => Value::Number(m::edge_count(&mesh) as f64),
+            _ => Value::Number(m::boundary_length(&mesh)),
+        })
+    }
+
     /// A string or string-list function: its numeric arguments as numbers, the others as
     /// strings (`listFromArray` takes an array of strings).
     fn text(
@@ -507,6 +541,13 @@ impl<'p> Evaluator<'p> {
                 return self.occlusion(b, params, shape, args, span);
             }
             Builtin::Text(t) => return self.text(t, params, shape, args, span),
+            Builtin::IsRectangular
+            | Builtin::IsConcave
+            | Builtin::IsPlanar
+            | Builtin::IsClosedSurface
+            | Builtin::EdgeCount
+            | Builtin::BoundaryLength
+            | Builtin::Height => return self.measure(b, params, shape, args),
             Builtin::Str => {
                 return Ok(Value::string(
                     &self.eval(&params[0], shape, args)?.to_string(),
@@ -594,6 +635,13 @@ impl<'p> Evaluator<'p> {
             | Builtin::Overlaps
             | Builtin::Touches
             | Builtin::Occ
+            | Builtin::IsRectangular
+            | Builtin::IsConcave
+            | Builtin::IsPlanar
+            | Builtin::IsClosedSurface
+            | Builtin::EdgeCount
+            | Builtin::BoundaryLength
+            | Builtin::Height
             | Builtin::Text(_) => unreachable!("handled above"),
         };
         if !value.is_finite() {

@@ -126,3 +126,32 @@ fn string_and_list_functions_run_in_grammars() {
     assert_eq!(first, run(text, lot(4.0, 4.0)).prints);
     assert_eq!(first[0].len(), 1);
 }
+
+#[test]
+fn geometry_functions_ask_about_the_shape_s_faces() {
+    let ask = "print(geometry.isRectangular(1) + \" \" + geometry.isConcave() + \" \" + geometry.isPlanar(0.1) + \" \" + geometry.isClosedSurface() + \" \" + geometry.nEdges() + \" \" + geometry.boundaryLength() + \" \" + geometry.height())";
+    let lot_l = shapegram_eval::InitialShape::from_xz(&[
+        shapegram_geom::DVec2::new(0.0, 0.0),
+        shapegram_geom::DVec2::new(6.0, 0.0),
+        shapegram_geom::DVec2::new(6.0, 2.0),
+        shapegram_geom::DVec2::new(2.0, 2.0),
+        shapegram_geom::DVec2::new(2.0, 5.0),
+        shapegram_geom::DVec2::new(0.0, 5.0),
+    ])
+    .unwrap();
+    let text = format!("Lot --> {ask} extrude(3) Mass\nMass --> {ask} X.\n");
+    assert_eq!(
+        run(&text, lot(4.0, 3.0)).prints,
+        [
+            "true false true false 4 14 0",
+            "true false true true 12 0 3"
+        ]
+    );
+    assert_eq!(
+        run(&text, lot_l).prints,
+        [
+            "false true true false 6 22 0",
+            "false true true true 18 0 3"
+        ]
+    );
+}

@@ -28,6 +28,7 @@ pub mod primitives;
 pub mod rectangle;
 pub mod roof;
 pub mod scope;
+pub mod shape_metrics;
 mod skeleton;
 pub mod split;
 pub mod topology;
