@@ -500,13 +500,29 @@ impl<'p> Evaluator<'p> {
                 )),
             };
         }
+        let values = params
+            .iter()
+            .map(|p| self.eval(p, shape, args))
+            .collect::<Result<Vec<_>>>()?;
+        // `findFirst(array, value)`: the index of the first element equal to the value.
+        if let (Text::FindFirst, [Value::Array(items), value]) = (t, values.as_slice()) {
+            let at = items.iter().position(|i| i == value);
+            return Ok(Value::Number(at.map_or(-1.0, |i| i as f64)));
+        }
         let mut strings = Vec::new();
         let mut numbers = Vec::new();
-        for (i, p) in params.iter().enumerate() {
-            if t.numeric(i) {
-                numbers.push(self.number(p, shape, args)?);
-            } else {
-                strings.push(self.string(p, shape, args)?);
+        for (i, (value, p)) in values.iter().zip(params).enumerate() {
+            let wrong = |what: &str| {
+                DeriveError::at(
+                    format!("expected {what}, found a {}", value.type_name()),
+                    p.span,
+                )
+            };
+            match value {
+                Value::Number(n) if t.numeric(i) => numbers.push(*n),
+                Value::Str(s) if !t.numeric(i) => strings.push(s.clone()),
+                _ if t.numeric(i) => return Err(wrong("a number")),
+                _ => return Err(wrong("a string")),
             }
         }
         let texts: Vec<&str> = strings.iter().map(|s| &**s).collect();

@@ -117,8 +117,12 @@ fn string_and_list_functions_run_in_grammars() {
             "listFromArray([\"a\", \"b\"])",
             "splitString(\"1,2,3\", \",\")",
             "getSuffix(\"tex/wall.jpg\", \".\")",
+            "findFirst(m[0:2, 1], 5)",
+            "findFirst([\"oak\", \"elm\"], \"ash\")",
         ]),
-        ["4", "2", "aca", "ash", "3", "a;b;", "[1,2,3]", "jpg"]
+        [
+            "4", "2", "aca", "ash", "3", "a;b;", "[1,2,3]", "jpg", "1", "-1"
+        ]
     );
     // listRandom draws from the shape's stream: the same seed picks the same item.
     let text = "Lot --> print(listRandom(\"a;b;c;d;e;f;g;h;\")) X.\n";
