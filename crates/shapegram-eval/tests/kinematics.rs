@@ -350,18 +350,7 @@ fn limits_that_leave_out_the_rest_pose_start_the_joint_at_the_nearest_limit() {
 #[test]
 fn skeletons_are_the_same_whatever_the_thread_count() {
     let program = common::compile(TOWER);
-    let lots: Vec<_> = (0..12)
-        .map(|i| {
-            let x = f64::from(i) * 30.0;
-            shapegram_eval::InitialShape::from_xz(&[
-                shapegram_geom::DVec2::new(x, 0.0),
-                shapegram_geom::DVec2::new(x + 20.0, 0.0),
-                shapegram_geom::DVec2::new(x + 20.0, 30.0),
-                shapegram_geom::DVec2::new(x, 30.0),
-            ])
-            .unwrap()
-        })
-        .collect();
+    let lots = common::lots_in_a_row(12, 20.0, 30.0, 30.0);
     let options = twisted(20.0);
     let with = |threads: usize| {
         let pool = rayon::ThreadPoolBuilder::new()
@@ -510,18 +499,7 @@ Wall --> split(x, snap) { { ~1 : Part. }* }
 fn posed_occlusion_is_the_same_whatever_the_thread_count() {
     let program = common::compile(DOOR_AND_PROBE);
     // Lots side by side, so that doors of one lot also meet the probes of the next.
-    let lots: Vec<_> = (0..9)
-        .map(|i| {
-            let x = f64::from(i) * 4.0;
-            shapegram_eval::InitialShape::from_xz(&[
-                shapegram_geom::DVec2::new(x, 0.0),
-                shapegram_geom::DVec2::new(x + 4.0, 0.0),
-                shapegram_geom::DVec2::new(x + 4.0, 2.0),
-                shapegram_geom::DVec2::new(x, 2.0),
-            ])
-            .unwrap()
-        })
-        .collect();
+    let lots = common::lots_in_a_row(9, 4.0, 2.0, 4.0);
     let options = DeriveOptions {
         attrs: vec![("open".into(), shapegram_eval::Value::Number(-90.0))],
         ..DeriveOptions::default()

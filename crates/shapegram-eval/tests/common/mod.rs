@@ -52,6 +52,22 @@ pub fn lot(w: f64, d: f64) -> InitialShape {
     .unwrap()
 }
 
+/// `count` lots of `w` × `d` in a row along x, each `step` from the last.
+pub fn lots_in_a_row(count: u32, w: f64, d: f64, step: f64) -> Vec<InitialShape> {
+    (0..count)
+        .map(|i| {
+            let x = f64::from(i) * step;
+            InitialShape::from_xz(&[
+                DVec2::new(x, 0.0),
+                DVec2::new(x + w, 0.0),
+                DVec2::new(x + w, d),
+                DVec2::new(x, d),
+            ])
+            .unwrap()
+        })
+        .collect()
+}
+
 /// Derives `text` on one lot with default options.
 pub fn run(text: &str, lot: InitialShape) -> Derivation {
     try_run(text, lot, &DeriveOptions::default()).unwrap()
