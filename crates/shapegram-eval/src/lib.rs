@@ -22,6 +22,7 @@ mod shape;
 mod snapshot;
 mod solids;
 mod text;
+mod trim;
 mod value;
 
 pub use engine::{

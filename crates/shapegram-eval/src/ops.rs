@@ -270,6 +270,8 @@ pub(crate) enum SetTarget {
     Attr(u32),
     Color(Option<usize>),
     MaterialName,
+    /// `trim.horizontal` (true) or `trim.vertical` (false).
+    Trim(bool),
     Ignored,
 }
 
@@ -1046,6 +1048,8 @@ impl Ctx<'_, '_> {
             "material.color.b" => SetTarget::Color(Some(2)),
             "material.opacity" => SetTarget::Color(Some(3)),
             "material.name" => SetTarget::MaterialName,
+            "trim.horizontal" => SetTarget::Trim(true),
+            "trim.vertical" => SetTarget::Trim(false),
             n if n.starts_with("material.") || n.starts_with("trim.") => {
                 self.warn_once(format!("`set({n}, …)` is not supported yet: ignored"));
                 SetTarget::Ignored

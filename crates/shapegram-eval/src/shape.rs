@@ -9,6 +9,7 @@ use shapegram_syntax::Span;
 
 use crate::program::Sym;
 use crate::rng::{Rng, child_seed};
+use crate::trim::Trim;
 use crate::value::Value;
 
 /// What a shape is made of.
@@ -238,6 +239,8 @@ pub struct State {
     /// The kinematic section the shape is attached to, in its lot's skeleton (0, the root,
     /// when the grammar builds none).
     pub section: u32,
+    /// The trim planes of the face component it came from, and which kinds of them cut.
+    pub trim: Trim,
 }
 
 impl FrozenState {
@@ -269,6 +272,7 @@ impl FrozenState {
             node: self.node,
             occluder: self.occluder,
             section: self.section,
+            trim: self.trim,
         }
     }
 }
@@ -296,6 +300,7 @@ pub struct FrozenState {
     node: u32,
     occluder: u32,
     section: u32,
+    trim: Trim,
 }
 
 impl State {
@@ -318,6 +323,7 @@ impl State {
             node: 0,
             occluder: NO_OCCLUDER,
             section: 0,
+            trim: Trim::default(),
         }
     }
 
@@ -357,6 +363,7 @@ impl State {
             node: self.node,
             occluder: self.occluder,
             section: self.section,
+            trim: self.trim.clone(),
         }
     }
 
@@ -379,6 +386,7 @@ impl State {
             node: self.node,
             occluder: self.occluder,
             section: self.section,
+            trim: self.trim,
         }
     }
 

@@ -657,3 +657,53 @@ fn rint_rounds_halves_to_even_and_numbers_are_never_nan_or_infinite() {
     );
     assert_eq!(d.prints, ["2 4 -2 3", "false false"]);
 }
+
+#[test]
+fn inserts_below_a_face_split_end_on_the_corner_mitres() {
+    // A 10 × 10 tower; each facade gets a ledge 20 % too long, centred, 0.5 m deep.
+    let ledges = |extra: &str, op: &str| {
+        let text = format!(
+            "Lot --> extrude(6) comp(f) {{ side {op} Facade }}
+Facade --> {extra} t(0, 3, 0) s('1, 0.3, 0.5) s('1.2, '1, '1) center(x) primitiveCube() Ledge."
+        );
+        let d = run(&text, lot(10.0, 10.0));
+        let mut all = shapegram_geom::Mesh::new();
+        for leaf in &d.leaves {
+            all.append(&leaf.world_mesh().unwrap());
+        }
+        (d.leaves.len(), all.bounds().unwrap())
+    };
+    // Trimmed: every ledge ends on the mitres, so the ring is 10.5 m across (0.5 m proud on
+    // every side) and nothing reaches past the corners' diagonals.
+    let (n, trimmed) = ledges("", ":");
+    assert_eq!(n, 4);
+    assert!(
+        close(trimmed.min, DVec3::new(-0.5, 3.0, -0.5)),
+        "{trimmed:?}"
+    );
+    assert!(
+        close(trimmed.max, DVec3::new(10.5, 3.3, 10.5)),
+        "{trimmed:?}"
+    );
+    // Untrimmed (vertical trimming off, or faces merged with `=`): they stick out 1 m.
+    for (extra, op) in [("set(trim.vertical, false)", ":"), ("", "=")] {
+        let (_, loose) = ledges(extra, op);
+        assert!(
+            loose.max.x > 10.9 || loose.max.z > 10.9,
+            "{extra} {op}: {loose:?}"
+        );
+    }
+    // Horizontal planes (the facade's top and bottom edges) cut only when asked to.
+    let tall = "Lot --> extrude(6) comp(f) { side : Facade }
+Facade --> SET s('1, 8, 0.5) center(x) primitiveCube() Pier.";
+    let top = |set: &str| {
+        let d = run(&tall.replace("SET", set), lot(10.0, 10.0));
+        let mut y: f64 = 0.0;
+        for leaf in &d.leaves {
+            y = y.max(leaf.world_mesh().unwrap().bounds().unwrap().max.y);
+        }
+        y
+    };
+    assert!((top("") - 8.0).abs() < 1e-9);
+    assert!(top("set(trim.horizontal, true)") < 6.0 + 0.5 + 1e-9);
+}

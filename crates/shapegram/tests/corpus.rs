@@ -4,7 +4,7 @@
 
 mod common;
 
-use common::{shapegram, stderr};
+use common::{TempDir, shapegram, stderr};
 use shapegram_corpus::{Corpus, corpus_tests};
 
 fn check_accepts_the_cityengine_anchor_grammars(corpus: &Corpus) {
@@ -61,8 +61,63 @@ fn the_prt_reference_names_every_rule_package(corpus: &Corpus) {
     assert_eq!(Corpus::files(&corpus.rpk(), "rpk").len(), 16);
 }
 
+/// The Candler building from its rule package, with the package's own assets (no stand-ins),
+/// on PRT's initial shape (the default lot): PRT's bounding box within 1 % per axis (the
+/// cornices end on the corner mitres of the trim planes) and PRT's area within 5 %.
+fn the_candler_building_measures_what_prt_makes(corpus: &Corpus) {
+    let rules = corpus
+        .rpk()
+        .join("palladio__candler/rules/Candler Building.cga");
+    let dir = TempDir::new("candler");
+    let out = dir.path("candler.glb");
+    let output = shapegram(&[
+        "derive".as_ref(),
+        rules.as_os_str(),
+        "-q".as_ref(),
+        "-o".as_ref(),
+        out.as_os_str(),
+    ]);
+    assert!(output.status.success(), "{}", stderr(&output));
+    let info = shapegram(&["info".as_ref(), "--json".as_ref(), out.as_os_str()]);
+    let info: serde_json::Value = serde_json::from_slice(&info.stdout).expect("info JSON");
+    let path = corpus.rpk().join("prt-reference.json");
+    let text = std::fs::read_to_string(&path).expect("the PRT reference");
+    let reference: serde_json::Value = serde_json::from_str(&text).expect("valid JSON");
+    let prt = reference
+        .as_array()
+        .and_then(|all| all.iter().find(|p| p["package"] == "palladio__candler"))
+        .map(|p| &p["prt"])
+        .expect("PRT's Candler");
+    let triple = |v: &serde_json::Value| -> Vec<f64> {
+        v.as_array()
+            .unwrap()
+            .iter()
+            .map(|x| x.as_f64().unwrap())
+            .collect()
+    };
+    let (ours, theirs) = (
+        triple(&info["bounds"]["size"]),
+        triple(&prt["bbox"]["size"]),
+    );
+    for axis in 0..3 {
+        assert!(
+            (ours[axis] - theirs[axis]).abs() <= 0.01 * theirs[axis],
+            "size {ours:?} against PRT's {theirs:?}"
+        );
+    }
+    let (area, prt_area) = (
+        info["area"].as_f64().unwrap(),
+        prt["area"].as_f64().unwrap(),
+    );
+    assert!(
+        (area - prt_area).abs() <= 0.05 * prt_area,
+        "area {area} against PRT's {prt_area}"
+    );
+}
+
 corpus_tests!(
     check_accepts_the_cityengine_anchor_grammars,
+    the_candler_building_measures_what_prt_makes,
     the_cityengine_anchor_grammars_derive_or_fail_with_a_message,
     the_prt_reference_names_every_rule_package,
 );

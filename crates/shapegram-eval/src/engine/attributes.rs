@@ -81,6 +81,11 @@ impl Engine<'_> {
                 v => return Err(wrong("a number", &v)),
             },
             SetTarget::MaterialName => state.material = Some(Arc::from(value.to_string().as_str())),
+            SetTarget::Trim(horizontal) => match value {
+                Value::Bool(on) if *horizontal => state.trim.horizontal = on,
+                Value::Bool(on) => state.trim.vertical = on,
+                v => return Err(wrong("true or false", &v)),
+            },
             SetTarget::Ignored => {}
         }
         Ok(())

@@ -10,6 +10,7 @@ use super::implicit::no_solid;
 use super::machine::{Engine, Phase, Work};
 use crate::ops::{CompEntry, CompKind, CompSelector};
 use crate::shape::{FaceTag, Geometry, State, fills_box};
+use crate::trim::face_planes;
 use crate::value::Value;
 
 impl<'p> Engine<'p> {
@@ -36,6 +37,11 @@ impl<'p> Engine<'p> {
             CompKind::Faces => component::faces(&world),
             CompKind::Edges => component::edges(&world),
             CompKind::Vertices => component::vertices(&world),
+        };
+        // Each face's trim planes, at the edges it shares with the other faces.
+        let planes = match kind {
+            CompKind::Faces => face_planes(&world),
+            _ => Vec::new(),
         };
         let tags = state.geometry.tags();
         let mut assigned: Vec<Vec<usize>> = vec![Vec::new(); entries.len()];
@@ -64,6 +70,8 @@ impl<'p> Engine<'p> {
                 let mut child = state.spawn();
                 child.comp = (0, 1);
                 child.comp_sel = entry.selector.code();
+                // Faces merged with `=` get no trim planes.
+                child.trim = state.trim.with_planes(Vec::new());
                 child.scope = Scope::fit(
                     components[chosen[0]].scope.axes,
                     merged.positions().iter().copied(),
@@ -81,6 +89,9 @@ impl<'p> Engine<'p> {
                 child.comp = (i as u32, chosen.len() as u32);
                 child.comp_sel = entry.selector.code();
                 child.scope = comp.scope;
+                if let Some(face) = planes.get(comp.source) {
+                    child.trim = state.trim.with_planes(face.clone());
+                }
                 self.hang_component(state, &mut child, &entry.body, &mut made);
                 child.geometry = match kind {
                     CompKind::Faces => {

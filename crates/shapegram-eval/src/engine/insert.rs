@@ -70,6 +70,7 @@ impl Engine<'_> {
         let variant = (child_seed(state.seed, u64::MAX) % u64::from(ASSET_VARIANTS)) as u32;
         let asset = self.asset(&file, variant, path.span)?;
         fit_asset(state, &asset);
+        trim(state);
         Ok(())
     }
 
@@ -112,6 +113,7 @@ impl Engine<'_> {
                 Geometry::mesh(primitives::sphere(size, count(1, 2 * rings)?, rings))
             }
         };
+        trim(state);
         Ok(())
     }
 
@@ -134,6 +136,27 @@ impl Engine<'_> {
         loader
             .asset(path, variant)
             .map_err(|why| DeriveError::at(format!("cannot insert `{path}`: {why}"), span))
+    }
+}
+
+/// Cuts what was just inserted at the shape's trim planes (see [`crate::trim`]); what nothing
+/// is left of keeps no geometry. A plane cuts what lies along its edge, give or take the
+/// shape's largest size.
+fn trim(state: &mut State) {
+    if !state.trim.cuts() {
+        return;
+    }
+    let Some(world) = state.geometry.world_mesh(&state.scope) else {
+        return;
+    };
+    let reach = state.scope.size.abs().max_element();
+    if let Some(mut cut) = state.trim.cut(&world, reach) {
+        state.geometry = if cut.is_empty() {
+            Geometry::Empty
+        } else {
+            cut.transform(&state.scope.world_to_local());
+            Geometry::mesh(cut)
+        };
     }
 }
 
