@@ -107,6 +107,12 @@ impl Trim {
     }
 }
 
+/// A corner on the grid that tells coinciding points apart.
+type Corner = [u64; 3];
+
+/// An edge's ends and the faces along it.
+type SharedEdge = (DVec3, DVec3, Vec<usize>);
+
 fn add_polygon(mesh: &mut Mesh, points: &[DVec3]) {
     let ids: Vec<u32> = points.iter().map(|&q| mesh.add_vertex(q)).collect();
     mesh.add_face(&ids);
@@ -123,8 +129,7 @@ pub fn face_planes(mesh: &Mesh) -> Vec<Vec<TrimPlane>> {
     // Faces meet where their corners coincide: points are compared on a fine grid.
     let grid = 1e-9 * size;
     let key = |p: DVec3| p.to_array().map(|x| ((x / grid).round() + 0.0).to_bits());
-    let mut edges: FxHashMap<([u64; 3], [u64; 3]), (DVec3, DVec3, Vec<usize>)> =
-        FxHashMap::default();
+    let mut edges: FxHashMap<(Corner, Corner), SharedEdge> = FxHashMap::default();
     for f in 0..mesh.face_count() {
         let points: Vec<DVec3> = mesh.face_points(f).collect();
         for (i, &a) in points.iter().enumerate() {
