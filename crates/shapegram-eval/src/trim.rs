@@ -3,7 +3,7 @@
 //! the two faces' normals, and what `i()` and `primitive…()` insert in it or below it is cut
 //! there — a cornice inserted a little longer than its facade ends on the mitre at the corner.
 
-use std::sync::Arc;
+use std::sync::{Arc, OnceLock};
 
 use rustc_hash::FxHashMap;
 
@@ -22,22 +22,31 @@ pub struct TrimPlane {
 }
 
 /// A shape's trim planes and which kinds of them cut.
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug, Default)]
 pub struct Trim {
-    planes: Option<Arc<[TrimPlane]>>,
+    /// The face of a component split the shape came from, whose planes are worked out the
+    /// first time something is inserted below it: most faces never need them.
+    face: Option<(Arc<Faces>, u32)>,
     /// `trim.horizontal`: planes at edges within 40° of the horizontal cut (off by default).
     pub horizontal: bool,
-    /// `trim.vertical`: the other planes cut (on by default).
-    pub vertical: bool,
+    /// `trim.vertical`: the other planes cut (on unless set off).
+    vertical_off: bool,
 }
 
-impl Default for Trim {
-    fn default() -> Self {
-        Self {
-            planes: None,
-            horizontal: false,
-            vertical: true,
-        }
+/// The faces of one component split (world space) and, once asked for, their trim planes.
+#[derive(Debug)]
+pub struct Faces {
+    mesh: Mesh,
+    planes: OnceLock<Vec<Vec<TrimPlane>>>,
+}
+
+impl Faces {
+    /// The faces of a mesh (world space), their planes not worked out yet.
+    pub fn new(mesh: Mesh) -> Arc<Self> {
+        Arc::new(Self {
+            mesh,
+            planes: OnceLock::new(),
+        })
     }
 }
 
@@ -45,25 +54,48 @@ impl Default for Trim {
 const HORIZONTAL_DEGREES: f64 = 40.0;
 
 impl Trim {
-    /// These settings with the given planes instead of the shape's.
-    pub fn with_planes(&self, planes: Vec<TrimPlane>) -> Self {
+    /// `trim.vertical`: whether planes at steep edges cut.
+    pub fn vertical(&self) -> bool {
+        !self.vertical_off
+    }
+
+    /// Sets `trim.vertical`.
+    pub fn set_vertical(&mut self, on: bool) {
+        self.vertical_off = !on;
+    }
+
+    /// These settings with the planes of face `face` of `faces` instead of the shape's (or
+    /// none).
+    pub fn with_face(&self, face: Option<(&Arc<Faces>, usize)>) -> Self {
         Self {
-            planes: (!planes.is_empty()).then(|| planes.into()),
+            face: face.map(|(faces, f)| (Arc::clone(faces), f as u32)),
             ..self.clone()
+        }
+    }
+
+    /// The shape's planes.
+    fn planes(&self) -> &[TrimPlane] {
+        match &self.face {
+            Some((faces, f)) => faces
+                .planes
+                .get_or_init(|| face_planes(&faces.mesh))
+                .get(*f as usize)
+                .map_or(&[], Vec::as_slice),
+            None => &[],
+        }
+    }
+
+    fn enabled(&self, plane: &TrimPlane) -> bool {
+        if plane.horizontal {
+            self.horizontal
+        } else {
+            self.vertical()
         }
     }
 
     /// Whether any plane would cut (the shape has planes of a kind that is on).
     pub fn cuts(&self) -> bool {
-        self.planes.as_deref().is_some_and(|planes| {
-            planes.iter().any(|p| {
-                if p.horizontal {
-                    self.horizontal
-                } else {
-                    self.vertical
-                }
-            })
-        })
+        self.face.is_some() && self.planes().iter().any(|p| self.enabled(p))
     }
 
     /// `mesh` (world space) cut by every enabled plane, without closing the cuts; `None` when
@@ -71,15 +103,10 @@ impl Trim {
     /// `reach`: on a face that is not convex, the plane of one notch would otherwise cut a far
     /// part of it.
     pub fn cut(&self, mesh: &Mesh, reach: f64) -> Option<Mesh> {
-        let planes = self.planes.as_deref()?;
         let mut current = mesh.clone();
         let mut cut = false;
-        for p in planes {
-            if !(if p.horizontal {
-                self.horizontal
-            } else {
-                self.vertical
-            }) {
+        for p in self.planes() {
+            if !self.enabled(p) {
                 continue;
             }
             let (a, b) = p.edge;
@@ -201,7 +228,8 @@ mod tests {
         let front = (0..cube.face_count())
             .find(|&f| cube.face_normal(f).z > 0.5)
             .unwrap();
-        let trim = Trim::default().with_planes(planes[front].clone());
+        let faces = Faces::new(cube.clone());
+        let trim = Trim::default().with_face(Some((&faces, front)));
         let mut beam = primitives::cuboid(DVec3::new(8.0, 0.5, 0.5));
         beam.transform(&shapegram_geom::DAffine3::from_translation(DVec3::new(
             -2.0, 1.0, 4.0,

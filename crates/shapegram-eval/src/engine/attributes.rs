@@ -83,7 +83,7 @@ impl Engine<'_> {
             SetTarget::MaterialName => state.material = Some(Arc::from(value.to_string().as_str())),
             SetTarget::Trim(horizontal) => match value {
                 Value::Bool(on) if *horizontal => state.trim.horizontal = on,
-                Value::Bool(on) => state.trim.vertical = on,
+                Value::Bool(on) => state.trim.set_vertical(on),
                 v => return Err(wrong("true or false", &v)),
             },
             SetTarget::Ignored => {}

@@ -10,7 +10,7 @@ use super::implicit::no_solid;
 use super::machine::{Engine, Phase, Work};
 use crate::ops::{CompEntry, CompKind, CompSelector};
 use crate::shape::{FaceTag, Geometry, State, fills_box};
-use crate::trim::face_planes;
+use crate::trim::Faces;
 use crate::value::Value;
 
 impl<'p> Engine<'p> {
@@ -38,11 +38,9 @@ impl<'p> Engine<'p> {
             CompKind::Edges => component::edges(&world),
             CompKind::Vertices => component::vertices(&world),
         };
-        // Each face's trim planes, at the edges it shares with the other faces.
-        let planes = match kind {
-            CompKind::Faces => face_planes(&world),
-            _ => Vec::new(),
-        };
+        // The faces' trim planes, at the edges each shares with the others, for what is
+        // inserted below them.
+        let faces = (kind == CompKind::Faces).then(|| Faces::new(world));
         let tags = state.geometry.tags();
         let mut assigned: Vec<Vec<usize>> = vec![Vec::new(); entries.len()];
         for (c, comp) in components.iter().enumerate() {
@@ -71,7 +69,7 @@ impl<'p> Engine<'p> {
                 child.comp = (0, 1);
                 child.comp_sel = entry.selector.code();
                 // Faces merged with `=` get no trim planes.
-                child.trim = state.trim.with_planes(Vec::new());
+                child.trim = state.trim.with_face(None);
                 child.scope = Scope::fit(
                     components[chosen[0]].scope.axes,
                     merged.positions().iter().copied(),
@@ -89,8 +87,8 @@ impl<'p> Engine<'p> {
                 child.comp = (i as u32, chosen.len() as u32);
                 child.comp_sel = entry.selector.code();
                 child.scope = comp.scope;
-                if let Some(face) = planes.get(comp.source) {
-                    child.trim = state.trim.with_planes(face.clone());
+                if let Some(faces) = &faces {
+                    child.trim = state.trim.with_face(Some((faces, comp.source)));
                 }
                 self.hang_component(state, &mut child, &entry.body, &mut made);
                 child.geometry = match kind {
