@@ -80,6 +80,8 @@ pub(crate) enum Op {
     Report(CExpr, CExpr),
     Print(CExpr),
     ReverseNormals,
+    /// `trim()`: the shape's geometry cut at its trim planes.
+    Trim,
     Offset {
         distance: CExpr,
         keep: OffsetKeep,
@@ -439,6 +441,7 @@ const IMPLEMENTED: &[&str] = &[
     "report",
     "print",
     "reverseNormals",
+    "trim",
     "offset",
     "roofGable",
     "roofHip",
@@ -651,6 +654,10 @@ impl Ctx<'_, '_> {
             "reverseNormals" => {
                 self.arity(0, 0, "reverseNormals()")?;
                 Op::ReverseNormals
+            }
+            "trim" => {
+                self.arity(0, 0, "trim()")?;
+                Op::Trim
             }
             "offset" => self.offset()?,
             "roofGable" => self.roof(RoofKind::Gable, "roofGable(angle [, overhang])")?,

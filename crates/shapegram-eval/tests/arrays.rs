@@ -159,3 +159,31 @@ fn geometry_functions_ask_about_the_shape_s_faces() {
         ]
     );
 }
+
+#[test]
+fn every_string_function_is_known_to_the_compiler() {
+    assert_eq!(
+        printed(&[
+            "fileBasename(\"tex/wall.01.jpg\")",
+            "fileExtension(\"tex/wall.01.jpg\")",
+            "fileDirectory(\"tex/wall.jpg\")",
+            "fileName(\"tex/wall.jpg\")",
+            "findLast(\"a.b.c\", \".\")",
+            "getPrefix(\"a_b\", \"_\")",
+            "getRange(\"[a]\", \"[\", \"]\")",
+            "replace(\"a-b\", \"-\", \"+\")",
+            "len(\"abc\")",
+            "listFirst(\"a;b;\") + listLast(\"a;b;\")",
+            "listRange(\"a;b;c;\", 1, 3)",
+            "listIndex(\"a;b;\", \"b\") + listCount(\"a;b;a;\", \"a\")",
+            "listAdd(\"a\", \"b\") + listRemove(\"a;b;\", \"a\")",
+            "listRemoveAll(\"a;b;\", \"b;\") + listRetainAll(\"a;b;\", \"b;\")",
+            "listClean(\";a;;\") + listTerminate(\"a\")",
+            "listToArray(\"a;b;\")",
+        ]),
+        [
+            "wall.01", "jpg", "tex/", "wall.jpg", "3", "a", "a", "a+b", "3", "ab", "b;c;", "3",
+            "a;b;b;", "a;b;", "a;a;", "[a,b]"
+        ]
+    );
+}

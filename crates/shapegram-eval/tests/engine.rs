@@ -707,3 +707,33 @@ Facade --> SET s('1, 8, 0.5) center(x) primitiveCube() Pier.";
     assert!((top("") - 8.0).abs() < 1e-9);
     assert!(top("set(trim.horizontal, true)") < 6.0 + 0.5 + 1e-9);
 }
+
+#[test]
+fn trim_cuts_the_shape_s_own_geometry() {
+    // Each facade extruded into a 0.5 m slab, 20 % too wide: trim() mitres it at the corners.
+    let text = |trim: &str| {
+        format!(
+            "Lot --> extrude(6) comp(f) {{ side : Facade }}
+Facade --> s('1.2, '1, '1) center(x) extrude(0.5) {trim} Slab."
+        )
+    };
+    let bounds = |text: &str| {
+        let d = run(text, lot(10.0, 10.0));
+        let mut all = shapegram_geom::Mesh::new();
+        for leaf in &d.leaves {
+            all.append(&leaf.world_mesh().unwrap());
+        }
+        all.bounds().unwrap()
+    };
+    let trimmed = bounds(&text("trim()"));
+    assert!(
+        close(trimmed.min, DVec3::new(-0.5, 0.0, -0.5)),
+        "{trimmed:?}"
+    );
+    assert!(
+        close(trimmed.max, DVec3::new(10.5, 6.0, 10.5)),
+        "{trimmed:?}"
+    );
+    let loose = bounds(&text(""));
+    assert!(loose.max.x > 10.9, "{loose:?}");
+}

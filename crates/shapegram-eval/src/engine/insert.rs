@@ -139,10 +139,10 @@ impl Engine<'_> {
     }
 }
 
-/// Cuts what was just inserted at the shape's trim planes (see [`crate::trim`]); what nothing
-/// is left of keeps no geometry. A plane cuts what lies along its edge, give or take the
-/// shape's largest size.
-fn trim(state: &mut State) {
+/// Cuts the shape's geometry at its trim planes (see [`crate::trim`]), as inserts do and CGA's
+/// `trim()`; what nothing is left of keeps no geometry. A plane cuts what lies along its edge,
+/// give or take the shape's largest size.
+pub(super) fn trim(state: &mut State) {
     if !state.trim.cuts() {
         return;
     }

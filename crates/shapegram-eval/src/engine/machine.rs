@@ -10,6 +10,7 @@ use shapegram_syntax::Span;
 use super::derive::Batch;
 use super::footprint::{SetbackOutputs, reverse_normals};
 use super::implicit::implicit;
+use super::insert::trim;
 use super::kinematics::LastRotation;
 use super::reuse::Previous;
 use super::scope::{align_to_axes, align_to_bbox, center};
@@ -553,6 +554,7 @@ impl<'p> Engine<'p> {
             Op::Report(key, value) => self.report(state, key, value, args)?,
             Op::Print(value) => self.print(state, value, args)?,
             Op::ReverseNormals => reverse_normals(state, span)?,
+            Op::Trim => trim(state),
             Op::Offset { distance, keep } => self.offset(state, distance, *keep, span, args)?,
             Op::Roof(kind, params) => self.roof(state, *kind, params, span, args)?,
             Op::Implicit(kind) => implicit(state, *kind, span)?,
