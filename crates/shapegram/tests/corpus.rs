@@ -115,8 +115,104 @@ fn the_candler_building_measures_what_prt_makes(corpus: &Corpus) {
     );
 }
 
+/// The packages whose derivation matches PRT's on its initial shape (bounding box within 1 %
+/// per axis, triangles and area within 5 %; those with random choices, whose values come from
+/// PRT's own generator, by footprint: x and z within 1 %). The issue asks for 14 of 16; the
+/// rest wait for imports (`dynamic_imports`), `comp` as a function (`envelope2002`),
+/// `geometry.nHoles` (`FacesHolesVerticesrule`) and Candler's triangle count (84,382 against
+/// 66,646). A package that starts or stops matching fails this test until the list says so.
+const MATCHING_PRT: &[&str] = &[
+    "palladio__GenAttrs1",
+    "palladio__uvsets",
+    "pyprt-examples__extrusion_rule",
+    "pyprt-examples__noRule",
+    "pyprt-examples__translateModel",
+    "pyprt__arrayAttrs",
+    "pyprt__arrayAttrs2d",
+    "pyprt__identity",
+    "rhino__complexpatterns_01",
+    "rhino__reporting_01",
+    "serlio__CE-6813-wrong-attr-style",
+];
+
+/// Packages whose geometry depends on `rand` or `p`: compared by footprint.
+const RANDOM_PACKAGES: &[&str] = &["pyprt-examples__extrusion_rule", "pyprt__envelope2002"];
+
+fn the_rule_packages_match_prt_as_listed(corpus: &Corpus) {
+    let path = corpus.rpk().join("prt-reference.json");
+    let text = std::fs::read_to_string(&path).expect("the PRT reference");
+    let reference: serde_json::Value = serde_json::from_str(&text).expect("valid JSON");
+    let dir = TempDir::new("prt");
+    let mut matching = Vec::new();
+    let mut table = String::new();
+    for package in reference.as_array().expect("a list of packages") {
+        let name = package["package"].as_str().expect("a name");
+        let rules = package["rule_file"]
+            .as_str()
+            .expect("a rule file")
+            .replace("bin/", "rules/")
+            .replace(".cgb", ".cga");
+        let out = dir.path(&format!("{name}.glb"));
+        let rule_file = corpus.rpk().join(name).join(rules);
+        let output = shapegram(&[
+            "derive".as_ref(),
+            rule_file.as_os_str(),
+            "--start".as_ref(),
+            package["start_rule"]
+                .as_str()
+                .expect("a start rule")
+                .as_ref(),
+            "-q".as_ref(),
+            "-o".as_ref(),
+            out.as_os_str(),
+        ]);
+        if !output.status.success() {
+            table += &format!("{name}: {}\n", stderr(&output).lines().next().unwrap_or(""));
+            continue;
+        }
+        let info = shapegram(&["info".as_ref(), "--json".as_ref(), out.as_os_str()]);
+        let info: serde_json::Value = serde_json::from_slice(&info.stdout).expect("info JSON");
+        let prt = &package["prt"];
+        let size = |v: &serde_json::Value| -> Vec<f64> {
+            v.as_array()
+                .unwrap()
+                .iter()
+                .map(|x| x.as_f64().unwrap())
+                .collect()
+        };
+        let (ours, theirs) = (size(&info["bounds"]["size"]), size(&prt["bbox"]["size"]));
+        let near = |a: f64, b: f64, share: f64| (a - b).abs() <= share * b.abs().max(1e-9);
+        let axes: Vec<bool> = (0..3).map(|k| near(ours[k], theirs[k], 0.01)).collect();
+        let (triangles, prt_triangles) = (
+            info["triangles"].as_f64().unwrap(),
+            prt["counts"]["triangles"].as_f64().unwrap(),
+        );
+        let (area, prt_area) = (
+            info["area"].as_f64().unwrap(),
+            prt["area"].as_f64().unwrap(),
+        );
+        let matches = if RANDOM_PACKAGES.contains(&name) {
+            axes[0] && axes[2]
+        } else {
+            axes.iter().all(|&a| a)
+                && near(triangles, prt_triangles, 0.05)
+                && near(area, prt_area, 0.05)
+        };
+        table += &format!(
+            "{name}: size {ours:?} (PRT {theirs:?}), {triangles} triangles ({prt_triangles}), \
+             area {area:.1} ({prt_area:.1}){}\n",
+            if matches { "" } else { " — differs" }
+        );
+        if matches {
+            matching.push(name.to_owned());
+        }
+    }
+    assert_eq!(matching, MATCHING_PRT, "\n{table}");
+}
+
 corpus_tests!(
     check_accepts_the_cityengine_anchor_grammars,
+    the_rule_packages_match_prt_as_listed,
     the_candler_building_measures_what_prt_makes,
     the_cityengine_anchor_grammars_derive_or_fail_with_a_message,
     the_prt_reference_names_every_rule_package,
