@@ -266,7 +266,6 @@ impl Builtin {
             "geometry.uMax",
             "geometry.vMin",
             "geometry.vMax",
-            "geometry.nHoles",
         ];
         // A name that is implemented is never "not supported", whatever the list says.
         NAMES.contains(&name) && Self::from_name(name).is_none()
@@ -287,6 +286,9 @@ pub(crate) enum Query {
     GeometryVolume,
     GeometryVertices,
     GeometryFaces,
+    /// Always 0: Shapegram's faces have no holes (lots are read by their outer rings, and no
+    /// operation makes a face with a hole).
+    GeometryHoles,
     InitialOrigin(usize),
     Seed,
     Depth,
@@ -319,6 +321,7 @@ impl Query {
         "seedian",
         "shape.depth",
         "comp.sel",
+        "geometry.nHoles",
     ];
 
     /// The query with this name.
@@ -339,7 +342,8 @@ impl Query {
             17..=19 => Self::InitialOrigin(i - 17),
             20 => Self::Seed,
             21 => Self::Depth,
-            _ => Self::CompSel,
+            22 => Self::CompSel,
+            _ => Self::GeometryHoles,
         })
     }
 

@@ -765,6 +765,7 @@ impl<'p> Evaluator<'p> {
                 .geometry
                 .local_mesh(scope.size)
                 .map_or(0.0, |m| m.face_count() as f64),
+            Query::GeometryHoles => 0.0,
             Query::InitialOrigin(i) => self.initial_origin[i],
             // A number in [0, 1) stable for the shape: CGA's `seedian`.
             Query::Seed => (crate::rng::mix(shape.seed) >> 11) as f64 / (1u64 << 53) as f64,

@@ -133,7 +133,7 @@ fn string_and_list_functions_run_in_grammars() {
 
 #[test]
 fn geometry_functions_ask_about_the_shape_s_faces() {
-    let ask = "print(geometry.isRectangular(1) + \" \" + geometry.isConcave() + \" \" + geometry.isPlanar(0.1) + \" \" + geometry.isClosedSurface() + \" \" + geometry.nEdges() + \" \" + geometry.boundaryLength() + \" \" + geometry.height())";
+    let ask = "print(geometry.isRectangular(1) + \" \" + geometry.isConcave() + \" \" + geometry.isPlanar(0.1) + \" \" + geometry.isClosedSurface() + \" \" + geometry.nEdges() + \" \" + geometry.boundaryLength() + \" \" + geometry.height() + \" \" + geometry.nHoles)";
     let lot_l = shapegram_eval::InitialShape::from_xz(&[
         shapegram_geom::DVec2::new(0.0, 0.0),
         shapegram_geom::DVec2::new(6.0, 0.0),
@@ -147,15 +147,15 @@ fn geometry_functions_ask_about_the_shape_s_faces() {
     assert_eq!(
         run(&text, lot(4.0, 3.0)).prints,
         [
-            "true false true false 4 14 0",
-            "true false true true 12 0 3"
+            "true false true false 4 14 0 0",
+            "true false true true 12 0 3 0"
         ]
     );
     assert_eq!(
         run(&text, lot_l).prints,
         [
-            "false true true false 6 22 0",
-            "false true true true 18 0 3"
+            "false true true false 6 22 0 0",
+            "false true true true 18 0 3 0"
         ]
     );
 }
