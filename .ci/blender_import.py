@@ -21,16 +21,11 @@ Exits 1 on any failure (and, with --python-exit-code 1, on an uncaught exception
 """
 import json
 import math
+import os
 import sys
 
-# Blender 3.4's importer uses numpy's `np.bool`, which numpy 1.24 (Debian bookworm's
-# python3-numpy) removed: the import fails with "module 'numpy' has no attribute 'bool'".
-# Fixed upstream in the 3.5 add-on (glTF-Blender-IO #1831), not backported to 3.4; the alias
-# is exactly the builtin.
-import numpy
-
-if "bool" not in numpy.__dict__:
-    numpy.bool = bool
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from blender_checks import check, run  # noqa: E402  (also gives numpy the alias the importer needs)
 
 import bpy
 from mathutils import Matrix, Vector
@@ -39,15 +34,6 @@ MOVED = 1e-4  # a vertex of the turned parts moves further than this (metres)
 STATIC = 1e-6  # every other vertex stays this close
 SAME = 1e-4  # positions compared with the file's (f32 data, posed through a few joints)
 TURN = math.radians(20)
-
-failures = []
-
-
-def check(ok, message):
-    print(f"  {'ok  ' if ok else 'FAIL'} {message}")
-    if not ok:
-        failures.append(message)
-    return ok
 
 
 def to_blender(p):
@@ -282,18 +268,4 @@ def main():
         )
 
 
-try:
-    main()
-except Exception as error:  # an uncaught error must fail the run, with or without --python-exit-code
-    import traceback
-
-    traceback.print_exc()
-    failures.append(f"exception: {error}")
-
-if failures:
-    print(f"FAILED: {len(failures)} check(s) failed:")
-    for f in failures:
-        print(f"  - {f}")
-    sys.stdout.flush()
-    sys.exit(1)
-print("passed")
+run(main)

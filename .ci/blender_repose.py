@@ -15,13 +15,11 @@ or "FAIL":
 Exits 1 on any failure, 0 otherwise.
 """
 import math
+import os
 import sys
 
-import numpy
-
-# See blender_import.py: Blender 3.4's importer uses numpy's removed `np.bool`.
-if "bool" not in numpy.__dict__:
-    numpy.bool = bool
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from blender_checks import check, run  # noqa: E402  (also gives numpy the alias the importer needs)
 
 import bpy
 from mathutils import Matrix
@@ -29,15 +27,6 @@ from mathutils.kdtree import KDTree
 
 SAME = 1e-4  # metres
 TURN = math.radians(20)
-
-failures = []
-
-
-def check(ok, message):
-    print(f"  {'ok  ' if ok else 'FAIL'} {message}")
-    if not ok:
-        failures.append(message)
-    return ok
 
 
 def load(glb):
@@ -127,8 +116,4 @@ def main():
     )
 
 
-main()
-if failures:
-    print(f"{len(failures)} check(s) failed")
-    sys.exit(1)
-print("all checks passed")
+run(main)
