@@ -219,13 +219,8 @@ fn results_with_occlusion_do_not_depend_on_the_thread_count() {
             .unwrap()
         })
         .collect();
-    let with = |threads: usize| {
-        rayon::ThreadPoolBuilder::new()
-            .num_threads(threads)
-            .build()
-            .unwrap()
-            .install(|| derive(&program, &lots, &DeriveOptions::default()).unwrap())
-    };
+    let options = DeriveOptions::default();
+    let with = |threads| common::derive_on_threads(&program, &lots, &options, threads);
     let one = with(1);
     let four = with(4);
     assert_eq!(one.leaves, four.leaves);

@@ -332,13 +332,8 @@ fn results_do_not_depend_on_the_thread_count() {
             .unwrap()
         })
         .collect();
-    let in_pool = |threads| {
-        rayon::ThreadPoolBuilder::new()
-            .num_threads(threads)
-            .build()
-            .unwrap()
-            .install(|| derive(&program, &lots, &DeriveOptions::default()).unwrap())
-    };
+    let options = DeriveOptions::default();
+    let in_pool = |threads| common::derive_on_threads(&program, &lots, &options, threads);
     let (one, four) = (in_pool(1), in_pool(4));
     assert!(one.leaves.len() > 500, "{}", one.leaves.len());
     assert_eq!(one.leaves, four.leaves);

@@ -385,14 +385,8 @@ fn results_are_the_same_on_any_number_of_threads() {
             l
         })
         .collect();
-    let on = |threads: usize| {
-        rayon::ThreadPoolBuilder::new()
-            .num_threads(threads)
-            .build()
-            .unwrap()
-            .install(|| derive(&program, &lots, &DeriveOptions::default()).unwrap())
-            .solids
-    };
+    let options = DeriveOptions::default();
+    let on = |threads| common::derive_on_threads(&program, &lots, &options, threads).solids;
     let one = on(1);
     assert_eq!(one.len(), 6);
     assert_eq!(one, on(4));

@@ -352,13 +352,7 @@ fn skeletons_are_the_same_whatever_the_thread_count() {
     let program = common::compile(TOWER);
     let lots = common::lots_in_a_row(12, 20.0, 30.0, 30.0);
     let options = twisted(20.0);
-    let with = |threads: usize| {
-        let pool = rayon::ThreadPoolBuilder::new()
-            .num_threads(threads)
-            .build()
-            .unwrap();
-        pool.install(|| shapegram_eval::derive(&program, &lots, &options).unwrap())
-    };
+    let with = |threads| common::derive_on_threads(&program, &lots, &options, threads);
     let (one, four) = (with(1), with(4));
     assert_eq!(one.skeletons.len(), 12);
     assert_eq!(one.skeletons, four.skeletons);
@@ -504,13 +498,7 @@ fn posed_occlusion_is_the_same_whatever_the_thread_count() {
         attrs: vec![("open".into(), shapegram_eval::Value::Number(-90.0))],
         ..DeriveOptions::default()
     };
-    let with = |threads: usize| {
-        let pool = rayon::ThreadPoolBuilder::new()
-            .num_threads(threads)
-            .build()
-            .unwrap();
-        pool.install(|| shapegram_eval::derive(&program, &lots, &options).unwrap())
-    };
+    let with = |threads| common::derive_on_threads(&program, &lots, &options, threads);
     let (one, four) = (with(1), with(4));
     assert_eq!(one.leaves, four.leaves);
     assert_eq!(one.skeletons, four.skeletons);

@@ -68,6 +68,20 @@ pub fn lots_in_a_row(count: u32, w: f64, d: f64, step: f64) -> Vec<InitialShape>
         .collect()
 }
 
+/// Derives `program` on `lots` in a pool of `threads` threads (results must not depend on it).
+pub fn derive_on_threads(
+    program: &Program,
+    lots: &[InitialShape],
+    options: &DeriveOptions,
+    threads: usize,
+) -> Derivation {
+    rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .build()
+        .unwrap()
+        .install(|| derive(program, lots, options).unwrap())
+}
+
 /// Derives `text` on one lot with default options.
 pub fn run(text: &str, lot: InitialShape) -> Derivation {
     try_run(text, lot, &DeriveOptions::default()).unwrap()
