@@ -103,34 +103,40 @@ impl Trim {
     /// `reach`: on a face that is not convex, the plane of one notch would otherwise cut a far
     /// part of it.
     pub fn cut(&self, mesh: &Mesh, reach: f64) -> Option<Mesh> {
-        let mut current = mesh.clone();
-        let mut cut = false;
-        for p in self.planes() {
-            if !self.enabled(p) {
+        let mut current: Option<Mesh> = None;
+        for p in self.planes().iter().filter(|p| self.enabled(p)) {
+            let source = current.as_ref().unwrap_or(mesh);
+            let (a, b) = p.edge;
+            let length = (b - a).length();
+            let direction = (b - a) / length;
+            // The faces it cuts: along its edge, with a corner beyond it. Most inserts (a window
+            // in the middle of a facade) have none, and are not copied.
+            let hits: Vec<bool> = (0..source.face_count())
+                .map(|f| {
+                    let t = (source.face_centroid(f) - a).dot(direction);
+                    !(t < -reach || t > length + reach)
+                        && source
+                            .face_points(f)
+                            .any(|q| p.plane.signed_distance(q) > 0.0)
+                })
+                .collect();
+            if !hits.contains(&true) {
                 continue;
             }
-            let (a, b) = p.edge;
-            let along = b - a;
-            let length = along.length();
-            let direction = along / length;
             let mut next = Mesh::new();
-            for f in 0..current.face_count() {
-                let points: Vec<DVec3> = current.face_points(f).collect();
-                let t = (current.face_centroid(f) - a).dot(direction);
-                let beyond = points.iter().any(|&q| p.plane.signed_distance(q) > 0.0);
-                if !beyond || t < -reach || t > length + reach {
+            for (f, &hit) in hits.iter().enumerate() {
+                let points: Vec<DVec3> = source.face_points(f).collect();
+                if hit {
+                    for piece in split_polygon(&points, &p.plane).0 {
+                        add_polygon(&mut next, &piece);
+                    }
+                } else {
                     add_polygon(&mut next, &points);
-                    continue;
-                }
-                cut = true;
-                let (kept, _) = split_polygon(&points, &p.plane);
-                for piece in kept {
-                    add_polygon(&mut next, &piece);
                 }
             }
-            current = next;
+            current = Some(next);
         }
-        cut.then_some(current)
+        current
     }
 }
 
