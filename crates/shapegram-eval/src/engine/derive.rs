@@ -488,17 +488,21 @@ fn pose_context(done: &[(u32, Skeleton)], gathered: &mut Gathered) -> Vec<Vec<Fr
                 .unwrap_or_default()
         })
         .collect();
-    let mut by_lot: FxHashMap<u32, Vec<Frame>> = done
+    let finished: Vec<(u32, Vec<Frame>)> = done
         .iter()
         .map(|(lot, skeleton)| (*lot, skeleton.skinning()))
         .collect();
-    by_lot.extend(
-        gathered
-            .waiting
-            .iter()
-            .map(|w| w.lot)
-            .zip(waiting.iter().cloned()),
-    );
+    let by_lot: FxHashMap<u32, &[Frame]> = finished
+        .iter()
+        .map(|(lot, motions)| (*lot, motions.as_slice()))
+        .chain(
+            gathered
+                .waiting
+                .iter()
+                .zip(&waiting)
+                .map(|(w, motions)| (w.lot, motions.as_slice())),
+        )
+        .collect();
     for occluder in &mut gathered.occluders {
         if let Some(motions) = by_lot.get(&occluder.lot()) {
             occluder.pose(motions);
