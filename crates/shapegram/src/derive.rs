@@ -229,6 +229,8 @@ struct FileAssets {
     /// The CityEngine project the grammar is in: the nearest folder at or above the grammar's
     /// that has an `assets` folder.
     project: Option<PathBuf>,
+    /// Where each path asked for was found.
+    found: Mutex<HashMap<String, PathBuf>>,
     missing: MissingAssets,
     cache: Mutex<HashMap<PathBuf, Arc<Mesh>>>,
     plants: Mutex<HashMap<(PathBuf, u32), Arc<Mesh>>>,
@@ -244,6 +246,7 @@ impl FileAssets {
         Self {
             folder,
             project,
+            found: Mutex::new(HashMap::new()),
             missing,
             cache: Mutex::new(HashMap::new()),
             plants: Mutex::new(HashMap::new()),
@@ -254,7 +257,19 @@ impl FileAssets {
     /// Where `path` is, searched as CityEngine does: next to the grammar, then in the project's
     /// `assets` folder, then in the project; a path starting with `/` is in the workspace (the
     /// folder holding the project). The first place that has the file, or else the first place.
+    /// Each path is looked for once: every insert asks.
     fn find(&self, path: &str) -> PathBuf {
+        let mut found = self.found.lock().unwrap_or_else(PoisonError::into_inner);
+        if let Some(place) = found.get(path) {
+            return place.clone();
+        }
+        let place = self.search(path);
+        found.insert(path.to_owned(), place.clone());
+        place
+    }
+
+    /// The search behind [`FileAssets::find`].
+    fn search(&self, path: &str) -> PathBuf {
         let mut places = Vec::new();
         match path.strip_prefix('/') {
             Some(in_workspace) => {
