@@ -409,6 +409,13 @@ impl<'g> Compiler<'g> {
                 Stmt::Pop(span) => Some(CStmt::Pop(*span)),
                 Stmt::Nil(_) => Some(CStmt::Nil),
                 Stmt::Call(call) => self.call_stmt(call, params),
+                Stmt::Goals(_, span) => {
+                    self.diagnostics.push(Diagnostic::error(
+                        "goal successors are not derived yet",
+                        *span,
+                    ));
+                    None
+                }
             })
             .collect()
     }
@@ -511,6 +518,13 @@ impl<'g> Compiler<'g> {
                 CKind::Array(items.iter().map(|i| self.expr(i, params)).collect())
             }
             ExprKind::Name(name) => self.name(name, e.span, params, selectors),
+            ExprKind::GoalAttribute { name, .. } => {
+                self.diagnostics.push(Diagnostic::error(
+                    format!("`@{name}` reads a goal attribute: only goal grammars have them"),
+                    e.span,
+                ));
+                CKind::Value(Value::Number(0.0))
+            }
             ExprKind::Call { name, args } => self.call_expr(name, args, params),
             ExprKind::Index {
                 target,

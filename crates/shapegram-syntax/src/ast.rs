@@ -25,6 +25,24 @@ pub struct Grammar {
     /// Top-level statements that were parsed but are not supported yet (`import`, `style`, …),
     /// kept so `check` can warn about them with their spans.
     pub unsupported: Vec<Unsupported>,
+    /// Goal grammars: the axioms, the shapes a derivation starts from.
+    pub axioms: Vec<Axiom>,
+    /// Goal grammars: rules chosen by predicates over a shape's goals, tags and attributes.
+    pub goal_rules: Vec<GoalRule>,
+    /// Goal grammars: goals local to this grammar (only its own rules fulfil them), each
+    /// where it was first declared or written in lowercase.
+    pub local_goals: Vec<Goal>,
+    /// Goal grammars: the synchronizations declared (`var windows = new Synchronize();`).
+    pub syncs: Vec<Ident>,
+}
+
+impl Grammar {
+    /// Whether the grammar is a goal grammar (it has axioms or goal rules).
+    pub fn is_goal_grammar(&self) -> bool {
+        matches!(self.dialect, Dialect::Goal | Dialect::Michelangelo)
+            || !self.axioms.is_empty()
+            || !self.goal_rules.is_empty()
+    }
 }
 
 /// The surface notations Shapegram reads.
@@ -37,6 +55,11 @@ pub enum Dialect {
     Muller2006,
     /// The SGL notation (`T() R() S() Subdiv(…, sgprod{…}) PlaceShape(…)`, `(w){…}` alternatives).
     Sgl,
+    /// The native notation of goal grammars (`axiom chair size(…)`, `fulfills(chair) --> …`).
+    Goal,
+    /// The C#-style notation of goal grammars in Ilčík and Wimmer's Michelangelo
+    /// (`new Rules.Split(Axis.Y, …).Fulfills("chair");`).
+    Michelangelo,
 }
 
 /// A value with the span it was written at.
@@ -180,6 +203,9 @@ pub enum Stmt {
     Pop(Span),
     /// `NIL` (or ε in the Müller notation): delete the current shape.
     Nil(Span),
+    /// Goal grammars: `+seat +wooden`, the shape goes on with these goals added and the rules
+    /// that match it are sought (a successor without a symbol).
+    Goals(Vec<Goal>, Span),
 }
 
 /// A name with optional arguments and an optional block, e.g. `split(y){ … }*`, `A(1, 2)`, `B.`.
@@ -323,6 +349,25 @@ pub enum ExprKind {
     Floating(Box<Expr>),
     /// `'e`: a relative size (split keys, `s(…)` arguments); `1r` in the Müller notation.
     Relative(Box<Expr>),
+    /// Goal grammars: the value of a shape's named attribute (`@Leg.Size`,
+    /// `@Double("Leg.Size")`); a rule that reads one applies only to shapes that have it.
+    GoalAttribute {
+        /// The attribute's name.
+        name: String,
+        /// The type the getter asks for.
+        kind: AttributeKind,
+    },
+}
+
+/// The type an attribute getter of a goal grammar asks for.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum AttributeKind {
+    /// Any value (`@name`).
+    Any,
+    /// A number (`@Double("name")`).
+    Number,
+    /// A string (`@String("name")`).
+    String,
 }
 
 /// Prefix operators.
@@ -372,4 +417,67 @@ pub struct Unsupported {
     pub what: String,
     /// Where.
     pub span: Span,
+}
+
+/// A goal as written: `chair`, `"split-legs"`.
+#[derive(Clone, Debug, PartialEq, Eq, Hash)]
+pub struct Goal {
+    /// The goal's name.
+    pub name: String,
+    /// Where it was written.
+    pub span: Span,
+}
+
+/// A shape a goal-grammar derivation starts from: its goals and, optionally, its size (a box
+/// at the origin); without a size it starts from each initial shape (lot) given.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Axiom {
+    /// The goals the shape should fulfil.
+    pub goals: Vec<Goal>,
+    /// The box's size along x, y and z.
+    pub size: Option<[Expr; 3]>,
+    /// The whole declaration.
+    pub span: Span,
+}
+
+/// A rule of a goal grammar: `fulfills(support) is(chair) --> split(x) { … }`.
+#[derive(Clone, Debug, PartialEq)]
+pub struct GoalRule {
+    /// Annotations written before it (`@Weight(2)`).
+    pub annotations: Vec<Annotation>,
+    /// What a shape must be for the rule to apply, all of them (`using` blocks included).
+    pub predicates: Vec<Predicate>,
+    /// The goals the rule fulfils: a shape must have them, and every shape the rule makes has
+    /// them as tags instead.
+    pub fulfills: Vec<Goal>,
+    /// Goals the rule adds to every shape it makes (`.Goal("metallic")` on a rule).
+    pub adds: Vec<Goal>,
+    /// What the rule does.
+    pub body: Body,
+    /// The whole rule.
+    pub span: Span,
+}
+
+/// A condition on the left side of a goal rule.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Predicate {
+    /// What is asked.
+    pub kind: PredicateKind,
+    /// Whether it is the `IfNot…` form.
+    pub negated: bool,
+    /// Where it was written.
+    pub span: Span,
+}
+
+/// The kinds of [`Predicate`].
+#[derive(Clone, Debug, PartialEq)]
+pub enum PredicateKind {
+    /// `IfGoal`: the shape has all these goals open.
+    Goal(Vec<Goal>),
+    /// `IfIs`/`IfTag`: the shape has all these tags (fulfilled goals).
+    Is(Vec<Goal>),
+    /// `IfHas`: the shape has all these attributes.
+    Has(Vec<Ident>),
+    /// `If(…)`: the expression holds for the shape (its scope, attributes).
+    If(Expr),
 }

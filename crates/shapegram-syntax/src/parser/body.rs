@@ -5,7 +5,7 @@
 //! next `else` belongs to the enclosing construct.
 
 use super::{Fail, PResult, Parser, Start};
-use crate::ast::{Block, BlockEntry, Body, Call, Expr, ExprKind, Stmt};
+use crate::ast::{Block, BlockEntry, Body, Call, Dialect, Expr, ExprKind, Stmt};
 use crate::lexer::TokenKind;
 use crate::{Diagnostic, Span};
 
@@ -70,6 +70,10 @@ impl Parser<'_> {
                 TokenKind::LBracket => Stmt::Push(self.bump()),
                 TokenKind::RBracket => Stmt::Pop(self.bump()),
                 TokenKind::Ident if self.at_word("NIL") => Stmt::Nil(self.bump()),
+                TokenKind::Plus if self.dialect == Dialect::Goal => self.goal_successor()?,
+                TokenKind::Ident if self.dialect == Dialect::Goal && self.at_word("void") => {
+                    Stmt::Nil(self.bump())
+                }
                 TokenKind::Ident
                     if self.is_name_at(self.pos)
                         && !self.at_declaration_start()

@@ -8,7 +8,7 @@
 
 use super::{Fail, PResult, Parser};
 use crate::Diagnostic;
-use crate::ast::{Argument, BinaryOp, Expr, ExprKind, Ident, UnaryOp};
+use crate::ast::{Argument, AttributeKind, BinaryOp, Expr, ExprKind, Ident, UnaryOp};
 use crate::lexer::TokenKind;
 
 /// Binding power of prefix `-` and `!` (postfix indexing binds tighter still).
@@ -304,6 +304,7 @@ impl Parser<'_> {
                 });
             }
             TokenKind::LBracket => return self.array(),
+            TokenKind::At => return self.attribute_getter(),
             TokenKind::Ident => match self.text() {
                 word @ ("true" | "false") => {
                     self.bump();
@@ -315,6 +316,41 @@ impl Parser<'_> {
             _ => return Err(self.error_expected("an expression", "")),
         };
         Ok(Expr { kind, span })
+    }
+
+    /// A goal grammar's attribute getter: `@Leg.Size`, `@Double("Leg.Size")` or
+    /// `@String("Style")` (the compiler refuses them outside goal grammars).
+    fn attribute_getter(&mut self) -> PResult<Expr> {
+        let at = self.bump();
+        if *self.peek() != TokenKind::Ident {
+            return Err(self.error_expected("an attribute name", "after `@`"));
+        }
+        let typed = match self.text() {
+            "Double" | "Number" => Some(AttributeKind::Number),
+            "String" => Some(AttributeKind::String),
+            _ => None,
+        };
+        let (name, kind, span) = match typed {
+            Some(kind) if *self.kind_at(self.pos + 1) == TokenKind::LParen => {
+                self.bump();
+                self.bump();
+                let TokenKind::Str(name) = self.peek().clone() else {
+                    return Err(self.error_expected("the attribute's name as a string", "in `(`"));
+                };
+                self.bump();
+                let close =
+                    self.close(&TokenKind::RParen, at, "`)`", "after the attribute's name")?;
+                (name, kind, at.to(close))
+            }
+            _ => {
+                let name = self.ident();
+                (name.name, AttributeKind::Any, at.to(name.span))
+            }
+        };
+        Ok(Expr {
+            kind: ExprKind::GoalAttribute { name, kind },
+            span,
+        })
     }
 
     fn name_or_call(&mut self) -> PResult<Expr> {
@@ -398,6 +434,7 @@ impl Parser<'_> {
             | TokenKind::Minus
             | TokenKind::Bang
             | TokenKind::Tilde
+            | TokenKind::At
             | TokenKind::Quote => true,
             TokenKind::Ident => {
                 self.is_name_at(self.pos) || self.at_word("true") || self.at_word("false")

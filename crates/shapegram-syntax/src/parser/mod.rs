@@ -14,6 +14,8 @@ mod body;
 mod build;
 mod decl;
 mod expr;
+mod goal;
+mod michelangelo;
 mod muller;
 mod sgl;
 
@@ -73,6 +75,8 @@ pub(crate) fn parse_dialect(src: &str, dialect: Dialect) -> (Grammar, Vec<Diagno
         Dialect::Cga => parser.declarations(&mut grammar, false),
         Dialect::Muller2006 => parser.muller_file(&mut grammar),
         Dialect::Sgl => parser.sgl_file(&mut grammar),
+        Dialect::Goal => parser.goal_file(&mut grammar),
+        Dialect::Michelangelo => parser.michelangelo_file(&mut grammar),
     }
     let mut diagnostics = parser.diagnostics;
     diagnostics.sort_by_key(|d| d.span.start);
@@ -204,6 +208,8 @@ impl<'a> Parser<'a> {
             Dialect::Cga => self.cga_declaration_start(i),
             Dialect::Muller2006 => self.muller_declaration_start(i),
             Dialect::Sgl => self.sgl_declaration_start(i),
+            Dialect::Goal => self.goal_declaration_start(i),
+            Dialect::Michelangelo => self.michelangelo_declaration_start(i),
         }
     }
 

@@ -859,6 +859,9 @@ fn rename_queries(e: &mut Expr) {
             rename_queries(otherwise);
         }
         ExprKind::Floating(inner) | ExprKind::Relative(inner) => rename_queries(inner),
-        ExprKind::Number(_) | ExprKind::String(_) | ExprKind::Bool(_) => {}
+        ExprKind::Number(_)
+        | ExprKind::String(_)
+        | ExprKind::Bool(_)
+        | ExprKind::GoalAttribute { .. } => {}
     }
 }

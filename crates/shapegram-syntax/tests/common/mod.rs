@@ -3,7 +3,8 @@
 #![allow(dead_code)] // each test file uses a different subset
 
 use shapegram_syntax::ast::{
-    Argument, BinaryOp, Block, BlockEntry, Body, Call, Expr, ExprKind, Grammar, Stmt, UnaryOp,
+    Argument, AttributeKind, BinaryOp, Block, BlockEntry, Body, Call, Expr, ExprKind, Goal,
+    GoalRule, Grammar, PredicateKind, Stmt, UnaryOp,
 };
 use shapegram_syntax::{Diagnostic, Parsed, SourceFile, parse};
 
@@ -67,7 +68,39 @@ pub fn stmt(s: &Stmt) -> String {
         Stmt::Pop(_) => "]".into(),
         Stmt::Nil(_) => "NIL".into(),
         Stmt::Call(c) => call(c),
+        Stmt::Goals(goals, _) => goals.iter().map(|g| format!("+{}", g.name)).collect(),
     }
+}
+
+/// A goal rule as `[fulfills a b] [adds c] [is x] [!goal y] [if e] => body`.
+pub fn goal_rule(rule: &GoalRule) -> String {
+    let names = |goals: &[Goal]| {
+        goals
+            .iter()
+            .map(|g| g.name.as_str())
+            .collect::<Vec<_>>()
+            .join(" ")
+    };
+    let mut out = String::new();
+    if !rule.fulfills.is_empty() {
+        out += &format!("[fulfills {}] ", names(&rule.fulfills));
+    }
+    if !rule.adds.is_empty() {
+        out += &format!("[adds {}] ", names(&rule.adds));
+    }
+    for p in &rule.predicates {
+        let bang = if p.negated { "!" } else { "" };
+        out += &match &p.kind {
+            PredicateKind::Goal(g) => format!("[{bang}goal {}] ", names(g)),
+            PredicateKind::Is(g) => format!("[{bang}is {}] ", names(g)),
+            PredicateKind::Has(a) => {
+                let a: Vec<&str> = a.iter().map(|i| i.name.as_str()).collect();
+                format!("[{bang}has {}] ", a.join(" "))
+            }
+            PredicateKind::If(e) => format!("[{bang}if {}] ", expr(e)),
+        };
+    }
+    out + &format!("=> {}", body(&rule.body))
 }
 
 pub fn call(c: &Call) -> String {
@@ -173,6 +206,11 @@ pub fn expr(e: &Expr) -> String {
         ExprKind::Stochastic { arms, otherwise } => expr_arms("pct", arms, otherwise),
         ExprKind::Floating(inner) => format!("~{}", expr(inner)),
         ExprKind::Relative(inner) => format!("'{}", expr(inner)),
+        ExprKind::GoalAttribute { name, kind } => match kind {
+            AttributeKind::Any => format!("@{name}"),
+            AttributeKind::Number => format!("@Double({name:?})"),
+            AttributeKind::String => format!("@String({name:?})"),
+        },
     }
 }
 
