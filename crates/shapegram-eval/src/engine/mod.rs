@@ -25,6 +25,7 @@ mod comp;
 mod context;
 mod derive;
 mod footprint;
+mod goals;
 mod implicit;
 mod insert;
 mod kinematics;
@@ -43,6 +44,7 @@ use shapegram_geom::{Bone, Color, DVec3, Mesh, Model, Part as ModelPart, Scope, 
 use shapegram_kinematics::{Frame, SectionId, Skeleton};
 
 use crate::error::DeriveError;
+use crate::goals::LeafSemantics;
 use crate::shape::Geometry;
 use crate::value::Value;
 
@@ -78,6 +80,9 @@ pub struct DeriveOptions {
     /// Keep a [`Trace`] in [`Derivation::trace`], so that [`derive_again`] can reuse this
     /// derivation after rules change (depth-first derivations without context rules only).
     pub trace: bool,
+    /// Stop with an error after this many rule applications (per initial shape): how goal
+    /// grammars whose rules keep calling each other end.
+    pub max_steps: usize,
 }
 
 impl Default for DeriveOptions {
@@ -94,6 +99,7 @@ impl Default for DeriveOptions {
             keep_tree: false,
             implicit_cell: None,
             trace: false,
+            max_steps: 10_000_000,
         }
     }
 }
@@ -136,6 +142,8 @@ pub struct Leaf {
     /// The kinematic section it hangs from, in the skeleton of its lot (see
     /// [`Derivation::skeletons`]); 0 when the grammar builds none.
     pub section: u32,
+    /// Goal grammars: the goals, tags and named attributes it ended with.
+    pub semantics: Option<Arc<LeafSemantics>>,
 }
 
 /// A shape in the derivation tree.
@@ -170,6 +178,10 @@ pub struct Stats {
     pub leaves: usize,
     /// How often each rule was applied, by rule name, in rule order.
     pub rules: Vec<(String, usize)>,
+    /// Goal grammars: rule applications (derivation steps) in all.
+    pub steps: usize,
+    /// Goal grammars: rule applications by grammar of the library, in library order.
+    pub grammars: Vec<(String, usize)>,
 }
 
 /// The result of a derivation.
