@@ -4,8 +4,9 @@
 //! A shape of a goal grammar carries [`Semantics`]: the goals it should still fulfil, the tags
 //! of those it fulfilled, named attributes and the grammar of the rule that made it. A rule has
 //! predicates instead of a symbol; it applies to a shape with open goals when they all hold.
-//! Rules of the shape's own grammar are preferred; among several candidates one is drawn from
-//! the shape's random stream. The rules that fulfil (or ask for) a goal are indexed by it, and
+//! Rules of the grammar being derived come first, then those of the shape's own grammar, then
+//! the rest of the library (see [`Candidates`]); among several candidates of one tier one is
+//! drawn from the shape's random stream. The rules that fulfil (or ask for) a goal are indexed by it, and
 //! the rules whose goal, tag and attribute predicates hold for a given semantics are found once
 //! per distinct semantics, so a step costs the same whatever the size of the library.
 //!
@@ -198,8 +199,8 @@ impl GoalRules {
         }
     }
 
-    /// The rules whose goal, tag and attribute predicates hold for `s`, the shape's own
-    /// grammar's first, each list in rule order.
+    /// The rules whose goal, tag and attribute predicates hold for `s`, in tiers (see
+    /// [`Candidates`]), each in rule order.
     fn candidates(&self, s: &Semantics) -> Candidates {
         let mut found: Vec<RuleId> = s
             .goals
@@ -211,10 +212,19 @@ impl GoalRules {
             .filter(|&r| self.rules[r as usize].admits(s))
             .collect();
         found.sort_unstable();
-        let (own, other): (Vec<RuleId>, Vec<RuleId>) = found
-            .into_iter()
-            .partition(|&r| self.rules[r as usize].grammar == s.grammar);
-        let cumulative = |list: &[RuleId]| {
+        let mut tiers: [Vec<RuleId>; 3] = Default::default();
+        for r in found {
+            let grammar = self.rules[r as usize].grammar;
+            let tier = if grammar == MAIN {
+                0
+            } else if grammar == s.grammar {
+                1
+            } else {
+                2
+            };
+            tiers[tier].push(r);
+        }
+        let weights = tiers.each_ref().map(|list| {
             let mut total = 0.0;
             list.iter()
                 .map(|&r| {
@@ -222,13 +232,8 @@ impl GoalRules {
                     total
                 })
                 .collect()
-        };
-        Candidates {
-            own_weights: cumulative(&own),
-            other_weights: cumulative(&other),
-            own,
-            other,
-        }
+        });
+        Candidates { tiers, weights }
     }
 
     /// A goal's name as users write it (local goals with their grammar).
@@ -241,27 +246,24 @@ impl GoalRules {
     }
 }
 
-/// The rules that may rewrite a shape, before their conditions are evaluated.
+/// The grammar being derived: the first of a library.
+pub(crate) const MAIN: GrammarId = 0;
+
+/// The rules that may rewrite a shape, before their conditions are evaluated, in the order they
+/// are tried: the rules of the grammar being derived (so that it overrides what the library
+/// does, as the paper's metallic support overrides the chair's), then those of the grammar of
+/// the rule that made the shape (so that a design stays together), then the rest.
 #[derive(Debug, Default)]
 pub(crate) struct Candidates {
-    /// Rules of the shape's own grammar.
-    own: Vec<RuleId>,
-    /// Their weights summed up to each.
-    own_weights: Vec<f64>,
-    /// Rules of the other grammars of the library.
-    other: Vec<RuleId>,
-    other_weights: Vec<f64>,
+    tiers: [Vec<RuleId>; 3],
+    /// Each tier's weights, summed up to each rule.
+    weights: [Vec<f64>; 3],
 }
 
 impl Candidates {
-    /// The rules of the shape's own grammar (`own`) or of the others, with their cumulative
-    /// weights.
-    pub fn list(&self, own: bool) -> (&[RuleId], &[f64]) {
-        if own {
-            (&self.own, &self.own_weights)
-        } else {
-            (&self.other, &self.other_weights)
-        }
+    /// The rules of tier `tier` (0 to 2) with their cumulative weights.
+    pub fn tier(&self, tier: usize) -> (&[RuleId], &[f64]) {
+        (&self.tiers[tier], &self.weights[tier])
     }
 }
 

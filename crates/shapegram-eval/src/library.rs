@@ -128,8 +128,11 @@ impl Program {
                 compiler.report(d);
             }
             refuse_symbol_grammar(&mut compiler, grammar);
-            for axiom in &grammar.axioms {
-                compile_axiom(&mut compiler, axiom);
+            // A library grammar's axioms are for deriving it on its own.
+            if k == 0 {
+                for axiom in &grammar.axioms {
+                    compile_axiom(&mut compiler, axiom);
+                }
             }
             for rule in &grammar.goal_rules {
                 crules.push(compile_rule(&mut compiler, rule));
@@ -419,6 +422,19 @@ fn check_library(scope: &GoalScope) -> Vec<(usize, Diagnostic)> {
     let given_names: Vec<String> = given.iter().map(|&g| name(scope, g)).collect();
     let asked_names: Vec<String> = asked.iter().map(|&g| name(scope, g)).collect();
     let mut reported = FxHashSet::default();
+    // A local goal and a goal of the same name elsewhere are two goals: say so rather than
+    // suggest the name itself.
+    // Returns the grammar the local one of the two belongs to.
+    let local_twin = |scope: &GoalScope, goal: GoalId| {
+        let this = &scope.rules.goals[goal as usize];
+        let twin = scope
+            .rules
+            .goals
+            .iter()
+            .find(|g| g.name == this.name && g.local != this.local)?;
+        let owner = this.local.or(twin.local)?;
+        Some(scope.rules.grammars[owner as usize].clone())
+    };
     for &(goal, grammar, span) in &scope.asked {
         if given.contains(&goal) || !reported.insert(goal) {
             continue;
@@ -428,7 +444,11 @@ fn check_library(scope: &GoalScope) -> Vec<(usize, Diagnostic)> {
             format!("no grammar of the library gives any shape the goal `{goal_name}`"),
             span,
         );
-        if let Some(close) = suggest(&goal_name, given_names.iter().map(String::as_str)) {
+        if let Some(owner) = local_twin(scope, goal) {
+            d = d.with_hint(format!(
+                "`{goal_name}` of `{owner}` is local to it: rules of other grammars do not fulfil it"
+            ));
+        } else if let Some(close) = suggest(&goal_name, given_names.iter().map(String::as_str)) {
             d = d.with_hint(format!("did you mean `{close}`?"));
         }
         out.push((grammar as usize, d));
@@ -439,7 +459,16 @@ fn check_library(scope: &GoalScope) -> Vec<(usize, Diagnostic)> {
         }
         let goal_name = name(scope, goal);
         // An open goal is normal (grammars added later may fulfil it); a near miss is not.
-        if let Some(close) = suggest(&goal_name, asked_names.iter().map(String::as_str)) {
+        if let Some(owner) = local_twin(scope, goal) {
+            out.push((
+                grammar as usize,
+                Diagnostic::warning(
+                    format!("no rule of `{owner}` fulfils its local goal `{goal_name}`"),
+                    span,
+                )
+                .with_hint("other grammars' rules for a goal of this name do not apply to it"),
+            ));
+        } else if let Some(close) = suggest(&goal_name, asked_names.iter().map(String::as_str)) {
             out.push((
                 grammar as usize,
                 Diagnostic::warning(format!("no rule fulfils the goal `{goal_name}`"), span)

@@ -236,29 +236,29 @@ impl<'p> Engine<'p> {
         Ok(())
     }
 
-    /// The rule that rewrites a shape: drawn (by weight) from the candidates of its own grammar
-    /// whose conditions hold, else from those of the other grammars; `None` when there is none.
+    /// The rule that rewrites a shape: drawn (by weight) from the first tier of candidates (see
+    /// [`Candidates`]) with one whose conditions hold; `None` when there is none.
     fn choose(&mut self, state: &mut State) -> Fallible<Option<RuleId>> {
         let rules = self.goal_rules();
         let semantics = state.semantics.clone().unwrap_or_default();
         let candidates = self.goal_cache.get(rules, &semantics);
-        for own in [true, false] {
-            if let Some(rule) = self.draw(&candidates, own, state)? {
+        for tier in 0..3 {
+            if let Some(rule) = self.draw(&candidates, tier, state)? {
                 return Ok(Some(rule));
             }
         }
         Ok(None)
     }
 
-    /// A candidate of one list whose conditions hold. The first draw uses the whole list (the
+    /// A candidate of one tier whose conditions hold. The first draw uses the whole tier (the
     /// common case: it holds); a candidate that does not is set aside and the draw repeated.
     fn draw(
         &mut self,
         candidates: &Candidates,
-        own: bool,
+        tier: usize,
         state: &mut State,
     ) -> Fallible<Option<RuleId>> {
-        let (list, cumulative) = candidates.list(own);
+        let (list, cumulative) = candidates.tier(tier);
         if list.is_empty() {
             return Ok(None);
         }
