@@ -1,6 +1,6 @@
 //! The Michelangelo notation of goal grammars (Ilčík and Wimmer, seed 003): the paper's listings
 //! as printed, the lowering of every rule kind to the main syntax's statements (as S-expressions),
-//! `using` blocks, and diagnostics.
+//! `using` blocks, detection of both goal notations, and diagnostics.
 
 mod common;
 
@@ -9,7 +9,7 @@ use proptest::prelude::*;
 use shapegram_syntax::ast::{
     AttributeKind, BlockEntry, Body, ExprKind, Grammar, PredicateKind, Stmt,
 };
-use shapegram_syntax::{Dialect, SourceFile, Span, detect, parse_as};
+use shapegram_syntax::{Dialect, SourceFile, Span, detect, parse, parse_as};
 
 // --- The listings of the paper, copied from seed 003 as printed (`↪` marks a line broken in
 // print; some lines end with two spaces, the paper's line breaks) ------------------------------
@@ -107,11 +107,12 @@ const REPEAT: &str = r#"new Rules.Repeat(Axis.X,
 
 // --- Helpers ---------------------------------------------------------------------------------
 
-/// Parses `text` as Michelangelo, asserting that there are no diagnostics.
+/// Parses `text` (its notation detected), asserting that it is read as Michelangelo without
+/// diagnostics.
 #[track_caller]
 fn read(text: &str) -> Grammar {
     let source = SourceFile::new("chair.cs", text);
-    let parsed = parse_as(&source, Dialect::Michelangelo);
+    let parsed = parse(&source);
     assert!(
         parsed.diagnostics.is_empty(),
         "unexpected diagnostics:\n{}",
@@ -519,7 +520,83 @@ fn comments_empty_statements_and_a_trailing_comma() {
     assert_eq!(rules(&g), ["=> (split(y){~1 : (+a)})"]);
 }
 
-// --- The line-break mark ------------------------------------------------------------------
+// --- Detection ---------------------------------------------------------------------------------
+
+#[test]
+fn both_goal_notations_are_detected() {
+    for (text, dialect) in [
+        ("new Axiom(\"chair\");", Dialect::Michelangelo),
+        ("Rules.Size(Axis.Z, 0.04);", Dialect::Michelangelo),
+        ("new Rules.Splitt(Axis.Y);", Dialect::Michelangelo),
+        ("var windows = new Synchronize();", Dialect::Michelangelo),
+        (
+            "using (Predicates.IfIs(\"chair\")) { }",
+            Dialect::Michelangelo,
+        ),
+        ("// Rules.Split(\nnew Axiom(\"a\");", Dialect::Michelangelo),
+        ("axiom chair, wooden size(0.4, 0.8, 0.4)", Dialect::Goal),
+        ("axiom \"split-legs\"", Dialect::Goal),
+        ("local \"split-legs\"", Dialect::Goal),
+        ("local legs", Dialect::Goal),
+        ("sync windows", Dialect::Goal),
+        ("fulfills(chair) --> split(y) { ~1 : +seat }", Dialect::Goal),
+        (
+            "goal(a) !is(b) has(c) if(scope.sx < 1) adds(d) --> NIL",
+            Dialect::Goal,
+        ),
+        ("!tag(ruin) fulfills(x) --> NIL", Dialect::Goal),
+        (
+            "using is(chair) {\n fulfills(lean) --> s('1, '1, 0.04)\n}",
+            Dialect::Goal,
+        ),
+        // Not at the start of a line, not followed by a name, not a rule head: CGA.
+        ("Lot --> axiom Mass", Dialect::Cga),
+        ("axiom --> A", Dialect::Cga),
+        ("sync --> A\nlocal = 2", Dialect::Cga),
+        ("is(x) = x + 1\nLot --> is(1) A", Dialect::Cga),
+        ("fulfills(a)\n --> A", Dialect::Cga),
+        ("Rules.Splitter(1)", Dialect::Cga),
+        ("Lot --> new(1) Rules", Dialect::Cga),
+        // The paper's CGA listing.
+        ("import B: \"book.cga\"  \nBook --> B.Book\n", Dialect::Cga),
+    ] {
+        assert_eq!(detect(text), dialect, "{text:?}");
+    }
+    // The native notation's chair (tests/goal.rs) and the paper's listings.
+    let native = "local \"split-legs\"\naxiom chair, wooden size(0.4, 0.8, 0.4)\n\nfulfills(chair) -->\n    split(y) { ~1 : +seat }\n";
+    assert_eq!(detect(native), Dialect::Goal);
+    for listing in [
+        AXIOM,
+        CHAIR,
+        LEGS,
+        LEAN,
+        METAL_AXIOM,
+        METAL_SUPPORT,
+        METAL_LEG,
+        METAL_STAND,
+        HUMAN_LEG,
+        USING,
+        SYNC,
+        REPEAT,
+    ] {
+        assert_eq!(detect(listing), Dialect::Michelangelo, "{listing}");
+    }
+}
+
+#[test]
+fn the_cga_examples_are_not_goal_grammars() {
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples");
+    let mut checked = 0;
+    for entry in std::fs::read_dir(&dir).expect("the examples folder") {
+        let path = entry.expect("an entry").path();
+        if path.extension().is_some_and(|e| e == "cga") {
+            let text = std::fs::read_to_string(&path).expect("readable");
+            assert_eq!(detect(&text), Dialect::Cga, "{}", path.display());
+            checked += 1;
+        }
+    }
+    assert!(checked >= 10, "{checked} examples");
+}
 
 #[test]
 fn the_arrow_mark_is_whitespace_only_here() {
