@@ -184,11 +184,45 @@ pub(crate) struct GoalRules {
     unkeyed: Vec<RuleId>,
     /// Synchronizations, by their index: their names, for messages.
     pub syncs: Vec<Arc<str>>,
+    /// By [`RuleId`]: what applying the rule does to the shape's semantics, packed apart from
+    /// the predicates, since that is all a step reads of a rule besides its body.
+    effects: Vec<Effects>,
+}
+
+/// What applying a rule does to semantics: its grammar, and the goals it fulfils and adds,
+/// inline when there are few of them (the rule's own lists otherwise).
+#[derive(Clone, Copy, Debug, Default)]
+struct Effects {
+    grammar: GrammarId,
+    /// How many of `inline` are fulfilled goals and how many added ones; `u8::MAX` for
+    /// fulfilled goals when the rule has more than `inline` holds.
+    fulfills: u8,
+    adds: u8,
+    inline: [GoalId; 6],
 }
 
 impl GoalRules {
     /// Indexes the rules by goal; call once all rules are in.
     pub fn index(&mut self) {
+        self.effects = self
+            .rules
+            .iter()
+            .map(|rule| {
+                let mut effects = Effects {
+                    grammar: rule.grammar,
+                    fulfills: u8::MAX,
+                    ..Effects::default()
+                };
+                let (f, a) = (rule.fulfills.len(), rule.adds.len());
+                if f + a <= effects.inline.len() {
+                    effects.fulfills = f as u8;
+                    effects.adds = a as u8;
+                    effects.inline[..f].copy_from_slice(&rule.fulfills);
+                    effects.inline[f..f + a].copy_from_slice(&rule.adds);
+                }
+                effects
+            })
+            .collect();
         self.by_goal.clear();
         self.unkeyed.clear();
         for (i, rule) in self.rules.iter().enumerate() {
@@ -225,6 +259,10 @@ impl GoalRules {
             tiers[tier].push(r);
         }
         let weights = tiers.each_ref().map(|list| {
+            let uniform = list.iter().all(|&r| self.rules[r as usize].weight == 1.0);
+            if uniform {
+                return Vec::new();
+            }
             let mut total = 0.0;
             list.iter()
                 .map(|&r| {
@@ -233,7 +271,36 @@ impl GoalRules {
                 })
                 .collect()
         });
-        Candidates { tiers, weights }
+        let conditional = tiers.each_ref().map(|list| {
+            list.iter()
+                .any(|&r| !self.rules[r as usize].conditions.is_empty())
+        });
+        Candidates {
+            tiers,
+            weights,
+            conditional,
+        }
+    }
+
+    /// Applies rule `rule` to semantics: its fulfilled goals become tags, its added goals open,
+    /// and the shape joins the rule's grammar.
+    pub fn apply(&self, rule: RuleId, s: &mut Semantics) {
+        let effects = &self.effects[rule as usize];
+        if effects.fulfills == u8::MAX {
+            let rule = &self.rules[rule as usize];
+            s.fulfil(&rule.fulfills);
+            s.open(&rule.adds);
+        } else {
+            let (f, a) = (usize::from(effects.fulfills), usize::from(effects.adds));
+            s.fulfil(&effects.inline[..f]);
+            s.open(&effects.inline[f..f + a]);
+        }
+        s.grammar = effects.grammar;
+    }
+
+    /// The grammar of a rule.
+    pub fn grammar_of(&self, rule: RuleId) -> GrammarId {
+        self.effects[rule as usize].grammar
     }
 
     /// A goal's name as users write it (local goals with their grammar).
@@ -256,14 +323,43 @@ pub(crate) const MAIN: GrammarId = 0;
 #[derive(Debug, Default)]
 pub(crate) struct Candidates {
     tiers: [Vec<RuleId>; 3],
-    /// Each tier's weights, summed up to each rule.
+    /// Each tier's weights, summed up to each rule; empty when they are all 1.
     weights: [Vec<f64>; 3],
+    /// Whether any rule of the tier has `if` conditions.
+    conditional: [bool; 3],
+}
+
+/// The rules of one tier of [`Candidates`].
+pub(crate) struct Tier<'a> {
+    pub rules: &'a [RuleId],
+    /// Their weights, summed up to each rule; empty when they are all 1.
+    pub cumulative: &'a [f64],
+    /// Whether any of them has `if` conditions.
+    pub conditional: bool,
+}
+
+impl Tier<'_> {
+    /// The index of the rule a uniform draw `x` in `0..1` picks, by weight.
+    pub fn pick(&self, x: f64) -> usize {
+        let n = self.rules.len();
+        match self.cumulative.last() {
+            None => ((x * n as f64) as usize).min(n - 1),
+            Some(total) => self
+                .cumulative
+                .partition_point(|&c| c <= x * total)
+                .min(n - 1),
+        }
+    }
 }
 
 impl Candidates {
-    /// The rules of tier `tier` (0 to 2) with their cumulative weights.
-    pub fn tier(&self, tier: usize) -> (&[RuleId], &[f64]) {
-        (&self.tiers[tier], &self.weights[tier])
+    /// Tier `tier` (0 to 2).
+    pub fn tier(&self, tier: usize) -> Tier<'_> {
+        Tier {
+            rules: &self.tiers[tier],
+            cumulative: &self.weights[tier],
+            conditional: self.conditional[tier],
+        }
     }
 }
 

@@ -424,32 +424,52 @@ fn check_library(scope: &GoalScope) -> Vec<(usize, Diagnostic)> {
     let mut reported = FxHashSet::default();
     // A local goal and a goal of the same name elsewhere are two goals: say so rather than
     // suggest the name itself.
-    // Returns the grammar the local one of the two belongs to.
-    let local_twin = |scope: &GoalScope, goal: GoalId| {
+    let twin = |scope: &GoalScope, goal: GoalId| {
         let this = &scope.rules.goals[goal as usize];
-        let twin = scope
+        scope
             .rules
             .goals
             .iter()
-            .find(|g| g.name == this.name && g.local != this.local)?;
-        let owner = this.local.or(twin.local)?;
-        Some(scope.rules.grammars[owner as usize].clone())
+            .find(|g| g.name == this.name && g.local != this.local)
+            .cloned()
     };
+    let grammar_name = |k: GrammarId| scope.rules.grammars[k as usize].as_str();
     for &(goal, grammar, span) in &scope.asked {
         if given.contains(&goal) || !reported.insert(goal) {
             continue;
         }
         let goal_name = name(scope, goal);
-        let mut d = Diagnostic::warning(
-            format!("no grammar of the library gives any shape the goal `{goal_name}`"),
-            span,
-        );
-        if let Some(owner) = local_twin(scope, goal) {
-            d = d.with_hint(format!(
-                "`{goal_name}` of `{owner}` is local to it: rules of other grammars do not fulfil it"
-            ));
-        } else if let Some(close) = suggest(&goal_name, given_names.iter().map(String::as_str)) {
-            d = d.with_hint(format!("did you mean `{close}`?"));
+        let local = scope.rules.goals[goal as usize].local;
+        let mut d = match local {
+            Some(owner) => Diagnostic::warning(
+                format!(
+                    "no shape is given the goal `{goal_name}` local to `{}`",
+                    grammar_name(owner)
+                ),
+                span,
+            ),
+            None => Diagnostic::warning(
+                format!("no grammar of the library gives any shape the goal `{goal_name}`"),
+                span,
+            ),
+        };
+        match (twin(scope, goal), local) {
+            (Some(twin), None) => {
+                let owner = twin.local.map_or("", grammar_name);
+                d = d.with_hint(format!(
+                    "the `{goal_name}` of `{owner}` is local to it: this rule does not fulfil it"
+                ));
+            }
+            (Some(_), Some(_)) => {
+                d = d.with_hint(format!(
+                    "the `{goal_name}` that other grammars give is another goal: local goals are fulfilled by their own grammar only"
+                ));
+            }
+            (None, _) => {
+                if let Some(close) = suggest(&goal_name, given_names.iter().map(String::as_str)) {
+                    d = d.with_hint(format!("did you mean `{close}`?"));
+                }
+            }
         }
         out.push((grammar as usize, d));
     }
@@ -458,22 +478,33 @@ fn check_library(scope: &GoalScope) -> Vec<(usize, Diagnostic)> {
             continue;
         }
         let goal_name = name(scope, goal);
-        // An open goal is normal (grammars added later may fulfil it); a near miss is not.
-        if let Some(owner) = local_twin(scope, goal) {
-            out.push((
+        // An open goal is normal (grammars added later may fulfil it); a near miss is not,
+        // nor a local goal its own grammar leaves open while others fulfil its namesake.
+        match (scope.rules.goals[goal as usize].local, twin(scope, goal)) {
+            (Some(owner), Some(_)) => out.push((
                 grammar as usize,
                 Diagnostic::warning(
-                    format!("no rule of `{owner}` fulfils its local goal `{goal_name}`"),
+                    format!(
+                        "no rule of `{}` fulfils its local goal `{goal_name}`",
+                        grammar_name(owner)
+                    ),
                     span,
                 )
                 .with_hint("other grammars' rules for a goal of this name do not apply to it"),
-            ));
-        } else if let Some(close) = suggest(&goal_name, asked_names.iter().map(String::as_str)) {
-            out.push((
-                grammar as usize,
-                Diagnostic::warning(format!("no rule fulfils the goal `{goal_name}`"), span)
-                    .with_hint(format!("did you mean `{close}`?")),
-            ));
+            )),
+            (None, Some(_)) => {}
+            (_, None) => {
+                if let Some(close) = suggest(&goal_name, asked_names.iter().map(String::as_str)) {
+                    out.push((
+                        grammar as usize,
+                        Diagnostic::warning(
+                            format!("no rule fulfils the goal `{goal_name}`"),
+                            span,
+                        )
+                        .with_hint(format!("did you mean `{close}`?")),
+                    ));
+                }
+            }
         }
     }
     let set_names: Vec<String> = scope

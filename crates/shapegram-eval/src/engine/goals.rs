@@ -13,7 +13,7 @@ use super::machine::{Engine, Phase, Task, Work};
 use super::{Derivation, DeriveOptions, Fallible, InitialShape, TreeNode};
 use crate::error::DeriveError;
 use crate::expr::Evaluator;
-use crate::goals::{Candidates, GoalId, GoalRules, LeafSemantics, Semantics};
+use crate::goals::{Candidates, GoalId, GoalRules, LeafSemantics, Semantics, Tier};
 use crate::program::{Program, RuleId, Sym};
 use crate::rng::child_seed;
 use crate::shape::{Geometry, State};
@@ -192,11 +192,8 @@ impl<'p> Engine<'p> {
     /// Before a goal rule's body runs: its fulfilled goals become tags, its added goals open,
     /// and the shape (with all it makes) belongs to the rule's grammar.
     pub(super) fn enter_goal_rule(&self, state: &mut State, rule: RuleId) {
-        let goal_rule = &self.goal_rules().rules[rule as usize];
-        let s = Arc::make_mut(state.semantics.get_or_insert_default());
-        s.fulfil(&goal_rule.fulfills);
-        s.open(&goal_rule.adds);
-        s.grammar = goal_rule.grammar;
+        let rules = self.goal_rules();
+        rules.apply(rule, Arc::make_mut(state.semantics.get_or_insert_default()));
     }
 
     /// `+goal …`: the shape goes on with these goals open, as a new shape named `symbol`.
@@ -258,26 +255,17 @@ impl<'p> Engine<'p> {
         tier: usize,
         state: &mut State,
     ) -> Fallible<Option<RuleId>> {
-        let (list, cumulative) = candidates.tier(tier);
-        if list.is_empty() {
-            return Ok(None);
-        }
-        let pick = |state: &mut State, cumulative: &[f64]| {
-            let total = *cumulative.last().unwrap_or(&0.0);
-            if cumulative.len() == 1 {
-                return 0;
-            }
-            let x = state.rng.next_f64() * total;
-            cumulative
-                .partition_point(|&c| c <= x)
-                .min(cumulative.len() - 1)
+        let tier = candidates.tier(tier);
+        let first = match tier.rules.len() {
+            0 => return Ok(None),
+            1 => tier.rules[0],
+            _ => tier.rules[tier.pick(state.rng.next_f64())],
         };
-        let first = list[pick(state, cumulative)];
-        if self.conditions_hold(first, state)? {
+        if !tier.conditional || self.conditions_hold(first, state)? {
             return Ok(Some(first));
         }
         let rules = self.goal_rules();
-        let mut left: Vec<RuleId> = list.iter().copied().filter(|&r| r != first).collect();
+        let mut left: Vec<RuleId> = tier.rules.iter().copied().filter(|&r| r != first).collect();
         while !left.is_empty() {
             let mut sums = Vec::with_capacity(left.len());
             let mut total = 0.0;
@@ -285,7 +273,15 @@ impl<'p> Engine<'p> {
                 total += rules.rules[r as usize].weight;
                 sums.push(total);
             }
-            let at = pick(state, &sums);
+            let rest = Tier {
+                rules: &left,
+                cumulative: &sums,
+                conditional: true,
+            };
+            let at = match left.len() {
+                1 => 0,
+                _ => rest.pick(state.rng.next_f64()),
+            };
             if self.conditions_hold(left[at], state)? {
                 return Ok(Some(left[at]));
             }

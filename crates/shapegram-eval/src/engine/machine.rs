@@ -250,7 +250,7 @@ impl<'p> Engine<'p> {
         let program = self.program;
         if let Some(goals) = &program.goals {
             self.enter_goal_rule(&mut task.state, task.rule);
-            let grammar = goals.rules[task.rule as usize].grammar;
+            let grammar = goals.grammar_of(task.rule);
             let body = &program.rules[task.rule as usize].body;
             return self
                 .run_body(body, &mut task.state, &task.args, out)
