@@ -419,18 +419,29 @@ fn check_library(scope: &GoalScope) -> Vec<(usize, Diagnostic)> {
     let name = |scope: &GoalScope, g: GoalId| scope.rules.goals[g as usize].name.to_string();
     let given: FxHashSet<GoalId> = scope.given.iter().map(|(g, _, _)| *g).collect();
     let asked: FxHashSet<GoalId> = scope.asked.iter().map(|(g, _, _)| *g).collect();
-    let given_names: Vec<String> = given.iter().map(|&g| name(scope, g)).collect();
-    let asked_names: Vec<String> = asked.iter().map(|&g| name(scope, g)).collect();
+    // Sorted, so that ties between suggestions go the same way on every run.
+    let names_of = |ids: &FxHashSet<GoalId>| {
+        let mut names: Vec<String> = ids.iter().map(|&g| name(scope, g)).collect();
+        names.sort_unstable();
+        names.dedup();
+        names
+    };
+    let given_names = names_of(&given);
+    let asked_names = names_of(&asked);
+    // Another goal of the same name is no suggestion.
+    let others = |names: &'_ [String], goal: &str| -> Vec<String> {
+        names.iter().filter(|n| *n != goal).cloned().collect()
+    };
     let mut reported = FxHashSet::default();
-    // A local goal and a goal of the same name elsewhere are two goals: say so rather than
-    // suggest the name itself.
+    // A local goal and a global goal of the same name are two goals: say so rather than
+    // suggest the name itself. (Two grammars' local goals of one name never meet.)
     let twin = |scope: &GoalScope, goal: GoalId| {
         let this = &scope.rules.goals[goal as usize];
         scope
             .rules
             .goals
             .iter()
-            .find(|g| g.name == this.name && g.local != this.local)
+            .find(|g| g.name == this.name && (g.local.is_none() != this.local.is_none()))
             .cloned()
     };
     let grammar_name = |k: GrammarId| scope.rules.grammars[k as usize].as_str();
@@ -453,7 +464,9 @@ fn check_library(scope: &GoalScope) -> Vec<(usize, Diagnostic)> {
                 span,
             ),
         };
-        match (twin(scope, goal), local) {
+        let given_twin =
+            twin(scope, goal).filter(|t| scope.goal_ids.get(t).is_some_and(|g| given.contains(g)));
+        match (given_twin, local) {
             (Some(twin), None) => {
                 let owner = twin.local.map_or("", grammar_name);
                 d = d.with_hint(format!(
@@ -465,11 +478,15 @@ fn check_library(scope: &GoalScope) -> Vec<(usize, Diagnostic)> {
                     "the `{goal_name}` that other grammars give is another goal: local goals are fulfilled by their own grammar only"
                 ));
             }
-            (None, _) => {
-                if let Some(close) = suggest(&goal_name, given_names.iter().map(String::as_str)) {
-                    d = d.with_hint(format!("did you mean `{close}`?"));
-                }
-            }
+            // A rule for a goal no one gives yet is normal in a library (grammars added later
+            // may give it); a near miss is not.
+            (None, _) => match suggest(
+                &goal_name,
+                others(&given_names, &goal_name).iter().map(String::as_str),
+            ) {
+                Some(close) => d = d.with_hint(format!("did you mean `{close}`?")),
+                None => continue,
+            },
         }
         out.push((grammar as usize, d));
     }
@@ -480,7 +497,9 @@ fn check_library(scope: &GoalScope) -> Vec<(usize, Diagnostic)> {
         let goal_name = name(scope, goal);
         // An open goal is normal (grammars added later may fulfil it); a near miss is not,
         // nor a local goal its own grammar leaves open while others fulfil its namesake.
-        match (scope.rules.goals[goal as usize].local, twin(scope, goal)) {
+        let asked_twin =
+            twin(scope, goal).filter(|t| scope.goal_ids.get(t).is_some_and(|g| asked.contains(g)));
+        match (scope.rules.goals[goal as usize].local, asked_twin) {
             (Some(owner), Some(_)) => out.push((
                 grammar as usize,
                 Diagnostic::warning(
@@ -493,8 +512,13 @@ fn check_library(scope: &GoalScope) -> Vec<(usize, Diagnostic)> {
                 .with_hint("other grammars' rules for a goal of this name do not apply to it"),
             )),
             (None, Some(_)) => {}
-            (_, None) => {
-                if let Some(close) = suggest(&goal_name, asked_names.iter().map(String::as_str)) {
+            // A local goal is declared on purpose: often the name of a finished part.
+            (Some(_), None) => {}
+            (None, None) => {
+                if let Some(close) = suggest(
+                    &goal_name,
+                    others(&asked_names, &goal_name).iter().map(String::as_str),
+                ) {
                     out.push((
                         grammar as usize,
                         Diagnostic::warning(

@@ -250,9 +250,9 @@ pub struct DeriveArgs {
     /// Stop with an error after this many rule applications (derivation steps) per lot
     #[arg(long, value_name = "N", default_value_t = 10_000_000)]
     pub max_steps: usize,
-    /// Goal grammars: a folder of goal grammars (`*.goal`, subfolders included) whose rules
-    /// fulfil the goals the grammar's own rules leave open (repeatable)
-    #[arg(long, value_name = "FOLDER")]
+    /// Goal grammars: a goal grammar file, or a folder of them (`*.goal`, subfolders included),
+    /// whose rules fulfil the goals the grammar's own rules leave open (repeatable)
+    #[arg(long, value_name = "PATH")]
     pub library: Vec<PathBuf>,
     /// Stop with an error when one lot takes longer than this (0: no limit)
     #[arg(long, value_name = "SECONDS", default_value_t = 60.0, value_parser = parse_timeout)]
@@ -307,9 +307,9 @@ pub struct CheckArgs {
     /// Count warnings but do not print them
     #[arg(long)]
     pub quiet_warnings: bool,
-    /// Goal grammars: check each with the goal grammars of this folder as its library
-    /// (repeatable)
-    #[arg(long, value_name = "FOLDER")]
+    /// Goal grammars: check each with this goal grammar file, or the goal grammars of this
+    /// folder, as its library (repeatable)
+    #[arg(long, value_name = "PATH")]
     pub library: Vec<PathBuf>,
     /// The notation of the grammars [default: detected from each file's text]
     #[arg(

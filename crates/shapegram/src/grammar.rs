@@ -129,15 +129,29 @@ fn goal_dialect(source: &SourceFile, dialect: Option<Dialect>) -> Option<Dialect
     }
 }
 
-/// The goal grammar files (`*.goal`) in `folders` and their subfolders, sorted by path, without
-/// `main`: the library a goal grammar derives with.
+/// The library a goal grammar derives with: the files given and the goal grammar files
+/// (`*.goal`) in the folders given and their subfolders, sorted by path, without `main`.
 pub fn library_files(
-    folders: &[std::path::PathBuf],
+    paths: &[std::path::PathBuf],
     main: &Path,
 ) -> Result<Vec<std::path::PathBuf>, Failure> {
     let main = std::fs::canonicalize(main).ok();
     let mut files = Vec::new();
-    let mut pending: Vec<std::path::PathBuf> = folders.to_vec();
+    let mut pending = Vec::new();
+    for path in paths {
+        if path.is_dir() {
+            pending.push(path.clone());
+        } else if path.is_file() {
+            if std::fs::canonicalize(path).ok() != main {
+                files.push(path.clone());
+            }
+        } else {
+            return Err(Failure::new(format!(
+                "the library {} is neither a file nor a folder",
+                path.display()
+            )));
+        }
+    }
     while let Some(folder) = pending.pop() {
         let entries = std::fs::read_dir(&folder).map_err(|e| {
             Failure::new(format!(
