@@ -1,0 +1,126 @@
+//! `shapegram derive` and `check` on goal grammars with their libraries.
+
+mod common;
+
+use common::{TempDir, example, shapegram, stderr};
+use serde_json::Value;
+
+fn stats(args: &[&str]) -> Value {
+    let output = shapegram(args);
+    assert!(output.status.success(), "{}", stderr(&output));
+    serde_json::from_slice(&output.stdout).unwrap()
+}
+
+fn path(name: &str) -> String {
+    example(name).display().to_string()
+}
+
+#[test]
+fn the_showroom_derives_with_its_libraries_and_counts_steps_rules_and_grammars() {
+    let dir = TempDir::new("showroom");
+    let out = dir.path("showroom.glb").display().to_string();
+    let json = stats(&[
+        "derive",
+        &path("chairs/showroom.goal"),
+        "--library",
+        &path("chairs/designs"),
+        "--library",
+        &path("chairs/materials"),
+        "-o",
+        &out,
+        "--stats",
+        "-q",
+    ]);
+    let goals = &json["goals"];
+    assert_eq!(goals["grammars_used"], 8);
+    assert_eq!(goals["rules_used"], goals["rules"]);
+    assert_eq!(goals["tags"]["chair"], json["leaves"]);
+    let steps: u64 = goals["grammars"]
+        .as_object()
+        .unwrap()
+        .values()
+        .map(|v| v.as_u64().unwrap())
+        .sum();
+    assert_eq!(goals["steps"].as_u64(), Some(steps));
+    // Every node of the file carries its part's goals, tags and attributes.
+    let glb = std::fs::read(&out).unwrap();
+    let length = u32::from_le_bytes(glb[12..16].try_into().unwrap()) as usize;
+    let gltf: Value = serde_json::from_slice(&glb[20..20 + length]).unwrap();
+    let nodes = gltf["nodes"].as_array().unwrap();
+    let tagged = nodes
+        .iter()
+        .filter(|n| n["extras"]["shapegram"]["tags"].as_array().is_some())
+        .count();
+    assert_eq!(tagged, nodes.len() - 1, "all but the root");
+    let leg = nodes
+        .iter()
+        .find(|n| n["extras"]["shapegram"]["attributes"]["Leg.Size"].is_number())
+        .expect("a leg with its size");
+    assert!(
+        leg["extras"]["shapegram"]["tags"]
+            .as_array()
+            .unwrap()
+            .contains(&Value::from("chair"))
+    );
+}
+
+#[test]
+fn an_error_in_a_library_grammar_is_shown_in_its_file() {
+    let dir = TempDir::new("library-error");
+    std::fs::write(dir.path("main.goal"), "axiom box size(1, 1, 1)\n").unwrap();
+    std::fs::create_dir_all(dir.path("lib")).unwrap();
+    std::fs::write(
+        dir.path("lib/paint.goal"),
+        "// paints boxes\nfulfills(box) if(scope.sx) --> color(\"#ff0000\")\n",
+    )
+    .unwrap();
+    let output = shapegram(&[
+        "derive",
+        &dir.path("main.goal").display().to_string(),
+        "--library",
+        &dir.path("lib").display().to_string(),
+    ]);
+    let err = stderr(&output);
+    assert_eq!(output.status.code(), Some(1), "{err}");
+    assert!(
+        err.contains("error: expected a boolean condition, found a number"),
+        "{err}"
+    );
+    assert!(err.contains("paint.goal:2:18"), "{err}");
+    assert!(!err.contains("panicked"), "{err}");
+}
+
+#[test]
+fn check_reads_goal_grammars_with_their_library_and_derive_refuses_a_library_for_cga() {
+    let output = shapegram(&[
+        "check",
+        &path("chairs/metallic_chair.goal"),
+        "--library",
+        &path("chairs/chair.goal"),
+        "--library",
+        &path("chairs/materials"),
+    ]);
+    let err = stderr(&output);
+    assert!(output.status.success(), "{err}");
+    assert!(
+        err.ends_with(
+            "metallic_chair.goal with a library of 4 files (12 goal rules, 0 warnings)\n"
+        ),
+        "{err}"
+    );
+    let output = shapegram(&[
+        "derive",
+        &path("house.cga"),
+        "--library",
+        &path("chairs/materials"),
+    ]);
+    let err = stderr(&output);
+    assert_eq!(output.status.code(), Some(1));
+    assert!(
+        err.starts_with("error: ")
+            && err.contains(
+                "house.cga is not a goal grammar: --library gives goal grammars their rules"
+            ),
+        "{err}"
+    );
+}
