@@ -9,12 +9,13 @@
 //! Vertices move and edges stay straight. A face that the move bends out of its plane becomes
 //! triangles: a convex face a fan around its centre (moved too, so it lies on the deformed
 //! surface), any other face the triangles it is cut into where it is still flat: every face of the
-//! result is planar, and the surface stays closed. Box faces stay whole under
-//! a taper (its side faces run along the axis, its ends across it) and under a shear (an affine
-//! map keeps every plane). A twist slices the mesh across the axis first, so that no slice turns
-//! more than [`TWIST_STEP_DEGREES`] (with at most [`MAX_TWIST_SLICES`] slices), and then
-//! triangulates the side walls it bent. All three keep the orientation of every face, so normals
-//! keep pointing outward and a watertight mesh stays watertight.
+//! result is planar, and the surface stays closed. Box faces stay whole under a taper (its side
+//! faces run along the axis, its ends across it) and under a shear (an affine map keeps every
+//! plane). A twist slices the mesh across the axis first, so that no slice turns more than
+//! [`TWIST_STEP_DEGREES`] (with at most [`MAX_TWIST_SLICES`] slices), and then triangulates the
+//! walls it bent; a taper slices a mesh that has faces slanted against the axis likewise. The
+//! three maps keep orientation, and the slices keep their piecewise-straight images from folding,
+//! so normals keep pointing outward and a watertight mesh stays watertight.
 
 use crate::{
     DQuat, DVec3, Mesh,
@@ -27,8 +28,12 @@ use crate::{
 /// [`MAX_TWIST_SLICES`] slices).
 pub const TWIST_STEP_DEGREES: f64 = 7.5;
 
-/// The most slices a [`twist`] cuts a mesh into (360° at [`TWIST_STEP_DEGREES`] each).
+/// The most slices a [`twist`] (or a [`taper`]) cuts a mesh into (360° at
+/// [`TWIST_STEP_DEGREES`] each).
 pub const MAX_TWIST_SLICES: usize = 48;
+
+/// The largest change of scale across one slice of a [`taper`] of a mesh with slanted faces.
+pub const TAPER_STEP: f64 = 0.125;
 
 /// How far a corner may lie off its face's plane (relative to the face's size) before the face
 /// counts as bent and is triangulated.
@@ -50,11 +55,27 @@ pub struct Deformed {
 /// A factor of 0 draws the far end into one apex on the centre line (a pyramid over a box, a
 /// wedge over a flat face); the faces it collapses are dropped and the faces around it meet there.
 ///
+/// Faces along the axis and across it stay planar (a box keeps its six faces). A mesh with faces
+/// slanted against the axis, which the taper bends, is sliced across it first, so that the scale
+/// changes by at most [`TAPER_STEP`] a slice (at most [`MAX_TWIST_SLICES`] slices), as a twist is.
+///
 /// `None` for an axis above 2 or a factor that is negative or not finite.
 pub fn taper(mesh: &Mesh, size: DVec3, axis: usize, factor: f64) -> Option<Deformed> {
     if axis > 2 || !(factor >= 0.0 && factor.is_finite()) {
         return None;
     }
+    let identity = factor == 1.0 || !has_slanted_faces(mesh, axis);
+    let (mesh, sources) = &if identity {
+        (mesh.clone(), (0..mesh.face_count() as u32).collect())
+    } else {
+        let slices = ((factor - 1.0).abs() / TAPER_STEP - 1e-9).ceil();
+        sliced(
+            mesh,
+            size,
+            axis,
+            (slices.max(1.0) as usize).min(MAX_TWIST_SLICES),
+        )
+    };
     let centre = size * 0.5;
     let map = |p: DVec3| {
         let t = snapped(relative(p, size, axis)).clamp(0.0, 1.0);
@@ -80,8 +101,7 @@ pub fn taper(mesh: &Mesh, size: DVec3, axis: usize, factor: f64) -> Option<Defor
             remap.push((positions.len() - 1) as u32);
         }
     }
-    let sources: Vec<u32> = (0..mesh.face_count() as u32).collect();
-    Some(rebuild(mesh, &sources, positions, &remap, &|p| map(p).0))
+    Some(rebuild(mesh, sources, positions, &remap, &|p| map(p).0))
 }
 
 /// Twists a mesh about the centre line of `axis`: the cross-section at `t` turns by
@@ -101,16 +121,13 @@ pub fn twist(mesh: &Mesh, size: DVec3, axis: usize, degrees: f64) -> Option<Defo
     if axis > 2 || !degrees.is_finite() {
         return None;
     }
-    let slices = twist_slices(degrees);
-    let length = size[axis];
     let mut direction = DVec3::ZERO;
     direction[axis] = 1.0;
-    let mut offsets: Vec<f64> = Vec::new();
-    if length > 0.0 && degrees != 0.0 {
-        offsets.extend((1..slices).map(|k| length * k as f64 / slices as f64));
-        offsets.extend(reflex_heights(mesh, axis, &offsets));
-    }
-    let (sliced, sources) = slice_faces(mesh, direction, &offsets);
+    let (sliced, sources) = if degrees == 0.0 {
+        (mesh.clone(), (0..mesh.face_count() as u32).collect())
+    } else {
+        sliced(mesh, size, axis, twist_slices(degrees))
+    };
     let centre = size * 0.5;
     let map = |p: DVec3| {
         let t = relative(p, size, axis);
@@ -122,6 +139,30 @@ pub fn twist(mesh: &Mesh, size: DVec3, axis: usize, degrees: f64) -> Option<Defo
     let positions = sliced.positions().iter().map(|&p| map(p)).collect();
     let remap: Vec<u32> = (0..sliced.vertex_count() as u32).collect();
     Some(rebuild(&sliced, &sources, positions, &remap, &map))
+}
+
+/// The mesh cut into `slices` equal slices across `axis` of the scope, and also through the
+/// reflex corners of faces that are not convex and not across the axis, so that the pieces of
+/// faces that bend are convex; with the input face of each face.
+fn sliced(mesh: &Mesh, size: DVec3, axis: usize, slices: usize) -> (Mesh, Vec<u32>) {
+    let length = size[axis];
+    let mut direction = DVec3::ZERO;
+    direction[axis] = 1.0;
+    let mut offsets: Vec<f64> = Vec::new();
+    if length > 0.0 {
+        offsets.extend((1..slices).map(|k| length * k as f64 / slices as f64));
+        offsets.extend(reflex_heights(mesh, axis, &offsets));
+    }
+    slice_faces(mesh, direction, &offsets)
+}
+
+/// Whether some face of the mesh is slanted against `axis`: neither along it nor across it.
+/// A taper bends such faces (and only those).
+fn has_slanted_faces(mesh: &Mesh, axis: usize) -> bool {
+    (0..mesh.face_count()).any(|f| {
+        let along = mesh.face_normal(f)[axis].abs();
+        along > PLANARITY && along < 1.0 - PLANARITY
+    })
 }
 
 /// The heights along `axis` of the reflex corners of the faces that are not convex and not

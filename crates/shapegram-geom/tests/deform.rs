@@ -188,9 +188,8 @@ fn taper_by_one_changes_nothing_and_bad_factors_are_refused() {
 
 #[test]
 fn bent_faces_are_triangulated_where_they_were_flat() {
-    // A cube standing on a corner: each face has corners at three heights, and a taper along y
-    // bends every one of them (a face stays flat under a taper only where its edges across the
-    // axis are parallel, or where it runs along or across the axis).
+    // A cube standing on a corner: each face is slanted against y, and a taper along y bends
+    // every one of them (only faces along the axis or across it stay flat).
     let turn = DQuat::from_rotation_arc(DVec3::ONE.normalize(), DVec3::Y);
     let mut cube = cuboid(DVec3::splat(2.0));
     cube.transform(&DAffine3::from_quat(turn));
@@ -200,11 +199,13 @@ fn bent_faces_are_triangulated_where_they_were_flat() {
     assert!(close(size.y, 2.0 * 3f64.sqrt(), 1e-12), "{size}");
     let d = taper(&cube, size, 1, 0.5).unwrap();
     assert_sound(&d, &cube);
-    // Each face a fan of four triangles around its centre.
-    assert_eq!(d.mesh.face_count(), 24);
+    // Sliced into four (the scale changes by an eighth a slice at most), and every piece a fan
+    // of triangles around its centre (or a triangle already).
     for f in 0..6 {
-        assert_eq!(d.sources.iter().filter(|&&s| s == f).count(), 4);
+        let pieces = d.sources.iter().filter(|&&s| s == f);
+        assert!(pieces.count() >= 6, "face {f}");
     }
+    assert!(d.mesh.faces().all(|f| f.len() == 3));
     // The corners on the centre line stay: the lowest where it was, the highest over it.
     let lowest = at_height(&d.mesh, 0.0);
     let highest = at_height(&d.mesh, size.y);
