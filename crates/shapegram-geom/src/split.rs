@@ -71,20 +71,24 @@ pub fn split_slabs(mesh: &Mesh, normal: DVec3, offsets: &[f64]) -> Vec<Mesh> {
 /// watertight mesh stays watertight. Input vertices keep their indices (new ones come after them).
 /// Also returns, for each face of the result, the input face it is a piece of.
 ///
-/// Degenerate planes (a zero or non-finite normal) cut nothing, as in [`split_slabs`].
+/// Degenerate planes (a zero or non-finite normal) cut nothing, as in [`split_slabs`]; planes
+/// within a few times the mesh's tolerance of one another cut as one.
 pub fn slice_faces(mesh: &Mesh, normal: DVec3, offsets: &[f64]) -> (Mesh, Vec<u32>) {
     let whole = || (mesh.clone(), (0..mesh.face_count() as u32).collect());
-    let Some((normal, offsets)) = unit_planes(normal, offsets) else {
+    let Some((normal, mut offsets)) = unit_planes(normal, offsets) else {
         return whole();
     };
     let Some(bounds) = mesh.bounds() else {
         return whole();
     };
+    let eps = bounds.tolerance();
+    // Planes so close that a vertex could lie on two of them cut as one: the first.
+    offsets.dedup_by(|next, kept| *next - *kept <= 4.0 * eps);
     let mut cutter = Cutter {
         positions: mesh.positions().to_vec(),
         normal,
         offsets: &offsets,
-        eps: bounds.tolerance(),
+        eps,
         crossings: HashMap::default(),
         seams: true,
     };

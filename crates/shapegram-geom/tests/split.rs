@@ -271,6 +271,10 @@ fn slicing_keeps_one_closed_surface() {
     assert_eq!(same, b);
     assert_eq!(sources, [0, 1, 2, 3, 4, 5]);
     assert_eq!(slice_faces(&b, DVec3::ZERO, &[1.0]).0, b);
+    // Planes closer than the tolerance cut as one.
+    let (once, _) = slice_faces(&b, DVec3::Y, &[1.0, 1.0 + 1e-9]);
+    assert_eq!(once.face_count(), 4 * 2 + 2);
+    assert!(once.is_watertight());
 }
 
 #[test]
