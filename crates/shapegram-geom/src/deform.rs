@@ -59,7 +59,7 @@ pub struct Deformed {
 /// slanted against the axis, which the taper bends, is sliced across it first, so that the scale
 /// changes by at most [`TAPER_STEP`] a slice (at most [`MAX_TWIST_SLICES`] slices), as a twist is.
 ///
-/// `None` for an axis above 2 or a factor that is negative or not finite.
+/// `None` for an axis above 2, a factor that is negative or not finite, or a result that is not.
 pub fn taper(mesh: &Mesh, size: DVec3, axis: usize, factor: f64) -> Option<Deformed> {
     if axis > 2 || !(factor >= 0.0 && factor.is_finite()) {
         return None;
@@ -101,7 +101,7 @@ pub fn taper(mesh: &Mesh, size: DVec3, axis: usize, factor: f64) -> Option<Defor
             remap.push((positions.len() - 1) as u32);
         }
     }
-    Some(rebuild(mesh, sources, positions, &remap, &|p| map(p).0))
+    rebuild(mesh, sources, positions, &remap, &|p| map(p).0)
 }
 
 /// Twists a mesh about the centre line of `axis`: the cross-section at `t` turns by
@@ -116,7 +116,7 @@ pub fn taper(mesh: &Mesh, size: DVec3, axis: usize, factor: f64) -> Option<Defor
 /// The walls run straight between slices, so the volume shrinks a little: by 0.14 % for a
 /// twisted box (the cross-sections at the slice planes keep their area exactly).
 ///
-/// `None` for an axis above 2 or an angle that is not finite.
+/// `None` for an axis above 2, an angle that is not finite, or a result that is not.
 pub fn twist(mesh: &Mesh, size: DVec3, axis: usize, degrees: f64) -> Option<Deformed> {
     if axis > 2 || !degrees.is_finite() {
         return None;
@@ -138,7 +138,7 @@ pub fn twist(mesh: &Mesh, size: DVec3, axis: usize, degrees: f64) -> Option<Defo
     };
     let positions = sliced.positions().iter().map(|&p| map(p)).collect();
     let remap: Vec<u32> = (0..sliced.vertex_count() as u32).collect();
-    Some(rebuild(&sliced, &sources, positions, &remap, &map))
+    rebuild(&sliced, &sources, positions, &remap, &map)
 }
 
 /// The mesh cut into `slices` equal slices across `axis` of the scope, and also through the
@@ -222,7 +222,8 @@ pub fn twist_slices(degrees: f64) -> usize {
 /// along `axis`, so the end at `t = 0` stays and the far end moves by `amount`. An affine map
 /// with determinant 1: volumes and planar faces are kept.
 ///
-/// `None` for an axis above 2, `toward == axis`, or an amount that is not finite.
+/// `None` for an axis above 2, `toward == axis`, an amount that is not finite, or a result
+/// that is not.
 pub fn shear(
     mesh: &Mesh,
     size: DVec3,
@@ -241,7 +242,7 @@ pub fn shear(
     let positions = mesh.positions().iter().map(|&p| map(p)).collect();
     let remap: Vec<u32> = (0..mesh.vertex_count() as u32).collect();
     let sources: Vec<u32> = (0..mesh.face_count() as u32).collect();
-    Some(rebuild(mesh, &sources, positions, &remap, &map))
+    rebuild(mesh, &sources, positions, &remap, &map)
 }
 
 /// The relative position of `p` along `axis` of a scope of size `size` (0 for a scope without
@@ -273,14 +274,18 @@ fn snapped(t: f64) -> f64 {
 /// choice of diagonals bulges the surface in or out); any other, or one pinched by the move (a
 /// loop passing a vertex twice: a crenel's merlons drawn into one apex), is triangulated where
 /// `mesh` still has it flat and simple, and the triangles the move collapsed go. `sources` gives
-/// the origin of `mesh`'s faces.
+/// the origin of `mesh`'s faces. `None` when a position is not finite (a deformation so large
+/// that it leaves the range of numbers).
 fn rebuild(
     mesh: &Mesh,
     sources: &[u32],
     positions: Vec<DVec3>,
     remap: &[u32],
     map: &dyn Fn(DVec3) -> DVec3,
-) -> Deformed {
+) -> Option<Deformed> {
+    if !positions.iter().all(|p| p.is_finite()) {
+        return None;
+    }
     let mut out = Mesh::from_faces(positions, std::iter::empty::<[u32; 3]>());
     let mut out_sources = Vec::with_capacity(sources.len());
     let mut triangulator = Triangulator::new();
@@ -326,10 +331,13 @@ fn rebuild(
             }
         }
     }
-    Deformed {
+    if !out.positions().iter().all(|p| p.is_finite()) {
+        return None;
+    }
+    Some(Deformed {
         mesh: out,
         sources: out_sources,
-    }
+    })
 }
 
 /// Whether the corners of a loop lie in one plane, within [`PLANARITY`] of the loop's size.

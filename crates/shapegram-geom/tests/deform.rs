@@ -258,6 +258,11 @@ fn shear_refuses_its_own_axis() {
     assert!(shear(&b, size, 1, 3, 1.0).is_none());
     assert!(shear(&b, size, 1, 0, f64::NAN).is_none());
     assert_eq!(shear(&b, size, 1, 0, 0.0).unwrap().mesh, b);
+    // Geometry twice as tall as its scope, sheared by nearly the largest number: out of range.
+    let tall = DVec3::new(1.0, 0.5, 1.0);
+    assert!(shear(&b, tall, 1, 0, 1e308).is_none());
+    assert!(twist(&b, tall, 1, 1e308).is_none());
+    assert!(shear(&b, size, 1, 0, 1e308).is_some());
 }
 
 #[test]
@@ -378,6 +383,18 @@ fn faces_that_are_not_convex_are_sliced_at_their_reflex_corners() {
     }
     let v = d.mesh.signed_volume();
     assert!(v < 36.0 && close(v, 36.0, 36.0 * 2e-3), "{v}");
+}
+
+#[test]
+fn a_box_thinner_than_the_tolerance_of_its_slices_stays_closed() {
+    // 0.1 µm thick and 36 m across: the slices of a twist would lie closer to one another than
+    // the cut's tolerance (10⁻⁹ of the diagonal), so they cut as one.
+    let size = DVec3::new(20.0, 1e-7, 30.0);
+    let b = cuboid(size);
+    let d = twist(&b, size, 1, 45.0).unwrap();
+    assert!(d.mesh.is_watertight(), "{:?}", d.mesh.edge_report());
+    let d = taper(&d.mesh, size, 1, 0.0).unwrap();
+    assert!(d.mesh.is_watertight(), "{:?}", d.mesh.edge_report());
 }
 
 #[test]

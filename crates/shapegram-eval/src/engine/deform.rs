@@ -69,10 +69,11 @@ impl Engine<'_> {
             DeformKind::Shear { toward } => deform::shear(&mesh, size, axis, toward, value),
         };
         let Some(deformed) = deformed else {
-            // The arguments were checked above and by the compiler; numbers are finite.
+            // The arguments were checked above and by the compiler, and numbers are finite: the
+            // deformation took the geometry beyond the range of numbers.
             return Err(DeriveError::at(
-                format!("`{name}` cannot deform the shape with {value}"),
-                span,
+                format!("`{name}` by {value} takes the geometry out of the range of numbers"),
+                amount.span,
             ));
         };
         let tags: Option<Arc<[FaceTag]>> = state.geometry.tags().map(|tags| {
