@@ -11,6 +11,8 @@ pub struct DeriveError {
     pub span: Option<Span>,
     /// Suggestions for fixing it.
     pub hints: Vec<String>,
+    /// For a library of grammars, the index of the file the span is in (`None`: the first).
+    pub file: Option<usize>,
 }
 
 impl DeriveError {
@@ -20,6 +22,7 @@ impl DeriveError {
             message: message.into(),
             span: Some(span),
             hints: Vec::new(),
+            file: None,
         }
     }
 
@@ -29,12 +32,19 @@ impl DeriveError {
             message: message.into(),
             span: None,
             hints: Vec::new(),
+            file: None,
         }
     }
 
     /// The same error with a hint.
     pub fn with_hint(mut self, hint: impl Into<String>) -> Self {
         self.hints.push(hint.into());
+        self
+    }
+
+    /// The same error, placed in file `file` of a library unless it was placed already.
+    pub fn in_file(mut self, file: u16) -> Self {
+        self.file.get_or_insert(usize::from(file));
         self
     }
 

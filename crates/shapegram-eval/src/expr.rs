@@ -5,12 +5,13 @@ use std::sync::Arc;
 use shapegram_geom::DVec3;
 use shapegram_syntax::{
     Span,
-    ast::{BinaryOp, UnaryOp},
+    ast::{AttributeKind, BinaryOp, UnaryOp},
 };
 
 use crate::builtins::{Builtin, Query};
 use crate::context::{Context, Target};
 use crate::error::DeriveError;
+use crate::goals::AttrId;
 use crate::program::{CExpr, CKind, Program};
 use crate::rng::Rng;
 use crate::shape::{Geometry, State};
@@ -130,6 +131,7 @@ impl<'p> Evaluator<'p> {
                 Value::string(crate::ops::CompSelector::NAMES[usize::from(shape.comp_sel)])
             }
             CKind::Query(q) => Value::Number(self.query(*q, shape)),
+            CKind::GoalAttr(attr, kind) => self.goal_attribute(*attr, *kind, shape, e.span)?,
             CKind::Unary(op, operand) => {
                 let v = self.eval(operand, shape, args)?;
                 match (op, v) {
@@ -257,6 +259,45 @@ impl<'p> Evaluator<'p> {
     }
 
     /// Evaluates to a number, or fails with the expression's span.
+    /// A named attribute of a goal grammar's shape, checked against the getter's type.
+    fn goal_attribute(
+        &self,
+        attr: AttrId,
+        kind: AttributeKind,
+        shape: &State,
+        span: Span,
+    ) -> Result<Value> {
+        let name = || {
+            self.program
+                .goals
+                .as_ref()
+                .map_or("?", |g| &g.attributes[attr as usize])
+                .to_owned()
+        };
+        let Some(value) = shape.semantics.as_ref().and_then(|s| s.get(attr)) else {
+            return Err(DeriveError::at(
+                format!("the shape has no attribute `{}`", name()),
+                span,
+            )
+            .with_hint("only rules read attributes (they apply to shapes that have them); set it with `set(@name, value)`"));
+        };
+        let wanted = match (kind, value) {
+            (AttributeKind::Number, Value::Number(_))
+            | (AttributeKind::String, Value::Str(_))
+            | (AttributeKind::Any, _) => return Ok(value.clone()),
+            (AttributeKind::Number, _) => "a number (`@Double`)",
+            (AttributeKind::String, _) => "a string (`@String`)",
+        };
+        Err(DeriveError::at(
+            format!(
+                "attribute `{}` is a {}, not {wanted}",
+                name(),
+                value.type_name()
+            ),
+            span,
+        ))
+    }
+
     pub fn number(&mut self, e: &CExpr, shape: &mut State, args: &[Value]) -> Result<f64> {
         // Most sizes are literals: no need to go through `eval`.
         if let CKind::Value(Value::Number(n)) = e.kind {

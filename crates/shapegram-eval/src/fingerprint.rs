@@ -8,7 +8,7 @@ use rustc_hash::FxHasher;
 use shapegram_syntax::ast::Grammar;
 
 /// What a derivation depends on in a grammar, apart from its rules' bodies.
-#[derive(Clone, Debug, PartialEq, Eq)]
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
 pub(crate) struct Fingerprints {
     /// The attributes, constants and functions, and each rule's name, parameters and
     /// annotations: when any of these change, every rule may compile differently.

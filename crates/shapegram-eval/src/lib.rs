@@ -14,6 +14,8 @@ mod engine;
 mod error;
 mod expr;
 mod fingerprint;
+mod goals;
+mod library;
 mod named_poses;
 mod ops;
 mod program;
@@ -30,6 +32,7 @@ pub use engine::{
     Rederivation, Stats, Trace, TreeNode, derive, derive_again,
 };
 pub use error::DeriveError;
+pub use goals::LeafSemantics;
 pub use program::{Program, RuleId, Sym};
 pub use shape::{Csg, CsgOp, FaceTag, Geometry, Implicit};
 pub use value::Value;

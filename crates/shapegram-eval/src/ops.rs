@@ -122,6 +122,8 @@ pub(crate) enum Op {
         axis: usize,
         amount: CExpr,
     },
+    /// `sync(windows)`: the shape joins a synchronization of its goal grammar.
+    Sync(u32),
     /// Parsed and accepted, but without effect on the model yet (texturing and the like).
     Ignored,
 }
@@ -299,6 +301,8 @@ pub(crate) enum RoofKind {
 #[derive(Debug)]
 pub(crate) enum SetTarget {
     Attr(u32),
+    /// A named attribute of a goal grammar's shape (`set(@Leg.Size, …)`).
+    Goal(crate::goals::AttrId),
     Color(Option<usize>),
     MaterialName,
     /// `trim.horizontal` (true) or `trim.vertical` (false).
@@ -494,6 +498,7 @@ const IMPLEMENTED: &[&str] = &[
     "taper",
     "twist",
     "shear",
+    "sync",
 ];
 
 /// Whether an operation of this name exists (implemented or not).
@@ -527,7 +532,14 @@ pub(crate) fn compile(
         .args
         .iter()
         .flatten()
-        .map(|a| c.arg(&a.value, params))
+        .enumerate()
+        .map(|(i, a)| match (&a.value.kind, name, i) {
+            // `set(@name, …)` writes the attribute: no read.
+            (ast::ExprKind::GoalAttribute { name, .. }, "set", 0) => {
+                c.goal_attr_target(name, a.value.span)
+            }
+            _ => c.arg(&a.value, params),
+        })
         .collect();
     let mut args = args;
     // `set` reads its first argument as a name itself.
@@ -702,6 +714,7 @@ impl Ctx<'_, '_> {
                 DeformKind::Shear { toward: 0 },
                 "shear(x | y | z, toward x | y | z, amount)",
             )?,
+            "sync" => self.sync()?,
             _ => unreachable!("`{name}` is listed in IMPLEMENTED but not built"),
         };
         let needs_block = matches!(op, Op::Split { .. } | Op::Comp { .. } | Op::Setback { .. });
@@ -1075,6 +1088,7 @@ impl Ctx<'_, '_> {
         self.words.push(0);
         let name = match &target.kind {
             CKind::Attr(i) => return Some(Op::Set(SetTarget::Attr(*i), value)),
+            CKind::GoalAttr(i, _) => return Some(Op::Set(SetTarget::Goal(*i), value)),
             CKind::Selector(name) => name.clone(),
             _ => {
                 self.c.report(
@@ -1115,6 +1129,35 @@ impl Ctx<'_, '_> {
             }
         };
         Some(Op::Set(target, value))
+    }
+
+    fn sync(&mut self) -> Option<Op> {
+        self.arity(1, 1, "sync(synchronization)")?;
+        let Some(word) = self.word(0).map(str::to_owned) else {
+            return self.bad_selector(0, "the name of a synchronization");
+        };
+        let span = self.args[0].span;
+        let Some(scope) = &self.c.goal else {
+            self.c.report(
+                Diagnostic::error(
+                    "`sync` synchronizes shapes of goal grammars",
+                    self.call.span,
+                )
+                .with_hint("in the main syntax, shapes made by one rule derive alike already"),
+            );
+            return None;
+        };
+        if let Some(id) = scope.sync(&word) {
+            return Some(Op::Sync(id));
+        }
+        let mut d = Diagnostic::error(format!("unknown synchronization `{word}`"), span).with_hint(
+            format!("declare it: `sync {word}` (`var {word} = new Synchronize();`)"),
+        );
+        if let Some(close) = shapegram_syntax::suggest(&word, scope.sync_names()) {
+            d = d.with_hint(format!("did you mean `{close}`?"));
+        }
+        self.c.report(d);
+        None
     }
 
     fn offset(&mut self) -> Option<Op> {

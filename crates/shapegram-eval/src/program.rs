@@ -4,12 +4,14 @@
 use rustc_hash::FxHashMap;
 use shapegram_syntax::{
     Diagnostic, Span,
-    ast::{self, BinaryOp, Body, ExprKind, Grammar, Stmt, UnaryOp},
+    ast::{self, AttributeKind, BinaryOp, Body, ExprKind, Grammar, Stmt, UnaryOp},
     suggest,
 };
 
 use crate::builtins::{Builtin, Query};
 use crate::fingerprint::Fingerprints;
+use crate::goals::{AttrId, GoalId, GoalRules};
+use crate::library::GoalScope;
 use crate::ops::{self, Op};
 use crate::value::Value;
 
@@ -40,6 +42,8 @@ pub struct Program {
     named_poses: Vec<(String, Vec<(String, Value)>)>,
     /// What tells an edited rule from an unchanged one when deriving again.
     pub(crate) fingerprints: Fingerprints,
+    /// The goal rules, axioms and index of a goal grammar library; `None` for symbol grammars.
+    pub(crate) goals: Option<Box<GoalRules>>,
 }
 
 /// A compiled rule.
@@ -94,6 +98,12 @@ pub(crate) enum CStmt {
     Push,
     Pop(Span),
     Nil,
+    /// Goal grammars: the shape goes on with these goals opened and named by `symbol`.
+    Goals {
+        goals: Vec<GoalId>,
+        symbol: Sym,
+        span: Span,
+    },
 }
 
 /// A compiled expression with the span it came from.
@@ -130,11 +140,17 @@ pub(crate) enum CKind {
     Selector(String),
     /// A CGA function that parses but is not implemented: an error when evaluated.
     Unsupported(String),
+    /// Goal grammars: a named attribute of the shape, of the type the getter asks for.
+    GoalAttr(AttrId, AttributeKind),
 }
 
 impl Program {
     /// Compiles a grammar. Returns `None` when there are errors; warnings come back either way.
     pub fn compile(grammar: &Grammar) -> (Option<Program>, Vec<Diagnostic>) {
+        if grammar.is_goal_grammar() {
+            let (program, diagnostics) = Self::compile_library(&[("grammar", grammar)]);
+            return (program, diagnostics.into_iter().map(|(_, d)| d).collect());
+        }
         let mut compiler = Compiler::new(grammar);
         let program = compiler.run(grammar);
         let failed = compiler.diagnostics.iter().any(Diagnostic::is_error);
@@ -206,6 +222,8 @@ pub(crate) struct Compiler<'g> {
     warned: FxHashMap<String, ()>,
     /// Whether a kinematic operation was compiled.
     pub(crate) kinematic: bool,
+    /// Compiling goal grammars: the library's names and what its checks need.
+    pub(crate) goal: Option<Box<GoalScope>>,
 }
 
 impl<'g> Compiler<'g> {
@@ -222,6 +240,7 @@ impl<'g> Compiler<'g> {
             uses: Uses::default(),
             warned: FxHashMap::default(),
             kinematic: false,
+            goal: None,
         };
         for (i, rule) in grammar.rules.iter().enumerate() {
             let list = c.rule_by_name.entry(rule.name.name.clone()).or_default();
@@ -366,10 +385,37 @@ impl<'g> Compiler<'g> {
             kinematic: self.kinematic,
             named_poses,
             fingerprints: Fingerprints::of(grammar),
+            goals: None,
         }
     }
 
-    fn intern(&mut self, name: &str) -> Sym {
+    /// A compiler for goal grammars (whose rules come in through [`crate::library`]).
+    pub(crate) fn new_for_goals(empty: &'g Grammar) -> Self {
+        let mut c = Self::new(empty);
+        c.goal = Some(Box::default());
+        c
+    }
+
+    /// The program of a goal library.
+    pub(crate) fn finish_goals(&mut self, rules: Vec<CRule>, goals: GoalRules) -> Program {
+        Program {
+            symbols: std::mem::take(&mut self.symbols),
+            context_rules: vec![false; rules.len()],
+            rules,
+            attrs: Vec::new(),
+            consts: Vec::new(),
+            functions: Vec::new(),
+            rule_by_name: FxHashMap::default(),
+            attr_by_name: FxHashMap::default(),
+            start_rule: None,
+            kinematic: self.kinematic,
+            named_poses: Vec::new(),
+            fingerprints: Fingerprints::default(),
+            goals: Some(Box::new(goals)),
+        }
+    }
+
+    pub(crate) fn intern(&mut self, name: &str) -> Sym {
         if let Some(&s) = self.symbol_ids.get(name) {
             return s;
         }
@@ -379,7 +425,7 @@ impl<'g> Compiler<'g> {
         s
     }
 
-    fn body(&mut self, body: &Body, params: Params) -> CBody {
+    pub(crate) fn body(&mut self, body: &Body, params: Params) -> CBody {
         match body {
             Body::Sequence(stmts) => CBody::Sequence(self.stmts(stmts, params)),
             Body::Cases {
@@ -409,13 +455,7 @@ impl<'g> Compiler<'g> {
                 Stmt::Pop(span) => Some(CStmt::Pop(*span)),
                 Stmt::Nil(_) => Some(CStmt::Nil),
                 Stmt::Call(call) => self.call_stmt(call, params),
-                Stmt::Goals(_, span) => {
-                    self.diagnostics.push(Diagnostic::error(
-                        "goal successors are not derived yet",
-                        *span,
-                    ));
-                    None
-                }
+                Stmt::Goals(goals, span) => self.goal_successor(goals, *span),
             })
             .collect()
     }
@@ -454,6 +494,13 @@ impl<'g> Compiler<'g> {
         }
         if let Some(op) = ops::compile(self, call, params) {
             return op.map(|op| CStmt::Op(op, call.span));
+        }
+        if self.goal.is_some() {
+            self.diagnostics.push(
+                Diagnostic::error(format!("unknown operation `{name}`"), call.name.span)
+                    .with_hint(format!("in goal grammars a successor is a goal: `+{name}`")),
+            );
+            return None;
         }
         if call.block.is_some() {
             self.diagnostics.push(
@@ -497,6 +544,49 @@ impl<'g> Compiler<'g> {
         }
     }
 
+    /// The target of `set(@name, …)`: the attribute, recorded as written, not read.
+    pub(crate) fn goal_attr_target(&mut self, name: &str, span: Span) -> CExpr {
+        let kind = match &mut self.goal {
+            Some(scope) => {
+                let attr = scope.attr(name);
+                scope.write(attr);
+                CKind::GoalAttr(attr, AttributeKind::Any)
+            }
+            None => {
+                self.diagnostics.push(
+                    Diagnostic::error(
+                        format!("`@{name}` is a named attribute of goal grammars"),
+                        span,
+                    )
+                    .with_hint("in the main syntax, declare `attr name = …` and `set(name, …)`"),
+                );
+                CKind::Value(Value::Number(0.0))
+            }
+        };
+        CExpr { kind, span }
+    }
+
+    /// `+seat +wooden`: a goal successor (goal grammars only).
+    fn goal_successor(&mut self, goals: &[ast::Goal], span: Span) -> Option<CStmt> {
+        let Some(scope) = &mut self.goal else {
+            self.diagnostics.push(
+                Diagnostic::error("`+goal` successors belong to goal grammars", span)
+                    .with_hint("in the main syntax, a successor is a rule's name"),
+            );
+            return None;
+        };
+        let mut ids: Vec<GoalId> = goals.iter().map(|g| scope.goal(&g.name)).collect();
+        scope.give(&ids, span);
+        ids.sort_unstable();
+        ids.dedup();
+        let symbol = self.intern(&goals[0].name);
+        Some(CStmt::Goals {
+            goals: ids,
+            symbol,
+            span,
+        })
+    }
+
     /// Compiles an expression in which every name must resolve.
     pub(crate) fn expr(&mut self, e: &ast::Expr, params: Params) -> CExpr {
         self.expr_in(e, params, false)
@@ -518,13 +608,20 @@ impl<'g> Compiler<'g> {
                 CKind::Array(items.iter().map(|i| self.expr(i, params)).collect())
             }
             ExprKind::Name(name) => self.name(name, e.span, params, selectors),
-            ExprKind::GoalAttribute { name, .. } => {
-                self.diagnostics.push(Diagnostic::error(
-                    format!("`@{name}` reads a goal attribute: only goal grammars have them"),
-                    e.span,
-                ));
-                CKind::Value(Value::Number(0.0))
-            }
+            ExprKind::GoalAttribute { name, kind } => match &mut self.goal {
+                Some(scope) => {
+                    let attr = scope.attr(name);
+                    scope.read(attr, e.span);
+                    CKind::GoalAttr(attr, *kind)
+                }
+                None => {
+                    self.diagnostics.push(Diagnostic::error(
+                        format!("`@{name}` reads a shape's named attribute: only goal grammars have them"),
+                        e.span,
+                    ).with_hint("in the main syntax, declare `attr name = …` and read it by its name"));
+                    CKind::Value(Value::Number(0.0))
+                }
+            },
             ExprKind::Call { name, args } => self.call_expr(name, args, params),
             ExprKind::Index {
                 target,

@@ -7,6 +7,7 @@ use shapegram_geom::{Color, DAffine3, DVec3, Mesh, Scope, primitives};
 use shapegram_implicit::{MeshOptions, Solid};
 use shapegram_syntax::Span;
 
+use crate::goals::Semantics;
 use crate::program::Sym;
 use crate::rng::{Rng, child_seed};
 use crate::trim::Trim;
@@ -241,6 +242,8 @@ pub struct State {
     pub section: u32,
     /// The trim planes of the face component it came from, and which kinds of them cut.
     pub trim: Trim,
+    /// Goal grammars: the shape's goals, tags and named attributes (`None` otherwise).
+    pub semantics: Option<Arc<Semantics>>,
 }
 
 impl FrozenState {
@@ -273,6 +276,7 @@ impl FrozenState {
             occluder: self.occluder,
             section: self.section,
             trim: self.trim,
+            semantics: self.semantics,
         }
     }
 }
@@ -301,6 +305,7 @@ pub struct FrozenState {
     occluder: u32,
     section: u32,
     trim: Trim,
+    semantics: Option<Arc<Semantics>>,
 }
 
 impl State {
@@ -324,6 +329,7 @@ impl State {
             occluder: NO_OCCLUDER,
             section: 0,
             trim: Trim::default(),
+            semantics: None,
         }
     }
 
@@ -364,6 +370,7 @@ impl State {
             occluder: self.occluder,
             section: self.section,
             trim: self.trim.clone(),
+            semantics: self.semantics.take(),
         }
     }
 
@@ -387,6 +394,7 @@ impl State {
             occluder: self.occluder,
             section: self.section,
             trim: self.trim,
+            semantics: self.semantics,
         }
     }
 
@@ -394,6 +402,13 @@ impl State {
         let seed = child_seed(self.seed, self.children);
         self.children += 1;
         seed
+    }
+
+    /// Joins a synchronization whose random stream starts from `seed`: the shape and its
+    /// children draw what the other members and theirs draw.
+    pub fn synchronize(&mut self, seed: u64) {
+        let depth = self.depth;
+        self.adopt(seed, depth);
     }
 
     fn adopt(&mut self, seed: u64, depth: u32) {

@@ -106,6 +106,7 @@ fn leaf_part(leaf: &Leaf, bone: Option<Bone>) -> Option<Part> {
         mesh: leaf.world_mesh()?,
         normals: Vec::new(),
         bone,
+        metadata: None,
     })
 }
 
@@ -118,5 +119,6 @@ fn box_part(name: &str, scope: &Scope, bone: Option<Bone>) -> Option<Part> {
         mesh: Geometry::Box.world_mesh(scope)?,
         normals: Vec::new(),
         bone,
+        metadata: None,
     })
 }

@@ -176,6 +176,7 @@ fn mesh_group(
     let normals = shapegram_implicit::surface_normals(&solid, &meshing.mesh, h);
     Ok(Some(Part {
         bone: None,
+        metadata: None,
         name: group.name.to_string(),
         color: group.color.unwrap_or_default(),
         mesh: meshing.mesh,

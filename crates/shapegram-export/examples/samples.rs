@@ -14,6 +14,7 @@ use shapegram_geom::{Bone, Color, DAffine3, DQuat, DVec3, Lines, Mesh, Model, Pa
 fn part(name: &str, hex: &str, mesh: Mesh, at: DVec3) -> Part {
     Part {
         bone: None,
+        metadata: None,
         name: name.to_owned(),
         color: Color::from_hex(hex).unwrap_or_default(),
         mesh: mesh.transformed(&DAffine3::from_translation(at)),

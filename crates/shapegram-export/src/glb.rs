@@ -26,7 +26,7 @@ use std::io::{self, Write};
 
 use gltf_json as json;
 use json::validation::{Checked::Valid, USize64};
-use shapegram_geom::{Color, DVec3, Lines, Mesh, Model, Part};
+use shapegram_geom::{Color, DVec3, Lines, Mesh, MetaValue, Metadata, Model, Part};
 
 use crate::ExportOptions;
 use crate::flat::{
@@ -285,6 +285,8 @@ struct Group<'a> {
     name: String,
     skin: Option<usize>,
     primitives: Vec<Primitive<'a>>,
+    /// The part's metadata, written as the node's extras.
+    metadata: Option<&'a Metadata>,
 }
 
 /// The model as GLB bytes; see the module docs for the layout.
@@ -348,7 +350,14 @@ impl<'a> Plan<'a> {
                     skin_of[bone.skeleton as usize].expect("every bound skeleton has a skin");
                 (skin, skins[skin].joint(bone.section))
             });
-            (&part.name, part.color, false, joint, chunk)
+            (
+                &part.name,
+                part.color,
+                false,
+                joint,
+                chunk,
+                part.metadata.as_deref(),
+            )
         });
         let line_chunks = model.lines.iter().filter_map(|lines| {
             Some((
@@ -357,6 +366,7 @@ impl<'a> Plan<'a> {
                 true,
                 None,
                 Chunk::of_lines(lines)?,
+                None,
             ))
         });
         let mut palette = Palette::default();
@@ -367,16 +377,18 @@ impl<'a> Plan<'a> {
         // (group, material, lines) -> primitive slot in that group; triangles and lines of one
         // colour stay apart since a primitive has one mode.
         let mut merged: BTreeMap<(usize, usize, bool), usize> = BTreeMap::new();
-        for (name, color, lines, joint, chunk) in chunks.chain(line_chunks) {
+        for (name, color, lines, joint, chunk, metadata) in chunks.chain(line_chunks) {
             let material = palette.material(color);
             let skin = joint.map(|(skin, _)| skin);
             let skinned = |joints| Skinned {
                 wide: skins[skin.expect("only skinned chunks have joints")].wide(),
                 joints,
             };
-            if options.group_by_part {
+            // A part with metadata keeps its node, which carries them.
+            if options.group_by_part || metadata.is_some() {
                 groups.push(Group {
                     name: name.clone(),
+                    metadata,
                     skin,
                     primitives: vec![Primitive {
                         material,
@@ -390,6 +402,7 @@ impl<'a> Plan<'a> {
             let group = *merged_groups.entry(skin).or_insert_with(|| {
                 groups.push(Group {
                     name: skin.map_or_else(|| "model".to_owned(), |s| skins[s].mesh_name()),
+                    metadata: None,
                     skin,
                     primitives: Vec::new(),
                 });
@@ -529,6 +542,31 @@ impl<'a> Plan<'a> {
     }
 }
 
+/// A part's metadata as node extras: `{"shapegram": {"goals": […], "tags": […],
+/// "attributes": {name: value}}}`, as `docs/goals.md` documents.
+fn metadata_extras(metadata: &Metadata) -> Box<json::extras::RawValue> {
+    let attributes: serde_json::Map<String, serde_json::Value> = metadata
+        .attributes
+        .iter()
+        .map(|(name, value)| {
+            let value = match value {
+                MetaValue::Number(n) => serde_json::json!(n),
+                MetaValue::Text(t) => serde_json::json!(t),
+                MetaValue::Bool(b) => serde_json::json!(b),
+            };
+            (name.clone(), value)
+        })
+        .collect();
+    let value = serde_json::json!({
+        "shapegram": {
+            "goals": metadata.goals,
+            "tags": metadata.tags,
+            "attributes": attributes,
+        }
+    });
+    serde_json::value::to_raw_value(&value).expect("a JSON value always serialises")
+}
+
 /// The JSON chunk (padded with spaces to 4 bytes) and the length of the BIN chunk.
 fn document(
     palette: &Palette,
@@ -568,6 +606,7 @@ fn document(
             mesh: Some(mesh),
             name: Some(group.name.clone()),
             skin: group.skin.map(|s| json::Index::new(s as u32)),
+            extras: group.metadata.map(metadata_extras),
             ..Default::default()
         });
         // A skinned mesh node is a scene root: the validator warns when one has a parent,

@@ -670,6 +670,7 @@ fn push_part(parts: &mut Vec<Part>, name: String, color: Color, mesh: Mesh, norm
     if !mesh.is_empty() {
         parts.push(Part {
             bone: None,
+            metadata: None,
             name,
             color,
             mesh,

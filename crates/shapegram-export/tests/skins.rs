@@ -35,6 +35,7 @@ fn part(name: &str, color: Color, mesh: Mesh, bone: Option<Bone>) -> Part {
         mesh,
         normals: Vec::new(),
         bone,
+        metadata: None,
     }
 }
 

@@ -21,6 +21,7 @@ const MERGED: ExportOptions = ExportOptions {
 fn smooth(name: &str, mesh: Mesh) -> Part {
     Part {
         bone: None,
+        metadata: None,
         name: name.to_owned(),
         color: GREEN,
         normals: mesh.vertex_normals(),
@@ -232,6 +233,7 @@ fn glb_lines_are_a_primitive_of_their_own() {
         skeletons: Vec::new(),
         parts: vec![Part {
             bone: None,
+            metadata: None,
             name: "box".to_owned(),
             color: RED,
             mesh: cuboid(DVec3::ONE),

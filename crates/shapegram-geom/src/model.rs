@@ -1,5 +1,7 @@
 //! A model ready for export: named, coloured meshes.
 
+use std::sync::Arc;
+
 use glam::DVec3;
 
 use shapegram_kinematics::{Frame, SectionId, Skeleton};
@@ -123,6 +125,49 @@ pub struct Part {
     /// The skeleton section the part is rigidly attached to, if the model has skeletons; the
     /// mesh is then in the rest pose.
     pub bone: Option<Bone>,
+    /// What the part is, for readers of the written file (glTF node extras); a part with
+    /// metadata keeps a node of its own.
+    pub metadata: Option<Arc<Metadata>>,
+}
+
+/// What a part of a goal grammar's model is: the goals left open on its shapes, the goals they
+/// fulfilled (tags) and their named attributes.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Metadata {
+    /// Goals no rule fulfilled.
+    pub goals: Vec<String>,
+    /// Goals fulfilled.
+    pub tags: Vec<String>,
+    /// Named attributes, in name order.
+    pub attributes: Vec<(String, MetaValue)>,
+}
+
+/// The value of a named attribute in [`Metadata`].
+#[derive(Clone, Debug, PartialEq)]
+pub enum MetaValue {
+    /// A number.
+    Number(f64),
+    /// Text.
+    Text(String),
+    /// True or false.
+    Bool(bool),
+}
+
+impl Eq for Metadata {}
+
+impl std::hash::Hash for Metadata {
+    fn hash<H: std::hash::Hasher>(&self, state: &mut H) {
+        self.goals.hash(state);
+        self.tags.hash(state);
+        for (name, value) in &self.attributes {
+            name.hash(state);
+            match value {
+                MetaValue::Number(n) => n.to_bits().hash(state),
+                MetaValue::Text(t) => t.hash(state),
+                MetaValue::Bool(b) => b.hash(state),
+            }
+        }
+    }
 }
 
 /// Where a part hangs in the model's skeletons.

@@ -44,6 +44,7 @@ pub fn drawing_to_model(drawing: &Drawing, settings: &Settings) -> Model {
         .map(|(slot, (mesh, normals))| {
             let part = Part {
                 bone: None,
+                metadata: None,
                 name: format!("branches-{slot}"),
                 color: palette.colors[slot],
                 mesh,
@@ -136,6 +137,7 @@ fn leaves<'a>(drawing: &Drawing, palette: &'a Palette) -> impl Iterator<Item = (
         .map(|(slot, mesh)| {
             let part = Part {
                 bone: None,
+                metadata: None,
                 name: format!("leaves-{slot}"),
                 color: palette.colors[slot],
                 mesh,
@@ -415,6 +417,7 @@ fn transformed(model: &Model, map: &DAffine3) -> Model {
             .iter()
             .map(|part| Part {
                 bone: None,
+                metadata: None,
                 name: part.name.clone(),
                 color: part.color,
                 mesh: part.mesh.transformed(map),

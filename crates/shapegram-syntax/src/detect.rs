@@ -2,6 +2,7 @@
 
 use crate::ast::Dialect;
 use crate::lexer::{Token, TokenKind, lex};
+use crate::parser::{PREDICATE_WORDS, RULE_KINDS};
 
 /// The notation a grammar text is written in.
 ///
@@ -13,6 +14,13 @@ use crate::lexer::{Token, TokenKind, lex};
 ///   or a numbered rule `1: lot -->`.
 /// - SGL: `sgprod`, `PlaceShape(` or `AtDepth(`; or a rule `name: {` or `name: (w){`, or a
 ///   weighted alternative `(w){` at the start of a line.
+///
+/// - Michelangelo: `new Axiom(`, `new Rules.…`, `Rules.Split(` (or another rule kind),
+///   `new Synchronize(` or `using (Predicates.…`.
+/// - The native goal notation, at the start of a line: `axiom` or `local` followed by a name or
+///   string, `sync` followed by a name, or a rule head of predicates (`fulfills(…)`, `goal(…)`,
+///   `is(…)`, `tag(…)`, `has(…)`, `if(…)`, `adds(…)`, each possibly negated with `!`) followed
+///   by `-->`, or by `{` after `using`.
 ///
 /// Anything else is the main (CGA-style) syntax.
 pub fn detect(text: &str) -> Dialect {
@@ -70,6 +78,34 @@ fn marker(text: &str, tokens: &[Token], i: usize) -> Option<(usize, Dialect)> {
             }
             "ε" | "ϵ" => Some(Dialect::Muller2006),
             "sgprod" if *kind(i + 1) == TokenKind::LBrace => Some(Dialect::Sgl),
+            "new" if word(i + 1) == "Axiom" || word(i + 1) == "Synchronize" => {
+                (*kind(i + 2) == TokenKind::LParen).then_some(Dialect::Michelangelo)
+            }
+            "new" if word(i + 1).starts_with("Rules.") => Some(Dialect::Michelangelo),
+            "using"
+                if *kind(i + 1) == TokenKind::LParen && word(i + 2).starts_with("Predicates.") =>
+            {
+                Some(Dialect::Michelangelo)
+            }
+            w if *kind(i + 1) == TokenKind::LParen
+                && w.strip_prefix("Rules.")
+                    .is_some_and(|k| RULE_KINDS.contains(&k)) =>
+            {
+                Some(Dialect::Michelangelo)
+            }
+            "axiom" | "local"
+                if token.line_start
+                    && matches!(kind(i + 1), TokenKind::Ident | TokenKind::Str(_)) =>
+            {
+                Some(Dialect::Goal)
+            }
+            "sync" if token.line_start && *kind(i + 1) == TokenKind::Ident => Some(Dialect::Goal),
+            "using" if token.line_start => (predicate_head(text, tokens, i + 1)
+                == Some(TokenKind::LBrace))
+            .then_some(Dialect::Goal),
+            _ if token.line_start && predicate_head(text, tokens, i) == Some(TokenKind::Arrow) => {
+                Some(Dialect::Goal)
+            }
             "PlaceShape" | "AtDepth" if *kind(i + 1) == TokenKind::LParen => Some(Dialect::Sgl),
             _ if token.line_start && *kind(i + 1) == TokenKind::Colon => match kind(i + 2) {
                 TokenKind::LBrace => Some(Dialect::Sgl),
@@ -78,6 +114,12 @@ fn marker(text: &str, tokens: &[Token], i: usize) -> Option<(usize, Dialect)> {
             },
             _ => None,
         },
+        // `!is(ruin) -->`: a goal rule's head.
+        TokenKind::Bang
+            if token.line_start && predicate_head(text, tokens, i) == Some(TokenKind::Arrow) =>
+        {
+            Some(Dialect::Goal)
+        }
         // `(w){` starting a line: a weighted alternative.
         TokenKind::LParen if token.line_start && weighted(tokens, i) => Some(Dialect::Sgl),
         // `1: lot -->`: a numbered rule.
@@ -92,6 +134,31 @@ fn marker(text: &str, tokens: &[Token], i: usize) -> Option<(usize, Dialect)> {
         _ => None,
     };
     found.map(|d| (at, d))
+}
+
+/// When tokens from `i` are the predicates of a native goal rule head, `[!]word(…)` one or more
+/// times on one line, the kind of the token after them.
+fn predicate_head(text: &str, tokens: &[Token], mut i: usize) -> Option<TokenKind> {
+    let mut first = true;
+    loop {
+        let bang = tokens.get(i)?.kind == TokenKind::Bang;
+        let word = i + usize::from(bang);
+        let is_predicate = tokens.get(word).is_some_and(|t| {
+            t.kind == TokenKind::Ident && PREDICATE_WORDS.contains(&&text[t.span.range()])
+        }) && tokens.get(word + 1).map(|t| &t.kind) == Some(&TokenKind::LParen);
+        if !is_predicate {
+            return if first {
+                None
+            } else {
+                Some(tokens.get(i)?.kind.clone())
+            };
+        }
+        i = after_parens(tokens, word + 1);
+        if tokens.get(i)?.line_start {
+            return None;
+        }
+        first = false;
+    }
 }
 
 /// The index after the parenthesised group starting at `i`, or `i` when there is none.

@@ -9,7 +9,8 @@
 //! `\rightarrow`, `→`, `⇝` (besides `-->`), the empty word `ε`, `ϵ`, `\epsilon`, `epsilon`,
 //! relative numbers `1r`, and ignores the `$` of LaTeX maths as printed in papers. In both the
 //! Müller and the SGL notation, the escapes `\{` and `\}` of printed grammars are reported and
-//! read as braces.
+//! read as braces. In the Michelangelo notation, `↪` (the mark of a line broken in print) is
+//! whitespace, and the token after it continues its line.
 
 use crate::ast::Dialect;
 use crate::{Diagnostic, Span};
@@ -179,6 +180,11 @@ impl Lexer<'_> {
                 }
                 c if c.is_whitespace() => {
                     self.bump();
+                }
+                // Printed Michelangelo listings mark a broken line with `↪`: the text goes on.
+                '↪' if self.dialect == Dialect::Michelangelo => {
+                    self.bump();
+                    self.line_start = false;
                 }
                 '#' => self.eat_while(|c| c != '\n'),
                 '/' if self.peek_at(1) == Some('/') => self.eat_while(|c| c != '\n'),

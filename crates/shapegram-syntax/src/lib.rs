@@ -2,8 +2,9 @@
 //!
 //! [`parse`] reads a grammar into an [`ast::Grammar`]; it never panics and reports as many
 //! problems per file as it can, each as a [`Diagnostic`] that [`SourceFile::render`] prints
-//! rustc-style. Three notations are read: the main (CGA-style) syntax, the notation of Müller et
-//! al. 2006 and the SGL notation; [`detect()`] tells them apart and [`parse_as`] forces one. The
+//! rustc-style. Five notations are read: the main (CGA-style) syntax, the notation of Müller et
+//! al. 2006, the SGL notation, and the two notations of goal grammars (the native one and
+//! Michelangelo's C#-style one); [`detect()`] tells them apart and [`parse_as`] forces one. The
 //! dialects are lowered to the same AST, with spans into the original text.
 
 pub mod ast;

@@ -100,6 +100,7 @@ impl GrammarMesh {
                 .filter(|p| !p.triangles.is_empty())
                 .map(|p| Part {
                     bone: None,
+                    metadata: None,
                     name: p.name.clone(),
                     color: p.color,
                     mesh: Mesh::from_faces(p.positions.clone(), &p.triangles),

@@ -1,5 +1,9 @@
 //! `shapegram check`: parse and compile grammar files and report their diagnostics.
 
+use std::path::Path;
+
+use shapegram_syntax::SourceFile;
+
 use crate::cli::CheckArgs;
 use crate::grammar::{self, error_summary};
 use crate::{Failure, counted};
@@ -19,7 +23,12 @@ pub fn run(args: &CheckArgs) -> Result<(), Failure> {
                 continue;
             }
         };
-        let compiled = grammar::compile(&source, !args.quiet_warnings, args.dialect.dialect());
+        let dialect = args.dialect.dialect();
+        if grammar::is_goal_grammar(&source, dialect) {
+            failed += usize::from(!check_goals(source, path, args)?);
+            continue;
+        }
+        let compiled = grammar::compile(&source, !args.quiet_warnings, dialect);
         if compiled.program.is_some() && compiled.errors == 0 {
             eprintln!(
                 "ok: {} ({}, {}, {})",
@@ -37,5 +46,31 @@ pub fn run(args: &CheckArgs) -> Result<(), Failure> {
         Err(Failure::reported())
     } else {
         Ok(())
+    }
+}
+
+/// Checks a goal grammar with its library; returns whether it has no errors.
+fn check_goals(source: SourceFile, path: &Path, args: &CheckArgs) -> Result<bool, Failure> {
+    let mut sources = vec![source];
+    for file in grammar::library_files(&args.library, path)? {
+        sources.push(grammar::read(&file, !args.quiet_warnings)?);
+    }
+    let library = sources.len() - 1;
+    let compiled = grammar::compile_library(sources, !args.quiet_warnings, args.dialect.dialect());
+    let name = compiled.sources[0].name();
+    if compiled.program.is_some() && compiled.errors == 0 {
+        let with = match library {
+            0 => String::new(),
+            n => format!(" with a library of {}", counted(n, "file", "files")),
+        };
+        eprintln!(
+            "ok: {name}{with} ({}, {})",
+            counted(compiled.rules, "goal rule", "goal rules"),
+            counted(compiled.warnings, "warning", "warnings"),
+        );
+        Ok(true)
+    } else {
+        eprintln!("error: {}", error_summary(compiled.errors, name));
+        Ok(false)
     }
 }

@@ -247,6 +247,13 @@ pub struct DeriveArgs {
     /// Stop with an error when a shape is this many successors deep
     #[arg(long, value_name = "N", default_value_t = 1000)]
     pub max_depth: u32,
+    /// Stop with an error after this many rule applications (derivation steps) per lot
+    #[arg(long, value_name = "N", default_value_t = 10_000_000)]
+    pub max_steps: usize,
+    /// Goal grammars: a folder of goal grammars (`*.goal`, subfolders included) whose rules
+    /// fulfil the goals the grammar's own rules leave open (repeatable)
+    #[arg(long, value_name = "FOLDER")]
+    pub library: Vec<PathBuf>,
     /// Stop with an error when one lot takes longer than this (0: no limit)
     #[arg(long, value_name = "SECONDS", default_value_t = 60.0, value_parser = parse_timeout)]
     pub timeout: f64,
@@ -300,6 +307,10 @@ pub struct CheckArgs {
     /// Count warnings but do not print them
     #[arg(long)]
     pub quiet_warnings: bool,
+    /// Goal grammars: check each with the goal grammars of this folder as its library
+    /// (repeatable)
+    #[arg(long, value_name = "FOLDER")]
+    pub library: Vec<PathBuf>,
     /// The notation of the grammars [default: detected from each file's text]
     #[arg(
         long,
@@ -322,6 +333,10 @@ pub enum DialectArg {
     Muller,
     /// The SGL notation (`rule: { T(0, 1, 0) PlaceShape("Cube") }`)
     Sgl,
+    /// The native notation of goal grammars (`fulfills(chair) --> split(y) { … }`)
+    Goal,
+    /// The C#-style notation of goal grammars in Michelangelo (`new Rules.Split(Axis.Y, …)`)
+    Michelangelo,
 }
 
 impl DialectArg {
@@ -332,6 +347,8 @@ impl DialectArg {
             Self::Cga => Some(Dialect::Cga),
             Self::Muller => Some(Dialect::Muller2006),
             Self::Sgl => Some(Dialect::Sgl),
+            Self::Goal => Some(Dialect::Goal),
+            Self::Michelangelo => Some(Dialect::Michelangelo),
         }
     }
 }

@@ -33,8 +33,8 @@ pub fn run(args: &DeriveArgs) -> Result<(), Failure> {
         }
     }
     let source = grammar::read(&args.grammar, !args.quiet)?;
-    let program =
-        grammar::compile(&source, !args.quiet, args.dialect.dialect()).into_program(&source)?;
+    let (program, sources) = compile(source, args)?;
+    let source = &sources[0];
 
     let folder = args.grammar.parent().unwrap_or(Path::new("")).to_path_buf();
     let options = DeriveOptions {
@@ -54,6 +54,7 @@ pub fn run(args: &DeriveArgs) -> Result<(), Failure> {
         keep_tree: args.at_node.is_some(),
         implicit_cell: args.implicit_cell,
         trace: false,
+        max_steps: args.max_steps,
     };
 
     let started = Instant::now();
@@ -63,7 +64,7 @@ pub fn run(args: &DeriveArgs) -> Result<(), Failure> {
         shapegram_eval::derive(&program, &lots, &options)
     });
     let derive_time = started.elapsed();
-    let derivation = result.map_err(|e| derive_failure(&source, &e))?;
+    let derivation = result.map_err(|e| derive_failure(&sources, &e))?;
     let mut prints = String::new();
     for text in &derivation.prints {
         for line in text.split('\n') {
@@ -90,7 +91,14 @@ pub fn run(args: &DeriveArgs) -> Result<(), Failure> {
         None => false,
     };
     if glb && !named_poses.is_empty() {
-        add_named_poses(&program, &lots, &options, &named_poses, &source, &mut model)?;
+        add_named_poses(
+            &program,
+            &lots,
+            &options,
+            &named_poses,
+            &sources,
+            &mut model,
+        )?;
     }
     if args.merge_locked {
         model = model.with_free_joints_only();
@@ -115,9 +123,19 @@ pub fn run(args: &DeriveArgs) -> Result<(), Failure> {
             target.push_str(&format!(" at node {node} of {}", derivation.tree.len()));
         }
         let stats = &derivation.stats;
+        let starts = if stats.grammars.is_empty() {
+            counted(lots.len(), "lot", "lots")
+        } else {
+            let used = stats.grammars.iter().filter(|(_, n)| *n > 0).count();
+            format!(
+                "{} from {} of {}",
+                counted(stats.steps, "step", "steps"),
+                counted(used, "grammar", "grammars"),
+                stats.grammars.len()
+            )
+        };
         eprintln!(
-            "derived {target}: {}, {}, {}, {}",
-            counted(lots.len(), "lot", "lots"),
+            "derived {target}: {starts}, {}, {}, {}",
             counted(stats.shapes, "shape", "shapes"),
             counted(stats.leaves, "leaf", "leaves"),
             duration(derive_time + export_time)
@@ -151,7 +169,7 @@ fn add_named_poses(
     lots: &[shapegram_eval::InitialShape],
     options: &DeriveOptions,
     named_poses: &[(String, Vec<(String, Value)>)],
-    source: &SourceFile,
+    sources: &[SourceFile],
     model: &mut Model,
 ) -> Result<(), Failure> {
     for (name, overrides) in named_poses {
@@ -163,7 +181,7 @@ fn add_named_poses(
         let derivation = shapegram_eval::derive(program, lots, &posed_options).map_err(|e| {
             if e.to_diagnostic().is_some() {
                 eprintln!("in the pose '{name}':");
-                derive_failure(source, &e)
+                derive_failure(sources, &e)
             } else {
                 Failure::new(format!(
                     "in the pose '{name}': {}",
@@ -193,9 +211,60 @@ fn add_named_poses(
     Ok(())
 }
 
-/// Prints a derivation error against the grammar when it has a place there; otherwise the
+/// Compiles the grammar: alone, or as a goal grammar with the goal grammars of `--library`.
+/// Returns the program and the sources its errors may point into, the grammar's first.
+fn compile(
+    source: SourceFile,
+    args: &DeriveArgs,
+) -> Result<(shapegram_eval::Program, Vec<SourceFile>), Failure> {
+    let dialect = args.dialect.dialect();
+    if !grammar::is_goal_grammar(&source, dialect) {
+        if !args.library.is_empty() {
+            return Err(Failure::new(format!(
+                "{} is not a goal grammar: --library gives goal grammars their rules",
+                source.name()
+            ))
+            .with_hints(vec![
+                "goal grammars have axioms and rules like `fulfills(chair) --> …` (docs/goals.md)"
+                    .to_owned(),
+            ]));
+        }
+        let program = grammar::compile(&source, !args.quiet, dialect).into_program(&source)?;
+        return Ok((program, vec![source]));
+    }
+    let mut sources = vec![source];
+    for path in grammar::library_files(&args.library, &args.grammar)? {
+        sources.push(grammar::read(&path, !args.quiet)?);
+    }
+    let compiled = grammar::compile_library(sources, !args.quiet, dialect);
+    match compiled.program {
+        Some(program) if compiled.errors == 0 => Ok((program, compiled.sources)),
+        _ => Err(Failure::new(grammar::error_summary(
+            compiled.errors,
+            &library_name(&compiled.sources),
+        ))),
+    }
+}
+
+/// `chair.goal` or `chair.goal and its library of 3 files`.
+fn library_name(sources: &[SourceFile]) -> String {
+    match sources.len() {
+        1 => sources[0].name().to_owned(),
+        n => format!(
+            "{} and its library of {}",
+            sources[0].name(),
+            counted(n - 1, "file", "files")
+        ),
+    }
+}
+
+/// Prints a derivation error against the grammar file it has a place in; otherwise the
 /// failure carries the message and hints.
-fn derive_failure(source: &SourceFile, error: &DeriveError) -> Failure {
+fn derive_failure(sources: &[SourceFile], error: &DeriveError) -> Failure {
+    let source = error
+        .file
+        .and_then(|i| sources.get(i))
+        .unwrap_or(&sources[0]);
     match error.to_diagnostic() {
         Some(diagnostic) => {
             eprint!("{}", source.render(&diagnostic));
@@ -467,6 +536,59 @@ struct StatsJson<'a> {
     /// The node of `--at-node`, whose state `faces` and `triangles` count; only when given.
     #[serde(skip_serializing_if = "Option::is_none")]
     at_node: Option<usize>,
+    /// Goal grammars only.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    goals: Option<GoalsJson>,
+}
+
+/// What `--stats` says of a goal grammar's derivation: its steps, the rules and grammars it
+/// used (and, by grammar, the steps each took), and the leaves' tags and open goals with how
+/// many leaves have each.
+#[derive(Serialize)]
+struct GoalsJson {
+    steps: usize,
+    rules_used: usize,
+    rules: usize,
+    grammars_used: usize,
+    grammars: Ordered<usize>,
+    tags: Ordered<usize>,
+    open_goals: Ordered<usize>,
+}
+
+impl GoalsJson {
+    fn of(derivation: &Derivation) -> Option<Self> {
+        let stats = &derivation.stats;
+        if stats.grammars.is_empty() {
+            return None;
+        }
+        let mut grammars = Ordered::default();
+        for (name, n) in &stats.grammars {
+            *grammars.entry(name) += n;
+        }
+        let mut tags = Ordered::default();
+        let mut open_goals = Ordered::default();
+        for semantics in derivation
+            .leaves
+            .iter()
+            .filter_map(|l| l.semantics.as_deref())
+        {
+            for tag in &semantics.tags {
+                *tags.entry(tag) += 1;
+            }
+            for goal in &semantics.goals {
+                *open_goals.entry(goal) += 1;
+            }
+        }
+        Some(Self {
+            steps: stats.steps,
+            rules_used: stats.rules.iter().filter(|(_, n)| *n > 0).count(),
+            rules: stats.rules.len(),
+            grammars_used: stats.grammars.iter().filter(|(_, n)| *n > 0).count(),
+            grammars,
+            tags,
+            open_goals,
+        })
+    }
 }
 
 /// The skeletons' counts in `--stats`: sections, the joints linking them to a parent, and the
@@ -534,6 +656,7 @@ impl<'a> StatsJson<'a> {
             skeleton: SkeletonJson::of(model),
             named_poses: Vec::new(),
             at_node: None,
+            goals: GoalsJson::of(derivation),
         }
     }
 }

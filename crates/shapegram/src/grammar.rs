@@ -97,3 +97,128 @@ pub fn compile(source: &SourceFile, print_warnings: bool, dialect: Option<Dialec
         warnings: diagnostics.len() - errors,
     }
 }
+
+/// A goal grammar and its library, compiled into one program.
+pub struct CompiledLibrary {
+    /// The program, `None` when there were errors.
+    pub program: Option<Program>,
+    /// The sources, the main grammar first: what errors of the derivation point into.
+    pub sources: Vec<SourceFile>,
+    /// Number of errors.
+    pub errors: usize,
+    /// Number of warnings.
+    pub warnings: usize,
+    /// Goal rules in all files.
+    pub rules: usize,
+}
+
+/// Whether `source` is a goal grammar: in `dialect` when given, else by its text, or by its
+/// `.goal` extension.
+pub fn is_goal_grammar(source: &SourceFile, dialect: Option<Dialect>) -> bool {
+    goal_dialect(source, dialect).is_some()
+}
+
+/// The goal notation `source` is in (see [`is_goal_grammar`]); a `.goal` file without the
+/// marks of either is read in the native one.
+fn goal_dialect(source: &SourceFile, dialect: Option<Dialect>) -> Option<Dialect> {
+    let goal = |d: Dialect| matches!(d, Dialect::Goal | Dialect::Michelangelo).then_some(d);
+    match dialect {
+        Some(d) => goal(d),
+        None => goal(shapegram_syntax::detect(source.text()))
+            .or_else(|| source.name().ends_with(".goal").then_some(Dialect::Goal)),
+    }
+}
+
+/// The goal grammar files (`*.goal`) in `folders` and their subfolders, sorted by path, without
+/// `main`: the library a goal grammar derives with.
+pub fn library_files(
+    folders: &[std::path::PathBuf],
+    main: &Path,
+) -> Result<Vec<std::path::PathBuf>, Failure> {
+    let main = std::fs::canonicalize(main).ok();
+    let mut files = Vec::new();
+    let mut pending: Vec<std::path::PathBuf> = folders.to_vec();
+    while let Some(folder) = pending.pop() {
+        let entries = std::fs::read_dir(&folder).map_err(|e| {
+            Failure::new(format!(
+                "cannot read the library folder {}: {e}",
+                folder.display()
+            ))
+        })?;
+        for entry in entries {
+            let path = entry
+                .map_err(|e| Failure::new(format!("cannot read {}: {e}", folder.display())))?
+                .path();
+            if path.is_dir() {
+                pending.push(path);
+            } else if path.extension().is_some_and(|e| e == "goal")
+                && std::fs::canonicalize(&path).ok() != main
+            {
+                files.push(path);
+            }
+        }
+    }
+    files.sort();
+    files.dedup();
+    Ok(files)
+}
+
+/// Parses and compiles a goal grammar (`sources[0]`) with its library (the rest), printing
+/// the diagnostics of every file as [`compile`] does. A file's grammar is named by its file
+/// stem.
+pub fn compile_library(
+    sources: Vec<SourceFile>,
+    print_warnings: bool,
+    dialect: Option<Dialect>,
+) -> CompiledLibrary {
+    let parsed: Vec<shapegram_syntax::Parsed> = sources
+        .iter()
+        .enumerate()
+        .map(|(i, source)| {
+            let forced = if i == 0 { dialect } else { None };
+            let dialect = goal_dialect(source, forced).unwrap_or(Dialect::Goal);
+            shapegram_syntax::parse_as(source, dialect)
+        })
+        .collect();
+    let mut diagnostics: Vec<(usize, Diagnostic)> = parsed
+        .iter()
+        .enumerate()
+        .flat_map(|(i, p)| p.diagnostics.iter().map(move |d| (i, d.clone())))
+        .collect();
+    let names: Vec<String> = sources.iter().map(|s| stem(s.name())).collect();
+    let program = if diagnostics.iter().any(|(_, d)| d.is_error()) {
+        None
+    } else {
+        let grammars: Vec<(&str, &ast::Grammar)> = names
+            .iter()
+            .zip(&parsed)
+            .map(|(n, p)| (n.as_str(), &p.grammar))
+            .collect();
+        let (program, more) = Program::compile_library(&grammars);
+        diagnostics.extend(more);
+        program
+    };
+    let errors = diagnostics.iter().filter(|(_, d)| d.is_error()).count();
+    let mut text = String::new();
+    for (i, d) in &diagnostics {
+        if d.is_error() || print_warnings {
+            text.push_str(&sources[*i].render(d));
+            text.push('\n');
+        }
+    }
+    eprint!("{text}");
+    CompiledLibrary {
+        program,
+        warnings: diagnostics.len() - errors,
+        errors,
+        rules: parsed.iter().map(|p| p.grammar.goal_rules.len()).sum(),
+        sources,
+    }
+}
+
+/// A grammar's name in a library: its file's stem.
+fn stem(path: &str) -> String {
+    Path::new(path)
+        .file_stem()
+        .map_or_else(|| path.to_owned(), |s| s.to_string_lossy().into_owned())
+}

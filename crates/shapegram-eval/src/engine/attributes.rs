@@ -60,6 +60,7 @@ impl Engine<'_> {
         };
         match target {
             SetTarget::Attr(i) => Rc::make_mut(&mut state.attrs)[*i as usize] = value,
+            SetTarget::Goal(attr) => self.set_goal_attr(state, *attr, value),
             SetTarget::Color(None) => match &value {
                 Value::Str(s) => {
                     state.color = Color::from_hex(s).ok_or_else(|| {

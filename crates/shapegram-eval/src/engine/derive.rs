@@ -38,6 +38,9 @@ pub(super) fn run(
     options: &DeriveOptions,
     old: Option<&Old>,
 ) -> Result<(Derivation, usize), DeriveError> {
+    if let Some(goals) = &program.goals {
+        return Ok((super::goals::run_goals(program, goals, lots, options)?, 0));
+    }
     let start = start_rule(program, options)?;
     if let Some(cell) = options.implicit_cell
         && !(cell.is_finite() && cell > 0.0)
@@ -162,7 +165,7 @@ pub(super) fn run(
 /// more than one thread and no `tree` to extend (then in one batch that starts with it); a batch
 /// keeps the error of its first failing item and skips the items after it. Batches come back in
 /// item order.
-fn in_batches(
+pub(super) fn in_batches(
     program: &Program,
     n: usize,
     tree: Option<Vec<TreeNode>>,
@@ -211,6 +214,15 @@ struct Gathered {
 }
 
 impl Derivation {
+    /// Appends the results of a batch of lots derived in one phase.
+    pub(super) fn absorb_batch(
+        &mut self,
+        batch: Batch,
+        counts: &mut [usize],
+    ) -> Result<(), DeriveError> {
+        self.absorb(batch, counts, &mut Gathered::default(), false)
+    }
+
     /// Appends a batch's results. Node numbers of the batch start after those already here,
     /// unless the batch `continues` the tree (it was handed the tree to extend).
     fn absorb(
@@ -314,7 +326,7 @@ impl Batch {
     }
 }
 
-fn rule_counts(program: &Program, counts: &[usize]) -> Vec<(String, usize)> {
+pub(super) fn rule_counts(program: &Program, counts: &[usize]) -> Vec<(String, usize)> {
     program
         .rules
         .iter()
@@ -357,7 +369,7 @@ fn start_rule(program: &Program, options: &DeriveOptions) -> Result<RuleId, Deri
 
 /// The scope and geometry of an initial shape: x along the first edge, y along the normal, the
 /// box fitted around the polygon (CGA's initial scope).
-fn initial_shape(footprint: &[DVec3]) -> Result<(Scope, Geometry), DeriveError> {
+pub(super) fn initial_shape(footprint: &[DVec3]) -> Result<(Scope, Geometry), DeriveError> {
     let normal = newell(footprint.iter().copied()).normalize_or_zero();
     let finite = footprint.iter().all(|p| p.is_finite());
     let x = footprint

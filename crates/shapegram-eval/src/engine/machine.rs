@@ -20,10 +20,12 @@ use super::{DeriveOptions, Fallible, Leaf, TreeNode};
 use crate::context::{Occluder, Parked, SnapPlane};
 use crate::error::DeriveError;
 use crate::expr::Evaluator;
+use crate::goals::{CandidateCache, LeafSemantics, Semantics};
 use crate::ops::Op;
 use crate::program::{CBody, CExpr, CStmt, Program, RuleId, Sym};
 use crate::shape::{Geometry, State};
 use crate::value::Value;
+use rustc_hash::FxHashMap;
 
 /// One shape waiting for its rule.
 pub(super) struct Task {
@@ -53,7 +55,7 @@ pub(super) enum Phase {
 /// The engine deriving one lot: the program, the evaluator with the lot's constants, what the
 /// lot made so far and the limits it counts against.
 pub(super) struct Engine<'p> {
-    program: &'p Program,
+    pub(super) program: &'p Program,
     pub(super) ev: Evaluator<'p>,
     pub(super) names: &'p [Arc<str>],
     pub(super) options: &'p DeriveOptions,
@@ -91,6 +93,12 @@ pub(super) struct Engine<'p> {
     pub(super) previous: Option<Previous<'p>>,
     /// The rotation joints took last (see [`LastRotation`]).
     pub(super) last_rotation: LastRotation,
+    /// Goal grammars: the rules found so far for each distinct semantics.
+    pub(super) goal_cache: CandidateCache,
+    /// Goal grammars: each synchronization's random seed (the first member's).
+    pub(super) syncs: FxHashMap<u32, u64>,
+    /// Goal grammars: the last leaf's semantics and their names.
+    pub(super) last_semantics: Option<(Arc<Semantics>, Arc<LeafSemantics>)>,
 }
 
 impl<'p> Engine<'p> {
@@ -126,6 +134,9 @@ impl<'p> Engine<'p> {
             recorder: None,
             previous: None,
             last_rotation: LastRotation::default(),
+            goal_cache: CandidateCache::default(),
+            syncs: FxHashMap::default(),
+            last_semantics: None,
         }
     }
 
@@ -233,7 +244,18 @@ impl<'p> Engine<'p> {
         if self.applications % 1024 == 0 {
             self.check_time(task.rule)?;
         }
+        if self.applications > self.options.max_steps {
+            return Err(self.too_many_steps(&task.state, task.rule));
+        }
         let program = self.program;
+        if let Some(goals) = &program.goals {
+            self.enter_goal_rule(&mut task.state, task.rule);
+            let grammar = goals.grammar_of(task.rule);
+            let body = &program.rules[task.rule as usize].body;
+            return self
+                .run_body(body, &mut task.state, &task.args, out)
+                .map_err(|e| e.in_file(grammar));
+        }
         let result = self.run_body(
             &program.rules[task.rule as usize].body,
             &mut task.state,
@@ -346,9 +368,26 @@ impl<'p> Engine<'p> {
                 CStmt::Op(op, span) => {
                     produced |= self.op(op, *span, state, &anchor, args, out)?;
                 }
+                CStmt::Goals {
+                    goals,
+                    symbol,
+                    span,
+                } => {
+                    if i + 1 == stmts.len() {
+                        state.make_child();
+                        return self.goal_successor(state, goals, *symbol, *span, out);
+                    }
+                    let mut child = state.spawn();
+                    self.goal_successor(&mut child, goals, *symbol, *span, out)?;
+                    produced = true;
+                }
             }
         }
         if !produced {
+            if self.program.goals.is_some() {
+                // The shape goes on towards its goals.
+                return self.seek(state, out);
+            }
             self.leaf(state, out);
         }
         Ok(())
@@ -456,7 +495,7 @@ impl<'p> Engine<'p> {
 
     /// A finished shape: a leaf now when it is next in depth-first order, else later. Takes
     /// what it needs from the state.
-    fn leaf(&mut self, state: &mut State, out: &mut Vec<Work>) {
+    pub(super) fn leaf(&mut self, state: &mut State, out: &mut Vec<Work>) {
         if out.len() == self.base {
             self.emit(state);
         } else {
@@ -474,6 +513,7 @@ impl<'p> Engine<'p> {
             let occluder = self.posable(occluder, state.section, &state.scope, &state.geometry);
             self.occluders.extend(occluder);
         }
+        let semantics = self.leaf_semantics(state);
         self.leaves.push(Leaf {
             name: self.names[state.symbol as usize].clone(),
             scope: state.scope,
@@ -483,6 +523,7 @@ impl<'p> Engine<'p> {
             node: self.tree.is_some().then_some(state.node),
             lot: self.ev.lot,
             section: state.section,
+            semantics,
         });
     }
 
@@ -577,6 +618,7 @@ impl<'p> Engine<'p> {
             Op::Deform { kind, axis, amount } => {
                 self.deform(state, *kind, *axis, amount, span, args)?
             }
+            Op::Sync(sync) => self.synchronize(state, *sync),
             Op::Ignored => {}
         }
         Ok(false)

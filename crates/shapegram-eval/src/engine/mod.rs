@@ -27,6 +27,7 @@ mod context;
 mod deform;
 mod derive;
 mod footprint;
+mod goals;
 mod implicit;
 mod insert;
 mod kinematics;
@@ -41,10 +42,13 @@ use std::sync::Arc;
 use std::time::Duration;
 
 use rustc_hash::FxHashMap;
-use shapegram_geom::{Bone, Color, DVec3, Mesh, Model, Part as ModelPart, Scope, primitives};
+use shapegram_geom::{
+    Bone, Color, DVec3, Mesh, MetaValue, Metadata, Model, Part as ModelPart, Scope, primitives,
+};
 use shapegram_kinematics::{Frame, SectionId, Skeleton};
 
 use crate::error::DeriveError;
+use crate::goals::LeafSemantics;
 use crate::shape::Geometry;
 use crate::value::Value;
 
@@ -80,6 +84,9 @@ pub struct DeriveOptions {
     /// Keep a [`Trace`] in [`Derivation::trace`], so that [`derive_again`] can reuse this
     /// derivation after rules change (depth-first derivations without context rules only).
     pub trace: bool,
+    /// Stop with an error after this many rule applications (per initial shape): how goal
+    /// grammars whose rules keep calling each other end.
+    pub max_steps: usize,
 }
 
 impl Default for DeriveOptions {
@@ -96,6 +103,7 @@ impl Default for DeriveOptions {
             keep_tree: false,
             implicit_cell: None,
             trace: false,
+            max_steps: 10_000_000,
         }
     }
 }
@@ -138,6 +146,8 @@ pub struct Leaf {
     /// The kinematic section it hangs from, in the skeleton of its lot (see
     /// [`Derivation::skeletons`]); 0 when the grammar builds none.
     pub section: u32,
+    /// Goal grammars: the goals, tags and named attributes it ended with.
+    pub semantics: Option<Arc<LeafSemantics>>,
 }
 
 /// A shape in the derivation tree.
@@ -172,6 +182,10 @@ pub struct Stats {
     pub leaves: usize,
     /// How often each rule was applied, by rule name, in rule order.
     pub rules: Vec<(String, usize)>,
+    /// Goal grammars: rule applications (derivation steps) in all.
+    pub steps: usize,
+    /// Goal grammars: rule applications by grammar of the library, in library order.
+    pub grammars: Vec<(String, usize)>,
 }
 
 /// The result of a derivation.
@@ -210,11 +224,15 @@ impl Derivation {
 
     /// The leaves as a model: one part per (symbol, colour) in order of first appearance, each
     /// holding the world-space geometry of its leaves, then the meshed implicit [`solids`].
+    /// Leaves of goal grammars are parted by their semantics too, which their part carries as
+    /// [`Metadata`].
     ///
     /// [`solids`]: Derivation::solids
     pub fn to_model(&self) -> Model {
         let mut parts: Vec<ModelPart> = Vec::new();
-        let mut slot: FxHashMap<(&str, [u32; 4], Option<Bone>), usize> = FxHashMap::default();
+        type Key<'a> = (&'a str, [u32; 4], Option<Bone>, Option<Arc<Metadata>>);
+        let mut slot: FxHashMap<Key, usize> = FxHashMap::default();
+        let mut metadata = MetadataCache::default();
         let skeleton_of: FxHashMap<u32, u32> = self
             .skeletons
             .iter()
@@ -232,7 +250,13 @@ impl Derivation {
                 skeleton,
                 section: SectionId(leaf.section),
             });
-            let key = (&*leaf.name, leaf.color.to_array().map(f32::to_bits), bone);
+            let meta = leaf.semantics.as_ref().map(|s| metadata.of(s));
+            let key = (
+                &*leaf.name,
+                leaf.color.to_array().map(f32::to_bits),
+                bone,
+                meta.clone(),
+            );
             let i = *slot.entry(key).or_insert_with(|| {
                 parts.push(ModelPart {
                     bone,
@@ -240,6 +264,7 @@ impl Derivation {
                     color: leaf.color,
                     mesh: Mesh::new(),
                     normals: Vec::new(),
+                    metadata: meta,
                 });
                 parts.len() - 1
             });
@@ -251,6 +276,51 @@ impl Derivation {
             parts,
             lines: Vec::new(),
         }
+    }
+}
+
+/// Leaves' semantics as part metadata: equal semantics share one [`Metadata`], and the
+/// leaves of one shape's parts share their semantics, so the last one is remembered.
+#[derive(Default)]
+struct MetadataCache {
+    last: Option<(Arc<LeafSemantics>, Arc<Metadata>)>,
+    seen: FxHashMap<Arc<Metadata>, ()>,
+}
+
+impl MetadataCache {
+    fn of(&mut self, semantics: &Arc<LeafSemantics>) -> Arc<Metadata> {
+        if let Some((last, meta)) = &self.last {
+            if Arc::ptr_eq(last, semantics) {
+                return meta.clone();
+            }
+        }
+        let names = |list: &[Arc<str>]| list.iter().map(|s| s.to_string()).collect();
+        let meta = Arc::new(Metadata {
+            goals: names(&semantics.goals),
+            tags: names(&semantics.tags),
+            attributes: semantics
+                .attributes
+                .iter()
+                .map(|(name, value)| (name.to_string(), meta_value(value)))
+                .collect(),
+        });
+        let meta = match self.seen.get_key_value(&meta) {
+            Some((shared, _)) => shared.clone(),
+            None => {
+                self.seen.insert(meta.clone(), ());
+                meta
+            }
+        };
+        self.last = Some((semantics.clone(), meta.clone()));
+        meta
+    }
+}
+
+fn meta_value(value: &Value) -> MetaValue {
+    match value {
+        Value::Number(n) => MetaValue::Number(*n),
+        Value::Bool(b) => MetaValue::Bool(*b),
+        other => MetaValue::Text(other.to_string()),
     }
 }
 

@@ -177,6 +177,7 @@ impl<'p> Engine<'p> {
                 node: None,
                 lot: self.ev.lot,
                 section,
+                semantics: None,
             });
         }
         Ok(true)

@@ -19,6 +19,7 @@ pub const GREY: Color = Color::rgb(0.5, 0.5, 0.5);
 fn part(name: &str, color: Color, mesh: Mesh, at: DVec3) -> Part {
     Part {
         bone: None,
+        metadata: None,
         name: name.to_owned(),
         color,
         mesh: mesh.transformed(&DAffine3::from_translation(at)),

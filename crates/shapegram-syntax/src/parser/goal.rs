@@ -25,7 +25,7 @@ use crate::ast::{Annotation, Axiom, Goal, GoalRule, Grammar, Ident, Predicate, P
 use crate::lexer::TokenKind;
 
 /// The words of a rule head.
-pub(super) const PREDICATE_WORDS: [&str; 7] =
+pub(crate) const PREDICATE_WORDS: [&str; 7] =
     ["fulfills", "goal", "is", "tag", "has", "if", "adds"];
 
 impl Parser<'_> {

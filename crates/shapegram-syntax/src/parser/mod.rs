@@ -19,6 +19,9 @@ mod michelangelo;
 mod muller;
 mod sgl;
 
+pub(crate) use goal::PREDICATE_WORDS;
+pub(crate) use michelangelo::RULE_KINDS;
+
 use crate::ast::{self, Dialect, Grammar};
 use crate::lexer::{Token, TokenKind};
 use crate::{Diagnostic, Span};

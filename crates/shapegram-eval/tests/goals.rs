@@ -1,0 +1,457 @@
+//! Goal grammars: rules found by goals, tags and attributes; what they fulfil; local goals,
+//! synchronization, attributes, errors.
+
+mod common;
+
+use shapegram_eval::{Derivation, DeriveError, DeriveOptions, Leaf, Program, derive};
+use shapegram_geom::{Color, DVec3};
+use shapegram_syntax::{Dialect, SourceFile, parse_as};
+
+/// Compiles goal grammars (native notation) as one library, the first the main one; returns
+/// the program or the rendered diagnostics (warnings too, when `strict`).
+fn try_library(files: &[(&str, &str)], strict: bool) -> Result<Program, String> {
+    let sources: Vec<SourceFile> = files
+        .iter()
+        .map(|(n, t)| SourceFile::new(format!("{n}.goal"), *t))
+        .collect();
+    let parsed: Vec<_> = sources.iter().map(|s| parse_as(s, Dialect::Goal)).collect();
+    for (p, s) in parsed.iter().zip(&sources) {
+        if p.has_errors() {
+            let errors: Vec<String> = p.diagnostics.iter().map(|d| s.render(d)).collect();
+            return Err(errors.join("\n"));
+        }
+    }
+    let grammars: Vec<(&str, &shapegram_syntax::ast::Grammar)> = files
+        .iter()
+        .zip(&parsed)
+        .map(|((n, _), p)| (*n, &p.grammar))
+        .collect();
+    let (program, diagnostics) = Program::compile_library(&grammars);
+    let rendered: Vec<String> = diagnostics
+        .iter()
+        .filter(|(_, d)| strict || d.is_error())
+        .map(|(k, d)| sources[*k].render(d))
+        .collect();
+    match program {
+        Some(program) if rendered.is_empty() => Ok(program),
+        _ => Err(rendered.join("\n")),
+    }
+}
+
+fn library(files: &[(&str, &str)]) -> Program {
+    try_library(files, true).unwrap_or_else(|e| panic!("{e}"))
+}
+
+fn run(program: &Program, seed: u64) -> Derivation {
+    try_run(program, seed).unwrap_or_else(|e| panic!("{e}"))
+}
+
+fn try_run(program: &Program, seed: u64) -> Result<Derivation, DeriveError> {
+    let options = DeriveOptions {
+        seed,
+        ..DeriveOptions::default()
+    };
+    derive(program, &[], &options)
+}
+
+fn names(d: &Derivation) -> Vec<&str> {
+    d.leaves.iter().map(|l| &*l.name).collect()
+}
+
+fn tags(leaf: &Leaf) -> Vec<&str> {
+    let s = leaf.semantics.as_ref().expect("goal leaves have semantics");
+    s.tags.iter().map(|t| &**t).collect()
+}
+
+fn goals(leaf: &Leaf) -> Vec<&str> {
+    let s = leaf.semantics.as_ref().expect("goal leaves have semantics");
+    s.goals.iter().map(|t| &**t).collect()
+}
+
+fn close(a: DVec3, b: DVec3) -> bool {
+    (a - b).abs().max_element() < 1e-12
+}
+
+const CHAIR: &str = r#"
+local "split-legs"
+axiom chair, wooden size(0.4, 0.8, 0.4)
+
+fulfills(chair) -->
+    split(y) { ~0.4 : set(@Leg.Size, rand(0.03, 0.05)) +support
+             | ~0.05 : +seat
+             | ~0.55 : +lean }
+
+using is(chair) {
+    fulfills(support) --> split(x) { @Leg.Size : +"split-legs" | ~1 : void | @Leg.Size : +"split-legs" }
+    fulfills("split-legs") --> split(z) { @Leg.Size : +leg | ~1 : void | @Leg.Size : +leg }
+    fulfills(lean) --> s('1, '1, 0.04)
+}
+"#;
+
+const WOOD: &str = r##"fulfills(wooden) --> color("#8b5a2b")"##;
+
+const METALLIC: &str = r##"
+axiom chair, wooden size(0.4, 0.8, 0.4)
+
+fulfills(wooden, metallic) --> color("#9aa4ad")
+fulfills(support) adds(metallic) --> split(y) { 0.1 : +stand | ~1 : +leg }
+fulfills(leg) --> s('0.5, '1, '0.5) center(xz)
+fulfills(stand) --> s('0.25, '1, '0.25) center(xz)
+"##;
+
+#[test]
+fn the_chair_has_four_legs_a_seat_and_a_lean_of_the_right_sizes_all_brown() {
+    let program = library(&[("chair", CHAIR), ("wood", WOOD)]);
+    let d = run(&program, 1);
+    assert_eq!(names(&d), ["leg", "leg", "leg", "leg", "seat", "lean"]);
+    let brown = Color::from_hex("#8b5a2b").unwrap();
+    assert!(d.leaves.iter().all(|l| l.color == brown));
+    let leg = d.leaves[0].semantics.as_ref().unwrap().attributes[0].clone();
+    assert_eq!(&*leg.0, "Leg.Size");
+    let shapegram_eval::Value::Number(size) = leg.1 else {
+        panic!("{:?}", leg.1)
+    };
+    assert!((0.03..0.05).contains(&size), "{size}");
+    let corners = [
+        (0.0, 0.0),
+        (0.0, 0.4 - size),
+        (0.4 - size, 0.0),
+        (0.4 - size, 0.4 - size),
+    ];
+    for (leaf, (x, z)) in d.leaves[..4].iter().zip(corners) {
+        assert!(
+            close(leaf.scope.size, DVec3::new(size, 0.32, size)),
+            "{:?}",
+            leaf.scope
+        );
+        assert!(
+            close(leaf.scope.origin, DVec3::new(x, 0.0, z)),
+            "{:?}",
+            leaf.scope
+        );
+    }
+    assert!(close(d.leaves[4].scope.size, DVec3::new(0.4, 0.04, 0.4)));
+    assert!(close(d.leaves[4].scope.origin, DVec3::new(0.0, 0.32, 0.0)));
+    assert!(close(d.leaves[5].scope.size, DVec3::new(0.4, 0.44, 0.04)));
+    assert!(close(d.leaves[5].scope.origin, DVec3::new(0.0, 0.36, 0.0)));
+    // Another seed, other legs: the attribute is drawn per chair.
+    let other = run(&program, 2).leaves[0].scope.size.x;
+    assert!((0.03..0.05).contains(&other) && other != size);
+}
+
+#[test]
+fn fulfilled_goals_become_tags_on_every_shape_the_rule_makes() {
+    let program = library(&[("chair", CHAIR), ("wood", WOOD)]);
+    let d = run(&program, 1);
+    assert_eq!(
+        tags(&d.leaves[0]),
+        ["chair", "wooden", "support", "split-legs"]
+    );
+    assert_eq!(goals(&d.leaves[0]), ["leg"]);
+    // A goal no rule fulfils stays open, and its shape keeps its geometry.
+    assert_eq!(tags(&d.leaves[4]), ["chair", "wooden"]);
+    assert_eq!(goals(&d.leaves[4]), ["seat"]);
+    assert_eq!(tags(&d.leaves[5]), ["chair", "wooden", "lean"]);
+    assert!(goals(&d.leaves[5]).is_empty());
+    assert_eq!(d.stats.steps, 11);
+    let per_grammar: Vec<(&str, usize)> = d
+        .stats
+        .grammars
+        .iter()
+        .map(|(n, s)| (n.as_str(), *s))
+        .collect();
+    assert_eq!(per_grammar, [("chair", 5), ("wood", 6)]);
+}
+
+#[test]
+fn void_parts_leave_nothing_between_the_legs() {
+    let program = library(&[("chair", CHAIR)]);
+    let d = run(&program, 1);
+    let volume: f64 = d
+        .leaves
+        .iter()
+        .map(|l| l.world_mesh().unwrap().signed_volume())
+        .sum();
+    let size = d.leaves[0].scope.size.x;
+    let expected = 4.0 * size * 0.32 * size + 0.4 * 0.04 * 0.4 + 0.4 * 0.44 * 0.04;
+    assert!((volume - expected).abs() < 1e-12, "{volume} vs {expected}");
+    // Without the wood grammar the chair stays grey and keeps its open goal.
+    assert!(d.leaves.iter().all(|l| goals(l).contains(&"wooden")));
+    assert!(d.leaves.iter().all(|l| l.color == Color::default()));
+}
+
+#[test]
+fn the_grammar_being_derived_overrides_the_library_and_a_design_keeps_to_its_own_rules() {
+    // Fig. 2 right: the metallic grammar's support replaces the chair's.
+    let program = library(&[("metallic", METALLIC), ("chair", CHAIR), ("wood", WOOD)]);
+    let d = run(&program, 1);
+    assert_eq!(names(&d), ["stand", "leg", "seat", "lean"]);
+    let (stand, leg) = (&d.leaves[0], &d.leaves[1]);
+    assert!(
+        close(stand.scope.size, DVec3::new(0.1, 0.1, 0.1)),
+        "{:?}",
+        stand.scope
+    );
+    assert!(close(stand.scope.origin, DVec3::new(0.15, 0.0, 0.15)));
+    assert!(
+        close(leg.scope.size, DVec3::new(0.2, 0.22, 0.2)),
+        "{:?}",
+        leg.scope
+    );
+    assert!(close(leg.scope.origin, DVec3::new(0.1, 0.1, 0.1)));
+    let grey = Color::from_hex("#9aa4ad").unwrap();
+    assert_eq!((stand.color, leg.color), (grey, grey));
+    assert_eq!(d.leaves[2].color, Color::from_hex("#8b5a2b").unwrap());
+    assert_eq!(
+        tags(stand),
+        ["chair", "wooden", "metallic", "support", "stand"]
+    );
+    // The basic chair derived with the metallic grammar in its library keeps its own legs.
+    let program = library(&[("chair", CHAIR), ("metallic", METALLIC), ("wood", WOOD)]);
+    assert_eq!(
+        names(&run(&program, 1)),
+        ["leg", "leg", "leg", "leg", "seat", "lean"]
+    );
+}
+
+#[test]
+fn predicates_decide_which_rule_fires() {
+    let rules = r##"
+axiom box, paint size(2, 1, 1)
+fulfills(box) --> set(@n, 3) +a
+goal(a) !is(box) fulfills(a) --> color("#00ff00")
+goal(a) is(box) has(n) if(@n > 2 && scope.sx > 1.5) fulfills(a) --> color("#ff0000")
+goal(a) is(box) !if(@n > 2) fulfills(a) --> color("#0000ff")
+"##;
+    let d = run(&library(&[("rules", rules)]), 0);
+    assert_eq!(d.leaves.len(), 1);
+    assert_eq!(d.leaves[0].color, Color::from_hex("#ff0000").unwrap());
+    assert_eq!(tags(&d.leaves[0]), ["box", "a"]);
+    assert_eq!(goals(&d.leaves[0]), ["paint"]);
+    // A narrower box fails the condition: no rule fulfils `a`.
+    let narrow = rules.replace("size(2, 1, 1)", "size(1, 1, 1)");
+    let d = run(&library(&[("rules", &narrow)]), 0);
+    assert_eq!(d.leaves[0].color, Color::default());
+    assert_eq!(goals(&d.leaves[0]), ["paint", "a"]);
+    // With n = 1 the negated condition holds.
+    let small = rules.replace("set(@n, 3)", "set(@n, 1)");
+    let d = run(&library(&[("rules", &small)]), 0);
+    assert_eq!(d.leaves[0].color, Color::from_hex("#0000ff").unwrap());
+}
+
+#[test]
+fn attribute_getters_ask_for_their_attribute() {
+    // The second rule reads @w: it applies only to the shape that has it.
+    let rules = r#"
+axiom row size(4, 1, 1)
+fulfills(row) --> split(x) { ~1 : set(@w, 0.5) +cell | ~1 : +cell }
+fulfills(cell) --> s(@w, '1, '1)
+"#;
+    let d = run(&library(&[("rules", rules)]), 0);
+    assert_eq!(d.leaves.len(), 2);
+    assert!(close(d.leaves[0].scope.size, DVec3::new(0.5, 1.0, 1.0)));
+    assert!(goals(&d.leaves[0]).is_empty());
+    assert!(close(d.leaves[1].scope.size, DVec3::new(2.0, 1.0, 1.0)));
+    assert_eq!(goals(&d.leaves[1]), ["cell"]);
+}
+
+#[test]
+fn using_gives_every_rule_inside_its_predicates() {
+    let rules = r##"
+axiom a size(1, 1, 1)
+axiom b size(1, 1, 1)
+fulfills(a) --> +item
+fulfills(b) --> +item
+using is(a) {
+    fulfills(item) --> color("#ff0000")
+}
+"##;
+    let d = run(&library(&[("rules", rules)]), 0);
+    assert_eq!(d.leaves.len(), 2);
+    assert_eq!(d.leaves[0].color, Color::from_hex("#ff0000").unwrap());
+    assert_eq!(d.leaves[1].color, Color::default());
+    assert_eq!(goals(&d.leaves[1]), ["item"]);
+    // The second axiom stands beside the first, a metre apart.
+    assert!(close(d.leaves[1].scope.origin, DVec3::new(2.0, 0.0, 0.0)));
+}
+
+#[test]
+fn local_goals_match_only_rules_of_their_own_grammar() {
+    let main = r#"
+local part
+axiom thing size(1, 1, 1)
+fulfills(thing) --> split(x) { ~1 : +part | ~1 : +shared }
+"#;
+    let other = r##"
+fulfills(part) --> color("#ff0000")
+fulfills(shared) --> color("#00ff00")
+"##;
+    let e = errors(&[("main", main), ("other", other)]);
+    assert!(
+        e.contains("warning: no rule of `main` fulfils its local goal `part`"),
+        "{e}"
+    );
+    assert!(e.contains("main.goal:4:37"), "{e}");
+    let program = try_library(&[("main", main), ("other", other)], false).unwrap();
+    let d = run(&program, 0);
+    assert_eq!(d.leaves[0].color, Color::default());
+    assert_eq!(goals(&d.leaves[0]), ["part"]);
+    assert_eq!(d.leaves[1].color, Color::from_hex("#00ff00").unwrap());
+    // The grammar's own rule fulfils its local goal.
+    let own = format!("{main}\nfulfills(part) --> color(\"#0000ff\")\n");
+    let program = try_library(&[("main", &own), ("other", other)], false).unwrap();
+    let d = run(&program, 0);
+    assert_eq!(d.leaves[0].color, Color::from_hex("#0000ff").unwrap());
+}
+
+const FACADE: &str = r##"
+sync windows
+axiom facade size(12, 9, 0.2)
+fulfills(facade) --> split(y) { { ~3 : +floor }* }
+fulfills(floor) --> split(x) { { ~2 : SYNC +window }* }
+fulfills(window) --> color("#aa3333") s('0.5, '0.6, '1) center(xy) +glass
+fulfills(window) --> color("#33aa33") s('0.7, '0.7, '1) center(xy) +glass
+fulfills(window) --> color("#3333aa") s('0.4, '0.8, '1) center(xy) +glass
+fulfills(glass) --> split(x) { ~1 : +pane | ~1 : +pane }
+"##;
+
+fn window_looks(d: &Derivation) -> Vec<([u32; 4], [u64; 2])> {
+    d.leaves
+        .chunks(2)
+        .map(|panes| {
+            let size = panes[0].scope.size;
+            (
+                panes[0].color.to_array().map(f32::to_bits),
+                [size.x.to_bits(), size.y.to_bits()],
+            )
+        })
+        .collect()
+}
+
+#[test]
+fn synchronized_windows_are_identical_and_unsynchronized_ones_vary() {
+    let synced = library(&[("facade", &FACADE.replace("SYNC", "sync(windows)"))]);
+    for seed in 0..4 {
+        let looks = window_looks(&run(&synced, seed));
+        assert_eq!(looks.len(), 18);
+        assert!(
+            looks.iter().all(|l| *l == looks[0]),
+            "seed {seed}: {looks:?}"
+        );
+    }
+    let free = library(&[("facade", &FACADE.replace("SYNC", ""))]);
+    let looks = window_looks(&run(&free, 0));
+    let distinct: std::collections::BTreeSet<_> = looks.iter().collect();
+    assert_eq!(distinct.len(), 3, "{looks:?}");
+}
+
+#[test]
+fn results_do_not_depend_on_the_thread_count() {
+    let program = library(&[("metallic", METALLIC), ("chair", CHAIR), ("wood", WOOD)]);
+    let lots = common::lots_in_a_row(6, 2.0, 2.0, 3.0);
+    let options = DeriveOptions {
+        seed: 9,
+        ..DeriveOptions::default()
+    };
+    let one = common::derive_on_threads(&program, &lots, &options, 1);
+    let four = common::derive_on_threads(&program, &lots, &options, 4);
+    assert_eq!(one.leaves, four.leaves);
+    let glb = |d: &Derivation| {
+        shapegram_export::write_glb(&d.to_model(), &shapegram_export::ExportOptions::default())
+    };
+    assert_eq!(glb(&one), glb(&four));
+}
+
+fn errors(files: &[(&str, &str)]) -> String {
+    match try_library(files, true) {
+        Ok(_) => String::new(),
+        Err(e) => e,
+    }
+}
+
+#[test]
+fn a_rule_that_gives_back_its_own_goal_is_refused() {
+    let e = errors(&[(
+        "loop",
+        "axiom a size(1, 1, 1)\nfulfills(a) --> split(x) { ~1 : +a | ~1 : +b }\n",
+    )]);
+    assert!(
+        e.contains("error: this rule fulfils `a` and gives it back to the shapes it makes: it would rewrite them forever"),
+        "{e}"
+    );
+    assert!(e.contains("loop.goal:2:34"), "{e}");
+    // With a condition the recursion ends, and the rule is fine.
+    let ok =
+        "axiom a size(4, 1, 1)\nfulfills(a) if(scope.sx > 1) --> split(x) { ~1 : +a | ~1 : +a }\n";
+    let d = run(&library(&[("ok", ok)]), 0);
+    assert_eq!(d.leaves.len(), 4);
+}
+
+#[test]
+fn rules_that_keep_calling_each_other_stop_at_the_step_limit() {
+    let rules = "axiom a size(1, 1, 1)\nfulfills(a) --> +b\nfulfills(b) --> +a\n";
+    let program = library(&[("ping", rules)]);
+    let options = DeriveOptions {
+        max_steps: 500,
+        max_depth: 100_000,
+        ..DeriveOptions::default()
+    };
+    let e = derive(&program, &[], &options).unwrap_err();
+    assert_eq!(
+        e.message,
+        "the derivation took more than 500 steps: goal `a` kept being sought (rule `ping:a` applied last)"
+    );
+    assert!(e.span.is_some());
+}
+
+#[test]
+fn misspelt_goals_and_missing_attributes_are_reported() {
+    let e = errors(&[(
+        "typo",
+        "axiom chair size(1, 1, 1)\nfulfills(chiar) --> color(\"#fff\")\n",
+    )]);
+    assert!(
+        e.contains("warning: no grammar of the library gives any shape the goal `chiar`"),
+        "{e}"
+    );
+    assert!(e.contains("did you mean `chair`?"), "{e}");
+    let e = errors(&[(
+        "getter",
+        "axiom a size(1, 1, 1)\nfulfills(a) --> set(@Leg.Size, 1) +b\nfulfills(b) --> s(@Leg.Sise, '1, '1)\n",
+    )]);
+    assert!(
+        e.contains("error: no grammar of the library sets the attribute `Leg.Sise`: the rule can never apply"),
+        "{e}"
+    );
+    assert!(e.contains("did you mean `Leg.Size`?"), "{e}");
+    assert!(e.contains("getter.goal:3:19"), "{e}");
+}
+
+#[test]
+fn conflicting_or_unknown_synchronizations_are_errors() {
+    let e = errors(&[(
+        "sync",
+        "sync a, b\naxiom x size(1, 1, 1)\nfulfills(x) --> split(x) { ~1 : sync(a) sync(b) +y }\n",
+    )]);
+    assert!(
+        e.contains("error: conflicting synchronization: a shape follows one synchronization"),
+        "{e}"
+    );
+    let e = errors(&[(
+        "sync",
+        "sync windows\naxiom x size(1, 1, 1)\nfulfills(x) --> split(x) { ~1 : sync(windos) +y }\n",
+    )]);
+    assert!(e.contains("error: unknown synchronization `windos`"), "{e}");
+    assert!(e.contains("did you mean `windows`?"), "{e}");
+}
+
+#[test]
+fn an_attribute_of_the_wrong_type_is_an_error_at_its_use() {
+    let source = "axiom a size(1, 1, 1)\nfulfills(a) --> set(@w, \"wide\") +b\nfulfills(b) --> s(@w, '1, '1)\n";
+    let e = try_run(&library(&[("types", source)]), 0).unwrap_err();
+    assert_eq!(e.message, "expected a number, found a string");
+    assert_eq!(
+        e.span.map(|s| s.start),
+        Some(source.find("@w, '1").unwrap() as u32)
+    );
+}
