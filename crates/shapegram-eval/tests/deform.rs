@@ -360,3 +360,41 @@ fn cga_taper_by_height_is_skipped_with_a_warning() {
     let d = run(text, lot(4.0, 4.0));
     assert_eq!(d.leaves[0].geometry, Geometry::Box);
 }
+
+#[test]
+fn goal_grammars_deform_with_the_same_operations() {
+    // Michelangelo's notation lowers its taper, twist and shear rules to these operations.
+    let text = r#"new Axiom("post").Size(2, 8, 2);
+new Rules.Split(Axis.Y, Relative(0.5).Goal("twisted"), Relative(0.5).Goal("tapered")).Fulfills("post");
+new Rules.Twist(Axis.Y, 90).Fulfills("twisted");
+new Rules.Taper(Axis.Y, 0).Fulfills("tapered");
+"#;
+    let source = SourceFile::new("post", text);
+    let parsed = parse(&source);
+    let shown: String = parsed
+        .diagnostics
+        .iter()
+        .map(|d| source.render(d))
+        .collect();
+    assert!(parsed.diagnostics.is_empty(), "{shown}");
+    let (program, diagnostics) = Program::compile(&parsed.grammar);
+    let shown: String = diagnostics.iter().map(|d| source.render(d)).collect();
+    let program = program.unwrap_or_else(|| panic!("{shown}"));
+    let d = shapegram_eval::derive(&program, &[], &DeriveOptions::default()).unwrap();
+    assert_eq!(d.leaves.len(), 2, "{:?}", names(&d));
+    let volumes: Vec<f64> = d
+        .leaves
+        .iter()
+        .map(|l| {
+            let mesh = l.world_mesh().unwrap();
+            assert!(mesh.is_watertight());
+            mesh.signed_volume()
+        })
+        .collect();
+    // A 2 × 4 × 2 box twisted a quarter turn, and a pyramid over 2 × 2, 4 high.
+    assert!(
+        volumes[0] < 16.0 && close(volumes[0], 16.0, 16.0 * 2e-3),
+        "{volumes:?}"
+    );
+    assert!(close(volumes[1], 16.0 / 3.0, 1e-9), "{volumes:?}");
+}
