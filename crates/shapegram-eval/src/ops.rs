@@ -115,10 +115,39 @@ pub(crate) enum Op {
         rotation: bool,
         values: [CExpr; 3],
     },
+    /// `taper(axis, factor)`, `twist(axis, degrees)` and `shear(axis, toward, amount)`: the
+    /// geometry deformed along a scope axis (see [`shapegram_geom::deform`]).
+    Deform {
+        kind: DeformKind,
+        axis: usize,
+        amount: CExpr,
+    },
     /// `sync(windows)`: the shape joins a synchronization of its goal grammar.
     Sync(u32),
     /// Parsed and accepted, but without effect on the model yet (texturing and the like).
     Ignored,
+}
+
+/// The deformations, with what each takes besides its axis and amount.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum DeformKind {
+    Taper,
+    Twist,
+    /// Points move along this axis.
+    Shear {
+        toward: usize,
+    },
+}
+
+impl DeformKind {
+    /// The operation's name.
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Taper => "taper",
+            Self::Twist => "twist",
+            Self::Shear { .. } => "shear",
+        }
+    }
 }
 
 /// How the parts of a split join the kinematic skeleton (§4.1 of the Procedural Skeletons
@@ -387,7 +416,6 @@ const UNSUPPORTED: &[&str] = &[
     "innerRectangle",
     "innerCircle",
     "splitArea",
-    "taper",
     "envelope",
     "convexify",
     "scatter",
@@ -413,7 +441,6 @@ const UNSUPPORTED: &[&str] = &[
     "primitiveTorus",
     "dissolve",
     "bevel",
-    "twist",
     "extrudeFaces",
     "stack",
     "ladder",
@@ -468,6 +495,9 @@ const IMPLEMENTED: &[&str] = &[
     "translationLimits",
     "rotateJoint",
     "translateJoint",
+    "taper",
+    "twist",
+    "shear",
     "sync",
 ];
 
@@ -678,6 +708,12 @@ impl Ctx<'_, '_> {
             "roofShed" => self.roof(RoofKind::Shed, "roofShed(angle [, edgeIndex])")?,
             "implicit" => self.implicit()?,
             "csg" => self.csg()?,
+            "taper" => self.deform(DeformKind::Taper, "taper(x | y | z, factor)")?,
+            "twist" => self.deform(DeformKind::Twist, "twist(x | y | z, degrees)")?,
+            "shear" => self.deform(
+                DeformKind::Shear { toward: 0 },
+                "shear(x | y | z, toward x | y | z, amount)",
+            )?,
             "sync" => self.sync()?,
             _ => unreachable!("`{name}` is listed in IMPLEMENTED but not built"),
         };
@@ -1244,6 +1280,76 @@ impl Ctx<'_, '_> {
             group: self.args.swap_remove(0),
             amount,
         })
+    }
+
+    /// `taper(axis, factor)`, `twist(axis, degrees)`, `shear(axis, toward, amount)`. CGA's own
+    /// `taper(height)` (a pyramid over the face), which takes one number, is skipped with a
+    /// warning, as it was before `taper` deformed.
+    fn deform(&mut self, kind: DeformKind, signature: &str) -> Option<Op> {
+        let name = kind.name();
+        if kind == DeformKind::Taper
+            && self.args.len() == 1
+            && !matches!(self.args[0].kind, CKind::Selector(_))
+        {
+            self.warn_once(
+                "CGA's `taper(height)` (a pyramid over the face) is not supported yet: it is \
+                 skipped; `taper(axis, factor)` tapers the shape along a scope axis"
+                    .into(),
+            );
+            return Some(Op::Ignored);
+        }
+        let count = if matches!(kind, DeformKind::Shear { .. }) {
+            3
+        } else {
+            2
+        };
+        self.arity(count, count, signature)?;
+        let axis = self.axis_word(0, name)?;
+        let kind = match kind {
+            DeformKind::Shear { .. } => {
+                let toward = self.axis_word(1, name)?;
+                if toward == axis {
+                    let span = self.args[1].span;
+                    let word = ["x", "y", "z"][axis];
+                    self.c.report(
+                        Diagnostic::error(
+                            format!(
+                                "`shear` needs two different axes, not `{word}` twice: points move \
+                                 along the second by their position along the first"
+                            ),
+                            span,
+                        )
+                        .with_label("in `shear`"),
+                    );
+                    return None;
+                }
+                DeformKind::Shear { toward }
+            }
+            other => other,
+        };
+        Some(Op::Deform {
+            kind,
+            axis,
+            amount: self.args.pop()?,
+        })
+    }
+
+    /// Argument `i` as a scope axis, `x`, `y` or `z`; an error in `op` for anything else.
+    fn axis_word(&mut self, i: usize, op: &str) -> Option<usize> {
+        let axis = match self.word(i) {
+            Some("x") => Some(0),
+            Some("y") => Some(1),
+            Some("z") => Some(2),
+            _ => None,
+        };
+        if axis.is_none() {
+            let span = self.args.get(i).map_or(self.call.span, |a| a.span);
+            self.c.report(
+                Diagnostic::error("expected the axis `x`, `y` or `z`", span)
+                    .with_label(format!("in `{op}`")),
+            );
+        }
+        axis
     }
 
     fn roof(&mut self, kind: RoofKind, signature: &str) -> Option<Op> {

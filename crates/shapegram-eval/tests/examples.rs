@@ -228,3 +228,73 @@ fn implicit_examples_take_lots_of_any_shape() {
         assert!(d.solids[0].mesh.is_watertight(), "{name}");
     }
 }
+
+#[test]
+fn twisted_tower_narrows_and_turns_as_one_solid_with_its_spire_in_line() {
+    let d = on_default_lot("twisted_tower.cga");
+    let count = |rule: &str| d.stats.rules.iter().find(|(n, _)| n == rule).map(|r| r.1);
+    // 64 m of 4 m floors, each a slab and its glazing; the podium and the spire.
+    assert_eq!(count("Floor"), Some(16));
+    assert_eq!(d.stats.leaves, 1 + 2 * 16 + 1);
+    let bounds = d.to_model().bounds().unwrap();
+    assert!(
+        (bounds.max.y - (4.0 + 64.0 + 16.0)).abs() < 1e-9,
+        "{bounds:?}"
+    );
+    let volume = |names: &[&str]| -> f64 {
+        d.leaves
+            .iter()
+            .filter(|l| names.contains(&&*l.name))
+            .map(|l| {
+                let mesh = l.world_mesh().unwrap();
+                assert!(mesh.is_watertight(), "{}", l.name);
+                mesh.signed_volume()
+            })
+            .sum()
+    };
+    // The floors fill the frustum from the 14 m square to the 9.8 m one, less the 0.14 % the
+    // twist's straight walls cut off; the spire is a pyramid over the 9.8 m square.
+    let frustum = 64.0 / 3.0 * (196.0 + 96.04 + 14.0 * 9.8);
+    let shaft = volume(&["Slab", "Glazing"]);
+    assert!(
+        shaft < frustum && (shaft - frustum).abs() < 2e-3 * frustum,
+        "{shaft} of {frustum}"
+    );
+    let pyramid = 96.04 * 16.0 / 3.0;
+    let spire = volume(&["Spire"]);
+    assert!(
+        spire < pyramid && (spire - pyramid).abs() < 2e-3 * pyramid,
+        "{spire}"
+    );
+    // Turned by 50°, the spire still stands square on the shaft's top: `r` turns the way
+    // `twist` does.
+    let options = DeriveOptions {
+        attrs: vec![("turn".into(), shapegram_eval::Value::Number(50.0))],
+        ..DeriveOptions::default()
+    };
+    let d = derive(
+        &example("twisted_tower.cga"),
+        &[common::lot(20.0, 30.0)],
+        &options,
+    )
+    .unwrap();
+    let corners = |name: &str| -> Vec<shapegram_geom::DVec3> {
+        let leaf = d.leaves.iter().rev().find(|l| &*l.name == name).unwrap();
+        let mesh = leaf.world_mesh().unwrap();
+        let mut points: Vec<_> = mesh
+            .positions()
+            .iter()
+            .copied()
+            .filter(|p| (p.y - 68.0).abs() < 1e-9)
+            .collect();
+        points.sort_by(|a, b| a.x.total_cmp(&b.x));
+        points.dedup_by(|a, b| a.abs_diff_eq(*b, 1e-9));
+        points
+    };
+    let (top, base) = (corners("Glazing"), corners("Spire"));
+    assert_eq!((top.len(), base.len()), (4, 4), "{top:?} {base:?}");
+    assert!(
+        top.iter().zip(&base).all(|(a, b)| a.abs_diff_eq(*b, 1e-9)),
+        "{top:?} against {base:?}"
+    );
+}

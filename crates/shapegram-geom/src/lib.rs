@@ -4,8 +4,8 @@
 //! vertex loops, [`primitives`], plane cuts with capping ([`split`]), extrusion, inset, component
 //! extraction and face classification ([`component`]), roofs ([`roof`]), occlusion tests
 //! ([`occlusion`]) with a bounding-volume hierarchy ([`bvh`]), offsets of convex and
-//! non-convex polygons ([`offset`]), fitting assets into scopes ([`fit`]), triangulation and mesh
-//! metrics.
+//! non-convex polygons ([`offset`]), fitting assets into scopes ([`fit`]), taper, twist and shear
+//! ([`deform`]), triangulation and mesh metrics.
 //!
 //! Conventions shared by every crate of the workspace:
 //! - y is up in world space (the glTF convention); lots and footprints lie in the xz-plane facing +y.
@@ -16,6 +16,7 @@
 pub mod aabb;
 pub mod bvh;
 pub mod component;
+pub mod deform;
 pub mod extrude;
 pub mod fit;
 pub mod mesh;

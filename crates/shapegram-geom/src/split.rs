@@ -31,24 +31,11 @@ pub fn split(mesh: &Mesh, plane: &Plane) -> (Mesh, Mesh) {
 /// Degenerate input cuts nothing rather than losing geometry: with a zero or non-finite normal the
 /// whole mesh is the first slab, and a NaN offset counts as +∞.
 pub fn split_slabs(mesh: &Mesh, normal: DVec3, offsets: &[f64]) -> Vec<Mesh> {
-    let length = normal.length();
-    if !(length > 0.0 && length.is_finite()) {
+    let Some((normal, offsets)) = unit_planes(normal, offsets) else {
         let mut slabs = vec![Mesh::new(); offsets.len() + 1];
         slabs[0] = mesh.clone();
         return slabs;
-    }
-    let normal = normal / length;
-    let mut offsets: Vec<f64> = offsets
-        .iter()
-        .map(|o| {
-            if o.is_nan() {
-                f64::INFINITY
-            } else {
-                o / length
-            }
-        })
-        .collect();
-    offsets.sort_by(f64::total_cmp);
+    };
     let Some(bounds) = mesh.bounds() else {
         return vec![Mesh::new(); offsets.len() + 1];
     };
@@ -59,6 +46,7 @@ pub fn split_slabs(mesh: &Mesh, normal: DVec3, offsets: &[f64]) -> Vec<Mesh> {
         offsets: &offsets,
         eps: bounds.tolerance(),
         crossings: HashMap::default(),
+        seams: false,
     };
     let mut slabs: Vec<Vec<Vec<u32>>> = vec![Vec::new(); offsets.len() + 1];
     for face in mesh.faces() {
@@ -75,6 +63,72 @@ pub fn split_slabs(mesh: &Mesh, normal: DVec3, offsets: &[f64]) -> Vec<Mesh> {
             part.compacted()
         })
         .collect()
+}
+
+/// Cuts every face of a mesh where it crosses the parallel planes `normal · p = offsets[k]`,
+/// keeping the pieces together in one mesh: the surface stays the same, nothing is capped, and the
+/// new vertices on a face's edges are shared with the face on the other side of the edge, so a
+/// watertight mesh stays watertight. Input vertices keep their indices (new ones come after them).
+/// Also returns, for each face of the result, the input face it is a piece of.
+///
+/// Degenerate planes (a zero or non-finite normal) cut nothing, as in [`split_slabs`]; planes
+/// within a few times the mesh's tolerance of one another cut as one.
+pub fn slice_faces(mesh: &Mesh, normal: DVec3, offsets: &[f64]) -> (Mesh, Vec<u32>) {
+    let whole = || (mesh.clone(), (0..mesh.face_count() as u32).collect());
+    let Some((normal, mut offsets)) = unit_planes(normal, offsets) else {
+        return whole();
+    };
+    let Some(bounds) = mesh.bounds() else {
+        return whole();
+    };
+    let eps = bounds.tolerance();
+    // Planes so close that a vertex could lie on two of them cut as one: the first.
+    offsets.dedup_by(|next, kept| *next - *kept <= 4.0 * eps);
+    let mut cutter = Cutter {
+        positions: mesh.positions().to_vec(),
+        normal,
+        offsets: &offsets,
+        eps,
+        crossings: HashMap::default(),
+        seams: true,
+    };
+    let mut slabs: Vec<Vec<Vec<u32>>> = vec![Vec::new(); offsets.len() + 1];
+    let mut faces = Vec::with_capacity(mesh.face_count());
+    let mut sources = Vec::with_capacity(mesh.face_count());
+    for (f, face) in mesh.faces().enumerate() {
+        cutter.distribute(face, &mut slabs);
+        for mut piece in slabs.iter_mut().flat_map(|slab| slab.drain(..)) {
+            // The piece that holds the face's first corner starts with it, as the face did: a
+            // face the planes miss keeps its loop as it was.
+            if let Some(at) = piece.iter().position(|&v| v == face[0]) {
+                piece.rotate_left(at);
+            }
+            faces.push(piece);
+            sources.push(f as u32);
+        }
+    }
+    (Mesh::from_faces(cutter.positions, faces), sources)
+}
+
+/// The planes of a cut with a unit normal: the offsets divided by the normal's length and
+/// sorted, a NaN offset as +∞; `None` for a zero or non-finite normal.
+fn unit_planes(normal: DVec3, offsets: &[f64]) -> Option<(DVec3, Vec<f64>)> {
+    let length = normal.length();
+    if !(length > 0.0 && length.is_finite()) {
+        return None;
+    }
+    let mut offsets: Vec<f64> = offsets
+        .iter()
+        .map(|o| {
+            if o.is_nan() {
+                f64::INFINITY
+            } else {
+                o / length
+            }
+        })
+        .collect();
+    offsets.sort_by(f64::total_cmp);
+    Some((normal / length, offsets))
 }
 
 /// Cuts one planar polygon by a plane and returns the pieces on the negative and on the positive
@@ -97,6 +151,10 @@ struct Cutter<'a> {
     eps: f64,
     /// New vertex on edge `(min, max)` at plane `k`, shared by the two faces along the edge.
     crossings: HashMap<(u32, u32, usize), u32>,
+    /// Whether a piece's edge along a cut line keeps the face's corners that lie on it, so that
+    /// the pieces on either side of the line meet edge to edge (slicing; a capped part leaves
+    /// them to its cap).
+    seams: bool,
 }
 
 /// A maximal run of consecutive face corners strictly inside the half-space being kept, with the
@@ -243,6 +301,9 @@ impl Cutter<'_> {
                 piece.extend_from_slice(&rotated[run.body.clone()]);
                 piece.push(run.exit);
                 r = successor[r];
+                if self.seams {
+                    self.push_corners_between(&mut piece, face, k, run.exit, runs[r].entry);
+                }
             }
             dedup_loop(&mut piece);
             if piece.len() >= 3 {
@@ -250,6 +311,36 @@ impl Cutter<'_> {
             }
         }
         pieces
+    }
+
+    /// Pushes the corners of `face` that lie on plane `k` strictly between `from` and `to` (on
+    /// the segment between them), in order from `from`.
+    fn push_corners_between(
+        &self,
+        piece: &mut Vec<u32>,
+        face: &[u32],
+        k: usize,
+        from: u32,
+        to: u32,
+    ) {
+        let (a, b) = (self.positions[from as usize], self.positions[to as usize]);
+        let ab = b - a;
+        let length2 = ab.length_squared();
+        if length2 == 0.0 {
+            return;
+        }
+        let mut between: Vec<(f64, u32)> = face
+            .iter()
+            .filter(|&&v| v != from && v != to && self.distance(v, k) == 0.0)
+            .filter_map(|&v| {
+                let p = self.positions[v as usize];
+                let s = (p - a).dot(ab) / length2;
+                let off = (p - (a + ab * s)).length();
+                (s > 0.0 && s < 1.0 && off <= self.eps).then_some((s, v))
+            })
+            .collect();
+        between.sort_by(|x, y| x.0.total_cmp(&y.0));
+        piece.extend(between.into_iter().map(|(_, v)| v));
     }
 
     /// For a face whose inside part is made of several runs, decides which run follows which

@@ -6,7 +6,7 @@ mod common;
 use shapegram_geom::{
     DVec3, Mesh, Plane,
     primitives::{cuboid, cylinder},
-    split::{split, split_polygon, split_slabs},
+    split::{slice_faces, split, split_polygon, split_slabs},
 };
 
 /// Area of the faces lying in `plane` whose normal is `plane.normal` (the cap of the part below).
@@ -245,4 +245,44 @@ fn degenerate_planes_cut_nothing() {
     let slabs = split_slabs(&b, DVec3::Y, &[f64::NAN, 0.5, f64::NEG_INFINITY]);
     let volumes: Vec<f64> = slabs.iter().map(Mesh::signed_volume).collect();
     assert_eq!(volumes, [0.0, 0.5, 0.5, 0.0]);
+}
+
+#[test]
+fn slicing_keeps_one_closed_surface() {
+    let b = cuboid(DVec3::new(2.0, 3.0, 4.0));
+    let (sliced, sources) = slice_faces(&b, DVec3::Y, &[1.0, 2.0]);
+    // The four walls in three pieces each, the ends whole; nothing capped, vertices shared.
+    assert_eq!(sliced.face_count(), 4 * 3 + 2);
+    assert_eq!(sliced.vertex_count(), 8 + 2 * 4);
+    assert_eq!(&sliced.positions()[..8], b.positions());
+    assert!(sliced.is_watertight());
+    assert!((sliced.signed_volume() - 24.0).abs() < 1e-12);
+    assert!((sliced.area() - b.area()).abs() < 1e-12);
+    assert_eq!(sources.len(), sliced.face_count());
+    for f in 0..b.face_count() {
+        let pieces: f64 = (0..sliced.face_count())
+            .filter(|&g| sources[g] as usize == f)
+            .map(|g| sliced.face_area(g))
+            .sum();
+        assert!((pieces - b.face_area(f)).abs() < 1e-12);
+    }
+    // Planes outside the mesh or degenerate cut nothing.
+    let (same, sources) = slice_faces(&b, DVec3::Y, &[-1.0, 3.0, 7.0]);
+    assert_eq!(same, b);
+    assert_eq!(sources, [0, 1, 2, 3, 4, 5]);
+    assert_eq!(slice_faces(&b, DVec3::ZERO, &[1.0]).0, b);
+    // Planes closer than the tolerance cut as one.
+    let (once, _) = slice_faces(&b, DVec3::Y, &[1.0, 1.0 + 1e-9]);
+    assert_eq!(once.face_count(), 4 * 2 + 2);
+    assert!(once.is_watertight());
+}
+
+#[test]
+fn slicing_a_tube_and_an_l_through_their_corners() {
+    for mesh in [common::tube(), common::l_prism()] {
+        let (sliced, _) = slice_faces(&mesh, DVec3::new(1.0, 0.5, 0.0), &[0.0, 1.0, 2.0]);
+        assert!(sliced.is_watertight());
+        assert!((sliced.signed_volume() - 36.0).abs() < 1e-9);
+        assert!((sliced.area() - mesh.area()).abs() < 1e-9);
+    }
 }

@@ -8,7 +8,7 @@ use proptest::prelude::*;
 use shapegram_geom::{
     DAffine3, DQuat, DVec3, Mesh, Plane,
     primitives::{cone, cuboid, cylinder, pyramid, sphere},
-    split::{split, split_polygon, split_slabs},
+    split::{slice_faces, split, split_polygon, split_slabs},
 };
 
 fn vec3(range: std::ops::Range<f64>) -> impl Strategy<Value = DVec3> {
@@ -133,6 +133,29 @@ proptest! {
         prop_assert!((sum - total).abs() < vol_tol);
         for slab in &slabs {
             check_part(slab, total, vol_tol)?;
+        }
+    }
+
+    #[test]
+    fn slicing_keeps_volume_surface_and_closure(
+        mesh in solid(),
+        normal in direction(),
+        ts in prop::collection::vec(-0.1..1.1f64, 1..7),
+        through in prop::collection::vec(0..64usize, 0..3),
+    ) {
+        // Planes across the solid, and some through its vertices (along its edges, even).
+        let mut offsets: Vec<f64> = ts.iter().map(|&t| plane_across(&mesh, normal, t, None).offset).collect();
+        offsets.extend(through.iter().map(|&v| plane_across(&mesh, normal, 0.0, Some(v)).offset));
+        let diag = mesh.bounds().unwrap().diagonal();
+        let (sliced, sources) = slice_faces(&mesh, normal, &offsets);
+        let report = sliced.edge_report();
+        prop_assert!(report.is_watertight(), "{:?}", report);
+        prop_assert!((sliced.signed_volume() - mesh.signed_volume()).abs() < 1e-9 * diag.powi(3));
+        prop_assert!((sliced.area() - mesh.area()).abs() < 1e-9 * diag.powi(2));
+        prop_assert_eq!(sources.len(), sliced.face_count());
+        for (g, &source) in sources.iter().enumerate() {
+            let normal_before = mesh.face_normal(source as usize);
+            prop_assert!(sliced.face_normal(g).dot(normal_before) > 0.999);
         }
     }
 

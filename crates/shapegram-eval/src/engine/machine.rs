@@ -615,6 +615,9 @@ impl<'p> Engine<'p> {
             Op::JointPose { rotation, values } => {
                 self.pose_joint(state, *rotation, values, span, args)?
             }
+            Op::Deform { kind, axis, amount } => {
+                self.deform(state, *kind, *axis, amount, span, args)?
+            }
             Op::Sync(sync) => self.synchronize(state, *sync),
             Op::Ignored => {}
         }

@@ -11,6 +11,7 @@
 //! - `comp.rs`: `comp(f)`, `comp(e)`, `comp(v)`;
 //! - `footprint.rs`: `extrude`, `offset`, `setback`, `shapeL/U/O`, `reverseNormals`;
 //! - `roof.rs`: `roofGable`, `roofHip`, `roofPyramid`, `roofShed`;
+//! - `deform.rs`: `taper`, `twist`, `shear`;
 //! - `insert.rs`: `i()` with assets and built-in shapes, `primitive…()`;
 //! - `implicit.rs`: `implicit(…)` and `csg(…)`;
 //! - `attributes.rs`: `color`, `set`, `report`, `print`;
@@ -23,6 +24,7 @@
 mod attributes;
 mod comp;
 mod context;
+mod deform;
 mod derive;
 mod footprint;
 mod goals;
