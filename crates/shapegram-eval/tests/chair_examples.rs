@@ -8,7 +8,6 @@ use std::path::{Path, PathBuf};
 
 use shapegram_eval::{Derivation, DeriveOptions, Leaf, Program, derive};
 use shapegram_geom::{Color, DVec3};
-use shapegram_syntax::{Dialect, SourceFile, parse, parse_as};
 
 fn chairs() -> PathBuf {
     common::examples().join("chairs")
@@ -34,39 +33,18 @@ fn library(main: &str, paths: &[&str]) -> Program {
     for path in paths {
         files.extend(goal_files(&chairs().join(path)));
     }
-    let sources: Vec<SourceFile> = files
+    let texts: Vec<(String, String)> = files
         .iter()
-        .map(|f| SourceFile::new(f.display().to_string(), std::fs::read_to_string(f).unwrap()))
-        .collect();
-    let parsed: Vec<_> = sources
-        .iter()
-        .map(|s| {
-            let p = parse(s);
-            match p.grammar.dialect {
-                Dialect::Goal | Dialect::Michelangelo => p,
-                _ => parse_as(s, Dialect::Goal),
-            }
+        .map(|f| {
+            let stem = f.file_stem().unwrap().to_string_lossy().into_owned();
+            (stem, std::fs::read_to_string(f).unwrap())
         })
         .collect();
-    let names: Vec<String> = files
+    let pairs: Vec<(&str, &str)> = texts
         .iter()
-        .map(|f| f.file_stem().unwrap().to_string_lossy().into_owned())
+        .map(|(n, t)| (n.as_str(), t.as_str()))
         .collect();
-    let grammars: Vec<(&str, &shapegram_syntax::ast::Grammar)> = names
-        .iter()
-        .zip(&parsed)
-        .map(|(n, p)| (n.as_str(), &p.grammar))
-        .collect();
-    let (program, diagnostics) = Program::compile_library(&grammars);
-    let shown: Vec<String> = parsed
-        .iter()
-        .enumerate()
-        .flat_map(|(k, p)| p.diagnostics.iter().map(move |d| (k, d.clone())))
-        .chain(diagnostics)
-        .map(|(k, d)| sources[k].render(&d))
-        .collect();
-    assert!(shown.is_empty(), "{}", shown.join("\n"));
-    program.unwrap()
+    common::goal_library(&pairs, true).unwrap_or_else(|e| panic!("{e}"))
 }
 
 fn run(program: &Program, seed: u64) -> Derivation {

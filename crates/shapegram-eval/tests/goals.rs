@@ -5,37 +5,9 @@ mod common;
 
 use shapegram_eval::{Derivation, DeriveError, DeriveOptions, Leaf, Program, derive};
 use shapegram_geom::{Color, DVec3};
-use shapegram_syntax::{Dialect, SourceFile, parse_as};
 
-/// Compiles goal grammars (native notation) as one library, the first the main one; returns
-/// the program or the rendered diagnostics (warnings too, when `strict`).
 fn try_library(files: &[(&str, &str)], strict: bool) -> Result<Program, String> {
-    let sources: Vec<SourceFile> = files
-        .iter()
-        .map(|(n, t)| SourceFile::new(format!("{n}.goal"), *t))
-        .collect();
-    let parsed: Vec<_> = sources.iter().map(|s| parse_as(s, Dialect::Goal)).collect();
-    for (p, s) in parsed.iter().zip(&sources) {
-        if p.has_errors() {
-            let errors: Vec<String> = p.diagnostics.iter().map(|d| s.render(d)).collect();
-            return Err(errors.join("\n"));
-        }
-    }
-    let grammars: Vec<(&str, &shapegram_syntax::ast::Grammar)> = files
-        .iter()
-        .zip(&parsed)
-        .map(|((n, _), p)| (*n, &p.grammar))
-        .collect();
-    let (program, diagnostics) = Program::compile_library(&grammars);
-    let rendered: Vec<String> = diagnostics
-        .iter()
-        .filter(|(_, d)| strict || d.is_error())
-        .map(|(k, d)| sources[*k].render(d))
-        .collect();
-    match program {
-        Some(program) if rendered.is_empty() => Ok(program),
-        _ => Err(rendered.join("\n")),
-    }
+    common::goal_library(files, strict)
 }
 
 fn library(files: &[(&str, &str)]) -> Program {
@@ -72,23 +44,8 @@ fn close(a: DVec3, b: DVec3) -> bool {
     (a - b).abs().max_element() < 1e-12
 }
 
-const CHAIR: &str = r#"
-local "split-legs"
-axiom chair, wooden size(0.4, 0.8, 0.4)
-
-fulfills(chair) -->
-    split(y) { ~0.4 : set(@Leg.Size, rand(0.03, 0.05)) +support
-             | ~0.05 : +seat
-             | ~0.55 : +lean }
-
-using is(chair) {
-    fulfills(support) --> split(x) { @Leg.Size : +"split-legs" | ~1 : void | @Leg.Size : +"split-legs" }
-    fulfills("split-legs") --> split(z) { @Leg.Size : +leg | ~1 : void | @Leg.Size : +leg }
-    fulfills(lean) --> s('1, '1, 0.04)
-}
-"#;
-
-const WOOD: &str = r##"fulfills(wooden) --> color("#8b5a2b")"##;
+const CHAIR: &str = common::NATIVE_CHAIR;
+const WOOD: &str = common::WOOD;
 
 const METALLIC: &str = r##"
 axiom chair, wooden size(0.4, 0.8, 0.4)

@@ -2,6 +2,8 @@
 //! basic chair (seed 003, its listings as printed, wrapped in `using` as the paper advises) and
 //! the native chair of `goals.rs` give the same leaves, seed for seed.
 
+mod common;
+
 use shapegram_eval::{Derivation, DeriveOptions, Program, derive};
 use shapegram_syntax::{Dialect, SourceFile, parse};
 
@@ -39,45 +41,10 @@ new Rules.Size(Axis.Z, 0.04)
 }
 "#;
 
-const NATIVE: &str = r#"
-local "split-legs"
-axiom chair, wooden size(0.4, 0.8, 0.4)
-
-fulfills(chair) -->
-    split(y) { ~0.4 : set(@Leg.Size, rand(0.03, 0.05)) +support
-             | ~0.05 : +seat
-             | ~0.55 : +lean }
-
-using is(chair) {
-    fulfills(support) --> split(x) { @Leg.Size : +"split-legs" | ~1 : void | @Leg.Size : +"split-legs" }
-    fulfills("split-legs") --> split(z) { @Leg.Size : +leg | ~1 : void | @Leg.Size : +leg }
-    fulfills(lean) --> s('1, '1, 0.04)
-}
-"#;
-
-const WOOD: &str = r##"fulfills(wooden) --> color("#8b5a2b")"##;
-
-/// Compiles the files (each in the notation detected) as one library, the first the main one,
-/// asserting that there are no diagnostics.
+/// Compiles the files as one library, the first the main one, asserting that there are no
+/// diagnostics.
 fn library(files: &[(&str, &str)]) -> Program {
-    let sources: Vec<SourceFile> = files.iter().map(|(n, t)| SourceFile::new(*n, *t)).collect();
-    let parsed: Vec<_> = sources.iter().map(parse).collect();
-    for (p, s) in parsed.iter().zip(&sources) {
-        let shown: String = p.diagnostics.iter().map(|d| s.render(d)).collect();
-        assert!(p.diagnostics.is_empty(), "{shown}");
-    }
-    let grammars: Vec<(&str, &shapegram_syntax::ast::Grammar)> = files
-        .iter()
-        .zip(&parsed)
-        .map(|((n, _), p)| (*n, &p.grammar))
-        .collect();
-    let (program, diagnostics) = Program::compile_library(&grammars);
-    let shown: String = diagnostics
-        .iter()
-        .map(|(k, d)| sources[*k].render(d))
-        .collect();
-    assert!(diagnostics.is_empty(), "{shown}");
-    program.expect("no errors")
+    common::goal_library(files, true).unwrap_or_else(|e| panic!("{e}"))
 }
 
 /// Every leaf: name, scope, colour and semantics.
@@ -95,8 +62,8 @@ fn leaves(d: &Derivation) -> Vec<String> {
 
 #[test]
 fn the_papers_chair_derives_as_the_native_one() {
-    let michelangelo = library(&[("chair", MICHELANGELO), ("wood", WOOD)]);
-    let native = library(&[("chair", NATIVE), ("wood", WOOD)]);
+    let michelangelo = library(&[("chair", MICHELANGELO), ("wood", common::WOOD)]);
+    let native = library(&[("chair", common::NATIVE_CHAIR), ("wood", common::WOOD)]);
     assert_eq!(
         parse(&SourceFile::new("chair", MICHELANGELO))
             .grammar

@@ -128,3 +128,69 @@ pub fn example(name: &str) -> Program {
     let text = std::fs::read_to_string(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
     compile_clean(name, &text).0
 }
+
+/// Goal grammars compiled as one library, the first the main one: `(name, text)` pairs, each
+/// read as the file `name.goal` in the notation its text shows (the native one when it shows
+/// none). Returns the program, or the rendered diagnostics when there are errors (or, when
+/// `strict`, any diagnostic at all).
+pub fn goal_library(files: &[(&str, &str)], strict: bool) -> Result<Program, String> {
+    let sources: Vec<SourceFile> = files
+        .iter()
+        .map(|(n, t)| SourceFile::new(format!("{n}.goal"), *t))
+        .collect();
+    let parsed: Vec<_> = sources
+        .iter()
+        .map(|s| {
+            let dialect = match shapegram_syntax::detect(s.text()) {
+                d @ (Dialect::Goal | Dialect::Michelangelo) => d,
+                _ => Dialect::Goal,
+            };
+            shapegram_syntax::parse_as(s, dialect)
+        })
+        .collect();
+    let mut diagnostics: Vec<(usize, shapegram_syntax::Diagnostic)> = parsed
+        .iter()
+        .enumerate()
+        .flat_map(|(k, p)| p.diagnostics.iter().map(move |d| (k, d.clone())))
+        .collect();
+    let mut program = None;
+    if !diagnostics.iter().any(|(_, d)| d.is_error()) {
+        let grammars: Vec<(&str, &shapegram_syntax::ast::Grammar)> = files
+            .iter()
+            .zip(&parsed)
+            .map(|((n, _), p)| (*n, &p.grammar))
+            .collect();
+        let (compiled, more) = Program::compile_library(&grammars);
+        program = compiled;
+        diagnostics.extend(more);
+    }
+    let shown: Vec<String> = diagnostics
+        .iter()
+        .filter(|(_, d)| strict || d.is_error())
+        .map(|(k, d)| sources[*k].render(d))
+        .collect();
+    match program {
+        Some(program) if shown.is_empty() => Ok(program),
+        _ => Err(shown.join("\n")),
+    }
+}
+
+/// The basic chair of the goal grammar paper (seed 003, Figure 2 left) in the native notation.
+pub const NATIVE_CHAIR: &str = r#"
+local "split-legs"
+axiom chair, wooden size(0.4, 0.8, 0.4)
+
+fulfills(chair) -->
+    split(y) { ~0.4 : set(@Leg.Size, rand(0.03, 0.05)) +support
+             | ~0.05 : +seat
+             | ~0.55 : +lean }
+
+using is(chair) {
+    fulfills(support) --> split(x) { @Leg.Size : +"split-legs" | ~1 : void | @Leg.Size : +"split-legs" }
+    fulfills("split-legs") --> split(z) { @Leg.Size : +leg | ~1 : void | @Leg.Size : +leg }
+    fulfills(lean) --> s('1, '1, 0.04)
+}
+"#;
+
+/// A grammar that makes wooden things brown.
+pub const WOOD: &str = r##"fulfills(wooden) --> color("#8b5a2b")"##;

@@ -260,26 +260,28 @@ impl Parser<'_> {
 
     /// `a, b, "c-d"`: goals (or attribute names) as names or strings, at least one.
     fn goal_list(&mut self, what: &str, context: &str) -> PResult<Vec<Goal>> {
-        let mut goals = Vec::new();
-        loop {
-            let goal = match self.peek().clone() {
-                TokenKind::Ident => {
-                    let ident = self.ident();
-                    Goal {
-                        name: ident.name,
-                        span: ident.span,
-                    }
-                }
-                TokenKind::Str(name) if !name.is_empty() => Goal {
-                    name,
-                    span: self.bump(),
-                },
-                _ => return Err(self.error_expected(what, context)),
-            };
-            goals.push(goal);
-            if self.eat(&TokenKind::Comma).is_none() {
-                return Ok(goals);
+        let mut goals = vec![self.goal_name(what, context)?];
+        while self.eat(&TokenKind::Comma).is_some() {
+            goals.push(self.goal_name(what, context)?);
+        }
+        Ok(goals)
+    }
+
+    /// A goal (or attribute name): a name, or a string when it holds other characters.
+    fn goal_name(&mut self, what: &str, context: &str) -> PResult<Goal> {
+        match self.peek().clone() {
+            TokenKind::Ident => {
+                let ident = self.ident();
+                Ok(Goal {
+                    name: ident.name,
+                    span: ident.span,
+                })
             }
+            TokenKind::Str(name) if !name.is_empty() => Ok(Goal {
+                name,
+                span: self.bump(),
+            }),
+            _ => Err(self.error_expected(what, context)),
         }
     }
 
@@ -288,21 +290,7 @@ impl Parser<'_> {
         let start = self.span();
         let mut goals = Vec::new();
         while self.eat(&TokenKind::Plus).is_some() {
-            let goal = match self.peek().clone() {
-                TokenKind::Ident => {
-                    let ident = self.ident();
-                    Goal {
-                        name: ident.name,
-                        span: ident.span,
-                    }
-                }
-                TokenKind::Str(name) if !name.is_empty() => Goal {
-                    name,
-                    span: self.bump(),
-                },
-                _ => return Err(self.error_expected("a goal", "after `+`")),
-            };
-            goals.push(goal);
+            goals.push(self.goal_name("a goal", "after `+`")?);
         }
         Ok(crate::ast::Stmt::Goals(goals, self.span_from(start)))
     }

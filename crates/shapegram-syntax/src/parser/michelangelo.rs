@@ -710,17 +710,8 @@ impl Parser<'_> {
         let mut others: Option<Span> = None;
         let mut first = first;
         loop {
-            let modifier = match first.take() {
-                Some(m) => {
-                    if !self.at(&TokenKind::LParen) {
-                        return Err(self.error_expected("`(`", &format!("after `{}`", m.name)));
-                    }
-                    m
-                }
-                None => match self.next_modifier()? {
-                    Some(m) => m,
-                    None => break,
-                },
+            let Some(modifier) = self.modifier_after(&mut first)? else {
+                break;
             };
             let name = modifier.name.as_str();
             match name {
@@ -935,23 +926,26 @@ impl Parser<'_> {
         let _ = self.skip_to_close(open, Fail);
     }
 
+    /// The next modifier of a chain: `first` when it was read already (then its `(` must
+    /// follow), else the next `.Name(`; `None` at the end of the chain.
+    fn modifier_after(&mut self, first: &mut Option<Ident>) -> PResult<Option<Ident>> {
+        match first.take() {
+            Some(m) if !self.at(&TokenKind::LParen) => {
+                Err(self.error_expected("`(`", &format!("after `{}`", m.name)))
+            }
+            Some(m) => Ok(Some(m)),
+            None => self.next_modifier(),
+        }
+    }
+
     /// A chain of rule modifiers `.Fulfills(…).IfIs(…)…`, the first one possibly already read
     /// (`Predicates.IfIs` names it).
     fn modifier_chain(&mut self, first: Option<Ident>, chain: Chain) -> PResult<Modifiers> {
         let mut out = Modifiers::default();
         let mut first = first;
         loop {
-            let modifier = match first.take() {
-                Some(m) => {
-                    if !self.at(&TokenKind::LParen) {
-                        return Err(self.error_expected("`(`", &format!("after `{}`", m.name)));
-                    }
-                    m
-                }
-                None => match self.next_modifier()? {
-                    Some(m) => m,
-                    None => return Ok(out),
-                },
+            let Some(modifier) = self.modifier_after(&mut first)? else {
+                return Ok(out);
             };
             let name = modifier.name.as_str();
             if let Some((negated, word)) = predicate_word(name) {
