@@ -709,10 +709,7 @@ impl Parser<'_> {
         let mut void: Option<Span> = None;
         let mut others: Option<Span> = None;
         let mut first = first;
-        loop {
-            let Some(modifier) = self.modifier_after(&mut first)? else {
-                break;
-            };
+        while let Some(modifier) = self.modifier_after(&mut first)? {
             let name = modifier.name.as_str();
             match name {
                 "Goal" | "goal" => {
