@@ -412,3 +412,27 @@ fn an_attribute_of_the_wrong_type_is_an_error_at_its_use() {
         Some(source.find("@w, '1").unwrap() as u32)
     );
 }
+
+#[test]
+fn axioms_without_a_size_start_from_every_lot_and_need_some() {
+    let rules = "axiom parcel\nfulfills(parcel) --> extrude(3) +house\n";
+    let program = library(&[("lots", rules)]);
+    let lots = common::lots_in_a_row(3, 10.0, 8.0, 12.0);
+    let d = derive(&program, &lots, &DeriveOptions::default()).unwrap();
+    assert_eq!(d.leaves.len(), 3);
+    assert!(close(d.leaves[2].scope.size, DVec3::new(10.0, 3.0, 8.0)));
+    let e = derive(&program, &[], &DeriveOptions::default()).unwrap_err();
+    assert_eq!(
+        e.message,
+        "the axiom `parcel` has no size, and there are no lots for it to start from"
+    );
+    let options = DeriveOptions {
+        start_rule: Some("parcel".into()),
+        ..DeriveOptions::default()
+    };
+    let e = derive(&program, &lots, &options).unwrap_err();
+    assert_eq!(
+        e.message,
+        "goal grammars start from their axioms, not from a rule (`parcel`)"
+    );
+}

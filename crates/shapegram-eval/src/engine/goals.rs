@@ -30,6 +30,21 @@ pub(super) fn run_goals(
     lots: &[InitialShape],
     options: &DeriveOptions,
 ) -> Result<Derivation, DeriveError> {
+    if let Some(rule) = &options.start_rule {
+        return Err(DeriveError::general(format!(
+            "goal grammars start from their axioms, not from a rule (`{rule}`)"
+        ))
+        .with_hint("declare the shapes to start from with `axiom goals size(x, y, z)`"));
+    }
+    if let Some(axiom) = rules.axioms.iter().find(|a| a.size.is_none())
+        && lots.is_empty()
+    {
+        let goal = program.symbol_name(axiom.symbol);
+        return Err(DeriveError::general(format!(
+            "the axiom `{goal}` has no size, and there are no lots for it to start from"
+        ))
+        .with_hint("give it a size (`axiom … size(x, y, z)`) or derive it on lots"));
+    }
     if !options.attrs.is_empty() {
         return Err(
             DeriveError::general("goal grammars have no attributes to set from outside")
