@@ -387,6 +387,59 @@ impl CandidateCache {
     }
 }
 
+/// What a shape sought rules for, by name: its open goals, its tags and the names of its
+/// attributes, without the goals local to a grammar (no other grammar's rule can fulfil or ask
+/// for them).
+#[derive(Clone, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
+pub struct GoalQuery {
+    /// Open goals, by name, sorted.
+    pub goals: Vec<Arc<str>>,
+    /// Tags, by name, sorted.
+    pub tags: Vec<Arc<str>>,
+    /// Attribute names, sorted.
+    pub attributes: Vec<Arc<str>>,
+}
+
+impl CandidateCache {
+    /// What the shapes that found (or missed) their candidates here sought: one query per
+    /// distinct semantics with a global goal open.
+    pub fn queries(&self, rules: &GoalRules) -> Vec<GoalQuery> {
+        let mut queries: Vec<GoalQuery> = self
+            .found
+            .keys()
+            .filter_map(|key| {
+                let mut parts = key.ids.split(|&id| id == u32::MAX);
+                let global = |ids: &[GoalId]| -> Vec<Arc<str>> {
+                    let mut names: Vec<Arc<str>> = ids
+                        .iter()
+                        .map(|&g| &rules.goals[g as usize])
+                        .filter(|g| g.local.is_none())
+                        .map(|g| g.name.clone())
+                        .collect();
+                    names.sort();
+                    names
+                };
+                let goals = global(parts.next()?);
+                let tags = global(parts.next()?);
+                let mut attributes: Vec<Arc<str>> = parts
+                    .next()?
+                    .iter()
+                    .map(|&a| rules.attributes[a as usize].clone())
+                    .collect();
+                attributes.sort();
+                (!goals.is_empty()).then_some(GoalQuery {
+                    goals,
+                    tags,
+                    attributes,
+                })
+            })
+            .collect();
+        queries.sort();
+        queries.dedup();
+        queries
+    }
+}
+
 /// A leaf's goals, tags and attributes, by name: what outputs carry.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct LeafSemantics {

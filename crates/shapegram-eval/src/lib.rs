@@ -32,7 +32,7 @@ pub use engine::{
     Rederivation, Stats, Trace, TreeNode, derive, derive_again,
 };
 pub use error::DeriveError;
-pub use goals::LeafSemantics;
+pub use goals::{GoalQuery, LeafSemantics};
 pub use program::{Program, RuleId, Sym};
 pub use shape::{Csg, CsgOp, FaceTag, Geometry, Implicit};
 pub use value::Value;

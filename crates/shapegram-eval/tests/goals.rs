@@ -436,3 +436,26 @@ fn axioms_without_a_size_start_from_every_lot_and_need_some() {
         "goal grammars start from their axioms, not from a rule (`parcel`)"
     );
 }
+
+#[test]
+fn a_derivation_lists_what_its_shapes_sought_without_local_goals() {
+    let d = run(&library(&[("chair", CHAIR)]), 1);
+    let queries: Vec<String> = d
+        .queries
+        .iter()
+        .map(|q| format!("{:?} {:?} {:?}", q.goals, q.tags, q.attributes))
+        .collect();
+    assert_eq!(
+        queries,
+        [
+            r#"["chair", "wooden"] [] []"#,
+            r#"["lean", "wooden"] ["chair"] []"#,
+            r#"["leg", "wooden"] ["chair", "support"] ["Leg.Size"]"#,
+            r#"["seat", "wooden"] ["chair"] []"#,
+            r#"["support", "wooden"] ["chair"] ["Leg.Size"]"#,
+            r#"["wooden"] ["chair", "lean"] []"#,
+            // The pairs of legs: their open goal `split-legs` is local to the chair.
+            r#"["wooden"] ["chair", "support"] ["Leg.Size"]"#,
+        ]
+    );
+}

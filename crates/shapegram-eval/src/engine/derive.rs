@@ -12,7 +12,7 @@ use shapegram_kinematics::{Frame, Name, Skeleton};
 use super::machine::{Engine, Phase, Task, Work};
 use super::reuse::{Old, Previous};
 use super::trace::{LotTrace, finish_trace};
-use super::{Derivation, DeriveOptions, InitialShape, Leaf, TreeNode};
+use super::{Derivation, DeriveOptions, GoalQuery, InitialShape, Leaf, TreeNode};
 use crate::context::{Context, Occluder, SnapPlane, Waiting};
 use crate::error::DeriveError;
 use crate::expr::Evaluator;
@@ -236,6 +236,7 @@ impl Derivation {
             return Err(e);
         }
         self.skeletons.append(&mut batch.skeletons);
+        self.queries.append(&mut batch.queries);
         let base = if continues { 0 } else { self.tree.len() as u32 };
         if continues || self.leaves.is_empty() && self.tree.is_empty() {
             // No renumbering needed: append the leaves as they are, take the tree.
@@ -302,6 +303,8 @@ pub(super) struct Batch {
     /// The most sections a skeleton of the batch has: lots of one grammar grow skeletons of
     /// similar sizes, so the next one starts with room for that many.
     pub(super) skeleton_room: usize,
+    /// Goal grammars: what shapes of the batch sought rules for.
+    pub(super) queries: Vec<GoalQuery>,
     error: Option<DeriveError>,
 }
 
@@ -321,6 +324,7 @@ impl Batch {
             skeleton_room: 1,
             occluders: Vec::new(),
             snaps: Vec::new(),
+            queries: Vec::new(),
             error: None,
         }
     }

@@ -115,6 +115,8 @@ pub(super) fn run_goals(
         per_grammar[rule.grammar as usize] += n;
     }
     all.stats.grammars = rules.grammars.iter().cloned().zip(per_grammar).collect();
+    all.queries.sort();
+    all.queries.dedup();
     Ok(all)
 }
 
@@ -191,6 +193,7 @@ fn derive_axiom(
             None => engine.run_depth_first(work)?,
         }
     }
+    batch.queries.extend(engine.goal_cache.queries(rules));
     engine.finish(batch);
     Ok(())
 }

@@ -48,7 +48,7 @@ use shapegram_geom::{
 use shapegram_kinematics::{Frame, SectionId, Skeleton};
 
 use crate::error::DeriveError;
-use crate::goals::LeafSemantics;
+use crate::goals::{GoalQuery, LeafSemantics};
 use crate::shape::Geometry;
 use crate::value::Value;
 
@@ -210,6 +210,10 @@ pub struct Derivation {
     pub stats: Stats,
     /// What [`derive_again`] reuses, when [`DeriveOptions::trace`] was set.
     pub trace: Option<Arc<Trace>>,
+    /// Goal grammars: every distinct combination of open goals, tags and attributes that shapes
+    /// sought rules for (local goals left out), sorted: what a repository of other people's
+    /// grammars would be asked.
+    pub queries: Vec<GoalQuery>,
 }
 
 impl Derivation {
