@@ -459,3 +459,19 @@ fn a_derivation_lists_what_its_shapes_sought_without_local_goals() {
         ]
     );
 }
+
+#[test]
+fn goal_grammars_are_derived_afresh_when_derived_again() {
+    let program = library(&[("chair", CHAIR), ("wood", WOOD)]);
+    let options = DeriveOptions {
+        trace: true,
+        ..DeriveOptions::default()
+    };
+    let first = derive(&program, &[], &options).unwrap();
+    let again = shapegram_eval::derive_again(&first, &program, &[], &options).unwrap();
+    assert_eq!(
+        again.fallback,
+        Some("goal grammars are always derived afresh")
+    );
+    assert_eq!(again.derivation.leaves, first.leaves);
+}

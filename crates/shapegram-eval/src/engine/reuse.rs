@@ -44,8 +44,8 @@ pub struct Rederivation {
 ///
 /// Only the rules' bodies may differ from the previous program: when its attributes,
 /// constants, functions or list of rules, the lots, the seed, the attribute values or the
-/// options differ, or the grammar asks about other shapes (occlusion, snapping) or derives in
-/// generations, everything is derived afresh and [`Rederivation::fallback`] says why. Asset
+/// options differ, or the grammar asks about other shapes (occlusion, snapping), is a goal
+/// grammar or derives in generations, everything is derived afresh and [`Rederivation::fallback`] says why. Asset
 /// files are assumed unchanged.
 pub fn derive_again(
     previous: &Derivation,
@@ -56,6 +56,8 @@ pub fn derive_again(
     let key = Key::new(program, lots, options);
     let refusal = if options.generations.is_some() {
         Some("derivations in generations are always made afresh")
+    } else if program.goals.is_some() {
+        Some("goal grammars are always derived afresh")
     } else if program.context_rules.contains(&true) {
         Some("grammars that ask about other shapes (occlusion, snapping) are always derived afresh")
     } else {
