@@ -20,6 +20,7 @@ mod named_poses;
 mod ops;
 mod program;
 pub mod rng;
+mod rule_keys;
 mod shape;
 mod snapshot;
 mod solids;
@@ -34,5 +35,6 @@ pub use engine::{
 pub use error::DeriveError;
 pub use goals::{GoalQuery, LeafSemantics};
 pub use program::{Program, RuleId, Sym};
+pub use rule_keys::RuleKeys;
 pub use shape::{Csg, CsgOp, FaceTag, Geometry, Implicit};
 pub use value::Value;

@@ -1,0 +1,104 @@
+//! Request extractors whose rejections are JSON errors: bodies (bounded, strict JSON, unknown
+//! fields refused by the types), paths, queries, and the caller's bearer token.
+
+use axum::body::Bytes;
+use axum::extract::{FromRequest, FromRequestParts, Path, Query, Request};
+use axum::http::header::AUTHORIZATION;
+use axum::http::request::Parts;
+use serde::de::DeserializeOwned;
+
+use crate::AppState;
+use crate::error::ApiError;
+use crate::store::Account;
+use crate::tokens;
+
+/// A JSON body. Too large: 413; not JSON, not UTF-8, wrong types or unknown fields: 400.
+pub struct JsonBody<T>(pub T);
+
+impl<S: Send + Sync, T: DeserializeOwned> FromRequest<S> for JsonBody<T> {
+    type Rejection = ApiError;
+
+    async fn from_request(req: Request, state: &S) -> Result<Self, ApiError> {
+        let bytes = Bytes::from_request(req, state)
+            .await
+            .map_err(|e| ApiError::new(e.status(), e.body_text()))?;
+        serde_json::from_slice(&bytes)
+            .map(JsonBody)
+            .map_err(|e| ApiError::bad_request(format!("invalid JSON body: {e}")))
+    }
+}
+
+/// Path parameters.
+pub struct ApiPath<T>(pub T);
+
+impl<S: Send + Sync, T: DeserializeOwned + Send> FromRequestParts<S> for ApiPath<T> {
+    type Rejection = ApiError;
+
+    async fn from_request_parts(parts: &mut Parts, state: &S) -> Result<Self, ApiError> {
+        Path::<T>::from_request_parts(parts, state)
+            .await
+            .map(|Path(t)| ApiPath(t))
+            .map_err(|e| ApiError::new(e.status(), e.body_text()))
+    }
+}
+
+/// Query parameters.
+pub struct ApiQuery<T>(pub T);
+
+impl<S: Send + Sync, T: DeserializeOwned> FromRequestParts<S> for ApiQuery<T> {
+    type Rejection = ApiError;
+
+    async fn from_request_parts(parts: &mut Parts, state: &S) -> Result<Self, ApiError> {
+        Query::<T>::from_request_parts(parts, state)
+            .await
+            .map(|Query(t)| ApiQuery(t))
+            .map_err(|e| ApiError::new(e.status(), e.body_text()))
+    }
+}
+
+/// The caller: anonymous without an `Authorization` header. A header that is not a valid,
+/// unrevoked token is refused (401) on every route, even those anonymous callers may use, so
+/// that a revoked token fails at once and visibly.
+pub struct Caller(pub Option<Account>);
+
+impl FromRequestParts<AppState> for Caller {
+    type Rejection = ApiError;
+
+    async fn from_request_parts(parts: &mut Parts, state: &AppState) -> Result<Self, ApiError> {
+        let Some(header) = parts.headers.get(AUTHORIZATION) else {
+            return Ok(Caller(None));
+        };
+        let token = header
+            .to_str()
+            .ok()
+            .and_then(|v| v.strip_prefix("Bearer "))
+            .map(str::trim)
+            .ok_or_else(|| {
+                ApiError::unauthorized("the Authorization header must be `Bearer <token>`")
+            })?;
+        if !tokens::well_formed(token) {
+            return Err(ApiError::unauthorized("malformed API token"));
+        }
+        let account = state.store.account_by_token(&tokens::hash(token)).await?;
+        match account {
+            Some(account) => Ok(Caller(Some(account))),
+            None => Err(ApiError::unauthorized("unknown or revoked API token")),
+        }
+    }
+}
+
+/// A signed-in caller (401 otherwise).
+pub struct Signed(pub Account);
+
+impl FromRequestParts<AppState> for Signed {
+    type Rejection = ApiError;
+
+    async fn from_request_parts(parts: &mut Parts, state: &AppState) -> Result<Self, ApiError> {
+        match Caller::from_request_parts(parts, state).await? {
+            Caller(Some(account)) => Ok(Signed(account)),
+            Caller(None) => Err(ApiError::unauthorized(
+                "sign in: send `Authorization: Bearer <token>` (POST /api/v1/login gives one)",
+            )),
+        }
+    }
+}

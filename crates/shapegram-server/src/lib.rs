@@ -1,0 +1,125 @@
+//! The grammar repository behind `shapegram serve`: accounts, API tokens, friends, and goal
+//! grammars published as immutable, checked versions, over a JSON API described by an OpenAPI
+//! document (`/openapi.json`). See `docs/repository.md`.
+//!
+//! | module | concern |
+//! | --- | --- |
+//! | [`store`] | the `Store` trait every backend implements, and its types |
+//! | [`sqlite`] | the embedded SQLite store |
+//! | [`migrations`] | versioned schema migrations, one folder per backend |
+//! | [`accounts`] | name rules, argon2id password hashing |
+//! | [`tokens`] | API tokens: generation, form, hashing |
+//! | [`grammars`] | checking uploads with the engine, the rule index |
+//! | [`policy`] | who may see and do what |
+//! | [`routes`] | the HTTP handlers |
+//! | [`openapi`] | the OpenAPI document |
+//! | [`error`] | errors as JSON answers |
+
+pub mod accounts;
+pub mod error;
+pub mod extract;
+pub mod grammars;
+pub mod migrations;
+pub mod openapi;
+pub mod policy;
+pub mod routes;
+pub mod sqlite;
+pub mod store;
+pub mod tokens;
+
+use std::net::SocketAddr;
+use std::path::Path;
+use std::sync::Arc;
+
+use axum::Json;
+use axum::Router;
+use axum::extract::DefaultBodyLimit;
+use axum::http::StatusCode;
+use axum::routing::{get, post};
+
+use crate::error::ApiError;
+use crate::store::Store;
+
+/// Largest request body, in bytes (a grammar of 256 KiB, escaped as JSON, fits).
+pub const MAX_BODY_BYTES: usize = 1024 * 1024;
+
+/// What the handlers share.
+#[derive(Clone)]
+pub struct AppState {
+    pub store: Arc<dyn Store>,
+    pub passwords: accounts::Passwords,
+}
+
+impl AppState {
+    pub fn new(store: Arc<dyn Store>) -> AppState {
+        AppState {
+            store,
+            // Each hash takes 19 MiB and a core for tens of milliseconds.
+            passwords: accounts::Passwords::new(2),
+        }
+    }
+}
+
+/// The application: every route, the body limit, and JSON answers for unknown routes and
+/// methods.
+pub fn router(state: AppState) -> Router {
+    use routes::*;
+    Router::new()
+        .route("/openapi.json", get(|| async { Json(openapi::document()) }))
+        .route("/api/v1/accounts", post(sign_up))
+        .route("/api/v1/login", post(login))
+        .route("/api/v1/me", get(me))
+        .route("/api/v1/tokens", get(list_tokens).post(create_token))
+        .route("/api/v1/tokens/{id}", axum::routing::delete(revoke_token))
+        .route("/api/v1/friends", get(friends))
+        .route(
+            "/api/v1/friends/{user}",
+            post(request_friend).delete(remove_friend),
+        )
+        .route("/api/v1/friends/{user}/accept", post(accept_friend))
+        .route("/api/v1/grammars", get(list_grammars))
+        .route("/api/v1/grammars/{owner}/{name}", get(grammar))
+        .route(
+            "/api/v1/grammars/{owner}/{name}/versions",
+            get(versions).post(publish),
+        )
+        .route(
+            "/api/v1/grammars/{owner}/{name}/versions/{version}",
+            get(version),
+        )
+        .route(
+            "/api/v1/grammars/{owner}/{name}/versions/{version}/rules",
+            get(version_rules),
+        )
+        .fallback(|| async { ApiError::not_found() })
+        .method_not_allowed_fallback(|| async {
+            ApiError::new(StatusCode::METHOD_NOT_ALLOWED, "method not allowed")
+        })
+        .layer(DefaultBodyLimit::max(MAX_BODY_BYTES))
+        .with_state(state)
+}
+
+/// The application over the SQLite database at `path` (created and migrated as needed).
+pub async fn sqlite_app(path: &Path) -> Result<Router, store::StoreError> {
+    let store = sqlite::SqliteStore::open(path).await?;
+    Ok(router(AppState::new(Arc::new(store))))
+}
+
+/// Serves the repository in the SQLite database `data` on `listen` (`127.0.0.1:8080`; port 0
+/// picks a free port); `ready` gets the address once it accepts connections. Runs until the
+/// process ends.
+pub async fn serve(
+    data: &Path,
+    listen: &str,
+    ready: impl FnOnce(SocketAddr),
+) -> Result<(), String> {
+    let app = sqlite_app(data)
+        .await
+        .map_err(|e| format!("cannot open {}: {e}", data.display()))?;
+    let listener = tokio::net::TcpListener::bind(listen)
+        .await
+        .map_err(|e| format!("cannot listen on {listen}: {e}"))?;
+    let addr = listener.local_addr().map_err(|e| e.to_string())?;
+    ready(addr);
+    axum::serve(listener, app).await.map_err(|e| e.to_string())
+}

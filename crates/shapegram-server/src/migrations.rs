@@ -1,0 +1,24 @@
+//! Versioned schema migrations, compiled into the binary: one folder per backend
+//! (`migrations/sqlite/`, later `migrations/postgres/`), files named `NNNN_what.sql`, applied in
+//! order at start-up, each in one transaction together with its row in `schema_migration`.
+//! A migration once released is never edited: the stored SHA-256 of each applied file is
+//! compared at start-up and a mismatch refuses to start.
+
+/// A migration: its version, name and SQL.
+pub struct Migration {
+    pub version: i64,
+    pub name: &'static str,
+    pub sql: &'static str,
+}
+
+/// The SQLite migrations, oldest first.
+pub const SQLITE: &[Migration] = &[Migration {
+    version: 1,
+    name: "init",
+    sql: include_str!("../migrations/sqlite/0001_init.sql"),
+}];
+
+/// The SHA-256 of a migration's SQL, in hex.
+pub fn checksum(m: &Migration) -> String {
+    crate::tokens::sha256_hex(m.sql.as_bytes())
+}

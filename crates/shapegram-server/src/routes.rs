@@ -1,0 +1,498 @@
+//! The HTTP API (`/api/v1/…`): handlers, their request and answer bodies, and their OpenAPI
+//! descriptions.
+
+use axum::Json;
+use axum::extract::State;
+use axum::http::StatusCode;
+use serde::{Deserialize, Serialize};
+use utoipa::{IntoParams, ToSchema};
+
+use crate::AppState;
+use crate::accounts::{self, MAX_ACCOUNT_NAME, MAX_GRAMMAR_NAME, MAX_PASSWORD, MIN_PASSWORD};
+use crate::error::{ApiError, ErrorBody};
+use crate::extract::{ApiPath, ApiQuery, Caller, JsonBody, Signed};
+use crate::grammars::{self, MAX_GRAMMAR_BYTES, Problem};
+use crate::policy::{self, Action};
+use crate::store::*;
+use crate::tokens;
+
+type ApiResult<T> = Result<T, ApiError>;
+
+/// The canonical form of an account's name (valid since sign-up).
+fn canon(account: &Account) -> String {
+    account.name.to_ascii_lowercase().replace('_', "-")
+}
+
+/// The canonical owner and grammar names of a path; names that cannot exist are not found.
+fn grammar_path(owner: &str, name: &str) -> ApiResult<(String, String)> {
+    let owner = accounts::canonical_name("account", owner, MAX_ACCOUNT_NAME)
+        .map_err(|_| ApiError::not_found())?;
+    let name = accounts::canonical_name("grammar", name, MAX_GRAMMAR_NAME)
+        .map_err(|_| ApiError::not_found())?;
+    Ok((owner, name))
+}
+
+fn version_number(version: &str) -> ApiResult<i64> {
+    version
+        .parse::<i64>()
+        .ok()
+        .filter(|v| *v >= 1)
+        .ok_or_else(ApiError::not_found)
+}
+
+// ---------------------------------------------------------------------------------------------
+// Accounts and tokens
+
+/// Name and password, to sign up or log in.
+#[derive(Deserialize, ToSchema)]
+#[serde(deny_unknown_fields)]
+pub struct Credentials {
+    /// ASCII letters, digits, `-` and `_`, starting with a letter; at most 39 characters.
+    pub name: String,
+    /// At least 8 characters.
+    pub password: String,
+}
+
+/// An account.
+#[derive(Serialize, ToSchema)]
+pub struct AccountBody {
+    pub name: String,
+}
+
+/// A token's name, to create one.
+#[derive(Deserialize, ToSchema)]
+#[serde(deny_unknown_fields)]
+pub struct TokenRequest {
+    /// What the token is for (`laptop`, `ci`): 1 to 100 characters.
+    pub name: String,
+}
+
+/// A new token: the secret is shown this once and never again.
+#[derive(Serialize, ToSchema)]
+pub struct NewTokenBody {
+    /// The secret: send it as `Authorization: Bearer <token>`.
+    pub token: String,
+    #[serde(flatten)]
+    pub info: TokenInfo,
+}
+
+/// Signs up: creates an account.
+#[utoipa::path(post, path = "/api/v1/accounts", tag = "accounts", request_body = Credentials,
+    responses((status = 201, body = AccountBody), (status = 400, body = ErrorBody),
+        (status = 409, description = "the name is taken", body = ErrorBody)))]
+pub async fn sign_up(
+    State(state): State<AppState>,
+    JsonBody(c): JsonBody<Credentials>,
+) -> ApiResult<(StatusCode, Json<AccountBody>)> {
+    let canon = accounts::canonical_name("account", &c.name, MAX_ACCOUNT_NAME)
+        .map_err(ApiError::bad_request)?;
+    if c.password.chars().count() < MIN_PASSWORD || c.password.len() > MAX_PASSWORD {
+        return Err(ApiError::bad_request(format!(
+            "a password has {MIN_PASSWORD} to {MAX_PASSWORD} characters"
+        )));
+    }
+    let hash = state
+        .passwords
+        .hash(c.password)
+        .await
+        .map_err(ApiError::internal)?;
+    let account = state.store.create_account(&c.name, &canon, &hash).await?;
+    Ok((
+        StatusCode::CREATED,
+        Json(AccountBody { name: account.name }),
+    ))
+}
+
+async fn new_token(state: &AppState, account: &Account, name: &str) -> ApiResult<NewTokenBody> {
+    let token = tokens::generate().map_err(ApiError::internal)?;
+    let prefix = tokens::display_prefix(&token);
+    let info = state
+        .store
+        .create_token(NewToken {
+            account: account.id,
+            name,
+            hash: tokens::hash(&token),
+            prefix: &prefix,
+        })
+        .await?;
+    Ok(NewTokenBody { token, info })
+}
+
+/// Logs in: checks the password and gives a new API token (named `login`).
+#[utoipa::path(post, path = "/api/v1/login", tag = "accounts", request_body = Credentials,
+    responses((status = 200, body = NewTokenBody), (status = 400, body = ErrorBody),
+        (status = 401, description = "wrong name or password", body = ErrorBody)))]
+pub async fn login(
+    State(state): State<AppState>,
+    JsonBody(c): JsonBody<Credentials>,
+) -> ApiResult<Json<NewTokenBody>> {
+    let wrong = || ApiError::unauthorized("wrong name or password");
+    let canon = accounts::canonical_name("account", &c.name, MAX_ACCOUNT_NAME).ok();
+    let found = match &canon {
+        Some(canon) if c.password.len() <= MAX_PASSWORD => {
+            state.store.account_for_login(canon).await?
+        }
+        _ => return Err(wrong()),
+    };
+    let (account, phc) = match found {
+        Some((account, phc)) => (Some(account), Some(phc)),
+        None => (None, None),
+    };
+    if !state.passwords.verify(c.password, phc).await {
+        return Err(wrong());
+    }
+    let account = account.ok_or_else(wrong)?;
+    Ok(Json(new_token(&state, &account, "login").await?))
+}
+
+/// The account of the token.
+#[utoipa::path(get, path = "/api/v1/me", tag = "accounts", security(("bearer" = [])),
+    responses((status = 200, body = AccountBody), (status = 401, body = ErrorBody)))]
+pub async fn me(Signed(account): Signed) -> Json<AccountBody> {
+    Json(AccountBody { name: account.name })
+}
+
+/// Creates an API token.
+#[utoipa::path(post, path = "/api/v1/tokens", tag = "accounts", security(("bearer" = [])),
+    request_body = TokenRequest,
+    responses((status = 201, body = NewTokenBody), (status = 400, body = ErrorBody),
+        (status = 401, body = ErrorBody)))]
+pub async fn create_token(
+    State(state): State<AppState>,
+    Signed(account): Signed,
+    JsonBody(request): JsonBody<TokenRequest>,
+) -> ApiResult<(StatusCode, Json<NewTokenBody>)> {
+    let n = request.name.chars().count();
+    if n == 0 || n > 100 || request.name.chars().any(char::is_control) {
+        return Err(ApiError::bad_request(
+            "a token name has 1 to 100 characters, none a control character",
+        ));
+    }
+    let body = new_token(&state, &account, &request.name).await?;
+    Ok((StatusCode::CREATED, Json(body)))
+}
+
+/// The caller's tokens, without their secrets.
+#[utoipa::path(get, path = "/api/v1/tokens", tag = "accounts", security(("bearer" = [])),
+    responses((status = 200, body = Vec<TokenInfo>), (status = 401, body = ErrorBody)))]
+pub async fn list_tokens(
+    State(state): State<AppState>,
+    Signed(account): Signed,
+) -> ApiResult<Json<Vec<TokenInfo>>> {
+    Ok(Json(state.store.list_tokens(account.id).await?))
+}
+
+/// Revokes one of the caller's tokens: it fails from the next request on.
+#[utoipa::path(delete, path = "/api/v1/tokens/{id}", tag = "accounts", security(("bearer" = [])),
+    params(("id" = i64, Path, description = "the token's id")),
+    responses((status = 204), (status = 401, body = ErrorBody),
+        (status = 404, description = "no such token of the caller's", body = ErrorBody)))]
+pub async fn revoke_token(
+    State(state): State<AppState>,
+    Signed(account): Signed,
+    ApiPath(id): ApiPath<String>,
+) -> ApiResult<StatusCode> {
+    let id: i64 = id.parse().map_err(|_| ApiError::not_found())?;
+    if state.store.revoke_token(account.id, id).await? {
+        Ok(StatusCode::NO_CONTENT)
+    } else {
+        Err(ApiError::not_found())
+    }
+}
+
+// ---------------------------------------------------------------------------------------------
+// Friends
+
+/// Where a friendship stands.
+#[derive(Serialize, ToSchema)]
+pub struct FriendState {
+    /// `requested` (waiting for the other) or `friends`.
+    pub state: &'static str,
+}
+
+/// The caller's friends and pending requests.
+#[utoipa::path(get, path = "/api/v1/friends", tag = "friends", security(("bearer" = [])),
+    responses((status = 200, body = Friends), (status = 401, body = ErrorBody)))]
+pub async fn friends(
+    State(state): State<AppState>,
+    Signed(account): Signed,
+) -> ApiResult<Json<Friends>> {
+    Ok(Json(state.store.friends(account.id).await?))
+}
+
+/// Asks `user` to be friends (or accepts, when `user` asked first). Friends see each other's
+/// friends-only grammars.
+#[utoipa::path(post, path = "/api/v1/friends/{user}", tag = "friends", security(("bearer" = [])),
+    params(("user" = String, Path)),
+    responses((status = 200, body = FriendState), (status = 401, body = ErrorBody),
+        (status = 404, description = "no such account", body = ErrorBody)))]
+pub async fn request_friend(
+    State(state): State<AppState>,
+    Signed(account): Signed,
+    ApiPath(user): ApiPath<String>,
+) -> ApiResult<Json<FriendState>> {
+    let user = accounts::canonical_name("account", &user, MAX_ACCOUNT_NAME)
+        .map_err(|_| ApiError::not_found())?;
+    match state.store.request_friend(account.id, &user).await? {
+        FriendRequest::Requested => Ok(Json(FriendState { state: "requested" })),
+        FriendRequest::Friends => Ok(Json(FriendState { state: "friends" })),
+        FriendRequest::NoSuchAccount => Err(ApiError::not_found()),
+    }
+}
+
+/// Accepts the friend request `user` sent.
+#[utoipa::path(post, path = "/api/v1/friends/{user}/accept", tag = "friends",
+    security(("bearer" = [])), params(("user" = String, Path)),
+    responses((status = 200, body = FriendState), (status = 401, body = ErrorBody),
+        (status = 404, description = "no pending request from user", body = ErrorBody)))]
+pub async fn accept_friend(
+    State(state): State<AppState>,
+    Signed(account): Signed,
+    ApiPath(user): ApiPath<String>,
+) -> ApiResult<Json<FriendState>> {
+    let user = accounts::canonical_name("account", &user, MAX_ACCOUNT_NAME)
+        .map_err(|_| ApiError::not_found())?;
+    if state.store.accept_friend(account.id, &user).await? {
+        Ok(Json(FriendState { state: "friends" }))
+    } else {
+        Err(ApiError::not_found())
+    }
+}
+
+/// Ends a friendship, or withdraws or declines a request.
+#[utoipa::path(delete, path = "/api/v1/friends/{user}", tag = "friends",
+    security(("bearer" = [])), params(("user" = String, Path)),
+    responses((status = 204), (status = 401, body = ErrorBody), (status = 404, body = ErrorBody)))]
+pub async fn remove_friend(
+    State(state): State<AppState>,
+    Signed(account): Signed,
+    ApiPath(user): ApiPath<String>,
+) -> ApiResult<StatusCode> {
+    let user = accounts::canonical_name("account", &user, MAX_ACCOUNT_NAME)
+        .map_err(|_| ApiError::not_found())?;
+    if state.store.remove_friend(account.id, &user).await? {
+        Ok(StatusCode::NO_CONTENT)
+    } else {
+        Err(ApiError::not_found())
+    }
+}
+
+// ---------------------------------------------------------------------------------------------
+// Grammars
+
+/// Filters of the grammar list.
+#[derive(Deserialize, IntoParams)]
+#[serde(deny_unknown_fields)]
+pub struct ListQuery {
+    /// Only this account's grammars.
+    pub owner: Option<String>,
+}
+
+/// Lists the grammars the caller may see (at most 1,000), by owner and name.
+#[utoipa::path(get, path = "/api/v1/grammars", tag = "grammars", params(ListQuery),
+    security((), ("bearer" = [])),
+    responses((status = 200, body = Vec<GrammarSummary>), (status = 400, body = ErrorBody),
+        (status = 401, body = ErrorBody)))]
+pub async fn list_grammars(
+    State(state): State<AppState>,
+    Caller(caller): Caller,
+    ApiQuery(query): ApiQuery<ListQuery>,
+) -> ApiResult<Json<Vec<GrammarSummary>>> {
+    let owner = match &query.owner {
+        Some(owner) => match accounts::canonical_name("account", owner, MAX_ACCOUNT_NAME) {
+            Ok(owner) => Some(owner),
+            Err(_) => return Ok(Json(Vec::new())),
+        },
+        None => None,
+    };
+    let list = state
+        .store
+        .list_grammars(Viewer::of(caller.as_ref()), owner.as_deref())
+        .await?;
+    Ok(Json(list))
+}
+
+/// A grammar.
+#[utoipa::path(get, path = "/api/v1/grammars/{owner}/{name}", tag = "grammars",
+    security((), ("bearer" = [])), params(("owner" = String, Path), ("name" = String, Path)),
+    responses((status = 200, body = GrammarSummary), (status = 401, body = ErrorBody),
+        (status = 404, description = "no such grammar, or not visible to the caller", body = ErrorBody)))]
+pub async fn grammar(
+    State(state): State<AppState>,
+    Caller(caller): Caller,
+    ApiPath((owner, name)): ApiPath<(String, String)>,
+) -> ApiResult<Json<GrammarSummary>> {
+    let (owner, name) = grammar_path(&owner, &name)?;
+    state
+        .store
+        .grammar(Viewer::of(caller.as_ref()), &owner, &name)
+        .await?
+        .map(Json)
+        .ok_or_else(ApiError::not_found)
+}
+
+/// A grammar's versions, oldest first.
+#[utoipa::path(get, path = "/api/v1/grammars/{owner}/{name}/versions", tag = "grammars",
+    security((), ("bearer" = [])), params(("owner" = String, Path), ("name" = String, Path)),
+    responses((status = 200, body = Vec<VersionInfo>), (status = 401, body = ErrorBody),
+        (status = 404, body = ErrorBody)))]
+pub async fn versions(
+    State(state): State<AppState>,
+    Caller(caller): Caller,
+    ApiPath((owner, name)): ApiPath<(String, String)>,
+) -> ApiResult<Json<Vec<VersionInfo>>> {
+    let (owner, name) = grammar_path(&owner, &name)?;
+    state
+        .store
+        .versions(Viewer::of(caller.as_ref()), &owner, &name)
+        .await?
+        .map(Json)
+        .ok_or_else(ApiError::not_found)
+}
+
+/// A version's text and hash. Versions never change.
+#[utoipa::path(get, path = "/api/v1/grammars/{owner}/{name}/versions/{version}", tag = "grammars",
+    security((), ("bearer" = [])),
+    params(("owner" = String, Path), ("name" = String, Path), ("version" = i64, Path)),
+    responses((status = 200, body = VersionText), (status = 401, body = ErrorBody),
+        (status = 404, body = ErrorBody)))]
+pub async fn version(
+    State(state): State<AppState>,
+    Caller(caller): Caller,
+    ApiPath((owner, name, version)): ApiPath<(String, String, String)>,
+) -> ApiResult<Json<VersionText>> {
+    let (owner, name) = grammar_path(&owner, &name)?;
+    let version = version_number(&version)?;
+    state
+        .store
+        .version(Viewer::of(caller.as_ref()), &owner, &name, version)
+        .await?
+        .map(Json)
+        .ok_or_else(ApiError::not_found)
+}
+
+/// A version's rule index: per rule, the keys a shape must have and must lack.
+#[utoipa::path(get, path = "/api/v1/grammars/{owner}/{name}/versions/{version}/rules",
+    tag = "grammars", security((), ("bearer" = [])),
+    params(("owner" = String, Path), ("name" = String, Path), ("version" = i64, Path)),
+    responses((status = 200, body = Vec<IndexedRule>), (status = 401, body = ErrorBody),
+        (status = 404, body = ErrorBody)))]
+pub async fn version_rules(
+    State(state): State<AppState>,
+    Caller(caller): Caller,
+    ApiPath((owner, name, version)): ApiPath<(String, String, String)>,
+) -> ApiResult<Json<Vec<IndexedRule>>> {
+    let (owner, name) = grammar_path(&owner, &name)?;
+    let version = version_number(&version)?;
+    state
+        .store
+        .version_rules(Viewer::of(caller.as_ref()), &owner, &name, version)
+        .await?
+        .map(Json)
+        .ok_or_else(ApiError::not_found)
+}
+
+/// A version to publish.
+#[derive(Deserialize, ToSchema)]
+#[serde(deny_unknown_fields)]
+pub struct PublishRequest {
+    /// The goal grammar's text (at most 256 KiB), in either notation.
+    pub text: String,
+    /// Who may see the grammar from now on; omitted: unchanged (public for a new grammar).
+    pub visibility: Option<Visibility>,
+}
+
+/// A published version.
+#[derive(Serialize, ToSchema)]
+pub struct Published {
+    pub owner: String,
+    pub name: String,
+    #[serde(flatten)]
+    pub info: VersionInfo,
+    /// Number of rules indexed.
+    pub rules: usize,
+    pub warnings: Vec<Problem>,
+}
+
+/// Publishes a new version of a grammar of the caller's (created by its first version). The
+/// text is checked with the engine's parser and compiler; every publish makes a new immutable
+/// version, one past the latest.
+#[utoipa::path(post, path = "/api/v1/grammars/{owner}/{name}/versions", tag = "grammars",
+    security(("bearer" = [])), request_body = PublishRequest,
+    params(("owner" = String, Path), ("name" = String, Path)),
+    responses((status = 201, body = Published),
+        (status = 400, body = ErrorBody), (status = 401, body = ErrorBody),
+        (status = 403, description = "not the caller's namespace", body = ErrorBody),
+        (status = 413, body = ErrorBody),
+        (status = 422, description = "the grammar does not compile: diagnostics with lines and columns", body = ErrorBody)))]
+pub async fn publish(
+    State(state): State<AppState>,
+    Signed(account): Signed,
+    ApiPath((owner, name)): ApiPath<(String, String)>,
+    JsonBody(request): JsonBody<PublishRequest>,
+) -> ApiResult<(StatusCode, Json<Published>)> {
+    let me = canon(&account);
+    let owner_canon =
+        accounts::canonical_name("account", &owner, MAX_ACCOUNT_NAME).map_err(|_| {
+            ApiError::forbidden(format!(
+                "{} may publish only under their own name",
+                account.name
+            ))
+        })?;
+    policy::check(
+        &account,
+        &me,
+        Action::Publish {
+            owner_canon: &owner_canon,
+        },
+    )?;
+    let canon_name = accounts::canonical_name("grammar", &name, MAX_GRAMMAR_NAME)
+        .map_err(ApiError::bad_request)?;
+    if request.text.len() > MAX_GRAMMAR_BYTES {
+        return Err(ApiError::new(
+            StatusCode::PAYLOAD_TOO_LARGE,
+            format!("a grammar has at most {MAX_GRAMMAR_BYTES} bytes"),
+        ));
+    }
+    let full_name = format!("{}/{name}", account.name);
+    let text = request.text;
+    let (checked, text) = tokio::task::spawn_blocking(move || {
+        let checked = grammars::check(&full_name, &text);
+        (checked, text)
+    })
+    .await
+    .map_err(|_| {
+        ApiError::new(
+            StatusCode::UNPROCESSABLE_ENTITY,
+            "the grammar could not be checked (the checker failed on it)",
+        )
+    })?;
+    let checked = checked.map_err(|diagnostics| ApiError {
+        status: StatusCode::UNPROCESSABLE_ENTITY,
+        message: format!("{name} does not compile"),
+        diagnostics,
+    })?;
+    let sha256 = tokens::sha256_hex(text.as_bytes());
+    let info = state
+        .store
+        .publish(NewVersion {
+            owner: &account,
+            name: &name,
+            canon: &canon_name,
+            visibility: request.visibility,
+            text: &text,
+            sha256: &sha256,
+            rules: &checked.rules,
+        })
+        .await?;
+    Ok((
+        StatusCode::CREATED,
+        Json(Published {
+            owner: account.name.clone(),
+            name,
+            info,
+            rules: checked.rules.len(),
+            warnings: checked.warnings,
+        }),
+    ))
+}

@@ -1,0 +1,259 @@
+//! The storage interface: everything the server keeps goes through a [`Store`], so that the
+//! embedded SQLite store ([`crate::sqlite::SqliteStore`]) and a PostgreSQL store share the
+//! handlers, the policy and the tests.
+//!
+//! Every read of grammars takes a [`Viewer`] and the store applies the visibility rule in its
+//! query (see [`crate::policy`]), so that lists and fetches never return what the viewer may not
+//! see: such objects are simply not found.
+
+use std::future::Future;
+use std::pin::Pin;
+
+use serde::{Deserialize, Serialize};
+use utoipa::ToSchema;
+
+/// A store operation's future (boxed, so that `dyn Store` works for either backend).
+pub type StoreFuture<'a, T> = Pin<Box<dyn Future<Output = Result<T, StoreError>> + Send + 'a>>;
+
+/// Database row id.
+pub type Id = i64;
+
+/// What can go wrong in a store.
+#[derive(Debug)]
+pub enum StoreError {
+    /// A unique name is taken.
+    Conflict(String),
+    /// The database failed (I/O, corruption, a bug in our SQL).
+    Database(String),
+}
+
+impl std::fmt::Display for StoreError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            StoreError::Conflict(m) => write!(f, "{m}"),
+            StoreError::Database(m) => write!(f, "database error: {m}"),
+        }
+    }
+}
+
+impl std::error::Error for StoreError {}
+
+/// An account, as the server knows the caller.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Account {
+    pub id: Id,
+    /// The name as signed up (its canonical form is unique).
+    pub name: String,
+}
+
+/// Who reads: an account or nobody (anonymous). Passed to every read of grammars.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Viewer {
+    pub account: Option<Id>,
+}
+
+impl Viewer {
+    pub const ANONYMOUS: Viewer = Viewer { account: None };
+
+    pub fn of(account: Option<&Account>) -> Viewer {
+        Viewer {
+            account: account.map(|a| a.id),
+        }
+    }
+}
+
+/// Who may read a grammar (all of its versions).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize, ToSchema)]
+#[serde(rename_all = "lowercase")]
+pub enum Visibility {
+    /// Everyone, signed in or not.
+    Public,
+    /// The owner and the owner's friends.
+    Friends,
+    /// The owner alone.
+    Private,
+}
+
+impl Visibility {
+    pub fn as_str(self) -> &'static str {
+        match self {
+            Visibility::Public => "public",
+            Visibility::Friends => "friends",
+            Visibility::Private => "private",
+        }
+    }
+
+    pub fn parse(s: &str) -> Option<Visibility> {
+        match s {
+            "public" => Some(Visibility::Public),
+            "friends" => Some(Visibility::Friends),
+            "private" => Some(Visibility::Private),
+            _ => None,
+        }
+    }
+}
+
+/// An API token, without its secret.
+#[derive(Clone, Debug, Serialize, ToSchema)]
+pub struct TokenInfo {
+    pub id: Id,
+    pub name: String,
+    /// The first characters of the token, to recognise it.
+    pub prefix: String,
+    /// Seconds since the Unix epoch.
+    pub created_at: i64,
+    pub revoked: bool,
+}
+
+/// A new token's row.
+pub struct NewToken<'a> {
+    pub account: Id,
+    pub name: &'a str,
+    /// SHA-256 of the whole token.
+    pub hash: [u8; 32],
+    pub prefix: &'a str,
+}
+
+/// The outcome of a friend request.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum FriendRequest {
+    /// Waiting for the other's acceptance.
+    Requested,
+    /// The other had asked already (or accepted before): friends now.
+    Friends,
+    /// No such account (or oneself).
+    NoSuchAccount,
+}
+
+/// One's friends and pending requests, by account name.
+#[derive(Clone, Debug, Default, Serialize, ToSchema)]
+pub struct Friends {
+    pub friends: Vec<String>,
+    /// Requests others sent, waiting for acceptance.
+    pub incoming: Vec<String>,
+    /// Requests sent, waiting for the others.
+    pub outgoing: Vec<String>,
+}
+
+/// A grammar as lists show it.
+#[derive(Clone, Debug, Serialize, ToSchema)]
+pub struct GrammarSummary {
+    pub owner: String,
+    pub name: String,
+    pub visibility: Visibility,
+    /// The newest version's number (versions count from 1).
+    pub latest_version: i64,
+    pub updated_at: i64,
+}
+
+/// A version without its text.
+#[derive(Clone, Debug, Serialize, ToSchema)]
+pub struct VersionInfo {
+    pub version: i64,
+    /// SHA-256 of the text, in hex.
+    pub sha256: String,
+    pub published_at: i64,
+    pub publisher: String,
+}
+
+/// A version with its text.
+#[derive(Clone, Debug, Serialize, ToSchema)]
+pub struct VersionText {
+    pub owner: String,
+    pub name: String,
+    #[serde(flatten)]
+    pub info: VersionInfo,
+    pub text: String,
+}
+
+/// A rule of a version, as indexed for queries.
+#[derive(Clone, Debug, Default, PartialEq, Eq, Serialize, ToSchema)]
+pub struct IndexedRule {
+    /// The rule's index in its grammar.
+    pub index: i64,
+    /// Keys a shape must all have (`g:goal`, `t:tag`, `a:attribute`; `lg:`/`lt:` for local goals).
+    pub positive: Vec<String>,
+    /// Per negated predicate, keys of which a shape must lack at least one.
+    pub negative: Vec<Vec<String>>,
+    pub local: bool,
+    pub conditional: bool,
+}
+
+/// What a publish writes, checked beforehand.
+pub struct NewVersion<'a> {
+    pub owner: &'a Account,
+    pub name: &'a str,
+    pub canon: &'a str,
+    /// `None` keeps the grammar's visibility (public for a new grammar).
+    pub visibility: Option<Visibility>,
+    pub text: &'a str,
+    pub sha256: &'a str,
+    pub rules: &'a [IndexedRule],
+}
+
+/// The persistent state of a repository.
+pub trait Store: Send + Sync + 'static {
+    /// Creates an account; [`StoreError::Conflict`] when the canonical name is taken.
+    fn create_account<'a>(
+        &'a self,
+        name: &'a str,
+        canon: &'a str,
+        password_hash: &'a str,
+    ) -> StoreFuture<'a, Account>;
+    /// An account and its password hash, by canonical name.
+    fn account_for_login<'a>(
+        &'a self,
+        canon: &'a str,
+    ) -> StoreFuture<'a, Option<(Account, String)>>;
+    fn create_token<'a>(&'a self, token: NewToken<'a>) -> StoreFuture<'a, TokenInfo>;
+    /// The account of an unrevoked token, by the token's SHA-256.
+    fn account_by_token<'a>(&'a self, hash: &'a [u8; 32]) -> StoreFuture<'a, Option<Account>>;
+    fn list_tokens(&self, account: Id) -> StoreFuture<'_, Vec<TokenInfo>>;
+    /// Revokes one of `account`'s tokens; false when it has no such token.
+    fn revoke_token(&self, account: Id, token: Id) -> StoreFuture<'_, bool>;
+
+    fn request_friend<'a>(&'a self, from: Id, to_canon: &'a str) -> StoreFuture<'a, FriendRequest>;
+    /// Accepts the pending request from `from_canon` to `me`; false when there is none.
+    fn accept_friend<'a>(&'a self, me: Id, from_canon: &'a str) -> StoreFuture<'a, bool>;
+    /// Ends a friendship, or withdraws or declines a request; false when there was none.
+    fn remove_friend<'a>(&'a self, me: Id, other_canon: &'a str) -> StoreFuture<'a, bool>;
+    fn friends(&self, me: Id) -> StoreFuture<'_, Friends>;
+
+    /// Publishes a version in one transaction: the grammar (created on first publish), the
+    /// version numbered one past the latest, its rule index and a publish-log entry.
+    fn publish<'a>(&'a self, version: NewVersion<'a>) -> StoreFuture<'a, VersionInfo>;
+    /// Grammars the viewer may see, optionally of one owner (canonical name), by owner and name.
+    fn list_grammars<'a>(
+        &'a self,
+        viewer: Viewer,
+        owner_canon: Option<&'a str>,
+    ) -> StoreFuture<'a, Vec<GrammarSummary>>;
+    fn grammar<'a>(
+        &'a self,
+        viewer: Viewer,
+        owner_canon: &'a str,
+        canon: &'a str,
+    ) -> StoreFuture<'a, Option<GrammarSummary>>;
+    /// A grammar's versions, oldest first; `None` when the viewer may not see the grammar.
+    fn versions<'a>(
+        &'a self,
+        viewer: Viewer,
+        owner_canon: &'a str,
+        canon: &'a str,
+    ) -> StoreFuture<'a, Option<Vec<VersionInfo>>>;
+    fn version<'a>(
+        &'a self,
+        viewer: Viewer,
+        owner_canon: &'a str,
+        canon: &'a str,
+        version: i64,
+    ) -> StoreFuture<'a, Option<VersionText>>;
+    /// A version's rule index, by rule index.
+    fn version_rules<'a>(
+        &'a self,
+        viewer: Viewer,
+        owner_canon: &'a str,
+        canon: &'a str,
+        version: i64,
+    ) -> StoreFuture<'a, Option<Vec<IndexedRule>>>;
+}
