@@ -114,6 +114,18 @@ pub enum Command {
     Cave(crate::cave::CaveArgs),
     /// Run or compile a topological split grammar (Shape Grammar Editor)
     Topo(crate::topo::TopoArgs),
+    /// Run the grammar repository server (accounts, tokens, friends, versioned goal grammars)
+    #[command(
+        long_about = "Run the grammar repository server: a JSON API over HTTP (described by the\n\
+            OpenAPI document at /openapi.json) for accounts, API tokens, friends and versioned,\n\
+            checked goal grammars, kept in one SQLite database file, created and migrated on\n\
+            start. The address is printed once the server accepts connections; --listen with\n\
+            port 0 picks a free port. See docs/repository.md.",
+        after_help = "Examples:\n  \
+            shapegram serve\n  \
+            shapegram serve --data /srv/grammars.db --listen 0.0.0.0:8080"
+    )]
+    Serve(crate::serve::ServeArgs),
 }
 
 /// Arguments of `shapegram primitive`.

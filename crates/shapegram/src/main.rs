@@ -12,6 +12,7 @@ mod lsystem;
 mod pose;
 mod primitive;
 mod progress;
+mod serve;
 mod topo;
 
 use std::io::{self, Write};
@@ -31,6 +32,7 @@ fn main() -> ExitCode {
         Command::Lsystem(args) => lsystem::run(args),
         Command::Cave(args) => cave::run(args),
         Command::Topo(args) => topo::run(args),
+        Command::Serve(args) => serve::run(args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

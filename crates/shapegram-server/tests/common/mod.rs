@@ -1,0 +1,168 @@
+//! A fresh repository in a temporary directory, driven through the router without sockets.
+
+#![allow(dead_code)]
+
+use axum::Router;
+use axum::body::Body;
+use axum::http::{Method, Request, StatusCode};
+use http_body_util::BodyExt;
+use serde_json::{Value, json};
+use tower::ServiceExt;
+
+pub struct App {
+    pub router: Router,
+    pub dir: tempfile::TempDir,
+}
+
+/// A grammar that compiles on its own (a library grammar: rules, no axiom).
+pub const WOOD: &str = "// Wooden things are brown.\nfulfills(wooden) --> color(\"#8b5a2b\")\n";
+
+/// A grammar with an axiom, local goals, `using` blocks and negations.
+pub const CHAIR: &str = r#"local "split-legs"
+axiom chair, wooden size(0.4, 0.8, 0.4)
+fulfills(chair) --> split(y) { ~0.4 : set(@Leg.Size, 0.04) +support | ~0.05 : +seat | ~0.55 : +lean }
+using is(chair) {
+    fulfills(support) --> split(x) { @Leg.Size : +"split-legs" | ~1 : void | @Leg.Size : +"split-legs" }
+    fulfills("split-legs") --> split(z) { @Leg.Size : +leg | ~1 : void | @Leg.Size : +leg }
+    fulfills(lean) !has(Cushion) --> s('1, '1, 0.04)
+}
+"#;
+
+impl App {
+    pub async fn new() -> App {
+        let dir = tempfile::tempdir().expect("a temporary directory");
+        let router = shapegram_server::sqlite_app(&dir.path().join("repo.db"))
+            .await
+            .expect("the repository opens");
+        App { router, dir }
+    }
+
+    /// Sends raw bytes; the answer's status and JSON body (`null` when empty).
+    pub async fn raw(
+        &self,
+        method: Method,
+        uri: &str,
+        token: Option<&str>,
+        body: Vec<u8>,
+    ) -> (StatusCode, Value) {
+        let mut request = Request::builder().method(method).uri(uri);
+        if let Some(token) = token {
+            request = request.header("authorization", format!("Bearer {token}"));
+        }
+        if !body.is_empty() {
+            request = request.header("content-type", "application/json");
+        }
+        let request = request.body(Body::from(body)).expect("a request");
+        self.send(request).await
+    }
+
+    pub async fn send(&self, request: Request<Body>) -> (StatusCode, Value) {
+        let response = self
+            .router
+            .clone()
+            .oneshot(request)
+            .await
+            .expect("an answer");
+        let status = response.status();
+        let bytes = response
+            .into_body()
+            .collect()
+            .await
+            .expect("a body")
+            .to_bytes();
+        let value = if bytes.is_empty() {
+            Value::Null
+        } else {
+            serde_json::from_slice(&bytes).unwrap_or_else(|e| {
+                panic!(
+                    "{status}: the answer is not JSON ({e}): {}",
+                    String::from_utf8_lossy(&bytes)
+                )
+            })
+        };
+        (status, value)
+    }
+
+    pub async fn call(
+        &self,
+        method: Method,
+        uri: &str,
+        token: Option<&str>,
+        body: Option<Value>,
+    ) -> (StatusCode, Value) {
+        let bytes = body.map(|b| b.to_string().into_bytes()).unwrap_or_default();
+        self.raw(method, uri, token, bytes).await
+    }
+
+    pub async fn get(&self, uri: &str, token: Option<&str>) -> (StatusCode, Value) {
+        self.call(Method::GET, uri, token, None).await
+    }
+
+    /// Signs `name` up and logs in: a token.
+    pub async fn user(&self, name: &str) -> String {
+        let credentials = json!({"name": name, "password": format!("{name} password")});
+        let (status, body) = self
+            .call(
+                Method::POST,
+                "/api/v1/accounts",
+                None,
+                Some(credentials.clone()),
+            )
+            .await;
+        assert_eq!(status, StatusCode::CREATED, "{body}");
+        let (status, body) = self
+            .call(Method::POST, "/api/v1/login", None, Some(credentials))
+            .await;
+        assert_eq!(status, StatusCode::OK, "{body}");
+        body["token"].as_str().expect("a token").to_owned()
+    }
+
+    /// Publishes `text` as `owner/name`: the status and answer.
+    pub async fn publish(
+        &self,
+        token: &str,
+        grammar: &str,
+        text: &str,
+        visibility: Option<&str>,
+    ) -> (StatusCode, Value) {
+        let mut body = json!({"text": text});
+        if let Some(v) = visibility {
+            body["visibility"] = json!(v);
+        }
+        self.call(
+            Method::POST,
+            &format!("/api/v1/grammars/{grammar}/versions"),
+            Some(token),
+            Some(body),
+        )
+        .await
+    }
+
+    /// `a` asks `b` to be friends and `b` accepts.
+    pub async fn befriend(&self, a: (&str, &str), b: (&str, &str)) {
+        let (status, body) = self
+            .call(
+                Method::POST,
+                &format!("/api/v1/friends/{}", b.0),
+                Some(a.1),
+                None,
+            )
+            .await;
+        assert_eq!(
+            (status, &body["state"]),
+            (StatusCode::OK, &json!("requested"))
+        );
+        let (status, body) = self
+            .call(
+                Method::POST,
+                &format!("/api/v1/friends/{}/accept", a.0),
+                Some(b.1),
+                None,
+            )
+            .await;
+        assert_eq!(
+            (status, &body["state"]),
+            (StatusCode::OK, &json!("friends"))
+        );
+    }
+}

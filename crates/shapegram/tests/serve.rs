@@ -1,0 +1,154 @@
+//! End to end: `shapegram serve` as a child process on a free port, over real HTTP: it creates
+//! the database, and a restart on the same file keeps every published version as it was.
+
+use std::io::{BufRead, BufReader, Read, Write};
+use std::net::TcpStream;
+use std::process::{Child, Command, Stdio};
+
+mod common;
+
+use common::TempDir;
+use serde_json::{Value, json};
+
+struct Server {
+    child: Child,
+    addr: String,
+}
+
+impl Drop for Server {
+    fn drop(&mut self) {
+        let _ = self.child.kill();
+        let _ = self.child.wait();
+    }
+}
+
+fn start(db: &std::path::Path) -> Server {
+    let mut child = Command::new(env!("CARGO_BIN_EXE_shapegram"))
+        .args(["serve", "--listen", "127.0.0.1:0", "--data"])
+        .arg(db)
+        .stdout(Stdio::piped())
+        .stderr(Stdio::inherit())
+        .spawn()
+        .unwrap();
+    let mut line = String::new();
+    BufReader::new(child.stdout.take().unwrap())
+        .read_line(&mut line)
+        .unwrap();
+    let addr = line
+        .split("http://")
+        .nth(1)
+        .and_then(|rest| rest.split_whitespace().next())
+        .unwrap_or_else(|| panic!("no address in {line:?}"))
+        .to_owned();
+    assert!(line.contains("listening"), "{line}");
+    Server { child, addr }
+}
+
+/// One HTTP/1.1 request: the status and JSON body.
+fn http(
+    server: &Server,
+    method: &str,
+    path: &str,
+    token: Option<&str>,
+    body: Option<Value>,
+) -> (u16, Value) {
+    let mut stream = TcpStream::connect(&server.addr).unwrap();
+    let body = body.map(|b| b.to_string()).unwrap_or_default();
+    let auth = token
+        .map(|t| format!("Authorization: Bearer {t}\r\n"))
+        .unwrap_or_default();
+    write!(
+        stream,
+        "{method} {path} HTTP/1.1\r\nHost: {}\r\nConnection: close\r\nContent-Type: application/json\r\nContent-Length: {}\r\n{auth}\r\n{body}",
+        server.addr,
+        body.len()
+    )
+    .unwrap();
+    let mut answer = String::new();
+    stream.read_to_string(&mut answer).unwrap();
+    let status: u16 = answer[9..12].parse().unwrap();
+    let (_, content) = answer.split_once("\r\n\r\n").unwrap();
+    let value = if content.is_empty() {
+        Value::Null
+    } else {
+        serde_json::from_str(content).unwrap()
+    };
+    (status, value)
+}
+
+#[test]
+fn serve_creates_the_database_and_keeps_versions_across_restarts() {
+    let dir = TempDir::new("serve");
+    let db = dir.path("repo.db");
+    let wood = "fulfills(wooden) --> color(\"#8b5a2b\")\n";
+    let (hash, token) = {
+        let server = start(&db);
+        assert!(db.exists());
+        let credentials = json!({"name": "ana", "password": "ana's password"});
+        assert_eq!(
+            http(
+                &server,
+                "POST",
+                "/api/v1/accounts",
+                None,
+                Some(credentials.clone())
+            )
+            .0,
+            201
+        );
+        let (status, login) = http(&server, "POST", "/api/v1/login", None, Some(credentials));
+        assert_eq!(status, 200, "{login}");
+        let token = login["token"].as_str().unwrap().to_owned();
+        let (status, published) = http(
+            &server,
+            "POST",
+            "/api/v1/grammars/ana/paint/versions",
+            Some(&token),
+            Some(json!({"text": wood, "visibility": "private"})),
+        );
+        assert_eq!(status, 201, "{published}");
+        let (status, doc) = http(&server, "GET", "/openapi.json", None, None);
+        assert_eq!(status, 200);
+        assert!(doc["paths"]["/api/v1/grammars/{owner}/{name}/versions"]["post"].is_object());
+        (published["sha256"].clone(), token)
+    };
+    // Killed and started again on the same file: migrations are not re-applied, data is there.
+    let server = start(&db);
+    assert_eq!(
+        http(
+            &server,
+            "GET",
+            "/api/v1/grammars/ana/paint/versions/1",
+            None,
+            None
+        )
+        .0,
+        404
+    );
+    let (status, version) = http(
+        &server,
+        "GET",
+        "/api/v1/grammars/ana/paint/versions/1",
+        Some(&token),
+        None,
+    );
+    assert_eq!(status, 200, "{version}");
+    assert_eq!(
+        (&version["text"], &version["sha256"]),
+        (&json!(wood), &hash)
+    );
+}
+
+#[test]
+fn serve_reports_an_address_in_use() {
+    let dir = TempDir::new("serve-busy");
+    let first = start(&dir.path("a.db"));
+    let output = Command::new(env!("CARGO_BIN_EXE_shapegram"))
+        .args(["serve", "--listen", &first.addr, "--data"])
+        .arg(dir.path("b.db"))
+        .output()
+        .unwrap();
+    assert_eq!(output.status.code(), Some(1));
+    let stderr = String::from_utf8(output.stderr).unwrap();
+    assert!(stderr.starts_with("error: cannot listen on"), "{stderr}");
+}
