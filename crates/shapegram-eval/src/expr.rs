@@ -12,6 +12,7 @@ use crate::builtins::{Builtin, Query};
 use crate::context::{Context, Target};
 use crate::error::DeriveError;
 use crate::goals::AttrId;
+use crate::imports::Origins;
 use crate::program::{CExpr, CKind, Program};
 use crate::rng::Rng;
 use crate::shape::{Geometry, State};
@@ -360,7 +361,8 @@ impl<'p> Evaluator<'p> {
                         .map(|v| v.clone().unwrap_or(Value::Number(0.0)))
                         .collect(),
                 );
-                values[i] = Some(self.eval(&attr.value, shape, &[])?);
+                let value = self.eval(&attr.value, shape, &[]);
+                values[i] = Some(self.placed(value, |o| o.attrs[i])?);
             }
         }
         Ok(values
@@ -373,7 +375,8 @@ impl<'p> Evaluator<'p> {
         let program = self.program;
         let constant = &program.consts[i as usize];
         if !constant.cached {
-            return self.eval(&constant.value, shape, &[]);
+            let value = self.eval(&constant.value, shape, &[]);
+            return self.placed(value, |o| o.consts[i as usize]);
         }
         match &self.consts[i as usize] {
             Slot::Done(v) => return Ok(v.clone()),
@@ -391,7 +394,7 @@ impl<'p> Evaluator<'p> {
         std::mem::swap(&mut scratch.rng, &mut self.const_rng);
         let result = self.eval(&constant.value, &mut scratch, &[]);
         std::mem::swap(&mut scratch.rng, &mut self.const_rng);
-        let value = result?;
+        let value = self.placed(result, |o| o.consts[i as usize])?;
         self.consts[i as usize] = Slot::Done(value.clone());
         if let Some(log) = &mut self.const_log {
             log.push(ConstEvent {
@@ -426,7 +429,16 @@ impl<'p> Evaluator<'p> {
         let program = self.program;
         let result = self.eval(&program.functions[f as usize].body, shape, &values);
         self.call_depth -= 1;
-        result
+        self.placed(result, |o| o.functions[f as usize])
+    }
+
+    /// An evaluation's result, its error placed in the file of the declaration `file` picks
+    /// (for grammars with imports; an error placed deeper keeps its file).
+    fn placed<T>(&self, result: Result<T>, file: impl Fn(&Origins) -> u16) -> Result<T> {
+        match &self.program.origins {
+            Some(origins) => result.map_err(|e| e.in_file(file(origins))),
+            None => result,
+        }
     }
 
     /// `inside(target, label)` and friends, and Müller's `occ(label)`.

@@ -15,6 +15,7 @@ mod error;
 mod expr;
 mod fingerprint;
 mod goals;
+mod imports;
 mod library;
 mod named_poses;
 mod ops;
@@ -33,6 +34,7 @@ pub use engine::{
 };
 pub use error::DeriveError;
 pub use goals::{GoalQuery, LeafSemantics};
+pub use imports::ImportGraph;
 pub use program::{Program, RuleId, Sym};
 pub use shape::{Csg, CsgOp, FaceTag, Geometry, Implicit};
 pub use value::Value;

@@ -22,9 +22,11 @@ pub struct Grammar {
     /// Rules, in file order. Several rules may share a name (stochastic rules of the Müller
     /// notation are lowered into one rule with a [`Body::Stochastic`]).
     pub rules: Vec<Rule>,
-    /// Top-level statements that were parsed but are not supported yet (`import`, `style`, …),
-    /// kept so `check` can warn about them with their spans.
+    /// Top-level statements that were parsed but are not supported yet (`style`, …), kept so
+    /// `check` can warn about them with their spans.
     pub unsupported: Vec<Unsupported>,
+    /// `import id : "file.cga"` statements, in file order.
+    pub imports: Vec<Import>,
     /// Goal grammars: the axioms, the shapes a derivation starts from.
     pub axioms: Vec<Axiom>,
     /// Goal grammars: rules chosen by predicates over a shape's goals, tags and attributes.
@@ -480,4 +482,30 @@ pub enum PredicateKind {
     Has(Vec<Ident>),
     /// `If(…)`: the expression holds for the shape (its scope, attributes).
     If(Expr),
+}
+
+/// `import id : "file.cga"`, optionally with `(a = value, b)`: the rules, attributes, constants
+/// and functions of the file become `id.Name`.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Import {
+    /// The namespace the file's declarations go into; `None` (`import "file.cga"`) merges them
+    /// into the importing file's.
+    pub id: Option<Ident>,
+    /// The file, as written.
+    pub path: Spanned<String>,
+    /// What the parenthesised list says of the file's attributes: `None` without one.
+    pub attributes: Option<Vec<ImportAttribute>>,
+    /// The whole statement.
+    pub span: Span,
+}
+
+/// An entry of an import's attribute list.
+#[derive(Clone, Debug, PartialEq)]
+pub enum ImportAttribute {
+    /// `a = value`: the imported attribute `a` takes this value (an expression of the
+    /// importing file).
+    Set(Ident, Expr),
+    /// `a`: the imported attribute keeps its own value, even if the importing file has an
+    /// attribute of that name.
+    Keep(Ident),
 }

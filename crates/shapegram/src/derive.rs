@@ -229,8 +229,7 @@ fn compile(
                     .to_owned(),
             ]));
         }
-        let program = grammar::compile(&source, !args.quiet, dialect).into_program(&source)?;
-        return Ok((program, vec![source]));
+        return grammar::compile(&source, !args.quiet, dialect).into_program();
     }
     let mut sources = vec![source];
     for path in grammar::library_files(&args.library, &args.grammar)? {

@@ -256,12 +256,15 @@ impl<'p> Engine<'p> {
                 .run_body(body, &mut task.state, &task.args, out)
                 .map_err(|e| e.in_file(grammar));
         }
-        let result = self.run_body(
+        let mut result = self.run_body(
             &program.rules[task.rule as usize].body,
             &mut task.state,
             &task.args,
             out,
         );
+        if let Some(origins) = &program.origins {
+            result = result.map_err(|e| e.in_file(origins.rules[task.rule as usize]));
+        }
         if self.spare.len() < 64 {
             // Only the allocation is kept: no need to hold on to a mesh.
             task.state.geometry = Geometry::Empty;
