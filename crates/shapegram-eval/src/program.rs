@@ -150,6 +150,14 @@ pub(crate) enum CKind {
 impl Program {
     /// Compiles a grammar. Returns `None` when there are errors; warnings come back either way.
     pub fn compile(grammar: &Grammar) -> (Option<Program>, Vec<Diagnostic>) {
+        if let Some(import) = grammar.imports.first() {
+            let d = Diagnostic::error(
+                "this grammar imports files: they are needed to compile it",
+                import.span,
+            )
+            .with_hint("compile it with `Program::compile_imports`, giving the imported files");
+            return (None, vec![d]);
+        }
         if grammar.is_goal_grammar() {
             let (program, diagnostics) = Self::compile_library(&[("grammar", grammar)]);
             return (program, diagnostics.into_iter().map(|(_, d)| d).collect());
