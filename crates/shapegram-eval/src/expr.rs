@@ -53,6 +53,8 @@ pub(crate) struct Evaluator<'p> {
     /// In phase 2 of a grammar with a skeleton: the rigid motion from the rest pose of each of
     /// the lot's sections, by which occlusion queries place a shape.
     pub motions: Vec<Frame>,
+    /// Where tables (`readStringTable`) are read from: the derivation's assets.
+    pub assets: Option<&'p dyn crate::AssetLoader>,
 }
 
 /// A constant's first evaluation in a lot: which constant, its value, and the constants'
@@ -89,6 +91,7 @@ impl<'p> Evaluator<'p> {
             lot: 0,
             const_log: None,
             motions: Vec::new(),
+            assets: None,
         }
     }
 
@@ -260,6 +263,46 @@ impl<'p> Evaluator<'p> {
     }
 
     /// Evaluates to a number, or fails with the expression's span.
+    /// `readStringTable(path)` and `readFloatTable(path)`: the file's table, read through the
+    /// derivation's assets.
+    fn read_table(
+        &mut self,
+        b: Builtin,
+        path: &CExpr,
+        shape: &mut State,
+        args: &[Value],
+    ) -> Result<Value> {
+        let name = match self.eval(path, shape, args)? {
+            Value::Str(s) => s,
+            other => {
+                return Err(DeriveError::at(
+                    format!("expected a file path, found a {}", other.type_name()),
+                    path.span,
+                ));
+            }
+        };
+        let Some(assets) = self.assets else {
+            return Err(DeriveError::at(
+                format!("cannot read `{name}`: this derivation reads no files"),
+                path.span,
+            ));
+        };
+        let text = assets
+            .text(&name)
+            .map_err(|why| DeriveError::at(why, path.span))?;
+        let rows = crate::tables::rows(&text);
+        if b == Builtin::ReadStringTable {
+            return Ok(crate::tables::string_table(&rows));
+        }
+        crate::tables::float_table(&rows).map_err(|(r, c, field)| {
+            DeriveError::at(
+                format!("`{name}` row {r}, column {c}: `{field}` is not a number"),
+                path.span,
+            )
+            .with_hint("read it with readStringTable, or convert fields with float()")
+        })
+    }
+
     /// A named attribute of a goal grammar's shape, checked against the getter's type.
     fn goal_attribute(
         &self,
@@ -643,6 +686,28 @@ impl<'p> Evaluator<'p> {
                     )),
                 };
             }
+            Builtin::ReadStringTable | Builtin::ReadFloatTable => {
+                return self.read_table(b, &params[0], shape, args);
+            }
+            Builtin::Rows | Builtin::Columns => {
+                let table = self.eval(&params[0], shape, args)?;
+                let Value::Array(rows) = &table else {
+                    return Err(DeriveError::at(
+                        format!(
+                            "expected a table (an array of rows), found a {}",
+                            table.type_name()
+                        ),
+                        params[0].span,
+                    ));
+                };
+                let n = match (b, rows.first()) {
+                    (Builtin::Rows, _) => rows.len(),
+                    (_, Some(Value::Array(row))) => row.len(),
+                    (_, Some(_)) => 1,
+                    (_, None) => 0,
+                };
+                return Ok(Value::Number(n as f64));
+            }
             Builtin::Len => {
                 return match self.eval(&params[0], shape, args)? {
                     Value::Array(a) => Ok(Value::Number(a.len() as f64)),
@@ -711,6 +776,10 @@ impl<'p> Evaluator<'p> {
             | Builtin::EdgeCount
             | Builtin::BoundaryLength
             | Builtin::Height
+            | Builtin::ReadStringTable
+            | Builtin::ReadFloatTable
+            | Builtin::Rows
+            | Builtin::Columns
             | Builtin::Text(_) => unreachable!("handled above"),
         };
         if !value.is_finite() {

@@ -24,6 +24,7 @@ pub mod rng;
 mod shape;
 mod snapshot;
 mod solids;
+mod tables;
 mod text;
 mod trim;
 mod value;

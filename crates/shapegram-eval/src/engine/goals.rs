@@ -172,6 +172,7 @@ fn derive_axiom(
         ..Semantics::default()
     }));
     let mut ev = Evaluator::new(program, start.seed, start.scope.origin);
+    ev.assets = options.assets.as_deref();
     ev.lot = start.index;
     let mut engine = Engine::new(program, ev, names, options, Phase::Only, batch);
     if let Some(tree) = &mut engine.tree {
