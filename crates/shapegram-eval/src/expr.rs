@@ -136,6 +136,7 @@ impl<'p> Evaluator<'p> {
             }
             CKind::Query(q) => Value::Number(self.query(*q, shape)),
             CKind::GoalAttr(attr, kind) => self.goal_attribute(*attr, *kind, shape, e.span)?,
+            CKind::EdgeValues(entries) => self.edge_values(entries, shape, args)?,
             CKind::Unary(op, operand) => {
                 let v = self.eval(operand, shape, args)?;
                 match (op, v) {
@@ -263,6 +264,39 @@ impl<'p> Evaluator<'p> {
     }
 
     /// Evaluates to a number, or fails with the expression's span.
+    /// `comp(fe) { selector : value | … }`: a value per edge of the shape's faces, face after
+    /// face, each the value of the first entry whose selector takes it (evaluated once for the
+    /// shape), else 0.
+    fn edge_values(
+        &mut self,
+        entries: &[(crate::ops::CompSelector, CExpr)],
+        shape: &mut State,
+        args: &[Value],
+    ) -> Result<Value> {
+        let values = entries
+            .iter()
+            .map(|(_, e)| self.eval(e, shape, args))
+            .collect::<Result<Vec<_>>>()?;
+        let Some(world) = shape.geometry.world_mesh(&shape.scope) else {
+            return Ok(Value::Array(Arc::from([])));
+        };
+        let mut out = Vec::new();
+        for f in 0..world.face_count() {
+            let normal = world.face_normal(f);
+            let points: Vec<DVec3> = world.face_points(f).collect();
+            for (i, &a) in points.iter().enumerate() {
+                let b = points[(i + 1) % points.len()];
+                let outward = (b - a).cross(normal);
+                let value = entries
+                    .iter()
+                    .position(|(s, _)| s.takes_edge(outward, i, &shape.scope))
+                    .map_or(Value::Number(0.0), |k| values[k].clone());
+                out.push(value);
+            }
+        }
+        Ok(Value::Array(out.into()))
+    }
+
     /// `readStringTable(path)` and `readFloatTable(path)`: the file's table, read through the
     /// derivation's assets.
     fn read_table(

@@ -145,6 +145,9 @@ pub(crate) enum CKind {
     Unsupported(String),
     /// Goal grammars: a named attribute of the shape, of the type the getter asks for.
     GoalAttr(AttrId, AttributeKind),
+    /// `comp(fe) { front : 2 | all : 0 }`: a value per face edge (face after face), that of the
+    /// first entry whose selector takes the edge, else 0.
+    EdgeValues(Vec<(crate::ops::CompSelector, CExpr)>),
 }
 
 impl Program {
@@ -776,6 +779,11 @@ impl<'g> Compiler<'g> {
     }
 
     fn call_expr(&mut self, name: &ast::Ident, args: &[ast::Argument], params: Params) -> CKind {
+        if let ("comp", [first, entries @ ..]) = (name.name.as_str(), args) {
+            if matches!(&first.value.kind, ExprKind::Name(k) if k == "fe") && first.name.is_none() {
+                return self.edge_values(entries, params);
+            }
+        }
         if Builtin::is_known_unsupported(&name.name) {
             // Never evaluated, so its arguments (`touches(intra, "wall")`) are not checked.
             self.diagnostics.push(Diagnostic::warning(
@@ -841,6 +849,30 @@ impl<'g> Compiler<'g> {
         }
         self.diagnostics.push(d);
         CKind::Value(Value::Number(0.0))
+    }
+
+    /// The entries of `comp(fe) { selector : value | … }` (read as named arguments).
+    fn edge_values(&mut self, entries: &[ast::Argument], params: Params) -> CKind {
+        let mut compiled = Vec::with_capacity(entries.len());
+        for entry in entries {
+            let Some(selector) = &entry.name else {
+                self.report(Diagnostic::error(
+                    "expected `selector : value` in the comp function",
+                    entry.value.span,
+                ));
+                continue;
+            };
+            let key = ast::Expr {
+                kind: match selector.name.parse::<u32>() {
+                    Ok(i) => ExprKind::Number(f64::from(i)),
+                    Err(_) => ExprKind::Name(selector.name.clone()),
+                },
+                span: selector.span,
+            };
+            let selector = crate::ops::edge_selector(self, &key, key.span);
+            compiled.push((selector, self.expr(&entry.value, params)));
+        }
+        CKind::EdgeValues(compiled)
     }
 
     /// Attribute names, for hints.
