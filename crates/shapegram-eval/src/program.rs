@@ -199,6 +199,11 @@ impl Program {
         ((!failed).then_some(program), diagnostics)
     }
 
+    /// Whether the program is a library of goal grammars, which starts from its axioms.
+    pub fn is_goal_grammar(&self) -> bool {
+        self.goals.is_some()
+    }
+
     /// The name of a symbol.
     pub fn symbol_name(&self, sym: Sym) -> &str {
         &self.symbols[sym as usize]

@@ -94,7 +94,7 @@ mod tests {
             rows("1  2 3\n4 5 6"),
             [vec!["1", "2", "3"], vec!["4", "5", "6"]]
         );
-        assert_eq!(rows("say \"\"hi\"\",x"), [vec!["say \"hi\"", "x"]]);
+        assert_eq!(rows("\"say \"\"hi\"\"\",x"), [vec!["say \"hi\"", "x"]]);
     }
 
     #[test]

@@ -35,6 +35,12 @@ pub fn run(args: &DeriveArgs) -> Result<(), Failure> {
     let source = grammar::read(&args.grammar, !args.quiet)?;
     let (program, sources) = compile(source, args)?;
     let source = &sources[0];
+    // Goal grammars start from their axioms: lots only when asked for.
+    let lots = if program.is_goal_grammar() && args.lot.is_empty() && args.lots.is_empty() {
+        Vec::new()
+    } else {
+        lots
+    };
 
     let folder = args.grammar.parent().unwrap_or(Path::new("")).to_path_buf();
     let options = DeriveOptions {

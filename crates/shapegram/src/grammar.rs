@@ -273,6 +273,7 @@ pub fn library_files(
     paths: &[std::path::PathBuf],
     main: &Path,
 ) -> Result<Vec<std::path::PathBuf>, Failure> {
+    let main_path = main;
     let main = std::fs::canonicalize(main).ok();
     let mut files = Vec::new();
     let mut pending = Vec::new();
@@ -298,10 +299,11 @@ pub fn library_files(
             ))
         })?;
         for entry in entries {
-            let path = entry
-                .map_err(|e| Failure::new(format!("cannot read {}: {e}", folder.display())))?
-                .path();
-            if path.is_dir() {
+            let entry = entry
+                .map_err(|e| Failure::new(format!("cannot read {}: {e}", folder.display())))?;
+            let path = entry.path();
+            // Links to folders are not followed: one could lead back up the tree.
+            if entry.file_type().is_ok_and(|t| t.is_dir()) {
                 pending.push(path);
             } else if path.extension().is_some_and(|e| e == "goal")
                 && std::fs::canonicalize(&path).ok() != main
@@ -311,7 +313,25 @@ pub fn library_files(
         }
     }
     files.sort();
-    files.dedup();
+    // A file reached twice (named, and in a folder) is one grammar.
+    let mut seen = std::collections::HashSet::new();
+    files.retain(|f| seen.insert(std::fs::canonicalize(f).unwrap_or_else(|_| f.clone())));
+    // Grammars are named by their file stems: two of one name would mix their rules' names.
+    let mut stems: std::collections::HashMap<String, &Path> = std::collections::HashMap::new();
+    stems.insert(stem(&main_path.display().to_string()), main_path);
+    for file in &files {
+        let name = stem(&file.display().to_string());
+        if let Some(other) = stems.insert(name.clone(), file) {
+            return Err(Failure::new(format!(
+                "two library grammars are called `{name}`: {} and {}",
+                other.display(),
+                file.display()
+            ))
+            .with_hints(vec![
+                "grammars are named by their file names: rename one".to_owned(),
+            ]));
+        }
+    }
     Ok(files)
 }
 

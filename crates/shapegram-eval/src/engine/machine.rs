@@ -426,6 +426,17 @@ impl<'p> Engine<'p> {
             )
             .with_hint("a rule that keeps making successors needs a condition that ends it"));
         }
+        if depth > self.options.max_depth && self.program.goals.is_some() {
+            let name = self.program.symbol_name(symbol);
+            return Err(DeriveError::at(
+                format!(
+                    "the derivation is more than {} shapes deep at `{name}`: goal rules keep making shapes whose goals call for them again",
+                    self.options.max_depth
+                ),
+                span,
+            )
+            .with_hint("a goal that leads back to itself through rules needs a condition that ends it (`if(scope.sx > 1)`) or a rule that fulfils it without a successor"));
+        }
         if depth > self.options.max_depth {
             let name = self.program.symbol_name(symbol);
             return Err(DeriveError::at(
