@@ -264,6 +264,9 @@ fn compile_rule(compiler: &mut Compiler, rule: &ast::GoalRule) -> CRule {
             compiled.conditions.push((condition, !p.negated));
         }
     }
+    // What the conditions read is read before the body runs: always asked for.
+    let scope = compiler.goal.as_mut().expect("a goal compiler");
+    compiled.attrs.append(&mut scope.reads);
     for a in &rule.annotations {
         match a.name.name.as_str() {
             "Weight" => match a.args.as_slice() {
@@ -294,7 +297,7 @@ fn compile_rule(compiler: &mut Compiler, rule: &ast::GoalRule) -> CRule {
     let body = compiler.body(&rule.body, &[]);
     check_sync_conflicts(compiler, &rule.body);
     let scope = compiler.goal.as_mut().expect("a goal compiler");
-    // Attribute getters ask for their attributes, unless the rule sets them itself.
+    // Attribute getters of the body ask for their attributes, unless the rule sets them itself.
     let writes = std::mem::take(&mut scope.rule_writes);
     compiled
         .attrs
