@@ -20,7 +20,7 @@ use rustc_hash::FxHashSet;
 use shapegram_syntax::{
     Diagnostic,
     ast::{
-        Argument, Attr, Block, BlockEntry, Body, Const, Expr, ExprKind, Function, Grammar, Ident,
+        Attr, Block, BlockEntry, Body, Const, Expr, ExprKind, Function, Grammar, Ident,
         ImportAttribute, Rule, Stmt,
     },
 };
@@ -331,7 +331,7 @@ fn rename_stmts(stmts: &mut [Stmt], rename: &dyn Fn(&str) -> Option<String>, par
             call.name.name = name;
         }
         for arg in call.args.iter_mut().flatten() {
-            rename_argument(arg, rename, params);
+            rename_expr(&mut arg.value, rename, params);
         }
         if let Some(block) = &mut call.block {
             rename_block(block, rename, params);
@@ -351,72 +351,18 @@ fn rename_block(block: &mut Block, rename: &dyn Fn(&str) -> Option<String>, para
     }
 }
 
-fn rename_argument(arg: &mut Argument, rename: &dyn Fn(&str) -> Option<String>, params: &[Ident]) {
-    rename_expr(&mut arg.value, rename, params);
-}
-
 fn rename_expr(e: &mut Expr, rename: &dyn Fn(&str) -> Option<String>, params: &[Ident]) {
-    let sub = |x: &mut Expr| rename_expr(x, rename, params);
-    match &mut e.kind {
-        ExprKind::Name(name) => {
-            if !params.iter().any(|p| p.name == *name) {
-                if let Some(full) = rename(name) {
-                    *name = full;
-                }
+    e.walk_mut(&mut |x| match &mut x.kind {
+        ExprKind::Name(name) if !params.iter().any(|p| p.name == *name) => {
+            if let Some(full) = rename(name) {
+                *name = full;
             }
         }
-        ExprKind::Call { name, args } => {
+        ExprKind::Call { name, .. } => {
             if let Some(full) = rename(&name.name) {
                 name.name = full;
             }
-            for arg in args {
-                rename_argument(arg, rename, params);
-            }
         }
-        ExprKind::Array(items) => items.iter_mut().for_each(sub),
-        ExprKind::Index {
-            target,
-            index,
-            column,
-        } => {
-            sub(target);
-            sub(index);
-            if let Some(c) = column {
-                sub(c);
-            }
-        }
-        ExprKind::Range { start, step, end } => {
-            sub(start);
-            if let Some(s) = step {
-                sub(s);
-            }
-            sub(end);
-        }
-        ExprKind::Unary { operand, .. } => sub(operand),
-        ExprKind::Binary { lhs, rhs, .. } => {
-            sub(lhs);
-            sub(rhs);
-        }
-        ExprKind::Conditional {
-            cond,
-            then,
-            otherwise,
-        } => {
-            sub(cond);
-            sub(then);
-            sub(otherwise);
-        }
-        ExprKind::Cases { arms, otherwise } | ExprKind::Stochastic { arms, otherwise } => {
-            for (a, v) in arms {
-                sub(a);
-                sub(v);
-            }
-            sub(otherwise);
-        }
-        ExprKind::Floating(inner) | ExprKind::Relative(inner) => sub(inner),
-        ExprKind::Number(_)
-        | ExprKind::String(_)
-        | ExprKind::Bool(_)
-        | ExprKind::GoalAttribute { .. } => {}
-    }
+        _ => {}
+    });
 }

@@ -361,6 +361,63 @@ pub enum ExprKind {
     },
 }
 
+impl Expr {
+    /// Calls `f` on this expression and then on every expression inside it, outermost first
+    /// (call arguments included): how passes rewrite names throughout an expression.
+    pub fn walk_mut(&mut self, f: &mut impl FnMut(&mut Expr)) {
+        f(self);
+        match &mut self.kind {
+            ExprKind::Call { args, .. } => args.iter_mut().for_each(|a| a.value.walk_mut(f)),
+            ExprKind::Array(items) => items.iter_mut().for_each(|i| i.walk_mut(f)),
+            ExprKind::Index {
+                target,
+                index,
+                column,
+            } => {
+                target.walk_mut(f);
+                index.walk_mut(f);
+                if let Some(column) = column {
+                    column.walk_mut(f);
+                }
+            }
+            ExprKind::Range { start, step, end } => {
+                start.walk_mut(f);
+                if let Some(step) = step {
+                    step.walk_mut(f);
+                }
+                end.walk_mut(f);
+            }
+            ExprKind::Unary { operand, .. } => operand.walk_mut(f),
+            ExprKind::Binary { lhs, rhs, .. } => {
+                lhs.walk_mut(f);
+                rhs.walk_mut(f);
+            }
+            ExprKind::Conditional {
+                cond,
+                then,
+                otherwise,
+            } => {
+                cond.walk_mut(f);
+                then.walk_mut(f);
+                otherwise.walk_mut(f);
+            }
+            ExprKind::Cases { arms, otherwise } | ExprKind::Stochastic { arms, otherwise } => {
+                for (a, v) in arms {
+                    a.walk_mut(f);
+                    v.walk_mut(f);
+                }
+                otherwise.walk_mut(f);
+            }
+            ExprKind::Floating(inner) | ExprKind::Relative(inner) => inner.walk_mut(f),
+            ExprKind::Number(_)
+            | ExprKind::String(_)
+            | ExprKind::Bool(_)
+            | ExprKind::Name(_)
+            | ExprKind::GoalAttribute { .. } => {}
+        }
+    }
+}
+
 /// The type an attribute getter of a goal grammar asks for.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum AttributeKind {
