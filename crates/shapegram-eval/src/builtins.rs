@@ -44,6 +44,10 @@ pub(crate) enum Builtin {
     EdgeCount,
     BoundaryLength,
     Height,
+    ReadStringTable,
+    ReadFloatTable,
+    Rows,
+    Columns,
     /// A string or string-list function.
     Text(Text),
 }
@@ -90,9 +94,13 @@ impl Builtin {
         "geometry.nEdges",
         "geometry.boundaryLength",
         "geometry.height",
+        "readStringTable",
+        "readFloatTable",
+        "nRows",
+        "nColumns",
     ];
 
-    const ALL: [Builtin; 39] = [
+    const ALL: [Builtin; 43] = [
         Self::Rand,
         Self::P,
         Self::Floor,
@@ -132,6 +140,10 @@ impl Builtin {
         Self::EdgeCount,
         Self::BoundaryLength,
         Self::Height,
+        Self::ReadStringTable,
+        Self::ReadFloatTable,
+        Self::Rows,
+        Self::Columns,
     ];
 
     /// The built-in with this name.
@@ -195,6 +207,10 @@ impl Builtin {
             Self::EdgeCount => "geometry.nEdges()",
             Self::BoundaryLength => "geometry.boundaryLength()",
             Self::Height => "geometry.height()",
+            Self::ReadStringTable => "readStringTable(filePath)",
+            Self::ReadFloatTable => "readFloatTable(filePath)",
+            Self::Rows => "nRows(table)",
+            Self::Columns => "nColumns(table)",
             Self::Text(t) => t.signature(),
             _ => "f(number)",
         }

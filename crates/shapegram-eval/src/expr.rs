@@ -12,6 +12,7 @@ use crate::builtins::{Builtin, Query};
 use crate::context::{Context, Target};
 use crate::error::DeriveError;
 use crate::goals::AttrId;
+use crate::imports::Origins;
 use crate::program::{CExpr, CKind, Program};
 use crate::rng::Rng;
 use crate::shape::{Geometry, State};
@@ -52,6 +53,8 @@ pub(crate) struct Evaluator<'p> {
     /// In phase 2 of a grammar with a skeleton: the rigid motion from the rest pose of each of
     /// the lot's sections, by which occlusion queries place a shape.
     pub motions: Vec<Frame>,
+    /// Where tables (`readStringTable`) are read from: the derivation's assets.
+    pub assets: Option<&'p dyn crate::AssetLoader>,
 }
 
 /// A constant's first evaluation in a lot: which constant, its value, and the constants'
@@ -88,6 +91,7 @@ impl<'p> Evaluator<'p> {
             lot: 0,
             const_log: None,
             motions: Vec::new(),
+            assets: None,
         }
     }
 
@@ -132,6 +136,7 @@ impl<'p> Evaluator<'p> {
             }
             CKind::Query(q) => Value::Number(self.query(*q, shape)),
             CKind::GoalAttr(attr, kind) => self.goal_attribute(*attr, *kind, shape, e.span)?,
+            CKind::EdgeValues(entries) => self.edge_values(entries, shape, args)?,
             CKind::Unary(op, operand) => {
                 let v = self.eval(operand, shape, args)?;
                 match (op, v) {
@@ -259,6 +264,79 @@ impl<'p> Evaluator<'p> {
     }
 
     /// Evaluates to a number, or fails with the expression's span.
+    /// `comp(fe) { selector : value | … }`: a value per edge of the shape's faces, face after
+    /// face, each the value of the first entry whose selector takes it (evaluated once for the
+    /// shape), else 0.
+    fn edge_values(
+        &mut self,
+        entries: &[(crate::ops::CompSelector, CExpr)],
+        shape: &mut State,
+        args: &[Value],
+    ) -> Result<Value> {
+        let values = entries
+            .iter()
+            .map(|(_, e)| self.eval(e, shape, args))
+            .collect::<Result<Vec<_>>>()?;
+        let Some(world) = shape.geometry.world_mesh(&shape.scope) else {
+            return Ok(Value::Array(Arc::from([])));
+        };
+        let mut out = Vec::new();
+        for f in 0..world.face_count() {
+            let normal = world.face_normal(f);
+            let points: Vec<DVec3> = world.face_points(f).collect();
+            for (i, &a) in points.iter().enumerate() {
+                let b = points[(i + 1) % points.len()];
+                let outward = (b - a).cross(normal);
+                let value = entries
+                    .iter()
+                    .position(|(s, _)| s.takes_edge(outward, i, &shape.scope))
+                    .map_or(Value::Number(0.0), |k| values[k].clone());
+                out.push(value);
+            }
+        }
+        Ok(Value::Array(out.into()))
+    }
+
+    /// `readStringTable(path)` and `readFloatTable(path)`: the file's table, read through the
+    /// derivation's assets.
+    fn read_table(
+        &mut self,
+        b: Builtin,
+        path: &CExpr,
+        shape: &mut State,
+        args: &[Value],
+    ) -> Result<Value> {
+        let name = match self.eval(path, shape, args)? {
+            Value::Str(s) => s,
+            other => {
+                return Err(DeriveError::at(
+                    format!("expected a file path, found a {}", other.type_name()),
+                    path.span,
+                ));
+            }
+        };
+        let Some(assets) = self.assets else {
+            return Err(DeriveError::at(
+                format!("cannot read `{name}`: this derivation reads no files"),
+                path.span,
+            ));
+        };
+        let text = assets
+            .text(&name)
+            .map_err(|why| DeriveError::at(why, path.span))?;
+        let rows = crate::tables::rows(&text);
+        if b == Builtin::ReadStringTable {
+            return Ok(crate::tables::string_table(&rows));
+        }
+        crate::tables::float_table(&rows).map_err(|(r, c, field)| {
+            DeriveError::at(
+                format!("`{name}` row {r}, column {c}: `{field}` is not a number"),
+                path.span,
+            )
+            .with_hint("read it with readStringTable, or convert fields with float()")
+        })
+    }
+
     /// A named attribute of a goal grammar's shape, checked against the getter's type.
     fn goal_attribute(
         &self,
@@ -360,7 +438,8 @@ impl<'p> Evaluator<'p> {
                         .map(|v| v.clone().unwrap_or(Value::Number(0.0)))
                         .collect(),
                 );
-                values[i] = Some(self.eval(&attr.value, shape, &[])?);
+                let value = self.eval(&attr.value, shape, &[]);
+                values[i] = Some(self.placed(value, |o| o.attrs[i])?);
             }
         }
         Ok(values
@@ -373,7 +452,8 @@ impl<'p> Evaluator<'p> {
         let program = self.program;
         let constant = &program.consts[i as usize];
         if !constant.cached {
-            return self.eval(&constant.value, shape, &[]);
+            let value = self.eval(&constant.value, shape, &[]);
+            return self.placed(value, |o| o.consts[i as usize]);
         }
         match &self.consts[i as usize] {
             Slot::Done(v) => return Ok(v.clone()),
@@ -391,7 +471,7 @@ impl<'p> Evaluator<'p> {
         std::mem::swap(&mut scratch.rng, &mut self.const_rng);
         let result = self.eval(&constant.value, &mut scratch, &[]);
         std::mem::swap(&mut scratch.rng, &mut self.const_rng);
-        let value = result?;
+        let value = self.placed(result, |o| o.consts[i as usize])?;
         self.consts[i as usize] = Slot::Done(value.clone());
         if let Some(log) = &mut self.const_log {
             log.push(ConstEvent {
@@ -426,7 +506,16 @@ impl<'p> Evaluator<'p> {
         let program = self.program;
         let result = self.eval(&program.functions[f as usize].body, shape, &values);
         self.call_depth -= 1;
-        result
+        self.placed(result, |o| o.functions[f as usize])
+    }
+
+    /// An evaluation's result, its error placed in the file of the declaration `file` picks
+    /// (for grammars with imports; an error placed deeper keeps its file).
+    fn placed<T>(&self, result: Result<T>, file: impl Fn(&Origins) -> u16) -> Result<T> {
+        match &self.program.origins {
+            Some(origins) => result.map_err(|e| e.in_file(file(origins))),
+            None => result,
+        }
     }
 
     /// `inside(target, label)` and friends, and Müller's `occ(label)`.
@@ -631,6 +720,28 @@ impl<'p> Evaluator<'p> {
                     )),
                 };
             }
+            Builtin::ReadStringTable | Builtin::ReadFloatTable => {
+                return self.read_table(b, &params[0], shape, args);
+            }
+            Builtin::Rows | Builtin::Columns => {
+                let table = self.eval(&params[0], shape, args)?;
+                let Value::Array(rows) = &table else {
+                    return Err(DeriveError::at(
+                        format!(
+                            "expected a table (an array of rows), found a {}",
+                            table.type_name()
+                        ),
+                        params[0].span,
+                    ));
+                };
+                let n = match (b, rows.first()) {
+                    (Builtin::Rows, _) => rows.len(),
+                    (_, Some(Value::Array(row))) => row.len(),
+                    (_, Some(_)) => 1,
+                    (_, None) => 0,
+                };
+                return Ok(Value::Number(n as f64));
+            }
             Builtin::Len => {
                 return match self.eval(&params[0], shape, args)? {
                     Value::Array(a) => Ok(Value::Number(a.len() as f64)),
@@ -699,6 +810,10 @@ impl<'p> Evaluator<'p> {
             | Builtin::EdgeCount
             | Builtin::BoundaryLength
             | Builtin::Height
+            | Builtin::ReadStringTable
+            | Builtin::ReadFloatTable
+            | Builtin::Rows
+            | Builtin::Columns
             | Builtin::Text(_) => unreachable!("handled above"),
         };
         if !value.is_finite() {

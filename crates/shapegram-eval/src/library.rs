@@ -18,6 +18,9 @@ use shapegram_syntax::{
 use crate::goals::{self, AttrId, GoalId, GoalName, GoalRules, GrammarId};
 use crate::program::{CRule, Compiler, Program};
 
+/// The largest weight a rule may have: weights add up, and must stay finite.
+const MAX_WEIGHT: f64 = 1e6;
+
 /// Where the compiler is inside a library: the grammar being compiled and the names of all.
 #[derive(Debug, Default)]
 pub(crate) struct GoalScope {
@@ -35,6 +38,8 @@ pub(crate) struct GoalScope {
     read_at: Vec<(AttrId, GrammarId, Span)>,
     /// Attributes set anywhere.
     set: FxHashSet<AttrId>,
+    /// Attributes set by the rule being compiled (its own reads of them ask for nothing).
+    rule_writes: Vec<AttrId>,
     /// Goals given to shapes (axioms, `+goal`, `adds`), with where.
     given: Vec<(GoalId, GrammarId, Span)>,
     /// Goals asked for (`fulfills`, `goal(…)`), with where.
@@ -77,6 +82,7 @@ impl GoalScope {
     /// Records a `set(@name, …)`.
     pub fn write(&mut self, attr: AttrId) {
         self.set.insert(attr);
+        self.rule_writes.push(attr);
     }
 
     /// Records goals given to shapes at `span`.
@@ -141,13 +147,6 @@ impl Program {
         }
         let mut scope = *compiler.goal.take().expect("a goal compiler");
         diagnostics.extend(check_library(&scope));
-        if grammars.first().is_some_and(|(_, g)| g.axioms.is_empty()) {
-            diagnostics.push((
-                0,
-                Diagnostic::error("the grammar has no axiom to start from", Span::default())
-                    .with_hint("declare one: `axiom chair size(0.4, 0.8, 0.4)` (or `new Axiom(\"chair\").Size(0.4, 0.8, 0.4);`)"),
-            ));
-        }
         scope.rules.goal_symbols = scope
             .rules
             .goals
@@ -183,7 +182,9 @@ fn refuse_symbol_grammar(compiler: &mut Compiler, grammar: &Grammar) {
 fn compile_axiom(compiler: &mut Compiler, axiom: &ast::Axiom) {
     let scope = compiler.goal.as_mut().expect("a goal compiler");
     let goals: Vec<GoalId> = axiom.goals.iter().map(|g| scope.goal(&g.name)).collect();
-    scope.give(&goals, axiom.span);
+    for (&goal, written) in goals.iter().zip(&axiom.goals) {
+        scope.give(&[goal], written.span);
+    }
     let grammar = scope.grammar;
     let size = axiom
         .size
@@ -205,6 +206,7 @@ fn compile_axiom(compiler: &mut Compiler, axiom: &ast::Axiom) {
 fn compile_rule(compiler: &mut Compiler, rule: &ast::GoalRule) -> CRule {
     let scope = compiler.goal.as_mut().expect("a goal compiler");
     scope.reads.clear();
+    scope.rule_writes.clear();
     let grammar = scope.grammar;
     let mut compiled = goals::GoalRule {
         grammar,
@@ -262,14 +264,20 @@ fn compile_rule(compiler: &mut Compiler, rule: &ast::GoalRule) -> CRule {
             compiled.conditions.push((condition, !p.negated));
         }
     }
+    // What the conditions read is read before the body runs: always asked for.
+    let scope = compiler.goal.as_mut().expect("a goal compiler");
+    compiled.attrs.append(&mut scope.reads);
     for a in &rule.annotations {
         match a.name.name.as_str() {
             "Weight" => match a.args.as_slice() {
                 [ast::Argument { name: None, value }] => match value.kind {
-                    ast::ExprKind::Number(w) if w > 0.0 && w.is_finite() => compiled.weight = w,
+                    ast::ExprKind::Number(w) if w > 0.0 && w <= MAX_WEIGHT => compiled.weight = w,
                     _ => compiler.report(
-                        Diagnostic::error("a rule's weight is a number above 0", value.span)
-                            .with_hint("write `@Weight(2)` to make a rule twice as likely"),
+                        Diagnostic::error(
+                            "a rule's weight is a number above 0 and at most a million",
+                            value.span,
+                        )
+                        .with_hint("write `@Weight(2)` to make a rule twice as likely"),
                     ),
                 },
                 _ => compiler.report(Diagnostic::error(
@@ -289,8 +297,11 @@ fn compile_rule(compiler: &mut Compiler, rule: &ast::GoalRule) -> CRule {
     let body = compiler.body(&rule.body, &[]);
     check_sync_conflicts(compiler, &rule.body);
     let scope = compiler.goal.as_mut().expect("a goal compiler");
-    // Attribute getters ask for their attributes.
-    compiled.attrs.append(&mut scope.reads);
+    // Attribute getters of the body ask for their attributes, unless the rule sets them itself.
+    let writes = std::mem::take(&mut scope.rule_writes);
+    compiled
+        .attrs
+        .extend(scope.reads.drain(..).filter(|a| !writes.contains(a)));
     compiled.attrs.sort_unstable();
     compiled.attrs.dedup();
     needed.sort_unstable();
@@ -307,6 +318,15 @@ fn compile_rule(compiler: &mut Compiler, rule: &ast::GoalRule) -> CRule {
         && compiled.not_goals.is_empty()
         && compiled.not_tags.is_empty()
         && compiled.not_attrs.is_empty();
+    if rule.fulfills.is_empty() && unconditional {
+        compiler.report(
+            Diagnostic::warning(
+                "this rule fulfils no goal and has no condition: the shapes it makes match it again, and it may apply over and over",
+                rule.span,
+            )
+            .with_hint("let it fulfil a goal (`fulfills(…)`), or add a condition or a negated predicate (`!is(done)`)"),
+        );
+    }
     if let (Some(goal), true) = (reopened.first(), unconditional) {
         compiler.report(
             Diagnostic::error(

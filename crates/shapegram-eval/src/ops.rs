@@ -349,6 +349,23 @@ pub(crate) enum CompSelector {
 }
 
 impl CompSelector {
+    /// Whether the selector takes edge `index` of a face (counted within the face), whose
+    /// outward direction in the face's plane is `outward`, seen in `scope`.
+    pub fn takes_edge(
+        &self,
+        outward: shapegram_geom::DVec3,
+        index: usize,
+        scope: &shapegram_geom::Scope,
+    ) -> bool {
+        match self {
+            Self::All => true,
+            Self::Index(i) => *i == index,
+            Self::Class(class) => FaceClass::of(outward, scope) == *class,
+            Self::Side => FaceClass::of(outward, scope).is_side(),
+            _ => false,
+        }
+    }
+
     /// The names `comp.sel` gives, by [`CompSelector::code`]; an index selector has no name.
     pub const NAMES: [&'static str; 14] = [
         "",
@@ -1399,7 +1416,7 @@ fn comp_selector(c: &mut Compiler, key: &ast::Expr, span: Span) -> CompSelector 
 /// A selector of the edges a `setback` moves: a face class of the edge's outward direction
 /// (`street.front` and `object.front` read as `front`, there being no streets), `side`, `all` or
 /// an index.
-fn edge_selector(c: &mut Compiler, key: &ast::Expr, span: Span) -> CompSelector {
+pub(crate) fn edge_selector(c: &mut Compiler, key: &ast::Expr, span: Span) -> CompSelector {
     let selector = match &key.kind {
         ast::ExprKind::Name(n) => {
             let word = n

@@ -11,6 +11,7 @@ use shapegram_syntax::{
 use crate::builtins::{Builtin, Query};
 use crate::fingerprint::Fingerprints;
 use crate::goals::{AttrId, GoalId, GoalRules};
+use crate::imports::{ImportGraph, Origins};
 use crate::library::GoalScope;
 use crate::ops::{self, Op};
 use crate::value::Value;
@@ -44,6 +45,8 @@ pub struct Program {
     pub(crate) fingerprints: Fingerprints,
     /// The goal rules, axioms and index of a goal grammar library; `None` for symbol grammars.
     pub(crate) goals: Option<Box<GoalRules>>,
+    /// With imports: the file each attribute, constant, function and rule came from.
+    pub(crate) origins: Option<Origins>,
 }
 
 /// A compiled rule.
@@ -142,11 +145,22 @@ pub(crate) enum CKind {
     Unsupported(String),
     /// Goal grammars: a named attribute of the shape, of the type the getter asks for.
     GoalAttr(AttrId, AttributeKind),
+    /// `comp(fe) { front : 2 | all : 0 }`: a value per face edge (face after face), that of the
+    /// first entry whose selector takes the edge, else 0.
+    EdgeValues(Vec<(crate::ops::CompSelector, CExpr)>),
 }
 
 impl Program {
     /// Compiles a grammar. Returns `None` when there are errors; warnings come back either way.
     pub fn compile(grammar: &Grammar) -> (Option<Program>, Vec<Diagnostic>) {
+        if let Some(import) = grammar.imports.first() {
+            let d = Diagnostic::error(
+                "this grammar imports files: they are needed to compile it",
+                import.span,
+            )
+            .with_hint("compile it with `Program::compile_imports`, giving the imported files");
+            return (None, vec![d]);
+        }
         if grammar.is_goal_grammar() {
             let (program, diagnostics) = Self::compile_library(&[("grammar", grammar)]);
             return (program, diagnostics.into_iter().map(|(_, d)| d).collect());
@@ -155,6 +169,39 @@ impl Program {
         let program = compiler.run(grammar);
         let failed = compiler.diagnostics.iter().any(Diagnostic::is_error);
         ((!failed).then_some(program), compiler.diagnostics)
+    }
+
+    /// Compiles a grammar with the files it imports (see [`ImportGraph`]): one program, each
+    /// file's declarations in its namespace. Returns `None` when there are errors; diagnostics
+    /// come back with the index of their file.
+    pub fn compile_imports(graph: ImportGraph<'_>) -> (Option<Program>, Vec<(usize, Diagnostic)>) {
+        let (merged, origins) = match crate::imports::merge(graph) {
+            Ok(merged) => merged,
+            Err(errors) => return (None, errors),
+        };
+        let mut compiler = Compiler::new(&merged);
+        compiler.origins = Some(origins);
+        // What the compiler found before compiling declarations (rules defined twice) is the
+        // importing file's.
+        compiler.attribute(|_| 0);
+        let mut program = compiler.run(&merged);
+        compiler.attribute(|_| 0);
+        let files = std::mem::take(&mut compiler.diagnostic_files);
+        let diagnostics: Vec<(usize, Diagnostic)> = files
+            .into_iter()
+            .map(usize::from)
+            .zip(compiler.diagnostics)
+            .collect();
+        let failed = diagnostics.iter().any(|(_, d)| d.is_error());
+        if graph.files.len() < 2 {
+            program.origins = None;
+        }
+        ((!failed).then_some(program), diagnostics)
+    }
+
+    /// Whether the program is a library of goal grammars, which starts from its axioms.
+    pub fn is_goal_grammar(&self) -> bool {
+        self.goals.is_some()
     }
 
     /// The name of a symbol.
@@ -224,6 +271,9 @@ pub(crate) struct Compiler<'g> {
     pub(crate) kinematic: bool,
     /// Compiling goal grammars: the library's names and what its checks need.
     pub(crate) goal: Option<Box<GoalScope>>,
+    /// With imports: the file of each declaration, and of each diagnostic so far.
+    origins: Option<Origins>,
+    diagnostic_files: Vec<u16>,
 }
 
 impl<'g> Compiler<'g> {
@@ -241,6 +291,8 @@ impl<'g> Compiler<'g> {
             warned: FxHashMap::default(),
             kinematic: false,
             goal: None,
+            origins: None,
+            diagnostic_files: Vec::new(),
         };
         for (i, rule) in grammar.rules.iter().enumerate() {
             let list = c.rule_by_name.entry(rule.name.name.clone()).or_default();
@@ -298,8 +350,10 @@ impl<'g> Compiler<'g> {
         let attrs: Vec<CAttr> = grammar
             .attrs
             .iter()
-            .map(|a| {
+            .enumerate()
+            .map(|(i, a)| {
                 let value = self.expr(&a.value, &[]);
+                self.attribute(|o| o.attrs[i]);
                 attr_uses.push(std::mem::take(&mut self.uses));
                 CAttr {
                     name: a.name.name.clone(),
@@ -311,8 +365,10 @@ impl<'g> Compiler<'g> {
         let consts = grammar
             .consts
             .iter()
-            .map(|c| {
+            .enumerate()
+            .map(|(i, c)| {
                 let value = self.expr(&c.value, &[]);
+                self.attribute(|o| o.consts[i]);
                 const_uses.push(std::mem::take(&mut self.uses));
                 CConst {
                     value,
@@ -324,8 +380,10 @@ impl<'g> Compiler<'g> {
         let functions = grammar
             .functions
             .iter()
-            .map(|f| {
+            .enumerate()
+            .map(|(i, f)| {
                 let body = self.expr(&f.body, &f.params);
+                self.attribute(|o| o.functions[i]);
                 function_uses.push(std::mem::take(&mut self.uses));
                 CFunction {
                     name: f.name.name.clone(),
@@ -337,19 +395,22 @@ impl<'g> Compiler<'g> {
         let rules = grammar
             .rules
             .iter()
-            .map(|r| {
+            .enumerate()
+            .map(|(i, r)| {
                 let rule = CRule {
                     symbol: self.intern(&r.name.name),
                     params: r.params.len(),
                     body: self.body(&r.body, &r.params),
                 };
+                self.attribute(|o| o.rules[i]);
                 rule_uses.push(std::mem::take(&mut self.uses));
                 rule
             })
             .collect();
         let closure = ContextClosure::new(&function_uses, &const_uses);
-        for (attr, uses) in grammar.attrs.iter().zip(&attr_uses) {
+        for (i, (attr, uses)) in grammar.attrs.iter().zip(&attr_uses).enumerate() {
             if closure.asks(uses) {
+                self.attribute(|_| 0);
                 self.diagnostics.push(
                     Diagnostic::error(
                         "attribute values cannot ask about other shapes",
@@ -360,6 +421,7 @@ impl<'g> Compiler<'g> {
                         "ask in a rule instead: `Tile --> case inside(): Wall else: Window`",
                     ),
                 );
+                self.attribute(|o| o.attrs[i]);
             }
         }
         let context_rules = rule_uses.iter().map(|u| closure.asks(u)).collect();
@@ -386,6 +448,16 @@ impl<'g> Compiler<'g> {
             named_poses,
             fingerprints: Fingerprints::of(grammar),
             goals: None,
+            origins: self.origins.take(),
+        }
+    }
+
+    /// Gives the diagnostics reported since the last call the file `file` picks from the
+    /// declarations' origins (when compiling a grammar with imports).
+    fn attribute(&mut self, file: impl Fn(&Origins) -> u16) {
+        if let Some(origins) = &self.origins {
+            let file = file(origins);
+            self.diagnostic_files.resize(self.diagnostics.len(), file);
         }
     }
 
@@ -412,6 +484,7 @@ impl<'g> Compiler<'g> {
             named_poses: Vec::new(),
             fingerprints: Fingerprints::default(),
             goals: Some(Box::new(goals)),
+            origins: None,
         }
     }
 
@@ -711,6 +784,11 @@ impl<'g> Compiler<'g> {
     }
 
     fn call_expr(&mut self, name: &ast::Ident, args: &[ast::Argument], params: Params) -> CKind {
+        if let ("comp", [first, entries @ ..]) = (name.name.as_str(), args) {
+            if matches!(&first.value.kind, ExprKind::Name(k) if k == "fe") && first.name.is_none() {
+                return self.edge_values(entries, params);
+            }
+        }
         if Builtin::is_known_unsupported(&name.name) {
             // Never evaluated, so its arguments (`touches(intra, "wall")`) are not checked.
             self.diagnostics.push(Diagnostic::warning(
@@ -776,6 +854,30 @@ impl<'g> Compiler<'g> {
         }
         self.diagnostics.push(d);
         CKind::Value(Value::Number(0.0))
+    }
+
+    /// The entries of `comp(fe) { selector : value | … }` (read as named arguments).
+    fn edge_values(&mut self, entries: &[ast::Argument], params: Params) -> CKind {
+        let mut compiled = Vec::with_capacity(entries.len());
+        for entry in entries {
+            let Some(selector) = &entry.name else {
+                self.report(Diagnostic::error(
+                    "expected `selector : value` in the comp function",
+                    entry.value.span,
+                ));
+                continue;
+            };
+            let key = ast::Expr {
+                kind: match selector.name.parse::<u32>() {
+                    Ok(i) => ExprKind::Number(f64::from(i)),
+                    Err(_) => ExprKind::Name(selector.name.clone()),
+                },
+                span: selector.span,
+            };
+            let selector = crate::ops::edge_selector(self, &key, key.span);
+            compiled.push((selector, self.expr(&entry.value, params)));
+        }
+        CKind::EdgeValues(compiled)
     }
 
     /// Attribute names, for hints.

@@ -304,19 +304,75 @@ fn synchronized_windows_are_identical_and_unsynchronized_ones_vary() {
 
 #[test]
 fn results_do_not_depend_on_the_thread_count() {
-    let program = library(&[("metallic", METALLIC), ("chair", CHAIR), ("wood", WOOD)]);
-    let lots = common::lots_in_a_row(6, 2.0, 2.0, 3.0);
+    // An axiom without a size: one derivation per lot, in parallel.
+    let rules = r##"
+axiom parcel, wooden
+fulfills(parcel) --> extrude(rand(3, 9)) split(y) { { ~2.5 : +floor }* }
+fulfills(floor) --> split(x) { ~1 : +room | ~rand(1, 2) : +room }
+fulfills(room) --> s('0.9, '1, '0.9) center(xz)
+fulfills(room) --> color("#aa8866")
+fulfills(wooden) --> color("#8b5a2b")
+"##;
+    let program = library(&[("parcels", rules)]);
+    let lots = common::lots_in_a_row(6, 8.0, 6.0, 10.0);
     let options = DeriveOptions {
         seed: 9,
         ..DeriveOptions::default()
     };
     let one = common::derive_on_threads(&program, &lots, &options, 1);
     let four = common::derive_on_threads(&program, &lots, &options, 4);
+    let lots_seen: std::collections::BTreeSet<u32> = one.leaves.iter().map(|l| l.lot).collect();
+    assert_eq!(lots_seen.len(), 6);
+    assert!(one.leaves.len() > 12, "{}", one.leaves.len());
     assert_eq!(one.leaves, four.leaves);
     let glb = |d: &Derivation| {
         shapegram_export::write_glb(&d.to_model(), &shapegram_export::ExportOptions::default())
     };
     assert_eq!(glb(&one), glb(&four));
+}
+
+#[test]
+fn a_rule_that_sets_an_attribute_may_read_it() {
+    let rules = "axiom a size(1, 1, 1)\nfulfills(a) --> set(@x, 0.5) s(@x, '1, '1)\n";
+    let d = run(&library(&[("self", rules)]), 0);
+    assert!(close(d.leaves[0].scope.size, DVec3::new(0.5, 1.0, 1.0)));
+}
+
+#[test]
+fn rules_that_would_match_their_own_shapes_are_warned_about_and_weights_are_bounded() {
+    let e = errors(&[(
+        "loop",
+        "axiom a size(1, 1, 1)\ngoal(a) --> color(\"#ff0000\")\n",
+    )]);
+    assert!(
+        e.contains("warning: this rule fulfils no goal and has no condition"),
+        "{e}"
+    );
+    let e = errors(&[(
+        "heavy",
+        "axiom a size(1, 1, 1)\n@Weight(1e308)\nfulfills(a) --> color(\"#ff0000\")\n",
+    )]);
+    assert!(
+        e.contains("error: a rule's weight is a number above 0 and at most a million"),
+        "{e}"
+    );
+}
+
+#[test]
+fn a_library_grammar_has_no_axiom_and_cannot_be_derived_alone() {
+    let program = library(&[("wood", WOOD)]);
+    let e = try_run(&program, 0).unwrap_err();
+    assert_eq!(e.message, "the grammar `wood` has no axiom to start from");
+}
+
+#[test]
+fn rules_that_lead_back_to_each_other_are_stopped_with_their_goal_named() {
+    let rules = "axiom a size(1, 1, 1)\nfulfills(a) --> +b\nfulfills(b) --> +a\n";
+    let e = try_run(&library(&[("ping", rules)]), 0).unwrap_err();
+    assert_eq!(
+        e.message,
+        "the derivation is more than 1000 shapes deep at `b`: goal rules keep making shapes whose goals call for them again"
+    );
 }
 
 fn errors(files: &[(&str, &str)]) -> String {

@@ -168,3 +168,37 @@ fn bad_setbacks_are_errors() {
         "{errors}"
     );
 }
+
+#[test]
+fn setback_takes_a_distance_per_edge_from_an_array_or_the_comp_function() {
+    let area = |grammar: &str| {
+        let d = common::run(grammar, common::lot(10.0, 10.0));
+        let rest: Vec<_> = d.leaves.iter().filter(|l| &*l.name == "Rest").collect();
+        assert_eq!(rest.len(), 1, "{grammar}");
+        rest[0].world_mesh().unwrap().area()
+    };
+    // One edge 3 m in, the others 1 m: 8 × 6 m left.
+    let a = area(
+        "Lot --> setback(comp(fe) { front : 3 | all : 1 }) { all = Strip | remainder = Rest }",
+    );
+    assert!((a - 48.0).abs() < 1e-9, "{a}");
+    // Face-edge order; missing entries stay.
+    let a = area("Lot --> setback([2, 0, 0]) { all = Strip | remainder = Rest }");
+    assert!((a - 80.0).abs() < 1e-9, "{a}");
+    let d = common::run(
+        "Lot --> report(\"n\", size(comp(fe) { all : 1 })) report(\"sum\", comp(fe) { front : 5 | 2 : 7 }[2])",
+        common::lot(10.0, 10.0),
+    );
+    let values: Vec<String> = d.reports.iter().map(|(k, v)| format!("{k}={v}")).collect();
+    assert_eq!(values, ["n=4", "sum=7"]);
+    let e = common::try_run(
+        "Lot --> setback([1, -2]) { all = Strip | remainder = Rest }",
+        common::lot(10.0, 10.0),
+        &shapegram_eval::DeriveOptions::default(),
+    )
+    .unwrap_err();
+    assert_eq!(
+        e.message,
+        "setback distances: expected numbers of 0 or more, found -2"
+    );
+}

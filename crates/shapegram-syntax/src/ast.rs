@@ -22,9 +22,11 @@ pub struct Grammar {
     /// Rules, in file order. Several rules may share a name (stochastic rules of the Müller
     /// notation are lowered into one rule with a [`Body::Stochastic`]).
     pub rules: Vec<Rule>,
-    /// Top-level statements that were parsed but are not supported yet (`import`, `style`, …),
-    /// kept so `check` can warn about them with their spans.
+    /// Top-level statements that were parsed but are not supported yet (`style`, …), kept so
+    /// `check` can warn about them with their spans.
     pub unsupported: Vec<Unsupported>,
+    /// `import id : "file.cga"` statements, in file order.
+    pub imports: Vec<Import>,
     /// Goal grammars: the axioms, the shapes a derivation starts from.
     pub axioms: Vec<Axiom>,
     /// Goal grammars: rules chosen by predicates over a shape's goals, tags and attributes.
@@ -359,6 +361,63 @@ pub enum ExprKind {
     },
 }
 
+impl Expr {
+    /// Calls `f` on this expression and then on every expression inside it, outermost first
+    /// (call arguments included): how passes rewrite names throughout an expression.
+    pub fn walk_mut(&mut self, f: &mut impl FnMut(&mut Expr)) {
+        f(self);
+        match &mut self.kind {
+            ExprKind::Call { args, .. } => args.iter_mut().for_each(|a| a.value.walk_mut(f)),
+            ExprKind::Array(items) => items.iter_mut().for_each(|i| i.walk_mut(f)),
+            ExprKind::Index {
+                target,
+                index,
+                column,
+            } => {
+                target.walk_mut(f);
+                index.walk_mut(f);
+                if let Some(column) = column {
+                    column.walk_mut(f);
+                }
+            }
+            ExprKind::Range { start, step, end } => {
+                start.walk_mut(f);
+                if let Some(step) = step {
+                    step.walk_mut(f);
+                }
+                end.walk_mut(f);
+            }
+            ExprKind::Unary { operand, .. } => operand.walk_mut(f),
+            ExprKind::Binary { lhs, rhs, .. } => {
+                lhs.walk_mut(f);
+                rhs.walk_mut(f);
+            }
+            ExprKind::Conditional {
+                cond,
+                then,
+                otherwise,
+            } => {
+                cond.walk_mut(f);
+                then.walk_mut(f);
+                otherwise.walk_mut(f);
+            }
+            ExprKind::Cases { arms, otherwise } | ExprKind::Stochastic { arms, otherwise } => {
+                for (a, v) in arms {
+                    a.walk_mut(f);
+                    v.walk_mut(f);
+                }
+                otherwise.walk_mut(f);
+            }
+            ExprKind::Floating(inner) | ExprKind::Relative(inner) => inner.walk_mut(f),
+            ExprKind::Number(_)
+            | ExprKind::String(_)
+            | ExprKind::Bool(_)
+            | ExprKind::Name(_)
+            | ExprKind::GoalAttribute { .. } => {}
+        }
+    }
+}
+
 /// The type an attribute getter of a goal grammar asks for.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum AttributeKind {
@@ -480,4 +539,30 @@ pub enum PredicateKind {
     Has(Vec<Ident>),
     /// `If(…)`: the expression holds for the shape (its scope, attributes).
     If(Expr),
+}
+
+/// `import id : "file.cga"`, optionally with `(a = value, b)`: the rules, attributes, constants
+/// and functions of the file become `id.Name`.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Import {
+    /// The namespace the file's declarations go into; `None` (`import "file.cga"`) merges them
+    /// into the importing file's.
+    pub id: Option<Ident>,
+    /// The file, as written.
+    pub path: Spanned<String>,
+    /// What the parenthesised list says of the file's attributes: `None` without one.
+    pub attributes: Option<Vec<ImportAttribute>>,
+    /// The whole statement.
+    pub span: Span,
+}
+
+/// An entry of an import's attribute list.
+#[derive(Clone, Debug, PartialEq)]
+pub enum ImportAttribute {
+    /// `a = value`: the imported attribute `a` takes this value (an expression of the
+    /// importing file).
+    Set(Ident, Expr),
+    /// `a`: the imported attribute keeps its own value, even if the importing file has an
+    /// attribute of that name.
+    Keep(Ident),
 }

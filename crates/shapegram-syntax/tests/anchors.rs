@@ -246,15 +246,14 @@ fn envelope2002(corpus: &Corpus) {
         "pyprt__envelope2002/rules/typology/envelope2002.cga",
     );
     let imports: Vec<&str> = g
-        .unsupported
+        .imports
         .iter()
-        .map(|u| {
-            assert_eq!(u.what, "import");
-            &source.text()[u.span.range()]
-        })
+        .map(|i| &source.text()[i.span.range()])
         .collect();
     assert_eq!(imports.len(), 6);
     assert_eq!(imports[0], "import volume: \"volume0110.cga\"");
+    assert_eq!(g.imports[0].id.as_ref().unwrap().name, "volume");
+    assert_eq!(g.imports[0].path.value, "volume0110.cga");
     assert!(g.rules.iter().any(|r| r.name.name == "volume.Slab"));
     assert_eq!(
         rule_body(&g, "First_volume_top"),
@@ -310,7 +309,19 @@ fn small_anchors(corpus: &Corpus) {
         corpus,
         "pyprt__dynamic_imports/rules/prt3_dynamic_imports/ruleA.cga",
     );
-    assert_eq!(g.unsupported.len(), 1);
+    assert_eq!(g.imports.len(), 1);
+    let import = &g.imports[0];
+    assert_eq!(
+        (
+            import.id.as_ref().unwrap().name.as_str(),
+            import.path.value.as_str()
+        ),
+        ("ruleB", "rules/prt3_dynamic_imports/ruleB.cga")
+    );
+    assert!(matches!(
+        import.attributes.as_deref(),
+        Some([shapegram_syntax::ast::ImportAttribute::Set(name, _)]) if name.name == "h"
+    ));
     assert_eq!(rule_body(&g, "Init"), "(ruleB.foo)");
 
     let (_, g) = anchor(corpus, "serlio__CE-6813-wrong-attr-style/rules/r1.cga");

@@ -300,7 +300,7 @@ fn stray_annotation_and_stray_tokens() {
 
 #[test]
 fn warnings_are_not_errors() {
-    let (_, parsed) = parse_str("import x : \"x.cga\"\nA --> B");
+    let (_, parsed) = parse_str("style Red\nA --> B");
     assert_eq!(parsed.diagnostics.len(), 1);
     assert_eq!(parsed.diagnostics[0].severity, Severity::Warning);
     assert!(!parsed.has_errors());

@@ -99,3 +99,29 @@ fn malformed_heads_are_reported_with_their_place() {
     let out = errors("using is(chair) {\n fulfills(a) --> +b\n");
     assert!(out.contains("unclosed `{`"), "{out}");
 }
+
+#[test]
+fn misspelt_predicates_are_named_and_deep_nesting_is_refused() {
+    let out = errors(
+        "axiom a size(1, 1, 1)\nfulfills(a) --> color(\"#fff\")\nfulfil(seat) --> color(\"#fff\")\n",
+    );
+    assert_eq!(out.matches("error:").count(), 1, "{out}");
+    assert!(out.contains("error: unknown predicate `fulfil`"), "{out}");
+    assert!(out.contains("3:1"), "{out}");
+    assert!(out.contains("did you mean `fulfills`?"), "{out}");
+    // `adds` alone is a head.
+    let g = parse_goal("adds(b) --> color(\"#000\")\n");
+    assert_eq!(goal_rule(&g.goal_rules[0]), "[adds b] => (color(\"#000\"))");
+    // Nested `using` blocks stop at the parser's depth limit with an error, not a crash.
+    let deep = format!(
+        "{}fulfills(a) --> NIL\n{}",
+        "using is(t) {\n".repeat(5_000),
+        "}\n".repeat(5_000)
+    );
+    let out = errors(&deep);
+    assert!(
+        out.contains("nesting too deep"),
+        "{}",
+        &out[..out.len().min(300)]
+    );
+}

@@ -4,6 +4,7 @@ mod common;
 
 use common::{args_str, expr, parse_ok, rule_body};
 use shapegram_syntax::Span;
+use shapegram_syntax::ast::ImportAttribute;
 use shapegram_syntax::ast::{
     Argument, Block, BlockEntry, Body, Call, Dialect, Expr, ExprKind, Ident, Rule, Stmt,
 };
@@ -463,24 +464,46 @@ fn annotations_without_spaces_and_with_comments_between() {
 }
 
 #[test]
-fn imports_and_styles_are_recorded_with_warnings() {
-    let text = "import b : \"b.cga\" (h = 10)\nimport \"c.cga\"\nattr h = 1\n@Description(\"x\")\nstyle Red\nattr h = 2\nA --> B\nstyle Blue\nattr h = 3";
+fn imports_are_recorded_and_styles_warned_about() {
+    let text = "import b : \"b.cga\" (h = 10, w)\nimport \"c.cga\"\nattr h = 1\n@Description(\"x\")\nstyle Red\nattr h = 2\nA --> B\nstyle Blue\nattr h = 3";
     let (source, parsed) = common::parse_str(text);
+    let imports: Vec<String> = parsed
+        .grammar
+        .imports
+        .iter()
+        .map(|i| {
+            let attributes: Vec<String> = i
+                .attributes
+                .iter()
+                .flatten()
+                .map(|a| match a {
+                    ImportAttribute::Set(name, value) => format!("{}={}", name.name, expr(value)),
+                    ImportAttribute::Keep(name) => name.name.clone(),
+                })
+                .collect();
+            format!(
+                "{:?} {} {:?} [{}]",
+                i.id.as_ref().map(|id| id.name.as_str()),
+                i.path.value,
+                &text[i.span.range()],
+                attributes.join(" ")
+            )
+        })
+        .collect();
+    assert_eq!(
+        imports,
+        [
+            r#"Some("b") b.cga "import b : \"b.cga\" (h = 10, w)" [h=10 w]"#,
+            r#"None c.cga "import \"c.cga\"" []"#,
+        ]
+    );
     let what: Vec<(&str, &str)> = parsed
         .grammar
         .unsupported
         .iter()
         .map(|u| (u.what.as_str(), &text[u.span.range()]))
         .collect();
-    assert_eq!(
-        what,
-        [
-            ("import", "import b : \"b.cga\" (h = 10)"),
-            ("import", "import \"c.cga\""),
-            ("style", "style Red"),
-            ("style", "style Blue"),
-        ]
-    );
+    assert_eq!(what, [("style", "style Red"), ("style", "style Blue")]);
     assert!(parsed.diagnostics.iter().all(|d| !d.is_error()));
     let messages: Vec<&str> = parsed
         .diagnostics
@@ -490,8 +513,6 @@ fn imports_and_styles_are_recorded_with_warnings() {
     assert_eq!(
         messages,
         [
-            "`import` is not supported yet",
-            "`import` is not supported yet",
             "`style` is not supported yet",
             "`style` is not supported yet",
         ]
@@ -501,7 +522,7 @@ fn imports_and_styles_are_recorded_with_warnings() {
     assert_eq!(expr(&parsed.grammar.attrs[0].value), "1");
     assert!(parsed.grammar.rules.is_empty());
     assert_eq!(
-        source.render(&parsed.diagnostics[2]),
+        source.render(&parsed.diagnostics[0]),
         "warning: `style` is not supported yet\n --> test.cga:5:1\n  |\n5 | style Red\n  | ^^^^^^^^^ ignored\n  = hint: the declarations of style `Red` are ignored; the default style is used\n"
     );
 }

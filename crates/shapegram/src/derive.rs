@@ -35,6 +35,12 @@ pub fn run(args: &DeriveArgs) -> Result<(), Failure> {
     let source = grammar::read(&args.grammar, !args.quiet)?;
     let (program, sources) = compile(source, args)?;
     let source = &sources[0];
+    // Goal grammars start from their axioms: lots only when asked for.
+    let lots = if program.is_goal_grammar() && args.lot.is_empty() && args.lots.is_empty() {
+        Vec::new()
+    } else {
+        lots
+    };
 
     let folder = args.grammar.parent().unwrap_or(Path::new("")).to_path_buf();
     let options = DeriveOptions {
@@ -229,8 +235,7 @@ fn compile(
                     .to_owned(),
             ]));
         }
-        let program = grammar::compile(&source, !args.quiet, dialect).into_program(&source)?;
-        return Ok((program, vec![source]));
+        return grammar::compile(&source, !args.quiet, dialect).into_program();
     }
     let mut sources = vec![source];
     for path in grammar::library_files(&args.library, &args.grammar)? {
@@ -304,6 +309,7 @@ struct FileAssets {
     cache: Mutex<HashMap<PathBuf, Arc<Mesh>>>,
     plants: Mutex<HashMap<(PathBuf, u32), Arc<Mesh>>>,
     solids: Mutex<HashMap<PathBuf, Solid>>,
+    texts: Mutex<HashMap<PathBuf, Arc<str>>>,
 }
 
 impl FileAssets {
@@ -320,6 +326,7 @@ impl FileAssets {
             cache: Mutex::new(HashMap::new()),
             plants: Mutex::new(HashMap::new()),
             solids: Mutex::new(HashMap::new()),
+            texts: Mutex::new(HashMap::new()),
         }
     }
 
@@ -395,6 +402,38 @@ impl FileAssets {
 }
 
 impl AssetLoader for FileAssets {
+    /// Text files (tables) as UTF-8 or, with a byte-order mark, UTF-16; read once each. A
+    /// file that cannot be read is an error, or, as `--missing-assets` allows stand-ins, an
+    /// empty table (as CityEngine goes on without it).
+    fn text(&self, path: &str) -> Result<Arc<str>, String> {
+        let full = self.find(path);
+        let mut texts = self.texts.lock().unwrap_or_else(PoisonError::into_inner);
+        if let Some(text) = texts.get(&full) {
+            return Ok(Arc::clone(text));
+        }
+        let read = std::fs::read(&full)
+            .map_err(|e| format!("cannot read {}: {e}", full.display()))
+            .and_then(|bytes| {
+                let (text, _, malformed) = encoding_rs::Encoding::for_bom(&bytes)
+                    .map_or(encoding_rs::UTF_8, |(encoding, _)| encoding)
+                    .decode(&bytes);
+                if malformed {
+                    return Err(format!("{} is not UTF-8 or UTF-16 text", full.display()));
+                }
+                Ok(Arc::from(text.as_ref()))
+            });
+        let text = match read {
+            Ok(text) => text,
+            Err(e) if self.missing == MissingAssets::Error => return Err(e),
+            Err(e) => {
+                eprintln!("warning: {e}: reading an empty table instead");
+                Arc::from("")
+            }
+        };
+        texts.insert(full, Arc::clone(&text));
+        Ok(text)
+    }
+
     fn load(&self, path: &str) -> Result<Arc<Mesh>, String> {
         let full = self.find(path);
         // Loading under the lock means each file is read once even when lots derived in

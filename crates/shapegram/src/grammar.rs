@@ -17,14 +17,21 @@ pub struct Compiled {
     pub errors: usize,
     /// Number of warnings.
     pub warnings: usize,
+    /// The files read: the grammar, then the files it imports (what derivation errors point
+    /// into).
+    pub sources: Vec<SourceFile>,
 }
 
 impl Compiled {
-    /// The program, or the failure `N errors in FILE` (the diagnostics have been printed).
-    pub fn into_program(self, source: &SourceFile) -> Result<Program, Failure> {
+    /// The program and the files read, or the failure `N errors in FILE` (the diagnostics have
+    /// been printed).
+    pub fn into_program(self) -> Result<(Program, Vec<SourceFile>), Failure> {
         match self.program {
-            Some(program) if self.errors == 0 => Ok(program),
-            _ => Err(Failure::new(error_summary(self.errors, source.name()))),
+            Some(program) if self.errors == 0 => Ok((program, self.sources)),
+            _ => Err(Failure::new(error_summary(
+                self.errors,
+                self.sources[0].name(),
+            ))),
         }
     }
 }
@@ -73,19 +80,39 @@ pub fn compile(source: &SourceFile, print_warnings: bool, dialect: Option<Dialec
         Some(dialect) => shapegram_syntax::parse_as(source, dialect),
         None => shapegram_syntax::parse(source),
     };
-    let mut diagnostics = parsed.diagnostics;
-    let program = if diagnostics.iter().any(Diagnostic::is_error) {
+    let mut diagnostics: Vec<(usize, Diagnostic)> =
+        parsed.diagnostics.into_iter().map(|d| (0, d)).collect();
+    let mut sources = vec![source.clone()];
+    let program = if diagnostics.iter().any(|(_, d)| d.is_error()) {
         None
-    } else {
+    } else if parsed.grammar.imports.is_empty() {
         let (program, more) = Program::compile(&parsed.grammar);
-        diagnostics.extend(more);
+        diagnostics.extend(more.into_iter().map(|d| (0, d)));
         program
+    } else {
+        let imported = load_imports(source, &parsed.grammar, print_warnings);
+        diagnostics.extend(imported.diagnostics);
+        sources.extend(imported.sources);
+        if diagnostics.iter().any(|(_, d)| d.is_error()) {
+            None
+        } else {
+            let files: Vec<&ast::Grammar> = std::iter::once(&parsed.grammar)
+                .chain(&imported.grammars)
+                .collect();
+            let graph = shapegram_eval::ImportGraph {
+                files: &files,
+                links: &imported.links,
+            };
+            let (program, more) = Program::compile_imports(graph);
+            diagnostics.extend(more);
+            program
+        }
     };
-    let errors = diagnostics.iter().filter(|d| d.is_error()).count();
+    let errors = diagnostics.iter().filter(|(_, d)| d.is_error()).count();
     let mut text = String::new();
-    for d in &diagnostics {
+    for (file, d) in &diagnostics {
         if d.is_error() || print_warnings {
-            text.push_str(&source.render(d));
+            text.push_str(&sources[*file].render(d));
             text.push('\n');
         }
     }
@@ -95,7 +122,118 @@ pub fn compile(source: &SourceFile, print_warnings: bool, dialect: Option<Dialec
         program,
         errors,
         warnings: diagnostics.len() - errors,
+        sources,
     }
+}
+
+/// The files a grammar imports, read and parsed, each once.
+struct Imported {
+    /// The imported files, in the order they were found (file `i + 1` of the import graph).
+    sources: Vec<SourceFile>,
+    grammars: Vec<ast::Grammar>,
+    /// For the grammar and each imported file, the file each of its imports names.
+    links: Vec<Vec<usize>>,
+    /// Diagnostics with their file (0: the grammar).
+    diagnostics: Vec<(usize, Diagnostic)>,
+}
+
+/// Reads every file `grammar` imports, directly or through others, in CGA. An import names a
+/// path relative to the importing file's folder, or to one of the folders above it (the
+/// project, where `rules/` and `assets/` are, or the workspace for `/Project/…` paths): the
+/// nearest that has the file wins. A file that cannot be found or read is an error at the
+/// import that names it.
+fn load_imports(source: &SourceFile, grammar: &ast::Grammar, warn: bool) -> Imported {
+    let mut imported = Imported {
+        sources: Vec::new(),
+        grammars: Vec::new(),
+        links: Vec::new(),
+        diagnostics: Vec::new(),
+    };
+    let mut index: std::collections::HashMap<std::path::PathBuf, usize> =
+        std::collections::HashMap::new();
+    if let Ok(path) = std::fs::canonicalize(source.name()) {
+        index.insert(path, 0);
+    }
+    // Files whose imports are still to be followed: (file index, its path).
+    let mut pending = vec![(0usize, Path::new(source.name()).to_path_buf())];
+    while let Some((file, path)) = pending.pop() {
+        let imports = if file == 0 {
+            grammar.imports.clone()
+        } else {
+            imported.grammars[file - 1].imports.clone()
+        };
+        let mut links = Vec::new();
+        let mut found = Vec::new();
+        for import in &imports {
+            let Some(target) = import_path(&path, &import.path.value) else {
+                imported.diagnostics.push((
+                    file,
+                    Diagnostic::error(
+                        format!("cannot find the imported file \"{}\"", import.path.value),
+                        import.path.span,
+                    )
+                    .with_hint("a path is looked for next to the importing file, then in each folder above it (the project, the workspace)"),
+                ));
+                links.push(usize::MAX);
+                continue;
+            };
+            let key = std::fs::canonicalize(&target).unwrap_or_else(|_| target.clone());
+            if let Some(&known) = index.get(&key) {
+                links.push(known);
+                continue;
+            }
+            let text = match read(&target, warn) {
+                Ok(text) => text,
+                Err(failure) => {
+                    imported.diagnostics.push((
+                        file,
+                        Diagnostic::error(
+                            failure
+                                .message
+                                .unwrap_or_else(|| "cannot read the file".to_owned()),
+                            import.path.span,
+                        ),
+                    ));
+                    links.push(usize::MAX);
+                    continue;
+                }
+            };
+            let parsed = shapegram_syntax::parse_as(&text, Dialect::Cga);
+            let id = imported.sources.len() + 1;
+            imported
+                .diagnostics
+                .extend(parsed.diagnostics.into_iter().map(|d| (id, d)));
+            imported.sources.push(text);
+            imported.grammars.push(parsed.grammar);
+            index.insert(key, id);
+            links.push(id);
+            found.push((id, target));
+        }
+        if imported.links.len() <= file {
+            imported.links.resize(file + 1, Vec::new());
+        }
+        imported.links[file] = links;
+        pending.extend(found);
+    }
+    let files = imported.sources.len() + 1;
+    imported.links.resize(files, Vec::new());
+    imported
+}
+
+/// Where an import's file is: next to the importing file, else in the nearest folder above it
+/// that has it. A path starting with `/` names a file of the workspace (`/ESRI.lib/rules/a.cga`):
+/// it is looked for in each folder above, and in its `.ws` folder, where rule packages keep the
+/// workspace files they bring.
+fn import_path(from: &Path, path: &str) -> Option<std::path::PathBuf> {
+    let relative = path.trim_start_matches('/');
+    let workspace = path.starts_with('/');
+    from.parent()?
+        .ancestors()
+        .flat_map(|folder| {
+            let packaged = workspace.then(|| folder.join(".ws").join(relative));
+            std::iter::once(folder.join(relative)).chain(packaged)
+        })
+        .find(|candidate| candidate.is_file())
 }
 
 /// A goal grammar and its library, compiled into one program.
@@ -135,6 +273,7 @@ pub fn library_files(
     paths: &[std::path::PathBuf],
     main: &Path,
 ) -> Result<Vec<std::path::PathBuf>, Failure> {
+    let main_path = main;
     let main = std::fs::canonicalize(main).ok();
     let mut files = Vec::new();
     let mut pending = Vec::new();
@@ -160,10 +299,11 @@ pub fn library_files(
             ))
         })?;
         for entry in entries {
-            let path = entry
-                .map_err(|e| Failure::new(format!("cannot read {}: {e}", folder.display())))?
-                .path();
-            if path.is_dir() {
+            let entry = entry
+                .map_err(|e| Failure::new(format!("cannot read {}: {e}", folder.display())))?;
+            let path = entry.path();
+            // Links to folders are not followed: one could lead back up the tree.
+            if entry.file_type().is_ok_and(|t| t.is_dir()) {
                 pending.push(path);
             } else if path.extension().is_some_and(|e| e == "goal")
                 && std::fs::canonicalize(&path).ok() != main
@@ -173,7 +313,25 @@ pub fn library_files(
         }
     }
     files.sort();
-    files.dedup();
+    // A file reached twice (named, and in a folder) is one grammar.
+    let mut seen = std::collections::HashSet::new();
+    files.retain(|f| seen.insert(std::fs::canonicalize(f).unwrap_or_else(|_| f.clone())));
+    // Grammars are named by their file stems: two of one name would mix their rules' names.
+    let mut stems: std::collections::HashMap<String, &Path> = std::collections::HashMap::new();
+    stems.insert(stem(&main_path.display().to_string()), main_path);
+    for file in &files {
+        let name = stem(&file.display().to_string());
+        if let Some(other) = stems.insert(name.clone(), file) {
+            return Err(Failure::new(format!(
+                "two library grammars are called `{name}`: {} and {}",
+                other.display(),
+                file.display()
+            ))
+            .with_hints(vec![
+                "grammars are named by their file names: rename one".to_owned(),
+            ]));
+        }
+    }
     Ok(files)
 }
 

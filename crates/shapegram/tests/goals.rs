@@ -124,3 +124,50 @@ fn check_reads_goal_grammars_with_their_library_and_derive_refuses_a_library_for
         "{err}"
     );
 }
+
+#[test]
+fn library_grammars_check_alone_and_goal_grammars_get_no_default_lot() {
+    let output = shapegram(&["check", &path("chairs/materials/wood.goal")]);
+    assert!(output.status.success(), "{}", stderr(&output));
+    let dir = TempDir::new("no-lot");
+    let grammar = dir.path("parcel.goal").display().to_string();
+    std::fs::write(&grammar, "axiom parcel\nfulfills(parcel) --> extrude(3)\n").unwrap();
+    let output = shapegram(&["derive", &grammar]);
+    let err = stderr(&output);
+    assert_eq!(output.status.code(), Some(1), "{err}");
+    assert!(
+        err.starts_with(
+            "error: the axiom `parcel` has no size, and there are no lots for it to start from"
+        ),
+        "{err}"
+    );
+    let output = shapegram(&["derive", &grammar, "--lot", "0,0 10,0 10,10 0,10", "-q"]);
+    assert!(output.status.success(), "{}", stderr(&output));
+}
+
+#[test]
+fn two_library_grammars_of_one_name_are_refused() {
+    let dir = TempDir::new("same-name");
+    for folder in ["a", "b"] {
+        std::fs::create_dir_all(dir.path(folder)).unwrap();
+        std::fs::write(
+            dir.path(&format!("{folder}/wood.goal")),
+            "fulfills(wooden) --> color(\"#8b5a2b\")\n",
+        )
+        .unwrap();
+    }
+    let output = shapegram(&[
+        "derive",
+        &path("chairs/chair.goal"),
+        "--library",
+        &dir.path("a").display().to_string(),
+        "--library",
+        &dir.path("b").display().to_string(),
+    ]);
+    let err = stderr(&output);
+    assert_eq!(output.status.code(), Some(1), "{err}");
+    assert!(
+        err.starts_with("error: two library grammars are called `wood`:"),
+        "{err}"
+    );
+}

@@ -431,6 +431,7 @@ fn derive_lot<'a>(
     let symbol = program.rules[start as usize].symbol;
     let mut state = State::initial(symbol, scope, geometry, seed);
     let mut ev = Evaluator::new(program, seed, scope.origin);
+    ev.assets = options.assets.as_deref();
     ev.lot = index;
     state.attrs = Rc::new(ev.initial_attrs(&mut state, overrides)?);
     // A lot derived again grows to about its previous size.
@@ -546,6 +547,7 @@ fn resume_lot(
     batch: &mut Batch,
 ) -> Result<(), DeriveError> {
     let mut ev = Evaluator::new(program, seed, waiting.origin);
+    ev.assets = options.assets.as_deref();
     ev.restore(waiting.consts);
     ev.lot = waiting.lot;
     ev.context = Some(context);

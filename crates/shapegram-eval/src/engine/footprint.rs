@@ -16,7 +16,7 @@ use super::implicit::no_solid;
 use super::machine::{Engine, Work};
 use crate::error::DeriveError;
 use crate::expr::Evaluator;
-use crate::ops::{CompEntry, CompSelector, Depths, OffsetKeep};
+use crate::ops::{CompEntry, Depths, OffsetKeep};
 use crate::program::{CExpr, CStmt};
 use crate::shape::{FaceTag, Geometry, State, fills_box, flat_axis};
 use crate::value::Value;
@@ -135,6 +135,7 @@ impl<'p> Engine<'p> {
         let mut strips: Vec<Vec<(DVec3, Vec<DVec3>)>> = vec![Vec::new(); entries.len()];
         let (mut outline, mut rest): (Vec<Vec<Vec<DVec3>>>, Vec<Vec<DVec3>>) =
             (Vec::new(), Vec::new());
+        let mut first_edge = 0;
         for f in 0..world.face_count() {
             let points: Vec<DVec3> = world.face_points(f).collect();
             let normal = world.face_normal(f);
@@ -142,10 +143,12 @@ impl<'p> Engine<'p> {
             let taker = |i: usize, a: DVec3, b: DVec3| {
                 entries
                     .iter()
-                    .position(|e| takes_edge(&e.selector, outward(a, b), i, &scope))
+                    .position(|e| e.selector.takes_edge(outward(a, b), i, &scope))
             };
             let distance = |i: usize, a: DVec3, b: DVec3| match depths {
                 EdgeDepths::Selected(d) => taker(i, a, b).map_or(0.0, |_| *d),
+                // One distance per face edge, face after face; missing ones are 0.
+                EdgeDepths::PerEdge(list) => list.get(first_edge + i).copied().unwrap_or(0.0),
                 EdgeDepths::ByClass(list) => {
                     let class = FaceClass::of(outward(a, b), &scope);
                     list.iter()
@@ -176,6 +179,7 @@ impl<'p> Engine<'p> {
                 }
             }
             rest.extend(cut.remainder);
+            first_edge += points.len();
         }
         for (entry, chosen) in entries.iter().zip(&strips) {
             let pieces: Vec<Piece> = chosen
@@ -234,7 +238,22 @@ impl<'p> Engine<'p> {
             Ok(d)
         };
         Ok(match depths {
-            Depths::Selected(e) => EdgeDepths::Selected(depth(&mut self.ev, e, state)?),
+            Depths::Selected(e) => match self.ev.eval(e, state, args)? {
+                Value::Array(list) => EdgeDepths::PerEdge(
+                    list.iter()
+                        .map(|v| match v {
+                            Value::Number(d) if *d >= 0.0 => Ok(*d),
+                            other => Err(DeriveError::at(
+                                format!(
+                                    "setback distances: expected numbers of 0 or more, found {other}"
+                                ),
+                                e.span,
+                            )),
+                        })
+                        .collect::<Fallible<Vec<_>>>()?,
+                ),
+                _ => EdgeDepths::Selected(depth(&mut self.ev, e, state)?),
+            },
             Depths::ByClass(list) => EdgeDepths::ByClass(
                 list.iter()
                     .map(|(class, e)| Ok((*class, depth(&mut self.ev, e, state)?)))
@@ -294,6 +313,8 @@ type Piece<'a> = (DMat3, Vec<&'a [DVec3]>);
 enum EdgeDepths {
     /// The edges that entries select, by this distance.
     Selected(f64),
+    /// Each face edge by its own distance, in face-edge order (`setback(comp(fe){ … })`).
+    PerEdge(Vec<f64>),
     /// Edges by the class of their outward direction.
     ByClass(Vec<(FaceClass, f64)>),
 }
@@ -310,16 +331,6 @@ pub(super) struct SetbackOutputs<'p> {
 
 /// Whether a setback entry's selector takes the edge `index` whose outward direction (in the
 /// face's plane) is `outward`.
-fn takes_edge(selector: &CompSelector, outward: DVec3, index: usize, scope: &Scope) -> bool {
-    match selector {
-        CompSelector::All => true,
-        CompSelector::Index(i) => *i == index,
-        CompSelector::Class(class) => FaceClass::of(outward, scope) == *class,
-        CompSelector::Side => FaceClass::of(outward, scope).is_side(),
-        _ => false,
-    }
-}
-
 /// CGA `reverseNormals`: every face of the geometry turned the other way.
 pub(super) fn reverse_normals(state: &mut State, span: Span) -> Fallible<()> {
     no_solid(state, "reverseNormals", span)?;

@@ -30,6 +30,13 @@ pub(super) fn run_goals(
     lots: &[InitialShape],
     options: &DeriveOptions,
 ) -> Result<Derivation, DeriveError> {
+    if rules.axioms.is_empty() {
+        return Err(DeriveError::general(format!(
+            "the grammar `{}` has no axiom to start from",
+            rules.grammars.first().map_or("", String::as_str)
+        ))
+        .with_hint("declare one: `axiom chair size(0.4, 0.8, 0.4)` (or `new Axiom(\"chair\").Size(0.4, 0.8, 0.4);`); a grammar without axioms serves others as their library"));
+    }
     if let Some(rule) = &options.start_rule {
         return Err(DeriveError::general(format!(
             "goal grammars start from their axioms, not from a rule (`{rule}`)"
@@ -172,6 +179,7 @@ fn derive_axiom(
         ..Semantics::default()
     }));
     let mut ev = Evaluator::new(program, start.seed, start.scope.origin);
+    ev.assets = options.assets.as_deref();
     ev.lot = start.index;
     let mut engine = Engine::new(program, ev, names, options, Phase::Only, batch);
     if let Some(tree) = &mut engine.tree {
@@ -265,47 +273,56 @@ impl<'p> Engine<'p> {
         Ok(None)
     }
 
-    /// A candidate of one tier whose conditions hold. The first draw uses the whole tier (the
-    /// common case: it holds); a candidate that does not is set aside and the draw repeated.
+    /// A candidate of one tier whose conditions hold, drawn by weight among those that do. A
+    /// few draws from the whole tier come first (a draw that holds is what drawing among the
+    /// holding ones would give, and most do); after them every condition is evaluated once and
+    /// one of the rules that hold is drawn.
     fn draw(
         &mut self,
         candidates: &Candidates,
         tier: usize,
         state: &mut State,
     ) -> Fallible<Option<RuleId>> {
+        /// Draws from the whole tier before its conditions are evaluated all at once.
+        const TRIES: usize = 4;
         let tier = candidates.tier(tier);
-        let first = match tier.rules.len() {
-            0 => return Ok(None),
+        let draw = |state: &mut State| match tier.rules.len() {
             1 => tier.rules[0],
             _ => tier.rules[tier.pick(state.rng.next_f64())],
         };
-        if !tier.conditional || self.conditions_hold(first, state)? {
-            return Ok(Some(first));
+        if tier.rules.is_empty() {
+            return Ok(None);
+        }
+        if !tier.conditional {
+            return Ok(Some(draw(state)));
+        }
+        for _ in 0..TRIES {
+            let rule = draw(state);
+            if self.conditions_hold(rule, state)? {
+                return Ok(Some(rule));
+            }
         }
         let rules = self.goal_rules();
-        let mut left: Vec<RuleId> = tier.rules.iter().copied().filter(|&r| r != first).collect();
-        while !left.is_empty() {
-            let mut sums = Vec::with_capacity(left.len());
-            let mut total = 0.0;
-            for &r in &left {
-                total += rules.rules[r as usize].weight;
+        let mut holding = Vec::new();
+        let mut sums = Vec::new();
+        let mut total = 0.0;
+        for &rule in tier.rules {
+            if self.conditions_hold(rule, state)? {
+                total += rules.rules[rule as usize].weight;
+                holding.push(rule);
                 sums.push(total);
             }
-            let rest = Tier {
-                rules: &left,
-                cumulative: &sums,
-                conditional: true,
-            };
-            let at = match left.len() {
-                1 => 0,
-                _ => rest.pick(state.rng.next_f64()),
-            };
-            if self.conditions_hold(left[at], state)? {
-                return Ok(Some(left[at]));
-            }
-            left.remove(at);
         }
-        Ok(None)
+        let holding_tier = Tier {
+            rules: &holding,
+            cumulative: &sums,
+            conditional: false,
+        };
+        Ok(match holding.len() {
+            0 => None,
+            1 => Some(holding[0]),
+            _ => Some(holding[holding_tier.pick(state.rng.next_f64())]),
+        })
     }
 
     /// Whether a rule's `if(…)` conditions hold for the shape.

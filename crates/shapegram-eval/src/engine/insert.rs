@@ -38,6 +38,12 @@ pub trait AssetLoader: Send + Sync {
     fn solid(&self, path: &str) -> Result<Solid, String> {
         Err(format!("cannot read `{path}` as an implicit grammar here"))
     }
+
+    /// The text of the file at `path` (tables for `readStringTable`), or a one-line reason why
+    /// it cannot be had.
+    fn text(&self, path: &str) -> Result<Arc<str>, String> {
+        Err(format!("cannot read `{path}` here"))
+    }
 }
 
 /// How many variants of a seeded asset (see [`AssetLoader::asset`]) the shapes of a derivation

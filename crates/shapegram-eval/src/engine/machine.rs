@@ -256,12 +256,15 @@ impl<'p> Engine<'p> {
                 .run_body(body, &mut task.state, &task.args, out)
                 .map_err(|e| e.in_file(grammar));
         }
-        let result = self.run_body(
+        let mut result = self.run_body(
             &program.rules[task.rule as usize].body,
             &mut task.state,
             &task.args,
             out,
         );
+        if let Some(origins) = &program.origins {
+            result = result.map_err(|e| e.in_file(origins.rules[task.rule as usize]));
+        }
         if self.spare.len() < 64 {
             // Only the allocation is kept: no need to hold on to a mesh.
             task.state.geometry = Geometry::Empty;
@@ -422,6 +425,17 @@ impl<'p> Engine<'p> {
                 span,
             )
             .with_hint("a rule that keeps making successors needs a condition that ends it"));
+        }
+        if depth > self.options.max_depth && self.program.goals.is_some() {
+            let name = self.program.symbol_name(symbol);
+            return Err(DeriveError::at(
+                format!(
+                    "the derivation is more than {} shapes deep at `{name}`: goal rules keep making shapes whose goals call for them again",
+                    self.options.max_depth
+                ),
+                span,
+            )
+            .with_hint("a goal that leads back to itself through rules needs a condition that ends it (`if(scope.sx > 1)`) or a rule that fulfils it without a successor"));
         }
         if depth > self.options.max_depth {
             let name = self.program.symbol_name(symbol);

@@ -1,8 +1,11 @@
 //! Top-level declarations: `version`, annotations, `attr`, `const`, functions, rules, and the
-//! recognised-but-unsupported `import` and `style`.
+//! `import`, and the recognised-but-unsupported `style`.
 
 use super::{Fail, PResult, Parser};
-use crate::ast::{Annotation, Attr, Const, Function, Grammar, Ident, Rule, Spanned, Unsupported};
+use crate::ast::{
+    Annotation, Attr, Const, ExprKind, Function, Grammar, Ident, Import, ImportAttribute, Rule,
+    Spanned, Unsupported,
+};
 use crate::lexer::TokenKind;
 use crate::{Diagnostic, Span};
 
@@ -173,31 +176,62 @@ impl Parser<'_> {
         }
     }
 
-    /// `import name : "file.cga"`, optionally with `(attr = value, …)`: recorded, not supported.
+    /// `import id : "file.cga"`, optionally with `(a = value, b, …)`.
     fn import(&mut self, grammar: &mut Grammar) -> PResult<()> {
         let start = self.bump();
-        if self.is_name_at(self.pos) {
-            self.bump();
-            self.eat(&TokenKind::Colon);
-        }
+        let id = if matches!(self.peek(), TokenKind::Str(_)) {
+            None
+        } else {
+            let id = self.declared_name("a name for the imported file", "after `import`")?;
+            if self.at(&TokenKind::LParen) {
+                let d = Diagnostic::error(
+                    "imports of chosen styles are not supported yet",
+                    self.span(),
+                )
+                .with_hint("import the file whole: `import id : \"file.cga\"`");
+                self.report(d);
+                return Err(Fail);
+            }
+            self.expect(&TokenKind::Colon, "`:`", "after the import's name")?;
+            Some(id)
+        };
         let TokenKind::Str(file) = self.peek().clone() else {
             return Err(self.error_expected("a file name string", "in the import"));
         };
-        self.bump();
-        if self.at(&TokenKind::LParen) {
-            self.call_args()?;
-        }
-        let span = self.span_from(start);
-        self.report(
-            Diagnostic::warning("`import` is not supported yet", span)
-                .with_label("ignored")
-                .with_hint(format!(
-                    "the rules and attributes of \"{file}\" are not available"
-                )),
-        );
-        grammar.unsupported.push(Unsupported {
-            what: "import".to_string(),
-            span,
+        let path = Spanned {
+            value: file,
+            span: self.bump(),
+        };
+        let attributes = if self.at(&TokenKind::LParen) {
+            let (args, _) = self.call_args()?;
+            let mut list = Vec::new();
+            for arg in args {
+                match (arg.name, &arg.value.kind) {
+                    (Some(name), _) => list.push(ImportAttribute::Set(name, arg.value)),
+                    (None, ExprKind::Name(name)) if !name.contains('.') => {
+                        list.push(ImportAttribute::Keep(Ident {
+                            name: name.clone(),
+                            span: arg.value.span,
+                        }));
+                    }
+                    (None, _) => {
+                        let d = Diagnostic::error(
+                            "expected an attribute to keep (`a`) or to set (`a = value`)",
+                            arg.value.span,
+                        );
+                        self.report(d);
+                    }
+                }
+            }
+            Some(list)
+        } else {
+            None
+        };
+        grammar.imports.push(Import {
+            id,
+            path,
+            attributes,
+            span: self.span_from(start),
         });
         Ok(())
     }

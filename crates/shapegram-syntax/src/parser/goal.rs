@@ -153,6 +153,7 @@ impl Parser<'_> {
             )
             .with_hint("write `fulfills(…)` and `adds(…)` on each rule");
             self.report(d);
+            return Err(Fail);
         }
         if head.predicates.is_empty() {
             return Err(self.error_expected("a predicate such as `is(chair)`", "after `using`"));
@@ -161,7 +162,10 @@ impl Parser<'_> {
         let Some(open) = self.eat(&TokenKind::LBrace) else {
             return Err(self.error_expected("`{`", "after the predicates of `using`"));
         };
-        self.goal_declarations(grammar, &predicates, true);
+        self.nested(|p| {
+            p.goal_declarations(grammar, &predicates, true);
+            Ok(())
+        })?;
         if self.eat(&TokenKind::RBrace).is_none() {
             let d = Diagnostic::error("unclosed `{`", open)
                 .with_label("this `using` block is never closed")
@@ -204,8 +208,24 @@ impl Parser<'_> {
         let mut head = Head::default();
         loop {
             let bang = self.eat(&TokenKind::Bang);
+            if *self.peek() == TokenKind::Ident
+                && !PREDICATE_WORDS.contains(&self.text())
+                && *self.peek_nth(1) == TokenKind::LParen
+            {
+                let word = self.text();
+                let mut d = Diagnostic::error(format!("unknown predicate `{word}`"), self.span());
+                if let Some(close) = crate::suggest(word, PREDICATE_WORDS) {
+                    d = d.with_hint(format!("did you mean `{close}`?"));
+                }
+                self.report(d);
+                // Past the word, so that recovery goes on to the next declaration.
+                self.bump();
+                return Err(Fail);
+            }
             if *self.peek() != TokenKind::Ident || !PREDICATE_WORDS.contains(&self.text()) {
-                if bang.is_none() && !(head.predicates.is_empty() && head.fulfills.is_empty()) {
+                let empty =
+                    head.predicates.is_empty() && head.fulfills.is_empty() && head.adds.is_empty();
+                if bang.is_none() && !empty {
                     return Ok(head);
                 }
                 let d = self.expected("a predicate", "").with_hint(
@@ -315,14 +335,18 @@ impl Parser<'_> {
 
     /// Whether tokens from `i` are a rule head: predicates followed by `-->`.
     fn goal_rule_start(&self, mut i: usize) -> Option<Start> {
+        let first = i;
         loop {
+            // A head is on one line: a body's last operation may stand at the start of the line
+            // before the next rule.
+            if i > first && self.token_at(i).line_start {
+                return None;
+            }
             if *self.kind_at(i) == TokenKind::Bang {
                 i += 1;
             }
-            if *self.kind_at(i) != TokenKind::Ident
-                || !PREDICATE_WORDS.contains(&self.text_at(i))
-                || *self.kind_at(i + 1) != TokenKind::LParen
-            {
+            // Any `word(…)` counts, so that a misspelt predicate is reported as one.
+            if *self.kind_at(i) != TokenKind::Ident || *self.kind_at(i + 1) != TokenKind::LParen {
                 return None;
             }
             i = self.closing_paren(i + 1)? + 1;

@@ -807,61 +807,11 @@ fn unnamed(args: Vec<Argument>) -> Vec<Expr> {
 
 /// Maps the notation's names to Shapegram's: `Scope.sx` → `scope.sx`.
 fn rename_queries(e: &mut Expr) {
-    match &mut e.kind {
-        ExprKind::Name(n) => {
+    e.walk_mut(&mut |x| {
+        if let ExprKind::Name(n) = &mut x.kind {
             if let Some(rest) = n.strip_prefix("Scope.") {
                 *n = format!("scope.{rest}");
             }
         }
-        ExprKind::Call { args, .. } => {
-            for a in args {
-                rename_queries(&mut a.value);
-            }
-        }
-        ExprKind::Array(items) => items.iter_mut().for_each(rename_queries),
-        ExprKind::Index {
-            target,
-            index,
-            column,
-        } => {
-            rename_queries(target);
-            rename_queries(index);
-            if let Some(column) = column {
-                rename_queries(column);
-            }
-        }
-        ExprKind::Range { start, step, end } => {
-            rename_queries(start);
-            if let Some(step) = step {
-                rename_queries(step);
-            }
-            rename_queries(end);
-        }
-        ExprKind::Unary { operand, .. } => rename_queries(operand),
-        ExprKind::Binary { lhs, rhs, .. } => {
-            rename_queries(lhs);
-            rename_queries(rhs);
-        }
-        ExprKind::Conditional {
-            cond,
-            then,
-            otherwise,
-        } => {
-            rename_queries(cond);
-            rename_queries(then);
-            rename_queries(otherwise);
-        }
-        ExprKind::Cases { arms, otherwise } | ExprKind::Stochastic { arms, otherwise } => {
-            for (a, v) in arms {
-                rename_queries(a);
-                rename_queries(v);
-            }
-            rename_queries(otherwise);
-        }
-        ExprKind::Floating(inner) | ExprKind::Relative(inner) => rename_queries(inner),
-        ExprKind::Number(_)
-        | ExprKind::String(_)
-        | ExprKind::Bool(_)
-        | ExprKind::GoalAttribute { .. } => {}
-    }
+    });
 }
