@@ -50,23 +50,10 @@ pub fn check(full_name: &str, text: &str) -> Result<Checked, Vec<Problem>> {
     let mut diagnostics = parsed.diagnostics;
     let mut keys = None;
     if !diagnostics.iter().any(Diagnostic::is_error) {
-        // A grammar with axioms compiles as a main grammar; a library grammar (rules only, as
-        // most published grammars are) compiles behind a stand-in main grammar with an axiom,
-        // whose own diagnostics are dropped.
-        let stand_in = shapegram_syntax::parse(&SourceFile::new(
-            "repository",
-            "axiom \"repository check\" size(1, 1, 1)",
-        ))
-        .grammar;
-        let library = parsed.grammar.axioms.is_empty();
-        let grammars: Vec<(&str, &shapegram_syntax::ast::Grammar)> = if library {
-            vec![("repository", &stand_in), (full_name, &parsed.grammar)]
-        } else {
-            vec![(full_name, &parsed.grammar)]
-        };
-        let (program, more) = Program::compile_library(&grammars);
-        let own = usize::from(library);
-        diagnostics.extend(more.into_iter().filter(|(k, _)| *k == own).map(|(_, d)| d));
+        // On its own: a library grammar (rules without axioms, as most published grammars
+        // are) compiles as well as one with axioms.
+        let (program, more) = Program::compile_library(&[(full_name, &parsed.grammar)]);
+        diagnostics.extend(more.into_iter().map(|(_, d)| d));
         keys = program.as_ref().and_then(Program::goal_rule_keys);
         if program.is_some() && keys.is_none() {
             diagnostics.push(Diagnostic::error(
