@@ -12,11 +12,18 @@ pub struct Migration {
 }
 
 /// The SQLite migrations, oldest first.
-pub const SQLITE: &[Migration] = &[Migration {
-    version: 1,
-    name: "init",
-    sql: include_str!("../migrations/sqlite/0001_init.sql"),
-}];
+pub const SQLITE: &[Migration] = &[
+    Migration {
+        version: 1,
+        name: "init",
+        sql: include_str!("../migrations/sqlite/0001_init.sql"),
+    },
+    Migration {
+        version: 2,
+        name: "immutable_versions",
+        sql: include_str!("../migrations/sqlite/0002_immutable_versions.sql"),
+    },
+];
 
 /// The SHA-256 of a migration's SQL, in hex.
 pub fn checksum(m: &Migration) -> String {

@@ -66,6 +66,11 @@ impl SqliteStore {
         Ok(store)
     }
 
+    /// The connection pool, for tools and tests that look at the database itself.
+    pub fn pool(&self) -> &SqlitePool {
+        &self.pool
+    }
+
     async fn begin_write(&self) -> Result<Transaction<'static, Sqlite>, StoreError> {
         self.pool.begin_with("BEGIN IMMEDIATE").await.map_err(db)
     }
