@@ -82,6 +82,20 @@ impl Passwords {
     }
 }
 
+/// Whether a stored hash was made with other than the current algorithm and parameters (then
+/// login hashes the password again).
+pub fn needs_rehash(phc: &str) -> bool {
+    let Ok(hash) = PasswordHash::new(phc) else {
+        return true;
+    };
+    let current = argon2::Params::default();
+    let param = |name: &str| hash.params.get_decimal(name);
+    hash.algorithm != argon2::Algorithm::Argon2id.ident()
+        || param("m") != Some(current.m_cost())
+        || param("t") != Some(current.t_cost())
+        || param("p") != Some(current.p_cost())
+}
+
 fn hash_now(password: &str) -> Result<String, String> {
     let mut salt = [0u8; 16];
     getrandom::fill(&mut salt).map_err(|e| e.to_string())?;
@@ -113,6 +127,10 @@ mod tests {
         assert!(canonical_name("grammar", &"a".repeat(65), 64).is_err());
     }
 
+    async fn phc_again(p: &Passwords) -> String {
+        p.hash("another".into()).await.unwrap()
+    }
+
     #[test]
     fn passwords_hash_to_argon2id_phc_strings_and_verify() {
         let rt = tokio::runtime::Builder::new_current_thread()
@@ -125,6 +143,13 @@ mod tests {
             assert!(p.verify("correct horse".into(), Some(phc.clone())).await);
             assert!(!p.verify("wrong horse".into(), Some(phc)).await);
             assert!(!p.verify("correct horse".into(), None).await);
+            assert!(!needs_rehash(&phc_again(&p).await));
+            let weak = "$argon2id$v=19$m=8,t=1,p=1$c2FsdHNhbHQ$0Yq6eFEBcmBnHWgsdmJ7Ig";
+            assert!(needs_rehash(weak));
+            assert!(needs_rehash(
+                "$argon2i$v=19$m=19456,t=2,p=1$c2FsdHNhbHQ$0Yq6eFEBcmBnHWgsdmJ7Ig"
+            ));
+            assert!(needs_rehash("not a hash"));
         });
     }
 }

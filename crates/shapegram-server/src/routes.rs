@@ -138,10 +138,20 @@ pub async fn login(
         Some((account, phc)) => (Some(account), Some(phc)),
         None => (None, None),
     };
-    if !state.passwords.verify(c.password, phc).await {
+    let rehash = phc.as_deref().is_some_and(accounts::needs_rehash);
+    if !state.passwords.verify(c.password.clone(), phc).await {
         return Err(wrong());
     }
     let account = account.ok_or_else(wrong)?;
+    if rehash {
+        // Stored with weaker parameters than today's: hash again while the password is known.
+        let hash = state
+            .passwords
+            .hash(c.password)
+            .await
+            .map_err(ApiError::internal)?;
+        state.store.set_password_hash(account.id, &hash).await?;
+    }
     Ok(Json(new_token(&state, &account, "login").await?))
 }
 

@@ -198,6 +198,18 @@ impl Store for SqliteStore {
         })
     }
 
+    fn set_password_hash<'a>(&'a self, account: Id, password_hash: &'a str) -> StoreFuture<'a, ()> {
+        Box::pin(async move {
+            sqlx::query("UPDATE account SET password_hash = ?2 WHERE id = ?1")
+                .bind(account)
+                .bind(password_hash)
+                .execute(&self.pool)
+                .await
+                .map_err(db)?;
+            Ok(())
+        })
+    }
+
     fn create_token<'a>(&'a self, token: NewToken<'a>) -> StoreFuture<'a, TokenInfo> {
         Box::pin(async move {
             let created_at = now();
@@ -653,27 +665,30 @@ impl Store for SqliteStore {
             .map_err(db)?;
             tx.commit().await.map_err(db)?;
             let mut out: Vec<IndexedRule> = Vec::with_capacity(rules.len());
+            let mut by_id = std::collections::HashMap::with_capacity(rules.len());
             for (id, index, local, conditional) in rules {
-                let positive = keys
-                    .iter()
-                    .filter(|(r, _)| *r == id)
-                    .map(|(_, k)| k.clone())
-                    .collect();
-                let mut negative: Vec<Vec<String>> = Vec::new();
-                for (_, group, key) in negs.iter().filter(|(r, _, _)| *r == id) {
-                    let group = *group as usize;
+                by_id.insert(id, out.len());
+                out.push(IndexedRule {
+                    index,
+                    local,
+                    conditional,
+                    ..IndexedRule::default()
+                });
+            }
+            for (id, key) in keys {
+                if let Some(&i) = by_id.get(&id) {
+                    out[i].positive.push(key);
+                }
+            }
+            for (id, group, key) in negs {
+                if let Some(&i) = by_id.get(&id) {
+                    let negative = &mut out[i].negative;
+                    let group = usize::try_from(group).unwrap_or(0);
                     if negative.len() <= group {
                         negative.resize(group + 1, Vec::new());
                     }
-                    negative[group].push(key.clone());
+                    negative[group].push(key);
                 }
-                out.push(IndexedRule {
-                    index,
-                    positive,
-                    negative,
-                    local,
-                    conditional,
-                });
             }
             Ok(Some(out))
         })

@@ -205,6 +205,8 @@ pub trait Store: Send + Sync + 'static {
         &'a self,
         canon: &'a str,
     ) -> StoreFuture<'a, Option<(Account, String)>>;
+    /// Replaces an account's password hash (rehashing with stronger parameters at login).
+    fn set_password_hash<'a>(&'a self, account: Id, password_hash: &'a str) -> StoreFuture<'a, ()>;
     fn create_token<'a>(&'a self, token: NewToken<'a>) -> StoreFuture<'a, TokenInfo>;
     /// The account of an unrevoked token, by the token's SHA-256.
     fn account_by_token<'a>(&'a self, hash: &'a [u8; 32]) -> StoreFuture<'a, Option<Account>>;

@@ -169,3 +169,48 @@ async fn names_and_passwords_are_checked() {
         assert!(body["error"].is_string());
     }
 }
+
+#[tokio::test]
+async fn login_rehashes_a_password_stored_with_weaker_parameters() {
+    use argon2::password_hash::{PasswordHasher, SaltString};
+    use shapegram_server::sqlite::SqliteStore;
+    use shapegram_server::store::Store;
+
+    let app = App::new().await;
+    // An account from a time of weaker parameters, written to the same database.
+    let store = SqliteStore::open(&app.dir.path().join("repo.db"))
+        .await
+        .unwrap();
+    let weak = argon2::Argon2::new(
+        argon2::Algorithm::Argon2id,
+        argon2::Version::V0x13,
+        argon2::Params::new(8, 1, 1, None).unwrap(),
+    )
+    .hash_password(
+        b"old password",
+        &SaltString::encode_b64(b"0123456789abcdef").unwrap(),
+    )
+    .unwrap()
+    .to_string();
+    store.create_account("old", "old", &weak).await.unwrap();
+
+    let login = json!({"name": "old", "password": "old password"});
+    let (status, _) = app
+        .call(Method::POST, "/api/v1/login", None, Some(login.clone()))
+        .await;
+    assert_eq!(status, StatusCode::OK);
+    let stored: String =
+        sqlx::query_scalar("SELECT password_hash FROM account WHERE canon = 'old'")
+            .fetch_one(store.pool())
+            .await
+            .unwrap();
+    assert!(
+        stored.starts_with("$argon2id$v=19$m=19456,t=2,p=1$"),
+        "{stored}"
+    );
+    // The same password still logs in.
+    let (status, _) = app
+        .call(Method::POST, "/api/v1/login", None, Some(login))
+        .await;
+    assert_eq!(status, StatusCode::OK);
+}
