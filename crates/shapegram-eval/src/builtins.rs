@@ -48,6 +48,9 @@ pub(crate) enum Builtin {
     ReadFloatTable,
     Rows,
     Columns,
+    FileSearch,
+    FilesSearch,
+    FileRandom,
     /// A string or string-list function.
     Text(Text),
 }
@@ -98,9 +101,12 @@ impl Builtin {
         "readFloatTable",
         "nRows",
         "nColumns",
+        "fileSearch",
+        "filesSearch",
+        "fileRandom",
     ];
 
-    const ALL: [Builtin; 43] = [
+    const ALL: [Builtin; 46] = [
         Self::Rand,
         Self::P,
         Self::Floor,
@@ -144,6 +150,9 @@ impl Builtin {
         Self::ReadFloatTable,
         Self::Rows,
         Self::Columns,
+        Self::FileSearch,
+        Self::FilesSearch,
+        Self::FileRandom,
     ];
 
     /// The built-in with this name.
@@ -211,6 +220,9 @@ impl Builtin {
             Self::ReadFloatTable => "readFloatTable(filePath)",
             Self::Rows => "nRows(table)",
             Self::Columns => "nColumns(table)",
+            Self::FileSearch => "fileSearch(query)",
+            Self::FilesSearch => "filesSearch(query)",
+            Self::FileRandom => "fileRandom(query)",
             Self::Text(t) => t.signature(),
             _ => "f(number)",
         }

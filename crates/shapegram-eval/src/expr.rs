@@ -297,6 +297,49 @@ impl<'p> Evaluator<'p> {
         Ok(Value::Array(out.into()))
     }
 
+    /// `fileSearch(q)` (a string list, `a;b;`), `filesSearch(q)` (an array) and `fileRandom(q)`
+    /// (one of them drawn from the shape's random stream, `""` when none): the files the
+    /// derivation's assets find for the query, sorted.
+    fn search_files(
+        &mut self,
+        b: Builtin,
+        query: &CExpr,
+        shape: &mut State,
+        args: &[Value],
+    ) -> Result<Value> {
+        let text = match self.eval(query, shape, args)? {
+            Value::Str(s) => s,
+            other => {
+                return Err(DeriveError::at(
+                    format!("expected a search query, found a {}", other.type_name()),
+                    query.span,
+                ));
+            }
+        };
+        let Some(assets) = self.assets else {
+            return Err(DeriveError::at(
+                format!("cannot search for `{text}`: this derivation reads no files"),
+                query.span,
+            ));
+        };
+        let found = assets
+            .search(&text)
+            .map_err(|why| DeriveError::at(why, query.span))?;
+        Ok(match b {
+            Builtin::FileSearch => {
+                Value::string(&found.iter().map(|f| format!("{f};")).collect::<String>())
+            }
+            Builtin::FilesSearch => Value::Array(found.iter().map(|f| Value::string(f)).collect()),
+            _ => match found.len() {
+                0 => Value::string(""),
+                n => {
+                    let at = ((shape.rng.next_f64() * n as f64) as usize).min(n - 1);
+                    Value::string(&found[at])
+                }
+            },
+        })
+    }
+
     /// `readStringTable(path)` and `readFloatTable(path)`: the file's table, read through the
     /// derivation's assets.
     fn read_table(
@@ -723,6 +766,9 @@ impl<'p> Evaluator<'p> {
             Builtin::ReadStringTable | Builtin::ReadFloatTable => {
                 return self.read_table(b, &params[0], shape, args);
             }
+            Builtin::FileSearch | Builtin::FilesSearch | Builtin::FileRandom => {
+                return self.search_files(b, &params[0], shape, args);
+            }
             Builtin::Rows | Builtin::Columns => {
                 let table = self.eval(&params[0], shape, args)?;
                 let Value::Array(rows) = &table else {
@@ -814,6 +860,9 @@ impl<'p> Evaluator<'p> {
             | Builtin::ReadFloatTable
             | Builtin::Rows
             | Builtin::Columns
+            | Builtin::FileSearch
+            | Builtin::FilesSearch
+            | Builtin::FileRandom
             | Builtin::Text(_) => unreachable!("handled above"),
         };
         if !value.is_finite() {

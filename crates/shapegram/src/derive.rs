@@ -310,10 +310,18 @@ struct FileAssets {
     plants: Mutex<HashMap<(PathBuf, u32), Arc<Mesh>>>,
     solids: Mutex<HashMap<PathBuf, Solid>>,
     texts: Mutex<HashMap<PathBuf, Arc<str>>>,
+    searches: Mutex<HashMap<String, Vec<Arc<str>>>>,
 }
 
 impl FileAssets {
     fn new(folder: PathBuf, missing: MissingAssets) -> Self {
+        // Workspace paths (`/Project/…`) need to know the folder above the project.
+        let folder = if folder.as_os_str().is_empty() {
+            PathBuf::from(".")
+        } else {
+            folder
+        };
+        let folder = std::fs::canonicalize(&folder).unwrap_or(folder);
         let project = folder
             .ancestors()
             .find(|a| a.join("assets").is_dir())
@@ -327,6 +335,7 @@ impl FileAssets {
             plants: Mutex::new(HashMap::new()),
             solids: Mutex::new(HashMap::new()),
             texts: Mutex::new(HashMap::new()),
+            searches: Mutex::new(HashMap::new()),
         }
     }
 
@@ -349,7 +358,9 @@ impl FileAssets {
         let mut places = Vec::new();
         match path.strip_prefix('/') {
             Some(in_workspace) => {
-                if let Some(workspace) = self.project.as_deref().and_then(Path::parent) {
+                // Without a project, the grammar's folder stands for it (as `fileSearch` takes it).
+                let project = self.project.as_deref().unwrap_or(&self.folder);
+                if let Some(workspace) = project.parent() {
                     places.push(workspace.join(in_workspace));
                 }
                 places.push(self.folder.join(in_workspace));
@@ -402,6 +413,22 @@ impl FileAssets {
 }
 
 impl AssetLoader for FileAssets {
+    /// Files under the project (the grammar's folder when it is in none); each query is
+    /// answered once.
+    fn search(&self, query: &str) -> Result<Vec<Arc<str>>, String> {
+        let mut searches = self.searches.lock().unwrap_or_else(PoisonError::into_inner);
+        if let Some(found) = searches.get(query) {
+            return Ok(found.clone());
+        }
+        let root = self.project.as_deref().unwrap_or(&self.folder);
+        let found: Vec<Arc<str>> = crate::search::search(root, query)?
+            .into_iter()
+            .map(Arc::from)
+            .collect();
+        searches.insert(query.to_owned(), found.clone());
+        Ok(found)
+    }
+
     /// Text files (tables) as UTF-8 or, with a byte-order mark, UTF-16; read once each. A
     /// file that cannot be read is an error, or, as `--missing-assets` allows stand-ins, an
     /// empty table (as CityEngine goes on without it).

@@ -12,6 +12,7 @@ mod lsystem;
 mod pose;
 mod primitive;
 mod progress;
+mod search;
 mod serve;
 mod topo;
 

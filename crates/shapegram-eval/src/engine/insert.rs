@@ -44,6 +44,12 @@ pub trait AssetLoader: Send + Sync {
     fn text(&self, path: &str) -> Result<Arc<str>, String> {
         Err(format!("cannot read `{path}` here"))
     }
+
+    /// The files a `fileSearch` query finds, sorted, as paths `i()` and the other file
+    /// functions take; or a one-line reason why the query cannot be answered.
+    fn search(&self, query: &str) -> Result<Vec<Arc<str>>, String> {
+        Err(format!("cannot search for `{query}` here"))
+    }
 }
 
 /// How many variants of a seeded asset (see [`AssetLoader::asset`]) the shapes of a derivation

@@ -1,0 +1,160 @@
+//! `fileSearch` queries as CityEngine reads them: terms separated by spaces, all of which a
+//! file's path must match, each with `*` (any characters, `/` included) and `?` (one) as
+//! wildcards, letter case aside. A term starting with `/`, `*` or `?` is matched against the
+//! whole workspace path (`/Project/assets/a.obj`); any other is relative to the project.
+//! Results are workspace paths, sorted.
+
+use std::path::Path;
+
+/// The files under `project` (hidden folders aside) that `query` finds, as workspace paths
+/// (`/{project's name}/…`), sorted.
+pub fn search(project: &Path, query: &str) -> Result<Vec<String>, String> {
+    let terms: Vec<&str> = query.split_whitespace().collect();
+    if terms.is_empty() {
+        return Err("an empty file search: give a name or pattern, such as `assets/*.obj`".into());
+    }
+    if let Some(term) = terms
+        .iter()
+        .find(|t| t.starts_with('$') || t.starts_with('\'') || t.contains(':'))
+    {
+        return Err(format!(
+            "`{term}`: regular expressions, quoted terms and properties (`Name:`, `Ext:`) in file searches are not supported yet"
+        ));
+    }
+    let name = project
+        .file_name()
+        .map_or_else(String::new, |n| n.to_string_lossy().into_owned());
+    let patterns: Vec<Vec<char>> = terms
+        .iter()
+        .map(|t| {
+            let full = if t.starts_with(['/', '*', '?']) {
+                (*t).to_owned()
+            } else {
+                format!("/{name}/{t}")
+            };
+            full.to_lowercase().chars().collect()
+        })
+        .collect();
+    let mut found = Vec::new();
+    let mut pending = vec![project.to_path_buf()];
+    while let Some(folder) = pending.pop() {
+        let Ok(entries) = std::fs::read_dir(&folder) else {
+            continue;
+        };
+        for entry in entries.flatten() {
+            let path = entry.path();
+            let hidden = entry.file_name().to_string_lossy().starts_with('.');
+            match entry.file_type() {
+                Ok(t) if t.is_dir() && !hidden => pending.push(path),
+                Ok(t) if t.is_file() => {
+                    let Ok(relative) = path.strip_prefix(project) else {
+                        continue;
+                    };
+                    let parts: Vec<String> = relative
+                        .components()
+                        .map(|c| c.as_os_str().to_string_lossy().into_owned())
+                        .collect();
+                    let workspace = format!("/{name}/{}", parts.join("/"));
+                    let text: Vec<char> = workspace.to_lowercase().chars().collect();
+                    if patterns.iter().all(|p| wildcard(p, &text)) {
+                        found.push(workspace);
+                    }
+                }
+                _ => {}
+            }
+        }
+    }
+    found.sort();
+    Ok(found)
+}
+
+/// Whether `text` matches `pattern` whole, `*` standing for any run of characters and `?` for
+/// one.
+fn wildcard(pattern: &[char], text: &[char]) -> bool {
+    // The last `*` seen and where in the text its run ends so far: on a mismatch the run
+    // grows by one and matching goes on from there.
+    let (mut p, mut t) = (0, 0);
+    let mut star: Option<(usize, usize)> = None;
+    while t < text.len() {
+        match pattern.get(p) {
+            Some('*') => {
+                star = Some((p, t));
+                p += 1;
+            }
+            Some(&c) if c == '?' || c == text[t] => {
+                p += 1;
+                t += 1;
+            }
+            _ => match star {
+                Some((sp, st)) => {
+                    star = Some((sp, st + 1));
+                    p = sp + 1;
+                    t = st + 1;
+                }
+                None => return false,
+            },
+        }
+    }
+    pattern[p..].iter().all(|&c| c == '*')
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn matches(pattern: &str, text: &str) -> bool {
+        wildcard(
+            &pattern.chars().collect::<Vec<_>>(),
+            &text.chars().collect::<Vec<_>>(),
+        )
+    }
+
+    #[test]
+    fn wildcards_match_runs_and_single_characters() {
+        assert!(matches(
+            "*facade_textures/f*.tif",
+            "/p/assets/facade_textures/f12.tif"
+        ));
+        assert!(!matches(
+            "*facade_textures/f*.tif",
+            "/p/assets/facade_textures/g12.tif"
+        ));
+        assert!(matches("/p/a?c", "/p/abc"));
+        assert!(!matches("/p/a?c", "/p/abbc"));
+        assert!(matches("*", ""));
+        assert!(matches("a**b", "ab"));
+        assert!(!matches("", "a"));
+    }
+
+    #[test]
+    fn a_project_is_searched_by_relative_and_workspace_patterns() {
+        let root = std::env::temp_dir().join(format!("shapegram-search-{}", std::process::id()));
+        let project = root.join("Town");
+        for file in [
+            "assets/trees/Oak.obj",
+            "assets/trees/birch.obj",
+            "assets/roof.obj",
+            ".hidden/x.obj",
+        ] {
+            let path = project.join(file);
+            std::fs::create_dir_all(path.parent().unwrap()).unwrap();
+            std::fs::write(path, "").unwrap();
+        }
+        assert_eq!(
+            search(&project, "assets/trees/*.obj").unwrap(),
+            ["/Town/assets/trees/Oak.obj", "/Town/assets/trees/birch.obj"]
+        );
+        assert_eq!(search(&project, "*.OBJ oak").unwrap_or_default().len(), 0);
+        assert_eq!(
+            search(&project, "*.OBJ *oak*").unwrap(),
+            ["/Town/assets/trees/Oak.obj"]
+        );
+        assert_eq!(search(&project, "*x.obj").unwrap(), Vec::<String>::new());
+        assert!(
+            search(&project, "$.*obj")
+                .unwrap_err()
+                .contains("not supported yet")
+        );
+        std::fs::remove_dir_all(root).unwrap();
+    }
+}
