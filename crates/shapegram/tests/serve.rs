@@ -212,3 +212,15 @@ fn two_servers_on_one_database_publish_consecutive_versions() {
         assert_eq!(list.as_array().unwrap().len(), 8);
     }
 }
+
+#[test]
+fn serve_stops_cleanly_on_sigterm() {
+    let dir = TempDir::new("serve-term");
+    let mut server = start(&dir.path("repo.db"));
+    assert_eq!(http(&server, "GET", "/api/v1/grammars", None, None).0, 200);
+    let pid = server.child.id().to_string();
+    let sent = Command::new("kill").args(["-TERM", &pid]).status().unwrap();
+    assert!(sent.success());
+    let status = server.child.wait().unwrap();
+    assert!(status.success(), "{status:?}");
+}
