@@ -106,8 +106,8 @@ pub async fn sqlite_app(path: &Path) -> Result<Router, store::StoreError> {
 }
 
 /// Serves the repository in the SQLite database `data` on `listen` (`127.0.0.1:8080`; port 0
-/// picks a free port); `ready` gets the address once it accepts connections. Runs until the
-/// process ends.
+/// picks a free port); `ready` gets the address once it accepts connections. Runs until SIGINT
+/// or SIGTERM, then stops accepting connections, lets requests in flight finish and returns.
 pub async fn serve(
     data: &Path,
     listen: &str,
@@ -121,5 +121,32 @@ pub async fn serve(
         .map_err(|e| format!("cannot listen on {listen}: {e}"))?;
     let addr = listener.local_addr().map_err(|e| e.to_string())?;
     ready(addr);
-    axum::serve(listener, app).await.map_err(|e| e.to_string())
+    axum::serve(listener, app)
+        .with_graceful_shutdown(shutdown_signal())
+        .await
+        .map_err(|e| e.to_string())
+}
+
+/// SIGINT (Ctrl-C) or, on Unix, SIGTERM.
+async fn shutdown_signal() {
+    let interrupt = async {
+        if tokio::signal::ctrl_c().await.is_err() {
+            std::future::pending::<()>().await;
+        }
+    };
+    #[cfg(unix)]
+    let terminate = async {
+        match tokio::signal::unix::signal(tokio::signal::unix::SignalKind::terminate()) {
+            Ok(mut signal) => {
+                signal.recv().await;
+            }
+            Err(_) => std::future::pending::<()>().await,
+        }
+    };
+    #[cfg(not(unix))]
+    let terminate = std::future::pending::<()>();
+    tokio::select! {
+        () = interrupt => {}
+        () = terminate => {}
+    }
 }

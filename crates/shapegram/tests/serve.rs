@@ -152,3 +152,75 @@ fn serve_reports_an_address_in_use() {
     let stderr = String::from_utf8(output.stderr).unwrap();
     assert!(stderr.starts_with("error: cannot listen on"), "{stderr}");
 }
+
+#[test]
+fn two_servers_on_one_database_publish_consecutive_versions() {
+    let dir = TempDir::new("serve-two");
+    let db = dir.path("repo.db");
+    let servers = [start(&db), start(&db)];
+    let credentials = json!({"name": "ana", "password": "ana's password"});
+    assert_eq!(
+        http(
+            &servers[0],
+            "POST",
+            "/api/v1/accounts",
+            None,
+            Some(credentials.clone())
+        )
+        .0,
+        201
+    );
+    let (_, login) = http(
+        &servers[1],
+        "POST",
+        "/api/v1/login",
+        None,
+        Some(credentials),
+    );
+    let token = login["token"].as_str().unwrap().to_owned();
+    let mut versions: Vec<i64> = std::thread::scope(|scope| {
+        let handles: Vec<_> = (0..8)
+            .map(|i| {
+                let (server, token) = (&servers[i % 2], &token);
+                scope.spawn(move || {
+                    let text = format!("fulfills(wooden) --> color(\"#8b5a2b\")\n// {i}\n");
+                    let (status, body) = http(
+                        server,
+                        "POST",
+                        "/api/v1/grammars/ana/paint/versions",
+                        Some(token),
+                        Some(json!({"text": text})),
+                    );
+                    assert_eq!(status, 201, "{body}");
+                    body["version"].as_i64().unwrap()
+                })
+            })
+            .collect();
+        handles.into_iter().map(|h| h.join().unwrap()).collect()
+    });
+    versions.sort();
+    assert_eq!(versions, (1..=8).collect::<Vec<_>>());
+    // Each server sees the other's publishes.
+    for server in &servers {
+        let (_, list) = http(
+            server,
+            "GET",
+            "/api/v1/grammars/ana/paint/versions",
+            None,
+            None,
+        );
+        assert_eq!(list.as_array().unwrap().len(), 8);
+    }
+}
+
+#[test]
+fn serve_stops_cleanly_on_sigterm() {
+    let dir = TempDir::new("serve-term");
+    let mut server = start(&dir.path("repo.db"));
+    assert_eq!(http(&server, "GET", "/api/v1/grammars", None, None).0, 200);
+    let pid = server.child.id().to_string();
+    let sent = Command::new("kill").args(["-TERM", &pid]).status().unwrap();
+    assert!(sent.success());
+    let status = server.child.wait().unwrap();
+    assert!(status.success(), "{status:?}");
+}
