@@ -252,13 +252,13 @@ impl<'p> Evaluator<'p> {
                 ));
             }
         };
-        if let Value::Number(n) = value {
-            if !n.is_finite() {
-                return Err(DeriveError::at(
-                    "this evaluates to a number that is not finite (NaN or infinity)",
-                    e.span,
-                ));
-            }
+        if let Value::Number(n) = value
+            && !n.is_finite()
+        {
+            return Err(DeriveError::at(
+                "this evaluates to a number that is not finite (NaN or infinity)",
+                e.span,
+            ));
         }
         Ok(value)
     }
@@ -421,10 +421,10 @@ impl<'p> Evaluator<'p> {
 
     pub fn number(&mut self, e: &CExpr, shape: &mut State, args: &[Value]) -> Result<f64> {
         // Most sizes are literals: no need to go through `eval`.
-        if let CKind::Value(Value::Number(n)) = e.kind {
-            if n.is_finite() {
-                return Ok(n);
-            }
+        if let CKind::Value(Value::Number(n)) = e.kind
+            && n.is_finite()
+        {
+            return Ok(n);
         }
         match self.eval(e, shape, args)? {
             Value::Number(n) => Ok(n),

@@ -561,11 +561,11 @@ pub(crate) fn compile(
     let mut args = args;
     // `set` reads its first argument as a name itself.
     for a in args.iter_mut().skip(usize::from(name == "set")) {
-        if let CKind::Selector(word) = &a.kind {
-            if crate::builtins::Query::is_known_unsupported(word) {
-                let word = word.clone();
-                a.kind = c.unknown_name(&word, a.span, params);
-            }
+        if let CKind::Selector(word) = &a.kind
+            && crate::builtins::Query::is_known_unsupported(word)
+        {
+            let word = word.clone();
+            a.kind = c.unknown_name(&word, a.span, params);
         }
     }
     let stray: Vec<(usize, String, Span)> = args

@@ -538,32 +538,32 @@ impl<'g> Compiler<'g> {
     fn call_stmt(&mut self, call: &ast::Call, params: Params) -> Option<CStmt> {
         let name = &call.name.name;
         let arity = call.args.as_ref().map_or(0, Vec::len);
-        if call.block.is_none() {
-            if let Some(rules) = self.rule_by_name.get(name) {
-                let rule = rules
+        if call.block.is_none()
+            && let Some(rules) = self.rule_by_name.get(name)
+        {
+            let rule = rules
+                .iter()
+                .copied()
+                .find(|&r| self.rule_arity(r) == Some(arity));
+            if rule.is_none() {
+                let arities: Vec<String> = rules
                     .iter()
-                    .copied()
-                    .find(|&r| self.rule_arity(r) == Some(arity));
-                if rule.is_none() {
-                    let arities: Vec<String> = rules
-                        .iter()
-                        .filter_map(|&r| self.rule_arity(r))
-                        .map(|n| n.to_string())
-                        .collect();
-                    self.diagnostics.push(
-                        Diagnostic::error(
-                            format!(
-                                "rule `{name}` takes {} arguments, not {arity}",
-                                arities.join(" or ")
-                            ),
-                            call.span,
-                        )
-                        .with_label("wrong number of arguments"),
-                    );
-                    return None;
-                }
-                return Some(self.successor(call, rule, params));
+                    .filter_map(|&r| self.rule_arity(r))
+                    .map(|n| n.to_string())
+                    .collect();
+                self.diagnostics.push(
+                    Diagnostic::error(
+                        format!(
+                            "rule `{name}` takes {} arguments, not {arity}",
+                            arities.join(" or ")
+                        ),
+                        call.span,
+                    )
+                    .with_label("wrong number of arguments"),
+                );
+                return None;
             }
+            return Some(self.successor(call, rule, params));
         }
         if let Some(op) = ops::compile(self, call, params) {
             return op.map(|op| CStmt::Op(op, call.span));
@@ -784,10 +784,11 @@ impl<'g> Compiler<'g> {
     }
 
     fn call_expr(&mut self, name: &ast::Ident, args: &[ast::Argument], params: Params) -> CKind {
-        if let ("comp", [first, entries @ ..]) = (name.name.as_str(), args) {
-            if matches!(&first.value.kind, ExprKind::Name(k) if k == "fe") && first.name.is_none() {
-                return self.edge_values(entries, params);
-            }
+        if let ("comp", [first, entries @ ..]) = (name.name.as_str(), args)
+            && matches!(&first.value.kind, ExprKind::Name(k) if k == "fe")
+            && first.name.is_none()
+        {
+            return self.edge_values(entries, params);
         }
         if Builtin::is_known_unsupported(&name.name) {
             // Never evaluated, so its arguments (`touches(intra, "wall")`) are not checked.

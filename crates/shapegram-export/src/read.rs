@@ -277,7 +277,7 @@ fn read_primitive(primitive: &gltf::Primitive<'_>, blob: &[u8]) -> Result<Read, 
             .collect(),
         Mode::TriangleFan => (2..n).map(|i| [order[0], order[i - 1], order[i]]).collect(),
         _ => {
-            if n % 3 != 0 {
+            if !n.is_multiple_of(3) {
                 return Err(format!("{n} corners is not a whole number of triangles"));
             }
             order.chunks_exact(3).map(|t| [t[0], t[1], t[2]]).collect()
@@ -303,7 +303,7 @@ fn line_segments(mode: Mode, order: &[u32]) -> Result<Vec<[u32; 2]>, String> {
             .collect(),
         Mode::LineLoop => Vec::new(),
         _ => {
-            if n % 2 != 0 {
+            if !n.is_multiple_of(2) {
                 return Err(format!("{n} ends is not a whole number of segments"));
             }
             order.chunks_exact(2).map(|s| [s[0], s[1]]).collect()

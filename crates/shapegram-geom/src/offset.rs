@@ -65,10 +65,11 @@ fn edges_with_outward(points: &[DVec3], normal: DVec3) -> Vec<(DVec3, DVec3, DVe
         let Some(dir) = (b - a).try_normalize() else {
             continue;
         };
-        if let Some(&(_, last, _)) = edges.last() {
-            if last.cross(dir).length() < 1e-12 && last.dot(dir) > 0.0 {
-                continue;
-            }
+        if let Some(&(_, last, _)) = edges.last()
+            && last.cross(dir).length() < 1e-12
+            && last.dot(dir) > 0.0
+        {
+            continue;
         }
         edges.push((a, dir, dir.cross(normal)));
     }

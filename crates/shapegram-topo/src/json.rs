@@ -11,16 +11,16 @@ pub(crate) fn to_text<T: Serialize>(value: &T) -> String {
     let mut i = 0;
     while i < lines.len() {
         let line = lines[i];
-        if line.ends_with('[') {
-            if let Some(end) = scalar_run_end(&lines, i + 1) {
-                let items: Vec<&str> = lines[i + 1..end].iter().map(|l| l.trim()).collect();
-                out.push_str(line);
-                out.push_str(&items.join(" "));
-                out.push_str(lines[end].trim());
-                out.push('\n');
-                i = end + 1;
-                continue;
-            }
+        if line.ends_with('[')
+            && let Some(end) = scalar_run_end(&lines, i + 1)
+        {
+            let items: Vec<&str> = lines[i + 1..end].iter().map(|l| l.trim()).collect();
+            out.push_str(line);
+            out.push_str(&items.join(" "));
+            out.push_str(lines[end].trim());
+            out.push('\n');
+            i = end + 1;
+            continue;
         }
         out.push_str(line);
         out.push('\n');

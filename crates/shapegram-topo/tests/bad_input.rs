@@ -216,16 +216,14 @@ proptest! {
             text[digits[at % digits.len()]] = b'0' + digit;
         }
         let text = String::from_utf8(text).unwrap();
-        if let Ok(grammar) = Grammar::from_json(&text) {
-            if let Some(name) = grammar.symbol_names().first().map(|s| s.to_string()) {
-                if let Ok(state) = GrammarState::new(&grammar, &name) {
+        if let Ok(grammar) = Grammar::from_json(&text)
+            && let Some(name) = grammar.symbol_names().first().map(|s| s.to_string())
+                && let Ok(state) = GrammarState::new(&grammar, &name) {
                     let mut state = state.with_generations(4);
                     state.max_shapes = 1000;
                     let _ = state.generate_all();
                     let _ = shapegram_topo::GrammarMesh::new(&state).to_model();
                 }
-            }
-        }
     }
 
     /// The same for project files.

@@ -212,12 +212,12 @@ fn from_file(args: &CaveArgs, file: &std::path::Path) -> Result<Grown, Failure> 
     })?;
     let located = |e: text::TextError| Failure::new(format!("{name}:{e}"));
     let program = text::parse(&source).map_err(located)?;
-    if let Some(lod) = args.lod {
-        if !(1..=32).contains(&lod) {
-            return Err(Failure::new(format!(
-                "invalid level of detail {lod}: expected 1 to 32"
-            )));
-        }
+    if let Some(lod) = args.lod
+        && !(1..=32).contains(&lod)
+    {
+        return Err(Failure::new(format!(
+            "invalid level of detail {lod}: expected 1 to 32"
+        )));
     }
     let run = program.run(args.seed).map_err(located)?;
     Ok(Grown {

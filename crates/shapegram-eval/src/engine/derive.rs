@@ -172,10 +172,10 @@ pub(super) fn in_batches(
     work: impl Fn(&mut Batch, usize) -> Result<(), DeriveError> + Sync,
 ) -> Vec<Batch> {
     let step = |batch: &mut Batch, i: usize| {
-        if batch.error.is_none() {
-            if let Err(e) = work(batch, i) {
-                batch.error = Some(e);
-            }
+        if batch.error.is_none()
+            && let Err(e) = work(batch, i)
+        {
+            batch.error = Some(e);
         }
     };
     // Items derive into batches of consecutive items, so that leaves are not copied from one

@@ -355,10 +355,10 @@ impl<'p> Engine<'p> {
     /// A leaf's semantics by name; consecutive leaves of one shape's parts share them.
     pub(super) fn leaf_semantics(&mut self, state: &State) -> Option<Arc<LeafSemantics>> {
         let semantics = state.semantics.as_ref()?;
-        if let Some((last, named)) = &self.last_semantics {
-            if Arc::ptr_eq(last, semantics) {
-                return Some(named.clone());
-            }
+        if let Some((last, named)) = &self.last_semantics
+            && Arc::ptr_eq(last, semantics)
+        {
+            return Some(named.clone());
         }
         let named = Arc::new(LeafSemantics::of(self.goal_rules(), semantics));
         self.last_semantics = Some((semantics.clone(), named.clone()));

@@ -241,7 +241,7 @@ impl<'p> Engine<'p> {
         }
         self.counts[task.rule as usize] += 1;
         self.applications += 1;
-        if self.applications % 1024 == 0 {
+        if self.applications.is_multiple_of(1024) {
             self.check_time(task.rule)?;
         }
         if self.applications > self.options.max_steps {
@@ -465,16 +465,16 @@ impl<'p> Engine<'p> {
     }
 
     fn check_time(&self, rule: RuleId) -> Fallible<()> {
-        if let Some(budget) = self.options.time_budget {
-            if self.started.elapsed() > budget {
-                let name = self
-                    .program
-                    .symbol_name(self.program.rules[rule as usize].symbol);
-                return Err(DeriveError::general(format!(
-                    "the derivation took longer than {budget:?} (last rule: `{name}`, busiest: `{}`)",
-                    self.busiest_rule()
-                )));
-            }
+        if let Some(budget) = self.options.time_budget
+            && self.started.elapsed() > budget
+        {
+            let name = self
+                .program
+                .symbol_name(self.program.rules[rule as usize].symbol);
+            return Err(DeriveError::general(format!(
+                "the derivation took longer than {budget:?} (last rule: `{name}`, busiest: `{}`)",
+                self.busiest_rule()
+            )));
         }
         Ok(())
     }

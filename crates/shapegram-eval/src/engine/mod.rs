@@ -293,10 +293,10 @@ struct MetadataCache {
 
 impl MetadataCache {
     fn of(&mut self, semantics: &Arc<LeafSemantics>) -> Arc<Metadata> {
-        if let Some((last, meta)) = &self.last {
-            if Arc::ptr_eq(last, semantics) {
-                return meta.clone();
-            }
+        if let Some((last, meta)) = &self.last
+            && Arc::ptr_eq(last, semantics)
+        {
+            return meta.clone();
         }
         let names = |list: &[Arc<str>]| list.iter().map(|s| s.to_string()).collect();
         let meta = Arc::new(Metadata {

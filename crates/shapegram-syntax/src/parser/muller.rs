@@ -808,10 +808,10 @@ fn unnamed(args: Vec<Argument>) -> Vec<Expr> {
 /// Maps the notation's names to Shapegram's: `Scope.sx` → `scope.sx`.
 fn rename_queries(e: &mut Expr) {
     e.walk_mut(&mut |x| {
-        if let ExprKind::Name(n) = &mut x.kind {
-            if let Some(rest) = n.strip_prefix("Scope.") {
-                *n = format!("scope.{rest}");
-            }
+        if let ExprKind::Name(n) = &mut x.kind
+            && let Some(rest) = n.strip_prefix("Scope.")
+        {
+            *n = format!("scope.{rest}");
         }
     });
 }

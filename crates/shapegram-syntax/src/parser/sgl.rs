@@ -437,20 +437,20 @@ impl Parser<'_> {
                 return Ok(());
             }
         };
-        if let ExprKind::Number(n) = count.kind {
-            if n != products.len() as f64 {
-                let d = Diagnostic::error(
-                    format!(
-                        "`Subdiv` into {n} parts needs {n} rules, found {}",
-                        products.len()
-                    ),
-                    count.span,
-                )
-                .with_label("the number of parts")
-                .with_hint("give one rule per part in `sgprod{ … }`");
-                self.report(d);
-                return Ok(());
-            }
+        if let ExprKind::Number(n) = count.kind
+            && n != products.len() as f64
+        {
+            let d = Diagnostic::error(
+                format!(
+                    "`Subdiv` into {n} parts needs {n} rules, found {}",
+                    products.len()
+                ),
+                count.span,
+            )
+            .with_label("the number of parts")
+            .with_hint("give one rule per part in `sgprod{ … }`");
+            self.report(d);
+            return Ok(());
         }
         if products.is_empty() {
             let d = Diagnostic::error("`Subdiv` needs at least one rule", span);
