@@ -103,10 +103,28 @@ pub(crate) enum CStmt {
     Nil,
     /// Goal grammars: the shape goes on with these goals opened and named by `symbol`.
     Goals {
-        goals: Vec<GoalId>,
+        goals: GoalList,
         symbol: Sym,
         span: Span,
     },
+}
+
+/// The goals of a `+goal` successor: most have one, kept in the statement itself, so that a
+/// step reads no more memory for it.
+#[derive(Debug)]
+pub(crate) enum GoalList {
+    One(GoalId),
+    Many(Box<[GoalId]>),
+}
+
+impl GoalList {
+    /// The goals, sorted.
+    pub fn as_slice(&self) -> &[GoalId] {
+        match self {
+            Self::One(goal) => std::slice::from_ref(goal),
+            Self::Many(goals) => goals,
+        }
+    }
 }
 
 /// A compiled expression with the span it came from.
@@ -653,8 +671,12 @@ impl<'g> Compiler<'g> {
         ids.sort_unstable();
         ids.dedup();
         let symbol = self.intern(&goals[0].name);
+        let goals = match ids.as_slice() {
+            [one] => GoalList::One(*one),
+            _ => GoalList::Many(ids.into()),
+        };
         Some(CStmt::Goals {
-            goals: ids,
+            goals,
             symbol,
             span,
         })

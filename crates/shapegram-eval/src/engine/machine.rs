@@ -376,6 +376,7 @@ impl<'p> Engine<'p> {
                     symbol,
                     span,
                 } => {
+                    let goals = goals.as_slice();
                     if i + 1 == stmts.len() {
                         state.make_child();
                         return self.goal_successor(state, goals, *symbol, *span, out);
