@@ -51,10 +51,7 @@ pub fn run(args: &CheckArgs) -> Result<(), Failure> {
 
 /// Checks a goal grammar with its library; returns whether it has no errors.
 fn check_goals(source: SourceFile, path: &Path, args: &CheckArgs) -> Result<bool, Failure> {
-    let mut sources = vec![source];
-    for file in grammar::library_files(&args.library, path)? {
-        sources.push(grammar::read(&file, !args.quiet_warnings)?);
-    }
+    let sources = grammar::read_library(source, path, &args.library, !args.quiet_warnings)?;
     let library = sources.len() - 1;
     let compiled = grammar::compile_library(sources, !args.quiet_warnings, args.dialect.dialect());
     let name = compiled.sources[0].name();

@@ -237,10 +237,7 @@ fn compile(
         }
         return grammar::compile(&source, !args.quiet, dialect).into_program();
     }
-    let mut sources = vec![source];
-    for path in grammar::library_files(&args.library, &args.grammar)? {
-        sources.push(grammar::read(&path, !args.quiet)?);
-    }
+    let sources = grammar::read_library(source, &args.grammar, &args.library, !args.quiet)?;
     let compiled = grammar::compile_library(sources, !args.quiet, dialect);
     match compiled.program {
         Some(program) if compiled.errors == 0 => Ok((program, compiled.sources)),

@@ -267,9 +267,24 @@ fn goal_dialect(source: &SourceFile, dialect: Option<Dialect>) -> Option<Dialect
     }
 }
 
+/// A goal grammar (`source`, read from `main`) and the grammars of its library, read: the main
+/// grammar first.
+pub fn read_library(
+    source: SourceFile,
+    main: &Path,
+    library: &[std::path::PathBuf],
+    warn: bool,
+) -> Result<Vec<SourceFile>, Failure> {
+    let mut sources = vec![source];
+    for path in library_files(library, main)? {
+        sources.push(read(&path, warn)?);
+    }
+    Ok(sources)
+}
+
 /// The library a goal grammar derives with: the files given and the goal grammar files
 /// (`*.goal`) in the folders given and their subfolders, sorted by path, without `main`.
-pub fn library_files(
+fn library_files(
     paths: &[std::path::PathBuf],
     main: &Path,
 ) -> Result<Vec<std::path::PathBuf>, Failure> {
