@@ -5,7 +5,7 @@
 //! of those it fulfilled, named attributes and the grammar of the rule that made it. A rule has
 //! predicates instead of a symbol; it applies to a shape with open goals when they all hold.
 //! Rules of the grammar being derived come first, then those of the shape's own grammar, then
-//! the rest of the library (see [`Candidates`]); among several candidates of one tier one is
+//! the rest of the library, then grammars found in a repository (see [`Candidates`]); among several candidates of one tier one is
 //! drawn from the shape's random stream. The rules that fulfil (or ask for) a goal are indexed by it, and
 //! the rules whose goal, tag and attribute predicates hold for a given semantics are found once
 //! per distinct semantics, so a step costs the same whatever the size of the library.
@@ -16,7 +16,7 @@
 
 use std::sync::Arc;
 
-use rustc_hash::FxHashMap;
+use rustc_hash::{FxHashMap, FxHashSet};
 use shapegram_syntax::Span;
 
 use crate::program::{CExpr, RuleId, Sym};
@@ -173,6 +173,9 @@ pub(crate) struct GoalRules {
     pub attributes: Vec<Arc<str>>,
     /// The grammars' names, by [`GrammarId`].
     pub grammars: Vec<String>,
+    /// The first grammar that came from a repository rather than the user's own files (the
+    /// library's grammars from here on), when any did: their rules are tried last.
+    pub repository_from: Option<GrammarId>,
     /// By [`RuleId`]: every rule of a goal program is a goal rule.
     pub rules: Vec<GoalRule>,
     pub axioms: Vec<Axiom>,
@@ -246,13 +249,15 @@ impl GoalRules {
             .filter(|&r| self.rules[r as usize].admits(s))
             .collect();
         found.sort_unstable();
-        let mut tiers: [Vec<RuleId>; 3] = Default::default();
+        let mut tiers: [Vec<RuleId>; TIERS] = Default::default();
         for r in found {
             let grammar = self.rules[r as usize].grammar;
             let tier = if grammar == MAIN {
                 0
             } else if grammar == s.grammar {
                 1
+            } else if self.repository_from.is_some_and(|first| grammar >= first) {
+                3
             } else {
                 2
             };
@@ -316,17 +321,21 @@ impl GoalRules {
 /// The grammar being derived: the first of a library.
 pub(crate) const MAIN: GrammarId = 0;
 
+/// How many tiers [`Candidates`] has.
+pub(crate) const TIERS: usize = 4;
+
 /// The rules that may rewrite a shape, before their conditions are evaluated, in the order they
 /// are tried: the rules of the grammar being derived (so that it overrides what the library
 /// does, as the paper's metallic support overrides the chair's), then those of the grammar of
-/// the rule that made the shape (so that a design stays together), then the rest.
+/// the rule that made the shape (so that a design stays together), then the rest of the user's
+/// library, then grammars from a repository (local rules first, as the paper's cloud lookup).
 #[derive(Debug, Default)]
 pub(crate) struct Candidates {
-    tiers: [Vec<RuleId>; 3],
+    tiers: [Vec<RuleId>; TIERS],
     /// Each tier's weights, summed up to each rule; empty when they are all 1.
-    weights: [Vec<f64>; 3],
+    weights: [Vec<f64>; TIERS],
     /// Whether any rule of the tier has `if` conditions.
-    conditional: [bool; 3],
+    conditional: [bool; TIERS],
 }
 
 /// The rules of one tier of [`Candidates`].
@@ -353,7 +362,7 @@ impl Tier<'_> {
 }
 
 impl Candidates {
-    /// Tier `tier` (0 to 2).
+    /// Tier `tier` (`0..TIERS`).
     pub fn tier(&self, tier: usize) -> Tier<'_> {
         Tier {
             rules: &self.tiers[tier],
@@ -375,6 +384,8 @@ struct CandidateKey {
 #[derive(Debug, Default)]
 pub(crate) struct CandidateCache {
     found: FxHashMap<CandidateKey, Arc<Candidates>>,
+    /// Semantics for which no rule applied: their shapes kept goals open.
+    unmatched: FxHashSet<CandidateKey>,
 }
 
 impl CandidateCache {
@@ -401,43 +412,60 @@ pub struct GoalQuery {
 }
 
 impl CandidateCache {
+    /// Notes that no rule applied to a shape with semantics `s`.
+    pub fn miss(&mut self, s: &Semantics) {
+        self.unmatched.insert(s.key());
+    }
+
     /// What the shapes that found (or missed) their candidates here sought: one query per
     /// distinct semantics with a global goal open.
     pub fn queries(&self, rules: &GoalRules) -> Vec<GoalQuery> {
-        let mut queries: Vec<GoalQuery> = self
-            .found
-            .keys()
-            .filter_map(|key| {
-                let mut parts = key.ids.split(|&id| id == u32::MAX);
-                let global = |ids: &[GoalId]| -> Vec<Arc<str>> {
-                    let mut names: Vec<Arc<str>> = ids
-                        .iter()
-                        .map(|&g| &rules.goals[g as usize])
-                        .filter(|g| g.local.is_none())
-                        .map(|g| g.name.clone())
-                        .collect();
-                    names.sort();
-                    names
-                };
-                let goals = global(parts.next()?);
-                let tags = global(parts.next()?);
-                let mut attributes: Vec<Arc<str>> = parts
-                    .next()?
-                    .iter()
-                    .map(|&a| rules.attributes[a as usize].clone())
-                    .collect();
-                attributes.sort();
-                (!goals.is_empty()).then_some(GoalQuery {
-                    goals,
-                    tags,
-                    attributes,
-                })
-            })
-            .collect();
-        queries.sort();
-        queries.dedup();
-        queries
+        sorted_queries(rules, self.found.keys())
     }
+
+    /// What the shapes that no rule applied to sought (see [`CandidateCache::queries`]).
+    pub fn unmatched(&self, rules: &GoalRules) -> Vec<GoalQuery> {
+        sorted_queries(rules, self.unmatched.iter())
+    }
+}
+
+/// The distinct queries of candidate keys, sorted.
+fn sorted_queries<'k>(
+    rules: &GoalRules,
+    keys: impl Iterator<Item = &'k CandidateKey>,
+) -> Vec<GoalQuery> {
+    let mut queries: Vec<GoalQuery> = keys.filter_map(|key| query(rules, key)).collect();
+    queries.sort();
+    queries.dedup();
+    queries
+}
+
+/// A key's query, by name; `None` when it has no global goal open.
+fn query(rules: &GoalRules, key: &CandidateKey) -> Option<GoalQuery> {
+    let mut parts = key.ids.split(|&id| id == u32::MAX);
+    let global = |ids: &[GoalId]| -> Vec<Arc<str>> {
+        let mut names: Vec<Arc<str>> = ids
+            .iter()
+            .map(|&g| &rules.goals[g as usize])
+            .filter(|g| g.local.is_none())
+            .map(|g| g.name.clone())
+            .collect();
+        names.sort();
+        names
+    };
+    let goals = global(parts.next()?);
+    let tags = global(parts.next()?);
+    let mut attributes: Vec<Arc<str>> = parts
+        .next()?
+        .iter()
+        .map(|&a| rules.attributes[a as usize].clone())
+        .collect();
+    attributes.sort();
+    (!goals.is_empty()).then_some(GoalQuery {
+        goals,
+        tags,
+        attributes,
+    })
 }
 
 /// A leaf's goals, tags and attributes, by name: what outputs carry.

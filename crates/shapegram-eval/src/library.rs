@@ -109,6 +109,16 @@ impl Program {
     pub fn compile_library(
         grammars: &[(&str, &Grammar)],
     ) -> (Option<Program>, Vec<(usize, Diagnostic)>) {
+        Self::compile_with_repository(grammars, grammars.len())
+    }
+
+    /// Compiles a library as [`Program::compile_library`] does, where the grammars from
+    /// `repository_from` on came from a repository: their rules are tried after all of the
+    /// others (see `docs/repository.md`).
+    pub fn compile_with_repository(
+        grammars: &[(&str, &Grammar)],
+        repository_from: usize,
+    ) -> (Option<Program>, Vec<(usize, Diagnostic)>) {
         let empty = Grammar::default();
         let mut compiler = Compiler::new_for_goals(&empty);
         let mut diagnostics = Vec::new();
@@ -153,6 +163,8 @@ impl Program {
             .iter()
             .map(|g| compiler.intern(&g.name))
             .collect();
+        scope.rules.repository_from =
+            (repository_from < grammars.len()).then(|| repository_from.max(1) as GrammarId);
         scope.rules.index();
         let failed = diagnostics.iter().any(|(_, d)| d.is_error());
         let program = compiler.finish_goals(crules, scope.rules);

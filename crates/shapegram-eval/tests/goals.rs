@@ -517,6 +517,63 @@ fn a_derivation_lists_what_its_shapes_sought_without_local_goals() {
 }
 
 #[test]
+fn a_derivation_lists_what_shapes_no_rule_applied_to_sought() {
+    let d = run(&library(&[("chair", CHAIR)]), 1);
+    let unmatched: Vec<String> = d
+        .unmatched
+        .iter()
+        .map(|q| format!("{:?} {:?} {:?}", q.goals, q.tags, q.attributes))
+        .collect();
+    // Nothing makes things wooden, nor legs and seats.
+    assert_eq!(
+        unmatched,
+        [
+            r#"["leg", "wooden"] ["chair", "support"] ["Leg.Size"]"#,
+            r#"["seat", "wooden"] ["chair"] []"#,
+            r#"["wooden"] ["chair", "lean"] []"#,
+        ]
+    );
+    let d = run(&library(&[("chair", CHAIR), ("wood", WOOD)]), 1);
+    let unmatched: Vec<String> = d
+        .unmatched
+        .iter()
+        .map(|q| format!("{:?}", q.goals))
+        .collect();
+    assert_eq!(unmatched, [r#"["leg"]"#, r#"["seat"]"#]);
+}
+
+/// Red paint for wooden things, written by the user.
+const RED_WOOD: &str = r##"fulfills(wooden) --> color("#aa2020")"##;
+
+#[test]
+fn rules_from_a_repository_come_after_the_users_own() {
+    let brown = Color::from_hex("#8b5a2b").unwrap();
+    let red = Color::from_hex("#aa2020").unwrap();
+    let repository = |files: &[(&str, &str)], from| {
+        common::goal_library_with_repository(files, from, true).unwrap_or_else(|e| panic!("{e}"))
+    };
+    // The repository's wood alone paints the chair brown.
+    let d = run(&repository(&[("chair", CHAIR), ("ana/wood", WOOD)], 1), 3);
+    assert!(d.leaves.iter().all(|l| l.color == brown));
+    // With the user's red paint beside it, the user's rule wins, whatever the seed.
+    for seed in 0..8 {
+        let program = repository(
+            &[("chair", CHAIR), ("red", RED_WOOD), ("ana/wood", WOOD)],
+            2,
+        );
+        let d = run(&program, seed);
+        assert!(d.leaves.iter().all(|l| l.color == red), "seed {seed}");
+    }
+    // Both in the user's library: one tier, drawn between them.
+    let program = library(&[("chair", CHAIR), ("red", RED_WOOD), ("wood", WOOD)]);
+    let colors: std::collections::BTreeSet<String> = (0..16)
+        .flat_map(|seed| run(&program, seed).leaves)
+        .map(|l| format!("{:?}", l.color))
+        .collect();
+    assert_eq!(colors.len(), 2, "{colors:?}");
+}
+
+#[test]
 fn goal_grammars_are_derived_afresh_when_derived_again() {
     let program = library(&[("chair", CHAIR), ("wood", WOOD)]);
     let options = DeriveOptions {

@@ -237,6 +237,7 @@ impl Derivation {
         }
         self.skeletons.append(&mut batch.skeletons);
         self.queries.append(&mut batch.queries);
+        self.unmatched.append(&mut batch.unmatched);
         let base = if continues { 0 } else { self.tree.len() as u32 };
         if continues || self.leaves.is_empty() && self.tree.is_empty() {
             // No renumbering needed: append the leaves as they are, take the tree.
@@ -305,6 +306,8 @@ pub(super) struct Batch {
     pub(super) skeleton_room: usize,
     /// Goal grammars: what shapes of the batch sought rules for.
     pub(super) queries: Vec<GoalQuery>,
+    /// Goal grammars: what shapes of the batch that no rule applied to sought.
+    pub(super) unmatched: Vec<GoalQuery>,
     error: Option<DeriveError>,
 }
 
@@ -325,6 +328,7 @@ impl Batch {
             occluders: Vec::new(),
             snaps: Vec::new(),
             queries: Vec::new(),
+            unmatched: Vec::new(),
             error: None,
         }
     }

@@ -13,7 +13,7 @@ use super::machine::{Engine, Phase, Task, Work};
 use super::{Derivation, DeriveOptions, Fallible, InitialShape, TreeNode};
 use crate::error::DeriveError;
 use crate::expr::Evaluator;
-use crate::goals::{Candidates, GoalId, GoalRules, LeafSemantics, Semantics, Tier};
+use crate::goals::{Candidates, GoalId, GoalRules, LeafSemantics, Semantics, TIERS, Tier};
 use crate::program::{Program, RuleId, Sym};
 use crate::rng::child_seed;
 use crate::shape::{Geometry, State};
@@ -122,8 +122,10 @@ pub(super) fn run_goals(
         per_grammar[rule.grammar as usize] += n;
     }
     all.stats.grammars = rules.grammars.iter().cloned().zip(per_grammar).collect();
-    all.queries.sort();
-    all.queries.dedup();
+    for list in [&mut all.queries, &mut all.unmatched] {
+        list.sort();
+        list.dedup();
+    }
     Ok(all)
 }
 
@@ -202,6 +204,7 @@ fn derive_axiom(
         }
     }
     batch.queries.extend(engine.goal_cache.queries(rules));
+    batch.unmatched.extend(engine.goal_cache.unmatched(rules));
     engine.finish(batch);
     Ok(())
 }
@@ -245,6 +248,10 @@ impl<'p> Engine<'p> {
             .as_ref()
             .is_some_and(|s| !s.goals.is_empty());
         let rule = if open { self.choose(state)? } else { None };
+        if open && rule.is_none() {
+            let semantics = state.semantics.as_deref().expect("open goals");
+            self.goal_cache.miss(semantics);
+        }
         match rule {
             Some(rule) => {
                 let state = Box::new(state.take());
@@ -265,7 +272,7 @@ impl<'p> Engine<'p> {
         let rules = self.goal_rules();
         let semantics = state.semantics.clone().unwrap_or_default();
         let candidates = self.goal_cache.get(rules, &semantics);
-        for tier in 0..3 {
+        for tier in 0..TIERS {
             if let Some(rule) = self.draw(&candidates, tier, state)? {
                 return Ok(Some(rule));
             }

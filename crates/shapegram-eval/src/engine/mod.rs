@@ -214,6 +214,9 @@ pub struct Derivation {
     /// sought rules for (local goals left out), sorted: what a repository of other people's
     /// grammars would be asked.
     pub queries: Vec<GoalQuery>,
+    /// Goal grammars: the queries (as [`Derivation::queries`]) of shapes that no rule applied
+    /// to, so that they kept goals open: what a repository is asked for rules.
+    pub unmatched: Vec<GoalQuery>,
 }
 
 impl Derivation {

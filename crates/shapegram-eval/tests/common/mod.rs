@@ -134,6 +134,15 @@ pub fn example(name: &str) -> Program {
 /// none). Returns the program, or the rendered diagnostics when there are errors (or, when
 /// `strict`, any diagnostic at all).
 pub fn goal_library(files: &[(&str, &str)], strict: bool) -> Result<Program, String> {
+    goal_library_with_repository(files, files.len(), strict)
+}
+
+/// [`goal_library`] where the grammars from `repository_from` on came from a repository.
+pub fn goal_library_with_repository(
+    files: &[(&str, &str)],
+    repository_from: usize,
+    strict: bool,
+) -> Result<Program, String> {
     let sources: Vec<SourceFile> = files
         .iter()
         .map(|(n, t)| SourceFile::new(format!("{n}.goal"), *t))
@@ -160,7 +169,7 @@ pub fn goal_library(files: &[(&str, &str)], strict: bool) -> Result<Program, Str
             .zip(&parsed)
             .map(|((n, _), p)| (*n, &p.grammar))
             .collect();
-        let (compiled, more) = Program::compile_library(&grammars);
+        let (compiled, more) = Program::compile_with_repository(&grammars, repository_from);
         program = compiled;
         diagnostics.extend(more);
     }
