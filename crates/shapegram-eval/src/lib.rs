@@ -37,6 +37,7 @@ pub use engine::{
 pub use error::DeriveError;
 pub use goals::{GoalQuery, LeafSemantics};
 pub use imports::ImportGraph;
+pub use library::LibraryOptions;
 pub use program::{Program, RuleId, Sym};
 pub use rule_keys::RuleKeys;
 pub use shape::{Csg, CsgOp, FaceTag, Geometry, Implicit};

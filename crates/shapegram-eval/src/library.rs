@@ -102,6 +102,28 @@ impl GoalScope {
     }
 }
 
+/// How [`Program::compile_library_with`] treats a library.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct LibraryOptions {
+    /// The grammars from this index on came from a repository: their rules are tried after
+    /// all of the others (see `docs/repository.md`).
+    pub repository_from: usize,
+    /// Whether grammars outside the library may join it (a grammar published to a repository,
+    /// a derivation that asks one): an attribute no grammar of it sets is then a warning,
+    /// since another grammar may set it.
+    pub open: bool,
+}
+
+impl LibraryOptions {
+    /// A library of `n` grammars of the user's, to which nothing is added.
+    pub fn closed(n: usize) -> Self {
+        Self {
+            repository_from: n,
+            open: false,
+        }
+    }
+}
+
 impl Program {
     /// Compiles goal grammars into one program: the first is the main grammar, whose axioms
     /// a derivation starts from; the rules of all find each other by goals. Returns `None`
@@ -109,15 +131,14 @@ impl Program {
     pub fn compile_library(
         grammars: &[(&str, &Grammar)],
     ) -> (Option<Program>, Vec<(usize, Diagnostic)>) {
-        Self::compile_with_repository(grammars, grammars.len())
+        Self::compile_library_with(grammars, &LibraryOptions::closed(grammars.len()))
     }
 
-    /// Compiles a library as [`Program::compile_library`] does, where the grammars from
-    /// `repository_from` on came from a repository: their rules are tried after all of the
-    /// others (see `docs/repository.md`).
-    pub fn compile_with_repository(
+    /// Compiles a library as [`Program::compile_library`] does, with the grammars' origin and
+    /// openness as `options` say.
+    pub fn compile_library_with(
         grammars: &[(&str, &Grammar)],
-        repository_from: usize,
+        options: &LibraryOptions,
     ) -> (Option<Program>, Vec<(usize, Diagnostic)>) {
         let empty = Grammar::default();
         let mut compiler = Compiler::new_for_goals(&empty);
@@ -156,15 +177,15 @@ impl Program {
             diagnostics.extend(compiler.diagnostics.drain(..).map(|d| (k, d)));
         }
         let mut scope = *compiler.goal.take().expect("a goal compiler");
-        diagnostics.extend(check_library(&scope));
+        diagnostics.extend(check_library(&scope, options.open));
         scope.rules.goal_symbols = scope
             .rules
             .goals
             .iter()
             .map(|g| compiler.intern(&g.name))
             .collect();
-        scope.rules.repository_from =
-            (repository_from < grammars.len()).then(|| repository_from.max(1) as GrammarId);
+        scope.rules.repository_from = (options.repository_from < grammars.len())
+            .then(|| options.repository_from.max(1) as GrammarId);
         scope.rules.index();
         let failed = diagnostics.iter().any(|(_, d)| d.is_error());
         let program = compiler.finish_goals(crules, scope.rules);
@@ -446,7 +467,7 @@ fn body_goals(body: &Body) -> Vec<&ast::Goal> {
 }
 
 /// The library's checks (see the module docs), as diagnostics with their grammar.
-fn check_library(scope: &GoalScope) -> Vec<(usize, Diagnostic)> {
+fn check_library(scope: &GoalScope, open: bool) -> Vec<(usize, Diagnostic)> {
     let mut out = Vec::new();
     let name = |scope: &GoalScope, g: GoalId| scope.rules.goals[g as usize].name.to_string();
     let given: FxHashSet<GoalId> = scope.given.iter().map(|(g, _, _)| *g).collect();
@@ -574,12 +595,21 @@ fn check_library(scope: &GoalScope) -> Vec<(usize, Diagnostic)> {
             continue;
         }
         let attr_name = scope.rules.attributes[attr as usize].to_string();
-        let mut d = Diagnostic::error(
-            format!(
-                "no grammar of the library sets the attribute `{attr_name}`: the rule can never apply"
-            ),
-            span,
-        );
+        let mut d = if open {
+            Diagnostic::warning(
+                format!(
+                    "no grammar of the library sets the attribute `{attr_name}`: the rule applies only to shapes of grammars that do"
+                ),
+                span,
+            )
+        } else {
+            Diagnostic::error(
+                format!(
+                    "no grammar of the library sets the attribute `{attr_name}`: the rule can never apply"
+                ),
+                span,
+            )
+        };
         if let Some(close) = suggest(&attr_name, set_names.iter().map(String::as_str)) {
             d = d.with_hint(format!("did you mean `{close}`?"));
         } else {

@@ -3,7 +3,7 @@
 //! grammar; compile errors come back with their line and column.
 
 use serde::Serialize;
-use shapegram_eval::Program;
+use shapegram_eval::{LibraryOptions, Program};
 use shapegram_syntax::{Diagnostic, SourceFile};
 use utoipa::ToSchema;
 
@@ -51,8 +51,14 @@ pub fn check(full_name: &str, text: &str) -> Result<Checked, Vec<Problem>> {
     let mut keys = None;
     if !diagnostics.iter().any(Diagnostic::is_error) {
         // On its own: a library grammar (rules without axioms, as most published grammars
-        // are) compiles as well as one with axioms.
-        let (program, more) = Program::compile_library(&[(full_name, &parsed.grammar)]);
+        // are) compiles as well as one with axioms; and open, since other grammars will set
+        // the attributes it reads.
+        let options = LibraryOptions {
+            repository_from: 1,
+            open: true,
+        };
+        let (program, more) =
+            Program::compile_library_with(&[(full_name, &parsed.grammar)], &options);
         diagnostics.extend(more.into_iter().map(|(_, d)| d));
         keys = program.as_ref().and_then(Program::goal_rule_keys);
         if program.is_some() && keys.is_none() {

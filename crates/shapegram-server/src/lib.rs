@@ -11,6 +11,7 @@
 //! | [`tokens`] | API tokens: generation, form, hashing |
 //! | [`grammars`] | checking uploads with the engine, the rule index |
 //! | [`policy`] | who may see and do what |
+//! | [`queries`] | procedural rule queries |
 //! | [`routes`] | the HTTP handlers |
 //! | [`openapi`] | the OpenAPI document |
 //! | [`error`] | errors as JSON answers |
@@ -22,6 +23,7 @@ pub mod grammars;
 pub mod migrations;
 pub mod openapi;
 pub mod policy;
+pub mod queries;
 pub mod routes;
 pub mod sqlite;
 pub mod store;
@@ -91,6 +93,7 @@ pub fn router(state: AppState) -> Router {
             "/api/v1/grammars/{owner}/{name}/versions/{version}/rules",
             get(version_rules),
         )
+        .route("/api/v1/queries", post(queries::query_rules))
         .fallback(|| async { ApiError::not_found() })
         .method_not_allowed_fallback(|| async {
             ApiError::new(StatusCode::METHOD_NOT_ALLOWED, "method not allowed")

@@ -23,6 +23,11 @@ pub const SQLITE: &[Migration] = &[
         name: "immutable_versions",
         sql: include_str!("../migrations/sqlite/0002_immutable_versions.sql"),
     },
+    Migration {
+        version: 3,
+        name: "rule_queries",
+        sql: include_str!("../migrations/sqlite/0003_rule_queries.sql"),
+    },
 ];
 
 /// The SHA-256 of a migration's SQL, in hex.

@@ -41,6 +41,10 @@ fn now() -> i64 {
         .map_or(0, |d| d.as_secs() as i64)
 }
 
+fn db_text(e: &dyn std::fmt::Display) -> StoreError {
+    StoreError::Database(e.to_string())
+}
+
 fn is_unique_violation(e: &sqlx::Error) -> bool {
     matches!(e, sqlx::Error::Database(d) if d.is_unique_violation())
 }
@@ -691,6 +695,61 @@ impl Store for SqliteStore {
                 }
             }
             Ok(Some(out))
+        })
+    }
+
+    fn query_rules<'a>(
+        &'a self,
+        viewer: Viewer,
+        link: Link,
+        queries: &'a [Vec<String>],
+    ) -> StoreFuture<'a, QueryAnswers> {
+        Box::pin(async move {
+            // One read transaction: every answer sees the same publishes, up to `as_of`.
+            let mut tx = self.pool.begin().await.map_err(db)?;
+            let as_of: i64 = sqlx::query_scalar("SELECT coalesce(max(seq), 0) FROM publish_log")
+                .fetch_one(&mut *tx)
+                .await
+                .map_err(db)?;
+            let mut found = FoundSet::default();
+            for keys in queries {
+                let keys = serde_json::to_string(keys).map_err(|e| db_text(&e))?;
+                // The rules all of whose positive keys are among the query's (counted through
+                // the key index), or that have none; then those of the newest versions the
+                // viewer may see and the link admits; then those no negated group rules out.
+                let rows: Vec<QueryRow> = sqlx::query_as(concat!(
+                    "WITH k(key) AS (SELECT value FROM json_each(?2)),
+                     m(id, n) AS (
+                         SELECT rk.rule_id, count(*) FROM rule_key rk JOIN k ON rk.key = k.key
+                         GROUP BY rk.rule_id
+                         UNION ALL SELECT r0.id, 0 FROM rule r0 WHERE r0.n_pos = 0)
+                     SELECT g.id, a.name, g.name, v.version, v.sha256, r.idx
+                     FROM m JOIN rule r ON r.id = m.id AND r.n_pos = m.n AND r.local = 0
+                       JOIN grammar_version v ON v.id = r.version_id
+                       JOIN grammar g ON g.id = v.grammar_id AND g.latest_version = v.version
+                       JOIN account a ON a.id = g.owner_id
+                     WHERE ",
+                    visible!(),
+                    " AND (?3 = 'all' OR g.owner_id = ?1 OR (?3 = 'friends' AND EXISTS (
+                         SELECT 1 FROM friendship f WHERE f.accepted_at IS NOT NULL AND (
+                             (f.requester_id = ?1 AND f.addressee_id = g.owner_id)
+                             OR (f.addressee_id = ?1 AND f.requester_id = g.owner_id)))))
+                       AND NOT EXISTS (
+                         SELECT 1 FROM rule_neg n WHERE n.rule_id = r.id GROUP BY n.grp
+                         HAVING count(*) = sum(CASE WHEN n.key IN (SELECT key FROM k)
+                                                    THEN 1 ELSE 0 END))
+                     ORDER BY a.canon, g.canon, r.idx"
+                ))
+                .bind(viewer.account)
+                .bind(keys)
+                .bind(link.as_str())
+                .fetch_all(&mut *tx)
+                .await
+                .map_err(db)?;
+                found.answer(rows);
+            }
+            tx.commit().await.map_err(db)?;
+            Ok(found.into_answers(as_of))
         })
     }
 }

@@ -191,6 +191,60 @@ pub struct NewVersion<'a> {
     pub rules: &'a [IndexedRule],
 }
 
+/// Whose grammars a procedural rule query draws on (the paper's link modes; its fourth,
+/// `this`, asks no repository at all).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize, ToSchema)]
+#[serde(rename_all = "lowercase")]
+pub enum Link {
+    /// Every grammar the caller may see.
+    #[default]
+    All,
+    /// The caller's own grammars and their friends'.
+    Friends,
+    /// The caller's own grammars.
+    Mine,
+}
+
+impl Link {
+    pub fn as_str(self) -> &'static str {
+        match self {
+            Link::All => "all",
+            Link::Friends => "friends",
+            Link::Mine => "mine",
+        }
+    }
+}
+
+/// A grammar version that answers a rule query.
+#[derive(Clone, Debug, PartialEq, Eq, Serialize, ToSchema)]
+pub struct FoundGrammar {
+    pub owner: String,
+    pub name: String,
+    pub version: i64,
+    /// SHA-256 of the version's text, in hex.
+    pub sha256: String,
+}
+
+/// The rules of one grammar that match a query.
+#[derive(Clone, Debug, PartialEq, Eq, Serialize, ToSchema)]
+pub struct QueryMatch {
+    /// Index into [`QueryAnswers::grammars`].
+    pub grammar: usize,
+    /// The matching rules' indices in their grammar.
+    pub rules: Vec<i64>,
+}
+
+/// Answers to a batch of rule queries, read in one transaction.
+#[derive(Clone, Debug, Default, PartialEq, Eq, Serialize, ToSchema)]
+pub struct QueryAnswers {
+    /// The publish log's last entry when the answers were read (0 for an empty repository).
+    pub as_of: i64,
+    /// Every grammar version some answer names, by owner and name.
+    pub grammars: Vec<FoundGrammar>,
+    /// Per query, in order: the grammars with matching rules.
+    pub answers: Vec<Vec<QueryMatch>>,
+}
+
 /// The persistent state of a repository.
 pub trait Store: Send + Sync + 'static {
     /// Creates an account; [`StoreError::Conflict`] when the canonical name is taken.
@@ -250,6 +304,16 @@ pub trait Store: Send + Sync + 'static {
         canon: &'a str,
         version: i64,
     ) -> StoreFuture<'a, Option<VersionText>>;
+    /// Procedural rule queries: for each set of keys a shape has (`g:` open goals, `t:` tags,
+    /// `a:` attributes), the rules whose positive keys it all has and none of whose negated
+    /// groups it has entirely, from the newest version of each grammar the viewer may see
+    /// and `link` admits; rules that need a goal local to their grammar are left out.
+    fn query_rules<'a>(
+        &'a self,
+        viewer: Viewer,
+        link: Link,
+        queries: &'a [Vec<String>],
+    ) -> StoreFuture<'a, QueryAnswers>;
     /// A version's rule index, by rule index.
     fn version_rules<'a>(
         &'a self,
@@ -258,4 +322,66 @@ pub trait Store: Send + Sync + 'static {
         canon: &'a str,
         version: i64,
     ) -> StoreFuture<'a, Option<Vec<IndexedRule>>>;
+}
+
+/// A row of a rule query: grammar id, owner, name, version, SHA-256, rule index.
+pub type QueryRow = (Id, String, String, i64, String, i64);
+
+/// Gathers the rows of a batch of rule queries into [`QueryAnswers`] (for every store).
+#[derive(Default)]
+pub struct FoundSet {
+    by_id: std::collections::HashMap<Id, usize>,
+    grammars: Vec<FoundGrammar>,
+    answers: Vec<Vec<QueryMatch>>,
+}
+
+impl FoundSet {
+    /// The next query's rows, grouped by grammar in the order they come.
+    pub fn answer(&mut self, rows: Vec<QueryRow>) {
+        let mut matches: Vec<QueryMatch> = Vec::new();
+        for (id, owner, name, version, sha256, rule) in rows {
+            let next = self.grammars.len();
+            let grammar = *self.by_id.entry(id).or_insert(next);
+            if grammar == next {
+                self.grammars.push(FoundGrammar {
+                    owner,
+                    name,
+                    version,
+                    sha256,
+                });
+            }
+            match matches.last_mut() {
+                Some(m) if m.grammar == grammar => m.rules.push(rule),
+                _ => matches.push(QueryMatch {
+                    grammar,
+                    rules: vec![rule],
+                }),
+            }
+        }
+        self.answers.push(matches);
+    }
+
+    /// The answers, with the grammars sorted by owner and name (canonical forms).
+    pub fn into_answers(self, as_of: i64) -> QueryAnswers {
+        let canon = |s: &str| s.to_ascii_lowercase().replace('_', "-");
+        let mut indexed: Vec<(usize, FoundGrammar)> =
+            self.grammars.into_iter().enumerate().collect();
+        indexed.sort_by_cached_key(|(_, g)| (canon(&g.owner), canon(&g.name)));
+        let mut position = vec![0; indexed.len()];
+        for (new, (old, _)) in indexed.iter().enumerate() {
+            position[*old] = new;
+        }
+        let mut answers = self.answers;
+        for matches in &mut answers {
+            for m in matches.iter_mut() {
+                m.grammar = position[m.grammar];
+            }
+            matches.sort_by_key(|m| m.grammar);
+        }
+        QueryAnswers {
+            as_of,
+            grammars: indexed.into_iter().map(|(_, g)| g).collect(),
+            answers,
+        }
+    }
 }

@@ -143,6 +143,11 @@ fn read_cases() -> Vec<Case> {
         all,
     ));
     let signed = [401, 200, 200, 200, 401];
+    let query = |link: &str| Some(json!({"link": link, "queries": [{"goals": ["wooden"]}]}));
+    let queries = ("post", "/api/v1/queries");
+    cases.push(case(queries, "/api/v1/queries", query("all"), all));
+    cases.push(case(queries, "/api/v1/queries", query("friends"), signed));
+    cases.push(case(queries, "/api/v1/queries", query("mine"), signed));
     cases.push(case(("get", "/api/v1/me"), "/api/v1/me", None, signed));
     cases.push(case(
         ("get", "/api/v1/tokens"),
@@ -319,6 +324,17 @@ async fn lists_show_only_what_the_caller_may_see() {
         let (status, list) = app.get("/api/v1/grammars", token).await;
         assert_eq!(status, StatusCode::OK);
         assert_eq!(names(&list), expect, "{}", ACTORS[a]);
+        // Rule queries offer the same grammars, no more.
+        let (status, found) = app
+            .call(
+                Method::POST,
+                "/api/v1/queries",
+                token,
+                Some(json!({"queries": [{"goals": ["wooden"]}]})),
+            )
+            .await;
+        assert_eq!(status, StatusCode::OK, "{found}");
+        assert_eq!(names(&found["grammars"]), expect, "{}", ACTORS[a]);
         let (_, list) = app.get("/api/v1/grammars?owner=olga", token).await;
         let olga: Vec<String> = expect
             .iter()

@@ -169,7 +169,11 @@ pub fn goal_library_with_repository(
             .zip(&parsed)
             .map(|((n, _), p)| (*n, &p.grammar))
             .collect();
-        let (compiled, more) = Program::compile_with_repository(&grammars, repository_from);
+        let options = shapegram_eval::LibraryOptions {
+            repository_from,
+            open: false,
+        };
+        let (compiled, more) = Program::compile_library_with(&grammars, &options);
         program = compiled;
         diagnostics.extend(more);
     }
