@@ -11,8 +11,9 @@ use serde_json::{Value, json};
 /// What a request to the repository can fail with.
 #[derive(Debug)]
 pub enum ClientError {
-    /// The server answered with an error status: its `{"error"}` message (and, for a grammar
-    /// that does not compile, its diagnostics).
+    /// The server answered with an error status: its `{"error"}` message (or, from something
+    /// else than a repository, the status and the start of the answer) and, for a grammar that
+    /// does not compile, its diagnostics.
     Refused {
         status: u16,
         message: String,
@@ -25,9 +26,7 @@ pub enum ClientError {
 impl std::fmt::Display for ClientError {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         match self {
-            ClientError::Refused {
-                status, message, ..
-            } => write!(f, "{message} (HTTP {status})"),
+            ClientError::Refused { message, .. } => write!(f, "{message}"),
             ClientError::Connection(message) => write!(f, "{message}"),
         }
     }
@@ -133,6 +132,20 @@ pub struct Published {
     pub warnings: Vec<Diagnostic>,
 }
 
+/// The certificates of the PEM file `SSL_CERT_FILE` names, trusted instead of the built-in
+/// Mozilla roots as OpenSSL does (for a company's or a proxy's own certificate authority);
+/// `None` without one, or when it holds no certificate.
+fn roots_from_env() -> Option<ureq::tls::RootCerts> {
+    let pem = std::fs::read(std::env::var_os("SSL_CERT_FILE")?).ok()?;
+    let certs: Vec<_> = ureq::tls::parse_pem(&pem)
+        .filter_map(|item| match item {
+            Ok(ureq::tls::PemItem::Certificate(cert)) => Some(cert),
+            _ => None,
+        })
+        .collect();
+    (!certs.is_empty()).then(|| ureq::tls::RootCerts::new_with_certs(&certs))
+}
+
 /// The repository at one base URL, as one caller (anonymous without a token).
 pub struct Client {
     agent: ureq::Agent,
@@ -156,7 +169,12 @@ fn segment(text: &str) -> String {
 impl Client {
     /// A client of the repository at `base` (`http://host:port`, no trailing `/` needed).
     pub fn new(base: &str, token: Option<String>) -> Client {
+        let mut tls = ureq::tls::TlsConfig::builder();
+        if let Some(roots) = roots_from_env() {
+            tls = tls.root_certs(roots);
+        }
         let config = ureq::Agent::config_builder()
+            .tls_config(tls.build())
             // Error statuses carry the server's message: they are read, not turned into errors.
             .http_status_as_error(false)
             .timeout_connect(Some(Duration::from_secs(10)))
@@ -249,6 +267,10 @@ impl Client {
                 format!("{base} is not a repository URL (http://HOST:PORT or https://HOST)")
             }
             ureq::Error::Timeout(_) => format!("{base} did not answer in time"),
+            e if e.to_string().contains("certificate") => format!(
+                "cannot talk to {base}: {e} (to trust another certificate authority, name a PEM \
+                 file of its certificates in SSL_CERT_FILE)"
+            ),
             e => format!("cannot talk to {base}: {e}"),
         })
     }
@@ -403,9 +425,9 @@ fn refusal(status: u16, text: &str) -> ClientError {
             ClientError::Refused {
                 status,
                 message: if start.trim().is_empty() {
-                    "the server refused the request".to_owned()
+                    format!("the server answered HTTP {status}")
                 } else {
-                    format!("the server refused the request: {}", start.trim())
+                    format!("the server answered HTTP {status}: {}", start.trim())
                 },
                 diagnostics: Vec::new(),
             }
@@ -427,11 +449,11 @@ mod tests {
     #[test]
     fn refusals_carry_the_servers_message_or_its_text() {
         let e = refusal(404, r#"{"error": "not found"}"#);
-        assert_eq!(e.to_string(), "not found (HTTP 404)");
+        assert_eq!(e.to_string(), "not found");
         let e = refusal(502, "<html>Bad Gateway</html>");
         assert_eq!(
             e.to_string(),
-            "the server refused the request: <html>Bad Gateway</html> (HTTP 502)"
+            "the server answered HTTP 502: <html>Bad Gateway</html>"
         );
         let e = refusal(
             422,
