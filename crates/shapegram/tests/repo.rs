@@ -117,7 +117,8 @@ fn publish_search_fetch_and_friends_through_the_command_line() {
         (1, "error: the name Ana is taken\n")
     );
 
-    // Login with the password on standard input; the token lands in a private file.
+    // Login with the password on standard input; the token lands in a private file, and the
+    // one it replaces is revoked.
     let wrong = ana.run_with_input(&["login", "ana", "--password-stdin"], "not it\n");
     assert_eq!(
         (wrong.code, wrong.stderr.as_str()),
@@ -260,6 +261,55 @@ fn publish_search_fetch_and_friends_through_the_command_line() {
     assert_eq!(
         ana.run(&["fetch", "ana/broken"]).stderr,
         "error: not found\n"
+    );
+
+    // A token for CI: printed once, sent through SHAPEGRAM_TOKEN, listed, revoked.
+    let made = ana.run(&["tokens", "new", "ci"]).ok();
+    let ci = made.stdout.trim_end().to_owned();
+    assert!(
+        ci.starts_with("sgr_") && made.stdout.ends_with('\n'),
+        "{made:?}"
+    );
+    let as_ci = |args: &[&str]| {
+        Run::of(
+            bob.command(args)
+                .env("SHAPEGRAM_TOKEN", &ci)
+                .output()
+                .unwrap(),
+        )
+    };
+    assert_eq!(
+        as_ci(&["whoami"]).ok().stdout,
+        "ana\n",
+        "the token overrides bob's login"
+    );
+    let list = ana.run(&["tokens"]).ok().stdout;
+    let rows: Vec<(&str, &str, &str)> = list
+        .lines()
+        .map(|l| {
+            let cells: Vec<&str> = l.split_whitespace().collect();
+            (cells[0], cells[1], *cells.last().unwrap())
+        })
+        .collect();
+    assert_eq!(
+        rows,
+        [
+            ("ID", "NAME", "STATE"),
+            ("1", "login", "revoked"),
+            ("3", "login", "active"),
+            ("4", "ci", "active")
+        ],
+        "{list}"
+    );
+    assert_eq!(
+        ana.run(&["tokens", "revoke", "4"]).ok().stderr,
+        "revoked token 4\n"
+    );
+    assert_eq!(as_ci(&["whoami"]).code, 1);
+    let other = ana.run(&["tokens", "revoke", "2"]);
+    assert_eq!(
+        (other.code, other.stderr.as_str()),
+        (1, "error: not found\n")
     );
 
     // Logout revokes the token: sent again, the server refuses it.

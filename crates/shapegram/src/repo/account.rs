@@ -7,15 +7,15 @@ use super::credentials::Login;
 use super::{FriendAction, LoginArgs, Repo, TokenAction, failure, table, usage, utc};
 use crate::{Failure, print_stdout};
 
-/// The account's name: given, or asked for on the terminal.
-fn name(args: &LoginArgs) -> Result<String, Failure> {
+/// The account's name: given, or asked for on the terminal (`command`: `signup` or `login`).
+fn name(args: &LoginArgs, command: &str) -> Result<String, Failure> {
     if let Some(name) = &args.name {
         return Ok(name.clone());
     }
     if args.password_stdin || !std::io::stdin().is_terminal() {
-        return Err(usage(
-            "give the account's name: `shapegram repo login NAME --password-stdin`",
-        ));
+        return Err(usage(format!(
+            "give the account's name: `shapegram repo {command} NAME --password-stdin`"
+        )));
     }
     eprint!("name: ");
     let mut line = String::new();
@@ -71,6 +71,11 @@ fn log_in(repo: &Repo, name: &str, password: &str) -> Result<(), Failure> {
         id: token.info.id,
         token: token.token,
     }))?;
+    if let Some(old) = &repo.login {
+        // The token this login replaces would stay valid, unused and unseen: revoke it (with
+        // itself, so only ever the caller's own). Already revoked or unreachable: nothing lost.
+        let _ = Client::new(&repo.url, Some(old.token.clone())).revoke_token(old.id);
+    }
     eprintln!(
         "logged in to {} as {} (token stored in {})",
         repo.url,
@@ -85,7 +90,7 @@ fn log_in(repo: &Repo, name: &str, password: &str) -> Result<(), Failure> {
 
 /// `signup`: creates the account, then logs in.
 pub fn signup(repo: &Repo, args: &LoginArgs) -> Result<(), Failure> {
-    let name = name(args)?;
+    let name = name(args, "signup")?;
     let password = password(args, !args.password_stdin)?;
     let account = Client::new(&repo.url, None)
         .sign_up(&name, &password)
@@ -96,7 +101,7 @@ pub fn signup(repo: &Repo, args: &LoginArgs) -> Result<(), Failure> {
 
 /// `login`.
 pub fn login(repo: &Repo, args: &LoginArgs) -> Result<(), Failure> {
-    let name = name(args)?;
+    let name = name(args, "login")?;
     let password = password(args, false)?;
     log_in(repo, &name, &password)
 }

@@ -43,8 +43,8 @@ pub enum RepoCommand {
             Asks for the name (unless given) and the password (not shown as it is typed).\n\
             The token is stored per repository URL in credentials.json, in\n\
             $SHAPEGRAM_CONFIG_DIR, else $XDG_CONFIG_HOME/shapegram, else ~/.config/shapegram,\n\
-            readable by you alone. The other commands send it; SHAPEGRAM_TOKEN, when set, is\n\
-            sent instead.",
+            readable by you alone; the token it replaces is revoked. The other commands send\n\
+            it; SHAPEGRAM_TOKEN, when set, is sent instead.",
         after_help = "Examples:\n  \
             shapegram repo login\n  \
             shapegram repo login ana --repo https://grammars.example.org\n  \
