@@ -80,6 +80,7 @@ pub fn router(state: AppState) -> Router {
         )
         .route("/api/v1/friends/{user}/accept", post(accept_friend))
         .route("/api/v1/grammars", get(list_grammars))
+        .route("/api/v1/search", get(search))
         .route("/api/v1/grammars/{owner}/{name}", get(grammar))
         .route(
             "/api/v1/grammars/{owner}/{name}/versions",

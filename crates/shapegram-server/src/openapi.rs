@@ -13,7 +13,7 @@ use crate::routes;
         routes::sign_up, routes::login, routes::me,
         routes::create_token, routes::list_tokens, routes::revoke_token,
         routes::friends, routes::request_friend, routes::accept_friend, routes::remove_friend,
-        routes::list_grammars, routes::grammar, routes::versions, routes::version,
+        routes::list_grammars, routes::search, routes::grammar, routes::versions, routes::version,
         routes::version_rules, routes::publish, crate::queries::query_rules,
     ),
     modifiers(&BearerAuth)

@@ -322,6 +322,134 @@ pub async fn list_grammars(
     Ok(Json(list))
 }
 
+/// Results per search page unless `per_page` says otherwise.
+pub const SEARCH_PAGE: u32 = 50;
+/// The most results a search page has.
+pub const MAX_SEARCH_PAGE: u32 = 100;
+/// The last page a search reaches (the database skips the pages before it one row at a time).
+pub const MAX_SEARCH_PAGES: u32 = 10_000;
+
+/// What to search for; every filter is optional and all given must hold.
+#[derive(Deserialize, IntoParams)]
+#[serde(deny_unknown_fields)]
+pub struct SearchParams {
+    /// A goal the grammar provides: its latest version has a rule for it (`fulfills(NAME)`,
+    /// indexed as `g:NAME`). Goal names are matched exactly.
+    pub goal: Option<String>,
+    /// A tag the grammar's rules apply to: its latest version has a rule for shapes with it
+    /// (`is(NAME)`, indexed as `t:NAME`).
+    pub tag: Option<String>,
+    /// Text the grammar's name contains (upper and lower case, `-` and `_` alike).
+    pub q: Option<String>,
+    /// Only this account's grammars.
+    pub owner: Option<String>,
+    /// The page, from 1 (the default) to 10,000.
+    pub page: Option<u32>,
+    /// Results per page, from 1 to 100; 50 by default.
+    pub per_page: Option<u32>,
+}
+
+/// A page of search results.
+#[derive(Serialize, ToSchema)]
+pub struct SearchResults {
+    /// The grammars found, by owner and name.
+    pub grammars: Vec<GrammarSummary>,
+    pub page: u32,
+    pub per_page: u32,
+    /// The next page's number, when there are more results.
+    pub next_page: Option<u32>,
+}
+
+/// A goal or tag name to search for: what a grammar could name.
+fn search_key(what: &str, name: &Option<String>) -> ApiResult<Option<String>> {
+    match name {
+        None => Ok(None),
+        Some(name) => {
+            let n = name.chars().count();
+            if n == 0 || n > 100 || name.chars().any(char::is_control) {
+                Err(ApiError::bad_request(format!(
+                    "a {what} name has 1 to 100 characters, none a control character"
+                )))
+            } else {
+                Ok(Some(name.clone()))
+            }
+        }
+    }
+}
+
+/// Searches the grammars the caller may see by the goals and tags of their latest version's
+/// rules, their name and owner: a page of them, by owner and name.
+#[utoipa::path(get, path = "/api/v1/search", tag = "grammars", params(SearchParams),
+    security((), ("bearer" = [])),
+    responses((status = 200, body = SearchResults), (status = 400, body = ErrorBody),
+        (status = 401, body = ErrorBody)))]
+pub async fn search(
+    State(state): State<AppState>,
+    Caller(caller): Caller,
+    ApiQuery(params): ApiQuery<SearchParams>,
+) -> ApiResult<Json<SearchResults>> {
+    let goal = search_key("goal", &params.goal)?;
+    let tag = search_key("tag", &params.tag)?;
+    let page = params.page.unwrap_or(1);
+    if !(1..=MAX_SEARCH_PAGES).contains(&page) {
+        return Err(ApiError::bad_request(format!(
+            "page is a number from 1 to {MAX_SEARCH_PAGES}"
+        )));
+    }
+    let per_page = params.per_page.unwrap_or(SEARCH_PAGE);
+    if !(1..=MAX_SEARCH_PAGE).contains(&per_page) {
+        return Err(ApiError::bad_request(format!(
+            "per_page is a number from 1 to {MAX_SEARCH_PAGE}"
+        )));
+    }
+    let name = match params.q.as_deref().filter(|q| !q.is_empty()) {
+        Some(q) if q.len() > MAX_GRAMMAR_NAME => {
+            return Err(ApiError::bad_request(format!(
+                "q has at most {MAX_GRAMMAR_NAME} characters (the longest name)"
+            )));
+        }
+        Some(q) => Some(q.to_ascii_lowercase().replace('_', "-")),
+        None => None,
+    };
+    let owner = match &params.owner {
+        Some(owner) => match accounts::canonical_name("account", owner, MAX_ACCOUNT_NAME) {
+            Ok(owner) => Some(owner),
+            Err(_) => {
+                return Ok(Json(SearchResults {
+                    grammars: Vec::new(),
+                    page,
+                    per_page,
+                    next_page: None,
+                }));
+            }
+        },
+        None => None,
+    };
+    // One more than the page holds tells whether another page follows.
+    let mut grammars = state
+        .store
+        .search_grammars(
+            Viewer::of(caller.as_ref()),
+            SearchQuery {
+                goal: goal.as_deref(),
+                tag: tag.as_deref(),
+                name: name.as_deref(),
+                owner_canon: owner.as_deref(),
+                limit: i64::from(per_page) + 1,
+                offset: i64::from(page - 1) * i64::from(per_page),
+            },
+        )
+        .await?;
+    let more = grammars.len() > per_page as usize;
+    grammars.truncate(per_page as usize);
+    Ok(Json(SearchResults {
+        grammars,
+        page,
+        per_page,
+        next_page: (more && page < MAX_SEARCH_PAGES).then_some(page + 1),
+    }))
+}
+
 /// A grammar.
 #[utoipa::path(get, path = "/api/v1/grammars/{owner}/{name}", tag = "grammars",
     security((), ("bearer" = [])), params(("owner" = String, Path), ("name" = String, Path)),

@@ -134,6 +134,20 @@ impl SqliteStore {
     }
 }
 
+/// A LIKE pattern (escape character `\\`) matching names that contain `text`.
+fn like_pattern(text: &str) -> String {
+    let mut pattern = String::with_capacity(text.len() + 2);
+    pattern.push('%');
+    for c in text.chars() {
+        if matches!(c, '%' | '_' | '\\') {
+            pattern.push('\\');
+        }
+        pattern.push(c);
+    }
+    pattern.push('%');
+    pattern
+}
+
 fn summary(row: sqlx::sqlite::SqliteRow) -> Result<GrammarSummary, StoreError> {
     let visibility: String = row.try_get(2).map_err(db)?;
     Ok(GrammarSummary {
@@ -515,6 +529,46 @@ impl Store for SqliteStore {
             ))
             .bind(viewer.account)
             .bind(owner_canon)
+            .fetch_all(&self.pool)
+            .await
+            .map_err(db)?;
+            rows.into_iter().map(summary).collect()
+        })
+    }
+
+    fn search_grammars<'a>(
+        &'a self,
+        viewer: Viewer,
+        query: SearchQuery<'a>,
+    ) -> StoreFuture<'a, Vec<GrammarSummary>> {
+        Box::pin(async move {
+            let goal = query.goal.map(|goal| format!("g:{goal}"));
+            let tag = query.tag.map(|tag| format!("t:{tag}"));
+            let pattern = query.name.map(like_pattern);
+            // Portable SQL (the PostgreSQL store shares it): LIKE on the lower-case canonical
+            // name; per key, the versions that have it, read once from the index by key (a
+            // correlated EXISTS per grammar was 4 to 8 times slower over 20,000 grammars).
+            let rows = sqlx::query(concat!(
+                "SELECT a.name, g.name, g.visibility, g.latest_version, g.updated_at
+                 FROM grammar g JOIN account a ON a.id = g.owner_id
+                   JOIN grammar_version v ON v.grammar_id = g.id AND v.version = g.latest_version
+                 WHERE (?2 IS NULL OR a.canon = ?2)
+                   AND (?3 IS NULL OR g.canon LIKE ?3 ESCAPE '\\')
+                   AND (?4 IS NULL OR v.id IN (SELECT r.version_id FROM rule_key k
+                        JOIN rule r ON r.id = k.rule_id WHERE k.key = ?4))
+                   AND (?5 IS NULL OR v.id IN (SELECT r.version_id FROM rule_key k
+                        JOIN rule r ON r.id = k.rule_id WHERE k.key = ?5))
+                   AND ",
+                visible!(),
+                " ORDER BY a.canon, g.canon LIMIT ?6 OFFSET ?7"
+            ))
+            .bind(viewer.account)
+            .bind(query.owner_canon)
+            .bind(pattern)
+            .bind(goal)
+            .bind(tag)
+            .bind(query.limit)
+            .bind(query.offset)
             .fetch_all(&self.pool)
             .await
             .map_err(db)?;

@@ -179,6 +179,22 @@ pub struct IndexedRule {
     pub conditional: bool,
 }
 
+/// What a search asks for: grammars whose latest version has a rule indexed with the goal key
+/// `g:GOAL` and one with the tag key `t:TAG`, whose canonical name contains `name`, of one
+/// owner; every filter is optional. Results are ordered by owner and name (canonical forms).
+#[derive(Clone, Copy, Debug, Default)]
+pub struct SearchQuery<'a> {
+    pub goal: Option<&'a str>,
+    pub tag: Option<&'a str>,
+    /// A substring of the canonical name (lower case, `-` for `_`).
+    pub name: Option<&'a str>,
+    pub owner_canon: Option<&'a str>,
+    /// The most results to return.
+    pub limit: i64,
+    /// How many results to skip first (those of the pages before).
+    pub offset: i64,
+}
+
 /// What a publish writes, checked beforehand.
 pub struct NewVersion<'a> {
     pub owner: &'a Account,
@@ -283,6 +299,13 @@ pub trait Store: Send + Sync + 'static {
         &'a self,
         viewer: Viewer,
         owner_canon: Option<&'a str>,
+    ) -> StoreFuture<'a, Vec<GrammarSummary>>;
+    /// Grammars the viewer may see that match the query, by owner and name (see
+    /// [`SearchQuery`]).
+    fn search_grammars<'a>(
+        &'a self,
+        viewer: Viewer,
+        query: SearchQuery<'a>,
     ) -> StoreFuture<'a, Vec<GrammarSummary>>;
     fn grammar<'a>(
         &'a self,

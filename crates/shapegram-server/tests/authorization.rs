@@ -142,6 +142,12 @@ fn read_cases() -> Vec<Case> {
         None,
         all,
     ));
+    cases.push(case(
+        ("get", "/api/v1/search"),
+        "/api/v1/search?goal=wooden",
+        None,
+        all,
+    ));
     let signed = [401, 200, 200, 200, 401];
     let query = |link: &str| Some(json!({"link": link, "queries": [{"goals": ["wooden"]}]}));
     let queries = ("post", "/api/v1/queries");
@@ -335,6 +341,10 @@ async fn lists_show_only_what_the_caller_may_see() {
             .await;
         assert_eq!(status, StatusCode::OK, "{found}");
         assert_eq!(names(&found["grammars"]), expect, "{}", ACTORS[a]);
+        // Search applies the same rule: every grammar here provides the goal `wooden`.
+        let (status, found) = app.get("/api/v1/search?goal=wooden", token).await;
+        assert_eq!(status, StatusCode::OK);
+        assert_eq!(names(&found["grammars"]), expect, "search as {}", ACTORS[a]);
         let (_, list) = app.get("/api/v1/grammars?owner=olga", token).await;
         let olga: Vec<String> = expect
             .iter()
@@ -350,6 +360,14 @@ async fn lists_show_only_what_the_caller_may_see() {
     assert_eq!(status, StatusCode::OK);
     assert_eq!(
         names(&app.get("/api/v1/grammars?owner=olga", Some(sam)).await.1),
+        ["olga/pub"]
+    );
+    assert_eq!(
+        names(
+            &app.get("/api/v1/search?goal=wooden&owner=olga", Some(sam))
+                .await
+                .1["grammars"]
+        ),
         ["olga/pub"]
     );
 }

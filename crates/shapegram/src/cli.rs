@@ -126,6 +126,23 @@ pub enum Command {
             shapegram serve --data /srv/grammars.db --listen 0.0.0.0:8080"
     )]
     Serve(crate::serve::ServeArgs),
+    /// Publish, search and fetch goal grammars in a repository; log in, manage friends
+    #[command(
+        long_about = "Publish, search and fetch goal grammars in a grammar repository (a\n\
+            `shapegram serve`); sign up, log in, manage friends and API tokens.\n\n\
+            The repository is --repo URL, else $SHAPEGRAM_REPO, else http://127.0.0.1:8080.\n\
+            `login` keeps a token per repository in credentials.json (see `repo login --help`);\n\
+            SHAPEGRAM_TOKEN overrides it. Exit codes: 0 done, 1 refused by the server (not\n\
+            found, not allowed, does not compile), 2 a usage error or no connection. See\n\
+            docs/repository.md.",
+        after_help = "Examples:\n  \
+            shapegram repo signup ana\n  \
+            shapegram repo publish examples/chairs/materials/wood.goal --visibility friends\n  \
+            shapegram repo search --goal wooden\n  \
+            shapegram repo fetch ana/wood -o wood.goal\n  \
+            shapegram repo friends add bob"
+    )]
+    Repo(crate::repo::RepoArgs),
 }
 
 /// Arguments of `shapegram primitive`.

@@ -12,6 +12,7 @@ mod lsystem;
 mod pose;
 mod primitive;
 mod progress;
+mod repo;
 mod search;
 mod serve;
 mod topo;
@@ -34,6 +35,7 @@ fn main() -> ExitCode {
         Command::Cave(args) => cave::run(args),
         Command::Topo(args) => topo::run(args),
         Command::Serve(args) => serve::run(args),
+        Command::Repo(args) => repo::run(args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
@@ -76,6 +78,12 @@ impl Failure {
             hints: Vec::new(),
             code: 1,
         }
+    }
+
+    /// The same failure with another exit code (2: usage errors, no connection).
+    pub fn with_code(mut self, code: u8) -> Self {
+        self.code = code;
+        self
     }
 
     /// The same failure with `= hint:` lines.

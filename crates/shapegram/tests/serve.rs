@@ -1,48 +1,14 @@
 //! End to end: `shapegram serve` as a child process on a free port, over real HTTP: it creates
 //! the database, and a restart on the same file keeps every published version as it was.
 
-use std::io::{BufRead, BufReader, Read, Write};
+use std::io::{Read, Write};
 use std::net::TcpStream;
-use std::process::{Child, Command, Stdio};
+use std::process::Command;
 
 mod common;
 
-use common::TempDir;
+use common::{Server, TempDir, start_server as start};
 use serde_json::{Value, json};
-
-struct Server {
-    child: Child,
-    addr: String,
-}
-
-impl Drop for Server {
-    fn drop(&mut self) {
-        let _ = self.child.kill();
-        let _ = self.child.wait();
-    }
-}
-
-fn start(db: &std::path::Path) -> Server {
-    let mut child = Command::new(env!("CARGO_BIN_EXE_shapegram"))
-        .args(["serve", "--listen", "127.0.0.1:0", "--data"])
-        .arg(db)
-        .stdout(Stdio::piped())
-        .stderr(Stdio::inherit())
-        .spawn()
-        .unwrap();
-    let mut line = String::new();
-    BufReader::new(child.stdout.take().unwrap())
-        .read_line(&mut line)
-        .unwrap();
-    let addr = line
-        .split("http://")
-        .nth(1)
-        .and_then(|rest| rest.split_whitespace().next())
-        .unwrap_or_else(|| panic!("no address in {line:?}"))
-        .to_owned();
-    assert!(line.contains("listening"), "{line}");
-    Server { child, addr }
-}
 
 /// One HTTP/1.1 request: the status and JSON body.
 fn http(
