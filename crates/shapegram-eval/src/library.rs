@@ -109,8 +109,8 @@ pub struct LibraryOptions {
     /// all of the others (see `docs/repository.md`).
     pub repository_from: usize,
     /// Whether grammars outside the library may join it (a grammar published to a repository,
-    /// a derivation that asks one): an attribute no grammar of it sets is then a warning,
-    /// since another grammar may set it.
+    /// a derivation that asks one): an attribute no grammar of it sets is then no error, since
+    /// another grammar may set it (a near miss of one it sets is a warning).
     pub open: bool,
 }
 
@@ -595,22 +595,22 @@ fn check_library(scope: &GoalScope, open: bool) -> Vec<(usize, Diagnostic)> {
             continue;
         }
         let attr_name = scope.rules.attributes[attr as usize].to_string();
-        let mut d = if open {
-            Diagnostic::warning(
-                format!(
-                    "no grammar of the library sets the attribute `{attr_name}`: the rule applies only to shapes of grammars that do"
-                ),
+        let close = suggest(&attr_name, set_names.iter().map(String::as_str));
+        // In an open library another grammar may set it: only a near miss is worth a word.
+        let mut d = match (open, &close) {
+            (true, None) => continue,
+            (true, Some(_)) => Diagnostic::warning(
+                format!("no grammar of the library sets the attribute `{attr_name}`"),
                 span,
-            )
-        } else {
-            Diagnostic::error(
+            ),
+            (false, _) => Diagnostic::error(
                 format!(
                     "no grammar of the library sets the attribute `{attr_name}`: the rule can never apply"
                 ),
                 span,
-            )
+            ),
         };
-        if let Some(close) = suggest(&attr_name, set_names.iter().map(String::as_str)) {
+        if let Some(close) = close {
             d = d.with_hint(format!("did you mean `{close}`?"));
         } else {
             d = d.with_hint(format!(

@@ -226,6 +226,31 @@ pub struct InfoArgs {
     pub json: bool,
 }
 
+/// Whose published grammars a derivation with a repository draws on (the paper's link modes).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum LinkMode {
+    /// Every grammar you may see
+    All,
+    /// Yours and your friends'
+    Friends,
+    /// Yours
+    Mine,
+    /// None: the grammar and its library alone
+    This,
+}
+
+impl LinkMode {
+    /// The name the repository's API and the lock file use.
+    pub fn as_str(self) -> &'static str {
+        match self {
+            LinkMode::All => "all",
+            LinkMode::Friends => "friends",
+            LinkMode::Mine => "mine",
+            LinkMode::This => "this",
+        }
+    }
+}
+
 /// Arguments of `shapegram derive`.
 #[derive(Debug, Args)]
 pub struct DeriveArgs {
@@ -283,6 +308,20 @@ pub struct DeriveArgs {
     /// whose rules fulfil the goals the grammar's own rules leave open (repeatable)
     #[arg(long, value_name = "PATH")]
     pub library: Vec<PathBuf>,
+    /// Goal grammars: ask the grammar repository at URL (`shapegram serve`) for rules for the
+    /// goals that the grammar and its library leave open, and pin the versions found in the lock
+    /// file beside the grammar (GRAMMAR.lock), which later runs use (docs/repository.md)
+    #[arg(long, value_name = "URL")]
+    pub repo: Option<String>,
+    /// Whose published grammars --repo draws on [default: all]
+    #[arg(long, value_name = "WHOSE")]
+    pub link: Option<LinkMode>,
+    /// Ask the repository afresh, ignoring the lock file, and rewrite it
+    #[arg(long)]
+    pub update: bool,
+    /// Use the lock file and the local cache of grammars only: no network
+    #[arg(long, conflicts_with = "update")]
+    pub offline: bool,
     /// Stop with an error when one lot takes longer than this (0: no limit)
     #[arg(long, value_name = "SECONDS", default_value_t = 60.0, value_parser = parse_timeout)]
     pub timeout: f64,

@@ -9,7 +9,7 @@ use std::time::{Duration, Instant};
 use serde::Serialize;
 use serde::ser::SerializeMap;
 use shapegram_eval::{
-    ASSET_VARIANTS, Asset, AssetLoader, Derivation, DeriveError, DeriveOptions, Value,
+    ASSET_VARIANTS, Asset, AssetLoader, Derivation, DeriveError, DeriveOptions, Program, Value,
 };
 use shapegram_export::{ExportOptions, Format};
 use shapegram_geom::{DVec3, Mesh, Model};
@@ -18,7 +18,7 @@ use shapegram_syntax::SourceFile;
 
 use crate::cli::{DeriveArgs, MissingAssets};
 use crate::progress::with_spinner;
-use crate::{Failure, counted, grammar, lots, print_stdout};
+use crate::{Failure, counted, grammar, lots, print_stdout, resolve};
 
 /// Derives, writes and reports.
 pub fn run(args: &DeriveArgs) -> Result<(), Failure> {
@@ -33,10 +33,10 @@ pub fn run(args: &DeriveArgs) -> Result<(), Failure> {
         }
     }
     let source = grammar::read(&args.grammar, !args.quiet)?;
-    let (program, sources) = compile(source, args)?;
-    let source = &sources[0];
+    let goal = grammar::is_goal_grammar(&source, args.dialect.dialect());
+    check_goal_options(&source, goal, args)?;
     // Goal grammars start from their axioms: lots only when asked for.
-    let lots = if program.is_goal_grammar() && args.lot.is_empty() && args.lots.is_empty() {
+    let lots = if goal && args.lot.is_empty() && args.lots.is_empty() {
         Vec::new()
     } else {
         lots
@@ -66,11 +66,38 @@ pub fn run(args: &DeriveArgs) -> Result<(), Failure> {
     let started = Instant::now();
     let spinner = !args.quiet && std::io::stderr().is_terminal();
     let label = format!("deriving {}", source.name());
-    let result = with_spinner(spinner, &label, || {
-        shapegram_eval::derive(&program, &lots, &options)
-    });
+    let derive = |program: &Program, sources: &[SourceFile]| {
+        shapegram_eval::derive(program, &lots, &options).map_err(|e| derive_failure(sources, &e))
+    };
+    let derived = if goal {
+        // Goal grammars: with their library, and with a repository when asked or locked.
+        let plan = resolve::plan(args)?;
+        let local = grammar::read_library(source, &args.grammar, &args.library, !args.quiet)?;
+        let library = resolve::Library {
+            local,
+            args,
+            derive: &derive,
+        };
+        with_spinner(spinner, &label, || resolve::derive(&library, plan))?
+    } else {
+        let (program, sources) =
+            grammar::compile(&source, !args.quiet, args.dialect.dialect()).into_program()?;
+        let derivation = with_spinner(spinner, &label, || derive(&program, &sources))?;
+        resolve::Derived {
+            program,
+            sources,
+            derivation,
+            report: None,
+        }
+    };
     let derive_time = started.elapsed();
-    let derivation = result.map_err(|e| derive_failure(&sources, &e))?;
+    let resolve::Derived {
+        program,
+        sources,
+        derivation,
+        report,
+    } = derived;
+    let source = &sources[0];
     let mut prints = String::new();
     for text in &derivation.prints {
         for line in text.split('\n') {
@@ -140,6 +167,9 @@ pub fn run(args: &DeriveArgs) -> Result<(), Failure> {
                 stats.grammars.len()
             )
         };
+        if let Some(report) = &report {
+            eprint!("{}", report.summary());
+        }
         eprintln!(
             "derived {target}: {starts}, {}, {}, {}",
             counted(stats.shapes, "shape", "shapes"),
@@ -159,6 +189,7 @@ pub fn run(args: &DeriveArgs) -> Result<(), Failure> {
         );
         json.named_poses = named_poses.into_iter().map(|(name, _)| name).collect();
         json.at_node = args.at_node;
+        json.repository = report;
         let mut text = serde_json::to_string(&json)
             .map_err(|e| Failure::new(format!("cannot render JSON: {e}")))?;
         text.push('\n');
@@ -217,47 +248,26 @@ fn add_named_poses(
     Ok(())
 }
 
-/// Compiles the grammar: alone, or as a goal grammar with the goal grammars of `--library`.
-/// Returns the program and the sources its errors may point into, the grammar's first.
-fn compile(
-    source: SourceFile,
-    args: &DeriveArgs,
-) -> Result<(shapegram_eval::Program, Vec<SourceFile>), Failure> {
-    let dialect = args.dialect.dialect();
-    if !grammar::is_goal_grammar(&source, dialect) {
-        if !args.library.is_empty() {
-            return Err(Failure::new(format!(
-                "{} is not a goal grammar: --library gives goal grammars their rules",
-                source.name()
-            ))
-            .with_hints(vec![
+/// `--library` and the repository's options are for goal grammars only.
+fn check_goal_options(source: &SourceFile, goal: bool, args: &DeriveArgs) -> Result<(), Failure> {
+    if goal {
+        return Ok(());
+    }
+    let option = if !args.library.is_empty() {
+        "--library gives goal grammars their rules"
+    } else if args.repo.is_some() || args.link.is_some() || args.update || args.offline {
+        "--repo, --link, --update and --offline find rules for goal grammars"
+    } else {
+        return Ok(());
+    };
+    Err(
+        Failure::new(format!("{} is not a goal grammar: {option}", source.name())).with_hints(
+            vec![
                 "goal grammars have axioms and rules like `fulfills(chair) --> …` (docs/goals.md)"
                     .to_owned(),
-            ]));
-        }
-        return grammar::compile(&source, !args.quiet, dialect).into_program();
-    }
-    let sources = grammar::read_library(source, &args.grammar, &args.library, !args.quiet)?;
-    let compiled = grammar::compile_library(sources, !args.quiet, dialect);
-    match compiled.program {
-        Some(program) if compiled.errors == 0 => Ok((program, compiled.sources)),
-        _ => Err(Failure::new(grammar::error_summary(
-            compiled.errors,
-            &library_name(&compiled.sources),
-        ))),
-    }
-}
-
-/// `chair.goal` or `chair.goal and its library of 3 files`.
-fn library_name(sources: &[SourceFile]) -> String {
-    match sources.len() {
-        1 => sources[0].name().to_owned(),
-        n => format!(
-            "{} and its library of {}",
-            sources[0].name(),
-            counted(n - 1, "file", "files")
+            ],
         ),
-    }
+    )
 }
 
 /// Prints a derivation error against the grammar file it has a place in; otherwise the
@@ -602,6 +612,9 @@ struct StatsJson<'a> {
     /// Goal grammars only.
     #[serde(skip_serializing_if = "Option::is_none")]
     goals: Option<GoalsJson>,
+    /// Goal grammars derived with a repository only.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    repository: Option<resolve::Report>,
 }
 
 /// What `--stats` says of a goal grammar's derivation: its steps, the rules and grammars it
@@ -720,6 +733,7 @@ impl<'a> StatsJson<'a> {
             named_poses: Vec::new(),
             at_node: None,
             goals: GoalsJson::of(derivation),
+            repository: None,
         }
     }
 }

@@ -2,7 +2,7 @@
 
 use std::path::Path;
 
-use shapegram_eval::Program;
+use shapegram_eval::{LibraryOptions, Program};
 use shapegram_syntax::{Diagnostic, Dialect, SourceFile, ast};
 
 use crate::{Failure, counted};
@@ -358,6 +358,19 @@ pub fn compile_library(
     print_warnings: bool,
     dialect: Option<Dialect>,
 ) -> CompiledLibrary {
+    let options = LibraryOptions::closed(sources.len());
+    compile_library_with(sources, print_warnings, dialect, &options)
+}
+
+/// [`compile_library`] for a library that `options` says more of: the grammars from a
+/// repository (named `owner/name@version`, their warnings not printed: they are not the
+/// user's to fix) and whether others may join it.
+pub fn compile_library_with(
+    sources: Vec<SourceFile>,
+    print_warnings: bool,
+    dialect: Option<Dialect>,
+    options: &LibraryOptions,
+) -> CompiledLibrary {
     let parsed: Vec<shapegram_syntax::Parsed> = sources
         .iter()
         .enumerate()
@@ -372,7 +385,17 @@ pub fn compile_library(
         .enumerate()
         .flat_map(|(i, p)| p.diagnostics.iter().map(move |d| (i, d.clone())))
         .collect();
-    let names: Vec<String> = sources.iter().map(|s| stem(s.name())).collect();
+    let names: Vec<String> = sources
+        .iter()
+        .enumerate()
+        .map(|(i, s)| {
+            if i < options.repository_from {
+                stem(s.name())
+            } else {
+                s.name().to_owned()
+            }
+        })
+        .collect();
     let program = if diagnostics.iter().any(|(_, d)| d.is_error()) {
         None
     } else {
@@ -381,14 +404,14 @@ pub fn compile_library(
             .zip(&parsed)
             .map(|(n, p)| (n.as_str(), &p.grammar))
             .collect();
-        let (program, more) = Program::compile_library(&grammars);
+        let (program, more) = Program::compile_library_with(&grammars, options);
         diagnostics.extend(more);
         program
     };
     let errors = diagnostics.iter().filter(|(_, d)| d.is_error()).count();
     let mut text = String::new();
     for (i, d) in &diagnostics {
-        if d.is_error() || print_warnings {
+        if d.is_error() || (print_warnings && *i < options.repository_from) {
             text.push_str(&sources[*i].render(d));
             text.push('\n');
         }
@@ -400,6 +423,18 @@ pub fn compile_library(
         errors,
         rules: parsed.iter().map(|p| p.grammar.goal_rules.len()).sum(),
         sources,
+    }
+}
+
+/// `chair.goal` or `chair.goal and its library of 3 files`.
+pub fn library_name(sources: &[SourceFile]) -> String {
+    match sources.len() {
+        1 => sources[0].name().to_owned(),
+        n => format!(
+            "{} and its library of {}",
+            sources[0].name(),
+            counted(n - 1, "file", "files")
+        ),
     }
 }
 

@@ -13,6 +13,7 @@ mod pose;
 mod primitive;
 mod progress;
 mod repo;
+mod resolve;
 mod search;
 mod serve;
 mod topo;

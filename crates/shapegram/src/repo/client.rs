@@ -405,6 +405,53 @@ impl Client {
     }
 }
 
+/// A grammar version that answers rule queries.
+#[derive(Clone, Debug, Deserialize)]
+pub struct FoundGrammar {
+    pub owner: String,
+    pub name: String,
+    pub version: i64,
+    pub sha256: String,
+}
+
+/// The answers to a batch of rule queries (the per-query matches are not needed here).
+#[derive(Debug, Deserialize)]
+pub struct QueryAnswers {
+    /// The publish log's position the answers were read at.
+    pub as_of: i64,
+    /// Every grammar version some answer names.
+    pub grammars: Vec<FoundGrammar>,
+}
+
+impl Client {
+    /// Procedural rule queries (`POST /api/v1/queries`): the grammars with rules for shapes
+    /// with these goals, tags and attributes, among those `link` (`all`, `friends`, `mine`)
+    /// admits.
+    pub fn query(
+        &self,
+        link: &str,
+        queries: &[shapegram_eval::GoalQuery],
+    ) -> Result<QueryAnswers, ClientError> {
+        let queries: Vec<Value> = queries
+            .iter()
+            .map(|q| {
+                let names = |list: &[std::sync::Arc<str>]| -> Vec<String> {
+                    list.iter().map(|n| n.to_string()).collect()
+                };
+                json!({
+                    "goals": names(&q.goals),
+                    "tags": names(&q.tags),
+                    "attributes": names(&q.attributes),
+                })
+            })
+            .collect();
+        self.post(
+            "/api/v1/queries",
+            &json!({"link": link, "queries": queries}),
+        )
+    }
+}
+
 /// An error answer: the server's `{"error", "diagnostics"}`, or the status and the start of
 /// whatever else it sent.
 fn refusal(status: u16, text: &str) -> ClientError {

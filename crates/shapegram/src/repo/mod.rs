@@ -213,9 +213,14 @@ pub struct Repo {
 impl Repo {
     /// The repository of `--repo`, `SHAPEGRAM_REPO` or the default, with its stored login.
     fn open(args: &RepoArgs) -> Result<Repo, Failure> {
-        let url = args
-            .repo
-            .clone()
+        Repo::at(args.repo.as_deref())
+    }
+
+    /// The repository at `url`, else at `SHAPEGRAM_REPO`, else at the default URL, with the
+    /// stored login for it.
+    pub fn at(url: Option<&str>) -> Result<Repo, Failure> {
+        let url = url
+            .map(str::to_owned)
             .or_else(|| {
                 std::env::var("SHAPEGRAM_REPO")
                     .ok()
