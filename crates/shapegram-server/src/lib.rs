@@ -11,6 +11,7 @@
 //! | [`tokens`] | API tokens: generation, form, hashing |
 //! | [`grammars`] | checking uploads with the engine, the rule index |
 //! | [`policy`] | who may see and do what |
+//! | [`preview`] | previews of versions, derived by a worker process under limits |
 //! | [`queries`] | procedural rule queries |
 //! | [`routes`] | the HTTP handlers |
 //! | [`openapi`] | the OpenAPI document |
@@ -23,6 +24,7 @@ pub mod grammars;
 pub mod migrations;
 pub mod openapi;
 pub mod policy;
+pub mod preview;
 pub mod queries;
 pub mod routes;
 pub mod sqlite;
@@ -40,6 +42,7 @@ use axum::http::StatusCode;
 use axum::routing::{get, post};
 
 use crate::error::ApiError;
+use crate::preview::{PreviewConfig, Previews};
 use crate::store::Store;
 
 /// Largest request body, in bytes (a grammar of 256 KiB, escaped as JSON, fits).
@@ -50,15 +53,25 @@ pub const MAX_BODY_BYTES: usize = 1024 * 1024;
 pub struct AppState {
     pub store: Arc<dyn Store>,
     pub passwords: accounts::Passwords,
+    /// Previews of versions; `None`: previews are off.
+    pub previews: Option<Arc<Previews>>,
 }
 
 impl AppState {
+    /// The state over `store`, without previews.
     pub fn new(store: Arc<dyn Store>) -> AppState {
         AppState {
             store,
             // Each hash takes 19 MiB and a core for tens of milliseconds.
             passwords: accounts::Passwords::new(2),
+            previews: None,
         }
+    }
+
+    /// The same state, with previews made by the worker `config` names.
+    pub fn with_previews(mut self, config: PreviewConfig) -> AppState {
+        self.previews = Some(Arc::new(Previews::new(config)));
+        self
     }
 }
 
@@ -95,6 +108,10 @@ pub fn router(state: AppState) -> Router {
             get(version_rules),
         )
         .route("/api/v1/queries", post(queries::query_rules))
+        .route(
+            "/api/v1/grammars/{owner}/{name}/versions/{version}/preview",
+            get(version_preview),
+        )
         .fallback(|| async { ApiError::not_found() })
         .method_not_allowed_fallback(|| async {
             ApiError::new(StatusCode::METHOD_NOT_ALLOWED, "method not allowed")
@@ -110,16 +127,23 @@ pub async fn sqlite_app(path: &Path) -> Result<Router, store::StoreError> {
 }
 
 /// Serves the repository in the SQLite database `data` on `listen` (`127.0.0.1:8080`; port 0
-/// picks a free port); `ready` gets the address once it accepts connections. Runs until SIGINT
-/// or SIGTERM, then stops accepting connections, lets requests in flight finish and returns.
+/// picks a free port), with previews when `previews` says how to make them; `ready` gets the
+/// address once it accepts connections. Runs until SIGINT or SIGTERM, then stops accepting
+/// connections, lets requests in flight finish and returns.
 pub async fn serve(
     data: &Path,
     listen: &str,
+    previews: Option<PreviewConfig>,
     ready: impl FnOnce(SocketAddr),
 ) -> Result<(), String> {
-    let app = sqlite_app(data)
+    let store = sqlite::SqliteStore::open(data)
         .await
         .map_err(|e| format!("cannot open {}: {e}", data.display()))?;
+    let mut state = AppState::new(Arc::new(store));
+    if let Some(config) = previews {
+        state = state.with_previews(config);
+    }
+    let app = router(state);
     let listener = tokio::net::TcpListener::bind(listen)
         .await
         .map_err(|e| format!("cannot listen on {listen}: {e}"))?;

@@ -14,7 +14,7 @@ use crate::routes;
         routes::create_token, routes::list_tokens, routes::revoke_token,
         routes::friends, routes::request_friend, routes::accept_friend, routes::remove_friend,
         routes::list_grammars, routes::search, routes::grammar, routes::versions, routes::version,
-        routes::version_rules, routes::publish, crate::queries::query_rules,
+        routes::version_rules, routes::version_preview, routes::publish, crate::queries::query_rules,
     ),
     modifiers(&BearerAuth)
 )]

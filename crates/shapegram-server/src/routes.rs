@@ -3,7 +3,8 @@
 
 use axum::Json;
 use axum::extract::State;
-use axum::http::StatusCode;
+use axum::http::{StatusCode, header};
+use axum::response::{IntoResponse, Response};
 use serde::{Deserialize, Serialize};
 use utoipa::{IntoParams, ToSchema};
 
@@ -13,6 +14,7 @@ use crate::error::{ApiError, ErrorBody};
 use crate::extract::{ApiPath, ApiQuery, Caller, JsonBody, Signed};
 use crate::grammars::{self, MAX_GRAMMAR_BYTES, Problem};
 use crate::policy::{self, Action};
+use crate::preview::PreviewError;
 use crate::store::*;
 use crate::tokens;
 
@@ -528,6 +530,57 @@ pub async fn version_rules(
         .await?
         .map(Json)
         .ok_or_else(ApiError::not_found)
+}
+
+/// Options of a preview.
+#[derive(Deserialize, IntoParams)]
+#[serde(deny_unknown_fields)]
+pub struct PreviewQuery {
+    /// The seed of every random choice (default 0, as `shapegram derive`).
+    pub seed: Option<u64>,
+}
+
+/// A version derived on its own, as `shapegram derive` would with the same seed: a GLB, made
+/// by a worker process under limits of steps, time and memory that reads no files. Kept once
+/// made, since versions never change.
+#[utoipa::path(get, path = "/api/v1/grammars/{owner}/{name}/versions/{version}/preview",
+    tag = "grammars", security((), ("bearer" = [])),
+    params(("owner" = String, Path), ("name" = String, Path), ("version" = i64, Path),
+        PreviewQuery),
+    responses(
+        (status = 200, description = "the model", content_type = "model/gltf-binary", body = Vec<u8>),
+        (status = 400, body = ErrorBody), (status = 401, body = ErrorBody),
+        (status = 404, body = ErrorBody),
+        (status = 422, description = "the grammar does not derive (a step or depth limit, a file it asks for): the message and the place", body = ErrorBody),
+        (status = 503, description = "previews are off, every worker is busy (with Retry-After), or a time, memory or size limit stopped the worker: the message says which", body = ErrorBody)))]
+pub async fn version_preview(
+    State(state): State<AppState>,
+    Caller(caller): Caller,
+    ApiPath((owner, name, version)): ApiPath<(String, String, String)>,
+    ApiQuery(query): ApiQuery<PreviewQuery>,
+) -> Result<Response, Response> {
+    let (owner, name) = grammar_path(&owner, &name).map_err(IntoResponse::into_response)?;
+    let version = version_number(&version).map_err(IntoResponse::into_response)?;
+    let found = state
+        .store
+        .version(Viewer::of(caller.as_ref()), &owner, &name, version)
+        .await
+        .map_err(|e| ApiError::from(e).into_response())?
+        .ok_or_else(|| ApiError::not_found().into_response())?;
+    let previews = state
+        .previews
+        .as_ref()
+        .ok_or_else(|| PreviewError::Off.into_response())?;
+    let glb = previews
+        .glb(
+            &found.name,
+            &found.text,
+            &found.info.sha256,
+            query.seed.unwrap_or(0),
+        )
+        .await
+        .map_err(IntoResponse::into_response)?;
+    Ok(([(header::CONTENT_TYPE, "model/gltf-binary")], glb).into_response())
 }
 
 /// A version to publish.

@@ -96,6 +96,7 @@ const GRAMMAR: &str = "/api/v1/grammars/{owner}/{name}";
 const VERSIONS: &str = "/api/v1/grammars/{owner}/{name}/versions";
 const VERSION: &str = "/api/v1/grammars/{owner}/{name}/versions/{version}";
 const RULES: &str = "/api/v1/grammars/{owner}/{name}/versions/{version}/rules";
+const PREVIEW: &str = "/api/v1/grammars/{owner}/{name}/versions/{version}/preview";
 
 /// Reads of each grammar: public to all, friends-only to friend and owner, private to owner;
 /// a revoked token is refused whatever it asks.
@@ -127,6 +128,13 @@ fn read_cases() -> Vec<Case> {
             format!("{base}/versions/1/rules"),
             None,
             expect,
+        ));
+        // This server makes no previews: what may be seen says so, the rest is not found.
+        cases.push(case(
+            ("get", PREVIEW),
+            format!("{base}/versions/1/preview"),
+            None,
+            expect.map(|status| if status == 200 { 503 } else { status }),
         ));
     }
     let all = [200, 200, 200, 200, 401];

@@ -143,6 +143,9 @@ pub enum Command {
             shapegram repo friends add bob"
     )]
     Repo(crate::repo::RepoArgs),
+    /// Derive one goal grammar for the server's previews, under limits (internal)
+    #[command(hide = true)]
+    PreviewWorker(crate::preview::PreviewWorkerArgs),
 }
 
 /// Arguments of `shapegram primitive`.

@@ -10,6 +10,7 @@ mod info;
 mod lots;
 mod lsystem;
 mod pose;
+mod preview;
 mod primitive;
 mod progress;
 mod repo;
@@ -37,6 +38,7 @@ fn main() -> ExitCode {
         Command::Topo(args) => topo::run(args),
         Command::Serve(args) => serve::run(args),
         Command::Repo(args) => repo::run(args),
+        Command::PreviewWorker(args) => preview::run(args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

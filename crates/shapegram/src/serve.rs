@@ -1,8 +1,11 @@
-//! `shapegram serve`: the grammar repository server (crate `shapegram-server`).
+//! `shapegram serve`: the grammar repository server (crate `shapegram-server`), with previews
+//! made by this executable's hidden `preview-worker` subcommand.
 
 use std::path::PathBuf;
+use std::time::Duration;
 
 use clap::Args;
+use shapegram_server::preview::{PreviewConfig, PreviewLimits};
 
 use crate::Failure;
 
@@ -15,6 +18,53 @@ pub struct ServeArgs {
     /// Address and port to listen on (port 0: any free port)
     #[arg(long, value_name = "ADDR", default_value = "127.0.0.1:8080")]
     pub listen: String,
+    /// Previews: wall-clock seconds a worker may take before it is killed (also how long a
+    /// request waits for a free worker)
+    #[arg(long, value_name = "SECONDS", default_value_t = 10.0, value_parser = parse_seconds)]
+    pub preview_timeout: f64,
+    /// Previews: a worker's address space in MiB; beyond it allocations fail and it stops
+    #[arg(long, value_name = "MIB", default_value_t = 1024,
+        value_parser = clap::value_parser!(u64).range(16..=1 << 20))]
+    pub preview_memory: u64,
+    /// Previews: derivation steps (rule applications) before a grammar is refused
+    #[arg(long, value_name = "N", default_value_t = 1_000_000)]
+    pub preview_steps: usize,
+    /// Previews: workers running at once (0: previews off)
+    #[arg(long, value_name = "N", default_value_t = 2)]
+    pub preview_workers: usize,
+}
+
+/// A positive number of seconds, at most a day.
+fn parse_seconds(text: &str) -> Result<f64, String> {
+    match text.trim().parse::<f64>() {
+        Ok(s) if s > 0.0 && s <= 86_400.0 => Ok(s),
+        _ => Err("expected a number of seconds above 0, like 10 or 2.5".to_owned()),
+    }
+}
+
+/// How previews are made: this executable's `preview-worker` under the limits given; `None`
+/// when they are off or the executable cannot be found.
+fn previews(args: &ServeArgs) -> Option<PreviewConfig> {
+    if args.preview_workers == 0 {
+        return None;
+    }
+    let worker = match std::env::current_exe() {
+        Ok(worker) => worker,
+        Err(e) => {
+            eprintln!("warning: previews are off: cannot find this executable: {e}");
+            return None;
+        }
+    };
+    Some(PreviewConfig {
+        worker,
+        args: vec!["preview-worker".into()],
+        limits: PreviewLimits {
+            timeout: Duration::from_secs_f64(args.preview_timeout),
+            memory_mib: args.preview_memory,
+            steps: args.preview_steps,
+            workers: args.preview_workers,
+        },
+    })
 }
 
 pub fn run(args: &ServeArgs) -> Result<(), Failure> {
@@ -24,10 +74,15 @@ pub fn run(args: &ServeArgs) -> Result<(), Failure> {
         .map_err(|e| Failure::new(format!("cannot start the server's runtime: {e}")))?;
     let data = args.data.display().to_string();
     runtime
-        .block_on(shapegram_server::serve(&args.data, &args.listen, |addr| {
-            println!("shapegram serve: listening on http://{addr} (database {data})");
-            // Scripts and tests read the address from the first line.
-            let _ = std::io::Write::flush(&mut std::io::stdout());
-        }))
+        .block_on(shapegram_server::serve(
+            &args.data,
+            &args.listen,
+            previews(args),
+            |addr| {
+                println!("shapegram serve: listening on http://{addr} (database {data})");
+                // Scripts and tests read the address from the first line.
+                let _ = std::io::Write::flush(&mut std::io::stdout());
+            },
+        ))
         .map_err(Failure::new)
 }
