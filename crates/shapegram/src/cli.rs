@@ -120,10 +120,14 @@ pub enum Command {
             OpenAPI document at /openapi.json) for accounts, API tokens, friends and versioned,\n\
             checked goal grammars, kept in one SQLite database file, created and migrated on\n\
             start. The address is printed once the server accepts connections; --listen with\n\
-            port 0 picks a free port. See docs/repository.md.",
+            port 0 picks a free port.\n\n\
+            Previews (a version derived into a GLB) are made by worker processes of this\n\
+            executable that limit their own memory and CPU time and read no files; the server\n\
+            kills them at --preview-timeout. See docs/repository.md.",
         after_help = "Examples:\n  \
             shapegram serve\n  \
-            shapegram serve --data /srv/grammars.db --listen 0.0.0.0:8080"
+            shapegram serve --data /srv/grammars.db --listen 0.0.0.0:8080\n  \
+            shapegram serve --preview-timeout 5 --preview-memory 512 --preview-workers 1"
     )]
     Serve(crate::serve::ServeArgs),
     /// Publish, search and fetch goal grammars in a repository; log in, manage friends
