@@ -179,11 +179,6 @@ impl Previews {
         }
     }
 
-    /// The limits previews run under.
-    pub fn limits(&self) -> &PreviewLimits {
-        &self.config.limits
-    }
-
     fn cached(&self, key: &cache::Key) -> Option<cache::Outcome> {
         self.cache
             .lock()
