@@ -15,7 +15,7 @@ use std::io::{Read, Write};
 use std::sync::Arc;
 
 use clap::Args;
-use shapegram_eval::{Asset, AssetLoader, DeriveError, DeriveOptions, Program};
+use shapegram_eval::{Asset, AssetLoader, DeriveError, DeriveOptions, LibraryOptions, Program};
 use shapegram_export::ExportOptions;
 use shapegram_geom::Mesh;
 use shapegram_implicit::Solid;
@@ -111,7 +111,13 @@ fn derive(request: &WorkerRequest) -> Result<shapegram_geom::Model, WorkerFailur
     let mut errors: Vec<&Diagnostic> = parsed.diagnostics.iter().filter(|d| d.is_error()).collect();
     let compiled;
     let program = if errors.is_empty() {
-        compiled = Program::compile_library(&[(name.as_str(), &parsed.grammar)]);
+        // Open, as the server checked it on publish: other grammars may set the attributes it
+        // reads (a rule reading one that no shape has does not apply).
+        let options = LibraryOptions {
+            repository_from: 1,
+            open: true,
+        };
+        compiled = Program::compile_library_with(&[(name.as_str(), &parsed.grammar)], &options);
         errors.extend(compiled.1.iter().map(|(_, d)| d).filter(|d| d.is_error()));
         compiled.0.as_ref()
     } else {
@@ -264,6 +270,20 @@ mod tests {
             assert_eq!(failure.diagnostics.len(), 1, "{call}");
             assert_eq!(failure.diagnostics[0].line, 2, "{call}");
         }
+    }
+
+    #[test]
+    fn an_attribute_another_grammar_would_set_leaves_its_rule_unused() {
+        // `shapegram derive` refuses this grammar on its own (no grammar sets @Width); the
+        // server published it, since another grammar may.
+        let model = derive(&request(
+            "axiom a size(1, 1, 1)\n\
+             fulfills(a) --> split(x) { ~1 : +b }\n\
+             fulfills(b) --> split(x) { @Width : void | ~1 : void }\n",
+        ))
+        .unwrap();
+        let triangles: usize = model.parts.iter().map(|p| p.mesh.triangulate().len()).sum();
+        assert_eq!(triangles, 12, "b is left a box with its goal open");
     }
 
     #[test]
