@@ -3,7 +3,7 @@
 
 use axum::Json;
 use axum::extract::State;
-use axum::http::{StatusCode, header};
+use axum::http::StatusCode;
 use axum::response::{IntoResponse, Response};
 use serde::{Deserialize, Serialize};
 use utoipa::{IntoParams, ToSchema};
@@ -14,7 +14,7 @@ use crate::error::{ApiError, ErrorBody};
 use crate::extract::{ApiPath, ApiQuery, Caller, JsonBody, Signed};
 use crate::grammars::{self, MAX_GRAMMAR_BYTES, Problem};
 use crate::policy::{self, Action};
-use crate::preview::PreviewError;
+use crate::preview::{Glb, PreviewError};
 use crate::store::*;
 use crate::tokens;
 
@@ -548,7 +548,7 @@ pub struct PreviewQuery {
     params(("owner" = String, Path), ("name" = String, Path), ("version" = i64, Path),
         PreviewQuery),
     responses(
-        (status = 200, description = "the model", content_type = "model/gltf-binary", body = Vec<u8>),
+        (status = 200, description = "the model", content_type = "model/gltf-binary", body = Glb),
         (status = 400, body = ErrorBody), (status = 401, body = ErrorBody),
         (status = 404, body = ErrorBody),
         (status = 422, description = "the grammar does not derive (a step or depth limit, a file it asks for): the message and the place", body = ErrorBody),
@@ -580,7 +580,7 @@ pub async fn version_preview(
         )
         .await
         .map_err(IntoResponse::into_response)?;
-    Ok(([(header::CONTENT_TYPE, "model/gltf-binary")], glb).into_response())
+    Ok(glb.into_response())
 }
 
 /// A version to publish.

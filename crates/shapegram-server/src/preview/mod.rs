@@ -108,6 +108,17 @@ pub struct PreviewConfig {
     pub limits: PreviewLimits,
 }
 
+/// A preview: a GLB model, answered as `model/gltf-binary`.
+#[derive(Debug, utoipa::ToSchema)]
+#[schema(value_type = String, format = Binary)]
+pub struct Glb(pub Bytes);
+
+impl IntoResponse for Glb {
+    fn into_response(self) -> Response {
+        ([(header::CONTENT_TYPE, "model/gltf-binary")], self.0).into_response()
+    }
+}
+
 /// Why a grammar does not derive: the message and the errors' places. A 422 answer.
 #[derive(Clone, Debug)]
 pub struct Refusal {
@@ -194,10 +205,10 @@ impl Previews {
         text: &str,
         sha256: &str,
         seed: u64,
-    ) -> Result<Bytes, PreviewError> {
+    ) -> Result<Glb, PreviewError> {
         let key = (sha256.to_owned(), seed);
         if let Some(outcome) = self.cached(&key) {
-            return outcome.map_err(PreviewError::DoesNotDerive);
+            return outcome.map(Glb).map_err(PreviewError::DoesNotDerive);
         }
         let limits = &self.config.limits;
         let _permit = match tokio::time::timeout(limits.timeout, self.permits.acquire()).await {
@@ -210,7 +221,7 @@ impl Previews {
         };
         // Requests for one preview that waited together: the first one made it.
         if let Some(outcome) = self.cached(&key) {
-            return outcome.map_err(PreviewError::DoesNotDerive);
+            return outcome.map(Glb).map_err(PreviewError::DoesNotDerive);
         }
         let request = WorkerRequest {
             name: name.to_owned(),
@@ -231,6 +242,6 @@ impl Previews {
                 .unwrap_or_else(std::sync::PoisonError::into_inner)
                 .insert(key, kept);
         }
-        outcome
+        outcome.map(Glb)
     }
 }
