@@ -81,17 +81,6 @@ pub struct PreviewLimits {
     pub workers: usize,
 }
 
-impl Default for PreviewLimits {
-    fn default() -> PreviewLimits {
-        PreviewLimits {
-            timeout: Duration::from_secs(10),
-            memory_mib: 1024,
-            steps: 1_000_000,
-            workers: 2,
-        }
-    }
-}
-
 /// Largest GLB a preview may be, in bytes.
 pub const MAX_PREVIEW_BYTES: usize = 64 << 20;
 /// What the cache of previews holds at most, in bytes.
