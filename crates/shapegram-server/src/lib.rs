@@ -12,18 +12,22 @@
 //! | [`grammars`] | checking uploads with the engine, the rule index |
 //! | [`policy`] | who may see and do what |
 //! | [`queries`] | procedural rule queries |
+//! | [`ratelimit`] | rate limits per token and address, counted in the database |
 //! | [`routes`] | the HTTP handlers |
 //! | [`openapi`] | the OpenAPI document |
 //! | [`error`] | errors as JSON answers |
+//! | [`failpoint`] | fail points in a publish, for the crash test |
 
 pub mod accounts;
 pub mod error;
 pub mod extract;
+pub mod failpoint;
 pub mod grammars;
 pub mod migrations;
 pub mod openapi;
 pub mod policy;
 pub mod queries;
+pub mod ratelimit;
 pub mod routes;
 pub mod sqlite;
 pub mod store;
@@ -40,6 +44,8 @@ use axum::http::StatusCode;
 use axum::routing::{get, post};
 
 use crate::error::ApiError;
+use crate::failpoint::FailPoints;
+use crate::ratelimit::{RateLimiter, RateLimits};
 use crate::store::Store;
 
 /// Largest request body, in bytes (a grammar of 256 KiB, escaped as JSON, fits).
@@ -50,16 +56,33 @@ pub const MAX_BODY_BYTES: usize = 1024 * 1024;
 pub struct AppState {
     pub store: Arc<dyn Store>,
     pub passwords: accounts::Passwords,
+    pub limiter: Arc<RateLimiter>,
 }
 
 impl AppState {
+    /// The state over `store`, without rate limits.
     pub fn new(store: Arc<dyn Store>) -> AppState {
         AppState {
             store,
             // Each hash takes 19 MiB and a core for tens of milliseconds.
             passwords: accounts::Passwords::new(2),
+            limiter: Arc::new(RateLimiter::new(RateLimits::OFF, ratelimit::system_clock())),
         }
     }
+
+    /// The same state, limiting requests with `limiter`.
+    pub fn with_limiter(self, limiter: RateLimiter) -> AppState {
+        AppState {
+            limiter: Arc::new(limiter),
+            ..self
+        }
+    }
+}
+
+/// How `shapegram serve` runs, besides where.
+#[derive(Clone, Copy, Debug)]
+pub struct ServeOptions {
+    pub rate_limits: RateLimits,
 }
 
 /// The application: every route, the body limit, and JSON answers for unknown routes and
@@ -95,10 +118,22 @@ pub fn router(state: AppState) -> Router {
             get(version_rules),
         )
         .route("/api/v1/queries", post(queries::query_rules))
+        .route(
+            "/api/v1/grammars/{owner}/{name}/versions/{version}/yank",
+            post(yank),
+        )
+        .route(
+            "/api/v1/grammars/{owner}/{name}/versions/{version}/unyank",
+            post(unyank),
+        )
         .fallback(|| async { ApiError::not_found() })
         .method_not_allowed_fallback(|| async {
             ApiError::new(StatusCode::METHOD_NOT_ALLOWED, "method not allowed")
         })
+        .layer(axum::middleware::from_fn_with_state(
+            state.clone(),
+            ratelimit::limit,
+        ))
         .layer(DefaultBodyLimit::max(MAX_BODY_BYTES))
         .with_state(state)
 }
@@ -112,23 +147,32 @@ pub async fn sqlite_app(path: &Path) -> Result<Router, store::StoreError> {
 /// Serves the repository in the SQLite database `data` on `listen` (`127.0.0.1:8080`; port 0
 /// picks a free port); `ready` gets the address once it accepts connections. Runs until SIGINT
 /// or SIGTERM, then stops accepting connections, lets requests in flight finish and returns.
+/// `SHAPEGRAM_FAILPOINT` arms a fail point ([`failpoint`]), for the crash test.
 pub async fn serve(
     data: &Path,
     listen: &str,
+    options: ServeOptions,
     ready: impl FnOnce(SocketAddr),
 ) -> Result<(), String> {
-    let app = sqlite_app(data)
+    let fail_points = FailPoints::from_env()?;
+    let store = sqlite::SqliteStore::open(data)
         .await
-        .map_err(|e| format!("cannot open {}: {e}", data.display()))?;
+        .map_err(|e| format!("cannot open {}: {e}", data.display()))?
+        .with_fail_points(fail_points);
+    let limiter = RateLimiter::new(options.rate_limits, ratelimit::system_clock());
+    let app = router(AppState::new(Arc::new(store)).with_limiter(limiter));
     let listener = tokio::net::TcpListener::bind(listen)
         .await
         .map_err(|e| format!("cannot listen on {listen}: {e}"))?;
     let addr = listener.local_addr().map_err(|e| e.to_string())?;
     ready(addr);
-    axum::serve(listener, app)
-        .with_graceful_shutdown(shutdown_signal())
-        .await
-        .map_err(|e| e.to_string())
+    axum::serve(
+        listener,
+        app.into_make_service_with_connect_info::<SocketAddr>(),
+    )
+    .with_graceful_shutdown(shutdown_signal())
+    .await
+    .map_err(|e| e.to_string())
 }
 
 /// SIGINT (Ctrl-C) or, on Unix, SIGTERM.

@@ -1,46 +1,12 @@
 //! End to end: `shapegram serve` as a child process on a free port, over real HTTP: it creates
 //! the database, and a restart on the same file keeps every published version as it was.
 
-use std::io::{Read, Write};
-use std::net::TcpStream;
 use std::process::Command;
 
 mod common;
 
-use common::{Server, TempDir, start_server as start};
-use serde_json::{Value, json};
-
-/// One HTTP/1.1 request: the status and JSON body.
-fn http(
-    server: &Server,
-    method: &str,
-    path: &str,
-    token: Option<&str>,
-    body: Option<Value>,
-) -> (u16, Value) {
-    let mut stream = TcpStream::connect(&server.addr).unwrap();
-    let body = body.map(|b| b.to_string()).unwrap_or_default();
-    let auth = token
-        .map(|t| format!("Authorization: Bearer {t}\r\n"))
-        .unwrap_or_default();
-    write!(
-        stream,
-        "{method} {path} HTTP/1.1\r\nHost: {}\r\nConnection: close\r\nContent-Type: application/json\r\nContent-Length: {}\r\n{auth}\r\n{body}",
-        server.addr,
-        body.len()
-    )
-    .unwrap();
-    let mut answer = String::new();
-    stream.read_to_string(&mut answer).unwrap();
-    let status: u16 = answer[9..12].parse().unwrap();
-    let (_, content) = answer.split_once("\r\n\r\n").unwrap();
-    let value = if content.is_empty() {
-        Value::Null
-    } else {
-        serde_json::from_str(content).unwrap()
-    };
-    (status, value)
-}
+use common::{TempDir, http, start_server as start};
+use serde_json::json;
 
 #[test]
 fn serve_creates_the_database_and_keeps_versions_across_restarts() {
