@@ -15,6 +15,7 @@ use http_body_util::BodyExt;
 use serde_json::{Value, json};
 use shapegram_server::ratelimit::{Limit, RateLimiter, RateLimits};
 use shapegram_server::sqlite::SqliteStore;
+use shapegram_server::store::Store;
 use shapegram_server::{AppState, router};
 use tower::ServiceExt;
 
@@ -352,4 +353,45 @@ async fn two_servers_on_one_database_share_the_counts_and_prune_them() {
         StatusCode::OK
     );
     assert_eq!(windows().await, [120]);
+}
+
+/// Concurrent checks from 16 tasks lose no count; the time per check is printed (the figures in
+/// docs/repository.md come from `cargo test --release -p shapegram-server --test rate_limit
+/// concurrent -- --nocapture`).
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn concurrent_checks_lose_no_count() {
+    let dir = tempfile::tempdir().unwrap();
+    let store = Arc::new(
+        SqliteStore::open(&dir.path().join("repo.db"))
+            .await
+            .unwrap(),
+    );
+    let started = std::time::Instant::now();
+    let tasks: Vec<_> = (0..16)
+        .map(|task| {
+            let store = store.clone();
+            tokio::spawn(async move {
+                let mut last = Vec::new();
+                for i in 0..100 {
+                    let key = format!("token:{}", (task + i) % 4);
+                    last.push(store.rate_limit_hit(&key, 60).await.unwrap());
+                }
+                last
+            })
+        })
+        .collect();
+    let mut counts = Vec::new();
+    for task in tasks {
+        counts.extend(task.await.unwrap());
+    }
+    let elapsed = started.elapsed();
+    println!(
+        "1,600 checks from 16 tasks: {:.0} µs each, {:.0} checks/s",
+        elapsed.as_secs_f64() * 1e6 / 1600.0,
+        1600.0 / elapsed.as_secs_f64()
+    );
+    // Every count from 1 to 400 was handed out exactly once per key.
+    counts.sort_unstable();
+    let expected: Vec<i64> = (1..=400).flat_map(|n| [n; 4]).collect();
+    assert_eq!(counts, expected);
 }
