@@ -157,7 +157,7 @@ async fn the_audit_finds_what_a_crash_could_break() {
     .execute(pool)
     .await
     .unwrap();
-    sqlx::query("UPDATE grammar SET latest_version = 5 WHERE canon = 'paint'")
+    sqlx::query("UPDATE grammar SET latest_version = 5, current_version = 2 WHERE canon = 'paint'")
         .execute(pool)
         .await
         .unwrap();
@@ -169,6 +169,8 @@ async fn the_audit_finds_what_a_crash_could_break() {
             "wood 9 is not in the publish log",
             "paint has versions numbered with a gap, or a latest version it does not have",
             "wood has versions numbered with a gap, or a latest version it does not have",
+            "paint has a current version other than its newest not yanked",
+            "wood has a current version other than its newest not yanked",
             "paint 3: the text does not match its SHA-256",
             "wood 9: the text does not match its SHA-256",
         ]
