@@ -91,11 +91,6 @@ impl FailPoints {
         }
     }
 
-    /// The armed fail point.
-    pub fn armed(self) -> Option<FailPoint> {
-        self.armed
-    }
-
     /// At `point`: when it is the armed one, says so on stderr and never returns, holding
     /// whatever the caller holds (an open transaction) until the process is killed.
     pub async fn hit(self, point: FailPoint) {

@@ -56,6 +56,7 @@ pub const MAX_BODY_BYTES: usize = 1024 * 1024;
 pub struct AppState {
     pub store: Arc<dyn Store>,
     pub passwords: accounts::Passwords,
+    /// Counts requests against the rate limits (none by default).
     pub limiter: Arc<RateLimiter>,
 }
 
@@ -82,6 +83,7 @@ impl AppState {
 /// How `shapegram serve` runs, besides where.
 #[derive(Clone, Copy, Debug)]
 pub struct ServeOptions {
+    /// Requests per token or address, and sign-ins per address.
     pub rate_limits: RateLimits,
 }
 

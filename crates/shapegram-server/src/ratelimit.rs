@@ -24,7 +24,9 @@ use crate::extract::{self, Caller};
 /// At most `requests` per `window` seconds.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Limit {
+    /// Requests allowed in a window.
     pub requests: u32,
+    /// The window's length, in seconds.
     pub window: u32,
 }
 
@@ -100,16 +102,13 @@ pub struct RateLimiter {
 }
 
 impl RateLimiter {
+    /// A limiter of `limits`, reading the time from `clock`.
     pub fn new(limits: RateLimits, clock: Clock) -> RateLimiter {
         RateLimiter {
             limits,
             clock,
             pruned: AtomicI64::new(i64::MIN),
         }
-    }
-
-    pub fn limits(&self) -> RateLimits {
-        self.limits
     }
 
     fn longest_window(&self) -> i64 {

@@ -154,7 +154,9 @@ pub struct GrammarSummary {
 pub struct Yank {
     /// The account that yanked it.
     pub by: String,
+    /// Seconds since the Unix epoch.
     pub at: i64,
+    /// Why, as the owner said (optional).
     pub reason: Option<String>,
 }
 
