@@ -134,7 +134,7 @@ fn crash_at(point: FailPoint) {
     assert_eq!(kept[1].rules, 4);
 
     // A server that stops at the fail point in the third publish, killed there with SIGKILL.
-    let mut server = start_with(&db, Some(point.name()));
+    let mut server = start_with(&db, Some(point.name()), &[]);
     let request = publish_unanswered(server.addr.clone(), token.clone(), GLASS);
     wait_for(&mut server, point);
     server.child.kill().unwrap();

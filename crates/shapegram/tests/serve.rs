@@ -5,7 +5,7 @@ use std::process::Command;
 
 mod common;
 
-use common::{TempDir, http, start_server as start};
+use common::{TempDir, http, start_server as start, start_server_with};
 use serde_json::json;
 
 #[test]
@@ -155,4 +155,56 @@ fn serve_stops_cleanly_on_sigterm() {
     assert!(sent.success());
     let status = server.child.wait().unwrap();
     assert!(status.success(), "{status:?}");
+}
+
+#[test]
+fn serve_limits_requests_per_address_and_token() {
+    let dir = TempDir::new("serve-limits");
+    // A day's window: the test cannot straddle two.
+    let options = ["--rate-limit", "3/day", "--sign-in-rate-limit", "off"];
+    let server = start_server_with(&dir.path("repo.db"), None, &options);
+    let credentials = json!({"name": "ana", "password": "ana's password"});
+    assert_eq!(
+        http(
+            &server,
+            "POST",
+            "/api/v1/accounts",
+            None,
+            Some(credentials.clone())
+        )
+        .0,
+        201
+    );
+    let (_, login) = http(&server, "POST", "/api/v1/login", None, Some(credentials));
+    let token = login["token"].as_str().unwrap();
+    for _ in 0..3 {
+        assert_eq!(http(&server, "GET", "/api/v1/grammars", None, None).0, 200);
+    }
+    let (status, body) = http(&server, "GET", "/api/v1/grammars", None, None);
+    assert_eq!(status, 429);
+    let message = body["error"].as_str().unwrap();
+    assert!(
+        message.starts_with(
+            "too many requests from this address without a token: at most 3/day; retry in "
+        ),
+        "{message}"
+    );
+    // The token has its own count.
+    assert_eq!(http(&server, "GET", "/api/v1/me", Some(token), None).0, 200);
+}
+
+#[test]
+fn serve_refuses_a_malformed_rate_limit() {
+    let dir = TempDir::new("serve-bad-limit");
+    let output = Command::new(env!("CARGO_BIN_EXE_shapegram"))
+        .args(["serve", "--rate-limit", "600", "--data"])
+        .arg(dir.path("repo.db"))
+        .output()
+        .unwrap();
+    assert_eq!(output.status.code(), Some(1));
+    assert_eq!(
+        String::from_utf8(output.stderr).unwrap(),
+        "error: --rate-limit: \"600\" is no rate limit: write N/s, N/min, N/h or N/day, or off\n"
+    );
+    assert!(!dir.path("repo.db").exists());
 }

@@ -74,16 +74,17 @@ impl Drop for Server {
 
 /// Starts `shapegram serve` on a free port over the database `db`, once it accepts connections.
 pub fn start_server(db: &Path) -> Server {
-    start_server_with(db, None)
+    start_server_with(db, None, &[])
 }
 
-/// Starts `shapegram serve` over `db`, stopping at `fail_point` in a publish
-/// (`SHAPEGRAM_FAILPOINT`); its stderr is piped then, to see it arrive there.
-pub fn start_server_with(db: &Path, fail_point: Option<&str>) -> Server {
+/// Starts `shapegram serve` over `db` with more `options`, stopping at `fail_point` in a
+/// publish (`SHAPEGRAM_FAILPOINT`); its stderr is piped then, to see it arrive there.
+pub fn start_server_with(db: &Path, fail_point: Option<&str>, options: &[&str]) -> Server {
     let mut command = Command::new(env!("CARGO_BIN_EXE_shapegram"));
     command
         .args(["serve", "--listen", "127.0.0.1:0", "--data"])
         .arg(db)
+        .args(options)
         .env_remove("SHAPEGRAM_FAILPOINT")
         .stdout(Stdio::piped())
         .stderr(Stdio::inherit());
