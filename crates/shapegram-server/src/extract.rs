@@ -3,6 +3,7 @@
 
 use axum::body::Bytes;
 use axum::extract::{FromRequest, FromRequestParts, Path, Query, Request};
+use axum::http::HeaderMap;
 use axum::http::header::AUTHORIZATION;
 use axum::http::request::Parts;
 use serde::de::DeserializeOwned;
@@ -24,6 +25,25 @@ impl<S: Send + Sync, T: DeserializeOwned> FromRequest<S> for JsonBody<T> {
             .map_err(|e| ApiError::new(e.status(), e.body_text()))?;
         serde_json::from_slice(&bytes)
             .map(JsonBody)
+            .map_err(|e| ApiError::bad_request(format!("invalid JSON body: {e}")))
+    }
+}
+
+/// A JSON body that may be left out (no bytes at all): `None` then; otherwise as [`JsonBody`].
+pub struct OptionalJsonBody<T>(pub Option<T>);
+
+impl<S: Send + Sync, T: DeserializeOwned> FromRequest<S> for OptionalJsonBody<T> {
+    type Rejection = ApiError;
+
+    async fn from_request(req: Request, state: &S) -> Result<Self, ApiError> {
+        let bytes = Bytes::from_request(req, state)
+            .await
+            .map_err(|e| ApiError::new(e.status(), e.body_text()))?;
+        if bytes.is_empty() {
+            return Ok(OptionalJsonBody(None));
+        }
+        serde_json::from_slice(&bytes)
+            .map(|t| OptionalJsonBody(Some(t)))
             .map_err(|e| ApiError::bad_request(format!("invalid JSON body: {e}")))
     }
 }
@@ -56,34 +76,49 @@ impl<S: Send + Sync, T: DeserializeOwned> FromRequestParts<S> for ApiQuery<T> {
     }
 }
 
+/// The account of the bearer token in `headers` and the token's SHA-256; `None` without an
+/// `Authorization` header; 401 for a header that is not a valid, unrevoked token.
+pub async fn resolve_token(
+    headers: &HeaderMap,
+    state: &AppState,
+) -> Result<Option<(Account, [u8; 32])>, ApiError> {
+    let Some(header) = headers.get(AUTHORIZATION) else {
+        return Ok(None);
+    };
+    let token = header
+        .to_str()
+        .ok()
+        .and_then(|v| v.strip_prefix("Bearer "))
+        .map(str::trim)
+        .ok_or_else(|| {
+            ApiError::unauthorized("the Authorization header must be `Bearer <token>`")
+        })?;
+    if !tokens::well_formed(token) {
+        return Err(ApiError::unauthorized("malformed API token"));
+    }
+    let hash = tokens::hash(token);
+    match state.store.account_by_token(&hash).await? {
+        Some(account) => Ok(Some((account, hash))),
+        None => Err(ApiError::unauthorized("unknown or revoked API token")),
+    }
+}
+
 /// The caller: anonymous without an `Authorization` header. A header that is not a valid,
 /// unrevoked token is refused (401) on every route, even those anonymous callers may use, so
-/// that a revoked token fails at once and visibly.
+/// that a revoked token fails at once and visibly. The rate limiter resolves it first and
+/// leaves it in the request's extensions.
+#[derive(Clone)]
 pub struct Caller(pub Option<Account>);
 
 impl FromRequestParts<AppState> for Caller {
     type Rejection = ApiError;
 
     async fn from_request_parts(parts: &mut Parts, state: &AppState) -> Result<Self, ApiError> {
-        let Some(header) = parts.headers.get(AUTHORIZATION) else {
-            return Ok(Caller(None));
-        };
-        let token = header
-            .to_str()
-            .ok()
-            .and_then(|v| v.strip_prefix("Bearer "))
-            .map(str::trim)
-            .ok_or_else(|| {
-                ApiError::unauthorized("the Authorization header must be `Bearer <token>`")
-            })?;
-        if !tokens::well_formed(token) {
-            return Err(ApiError::unauthorized("malformed API token"));
+        if let Some(caller) = parts.extensions.get::<Caller>() {
+            return Ok(caller.clone());
         }
-        let account = state.store.account_by_token(&tokens::hash(token)).await?;
-        match account {
-            Some(account) => Ok(Caller(Some(account))),
-            None => Err(ApiError::unauthorized("unknown or revoked API token")),
-        }
+        let resolved = resolve_token(&parts.headers, state).await?;
+        Ok(Caller(resolved.map(|(account, _)| account)))
     }
 }
 

@@ -13,19 +13,23 @@
 //! | [`policy`] | who may see and do what |
 //! | [`preview`] | previews of versions, derived by a worker process under limits |
 //! | [`queries`] | procedural rule queries |
+//! | [`ratelimit`] | rate limits per token and address, counted in the database |
 //! | [`routes`] | the HTTP handlers |
 //! | [`openapi`] | the OpenAPI document |
 //! | [`error`] | errors as JSON answers |
+//! | [`failpoint`] | fail points in a publish, for the crash test |
 
 pub mod accounts;
 pub mod error;
 pub mod extract;
+pub mod failpoint;
 pub mod grammars;
 pub mod migrations;
 pub mod openapi;
 pub mod policy;
 pub mod preview;
 pub mod queries;
+pub mod ratelimit;
 pub mod routes;
 pub mod sqlite;
 pub mod store;
@@ -42,7 +46,9 @@ use axum::http::StatusCode;
 use axum::routing::{get, post};
 
 use crate::error::ApiError;
+use crate::failpoint::FailPoints;
 use crate::preview::{PreviewConfig, Previews};
+use crate::ratelimit::{RateLimiter, RateLimits};
 use crate::store::Store;
 
 /// Largest request body, in bytes (a grammar of 256 KiB, escaped as JSON, fits).
@@ -55,16 +61,19 @@ pub struct AppState {
     pub passwords: accounts::Passwords,
     /// Previews of versions; `None`: previews are off.
     pub previews: Option<Arc<Previews>>,
+    /// Counts requests against the rate limits (none by default).
+    pub limiter: Arc<RateLimiter>,
 }
 
 impl AppState {
-    /// The state over `store`, without previews.
+    /// The state over `store`, without previews or rate limits.
     pub fn new(store: Arc<dyn Store>) -> AppState {
         AppState {
             store,
             // Each hash takes 19 MiB and a core for tens of milliseconds.
             passwords: accounts::Passwords::new(2),
             previews: None,
+            limiter: Arc::new(RateLimiter::new(RateLimits::OFF, ratelimit::system_clock())),
         }
     }
 
@@ -73,6 +82,23 @@ impl AppState {
         self.previews = Some(Arc::new(Previews::new(config)));
         self
     }
+
+    /// The same state, limiting requests with `limiter`.
+    pub fn with_limiter(self, limiter: RateLimiter) -> AppState {
+        AppState {
+            limiter: Arc::new(limiter),
+            ..self
+        }
+    }
+}
+
+/// How `shapegram serve` runs, besides where.
+#[derive(Clone, Debug)]
+pub struct ServeOptions {
+    /// Requests per token or address, and sign-ins per address.
+    pub rate_limits: RateLimits,
+    /// How previews are made; `None`: previews are off.
+    pub previews: Option<PreviewConfig>,
 }
 
 /// The application: every route, the body limit, and JSON answers for unknown routes and
@@ -112,10 +138,22 @@ pub fn router(state: AppState) -> Router {
             "/api/v1/grammars/{owner}/{name}/versions/{version}/preview",
             get(version_preview),
         )
+        .route(
+            "/api/v1/grammars/{owner}/{name}/versions/{version}/yank",
+            post(yank),
+        )
+        .route(
+            "/api/v1/grammars/{owner}/{name}/versions/{version}/unyank",
+            post(unyank),
+        )
         .fallback(|| async { ApiError::not_found() })
         .method_not_allowed_fallback(|| async {
             ApiError::new(StatusCode::METHOD_NOT_ALLOWED, "method not allowed")
         })
+        .layer(axum::middleware::from_fn_with_state(
+            state.clone(),
+            ratelimit::limit,
+        ))
         .layer(DefaultBodyLimit::max(MAX_BODY_BYTES))
         .with_state(state)
 }
@@ -127,20 +165,23 @@ pub async fn sqlite_app(path: &Path) -> Result<Router, store::StoreError> {
 }
 
 /// Serves the repository in the SQLite database `data` on `listen` (`127.0.0.1:8080`; port 0
-/// picks a free port), with previews when `previews` says how to make them; `ready` gets the
-/// address once it accepts connections. Runs until SIGINT or SIGTERM, then stops accepting
-/// connections, lets requests in flight finish and returns.
+/// picks a free port); `ready` gets the address once it accepts connections. Runs until SIGINT
+/// or SIGTERM, then stops accepting connections, lets requests in flight finish and returns.
+/// `SHAPEGRAM_FAILPOINT` arms a fail point ([`failpoint`]), for the crash test.
 pub async fn serve(
     data: &Path,
     listen: &str,
-    previews: Option<PreviewConfig>,
+    options: ServeOptions,
     ready: impl FnOnce(SocketAddr),
 ) -> Result<(), String> {
+    let fail_points = FailPoints::from_env()?;
     let store = sqlite::SqliteStore::open(data)
         .await
-        .map_err(|e| format!("cannot open {}: {e}", data.display()))?;
-    let mut state = AppState::new(Arc::new(store));
-    if let Some(config) = previews {
+        .map_err(|e| format!("cannot open {}: {e}", data.display()))?
+        .with_fail_points(fail_points);
+    let limiter = RateLimiter::new(options.rate_limits, ratelimit::system_clock());
+    let mut state = AppState::new(Arc::new(store)).with_limiter(limiter);
+    if let Some(config) = options.previews {
         state = state.with_previews(config);
     }
     let app = router(state);
@@ -149,10 +190,13 @@ pub async fn serve(
         .map_err(|e| format!("cannot listen on {listen}: {e}"))?;
     let addr = listener.local_addr().map_err(|e| e.to_string())?;
     ready(addr);
-    axum::serve(listener, app)
-        .with_graceful_shutdown(shutdown_signal())
-        .await
-        .map_err(|e| e.to_string())
+    axum::serve(
+        listener,
+        app.into_make_service_with_connect_info::<SocketAddr>(),
+    )
+    .with_graceful_shutdown(shutdown_signal())
+    .await
+    .map_err(|e| e.to_string())
 }
 
 /// SIGINT (Ctrl-C) or, on Unix, SIGTERM.

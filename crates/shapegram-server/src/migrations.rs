@@ -28,6 +28,21 @@ pub const SQLITE: &[Migration] = &[
         name: "rule_queries",
         sql: include_str!("../migrations/sqlite/0003_rule_queries.sql"),
     },
+    Migration {
+        version: 4,
+        name: "yank",
+        sql: include_str!("../migrations/sqlite/0004_yank.sql"),
+    },
+    Migration {
+        version: 5,
+        name: "rate_limit",
+        sql: include_str!("../migrations/sqlite/0005_rate_limit.sql"),
+    },
+    Migration {
+        version: 6,
+        name: "rule_count",
+        sql: include_str!("../migrations/sqlite/0006_rule_count.sql"),
+    },
 ];
 
 /// The SHA-256 of a migration's SQL, in hex.

@@ -8,13 +8,14 @@ use crate::routes;
 /// The repository's API.
 #[derive(OpenApi)]
 #[openapi(
-    info(title = "Shapegram grammar repository", description = "Accounts, API tokens, friends, versioned goal grammars and procedural rule queries. See docs/repository.md."),
+    info(title = "Shapegram grammar repository", description = "Accounts, API tokens, friends, versioned goal grammars and procedural rule queries. Every route may answer 429 (with Retry-After) over the rate limit. See docs/repository.md."),
     paths(
         routes::sign_up, routes::login, routes::me,
         routes::create_token, routes::list_tokens, routes::revoke_token,
         routes::friends, routes::request_friend, routes::accept_friend, routes::remove_friend,
         routes::list_grammars, routes::search, routes::grammar, routes::versions, routes::version,
         routes::version_rules, routes::version_preview, routes::publish, crate::queries::query_rules,
+        routes::yank, routes::unyank,
     ),
     modifiers(&BearerAuth)
 )]

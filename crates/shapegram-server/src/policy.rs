@@ -19,15 +19,23 @@ use crate::store::Account;
 pub enum Action<'a> {
     /// Publish a version of a grammar in the namespace of the account with this canonical name.
     Publish { owner_canon: &'a str },
+    /// Yank or unyank a version of a grammar owned by the account with this canonical name.
+    Yank { owner_canon: &'a str },
 }
 
-/// Whether `actor` may do `action`: only the owner of a namespace publishes into it (publisher
-/// roles for others come later).
+/// Whether `actor` may do `action`: only the owner of a namespace publishes into it and yanks
+/// its versions (publisher roles for others come later). Yanking something the actor may not
+/// see is decided before, as not found.
 pub fn check(actor: &Account, actor_canon: &str, action: Action<'_>) -> Result<(), ApiError> {
     match action {
         Action::Publish { owner_canon } if owner_canon == actor_canon => Ok(()),
         Action::Publish { .. } => Err(ApiError::forbidden(format!(
             "{} may publish only under their own name",
+            actor.name
+        ))),
+        Action::Yank { owner_canon } if owner_canon == actor_canon => Ok(()),
+        Action::Yank { .. } => Err(ApiError::forbidden(format!(
+            "only the grammar's owner yanks its versions, and {} is not",
             actor.name
         ))),
     }

@@ -95,8 +95,8 @@ impl ShapeQuery {
     }
 }
 
-/// Finds the published rules that may apply to shapes: per query, the grammars (their newest
-/// versions) with rules whose goal, tag and attribute predicates hold for it, among those the
+/// Finds the published rules that may apply to shapes: per query, the grammars (their current
+/// versions: the newest not yanked) with rules whose goal, tag and attribute predicates hold for it, among those the
 /// caller may see and the link mode admits.
 #[utoipa::path(post, path = "/api/v1/queries", tag = "queries", request_body = QueryRequest,
     responses((status = 200, body = QueryAnswers), (status = 400, body = ErrorBody),

@@ -11,7 +11,7 @@ use utoipa::{IntoParams, ToSchema};
 use crate::AppState;
 use crate::accounts::{self, MAX_ACCOUNT_NAME, MAX_GRAMMAR_NAME, MAX_PASSWORD, MIN_PASSWORD};
 use crate::error::{ApiError, ErrorBody};
-use crate::extract::{ApiPath, ApiQuery, Caller, JsonBody, Signed};
+use crate::extract::{ApiPath, ApiQuery, Caller, JsonBody, OptionalJsonBody, Signed};
 use crate::grammars::{self, MAX_GRAMMAR_BYTES, Problem};
 use crate::policy::{self, Action};
 use crate::preview::{Glb, PreviewError};
@@ -335,10 +335,10 @@ pub const MAX_SEARCH_PAGES: u32 = 10_000;
 #[derive(Deserialize, IntoParams)]
 #[serde(deny_unknown_fields)]
 pub struct SearchParams {
-    /// A goal the grammar provides: its latest version has a rule for it (`fulfills(NAME)`,
+    /// A goal the grammar provides: its current version (the newest not yanked) has a rule for it (`fulfills(NAME)`,
     /// indexed as `g:NAME`). Goal names are matched exactly.
     pub goal: Option<String>,
-    /// A tag the grammar's rules apply to: its latest version has a rule for shapes with it
+    /// A tag the grammar's rules apply to: its current version has a rule for shapes with it
     /// (`is(NAME)`, indexed as `t:NAME`).
     pub tag: Option<String>,
     /// Text the grammar's name contains (upper and lower case, `-` and `_` alike).
@@ -379,8 +379,9 @@ fn search_key(what: &str, name: &Option<String>) -> ApiResult<Option<String>> {
     }
 }
 
-/// Searches the grammars the caller may see by the goals and tags of their latest version's
-/// rules, their name and owner: a page of them, by owner and name.
+/// Searches the grammars the caller may see by the goals and tags of their current version's
+/// rules (the newest not yanked; a grammar with every version yanked is not found), their name
+/// and owner: a page of them, by owner and name.
 #[utoipa::path(get, path = "/api/v1/search", tag = "grammars", params(SearchParams),
     security((), ("bearer" = [])),
     responses((status = 200, body = SearchResults), (status = 400, body = ErrorBody),
@@ -686,4 +687,108 @@ pub async fn publish(
             warnings: checked.warnings,
         }),
     ))
+}
+
+// ---------------------------------------------------------------------------------------------
+// Yanking
+
+/// Largest yank reason, in characters.
+pub const MAX_YANK_REASON: usize = 1000;
+
+/// Why a version is yanked (the body may be left out).
+#[derive(Deserialize, ToSchema)]
+#[serde(deny_unknown_fields)]
+pub struct YankRequest {
+    /// At most 1,000 characters; line breaks allowed, no other control characters.
+    pub reason: Option<String>,
+}
+
+/// The owner's canonical name and the grammar's, for an action only the owner may do: 404 when
+/// the caller may not see the grammar (as if it did not exist), 403 when they may but are not
+/// its owner.
+async fn owned_grammar(
+    state: &AppState,
+    account: &Account,
+    owner: &str,
+    name: &str,
+) -> ApiResult<String> {
+    let (owner_canon, name_canon) = grammar_path(owner, name)?;
+    let me = canon(account);
+    if owner_canon != me {
+        let viewer = Viewer::of(Some(account));
+        if state
+            .store
+            .grammar(viewer, &owner_canon, &name_canon)
+            .await?
+            .is_none()
+        {
+            return Err(ApiError::not_found());
+        }
+    }
+    policy::check(
+        account,
+        &me,
+        Action::Yank {
+            owner_canon: &owner_canon,
+        },
+    )?;
+    Ok(name_canon)
+}
+
+/// Yanks a version: it stays fetchable by its number (lock files naming it keep working) but
+/// is offered to no new resolution. Yanking a yanked version changes nothing.
+#[utoipa::path(post, path = "/api/v1/grammars/{owner}/{name}/versions/{version}/yank",
+    tag = "grammars", security(("bearer" = [])), request_body(content = YankRequest,
+        description = "optional: why"),
+    params(("owner" = String, Path), ("name" = String, Path), ("version" = i64, Path)),
+    responses((status = 200, body = VersionInfo), (status = 400, body = ErrorBody),
+        (status = 401, body = ErrorBody),
+        (status = 403, description = "not the grammar's owner", body = ErrorBody),
+        (status = 404, body = ErrorBody)))]
+pub async fn yank(
+    State(state): State<AppState>,
+    Signed(account): Signed,
+    ApiPath((owner, name, version)): ApiPath<(String, String, String)>,
+    OptionalJsonBody(request): OptionalJsonBody<YankRequest>,
+) -> ApiResult<Json<VersionInfo>> {
+    let name = owned_grammar(&state, &account, &owner, &name).await?;
+    let version = version_number(&version)?;
+    let reason = request.and_then(|r| r.reason);
+    if let Some(reason) = &reason
+        && (reason.chars().count() > MAX_YANK_REASON
+            || reason.chars().any(|c| c.is_control() && c != '\n'))
+    {
+        return Err(ApiError::bad_request(format!(
+            "a yank reason has at most {MAX_YANK_REASON} characters and no control characters but line breaks"
+        )));
+    }
+    state
+        .store
+        .yank(&account, &name, version, reason.as_deref())
+        .await?
+        .map(Json)
+        .ok_or_else(ApiError::not_found)
+}
+
+/// Withdraws a yank: the version is offered again. Unyanking a version not yanked changes
+/// nothing.
+#[utoipa::path(post, path = "/api/v1/grammars/{owner}/{name}/versions/{version}/unyank",
+    tag = "grammars", security(("bearer" = [])),
+    params(("owner" = String, Path), ("name" = String, Path), ("version" = i64, Path)),
+    responses((status = 200, body = VersionInfo), (status = 401, body = ErrorBody),
+        (status = 403, description = "not the grammar's owner", body = ErrorBody),
+        (status = 404, body = ErrorBody)))]
+pub async fn unyank(
+    State(state): State<AppState>,
+    Signed(account): Signed,
+    ApiPath((owner, name, version)): ApiPath<(String, String, String)>,
+) -> ApiResult<Json<VersionInfo>> {
+    let name = owned_grammar(&state, &account, &owner, &name).await?;
+    let version = version_number(&version)?;
+    state
+        .store
+        .unyank(&account, &name, version)
+        .await?
+        .map(Json)
+        .ok_or_else(ApiError::not_found)
 }

@@ -11,6 +11,7 @@ use sqlx::sqlite::{
 };
 use sqlx::{Row, Sqlite, Transaction};
 
+use crate::failpoint::{FailPoint, FailPoints};
 use crate::migrations;
 use crate::store::*;
 
@@ -29,6 +30,7 @@ macro_rules! visible {
 #[derive(Clone)]
 pub struct SqliteStore {
     pool: SqlitePool,
+    fail_points: FailPoints,
 }
 
 fn db(e: sqlx::Error) -> StoreError {
@@ -65,9 +67,20 @@ impl SqliteStore {
             .connect_with(options)
             .await
             .map_err(db)?;
-        let store = SqliteStore { pool };
+        let store = SqliteStore {
+            pool,
+            fail_points: FailPoints::NONE,
+        };
         store.migrate().await?;
         Ok(store)
+    }
+
+    /// The same store, stopping at `fail_points` during a publish (the crash test).
+    pub fn with_fail_points(self, fail_points: FailPoints) -> SqliteStore {
+        SqliteStore {
+            fail_points,
+            ..self
+        }
     }
 
     /// The connection pool, for tools and tests that look at the database itself.
@@ -156,16 +169,43 @@ fn summary(row: sqlx::sqlite::SqliteRow) -> Result<GrammarSummary, StoreError> {
         visibility: Visibility::parse(&visibility)
             .ok_or_else(|| StoreError::Database(format!("bad visibility {visibility}")))?,
         latest_version: row.try_get(3).map_err(db)?,
-        updated_at: row.try_get(4).map_err(db)?,
+        current_version: row.try_get(4).map_err(db)?,
+        updated_at: row.try_get(5).map_err(db)?,
     })
 }
 
+/// The columns a version's yank is read from: `y` the yank, `ya` its author.
+macro_rules! yank_columns {
+    () => {
+        "y.yanked_at, ya.name AS yanked_by, y.reason AS yank_reason"
+    };
+}
+
+/// Joins a version `v`'s yank, if any.
+macro_rules! yank_join {
+    () => {
+        " LEFT JOIN version_yank y ON y.version_id = v.id
+          LEFT JOIN account ya ON ya.id = y.yanked_by "
+    };
+}
+
 fn version_info(row: &sqlx::sqlite::SqliteRow) -> Result<VersionInfo, StoreError> {
+    let yanked_at: Option<i64> = row.try_get("yanked_at").map_err(db)?;
+    let yank = match yanked_at {
+        Some(at) => Some(Yank {
+            by: row.try_get("yanked_by").map_err(db)?,
+            at,
+            reason: row.try_get("yank_reason").map_err(db)?,
+        }),
+        None => None,
+    };
     Ok(VersionInfo {
         version: row.try_get("version").map_err(db)?,
         sha256: row.try_get("sha256").map_err(db)?,
         published_at: row.try_get("published_at").map_err(db)?,
         publisher: row.try_get("publisher").map_err(db)?,
+        yanked: yank.is_some(),
+        yank,
     })
 }
 
@@ -423,6 +463,7 @@ impl Store for SqliteStore {
     fn publish<'a>(&'a self, v: NewVersion<'a>) -> StoreFuture<'a, VersionInfo> {
         Box::pin(async move {
             let at = now();
+            self.fail_points.hit(FailPoint::BeforeTransaction).await;
             let mut tx = self.begin_write().await?;
             sqlx::query(
                 "INSERT INTO grammar (owner_id, name, canon, visibility, created_at, updated_at)
@@ -437,7 +478,8 @@ impl Store for SqliteStore {
             .await
             .map_err(db)?;
             let (grammar, version): (Id, i64) = sqlx::query_as(
-                "UPDATE grammar SET latest_version = latest_version + 1, updated_at = ?3,
+                "UPDATE grammar SET latest_version = latest_version + 1,
+                    current_version = latest_version + 1, updated_at = ?3,
                     visibility = COALESCE(?4, visibility)
                  WHERE owner_id = ?1 AND canon = ?2 RETURNING id, latest_version",
             )
@@ -450,8 +492,8 @@ impl Store for SqliteStore {
             .map_err(db)?;
             let version_id: Id = sqlx::query_scalar(
                 "INSERT INTO grammar_version
-                    (grammar_id, version, text, sha256, publisher_id, published_at)
-                 VALUES (?1, ?2, ?3, ?4, ?5, ?6) RETURNING id",
+                    (grammar_id, version, text, sha256, publisher_id, published_at, rule_count)
+                 VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7) RETURNING id",
             )
             .bind(grammar)
             .bind(version)
@@ -459,9 +501,11 @@ impl Store for SqliteStore {
             .bind(v.sha256)
             .bind(v.owner.id)
             .bind(at)
+            .bind(v.rules.len() as i64)
             .fetch_one(&mut *tx)
             .await
             .map_err(db)?;
+            self.fail_points.hit(FailPoint::AfterInsertVersion).await;
             for rule in v.rules {
                 let rule_id: Id = sqlx::query_scalar(
                     "INSERT INTO rule (version_id, idx, n_pos, local, conditional)
@@ -498,18 +542,23 @@ impl Store for SqliteStore {
                     }
                 }
             }
+            self.fail_points.hit(FailPoint::AfterRuleIndex).await;
             sqlx::query("INSERT INTO publish_log (version_id, logged_at) VALUES (?1, ?2)")
                 .bind(version_id)
                 .bind(at)
                 .execute(&mut *tx)
                 .await
                 .map_err(db)?;
+            self.fail_points.hit(FailPoint::BeforeCommit).await;
             tx.commit().await.map_err(db)?;
+            self.fail_points.hit(FailPoint::AfterCommit).await;
             Ok(VersionInfo {
                 version,
                 sha256: v.sha256.to_owned(),
                 published_at: at,
                 publisher: v.owner.name.clone(),
+                yanked: false,
+                yank: None,
             })
         })
     }
@@ -521,7 +570,9 @@ impl Store for SqliteStore {
     ) -> StoreFuture<'a, Vec<GrammarSummary>> {
         Box::pin(async move {
             let rows = sqlx::query(concat!(
-                "SELECT a.name, g.name, g.visibility, g.latest_version, g.updated_at
+                "SELECT a.name, g.name, g.visibility, g.latest_version,
+                    g.current_version,
+                    g.updated_at
                  FROM grammar g JOIN account a ON a.id = g.owner_id
                  WHERE (?2 IS NULL OR a.canon = ?2) AND ",
                 visible!(),
@@ -546,12 +597,13 @@ impl Store for SqliteStore {
             let tag = query.tag.map(|tag| format!("t:{tag}"));
             let pattern = query.name.map(like_pattern);
             // Portable SQL (the PostgreSQL store shares it): LIKE on the lower-case canonical
-            // name; per key, the versions that have it, read once from the index by key (a
+            // name; only current versions (the newest not yanked); per key, the versions that have it, read once from the index by key (a
             // correlated EXISTS per grammar was 4 to 8 times slower over 20,000 grammars).
             let rows = sqlx::query(concat!(
-                "SELECT a.name, g.name, g.visibility, g.latest_version, g.updated_at
+                "SELECT a.name, g.name, g.visibility, g.latest_version, g.current_version,
+                    g.updated_at
                  FROM grammar g JOIN account a ON a.id = g.owner_id
-                   JOIN grammar_version v ON v.grammar_id = g.id AND v.version = g.latest_version
+                   JOIN grammar_version v ON v.grammar_id = g.id AND v.version = g.current_version
                  WHERE (?2 IS NULL OR a.canon = ?2)
                    AND (?3 IS NULL OR g.canon LIKE ?3 ESCAPE '\\')
                    AND (?4 IS NULL OR v.id IN (SELECT r.version_id FROM rule_key k
@@ -584,7 +636,9 @@ impl Store for SqliteStore {
     ) -> StoreFuture<'a, Option<GrammarSummary>> {
         Box::pin(async move {
             let row = sqlx::query(concat!(
-                "SELECT a.name, g.name, g.visibility, g.latest_version, g.updated_at
+                "SELECT a.name, g.name, g.visibility, g.latest_version,
+                    g.current_version,
+                    g.updated_at
                  FROM grammar g JOIN account a ON a.id = g.owner_id
                  WHERE a.canon = ?2 AND g.canon = ?3 AND ",
                 visible!()
@@ -622,11 +676,13 @@ impl Store for SqliteStore {
             let Some(grammar) = grammar else {
                 return Ok(None);
             };
-            let rows = sqlx::query(
-                "SELECT v.version, v.sha256, v.published_at, p.name AS publisher
-                 FROM grammar_version v JOIN account p ON p.id = v.publisher_id
-                 WHERE v.grammar_id = ?1 ORDER BY v.version",
-            )
+            let rows = sqlx::query(concat!(
+                "SELECT v.version, v.sha256, v.published_at, p.name AS publisher, ",
+                yank_columns!(),
+                " FROM grammar_version v JOIN account p ON p.id = v.publisher_id",
+                yank_join!(),
+                "WHERE v.grammar_id = ?1 ORDER BY v.version"
+            ))
             .bind(grammar)
             .fetch_all(&mut *tx)
             .await
@@ -649,11 +705,13 @@ impl Store for SqliteStore {
         Box::pin(async move {
             let row = sqlx::query(concat!(
                 "SELECT a.name AS owner, g.name AS grammar, v.version, v.sha256, v.published_at,
-                    p.name AS publisher, v.text
-                 FROM grammar g JOIN account a ON a.id = g.owner_id
+                    p.name AS publisher, v.text, ",
+                yank_columns!(),
+                " FROM grammar g JOIN account a ON a.id = g.owner_id
                    JOIN grammar_version v ON v.grammar_id = g.id
-                   JOIN account p ON p.id = v.publisher_id
-                 WHERE a.canon = ?2 AND g.canon = ?3 AND v.version = ?4 AND ",
+                   JOIN account p ON p.id = v.publisher_id",
+                yank_join!(),
+                "WHERE a.canon = ?2 AND g.canon = ?3 AND v.version = ?4 AND ",
                 visible!()
             ))
             .bind(viewer.account)
@@ -769,8 +827,8 @@ impl Store for SqliteStore {
             for keys in queries {
                 let keys = serde_json::to_string(keys).map_err(|e| db_text(&e))?;
                 // The rules all of whose positive keys are among the query's (counted through
-                // the key index), or that have none; then those of the newest versions the
-                // viewer may see and the link admits; then those no negated group rules out.
+                // the key index), or that have none; then those of the current versions (the
+                // newest not yanked) the viewer may see and the link admits; then those no negated group rules out.
                 let rows: Vec<QueryRow> = sqlx::query_as(concat!(
                     "WITH k(key) AS (SELECT value FROM json_each(?2)),
                      m(id, n) AS (
@@ -780,7 +838,7 @@ impl Store for SqliteStore {
                      SELECT g.id, a.name, g.name, v.version, v.sha256, r.idx
                      FROM m JOIN rule r ON r.id = m.id AND r.n_pos = m.n AND r.local = 0
                        JOIN grammar_version v ON v.id = r.version_id
-                       JOIN grammar g ON g.id = v.grammar_id AND g.latest_version = v.version
+                       JOIN grammar g ON g.id = v.grammar_id AND g.current_version = v.version
                        JOIN account a ON a.id = g.owner_id
                      WHERE ",
                     visible!(),
@@ -806,4 +864,223 @@ impl Store for SqliteStore {
             Ok(found.into_answers(as_of))
         })
     }
+
+    fn yank<'a>(
+        &'a self,
+        owner: &'a Account,
+        canon: &'a str,
+        version: i64,
+        reason: Option<&'a str>,
+    ) -> StoreFuture<'a, Option<VersionInfo>> {
+        Box::pin(async move {
+            let mut tx = self.begin_write().await?;
+            let Some(version_id) = owned_version(&mut tx, owner.id, canon, version).await? else {
+                return Ok(None);
+            };
+            sqlx::query(
+                "INSERT INTO version_yank (version_id, yanked_by, yanked_at, reason)
+                 VALUES (?1, ?2, ?3, ?4) ON CONFLICT (version_id) DO NOTHING",
+            )
+            .bind(version_id)
+            .bind(owner.id)
+            .bind(now())
+            .bind(reason)
+            .execute(&mut *tx)
+            .await
+            .map_err(db)?;
+            update_current_version(&mut tx, version_id).await?;
+            let info = version_by_id(&mut tx, version_id).await?;
+            tx.commit().await.map_err(db)?;
+            Ok(Some(info))
+        })
+    }
+
+    fn unyank<'a>(
+        &'a self,
+        owner: &'a Account,
+        canon: &'a str,
+        version: i64,
+    ) -> StoreFuture<'a, Option<VersionInfo>> {
+        Box::pin(async move {
+            let mut tx = self.begin_write().await?;
+            let Some(version_id) = owned_version(&mut tx, owner.id, canon, version).await? else {
+                return Ok(None);
+            };
+            sqlx::query("DELETE FROM version_yank WHERE version_id = ?1")
+                .bind(version_id)
+                .execute(&mut *tx)
+                .await
+                .map_err(db)?;
+            update_current_version(&mut tx, version_id).await?;
+            let info = version_by_id(&mut tx, version_id).await?;
+            tx.commit().await.map_err(db)?;
+            Ok(Some(info))
+        })
+    }
+
+    fn rate_limit_hit<'a>(&'a self, key: &'a str, window_start: i64) -> StoreFuture<'a, i64> {
+        Box::pin(async move {
+            sqlx::query_scalar(
+                "INSERT INTO rate_limit (key, window_start, hits) VALUES (?1, ?2, 1)
+                 ON CONFLICT (key, window_start) DO UPDATE SET hits = hits + 1
+                 RETURNING hits",
+            )
+            .bind(key)
+            .bind(window_start)
+            .fetch_one(&self.pool)
+            .await
+            .map_err(db)
+        })
+    }
+
+    fn prune_rate_limits(&self, before: i64) -> StoreFuture<'_, ()> {
+        Box::pin(async move {
+            sqlx::query("DELETE FROM rate_limit WHERE window_start < ?1")
+                .bind(before)
+                .execute(&self.pool)
+                .await
+                .map_err(db)?;
+            Ok(())
+        })
+    }
+
+    fn audit(&self) -> StoreFuture<'_, Vec<String>> {
+        Box::pin(async move {
+            // One read transaction: one snapshot of the database.
+            let mut tx = self.pool.begin().await.map_err(db)?;
+            let mut problems: Vec<String> = sqlx::query_scalar("PRAGMA integrity_check")
+                .fetch_all(&mut *tx)
+                .await
+                .map_err(db)?;
+            problems.retain(|p: &String| p != "ok");
+            let foreign: Vec<(String, i64)> =
+                sqlx::query_as("SELECT \"table\", rowid FROM pragma_foreign_key_check")
+                    .fetch_all(&mut *tx)
+                    .await
+                    .map_err(db)?;
+            problems.extend(
+                foreign
+                    .into_iter()
+                    .map(|(table, row)| format!("{table} row {row}: a foreign key is broken")),
+            );
+            let checks: [(&str, &str); 5] = [
+                (
+                    "SELECT g.canon || ' ' || v.version FROM grammar_version v
+                     JOIN grammar g ON g.id = v.grammar_id
+                     WHERE v.rule_count IS NOT NULL
+                       AND v.rule_count <> (SELECT COUNT(*) FROM rule r WHERE r.version_id = v.id)
+                     ORDER BY v.id",
+                    "has not the rule index it was published with",
+                ),
+                (
+                    "SELECT g.canon || ' ' || v.version FROM grammar_version v
+                     JOIN grammar g ON g.id = v.grammar_id
+                     WHERE NOT EXISTS (SELECT 1 FROM publish_log l WHERE l.version_id = v.id)
+                     ORDER BY v.id",
+                    "is not in the publish log",
+                ),
+                (
+                    "SELECT g.canon FROM grammar g WHERE g.latest_version <> (
+                        SELECT COUNT(*) FROM grammar_version v WHERE v.grammar_id = g.id)
+                     OR g.latest_version <> (SELECT COALESCE(MAX(v.version), 0)
+                        FROM grammar_version v WHERE v.grammar_id = g.id)
+                     ORDER BY g.id",
+                    "has versions numbered with a gap, or a latest version it does not have",
+                ),
+                (
+                    "SELECT g.canon FROM grammar g WHERE g.current_version IS NOT (
+                        SELECT MAX(v.version) FROM grammar_version v WHERE v.grammar_id = g.id
+                          AND NOT EXISTS (SELECT 1 FROM version_yank y WHERE y.version_id = v.id))
+                     ORDER BY g.id",
+                    "has a current version other than its newest not yanked",
+                ),
+                (
+                    "SELECT 'entry ' || MAX(seq) FROM publish_log
+                     HAVING COUNT(*) <> MAX(seq) - MIN(seq) + 1 OR MIN(seq) <> 1",
+                    "is the last of a publish log numbered with a gap",
+                ),
+            ];
+            for (sql, what) in checks {
+                let found: Vec<String> = sqlx::query_scalar(sql)
+                    .fetch_all(&mut *tx)
+                    .await
+                    .map_err(db)?;
+                problems.extend(found.into_iter().map(|f| format!("{f} {what}")));
+            }
+            let texts: Vec<(String, i64, String, String)> = sqlx::query_as(
+                "SELECT g.canon, v.version, v.text, v.sha256 FROM grammar_version v
+                 JOIN grammar g ON g.id = v.grammar_id ORDER BY v.id",
+            )
+            .fetch_all(&mut *tx)
+            .await
+            .map_err(db)?;
+            for (grammar, version, text, sha256) in texts {
+                if crate::tokens::sha256_hex(text.as_bytes()) != sha256 {
+                    problems.push(format!(
+                        "{grammar} {version}: the text does not match its SHA-256"
+                    ));
+                }
+            }
+            tx.commit().await.map_err(db)?;
+            Ok(problems)
+        })
+    }
+}
+
+/// The id of version `version` of the grammar `canon` that `owner` owns.
+async fn owned_version(
+    tx: &mut Transaction<'static, Sqlite>,
+    owner: Id,
+    canon: &str,
+    version: i64,
+) -> Result<Option<Id>, StoreError> {
+    sqlx::query_scalar(
+        "SELECT v.id FROM grammar g JOIN grammar_version v ON v.grammar_id = g.id
+         WHERE g.owner_id = ?1 AND g.canon = ?2 AND v.version = ?3",
+    )
+    .bind(owner)
+    .bind(canon)
+    .bind(version)
+    .fetch_optional(&mut **tx)
+    .await
+    .map_err(db)
+}
+
+/// Sets the current version of the grammar of version `version_id` to its newest version not
+/// yanked (NULL when every one is), after a yank or unyank.
+async fn update_current_version(
+    tx: &mut Transaction<'static, Sqlite>,
+    version_id: Id,
+) -> Result<(), StoreError> {
+    sqlx::query(
+        "UPDATE grammar SET current_version = (
+            SELECT MAX(v.version) FROM grammar_version v
+            WHERE v.grammar_id = grammar.id
+              AND NOT EXISTS (SELECT 1 FROM version_yank y WHERE y.version_id = v.id))
+         WHERE id = (SELECT grammar_id FROM grammar_version WHERE id = ?1)",
+    )
+    .bind(version_id)
+    .execute(&mut **tx)
+    .await
+    .map_err(db)?;
+    Ok(())
+}
+
+/// A version's information, with its yank, by row id.
+async fn version_by_id(
+    tx: &mut Transaction<'static, Sqlite>,
+    version_id: Id,
+) -> Result<VersionInfo, StoreError> {
+    let row = sqlx::query(concat!(
+        "SELECT v.version, v.sha256, v.published_at, p.name AS publisher, ",
+        yank_columns!(),
+        " FROM grammar_version v JOIN account p ON p.id = v.publisher_id",
+        yank_join!(),
+        "WHERE v.id = ?1"
+    ))
+    .bind(version_id)
+    .fetch_one(&mut **tx)
+    .await
+    .map_err(db)?;
+    version_info(&row)
 }

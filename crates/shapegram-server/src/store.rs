@@ -143,7 +143,21 @@ pub struct GrammarSummary {
     pub visibility: Visibility,
     /// The newest version's number (versions count from 1).
     pub latest_version: i64,
+    /// The newest version not yanked, the one rule queries and search offer; `null` when every
+    /// version is yanked.
+    pub current_version: Option<i64>,
     pub updated_at: i64,
+}
+
+/// Who withdrew a version, when and why.
+#[derive(Clone, Debug, PartialEq, Eq, Serialize, ToSchema)]
+pub struct Yank {
+    /// The account that yanked it.
+    pub by: String,
+    /// Seconds since the Unix epoch.
+    pub at: i64,
+    /// Why, as the owner said (optional).
+    pub reason: Option<String>,
 }
 
 /// A version without its text.
@@ -154,6 +168,11 @@ pub struct VersionInfo {
     pub sha256: String,
     pub published_at: i64,
     pub publisher: String,
+    /// Withdrawn from new resolutions (still fetchable by its number).
+    pub yanked: bool,
+    /// The yank, when `yanked`.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub yank: Option<Yank>,
 }
 
 /// A version with its text.
@@ -179,7 +198,7 @@ pub struct IndexedRule {
     pub conditional: bool,
 }
 
-/// What a search asks for: grammars whose latest version has a rule indexed with the goal key
+/// What a search asks for: grammars whose current version (the newest not yanked) has a rule indexed with the goal key
 /// `g:GOAL` and one with the tag key `t:TAG`, whose canonical name contains `name`, of one
 /// owner; every filter is optional. Results are ordered by owner and name (canonical forms).
 #[derive(Clone, Copy, Debug, Default)]
@@ -329,7 +348,8 @@ pub trait Store: Send + Sync + 'static {
     ) -> StoreFuture<'a, Option<VersionText>>;
     /// Procedural rule queries: for each set of keys a shape has (`g:` open goals, `t:` tags,
     /// `a:` attributes), the rules whose positive keys it all has and none of whose negated
-    /// groups it has entirely, from the newest version of each grammar the viewer may see
+    /// groups it has entirely, from the current version (the newest not yanked) of each
+    /// grammar the viewer may see
     /// and `link` admits; rules that need a goal local to their grammar are left out.
     fn query_rules<'a>(
         &'a self,
@@ -345,6 +365,38 @@ pub trait Store: Send + Sync + 'static {
         canon: &'a str,
         version: i64,
     ) -> StoreFuture<'a, Option<Vec<IndexedRule>>>;
+
+    /// Yanks a version of one of `owner`'s grammars, recording who, when and why; yanking a
+    /// yanked version keeps the first yank. `None` when there is no such version.
+    fn yank<'a>(
+        &'a self,
+        owner: &'a Account,
+        canon: &'a str,
+        version: i64,
+        reason: Option<&'a str>,
+    ) -> StoreFuture<'a, Option<VersionInfo>>;
+    /// Withdraws a version's yank (a no-op when it is not yanked). `None` when there is no such
+    /// version.
+    fn unyank<'a>(
+        &'a self,
+        owner: &'a Account,
+        canon: &'a str,
+        version: i64,
+    ) -> StoreFuture<'a, Option<VersionInfo>>;
+
+    /// Counts one request of `key` in the window starting at `window_start` (seconds) and
+    /// returns the window's count, this request included, in one statement (UPSERT …
+    /// RETURNING), so that every process on the database shares the count.
+    fn rate_limit_hit<'a>(&'a self, key: &'a str, window_start: i64) -> StoreFuture<'a, i64>;
+    /// Forgets the counts of windows that started before `before`.
+    fn prune_rate_limits(&self, before: i64) -> StoreFuture<'_, ()>;
+
+    /// Checks what no crash may break, reading the whole database: every version has its whole
+    /// rule index (as many rules as it was published with) and its publish-log entry, the text hashes to its SHA-256, each grammar's versions
+    /// are numbered 1 to its latest without a gap, the log is numbered without a gap, and the
+    /// database's own integrity and foreign-key checks pass. The problems found, none when
+    /// all holds.
+    fn audit(&self) -> StoreFuture<'_, Vec<String>>;
 }
 
 /// A row of a rule query: grammar id, owner, name, version, SHA-256, rule index.

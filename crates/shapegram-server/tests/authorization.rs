@@ -97,6 +97,8 @@ const VERSIONS: &str = "/api/v1/grammars/{owner}/{name}/versions";
 const VERSION: &str = "/api/v1/grammars/{owner}/{name}/versions/{version}";
 const RULES: &str = "/api/v1/grammars/{owner}/{name}/versions/{version}/rules";
 const PREVIEW: &str = "/api/v1/grammars/{owner}/{name}/versions/{version}/preview";
+const YANK: &str = "/api/v1/grammars/{owner}/{name}/versions/{version}/yank";
+const UNYANK: &str = "/api/v1/grammars/{owner}/{name}/versions/{version}/unyank";
 
 /// Reads of each grammar: public to all, friends-only to friend and owner, private to owner;
 /// a revoked token is refused whatever it asks.
@@ -178,9 +180,32 @@ fn read_cases() -> Vec<Case> {
     cases
 }
 
+/// Yanking and unyanking: the owner alone; a caller who sees the grammar but does not own it
+/// is forbidden, one who does not see it finds nothing.
+fn yank_cases() -> Vec<Case> {
+    let mut cases = Vec::new();
+    for (name, expect) in [
+        ("pub", [401, 403, 403, 200, 401]),
+        ("fri", [401, 404, 403, 200, 401]),
+        ("pri", [401, 404, 404, 200, 401]),
+        ("none", [401, 404, 404, 404, 401]),
+    ] {
+        for (operation, action) in [(YANK, "yank"), (UNYANK, "unyank")] {
+            cases.push(case(
+                ("post", operation),
+                format!("/api/v1/grammars/olga/{name}/versions/1/{action}"),
+                None,
+                expect,
+            ));
+        }
+    }
+    cases
+}
+
 fn write_cases(spare_id: i64) -> Vec<Case> {
     let wood = || Some(json!({"text": WOOD}));
-    vec![
+    let mut cases = yank_cases();
+    cases.extend([
         // Only the owner publishes under her name, new grammar or existing (even private).
         case(
             ("post", VERSIONS),
@@ -247,7 +272,8 @@ fn write_cases(spare_id: i64) -> Vec<Case> {
             Some(json!({"name": "x", "password": "12345678"})),
             [200, 200, 200, 200, 200],
         ),
-    ]
+    ]);
+    cases
 }
 
 async fn run(world: &World, cases: &[Case]) -> Vec<String> {

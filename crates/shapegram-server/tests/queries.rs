@@ -116,6 +116,31 @@ async fn only_the_newest_version_answers_and_local_goals_are_never_offered() {
 }
 
 #[tokio::test]
+async fn the_newest_version_not_yanked_answers() {
+    let app = App::new().await;
+    let ana = app.user("ana").await;
+    published(&app, &ana, "ana/wood", WOOD, "public").await;
+    published(
+        &app,
+        &ana,
+        "ana/wood",
+        "fulfills(oak) --> color(\"#806040\")",
+        "public",
+    )
+    .await;
+    let body = json!({"queries": [{"goals": ["wooden"]}, {"goals": ["oak"]}]});
+    let answers = || async { found(&query(&app, None, body.clone()).await.1) };
+    // Version 2 yanked: version 1 answers again, as if 2 had never been published.
+    app.yank(&ana, "ana/wood", 2, "yank").await;
+    assert_eq!(answers().await, [vec!["ana/wood@1: [0]"], vec![]]);
+    // Every version yanked: the grammar answers nothing.
+    app.yank(&ana, "ana/wood", 1, "yank").await;
+    assert_eq!(answers().await, [Vec::<String>::new(), vec![]]);
+    app.yank(&ana, "ana/wood", 2, "unyank").await;
+    assert_eq!(answers().await, [vec![], vec!["ana/wood@2: [0]"]]);
+}
+
+#[tokio::test]
 async fn link_modes_choose_whose_grammars_answer() {
     let app = App::new().await;
     let ana = app.user("ana").await;

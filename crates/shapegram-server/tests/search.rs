@@ -99,6 +99,23 @@ async fn search_looks_at_the_latest_version_only() {
 }
 
 #[tokio::test]
+async fn search_skips_yanked_versions() {
+    let app = App::new().await;
+    let ana = app.user("ana").await;
+    app.publish(&ana, "ana/finish", WOOD, None).await;
+    app.publish(&ana, "ana/finish", PAINT, None).await;
+    app.yank(&ana, "ana/finish", 2, "yank").await;
+    assert_eq!(search(&app, "goal=wooden", None).await, ["ana/finish"]);
+    assert!(search(&app, "goal=painted", None).await.is_empty());
+    // Every version yanked: found by nothing, not even its name.
+    app.yank(&ana, "ana/finish", 1, "yank").await;
+    assert!(search(&app, "goal=wooden", None).await.is_empty());
+    assert!(search(&app, "q=finish", None).await.is_empty());
+    app.yank(&ana, "ana/finish", 1, "unyank").await;
+    assert_eq!(search(&app, "q=finish", None).await, ["ana/finish"]);
+}
+
+#[tokio::test]
 async fn search_pages_are_stable_and_bounded() {
     let app = App::new().await;
     let ana = app.user("ana").await;

@@ -104,3 +104,75 @@ async fn settings_migrations_and_immutability() {
     let refused = SqliteStore::open(&path).await.err().expect("refused");
     assert!(refused.to_string().contains("migration 2"), "{refused}");
 }
+
+/// Publishes `text` with its real hash and `n` rules.
+async fn publish_hashed(store: &SqliteStore, owner: &Account, grammar: &str, text: &str, n: i64) {
+    let rules: Vec<IndexedRule> = (0..n)
+        .map(|index| IndexedRule {
+            index,
+            positive: vec!["g:wooden".into()],
+            ..IndexedRule::default()
+        })
+        .collect();
+    let sha256 = shapegram_server::tokens::sha256_hex(text.as_bytes());
+    store
+        .publish(NewVersion {
+            owner,
+            name: grammar,
+            canon: grammar,
+            visibility: None,
+            text,
+            sha256: &sha256,
+            rules: &rules,
+        })
+        .await
+        .unwrap();
+}
+
+#[tokio::test]
+async fn the_audit_finds_what_a_crash_could_break() {
+    let dir = tempfile::tempdir().unwrap();
+    let store = SqliteStore::open(&dir.path().join("repo.db"))
+        .await
+        .unwrap();
+    let ana = store
+        .create_account("ana", "ana", "$argon2id$stand-in")
+        .await
+        .unwrap();
+    publish_hashed(&store, &ana, "paint", "one", 1).await;
+    publish_hashed(&store, &ana, "paint", "two", 3).await;
+    // A grammar without rules is complete with an empty index.
+    publish_hashed(&store, &ana, "wood", "", 0).await;
+    assert_eq!(store.audit().await.unwrap(), Vec::<String>::new());
+    // A wrong hash, a version without its index or log entry, a counter ahead of the
+    // versions: what a half-written publish would leave (the triggers stop updates, not
+    // inserts, and the audit reads what is there).
+    publish(&store, &ana, "four").await;
+    let pool = store.pool();
+    sqlx::query(
+        "INSERT INTO grammar_version
+            (grammar_id, version, text, sha256, publisher_id, published_at, rule_count)
+         SELECT id, 9, 'half', 'x', owner_id, 0, 1 FROM grammar WHERE canon = 'wood'",
+    )
+    .execute(pool)
+    .await
+    .unwrap();
+    sqlx::query("UPDATE grammar SET latest_version = 5, current_version = 2 WHERE canon = 'paint'")
+        .execute(pool)
+        .await
+        .unwrap();
+    let problems = store.audit().await.unwrap();
+    assert_eq!(
+        problems,
+        [
+            "wood 9 has not the rule index it was published with",
+            "wood 9 is not in the publish log",
+            "paint has versions numbered with a gap, or a latest version it does not have",
+            "wood has versions numbered with a gap, or a latest version it does not have",
+            "paint has a current version other than its newest not yanked",
+            "wood has a current version other than its newest not yanked",
+            "paint 3: the text does not match its SHA-256",
+            "wood 9: the text does not match its SHA-256",
+        ]
+    );
+}

@@ -7,6 +7,9 @@ use std::time::Duration;
 use clap::Args;
 use shapegram_server::preview::{PreviewConfig, PreviewLimits};
 
+use shapegram_server::ServeOptions;
+use shapegram_server::ratelimit::{Limit, RateLimits};
+
 use crate::Failure;
 
 /// Arguments of `shapegram serve`.
@@ -32,6 +35,12 @@ pub struct ServeArgs {
     /// Previews: workers running at once (0: previews off)
     #[arg(long, value_name = "N", default_value_t = 2)]
     pub preview_workers: usize,
+    /// Requests per token, or per address without one: N/s, N/min, N/h, N/day, or off
+    #[arg(long, value_name = "LIMIT", default_value = "600/min")]
+    pub rate_limit: String,
+    /// Sign-up and login attempts per address: N/s, N/min, N/h, N/day, or off
+    #[arg(long, value_name = "LIMIT", default_value = "20/min")]
+    pub sign_in_rate_limit: String,
 }
 
 /// A positive number of seconds, at most a day.
@@ -72,12 +81,22 @@ pub fn run(args: &ServeArgs) -> Result<(), Failure> {
         .enable_all()
         .build()
         .map_err(|e| Failure::new(format!("cannot start the server's runtime: {e}")))?;
+    let limit = |flag: &str, text: &str| {
+        Limit::parse(text).map_err(|e| Failure::new(format!("--{flag}: {e}")))
+    };
+    let options = ServeOptions {
+        rate_limits: RateLimits {
+            requests: limit("rate-limit", &args.rate_limit)?,
+            sign_in: limit("sign-in-rate-limit", &args.sign_in_rate_limit)?,
+        },
+        previews: previews(args),
+    };
     let data = args.data.display().to_string();
     runtime
         .block_on(shapegram_server::serve(
             &args.data,
             &args.listen,
-            previews(args),
+            options,
             |addr| {
                 println!("shapegram serve: listening on http://{addr} (database {data})");
                 // Scripts and tests read the address from the first line.

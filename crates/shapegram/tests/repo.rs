@@ -7,7 +7,8 @@ use std::process::{Command, Output, Stdio};
 
 mod common;
 
-use common::{Server, TempDir, example, start_server};
+use common::{Server, TempDir, example, http, start_server};
+use serde_json::json;
 
 /// A user of the command line: a configuration folder and a repository.
 struct User {
@@ -412,4 +413,54 @@ fn usage_and_connection_errors_exit_with_2() {
     );
     let run = user.run(&["publish", "--visibility", "everyone", "x.goal"]);
     assert_eq!(run.code, 2, "{run:?}");
+}
+
+#[test]
+fn fetch_without_a_version_skips_yanked_versions() {
+    let dir = TempDir::new("repo-yank");
+    let server = start_server(&dir.path("repo.db"));
+    let credentials = json!({"name": "ana", "password": "ana's password"});
+    assert_eq!(
+        http(
+            &server,
+            "POST",
+            "/api/v1/accounts",
+            None,
+            Some(credentials.clone())
+        )
+        .0,
+        201
+    );
+    let (_, login) = http(&server, "POST", "/api/v1/login", None, Some(credentials));
+    let token = login["token"].as_str().unwrap();
+    let texts = [
+        "fulfills(wooden) --> color(\"#8b5a2b\")\n",
+        "fulfills(wooden) --> color(\"#806040\")\n",
+    ];
+    for text in texts {
+        let (status, body) = http(
+            &server,
+            "POST",
+            "/api/v1/grammars/ana/wood/versions",
+            Some(token),
+            Some(json!({"text": text})),
+        );
+        assert_eq!(status, 201, "{body}");
+    }
+    let bob = User::new(&dir, "bob", &server);
+    let yank = |version: i64| {
+        let uri = format!("/api/v1/grammars/ana/wood/versions/{version}/yank");
+        assert_eq!(http(&server, "POST", &uri, Some(token), None).0, 200);
+    };
+    yank(2);
+    assert_eq!(bob.run(&["fetch", "ana/wood"]).ok().stdout, texts[0]);
+    // A yanked version is still fetched by its number.
+    assert_eq!(bob.run(&["fetch", "ana/wood@2"]).ok().stdout, texts[1]);
+    yank(1);
+    let run = bob.run(&["fetch", "ana/wood"]);
+    assert_eq!(run.code, 1, "{run:?}");
+    assert_eq!(
+        run.stderr,
+        "error: every version of ana/wood is yanked: name one (ana/wood@VERSION)\n"
+    );
 }

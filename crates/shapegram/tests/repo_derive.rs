@@ -8,7 +8,7 @@ use std::process::{Command, Output, Stdio};
 
 mod common;
 
-use common::{Server, TempDir, example, start_server};
+use common::{Server, TempDir, example, http, start_server};
 
 /// Runs the binary with a configuration folder and a cache of the test's own.
 fn run(dir: &TempDir, args: &[&str], input: Option<&str>) -> Output {
@@ -203,6 +203,44 @@ fn a_derivation_finds_locks_and_reproduces_the_repositorys_rules() {
     let stderr = ok(derive(&dir, &chair, "alone.glb", &["--link", "this"]));
     assert!(!stderr.contains("repository"), "{stderr}");
     assert_ne!(std::fs::read(dir.path("alone.glb")).unwrap(), updated);
+}
+
+#[test]
+fn a_yanked_version_still_derives_from_its_lock_and_update_resolves_without_it() {
+    let dir = TempDir::new("repo-derive-yank");
+    let server = start_server(&dir.path("repo.db"));
+    let repo = url(&server);
+    let wood = std::fs::read_to_string(example("chairs/materials/wood.goal")).unwrap();
+    publish(&dir, &server, "wood", &wood);
+    publish(&dir, &server, "wood", RED_WOOD);
+    let chair = chair(&dir);
+    ok(derive(&dir, &chair, "red.glb", &["--repo", &repo]));
+    assert_eq!(lock(&chair)["grammars"][0]["version"], 2);
+    let red = std::fs::read(dir.path("red.glb")).unwrap();
+
+    // Ana yanks the red version.
+    let credentials = serde_json::json!({"name": "ana", "password": "ana's password"});
+    let (_, login) = http(&server, "POST", "/api/v1/login", None, Some(credentials));
+    let token = login["token"].as_str().unwrap();
+    let uri = "/api/v1/grammars/ana/wood/versions/2/yank";
+    let (status, body) = http(&server, "POST", uri, Some(token), None);
+    assert_eq!(status, 200, "{body}");
+
+    // The lock still names it, and it is fetched by its number: the same red chair.
+    std::fs::remove_dir_all(dir.path("cache")).unwrap();
+    ok(derive(&dir, &chair, "locked.glb", &[]));
+    assert_eq!(std::fs::read(dir.path("locked.glb")).unwrap(), red);
+    assert_eq!(lock(&chair)["grammars"][0]["version"], 2);
+    // A new resolution does without it: version 1, brown.
+    let stderr = ok(derive(
+        &dir,
+        &chair,
+        "brown.glb",
+        &["--repo", &repo, "--update"],
+    ));
+    assert!(stderr.contains("1 grammar (ana/wood@1)"), "{stderr}");
+    assert_eq!(lock(&chair)["grammars"][0]["version"], 1);
+    assert_ne!(std::fs::read(dir.path("brown.glb")).unwrap(), red);
 }
 
 #[test]

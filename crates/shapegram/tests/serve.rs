@@ -1,46 +1,12 @@
 //! End to end: `shapegram serve` as a child process on a free port, over real HTTP: it creates
 //! the database, and a restart on the same file keeps every published version as it was.
 
-use std::io::{Read, Write};
-use std::net::TcpStream;
 use std::process::Command;
 
 mod common;
 
-use common::{Server, TempDir, start_server as start};
-use serde_json::{Value, json};
-
-/// One HTTP/1.1 request: the status and JSON body.
-fn http(
-    server: &Server,
-    method: &str,
-    path: &str,
-    token: Option<&str>,
-    body: Option<Value>,
-) -> (u16, Value) {
-    let mut stream = TcpStream::connect(&server.addr).unwrap();
-    let body = body.map(|b| b.to_string()).unwrap_or_default();
-    let auth = token
-        .map(|t| format!("Authorization: Bearer {t}\r\n"))
-        .unwrap_or_default();
-    write!(
-        stream,
-        "{method} {path} HTTP/1.1\r\nHost: {}\r\nConnection: close\r\nContent-Type: application/json\r\nContent-Length: {}\r\n{auth}\r\n{body}",
-        server.addr,
-        body.len()
-    )
-    .unwrap();
-    let mut answer = String::new();
-    stream.read_to_string(&mut answer).unwrap();
-    let status: u16 = answer[9..12].parse().unwrap();
-    let (_, content) = answer.split_once("\r\n\r\n").unwrap();
-    let value = if content.is_empty() {
-        Value::Null
-    } else {
-        serde_json::from_str(content).unwrap()
-    };
-    (status, value)
-}
+use common::{TempDir, http, start_server as start, start_server_with};
+use serde_json::json;
 
 #[test]
 fn serve_creates_the_database_and_keeps_versions_across_restarts() {
@@ -189,4 +155,56 @@ fn serve_stops_cleanly_on_sigterm() {
     assert!(sent.success());
     let status = server.child.wait().unwrap();
     assert!(status.success(), "{status:?}");
+}
+
+#[test]
+fn serve_limits_requests_per_address_and_token() {
+    let dir = TempDir::new("serve-limits");
+    // A day's window: the test cannot straddle two.
+    let options = ["--rate-limit", "3/day", "--sign-in-rate-limit", "off"];
+    let server = start_server_with(&dir.path("repo.db"), None, &options);
+    let credentials = json!({"name": "ana", "password": "ana's password"});
+    assert_eq!(
+        http(
+            &server,
+            "POST",
+            "/api/v1/accounts",
+            None,
+            Some(credentials.clone())
+        )
+        .0,
+        201
+    );
+    let (_, login) = http(&server, "POST", "/api/v1/login", None, Some(credentials));
+    let token = login["token"].as_str().unwrap();
+    for _ in 0..3 {
+        assert_eq!(http(&server, "GET", "/api/v1/grammars", None, None).0, 200);
+    }
+    let (status, body) = http(&server, "GET", "/api/v1/grammars", None, None);
+    assert_eq!(status, 429);
+    let message = body["error"].as_str().unwrap();
+    assert!(
+        message.starts_with(
+            "too many requests from this address without a token: at most 3/day; retry in "
+        ),
+        "{message}"
+    );
+    // The token has its own count.
+    assert_eq!(http(&server, "GET", "/api/v1/me", Some(token), None).0, 200);
+}
+
+#[test]
+fn serve_refuses_a_malformed_rate_limit() {
+    let dir = TempDir::new("serve-bad-limit");
+    let output = Command::new(env!("CARGO_BIN_EXE_shapegram"))
+        .args(["serve", "--rate-limit", "600", "--data"])
+        .arg(dir.path("repo.db"))
+        .output()
+        .unwrap();
+    assert_eq!(output.status.code(), Some(1));
+    assert_eq!(
+        String::from_utf8(output.stderr).unwrap(),
+        "error: --rate-limit: \"600\" is no rate limit: write N/s, N/min, N/h or N/day, or off\n"
+    );
+    assert!(!dir.path("repo.db").exists());
 }

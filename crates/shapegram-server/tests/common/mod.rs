@@ -138,6 +138,20 @@ impl App {
         .await
     }
 
+    /// Yanks (`action` `yank`) or unyanks (`unyank`) version `version` of `owner/name`.
+    pub async fn yank(&self, token: &str, grammar: &str, version: i64, action: &str) {
+        let (status, body) = self
+            .call(
+                Method::POST,
+                &format!("/api/v1/grammars/{grammar}/versions/{version}/{action}"),
+                Some(token),
+                None,
+            )
+            .await;
+        assert_eq!(status, StatusCode::OK, "{body}");
+        assert_eq!(body["yanked"], json!(action == "yank"));
+    }
+
     /// `a` asks `b` to be friends and `b` accepts.
     pub async fn befriend(&self, a: (&str, &str), b: (&str, &str)) {
         let (status, body) = self

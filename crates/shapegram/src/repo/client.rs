@@ -83,6 +83,8 @@ pub struct GrammarSummary {
     pub name: String,
     pub visibility: String,
     pub latest_version: i64,
+    /// The newest version not yanked: what a new resolution gets (none when all are yanked).
+    pub current_version: Option<i64>,
 }
 
 /// A page of search results.

@@ -93,7 +93,7 @@ pub fn search(repo: &Repo, args: &SearchArgs) -> Result<(), Failure> {
         .map(|g| {
             vec![
                 format!("{}/{}", g.owner, g.name),
-                g.latest_version.to_string(),
+                g.current_version.unwrap_or(g.latest_version).to_string(),
                 g.visibility.clone(),
             ]
         })
@@ -137,13 +137,22 @@ fn grammar_name(spec: &str, versioned: bool) -> Result<(&str, &str, Option<i64>)
     }
 }
 
-/// `fetch OWNER/NAME[@VERSION]`: the text, checked against its SHA-256.
+/// `fetch OWNER/NAME[@VERSION]`: the text, checked against its SHA-256; without a version, the
+/// current one (the newest not yanked).
 pub fn fetch(repo: &Repo, args: &FetchArgs) -> Result<(), Failure> {
     let (owner, name, version) = grammar_name(&args.grammar, true)?;
     let client = repo.client();
     let version = match version {
         Some(version) => version,
-        None => client.grammar(owner, name).map_err(failure)?.latest_version,
+        None => client
+            .grammar(owner, name)
+            .map_err(failure)?
+            .current_version
+            .ok_or_else(|| {
+                Failure::new(format!(
+                    "every version of {owner}/{name} is yanked: name one ({owner}/{name}@VERSION)"
+                ))
+            })?,
     };
     let fetched = client.version(owner, name, version).map_err(failure)?;
     let label = format!(

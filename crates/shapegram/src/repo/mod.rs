@@ -72,9 +72,9 @@ pub enum RepoCommand {
     /// Find grammars by the goals and tags of their rules, or by name
     #[command(
         long_about = "Find grammars by the goals and tags of their rules, or by name.\n\n\
-            --goal G finds grammars whose latest version has a rule for the goal G\n\
-            (fulfills(G)); --tag T one for shapes tagged T (is(T)); TEXT is part of the\n\
-            grammar's name. All that is given must hold. Only grammars you may see are found:\n\
+            --goal G finds grammars whose current version (the newest not yanked) has a rule\n\
+            for the goal G (fulfills(G)); --tag T one for shapes tagged T (is(T)); TEXT is\n\
+            part of the grammar's name. All that is given must hold. Only grammars you may see are found:\n\
             public ones, your own, and your friends' friends-only ones. Results come 50 to a\n\
             page, by owner and name.",
         after_help = "Examples:\n  \
@@ -83,7 +83,7 @@ pub enum RepoCommand {
             shapegram repo search wood --page 2"
     )]
     Search(SearchArgs),
-    /// Download a grammar's text (the latest version unless @VERSION is given)
+    /// Download a grammar's text (the newest version not yanked unless @VERSION is given)
     #[command(after_help = "Examples:\n  \
         shapegram repo fetch ana/wood\n  \
         shapegram repo fetch ana/wood@2 -o wood.goal")]

@@ -2,10 +2,13 @@
 //! examples and running the binary.
 #![allow(dead_code)]
 
-use std::io::{BufRead, BufReader};
+use std::io::{BufRead, BufReader, Read, Write};
+use std::net::TcpStream;
 use std::path::{Path, PathBuf};
-use std::process::{Child, Command, Output, Stdio};
+use std::process::{Child, ChildStderr, Command, Output, Stdio};
 use std::sync::atomic::{AtomicUsize, Ordering};
+
+use serde_json::Value;
 
 /// A fresh directory under the system temp dir, removed on drop.
 pub struct TempDir(PathBuf);
@@ -58,6 +61,8 @@ pub struct Server {
     pub child: Child,
     /// `127.0.0.1:PORT`.
     pub addr: String,
+    /// Its stderr, when it was started with a fail point.
+    pub stderr: Option<ChildStderr>,
 }
 
 impl Drop for Server {
@@ -69,13 +74,27 @@ impl Drop for Server {
 
 /// Starts `shapegram serve` on a free port over the database `db`, once it accepts connections.
 pub fn start_server(db: &Path) -> Server {
-    let mut child = Command::new(env!("CARGO_BIN_EXE_shapegram"))
+    start_server_with(db, None, &[])
+}
+
+/// Starts `shapegram serve` over `db` with more `options`, stopping at `fail_point` in a
+/// publish (`SHAPEGRAM_FAILPOINT`); its stderr is piped then, to see it arrive there.
+pub fn start_server_with(db: &Path, fail_point: Option<&str>, options: &[&str]) -> Server {
+    let mut command = Command::new(env!("CARGO_BIN_EXE_shapegram"));
+    command
         .args(["serve", "--listen", "127.0.0.1:0", "--data"])
         .arg(db)
+        .args(options)
+        .env_remove("SHAPEGRAM_FAILPOINT")
         .stdout(Stdio::piped())
-        .stderr(Stdio::inherit())
-        .spawn()
-        .unwrap();
+        .stderr(Stdio::inherit());
+    if let Some(point) = fail_point {
+        command
+            .env("SHAPEGRAM_FAILPOINT", point)
+            .stderr(Stdio::piped());
+    }
+    let mut child = command.spawn().unwrap();
+    let stderr = child.stderr.take();
     let mut line = String::new();
     BufReader::new(child.stdout.take().unwrap())
         .read_line(&mut line)
@@ -87,5 +106,41 @@ pub fn start_server(db: &Path) -> Server {
         .unwrap_or_else(|| panic!("no address in {line:?}"))
         .to_owned();
     assert!(line.contains("listening"), "{line}");
-    Server { child, addr }
+    Server {
+        child,
+        addr,
+        stderr,
+    }
+}
+
+/// One HTTP/1.1 request: the status and JSON body.
+pub fn http(
+    server: &Server,
+    method: &str,
+    path: &str,
+    token: Option<&str>,
+    body: Option<Value>,
+) -> (u16, Value) {
+    let mut stream = TcpStream::connect(&server.addr).unwrap();
+    let body = body.map(|b| b.to_string()).unwrap_or_default();
+    let auth = token
+        .map(|t| format!("Authorization: Bearer {t}\r\n"))
+        .unwrap_or_default();
+    write!(
+        stream,
+        "{method} {path} HTTP/1.1\r\nHost: {}\r\nConnection: close\r\nContent-Type: application/json\r\nContent-Length: {}\r\n{auth}\r\n{body}",
+        server.addr,
+        body.len()
+    )
+    .unwrap();
+    let mut answer = String::new();
+    stream.read_to_string(&mut answer).unwrap();
+    let status: u16 = answer[9..12].parse().unwrap();
+    let (_, content) = answer.split_once("\r\n\r\n").unwrap();
+    let value = if content.is_empty() {
+        Value::Null
+    } else {
+        serde_json::from_str(content).unwrap()
+    };
+    (status, value)
 }
