@@ -30,6 +30,11 @@ macro_rules! visible {
 #[derive(Clone)]
 pub struct SqliteStore {
     pool: SqlitePool,
+    /// One connection for the rate-limit counters, which every request writes: without an
+    /// fsync per commit (`synchronous=NORMAL`: in WAL mode the database stays consistent, and
+    /// a power cut loses at most the last counts), and queued here rather than in SQLite's
+    /// busy loop.
+    counters: SqlitePool,
     fail_points: FailPoints,
 }
 
@@ -64,11 +69,17 @@ impl SqliteStore {
             .foreign_keys(true);
         let pool = SqlitePoolOptions::new()
             .max_connections(8)
-            .connect_with(options)
+            .connect_with(options.clone())
+            .await
+            .map_err(db)?;
+        let counters = SqlitePoolOptions::new()
+            .max_connections(1)
+            .connect_with(options.synchronous(SqliteSynchronous::Normal))
             .await
             .map_err(db)?;
         let store = SqliteStore {
             pool,
+            counters,
             fail_points: FailPoints::NONE,
         };
         store.migrate().await?;
@@ -927,7 +938,7 @@ impl Store for SqliteStore {
             )
             .bind(key)
             .bind(window_start)
-            .fetch_one(&self.pool)
+            .fetch_one(&self.counters)
             .await
             .map_err(db)
         })
@@ -937,7 +948,7 @@ impl Store for SqliteStore {
         Box::pin(async move {
             sqlx::query("DELETE FROM rate_limit WHERE window_start < ?1")
                 .bind(before)
-                .execute(&self.pool)
+                .execute(&self.counters)
                 .await
                 .map_err(db)?;
             Ok(())
