@@ -448,14 +448,55 @@ fn fetch_without_a_version_skips_yanked_versions() {
         assert_eq!(status, 201, "{body}");
     }
     let bob = User::new(&dir, "bob", &server);
+    let ana = User::new(&dir, "ana", &server);
+    ana.run_with_input(&["login", "ana", "--password-stdin"], "ana's password\n")
+        .ok();
     let yank = |version: i64| {
-        let uri = format!("/api/v1/grammars/ana/wood/versions/{version}/yank");
-        assert_eq!(http(&server, "POST", &uri, Some(token), None).0, 200);
+        let run = ana.run(&[
+            "yank",
+            &format!("ana/wood@{version}"),
+            "--reason",
+            "too dark",
+        ]);
+        assert_eq!(
+            run.ok().stderr,
+            format!(
+                "yanked ana/wood@{version}: new resolutions and searches skip it; locks that \
+                 name it keep it\n"
+            )
+        );
     };
+    // Only a version is yanked, by someone logged in.
+    let run = ana.run(&["yank", "ana/wood"]);
+    assert_eq!(
+        (run.code, run.stderr.as_str()),
+        (
+            2,
+            "error: ana/wood names no version: yank OWNER/NAME@VERSION\n"
+        )
+    );
+    let run = bob.run(&["yank", "ana/wood@1"]);
+    assert_eq!(run.code, 1, "{run:?}");
+    assert!(
+        run.stderr.starts_with("error: not logged in to http://"),
+        "{run:?}"
+    );
     yank(2);
     assert_eq!(bob.run(&["fetch", "ana/wood"]).ok().stdout, texts[0]);
     // A yanked version is still fetched by its number.
     assert_eq!(bob.run(&["fetch", "ana/wood@2"]).ok().stdout, texts[1]);
+    let versions = bob.run(&["versions", "ana/wood"]).ok().stdout;
+    let yanked: Vec<bool> = versions
+        .lines()
+        .skip(1)
+        .map(|l| l.contains(" yanked "))
+        .collect();
+    assert_eq!(yanked, [false, true], "{versions}");
+    // Undone, and done again.
+    let run = ana.run(&["yank", "ana/wood@2", "--undo"]);
+    assert_eq!(run.ok().stderr, "ana/wood@2 is offered again\n");
+    assert_eq!(bob.run(&["fetch", "ana/wood"]).ok().stdout, texts[1]);
+    yank(2);
     yank(1);
     let run = bob.run(&["fetch", "ana/wood"]);
     assert_eq!(run.code, 1, "{run:?}");

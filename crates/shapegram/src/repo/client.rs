@@ -111,6 +111,9 @@ pub struct VersionInfo {
     pub sha256: String,
     pub published_at: i64,
     pub publisher: String,
+    /// Withdrawn from new resolutions (still fetchable by number).
+    #[serde(default)]
+    pub yanked: bool,
 }
 
 /// A version with its text.
@@ -404,6 +407,26 @@ impl Client {
             &format!("{}/versions/{version}", Self::grammar_path(owner, name)),
             &[],
         )
+    }
+}
+
+impl Client {
+    /// Yanks a version (with an optional reason), or withdraws its yank.
+    pub fn yank(
+        &self,
+        owner: &str,
+        name: &str,
+        version: i64,
+        yank: bool,
+        reason: Option<&str>,
+    ) -> Result<VersionInfo, ClientError> {
+        let path = Self::grammar_path(owner, name);
+        let action = if yank { "yank" } else { "unyank" };
+        let body = match reason {
+            Some(reason) => json!({"reason": reason}),
+            None => json!({}),
+        };
+        self.post(&format!("{path}/versions/{version}/{action}"), &body)
     }
 }
 

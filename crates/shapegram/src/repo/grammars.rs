@@ -3,7 +3,9 @@
 use std::path::Path;
 
 use super::client::{ClientError, Diagnostic, Search};
-use super::{FetchArgs, GrammarArg, PublishArgs, Repo, SearchArgs, failure, table, usage, utc};
+use super::{
+    FetchArgs, GrammarArg, PublishArgs, Repo, SearchArgs, YankArgs, failure, table, usage, utc,
+};
 use crate::{Failure, counted, print_stdout};
 
 /// `FILE:LINE:COLUMN: SEVERITY: MESSAGE` and its hints, one diagnostic a line as compilers and
@@ -186,14 +188,45 @@ pub fn versions(repo: &Repo, args: &GrammarArg) -> Result<(), Failure> {
                 v.version.to_string(),
                 utc(v.published_at),
                 v.publisher.clone(),
+                if v.yanked { "yanked" } else { "" }.to_owned(),
                 v.sha256.clone(),
             ]
         })
         .collect();
     print_stdout(&table(
-        &["VERSION", "PUBLISHED (UTC)", "PUBLISHER", "SHA-256"],
+        &[
+            "VERSION",
+            "PUBLISHED (UTC)",
+            "PUBLISHER",
+            "YANKED",
+            "SHA-256",
+        ],
         &rows,
     ))
+}
+
+/// `yank OWNER/NAME@VERSION [--reason TEXT] [--undo]`.
+pub fn yank(repo: &Repo, args: &YankArgs) -> Result<(), Failure> {
+    let (owner, name, version) = grammar_name(&args.grammar, true)?;
+    let Some(version) = version else {
+        return Err(usage(format!(
+            "{} names no version: yank OWNER/NAME@VERSION",
+            args.grammar
+        )));
+    };
+    let client = repo.signed_client()?;
+    let info = client
+        .yank(owner, name, version, !args.undo, args.reason.as_deref())
+        .map_err(failure)?;
+    let label = format!("{owner}/{name}@{}", info.version);
+    if info.yanked {
+        eprintln!(
+            "yanked {label}: new resolutions and searches skip it; locks that name it keep it"
+        );
+    } else {
+        eprintln!("{label} is offered again");
+    }
+    Ok(())
 }
 
 #[cfg(test)]

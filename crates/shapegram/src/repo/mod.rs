@@ -90,6 +90,12 @@ pub enum RepoCommand {
     Fetch(FetchArgs),
     /// List a grammar's versions, oldest first
     Versions(GrammarArg),
+    /// Yank a version of one of your grammars: it stays fetchable by its number (locks that
+    /// name it keep working) but is offered to no new resolution or search
+    #[command(after_help = "Examples:\n  \
+        shapegram repo yank ana/wood@3 --reason \"the legs float\"\n  \
+        shapegram repo yank ana/wood@3 --undo")]
+    Yank(YankArgs),
     /// List your friends and requests, or ask, accept or remove a friend
     #[command(
         long_about = "List your friends and requests, or ask, accept or remove a friend.\n\n\
@@ -176,6 +182,20 @@ pub struct GrammarArg {
     /// The grammar: OWNER/NAME
     #[arg(value_name = "OWNER/NAME")]
     pub grammar: String,
+}
+
+/// `yank` arguments.
+#[derive(Debug, Args)]
+pub struct YankArgs {
+    /// The version: OWNER/NAME@VERSION
+    #[arg(value_name = "OWNER/NAME@VERSION")]
+    pub grammar: String,
+    /// Why (shown with the version)
+    #[arg(long, value_name = "TEXT", conflicts_with = "undo")]
+    pub reason: Option<String>,
+    /// Withdraw the yank: the version is offered again
+    #[arg(long)]
+    pub undo: bool,
 }
 
 /// `friends` actions.
@@ -335,6 +355,7 @@ pub fn run(args: &RepoArgs) -> Result<(), Failure> {
         RepoCommand::Search(a) => grammars::search(&repo, a),
         RepoCommand::Fetch(a) => grammars::fetch(&repo, a),
         RepoCommand::Versions(a) => grammars::versions(&repo, a),
+        RepoCommand::Yank(a) => grammars::yank(&repo, a),
     }
 }
 
