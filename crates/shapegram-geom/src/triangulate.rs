@@ -32,7 +32,9 @@ impl Triangulator {
         }
         let normal = newell(points[..outer_len].iter().copied()).normalize_or_zero();
         if hole_starts.is_empty() && is_convex(points) {
-            let mut fan: Vec<[u32; 3]> = (1..n as u32 - 1).map(|i| [0, i, i + 1]).collect();
+            let hub = fan_hub(points);
+            let at = |i: usize| ((hub + i) % n) as u32;
+            let mut fan: Vec<[u32; 3]> = (1..n - 1).map(|i| [at(0), at(i), at(i + 1)]).collect();
             // The test is on the sine of the angle at the hub, so the thin but real triangles of
             // a finely divided circle count as proper.
             let proper = |t: &[u32; 3]| {
@@ -91,6 +93,38 @@ impl Triangulator {
             [d.dot(u), d.dot(v)]
         }));
     }
+}
+
+/// The corner of a convex polygon to fan it from: the one whose thinnest triangle is the widest,
+/// so that corners almost on a line (a footprint's kink of a few millimetres) do not become a
+/// needle of the fan when another corner gives them room. The first corner stays the hub unless
+/// another makes the thinnest triangle at least twice as wide (rectangles fan as they always did).
+/// Polygons of more than 16 corners (fine circles, whose triangles are alike from any corner) fan
+/// from the first.
+fn fan_hub(points: &[DVec3]) -> usize {
+    const MOST_CORNERS: usize = 16;
+    let n = points.len();
+    if n <= 3 || n > MOST_CORNERS {
+        return 0;
+    }
+    let thinnest = |hub: usize| {
+        (1..n - 1)
+            .map(|i| {
+                let a = points[hub];
+                let (b, c) = (points[(hub + i) % n], points[(hub + i + 1) % n]);
+                (b - a).cross(c - a).length_squared()
+            })
+            .fold(f64::INFINITY, f64::min)
+    };
+    // Squared cross products: twice as wide is four times as much.
+    let mut best = (0, thinnest(0));
+    for hub in 1..n {
+        let area = thinnest(hub);
+        if area > 4.0 * best.1 {
+            best = (hub, area);
+        }
+    }
+    best.0
 }
 
 /// Makes earcut's triangles conforming and free of zero-area triangles. Where a polygon has

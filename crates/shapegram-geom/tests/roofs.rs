@@ -687,3 +687,21 @@ proptest! {
         assert_solid(&roof_gable(&footprint, angle, overhang).unwrap());
     }
 }
+
+/// A sliver of a footprint found by the convex property test: three corners a few millimetres
+/// apart, almost on a line. The base must not be fanned from one of them into a needle.
+#[test]
+fn hip_over_corners_almost_on_a_line_has_no_needles() {
+    let footprint = [
+        DVec3::new(18.889268016327282, 0.0, 0.0),
+        DVec3::new(15.985431771436359, 0.0, -0.5327533275181169),
+        DVec3::new(-14.689572887081614, 0.0, 0.62867559849551),
+        DVec3::new(-14.686822132740451, 0.0, 0.628855693326597),
+        DVec3::new(-14.684456323711773, 0.0, 0.629010517163806),
+    ];
+    let roof = roof_hip(&footprint, 5.0, 0.0).unwrap();
+    assert_solid(&roof);
+    assert_convex_outward(&roof);
+    assert_faces_on_slopes(&roof, &footprint, tan(5.0));
+    assert_eq!(roof.face_count(), 6);
+}
