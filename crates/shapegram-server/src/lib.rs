@@ -7,6 +7,7 @@
 //! | [`store`] | the `Store` trait every backend implements, and its types |
 //! | [`sqlite`] | the embedded SQLite store |
 //! | [`migrations`] | versioned schema migrations, one folder per backend |
+//! | [`names`] | renaming grammars, versions by the hash of their text |
 //! | [`accounts`] | name rules, argon2id password hashing |
 //! | [`tokens`] | API tokens: generation, form, hashing |
 //! | [`grammars`] | checking uploads with the engine, the rule index |
@@ -25,6 +26,7 @@ pub mod extract;
 pub mod failpoint;
 pub mod grammars;
 pub mod migrations;
+pub mod names;
 pub mod openapi;
 pub mod policy;
 pub mod preview;
@@ -134,6 +136,11 @@ pub fn router(state: AppState) -> Router {
             get(version_rules),
         )
         .route("/api/v1/queries", post(queries::query_rules))
+        .route(
+            "/api/v1/grammars/{owner}/{name}/rename",
+            post(names::rename),
+        )
+        .route("/api/v1/texts/{sha256}", get(names::text_by_sha256))
         .route(
             "/api/v1/grammars/{owner}/{name}/versions/{version}/preview",
             get(version_preview),

@@ -43,6 +43,11 @@ pub const SQLITE: &[Migration] = &[
         name: "rule_count",
         sql: include_str!("../migrations/sqlite/0006_rule_count.sql"),
     },
+    Migration {
+        version: 7,
+        name: "texts_by_hash",
+        sql: include_str!("../migrations/sqlite/0007_texts_by_hash.sql"),
+    },
 ];
 
 /// The SHA-256 of a migration's SQL, in hex.

@@ -15,7 +15,7 @@ use crate::routes;
         routes::friends, routes::request_friend, routes::accept_friend, routes::remove_friend,
         routes::list_grammars, routes::search, routes::grammar, routes::versions, routes::version,
         routes::version_rules, routes::version_preview, routes::publish, crate::queries::query_rules,
-        routes::yank, routes::unyank,
+        routes::yank, routes::unyank, crate::names::rename, crate::names::text_by_sha256,
     ),
     modifiers(&BearerAuth)
 )]

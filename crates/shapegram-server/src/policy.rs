@@ -21,6 +21,8 @@ pub enum Action<'a> {
     Publish { owner_canon: &'a str },
     /// Yank or unyank a version of a grammar owned by the account with this canonical name.
     Yank { owner_canon: &'a str },
+    /// Rename a grammar owned by the account with this canonical name.
+    Rename { owner_canon: &'a str },
 }
 
 /// Whether `actor` may do `action`: only the owner of a namespace publishes into it and yanks
@@ -36,6 +38,11 @@ pub fn check(actor: &Account, actor_canon: &str, action: Action<'_>) -> Result<(
         Action::Yank { owner_canon } if owner_canon == actor_canon => Ok(()),
         Action::Yank { .. } => Err(ApiError::forbidden(format!(
             "only the grammar's owner yanks its versions, and {} is not",
+            actor.name
+        ))),
+        Action::Rename { owner_canon } if owner_canon == actor_canon => Ok(()),
+        Action::Rename { .. } => Err(ApiError::forbidden(format!(
+            "only the grammar's owner renames it, and {} is not",
             actor.name
         ))),
     }

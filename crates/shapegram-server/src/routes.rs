@@ -703,14 +703,15 @@ pub struct YankRequest {
     pub reason: Option<String>,
 }
 
-/// The owner's canonical name and the grammar's, for an action only the owner may do: 404 when
-/// the caller may not see the grammar (as if it did not exist), 403 when they may but are not
-/// its owner.
-async fn owned_grammar(
+/// The grammar's canonical name, for an action only its owner may do (`action`, given the
+/// owner's canonical name): 404 when the caller may not see the grammar (as if it did not
+/// exist), 403 when they may but the policy refuses.
+pub(crate) async fn owned_grammar(
     state: &AppState,
     account: &Account,
     owner: &str,
     name: &str,
+    action: for<'x> fn(&'x str) -> Action<'x>,
 ) -> ApiResult<String> {
     let (owner_canon, name_canon) = grammar_path(owner, name)?;
     let me = canon(account);
@@ -725,13 +726,7 @@ async fn owned_grammar(
             return Err(ApiError::not_found());
         }
     }
-    policy::check(
-        account,
-        &me,
-        Action::Yank {
-            owner_canon: &owner_canon,
-        },
-    )?;
+    policy::check(account, &me, action(&owner_canon))?;
     Ok(name_canon)
 }
 
@@ -751,7 +746,10 @@ pub async fn yank(
     ApiPath((owner, name, version)): ApiPath<(String, String, String)>,
     OptionalJsonBody(request): OptionalJsonBody<YankRequest>,
 ) -> ApiResult<Json<VersionInfo>> {
-    let name = owned_grammar(&state, &account, &owner, &name).await?;
+    let name = owned_grammar(&state, &account, &owner, &name, |owner_canon| {
+        Action::Yank { owner_canon }
+    })
+    .await?;
     let version = version_number(&version)?;
     let reason = request.and_then(|r| r.reason);
     if let Some(reason) = &reason
@@ -783,7 +781,10 @@ pub async fn unyank(
     Signed(account): Signed,
     ApiPath((owner, name, version)): ApiPath<(String, String, String)>,
 ) -> ApiResult<Json<VersionInfo>> {
-    let name = owned_grammar(&state, &account, &owner, &name).await?;
+    let name = owned_grammar(&state, &account, &owner, &name, |owner_canon| {
+        Action::Yank { owner_canon }
+    })
+    .await?;
     let version = version_number(&version)?;
     state
         .store

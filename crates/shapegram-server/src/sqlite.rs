@@ -929,6 +929,85 @@ impl Store for SqliteStore {
         })
     }
 
+    fn rename_grammar<'a>(
+        &'a self,
+        owner: &'a Account,
+        canon: &'a str,
+        name: &'a str,
+        new_canon: &'a str,
+    ) -> StoreFuture<'a, Option<GrammarSummary>> {
+        Box::pin(async move {
+            let mut tx = self.begin_write().await?;
+            let renamed = sqlx::query(
+                "UPDATE grammar SET name = ?3, canon = ?4, updated_at = ?5
+                 WHERE owner_id = ?1 AND canon = ?2",
+            )
+            .bind(owner.id)
+            .bind(canon)
+            .bind(name)
+            .bind(new_canon)
+            .bind(now())
+            .execute(&mut *tx)
+            .await
+            .map_err(|e| {
+                if is_unique_violation(&e) {
+                    StoreError::Conflict(format!("{}/{name} exists already", owner.name))
+                } else {
+                    db(e)
+                }
+            })?;
+            if renamed.rows_affected() == 0 {
+                return Ok(None);
+            }
+            let row = sqlx::query(
+                "SELECT a.name, g.name, g.visibility, g.latest_version, g.current_version,
+                    g.updated_at
+                 FROM grammar g JOIN account a ON a.id = g.owner_id
+                 WHERE g.owner_id = ?1 AND g.canon = ?2",
+            )
+            .bind(owner.id)
+            .bind(new_canon)
+            .fetch_one(&mut *tx)
+            .await
+            .map_err(db)?;
+            tx.commit().await.map_err(db)?;
+            summary(row).map(Some)
+        })
+    }
+
+    fn version_by_sha256<'a>(
+        &'a self,
+        viewer: Viewer,
+        sha256: &'a str,
+    ) -> StoreFuture<'a, Option<VersionText>> {
+        Box::pin(async move {
+            let row = sqlx::query(concat!(
+                "SELECT a.name AS owner, g.name AS grammar, v.version, v.sha256, v.published_at,
+                    p.name AS publisher, v.text, ",
+                yank_columns!(),
+                " FROM grammar_version v JOIN grammar g ON g.id = v.grammar_id
+                   JOIN account a ON a.id = g.owner_id
+                   JOIN account p ON p.id = v.publisher_id",
+                yank_join!(),
+                "WHERE v.sha256 = ?2 AND ",
+                visible!(),
+                " ORDER BY v.id DESC LIMIT 1"
+            ))
+            .bind(viewer.account)
+            .bind(sha256)
+            .fetch_optional(&self.pool)
+            .await
+            .map_err(db)?;
+            let Some(row) = row else { return Ok(None) };
+            Ok(Some(VersionText {
+                owner: row.try_get("owner").map_err(db)?,
+                name: row.try_get("grammar").map_err(db)?,
+                info: version_info(&row)?,
+                text: row.try_get("text").map_err(db)?,
+            }))
+        })
+    }
+
     fn rate_limit_hit<'a>(&'a self, key: &'a str, window_start: i64) -> StoreFuture<'a, i64> {
         Box::pin(async move {
             sqlx::query_scalar(

@@ -357,6 +357,23 @@ pub trait Store: Send + Sync + 'static {
         link: Link,
         queries: &'a [Vec<String>],
     ) -> StoreFuture<'a, QueryAnswers>;
+    /// Renames one of `owner`'s grammars (canonical name `canon`) to `name`; `None` when the
+    /// owner has no such grammar, [`StoreError::Conflict`] when the new name is taken. Its
+    /// versions, their numbers and hashes stay as they are.
+    fn rename_grammar<'a>(
+        &'a self,
+        owner: &'a Account,
+        canon: &'a str,
+        name: &'a str,
+        new_canon: &'a str,
+    ) -> StoreFuture<'a, Option<GrammarSummary>>;
+    /// The newest version the viewer may see whose text has this SHA-256 (hex), under its
+    /// grammar's name now: what a lock file fetches, so that renames break no lock.
+    fn version_by_sha256<'a>(
+        &'a self,
+        viewer: Viewer,
+        sha256: &'a str,
+    ) -> StoreFuture<'a, Option<VersionText>>;
     /// A version's rule index, by rule index.
     fn version_rules<'a>(
         &'a self,

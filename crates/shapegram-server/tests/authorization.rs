@@ -159,6 +159,13 @@ fn read_cases() -> Vec<Case> {
         all,
     ));
     let signed = [401, 200, 200, 200, 401];
+    // Every grammar of the world has this text; one of them is public.
+    let texts = ("get", "/api/v1/texts/{sha256}");
+    let wood = shapegram_server::tokens::sha256_hex(WOOD.as_bytes());
+    cases.push(case(texts, format!("/api/v1/texts/{wood}"), None, all));
+    let nobodys = "0".repeat(64);
+    let none = [404, 404, 404, 404, 401];
+    cases.push(case(texts, format!("/api/v1/texts/{nobodys}"), None, none));
     let query = |link: &str| Some(json!({"link": link, "queries": [{"goals": ["wooden"]}]}));
     let queries = ("post", "/api/v1/queries");
     cases.push(case(queries, "/api/v1/queries", query("all"), all));
@@ -273,6 +280,21 @@ fn write_cases(spare_id: i64) -> Vec<Case> {
             [200, 200, 200, 200, 200],
         ),
     ]);
+    // Renames last, since they change the names the cases above use: the owner alone. (The
+    // friend ended the friendship above: Olga's friends-only grammar is no longer theirs to see.)
+    for (name, expect) in [
+        ("pub", [401, 403, 403, 200, 401]),
+        ("fri", [401, 404, 404, 200, 401]),
+        ("pri", [401, 404, 404, 200, 401]),
+        ("none", [401, 404, 404, 404, 401]),
+    ] {
+        cases.push(case(
+            ("post", "/api/v1/grammars/{owner}/{name}/rename"),
+            format!("/api/v1/grammars/olga/{name}/rename"),
+            Some(json!({"name": format!("{name}-renamed")})),
+            expect,
+        ));
+    }
     cases
 }
 

@@ -239,9 +239,10 @@ fn text_of(grammar: &LockedGrammar, cache: &Cache, repo: Option<&Repo>) -> Resul
             grammar.label()
         )));
     };
+    // By hash, not by name: a grammar renamed since still has the text.
     let text = repo
         .client()
-        .version(&grammar.owner, &grammar.name, grammar.version)
+        .text(&grammar.sha256)
         .map_err(|e| Failure::new(format!("cannot fetch {}: {e}", grammar.label())))?
         .text;
     if sha256_hex(&text) != grammar.sha256 {

@@ -196,9 +196,23 @@ fn a_derivation_finds_locks_and_reproduces_the_repositorys_rules() {
     assert_eq!(locked["as_of"], 2);
     let updated = std::fs::read(dir.path("updated.glb")).unwrap();
     assert_ne!(updated, found);
-    // A fresh cache fetches the locked version by its number, and checks its hash.
+    // A fresh cache fetches the locked version by its hash, and checks it.
+    std::fs::remove_dir_all(dir.path("cache")).unwrap();
     ok(derive(&dir, &chair, "fetched.glb", &[]));
     assert_eq!(std::fs::read(dir.path("fetched.glb")).unwrap(), updated);
+    // Ana renames her grammar: the lock still finds its text. (Logins are kept per URL, and
+    // the server has another port now.)
+    let login = ["repo", "login", "ana", "--password-stdin", "--repo", &repo];
+    ok(run(&dir, &login, Some("ana's password\n")));
+    let stderr = ok(run(
+        &dir,
+        &["repo", "rename", "ana/wood", "timber", "--repo", &repo],
+        None,
+    ));
+    assert_eq!(stderr, "renamed ana/wood to ana/timber\n");
+    std::fs::remove_dir_all(dir.path("cache")).unwrap();
+    ok(derive(&dir, &chair, "renamed.glb", &[]));
+    assert_eq!(std::fs::read(dir.path("renamed.glb")).unwrap(), updated);
     // `--link this` leaves the repository out: the chair has no material.
     let stderr = ok(derive(&dir, &chair, "alone.glb", &["--link", "this"]));
     assert!(!stderr.contains("repository"), "{stderr}");

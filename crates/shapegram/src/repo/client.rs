@@ -430,6 +430,20 @@ impl Client {
     }
 }
 
+impl Client {
+    /// The newest version the caller may see whose text has this SHA-256, whatever its
+    /// grammar is called now.
+    pub fn text(&self, sha256: &str) -> Result<VersionText, ClientError> {
+        self.get(&format!("/api/v1/texts/{}", segment(sha256)), &[])
+    }
+
+    /// Renames one of the caller's grammars.
+    pub fn rename(&self, owner: &str, name: &str, to: &str) -> Result<GrammarSummary, ClientError> {
+        let path = Self::grammar_path(owner, name);
+        self.post(&format!("{path}/rename"), &json!({ "name": to }))
+    }
+}
+
 /// A grammar version that answers rule queries.
 #[derive(Clone, Debug, Deserialize)]
 pub struct FoundGrammar {

@@ -4,7 +4,8 @@ use std::path::Path;
 
 use super::client::{ClientError, Diagnostic, Search};
 use super::{
-    FetchArgs, GrammarArg, PublishArgs, Repo, SearchArgs, YankArgs, failure, table, usage, utc,
+    FetchArgs, GrammarArg, PublishArgs, RenameArgs, Repo, SearchArgs, YankArgs, failure, table,
+    usage, utc,
 };
 use crate::{Failure, counted, print_stdout};
 
@@ -203,6 +204,20 @@ pub fn versions(repo: &Repo, args: &GrammarArg) -> Result<(), Failure> {
         ],
         &rows,
     ))
+}
+
+/// `rename OWNER/NAME NEW-NAME`.
+pub fn rename(repo: &Repo, args: &RenameArgs) -> Result<(), Failure> {
+    let (owner, name, _) = grammar_name(&args.grammar, false)?;
+    let renamed = repo
+        .signed_client()?
+        .rename(owner, name, &args.name)
+        .map_err(failure)?;
+    eprintln!(
+        "renamed {owner}/{name} to {}/{}",
+        renamed.owner, renamed.name
+    );
+    Ok(())
 }
 
 /// `yank OWNER/NAME@VERSION [--reason TEXT] [--undo]`.

@@ -96,6 +96,10 @@ pub enum RepoCommand {
         shapegram repo yank ana/wood@3 --reason \"the legs float\"\n  \
         shapegram repo yank ana/wood@3 --undo")]
     Yank(YankArgs),
+    /// Rename one of your grammars: derivations find rules by goals and locks fetch texts by
+    /// their hash, so nobody's derivation breaks
+    #[command(after_help = "Example:\n  shapegram repo rename ana/wood timber")]
+    Rename(RenameArgs),
     /// List your friends and requests, or ask, accept or remove a friend
     #[command(
         long_about = "List your friends and requests, or ask, accept or remove a friend.\n\n\
@@ -182,6 +186,17 @@ pub struct GrammarArg {
     /// The grammar: OWNER/NAME
     #[arg(value_name = "OWNER/NAME")]
     pub grammar: String,
+}
+
+/// `rename` arguments.
+#[derive(Debug, Args)]
+pub struct RenameArgs {
+    /// The grammar: OWNER/NAME
+    #[arg(value_name = "OWNER/NAME")]
+    pub grammar: String,
+    /// Its new name
+    #[arg(value_name = "NEW-NAME")]
+    pub name: String,
 }
 
 /// `yank` arguments.
@@ -356,6 +371,7 @@ pub fn run(args: &RepoArgs) -> Result<(), Failure> {
         RepoCommand::Fetch(a) => grammars::fetch(&repo, a),
         RepoCommand::Versions(a) => grammars::versions(&repo, a),
         RepoCommand::Yank(a) => grammars::yank(&repo, a),
+        RepoCommand::Rename(a) => grammars::rename(&repo, a),
     }
 }
 
