@@ -92,34 +92,45 @@ pub fn plan(args: &DeriveArgs) -> Result<Plan, Failure> {
         return Ok(Plan::Local);
     }
     let path = lock_path(&args.grammar);
-    let lock = if args.update || !path.exists() {
-        None
-    } else {
+    let given = args.repo.as_deref().map(|url| url.trim_end_matches('/'));
+    if args.update {
+        // The lock's repository and link mode are the defaults; its versions are not used, and
+        // a lock that cannot be read is simply replaced.
+        let old = path.exists().then(|| read_lock(&path).ok()).flatten();
+        let url = given
+            .map(str::to_owned)
+            .or_else(|| old.as_ref().map(|lock| lock.repository.clone()))
+            .ok_or_else(|| Failure::new("--update needs a repository: give --repo URL"))?;
+        let link = args
+            .link
+            .or_else(|| {
+                let old = old.as_ref()?;
+                clap::ValueEnum::from_str(&old.link, false).ok()
+            })
+            .unwrap_or(LinkMode::All);
+        let repo = Repo::at(Some(&url))?;
+        return Ok(Plan::Resolve { repo, link });
+    }
+    let lock = if path.exists() {
         Some(read_lock(&path)?)
+    } else {
+        None
     };
-    let url = match (&args.repo, &lock) {
-        (Some(url), _) => Some(url.trim_end_matches('/').to_owned()),
-        (None, Some(lock)) => Some(lock.repository.clone()),
-        (None, None) if args.update || args.offline => {
-            return Err(Failure::new(format!(
-                "--{} needs a repository: give --repo URL",
-                if args.update { "update" } else { "offline" }
-            )));
-        }
-        (None, None) => return Ok(Plan::Local),
-    };
-    let url = url.expect("a repository");
-    let link = args.link.unwrap_or(LinkMode::All);
     let Some(lock) = lock else {
         if args.offline {
             return Err(Failure::new(format!(
                 "--offline needs a lock file: {} does not exist",
                 path.display()
             ))
-            .with_hints(["derive once with --repo to make it".to_owned()]));
+            .with_hints(["derive once with --repo URL to make it".to_owned()]));
         }
-        let repo = Repo::at(Some(&url))?;
-        return Ok(Plan::Resolve { repo, link });
+        return match given {
+            Some(url) => Ok(Plan::Resolve {
+                repo: Repo::at(Some(url))?,
+                link: args.link.unwrap_or(LinkMode::All),
+            }),
+            None => Ok(Plan::Local),
+        };
     };
     let stale = |what: &str, locked: &str, asked: &str| {
         Failure::new(format!(
@@ -130,16 +141,20 @@ pub fn plan(args: &DeriveArgs) -> Result<Plan, Failure> {
             "--update asks {asked} afresh and rewrites the lock"
         )])
     };
-    if lock.repository != url {
-        return Err(stale("the repository", &lock.repository, &url));
+    if let Some(url) = given
+        && lock.repository != url
+    {
+        return Err(stale("the repository", &lock.repository, url));
     }
-    if args.link.is_some() && link.as_str() != lock.link {
+    if let Some(link) = args.link
+        && link.as_str() != lock.link
+    {
         return Err(stale("--link", &lock.link, link.as_str()));
     }
     let repo = if args.offline {
         None
     } else {
-        Some(Repo::at(Some(&url))?)
+        Some(Repo::at(Some(&lock.repository))?)
     };
     Ok(Plan::Locked { lock, repo })
 }

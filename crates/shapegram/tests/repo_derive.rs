@@ -213,6 +213,13 @@ fn a_derivation_finds_locks_and_reproduces_the_repositorys_rules() {
     std::fs::remove_dir_all(dir.path("cache")).unwrap();
     ok(derive(&dir, &chair, "renamed.glb", &[]));
     assert_eq!(std::fs::read(dir.path("renamed.glb")).unwrap(), updated);
+    // --update alone asks the lock's repository again: nothing new, the same model.
+    let stderr = ok(derive(&dir, &chair, "again-updated.glb", &["--update"]));
+    assert!(stderr.contains("1 grammar (ana/timber@2)"), "{stderr}");
+    assert_eq!(
+        std::fs::read(dir.path("again-updated.glb")).unwrap(),
+        updated
+    );
     // `--link this` leaves the repository out: the chair has no material.
     let stderr = ok(derive(&dir, &chair, "alone.glb", &["--link", "this"]));
     assert!(!stderr.contains("repository"), "{stderr}");
@@ -263,7 +270,12 @@ fn misuses_of_the_repository_options_are_explained() {
     let chair = chair(&dir);
     let stderr = failed(derive(&dir, &chair, "x.glb", &["--offline"]));
     assert!(
-        stderr.contains("error: --offline needs a repository: give --repo URL"),
+        stderr.contains("error: --offline needs a lock file:"),
+        "{stderr}"
+    );
+    let stderr = failed(derive(&dir, &chair, "x.glb", &["--update"]));
+    assert!(
+        stderr.contains("error: --update needs a repository: give --repo URL"),
         "{stderr}"
     );
     let stderr = failed(derive(
