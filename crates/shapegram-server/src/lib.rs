@@ -6,6 +6,7 @@
 //! | --- | --- |
 //! | [`store`] | the `Store` trait every backend implements, and its types |
 //! | [`sqlite`] | the embedded SQLite store |
+//! | [`postgres`] | the PostgreSQL store, for several servers on one database |
 //! | [`migrations`] | versioned schema migrations, one folder per backend |
 //! | [`names`] | renaming grammars, versions by the hash of their text |
 //! | [`accounts`] | name rules, argon2id password hashing |
@@ -19,6 +20,7 @@
 //! | [`openapi`] | the OpenAPI document |
 //! | [`error`] | errors as JSON answers |
 //! | [`failpoint`] | fail points in a publish, for the crash test |
+//! | [`testing`] | throwaway PostgreSQL databases for the test suites |
 
 pub mod accounts;
 pub mod error;
@@ -29,16 +31,19 @@ pub mod migrations;
 pub mod names;
 pub mod openapi;
 pub mod policy;
+pub mod postgres;
 pub mod preview;
 pub mod queries;
 pub mod ratelimit;
 pub mod routes;
 pub mod sqlite;
 pub mod store;
+pub mod testing;
 pub mod tokens;
 
 use std::net::SocketAddr;
-use std::path::Path;
+use std::path::{Path, PathBuf};
+use std::str::FromStr;
 use std::sync::Arc;
 
 use axum::Json;
@@ -46,6 +51,8 @@ use axum::Router;
 use axum::extract::DefaultBodyLimit;
 use axum::http::StatusCode;
 use axum::routing::{get, post};
+
+use sqlx::postgres::PgConnectOptions;
 
 use crate::error::ApiError;
 use crate::failpoint::FailPoints;
@@ -171,23 +178,94 @@ pub async fn sqlite_app(path: &Path) -> Result<Router, store::StoreError> {
     Ok(router(AppState::new(Arc::new(store))))
 }
 
-/// Serves the repository in the SQLite database `data` on `listen` (`127.0.0.1:8080`; port 0
-/// picks a free port); `ready` gets the address once it accepts connections. Runs until SIGINT
-/// or SIGTERM, then stops accepting connections, lets requests in flight finish and returns.
-/// `SHAPEGRAM_FAILPOINT` arms a fail point ([`failpoint`]), for the crash test.
+/// Where the repository keeps its data.
+#[derive(Clone, Debug)]
+pub enum Database {
+    /// A SQLite database file, created on first start.
+    Sqlite(PathBuf),
+    /// A PostgreSQL database, which must exist (`postgres://user:password@host:port/name`).
+    Postgres(Box<PgConnectOptions>),
+}
+
+impl Database {
+    /// A PostgreSQL database from its URL (`postgres://` or `postgresql://`); the error says
+    /// what is wrong with the URL.
+    pub fn postgres(url: &str) -> Result<Database, String> {
+        if !(url.starts_with("postgres://") || url.starts_with("postgresql://")) {
+            return Err("a PostgreSQL URL starts with postgres:// or postgresql://".to_owned());
+        }
+        PgConnectOptions::from_str(url)
+            .map(|options| Database::Postgres(Box::new(options)))
+            .map_err(|e| e.to_string())
+    }
+
+    /// Opens the store (migrating its schema), stopping at `fail_points` during a publish
+    /// (the crash test; [`FailPoints::from_env`] reads `SHAPEGRAM_FAILPOINT`).
+    pub async fn open(&self, fail_points: FailPoints) -> Result<Arc<dyn Store>, store::StoreError> {
+        Ok(match self {
+            Database::Sqlite(path) => Arc::new(
+                sqlite::SqliteStore::open(path)
+                    .await?
+                    .with_fail_points(fail_points),
+            ),
+            Database::Postgres(options) => Arc::new(
+                postgres::PgStore::connect_with((**options).clone())
+                    .await?
+                    .with_fail_points(fail_points),
+            ),
+        })
+    }
+}
+
+/// The file name, or the PostgreSQL URL without its password.
+impl std::fmt::Display for Database {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Database::Sqlite(path) => write!(f, "{}", path.display()),
+            Database::Postgres(options) => {
+                let (user, host, port) = (
+                    options.get_username(),
+                    options.get_host(),
+                    options.get_port(),
+                );
+                let name = options.get_database().unwrap_or_default();
+                if let Some(socket) = options.get_socket() {
+                    return write!(
+                        f,
+                        "postgres:///{name}?host={}&user={user}",
+                        socket.display()
+                    );
+                }
+                write!(f, "postgres://")?;
+                if !user.is_empty() {
+                    write!(f, "{user}@")?;
+                }
+                if host.contains(':') && !host.starts_with('[') {
+                    write!(f, "[{host}]:{port}")?;
+                } else {
+                    write!(f, "{host}:{port}")?;
+                }
+                if !name.is_empty() {
+                    write!(f, "/{name}")?;
+                }
+                Ok(())
+            }
+        }
+    }
+}
+
+/// Serves the repository in `store` on `listen` (`127.0.0.1:8080`; port 0 picks a free port),
+/// with the rate limits and previews `options` set; `ready` gets the address once it accepts
+/// connections. Runs until SIGINT or SIGTERM, then stops accepting connections, lets requests in
+/// flight finish and returns.
 pub async fn serve(
-    data: &Path,
+    store: Arc<dyn Store>,
     listen: &str,
     options: ServeOptions,
     ready: impl FnOnce(SocketAddr),
 ) -> Result<(), String> {
-    let fail_points = FailPoints::from_env()?;
-    let store = sqlite::SqliteStore::open(data)
-        .await
-        .map_err(|e| format!("cannot open {}: {e}", data.display()))?
-        .with_fail_points(fail_points);
     let limiter = RateLimiter::new(options.rate_limits, ratelimit::system_clock());
-    let mut state = AppState::new(Arc::new(store)).with_limiter(limiter);
+    let mut state = AppState::new(store).with_limiter(limiter);
     if let Some(config) = options.previews {
         state = state.with_previews(config);
     }
@@ -227,5 +305,32 @@ async fn shutdown_signal() {
     tokio::select! {
         () = interrupt => {}
         () = terminate => {}
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::Database;
+
+    #[test]
+    fn a_postgres_database_is_named_without_its_password() {
+        let named = |url: &str| Database::postgres(url).unwrap().to_string();
+        assert_eq!(
+            named("postgres://ana:secret@db.example:6543/grammars"),
+            "postgres://ana@db.example:6543/grammars"
+        );
+        assert_eq!(
+            named("postgresql://ana:secret@[::1]:5432/grammars?sslmode=disable"),
+            "postgres://ana@[::1]:5432/grammars"
+        );
+        assert_eq!(
+            named("postgres:///grammars?host=/var/run/postgresql&user=ana&password=secret"),
+            "postgres:///grammars?host=/var/run/postgresql&user=ana"
+        );
+        assert_eq!(
+            Database::postgres("mysql://ana@db/grammars").unwrap_err(),
+            "a PostgreSQL URL starts with postgres:// or postgresql://"
+        );
+        assert!(Database::postgres("postgres://ana@db:port/grammars").is_err());
     }
 }

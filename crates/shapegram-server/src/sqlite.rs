@@ -158,20 +158,6 @@ impl SqliteStore {
     }
 }
 
-/// A LIKE pattern (escape character `\\`) matching names that contain `text`.
-fn like_pattern(text: &str) -> String {
-    let mut pattern = String::with_capacity(text.len() + 2);
-    pattern.push('%');
-    for c in text.chars() {
-        if matches!(c, '%' | '_' | '\\') {
-            pattern.push('\\');
-        }
-        pattern.push(c);
-    }
-    pattern.push('%');
-    pattern
-}
-
 fn summary(row: sqlx::sqlite::SqliteRow) -> Result<GrammarSummary, StoreError> {
     let visibility: String = row.try_get(2).map_err(db)?;
     Ok(GrammarSummary {

@@ -416,6 +416,21 @@ pub trait Store: Send + Sync + 'static {
     fn audit(&self) -> StoreFuture<'_, Vec<String>>;
 }
 
+/// A LIKE pattern (escape character `\\`) matching names that contain `text` (for every
+/// store).
+pub fn like_pattern(text: &str) -> String {
+    let mut pattern = String::with_capacity(text.len() + 2);
+    pattern.push('%');
+    for c in text.chars() {
+        if matches!(c, '%' | '_' | '\\') {
+            pattern.push('\\');
+        }
+        pattern.push(c);
+    }
+    pattern.push('%');
+    pattern
+}
+
 /// A row of a rule query: grammar id, owner, name, version, SHA-256, rule index.
 pub type QueryRow = (Id, String, String, i64, String, i64);
 

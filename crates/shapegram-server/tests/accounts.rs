@@ -6,9 +6,7 @@ use axum::http::{Method, StatusCode};
 use common::App;
 use serde_json::json;
 
-#[tokio::test]
-async fn sign_up_login_and_token_flow() {
-    let app = App::new().await;
+async fn sign_up_login_and_token_flow(app: App) {
     let token = app.user("Ana_M").await;
     assert!(token.starts_with("sgr_") && token.len() == 42, "{token}");
 
@@ -115,9 +113,7 @@ async fn sign_up_login_and_token_flow() {
     assert_eq!(app.get("/api/v1/me", Some(&token)).await.0, StatusCode::OK);
 }
 
-#[tokio::test]
-async fn malformed_tokens_and_headers_are_refused() {
-    let app = App::new().await;
+async fn malformed_tokens_and_headers_are_refused(app: App) {
     let token = app.user("ana").await;
     // A changed character breaks the checksum: refused before any lookup.
     let mut bad = token.clone().into_bytes();
@@ -147,9 +143,7 @@ async fn malformed_tokens_and_headers_are_refused() {
     assert_eq!(status, StatusCode::UNAUTHORIZED);
 }
 
-#[tokio::test]
-async fn names_and_passwords_are_checked() {
-    let app = App::new().await;
+async fn names_and_passwords_are_checked(app: App) {
     for (name, password) in [
         ("1ana", "long enough"),
         ("ana/b", "long enough"),
@@ -170,17 +164,10 @@ async fn names_and_passwords_are_checked() {
     }
 }
 
-#[tokio::test]
-async fn login_rehashes_a_password_stored_with_weaker_parameters() {
+async fn login_rehashes_a_password_stored_with_weaker_parameters(app: App) {
     use argon2::password_hash::{PasswordHasher, SaltString};
-    use shapegram_server::sqlite::SqliteStore;
-    use shapegram_server::store::Store;
 
-    let app = App::new().await;
-    // An account from a time of weaker parameters, written to the same database.
-    let store = SqliteStore::open(&app.dir.path().join("repo.db"))
-        .await
-        .unwrap();
+    // An account from a time of weaker parameters, written through the store.
     let weak = argon2::Argon2::new(
         argon2::Algorithm::Argon2id,
         argon2::Version::V0x13,
@@ -192,18 +179,14 @@ async fn login_rehashes_a_password_stored_with_weaker_parameters() {
     )
     .unwrap()
     .to_string();
-    store.create_account("old", "old", &weak).await.unwrap();
+    app.store.create_account("old", "old", &weak).await.unwrap();
 
     let login = json!({"name": "old", "password": "old password"});
     let (status, _) = app
         .call(Method::POST, "/api/v1/login", None, Some(login.clone()))
         .await;
     assert_eq!(status, StatusCode::OK);
-    let stored: String =
-        sqlx::query_scalar("SELECT password_hash FROM account WHERE canon = 'old'")
-            .fetch_one(store.pool())
-            .await
-            .unwrap();
+    let (_, stored) = app.store.account_for_login("old").await.unwrap().unwrap();
     assert!(
         stored.starts_with("$argon2id$v=19$m=19456,t=2,p=1$"),
         "{stored}"
@@ -214,3 +197,10 @@ async fn login_rehashes_a_password_stored_with_weaker_parameters() {
         .await;
     assert_eq!(status, StatusCode::OK);
 }
+
+on_both_backends!(
+    sign_up_login_and_token_flow,
+    malformed_tokens_and_headers_are_refused,
+    names_and_passwords_are_checked,
+    login_rehashes_a_password_stored_with_weaker_parameters,
+);

@@ -20,8 +20,7 @@ struct World {
     spare_id: i64,
 }
 
-async fn world() -> World {
-    let app = App::new().await;
+async fn world(app: App) -> World {
     let owner = app.user("olga").await;
     let friend = app.user("fred").await;
     let stranger = app.user("sam").await;
@@ -321,9 +320,8 @@ async fn run(world: &World, cases: &[Case]) -> Vec<String> {
     failures
 }
 
-#[tokio::test]
-async fn every_route_answers_every_kind_of_caller_as_expected() {
-    let world = world().await;
+async fn every_route_answers_every_kind_of_caller_as_expected(app: App) {
+    let world = world(app).await;
     let reads = read_cases();
     let writes = write_cases(world.spare_id);
     let mut failures = run(&world, &reads).await;
@@ -369,9 +367,8 @@ fn names(list: &Value) -> Vec<String> {
         .collect()
 }
 
-#[tokio::test]
-async fn lists_show_only_what_the_caller_may_see() {
-    let world = world().await;
+async fn lists_show_only_what_the_caller_may_see(app: App) {
+    let world = world(app).await;
     let app = &world.app;
     // Another owner's private grammar, to make sure the owner's view is hers alone.
     let sam = world.tokens[1].as_deref().unwrap();
@@ -427,3 +424,8 @@ async fn lists_show_only_what_the_caller_may_see() {
         ["olga/pub"]
     );
 }
+
+on_both_backends!(
+    every_route_answers_every_kind_of_caller_as_expected,
+    lists_show_only_what_the_caller_may_see,
+);

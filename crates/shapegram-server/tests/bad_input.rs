@@ -6,9 +6,7 @@ use axum::http::{Method, StatusCode};
 use common::{App, WOOD};
 use serde_json::json;
 
-#[tokio::test]
-async fn malformed_bodies_are_client_errors_with_messages() {
-    let app = App::new().await;
+async fn malformed_bodies_are_client_errors_with_messages(app: App) {
     let ana = app.user("ana").await;
     let publish = "/api/v1/grammars/ana/paint/versions";
     let cases: Vec<(&str, Vec<u8>, StatusCode)> = vec![
@@ -98,9 +96,7 @@ async fn malformed_bodies_are_client_errors_with_messages() {
     );
 }
 
-#[tokio::test]
-async fn odd_paths_queries_and_methods_are_client_errors() {
-    let app = App::new().await;
+async fn odd_paths_queries_and_methods_are_client_errors(app: App) {
     let ana = app.user("ana").await;
     app.publish(&ana, "ana/paint", WOOD, None).await;
     for (method, uri, expected) in [
@@ -174,3 +170,8 @@ async fn odd_paths_queries_and_methods_are_client_errors() {
         );
     }
 }
+
+on_both_backends!(
+    malformed_bodies_are_client_errors_with_messages,
+    odd_paths_queries_and_methods_are_client_errors,
+);

@@ -14,9 +14,7 @@ fn sha256(text: &str) -> String {
         .collect()
 }
 
-#[tokio::test]
-async fn versions_are_immutable_and_numbered() {
-    let app = App::new().await;
+async fn versions_are_immutable_and_numbered(app: App) {
     let ana = app.user("ana").await;
     let (status, first) = app.publish(&ana, "ana/paint", WOOD, None).await;
     assert_eq!(status, StatusCode::CREATED, "{first}");
@@ -82,9 +80,7 @@ async fn versions_are_immutable_and_numbered() {
     );
 }
 
-#[tokio::test]
-async fn compile_errors_come_back_with_lines_and_columns() {
-    let app = App::new().await;
+async fn compile_errors_come_back_with_lines_and_columns(app: App) {
     let ana = app.user("ana").await;
     let text =
         "fulfills(wooden) --> color(\"#8b5a2b\")\n\nfulfills(metal) --> split(x) { ~1 : +a\n";
@@ -128,9 +124,7 @@ async fn compile_errors_come_back_with_lines_and_columns() {
     assert_eq!(app.get("/api/v1/grammars", Some(&ana)).await.1, json!([]));
 }
 
-#[tokio::test]
-async fn the_rule_index_holds_goals_tags_attributes_and_negations() {
-    let app = App::new().await;
+async fn the_rule_index_holds_goals_tags_attributes_and_negations(app: App) {
     let ana = app.user("ana").await;
     // The paper's notation is detected too.
     let (status, body) = app.publish(&ana, "ana/chair", CHAIR, Some("public")).await;
@@ -150,19 +144,12 @@ async fn the_rule_index_holds_goals_tags_attributes_and_negations() {
     );
 }
 
-#[tokio::test]
-async fn concurrent_publishes_become_consecutive_versions() {
-    let app = App::new().await;
+async fn concurrent_publishes_become_consecutive_versions(app: App) {
     let ana = app.user("ana").await;
     let mut tasks = Vec::new();
     for i in 0..8 {
-        let router = app.router.clone();
-        let ana = ana.clone();
+        let (app, ana) = (app.clone(), ana.clone());
         tasks.push(tokio::spawn(async move {
-            let app = App {
-                router,
-                dir: tempfile::tempdir().unwrap(),
-            };
             let text = format!("{WOOD}// copy {i}\n");
             let (status, body) = app.publish(&ana, "ana/paint", &text, None).await;
             assert_eq!(status, StatusCode::CREATED, "{body}");
@@ -184,9 +171,7 @@ async fn concurrent_publishes_become_consecutive_versions() {
     }
 }
 
-#[tokio::test]
-async fn visibility_changes_with_a_publish_and_friendship_needs_acceptance() {
-    let app = App::new().await;
+async fn visibility_changes_with_a_publish_and_friendship_needs_acceptance(app: App) {
     let ana = app.user("ana").await;
     let bo = app.user("bo").await;
     app.publish(&ana, "ana/paint", WOOD, Some("friends")).await;
@@ -267,3 +252,50 @@ async fn visibility_changes_with_a_publish_and_friendship_needs_acceptance() {
         StatusCode::NOT_FOUND
     );
 }
+
+/// Two accounts asking each other at the same moment become friends, as they do one after the
+/// other: one request is recorded, the other finds it and accepts.
+async fn crossing_friend_requests_make_friends(app: App) {
+    let mut pairs = Vec::new();
+    for i in 0..6 {
+        let (a, b) = (format!("a{i}"), format!("b{i}"));
+        let (ta, tb) = (app.user(&a).await, app.user(&b).await);
+        pairs.push(((a, ta), (b, tb)));
+    }
+    let mut tasks = Vec::new();
+    for ((a, ta), (b, tb)) in &pairs {
+        for (to, token) in [(b, ta), (a, tb)] {
+            let (app, uri, token) = (app.clone(), format!("/api/v1/friends/{to}"), token.clone());
+            tasks.push(tokio::spawn(async move {
+                let (status, body) = app.call(Method::POST, &uri, Some(&token), None).await;
+                assert_eq!(status, StatusCode::OK, "{body}");
+                body["state"].as_str().unwrap().to_owned()
+            }));
+        }
+    }
+    let mut states = Vec::new();
+    for task in tasks {
+        states.push(task.await.unwrap());
+    }
+    for (pair, answers) in pairs.iter().zip(states.chunks(2)) {
+        let mut answers = answers.to_vec();
+        answers.sort();
+        assert_eq!(answers, ["friends", "requested"], "{}", pair.0.0);
+        let ((a, ta), (b, _)) = pair;
+        let (_, friends) = app.get("/api/v1/friends", Some(ta)).await;
+        assert_eq!(
+            friends,
+            json!({"friends": [b], "incoming": [], "outgoing": []}),
+            "{a}"
+        );
+    }
+}
+
+on_both_backends!(
+    versions_are_immutable_and_numbered,
+    compile_errors_come_back_with_lines_and_columns,
+    the_rule_index_holds_goals_tags_attributes_and_negations,
+    concurrent_publishes_become_consecutive_versions,
+    visibility_changes_with_a_publish_and_friendship_needs_acceptance,
+    crossing_friend_requests_make_friends,
+);

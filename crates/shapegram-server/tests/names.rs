@@ -10,9 +10,7 @@ fn sha256(text: &str) -> String {
     shapegram_server::tokens::sha256_hex(text.as_bytes())
 }
 
-#[tokio::test]
-async fn a_renamed_grammar_keeps_its_versions_and_answers_queries_under_its_new_name() {
-    let app = App::new().await;
+async fn a_renamed_grammar_keeps_its_versions_and_answers_queries_under_its_new_name(app: App) {
     let ana = app.user("ana").await;
     app.publish(&ana, "ana/wood", WOOD, None).await;
     app.publish(
@@ -62,9 +60,7 @@ async fn a_renamed_grammar_keeps_its_versions_and_answers_queries_under_its_new_
     assert_eq!((status, &body["name"]), (StatusCode::OK, &json!("TIMBER")));
 }
 
-#[tokio::test]
-async fn texts_are_found_by_their_hash_by_whoever_may_see_one_of_their_versions() {
-    let app = App::new().await;
+async fn texts_are_found_by_their_hash_by_whoever_may_see_one_of_their_versions(app: App) {
     let ana = app.user("ana").await;
     let bob = app.user("bob").await;
     let secret = "fulfills(secret) --> color(\"#123456\")\n";
@@ -104,3 +100,8 @@ async fn texts_are_found_by_their_hash_by_whoever_may_see_one_of_their_versions(
         assert_eq!(body["error"], "a SHA-256 is 64 hexadecimal digits");
     }
 }
+
+on_both_backends!(
+    a_renamed_grammar_keeps_its_versions_and_answers_queries_under_its_new_name,
+    texts_are_found_by_their_hash_by_whoever_may_see_one_of_their_versions,
+);

@@ -17,7 +17,7 @@ use common::App;
 use http_body_util::BodyExt;
 use serde_json::{Value, json};
 use shapegram_server::preview::{PreviewConfig, PreviewLimits};
-use shapegram_server::{AppState, router, sqlite::SqliteStore};
+use shapegram_server::{AppState, sqlite::SqliteStore};
 use tower::ServiceExt;
 
 /// What the stand-in does, by a marker in the grammar's text; it logs each run, its request,
@@ -62,10 +62,7 @@ async fn app(worker: Option<&str>) -> App {
         },
     };
     let state = AppState::new(Arc::new(store)).with_previews(config);
-    App {
-        router: router(state),
-        dir,
-    }
+    App::sqlite(dir, state)
 }
 
 /// The status, content type and body of the preview of a version (`owner/name/versions/N`,
@@ -96,7 +93,7 @@ async fn error(app: &App, uri: &str) -> (StatusCode, Value) {
 }
 
 fn read(app: &App, file: &str) -> String {
-    std::fs::read_to_string(app.dir.path().join(file)).unwrap_or_default()
+    std::fs::read_to_string(app.dir().join(file)).unwrap_or_default()
 }
 
 fn runs(app: &App) -> usize {

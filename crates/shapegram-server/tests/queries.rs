@@ -50,9 +50,7 @@ fulfills(wooden) is(chair) has(Leg.Size) --> color("#20aa20")
 fulfills(leg) --> s('0.5, '1, '0.5)
 "##;
 
-#[tokio::test]
-async fn rules_are_found_by_goals_tags_and_attributes_and_negations_rule_some_out() {
-    let app = App::new().await;
+async fn rules_are_found_by_goals_tags_and_attributes_and_negations_rule_some_out(app: App) {
     let ana = app.user("ana").await;
     published(&app, &ana, "ana/wood", WOOD, "public").await;
     published(&app, &ana, "ana/paints", PAINTS, "public").await;
@@ -93,9 +91,7 @@ async fn rules_are_found_by_goals_tags_and_attributes_and_negations_rule_some_ou
     assert_eq!(answer["as_of"], 3);
 }
 
-#[tokio::test]
-async fn only_the_newest_version_answers_and_local_goals_are_never_offered() {
-    let app = App::new().await;
+async fn only_the_newest_version_answers_and_local_goals_are_never_offered(app: App) {
     let ana = app.user("ana").await;
     published(&app, &ana, "ana/wood", WOOD, "public").await;
     // Version 2 makes oak instead.
@@ -115,9 +111,7 @@ async fn only_the_newest_version_answers_and_local_goals_are_never_offered() {
     assert_eq!(found(&answer), [Vec::<String>::new()]);
 }
 
-#[tokio::test]
-async fn the_newest_version_not_yanked_answers() {
-    let app = App::new().await;
+async fn the_newest_version_not_yanked_answers(app: App) {
     let ana = app.user("ana").await;
     published(&app, &ana, "ana/wood", WOOD, "public").await;
     published(
@@ -140,9 +134,7 @@ async fn the_newest_version_not_yanked_answers() {
     assert_eq!(answers().await, [vec![], vec!["ana/wood@2: [0]"]]);
 }
 
-#[tokio::test]
-async fn link_modes_choose_whose_grammars_answer() {
-    let app = App::new().await;
+async fn link_modes_choose_whose_grammars_answer(app: App) {
     let ana = app.user("ana").await;
     let bob = app.user("bob").await;
     let eve = app.user("eve").await;
@@ -177,9 +169,7 @@ async fn link_modes_choose_whose_grammars_answer() {
     );
 }
 
-#[tokio::test]
-async fn malformed_queries_are_refused_with_a_message() {
-    let app = App::new().await;
+async fn malformed_queries_are_refused_with_a_message(app: App) {
     for (body, message) in [
         (
             json!({"queries": [{"goals": []}]}),
@@ -213,3 +203,11 @@ async fn malformed_queries_are_refused_with_a_message() {
         (StatusCode::OK, json!([]))
     );
 }
+
+on_both_backends!(
+    rules_are_found_by_goals_tags_and_attributes_and_negations_rule_some_out,
+    only_the_newest_version_answers_and_local_goals_are_never_offered,
+    the_newest_version_not_yanked_answers,
+    link_modes_choose_whose_grammars_answer,
+    malformed_queries_are_refused_with_a_message,
+);

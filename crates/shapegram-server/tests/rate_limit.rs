@@ -13,9 +13,11 @@ use axum::extract::ConnectInfo;
 use axum::http::{HeaderMap, Method, Request, StatusCode};
 use http_body_util::BodyExt;
 use serde_json::{Value, json};
+use shapegram_server::postgres::PgStore;
 use shapegram_server::ratelimit::{Limit, RateLimiter, RateLimits};
 use shapegram_server::sqlite::SqliteStore;
 use shapegram_server::store::Store;
+use shapegram_server::testing::TestDatabase;
 use shapegram_server::{AppState, router};
 use tower::ServiceExt;
 
@@ -361,11 +363,23 @@ async fn two_servers_on_one_database_share_the_counts_and_prune_them() {
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
 async fn concurrent_checks_lose_no_count() {
     let dir = tempfile::tempdir().unwrap();
-    let store = Arc::new(
-        SqliteStore::open(&dir.path().join("repo.db"))
-            .await
-            .unwrap(),
-    );
+    let store = SqliteStore::open(&dir.path().join("repo.db"))
+        .await
+        .unwrap();
+    concurrent_checks(Arc::new(store)).await;
+}
+
+/// The same on PostgreSQL, where the counts of several servers meet.
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn concurrent_checks_lose_no_count_on_postgres() {
+    let Some(database) = TestDatabase::create() else {
+        return;
+    };
+    let store = PgStore::connect_with(database.options()).await.unwrap();
+    concurrent_checks(Arc::new(store)).await;
+}
+
+async fn concurrent_checks(store: Arc<dyn Store>) {
     let started = std::time::Instant::now();
     let tasks: Vec<_> = (0..16)
         .map(|task| {

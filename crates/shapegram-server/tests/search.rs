@@ -32,9 +32,7 @@ async fn search(app: &App, query: &str, token: Option<&str>) -> Vec<String> {
     found(&results)
 }
 
-#[tokio::test]
-async fn search_finds_grammars_by_goal_tag_name_and_owner() {
-    let app = App::new().await;
+async fn search_finds_grammars_by_goal_tag_name_and_owner(app: App) {
     let ana = app.user("ana").await;
     let bob = app.user("bob").await;
     for (token, grammar, text) in [
@@ -86,9 +84,7 @@ async fn search_finds_grammars_by_goal_tag_name_and_owner() {
     );
 }
 
-#[tokio::test]
-async fn search_looks_at_the_latest_version_only() {
-    let app = App::new().await;
+async fn search_looks_at_the_latest_version_only(app: App) {
     let ana = app.user("ana").await;
     app.publish(&ana, "ana/finish", WOOD, None).await;
     assert_eq!(search(&app, "goal=wooden", None).await, ["ana/finish"]);
@@ -98,9 +94,7 @@ async fn search_looks_at_the_latest_version_only() {
     assert_eq!(search(&app, "goal=painted", None).await, ["ana/finish"]);
 }
 
-#[tokio::test]
-async fn search_skips_yanked_versions() {
-    let app = App::new().await;
+async fn search_skips_yanked_versions(app: App) {
     let ana = app.user("ana").await;
     app.publish(&ana, "ana/finish", WOOD, None).await;
     app.publish(&ana, "ana/finish", PAINT, None).await;
@@ -115,9 +109,7 @@ async fn search_skips_yanked_versions() {
     assert_eq!(search(&app, "q=finish", None).await, ["ana/finish"]);
 }
 
-#[tokio::test]
-async fn search_pages_are_stable_and_bounded() {
-    let app = App::new().await;
+async fn search_pages_are_stable_and_bounded(app: App) {
     let ana = app.user("ana").await;
     let names = ["e", "a", "d", "b", "c"];
     for name in names {
@@ -177,3 +169,10 @@ async fn search_pages_are_stable_and_bounded() {
         assert!(body["error"].is_string(), "{body}");
     }
 }
+
+on_both_backends!(
+    search_finds_grammars_by_goal_tag_name_and_owner,
+    search_looks_at_the_latest_version_only,
+    search_skips_yanked_versions,
+    search_pages_are_stable_and_bounded,
+);

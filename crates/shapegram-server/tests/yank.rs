@@ -17,9 +17,7 @@ async fn current(app: &App, token: Option<&str>) -> Value {
     body["current_version"].clone()
 }
 
-#[tokio::test]
-async fn a_yanked_version_is_fetchable_but_not_current() {
-    let app = App::new().await;
+async fn a_yanked_version_is_fetchable_but_not_current(app: App) {
     let ana = app.user("ana").await;
     for i in 1..=3 {
         let (status, body) = app
@@ -129,9 +127,7 @@ async fn a_yanked_version_is_fetchable_but_not_current() {
     assert_eq!(current(&app, None).await, json!(4));
 }
 
-#[tokio::test]
-async fn only_the_owner_yanks() {
-    let app = App::new().await;
+async fn only_the_owner_yanks(app: App) {
     let ana = app.user("ana").await;
     let bob = app.user("bob").await;
     app.publish(&ana, "ana/wood", WOOD, Some("public")).await;
@@ -183,9 +179,7 @@ async fn only_the_owner_yanks() {
     assert_eq!(v1["yanked"], json!(false));
 }
 
-#[tokio::test]
-async fn bad_yank_bodies_are_refused() {
-    let app = App::new().await;
+async fn bad_yank_bodies_are_refused(app: App) {
     let ana = app.user("ana").await;
     app.publish(&ana, "ana/wood", WOOD, None).await;
     let yank = "/api/v1/grammars/ana/wood/versions/1/yank";
@@ -228,3 +222,9 @@ async fn bad_yank_bodies_are_refused() {
         (StatusCode::OK, &json!("one\ntwo"))
     );
 }
+
+on_both_backends!(
+    a_yanked_version_is_fetchable_but_not_current,
+    only_the_owner_yanks,
+    bad_yank_bodies_are_refused,
+);

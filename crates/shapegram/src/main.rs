@@ -74,6 +74,14 @@ impl Failure {
         }
     }
 
+    /// A usage error: exit code 2, as for a bad command line.
+    pub fn usage(message: impl Into<String>) -> Self {
+        Self {
+            code: 2,
+            ..Self::new(message)
+        }
+    }
+
     /// A failure with exit code 1 whose explanation has already been printed.
     pub fn reported() -> Self {
         Self {

@@ -5,10 +5,10 @@ use std::path::PathBuf;
 use std::time::Duration;
 
 use clap::Args;
+use shapegram_server::failpoint::FailPoints;
 use shapegram_server::preview::{PreviewConfig, PreviewLimits};
-
-use shapegram_server::ServeOptions;
 use shapegram_server::ratelimit::{Limit, RateLimits};
+use shapegram_server::{Database, ServeOptions};
 
 use crate::Failure;
 
@@ -18,6 +18,10 @@ pub struct ServeArgs {
     /// The SQLite database file (created on first start)
     #[arg(long, value_name = "FILE", default_value = "repo.db")]
     pub data: PathBuf,
+    /// A PostgreSQL database instead, which must exist: postgres://USER:PASSWORD@HOST:PORT/NAME
+    /// (several servers may share one)
+    #[arg(long, value_name = "URL", conflicts_with = "data")]
+    pub database: Option<String>,
     /// Address and port to listen on (port 0: any free port)
     #[arg(long, value_name = "ADDR", default_value = "127.0.0.1:8080")]
     pub listen: String,
@@ -77,6 +81,11 @@ fn previews(args: &ServeArgs) -> Option<PreviewConfig> {
 }
 
 pub fn run(args: &ServeArgs) -> Result<(), Failure> {
+    let database = match &args.database {
+        Some(url) => Database::postgres(url)
+            .map_err(|e| Failure::usage(format!("--database {}: {e}", redacted(url))))?,
+        None => Database::Sqlite(args.data.clone()),
+    };
     let runtime = tokio::runtime::Builder::new_multi_thread()
         .enable_all()
         .build()
@@ -91,17 +100,37 @@ pub fn run(args: &ServeArgs) -> Result<(), Failure> {
         },
         previews: previews(args),
     };
-    let data = args.data.display().to_string();
-    runtime
-        .block_on(shapegram_server::serve(
-            &args.data,
-            &args.listen,
-            options,
-            |addr| {
-                println!("shapegram serve: listening on http://{addr} (database {data})");
-                // Scripts and tests read the address from the first line.
-                let _ = std::io::Write::flush(&mut std::io::stdout());
-            },
-        ))
+    let fail_points = FailPoints::from_env().map_err(Failure::new)?;
+    runtime.block_on(async {
+        let store = database.open(fail_points).await.map_err(|e| {
+            let message = format!("cannot open {database}: {e}");
+            // A PostgreSQL server that refuses us is a setting to correct, like a bad URL.
+            match database {
+                Database::Postgres(_) => Failure::usage(message),
+                Database::Sqlite(_) => Failure::new(message),
+            }
+        })?;
+        shapegram_server::serve(store, &args.listen, options, |addr| {
+            println!("shapegram serve: listening on http://{addr} (database {database})");
+            // Scripts and tests read the address from the first line.
+            let _ = std::io::Write::flush(&mut std::io::stdout());
+        })
+        .await
         .map_err(Failure::new)
+    })
+}
+
+/// A URL as the user typed it, its password (between `user:` and `@`) replaced with `***`,
+/// for messages about a URL that did not parse.
+fn redacted(url: &str) -> String {
+    let Some((scheme, rest)) = url.split_once("://") else {
+        return url.to_owned();
+    };
+    match rest.rsplit_once('@') {
+        Some((credentials, host)) => match credentials.split_once(':') {
+            Some((user, _)) => format!("{scheme}://{user}:***@{host}"),
+            None => url.to_owned(),
+        },
+        None => url.to_owned(),
+    }
 }

@@ -1,12 +1,20 @@
 //! End to end: `shapegram serve` as a child process on a free port, over real HTTP: it creates
-//! the database, and a restart on the same file keeps every published version as it was.
+//! the database, a restart on the same file keeps every published version as it was, and two
+//! servers on one database (a SQLite file, or PostgreSQL when `SHAPEGRAM_TEST_POSTGRES` names a
+//! server) see each other's publishes.
 
 use std::process::Command;
 
 mod common;
 
-use common::{TempDir, http, start_server as start, start_server_with};
+use common::{Server, TempDir, http, start_server as start, start_server_with};
 use serde_json::json;
+use shapegram_server::testing::TestDatabase;
+
+/// `shapegram serve` on a free port over the PostgreSQL database at `url`.
+fn start_on(url: &str) -> Server {
+    common::start_server_over(&["--database".as_ref(), url.as_ref()], None, &[])
+}
 
 #[test]
 fn serve_creates_the_database_and_keeps_versions_across_restarts() {
@@ -89,7 +97,22 @@ fn serve_reports_an_address_in_use() {
 fn two_servers_on_one_database_publish_consecutive_versions() {
     let dir = TempDir::new("serve-two");
     let db = dir.path("repo.db");
-    let servers = [start(&db), start(&db)];
+    two_servers_publish_consecutive_versions([start(&db), start(&db)]);
+}
+
+#[test]
+fn two_servers_on_one_postgres_database_publish_consecutive_versions() {
+    let Some(database) = TestDatabase::create() else {
+        return;
+    };
+    let url = database.url();
+    let servers = [start_on(url), start_on(url)];
+    two_servers_publish_consecutive_versions(servers);
+}
+
+/// Publishes of one grammar, alternately through each server and all at once, become versions
+/// 1 to 8, and each server sees all of them.
+fn two_servers_publish_consecutive_versions(servers: [Server; 2]) {
     let credentials = json!({"name": "ana", "password": "ana's password"});
     assert_eq!(
         http(
@@ -207,4 +230,65 @@ fn serve_refuses_a_malformed_rate_limit() {
         "error: --rate-limit: \"600\" is no rate limit: write N/s, N/min, N/h or N/day, or off\n"
     );
     assert!(!dir.path("repo.db").exists());
+}
+
+#[test]
+fn serve_names_a_postgres_database_without_its_password() {
+    let Some(database) = TestDatabase::create() else {
+        return;
+    };
+    let url = database.url();
+    let server = start_on(url);
+    let options = database.options();
+    let expected = format!(
+        "shapegram serve: listening on http://{} (database postgres://{}@{}:{}/{})\n",
+        server.addr,
+        options.get_username(),
+        options.get_host(),
+        options.get_port(),
+        options.get_database().unwrap()
+    );
+    // The URL carries a password (user:password@), which the line leaves out.
+    let user = format!("//{}:", options.get_username());
+    assert!(url.contains(&user) && url.contains('@'), "{url}");
+    assert_eq!(server.first_line, expected);
+    assert_eq!(http(&server, "GET", "/api/v1/grammars", None, None).0, 200);
+}
+
+#[test]
+fn serve_refuses_bad_database_settings_with_exit_code_2() {
+    let run = |args: &[&str]| {
+        let output = Command::new(env!("CARGO_BIN_EXE_shapegram"))
+            .args(["serve", "--listen", "127.0.0.1:0"])
+            .args(args)
+            .output()
+            .unwrap();
+        (
+            output.status.code(),
+            String::from_utf8(output.stderr).unwrap(),
+        )
+    };
+    let (code, stderr) = run(&["--database", "mysql://ana:secret@localhost/repo"]);
+    assert_eq!(code, Some(2), "{stderr}");
+    assert_eq!(
+        stderr,
+        "error: --database mysql://ana:***@localhost/repo: a PostgreSQL URL starts with postgres:// or postgresql://\n"
+    );
+    let (code, stderr) = run(&["--database", "postgres://ana:secret@localhost:port/repo"]);
+    assert_eq!(code, Some(2), "{stderr}");
+    assert!(
+        stderr.starts_with("error: --database postgres://ana:***@localhost:port/repo: "),
+        "{stderr}"
+    );
+    // Nothing listens on port 1: the message names the database, without the password.
+    let (code, stderr) = run(&["--database", "postgres://ana:secret@127.0.0.1:1/repo"]);
+    assert_eq!(code, Some(2), "{stderr}");
+    assert!(
+        stderr.starts_with("error: cannot open postgres://ana@127.0.0.1:1/repo: "),
+        "{stderr}"
+    );
+    assert!(!stderr.contains("secret"), "{stderr}");
+    let (code, stderr) = run(&["--data", "x.db", "--database", "postgres://localhost/repo"]);
+    assert_eq!(code, Some(2), "{stderr}");
+    assert!(stderr.contains("cannot be used with"), "{stderr}");
 }

@@ -1,17 +1,72 @@
-//! A fresh repository in a temporary directory, driven through the router without sockets.
+//! A fresh repository, on SQLite in a temporary directory or in a PostgreSQL database of its
+//! own, driven through the router without sockets. [`on_both_backends!`] runs each test on
+//! both.
 
 #![allow(dead_code)]
+
+use std::sync::Arc;
 
 use axum::Router;
 use axum::body::Body;
 use axum::http::{Method, Request, StatusCode};
 use http_body_util::BodyExt;
 use serde_json::{Value, json};
+use shapegram_server::postgres::PgStore;
+use shapegram_server::sqlite::SqliteStore;
+use shapegram_server::store::Store;
+use shapegram_server::testing::TestDatabase;
+use shapegram_server::{AppState, router};
 use tower::ServiceExt;
 
+/// Where a test's repository lives.
+#[derive(Clone, Copy, Debug)]
+pub enum Backend {
+    Sqlite,
+    Postgres,
+}
+
+/// A repository for one test; clones share it. Its database goes with the last clone.
+#[derive(Clone)]
 pub struct App {
     pub router: Router,
-    pub dir: tempfile::TempDir,
+    /// The store the router uses, for what the API does not show.
+    pub store: Arc<dyn Store>,
+    /// Declared last, so dropped after the store's connections.
+    database: Arc<Database>,
+}
+
+/// What holds the database: a temporary directory, or a database dropped afterwards.
+enum Database {
+    Sqlite(tempfile::TempDir),
+    Postgres(Box<TestDatabase>),
+}
+
+/// Declares a `sqlite` and a `postgres` module with one test per named function, which takes
+/// a fresh [`App`] on that backend. The PostgreSQL tests are skipped (one line on stderr) when
+/// `SHAPEGRAM_TEST_POSTGRES` is not set, and fail then under `CI=true`.
+#[macro_export]
+macro_rules! on_both_backends {
+    ($($test:ident),+ $(,)?) => {
+        mod sqlite {
+            $(
+                #[tokio::test]
+                async fn $test() {
+                    let app = $crate::common::App::on($crate::common::Backend::Sqlite).await;
+                    super::$test(app.expect("SQLite is always there")).await;
+                }
+            )+
+        }
+        mod postgres {
+            $(
+                #[tokio::test]
+                async fn $test() {
+                    if let Some(app) = $crate::common::App::on($crate::common::Backend::Postgres).await {
+                        super::$test(app).await;
+                    }
+                }
+            )+
+        }
+    };
 }
 
 /// A grammar that compiles on its own (a library grammar: rules, no axiom).
@@ -29,12 +84,47 @@ using is(chair) {
 "#;
 
 impl App {
-    pub async fn new() -> App {
-        let dir = tempfile::tempdir().expect("a temporary directory");
-        let router = shapegram_server::sqlite_app(&dir.path().join("repo.db"))
-            .await
-            .expect("the repository opens");
-        App { router, dir }
+    /// A fresh repository; `None` when PostgreSQL tests are skipped.
+    pub async fn on(backend: Backend) -> Option<App> {
+        let (store, database): (Arc<dyn Store>, Database) = match backend {
+            Backend::Sqlite => {
+                let dir = tempfile::tempdir().expect("a temporary directory");
+                let store = SqliteStore::open(&dir.path().join("repo.db"))
+                    .await
+                    .expect("the repository opens");
+                (Arc::new(store), Database::Sqlite(dir))
+            }
+            Backend::Postgres => {
+                let database = TestDatabase::create()?;
+                let store = PgStore::connect_with(database.options())
+                    .await
+                    .expect("the repository opens");
+                (Arc::new(store), Database::Postgres(Box::new(database)))
+            }
+        };
+        Some(App {
+            router: router(AppState::new(store.clone())),
+            store,
+            database: Arc::new(database),
+        })
+    }
+
+    /// A repository over `state`, whose SQLite store lives in `dir` (for tests that set the
+    /// state up themselves).
+    pub fn sqlite(dir: tempfile::TempDir, state: AppState) -> App {
+        App {
+            store: state.store.clone(),
+            router: router(state),
+            database: Arc::new(Database::Sqlite(dir)),
+        }
+    }
+
+    /// The temporary directory of a repository on SQLite.
+    pub fn dir(&self) -> &std::path::Path {
+        match &*self.database {
+            Database::Sqlite(dir) => dir.path(),
+            Database::Postgres(_) => panic!("a repository on PostgreSQL has no directory"),
+        }
     }
 
     /// Sends raw bytes; the answer's status and JSON body (`null` when empty).

@@ -61,6 +61,8 @@ pub struct Server {
     pub child: Child,
     /// `127.0.0.1:PORT`.
     pub addr: String,
+    /// What it printed first.
+    pub first_line: String,
     /// Its stderr, when it was started with a fail point.
     pub stderr: Option<ChildStderr>,
 }
@@ -80,10 +82,19 @@ pub fn start_server(db: &Path) -> Server {
 /// Starts `shapegram serve` over `db` with more `options`, stopping at `fail_point` in a
 /// publish (`SHAPEGRAM_FAILPOINT`); its stderr is piped then, to see it arrive there.
 pub fn start_server_with(db: &Path, fail_point: Option<&str>, options: &[&str]) -> Server {
+    start_server_over(&["--data".as_ref(), db.as_os_str()], fail_point, options)
+}
+
+/// [`start_server_with`] over the database arguments given (`--data FILE` or `--database URL`).
+pub fn start_server_over(
+    database: &[&std::ffi::OsStr],
+    fail_point: Option<&str>,
+    options: &[&str],
+) -> Server {
     let mut command = Command::new(env!("CARGO_BIN_EXE_shapegram"));
     command
-        .args(["serve", "--listen", "127.0.0.1:0", "--data"])
-        .arg(db)
+        .args(["serve", "--listen", "127.0.0.1:0"])
+        .args(database)
         .args(options)
         .env_remove("SHAPEGRAM_FAILPOINT")
         .stdout(Stdio::piped())
@@ -100,7 +111,7 @@ pub fn start_server_with(db: &Path, fail_point: Option<&str>, options: &[&str]) 
         .read_line(&mut line)
         .unwrap();
     let addr = line
-        .split("http://")
+        .split("listening on http://")
         .nth(1)
         .and_then(|rest| rest.split_whitespace().next())
         .unwrap_or_else(|| panic!("no address in {line:?}"))
@@ -109,6 +120,7 @@ pub fn start_server_with(db: &Path, fail_point: Option<&str>, options: &[&str]) 
     Server {
         child,
         addr,
+        first_line: line,
         stderr,
     }
 }
