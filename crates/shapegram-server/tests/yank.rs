@@ -223,8 +223,39 @@ async fn bad_yank_bodies_are_refused(app: App) {
     );
 }
 
+/// Publishes and yanks of one grammar at once leave it with the right current version, the
+/// newest not yanked (on PostgreSQL a yank locks the grammar's row before it looks).
+async fn concurrent_yanks_and_publishes_keep_the_current_version(app: App) {
+    let ana = app.user("ana").await;
+    for i in 1..=4 {
+        let (status, body) = app
+            .publish(&ana, "ana/wood", &format!("{WOOD}// {i}\n"), None)
+            .await;
+        assert_eq!(status, StatusCode::CREATED, "{body}");
+    }
+    let mut tasks = Vec::new();
+    for i in 1..=4 {
+        let (yanker, token) = (app.clone(), ana.clone());
+        tasks.push(tokio::spawn(async move {
+            yanker.yank(&token, "ana/wood", i, "yank").await;
+        }));
+        let (app, ana) = (app.clone(), ana.clone());
+        tasks.push(tokio::spawn(async move {
+            let text = format!("{WOOD}// {}\n", i + 4);
+            let (status, body) = app.publish(&ana, "ana/wood", &text, None).await;
+            assert_eq!(status, StatusCode::CREATED, "{body}");
+        }));
+    }
+    for task in tasks {
+        task.await.unwrap();
+    }
+    assert_eq!(current(&app, None).await, json!(8));
+    assert_eq!(app.store.audit().await.unwrap(), Vec::<String>::new());
+}
+
 on_both_backends!(
     a_yanked_version_is_fetchable_but_not_current,
     only_the_owner_yanks,
     bad_yank_bodies_are_refused,
+    concurrent_yanks_and_publishes_keep_the_current_version,
 );
