@@ -491,31 +491,43 @@ impl Store for PgStore {
             // A concurrent first publish waits at the INSERT's conflict check instead.
             self.fail_points.hit(FailPoint::BeforeTransaction).await;
             let mut tx = self.pool.begin().await.map_err(db)?;
-            sqlx::query(
-                "INSERT INTO grammar (owner_id, name, canon, visibility, created_at, updated_at)
-                 VALUES ($1, $2, $3, $4, $5, $5) ON CONFLICT (owner_id, canon) DO NOTHING",
-            )
-            .bind(v.owner.id)
-            .bind(v.name)
-            .bind(v.canon)
-            .bind(v.visibility.unwrap_or(Visibility::Public).as_str())
-            .bind(at)
-            .execute(&mut *tx)
-            .await
-            .map_err(db)?;
-            let (grammar, version): (Id, i64) = sqlx::query_as(
-                "UPDATE grammar SET latest_version = latest_version + 1,
-                    current_version = latest_version + 1, updated_at = $3,
-                    visibility = COALESCE($4, visibility)
-                 WHERE owner_id = $1 AND canon = $2 RETURNING id, latest_version",
-            )
-            .bind(v.owner.id)
-            .bind(v.canon)
-            .bind(at)
-            .bind(v.visibility.map(Visibility::as_str))
-            .fetch_one(&mut *tx)
-            .await
-            .map_err(db)?;
+            // A rename that commits between the two statements leaves no grammar of this name
+            // to update: then each statement, seeing the rename (read committed), makes and
+            // numbers a new grammar of the name, as on SQLite, where the rename comes first.
+            let mut numbered = None;
+            for _ in 0..3 {
+                sqlx::query(
+                    "INSERT INTO grammar (owner_id, name, canon, visibility, created_at, updated_at)
+                     VALUES ($1, $2, $3, $4, $5, $5) ON CONFLICT (owner_id, canon) DO NOTHING",
+                )
+                .bind(v.owner.id)
+                .bind(v.name)
+                .bind(v.canon)
+                .bind(v.visibility.unwrap_or(Visibility::Public).as_str())
+                .bind(at)
+                .execute(&mut *tx)
+                .await
+                .map_err(db)?;
+                numbered = sqlx::query_as(
+                    "UPDATE grammar SET latest_version = latest_version + 1,
+                        current_version = latest_version + 1, updated_at = $3,
+                        visibility = COALESCE($4, visibility)
+                     WHERE owner_id = $1 AND canon = $2 RETURNING id, latest_version",
+                )
+                .bind(v.owner.id)
+                .bind(v.canon)
+                .bind(at)
+                .bind(v.visibility.map(Visibility::as_str))
+                .fetch_optional(&mut *tx)
+                .await
+                .map_err(db)?;
+                if numbered.is_some() {
+                    break;
+                }
+            }
+            let (grammar, version): (Id, i64) = numbered.ok_or_else(|| {
+                StoreError::Database(format!("{} was renamed away three times", v.canon))
+            })?;
             let version_id: Id = sqlx::query_scalar(
                 "INSERT INTO grammar_version
                     (grammar_id, version, text, sha256, publisher_id, published_at, rule_count)

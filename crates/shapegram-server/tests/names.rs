@@ -101,7 +101,55 @@ async fn texts_are_found_by_their_hash_by_whoever_may_see_one_of_their_versions(
     }
 }
 
+/// Publishes into a grammar's name while it is renamed away all land: before the rename in the
+/// renamed grammar, after it in a new grammar of the old name, each numbered without gaps.
+async fn publishes_during_a_rename_all_land(app: App) {
+    let ana = app.user("ana").await;
+    for round in 0..4 {
+        let (old, new) = (format!("g{round}"), format!("h{round}"));
+        let (status, body) = app.publish(&ana, &format!("ana/{old}"), WOOD, None).await;
+        assert_eq!(status, StatusCode::CREATED, "{body}");
+        let mut tasks = Vec::new();
+        for i in 0..4 {
+            let (app, ana, uri) = (app.clone(), ana.clone(), format!("ana/{old}"));
+            tasks.push(tokio::spawn(async move {
+                let text = format!("{WOOD}// {i}\n");
+                let (status, body) = app.publish(&ana, &uri, &text, None).await;
+                assert_eq!(status, StatusCode::CREATED, "{body}");
+            }));
+        }
+        let uri = format!("/api/v1/grammars/ana/{old}/rename");
+        let (status, body) = app
+            .call(Method::POST, &uri, Some(&ana), Some(json!({ "name": new })))
+            .await;
+        assert_eq!(status, StatusCode::OK, "{body}");
+        for task in tasks {
+            task.await.unwrap();
+        }
+        let mut total = 0;
+        for name in [&old, &new] {
+            let (status, versions) = app
+                .get(&format!("/api/v1/grammars/ana/{name}/versions"), None)
+                .await;
+            let numbers: Vec<i64> = match status {
+                StatusCode::OK => versions
+                    .as_array()
+                    .unwrap()
+                    .iter()
+                    .map(|v| v["version"].as_i64().unwrap())
+                    .collect(),
+                _ => Vec::new(),
+            };
+            assert_eq!(numbers, (1..=numbers.len() as i64).collect::<Vec<_>>());
+            total += numbers.len();
+        }
+        assert_eq!(total, 5, "round {round}");
+    }
+    assert_eq!(app.store.audit().await.unwrap(), Vec::<String>::new());
+}
+
 on_both_backends!(
     a_renamed_grammar_keeps_its_versions_and_answers_queries_under_its_new_name,
     texts_are_found_by_their_hash_by_whoever_may_see_one_of_their_versions,
+    publishes_during_a_rename_all_land,
 );
