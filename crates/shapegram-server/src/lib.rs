@@ -20,6 +20,7 @@
 //! | [`openapi`] | the OpenAPI document |
 //! | [`error`] | errors as JSON answers |
 //! | [`failpoint`] | fail points in a publish, for the crash test |
+//! | [`studio`] | Shapegram Studio: the single-user local mode (`shapegram studio`) |
 //! | [`testing`] | throwaway PostgreSQL databases for the test suites |
 
 pub mod accounts;
@@ -38,6 +39,7 @@ pub mod ratelimit;
 pub mod routes;
 pub mod sqlite;
 pub mod store;
+pub mod studio;
 pub mod testing;
 pub mod tokens;
 
@@ -285,7 +287,7 @@ pub async fn serve(
 }
 
 /// SIGINT (Ctrl-C) or, on Unix, SIGTERM.
-async fn shutdown_signal() {
+pub(crate) async fn shutdown_signal() {
     let interrupt = async {
         if tokio::signal::ctrl_c().await.is_err() {
             std::future::pending::<()>().await;

@@ -130,6 +130,19 @@ pub enum Command {
             shapegram serve --preview-timeout 5 --preview-memory 512 --preview-workers 1"
     )]
     Serve(crate::serve::ServeArgs),
+    /// Edit grammars in the browser with a live 3D preview (local, single user)
+    #[command(
+        long_about = "Start Shapegram Studio: a local web server on 127.0.0.1 serving a browser\n\
+            editor for the grammar files given (and the grammar files in their folders) with a\n\
+            live 3D preview, derived as you type, and the parser's diagnostics in place. The\n\
+            first line printed is the address to open. The server answers only requests naming\n\
+            it as 127.0.0.1:PORT or localhost:PORT, and changes files only for its own page.\n\
+            See docs/studio.md.",
+        after_help = "Examples:\n  \
+            shapegram studio examples/house.cga\n  \
+            shapegram studio rules/*.cga --listen 127.0.0.1:8000"
+    )]
+    Studio(crate::studio::StudioArgs),
     /// Publish, search and fetch goal grammars in a repository; log in, manage friends
     #[command(
         long_about = "Publish, search and fetch goal grammars in a grammar repository (a\n\

@@ -305,7 +305,7 @@ pub fn millis(d: Duration) -> f64 {
 /// read once each with `shapegram_export::load`, all parts merged into one mesh; L-system files
 /// are grown once per variant. Files that cannot be read are an error, or stand-ins as
 /// `--missing-assets` says.
-struct FileAssets {
+pub(crate) struct FileAssets {
     folder: PathBuf,
     /// The CityEngine project the grammar is in: the nearest folder at or above the grammar's
     /// that has an `assets` folder.
@@ -321,7 +321,7 @@ struct FileAssets {
 }
 
 impl FileAssets {
-    fn new(folder: PathBuf, missing: MissingAssets) -> Self {
+    pub(crate) fn new(folder: PathBuf, missing: MissingAssets) -> Self {
         // Workspace paths (`/Project/…`) need to know the folder above the project.
         let folder = if folder.as_os_str().is_empty() {
             PathBuf::from(".")

@@ -76,6 +76,25 @@ pub fn read(path: &Path, warn: bool) -> Result<SourceFile, Failure> {
 /// with parse errors is not compiled, so that declarations the parser had to skip do not show up
 /// again as unknown names.
 pub fn compile(source: &SourceFile, print_warnings: bool, dialect: Option<Dialect>) -> Compiled {
+    let (compiled, diagnostics) = compile_silently(source, print_warnings, dialect);
+    let mut text = String::new();
+    for (file, d) in &diagnostics {
+        if d.is_error() || print_warnings {
+            text.push_str(&compiled.sources[*file].render(d));
+            text.push('\n');
+        }
+    }
+    eprint!("{text}");
+    compiled
+}
+
+/// [`compile`] without printing: the diagnostics come back with the index of the source each
+/// is in (0: the grammar). `warn` prints the warning for an imported file read as Windows-1252.
+pub fn compile_silently(
+    source: &SourceFile,
+    warn: bool,
+    dialect: Option<Dialect>,
+) -> (Compiled, Vec<(usize, Diagnostic)>) {
     let parsed = match dialect {
         Some(dialect) => shapegram_syntax::parse_as(source, dialect),
         None => shapegram_syntax::parse(source),
@@ -90,7 +109,7 @@ pub fn compile(source: &SourceFile, print_warnings: bool, dialect: Option<Dialec
         diagnostics.extend(more.into_iter().map(|d| (0, d)));
         program
     } else {
-        let imported = load_imports(source, &parsed.grammar, print_warnings);
+        let imported = load_imports(source, &parsed.grammar, warn);
         diagnostics.extend(imported.diagnostics);
         sources.extend(imported.sources);
         if diagnostics.iter().any(|(_, d)| d.is_error()) {
@@ -109,21 +128,14 @@ pub fn compile(source: &SourceFile, print_warnings: bool, dialect: Option<Dialec
         }
     };
     let errors = diagnostics.iter().filter(|(_, d)| d.is_error()).count();
-    let mut text = String::new();
-    for (file, d) in &diagnostics {
-        if d.is_error() || print_warnings {
-            text.push_str(&sources[*file].render(d));
-            text.push('\n');
-        }
-    }
-    eprint!("{text}");
-    Compiled {
+    let compiled = Compiled {
         grammar: parsed.grammar,
         program,
         errors,
         warnings: diagnostics.len() - errors,
         sources,
-    }
+    };
+    (compiled, diagnostics)
 }
 
 /// The files a grammar imports, read and parsed, each once.

@@ -17,6 +17,7 @@ mod repo;
 mod resolve;
 mod search;
 mod serve;
+mod studio;
 mod topo;
 
 use std::io::{self, Write};
@@ -37,6 +38,7 @@ fn main() -> ExitCode {
         Command::Cave(args) => cave::run(args),
         Command::Topo(args) => topo::run(args),
         Command::Serve(args) => serve::run(args),
+        Command::Studio(args) => studio::run(args),
         Command::Repo(args) => repo::run(args),
         Command::PreviewWorker(args) => preview::run(args),
     };

@@ -1,0 +1,124 @@
+//! Shapegram Studio's server: the single-user, local mode of this crate (`shapegram studio`),
+//! beside the multi-user repository of [`crate::router`]. See `docs/studio.md`.
+//!
+//! It serves the page (built from `studio/` and embedded, [`assets`]) and a JSON API over the
+//! grammar files it was given and the grammar files in their folders ([`files`]): list, read,
+//! save, and derive text with the engine ([`derive`]). Because the page writes files, every
+//! request passes [`guard`] first: the Host must be this server's loopback address (against DNS
+//! rebinding) and a request that is not a GET must come from the studio's own page (its Origin),
+//! so that no other site can write through the user's browser.
+//!
+//! Deriving is the engine's business, which lives in the `shapegram` crate with the command line
+//! (assets, imports, goal libraries, GLB export): it comes in as an [`Engine`].
+
+pub mod assets;
+pub mod derive;
+pub mod files;
+pub mod guard;
+
+use std::net::SocketAddr;
+use std::path::PathBuf;
+use std::sync::Arc;
+use std::time::Duration;
+
+use axum::Router;
+use axum::extract::DefaultBodyLimit;
+use axum::http::StatusCode;
+use axum::routing::{get, post};
+
+use crate::error::ApiError;
+
+pub use derive::{DeriveJob, Derived, Engine, StudioDiagnostic};
+pub use files::Folders;
+
+/// What the studio's handlers share.
+#[derive(Clone)]
+pub struct StudioState {
+    /// The files given and the folders they are in.
+    pub folders: Arc<Folders>,
+    /// Derives grammar text.
+    pub engine: Arc<dyn Engine>,
+    /// The port the server listens on: the only one the Host and Origin may name.
+    pub port: u16,
+    /// How long one derivation may run before the engine stops it.
+    pub time_budget: Duration,
+    /// Per file, the newest derivation asked for and the one running.
+    pub generations: Arc<derive::Generations>,
+    /// How each file was read, so that saving writes it back the same way.
+    pub formats: Arc<files::Formats>,
+}
+
+impl StudioState {
+    /// The state for the studio on `port` over `folders`.
+    pub fn new(folders: Folders, engine: Arc<dyn Engine>, port: u16) -> StudioState {
+        StudioState {
+            folders: Arc::new(folders),
+            engine,
+            port,
+            time_budget: Duration::from_secs(10),
+            generations: Arc::default(),
+            formats: Arc::default(),
+        }
+    }
+}
+
+/// The studio's application: the page, its assets and the API, behind the Host/Origin guard.
+pub fn router(state: StudioState) -> Router {
+    Router::new()
+        .route("/", get(assets::index))
+        .route("/assets/{name}", get(assets::asset))
+        .route("/api/files", get(files::list))
+        .route("/api/file", get(files::read).put(files::save))
+        .route("/api/derive", post(derive::derive))
+        .fallback(|| async { ApiError::not_found() })
+        .method_not_allowed_fallback(|| async {
+            ApiError::new(StatusCode::METHOD_NOT_ALLOWED, "method not allowed")
+        })
+        .layer(axum::middleware::from_fn_with_state(
+            state.clone(),
+            guard::check,
+        ))
+        .layer(DefaultBodyLimit::max(crate::MAX_BODY_BYTES))
+        .with_state(state)
+}
+
+/// How `shapegram studio` runs.
+pub struct StudioOptions {
+    /// The grammar files given on the command line (none: the current folder's).
+    pub files: Vec<PathBuf>,
+    /// A loopback address and port (port 0: any free port).
+    pub listen: String,
+    /// How long one derivation may run.
+    pub time_budget: Duration,
+}
+
+/// Serves the studio until SIGINT or SIGTERM; `ready` gets the address once it accepts
+/// connections. Refuses addresses that are not loopback: the studio reads and writes the
+/// user's files and has no accounts.
+pub async fn serve(
+    options: StudioOptions,
+    engine: Arc<dyn Engine>,
+    ready: impl FnOnce(SocketAddr),
+) -> Result<(), String> {
+    let listen: SocketAddr = options
+        .listen
+        .parse()
+        .map_err(|_| format!("--listen {}: expected 127.0.0.1:PORT", options.listen))?;
+    if !listen.ip().is_loopback() {
+        return Err(format!(
+            "--listen {listen}: the studio listens on a loopback address only (127.0.0.1), since it writes your files"
+        ));
+    }
+    let folders = Folders::new(&options.files)?;
+    let listener = tokio::net::TcpListener::bind(listen)
+        .await
+        .map_err(|e| format!("cannot listen on {listen}: {e}"))?;
+    let addr = listener.local_addr().map_err(|e| e.to_string())?;
+    let mut state = StudioState::new(folders, engine, addr.port());
+    state.time_budget = options.time_budget;
+    ready(addr);
+    axum::serve(listener, router(state))
+        .with_graceful_shutdown(crate::shutdown_signal())
+        .await
+        .map_err(|e| e.to_string())
+}

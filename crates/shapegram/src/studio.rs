@@ -1,0 +1,165 @@
+//! `shapegram studio`: the browser editor with a live preview, served by `shapegram_server::studio`
+//! on 127.0.0.1. This side brings the engine: grammar text compiled and derived the way
+//! `shapegram derive FILE` does it (notation detected from the text, imports and assets found
+//! beside the file, the default lot), then written as GLB. See docs/studio.md.
+
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+use std::time::{Duration, Instant};
+
+use clap::Args;
+use shapegram_eval::DeriveOptions;
+use shapegram_export::ExportOptions;
+use shapegram_server::studio::{DeriveJob, Derived, Engine, StudioDiagnostic, StudioOptions};
+use shapegram_syntax::{Diagnostic, Severity, SourceFile};
+
+use crate::cli::MissingAssets;
+use crate::derive::{FileAssets, millis};
+use crate::{Failure, grammar, lots};
+
+/// Arguments of `shapegram studio`.
+#[derive(Debug, Args)]
+pub struct StudioArgs {
+    /// Grammar files to edit (their folders' grammar files are listed too); none: the current
+    /// folder's
+    #[arg(value_name = "FILE")]
+    pub files: Vec<PathBuf>,
+    /// Loopback address and port to listen on (port 0: any free port)
+    #[arg(long, value_name = "ADDR", default_value = "127.0.0.1:7370")]
+    pub listen: String,
+    /// Seconds one derivation may take before it stops with an error
+    #[arg(long, value_name = "SECONDS", default_value_t = 10.0)]
+    pub timeout: f64,
+}
+
+/// Starts the studio and serves it until Ctrl-C.
+pub fn run(args: &StudioArgs) -> Result<(), Failure> {
+    if !(args.timeout > 0.0 && args.timeout <= 3600.0) {
+        return Err(Failure::new("--timeout: expected seconds above 0, at most 3600").with_code(2));
+    }
+    let runtime = tokio::runtime::Builder::new_multi_thread()
+        .enable_all()
+        .build()
+        .map_err(|e| Failure::new(format!("cannot start the server's runtime: {e}")))?;
+    let options = StudioOptions {
+        files: args.files.clone(),
+        listen: args.listen.clone(),
+        time_budget: Duration::from_secs_f64(args.timeout),
+    };
+    runtime
+        .block_on(shapegram_server::studio::serve(
+            options,
+            Arc::new(CliEngine),
+            |addr| {
+                // Scripts and tests read the address from the first line.
+                println!("shapegram studio: http://{addr}/");
+                let _ = std::io::Write::flush(&mut std::io::stdout());
+            },
+        ))
+        .map_err(Failure::new)
+}
+
+/// The engine as `shapegram derive` runs it.
+pub struct CliEngine;
+
+impl Engine for CliEngine {
+    fn derive(&self, job: &DeriveJob) -> Derived {
+        let extension = job.path.extension().and_then(|e| e.to_str()).unwrap_or("");
+        if !matches!(extension, "cga" | "mul" | "sgl") {
+            return Derived {
+                error: Some(format!(
+                    "the studio derives .cga, .mul and .sgl files so far, not .{extension}"
+                )),
+                hints: vec![format!(
+                    "edit it here and run it with the command line (docs/studio.md lists what is not done yet)"
+                )],
+                ..Derived::default()
+            };
+        }
+        derive_grammar(&job.path, &job.text, job.time_budget)
+    }
+}
+
+/// Compiles and derives `text` as the file `path` on the default lot, then writes the GLB.
+fn derive_grammar(path: &Path, text: &str, time_budget: Duration) -> Derived {
+    let started = Instant::now();
+    let source = SourceFile::new(path.display().to_string(), text.to_owned());
+    let (compiled, diagnostics) = grammar::compile_silently(&source, false, None);
+    let mut derived = Derived {
+        diagnostics: diagnostics
+            .iter()
+            .map(|(file, d)| located(&compiled.sources, *file, d))
+            .collect(),
+        ..Derived::default()
+    };
+    if grammar::is_goal_grammar(&source, None) {
+        derived.error = Some("goal grammars are not derived in the studio yet".to_owned());
+        return derived;
+    }
+    let program = match compiled.program {
+        Some(program) if compiled.errors == 0 => program,
+        _ => {
+            derived.derive_ms = millis(started.elapsed());
+            return derived;
+        }
+    };
+    let folder = path.parent().unwrap_or(Path::new("")).to_path_buf();
+    let options = DeriveOptions {
+        time_budget: Some(time_budget),
+        assets: Some(Arc::new(FileAssets::new(folder, MissingAssets::Error))),
+        ..DeriveOptions::default()
+    };
+    let derivation = match shapegram_eval::derive(&program, &[lots::default_lot()], &options) {
+        Ok(derivation) => derivation,
+        Err(e) => {
+            derived.derive_ms = millis(started.elapsed());
+            match e.to_diagnostic() {
+                Some(d) => {
+                    let file = e.file.unwrap_or(0);
+                    derived
+                        .diagnostics
+                        .push(located(&compiled.sources, file, &d));
+                }
+                None => {
+                    derived.error = Some(e.message.replace('\n', " "));
+                    derived.hints = e.hints;
+                }
+            }
+            return derived;
+        }
+    };
+    derived.derive_ms = millis(started.elapsed());
+    derived.shapes = derivation.stats.shapes;
+    derived.leaves = derivation.stats.leaves;
+    derived.prints = derivation.prints.clone();
+    let exported = Instant::now();
+    let model = derivation.to_model();
+    let mut glb = Vec::new();
+    match shapegram_export::write_glb_to(&model, &ExportOptions::default(), &mut glb) {
+        Ok(()) => derived.glb = Some(glb),
+        Err(e) => derived.error = Some(format!("cannot write the GLB: {e}")),
+    }
+    derived.export_ms = millis(exported.elapsed());
+    derived
+}
+
+/// `d`, found in `sources[file]`, with its place as lines and columns.
+fn located(sources: &[SourceFile], file: usize, d: &Diagnostic) -> StudioDiagnostic {
+    let source = sources.get(file).unwrap_or(&sources[0]);
+    let (line, column) = source.line_col(d.span.start);
+    let (end_line, end_column) = source.line_col(d.span.end.max(d.span.start));
+    StudioDiagnostic {
+        severity: match d.severity {
+            Severity::Error => "error",
+            Severity::Warning => "warning",
+        },
+        message: d.message.clone(),
+        label: d.label.clone(),
+        hints: d.hints.clone(),
+        line,
+        column,
+        end_line,
+        end_column,
+        file: (file != 0).then(|| source.name().to_owned()),
+    }
+}
