@@ -1,0 +1,228 @@
+// Shapegram Studio's page: a CodeMirror editor on the left, a three.js preview on the right.
+// Every change is sent to the server (debounced) as text to derive; the answer brings the GLB
+// and the parser's diagnostics. The server derives; this page only draws.
+import { EditorState } from "@codemirror/state";
+import { EditorView, keymap, lineNumbers, highlightActiveLine, drawSelection } from "@codemirror/view";
+import { defaultKeymap, history, historyKeymap, indentWithTab } from "@codemirror/commands";
+import { bracketMatching, indentOnInput } from "@codemirror/language";
+import { setDiagnostics, lintGutter } from "@codemirror/lint";
+import { cga } from "./cga.js";
+import { Preview } from "./preview.js";
+
+/** How long typing must pause before the text is derived. */
+const DEBOUNCE_MS = 150;
+
+const $ = (id) => document.getElementById(id);
+const statusLine = $("status");
+const fileSelect = $("file");
+const diagnosticsList = $("diagnostics");
+
+/** What the browser test watches: revisions sent, the one drawn, timings per revision, the editor. */
+const studio = {
+  rev: 0,
+  rendered: -1,
+  answered: -1,
+  diagnostics: [],
+  shapes: 0,
+  leaves: 0,
+  timings: {},
+  saved: 0,
+};
+window.__studio = studio;
+
+let path = null;
+let savedText = "";
+let lastGlb = null;
+let timer = null;
+let drawnRev = -1;
+
+const preview = new Preview($("canvas"));
+
+const view = new EditorView({
+  parent: $("editor"),
+  state: EditorState.create({ doc: "", extensions: editorExtensions() }),
+});
+studio.view = view;
+
+function editorExtensions() {
+  return [
+    lineNumbers(),
+    history(),
+    drawSelection(),
+    highlightActiveLine(),
+    indentOnInput(),
+    bracketMatching(),
+    lintGutter(),
+    cga,
+    keymap.of([
+      { key: "Mod-s", preventDefault: true, run: () => (save(), true) },
+      indentWithTab,
+      ...defaultKeymap,
+      ...historyKeymap,
+    ]),
+    EditorView.updateListener.of((update) => {
+      if (update.docChanged) changed();
+    }),
+  ];
+}
+
+function setStatus(text, error = false) {
+  statusLine.textContent = text;
+  statusLine.classList.toggle("error", error);
+  statusLine.classList.toggle("dirty", path !== null && view.state.doc.toString() !== savedText);
+}
+
+function changed() {
+  studio.rev += 1;
+  studio.timings[studio.rev] = { changed: performance.now() };
+  clearTimeout(timer);
+  timer = setTimeout(derive, DEBOUNCE_MS);
+  setStatus(statusLine.textContent.replace(/^● /, ""));
+}
+
+async function api(method, url, body) {
+  const response = await fetch(url, {
+    method,
+    headers: body ? { "content-type": "application/json" } : {},
+    body: body ? JSON.stringify(body) : undefined,
+  });
+  const json = await response.json();
+  return { status: response.status, json };
+}
+
+async function loadFiles() {
+  const { status, json } = await api("GET", "/api/files");
+  if (status !== 200) return setStatus(json.error, true);
+  fileSelect.replaceChildren(
+    ...json.files.map((f) => {
+      const option = document.createElement("option");
+      option.value = f.path;
+      option.textContent = f.given ? f.name : `${f.name} (folder)`;
+      return option;
+    }),
+  );
+  if (json.files.length > 0) await open(json.files[0].path);
+  else setStatus("no grammar files here", true);
+}
+
+async function open(file) {
+  if (path !== null && view.state.doc.toString() !== savedText
+      && !confirm("Discard the unsaved changes?")) {
+    fileSelect.value = path;
+    return;
+  }
+  const { status, json } = await api("GET", `/api/file?path=${encodeURIComponent(file)}`);
+  if (status !== 200) return setStatus(json.error, true);
+  path = file;
+  fileSelect.value = file;
+  preview.reset();
+  view.setState(EditorState.create({ doc: json.text, extensions: editorExtensions() }));
+  savedText = view.state.doc.toString();
+  studio.rev += 1;
+  studio.timings[studio.rev] = { changed: performance.now() };
+  derive();
+}
+
+async function derive() {
+  clearTimeout(timer);
+  const rev = studio.rev;
+  const text = view.state.doc.toString();
+  const timing = studio.timings[rev] || (studio.timings[rev] = {});
+  timing.sent = performance.now();
+  let answer;
+  try {
+    answer = await api("POST", "/api/derive", { path, text });
+  } catch (e) {
+    return setStatus(`cannot reach the studio: ${e.message}`, true);
+  }
+  // An answer to an older revision, or one the server dropped for a newer request.
+  if (rev < drawnRev || rev !== studio.rev || answer.status === 409) return;
+  const { status, json } = answer;
+  timing.answered = performance.now();
+  studio.answered = rev;
+  if (status !== 200) return setStatus(json.error, true);
+  drawnRev = rev;
+  showDiagnostics(json.diagnostics);
+  const errors = json.diagnostics.filter((d) => d.severity === "error" && !d.file).length;
+  if (json.ok) {
+    lastGlb = Uint8Array.from(atob(json.glb), (c) => c.charCodeAt(0));
+    await preview.show(lastGlb.buffer);
+    studio.shapes = json.shapes;
+    studio.leaves = json.leaves;
+    const warnings = json.diagnostics.length ? ` · ${json.diagnostics.length} warnings` : "";
+    setStatus(`derived in ${json.derive_ms.toFixed(1)} ms · ${json.shapes} shapes · ${json.leaves} leaves${warnings}`);
+  } else if (json.error) {
+    setStatus(json.error, true);
+  } else {
+    setStatus(`${errors} ${errors === 1 ? "error" : "errors"}: the preview shows the last model`, true);
+  }
+  timing.rendered = performance.now();
+  studio.rendered = rev;
+}
+
+/** Line and column (1-based, in characters) to a document position. */
+function position(doc, line, column) {
+  const l = doc.line(Math.max(1, Math.min(line, doc.lines)));
+  return Math.min(l.from + Math.max(0, column - 1), l.to);
+}
+
+function showDiagnostics(list) {
+  const doc = view.state.doc;
+  studio.diagnostics = list;
+  const own = list.filter((d) => !d.file);
+  const marks = own.map((d) => {
+    const from = position(doc, d.line, d.column);
+    let to = position(doc, d.end_line, d.end_column);
+    if (to <= from) to = Math.min(from + 1, doc.length);
+    const hints = d.hints.map((h) => `\nhint: ${h}`).join("");
+    const label = d.label ? ` (${d.label})` : "";
+    return { from, to, severity: d.severity, message: `${d.message}${label}${hints}`, source: "shapegram" };
+  });
+  view.dispatch(setDiagnostics(view.state, marks));
+  diagnosticsList.replaceChildren(
+    ...list.map((d) => {
+      const item = document.createElement("li");
+      item.className = d.severity;
+      const where = d.file ? `${d.file}:${d.line}:${d.column}` : `${d.line}:${d.column}`;
+      item.textContent = `${where} ${d.severity}: ${d.message}${d.hints.map((h) => `\n    hint: ${h}`).join("")}`;
+      if (!d.file) {
+        item.addEventListener("click", () => {
+          const at = position(view.state.doc, d.line, d.column);
+          view.dispatch({ selection: { anchor: at }, scrollIntoView: true });
+          view.focus();
+        });
+      }
+      return item;
+    }),
+  );
+}
+
+async function save() {
+  if (path === null) return;
+  const text = view.state.doc.toString();
+  const { status, json } = await api("PUT", "/api/file", { path, text });
+  if (status !== 200) return setStatus(`not saved: ${json.error}`, true);
+  savedText = text;
+  studio.saved += 1;
+  setStatus(`saved ${json.bytes} bytes (${json.encoding}, ${json.line_endings})`);
+}
+
+function download() {
+  if (!lastGlb) return setStatus("no model to download yet", true);
+  const url = URL.createObjectURL(new Blob([lastGlb], { type: "model/gltf-binary" }));
+  const link = document.createElement("a");
+  link.href = url;
+  link.download = `${(path || "model").split(/[\\/]/).pop().replace(/\.[^.]*$/, "")}.glb`;
+  document.body.append(link);
+  link.click();
+  link.remove();
+  setTimeout(() => URL.revokeObjectURL(url), 1000);
+}
+
+$("save").addEventListener("click", save);
+$("download").addEventListener("click", download);
+fileSelect.addEventListener("change", () => open(fileSelect.value));
+window.addEventListener("beforeunload", (event) => {
+  if (path !== null && view.state.doc.toString() !== savedText) event.preventDefault();
+});
+loadFiles();

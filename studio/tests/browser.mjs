@@ -1,0 +1,210 @@
+// The studio in a real browser: Debian's Chromium, headless, WebGL through SwiftShader, driven
+// by playwright-core, against a `shapegram studio` child serving a copy of examples/house.cga
+// in a temporary folder. Run by .ci/run (not by `cargo test`):
+//
+//   SHAPEGRAM_BIN=target/release/shapegram STUDIO_OUTPUT=target/studio node studio/tests/browser.mjs
+//
+// SHAPEGRAM_BIN: the binary (default ../target/release/shapegram from studio/); STUDIO_OUTPUT:
+// where screenshots go (default a temporary folder); CHROMIUM: the browser (/usr/bin/chromium).
+import { chromium } from "playwright-core";
+import { spawn } from "node:child_process";
+import { copyFileSync, mkdirSync, mkdtempSync, readFileSync, rmSync } from "node:fs";
+import { tmpdir } from "node:os";
+import { dirname, join, resolve } from "node:path";
+import { createInterface } from "node:readline";
+import { fileURLToPath } from "node:url";
+import assert from "node:assert/strict";
+
+const here = dirname(fileURLToPath(import.meta.url));
+const root = resolve(here, "../..");
+const binary = resolve(process.env.SHAPEGRAM_BIN || join(root, "target/release/shapegram"));
+const output = resolve(process.env.STUDIO_OUTPUT || mkdtempSync(join(tmpdir(), "studio-shots-")));
+const browserPath = process.env.CHROMIUM || "/usr/bin/chromium";
+mkdirSync(output, { recursive: true });
+
+const folder = mkdtempSync(join(tmpdir(), "studio-test-"));
+const grammar = join(folder, "house.cga");
+copyFileSync(join(root, "examples/house.cga"), grammar);
+
+/** Starts `shapegram studio` on a free port; resolves with the child and the page's URL. */
+function startStudio() {
+  const child = spawn(binary, ["studio", grammar, "--listen", "127.0.0.1:0"], {
+    stdio: ["ignore", "pipe", "inherit"],
+  });
+  return new Promise((resolvePromise, reject) => {
+    child.on("error", reject);
+    child.on("exit", (code) => reject(new Error(`shapegram studio exited with ${code}`)));
+    createInterface({ input: child.stdout }).once("line", (line) => {
+      const match = /^shapegram studio: (http:\/\/127\.0\.0\.1:\d+\/)$/.exec(line);
+      if (!match) reject(new Error(`unexpected first line: ${line}`));
+      else resolvePromise({ child, url: match[1] });
+    });
+  });
+}
+
+/** What the canvas shows: pixels unlike the empty background, and a 32×32 grey thumbnail. */
+async function canvasPixels(page) {
+  return page.evaluate(() => {
+    const source = document.getElementById("canvas");
+    const copy = document.createElement("canvas");
+    copy.width = source.width;
+    copy.height = source.height;
+    const context = copy.getContext("2d");
+    context.drawImage(source, 0, 0);
+    const { data, width, height } = context.getImageData(0, 0, copy.width, copy.height);
+    const background = [0xdf, 0xe6, 0xec];
+    let model = 0;
+    const thumbnail = new Array(32 * 32).fill(0);
+    for (let y = 0; y < height; y++) {
+      for (let x = 0; x < width; x++) {
+        const i = (y * width + x) * 4;
+        const far = Math.abs(data[i] - background[0]) + Math.abs(data[i + 1] - background[1])
+          + Math.abs(data[i + 2] - background[2]);
+        // The grid's lines are close to the background; the model's walls and roof are not.
+        if (far > 60) model += 1;
+        thumbnail[Math.floor((y * 32) / height) * 32 + Math.floor((x * 32) / width)] += data[i] + data[i + 1] + data[i + 2];
+      }
+    }
+    const cell = (width / 32) * (height / 32) * 3;
+    return { model, total: width * height, thumbnail: thumbnail.map((v) => v / cell) };
+  });
+}
+
+function thumbnailDifference(a, b) {
+  return a.thumbnail.reduce((sum, v, i) => sum + Math.abs(v - b.thumbnail[i]), 0) / a.thumbnail.length;
+}
+
+/** Waits until the newest revision is derived and drawn; returns the status line. */
+async function settled(page) {
+  await page.waitForFunction(() => window.__studio.rendered === window.__studio.rev, null, { timeout: 20000 });
+  return page.locator("#status").textContent();
+}
+
+/** Selects `text` (its `occurrence`-th match) in the editor, so that typing replaces it. */
+async function select(page, text, after = false) {
+  await page.evaluate(([text, after]) => {
+    const view = window.__studio.view;
+    const at = view.state.doc.toString().indexOf(text);
+    if (at < 0) throw new Error(`no ${text} in the editor`);
+    const end = at + text.length;
+    view.dispatch({ selection: after ? { anchor: end } : { anchor: at, head: end } });
+    view.focus();
+  }, [text, after]);
+}
+
+function counts(status) {
+  const match = /derived in ([\d.]+) ms · (\d+) shapes · (\d+) leaves/.exec(status);
+  assert.ok(match, `status line: ${status}`);
+  return { ms: Number(match[1]), shapes: Number(match[2]), leaves: Number(match[3]) };
+}
+
+const { child, url } = await startStudio();
+const browser = await chromium.launch({
+  executablePath: browserPath,
+  headless: true,
+  args: [
+    "--no-sandbox", "--disable-gpu", "--use-gl=swiftshader", "--enable-unsafe-swiftshader",
+    "--disable-background-networking", "--disable-component-update", "--disable-sync", "--no-first-run",
+  ],
+});
+try {
+  const context = await browser.newContext({
+    viewport: { width: 1280, height: 800 },
+    deviceScaleFactor: 1,
+    acceptDownloads: true,
+  });
+  const page = await context.newPage();
+  const problems = [];
+  page.on("pageerror", (e) => problems.push(e.message));
+  page.on("console", (m) => m.type() === "error" && problems.push(m.text()));
+
+  // The page loads and draws the house.
+  await page.goto(url);
+  const first = counts(await settled(page));
+  assert.ok(first.shapes > 100 && first.leaves > 100, `house.cga: ${JSON.stringify(first)}`);
+  const loaded = await canvasPixels(page);
+  assert.ok(loaded.model > loaded.total * 0.02, `the canvas shows no model: ${loaded.model} of ${loaded.total} pixels`);
+  await page.screenshot({ path: join(output, "studio-loaded.png") });
+  console.log(`loaded: ${first.shapes} shapes, ${first.leaves} leaves, ${loaded.model} model pixels`);
+
+  // Typing a change derives again: a third storey, more shapes, another picture.
+  await select(page, "storeys    = 2");
+  await page.keyboard.type("storeys    = 3");
+  const taller = counts(await settled(page));
+  assert.ok(taller.shapes > first.shapes && taller.leaves > first.leaves, `3 storeys: ${JSON.stringify(taller)}`);
+  const tallerPixels = await canvasPixels(page);
+  assert.ok(thumbnailDifference(loaded, tallerPixels) > 1, "the canvas did not change with a third storey");
+  await page.screenshot({ path: join(output, "studio-edited.png") });
+  console.log(`edited: ${taller.shapes} shapes, ${taller.leaves} leaves`);
+
+  // Edit-to-new-preview latency: from the last keystroke to the model drawn (the debounce of
+  // 150 ms included), over roof angles typed one after another.
+  const latencies = [];
+  let angle = "35";
+  for (const next of ["40", "45", "30", "50", "38", "42", "33", "47", "36", "35"]) {
+    await select(page, `roofAngle  = ${angle}`);
+    await page.keyboard.type(`roofAngle  = ${next}`);
+    await settled(page);
+    latencies.push(await page.evaluate(() => {
+      const t = window.__studio.timings[window.__studio.rendered];
+      return { total: t.rendered - t.changed, server: t.answered - t.sent, draw: t.rendered - t.answered };
+    }));
+    angle = next;
+  }
+  const median = (key) => latencies.map((l) => l[key]).sort((a, b) => a - b)[Math.floor(latencies.length / 2)];
+  console.log(`house.cga edit-to-new-preview latency: median ${median("total").toFixed(0)} ms `
+    + `(150 ms debounce, request and derivation ${median("server").toFixed(0)} ms, GLB load and draw ${median("draw").toFixed(0)} ms), `
+    + `max ${Math.max(...latencies.map((l) => l.total)).toFixed(0)} ms over ${latencies.length} edits`);
+
+  // An error shows at its line, in the editor and in the list, and goes when fixed.
+  await select(page, "extrude(storeys * storeyH", true);
+  await page.keyboard.type(" Foo");
+  await page.waitForFunction(() => window.__studio.rendered === window.__studio.rev
+    && window.__studio.diagnostics.some((d) => d.severity === "error"));
+  const marked = await page.evaluate(() => {
+    const view = window.__studio.view;
+    return [...document.querySelectorAll(".cm-lintRange-error")]
+      .map((e) => view.state.doc.lineAt(view.posAtDOM(e)).number);
+  });
+  assert.deepEqual(marked, [19], "the error is underlined on line 19");
+  const listed = await page.locator("#diagnostics li.error").first().textContent();
+  assert.match(listed, /^19:35 error: expected `,` or `\)`/);
+  assert.match(await page.locator("#status").textContent(), /1 error/);
+  await page.screenshot({ path: join(output, "studio-error.png") });
+  console.log(`error shown: ${listed.split("\n")[0]}`);
+  for (let i = 0; i < 4; i++) await page.keyboard.press("Backspace");
+  await settled(page);
+  assert.equal(await page.locator(".cm-lintRange-error").count(), 0, "the error mark stays after the fix");
+  assert.equal(await page.locator("#diagnostics li").count(), 0);
+  assert.deepEqual(counts(await page.locator("#status").textContent()).shapes, taller.shapes);
+
+  // Save writes the file (read back from disk); Ctrl-S does the same.
+  await page.click("#save");
+  await page.waitForFunction(() => window.__studio.saved === 1);
+  const text = await page.evaluate(() => window.__studio.view.state.doc.toString());
+  assert.equal(readFileSync(grammar, "utf8"), text);
+  assert.match(readFileSync(grammar, "utf8"), /attr storeys    = 3\n/);
+  await select(page, "storeys    = 3");
+  await page.keyboard.type("storeys    = 4");
+  await settled(page);
+  await page.keyboard.press("Control+s");
+  await page.waitForFunction(() => window.__studio.saved === 2);
+  assert.match(readFileSync(grammar, "utf8"), /attr storeys    = 4\n/);
+  await page.screenshot({ path: join(output, "studio-saved.png") });
+
+  // Download GLB gives the model shown.
+  const [download] = await Promise.all([page.waitForEvent("download"), page.click("#download")]);
+  assert.equal(download.suggestedFilename(), "house.glb");
+  const glb = readFileSync(await download.path());
+  assert.equal(glb.subarray(0, 4).toString("latin1"), "glTF");
+  assert.equal(glb.readUInt32LE(4), 2);
+  assert.equal(glb.readUInt32LE(8), glb.length);
+  console.log(`downloaded house.glb: ${glb.length} bytes`);
+
+  assert.deepEqual(problems, [], "errors in the page's console");
+  console.log(`studio browser test: ok (screenshots in ${output})`);
+} finally {
+  await browser.close();
+  child.kill();
+  rmSync(folder, { recursive: true, force: true });
+}
