@@ -139,6 +139,7 @@ pub enum Encoding {
     /// UTF-8 that started with a byte-order mark.
     Utf8Bom,
     /// Not UTF-8: read as Windows-1252, as CityEngine writes rule files on Windows.
+    #[serde(rename = "windows-1252")]
     Windows1252,
 }
 

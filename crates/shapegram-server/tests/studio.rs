@@ -1,0 +1,436 @@
+//! The studio's API through its router, without sockets, with an engine that only counts: the
+//! Host and Origin guard, paths that try to leave the folders, saving in the encoding a file was
+//! read in, and derivations superseded by newer ones.
+
+use std::path::{Path, PathBuf};
+use std::sync::Arc;
+use std::sync::atomic::{AtomicUsize, Ordering};
+use std::time::Duration;
+
+use axum::Router;
+use axum::body::Body;
+use axum::http::{Request, StatusCode};
+use http_body_util::BodyExt;
+use serde_json::{Value, json};
+use shapegram_server::studio::{self, DeriveJob, Derived, Engine, Folders, StudioState};
+use tower::ServiceExt;
+
+const PORT: u16 = 7370;
+const ORIGIN: &str = "http://127.0.0.1:7370";
+
+/// An engine whose model is the text's length in shapes, after a pause as long as the text
+/// asks (`sleep 300`), counting its derivations.
+#[derive(Default)]
+struct Counting {
+    runs: AtomicUsize,
+}
+
+impl Engine for Counting {
+    fn derive(&self, job: &DeriveJob) -> Derived {
+        self.runs.fetch_add(1, Ordering::SeqCst);
+        if let Some(ms) = job.text.strip_prefix("sleep ") {
+            std::thread::sleep(Duration::from_millis(ms.trim().parse().unwrap()));
+        }
+        Derived {
+            glb: Some(b"glTF".to_vec()),
+            shapes: job.text.len(),
+            ..Derived::default()
+        }
+    }
+}
+
+struct Studio {
+    router: Router,
+    engine: Arc<Counting>,
+    dir: tempfile::TempDir,
+}
+
+impl Studio {
+    /// A studio given `house.cga` (UTF-8) in a fresh folder that also holds `old.cga`
+    /// (Windows-1252, CR LF), `notes.txt`, and a link `escape.cga` to a grammar outside.
+    fn new() -> Studio {
+        let dir = tempfile::tempdir().unwrap();
+        let folder = dir.path().join("project");
+        std::fs::create_dir(&folder).unwrap();
+        std::fs::write(folder.join("house.cga"), "Lot --> extrude(10) Mass.\n").unwrap();
+        std::fs::write(folder.join("old.cga"), b"// caf\xe9\r\nLot --> X.\r\n").unwrap();
+        std::fs::write(folder.join("notes.txt"), "not a grammar").unwrap();
+        std::fs::write(dir.path().join("outside.cga"), "Lot --> Secret.\n").unwrap();
+        #[cfg(unix)]
+        std::os::unix::fs::symlink(dir.path().join("outside.cga"), folder.join("escape.cga"))
+            .unwrap();
+        let folders = Folders::new(&[folder.join("house.cga")]).unwrap();
+        let engine = Arc::new(Counting::default());
+        let state = StudioState::new(folders, engine.clone(), PORT);
+        Studio {
+            router: studio::router(state),
+            engine,
+            dir,
+        }
+    }
+
+    fn path(&self, name: &str) -> PathBuf {
+        std::fs::canonicalize(self.dir.path())
+            .unwrap()
+            .join("project")
+            .join(name)
+    }
+
+    async fn send(
+        &self,
+        method: &str,
+        uri: &str,
+        host: &str,
+        origin: Option<&str>,
+        body: Option<Value>,
+    ) -> (StatusCode, Value) {
+        let mut request = Request::builder()
+            .method(method)
+            .uri(uri)
+            .header("host", host);
+        if let Some(origin) = origin {
+            request = request.header("origin", origin);
+        }
+        let body = match body {
+            Some(body) => {
+                request = request.header("content-type", "application/json");
+                Body::from(body.to_string())
+            }
+            None => Body::empty(),
+        };
+        let response = self
+            .router
+            .clone()
+            .oneshot(request.body(body).unwrap())
+            .await
+            .unwrap();
+        let status = response.status();
+        let bytes = response.into_body().collect().await.unwrap().to_bytes();
+        let value = serde_json::from_slice(&bytes).unwrap_or(Value::Null);
+        (status, value)
+    }
+
+    async fn get(&self, uri: &str) -> (StatusCode, Value) {
+        self.send("GET", uri, "127.0.0.1:7370", None, None).await
+    }
+
+    async fn write(&self, method: &str, uri: &str, body: Value) -> (StatusCode, Value) {
+        self.send(method, uri, "127.0.0.1:7370", Some(ORIGIN), Some(body))
+            .await
+    }
+
+    async fn read(&self, path: &Path) -> (StatusCode, Value) {
+        let query = format!("/api/file?path={}", path.display()).replace(' ', "%20");
+        self.get(&query).await
+    }
+}
+
+#[tokio::test]
+async fn a_foreign_host_is_refused_on_every_route() {
+    let studio = Studio::new();
+    for host in [
+        "evil.example:7370",
+        "127.0.0.1:80",
+        "127.0.0.1",
+        "localhost:7371",
+    ] {
+        let (status, body) = studio.send("GET", "/api/files", host, None, None).await;
+        assert_eq!(status, StatusCode::FORBIDDEN, "{host}");
+        assert_eq!(
+            body["error"],
+            format!("the Host `{host}` is not this studio's (127.0.0.1:7370 or localhost:7370)")
+        );
+    }
+    let (status, _) = studio
+        .send("GET", "/", "evil.example:7370", None, None)
+        .await;
+    assert_eq!(status, StatusCode::FORBIDDEN);
+    let (status, list) = studio
+        .send("GET", "/api/files", "localhost:7370", None, None)
+        .await;
+    assert_eq!(status, StatusCode::OK);
+    assert_eq!(list["files"].as_array().unwrap().len(), 2);
+}
+
+#[tokio::test]
+async fn writes_need_the_studios_origin() {
+    let studio = Studio::new();
+    let house = studio.path("house.cga");
+    let save = json!({"path": house, "text": "Lot --> X.\n"});
+    let cases = [
+        (
+            None,
+            "a request that changes something must carry the Origin of the studio's page",
+        ),
+        (
+            Some("http://evil.example"),
+            "the Origin `http://evil.example` is not this studio's page: only the studio may change files",
+        ),
+        (
+            Some("http://127.0.0.1:7371"),
+            "the Origin `http://127.0.0.1:7371` is not this studio's page: only the studio may change files",
+        ),
+        (
+            Some("null"),
+            "the Origin `null` is not this studio's page: only the studio may change files",
+        ),
+    ];
+    for (origin, message) in cases {
+        for (method, uri) in [("PUT", "/api/file"), ("POST", "/api/derive")] {
+            let (status, body) = studio
+                .send(method, uri, "127.0.0.1:7370", origin, Some(save.clone()))
+                .await;
+            assert_eq!(status, StatusCode::FORBIDDEN, "{method} {origin:?}");
+            assert_eq!(body["error"], message);
+        }
+    }
+    assert_eq!(
+        std::fs::read_to_string(&house).unwrap(),
+        "Lot --> extrude(10) Mass.\n"
+    );
+    assert_eq!(studio.engine.runs.load(Ordering::SeqCst), 0);
+    let (status, saved) = studio
+        .send(
+            "PUT",
+            "/api/file",
+            "localhost:7370",
+            Some("http://localhost:7370"),
+            Some(save),
+        )
+        .await;
+    assert_eq!(status, StatusCode::OK, "{saved}");
+    assert_eq!(std::fs::read_to_string(&house).unwrap(), "Lot --> X.\n");
+}
+
+#[tokio::test]
+async fn the_list_has_the_given_file_first_then_the_folders_grammars() {
+    let studio = Studio::new();
+    let (status, list) = studio.get("/api/files").await;
+    assert_eq!(status, StatusCode::OK);
+    let names: Vec<(&str, bool)> = list["files"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|f| (f["name"].as_str().unwrap(), f["given"].as_bool().unwrap()))
+        .collect();
+    // Not `notes.txt`, nor the link `escape.cga`: links are not listed.
+    assert_eq!(names, [("house.cga", true), ("old.cga", false)]);
+    assert_eq!(list["files"][0]["path"], json!(studio.path("house.cga")));
+}
+
+#[tokio::test]
+async fn paths_that_leave_the_folders_are_refused() {
+    let studio = Studio::new();
+    let project = studio.path("");
+    let outside = project.parent().unwrap().join("outside.cga");
+    let climbing = format!("{}/../outside.cga", project.display());
+    let cases: Vec<(String, StatusCode, String)> = vec![
+        (
+            climbing.clone(),
+            StatusCode::FORBIDDEN,
+            format!("`{climbing}` goes up with `..`"),
+        ),
+        (
+            outside.display().to_string(),
+            StatusCode::FORBIDDEN,
+            format!(
+                "`{}` is outside the folders of the files the studio was given",
+                outside.display()
+            ),
+        ),
+        (
+            studio.path("escape.cga").display().to_string(),
+            StatusCode::FORBIDDEN,
+            format!(
+                "`{}` is outside the folders of the files the studio was given",
+                studio.path("escape.cga").display()
+            ),
+        ),
+        (
+            studio.path("notes.txt").display().to_string(),
+            StatusCode::FORBIDDEN,
+            format!(
+                "`{}` is not a grammar file (.cga, .mul, .sgl, .goal, .lsys, .cave, .grammar)",
+                studio.path("notes.txt").display()
+            ),
+        ),
+        (
+            "house.cga".to_owned(),
+            StatusCode::BAD_REQUEST,
+            "`house.cga` is not an absolute path (GET /api/files lists the files)".to_owned(),
+        ),
+        (
+            studio.path("missing.cga").display().to_string(),
+            StatusCode::NOT_FOUND,
+            format!("no file `{}`", studio.path("missing.cga").display()),
+        ),
+    ];
+    for (path, status, message) in cases {
+        let (got, body) = studio.read(Path::new(&path)).await;
+        assert_eq!((got, body["error"].as_str().unwrap()), (status, &*message));
+        for (method, uri) in [("PUT", "/api/file"), ("POST", "/api/derive")] {
+            let (got, body) = studio
+                .write(
+                    method,
+                    uri,
+                    json!({"path": path, "text": "Lot --> Hacked.\n"}),
+                )
+                .await;
+            assert_eq!(
+                (got, body["error"].as_str().unwrap()),
+                (status, &*message),
+                "{method} {path}"
+            );
+        }
+    }
+    assert_eq!(
+        std::fs::read_to_string(&outside).unwrap(),
+        "Lot --> Secret.\n"
+    );
+    assert_eq!(studio.engine.runs.load(Ordering::SeqCst), 0);
+}
+
+#[tokio::test]
+async fn a_windows_1252_file_is_saved_back_in_windows_1252_with_its_line_endings() {
+    let studio = Studio::new();
+    let old = studio.path("old.cga");
+    let (status, file) = studio.read(&old).await;
+    assert_eq!(status, StatusCode::OK);
+    assert_eq!(
+        file,
+        json!({"path": old, "text": "// café\r\nLot --> X.\r\n", "encoding": "windows-1252", "line_endings": "crlf"})
+    );
+    // An editor gives lines ending in LF.
+    let (status, saved) = studio
+        .write(
+            "PUT",
+            "/api/file",
+            json!({"path": old, "text": "// café €\nLot --> Y.\n"}),
+        )
+        .await;
+    assert_eq!(status, StatusCode::OK, "{saved}");
+    assert_eq!(
+        saved,
+        json!({"path": old, "bytes": 23, "encoding": "windows-1252", "line_endings": "crlf"})
+    );
+    assert_eq!(
+        std::fs::read(&old).unwrap(),
+        b"// caf\xe9 \x80\r\nLot --> Y.\r\n"
+    );
+    let (status, again) = studio.read(&old).await;
+    assert_eq!(status, StatusCode::OK);
+    assert_eq!(again["text"], "// café €\r\nLot --> Y.\r\n");
+    // A character Windows-1252 lacks is refused, and the file stays as it was.
+    let (status, refused) = studio
+        .write(
+            "PUT",
+            "/api/file",
+            json!({"path": old, "text": "// 中\nLot --> Z.\n"}),
+        )
+        .await;
+    assert_eq!(status, StatusCode::UNPROCESSABLE_ENTITY);
+    assert_eq!(
+        refused["error"],
+        "line 1: `中` (U+4E2D) cannot be written in Windows-1252, the file's encoding"
+    );
+    assert_eq!(
+        std::fs::read(&old).unwrap(),
+        b"// caf\xe9 \x80\r\nLot --> Y.\r\n"
+    );
+    // No temporary file is left beside it.
+    let mut names: Vec<String> = std::fs::read_dir(studio.path(""))
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    names.sort();
+    assert_eq!(names, ["escape.cga", "house.cga", "notes.txt", "old.cga"]);
+}
+
+#[tokio::test]
+async fn a_derivation_waiting_behind_a_newer_one_is_dropped_unrun() {
+    let studio = Arc::new(Studio::new());
+    let house = studio.path("house.cga");
+    let request = |text: &str| {
+        let studio = studio.clone();
+        let body = json!({"path": house, "text": text});
+        async move { studio.write("POST", "/api/derive", body).await }
+    };
+    let first = tokio::spawn(request("sleep 300"));
+    tokio::time::sleep(Duration::from_millis(100)).await;
+    let second = tokio::spawn(request("sleep 0"));
+    tokio::time::sleep(Duration::from_millis(50)).await;
+    let third = tokio::spawn(request("Lot --> X."));
+    let (first, second, third) = (
+        first.await.unwrap(),
+        second.await.unwrap(),
+        third.await.unwrap(),
+    );
+    // The first ran to its end, but a newer request had come: its model is not sent.
+    assert_eq!(first.0, StatusCode::CONFLICT);
+    assert_eq!(
+        first.1["error"],
+        "derivation 1 of this file was superseded by a newer one"
+    );
+    assert_eq!(second.0, StatusCode::CONFLICT);
+    assert_eq!(
+        second.1["error"],
+        "derivation 2 of this file was superseded by a newer one"
+    );
+    assert_eq!(third.0, StatusCode::OK, "{}", third.1);
+    assert_eq!(
+        (&third.1["generation"], &third.1["shapes"], &third.1["glb"]),
+        (&json!(3), &json!(10), &json!("Z2xURg=="))
+    );
+    // The second never ran.
+    assert_eq!(studio.engine.runs.load(Ordering::SeqCst), 2);
+}
+
+#[tokio::test]
+async fn the_page_and_its_assets_are_served() {
+    let studio = Studio::new();
+    let response = studio
+        .router
+        .clone()
+        .oneshot(
+            Request::builder()
+                .uri("/")
+                .header("host", "127.0.0.1:7370")
+                .body(Body::empty())
+                .unwrap(),
+        )
+        .await
+        .unwrap();
+    assert_eq!(response.status(), StatusCode::OK);
+    assert_eq!(
+        response.headers()["content-type"],
+        "text/html; charset=utf-8"
+    );
+    assert_eq!(response.headers()["x-frame-options"], "DENY");
+    let page = response.into_body().collect().await.unwrap().to_bytes();
+    let page = String::from_utf8(page.to_vec()).unwrap();
+    assert!(page.contains(r#"<script type="module" src="/assets/studio.js">"#));
+    for (asset, kind) in [
+        ("studio.js", "text/javascript; charset=utf-8"),
+        ("studio.css", "text/css; charset=utf-8"),
+    ] {
+        let response = studio
+            .router
+            .clone()
+            .oneshot(
+                Request::builder()
+                    .uri(format!("/assets/{asset}"))
+                    .header("host", "127.0.0.1:7370")
+                    .body(Body::empty())
+                    .unwrap(),
+            )
+            .await
+            .unwrap();
+        assert_eq!(response.status(), StatusCode::OK);
+        assert_eq!(response.headers()["content-type"], kind);
+    }
+    let (status, body) = studio.get("/assets/secret.js").await;
+    assert_eq!(
+        (status, &body["error"]),
+        (StatusCode::NOT_FOUND, &json!("not found"))
+    );
+}
