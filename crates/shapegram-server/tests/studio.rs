@@ -199,6 +199,10 @@ async fn writes_need_the_studios_origin() {
         )
         .await;
     assert_eq!(status, StatusCode::OK, "{saved}");
+    assert_eq!(
+        saved,
+        json!({"path": house, "bytes": 11, "encoding": "utf-8", "line_endings": "lf"})
+    );
     assert_eq!(std::fs::read_to_string(&house).unwrap(), "Lot --> X.\n");
 }
 

@@ -133,10 +133,11 @@ fn has_grammar_extension(path: &Path) -> bool {
 
 /// A file's encoding, as it was read.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
-#[serde(rename_all = "kebab-case")]
 pub enum Encoding {
+    #[serde(rename = "utf-8")]
     Utf8,
     /// UTF-8 that started with a byte-order mark.
+    #[serde(rename = "utf-8-bom")]
     Utf8Bom,
     /// Not UTF-8: read as Windows-1252, as CityEngine writes rule files on Windows.
     #[serde(rename = "windows-1252")]
