@@ -25,6 +25,8 @@ mkdirSync(output, { recursive: true });
 const folder = mkdtempSync(join(tmpdir(), "studio-test-"));
 const grammar = join(folder, "house.cga");
 copyFileSync(join(root, "examples/house.cga"), grammar);
+// Not given, but in the folder: listed, opened from the list.
+copyFileSync(join(root, "examples/office.cga"), join(folder, "office.cga"));
 
 /** Starts `shapegram studio` on a free port; resolves with the child and the page's URL. */
 function startStudio() {
@@ -72,6 +74,25 @@ async function canvasPixels(page) {
 
 function thumbnailDifference(a, b) {
   return a.thumbnail.reduce((sum, v, i) => sum + Math.abs(v - b.thumbnail[i]), 0) / a.thumbnail.length;
+}
+
+/** Edit-to-new-preview latencies: each edit replaces `from` with `to` (a pair of texts in the
+ * editor), typed; from the last keystroke to the model drawn (the 150 ms debounce included). */
+async function measure(page, edits) {
+  const latencies = [];
+  for (const [from, to] of edits) {
+    await select(page, from);
+    await page.keyboard.type(to);
+    counts(await settled(page));
+    latencies.push(await page.evaluate(() => {
+      const t = window.__studio.timings[window.__studio.rendered];
+      return { total: t.rendered - t.changed, server: t.answered - t.sent, draw: t.rendered - t.answered };
+    }));
+  }
+  const median = (key) => latencies.map((l) => l[key]).sort((a, b) => a - b)[Math.floor(latencies.length / 2)];
+  return `median ${median("total").toFixed(0)} ms (150 ms debounce, request and derivation `
+    + `${median("server").toFixed(0)} ms, GLB load and draw ${median("draw").toFixed(0)} ms), `
+    + `max ${Math.max(...latencies.map((l) => l.total)).toFixed(0)} ms over ${latencies.length} edits`;
 }
 
 /** Waits until the newest revision is derived and drawn; returns the status line. */
@@ -137,24 +158,10 @@ try {
   await page.screenshot({ path: join(output, "studio-edited.png") });
   console.log(`edited: ${taller.shapes} shapes, ${taller.leaves} leaves`);
 
-  // Edit-to-new-preview latency: from the last keystroke to the model drawn (the debounce of
-  // 150 ms included), over roof angles typed one after another.
-  const latencies = [];
-  let angle = "35";
-  for (const next of ["40", "45", "30", "50", "38", "42", "33", "47", "36", "35"]) {
-    await select(page, `roofAngle  = ${angle}`);
-    await page.keyboard.type(`roofAngle  = ${next}`);
-    await settled(page);
-    latencies.push(await page.evaluate(() => {
-      const t = window.__studio.timings[window.__studio.rendered];
-      return { total: t.rendered - t.changed, server: t.answered - t.sent, draw: t.rendered - t.answered };
-    }));
-    angle = next;
-  }
-  const median = (key) => latencies.map((l) => l[key]).sort((a, b) => a - b)[Math.floor(latencies.length / 2)];
-  console.log(`house.cga edit-to-new-preview latency: median ${median("total").toFixed(0)} ms `
-    + `(150 ms debounce, request and derivation ${median("server").toFixed(0)} ms, GLB load and draw ${median("draw").toFixed(0)} ms), `
-    + `max ${Math.max(...latencies.map((l) => l.total)).toFixed(0)} ms over ${latencies.length} edits`);
+  // Edit-to-new-preview latency over roof angles typed one after another.
+  const angles = ["35", "40", "45", "30", "50", "38", "42", "33", "47", "36", "35"];
+  const roofEdits = angles.slice(1).map((to, i) => [`roofAngle  = ${angles[i]}`, `roofAngle  = ${to}`]);
+  console.log(`house.cga edit-to-new-preview latency: ${await measure(page, roofEdits)}`);
 
   // An error shows at its line, in the editor and in the list, and goes when fixed.
   await select(page, "extrude(storeys * storeyH", true);
@@ -200,6 +207,22 @@ try {
   assert.equal(glb.readUInt32LE(4), 2);
   assert.equal(glb.readUInt32LE(8), glb.length);
   console.log(`downloaded house.glb: ${glb.length} bytes`);
+
+  // Another grammar of the folder, from the list: office.cga with 12 floors, then other floor
+  // heights, timed the same way.
+  const office = join(folder, "office.cga");
+  assert.deepEqual(await page.locator("#file option").allTextContents(), ["house.cga", "office.cga (folder)"]);
+  await page.selectOption("#file", office);
+  await page.waitForFunction(() => window.__studio.view.state.doc.toString().includes("attr floors"));
+  const eight = counts(await settled(page));
+  const heights = ["3.4", "3.5", "3.3", "3.6", "3.4"];
+  const officeEdits = [["floors       = 8", "floors       = 12"],
+    ...heights.slice(1).map((to, i) => [`floorHeight  = ${heights[i]}`, `floorHeight  = ${to}`])];
+  const officeLatency = await measure(page, officeEdits);
+  const twelve = counts(await page.locator("#status").textContent());
+  assert.ok(twelve.shapes > eight.shapes, `12 floors: ${JSON.stringify(twelve)} against ${JSON.stringify(eight)}`);
+  console.log(`office.cga (12 floors, ${twelve.shapes} shapes) edit-to-new-preview latency: ${officeLatency}`);
+  await page.screenshot({ path: join(output, "studio-office.png") });
 
   assert.deepEqual(problems, [], "errors in the page's console");
   console.log(`studio browser test: ok (screenshots in ${output})`);
