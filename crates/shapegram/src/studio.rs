@@ -70,9 +70,10 @@ impl Engine for CliEngine {
                 error: Some(format!(
                     "the studio derives .cga, .mul and .sgl files so far, not .{extension}"
                 )),
-                hints: vec![format!(
+                hints: vec![
                     "edit it here and run it with the command line (docs/studio.md lists what is not done yet)"
-                )],
+                        .to_owned(),
+                ],
                 ..Derived::default()
             };
         }

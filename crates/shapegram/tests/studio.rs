@@ -153,6 +153,21 @@ fn diagnostics_come_with_lines_and_columns() {
         (&answer["ok"], &answer["diagnostics"]),
         (&json!(true), &json!([]))
     );
+    // A kind of grammar the studio does not derive yet says so.
+    let plant = dir.path("plant.lsys");
+    std::fs::write(&plant, "axiom: F\nF -> FF\n").unwrap();
+    let answer = derive(
+        &studio,
+        &std::fs::canonicalize(&plant).unwrap(),
+        "axiom: F\n",
+    );
+    assert_eq!(
+        (&answer["ok"], &answer["error"]),
+        (
+            &json!(false),
+            &json!("the studio derives .cga, .mul and .sgl files so far, not .lsys")
+        )
+    );
 }
 
 #[test]
