@@ -10,7 +10,7 @@ import { cga } from "./cga.js";
 import { Preview } from "./preview.js";
 
 /** How long typing must pause before the text is derived. */
-const DEBOUNCE_MS = 150;
+const DEBOUNCE_MS = 40;
 
 const $ = (id) => document.getElementById(id);
 const statusLine = $("status");
