@@ -14,7 +14,9 @@ use tokio::sync::Semaphore;
 pub const MAX_ACCOUNT_NAME: usize = 39;
 /// Longest grammar name (as crates.io's).
 pub const MAX_GRAMMAR_NAME: usize = 64;
+/// Shortest password, in characters.
 pub const MIN_PASSWORD: usize = 8;
+/// Longest password, in characters.
 pub const MAX_PASSWORD: usize = 1024;
 
 /// The canonical form of a valid name, or why it is not one.

@@ -3,49 +3,70 @@
 
 use axum::body::Bytes;
 use axum::extract::{FromRequest, FromRequestParts, Path, Query, Request};
-use axum::http::HeaderMap;
 use axum::http::header::AUTHORIZATION;
 use axum::http::request::Parts;
+use axum::http::{HeaderMap, StatusCode};
+use percent_encoding::percent_decode_str;
 use serde::de::DeserializeOwned;
 
-use crate::AppState;
 use crate::error::ApiError;
 use crate::store::Account;
 use crate::tokens;
+use crate::{AppState, MAX_BODY_BYTES};
 
-/// A JSON body. Too large: 413; not JSON, not UTF-8, wrong types or unknown fields: 400.
+/// A JSON object as the body. Too large: 413; not JSON, not UTF-8, not an object, wrong types or
+/// unknown fields: 400.
 pub struct JsonBody<T>(pub T);
 
 impl<S: Send + Sync, T: DeserializeOwned> FromRequest<S> for JsonBody<T> {
     type Rejection = ApiError;
 
     async fn from_request(req: Request, state: &S) -> Result<Self, ApiError> {
-        let bytes = Bytes::from_request(req, state)
-            .await
-            .map_err(|e| ApiError::new(e.status(), e.body_text()))?;
-        serde_json::from_slice(&bytes)
-            .map(JsonBody)
-            .map_err(|e| ApiError::bad_request(format!("invalid JSON body: {e}")))
+        let bytes = body_bytes(req, state).await?;
+        parse_object(&bytes).map(JsonBody)
     }
 }
 
-/// A JSON body that may be left out (no bytes at all): `None` then; otherwise as [`JsonBody`].
+/// A JSON body that may be left out (no bytes at all, or `null`, as the OpenAPI document's
+/// optional body allows): `None` then; otherwise as [`JsonBody`].
 pub struct OptionalJsonBody<T>(pub Option<T>);
 
 impl<S: Send + Sync, T: DeserializeOwned> FromRequest<S> for OptionalJsonBody<T> {
     type Rejection = ApiError;
 
     async fn from_request(req: Request, state: &S) -> Result<Self, ApiError> {
-        let bytes = Bytes::from_request(req, state)
-            .await
-            .map_err(|e| ApiError::new(e.status(), e.body_text()))?;
-        if bytes.is_empty() {
+        let bytes = body_bytes(req, state).await?;
+        if matches!(bytes.trim_ascii(), b"" | b"null") {
             return Ok(OptionalJsonBody(None));
         }
-        serde_json::from_slice(&bytes)
-            .map(|t| OptionalJsonBody(Some(t)))
-            .map_err(|e| ApiError::bad_request(format!("invalid JSON body: {e}")))
+        parse_object(&bytes).map(|t| OptionalJsonBody(Some(t)))
     }
+}
+
+/// The body's bytes, at most [`MAX_BODY_BYTES`].
+async fn body_bytes<S: Send + Sync>(req: Request, state: &S) -> Result<Bytes, ApiError> {
+    Bytes::from_request(req, state).await.map_err(|e| {
+        if e.status() == StatusCode::PAYLOAD_TOO_LARGE {
+            ApiError::new(
+                e.status(),
+                format!("a request body has at most {MAX_BODY_BYTES} bytes"),
+            )
+        } else {
+            ApiError::new(e.status(), e.body_text())
+        }
+    })
+}
+
+/// `bytes` as a JSON object of type `T`. serde would also read a struct from an array of its
+/// fields in order (`["text", null]`), which the OpenAPI document does not allow.
+fn parse_object<T: DeserializeOwned>(bytes: &[u8]) -> Result<T, ApiError> {
+    if bytes.trim_ascii_start().first() != Some(&b'{') {
+        return Err(ApiError::bad_request(
+            "invalid JSON body: expected an object `{…}`",
+        ));
+    }
+    serde_json::from_slice(bytes)
+        .map_err(|e| ApiError::bad_request(format!("invalid JSON body: {e}")))
 }
 
 /// Path parameters.
@@ -62,13 +83,21 @@ impl<S: Send + Sync, T: DeserializeOwned + Send> FromRequestParts<S> for ApiPath
     }
 }
 
-/// Query parameters.
+/// Query parameters; a query string that is not UTF-8 once percent-decoded is refused (400)
+/// rather than read with replacement characters.
 pub struct ApiQuery<T>(pub T);
 
 impl<S: Send + Sync, T: DeserializeOwned> FromRequestParts<S> for ApiQuery<T> {
     type Rejection = ApiError;
 
     async fn from_request_parts(parts: &mut Parts, state: &S) -> Result<Self, ApiError> {
+        if let Some(query) = parts.uri.query()
+            && percent_decode_str(query).decode_utf8().is_err()
+        {
+            return Err(ApiError::bad_request(
+                "the query string is not UTF-8 once percent-decoded",
+            ));
+        }
         Query::<T>::from_request_parts(parts, state)
             .await
             .map(|Query(t)| ApiQuery(t))

@@ -8,6 +8,7 @@ use axum::Json;
 use axum::extract::State;
 use serde::Deserialize;
 use utoipa::ToSchema;
+use utoipa::openapi::schema::{Array, ArrayBuilder, ObjectBuilder, Type};
 
 use crate::AppState;
 use crate::error::{ApiError, ErrorBody};
@@ -18,8 +19,8 @@ use crate::store::{Link, QueryAnswers, Viewer};
 pub const MAX_QUERIES: usize = 1000;
 /// Most names in one list of a query.
 pub const MAX_NAMES: usize = 100;
-/// Longest goal, tag or attribute name, in bytes.
-pub const MAX_NAME_BYTES: usize = 200;
+/// Longest goal, tag or attribute name, in characters.
+pub const MAX_NAME_CHARS: usize = 200;
 
 /// A batch of rule queries.
 #[derive(Deserialize, ToSchema)]
@@ -30,6 +31,7 @@ pub struct QueryRequest {
     #[serde(default)]
     pub link: Link,
     /// At most 1,000.
+    #[schema(max_items = 1000)]
     pub queries: Vec<ShapeQuery>,
 }
 
@@ -37,14 +39,40 @@ pub struct QueryRequest {
 #[derive(Deserialize, ToSchema)]
 #[serde(deny_unknown_fields)]
 pub struct ShapeQuery {
-    /// Its open goals (at least one).
+    /// Its open goals: 1 to 100 names.
+    #[schema(schema_with = goal_names)]
     pub goals: Vec<String>,
-    /// The goals it fulfilled.
+    /// The goals it fulfilled: at most 100 names.
     #[serde(default)]
+    #[schema(schema_with = names)]
     pub tags: Vec<String>,
-    /// The names of its attributes.
+    /// The names of its attributes: at most 100.
     #[serde(default)]
+    #[schema(schema_with = names)]
     pub attributes: Vec<String>,
+}
+
+/// A list of at least `min_items` and at most [`MAX_NAMES`] names of 1 to [`MAX_NAME_CHARS`]
+/// characters, none a control character.
+fn name_list(min_items: usize) -> Array {
+    let name = ObjectBuilder::new()
+        .schema_type(Type::String)
+        .min_length(Some(1))
+        .max_length(Some(MAX_NAME_CHARS))
+        .pattern(Some("^[^\\u0000-\\u001F\\u007F-\\u009F]*$"));
+    ArrayBuilder::new()
+        .items(name)
+        .min_items(Some(min_items))
+        .max_items(Some(MAX_NAMES))
+        .build()
+}
+
+fn goal_names() -> Array {
+    name_list(1)
+}
+
+fn names() -> Array {
+    name_list(0)
 }
 
 impl ShapeQuery {
@@ -81,13 +109,18 @@ impl ShapeQuery {
                     names.len()
                 )));
             }
-            if let Some(bad) = names
+            if let Some(n) = names
                 .iter()
-                .find(|n| n.is_empty() || n.len() > MAX_NAME_BYTES)
+                .map(|n| n.chars().count())
+                .find(|n| !(1..=MAX_NAME_CHARS).contains(n))
             {
                 return Err(ApiError::bad_request(format!(
-                    "query {at}: {what} have 1 to {MAX_NAME_BYTES} bytes, not {}",
-                    bad.len()
+                    "query {at}: {what} have 1 to {MAX_NAME_CHARS} characters, not {n}"
+                )));
+            }
+            if names.iter().any(|n| n.chars().any(char::is_control)) {
+                return Err(ApiError::bad_request(format!(
+                    "query {at}: {what} have no control characters"
                 )));
             }
         }
@@ -100,7 +133,8 @@ impl ShapeQuery {
 /// caller may see and the link mode admits.
 #[utoipa::path(post, path = "/api/v1/queries", tag = "queries", request_body = QueryRequest,
     responses((status = 200, body = QueryAnswers), (status = 400, body = ErrorBody),
-        (status = 401, description = "`friends` or `mine` without a token", body = ErrorBody)))]
+        (status = 401, description = "`friends` or `mine` without a token", body = ErrorBody),
+        (status = 413, description = "the body is larger than 1 MiB", body = ErrorBody)))]
 pub async fn query_rules(
     State(state): State<AppState>,
     Caller(caller): Caller,

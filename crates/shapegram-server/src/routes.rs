@@ -6,6 +6,7 @@ use axum::extract::State;
 use axum::http::StatusCode;
 use axum::response::{IntoResponse, Response};
 use serde::{Deserialize, Serialize};
+use utoipa::openapi::schema::{Object, ObjectBuilder, Type};
 use utoipa::{IntoParams, ToSchema};
 
 use crate::AppState;
@@ -34,12 +35,12 @@ fn grammar_path(owner: &str, name: &str) -> ApiResult<(String, String)> {
     Ok((owner, name))
 }
 
+/// A version's number, written as the API writes it (`+1` and `01` are not version 1).
 fn version_number(version: &str) -> ApiResult<i64> {
-    version
-        .parse::<i64>()
-        .ok()
-        .filter(|v| *v >= 1)
-        .ok_or_else(ApiError::not_found)
+    if version.starts_with('0') || !version.bytes().all(|b| b.is_ascii_digit()) {
+        return Err(ApiError::not_found());
+    }
+    version.parse().map_err(|_| ApiError::not_found())
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -50,8 +51,10 @@ fn version_number(version: &str) -> ApiResult<i64> {
 #[serde(deny_unknown_fields)]
 pub struct Credentials {
     /// ASCII letters, digits, `-` and `_`, starting with a letter; at most 39 characters.
+    #[schema(min_length = 1, max_length = 39, pattern = "^[A-Za-z][A-Za-z0-9_-]*$")]
     pub name: String,
-    /// At least 8 characters.
+    /// 8 to 1,024 characters.
+    #[schema(min_length = 8, max_length = 1024)]
     pub password: String,
 }
 
@@ -65,7 +68,12 @@ pub struct AccountBody {
 #[derive(Deserialize, ToSchema)]
 #[serde(deny_unknown_fields)]
 pub struct TokenRequest {
-    /// What the token is for (`laptop`, `ci`): 1 to 100 characters.
+    /// What the token is for (`laptop`, `ci`): 1 to 100 characters, none a control character.
+    #[schema(
+        min_length = 1,
+        max_length = 100,
+        pattern = "^[^\\u0000-\\u001F\\u007F-\\u009F]*$"
+    )]
     pub name: String,
 }
 
@@ -81,14 +89,15 @@ pub struct NewTokenBody {
 /// Signs up: creates an account.
 #[utoipa::path(post, path = "/api/v1/accounts", tag = "accounts", request_body = Credentials,
     responses((status = 201, body = AccountBody), (status = 400, body = ErrorBody),
-        (status = 409, description = "the name is taken", body = ErrorBody)))]
+        (status = 409, description = "the name is taken", body = ErrorBody),
+        (status = 413, description = "the body is larger than 1 MiB", body = ErrorBody)))]
 pub async fn sign_up(
     State(state): State<AppState>,
     JsonBody(c): JsonBody<Credentials>,
 ) -> ApiResult<(StatusCode, Json<AccountBody>)> {
     let canon = accounts::canonical_name("account", &c.name, MAX_ACCOUNT_NAME)
         .map_err(ApiError::bad_request)?;
-    if c.password.chars().count() < MIN_PASSWORD || c.password.len() > MAX_PASSWORD {
+    if !(MIN_PASSWORD..=MAX_PASSWORD).contains(&c.password.chars().count()) {
         return Err(ApiError::bad_request(format!(
             "a password has {MIN_PASSWORD} to {MAX_PASSWORD} characters"
         )));
@@ -123,7 +132,8 @@ async fn new_token(state: &AppState, account: &Account, name: &str) -> ApiResult
 /// Logs in: checks the password and gives a new API token (named `login`).
 #[utoipa::path(post, path = "/api/v1/login", tag = "accounts", request_body = Credentials,
     responses((status = 200, body = NewTokenBody), (status = 400, body = ErrorBody),
-        (status = 401, description = "wrong name or password", body = ErrorBody)))]
+        (status = 401, description = "wrong name or password", body = ErrorBody),
+        (status = 413, description = "the body is larger than 1 MiB", body = ErrorBody)))]
 pub async fn login(
     State(state): State<AppState>,
     JsonBody(c): JsonBody<Credentials>,
@@ -131,7 +141,7 @@ pub async fn login(
     let wrong = || ApiError::unauthorized("wrong name or password");
     let canon = accounts::canonical_name("account", &c.name, MAX_ACCOUNT_NAME).ok();
     let found = match &canon {
-        Some(canon) if c.password.len() <= MAX_PASSWORD => {
+        Some(canon) if c.password.chars().count() <= MAX_PASSWORD => {
             state.store.account_for_login(canon).await?
         }
         _ => return Err(wrong()),
@@ -168,7 +178,7 @@ pub async fn me(Signed(account): Signed) -> Json<AccountBody> {
 #[utoipa::path(post, path = "/api/v1/tokens", tag = "accounts", security(("bearer" = [])),
     request_body = TokenRequest,
     responses((status = 201, body = NewTokenBody), (status = 400, body = ErrorBody),
-        (status = 401, body = ErrorBody)))]
+        (status = 401, body = ErrorBody), (status = 413, description = "the body is larger than 1 MiB", body = ErrorBody)))]
 pub async fn create_token(
     State(state): State<AppState>,
     Signed(account): Signed,
@@ -294,6 +304,7 @@ pub async fn remove_friend(
 
 /// Filters of the grammar list.
 #[derive(Deserialize, IntoParams)]
+#[into_params(parameter_in = Query)]
 #[serde(deny_unknown_fields)]
 pub struct ListQuery {
     /// Only this account's grammars.
@@ -333,21 +344,37 @@ pub const MAX_SEARCH_PAGES: u32 = 10_000;
 
 /// What to search for; every filter is optional and all given must hold.
 #[derive(Deserialize, IntoParams)]
+#[into_params(parameter_in = Query)]
 #[serde(deny_unknown_fields)]
 pub struct SearchParams {
     /// A goal the grammar provides: its current version (the newest not yanked) has a rule for it (`fulfills(NAME)`,
-    /// indexed as `g:NAME`). Goal names are matched exactly.
+    /// indexed as `g:NAME`). Goal names are matched exactly: 1 to 100 characters, none a control
+    /// character.
+    #[param(
+        min_length = 1,
+        max_length = 100,
+        pattern = "^[^\\u0000-\\u001F\\u007F-\\u009F]*$"
+    )]
     pub goal: Option<String>,
     /// A tag the grammar's rules apply to: its current version has a rule for shapes with it
-    /// (`is(NAME)`, indexed as `t:NAME`).
+    /// (`is(NAME)`, indexed as `t:NAME`). As long as a goal name.
+    #[param(
+        min_length = 1,
+        max_length = 100,
+        pattern = "^[^\\u0000-\\u001F\\u007F-\\u009F]*$"
+    )]
     pub tag: Option<String>,
-    /// Text the grammar's name contains (upper and lower case, `-` and `_` alike).
+    /// Text the grammar's name contains (upper and lower case, `-` and `_` alike), at most 64
+    /// characters; empty: any name.
+    #[param(max_length = 64)]
     pub q: Option<String>,
     /// Only this account's grammars.
     pub owner: Option<String>,
     /// The page, from 1 (the default) to 10,000.
+    #[param(minimum = 1, maximum = 10_000)]
     pub page: Option<u32>,
     /// Results per page, from 1 to 100; 50 by default.
+    #[param(minimum = 1, maximum = 100)]
     pub per_page: Option<u32>,
 }
 
@@ -406,7 +433,7 @@ pub async fn search(
         )));
     }
     let name = match params.q.as_deref().filter(|q| !q.is_empty()) {
-        Some(q) if q.len() > MAX_GRAMMAR_NAME => {
+        Some(q) if q.chars().count() > MAX_GRAMMAR_NAME => {
             return Err(ApiError::bad_request(format!(
                 "q has at most {MAX_GRAMMAR_NAME} characters (the longest name)"
             )));
@@ -494,7 +521,7 @@ pub async fn versions(
 /// A version's text and hash. Versions never change.
 #[utoipa::path(get, path = "/api/v1/grammars/{owner}/{name}/versions/{version}", tag = "grammars",
     security((), ("bearer" = [])),
-    params(("owner" = String, Path), ("name" = String, Path), ("version" = i64, Path)),
+    params(("owner" = String, Path), ("name" = String, Path), ("version" = i64, Path, minimum = 1)),
     responses((status = 200, body = VersionText), (status = 401, body = ErrorBody),
         (status = 404, body = ErrorBody)))]
 pub async fn version(
@@ -515,7 +542,7 @@ pub async fn version(
 /// A version's rule index: per rule, the keys a shape must have and must lack.
 #[utoipa::path(get, path = "/api/v1/grammars/{owner}/{name}/versions/{version}/rules",
     tag = "grammars", security((), ("bearer" = [])),
-    params(("owner" = String, Path), ("name" = String, Path), ("version" = i64, Path)),
+    params(("owner" = String, Path), ("name" = String, Path), ("version" = i64, Path, minimum = 1)),
     responses((status = 200, body = Vec<IndexedRule>), (status = 401, body = ErrorBody),
         (status = 404, body = ErrorBody)))]
 pub async fn version_rules(
@@ -535,10 +562,24 @@ pub async fn version_rules(
 
 /// Options of a preview.
 #[derive(Deserialize, IntoParams)]
+#[into_params(parameter_in = Query)]
 #[serde(deny_unknown_fields)]
 pub struct PreviewQuery {
-    /// The seed of every random choice (default 0, as `shapegram derive`).
+    /// The seed of every random choice (default 0, as `shapegram derive`): 0 to 2^64 - 1.
+    #[param(schema_with = seed_schema)]
     pub seed: Option<u64>,
+}
+
+/// Any `u64`: utoipa would describe it as an `int64`, which stops at 2^63 - 1.
+fn seed_schema() -> Object {
+    ObjectBuilder::new()
+        .schema_type(Type::Integer)
+        .description(Some(
+            "The seed of every random choice (default 0, as `shapegram derive`): 0 to 2^64 - 1.",
+        ))
+        .minimum(Some(0))
+        .maximum(Some(u64::MAX))
+        .build()
 }
 
 /// A version derived on its own, as `shapegram derive` would with the same seed: a GLB, made
@@ -546,7 +587,7 @@ pub struct PreviewQuery {
 /// made, since versions never change.
 #[utoipa::path(get, path = "/api/v1/grammars/{owner}/{name}/versions/{version}/preview",
     tag = "grammars", security((), ("bearer" = [])),
-    params(("owner" = String, Path), ("name" = String, Path), ("version" = i64, Path),
+    params(("owner" = String, Path), ("name" = String, Path), ("version" = i64, Path, minimum = 1),
         PreviewQuery),
     responses(
         (status = 200, description = "the model", content_type = "model/gltf-binary", body = Glb),
@@ -611,11 +652,12 @@ pub struct Published {
 /// version, one past the latest.
 #[utoipa::path(post, path = "/api/v1/grammars/{owner}/{name}/versions", tag = "grammars",
     security(("bearer" = [])), request_body = PublishRequest,
-    params(("owner" = String, Path), ("name" = String, Path)),
+    params(("owner" = String, Path),
+        ("name" = String, Path, min_length = 1, max_length = 64, pattern = "^[A-Za-z][A-Za-z0-9_-]*$")),
     responses((status = 201, body = Published),
         (status = 400, body = ErrorBody), (status = 401, body = ErrorBody),
         (status = 403, description = "not the caller's namespace", body = ErrorBody),
-        (status = 413, body = ErrorBody),
+        (status = 413, description = "the body is larger than 1 MiB or the grammar than 256 KiB", body = ErrorBody),
         (status = 422, description = "the grammar does not compile: diagnostics with lines and columns", body = ErrorBody)))]
 pub async fn publish(
     State(state): State<AppState>,
@@ -700,6 +742,10 @@ pub const MAX_YANK_REASON: usize = 1000;
 #[serde(deny_unknown_fields)]
 pub struct YankRequest {
     /// At most 1,000 characters; line breaks allowed, no other control characters.
+    #[schema(
+        max_length = 1000,
+        pattern = "^[^\\u0000-\\u0009\\u000B-\\u001F\\u007F-\\u009F]*$"
+    )]
     pub reason: Option<String>,
 }
 
@@ -733,13 +779,13 @@ pub(crate) async fn owned_grammar(
 /// Yanks a version: it stays fetchable by its number (lock files naming it keep working) but
 /// is offered to no new resolution. Yanking a yanked version changes nothing.
 #[utoipa::path(post, path = "/api/v1/grammars/{owner}/{name}/versions/{version}/yank",
-    tag = "grammars", security(("bearer" = [])), request_body(content = YankRequest,
+    tag = "grammars", security(("bearer" = [])), request_body(content = Option<YankRequest>,
         description = "optional: why"),
-    params(("owner" = String, Path), ("name" = String, Path), ("version" = i64, Path)),
+    params(("owner" = String, Path), ("name" = String, Path), ("version" = i64, Path, minimum = 1)),
     responses((status = 200, body = VersionInfo), (status = 400, body = ErrorBody),
         (status = 401, body = ErrorBody),
         (status = 403, description = "not the grammar's owner", body = ErrorBody),
-        (status = 404, body = ErrorBody)))]
+        (status = 404, body = ErrorBody), (status = 413, description = "the body is larger than 1 MiB", body = ErrorBody)))]
 pub async fn yank(
     State(state): State<AppState>,
     Signed(account): Signed,
@@ -772,7 +818,7 @@ pub async fn yank(
 /// nothing.
 #[utoipa::path(post, path = "/api/v1/grammars/{owner}/{name}/versions/{version}/unyank",
     tag = "grammars", security(("bearer" = [])),
-    params(("owner" = String, Path), ("name" = String, Path), ("version" = i64, Path)),
+    params(("owner" = String, Path), ("name" = String, Path), ("version" = i64, Path, minimum = 1)),
     responses((status = 200, body = VersionInfo), (status = 401, body = ErrorBody),
         (status = 403, description = "not the grammar's owner", body = ErrorBody),
         (status = 404, body = ErrorBody)))]

@@ -171,7 +171,182 @@ async fn odd_paths_queries_and_methods_are_client_errors(app: App) {
     }
 }
 
+/// Found by Schemathesis: serde reads a struct from an array of its fields in order, so
+/// `["text"]` published a grammar and `[null]` yanked a version; a body over the limit answered
+/// with axum's own message.
+async fn bodies_are_json_objects_and_too_large_ones_name_the_limit(app: App) {
+    let ana = app.user("ana").await;
+    app.publish(&ana, "ana/paint", WOOD, None).await;
+    let not_object = json!({"error": "invalid JSON body: expected an object `{…}`"});
+    for (uri, body) in [
+        ("/api/v1/grammars/ana/paint/versions", json!([WOOD, null])),
+        ("/api/v1/grammars/ana/paint/versions/1/yank", json!([null])),
+        ("/api/v1/tokens", json!(["laptop"])),
+        ("/api/v1/queries", json!("queries")),
+    ] {
+        let (status, answer) = app.call(Method::POST, uri, Some(&ana), Some(body)).await;
+        assert_eq!(
+            (status, &answer),
+            (StatusCode::BAD_REQUEST, &not_object),
+            "{uri}"
+        );
+    }
+    assert_eq!(
+        app.get("/api/v1/tokens", Some(&ana))
+            .await
+            .1
+            .as_array()
+            .unwrap()
+            .len(),
+        1
+    );
+    // `null` is the optional yank body left out.
+    let (status, answer) = app
+        .raw(
+            Method::POST,
+            "/api/v1/grammars/ana/paint/versions/1/yank",
+            Some(&ana),
+            b" null ".to_vec(),
+        )
+        .await;
+    assert_eq!(status, StatusCode::OK, "{answer}");
+    assert_eq!(answer["yank"]["reason"], json!(null));
+
+    let (status, answer) = app
+        .raw(
+            Method::POST,
+            "/api/v1/queries",
+            None,
+            vec![b' '; 2 * 1024 * 1024],
+        )
+        .await;
+    assert_eq!(status, StatusCode::PAYLOAD_TOO_LARGE);
+    assert_eq!(
+        answer,
+        json!({"error": "a request body has at most 1048576 bytes"})
+    );
+}
+
+/// Found by hand: `?q=%FF` was read as U+FFFD and answered 200.
+async fn query_strings_that_are_not_utf8_are_refused(app: App) {
+    for uri in [
+        "/api/v1/search?q=%FF",
+        "/api/v1/search?goal=wood%C3",
+        "/api/v1/grammars?owner=an%E2%82a",
+        "/api/v1/grammars/ana/paint/versions/1/preview?seed=1&x=%80",
+    ] {
+        let (status, answer) = app.get(uri, None).await;
+        assert_eq!(status, StatusCode::BAD_REQUEST, "{uri}: {answer}");
+        assert_eq!(
+            answer,
+            json!({"error": "the query string is not UTF-8 once percent-decoded"}),
+            "{uri}"
+        );
+    }
+    // Percent-encoded UTF-8 and `+` for a space are fine.
+    let (status, answer) = app.get("/api/v1/search?q=h%C3%A9+llo", None).await;
+    assert_eq!(status, StatusCode::OK, "{answer}");
+}
+
+/// Found by hand: rule queries took names with control characters (search refused them), and
+/// counted bytes where the message and the OpenAPI document say characters.
+async fn rule_query_names_are_characters_without_control_characters(app: App) {
+    let query = |goal: String| json!({"queries": [{"goals": [goal]}]});
+    for (goal, expected) in [
+        (
+            "a\0b".to_owned(),
+            "query 0: goals have no control characters",
+        ),
+        (
+            "wood\u{85}".to_owned(),
+            "query 0: goals have no control characters",
+        ),
+        (
+            "é".repeat(201),
+            "query 0: goals have 1 to 200 characters, not 201",
+        ),
+    ] {
+        let (status, answer) = app
+            .call(Method::POST, "/api/v1/queries", None, Some(query(goal)))
+            .await;
+        assert_eq!(status, StatusCode::BAD_REQUEST);
+        assert_eq!(answer, json!({"error": expected}));
+    }
+    // 200 characters of 2 bytes each are 400 bytes, and allowed.
+    let (status, answer) = app
+        .call(
+            Method::POST,
+            "/api/v1/queries",
+            None,
+            Some(query("é".repeat(200))),
+        )
+        .await;
+    assert_eq!(status, StatusCode::OK, "{answer}");
+    assert_eq!(answer["answers"], json!([[]]));
+}
+
+/// Found by hand: `versions/+1` and `versions/01` were version 1 under other URLs.
+async fn version_numbers_have_one_spelling(app: App) {
+    let ana = app.user("ana").await;
+    app.publish(&ana, "ana/paint", WOOD, None).await;
+    let (status, _) = app.get("/api/v1/grammars/ana/paint/versions/1", None).await;
+    assert_eq!(status, StatusCode::OK);
+    for version in ["+1", "01", "1.0", "0", "-1", " 1", "99999999999999999999"] {
+        let uri = format!(
+            "/api/v1/grammars/ana/paint/versions/{}/rules",
+            version.replace(' ', "%20")
+        );
+        let (status, answer) = app.get(&uri, None).await;
+        assert_eq!(
+            (status, answer),
+            (StatusCode::NOT_FOUND, json!({"error": "not found"})),
+            "{uri}"
+        );
+    }
+}
+
+/// Found by Schemathesis: the password's upper bound counted bytes, its message characters.
+async fn passwords_are_bounded_in_characters(app: App) {
+    let sign_up = |name: &str, password: String| json!({"name": name, "password": password});
+    let (status, answer) = app
+        .call(
+            Method::POST,
+            "/api/v1/accounts",
+            None,
+            Some(sign_up("ana", "é".repeat(1024))),
+        )
+        .await;
+    assert_eq!(status, StatusCode::CREATED, "{answer}");
+    let (status, answer) = app
+        .call(
+            Method::POST,
+            "/api/v1/login",
+            None,
+            Some(sign_up("ana", "é".repeat(1024))),
+        )
+        .await;
+    assert_eq!(status, StatusCode::OK, "{answer}");
+    let (status, answer) = app
+        .call(
+            Method::POST,
+            "/api/v1/accounts",
+            None,
+            Some(sign_up("bo", "é".repeat(1025))),
+        )
+        .await;
+    assert_eq!(status, StatusCode::BAD_REQUEST);
+    assert_eq!(
+        answer,
+        json!({"error": "a password has 8 to 1024 characters"})
+    );
+}
+
 on_both_backends!(
     malformed_bodies_are_client_errors_with_messages,
     odd_paths_queries_and_methods_are_client_errors,
+    bodies_are_json_objects_and_too_large_ones_name_the_limit,
+    query_strings_that_are_not_utf8_are_refused,
+    rule_query_names_are_characters_without_control_characters,
+    version_numbers_have_one_spelling,
+    passwords_are_bounded_in_characters,
 );

@@ -177,7 +177,7 @@ async fn malformed_queries_are_refused_with_a_message(app: App) {
         ),
         (
             json!({"queries": [{"goals": ["a"]}, {"goals": ["b"], "tags": [""]}]}),
-            "query 1: tags have 1 to 200 bytes, not 0",
+            "query 1: tags have 1 to 200 characters, not 0",
         ),
         (
             json!({"queries": [{"goals": ["a"], "colour": "red"}]}),
