@@ -20,6 +20,7 @@ use crate::store::{GrammarSummary, VersionText, Viewer};
 #[serde(deny_unknown_fields)]
 pub struct RenameRequest {
     /// ASCII letters, digits, `-` and `_`, starting with a letter; at most 64 characters.
+    #[schema(min_length = 1, max_length = 64, pattern = "^[A-Za-z][A-Za-z0-9_-]*$")]
     pub name: String,
 }
 
@@ -32,7 +33,8 @@ pub struct RenameRequest {
         (status = 401, body = ErrorBody),
         (status = 403, description = "not the grammar's owner", body = ErrorBody),
         (status = 404, body = ErrorBody),
-        (status = 409, description = "the owner has a grammar of that name", body = ErrorBody)))]
+        (status = 409, description = "the owner has a grammar of that name", body = ErrorBody),
+        (status = 413, description = "the body is larger than 1 MiB", body = ErrorBody)))]
 pub async fn rename(
     State(state): State<AppState>,
     Signed(account): Signed,
@@ -56,7 +58,9 @@ pub async fn rename(
 /// The newest version the caller may see whose text has this SHA-256, under its grammar's
 /// present name: how lock files fetch what they pin.
 #[utoipa::path(get, path = "/api/v1/texts/{sha256}", tag = "grammars",
-    params(("sha256" = String, Path, description = "64 hexadecimal digits")),
+    security((), ("bearer" = [])),
+    params(("sha256" = String, Path, description = "64 hexadecimal digits",
+        pattern = "^[0-9A-Fa-f]{64}$")),
     responses((status = 200, body = VersionText), (status = 400, body = ErrorBody),
         (status = 401, body = ErrorBody), (status = 404, body = ErrorBody)))]
 pub async fn text_by_sha256(

@@ -91,6 +91,12 @@ async fn limits_the_handlers_enforce_are_documented() {
         schemas["QueryRequest"]["properties"]["queries"]["maxItems"],
         json!(1000)
     );
+    assert_eq!(
+        schemas["RenameRequest"]["properties"]["name"]["maxLength"],
+        json!(64)
+    );
+    let sha256 = parameter(&doc, "get", "/api/v1/texts/{sha256}", "sha256");
+    assert_eq!(sha256["schema"]["pattern"], json!("^[0-9A-Fa-f]{64}$"));
     for (method, path) in [
         ("get", "/api/v1/grammars/{owner}/{name}/versions/{version}"),
         (
@@ -142,5 +148,5 @@ async fn request_bodies_document_whether_required_and_the_size_limit() {
             );
         }
     }
-    assert_eq!(bodies, 6);
+    assert_eq!(bodies, 7);
 }
