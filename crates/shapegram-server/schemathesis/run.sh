@@ -1,10 +1,10 @@
 #!/bin/sh
 # Property-based tests of `shapegram serve` against its own OpenAPI document with Schemathesis
 # (not in CI: too heavy). Starts a server on a fresh database, signs up ana, bo and cy, publishes
-# ana/wood, has ana ask bo and cy ask ana to be friends, then runs every check of Schemathesis:
-# anonymously, with ana's token, with ana's token and the grammar and friend routes pinned to
-# what exists (seeded.toml), and token revocation with bo's token (apart, since revoking ana's
-# would end her runs).
+# ana/wood and ana/spare, has ana ask bo and cy ask ana to be friends, then runs every check of
+# Schemathesis: anonymously, with ana's token, with ana's token and the grammar and friend routes
+# pinned to what exists (seeded.toml), and token revocation with bo's token (apart, since
+# revoking ana's would end her runs).
 #
 #   python3 -m venv /tmp/st && /tmp/st/bin/pip install schemathesis
 #   cargo build -p shapegram
@@ -46,6 +46,8 @@ token=$(post /api/v1/login '{"name": "ana", "password": "correct horse"}' |
 post /api/v1/grammars/ana/wood/versions \
     '{"text": "axiom wooden size(1, 1, 1)\nfulfills(wooden) --> color(\"#8b5a2b\")\n"}' \
     "$token" >/dev/null
+post /api/v1/grammars/ana/spare/versions '{"text": "fulfills(spare) --> color(1)\n"}' "$token" \
+    >/dev/null
 post /api/v1/friends/bo '' "$token" >/dev/null
 bo_token=$(post /api/v1/login '{"name": "bo", "password": "correct horse"}' |
     python3 -c 'import json, sys; print(json.load(sys.stdin)["token"])')
