@@ -31,8 +31,8 @@ mod trim;
 mod value;
 
 pub use engine::{
-    ASSET_VARIANTS, Asset, AssetLoader, Derivation, DeriveOptions, InitialShape, Leaf,
-    Rederivation, Stats, Trace, TreeNode, derive, derive_again,
+    ASSET_VARIANTS, Asset, AssetLoader, Derivation, DeriveControl, DeriveOptions, InitialShape,
+    Leaf, Rederivation, Stats, Trace, TreeNode, derive, derive_again,
 };
 pub use error::DeriveError;
 pub use goals::{GoalQuery, LeafSemantics};

@@ -47,7 +47,7 @@ pub(crate) const CHUNK_BIN: u32 = 0x004E_4942;
 
 /// Vertices taken from a model's own list: all of them, or those in `keep` (in that order) when
 /// some are not used by anything written.
-struct Shared<'a> {
+pub(crate) struct Shared<'a> {
     all: &'a [DVec3],
     keep: Option<Vec<u32>>,
 }
@@ -91,7 +91,7 @@ fn shared<'a>(all: &'a [DVec3], indices: &mut Cow<'_, [u32]>) -> Shared<'a> {
 }
 
 /// Part of a primitive's vertex data, with indices counted from its own first vertex.
-enum Chunk<'a> {
+pub(crate) enum Chunk<'a> {
     /// Flat-shaded faces: corners per face, each with the face normal.
     Flat {
         positions: Vec<[f32; 3]>,
@@ -113,7 +113,7 @@ enum Chunk<'a> {
 
 impl<'a> Chunk<'a> {
     /// A part's triangles: smooth when it has one normal per vertex, flat otherwise.
-    fn of_part(part: &'a Part) -> Option<Self> {
+    pub(crate) fn of_part(part: &'a Part) -> Option<Self> {
         let chunk = if is_smooth(part) {
             smooth_chunk(part)
         } else {
@@ -145,7 +145,7 @@ impl<'a> Chunk<'a> {
         Some(Self::Lines { points, indices })
     }
 
-    fn vertex_count(&self) -> usize {
+    pub(crate) fn vertex_count(&self) -> usize {
         match self {
             Self::Flat { positions, .. } => positions.len(),
             Self::Smooth { vertices, .. } => vertices.len(),
@@ -153,7 +153,7 @@ impl<'a> Chunk<'a> {
         }
     }
 
-    fn indices(&self) -> &[u32] {
+    pub(crate) fn indices(&self) -> &[u32] {
         match self {
             Self::Flat { indices, .. } | Self::Smooth { indices, .. } => indices,
             Self::Lines { indices, .. } => indices,
@@ -165,7 +165,7 @@ impl<'a> Chunk<'a> {
     }
 
     /// Calls `visit` with every f32 position, in vertex order.
-    fn positions(&self, mut visit: impl FnMut([f32; 3])) {
+    pub(crate) fn positions(&self, mut visit: impl FnMut([f32; 3])) {
         match self {
             Self::Flat { positions, .. } => positions.iter().copied().for_each(visit),
             Self::Smooth {
@@ -178,7 +178,7 @@ impl<'a> Chunk<'a> {
     }
 
     /// Calls `visit` with every f32 unit normal, in vertex order (none for lines).
-    fn normals(&self, mut visit: impl FnMut([f32; 3])) {
+    pub(crate) fn normals(&self, mut visit: impl FnMut([f32; 3])) {
         match self {
             Self::Flat { normals, .. } => normals.iter().copied().for_each(visit),
             Self::Smooth {

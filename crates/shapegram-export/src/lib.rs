@@ -18,6 +18,7 @@
 //!
 //! Readers treat their input as untrusted and return [`Error`] rather than panic.
 
+mod buffers;
 mod error;
 mod flat;
 mod geojson;
@@ -33,6 +34,7 @@ use std::path::Path;
 
 use shapegram_geom::Model;
 
+pub use buffers::{Buffers, PartRange};
 pub use error::Error;
 pub use geojson::{Footprints, read_geojson};
 pub use glb::{write_glb, write_glb_to};

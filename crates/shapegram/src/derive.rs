@@ -61,6 +61,7 @@ pub fn run(args: &DeriveArgs) -> Result<(), Failure> {
         implicit_cell: args.implicit_cell,
         trace: false,
         max_steps: args.max_steps,
+        control: None,
     };
 
     let started = Instant::now();

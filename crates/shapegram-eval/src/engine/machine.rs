@@ -241,7 +241,10 @@ impl<'p> Engine<'p> {
         }
         self.counts[task.rule as usize] += 1;
         self.applications += 1;
-        if self.applications.is_multiple_of(1024) {
+        if self
+            .applications
+            .is_multiple_of(super::control::CHECK_EVERY as usize)
+        {
             self.check_time(task.rule)?;
         }
         if self.applications > self.options.max_steps {
@@ -466,6 +469,11 @@ impl<'p> Engine<'p> {
     }
 
     fn check_time(&self, rule: RuleId) -> Fallible<()> {
+        if let Some(control) = &self.options.control
+            && control.tick()
+        {
+            return Err(DeriveError::general("the derivation was cancelled"));
+        }
         if let Some(budget) = self.options.time_budget
             && self.started.elapsed() > budget
         {

@@ -24,6 +24,7 @@
 mod attributes;
 mod comp;
 mod context;
+mod control;
 mod deform;
 mod derive;
 mod footprint;
@@ -52,6 +53,7 @@ use crate::goals::{GoalQuery, LeafSemantics};
 use crate::shape::Geometry;
 use crate::value::Value;
 
+pub use control::DeriveControl;
 pub use derive::derive;
 pub use insert::{ASSET_VARIANTS, Asset, AssetLoader};
 pub use reuse::{Rederivation, derive_again};
@@ -87,6 +89,8 @@ pub struct DeriveOptions {
     /// Stop with an error after this many rule applications (per initial shape): how goal
     /// grammars whose rules keep calling each other end.
     pub max_steps: usize,
+    /// Lets another thread cancel the derivation and read its progress.
+    pub control: Option<Arc<DeriveControl>>,
 }
 
 impl Default for DeriveOptions {
@@ -104,6 +108,7 @@ impl Default for DeriveOptions {
             implicit_cell: None,
             trace: false,
             max_steps: 10_000_000,
+            control: None,
         }
     }
 }

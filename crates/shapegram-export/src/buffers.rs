@@ -1,0 +1,121 @@
+//! A model as the flat arrays a game engine uploads: the triangles the GLB writer writes, with
+//! their normals, part after part.
+
+use shapegram_geom::Model;
+
+use crate::glb::Chunk;
+
+/// Where one part of the model is in [`Buffers`], and its colour.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PartRange {
+    /// The part's colour: sRGB with straight alpha, each channel in `0..=1`.
+    pub color: [f32; 4],
+    /// Its first vertex in [`Buffers::positions`] and [`Buffers::normals`].
+    pub first_vertex: u32,
+    /// How many vertices it has.
+    pub vertex_count: u32,
+    /// Its first index in [`Buffers::indices`].
+    pub first_index: u32,
+    /// How many indices it has (three per triangle).
+    pub index_count: u32,
+}
+
+/// Triangles of a model's parts, as the GLB writer makes them: a flat part gives every face its
+/// own vertices with the face normal, a smooth part keeps its shared vertices and their normals.
+/// Indices count from the first vertex of the whole buffer, so one draw call can draw it all.
+/// Parts without a triangle and line sets are left out.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Buffers {
+    /// Vertex positions.
+    pub positions: Vec<[f32; 3]>,
+    /// Unit vertex normals, one per position.
+    pub normals: Vec<[f32; 3]>,
+    /// Triangles, three indices each.
+    pub indices: Vec<u32>,
+    /// The parts in model order.
+    pub parts: Vec<PartRange>,
+}
+
+impl Buffers {
+    /// The buffers of `model`.
+    pub fn of_model(model: &Model) -> Self {
+        let mut buffers = Self::default();
+        buffers.fill(model);
+        buffers
+    }
+
+    /// Replaces the contents with the buffers of `model`, reusing the memory already held.
+    pub fn fill(&mut self, model: &Model) {
+        self.positions.clear();
+        self.normals.clear();
+        self.indices.clear();
+        self.parts.clear();
+        for part in &model.parts {
+            let Some(chunk) = Chunk::of_part(part) else {
+                continue;
+            };
+            let first_vertex = self.positions.len() as u32;
+            let first_index = self.indices.len() as u32;
+            chunk.positions(|p| self.positions.push(p));
+            chunk.normals(|n| self.normals.push(n));
+            self.indices
+                .extend(chunk.indices().iter().map(|&i| first_vertex + i));
+            self.parts.push(PartRange {
+                color: part.color.to_array(),
+                first_vertex,
+                vertex_count: chunk.vertex_count() as u32,
+                first_index,
+                index_count: chunk.indices().len() as u32,
+            });
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use shapegram_geom::{Color, DVec3, Part, primitives};
+
+    #[test]
+    fn a_flat_box_and_a_smooth_sphere_share_one_index_space() {
+        let flat = Part {
+            name: "box".into(),
+            color: Color::from_hex("#ff0000").unwrap(),
+            mesh: primitives::cuboid(DVec3::ONE),
+            ..Part::default()
+        };
+        let sphere = primitives::sphere(DVec3::ONE, 8, 4);
+        let smooth = Part {
+            name: "ball".into(),
+            color: Color::from_hex("#0000ff80").unwrap(),
+            normals: sphere.vertex_normals(),
+            mesh: sphere.clone(),
+            ..Part::default()
+        };
+        let model = Model {
+            parts: vec![flat, smooth],
+            ..Model::default()
+        };
+        let buffers = Buffers::of_model(&model);
+        // Six quads of four corners each, two triangles each.
+        assert_eq!(buffers.parts[0].vertex_count, 24);
+        assert_eq!(buffers.parts[0].index_count, 36);
+        assert_eq!(buffers.parts[1].first_vertex, 24);
+        assert_eq!(buffers.parts[1].first_index, 36);
+        assert_eq!(buffers.parts[1].color, [0.0, 0.0, 1.0, 128.0 / 255.0]);
+        assert_eq!(buffers.positions.len(), buffers.normals.len());
+        let smooth_indices = &buffers.indices[36..];
+        assert!(
+            smooth_indices
+                .iter()
+                .all(|&i| (24..buffers.positions.len() as u32).contains(&i))
+        );
+        assert_eq!(
+            buffers.positions.len() as u32,
+            24 + buffers.parts[1].vertex_count
+        );
+        let mut again = Buffers::of_model(&Model::default());
+        again.fill(&model);
+        assert_eq!(again, buffers);
+    }
+}
