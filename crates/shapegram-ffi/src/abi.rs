@@ -1,0 +1,548 @@
+//! The `extern "C"` functions and the types they share with C.
+//!
+//! The functions take raw pointers without being `unsafe fn`: they are made for C, whose
+//! callers see no `unsafe`; the header states what each pointer must be, and the functions
+//! check all they can (NULL, UTF-8, lengths). Rust callers use [`crate::grammar`] instead.
+#![allow(clippy::not_unsafe_ptr_arg_deref)]
+
+use std::cell::UnsafeCell;
+use std::ffi::{CStr, CString, c_char};
+use std::panic::{AssertUnwindSafe, catch_unwind};
+use std::sync::Arc;
+use std::sync::atomic::{AtomicBool, Ordering};
+
+use shapegram_eval::{DeriveControl, InitialShape, Value};
+use shapegram_export::Buffers;
+use shapegram_geom::DVec3;
+
+use crate::grammar::{Grammar, Kind, Settings};
+use crate::status::{Error, sg_status};
+
+/// Detect the kind from the file name's extension, else read the text as CGA (or the
+/// notation it is written in: `.mul`, `.sgl`, goal grammars).
+pub const SG_KIND_AUTO: u32 = 0;
+/// CGA (`.cga`).
+pub const SG_KIND_CGA: u32 = 1;
+/// The notation of Müller et al. 2006 (`.mul`).
+pub const SG_KIND_MUL: u32 = 2;
+/// SGL (`.sgl`).
+pub const SG_KIND_SGL: u32 = 3;
+/// A goal grammar, in its native or Michelangelo notation (`.goal`).
+pub const SG_KIND_GOAL: u32 = 4;
+/// An L-system (`.lsys`).
+pub const SG_KIND_LSYSTEM: u32 = 5;
+/// An implicit cave grammar (`.cave`).
+pub const SG_KIND_CAVE: u32 = 6;
+/// A compiled topological grammar (`.grammar`, JSON).
+pub const SG_KIND_TOPO: u32 = 7;
+
+/// One part of the derived model: its colour and where its vertices and indices are in the
+/// buffers of [`sg_mesh`].
+#[allow(non_camel_case_types)]
+#[repr(C)]
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct sg_part {
+    /// sRGB colour with straight alpha, each channel in 0..1, in RGBA order.
+    pub color: [f32; 4],
+    /// The part's first vertex (in vertices, not floats).
+    pub first_vertex: u32,
+    /// How many vertices the part has.
+    pub vertex_count: u32,
+    /// The part's first index.
+    pub first_index: u32,
+    /// How many indices the part has (three per triangle).
+    pub index_count: u32,
+}
+
+/// The mesh buffers of the last derivation. The pointers point into memory the handle owns:
+/// they stay valid and unchanged until the next call on the handle that loads, derives or frees
+/// it; the caller never frees them. With no triangles they may be NULL (with their counts 0).
+#[allow(non_camel_case_types)]
+#[repr(C)]
+#[derive(Clone, Copy, Debug)]
+pub struct sg_mesh {
+    /// `3 * vertex_count` floats: x, y, z of each vertex (y is up, metres).
+    pub positions: *const f32,
+    /// `3 * vertex_count` floats: the unit normal of each vertex.
+    pub normals: *const f32,
+    /// Number of vertices.
+    pub vertex_count: usize,
+    /// `index_count` indices, three per triangle, counter-clockwise seen from the front,
+    /// counted from the first vertex of `positions` (so one draw call can draw every part).
+    pub indices: *const u32,
+    /// Number of indices.
+    pub index_count: usize,
+    /// `part_count` parts, in model order.
+    pub parts: *const sg_part,
+    /// Number of parts.
+    pub part_count: usize,
+}
+
+/// A grammar, the settings of its derivation and the buffers of its last derivation
+/// (the thesis's GrammarState). Opaque: made by `sg_state_new`, freed by `sg_state_free`.
+#[allow(non_camel_case_types)]
+pub struct sg_state {
+    /// Set while a call other than `sg_state_cancel`/`sg_state_progress` runs on the handle.
+    busy: AtomicBool,
+    /// Shared with the running derivation.
+    control: Arc<DeriveControl>,
+    /// Only touched by the call holding `busy`.
+    inner: UnsafeCell<Inner>,
+}
+
+// SAFETY: `inner` is only reached by the one call that holds `busy` (see `with_state`); the
+// other fields are atomics, safe to share.
+unsafe impl Sync for sg_state {}
+
+/// What a handle holds.
+struct Inner {
+    grammar: Option<Grammar>,
+    settings: Settings,
+    buffers: Buffers,
+    parts: Vec<sg_part>,
+    last_error: CString,
+}
+
+/// What `sg_state_last_error` says of a handle another thread is using.
+const BUSY_MESSAGE: &CStr = c"the handle is busy: another call on it is running";
+/// What `sg_state_last_error` says of NULL.
+const NULL_MESSAGE: &CStr = c"the handle is NULL";
+
+/// Runs `call` on the handle's contents, as the only call on it, with panics caught; records
+/// the error message and returns the status.
+fn with_state(
+    state: *const sg_state,
+    call: impl FnOnce(&mut Inner) -> Result<(), Error>,
+) -> sg_status {
+    // SAFETY: a non-NULL handle comes from `sg_state_new` and is not freed yet (the header's
+    // contract).
+    let Some(state) = (unsafe { state.as_ref() }) else {
+        return sg_status::SG_NULL_ARGUMENT;
+    };
+    if state
+        .busy
+        .compare_exchange(false, true, Ordering::Acquire, Ordering::Relaxed)
+        .is_err()
+    {
+        return sg_status::SG_BUSY;
+    }
+    // SAFETY: holding `busy`, this call is the only one that reaches `inner`.
+    let inner = unsafe { &mut *state.inner.get() };
+    let outcome = catch_unwind(AssertUnwindSafe(|| call(&mut *inner)));
+    let error = match outcome {
+        Ok(Ok(())) => None,
+        Ok(Err(error)) => Some(error),
+        Err(panic) => {
+            // A derivation cut short leaves no half-made buffers behind.
+            inner.buffers = Buffers::default();
+            inner.parts.clear();
+            let what = panic
+                .downcast_ref::<&str>()
+                .map(|s| (*s).to_owned())
+                .or_else(|| panic.downcast_ref::<String>().cloned())
+                .unwrap_or_else(|| "a panic".to_owned());
+            Some(Error::new(
+                sg_status::SG_INTERNAL,
+                format!("internal error (please report it): {what}"),
+            ))
+        }
+    };
+    let status = match error {
+        None => {
+            inner.last_error = CString::default();
+            sg_status::SG_OK
+        }
+        Some(error) => {
+            inner.last_error = CString::new(error.message.replace('\0', "\\0")).unwrap_or_default();
+            error.status
+        }
+    };
+    state.busy.store(false, Ordering::Release);
+    status
+}
+
+/// A string argument: NULL and bytes that are not UTF-8 are errors naming `what`.
+fn text<'a>(pointer: *const c_char, what: &str) -> Result<&'a str, Error> {
+    if pointer.is_null() {
+        return Err(Error::new(
+            sg_status::SG_NULL_ARGUMENT,
+            format!("{what} is NULL"),
+        ));
+    }
+    // SAFETY: the caller passes a NUL-terminated string (the header's contract).
+    let bytes = unsafe { CStr::from_ptr(pointer) };
+    bytes.to_str().map_err(|e| {
+        Error::new(
+            sg_status::SG_INVALID_UTF8,
+            format!(
+                "{what} is not UTF-8 (invalid byte at offset {})",
+                e.valid_up_to()
+            ),
+        )
+    })
+}
+
+/// The kind of `SG_KIND_…`; `None` for `SG_KIND_AUTO`.
+fn kind(kind: u32) -> Result<Option<Kind>, Error> {
+    use shapegram_syntax::Dialect;
+    Ok(Some(match kind {
+        SG_KIND_AUTO => return Ok(None),
+        SG_KIND_CGA => Kind::Shape(Some(Dialect::Cga)),
+        SG_KIND_MUL => Kind::Shape(Some(Dialect::Muller2006)),
+        SG_KIND_SGL => Kind::Shape(Some(Dialect::Sgl)),
+        SG_KIND_GOAL => Kind::Shape(None),
+        SG_KIND_LSYSTEM => Kind::LSystem,
+        SG_KIND_CAVE => Kind::Cave,
+        SG_KIND_TOPO => Kind::Topo,
+        other => return Err(Error::invalid(format!("unknown grammar kind {other}"))),
+    }))
+}
+
+impl Inner {
+    /// Takes a newly loaded grammar: the attributes set for the old one go, and so do the old
+    /// results.
+    fn load(&mut self, grammar: Grammar) {
+        self.grammar = Some(grammar);
+        self.settings.attrs.clear();
+        self.buffers = Buffers::default();
+        self.parts.clear();
+    }
+
+    fn set_attr(&mut self, name: *const c_char, value: Value) -> Result<(), Error> {
+        let name = text(name, "the attribute name")?;
+        let grammar = self.grammar.as_ref().ok_or_else(no_grammar)?;
+        grammar.check_attr(name, &value)?;
+        self.settings.attrs.retain(|(n, _)| n != name);
+        self.settings.attrs.push((name.to_owned(), value));
+        Ok(())
+    }
+}
+
+fn no_grammar() -> Error {
+    Error::new(sg_status::SG_NO_GRAMMAR, "no grammar is loaded")
+}
+
+/// Makes a handle with no grammar, seed 0, no attributes, no lots (the default 20 × 30 lot) and
+/// the grammar's own generations. Free it with `sg_state_free`. Returns NULL only if the
+/// library fails internally.
+#[unsafe(no_mangle)]
+pub extern "C" fn sg_state_new() -> *mut sg_state {
+    catch_unwind(|| {
+        let control = Arc::new(DeriveControl::new());
+        Box::into_raw(Box::new(sg_state {
+            busy: AtomicBool::new(false),
+            control: Arc::clone(&control),
+            inner: UnsafeCell::new(Inner {
+                grammar: None,
+                settings: Settings {
+                    seed: 0,
+                    attrs: Vec::new(),
+                    lots: Vec::new(),
+                    generations: None,
+                    control,
+                },
+                buffers: Buffers::default(),
+                parts: Vec::new(),
+                last_error: CString::default(),
+            }),
+        }))
+    })
+    .unwrap_or(std::ptr::null_mut())
+}
+
+/// Frees a handle and everything it owns (its buffers and messages: pointers read from it
+/// become invalid). NULL is accepted and does nothing. Returns `SG_BUSY`, freeing nothing, while
+/// another thread runs a call on the handle; freeing a handle twice, or while another thread
+/// may still call `sg_state_cancel` or `sg_state_progress` on it, is undefined behaviour.
+#[unsafe(no_mangle)]
+pub extern "C" fn sg_state_free(state: *mut sg_state) -> sg_status {
+    if state.is_null() {
+        return sg_status::SG_OK;
+    }
+    // SAFETY: a handle from `sg_state_new`, not freed yet (the header's contract).
+    let busy = unsafe { &(*state).busy };
+    if busy
+        .compare_exchange(false, true, Ordering::Acquire, Ordering::Relaxed)
+        .is_err()
+    {
+        return sg_status::SG_BUSY;
+    }
+    // SAFETY: as above; holding `busy`, no other call uses it.
+    let dropped = catch_unwind(AssertUnwindSafe(|| drop(unsafe { Box::from_raw(state) })));
+    match dropped {
+        Ok(()) => sg_status::SG_OK,
+        Err(_) => sg_status::SG_INTERNAL,
+    }
+}
+
+/// Loads a grammar from `text` (NUL-terminated UTF-8). `name` (NUL-terminated UTF-8, or NULL
+/// for "grammar") names it in messages and, with `kind` = `SG_KIND_AUTO`, tells its kind by its
+/// extension. Replaces the loaded grammar (and drops the attributes set for it and the last
+/// buffers); seed, lots and generations stay. Grammar errors return `SG_GRAMMAR_ERROR` with
+/// every error (`name:line:column`) in `sg_state_last_error`, and keep the old grammar.
+/// Imports (`import`) are not read through the ABI yet.
+#[unsafe(no_mangle)]
+pub extern "C" fn sg_state_load_text(
+    state: *mut sg_state,
+    text_: *const c_char,
+    kind_: u32,
+    name: *const c_char,
+) -> sg_status {
+    with_state(state, |inner| {
+        let source = text(text_, "the grammar text")?;
+        let name = if name.is_null() {
+            "grammar"
+        } else {
+            text(name, "the grammar name")?
+        };
+        let grammar = Grammar::load(name, source, kind(kind_)?)?;
+        inner.load(grammar);
+        Ok(())
+    })
+}
+
+/// Loads a grammar from the file at `path` (NUL-terminated UTF-8), as `sg_state_load_text`
+/// does with the path as its name (a byte-order mark is skipped). Reading errors return
+/// `SG_IO`; a file that is not UTF-8, `SG_INVALID_UTF8`. Assets (`i("…")`) are not loaded
+/// through the ABI yet.
+#[unsafe(no_mangle)]
+pub extern "C" fn sg_state_load_file(
+    state: *mut sg_state,
+    path: *const c_char,
+    kind_: u32,
+) -> sg_status {
+    with_state(state, |inner| {
+        let path = text(path, "the path")?;
+        let bytes = std::fs::read(path)
+            .map_err(|e| Error::new(sg_status::SG_IO, format!("cannot read {path}: {e}")))?;
+        let source = String::from_utf8(bytes).map_err(|e| {
+            Error::new(
+                sg_status::SG_INVALID_UTF8,
+                format!(
+                    "{path} is not UTF-8 (invalid byte at offset {})",
+                    e.utf8_error().valid_up_to()
+                ),
+            )
+        })?;
+        let source = source.strip_prefix('\u{feff}').unwrap_or(&source);
+        let grammar = Grammar::load(path, source, kind(kind_)?)?;
+        inner.load(grammar);
+        Ok(())
+    })
+}
+
+/// Sets the seed of every random choice (topological grammars use its low 48 bits).
+#[unsafe(no_mangle)]
+pub extern "C" fn sg_state_set_seed(state: *mut sg_state, seed: u64) -> sg_status {
+    with_state(state, |inner| {
+        inner.settings.seed = seed;
+        Ok(())
+    })
+}
+
+/// Sets the number of generations: of an L-system (its iterations), of a topological grammar
+/// (8 when not set) or of a CGA-style derivation in generations (shapes left become leaves).
+/// A negative number goes back to the grammar's own.
+#[unsafe(no_mangle)]
+pub extern "C" fn sg_state_set_generations(state: *mut sg_state, generations: i32) -> sg_status {
+    with_state(state, |inner| {
+        inner.settings.generations = u32::try_from(generations).ok();
+        Ok(())
+    })
+}
+
+/// Sets the attribute `name` (NUL-terminated UTF-8) of the loaded grammar to a number.
+/// `SG_UNKNOWN_ATTRIBUTE` when the grammar has no such attribute, `SG_ATTRIBUTE_TYPE` when its
+/// default is a literal of another type. Loading a grammar clears the attributes set.
+#[unsafe(no_mangle)]
+pub extern "C" fn sg_state_set_number(
+    state: *mut sg_state,
+    name: *const c_char,
+    value: f64,
+) -> sg_status {
+    with_state(state, |inner| inner.set_attr(name, Value::Number(value)))
+}
+
+/// Sets the attribute `name` to a string (`value`: NUL-terminated UTF-8, copied), as
+/// `sg_state_set_number` does.
+#[unsafe(no_mangle)]
+pub extern "C" fn sg_state_set_string(
+    state: *mut sg_state,
+    name: *const c_char,
+    value: *const c_char,
+) -> sg_status {
+    with_state(state, |inner| {
+        let value = text(value, "the attribute value")?;
+        inner.set_attr(name, Value::string(value))
+    })
+}
+
+/// Sets the attribute `name` to a boolean, as `sg_state_set_number` does.
+#[unsafe(no_mangle)]
+pub extern "C" fn sg_state_set_bool(
+    state: *mut sg_state,
+    name: *const c_char,
+    value: bool,
+) -> sg_status {
+    with_state(state, |inner| inner.set_attr(name, Value::Bool(value)))
+}
+
+/// Adds a lot: a planar polygon of `corner_count` corners, `3 * corner_count` floats (x, y, z
+/// each, y up) read from `xyz` and copied, counter-clockwise seen from above. Without lots,
+/// CGA-style grammars derive on a 20 × 30 lot at the origin and goal grammars from their
+/// axioms; L-systems, caves and topological grammars ignore lots.
+#[unsafe(no_mangle)]
+pub extern "C" fn sg_state_add_lot(
+    state: *mut sg_state,
+    xyz: *const f32,
+    corner_count: usize,
+) -> sg_status {
+    with_state(state, |inner| {
+        if xyz.is_null() {
+            return Err(Error::new(
+                sg_status::SG_NULL_ARGUMENT,
+                "the lot's corners are NULL",
+            ));
+        }
+        if corner_count < 3 {
+            return Err(Error::invalid(format!(
+                "a lot needs 3 corners or more, not {corner_count}"
+            )));
+        }
+        let floats = corner_count
+            .checked_mul(3)
+            .ok_or_else(|| Error::invalid("too many corners"))?;
+        // SAFETY: the caller passes `3 * corner_count` floats (the header's contract).
+        let floats = unsafe { std::slice::from_raw_parts(xyz, floats) };
+        let footprint: Vec<DVec3> = floats
+            .chunks_exact(3)
+            .map(|c| DVec3::new(f64::from(c[0]), f64::from(c[1]), f64::from(c[2])))
+            .collect();
+        if !footprint.iter().all(|p| p.is_finite()) {
+            return Err(Error::invalid("a lot's corner is not finite"));
+        }
+        if shapegram_geom::mesh::newell(footprint.iter().copied()).length() <= 0.0 {
+            return Err(Error::invalid("the lot has no area"));
+        }
+        inner.settings.lots.push(InitialShape { footprint });
+        Ok(())
+    })
+}
+
+/// Removes every lot added (back to the default lot).
+#[unsafe(no_mangle)]
+pub extern "C" fn sg_state_clear_lots(state: *mut sg_state) -> sg_status {
+    with_state(state, |inner| {
+        inner.settings.lots.clear();
+        Ok(())
+    })
+}
+
+/// Derives the loaded grammar with the handle's settings and keeps the result's mesh buffers
+/// (read them with `sg_state_mesh`). Blocks until done, cancelled (`SG_CANCELLED`) or failed
+/// (`SG_DERIVE_ERROR`); on failure the buffers are empty. Runs on the calling thread (a
+/// CGA-style derivation of several lots may use more threads of its own).
+#[unsafe(no_mangle)]
+pub extern "C" fn sg_state_derive(state: *mut sg_state) -> sg_status {
+    with_state(state, |inner| {
+        inner.buffers = Buffers::default();
+        inner.parts.clear();
+        let grammar = inner.grammar.as_ref().ok_or_else(no_grammar)?;
+        inner.settings.control.reset();
+        let model = grammar.derive(&inner.settings)?;
+        inner.buffers.fill(&model);
+        inner.parts = inner
+            .buffers
+            .parts
+            .iter()
+            .map(|p| sg_part {
+                color: p.color,
+                first_vertex: p.first_vertex,
+                vertex_count: p.vertex_count,
+                first_index: p.first_index,
+                index_count: p.index_count,
+            })
+            .collect();
+        Ok(())
+    })
+}
+
+/// Asks the derivation running on the handle (on another thread) to stop: it returns
+/// `SG_CANCELLED` within about a millisecond. CGA-style and goal grammars only: L-systems,
+/// caves and topological grammars run to their end. A cancel while no derivation runs has no
+/// effect. May be called from any thread at any time before `sg_state_free`.
+#[unsafe(no_mangle)]
+pub extern "C" fn sg_state_cancel(state: *const sg_state) -> sg_status {
+    // SAFETY: a handle from `sg_state_new`, not freed yet (the header's contract).
+    match unsafe { state.as_ref() } {
+        Some(state) => {
+            state.control.cancel();
+            sg_status::SG_OK
+        }
+        None => sg_status::SG_NULL_ARGUMENT,
+    }
+}
+
+/// Writes to `applications` how many rules the running (or last) derivation has applied, in
+/// steps of 1,024 (CGA-style and goal grammars only; others count 0). May be called from any
+/// thread at any time before `sg_state_free`, to show progress.
+#[unsafe(no_mangle)]
+pub extern "C" fn sg_state_progress(state: *const sg_state, applications: *mut u64) -> sg_status {
+    // SAFETY: a handle from `sg_state_new`, not freed yet, and a pointer to a u64 or NULL
+    // (the header's contract).
+    match unsafe { (state.as_ref(), applications.as_mut()) } {
+        (Some(state), Some(out)) => {
+            *out = state.control.applications();
+            sg_status::SG_OK
+        }
+        _ => sg_status::SG_NULL_ARGUMENT,
+    }
+}
+
+/// Writes the buffers of the last successful derivation to `*mesh` (all counts 0 before the
+/// first, or after a failed one). The pointers are owned by the handle and stay valid until the
+/// next `sg_state_load_text`, `sg_state_load_file`, `sg_state_derive` or `sg_state_free` on it.
+#[unsafe(no_mangle)]
+pub extern "C" fn sg_state_mesh(state: *mut sg_state, mesh: *mut sg_mesh) -> sg_status {
+    with_state(state, |inner| {
+        if mesh.is_null() {
+            return Err(Error::new(sg_status::SG_NULL_ARGUMENT, "the mesh is NULL"));
+        }
+        let buffers = &inner.buffers;
+        let out = sg_mesh {
+            positions: buffers.positions.as_flattened().as_ptr(),
+            normals: buffers.normals.as_flattened().as_ptr(),
+            vertex_count: buffers.positions.len(),
+            indices: buffers.indices.as_ptr(),
+            index_count: buffers.indices.len(),
+            parts: inner.parts.as_ptr(),
+            part_count: inner.parts.len(),
+        };
+        // SAFETY: checked non-NULL; the caller passes a writable `sg_mesh`.
+        unsafe { mesh.write(out) };
+        Ok(())
+    })
+}
+
+/// The message of the last call on the handle that failed (UTF-8, NUL-terminated; empty after a
+/// call that succeeded). Grammar errors name the file, line and column (`house.cga:3:7`). The
+/// string is owned by the handle and valid until the next call on it; never NULL (a NULL handle
+/// gets a static message, as does a handle another thread is using).
+#[unsafe(no_mangle)]
+pub extern "C" fn sg_state_last_error(state: *const sg_state) -> *const c_char {
+    // SAFETY: a handle from `sg_state_new`, not freed yet (the header's contract).
+    let Some(state) = (unsafe { state.as_ref() }) else {
+        return NULL_MESSAGE.as_ptr();
+    };
+    if state
+        .busy
+        .compare_exchange(false, true, Ordering::Acquire, Ordering::Relaxed)
+        .is_err()
+    {
+        return BUSY_MESSAGE.as_ptr();
+    }
+    // SAFETY: holding `busy`; the string is only replaced by a later call.
+    let message = unsafe { (*state.inner.get()).last_error.as_ptr() };
+    state.busy.store(false, Ordering::Release);
+    message
+}

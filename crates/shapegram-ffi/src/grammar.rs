@@ -1,0 +1,327 @@
+//! A grammar of any kind the engine runs, loaded from text, and one derivation of it: the same
+//! engine calls as the `shapegram` command's `derive`, `lsystem`, `cave` and `topo`.
+
+use std::sync::Arc;
+
+use shapegram_eval::{DeriveControl, DeriveOptions, InitialShape, Program, Value};
+use shapegram_geom::{Color, DVec2, Model};
+use shapegram_syntax::{Dialect, SourceFile, ast};
+
+use crate::status::Error;
+
+/// The kinds of grammar, as `sg_state_load_text` takes them (`SG_KIND_…`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Kind {
+    /// CGA and the notations it reads (`.cga`, `.mul`, `.sgl`), goal grammars (`.goal`).
+    Shape(Option<Dialect>),
+    /// An L-system (`.lsys`).
+    LSystem,
+    /// An implicit cave grammar (`.cave`).
+    Cave,
+    /// A compiled topological grammar (`.grammar`, JSON).
+    Topo,
+}
+
+impl Kind {
+    /// The kind a file name's extension says, if it says one.
+    pub fn of_name(name: &str) -> Option<Kind> {
+        let extension = name.rsplit_once('.')?.1.to_ascii_lowercase();
+        Some(match extension.as_str() {
+            "cga" => Kind::Shape(Some(Dialect::Cga)),
+            "mul" => Kind::Shape(Some(Dialect::Muller2006)),
+            "sgl" => Kind::Shape(Some(Dialect::Sgl)),
+            // Native or Michelangelo notation: the text tells.
+            "goal" => Kind::Shape(None),
+            "lsys" => Kind::LSystem,
+            "cave" => Kind::Cave,
+            "grammar" => Kind::Topo,
+            _ => return None,
+        })
+    }
+}
+
+/// The type an attribute's default value has, when its declaration makes it plain.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum AttrType {
+    /// A number.
+    Number,
+    /// A string.
+    String,
+    /// A boolean.
+    Bool,
+}
+
+impl AttrType {
+    /// The type of a value set through the ABI.
+    pub fn of(value: &Value) -> Option<AttrType> {
+        match value {
+            Value::Number(_) => Some(AttrType::Number),
+            Value::Str(_) => Some(AttrType::String),
+            Value::Bool(_) => Some(AttrType::Bool),
+            Value::Array(_) => None,
+        }
+    }
+
+    fn name(self) -> &'static str {
+        match self {
+            AttrType::Number => "a number",
+            AttrType::String => "a string",
+            AttrType::Bool => "a boolean",
+        }
+    }
+
+    /// The type of a default value written as a literal (or a negated number); `None` for an
+    /// expression, whose type only deriving tells.
+    fn of_default(expr: &ast::Expr) -> Option<AttrType> {
+        match &expr.kind {
+            ast::ExprKind::Number(_) => Some(AttrType::Number),
+            ast::ExprKind::String(_) => Some(AttrType::String),
+            ast::ExprKind::Bool(_) => Some(AttrType::Bool),
+            ast::ExprKind::Unary { operand, .. } => Self::of_default(operand),
+            _ => None,
+        }
+    }
+}
+
+/// A loaded grammar.
+pub enum Grammar {
+    /// CGA-style and goal grammars: a compiled program and its source, for messages.
+    Shape {
+        /// The program.
+        program: Program,
+        /// The source, what derivation errors point into.
+        source: SourceFile,
+        /// Each attribute with the type its default shows.
+        attrs: Vec<(String, Option<AttrType>)>,
+        /// Whether it is a goal grammar (which starts from its axioms, not from a lot).
+        goal: bool,
+    },
+    /// An L-system, with its name and text for messages.
+    LSystem(shapegram_lsystem::LSystem, String, String),
+    /// An implicit cave grammar.
+    Cave(shapegram_implicit::CaveProgram),
+    /// A topological grammar and the symbol it starts from (its first).
+    Topo(shapegram_topo::Grammar, String),
+}
+
+/// What a derivation is asked to do besides the grammar.
+pub struct Settings {
+    /// The seed.
+    pub seed: u64,
+    /// Attribute values overriding the grammar's.
+    pub attrs: Vec<(String, Value)>,
+    /// The lots; the default 20 × 30 lot when empty.
+    pub lots: Vec<InitialShape>,
+    /// Generations (L-system iterations, topological generations, generations of a CGA
+    /// derivation); the grammar's own when `None`.
+    pub generations: Option<u32>,
+    /// Cancellation and progress, shared with `sg_state_cancel` and `sg_state_progress`.
+    pub control: Arc<DeriveControl>,
+}
+
+/// Generations of a topological grammar when none are set, as `shapegram topo` has it.
+const TOPO_GENERATIONS: u32 = 8;
+
+/// The cave's colour, as `shapegram cave` paints it.
+const ROCK: Color = Color::rgb(0.55, 0.48, 0.42);
+
+impl Grammar {
+    /// Parses and compiles `text`, named `name` in messages, as `kind` (`None`: by the name's
+    /// extension, else CGA or the notation the text is in).
+    pub fn load(name: &str, text: &str, kind: Option<Kind>) -> Result<Grammar, Error> {
+        let kind = kind
+            .or_else(|| Kind::of_name(name))
+            .unwrap_or(Kind::Shape(None));
+        match kind {
+            Kind::Shape(dialect) => Self::load_shape(SourceFile::new(name, text), dialect),
+            Kind::LSystem => shapegram_lsystem::LSystem::parse(text)
+                .map(|system| Grammar::LSystem(system, name.to_owned(), text.to_owned()))
+                .map_err(|e| Error::grammar(e.render(name, text))),
+            Kind::Cave => shapegram_implicit::text::parse(text)
+                .map(Grammar::Cave)
+                .map_err(|e| Error::grammar(format!("{name}:{e}"))),
+            Kind::Topo => {
+                let grammar = shapegram_topo::Grammar::from_json(text).map_err(|e| {
+                    let separator = if e.location.starts_with(|c: char| c.is_ascii_digit()) {
+                        ":"
+                    } else {
+                        ": "
+                    };
+                    Error::grammar(format!("{name}{separator}{}: {}", e.location, e.message))
+                })?;
+                let symbol = grammar
+                    .symbol_names()
+                    .first()
+                    .map(|s| (*s).to_owned())
+                    .ok_or_else(|| Error::grammar(format!("{name}: the grammar has no symbol")))?;
+                Ok(Grammar::Topo(grammar, symbol))
+            }
+        }
+    }
+
+    fn load_shape(source: SourceFile, dialect: Option<Dialect>) -> Result<Grammar, Error> {
+        let dialect = dialect.unwrap_or_else(|| shapegram_syntax::detect(source.text()));
+        let parsed = shapegram_syntax::parse_as(&source, dialect);
+        let goal = matches!(dialect, Dialect::Goal | Dialect::Michelangelo);
+        let mut diagnostics = parsed.diagnostics;
+        let program = if diagnostics.iter().any(|d| d.is_error()) {
+            None
+        } else if !parsed.grammar.imports.is_empty() {
+            return Err(Error::grammar(format!(
+                "{}: imports are not read through the C ABI yet: derive the grammar with `shapegram derive`",
+                source.name()
+            )));
+        } else if goal {
+            let name = std::path::Path::new(source.name()).file_stem().map_or_else(
+                || source.name().to_owned(),
+                |s| s.to_string_lossy().into_owned(),
+            );
+            let options = shapegram_eval::LibraryOptions::closed(1);
+            let (program, more) =
+                Program::compile_library_with(&[(name.as_str(), &parsed.grammar)], &options);
+            diagnostics.extend(more.into_iter().map(|(_, d)| d));
+            program
+        } else {
+            let (program, more) = Program::compile(&parsed.grammar);
+            diagnostics.extend(more);
+            program
+        };
+        let errors: Vec<String> = diagnostics
+            .iter()
+            .filter(|d| d.is_error())
+            .map(|d| source.render(d))
+            .collect();
+        match program {
+            Some(program) if errors.is_empty() => Ok(Grammar::Shape {
+                program,
+                attrs: parsed
+                    .grammar
+                    .attrs
+                    .iter()
+                    .map(|a| (a.name.name.clone(), AttrType::of_default(&a.value)))
+                    .collect(),
+                source,
+                goal,
+            }),
+            _ => Err(Error::grammar(if errors.is_empty() {
+                format!("{}: the grammar does not compile", source.name())
+            } else {
+                errors.join("\n")
+            })),
+        }
+    }
+
+    /// Checks that the grammar has an attribute `name` that takes `value`.
+    pub fn check_attr(&self, name: &str, value: &Value) -> Result<(), Error> {
+        let Grammar::Shape { attrs, .. } = self else {
+            return Err(Error::attribute(format!(
+                "only CGA-style and goal grammars have attributes, not `{name}`"
+            )));
+        };
+        let Some((_, declared)) = attrs.iter().find(|(n, _)| n == name) else {
+            let mut message = format!("the grammar has no attribute `{name}`");
+            if let Some(close) =
+                shapegram_syntax::suggest(name, attrs.iter().map(|(n, _)| n.as_str()))
+            {
+                message.push_str(&format!(" (did you mean `{close}`?)"));
+            }
+            return Err(Error::attribute(message));
+        };
+        match (declared, AttrType::of(value)) {
+            (Some(declared), Some(given)) if *declared != given => {
+                Err(Error::attribute_type(format!(
+                    "the attribute `{name}` is {}, not {}",
+                    declared.name(),
+                    given.name()
+                )))
+            }
+            _ => Ok(()),
+        }
+    }
+
+    /// Derives the grammar as `settings` say, to a model (posed, when it has a skeleton).
+    pub fn derive(&self, settings: &Settings) -> Result<Model, Error> {
+        let model = match self {
+            Grammar::Shape {
+                program,
+                source,
+                goal,
+                ..
+            } => {
+                let lots = match (settings.lots.is_empty(), goal) {
+                    (false, _) => settings.lots.clone(),
+                    // Goal grammars start from their axioms.
+                    (true, true) => Vec::new(),
+                    (true, false) => vec![default_lot()],
+                };
+                let options = DeriveOptions {
+                    seed: settings.seed,
+                    attrs: settings.attrs.clone(),
+                    generations: settings.generations,
+                    control: Some(Arc::clone(&settings.control)),
+                    ..DeriveOptions::default()
+                };
+                let derivation = shapegram_eval::derive(program, &lots, &options).map_err(|e| {
+                    if settings.control.is_cancelled() {
+                        return Error::cancelled();
+                    }
+                    match e.to_diagnostic() {
+                        Some(d) => Error::derive(source.render(&d)),
+                        None => Error::derive(format!("{}: {}", source.name(), e.message)),
+                    }
+                })?;
+                derivation.to_model()
+            }
+            Grammar::LSystem(system, name, text) => {
+                let options = shapegram_lsystem::DeriveOptions {
+                    iterations: settings.generations,
+                    seed: Some(settings.seed),
+                    ..shapegram_lsystem::DeriveOptions::default()
+                };
+                shapegram_lsystem::model(system, &options)
+                    .map_err(|e| Error::derive(e.render(name, text)))?
+            }
+            Grammar::Cave(program) => {
+                let run = program
+                    .run(Some(settings.seed))
+                    .map_err(|e| Error::derive(e.to_string()))?;
+                let lod = program
+                    .lod
+                    .unwrap_or(shapegram_implicit::CaveParams::default().lod);
+                let options = shapegram_implicit::MeshOptions::with_cell_size(1.0 / f64::from(lod));
+                let solid = run.builder.solid();
+                let meshing = shapegram_implicit::mesh(solid, &options)
+                    .map_err(|e| Error::derive(e.to_string()))?;
+                let mut model = Model::single("cave", ROCK, meshing.mesh);
+                model.parts[0].normals = shapegram_implicit::surface_normals(
+                    solid,
+                    &model.parts[0].mesh,
+                    options.cell_size / 2.0,
+                );
+                model
+            }
+            Grammar::Topo(grammar, symbol) => {
+                let mut state = shapegram_topo::GrammarState::new(grammar, symbol)
+                    .map_err(|e| Error::derive(e.to_string()))?
+                    .with_seed(settings.seed & shapegram_topo::SEED_MASK)
+                    .with_generations(settings.generations.unwrap_or(TOPO_GENERATIONS));
+                state
+                    .generate_all()
+                    .map_err(|e| Error::derive(e.to_string()))?;
+                shapegram_topo::GrammarMesh::new(&state).to_model()
+            }
+        };
+        Ok(if model.skeletons.is_empty() {
+            model
+        } else {
+            model.posed()
+        })
+    }
+}
+
+/// The lot a CGA-style grammar derives on when none is set: 20 × 30, as `shapegram derive`'s.
+pub fn default_lot() -> InitialShape {
+    let corners =
+        [(0.0, 0.0), (20.0, 0.0), (20.0, 30.0), (0.0, 30.0)].map(|(x, z)| DVec2::new(x, z));
+    InitialShape::from_xz(&corners).expect("the default lot has an area")
+}

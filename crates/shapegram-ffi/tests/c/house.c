@@ -1,0 +1,157 @@
+/* The C ABI from C: derives examples/house.cga, checks the buffers' counts against those the
+ * Rust API gives (passed as arguments by tests/c.rs), then the errors. Run under valgrind by
+ * .ci/run, so that a leak fails CI.
+ *
+ * usage: house GRAMMAR VERTICES INDICES PARTS VERTICES3 INDICES3 PARTS3
+ * (the counts of seed 0, then of seed 7 with storeys = 3). */
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "shapegram.h"
+
+static int failures = 0;
+
+#define CHECK(condition)                                                     \
+    do {                                                                     \
+        if (!(condition)) {                                                  \
+            fprintf(stderr, "%s:%d: failed: %s\n", __FILE__, __LINE__,       \
+                    #condition);                                             \
+            failures++;                                                      \
+        }                                                                    \
+    } while (0)
+
+/* Derives and checks the counts, and that every index is a vertex and every part lies
+ * inside the buffers. */
+static void derive_and_check(sg_state *state, size_t vertices, size_t indices,
+                             size_t parts) {
+    CHECK(sg_state_derive(state) == SG_OK);
+    CHECK(strcmp(sg_state_last_error(state), "") == 0);
+    sg_mesh mesh;
+    CHECK(sg_state_mesh(state, &mesh) == SG_OK);
+    printf("derived: %zu vertices, %zu indices, %zu parts\n", mesh.vertex_count,
+           mesh.index_count, mesh.part_count);
+    CHECK(mesh.vertex_count == vertices);
+    CHECK(mesh.index_count == indices);
+    CHECK(mesh.part_count == parts);
+    CHECK(mesh.index_count % 3 == 0);
+    for (size_t i = 0; i < mesh.index_count; i++) {
+        if (mesh.indices[i] >= mesh.vertex_count) {
+            CHECK(mesh.indices[i] < mesh.vertex_count);
+            break;
+        }
+    }
+    size_t covered = 0;
+    for (size_t p = 0; p < mesh.part_count; p++) {
+        const sg_part *part = &mesh.parts[p];
+        CHECK(part->first_vertex + part->vertex_count <= mesh.vertex_count);
+        CHECK(part->first_index == covered);
+        CHECK(part->color[3] > 0.0f && part->color[3] <= 1.0f);
+        covered += part->index_count;
+    }
+    CHECK(covered == mesh.index_count);
+    /* Normals are unit vectors. */
+    for (size_t v = 0; v < mesh.vertex_count; v++) {
+        const float *n = &mesh.normals[3 * v];
+        float length = n[0] * n[0] + n[1] * n[1] + n[2] * n[2];
+        if (length < 0.99f || length > 1.01f) {
+            CHECK(length >= 0.99f && length <= 1.01f);
+            break;
+        }
+    }
+}
+
+int main(int argc, char **argv) {
+    if (argc != 8) {
+        fprintf(stderr, "usage: house GRAMMAR V I P V3 I3 P3\n");
+        return 2;
+    }
+    size_t counts[6];
+    for (int i = 0; i < 6; i++) counts[i] = strtoull(argv[2 + i], NULL, 10);
+
+    sg_state *state = sg_state_new();
+    CHECK(state != NULL);
+
+    /* Nothing loaded yet. */
+    CHECK(sg_state_derive(state) == SG_NO_GRAMMAR);
+    CHECK(strcmp(sg_state_last_error(state), "no grammar is loaded") == 0);
+
+    CHECK(sg_state_load_file(state, argv[1], SG_KIND_AUTO) == SG_OK);
+    derive_and_check(state, counts[0], counts[1], counts[2]);
+
+    /* Another seed and another attribute value. */
+    CHECK(sg_state_set_seed(state, 7) == SG_OK);
+    CHECK(sg_state_set_number(state, "storeys", 3) == SG_OK);
+    derive_and_check(state, counts[3], counts[4], counts[5]);
+
+    /* Attributes of the wrong type or name. */
+    CHECK(sg_state_set_string(state, "storeys", "three") == SG_ATTRIBUTE_TYPE);
+    CHECK(strcmp(sg_state_last_error(state),
+                 "the attribute `storeys` is a number, not a string") == 0);
+    CHECK(sg_state_set_bool(state, "wallColor", true) == SG_ATTRIBUTE_TYPE);
+    CHECK(sg_state_set_string(state, "wallColor", "#ffffff") == SG_OK);
+    CHECK(sg_state_set_number(state, "storys", 2) == SG_UNKNOWN_ATTRIBUTE);
+    CHECK(strstr(sg_state_last_error(state), "did you mean `storeys`?") != NULL);
+
+    /* Null pointers and bad UTF-8. */
+    sg_mesh mesh;
+    CHECK(sg_state_derive(NULL) == SG_NULL_ARGUMENT);
+    CHECK(strcmp(sg_state_last_error(NULL), "the handle is NULL") == 0);
+    CHECK(sg_state_mesh(state, NULL) == SG_NULL_ARGUMENT);
+    CHECK(sg_state_load_text(state, NULL, SG_KIND_CGA, NULL) == SG_NULL_ARGUMENT);
+    CHECK(strcmp(sg_state_last_error(state), "the grammar text is NULL") == 0);
+    CHECK(sg_state_set_number(state, NULL, 1) == SG_NULL_ARGUMENT);
+    CHECK(sg_state_add_lot(state, NULL, 4) == SG_NULL_ARGUMENT);
+    CHECK(sg_state_load_text(state, "Lot --> \xff\xfe", SG_KIND_CGA, NULL) ==
+          SG_INVALID_UTF8);
+    CHECK(strcmp(sg_state_last_error(state),
+                 "the grammar text is not UTF-8 (invalid byte at offset 8)") == 0);
+    CHECK(sg_state_load_text(state, "Lot --> X", 99, NULL) == SG_INVALID_ARGUMENT);
+    CHECK(sg_state_load_file(state, "/nonexistent/house.cga", SG_KIND_AUTO) == SG_IO);
+
+    /* A grammar with an error: the message has its place; the old grammar stays. */
+    CHECK(sg_state_load_text(state, "Lot -->\n  extrude(3) Mass\nMass --> color(\"#fff\" Wall\n",
+                             SG_KIND_AUTO, "broken.cga") == SG_GRAMMAR_ERROR);
+    const char *message = sg_state_last_error(state);
+    printf("grammar error: %s\n", message);
+    CHECK(strstr(message, "broken.cga:3:") != NULL);
+    CHECK(sg_state_derive(state) == SG_OK);
+
+    /* Lots: too few corners, then a 10 x 10 lot instead of the default. */
+    const float square[] = {0, 0, 0, 10, 0, 0, 10, 0, 10, 0, 0, 10};
+    CHECK(sg_state_add_lot(state, square, 2) == SG_INVALID_ARGUMENT);
+    CHECK(sg_state_add_lot(state, square, 4) == SG_OK);
+    CHECK(sg_state_derive(state) == SG_OK);
+    CHECK(sg_state_mesh(state, &mesh) == SG_OK);
+    CHECK(mesh.vertex_count > 0);
+    for (size_t v = 0; v < mesh.vertex_count; v++) {
+        const float *p = &mesh.positions[3 * v];
+        /* The roof overhangs the lot; the default 20 x 30 lot would reach z = 30. */
+        if (p[0] < -3.0f || p[0] > 13.0f || p[2] < -3.0f || p[2] > 13.0f) {
+            CHECK(!"a vertex far outside the 10 x 10 lot");
+            break;
+        }
+    }
+
+    /* A derivation that fails is an error with a message, and leaves no buffers. */
+    CHECK(sg_state_load_text(state, "attr n = 1\nLot --> X\nX --> X\n", SG_KIND_CGA,
+                             "endless.cga") == SG_OK);
+    CHECK(sg_state_derive(state) == SG_DERIVE_ERROR);
+    printf("derive error: %s\n", sg_state_last_error(state));
+    CHECK(sg_state_mesh(state, &mesh) == SG_OK);
+    CHECK(mesh.vertex_count == 0 && mesh.part_count == 0);
+
+    uint64_t applications = 1;
+    CHECK(sg_state_progress(state, &applications) == SG_OK);
+    CHECK(sg_state_progress(state, NULL) == SG_NULL_ARGUMENT);
+    CHECK(sg_state_cancel(NULL) == SG_NULL_ARGUMENT);
+
+    CHECK(sg_state_free(state) == SG_OK);
+    CHECK(sg_state_free(NULL) == SG_OK);
+    if (failures) {
+        fprintf(stderr, "%d checks failed\n", failures);
+        return 1;
+    }
+    printf("all checks passed\n");
+    return 0;
+}
