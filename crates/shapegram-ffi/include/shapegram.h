@@ -221,15 +221,17 @@ sg_status sg_state_free(sg_state *state);
  * extension. Replaces the loaded grammar (and drops the attributes set for it and the last
  * buffers); seed, lots and generations stay. Grammar errors return `SG_GRAMMAR_ERROR` with
  * every error (`name:line:column`) in `sg_state_last_error`, and keep the old grammar.
- * Imports (`import`) are not read through the ABI yet.
+ * `name` is also where the grammar is: its imports and the files it inserts (`i("…")`) are
+ * found beside it (relative to the current folder), in its CityEngine project and workspace,
+ * as `shapegram derive` finds them.
  */
 sg_status sg_state_load_text(sg_state *state, const char *text_, uint32_t kind_, const char *name);
 
 /**
  * Loads a grammar from the file at `path` (NUL-terminated UTF-8), as `sg_state_load_text`
  * does with the path as its name (a byte-order mark is skipped). Reading errors return
- * `SG_IO`; a file that is not UTF-8, `SG_INVALID_UTF8`. Assets (`i("…")`) are not loaded
- * through the ABI yet.
+ * `SG_IO`; a file that is not UTF-8, `SG_INVALID_UTF8`. Imports and inserted files are found
+ * beside it (each read once per loaded grammar, and kept for later derivations).
  */
 sg_status sg_state_load_file(sg_state *state, const char *path, uint32_t kind_);
 

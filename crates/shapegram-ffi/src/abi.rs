@@ -280,7 +280,9 @@ pub extern "C" fn sg_state_free(state: *mut sg_state) -> sg_status {
 /// extension. Replaces the loaded grammar (and drops the attributes set for it and the last
 /// buffers); seed, lots and generations stay. Grammar errors return `SG_GRAMMAR_ERROR` with
 /// every error (`name:line:column`) in `sg_state_last_error`, and keep the old grammar.
-/// Imports (`import`) are not read through the ABI yet.
+/// `name` is also where the grammar is: its imports and the files it inserts (`i("…")`) are
+/// found beside it (relative to the current folder), in its CityEngine project and workspace,
+/// as `shapegram derive` finds them.
 #[unsafe(no_mangle)]
 pub extern "C" fn sg_state_load_text(
     state: *mut sg_state,
@@ -303,8 +305,8 @@ pub extern "C" fn sg_state_load_text(
 
 /// Loads a grammar from the file at `path` (NUL-terminated UTF-8), as `sg_state_load_text`
 /// does with the path as its name (a byte-order mark is skipped). Reading errors return
-/// `SG_IO`; a file that is not UTF-8, `SG_INVALID_UTF8`. Assets (`i("…")`) are not loaded
-/// through the ABI yet.
+/// `SG_IO`; a file that is not UTF-8, `SG_INVALID_UTF8`. Imports and inserted files are found
+/// beside it (each read once per loaded grammar, and kept for later derivations).
 #[unsafe(no_mangle)]
 pub extern "C" fn sg_state_load_file(
     state: *mut sg_state,

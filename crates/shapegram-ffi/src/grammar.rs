@@ -1,11 +1,13 @@
 //! A grammar of any kind the engine runs, loaded from text, and one derivation of it: the same
 //! engine calls as the `shapegram` command's `derive`, `lsystem`, `cave` and `topo`.
 
+use std::path::Path;
 use std::sync::Arc;
 
 use shapegram_eval::{DeriveControl, DeriveOptions, InitialShape, Program, Value};
 use shapegram_geom::{Color, DVec2, Model};
-use shapegram_syntax::{Dialect, SourceFile, ast};
+use shapegram_load::{FileAssets, MissingAssets};
+use shapegram_syntax::{Diagnostic, Dialect, SourceFile, ast};
 
 use crate::status::Error;
 
@@ -89,8 +91,10 @@ pub enum Grammar {
     Shape {
         /// The program.
         program: Program,
-        /// The source, what derivation errors point into.
-        source: SourceFile,
+        /// The grammar's file and the files it imports, what derivation errors point into.
+        sources: Vec<SourceFile>,
+        /// Where `i("file")` finds files: beside the grammar; kept, so each is read once.
+        assets: Arc<FileAssets>,
         /// Each attribute with the type its default shows.
         attrs: Vec<(String, Option<AttrType>)>,
         /// Whether it is a goal grammar (which starts from its axioms, not from a lot).
@@ -159,52 +163,63 @@ impl Grammar {
         }
     }
 
+    /// A CGA-style grammar with the files it imports (as `shapegram derive` reads them), or a
+    /// goal grammar on its own.
     fn load_shape(source: SourceFile, dialect: Option<Dialect>) -> Result<Grammar, Error> {
         let dialect = dialect.unwrap_or_else(|| shapegram_syntax::detect(source.text()));
-        let parsed = shapegram_syntax::parse_as(&source, dialect);
         let goal = matches!(dialect, Dialect::Goal | Dialect::Michelangelo);
-        let mut diagnostics = parsed.diagnostics;
-        let program = if diagnostics.iter().any(|d| d.is_error()) {
-            None
-        } else if !parsed.grammar.imports.is_empty() {
-            return Err(Error::grammar(format!(
-                "{}: imports are not read through the C ABI yet: derive the grammar with `shapegram derive`",
-                source.name()
-            )));
-        } else if goal {
-            let name = std::path::Path::new(source.name()).file_stem().map_or_else(
-                || source.name().to_owned(),
-                |s| s.to_string_lossy().into_owned(),
-            );
-            let options = shapegram_eval::LibraryOptions::closed(1);
-            let (program, more) =
-                Program::compile_library_with(&[(name.as_str(), &parsed.grammar)], &options);
-            diagnostics.extend(more.into_iter().map(|(_, d)| d));
-            program
+        let (grammar, program, diagnostics, sources) = if goal {
+            let parsed = shapegram_syntax::parse_as(&source, dialect);
+            let mut diagnostics: Vec<(usize, Diagnostic)> =
+                parsed.diagnostics.into_iter().map(|d| (0, d)).collect();
+            let program = if diagnostics.iter().any(|(_, d)| d.is_error()) {
+                None
+            } else {
+                let name = Path::new(source.name()).file_stem().map_or_else(
+                    || source.name().to_owned(),
+                    |s| s.to_string_lossy().into_owned(),
+                );
+                let options = shapegram_eval::LibraryOptions::closed(1);
+                let (program, more) =
+                    Program::compile_library_with(&[(name.as_str(), &parsed.grammar)], &options);
+                diagnostics.extend(more);
+                program
+            };
+            (parsed.grammar, program, diagnostics, vec![source])
         } else {
-            let (program, more) = Program::compile(&parsed.grammar);
-            diagnostics.extend(more);
-            program
+            let compiled = shapegram_load::compile(&source, Some(dialect));
+            (
+                compiled.grammar,
+                compiled.program,
+                compiled.diagnostics,
+                compiled.sources,
+            )
         };
         let errors: Vec<String> = diagnostics
             .iter()
-            .filter(|d| d.is_error())
-            .map(|d| source.render(d))
+            .filter(|(_, d)| d.is_error())
+            .map(|(file, d)| sources[*file].render(d))
             .collect();
         match program {
-            Some(program) if errors.is_empty() => Ok(Grammar::Shape {
-                program,
-                attrs: parsed
-                    .grammar
-                    .attrs
-                    .iter()
-                    .map(|a| (a.name.name.clone(), AttrType::of_default(&a.value)))
-                    .collect(),
-                source,
-                goal,
-            }),
+            Some(program) if errors.is_empty() => {
+                let folder = Path::new(sources[0].name())
+                    .parent()
+                    .unwrap_or(Path::new(""))
+                    .to_path_buf();
+                Ok(Grammar::Shape {
+                    program,
+                    attrs: grammar
+                        .attrs
+                        .iter()
+                        .map(|a| (a.name.name.clone(), AttrType::of_default(&a.value)))
+                        .collect(),
+                    assets: Arc::new(FileAssets::new(folder, MissingAssets::Error)),
+                    sources,
+                    goal,
+                })
+            }
             _ => Err(Error::grammar(if errors.is_empty() {
-                format!("{}: the grammar does not compile", source.name())
+                format!("{}: the grammar does not compile", sources[0].name())
             } else {
                 errors.join("\n")
             })),
@@ -244,7 +259,8 @@ impl Grammar {
         let model = match self {
             Grammar::Shape {
                 program,
-                source,
+                sources,
+                assets,
                 goal,
                 ..
             } => {
@@ -259,12 +275,14 @@ impl Grammar {
                     attrs: settings.attrs.clone(),
                     generations: settings.generations,
                     control: Some(Arc::clone(&settings.control)),
+                    assets: Some(Arc::clone(assets) as Arc<dyn shapegram_eval::AssetLoader>),
                     ..DeriveOptions::default()
                 };
                 let derivation = shapegram_eval::derive(program, &lots, &options).map_err(|e| {
                     if settings.control.is_cancelled() {
                         return Error::cancelled();
                     }
+                    let source = e.file.and_then(|i| sources.get(i)).unwrap_or(&sources[0]);
                     match e.to_diagnostic() {
                         Some(d) => Error::derive(source.render(&d)),
                         None => Error::derive(format!("{}: {}", source.name(), e.message)),

@@ -386,6 +386,16 @@ pub enum MissingAssets {
     Skip,
 }
 
+impl From<MissingAssets> for shapegram_load::MissingAssets {
+    fn from(missing: MissingAssets) -> Self {
+        match missing {
+            MissingAssets::Error => Self::Error,
+            MissingAssets::Cube => Self::Cube,
+            MissingAssets::Skip => Self::Skip,
+        }
+    }
+}
+
 /// Arguments of `shapegram check`.
 #[derive(Debug, Args)]
 pub struct CheckArgs {

@@ -42,39 +42,18 @@ pub fn error_summary(errors: usize, file: &str) -> String {
     format!("{} in {file}", counted(errors.max(1), "error", "errors"))
 }
 
-/// Reads a grammar file, named by the path as given: UTF-8 text (a byte-order mark dropped),
-/// or else Windows-1252, which CityEngine writes on Windows (Latin-1 files read the same but
-/// for bytes 0x80–0x9F, which Latin-1 leaves to control characters). Reading it so prints a
-/// warning when `warn` is set.
+/// Reads a grammar file (see [`shapegram_load::read`]), printing its warning when `warn` is set.
 pub fn read(path: &Path, warn: bool) -> Result<SourceFile, Failure> {
-    let name = path.display().to_string();
-    let bytes =
-        std::fs::read(path).map_err(|e| Failure::new(format!("cannot read {name}: {e}")))?;
-    let text = match String::from_utf8(bytes) {
-        Ok(mut text) => {
-            if text.starts_with('\u{feff}') {
-                text.drain(..'\u{feff}'.len_utf8());
-            }
-            text
-        }
-        Err(e) => {
-            let at = e.utf8_error().valid_up_to();
-            if warn {
-                eprintln!(
-                    "warning: {name} is not UTF-8 (byte {at}): read as Windows-1252, as CityEngine writes rule files on Windows"
-                );
-            }
-            let (text, _) = encoding_rs::WINDOWS_1252.decode_without_bom_handling(e.as_bytes());
-            text.into_owned()
-        }
-    };
-    Ok(SourceFile::new(name, text))
+    let read = shapegram_load::read(path).map_err(Failure::new)?;
+    if warn && let Some(warning) = &read.warning {
+        eprintln!("warning: {warning}");
+    }
+    Ok(read.source)
 }
 
-/// Parses and compiles a grammar in the given notation (`None`: detect it from the text) and
-/// prints its diagnostics on stderr: errors always, warnings when `print_warnings`. A grammar
-/// with parse errors is not compiled, so that declarations the parser had to skip do not show up
-/// again as unknown names.
+/// Parses and compiles a grammar in the given notation (`None`: detect it from the text) with
+/// its imports ([`shapegram_load::compile`]) and prints its diagnostics on stderr: errors always,
+/// warnings when `print_warnings`.
 pub fn compile(source: &SourceFile, print_warnings: bool, dialect: Option<Dialect>) -> Compiled {
     let (compiled, diagnostics) = compile_silently(source, print_warnings, dialect);
     let mut text = String::new();
@@ -95,157 +74,22 @@ pub fn compile_silently(
     warn: bool,
     dialect: Option<Dialect>,
 ) -> (Compiled, Vec<(usize, Diagnostic)>) {
-    let parsed = match dialect {
-        Some(dialect) => shapegram_syntax::parse_as(source, dialect),
-        None => shapegram_syntax::parse(source),
-    };
-    let mut diagnostics: Vec<(usize, Diagnostic)> =
-        parsed.diagnostics.into_iter().map(|d| (0, d)).collect();
-    let mut sources = vec![source.clone()];
-    let program = if diagnostics.iter().any(|(_, d)| d.is_error()) {
-        None
-    } else if parsed.grammar.imports.is_empty() {
-        let (program, more) = Program::compile(&parsed.grammar);
-        diagnostics.extend(more.into_iter().map(|d| (0, d)));
-        program
-    } else {
-        let imported = load_imports(source, &parsed.grammar, warn);
-        diagnostics.extend(imported.diagnostics);
-        sources.extend(imported.sources);
-        if diagnostics.iter().any(|(_, d)| d.is_error()) {
-            None
-        } else {
-            let files: Vec<&ast::Grammar> = std::iter::once(&parsed.grammar)
-                .chain(&imported.grammars)
-                .collect();
-            let graph = shapegram_eval::ImportGraph {
-                files: &files,
-                links: &imported.links,
-            };
-            let (program, more) = Program::compile_imports(graph);
-            diagnostics.extend(more);
-            program
+    let compiled = shapegram_load::compile(source, dialect);
+    if warn {
+        for warning in &compiled.read_warnings {
+            eprintln!("warning: {warning}");
         }
-    };
-    let errors = diagnostics.iter().filter(|(_, d)| d.is_error()).count();
+    }
+    let errors = compiled.errors();
+    let diagnostics = compiled.diagnostics;
     let compiled = Compiled {
-        grammar: parsed.grammar,
-        program,
+        grammar: compiled.grammar,
+        program: compiled.program,
         errors,
         warnings: diagnostics.len() - errors,
-        sources,
+        sources: compiled.sources,
     };
     (compiled, diagnostics)
-}
-
-/// The files a grammar imports, read and parsed, each once.
-struct Imported {
-    /// The imported files, in the order they were found (file `i + 1` of the import graph).
-    sources: Vec<SourceFile>,
-    grammars: Vec<ast::Grammar>,
-    /// For the grammar and each imported file, the file each of its imports names.
-    links: Vec<Vec<usize>>,
-    /// Diagnostics with their file (0: the grammar).
-    diagnostics: Vec<(usize, Diagnostic)>,
-}
-
-/// Reads every file `grammar` imports, directly or through others, in CGA. An import names a
-/// path relative to the importing file's folder, or to one of the folders above it (the
-/// project, where `rules/` and `assets/` are, or the workspace for `/Project/…` paths): the
-/// nearest that has the file wins. A file that cannot be found or read is an error at the
-/// import that names it.
-fn load_imports(source: &SourceFile, grammar: &ast::Grammar, warn: bool) -> Imported {
-    let mut imported = Imported {
-        sources: Vec::new(),
-        grammars: Vec::new(),
-        links: Vec::new(),
-        diagnostics: Vec::new(),
-    };
-    let mut index: std::collections::HashMap<std::path::PathBuf, usize> =
-        std::collections::HashMap::new();
-    if let Ok(path) = std::fs::canonicalize(source.name()) {
-        index.insert(path, 0);
-    }
-    // Files whose imports are still to be followed: (file index, its path).
-    let mut pending = vec![(0usize, Path::new(source.name()).to_path_buf())];
-    while let Some((file, path)) = pending.pop() {
-        let imports = if file == 0 {
-            grammar.imports.clone()
-        } else {
-            imported.grammars[file - 1].imports.clone()
-        };
-        let mut links = Vec::new();
-        let mut found = Vec::new();
-        for import in &imports {
-            let Some(target) = import_path(&path, &import.path.value) else {
-                imported.diagnostics.push((
-                    file,
-                    Diagnostic::error(
-                        format!("cannot find the imported file \"{}\"", import.path.value),
-                        import.path.span,
-                    )
-                    .with_hint("a path is looked for next to the importing file, then in each folder above it (the project, the workspace)"),
-                ));
-                links.push(usize::MAX);
-                continue;
-            };
-            let key = std::fs::canonicalize(&target).unwrap_or_else(|_| target.clone());
-            if let Some(&known) = index.get(&key) {
-                links.push(known);
-                continue;
-            }
-            let text = match read(&target, warn) {
-                Ok(text) => text,
-                Err(failure) => {
-                    imported.diagnostics.push((
-                        file,
-                        Diagnostic::error(
-                            failure
-                                .message
-                                .unwrap_or_else(|| "cannot read the file".to_owned()),
-                            import.path.span,
-                        ),
-                    ));
-                    links.push(usize::MAX);
-                    continue;
-                }
-            };
-            let parsed = shapegram_syntax::parse_as(&text, Dialect::Cga);
-            let id = imported.sources.len() + 1;
-            imported
-                .diagnostics
-                .extend(parsed.diagnostics.into_iter().map(|d| (id, d)));
-            imported.sources.push(text);
-            imported.grammars.push(parsed.grammar);
-            index.insert(key, id);
-            links.push(id);
-            found.push((id, target));
-        }
-        if imported.links.len() <= file {
-            imported.links.resize(file + 1, Vec::new());
-        }
-        imported.links[file] = links;
-        pending.extend(found);
-    }
-    let files = imported.sources.len() + 1;
-    imported.links.resize(files, Vec::new());
-    imported
-}
-
-/// Where an import's file is: next to the importing file, else in the nearest folder above it
-/// that has it. A path starting with `/` names a file of the workspace (`/ESRI.lib/rules/a.cga`):
-/// it is looked for in each folder above, and in its `.ws` folder, where rule packages keep the
-/// workspace files they bring.
-fn import_path(from: &Path, path: &str) -> Option<std::path::PathBuf> {
-    let relative = path.trim_start_matches('/');
-    let workspace = path.starts_with('/');
-    from.parent()?
-        .ancestors()
-        .flat_map(|folder| {
-            let packaged = workspace.then(|| folder.join(".ws").join(relative));
-            std::iter::once(folder.join(relative)).chain(packaged)
-        })
-        .find(|candidate| candidate.is_file())
 }
 
 /// A goal grammar and its library, compiled into one program.

@@ -15,7 +15,6 @@ mod primitive;
 mod progress;
 mod repo;
 mod resolve;
-mod search;
 mod serve;
 mod studio;
 mod topo;

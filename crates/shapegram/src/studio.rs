@@ -13,8 +13,7 @@ use shapegram_export::ExportOptions;
 use shapegram_server::studio::{DeriveJob, Derived, Engine, StudioDiagnostic, StudioOptions};
 use shapegram_syntax::{Diagnostic, Severity, SourceFile};
 
-use crate::cli::MissingAssets;
-use crate::derive::{FileAssets, millis};
+use crate::derive::millis;
 use crate::{Failure, grammar, lots};
 
 /// Arguments of `shapegram studio`.
@@ -107,7 +106,10 @@ fn derive_grammar(path: &Path, text: &str, time_budget: Duration) -> Derived {
     let folder = path.parent().unwrap_or(Path::new("")).to_path_buf();
     let options = DeriveOptions {
         time_budget: Some(time_budget),
-        assets: Some(Arc::new(FileAssets::new(folder, MissingAssets::Error))),
+        assets: Some(Arc::new(shapegram_load::FileAssets::new(
+            folder,
+            shapegram_load::MissingAssets::Error,
+        ))),
         ..DeriveOptions::default()
     };
     let derivation = match shapegram_eval::derive(&program, &[lots::default_lot()], &options) {

@@ -1,0 +1,309 @@
+//! Where a grammar's `i("file")`, `implicit("file")`, tables and file searches find their
+//! files: beside the grammar, in its CityEngine project, in the workspace.
+
+use std::collections::HashMap;
+use std::path::{Path, PathBuf};
+use std::sync::{Arc, Mutex, PoisonError};
+
+use shapegram_eval::{ASSET_VARIANTS, Asset, AssetLoader};
+use shapegram_geom::{DVec3, Mesh};
+use shapegram_implicit::Solid;
+
+/// What to insert in place of an asset file that cannot be read.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum MissingAssets {
+    /// Stop the derivation with an error naming the file and the grammar line.
+    #[default]
+    Error,
+    /// Insert a cube filling the scope, so the model keeps its massing.
+    Cube,
+    /// Insert nothing.
+    Skip,
+}
+
+/// Assets for `i("path")`: files relative to the grammar's folder (absolute paths as they are),
+/// read once each with `shapegram_export::load`, all parts merged into one mesh; L-system files
+/// are grown once per variant. Files that cannot be read are an error, or stand-ins as
+/// `--missing-assets` says.
+pub struct FileAssets {
+    folder: PathBuf,
+    /// The CityEngine project the grammar is in: the nearest folder at or above the grammar's
+    /// that has an `assets` folder.
+    project: Option<PathBuf>,
+    /// Where each path asked for was found.
+    found: Mutex<HashMap<String, PathBuf>>,
+    missing: MissingAssets,
+    cache: Mutex<HashMap<PathBuf, Arc<Mesh>>>,
+    plants: Mutex<HashMap<(PathBuf, u32), Arc<Mesh>>>,
+    solids: Mutex<HashMap<PathBuf, Solid>>,
+    texts: Mutex<HashMap<PathBuf, Arc<str>>>,
+    searches: Mutex<HashMap<String, Vec<Arc<str>>>>,
+}
+
+impl FileAssets {
+    /// Assets for a grammar in `folder` (the current folder when empty); `missing` says what
+    /// stands in for a file that cannot be read.
+    pub fn new(folder: PathBuf, missing: MissingAssets) -> Self {
+        // Workspace paths (`/Project/…`) need to know the folder above the project.
+        let folder = if folder.as_os_str().is_empty() {
+            PathBuf::from(".")
+        } else {
+            folder
+        };
+        let folder = std::fs::canonicalize(&folder).unwrap_or(folder);
+        let project = folder
+            .ancestors()
+            .find(|a| a.join("assets").is_dir())
+            .map(Path::to_path_buf);
+        Self {
+            folder,
+            project,
+            found: Mutex::new(HashMap::new()),
+            missing,
+            cache: Mutex::new(HashMap::new()),
+            plants: Mutex::new(HashMap::new()),
+            solids: Mutex::new(HashMap::new()),
+            texts: Mutex::new(HashMap::new()),
+            searches: Mutex::new(HashMap::new()),
+        }
+    }
+
+    /// Where `path` is, searched as CityEngine does: next to the grammar, then in the project's
+    /// `assets` folder, then in the project; a path starting with `/` is in the workspace (the
+    /// folder holding the project). The first place that has the file, or else the first place.
+    /// Each path is looked for once: every insert asks.
+    fn find(&self, path: &str) -> PathBuf {
+        let mut found = self.found.lock().unwrap_or_else(PoisonError::into_inner);
+        if let Some(place) = found.get(path) {
+            return place.clone();
+        }
+        let place = self.search(path);
+        found.insert(path.to_owned(), place.clone());
+        place
+    }
+
+    /// The search behind [`FileAssets::find`].
+    fn search(&self, path: &str) -> PathBuf {
+        let mut places = Vec::new();
+        match path.strip_prefix('/') {
+            Some(in_workspace) => {
+                // Without a project, the grammar's folder stands for it (as `fileSearch` takes it).
+                let project = self.project.as_deref().unwrap_or(&self.folder);
+                if let Some(workspace) = project.parent() {
+                    places.push(workspace.join(in_workspace));
+                }
+                places.push(self.folder.join(in_workspace));
+            }
+            None => {
+                places.push(self.folder.join(path));
+                if let Some(project) = &self.project {
+                    places.push(project.join("assets").join(path));
+                    places.push(project.join(path));
+                }
+            }
+        }
+        places
+            .iter()
+            .find(|p| p.is_file())
+            .unwrap_or(&places[0])
+            .clone()
+    }
+
+    /// What stands in for a file that cannot be read, if anything does.
+    fn stand_in(&self) -> Option<Mesh> {
+        match self.missing {
+            MissingAssets::Error => None,
+            MissingAssets::Cube => Some(shapegram_geom::primitives::cuboid(DVec3::ONE)),
+            MissingAssets::Skip => Some(Mesh::new()),
+        }
+    }
+
+    /// The mesh loaded, or the stand-in for a file that cannot be read (reported once per
+    /// file, since callers cache what they get).
+    fn or_stand_in(&self, loaded: Result<Mesh, String>) -> Result<Arc<Mesh>, String> {
+        let mesh = match loaded {
+            Ok(mesh) => mesh,
+            Err(e) => {
+                let Some(stand_in) = self.stand_in() else {
+                    return Err(e);
+                };
+                eprintln!(
+                    "warning: {e}: inserting {}",
+                    match self.missing {
+                        MissingAssets::Cube => "a cube instead",
+                        _ => "nothing",
+                    }
+                );
+                stand_in
+            }
+        };
+        Ok(Arc::new(mesh))
+    }
+}
+
+impl AssetLoader for FileAssets {
+    /// Files under the project (the grammar's folder when it is in none); each query is
+    /// answered once.
+    fn search(&self, query: &str) -> Result<Vec<Arc<str>>, String> {
+        let mut searches = self.searches.lock().unwrap_or_else(PoisonError::into_inner);
+        if let Some(found) = searches.get(query) {
+            return Ok(found.clone());
+        }
+        let root = self.project.as_deref().unwrap_or(&self.folder);
+        let found: Vec<Arc<str>> = crate::search::search(root, query)?
+            .into_iter()
+            .map(Arc::from)
+            .collect();
+        searches.insert(query.to_owned(), found.clone());
+        Ok(found)
+    }
+
+    /// Text files (tables) as UTF-8 or, with a byte-order mark, UTF-16; read once each. A
+    /// file that cannot be read is an error, or, as `--missing-assets` allows stand-ins, an
+    /// empty table (as CityEngine goes on without it).
+    fn text(&self, path: &str) -> Result<Arc<str>, String> {
+        let full = self.find(path);
+        let mut texts = self.texts.lock().unwrap_or_else(PoisonError::into_inner);
+        if let Some(text) = texts.get(&full) {
+            return Ok(Arc::clone(text));
+        }
+        let read = std::fs::read(&full)
+            .map_err(|e| format!("cannot read {}: {e}", full.display()))
+            .and_then(|bytes| {
+                let (text, _, malformed) = encoding_rs::Encoding::for_bom(&bytes)
+                    .map_or(encoding_rs::UTF_8, |(encoding, _)| encoding)
+                    .decode(&bytes);
+                if malformed {
+                    return Err(format!("{} is not UTF-8 or UTF-16 text", full.display()));
+                }
+                Ok(Arc::from(text.as_ref()))
+            });
+        let text = match read {
+            Ok(text) => text,
+            Err(e) if self.missing == MissingAssets::Error => return Err(e),
+            Err(e) => {
+                eprintln!("warning: {e}: reading an empty table instead");
+                Arc::from("")
+            }
+        };
+        texts.insert(full, Arc::clone(&text));
+        Ok(text)
+    }
+
+    fn load(&self, path: &str) -> Result<Arc<Mesh>, String> {
+        let full = self.find(path);
+        // Loading under the lock means each file is read once even when lots derived in
+        // parallel ask for it together.
+        let mut cache = self.cache.lock().unwrap_or_else(PoisonError::into_inner);
+        if let Some(mesh) = cache.get(&full) {
+            return Ok(Arc::clone(mesh));
+        }
+        let loaded = match full.extension().and_then(|e| e.to_str()) {
+            Some("lsys") => plant(&full, 0).map(|(mesh, _)| mesh),
+            Some("cave") => carve(&full),
+            _ => shapegram_export::load(&full)
+                .map(|model| model.merged_mesh())
+                .map_err(|e| e.to_string()),
+        };
+        let mesh = self.or_stand_in(loaded)?;
+        cache.insert(full, Arc::clone(&mesh));
+        Ok(mesh)
+    }
+
+    /// L-systems keep their proportions, and stochastic ones grow one tree per variant.
+    fn asset(&self, path: &str, variant: u32) -> Result<Asset, String> {
+        let full = self.find(path);
+        if full.extension().and_then(|e| e.to_str()) != Some("lsys") {
+            return Ok(Asset {
+                mesh: self.load(path)?,
+                proportional: false,
+            });
+        }
+        let mut plants = self.plants.lock().unwrap_or_else(PoisonError::into_inner);
+        let key = (full, variant);
+        let mesh = match plants.get(&key) {
+            Some(mesh) => Arc::clone(mesh),
+            None => {
+                let grown = plant(&key.0, variant);
+                // A system without random choices grows the same tree for every variant.
+                let variants = match &grown {
+                    Ok((_, true)) => variant..variant + 1,
+                    _ => 0..ASSET_VARIANTS,
+                };
+                let mesh = self.or_stand_in(grown.map(|(mesh, _)| mesh))?;
+                for v in variants {
+                    plants.insert((key.0.clone(), v), Arc::clone(&mesh));
+                }
+                mesh
+            }
+        };
+        Ok(Asset {
+            mesh,
+            proportional: true,
+        })
+    }
+
+    /// `implicit("grotto.cave")`: the grammar's solid, run once per file. Files that cannot be
+    /// read are always an error (`--missing-assets` is about `i()`).
+    fn solid(&self, path: &str) -> Result<Solid, String> {
+        let full = self.find(path);
+        let mut solids = self.solids.lock().unwrap_or_else(PoisonError::into_inner);
+        if let Some(solid) = solids.get(&full) {
+            return Ok(solid.clone());
+        }
+        if full.extension().and_then(|e| e.to_str()) != Some("cave") {
+            return Err("only implicit grammars (.cave files) make implicit solids".to_owned());
+        }
+        let (solid, _) = cave_solid(&full)?;
+        solids.insert(full, solid.clone());
+        Ok(solid)
+    }
+}
+
+/// The geometry of an L-system file (`i("tree.lsys")`): derived with the settings of the file,
+/// interpreted by its homomorphism rules and drawn with the turtle, as one mesh. A stochastic
+/// system's variant `k` derives with the file's seed plus `k`, so variant 0 is the tree that
+/// `shapegram lsystem` draws; other systems ignore the variant. Also says whether the system is
+/// stochastic.
+fn plant(path: &Path, variant: u32) -> Result<(Mesh, bool), String> {
+    let (text, name) = read_text(path)?;
+    let system = shapegram_lsystem::LSystem::parse(&text).map_err(|e| e.render(&name, &text))?;
+    let options = shapegram_lsystem::DeriveOptions {
+        seed: system
+            .is_stochastic()
+            .then(|| system.settings.seed.wrapping_add(u64::from(variant))),
+        ..shapegram_lsystem::DeriveOptions::default()
+    };
+    let model = shapegram_lsystem::model(&system, &options).map_err(|e| e.render(&name, &text))?;
+    Ok((model.merged_mesh(), system.is_stochastic()))
+}
+
+/// The geometry of an implicit grammar (`i("grotto.cave")`): its productions run with the seed
+/// of the file and meshed at its level of detail, as one closed mesh that `i` stretches to the
+/// scope like any asset.
+fn carve(path: &Path) -> Result<Mesh, String> {
+    let (solid, lod) = cave_solid(path)?;
+    let options = shapegram_implicit::MeshOptions::with_cell_size(1.0 / f64::from(lod));
+    shapegram_implicit::mesh(&solid, &options)
+        .map(|meshing| meshing.mesh)
+        .map_err(|e| format!("{}: {e}", path.display()))
+}
+
+/// The solid an implicit grammar makes with the seed of its file, and its level of detail.
+fn cave_solid(path: &Path) -> Result<(Solid, u32), String> {
+    let (text, name) = read_text(path)?;
+    let located = |e: shapegram_implicit::TextError| format!("{name}:{e}");
+    let program = shapegram_implicit::text::parse(&text).map_err(located)?;
+    let run = program.run(None).map_err(located)?;
+    let lod = program
+        .lod
+        .unwrap_or(shapegram_implicit::CaveParams::default().lod);
+    Ok((run.builder.solid().clone(), lod))
+}
+
+/// A text file and its name for messages.
+fn read_text(path: &Path) -> Result<(String, String), String> {
+    let name = path.display().to_string();
+    let text = std::fs::read_to_string(path).map_err(|e| format!("cannot read {name}: {e}"))?;
+    Ok((text, name))
+}
