@@ -8,6 +8,8 @@ use crate::glb::Chunk;
 /// Where one part of the model is in [`Buffers`], and its colour.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct PartRange {
+    /// The part's index in [`Model::parts`] (parts without triangles have no range).
+    pub part: usize,
     /// The part's colour: sRGB with straight alpha, each channel in `0..=1`.
     pub color: [f32; 4],
     /// Its first vertex in [`Buffers::positions`] and [`Buffers::normals`].
@@ -44,13 +46,18 @@ impl Buffers {
         buffers
     }
 
-    /// Replaces the contents with the buffers of `model`, reusing the memory already held.
-    pub fn fill(&mut self, model: &Model) {
+    /// Empties the buffers, keeping their memory for the next [`Buffers::fill`].
+    pub fn clear(&mut self) {
         self.positions.clear();
         self.normals.clear();
         self.indices.clear();
         self.parts.clear();
-        for part in &model.parts {
+    }
+
+    /// Replaces the contents with the buffers of `model`, reusing the memory already held.
+    pub fn fill(&mut self, model: &Model) {
+        self.clear();
+        for (index, part) in model.parts.iter().enumerate() {
             let Some(chunk) = Chunk::of_part(part) else {
                 continue;
             };
@@ -61,6 +68,7 @@ impl Buffers {
             self.indices
                 .extend(chunk.indices().iter().map(|&i| first_vertex + i));
             self.parts.push(PartRange {
+                part: index,
                 color: part.color.to_array(),
                 first_vertex,
                 vertex_count: chunk.vertex_count() as u32,
@@ -98,6 +106,7 @@ mod tests {
         };
         let buffers = Buffers::of_model(&model);
         // Six quads of four corners each, two triangles each.
+        assert_eq!((buffers.parts[0].part, buffers.parts[1].part), (0, 1));
         assert_eq!(buffers.parts[0].vertex_count, 24);
         assert_eq!(buffers.parts[0].index_count, 36);
         assert_eq!(buffers.parts[1].first_vertex, 24);

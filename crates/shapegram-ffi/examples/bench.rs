@@ -1,12 +1,28 @@
 //! Per-call times of the C ABI from a warm handle (the grammar loaded, one derivation done):
 //! `sg_state_derive` + `sg_state_mesh` of `examples/house.cga` and of the topological house.
-//! Prints; asserts nothing. Run with
+//! Then the same split in two through the Rust API: deriving to a model, and the model's
+//! buffers. Prints; asserts nothing. Run with
 //! `cargo run --release -p shapegram-ffi --example bench` (one thread: `RAYON_NUM_THREADS=1`).
 
 use std::ffi::CString;
 use std::time::Instant;
 
+use shapegram_export::Buffers;
+use shapegram_ffi::grammar::{Grammar, Settings};
 use shapegram_ffi::*;
+
+/// The median of `runs` timings of `call`, in milliseconds.
+fn median_ms(runs: usize, mut call: impl FnMut()) -> f64 {
+    let mut times: Vec<f64> = (0..runs)
+        .map(|_| {
+            let started = Instant::now();
+            call();
+            started.elapsed().as_secs_f64() * 1e3
+        })
+        .collect();
+    times.sort_by(f64::total_cmp);
+    times[runs / 2]
+}
 
 fn main() {
     let examples = concat!(env!("CARGO_MANIFEST_DIR"), "/../../examples/");
@@ -52,5 +68,20 @@ fn main() {
             mesh.part_count
         );
         assert_eq!(sg_state_free(state), sg_status::SG_OK);
+
+        let text = std::fs::read_to_string(format!("{examples}{file}")).expect("the example");
+        let grammar = Grammar::load(file, &text, None).expect("the example loads");
+        let settings = Settings {
+            seed: 0,
+            attrs: Vec::new(),
+            lots: Vec::new(),
+            generations: None,
+            control: Default::default(),
+        };
+        let model = grammar.derive(&settings).expect("the example derives");
+        let derive = median_ms(runs, || drop(grammar.derive(&settings)));
+        let mut buffers = Buffers::default();
+        let mesh = median_ms(runs, || buffers.fill(&model));
+        println!("  of which: derive to a model {derive:.3} ms, buffers {mesh:.3} ms");
     }
 }

@@ -138,6 +138,11 @@ typedef struct sg_state sg_state;
  */
 typedef struct {
   /**
+   * The part's name (UTF-8, NUL-terminated): the rule or symbol that made it, or the
+   * colour's name for merged parts. Owned by the handle, valid as long as the buffers.
+   */
+  const char *name;
+  /**
    * sRGB colour with straight alpha, each channel in 0..1, in RGBA order.
    */
   float color[4];

@@ -40,8 +40,11 @@ pub const SG_KIND_TOPO: u32 = 7;
 /// buffers of [`sg_mesh`].
 #[allow(non_camel_case_types)]
 #[repr(C)]
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug)]
 pub struct sg_part {
+    /// The part's name (UTF-8, NUL-terminated): the rule or symbol that made it, or the
+    /// colour's name for merged parts. Owned by the handle, valid as long as the buffers.
+    pub name: *const c_char,
     /// sRGB colour with straight alpha, each channel in 0..1, in RGBA order.
     pub color: [f32; 4],
     /// The part's first vertex (in vertices, not floats).
@@ -100,6 +103,8 @@ struct Inner {
     settings: Settings,
     buffers: Buffers,
     parts: Vec<sg_part>,
+    /// The parts' names, which `parts` point into.
+    names: Vec<CString>,
     last_error: CString,
 }
 
@@ -243,6 +248,7 @@ pub extern "C" fn sg_state_new() -> *mut sg_state {
                 },
                 buffers: Buffers::default(),
                 parts: Vec::new(),
+                names: Vec::new(),
                 last_error: CString::default(),
             }),
         }))
@@ -447,17 +453,26 @@ pub extern "C" fn sg_state_clear_lots(state: *mut sg_state) -> sg_status {
 #[unsafe(no_mangle)]
 pub extern "C" fn sg_state_derive(state: *mut sg_state) -> sg_status {
     with_state(state, |inner| {
-        inner.buffers = Buffers::default();
+        // Cleared, not replaced: a warm handle fills the same memory again.
+        inner.buffers.clear();
         inner.parts.clear();
         let grammar = inner.grammar.as_ref().ok_or_else(no_grammar)?;
         inner.settings.control.reset();
         let model = grammar.derive(&inner.settings)?;
         inner.buffers.fill(&model);
+        inner.names = inner
+            .buffers
+            .parts
+            .iter()
+            .map(|p| CString::new(model.parts[p.part].name.replace('\0', "")).unwrap_or_default())
+            .collect();
         inner.parts = inner
             .buffers
             .parts
             .iter()
-            .map(|p| sg_part {
+            .zip(&inner.names)
+            .map(|(p, name)| sg_part {
+                name: name.as_ptr(),
                 color: p.color,
                 first_vertex: p.first_vertex,
                 vertex_count: p.vertex_count,

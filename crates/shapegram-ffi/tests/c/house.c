@@ -47,6 +47,7 @@ static void derive_and_check(sg_state *state, size_t vertices, size_t indices,
         CHECK(part->first_vertex + part->vertex_count <= mesh.vertex_count);
         CHECK(part->first_index == covered);
         CHECK(part->color[3] > 0.0f && part->color[3] <= 1.0f);
+        CHECK(part->name != NULL && part->name[0] != '\0');
         covered += part->index_count;
     }
     CHECK(covered == mesh.index_count);
