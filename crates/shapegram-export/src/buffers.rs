@@ -1,14 +1,16 @@
 //! A model as the flat arrays a game engine uploads: the triangles the GLB writer writes, with
 //! their normals, part after part.
 
-use shapegram_geom::Model;
+use shapegram_geom::{DVec3, Model};
 
+use crate::flat::unit;
 use crate::glb::Chunk;
 
 /// Where one part of the model is in [`Buffers`], and its colour.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct PartRange {
-    /// The part's index in [`Model::parts`] (parts without triangles have no range).
+    /// The part's index in the model it came from ([`Model::parts`]; parts without triangles
+    /// have no range).
     pub part: usize,
     /// The part's colour: sRGB with straight alpha, each channel in `0..=1`.
     pub color: [f32; 4],
@@ -77,6 +79,33 @@ impl Buffers {
             });
         }
     }
+
+    /// Appends a part already in triangles with a normal per corner (a topological grammar's
+    /// `GrammarMesh` part), as part `part` of its model; triangles index `positions`.
+    pub fn push_triangles(
+        &mut self,
+        part: usize,
+        color: [f32; 4],
+        positions: &[DVec3],
+        normals: &[DVec3],
+        triangles: &[[u32; 3]],
+    ) {
+        let first_vertex = self.positions.len() as u32;
+        let first_index = self.indices.len() as u32;
+        self.positions
+            .extend(positions.iter().map(|p| p.as_vec3().to_array()));
+        self.normals.extend(normals.iter().map(|&n| unit(n)));
+        self.indices
+            .extend(triangles.iter().flatten().map(|&i| first_vertex + i));
+        self.parts.push(PartRange {
+            part,
+            color,
+            first_vertex,
+            vertex_count: positions.len() as u32,
+            first_index,
+            index_count: 3 * triangles.len() as u32,
+        });
+    }
 }
 
 #[cfg(test)]
@@ -126,5 +155,12 @@ mod tests {
         let mut again = Buffers::of_model(&Model::default());
         again.fill(&model);
         assert_eq!(again, buffers);
+        // A triangle after them, already split: indices move past the vertices before it.
+        let corners = [DVec3::ZERO, DVec3::X, DVec3::Z];
+        again.push_triangles(2, [1.0; 4], &corners, &[DVec3::Y * 2.0; 3], &[[0, 2, 1]]);
+        let n = buffers.positions.len() as u32;
+        assert_eq!(again.indices[buffers.indices.len()..], [n, n + 2, n + 1]);
+        assert_eq!(again.normals[n as usize], [0.0, 1.0, 0.0]);
+        assert_eq!(again.parts[2].part, 2);
     }
 }

@@ -458,13 +458,13 @@ pub extern "C" fn sg_state_derive(state: *mut sg_state) -> sg_status {
         inner.parts.clear();
         let grammar = inner.grammar.as_ref().ok_or_else(no_grammar)?;
         inner.settings.control.reset();
-        let model = grammar.derive(&inner.settings)?;
-        inner.buffers.fill(&model);
+        let derived = grammar.derive(&inner.settings)?;
+        derived.fill(&mut inner.buffers);
         inner.names = inner
             .buffers
             .parts
             .iter()
-            .map(|p| CString::new(model.parts[p.part].name.replace('\0', "")).unwrap_or_default())
+            .map(|p| CString::new(derived.part_name(p.part).replace('\0', "")).unwrap_or_default())
             .collect();
         inner.parts = inner
             .buffers

@@ -5,6 +5,7 @@ use std::path::Path;
 use std::sync::Arc;
 
 use shapegram_eval::{DeriveControl, DeriveOptions, InitialShape, Program, Value};
+use shapegram_export::Buffers;
 use shapegram_geom::{Color, DVec2, Model};
 use shapegram_load::{FileAssets, MissingAssets};
 use shapegram_syntax::{Diagnostic, Dialect, SourceFile, ast};
@@ -254,8 +255,9 @@ impl Grammar {
         }
     }
 
-    /// Derives the grammar as `settings` say, to a model (posed, when it has a skeleton).
-    pub fn derive(&self, settings: &Settings) -> Result<Model, Error> {
+    /// Derives the grammar as `settings` say: a model (posed, when it has a skeleton), or a
+    /// topological grammar's triangles.
+    pub fn derive(&self, settings: &Settings) -> Result<Derived, Error> {
         let model = match self {
             Grammar::Shape {
                 program,
@@ -326,14 +328,54 @@ impl Grammar {
                 state
                     .generate_all()
                     .map_err(|e| Error::derive(e.to_string()))?;
-                shapegram_topo::GrammarMesh::new(&state).to_model()
+                // Already flat triangles: they go to the buffers as they are.
+                return Ok(Derived::Triangles(shapegram_topo::GrammarMesh::new(&state)));
             }
         };
-        Ok(if model.skeletons.is_empty() {
+        Ok(Derived::Model(if model.skeletons.is_empty() {
             model
         } else {
             model.posed()
-        })
+        }))
+    }
+}
+
+/// What a derivation made.
+pub enum Derived {
+    /// A model.
+    Model(Model),
+    /// A topological grammar's shapes, in flat-shaded triangles.
+    Triangles(shapegram_topo::GrammarMesh),
+}
+
+impl Derived {
+    /// Replaces the contents of `buffers` with the derived mesh.
+    pub fn fill(&self, buffers: &mut Buffers) {
+        match self {
+            Derived::Model(model) => buffers.fill(model),
+            Derived::Triangles(mesh) => {
+                buffers.clear();
+                for (i, part) in mesh.parts.iter().enumerate() {
+                    if !part.triangles.is_empty() {
+                        buffers.push_triangles(
+                            i,
+                            part.color.to_array(),
+                            &part.positions,
+                            &part.normals,
+                            &part.triangles,
+                        );
+                    }
+                }
+            }
+        }
+    }
+
+    /// The name of part `part` (see [`shapegram_export::PartRange::part`]).
+    pub fn part_name(&self, part: usize) -> &str {
+        match self {
+            Derived::Model(model) => &model.parts[part].name,
+            Derived::Triangles(mesh) => &mesh.parts[part].name,
+        }
     }
 }
 

@@ -20,8 +20,11 @@ fn counts(grammar: &Grammar, seed: u64, storeys: Option<f64>) -> [usize; 3] {
         generations: None,
         control: Default::default(),
     };
-    let model = grammar.derive(&settings).expect("the house derives");
-    let buffers = Buffers::of_model(&model);
+    let mut buffers = Buffers::default();
+    grammar
+        .derive(&settings)
+        .expect("the house derives")
+        .fill(&mut buffers);
     [
         buffers.positions.len(),
         buffers.indices.len(),
