@@ -15,7 +15,7 @@ use std::time::Duration;
 mod common;
 
 use common::TempDir;
-use common::{Server, http, start_server as start, start_server_with as start_with};
+use common::{Server, http, sign_up, start_server as start, start_server_with as start_with};
 use serde_json::json;
 use shapegram_server::failpoint::FailPoint;
 use shapegram_server::sqlite::SqliteStore;
@@ -109,17 +109,7 @@ fn crash_at(point: FailPoint) {
     let mut kept = Vec::new();
     let token = {
         let server = start(&db);
-        let credentials = json!({"name": "ana", "password": "ana's password"});
-        let (status, _) = http(
-            &server,
-            "POST",
-            "/api/v1/accounts",
-            None,
-            Some(credentials.clone()),
-        );
-        assert_eq!(status, 201);
-        let (_, login) = http(&server, "POST", "/api/v1/login", None, Some(credentials));
-        let token = login["token"].as_str().unwrap().to_owned();
+        let token = sign_up(&server, "ana");
         for (n, text) in [(1, WOOD), (2, METAL)] {
             let (version, sha256, rules) = publish(&server, &token, text);
             assert_eq!(version, n);

@@ -7,7 +7,7 @@ use std::process::{Command, Output, Stdio};
 
 mod common;
 
-use common::{Server, TempDir, example, http, start_server};
+use common::{Server, TempDir, example, http, sign_up, start_server};
 use serde_json::json;
 
 /// A user of the command line: a configuration folder and a repository.
@@ -419,20 +419,7 @@ fn usage_and_connection_errors_exit_with_2() {
 fn fetch_without_a_version_skips_yanked_versions() {
     let dir = TempDir::new("repo-yank");
     let server = start_server(&dir.path("repo.db"));
-    let credentials = json!({"name": "ana", "password": "ana's password"});
-    assert_eq!(
-        http(
-            &server,
-            "POST",
-            "/api/v1/accounts",
-            None,
-            Some(credentials.clone())
-        )
-        .0,
-        201
-    );
-    let (_, login) = http(&server, "POST", "/api/v1/login", None, Some(credentials));
-    let token = login["token"].as_str().unwrap();
+    let token = &sign_up(&server, "ana");
     let texts = [
         "fulfills(wooden) --> color(\"#8b5a2b\")\n",
         "fulfills(wooden) --> color(\"#806040\")\n",

@@ -7,7 +7,7 @@ use std::process::Command;
 
 mod common;
 
-use common::{Server, TempDir, http, start_server as start, start_server_with};
+use common::{Server, TempDir, http, sign_up, start_server as start, start_server_with};
 use serde_json::json;
 use shapegram_server::testing::TestDatabase;
 
@@ -24,21 +24,7 @@ fn serve_creates_the_database_and_keeps_versions_across_restarts() {
     let (hash, token) = {
         let server = start(&db);
         assert!(db.exists());
-        let credentials = json!({"name": "ana", "password": "ana's password"});
-        assert_eq!(
-            http(
-                &server,
-                "POST",
-                "/api/v1/accounts",
-                None,
-                Some(credentials.clone())
-            )
-            .0,
-            201
-        );
-        let (status, login) = http(&server, "POST", "/api/v1/login", None, Some(credentials));
-        assert_eq!(status, 200, "{login}");
-        let token = login["token"].as_str().unwrap().to_owned();
+        let token = sign_up(&server, "ana");
         let (status, published) = http(
             &server,
             "POST",
@@ -186,20 +172,7 @@ fn serve_limits_requests_per_address_and_token() {
     // A day's window: the test cannot straddle two.
     let options = ["--rate-limit", "3/day", "--sign-in-rate-limit", "off"];
     let server = start_server_with(&dir.path("repo.db"), None, &options);
-    let credentials = json!({"name": "ana", "password": "ana's password"});
-    assert_eq!(
-        http(
-            &server,
-            "POST",
-            "/api/v1/accounts",
-            None,
-            Some(credentials.clone())
-        )
-        .0,
-        201
-    );
-    let (_, login) = http(&server, "POST", "/api/v1/login", None, Some(credentials));
-    let token = login["token"].as_str().unwrap();
+    let token = &sign_up(&server, "ana");
     for _ in 0..3 {
         assert_eq!(http(&server, "GET", "/api/v1/grammars", None, None).0, 200);
     }

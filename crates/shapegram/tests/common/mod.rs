@@ -125,14 +125,45 @@ pub fn start_server_over(
     }
 }
 
-/// One HTTP/1.1 request: the status and JSON body.
-pub fn http(
+/// An answer: status, headers (lower-case names) and body.
+pub struct Answer {
+    pub status: u16,
+    pub headers: Vec<(String, String)>,
+    pub body: Vec<u8>,
+}
+
+impl Answer {
+    /// A header's value.
+    pub fn header(&self, name: &str) -> Option<&str> {
+        self.headers
+            .iter()
+            .find(|(n, _)| n == name)
+            .map(|(_, v)| v.as_str())
+    }
+
+    /// The body as JSON (`null` when empty).
+    pub fn json(&self) -> Value {
+        if self.body.is_empty() {
+            return Value::Null;
+        }
+        serde_json::from_slice(&self.body).unwrap_or_else(|e| {
+            panic!(
+                "{}: not JSON ({e}): {}",
+                self.status,
+                String::from_utf8_lossy(&self.body)
+            )
+        })
+    }
+}
+
+/// One HTTP/1.1 request (the server closes the connection after it).
+pub fn request(
     server: &Server,
     method: &str,
     path: &str,
     token: Option<&str>,
     body: Option<Value>,
-) -> (u16, Value) {
+) -> Answer {
     let mut stream = TcpStream::connect(&server.addr).unwrap();
     let body = body.map(|b| b.to_string()).unwrap_or_default();
     let auth = token
@@ -145,14 +176,50 @@ pub fn http(
         body.len()
     )
     .unwrap();
-    let mut answer = String::new();
-    stream.read_to_string(&mut answer).unwrap();
-    let status: u16 = answer[9..12].parse().unwrap();
-    let (_, content) = answer.split_once("\r\n\r\n").unwrap();
-    let value = if content.is_empty() {
-        Value::Null
-    } else {
-        serde_json::from_str(content).unwrap()
-    };
-    (status, value)
+    let mut answer = Vec::new();
+    stream.read_to_end(&mut answer).unwrap();
+    let end = answer
+        .windows(4)
+        .position(|w| w == b"\r\n\r\n")
+        .expect("a header");
+    let head = String::from_utf8(answer[..end].to_vec()).unwrap();
+    let mut lines = head.split("\r\n");
+    let status = lines.next().unwrap()[9..12].parse().unwrap();
+    let headers = lines
+        .filter_map(|l| l.split_once(':'))
+        .map(|(n, v)| (n.trim().to_ascii_lowercase(), v.trim().to_owned()))
+        .collect();
+    Answer {
+        status,
+        headers,
+        body: answer[end + 4..].to_vec(),
+    }
+}
+
+/// One HTTP/1.1 request: the status and JSON body.
+pub fn http(
+    server: &Server,
+    method: &str,
+    path: &str,
+    token: Option<&str>,
+    body: Option<Value>,
+) -> (u16, Value) {
+    let answer = request(server, method, path, token, body);
+    (answer.status, answer.json())
+}
+
+/// Signs `name` up (password `NAME's password`) and logs in: the token.
+pub fn sign_up(server: &Server, name: &str) -> String {
+    let credentials = serde_json::json!({"name": name, "password": format!("{name}'s password")});
+    let (status, body) = http(
+        server,
+        "POST",
+        "/api/v1/accounts",
+        None,
+        Some(credentials.clone()),
+    );
+    assert_eq!(status, 201, "{body}");
+    let (status, login) = http(server, "POST", "/api/v1/login", None, Some(credentials));
+    assert_eq!(status, 200, "{login}");
+    login["token"].as_str().unwrap().to_owned()
 }
