@@ -77,7 +77,7 @@ function thumbnailDifference(a, b) {
 }
 
 /** Edit-to-new-preview latencies: each edit replaces `from` with `to` (a pair of texts in the
- * editor), typed; from the last keystroke to the model drawn (the 150 ms debounce included). */
+ * editor), typed; from the last keystroke to the model drawn (the 40 ms debounce included). */
 async function measure(page, edits) {
   const latencies = [];
   for (const [from, to] of edits) {
@@ -90,7 +90,7 @@ async function measure(page, edits) {
     }));
   }
   const median = (key) => latencies.map((l) => l[key]).sort((a, b) => a - b)[Math.floor(latencies.length / 2)];
-  return `median ${median("total").toFixed(0)} ms (150 ms debounce, request and derivation `
+  return `median ${median("total").toFixed(0)} ms (40 ms debounce, request and derivation `
     + `${median("server").toFixed(0)} ms, GLB load and draw ${median("draw").toFixed(0)} ms), `
     + `max ${Math.max(...latencies.map((l) => l.total)).toFixed(0)} ms over ${latencies.length} edits`;
 }

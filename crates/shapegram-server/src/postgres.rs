@@ -79,11 +79,28 @@ impl PgStore {
             .connect_with(options.options([("synchronous_commit", "off")]))
             .await
             .map_err(db)?;
-        Ok(PgStore {
+        let store = PgStore {
             pool,
             counters,
             fail_points: FailPoints::NONE,
-        })
+        };
+        store.refresh_statistics().await?;
+        Ok(store)
+    }
+
+    /// Brings the planner's statistics of the tables rule queries and search read up to date.
+    /// Autovacuum does so only after a minute or so, and without statistics a repository that
+    /// grew from nothing is planned as empty: a rule query took 184 ms instead of 2.4 ms on
+    /// the load bench's 10,000 rules. Run at start-up and after the publishes numbered by a
+    /// power of two or a multiple of 1,024, so the tables are analysed whenever they double.
+    async fn refresh_statistics(&self) -> Result<(), StoreError> {
+        sqlx::query(
+            "ANALYZE account, friendship, grammar, grammar_version, rule, rule_key, rule_neg",
+        )
+        .execute(&self.pool)
+        .await
+        .map_err(db)?;
+        Ok(())
     }
 
     /// The same store, stopping at `fail_points` during a publish (the crash test).
@@ -587,18 +604,25 @@ impl Store for PgStore {
                 .execute(&mut *tx)
                 .await
                 .map_err(db)?;
-            sqlx::query(
+            let seq: i64 = sqlx::query_scalar(
                 "INSERT INTO publish_log (seq, version_id, logged_at)
-                 SELECT coalesce(max(seq), 0) + 1, $1, $2 FROM publish_log",
+                 SELECT coalesce(max(seq), 0) + 1, $1, $2 FROM publish_log RETURNING seq",
             )
             .bind(version_id)
             .bind(at)
-            .execute(&mut *tx)
+            .fetch_one(&mut *tx)
             .await
             .map_err(db)?;
             self.fail_points.hit(FailPoint::BeforeCommit).await;
             tx.commit().await.map_err(db)?;
             self.fail_points.hit(FailPoint::AfterCommit).await;
+            // The version is committed: statistics that cannot be refreshed now are no reason
+            // to say it is not.
+            if (seq & (seq - 1) == 0 || seq % 1024 == 0)
+                && let Err(e) = self.refresh_statistics().await
+            {
+                eprintln!("shapegram serve: cannot refresh the planner's statistics: {e}");
+            }
             Ok(VersionInfo {
                 version,
                 sha256: v.sha256.to_owned(),
