@@ -218,6 +218,25 @@ macro_rules! yank_join {
     };
 }
 
+/// The columns [`version_text`] reads, besides the yank's: `a` the owner, `g` the grammar,
+/// `v` the version, `p` its publisher.
+macro_rules! version_text_columns {
+    () => {
+        "a.name AS owner, g.name AS grammar, v.version, v.sha256, v.published_at,
+         p.name AS publisher, v.text"
+    };
+}
+
+/// A version with its text, from a row of [`version_text_columns`] and the yank's columns.
+fn version_text(row: &PgRow) -> Result<VersionText, StoreError> {
+    Ok(VersionText {
+        owner: row.try_get("owner").map_err(db)?,
+        name: row.try_get("grammar").map_err(db)?,
+        info: version_info(row)?,
+        text: row.try_get("text").map_err(db)?,
+    })
+}
+
 fn version_info(row: &PgRow) -> Result<VersionInfo, StoreError> {
     let yanked_at: Option<i64> = row.try_get("yanked_at").map_err(db)?;
     let yank = match yanked_at {
@@ -771,8 +790,9 @@ impl Store for PgStore {
     ) -> StoreFuture<'a, Option<VersionText>> {
         Box::pin(async move {
             let row = sqlx::query(concat!(
-                "SELECT a.name AS owner, g.name AS grammar, v.version, v.sha256, v.published_at,
-                    p.name AS publisher, v.text, ",
+                "SELECT ",
+                version_text_columns!(),
+                ", ",
                 yank_columns!(),
                 " FROM grammar g JOIN account a ON a.id = g.owner_id
                    JOIN grammar_version v ON v.grammar_id = g.id
@@ -789,12 +809,7 @@ impl Store for PgStore {
             .await
             .map_err(db)?;
             let Some(row) = row else { return Ok(None) };
-            Ok(Some(VersionText {
-                owner: row.try_get("owner").map_err(db)?,
-                name: row.try_get("grammar").map_err(db)?,
-                info: version_info(&row)?,
-                text: row.try_get("text").map_err(db)?,
-            }))
+            version_text(&row).map(Some)
         })
     }
 
@@ -1035,8 +1050,9 @@ impl Store for PgStore {
     ) -> StoreFuture<'a, Option<VersionText>> {
         Box::pin(async move {
             let row = sqlx::query(concat!(
-                "SELECT a.name AS owner, g.name AS grammar, v.version, v.sha256, v.published_at,
-                    p.name AS publisher, v.text, ",
+                "SELECT ",
+                version_text_columns!(),
+                ", ",
                 yank_columns!(),
                 " FROM grammar_version v JOIN grammar g ON g.id = v.grammar_id
                    JOIN account a ON a.id = g.owner_id
@@ -1052,12 +1068,7 @@ impl Store for PgStore {
             .await
             .map_err(db)?;
             let Some(row) = row else { return Ok(None) };
-            Ok(Some(VersionText {
-                owner: row.try_get("owner").map_err(db)?,
-                name: row.try_get("grammar").map_err(db)?,
-                info: version_info(&row)?,
-                text: row.try_get("text").map_err(db)?,
-            }))
+            version_text(&row).map(Some)
         })
     }
 
