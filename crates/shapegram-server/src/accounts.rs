@@ -19,6 +19,11 @@ pub const MIN_PASSWORD: usize = 8;
 /// Longest password, in characters.
 pub const MAX_PASSWORD: usize = 1024;
 
+/// The canonical form of a name (lower case, `_` as `-`): what tells names apart.
+pub fn canon(name: &str) -> String {
+    name.to_ascii_lowercase().replace('_', "-")
+}
+
 /// The canonical form of a valid name, or why it is not one.
 pub fn canonical_name(what: &str, name: &str, max: usize) -> Result<String, String> {
     if name.is_empty() {
@@ -38,7 +43,7 @@ pub fn canonical_name(what: &str, name: &str, max: usize) -> Result<String, Stri
             "{what} name has the character {c:?}: use ASCII letters, digits, `-` and `_`"
         ));
     }
-    Ok(name.to_ascii_lowercase().replace('_', "-"))
+    Ok(canon(name))
 }
 
 /// Hashes and checks passwords, a few at a time.

@@ -23,7 +23,7 @@ type ApiResult<T> = Result<T, ApiError>;
 
 /// The canonical form of an account's name (valid since sign-up).
 fn canon(account: &Account) -> String {
-    account.name.to_ascii_lowercase().replace('_', "-")
+    accounts::canon(&account.name)
 }
 
 /// The canonical owner and grammar names of a path; names that cannot exist are not found.
@@ -438,7 +438,7 @@ pub async fn search(
                 "q has at most {MAX_GRAMMAR_NAME} characters (the longest name)"
             )));
         }
-        Some(q) => Some(q.to_ascii_lowercase().replace('_', "-")),
+        Some(q) => Some(accounts::canon(q)),
         None => None,
     };
     let owner = match &params.owner {

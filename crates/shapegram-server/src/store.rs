@@ -470,7 +470,7 @@ impl FoundSet {
 
     /// The answers, with the grammars sorted by owner and name (canonical forms).
     pub fn into_answers(self, as_of: i64) -> QueryAnswers {
-        let canon = |s: &str| s.to_ascii_lowercase().replace('_', "-");
+        let canon = crate::accounts::canon;
         let mut indexed: Vec<(usize, FoundGrammar)> =
             self.grammars.into_iter().enumerate().collect();
         indexed.sort_by_cached_key(|(_, g)| (canon(&g.owner), canon(&g.name)));

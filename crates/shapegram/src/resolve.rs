@@ -64,7 +64,7 @@ impl LockedGrammar {
 
     /// Owner and name in their canonical forms: what tells grammars apart.
     fn key(&self) -> (String, String) {
-        let canon = |s: &str| s.to_ascii_lowercase().replace('_', "-");
+        let canon = shapegram_server::accounts::canon;
         (canon(&self.owner), canon(&self.name))
     }
 }
