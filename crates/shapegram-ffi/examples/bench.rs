@@ -8,8 +8,8 @@ use std::ffi::CString;
 use std::time::Instant;
 
 use shapegram_export::Buffers;
-use shapegram_ffi::grammar::{Grammar, Settings};
 use shapegram_ffi::*;
+use shapegram_runtime::{Grammar, Settings};
 
 /// The median of `runs` timings of `call`, in milliseconds.
 fn median_ms(runs: usize, mut call: impl FnMut()) -> f64 {

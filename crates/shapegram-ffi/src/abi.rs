@@ -15,8 +15,8 @@ use shapegram_eval::{DeriveControl, InitialShape, Value};
 use shapegram_export::Buffers;
 use shapegram_geom::DVec3;
 
-use crate::grammar::{Grammar, Kind, Settings};
 use crate::status::{Error, sg_status};
+use shapegram_runtime::{Grammar, Kind, Settings};
 
 /// Detect the kind from the file name's extension, else read the text as CGA (or the
 /// notation it is written in: `.mul`, `.sgl`, goal grammars).

@@ -11,7 +11,6 @@
 #![allow(unsafe_code)]
 
 mod abi;
-pub mod grammar;
 mod status;
 
 pub use abi::*;

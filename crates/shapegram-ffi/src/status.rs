@@ -1,5 +1,7 @@
 //! Status codes, and the errors behind them.
 
+use shapegram_runtime::ErrorKind;
+
 /// What a call did: `SG_OK`, or why it did nothing. The message of every status but `SG_OK` is
 /// in `sg_state_last_error`.
 #[allow(non_camel_case_types)]
@@ -54,33 +56,22 @@ impl Error {
         }
     }
 
-    /// `SG_GRAMMAR_ERROR`.
-    pub fn grammar(message: impl Into<String>) -> Self {
-        Self::new(sg_status::SG_GRAMMAR_ERROR, message)
-    }
-
-    /// `SG_DERIVE_ERROR`.
-    pub fn derive(message: impl Into<String>) -> Self {
-        Self::new(sg_status::SG_DERIVE_ERROR, message)
-    }
-
-    /// `SG_UNKNOWN_ATTRIBUTE`.
-    pub fn attribute(message: impl Into<String>) -> Self {
-        Self::new(sg_status::SG_UNKNOWN_ATTRIBUTE, message)
-    }
-
-    /// `SG_ATTRIBUTE_TYPE`.
-    pub fn attribute_type(message: impl Into<String>) -> Self {
-        Self::new(sg_status::SG_ATTRIBUTE_TYPE, message)
-    }
-
-    /// `SG_CANCELLED`.
-    pub fn cancelled() -> Self {
-        Self::new(sg_status::SG_CANCELLED, "the derivation was cancelled")
-    }
-
     /// `SG_INVALID_ARGUMENT`.
     pub fn invalid(message: impl Into<String>) -> Self {
         Self::new(sg_status::SG_INVALID_ARGUMENT, message)
+    }
+}
+
+impl From<shapegram_runtime::Error> for Error {
+    fn from(error: shapegram_runtime::Error) -> Self {
+        let status = match error.kind {
+            ErrorKind::InvalidArgument => sg_status::SG_INVALID_ARGUMENT,
+            ErrorKind::Grammar => sg_status::SG_GRAMMAR_ERROR,
+            ErrorKind::UnknownAttribute => sg_status::SG_UNKNOWN_ATTRIBUTE,
+            ErrorKind::AttributeType => sg_status::SG_ATTRIBUTE_TYPE,
+            ErrorKind::Derive => sg_status::SG_DERIVE_ERROR,
+            ErrorKind::Cancelled => sg_status::SG_CANCELLED,
+        };
+        Self::new(status, error.message)
     }
 }

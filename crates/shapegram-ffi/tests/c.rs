@@ -7,7 +7,7 @@ use std::path::{Path, PathBuf};
 use std::process::Command;
 
 use shapegram_export::Buffers;
-use shapegram_ffi::grammar::{Grammar, Settings};
+use shapegram_runtime::{Grammar, Settings};
 
 fn counts(grammar: &Grammar, seed: u64, storeys: Option<f64>) -> [usize; 3] {
     let settings = Settings {

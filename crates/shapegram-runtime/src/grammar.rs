@@ -1,5 +1,4 @@
-//! A grammar of any kind the engine runs, loaded from text, and one derivation of it: the same
-//! engine calls as the `shapegram` command's `derive`, `lsystem`, `cave` and `topo`.
+//! A grammar of any kind the engine runs, loaded from text, and one derivation of it.
 
 use std::path::Path;
 use std::sync::Arc;
@@ -10,7 +9,7 @@ use shapegram_geom::{Color, DVec2, Model};
 use shapegram_load::{FileAssets, MissingAssets};
 use shapegram_syntax::{Diagnostic, Dialect, SourceFile, ast};
 
-use crate::status::Error;
+use crate::error::Error;
 
 /// The kinds of grammar, as `sg_state_load_text` takes them (`SG_KIND_…`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -109,7 +108,9 @@ pub enum Grammar {
     Topo(shapegram_topo::Grammar, String),
 }
 
-/// What a derivation is asked to do besides the grammar.
+/// What a derivation is asked to do besides the grammar; by default seed 0, the grammar's own
+/// attributes and generations, the default lot.
+#[derive(Default)]
 pub struct Settings {
     /// The seed.
     pub seed: u64,

@@ -1,0 +1,77 @@
+//! Why a runtime call did nothing.
+
+/// The kind of an [`Error`]: what a host reports it as (the C ABI maps each to a status).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ErrorKind {
+    /// An argument is out of range: a lot of fewer than three corners or without area, a
+    /// coordinate that is not finite.
+    InvalidArgument,
+    /// The grammar has errors; the message has each with its file, line and column.
+    Grammar,
+    /// The grammar has no attribute of that name (or no attributes at all).
+    UnknownAttribute,
+    /// The attribute's default value has another type than the value set.
+    AttributeType,
+    /// The derivation failed (a limit, an operation that cannot apply); the message says
+    /// where, with file, line and column when the grammar has a place for it.
+    Derive,
+    /// The derivation was cancelled through its control.
+    Cancelled,
+}
+
+/// An error: its kind and its message.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Error {
+    /// What kind of failure it is.
+    pub kind: ErrorKind,
+    /// What went wrong, with the place in the grammar when there is one.
+    pub message: String,
+}
+
+impl Error {
+    /// An error of the given kind.
+    pub fn new(kind: ErrorKind, message: impl Into<String>) -> Self {
+        Self {
+            kind,
+            message: message.into(),
+        }
+    }
+
+    /// [`ErrorKind::Grammar`].
+    pub fn grammar(message: impl Into<String>) -> Self {
+        Self::new(ErrorKind::Grammar, message)
+    }
+
+    /// [`ErrorKind::Derive`].
+    pub fn derive(message: impl Into<String>) -> Self {
+        Self::new(ErrorKind::Derive, message)
+    }
+
+    /// [`ErrorKind::UnknownAttribute`].
+    pub fn attribute(message: impl Into<String>) -> Self {
+        Self::new(ErrorKind::UnknownAttribute, message)
+    }
+
+    /// [`ErrorKind::AttributeType`].
+    pub fn attribute_type(message: impl Into<String>) -> Self {
+        Self::new(ErrorKind::AttributeType, message)
+    }
+
+    /// [`ErrorKind::Cancelled`].
+    pub fn cancelled() -> Self {
+        Self::new(ErrorKind::Cancelled, "the derivation was cancelled")
+    }
+
+    /// [`ErrorKind::InvalidArgument`].
+    pub fn invalid(message: impl Into<String>) -> Self {
+        Self::new(ErrorKind::InvalidArgument, message)
+    }
+}
+
+impl std::fmt::Display for Error {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(&self.message)
+    }
+}
+
+impl std::error::Error for Error {}

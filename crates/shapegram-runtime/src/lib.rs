@@ -1,0 +1,9 @@
+//! Shapegram for host programs (the C ABI, game engines, Python, the studio): a grammar of any
+//! kind the engine runs, loaded from text, and derivations of it into mesh buffers, with the
+//! same engine calls as the `shapegram` command's `derive`, `lsystem`, `cave` and `topo`.
+
+mod error;
+mod grammar;
+
+pub use error::{Error, ErrorKind};
+pub use grammar::{AttrType, Derived, Grammar, Kind, Settings, default_lot};

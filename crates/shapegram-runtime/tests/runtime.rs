@@ -1,0 +1,112 @@
+//! The runtime as a host uses it: every kind of grammar loads and derives into consistent
+//! buffers, the same settings give the same buffers, and bad input gives errors of the right
+//! kind with their place.
+
+use std::path::PathBuf;
+
+use shapegram_eval::Value;
+use shapegram_export::Buffers;
+use shapegram_runtime::{ErrorKind, Grammar, Kind, Settings};
+
+fn example(name: &str) -> (String, String) {
+    let path = PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .join("../../examples")
+        .join(name);
+    let text = std::fs::read_to_string(&path).expect("the example exists");
+    (path.display().to_string(), text)
+}
+
+fn buffers(grammar: &Grammar, settings: &Settings) -> Buffers {
+    let mut buffers = Buffers::default();
+    grammar
+        .derive(settings)
+        .expect("the grammar derives")
+        .fill(&mut buffers);
+    buffers
+}
+
+/// Indices in range, whole triangles, and parts that tile the index buffer in order.
+fn assert_consistent(buffers: &Buffers) {
+    assert_eq!(buffers.positions.len(), buffers.normals.len());
+    assert_eq!(buffers.indices.len() % 3, 0);
+    assert!(!buffers.indices.is_empty());
+    let vertices = buffers.positions.len() as u32;
+    assert!(buffers.indices.iter().all(|&i| i < vertices));
+    let mut next = 0;
+    for part in &buffers.parts {
+        assert_eq!(part.first_index, next);
+        next += part.index_count;
+    }
+    assert_eq!(next as usize, buffers.indices.len());
+}
+
+#[test]
+fn every_kind_of_grammar_derives_into_consistent_buffers() {
+    for (file, kind) in [
+        (
+            "house.cga",
+            Kind::Shape(Some(shapegram_syntax::Dialect::Cga)),
+        ),
+        (
+            "mueller2006_fig12.mul",
+            Kind::Shape(Some(shapegram_syntax::Dialect::Muller2006)),
+        ),
+        (
+            "sgl_tree.sgl",
+            Kind::Shape(Some(shapegram_syntax::Dialect::Sgl)),
+        ),
+        ("tree-3d.lsys", Kind::LSystem),
+        ("grotto.cave", Kind::Cave),
+        ("topo_house.grammar", Kind::Topo),
+    ] {
+        assert_eq!(Kind::of_name(file), Some(kind), "{file}");
+        let (name, text) = example(file);
+        let grammar = Grammar::load(&name, &text, None).expect(file);
+        assert_consistent(&buffers(&grammar, &Settings::default()));
+    }
+}
+
+#[test]
+fn the_same_settings_give_the_same_buffers_and_attributes_change_them() {
+    let (name, text) = example("house.cga");
+    let grammar = Grammar::load(&name, &text, None).unwrap();
+    let two = buffers(&grammar, &Settings::default());
+    assert_eq!(two, buffers(&grammar, &Settings::default()));
+    let three = Settings {
+        attrs: vec![("storeys".to_owned(), Value::Number(3.0))],
+        ..Settings::default()
+    };
+    grammar.check_attr("storeys", &Value::Number(3.0)).unwrap();
+    let taller = buffers(&grammar, &three);
+    let top = |b: &Buffers| b.positions.iter().map(|p| p[1]).fold(f32::MIN, f32::max);
+    assert!(
+        top(&taller) > top(&two) + 2.9,
+        "{} vs {}",
+        top(&taller),
+        top(&two)
+    );
+}
+
+#[test]
+fn bad_input_gives_errors_of_their_kind_with_their_place() {
+    let error = Grammar::load("broken.cga", "Lot --> extrude(3\n", None)
+        .err()
+        .expect("a syntax error");
+    assert_eq!(error.kind, ErrorKind::Grammar);
+    assert!(error.message.contains("broken.cga:1:"), "{}", error.message);
+
+    let (name, text) = example("house.cga");
+    let grammar = Grammar::load(&name, &text, None).unwrap();
+    let unknown = grammar
+        .check_attr("storey", &Value::Number(1.0))
+        .unwrap_err();
+    assert_eq!(unknown.kind, ErrorKind::UnknownAttribute);
+    assert_eq!(
+        unknown.message,
+        "the grammar has no attribute `storey` (did you mean `storeys`?)"
+    );
+    let typed = grammar
+        .check_attr("storeys", &Value::Str("two".into()))
+        .unwrap_err();
+    assert_eq!(typed.kind, ErrorKind::AttributeType);
+}
