@@ -27,6 +27,7 @@ mod snapshot;
 mod solids;
 mod tables;
 mod text;
+pub mod texturing;
 mod trim;
 mod value;
 

@@ -8,6 +8,7 @@ use shapegram_syntax::{
 
 use crate::program::{CExpr, CKind, CStmt, Compiler};
 use crate::shape::CsgOp;
+use crate::texturing;
 use crate::value::Value;
 
 /// A compiled shape operation.
@@ -124,8 +125,50 @@ pub(crate) enum Op {
     },
     /// `sync(windows)`: the shape joins a synchronization of its goal grammar.
     Sync(u32),
+    /// `setupProjection(…)`: a projection frozen in world space.
+    SetupProjection(Box<ProjectionSetup>),
+    /// `projectUV(uvSet)`: the uv set from its projection.
+    ProjectUv(CExpr),
+    /// `texture(path)`: the colour map.
+    Texture(CExpr),
+    /// `tileUV`, `scaleUV`, `translateUV` (`offsetUV`), `rotateUV`, `deleteUV`, `copyUV`: a uv
+    /// set edited, its arguments in order.
+    EditUv(UvEdit, Vec<CExpr>),
     /// Parsed and accepted, but without effect on the model yet (texturing and the like).
     Ignored,
+}
+
+/// `setupProjection(uvSet, scope.xy | world.xz | …, width, height [, widthOffset,
+/// heightOffset [, uwFactor]])`, and the deprecated `setupProjection(uvSet, axes, width,
+/// height, uwFactor)`.
+#[derive(Debug)]
+pub(crate) struct ProjectionSetup {
+    pub set: CExpr,
+    /// World axes (`world.xy`) rather than the scope's.
+    pub world: bool,
+    /// The axes u and v run along.
+    pub axes: [usize; 2],
+    /// Width and height of a texture tile.
+    pub sizes: [CExpr; 2],
+    pub offsets: Option<[CExpr; 2]>,
+    pub uw_factor: Option<CExpr>,
+}
+
+/// The edits of a uv set.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum UvEdit {
+    /// `tileUV(uvSet, width, height)`.
+    Tile,
+    /// `scaleUV(uvSet, u, v)`.
+    Scale,
+    /// `translateUV(uvSet, u, v)`.
+    Translate,
+    /// `rotateUV(uvSet, degrees)`.
+    Rotate,
+    /// `deleteUV(uvSet)`.
+    Delete,
+    /// `copyUV(from, to)`.
+    Copy,
 }
 
 /// The deformations, with what each takes besides its axis and amount.
@@ -305,6 +348,8 @@ pub(crate) enum SetTarget {
     Goal(crate::goals::AttrId),
     Color(Option<usize>),
     MaterialName,
+    /// A texture layer (`material.colormap` and the others of [`texturing::LAYERS`]).
+    Map(usize),
     /// `trim.horizontal` (true) or `trim.vertical` (false).
     Trim(bool),
     Ignored,
@@ -408,15 +453,7 @@ impl CompSelector {
 
 /// Operations that would only change texturing or shading: accepted without effect.
 const VISUAL_ONLY: &[&str] = &[
-    "setupProjection",
-    "projectUV",
-    "texture",
-    "tileUV",
-    "deleteUV",
     "normalizeUV",
-    "rotateUV",
-    "scaleUV",
-    "translateUV",
     "softenNormals",
     "setNormals",
     "cleanupGeom",
@@ -466,6 +503,16 @@ const UNSUPPORTED: &[&str] = &[
 
 /// The operations [`compile`] builds, besides the visual-only and unsupported ones.
 const IMPLEMENTED: &[&str] = &[
+    "setupProjection",
+    "projectUV",
+    "texture",
+    "tileUV",
+    "scaleUV",
+    "translateUV",
+    "offsetUV",
+    "rotateUV",
+    "deleteUV",
+    "copyUV",
     "extrude",
     "t",
     "r",
@@ -559,8 +606,17 @@ pub(crate) fn compile(
         })
         .collect();
     let mut args = args;
-    // `set` reads its first argument as a name itself.
-    for a in args.iter_mut().skip(usize::from(name == "set")) {
+    // `set` reads its first argument as a name itself, `setupProjection` its second.
+    let own_word = match name {
+        "set" => Some(0),
+        "setupProjection" => Some(1),
+        _ => None,
+    };
+    for (_, a) in args
+        .iter_mut()
+        .enumerate()
+        .filter(|(i, _)| Some(*i) != own_word)
+    {
         if let CKind::Selector(word) = &a.kind
             && crate::builtins::Query::is_known_unsupported(word)
         {
@@ -682,6 +738,23 @@ impl Ctx<'_, '_> {
                 ],
                 "shapeO(frontDepth, rightWidth, backDepth, leftWidth)",
             )?,
+            "setupProjection" => self.setup_projection()?,
+            "projectUV" => {
+                self.arity(1, 1, "projectUV(uvSet)")?;
+                Op::ProjectUv(self.args.pop()?)
+            }
+            "texture" => {
+                self.arity(1, 1, "texture(path)")?;
+                Op::Texture(self.args.pop()?)
+            }
+            "tileUV" => self.edit_uv(UvEdit::Tile, 3, "tileUV(uvSet, width, height)")?,
+            "scaleUV" => self.edit_uv(UvEdit::Scale, 3, "scaleUV(uvSet, uFactor, vFactor)")?,
+            "translateUV" | "offsetUV" => {
+                self.edit_uv(UvEdit::Translate, 3, "translateUV(uvSet, u, v)")?
+            }
+            "rotateUV" => self.edit_uv(UvEdit::Rotate, 2, "rotateUV(uvSet, degrees)")?,
+            "deleteUV" => self.edit_uv(UvEdit::Delete, 1, "deleteUV(uvSet)")?,
+            "copyUV" => self.edit_uv(UvEdit::Copy, 2, "copyUV(fromSet, toSet)")?,
             "color" => {
                 if !matches!(self.args.len(), 1 | 3 | 4) {
                     return self.wrong_arity("color(\"#rrggbb\") | color(r, g, b)");
@@ -795,6 +868,51 @@ impl Ctx<'_, '_> {
                 .with_label(format!("in `{}`", self.call.name.name)),
         );
         None
+    }
+
+    fn setup_projection(&mut self) -> Option<Op> {
+        let signature = "setupProjection(uvSet, scope.xy, width, height [, widthOffset, heightOffset [, uwFactor]])";
+        self.arity(4, 7, signature)?;
+        let word = self.word(1).map(str::to_owned);
+        let parsed = word.as_deref().and_then(|w| {
+            let (world, letters) = match w.split_once('.')? {
+                ("scope", letters) => (false, letters),
+                ("world", letters) => (true, letters),
+                _ => return None,
+            };
+            let axis = |c: char| "xyz".find(c);
+            let mut chars = letters.chars();
+            let (a, b) = (axis(chars.next()?)?, axis(chars.next()?)?);
+            (chars.next().is_none() && a != b).then_some((world, [a, b]))
+        });
+        let Some((world, axes)) = parsed else {
+            return self.bad_selector(1, "projection axes such as `scope.xy` or `world.xz`");
+        };
+        let mut args = std::mem::take(&mut self.args).into_iter();
+        let set = args.next()?;
+        let sizes = [args.nth(1)?, args.next()?];
+        let rest: Vec<CExpr> = args.collect();
+        let (offsets, uw_factor) = match <[CExpr; 3]>::try_from(rest) {
+            Ok([a, b, k]) => (Some([a, b]), Some(k)),
+            Err(mut rest) if rest.len() == 2 => {
+                let b = rest.pop()?;
+                (Some([rest.pop()?, b]), None)
+            }
+            Err(mut rest) => (None, rest.pop()),
+        };
+        Some(Op::SetupProjection(Box::new(ProjectionSetup {
+            set,
+            world,
+            axes,
+            sizes,
+            offsets,
+            uw_factor,
+        })))
+    }
+
+    fn edit_uv(&mut self, edit: UvEdit, count: usize, signature: &str) -> Option<Op> {
+        self.arity(count, count, signature)?;
+        Some(Op::EditUv(edit, std::mem::take(&mut self.args)))
     }
 
     fn extrude(&mut self) -> Option<Op> {
@@ -1122,6 +1240,13 @@ impl Ctx<'_, '_> {
             "material.color.b" => SetTarget::Color(Some(2)),
             "material.opacity" => SetTarget::Color(Some(3)),
             "material.name" => SetTarget::MaterialName,
+            n if n
+                .strip_prefix("material.")
+                .and_then(texturing::layer)
+                .is_some() =>
+            {
+                SetTarget::Map(n.strip_prefix("material.").and_then(texturing::layer)?)
+            }
             "trim.horizontal" => SetTarget::Trim(true),
             "trim.vertical" => SetTarget::Trim(false),
             n if n.starts_with("material.") || n.starts_with("trim.") => {

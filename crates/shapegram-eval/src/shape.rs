@@ -10,6 +10,7 @@ use shapegram_syntax::Span;
 use crate::goals::Semantics;
 use crate::program::Sym;
 use crate::rng::{Rng, child_seed};
+use crate::texturing::Texturing;
 use crate::trim::Trim;
 use crate::value::Value;
 
@@ -216,6 +217,8 @@ pub struct State {
     pub color: Color,
     /// Material name set with `set(material.name, …)`.
     pub material: Option<Arc<str>>,
+    /// Projections, uv sets and texture layers; `None` until a texturing operation runs.
+    pub texturing: Option<Arc<Texturing>>,
     /// Position among the parts of the split that made it, and their count.
     pub split: (u32, u32),
     /// Position among the components of the component split that made it, and their count.
@@ -265,6 +268,7 @@ impl FrozenState {
             attrs: Rc::new(self.attrs),
             color: self.color,
             material: self.material,
+            texturing: self.texturing,
             split: self.split,
             comp: self.comp,
             comp_sel: self.comp_sel,
@@ -294,6 +298,7 @@ pub struct FrozenState {
     attrs: Vec<Value>,
     color: Color,
     material: Option<Arc<str>>,
+    texturing: Option<Arc<Texturing>>,
     split: (u32, u32),
     comp: (u32, u32),
     comp_sel: u8,
@@ -318,6 +323,7 @@ impl State {
             attrs: Rc::new(Vec::new()),
             color: Color::default(),
             material: None,
+            texturing: None,
             split: (0, 1),
             comp: (0, 1),
             comp_sel: 0,
@@ -359,6 +365,7 @@ impl State {
             attrs: self.attrs.clone(),
             color: self.color,
             material: self.material.take(),
+            texturing: self.texturing.take(),
             split: self.split,
             comp: self.comp,
             comp_sel: self.comp_sel,
@@ -383,6 +390,7 @@ impl State {
             attrs: Rc::try_unwrap(self.attrs).unwrap_or_else(|shared| (*shared).clone()),
             color: self.color,
             material: self.material,
+            texturing: self.texturing,
             split: self.split,
             comp: self.comp,
             comp_sel: self.comp_sel,

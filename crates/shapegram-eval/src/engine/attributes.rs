@@ -53,6 +53,9 @@ impl Engine<'_> {
         value: &CExpr,
         args: &[Value],
     ) -> Fallible<()> {
+        if let SetTarget::Map(layer) = target {
+            return self.texture(state, *layer, value, args);
+        }
         let span = value.span;
         let value = self.ev.eval(value, state, args)?;
         let wrong = |what: &str, v: &Value| {
@@ -87,7 +90,7 @@ impl Engine<'_> {
                 Value::Bool(on) => state.trim.set_vertical(on),
                 v => return Err(wrong("true or false", &v)),
             },
-            SetTarget::Ignored => {}
+            SetTarget::Ignored | SetTarget::Map(_) => {}
         }
         Ok(())
     }

@@ -10,6 +10,7 @@ use shapegram_syntax::Span;
 
 use super::Fallible;
 use super::machine::Engine;
+use super::texturing::drop_uvs;
 use crate::error::DeriveError;
 use crate::ops::Primitive;
 use crate::program::CExpr;
@@ -81,6 +82,7 @@ impl Engine<'_> {
         // that later random choices of the shape would miss.
         let variant = (child_seed(state.seed, u64::MAX) % u64::from(ASSET_VARIANTS)) as u32;
         let asset = self.asset(&file, variant, path.span)?;
+        drop_uvs(state);
         fit_asset(state, &asset);
         trim(state);
         Ok(())
@@ -97,6 +99,7 @@ impl Engine<'_> {
         args: &[Value],
     ) -> Fallible<()> {
         let counts = self.numbers(params, state, args)?;
+        drop_uvs(state);
         // A primitive is a unit asset: a flat scope takes sizes by `i()`'s rules (a cube on a
         // 20 × 30 lot is 25 high, the mean of the other two).
         let unit = match kind {

@@ -543,6 +543,7 @@ impl<'p> Engine<'p> {
             geometry: std::mem::replace(&mut state.geometry, Geometry::Empty),
             color: state.color,
             material: state.material.take(),
+            texturing: state.texturing.take(),
             node: self.tree.is_some().then_some(state.node),
             lot: self.ev.lot,
             section: state.section,
@@ -642,6 +643,10 @@ impl<'p> Engine<'p> {
                 self.deform(state, *kind, *axis, amount, span, args)?
             }
             Op::Sync(sync) => self.synchronize(state, *sync),
+            Op::SetupProjection(setup) => self.setup_projection(state, setup, args)?,
+            Op::ProjectUv(set) => self.project_uv(state, set, args)?,
+            Op::Texture(path) => self.texture(state, 0, path, args)?,
+            Op::EditUv(edit, params) => self.edit_uv(state, *edit, params, args)?,
             Op::Ignored => {}
         }
         Ok(false)

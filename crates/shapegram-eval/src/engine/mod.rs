@@ -37,6 +37,7 @@ mod reuse;
 mod roof;
 mod scope;
 mod split;
+mod texturing;
 mod trace;
 
 use std::sync::Arc;
@@ -51,6 +52,7 @@ use shapegram_kinematics::{Frame, SectionId, Skeleton};
 use crate::error::DeriveError;
 use crate::goals::{GoalQuery, LeafSemantics};
 use crate::shape::Geometry;
+use crate::texturing::Texturing;
 use crate::value::Value;
 
 pub use control::DeriveControl;
@@ -144,6 +146,8 @@ pub struct Leaf {
     pub color: Color,
     /// Its material name, when one was set.
     pub material: Option<Arc<str>>,
+    /// Its uv sets and texture layers, when texturing operations ran on it or its ancestors.
+    pub texturing: Option<Arc<Texturing>>,
     /// Its node in [`Derivation::tree`], when the tree is kept.
     pub node: Option<u32>,
     /// The initial shape it grew from, as an index into the derivation's initial shapes.
@@ -175,6 +179,13 @@ impl Leaf {
     /// The leaf's geometry in world coordinates (`None` when it has none).
     pub fn world_mesh(&self) -> Option<Mesh> {
         self.geometry.world_mesh(&self.scope)
+    }
+
+    /// The uvs of uv set `set` at the vertices of `mesh` (the leaf's [`Leaf::world_mesh`]);
+    /// `None` when the leaf has no such set.
+    pub fn uvs(&self, set: usize, mesh: &Mesh) -> Option<Vec<shapegram_geom::DVec2>> {
+        let map = self.texturing.as_ref()?.uvs.get(set)?.as_ref()?;
+        Some(mesh.positions().iter().map(|&p| map.at(p)).collect())
     }
 }
 

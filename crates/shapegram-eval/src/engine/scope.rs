@@ -12,6 +12,7 @@ use shapegram_syntax::Span;
 use super::Fallible;
 use super::implicit::no_solid;
 use super::machine::Engine;
+use super::texturing::follow_geometry;
 use crate::error::DeriveError;
 use crate::ops::{EdgeChoice, FaceChoice};
 use crate::program::{CExpr, CKind};
@@ -27,7 +28,9 @@ impl Engine<'_> {
         args: &[Value],
     ) -> Fallible<()> {
         let v = self.vector(v, state, args)?;
+        let before = state.scope;
         state.scope.translate(v);
+        follow_geometry(state, &before, DAffine3::IDENTITY);
         Ok(())
     }
 
@@ -46,7 +49,9 @@ impl Engine<'_> {
         } else {
             Pivot::Origin
         };
+        let before = state.scope;
         state.scope.rotate_euler_degrees(v, pivot);
+        follow_geometry(state, &before, DAffine3::IDENTITY);
         Ok(())
     }
 
@@ -58,6 +63,7 @@ impl Engine<'_> {
         args: &[Value],
     ) -> Fallible<()> {
         let v = self.vector(v, state, args)?;
+        let before = state.scope;
         state.resize(v.abs());
         // A negative size mirrors: the axis turns around the scope's origin, and the
         // geometry with it.
@@ -66,6 +72,9 @@ impl Engine<'_> {
                 state.mirror_axis(i);
             }
         }
+        let old = before.size;
+        let factor = DVec3::select(old.cmpeq(DVec3::ZERO), DVec3::ONE, v.abs() / old);
+        follow_geometry(state, &before, DAffine3::from_scale(factor));
         Ok(())
     }
 
@@ -172,7 +181,9 @@ impl Engine<'_> {
 /// scope the rule's statements started with, or the last one pushed).
 pub(super) fn center(state: &mut State, anchor: &Scope, axes: [bool; 3]) {
     let target = anchor.center();
+    let before = state.scope;
     state.scope.center_on(target, axes);
+    follow_geometry(state, &before, DAffine3::IDENTITY);
 }
 
 /// CGA `alignScopeToGeometryBBox`: the scope turned as [`bbox_axes`] says and fitted around
@@ -331,6 +342,8 @@ fn mirror_in_scope(state: &mut State, flags: [bool; 3]) {
         }
     }
     let map = DAffine3::from_translation(shift) * DAffine3::from_scale(scale);
+    let scope = state.scope;
+    follow_geometry(state, &scope, map);
     if let Geometry::Implicit(implicit) = &state.geometry {
         state.geometry = state.geometry.with_solid(moved(&implicit.solid, map));
         return;

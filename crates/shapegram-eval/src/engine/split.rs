@@ -174,6 +174,7 @@ impl<'p> Engine<'p> {
                 geometry: state.geometry.clone(),
                 color: state.color,
                 material: state.material.clone(),
+                texturing: state.texturing.clone(),
                 node: None,
                 lot: self.ev.lot,
                 section,

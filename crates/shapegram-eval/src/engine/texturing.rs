@@ -1,0 +1,269 @@
+//! Texturing operations: `setupProjection`, `projectUV`, `texture`, the uv edits (`tileUV`,
+//! `scaleUV`, `translateUV`, `rotateUV`, `deleteUV`, `copyUV`), texture layers set with
+//! `set(material.…)`, and uv sets following the geometry when `t`, `r`, `s`, `center` or
+//! `mirror` move it (see [`crate::texturing`]).
+
+use std::sync::Arc;
+
+use shapegram_geom::{DAffine3, DMat3, DVec2, DVec3, Scope};
+
+use super::Fallible;
+use super::machine::Engine;
+use crate::error::DeriveError;
+use crate::ops::{ProjectionSetup, UvEdit};
+use crate::program::{CExpr, CKind};
+use crate::shape::State;
+use crate::texturing::{ProjectionFrame, Texturing, UV_SETS, UvMap};
+use crate::value::Value;
+
+impl Engine<'_> {
+    /// `setupProjection`: the projection of a uv set, frozen in world space.
+    pub(super) fn setup_projection(
+        &mut self,
+        state: &mut State,
+        setup: &ProjectionSetup,
+        args: &[Value],
+    ) -> Fallible<()> {
+        let ProjectionSetup {
+            set,
+            world,
+            axes,
+            sizes,
+            offsets,
+            uw_factor,
+        } = setup;
+        let (world, axes) = (*world, *axes);
+        let set = self.uv_set(set, state, args)?;
+        let (origin, frame) = if world {
+            (DVec3::ZERO, DMat3::IDENTITY)
+        } else {
+            (state.scope.origin, state.scope.axes)
+        };
+        // Relative and floating sizes measure the scope along the axis of the same letter.
+        let lengths = axes.map(|a| state.scope.size[a]);
+        let mut tile = [0.0; 2];
+        for i in 0..2 {
+            tile[i] = self.texture_length(&sizes[i], state, args, lengths[i])?;
+            if tile[i] == 0.0 || !tile[i].is_finite() {
+                return Err(DeriveError::at(
+                    format!(
+                        "a texture {} of {}: expected a length other than 0",
+                        ["width", "height"][i],
+                        tile[i]
+                    ),
+                    sizes[i].span,
+                ));
+            }
+        }
+        let offset = match offsets {
+            Some([a, b]) => DVec2::new(
+                self.texture_length(a, state, args, lengths[0])?,
+                self.texture_length(b, state, args, lengths[1])?,
+            ),
+            None => DVec2::ZERO,
+        };
+        let uw_factor = match uw_factor {
+            Some(k) => self.ev.number(k, state, args)?,
+            None => 0.0,
+        };
+        let (u, v) = (frame.col(axes[0]), frame.col(axes[1]));
+        let frame = ProjectionFrame {
+            origin,
+            u,
+            v,
+            w: u.cross(v),
+            uw_factor,
+        };
+        let map = UvMap::projection(&frame, tile[0], tile[1], offset);
+        texturing_mut(state).projections[set] = Some(map);
+        Ok(())
+    }
+
+    /// `projectUV(uvSet)`: the uv set from its projection; without a projection the uvs stay
+    /// as they are.
+    pub(super) fn project_uv(
+        &mut self,
+        state: &mut State,
+        set: &CExpr,
+        args: &[Value],
+    ) -> Fallible<()> {
+        let set = self.uv_set(set, state, args)?;
+        let Some(projection) = state.texturing.as_ref().and_then(|t| t.projections[set]) else {
+            return Ok(());
+        };
+        texturing_mut(state).uvs[set] = Some(projection);
+        Ok(())
+    }
+
+    /// `texture(path)` and `set(material.<layer>, path)`: a texture layer; `""` is none.
+    pub(super) fn texture(
+        &mut self,
+        state: &mut State,
+        layer: usize,
+        path: &CExpr,
+        args: &[Value],
+    ) -> Fallible<()> {
+        let path = self.ev.string(path, state, args)?;
+        texturing_mut(state).maps[layer] = (!path.is_empty()).then_some(path);
+        Ok(())
+    }
+
+    /// A uv edit (see [`UvEdit`]); a set the geometry does not have is left alone.
+    pub(super) fn edit_uv(
+        &mut self,
+        state: &mut State,
+        edit: UvEdit,
+        params: &[CExpr],
+        args: &[Value],
+    ) -> Fallible<()> {
+        let set = self.uv_set(&params[0], state, args)?;
+        if edit == UvEdit::Copy {
+            let to = self.uv_set(&params[1], state, args)?;
+            if let Some(t) = state.texturing.as_ref().filter(|t| t.uvs[set] != t.uvs[to]) {
+                let map = t.uvs[set];
+                texturing_mut(state).uvs[to] = map;
+            }
+            return Ok(());
+        }
+        let Some(map) = state.texturing.as_ref().and_then(|t| t.uvs[set]) else {
+            return Ok(());
+        };
+        let edited = match edit {
+            UvEdit::Delete => None,
+            UvEdit::Scale => {
+                let s = self.two(&params[1..], state, args)?;
+                Some(map.then([[s.x, 0.0], [0.0, s.y]], DVec2::ZERO))
+            }
+            UvEdit::Translate => {
+                let t = self.two(&params[1..], state, args)?;
+                Some(map.then([[1.0, 0.0], [0.0, 1.0]], t))
+            }
+            UvEdit::Rotate => {
+                let (sin, cos) = self
+                    .ev
+                    .number(&params[1], state, args)?
+                    .to_radians()
+                    .sin_cos();
+                Some(map.then([[cos, -sin], [sin, cos]], DVec2::ZERO))
+            }
+            UvEdit::Tile => Some(self.tile(state, map, &params[1..], args)?),
+            UvEdit::Copy => Some(map),
+        };
+        texturing_mut(state).uvs[set] = edited;
+        Ok(())
+    }
+
+    /// `tileUV`: the uvs start at 0 over the geometry and one tile spans the given size along
+    /// each axis (metres on the surface, `'r` of the current extent, `~f` whole tiles of about
+    /// `f`; 0 leaves the axis alone).
+    fn tile(
+        &mut self,
+        state: &mut State,
+        map: UvMap,
+        sizes: &[CExpr],
+        args: &[Value],
+    ) -> Fallible<UvMap> {
+        let Some(mesh) = state.geometry.world_mesh(&state.scope) else {
+            return Ok(map);
+        };
+        let (mut low, mut high) = (DVec2::splat(f64::INFINITY), DVec2::splat(f64::NEG_INFINITY));
+        for &p in mesh.positions() {
+            let uv = map.at(p);
+            low = low.min(uv);
+            high = high.max(uv);
+        }
+        if !low.is_finite() {
+            return Ok(map);
+        }
+        let extent = high - low;
+        let rates = map.rates();
+        let (mut scale, mut shift) = (DVec2::ONE, DVec2::ZERO);
+        for i in 0..2 {
+            if extent[i] <= 0.0 || rates[i] <= 0.0 {
+                continue;
+            }
+            // Metres on the surface per uv unit, and the surface's length along the axis.
+            let metres = 1.0 / rates[i];
+            let e = &sizes[i];
+            let factor = match &e.kind {
+                CKind::Relative(inner) => {
+                    let r = self.ev.number(inner, state, args)?;
+                    (r != 0.0).then(|| 1.0 / (extent[i] * r))
+                }
+                _ => {
+                    let tile = self.texture_length(e, state, args, extent[i] * metres)?;
+                    (tile != 0.0).then(|| metres / tile)
+                }
+            };
+            if let Some(factor) = factor {
+                scale[i] = factor;
+                shift[i] = -low[i] * factor;
+            }
+        }
+        Ok(map.then([[scale.x, 0.0], [0.0, scale.y]], shift))
+    }
+
+    /// A uv set's number, 0 to 9.
+    fn uv_set(&mut self, e: &CExpr, state: &mut State, args: &[Value]) -> Fallible<usize> {
+        let n = self.ev.number(e, state, args)?;
+        if n.fract() != 0.0 || !(0.0..UV_SETS as f64).contains(&n) {
+            return Err(DeriveError::at(
+                format!("uv set {n}: expected a whole number from 0 to 9"),
+                e.span,
+            ));
+        }
+        Ok(n as usize)
+    }
+
+    /// A length of texture space: metres, `'r` (r times `length`) or `~f` (`length` divided
+    /// into whole parts of about `f`).
+    fn texture_length(
+        &mut self,
+        e: &CExpr,
+        state: &mut State,
+        args: &[Value],
+        length: f64,
+    ) -> Fallible<f64> {
+        Ok(match &e.kind {
+            CKind::Relative(inner) => self.ev.number(inner, state, args)? * length,
+            CKind::Floating(inner) => {
+                let about = self.ev.number(inner, state, args)?;
+                length / (length / about).round().max(1.0)
+            }
+            _ => self.ev.number(e, state, args)?,
+        })
+    }
+
+    fn two(&mut self, e: &[CExpr], state: &mut State, args: &[Value]) -> Fallible<DVec2> {
+        Ok(DVec2::new(
+            self.ev.number(&e[0], state, args)?,
+            self.ev.number(&e[1], state, args)?,
+        ))
+    }
+}
+
+/// The shape's texturing, made its own to change.
+fn texturing_mut(state: &mut State) -> &mut Texturing {
+    Arc::make_mut(state.texturing.get_or_insert_with(Default::default))
+}
+
+/// Carries the shape's uv sets along after its geometry moved with its scope from `before`,
+/// where `local` is how the geometry's scope-local coordinates changed (identity when they
+/// did not).
+pub(super) fn follow_geometry(state: &mut State, before: &Scope, local: DAffine3) {
+    if !state.texturing.as_ref().is_some_and(|t| t.has_uvs()) {
+        return;
+    }
+    let motion = state.scope.local_to_world() * local * before.world_to_local();
+    for map in texturing_mut(state).uvs.iter_mut().flatten() {
+        *map = map.moved(&motion);
+    }
+}
+
+/// Drops the shape's uv sets when its geometry is replaced (an inserted asset or a primitive
+/// brings its own uvs, not read yet).
+pub(super) fn drop_uvs(state: &mut State) {
+    if state.texturing.as_ref().is_some_and(|t| t.has_uvs()) {
+        texturing_mut(state).uvs = Default::default();
+    }
+}

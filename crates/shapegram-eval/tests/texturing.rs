@@ -1,0 +1,205 @@
+//! Texturing: projections frozen in world space, uv sets made from them, edited, and carried
+//! along when the geometry moves; texture layers.
+
+mod common;
+
+use common::{compile_errors, lot, run, try_run};
+use shapegram_eval::{Derivation, DeriveOptions, Leaf};
+use shapegram_geom::DVec2;
+
+/// A 20 m wide, 6 m high facade, its rule body given.
+fn facade(body: &str) -> Derivation {
+    run(
+        &format!("Lot --> extrude(6) comp(f) {{ front : Facade }}\nFacade --> {body}\n"),
+        lot(20.0, 30.0),
+    )
+}
+
+/// The smallest and largest uv of set `set` over a leaf's vertices.
+fn range(leaf: &Leaf, set: usize) -> (DVec2, DVec2) {
+    let mesh = leaf.world_mesh().expect("the leaf has geometry");
+    let uvs = leaf.uvs(set, &mesh).expect("the leaf has the uv set");
+    let low = uvs.iter().fold(DVec2::INFINITY, |a, b| a.min(*b));
+    let high = uvs.iter().fold(DVec2::NEG_INFINITY, |a, b| a.max(*b));
+    (low, high)
+}
+
+fn assert_range(leaf: &Leaf, set: usize, low: [f64; 2], high: [f64; 2]) {
+    let (l, h) = range(leaf, set);
+    let close = |a: DVec2, b: [f64; 2]| (a - DVec2::from(b)).length() < 1e-9;
+    assert!(
+        close(l, low) && close(h, high),
+        "uv set {set}: {l} … {h}, expected {low:?} … {high:?}"
+    );
+}
+
+#[test]
+fn project_uv_measures_the_facade_in_texture_tiles() {
+    let d = facade("setupProjection(0, scope.xy, 5, 3) projectUV(0) Wall");
+    assert_range(&d.leaves[0], 0, [0.0, 0.0], [4.0, 2.0]);
+    // Without projectUV there are no uvs, whatever was set up.
+    let d = facade("setupProjection(0, scope.xy, 5, 3) Wall");
+    assert!(
+        d.leaves[0]
+            .uvs(0, &d.leaves[0].world_mesh().unwrap())
+            .is_none()
+    );
+}
+
+#[test]
+fn a_projection_set_up_on_the_facade_runs_on_across_its_tiles() {
+    let d =
+        facade("setupProjection(0, scope.xy, 5, 3) split(x) { 4 : Tile }*\nTile --> projectUV(0)");
+    let starts: Vec<f64> = d.leaves.iter().map(|l| range(l, 0).0.x).collect();
+    let expected = [0.0, 0.8, 1.6, 2.4, 3.2];
+    assert_eq!(starts.len(), 5);
+    for (s, e) in starts.iter().zip(expected) {
+        assert!((s - e).abs() < 1e-9, "{starts:?}");
+    }
+    // Set up in each tile instead, every tile starts again at 0.
+    let d =
+        facade("split(x) { 4 : Tile }*\nTile --> setupProjection(0, scope.xy, 5, 3) projectUV(0)");
+    assert!(d.leaves.iter().all(|l| range(l, 0).0.x.abs() < 1e-9));
+}
+
+#[test]
+fn relative_sizes_offsets_and_the_uw_factor() {
+    // '0.5 of 20 m is a 10 m tile; the offset −'0.25 puts the texture's origin 5 m before
+    // the facade's, so u runs from 0.5.
+    let d = facade("setupProjection(0, scope.xy, '0.5, '1, '-0.25, 0) projectUV(0) Wall");
+    assert_range(&d.leaves[0], 0, [0.5, 0.0], [2.5, 1.0]);
+    // ~3: whole tiles of about 3 m, 7 of them over 20 m.
+    let d = facade("setupProjection(0, scope.xy, ~3, 6) projectUV(0) Wall");
+    assert_range(&d.leaves[0], 0, [0.0, 0.0], [7.0, 1.0]);
+    // The deprecated five-argument form's uwFactor: u also advances along the facade's
+    // depth, 1/5 per metre, so the 2 m deep block reaches 22/5.
+    let d = facade("setupProjection(0, scope.xy, 5, 5, 1) extrude(2) projectUV(0) Block");
+    let (low, high) = range(&d.leaves[0], 0);
+    assert!(
+        (low.x - 0.0).abs() < 1e-9 && (high.x - 4.4).abs() < 1e-9,
+        "{low} {high}"
+    );
+}
+
+#[test]
+fn world_axes_project_from_the_world_origin() {
+    let d = run(
+        "Lot --> setupProjection(0, world.xz, 10, 10) projectUV(0) Ground",
+        lot(20.0, 30.0),
+    );
+    assert_range(&d.leaves[0], 0, [0.0, 0.0], [2.0, 3.0]);
+}
+
+#[test]
+fn uvs_stay_on_their_vertices_when_the_geometry_moves_stretches_or_flips() {
+    let still = facade("setupProjection(0, scope.xy, 5, 3) projectUV(0) Wall");
+    for moves in [
+        "t(3, 1, -2)",
+        "r(0, 30, 10)",
+        "r(scopeCenter, 45, 0, 0)",
+        "s('2, '0.5, 0)",
+        "s(-20, 6, 0)",
+        "mirror(true, false, false)",
+        "center(x)",
+    ] {
+        let moved = facade(&format!(
+            "setupProjection(0, scope.xy, 5, 3) projectUV(0) {moves} Wall"
+        ));
+        let (a, b) = (&still.leaves[0], &moved.leaves[0]);
+        let (mesh_a, mesh_b) = (a.world_mesh().unwrap(), b.world_mesh().unwrap());
+        let mut uv_a = a.uvs(0, &mesh_a).unwrap();
+        let mut uv_b = b.uvs(0, &mesh_b).unwrap();
+        let key = |p: &DVec2| ((p.x * 1e6).round() as i64, (p.y * 1e6).round() as i64);
+        uv_a.sort_by_key(key);
+        uv_b.sort_by_key(key);
+        assert_eq!(uv_a.len(), uv_b.len(), "{moves}");
+        for (p, q) in uv_a.iter().zip(&uv_b) {
+            assert!((*p - *q).length() < 1e-9, "{moves}: {p} vs {q}");
+        }
+    }
+}
+
+#[test]
+fn tile_scale_translate_and_rotate_edit_the_uvs() {
+    let project = "setupProjection(0, scope.xy, 5, 3) projectUV(0)";
+    let d = facade(&format!("{project} tileUV(0, '1, '1) Wall"));
+    assert_range(&d.leaves[0], 0, [0.0, 0.0], [1.0, 1.0]);
+    // 2 m tiles along u (20 m: 10 of them); 0 leaves v alone.
+    let d = facade(&format!("{project} tileUV(0, 2, 0) Wall"));
+    assert_range(&d.leaves[0], 0, [0.0, 0.0], [10.0, 2.0]);
+    let d = facade(&format!("{project} tileUV(0, ~3, 0) Wall"));
+    assert_range(&d.leaves[0], 0, [0.0, 0.0], [7.0, 2.0]);
+    let d = facade(&format!("{project} scaleUV(0, 1, -1) Wall"));
+    assert_range(&d.leaves[0], 0, [0.0, -2.0], [4.0, 0.0]);
+    let d = facade(&format!(
+        "{project} translateUV(0, 0.5, 0) offsetUV(0, 0, 1) Wall"
+    ));
+    assert_range(&d.leaves[0], 0, [0.5, 1.0], [4.5, 3.0]);
+    let d = facade(&format!("{project} rotateUV(0, 90) Wall"));
+    assert_range(&d.leaves[0], 0, [-2.0, 0.0], [0.0, 4.0]);
+}
+
+#[test]
+fn sets_are_copied_and_deleted_and_inserts_bring_their_own() {
+    let project = "setupProjection(0, scope.xy, 5, 3) projectUV(0)";
+    let d = facade(&format!("{project} copyUV(0, 2) deleteUV(0) Wall"));
+    let leaf = &d.leaves[0];
+    let mesh = leaf.world_mesh().unwrap();
+    assert!(leaf.uvs(0, &mesh).is_none());
+    assert_range(leaf, 2, [0.0, 0.0], [4.0, 2.0]);
+    let d = facade(&format!("{project} primitiveCube() Box"));
+    assert!(
+        d.leaves[0]
+            .uvs(0, &d.leaves[0].world_mesh().unwrap())
+            .is_none()
+    );
+}
+
+#[test]
+fn texture_layers_are_set_by_texture_and_material_attributes() {
+    let d = facade(
+        "texture(\"brick.jpg\") set(material.dirtmap, \"dirt.png\") set(material.map5, \"n.png\") Wall",
+    );
+    let maps = &d.leaves[0].texturing.as_ref().unwrap().maps;
+    assert_eq!(maps[0].as_deref(), Some("brick.jpg"));
+    assert_eq!(maps[2].as_deref(), Some("dirt.png"));
+    assert_eq!(maps[5].as_deref(), Some("n.png"));
+    let d = facade("texture(\"brick.jpg\") texture(\"\") Wall");
+    assert_eq!(d.leaves[0].texturing.as_ref().unwrap().maps[0], None);
+    // Shapes that never texture carry nothing.
+    let d = facade("Wall");
+    assert!(d.leaves[0].texturing.is_none());
+}
+
+#[test]
+fn bad_uv_sets_sizes_and_axes_are_errors_at_their_place() {
+    let grammar = |body: &str| {
+        format!("Lot --> extrude(6) comp(f) {{ front : Facade }}\nFacade --> {body}\n")
+    };
+    let error = try_run(
+        &grammar("setupProjection(12, scope.xy, 5, 3) Wall"),
+        lot(20.0, 30.0),
+        &DeriveOptions::default(),
+    )
+    .unwrap_err();
+    assert_eq!(
+        error.message,
+        "uv set 12: expected a whole number from 0 to 9"
+    );
+    let error = try_run(
+        &grammar("setupProjection(0, scope.xy, 0, 3) Wall"),
+        lot(20.0, 30.0),
+        &DeriveOptions::default(),
+    )
+    .unwrap_err();
+    assert_eq!(
+        error.message,
+        "a texture width of 0: expected a length other than 0"
+    );
+    let errors = compile_errors(&grammar("setupProjection(0, scope.xx, 5, 3) Wall"));
+    assert!(
+        errors[0].contains("expected projection axes such as `scope.xy` or `world.xz`")
+            && errors[0].contains("test.cga:2:"),
+        "{errors:?}"
+    );
+}
