@@ -101,6 +101,8 @@ impl Derivation {
 /// A leaf as a part of its own (`None` without geometry).
 fn leaf_part(leaf: &Leaf, bone: Option<Bone>) -> Option<Part> {
     Some(Part {
+        texture: None,
+        uvs: Vec::new(),
         name: leaf.name.to_string(),
         color: leaf.color,
         mesh: leaf.world_mesh()?,
@@ -114,6 +116,8 @@ fn leaf_part(leaf: &Leaf, bone: Option<Bone>) -> Option<Part> {
 /// (`None` for a scope flat in more than one axis).
 fn box_part(name: &str, scope: &Scope, bone: Option<Bone>) -> Option<Part> {
     Some(Part {
+        texture: None,
+        uvs: Vec::new(),
         name: name.to_owned(),
         color: Color::default(),
         mesh: Geometry::Box.world_mesh(scope)?,

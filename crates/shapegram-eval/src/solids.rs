@@ -175,6 +175,8 @@ fn mesh_group(
     }
     let normals = shapegram_implicit::surface_normals(&solid, &meshing.mesh, h);
     Ok(Some(Part {
+        texture: None,
+        uvs: Vec::new(),
         bone: None,
         metadata: None,
         name: group.name.to_string(),

@@ -10,7 +10,13 @@
 
 use std::sync::Arc;
 
-use shapegram_geom::{DAffine3, DVec2, DVec3};
+use shapegram_geom::{DAffine3, DVec2, DVec3, Texture};
+
+/// The layer of the colour map, the one layer whose image is read and exported.
+pub const COLORMAP: usize = 0;
+
+/// The layer of the opacity map, which `texture()` sets to an image with alpha.
+pub const OPACITYMAP: usize = 4;
 
 /// How many uv sets and texture layers a shape has.
 pub const UV_SETS: usize = 10;
@@ -131,8 +137,9 @@ pub struct Texturing {
     pub projections: [Option<UvMap>; UV_SETS],
     /// Each uv set of the geometry, if it has one.
     pub uvs: [Option<UvMap>; UV_SETS],
-    /// The texture of each layer (see [`LAYERS`]), as the path the grammar gave.
-    pub maps: [Option<Arc<str>>; UV_SETS],
+    /// The texture of each layer (see [`LAYERS`]): the path the grammar gave, with the image
+    /// read for the colour map.
+    pub maps: [Option<Arc<Texture>>; UV_SETS],
 }
 
 impl Texturing {

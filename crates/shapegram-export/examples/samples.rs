@@ -13,6 +13,8 @@ use shapegram_geom::{Bone, Color, DAffine3, DQuat, DVec3, Lines, Mesh, Model, Pa
 
 fn part(name: &str, hex: &str, mesh: Mesh, at: DVec3) -> Part {
     Part {
+        texture: None,
+        uvs: Vec::new(),
         bone: None,
         metadata: None,
         name: name.to_owned(),

@@ -98,6 +98,8 @@ pub(crate) fn segment_is_exportable(points: &[DVec3], segment: [u32; 2]) -> bool
 pub(crate) struct FlatFace<'a> {
     pub normal: [f32; 3],
     pub corners: &'a [[f32; 3]],
+    /// The mesh vertex of each corner.
+    pub vertices: &'a [u32],
     pub triangles: &'a [[u32; 3]],
 }
 
@@ -174,6 +176,7 @@ pub(crate) fn flat_faces(mesh: &Mesh, mut visit: impl FnMut(FlatFace<'_>)) {
     let mut fan = Vec::new();
     let mut used = Vec::new();
     let mut corners = Vec::new();
+    let mut vertices = Vec::new();
     let mut triangles = Vec::new();
     for i in 0..mesh.face_count() {
         fan.clear();
@@ -184,9 +187,11 @@ pub(crate) fn flat_faces(mesh: &Mesh, mut visit: impl FnMut(FlatFace<'_>)) {
             continue;
         }
         let rounded = splitter.rounded();
+        let face = mesh.face(i);
         used.clear();
         used.resize(rounded.len(), u32::MAX);
         corners.clear();
+        vertices.clear();
         triangles.clear();
         for &triangle in &fan {
             triangles.push(triangle.map(|c| {
@@ -194,6 +199,7 @@ pub(crate) fn flat_faces(mesh: &Mesh, mut visit: impl FnMut(FlatFace<'_>)) {
                 if *slot == u32::MAX {
                     *slot = corners.len() as u32;
                     corners.push(rounded[c as usize]);
+                    vertices.push(face[c as usize]);
                 }
                 *slot
             }));
@@ -201,6 +207,7 @@ pub(crate) fn flat_faces(mesh: &Mesh, mut visit: impl FnMut(FlatFace<'_>)) {
         visit(FlatFace {
             normal: unit(normal),
             corners: &corners,
+            vertices: &vertices,
             triangles: &triangles,
         });
     }
@@ -246,21 +253,38 @@ pub(crate) fn sanitized(color: Color) -> [f32; 4] {
     ]
 }
 
-/// The distinct colours of a model in order of first appearance: one material each.
+/// The distinct colours of a model, with the texture (if any) each is drawn with, in order of
+/// first appearance: one material each.
 #[derive(Default)]
 pub(crate) struct Palette {
     colors: Vec<[f32; 4]>,
-    index: BTreeMap<[u32; 4], usize>,
+    textures: Vec<Option<usize>>,
+    index: BTreeMap<([u32; 4], Option<usize>), usize>,
 }
 
 impl Palette {
     /// The material index of a colour, adding it when new.
     pub fn material(&mut self, color: Color) -> usize {
+        self.textured(color, None)
+    }
+
+    /// The material index of a colour with a texture (an index the caller keeps), adding it
+    /// when new.
+    pub fn textured(&mut self, color: Color, texture: Option<usize>) -> usize {
         let rgba = sanitized(color);
-        *self.index.entry(rgba.map(f32::to_bits)).or_insert_with(|| {
-            self.colors.push(rgba);
-            self.colors.len() - 1
-        })
+        *self
+            .index
+            .entry((rgba.map(f32::to_bits), texture))
+            .or_insert_with(|| {
+                self.colors.push(rgba);
+                self.textures.push(texture);
+                self.colors.len() - 1
+            })
+    }
+
+    /// The texture of each material.
+    pub fn textures(&self) -> &[Option<usize>] {
+        &self.textures
     }
 
     /// The sanitized colours, by material index.

@@ -26,7 +26,7 @@ use std::io::{self, Write};
 
 use gltf_json as json;
 use json::validation::{Checked::Valid, USize64};
-use shapegram_geom::{Color, DVec3, Lines, Mesh, MetaValue, Metadata, Model, Part};
+use shapegram_geom::{Color, DVec2, DVec3, Lines, Mesh, MetaValue, Metadata, Model, Part, Texture};
 
 use crate::ExportOptions;
 use crate::flat::{
@@ -92,16 +92,19 @@ fn shared<'a>(all: &'a [DVec3], indices: &mut Cow<'_, [u32]>) -> Shared<'a> {
 
 /// Part of a primitive's vertex data, with indices counted from its own first vertex.
 pub(crate) enum Chunk<'a> {
-    /// Flat-shaded faces: corners per face, each with the face normal.
+    /// Flat-shaded faces: corners per face, each with the face normal (and its vertex's uv,
+    /// for a textured part; empty otherwise).
     Flat {
         positions: Vec<[f32; 3]>,
         normals: Vec<[f32; 3]>,
+        uvs: Vec<[f32; 2]>,
         indices: Vec<u32>,
     },
-    /// A smooth part's shared vertices with their normals.
+    /// A smooth part's shared vertices with their normals (and uvs, for a textured part).
     Smooth {
         vertices: Shared<'a>,
         normals: Cow<'a, [DVec3]>,
+        uvs: Option<&'a [DVec2]>,
         indices: Vec<u32>,
     },
     /// A line set's points and segments.
@@ -114,10 +117,11 @@ pub(crate) enum Chunk<'a> {
 impl<'a> Chunk<'a> {
     /// A part's triangles: smooth when it has one normal per vertex, flat otherwise.
     pub(crate) fn of_part(part: &'a Part) -> Option<Self> {
+        let uvs = texture_uvs(part);
         let chunk = if is_smooth(part) {
-            smooth_chunk(part)
+            smooth_chunk(part, uvs)
         } else {
-            flat_chunk(&part.mesh)
+            flat_chunk(&part.mesh, uvs)
         };
         (chunk.index_count() > 0).then_some(chunk)
     }
@@ -177,6 +181,28 @@ impl<'a> Chunk<'a> {
         }
     }
 
+    /// Whether the chunk has a uv per vertex.
+    fn has_uvs(&self) -> bool {
+        match self {
+            Self::Flat { uvs, .. } => !uvs.is_empty(),
+            Self::Smooth { uvs, .. } => uvs.is_some(),
+            Self::Lines { .. } => false,
+        }
+    }
+
+    /// Calls `visit` with every uv as glTF has it (v down), in vertex order (none without).
+    fn uvs(&self, mut visit: impl FnMut([f32; 2])) {
+        match self {
+            Self::Flat { uvs, .. } => uvs.iter().copied().for_each(visit),
+            Self::Smooth {
+                vertices,
+                uvs: Some(uvs),
+                ..
+            } => vertices.each(|v| visit(gltf_uv(uvs[v]))),
+            Self::Smooth { .. } | Self::Lines { .. } => {}
+        }
+    }
+
     /// Calls `visit` with every f32 unit normal, in vertex order (none for lines).
     pub(crate) fn normals(&self, mut visit: impl FnMut([f32; 3])) {
         match self {
@@ -189,24 +215,46 @@ impl<'a> Chunk<'a> {
     }
 }
 
+/// A textured part's uvs: one per mesh vertex, when it has a texture with an image glTF can
+/// embed (else the part is drawn in its colour alone).
+fn texture_uvs(part: &Part) -> Option<&[DVec2]> {
+    let texture = part.texture.as_ref()?;
+    (texture.mime_type().is_some() && part.uvs.len() == part.mesh.positions().len())
+        .then_some(&part.uvs)
+}
+
+/// A uv as glTF stores it: v runs down the image, where CGA's runs up.
+fn gltf_uv(uv: DVec2) -> [f32; 2] {
+    [uv.x as f32, (1.0 - uv.y) as f32]
+}
+
 /// A mesh's faces with vertices of their own, as flat shading needs.
-fn flat_chunk(mesh: &Mesh) -> Chunk<'static> {
+fn flat_chunk<'a>(mesh: &Mesh, texture_uvs: Option<&[DVec2]>) -> Chunk<'a> {
     let (mut positions, mut normals, mut indices) = (Vec::new(), Vec::new(), Vec::new());
+    let mut uvs = Vec::new();
     flat_faces(mesh, |face| {
         let base = positions.len() as u32;
         positions.extend_from_slice(face.corners);
         normals.extend(std::iter::repeat_n(face.normal, face.corners.len()));
+        if let Some(texture_uvs) = texture_uvs {
+            uvs.extend(
+                face.vertices
+                    .iter()
+                    .map(|&v| gltf_uv(texture_uvs[v as usize])),
+            );
+        }
         indices.extend(face.triangles.iter().flatten().map(|&c| base + c));
     });
     Chunk::Flat {
         positions,
         normals,
+        uvs,
         indices,
     }
 }
 
 /// A smooth part's faces over its shared vertices (see [`usable_normals`]).
-fn smooth_chunk(part: &Part) -> Chunk<'_> {
+fn smooth_chunk<'a>(part: &'a Part, uvs: Option<&'a [DVec2]>) -> Chunk<'a> {
     let mesh = &part.mesh;
     let mut splitter = FaceSplitter::default();
     let mut fan = Vec::new();
@@ -227,6 +275,7 @@ fn smooth_chunk(part: &Part) -> Chunk<'_> {
     Chunk::Smooth {
         vertices,
         normals,
+        uvs,
         indices: indices.into_owned(),
     }
 }
@@ -236,6 +285,8 @@ fn smooth_chunk(part: &Part) -> Chunk<'_> {
 struct Primitive<'a> {
     material: usize,
     lines: bool,
+    /// Whether its vertices carry uvs (TEXCOORD_0): its material is textured.
+    textured: bool,
     skinned: Option<Skinned>,
     chunks: Vec<Chunk<'a>>,
 }
@@ -322,6 +373,8 @@ struct Plan<'a> {
     skins: Vec<Skin<'a>>,
     /// The skeletons' named poses, written after the skins.
     animations: Vec<Animation>,
+    /// The images of textured parts, written last.
+    textures: Vec<&'a Texture>,
     bin_len: usize,
 }
 
@@ -350,9 +403,13 @@ impl<'a> Plan<'a> {
                     skin_of[bone.skeleton as usize].expect("every bound skeleton has a skin");
                 (skin, skins[skin].joint(bone.section))
             });
+            let texture = (chunk.has_uvs())
+                .then_some(part.texture.as_deref())
+                .flatten();
             (
                 &part.name,
                 part.color,
+                texture,
                 false,
                 joint,
                 chunk,
@@ -363,6 +420,7 @@ impl<'a> Plan<'a> {
             Some((
                 &lines.name,
                 lines.color,
+                None,
                 true,
                 None,
                 Chunk::of_lines(lines)?,
@@ -370,6 +428,8 @@ impl<'a> Plan<'a> {
             ))
         });
         let mut palette = Palette::default();
+        // The distinct images, by path, in order of first use.
+        let mut textures: Vec<&'a Texture> = Vec::new();
         let mut groups: Vec<Group<'a>> = Vec::new();
         // Skin (or none) -> merged group, so skinned and unskinned parts and the parts of two
         // skins never share a mesh.
@@ -377,8 +437,18 @@ impl<'a> Plan<'a> {
         // (group, material, lines) -> primitive slot in that group; triangles and lines of one
         // colour stay apart since a primitive has one mode.
         let mut merged: BTreeMap<(usize, usize, bool), usize> = BTreeMap::new();
-        for (name, color, lines, joint, chunk, metadata) in chunks.chain(line_chunks) {
-            let material = palette.material(color);
+        for (name, color, texture, lines, joint, chunk, metadata) in chunks.chain(line_chunks) {
+            let texture = texture.map(|t| {
+                textures
+                    .iter()
+                    .position(|known| known.path == t.path)
+                    .unwrap_or_else(|| {
+                        textures.push(t);
+                        textures.len() - 1
+                    })
+            });
+            let material = palette.textured(color, texture);
+            let textured = texture.is_some();
             let skin = joint.map(|(skin, _)| skin);
             let skinned = |joints| Skinned {
                 wide: skins[skin.expect("only skinned chunks have joints")].wide(),
@@ -393,6 +463,7 @@ impl<'a> Plan<'a> {
                     primitives: vec![Primitive {
                         material,
                         lines,
+                        textured,
                         skinned: joint.map(|(_, j)| skinned(vec![j])),
                         chunks: vec![chunk],
                     }],
@@ -413,6 +484,7 @@ impl<'a> Plan<'a> {
                 primitives.push(Primitive {
                     material,
                     lines,
+                    textured,
                     skinned: joint.map(|_| skinned(Vec::new())),
                     chunks: Vec::new(),
                 });
@@ -425,12 +497,13 @@ impl<'a> Plan<'a> {
             }
         }
         let animations = Animation::of_skins(&skins);
-        let (json, bin_len) = document(&palette, &groups, &skins, &animations);
+        let (json, bin_len) = document(&palette, &textures, &groups, &skins, &animations);
         Ok(Self {
             json,
             groups,
             skins,
             animations,
+            textures,
             bin_len,
         })
     }
@@ -490,6 +563,14 @@ impl<'a> Plan<'a> {
                     chunk.normals(|n| put(&vec3(n)));
                 }
             }
+            if primitive.textured {
+                for chunk in &primitive.chunks {
+                    chunk.uvs(|[u, v]| {
+                        put(&u.to_le_bytes());
+                        put(&v.to_le_bytes());
+                    });
+                }
+            }
             if let Some(skinned) = &primitive.skinned {
                 for (chunk, &joint) in primitive.chunks.iter().zip(&skinned.joints) {
                     let [low, high] = joint.to_le_bytes();
@@ -538,6 +619,11 @@ impl<'a> Plan<'a> {
                 }
             });
         }
+        for texture in &self.textures {
+            let image = texture.image.as_deref().unwrap_or_default();
+            put(image);
+            put(&[0; 3][..image.len().next_multiple_of(4) - image.len()]);
+        }
         result
     }
 }
@@ -570,6 +656,7 @@ fn metadata_extras(metadata: &Metadata) -> Box<json::extras::RawValue> {
 /// The JSON chunk (padded with spaces to 4 bytes) and the length of the BIN chunk.
 fn document(
     palette: &Palette,
+    textures: &[&Texture],
     groups: &[Group<'_>],
     skins: &[Skin<'_>],
     animations: &[Animation],
@@ -580,11 +667,14 @@ fn document(
         name: Some("shapegram".to_owned()),
         ..Default::default()
     });
-    for (&[r, g, b, a], name) in palette.colors().iter().zip(palette.hex_names()) {
+    let colors = palette.colors().iter().zip(palette.hex_names());
+    for ((&[r, g, b, a], name), &texture) in colors.zip(palette.textures()) {
         // The palette holds sRGB, as written in grammars; glTF wants linear light.
-        builder
-            .root
-            .push(material(Color { r, g, b, a }.to_linear(), name));
+        let mut material = material(Color { r, g, b, a }.to_linear(), name);
+        if let Some(texture) = texture {
+            textured(&mut material, texture, textures[texture]);
+        }
+        builder.root.push(material);
     }
     let mut children = Vec::new();
     let mut roots = vec![json::Index::new(0)];
@@ -626,6 +716,9 @@ fn document(
     for animation in animations {
         animation.push(&mut builder, &joints);
     }
+    for texture in textures {
+        builder.image(texture);
+    }
     builder.finish(children, roots)
 }
 
@@ -646,6 +739,20 @@ fn material(rgba: [f32; 4], name: String) -> json::Material {
             ..Default::default()
         },
         ..Default::default()
+    }
+}
+
+/// A material drawn with texture `index` (`texture`) through TEXCOORD_0: blended when the
+/// image has alpha.
+fn textured(material: &mut json::Material, index: usize, texture: &Texture) {
+    material.pbr_metallic_roughness.base_color_texture = Some(json::texture::Info {
+        index: json::Index::new(index as u32),
+        tex_coord: 0,
+        extensions: None,
+        extras: Default::default(),
+    });
+    if texture.has_alpha() {
+        material.alpha_mode = Valid(json::material::AlphaMode::Blend);
     }
 }
 
@@ -680,6 +787,16 @@ impl Builder {
                 None,
             );
             attributes.insert(Valid(json::mesh::Semantic::Normals), normals);
+        }
+        if primitive.textured {
+            let uvs = self.accessor(
+                vertices,
+                8,
+                Some(Target::ArrayBuffer),
+                (ComponentType::F32, Type::Vec2),
+                None,
+            );
+            attributes.insert(Valid(json::mesh::Semantic::TexCoords(0)), uvs);
         }
         if let Some(skinned) = &primitive.skinned {
             let (size, component) = if skinned.wide {
@@ -730,6 +847,42 @@ impl Builder {
             }),
             targets: None,
         }
+    }
+
+    /// A texture of its own for an image embedded in the BIN chunk (in [`Plan::write`]'s
+    /// order), sampled with glTF's defaults (repeating).
+    fn image(&mut self, texture: &Texture) {
+        let bytes = texture.image.as_deref().unwrap_or_default();
+        let offset = self.bin_len;
+        self.bin_len = (offset + bytes.len()).next_multiple_of(4);
+        let view = self.root.push(json::buffer::View {
+            buffer: json::Index::new(0),
+            byte_length: USize64::from(bytes.len()),
+            byte_offset: Some(USize64::from(offset)),
+            byte_stride: None,
+            extensions: None,
+            extras: Default::default(),
+            name: None,
+            target: None,
+        });
+        let name = texture.path.rsplit(['/', '\\']).next().unwrap_or_default();
+        let image = self.root.push(json::Image {
+            buffer_view: Some(view),
+            mime_type: texture
+                .mime_type()
+                .map(|m| json::image::MimeType(m.to_owned())),
+            name: Some(name.to_owned()),
+            uri: None,
+            extensions: None,
+            extras: Default::default(),
+        });
+        self.root.push(json::Texture {
+            name: None,
+            sampler: None,
+            source: image,
+            extensions: None,
+            extras: Default::default(),
+        });
     }
 
     /// A buffer view of its own for `count` elements of `size` bytes, and an accessor over it.

@@ -669,6 +669,8 @@ pub fn read_stl(bytes: &[u8]) -> Result<Model, Error> {
 fn push_part(parts: &mut Vec<Part>, name: String, color: Color, mesh: Mesh, normals: Vec<DVec3>) {
     if !mesh.is_empty() {
         parts.push(Part {
+            texture: None,
+            uvs: Vec::new(),
             bone: None,
             metadata: None,
             name,

@@ -30,6 +30,8 @@ fn at(x: f64, y: f64, z: f64) -> Frame {
 
 fn part(name: &str, color: Color, mesh: Mesh, bone: Option<Bone>) -> Part {
     Part {
+        texture: None,
+        uvs: Vec::new(),
         name: name.to_owned(),
         color,
         mesh,

@@ -20,6 +20,8 @@ const MERGED: ExportOptions = ExportOptions {
 
 fn smooth(name: &str, mesh: Mesh) -> Part {
     Part {
+        texture: None,
+        uvs: Vec::new(),
         bone: None,
         metadata: None,
         name: name.to_owned(),
@@ -232,6 +234,8 @@ fn glb_lines_are_a_primitive_of_their_own() {
     let model = Model {
         skeletons: Vec::new(),
         parts: vec![Part {
+            texture: None,
+            uvs: Vec::new(),
             bone: None,
             metadata: None,
             name: "box".to_owned(),

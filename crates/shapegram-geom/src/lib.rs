@@ -40,7 +40,7 @@ pub use bvh::Bvh;
 pub use component::{Component, ComponentKind, FaceClass};
 pub use glam::{DAffine3, DMat3, DQuat, DVec2, DVec3};
 pub use mesh::Mesh;
-pub use model::{Bone, Color, Lines, MetaValue, Metadata, Model, Part};
+pub use model::{Bone, Color, Lines, MetaValue, Metadata, Model, Part, Texture};
 pub use plane::Plane;
 pub use scope::{Pivot, Scope};
 pub use shapegram_kinematics as kinematics;

@@ -2,7 +2,7 @@
 
 use std::sync::Arc;
 
-use glam::DVec3;
+use glam::{DVec2, DVec3};
 
 use shapegram_kinematics::{Frame, SectionId, Skeleton};
 
@@ -128,6 +128,61 @@ pub struct Part {
     /// What the part is, for readers of the written file (glTF node extras); a part with
     /// metadata keeps a node of its own.
     pub metadata: Option<Arc<Metadata>>,
+    /// The colour map, when the part is textured; then `uvs` has one uv per mesh vertex.
+    pub texture: Option<Arc<Texture>>,
+    /// Texture coordinates, one per mesh vertex (v up, as CGA has them); empty when the part
+    /// is not textured.
+    pub uvs: Vec<DVec2>,
+}
+
+/// An image a part is textured with.
+#[derive(Clone, Debug, PartialEq, Eq, Hash)]
+pub struct Texture {
+    /// The path the grammar named it by.
+    pub path: Arc<str>,
+    /// The file's bytes (PNG or JPEG); `None` when it could not be had, and the part is drawn
+    /// in its colour alone.
+    pub image: Option<Arc<[u8]>>,
+}
+
+impl Texture {
+    /// The image's media type from its first bytes: `image/png` or `image/jpeg`.
+    pub fn mime_type(&self) -> Option<&'static str> {
+        let bytes = self.image.as_deref()?;
+        if bytes.starts_with(b"\x89PNG\r\n\x1a\n") {
+            Some("image/png")
+        } else if bytes.starts_with(&[0xff, 0xd8, 0xff]) {
+            Some("image/jpeg")
+        } else {
+            None
+        }
+    }
+
+    /// Whether the image has an alpha channel: a PNG of colour type 4 or 6 (grey or RGB with
+    /// alpha) or with a transparency chunk; JPEG has none.
+    pub fn has_alpha(&self) -> bool {
+        let Some(bytes) = self.image.as_deref() else {
+            return false;
+        };
+        if self.mime_type() != Some("image/png") || bytes.len() < 26 {
+            return false;
+        }
+        // The IHDR chunk comes first: its colour type is byte 25 of the file.
+        if matches!(bytes[25], 4 | 6) {
+            return true;
+        }
+        // A transparency chunk comes before the image data.
+        let mut at = 8;
+        while let Some(header) = bytes.get(at..at + 8) {
+            let length = u32::from_be_bytes([header[0], header[1], header[2], header[3]]) as usize;
+            match &header[4..8] {
+                b"tRNS" => return true,
+                b"IDAT" | b"IEND" => return false,
+                _ => at = at.saturating_add(12).saturating_add(length),
+            }
+        }
+        false
+    }
 }
 
 /// What a part of a goal grammar's model is: the goals left open on its shapes, the goals they

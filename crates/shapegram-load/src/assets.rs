@@ -37,6 +37,7 @@ pub struct FileAssets {
     plants: Mutex<HashMap<(PathBuf, u32), Arc<Mesh>>>,
     solids: Mutex<HashMap<PathBuf, Solid>>,
     texts: Mutex<HashMap<PathBuf, Arc<str>>>,
+    images: Mutex<HashMap<PathBuf, Option<Arc<[u8]>>>>,
     searches: Mutex<HashMap<String, Vec<Arc<str>>>>,
 }
 
@@ -64,6 +65,7 @@ impl FileAssets {
             plants: Mutex::new(HashMap::new()),
             solids: Mutex::new(HashMap::new()),
             texts: Mutex::new(HashMap::new()),
+            images: Mutex::new(HashMap::new()),
             searches: Mutex::new(HashMap::new()),
         }
     }
@@ -188,6 +190,43 @@ impl AssetLoader for FileAssets {
         };
         texts.insert(full, Arc::clone(&text));
         Ok(text)
+    }
+
+    /// PNG and JPEG images (what glTF embeds), read once each and found as assets are. A file
+    /// that cannot be read, or is of another format, is an error, or, as `--missing-assets`
+    /// allows stand-ins, no image (the shape keeps its colour, as CityEngine draws its
+    /// placeholder).
+    fn image(&self, path: &str) -> Result<Option<Arc<[u8]>>, String> {
+        let full = self.find(path);
+        let mut images = self.images.lock().unwrap_or_else(PoisonError::into_inner);
+        if let Some(image) = images.get(&full) {
+            return Ok(image.clone());
+        }
+        let read = std::fs::read(&full)
+            .map_err(|e| format!("cannot read {}: {e}", full.display()))
+            .and_then(|bytes| {
+                let texture = shapegram_geom::Texture {
+                    path: Arc::from(path),
+                    image: Some(Arc::from(bytes)),
+                };
+                match texture.mime_type() {
+                    Some(_) => Ok(texture.image),
+                    None => Err(format!(
+                        "{} is not a PNG or JPEG image (the formats glTF embeds)",
+                        full.display()
+                    )),
+                }
+            });
+        let image = match read {
+            Ok(image) => image,
+            Err(e) if self.missing == MissingAssets::Error => return Err(e),
+            Err(e) => {
+                eprintln!("warning: {e}: the shapes keep their colour instead");
+                None
+            }
+        };
+        images.insert(full, image.clone());
+        Ok(image)
     }
 
     fn load(&self, path: &str) -> Result<Arc<Mesh>, String> {

@@ -43,6 +43,8 @@ pub fn drawing_to_model(drawing: &Drawing, settings: &Settings) -> Model {
         .filter(|(_, (mesh, _))| !mesh.is_empty())
         .map(|(slot, (mesh, normals))| {
             let part = Part {
+                texture: None,
+                uvs: Vec::new(),
                 bone: None,
                 metadata: None,
                 name: format!("branches-{slot}"),
@@ -136,6 +138,8 @@ fn leaves<'a>(drawing: &Drawing, palette: &'a Palette) -> impl Iterator<Item = (
         .filter(|(_, mesh)| !mesh.is_empty())
         .map(|(slot, mesh)| {
             let part = Part {
+                texture: None,
+                uvs: Vec::new(),
                 bone: None,
                 metadata: None,
                 name: format!("leaves-{slot}"),
@@ -416,6 +420,8 @@ fn transformed(model: &Model, map: &DAffine3) -> Model {
             .parts
             .iter()
             .map(|part| Part {
+                texture: None,
+                uvs: Vec::new(),
                 bone: None,
                 metadata: None,
                 name: part.name.clone(),

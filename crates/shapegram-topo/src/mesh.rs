@@ -99,6 +99,8 @@ impl GrammarMesh {
                 .iter()
                 .filter(|p| !p.triangles.is_empty())
                 .map(|p| Part {
+                    texture: None,
+                    uvs: Vec::new(),
                     bone: None,
                     metadata: None,
                     name: p.name.clone(),

@@ -1650,3 +1650,73 @@ fn rule_files_from_cityengine_on_windows_read_as_windows_1252() {
         format!("ok: {} (1 rule, 0 attributes, 0 warnings)\n", text(&marked))
     );
 }
+
+#[test]
+fn textured_house_embeds_its_textures_and_a_missing_one_is_an_error_or_skipped() {
+    let dir = TempDir::new("textured");
+    let out = dir.path("house.glb");
+    ok(&[
+        "derive",
+        text(&example("textured_house.cga")),
+        "-o",
+        text(&out),
+    ]);
+    let bytes = std::fs::read(&out).unwrap();
+    let gltf = gltf::Gltf::from_slice(&bytes).unwrap();
+    let images: Vec<&str> = gltf.images().filter_map(|i| i.name()).collect();
+    assert_eq!(images, ["brick.png", "tiles.png"]);
+    let brick = std::fs::read(example("textures/brick.png")).unwrap();
+    let blob = gltf.blob.as_deref().unwrap();
+    let gltf::image::Source::View { view, mime_type } = gltf.images().next().unwrap().source()
+    else {
+        panic!("the image is embedded");
+    };
+    assert_eq!(mime_type, "image/png");
+    assert_eq!(&blob[view.offset()..view.offset() + view.length()], brick);
+    // The brick walls: u runs along the 20 m front and the 30 m sides in 1 m tiles, v up the
+    // 6 m walls in 0.5 m ones (12 courses), turned down as glTF has it.
+    let (mut low, mut high) = ([f32::MAX; 2], [f32::MIN; 2]);
+    let mut textured = 0;
+    for primitive in gltf.meshes().flat_map(|m| m.primitives()) {
+        let material = primitive.material().pbr_metallic_roughness();
+        let Some(info) = material.base_color_texture() else {
+            continue;
+        };
+        if info.texture().source().name() != Some("brick.png") {
+            continue;
+        }
+        textured += 1;
+        let reader = primitive.reader(|_| Some(blob));
+        for [u, v] in reader.read_tex_coords(0).unwrap().into_f32() {
+            low = [low[0].min(u), low[1].min(v)];
+            high = [high[0].max(u), high[1].max(v)];
+        }
+    }
+    assert_eq!(textured, 1);
+    assert_eq!((low, high), ([0.0, -11.0], [30.0, 1.0]));
+
+    let grammar = dir.path("missing.cga");
+    std::fs::write(
+        &grammar,
+        "@StartRule\nLot --> setupProjection(0, scope.xz, 2, 2) projectUV(0)\n    texture(\"nowhere.png\") Ground.\n",
+    )
+    .unwrap();
+    let err = fails(
+        &["derive", text(&grammar)],
+        1,
+        "cannot read the texture: cannot read",
+    );
+    assert!(err.contains("missing.cga:3:13"), "{err}");
+    let output = shapegram(&[
+        "derive",
+        text(&grammar),
+        "--missing-assets",
+        "skip",
+        "-o",
+        text(&out),
+    ]);
+    assert!(output.status.success(), "{}", stderr(&output));
+    assert!(stderr(&output).contains("the shapes keep their colour instead"));
+    let gltf = gltf::Gltf::from_slice(&std::fs::read(&out).unwrap()).unwrap();
+    assert_eq!(gltf.images().count(), 0);
+}

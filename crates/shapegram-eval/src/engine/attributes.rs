@@ -54,7 +54,7 @@ impl Engine<'_> {
         args: &[Value],
     ) -> Fallible<()> {
         if let SetTarget::Map(layer) = target {
-            return self.texture(state, *layer, value, args);
+            return self.texture(state, *layer, false, value, args);
         }
         let span = value.span;
         let value = self.ev.eval(value, state, args)?;

@@ -51,6 +51,12 @@ pub trait AssetLoader: Send + Sync {
     fn search(&self, query: &str) -> Result<Vec<Arc<str>>, String> {
         Err(format!("cannot search for `{query}` here"))
     }
+
+    /// The bytes of the image at `path` (a PNG or JPEG texture); `Ok(None)` when it cannot be
+    /// had but the derivation goes on without it; or a one-line reason why it cannot be had.
+    fn image(&self, path: &str) -> Result<Option<Arc<[u8]>>, String> {
+        Err(format!("cannot read the image `{path}` here"))
+    }
 }
 
 /// How many variants of a seeded asset (see [`AssetLoader::asset`]) the shapes of a derivation

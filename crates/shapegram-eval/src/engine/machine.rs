@@ -24,6 +24,7 @@ use crate::goals::{CandidateCache, LeafSemantics, Semantics};
 use crate::ops::Op;
 use crate::program::{CBody, CExpr, CStmt, Program, RuleId, Sym};
 use crate::shape::{Geometry, State};
+use crate::texturing::COLORMAP;
 use crate::value::Value;
 use rustc_hash::FxHashMap;
 
@@ -645,7 +646,7 @@ impl<'p> Engine<'p> {
             Op::Sync(sync) => self.synchronize(state, *sync),
             Op::SetupProjection(setup) => self.setup_projection(state, setup, args)?,
             Op::ProjectUv(set) => self.project_uv(state, set, args)?,
-            Op::Texture(path) => self.texture(state, 0, path, args)?,
+            Op::Texture(path) => self.texture(state, COLORMAP, true, path, args)?,
             Op::EditUv(edit, params) => self.edit_uv(state, *edit, params, args)?,
             Op::Ignored => {}
         }

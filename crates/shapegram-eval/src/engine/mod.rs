@@ -52,7 +52,7 @@ use shapegram_kinematics::{Frame, SectionId, Skeleton};
 use crate::error::DeriveError;
 use crate::goals::{GoalQuery, LeafSemantics};
 use crate::shape::Geometry;
-use crate::texturing::Texturing;
+use crate::texturing::{COLORMAP, Texturing};
 use crate::value::Value;
 
 pub use control::DeriveControl;
@@ -253,7 +253,13 @@ impl Derivation {
     /// [`solids`]: Derivation::solids
     pub fn to_model(&self) -> Model {
         let mut parts: Vec<ModelPart> = Vec::new();
-        type Key<'a> = (&'a str, [u32; 4], Option<Bone>, Option<Arc<Metadata>>);
+        type Key<'a> = (
+            &'a str,
+            [u32; 4],
+            Option<Bone>,
+            Option<Arc<Metadata>>,
+            Option<&'a str>,
+        );
         let mut slot: FxHashMap<Key, usize> = FxHashMap::default();
         let mut metadata = MetadataCache::default();
         let skeleton_of: FxHashMap<u32, u32> = self
@@ -274,11 +280,17 @@ impl Derivation {
                 section: SectionId(leaf.section),
             });
             let meta = leaf.semantics.as_ref().map(|s| metadata.of(s));
+            // A colour map counts only with uvs to place it, as in CityEngine.
+            let textured = leaf
+                .texturing
+                .as_ref()
+                .and_then(|t| Some((t.maps[COLORMAP].as_ref()?, t.uvs_of_layer(COLORMAP)?)));
             let key = (
                 &*leaf.name,
                 leaf.color.to_array().map(f32::to_bits),
                 bone,
                 meta.clone(),
+                textured.map(|(texture, _)| &*texture.path),
             );
             let i = *slot.entry(key).or_insert_with(|| {
                 parts.push(ModelPart {
@@ -288,9 +300,15 @@ impl Derivation {
                     mesh: Mesh::new(),
                     normals: Vec::new(),
                     metadata: meta,
+                    texture: textured.map(|(texture, _)| texture.clone()),
+                    uvs: Vec::new(),
                 });
                 parts.len() - 1
             });
+            if let Some((_, map)) = textured {
+                let uvs = mesh.positions().iter().map(|&p| map.at(p));
+                parts[i].uvs.extend(uvs);
+            }
             parts[i].mesh.append(&mesh);
         }
         parts.extend(self.solids.iter().cloned());

@@ -5,7 +5,7 @@
 
 use std::sync::Arc;
 
-use shapegram_geom::{DAffine3, DMat3, DVec2, DVec3, Scope};
+use shapegram_geom::{DAffine3, DMat3, DVec2, DVec3, Scope, Texture};
 
 use super::Fallible;
 use super::machine::Engine;
@@ -13,7 +13,7 @@ use crate::error::DeriveError;
 use crate::ops::{ProjectionSetup, UvEdit};
 use crate::program::{CExpr, CKind};
 use crate::shape::State;
-use crate::texturing::{ProjectionFrame, Texturing, UV_SETS, UvMap};
+use crate::texturing::{COLORMAP, OPACITYMAP, ProjectionFrame, Texturing, UV_SETS, UvMap};
 use crate::value::Value;
 
 impl Engine<'_> {
@@ -95,16 +95,37 @@ impl Engine<'_> {
         Ok(())
     }
 
-    /// `texture(path)` and `set(material.<layer>, path)`: a texture layer; `""` is none.
+    /// `texture(path)` (`texture_op`: also the opacity map, to the same image when it has
+    /// alpha and to none otherwise) and `set(material.<layer>, path)`: a texture layer; `""` is
+    /// none. The colour map's image is read through the asset loader (without one, the texture
+    /// is kept by its path alone).
     pub(super) fn texture(
         &mut self,
         state: &mut State,
         layer: usize,
+        texture_op: bool,
         path: &CExpr,
         args: &[Value],
     ) -> Fallible<()> {
+        let span = path.span;
         let path = self.ev.string(path, state, args)?;
-        texturing_mut(state).maps[layer] = (!path.is_empty()).then_some(path);
+        let texture = if path.is_empty() {
+            None
+        } else {
+            let image = match (&self.options.assets, layer == COLORMAP) {
+                (Some(loader), true) => loader
+                    .image(&path)
+                    .map_err(|e| DeriveError::at(format!("cannot read the texture: {e}"), span))?,
+                _ => None,
+            };
+            Some(Arc::new(Texture { path, image }))
+        };
+        let alpha = texture.as_ref().is_some_and(|t| t.has_alpha());
+        let texturing = texturing_mut(state);
+        if texture_op {
+            texturing.maps[OPACITYMAP] = texture.clone().filter(|_| alpha);
+        }
+        texturing.maps[layer] = texture;
         Ok(())
     }
 

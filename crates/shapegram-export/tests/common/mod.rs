@@ -18,6 +18,8 @@ pub const GREY: Color = Color::rgb(0.5, 0.5, 0.5);
 
 fn part(name: &str, color: Color, mesh: Mesh, at: DVec3) -> Part {
     Part {
+        texture: None,
+        uvs: Vec::new(),
         bone: None,
         metadata: None,
         name: name.to_owned(),
