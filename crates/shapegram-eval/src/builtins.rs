@@ -2,6 +2,20 @@
 
 use crate::text::Text;
 
+/// Every built-in function's name with its signature (`None` for the functions of one number,
+/// `sin`, `floor`, …), for editors to offer.
+pub fn functions() -> impl Iterator<Item = (&'static str, Option<&'static str>)> {
+    Builtin::all_names().filter_map(|name| {
+        let signature = Builtin::from_name(name)?.signature();
+        Some((name, (signature != "f(number)").then_some(signature)))
+    })
+}
+
+/// Every shape query's name (`scope.sx`, `split.index`, …).
+pub fn queries() -> impl Iterator<Item = &'static str> {
+    Query::NAMES.iter().copied()
+}
+
 /// A built-in function.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub(crate) enum Builtin {

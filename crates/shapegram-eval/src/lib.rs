@@ -31,6 +31,7 @@ pub mod texturing;
 mod trim;
 mod value;
 
+pub use builtins::{functions, queries};
 pub use engine::{
     ASSET_VARIANTS, Asset, AssetLoader, Derivation, DeriveControl, DeriveOptions, InitialShape,
     Leaf, Rederivation, Stats, Trace, TreeNode, derive, derive_again,
@@ -39,6 +40,7 @@ pub use error::DeriveError;
 pub use goals::{GoalQuery, LeafSemantics};
 pub use imports::ImportGraph;
 pub use library::LibraryOptions;
+pub use ops::{Support, operations};
 pub use program::{Program, RuleId, Sym};
 pub use rule_keys::RuleKeys;
 pub use shape::{Csg, CsgOp, FaceTag, Geometry, Implicit};

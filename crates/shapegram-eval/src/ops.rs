@@ -565,6 +565,126 @@ const IMPLEMENTED: &[&str] = &[
     "sync",
 ];
 
+/// The signature of each operation [`compile`] builds, as hints and the studio show it.
+const SIGNATURES: &[(&str, &str)] = &[
+    ("extrude", "extrude([world.up | face.normal,] distance)"),
+    ("t", "t(x, y, z)"),
+    ("r", "r([scopeCenter,] x, y, z)"),
+    ("s", "s(x, y, z)"),
+    ("center", "center(xyz)"),
+    ("mirror", "mirror(x, y, z)"),
+    (
+        "alignScopeToAxes",
+        "alignScopeToAxes([x | y | z | world.xyz])",
+    ),
+    ("rotateScope", "rotateScope(x, y, z)"),
+    ("i", "i(path)"),
+    ("insert", "i(path)"),
+    ("primitiveCube", "primitiveCube()"),
+    ("primitiveQuad", "primitiveQuad()"),
+    ("primitivePyramid", "primitivePyramid()"),
+    ("primitiveCylinder", "primitiveCylinder(nSides)"),
+    ("primitiveCone", "primitiveCone(nSides)"),
+    ("primitiveSphere", "primitiveSphere(nRows, nColumns)"),
+    (
+        "split",
+        "split(x | y | z [, adjust | noAdjust] [, sequential | parallel] [, snap [, \"tag\"]]) { … }",
+    ),
+    ("comp", "comp(f | e | v) { … }"),
+    ("color", "color(\"#rrggbb\") | color(r, g, b)"),
+    ("set", "set(attribute, value)"),
+    ("report", "report(key, value)"),
+    ("print", "print(value)"),
+    ("reverseNormals", "reverseNormals()"),
+    ("trim", "trim()"),
+    ("offset", "offset(distance [, inside | border])"),
+    ("roofGable", "roofGable(angle [, overhang])"),
+    ("roofHip", "roofHip(angle [, overhang])"),
+    ("roofPyramid", "roofPyramid(angle)"),
+    ("roofShed", "roofShed(angle [, edgeIndex])"),
+    ("label", "label(\"name\")"),
+    ("tag", "label(\"name\")"),
+    ("snap", "snap(x | y | z | xy | … [, \"tag\"])"),
+    ("Snap", "snap(x | y | z | xy | … [, \"tag\"])"),
+    (
+        "implicit",
+        "implicit(box | sphere | cylinder | cone | pyramid | torus | capsule | \"file.cave\")",
+    ),
+    (
+        "csg",
+        "csg(\"group\", union | subtract | intersect [, fillet]) | csg(\"group\", morph, amount)",
+    ),
+    (
+        "alignScopeToGeometry",
+        "alignScopeToGeometry(yUp | zUp, faceIndex | world.lowest | largest | any, edgeIndex | world.lowest | longest)",
+    ),
+    (
+        "alignScopeToGeometryBBox",
+        "alignScopeToGeometryBBox(xy | yx | xz | zx | yz | zy)",
+    ),
+    (
+        "setback",
+        "setback(distance) { selector : … | remainder : … }",
+    ),
+    ("shapeL", "shapeL(frontDepth, leftWidth)"),
+    ("shapeU", "shapeU(frontDepth, rightWidth, leftWidth)"),
+    (
+        "shapeO",
+        "shapeO(frontDepth, rightWidth, backDepth, leftWidth)",
+    ),
+    ("joint", "joint(x, y, z)"),
+    ("rotationLimits", "rotationLimits(x | y | z, min, max)"),
+    (
+        "translationLimits",
+        "translationLimits(x | y | z, min, max)",
+    ),
+    ("rotateJoint", "rotateJoint(x, y, z)"),
+    ("translateJoint", "translateJoint(x, y, z)"),
+    ("taper", "taper(x | y | z, factor)"),
+    ("twist", "twist(x | y | z, degrees)"),
+    ("shear", "shear(x | y | z, toward x | y | z, amount)"),
+    ("sync", "sync(synchronization)"),
+    (
+        "setupProjection",
+        "setupProjection(uvSet, scope.xy, width, height [, widthOffset, heightOffset [, uwFactor]])",
+    ),
+    ("projectUV", "projectUV(uvSet)"),
+    ("texture", "texture(path)"),
+    ("tileUV", "tileUV(uvSet, width, height)"),
+    ("scaleUV", "scaleUV(uvSet, uFactor, vFactor)"),
+    ("translateUV", "translateUV(uvSet, u, v)"),
+    ("offsetUV", "translateUV(uvSet, u, v)"),
+    ("rotateUV", "rotateUV(uvSet, degrees)"),
+    ("deleteUV", "deleteUV(uvSet)"),
+    ("copyUV", "copyUV(fromSet, toSet)"),
+];
+
+/// The signature of an implemented operation.
+pub(crate) fn signature(name: &str) -> Option<&'static str> {
+    SIGNATURES.iter().find(|(n, _)| *n == name).map(|(_, s)| *s)
+}
+
+/// How far the engine supports an operation.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Support {
+    /// Built and run.
+    Implemented,
+    /// Accepted without effect: it would change only texturing or shading.
+    VisualOnly,
+    /// Recognised, skipped with a warning.
+    Unsupported,
+}
+
+/// Every operation the engine knows, with its support and, when implemented, its signature.
+pub fn operations() -> impl Iterator<Item = (&'static str, Support, Option<&'static str>)> {
+    let implemented = IMPLEMENTED
+        .iter()
+        .map(|n| (*n, Support::Implemented, signature(n)));
+    let visual = VISUAL_ONLY.iter().map(|n| (*n, Support::VisualOnly, None));
+    let unsupported = UNSUPPORTED.iter().map(|n| (*n, Support::Unsupported, None));
+    implemented.chain(visual).chain(unsupported)
+}
+
 /// Whether an operation of this name exists (implemented or not).
 pub(crate) fn is_operation(name: &str) -> bool {
     IMPLEMENTED.contains(&name) || VISUAL_ONLY.contains(&name) || UNSUPPORTED.contains(&name)
@@ -676,39 +796,35 @@ impl Ctx<'_, '_> {
         }
         let op = match name {
             "extrude" => self.extrude()?,
-            "t" => Op::Translate(self.three("t(x, y, z)")?),
+            "t" => Op::Translate(self.three()?),
             "r" => self.rotate()?,
-            "s" => Op::Size(self.three("s(x, y, z)")?),
-            "center" => Op::Center(self.axes_selector("center(xyz)")?),
-            "mirror" => Op::Mirror(self.three("mirror(x, y, z)")?),
+            "s" => Op::Size(self.three()?),
+            "center" => Op::Center(self.axes_selector()?),
+            "mirror" => Op::Mirror(self.three()?),
             "alignScopeToAxes" => self.align()?,
             "alignScopeToGeometry" => self.align_to_geometry()?,
             "alignScopeToGeometryBBox" => self.align_to_bbox()?,
-            "rotateScope" => Op::RotateScope(self.three("rotateScope(x, y, z)")?),
+            "rotateScope" => Op::RotateScope(self.three()?),
             "i" | "insert" => {
-                self.arity(1, 3, "i(path)")?;
+                self.arity(1, 3)?;
                 Op::Insert(self.args.swap_remove(0))
             }
-            "primitiveCube" => self.primitive(Primitive::Cube, 0, "primitiveCube()")?,
-            "primitiveQuad" => self.primitive(Primitive::Quad, 0, "primitiveQuad()")?,
-            "primitivePyramid" => self.primitive(Primitive::Pyramid, 0, "primitivePyramid()")?,
-            "primitiveCylinder" => {
-                self.primitive(Primitive::Cylinder, 1, "primitiveCylinder(nSides)")?
-            }
-            "primitiveCone" => self.primitive(Primitive::Cone, 1, "primitiveCone(nSides)")?,
-            "primitiveSphere" => {
-                self.primitive(Primitive::Sphere, 2, "primitiveSphere(nRows, nColumns)")?
-            }
+            "primitiveCube" => self.primitive(Primitive::Cube, 0)?,
+            "primitiveQuad" => self.primitive(Primitive::Quad, 0)?,
+            "primitivePyramid" => self.primitive(Primitive::Pyramid, 0)?,
+            "primitiveCylinder" => self.primitive(Primitive::Cylinder, 1)?,
+            "primitiveCone" => self.primitive(Primitive::Cone, 1)?,
+            "primitiveSphere" => self.primitive(Primitive::Sphere, 2)?,
             "split" => self.split()?,
             "joint" => {
                 self.c.kinematic = true;
-                Op::Joint(self.three("joint(x, y, z)")?)
+                Op::Joint(self.three()?)
             }
             "rotationLimits" => self.joint_limits(true)?,
             "translationLimits" => self.joint_limits(false)?,
             "rotateJoint" | "translateJoint" => {
                 self.c.kinematic = true;
-                let values = self.three(&format!("{name}(x, y, z)"))?;
+                let values = self.three()?;
                 Op::JointPose {
                     rotation: name == "rotateJoint",
                     values,
@@ -716,48 +832,37 @@ impl Ctx<'_, '_> {
             }
             "snap" | "Snap" => self.snap()?,
             "label" | "tag" => {
-                self.arity(1, 1, "label(\"name\")")?;
+                self.arity(1, 1)?;
                 Op::Label(self.args.pop()?)
             }
             "comp" => self.comp()?,
             "setback" => self.setback()?,
-            "shapeL" => self.shape_luo(
-                &[FaceClass::Front, FaceClass::Left],
-                "shapeL(frontDepth, leftWidth)",
-            )?,
-            "shapeU" => self.shape_luo(
-                &[FaceClass::Front, FaceClass::Right, FaceClass::Left],
-                "shapeU(frontDepth, rightWidth, leftWidth)",
-            )?,
-            "shapeO" => self.shape_luo(
-                &[
-                    FaceClass::Front,
-                    FaceClass::Right,
-                    FaceClass::Back,
-                    FaceClass::Left,
-                ],
-                "shapeO(frontDepth, rightWidth, backDepth, leftWidth)",
-            )?,
+            "shapeL" => self.shape_luo(&[FaceClass::Front, FaceClass::Left])?,
+            "shapeU" => self.shape_luo(&[FaceClass::Front, FaceClass::Right, FaceClass::Left])?,
+            "shapeO" => self.shape_luo(&[
+                FaceClass::Front,
+                FaceClass::Right,
+                FaceClass::Back,
+                FaceClass::Left,
+            ])?,
             "setupProjection" => self.setup_projection()?,
             "projectUV" => {
-                self.arity(1, 1, "projectUV(uvSet)")?;
+                self.arity(1, 1)?;
                 Op::ProjectUv(self.args.pop()?)
             }
             "texture" => {
-                self.arity(1, 1, "texture(path)")?;
+                self.arity(1, 1)?;
                 Op::Texture(self.args.pop()?)
             }
-            "tileUV" => self.edit_uv(UvEdit::Tile, 3, "tileUV(uvSet, width, height)")?,
-            "scaleUV" => self.edit_uv(UvEdit::Scale, 3, "scaleUV(uvSet, uFactor, vFactor)")?,
-            "translateUV" | "offsetUV" => {
-                self.edit_uv(UvEdit::Translate, 3, "translateUV(uvSet, u, v)")?
-            }
-            "rotateUV" => self.edit_uv(UvEdit::Rotate, 2, "rotateUV(uvSet, degrees)")?,
-            "deleteUV" => self.edit_uv(UvEdit::Delete, 1, "deleteUV(uvSet)")?,
-            "copyUV" => self.edit_uv(UvEdit::Copy, 2, "copyUV(fromSet, toSet)")?,
+            "tileUV" => self.edit_uv(UvEdit::Tile, 3)?,
+            "scaleUV" => self.edit_uv(UvEdit::Scale, 3)?,
+            "translateUV" | "offsetUV" => self.edit_uv(UvEdit::Translate, 3)?,
+            "rotateUV" => self.edit_uv(UvEdit::Rotate, 2)?,
+            "deleteUV" => self.edit_uv(UvEdit::Delete, 1)?,
+            "copyUV" => self.edit_uv(UvEdit::Copy, 2)?,
             "color" => {
                 if !matches!(self.args.len(), 1 | 3 | 4) {
-                    return self.wrong_arity("color(\"#rrggbb\") | color(r, g, b)");
+                    return self.wrong_arity();
                 }
                 let args = std::mem::take(&mut self.args);
                 match args.as_slice() {
@@ -775,35 +880,32 @@ impl Ctx<'_, '_> {
             }
             "set" => self.set()?,
             "report" => {
-                self.arity(2, 2, "report(key, value)")?;
+                self.arity(2, 2)?;
                 let value = self.args.pop()?;
                 Op::Report(self.args.pop()?, value)
             }
             "print" => {
-                self.arity(1, 1, "print(value)")?;
+                self.arity(1, 1)?;
                 Op::Print(self.args.pop()?)
             }
             "reverseNormals" => {
-                self.arity(0, 0, "reverseNormals()")?;
+                self.arity(0, 0)?;
                 Op::ReverseNormals
             }
             "trim" => {
-                self.arity(0, 0, "trim()")?;
+                self.arity(0, 0)?;
                 Op::Trim
             }
             "offset" => self.offset()?,
-            "roofGable" => self.roof(RoofKind::Gable, "roofGable(angle [, overhang])")?,
-            "roofHip" => self.roof(RoofKind::Hip, "roofHip(angle [, overhang])")?,
-            "roofPyramid" => self.roof(RoofKind::Pyramid, "roofPyramid(angle)")?,
-            "roofShed" => self.roof(RoofKind::Shed, "roofShed(angle [, edgeIndex])")?,
+            "roofGable" => self.roof(RoofKind::Gable)?,
+            "roofHip" => self.roof(RoofKind::Hip)?,
+            "roofPyramid" => self.roof(RoofKind::Pyramid)?,
+            "roofShed" => self.roof(RoofKind::Shed)?,
             "implicit" => self.implicit()?,
             "csg" => self.csg()?,
-            "taper" => self.deform(DeformKind::Taper, "taper(x | y | z, factor)")?,
-            "twist" => self.deform(DeformKind::Twist, "twist(x | y | z, degrees)")?,
-            "shear" => self.deform(
-                DeformKind::Shear { toward: 0 },
-                "shear(x | y | z, toward x | y | z, amount)",
-            )?,
+            "taper" => self.deform(DeformKind::Taper)?,
+            "twist" => self.deform(DeformKind::Twist)?,
+            "shear" => self.deform(DeformKind::Shear { toward: 0 })?,
             "sync" => self.sync()?,
             _ => unreachable!("`{name}` is listed in IMPLEMENTED but not built"),
         };
@@ -826,7 +928,8 @@ impl Ctx<'_, '_> {
         );
     }
 
-    fn wrong_arity(&mut self, signature: &str) -> Option<Op> {
+    fn wrong_arity(&mut self) -> Option<Op> {
+        let signature = signature(&self.call.name.name).unwrap_or("");
         self.c.report(
             Diagnostic::error(
                 format!("wrong number of arguments for `{}`", self.call.name.name),
@@ -837,15 +940,15 @@ impl Ctx<'_, '_> {
         None
     }
 
-    fn arity(&mut self, lo: usize, hi: usize, signature: &str) -> Option<()> {
+    fn arity(&mut self, lo: usize, hi: usize) -> Option<()> {
         if self.args.len() < lo || self.args.len() > hi {
-            self.wrong_arity(signature)?;
+            self.wrong_arity()?;
         }
         Some(())
     }
 
-    fn three(&mut self, signature: &str) -> Option<[CExpr; 3]> {
-        self.arity(3, 3, signature)?;
+    fn three(&mut self) -> Option<[CExpr; 3]> {
+        self.arity(3, 3)?;
         let z = self.args.pop()?;
         let y = self.args.pop()?;
         Some([self.args.pop()?, y, z])
@@ -871,8 +974,7 @@ impl Ctx<'_, '_> {
     }
 
     fn setup_projection(&mut self) -> Option<Op> {
-        let signature = "setupProjection(uvSet, scope.xy, width, height [, widthOffset, heightOffset [, uwFactor]])";
-        self.arity(4, 7, signature)?;
+        self.arity(4, 7)?;
         let word = self.word(1).map(str::to_owned);
         let parsed = word.as_deref().and_then(|w| {
             let (world, letters) = match w.split_once('.')? {
@@ -910,13 +1012,13 @@ impl Ctx<'_, '_> {
         })))
     }
 
-    fn edit_uv(&mut self, edit: UvEdit, count: usize, signature: &str) -> Option<Op> {
-        self.arity(count, count, signature)?;
+    fn edit_uv(&mut self, edit: UvEdit, count: usize) -> Option<Op> {
+        self.arity(count, count)?;
         Some(Op::EditUv(edit, std::mem::take(&mut self.args)))
     }
 
     fn extrude(&mut self) -> Option<Op> {
-        self.arity(1, 2, "extrude([world.up | face.normal,] distance)")?;
+        self.arity(1, 2)?;
         let world_up = if self.args.len() == 2 {
             match self.word(0) {
                 Some("world.up" | "world.up.flatTop" | "world.y") => true,
@@ -942,7 +1044,7 @@ impl Ctx<'_, '_> {
                 Some("scopeOrigin") => false,
                 _ => return self.bad_selector(0, "`scopeCenter` or `scopeOrigin`"),
             },
-            _ => return self.wrong_arity("r([scopeCenter,] x, y, z)"),
+            _ => return self.wrong_arity(),
         };
         let z = self.args.pop()?;
         let y = self.args.pop()?;
@@ -953,8 +1055,8 @@ impl Ctx<'_, '_> {
         })
     }
 
-    fn axes_selector(&mut self, signature: &str) -> Option<[bool; 3]> {
-        self.arity(1, 1, signature)?;
+    fn axes_selector(&mut self) -> Option<[bool; 3]> {
+        self.arity(1, 1)?;
         let word = self.word(0).map(str::to_owned);
         match word.as_deref() {
             Some(w) if !w.is_empty() && w.chars().all(|ch| "xyz".contains(ch)) => {
@@ -968,7 +1070,7 @@ impl Ctx<'_, '_> {
     }
 
     fn align(&mut self) -> Option<Op> {
-        self.arity(0, 1, "alignScopeToAxes([x | y | z | world.xyz])")?;
+        self.arity(0, 1)?;
         if self.args.is_empty() {
             return Some(Op::AlignScopeToAxes(None));
         }
@@ -981,14 +1083,13 @@ impl Ctx<'_, '_> {
         }
     }
 
-    fn primitive(&mut self, kind: Primitive, max_args: usize, signature: &str) -> Option<Op> {
-        self.arity(0, max_args, signature)?;
+    fn primitive(&mut self, kind: Primitive, max_args: usize) -> Option<Op> {
+        self.arity(0, max_args)?;
         Some(Op::Primitive(kind, std::mem::take(&mut self.args)))
     }
 
     fn split(&mut self) -> Option<Op> {
-        const SIGNATURE: &str = "split(x | y | z [, adjust | noAdjust] [, sequential | parallel] [, snap [, \"tag\"]]) { … }";
-        self.arity(1, 5, SIGNATURE)?;
+        self.arity(1, 5)?;
         let axis = match self.word(0) {
             Some("x") => 0,
             Some("y") => 1,
@@ -1048,13 +1149,8 @@ impl Ctx<'_, '_> {
 
     /// `rotationLimits(axis, min, max)` and `translationLimits(axis, min, max)`.
     fn joint_limits(&mut self, rotation: bool) -> Option<Op> {
-        let name = if rotation {
-            "rotationLimits"
-        } else {
-            "translationLimits"
-        };
         self.c.kinematic = true;
-        self.arity(3, 3, &format!("{name}(x | y | z, min, max)"))?;
+        self.arity(3, 3)?;
         let axis = match self.word(0) {
             Some("x") => 0,
             Some("y") => 1,
@@ -1073,7 +1169,7 @@ impl Ctx<'_, '_> {
 
     /// `snap(x)`, `snap(xy, "tag")`, Müller's `Snap("X")`.
     fn snap(&mut self) -> Option<Op> {
-        self.arity(1, 2, "snap(x | y | z | xy | … [, \"tag\"])")?;
+        self.arity(1, 2)?;
         let word = self.word(0).map(str::to_ascii_lowercase);
         let mut axes = [false; 3];
         let valid = word.as_deref().is_some_and(|w| {
@@ -1096,7 +1192,7 @@ impl Ctx<'_, '_> {
     }
 
     fn comp(&mut self) -> Option<Op> {
-        self.arity(1, 1, "comp(f | e | v) { … }")?;
+        self.arity(1, 1)?;
         let kind = match self.word(0) {
             Some("f") => CompKind::Faces,
             Some("e") => CompKind::Edges,
@@ -1141,7 +1237,7 @@ impl Ctx<'_, '_> {
     }
 
     fn setback(&mut self) -> Option<Op> {
-        self.arity(1, 1, "setback(distance) { selector : … | remainder : … }")?;
+        self.arity(1, 1)?;
         let blocks = self.setback_block("setback", false)?;
         Some(Op::Setback {
             depths: Depths::Selected(self.args.pop()?),
@@ -1151,8 +1247,8 @@ impl Ctx<'_, '_> {
         })
     }
 
-    fn shape_luo(&mut self, classes: &[FaceClass], signature: &str) -> Option<Op> {
-        self.arity(classes.len(), classes.len(), signature)?;
+    fn shape_luo(&mut self, classes: &[FaceClass]) -> Option<Op> {
+        self.arity(classes.len(), classes.len())?;
         let name = self.call.name.name.clone();
         let (_, shape, remainder) = self.setback_block(&name, true)?;
         let depths = classes.iter().copied().zip(self.args.drain(..)).collect();
@@ -1217,7 +1313,7 @@ impl Ctx<'_, '_> {
     }
 
     fn set(&mut self) -> Option<Op> {
-        self.arity(2, 2, "set(attribute, value)")?;
+        self.arity(2, 2)?;
         let value = self.args.pop()?;
         let target = self.args.pop()?;
         self.words.push(0);
@@ -1274,7 +1370,7 @@ impl Ctx<'_, '_> {
     }
 
     fn sync(&mut self) -> Option<Op> {
-        self.arity(1, 1, "sync(synchronization)")?;
+        self.arity(1, 1)?;
         let Some(word) = self.word(0).map(str::to_owned) else {
             return self.bad_selector(0, "the name of a synchronization");
         };
@@ -1303,7 +1399,7 @@ impl Ctx<'_, '_> {
     }
 
     fn offset(&mut self) -> Option<Op> {
-        self.arity(1, 2, "offset(distance [, inside | border])")?;
+        self.arity(1, 2)?;
         let keep = if self.args.len() == 2 {
             match self.word(1) {
                 Some("inside") => OffsetKeep::Inside,
@@ -1322,11 +1418,7 @@ impl Ctx<'_, '_> {
     }
 
     fn align_to_geometry(&mut self) -> Option<Op> {
-        self.arity(
-            3,
-            3,
-            "alignScopeToGeometry(yUp | zUp, faceIndex | world.lowest | largest | any, edgeIndex | world.lowest | longest)",
-        )?;
+        self.arity(3, 3)?;
         let z_up = match self.word(0) {
             Some("yUp") => false,
             Some("zUp") => true,
@@ -1364,11 +1456,7 @@ impl Ctx<'_, '_> {
     }
 
     fn align_to_bbox(&mut self) -> Option<Op> {
-        self.arity(
-            1,
-            1,
-            "alignScopeToGeometryBBox(xy | yx | xz | zx | yz | zy)",
-        )?;
+        self.arity(1, 1)?;
         let axes: Vec<usize> = self
             .word(0)
             .map(|w| w.chars().filter_map(|c| "xyz".find(c)).collect())
@@ -1382,11 +1470,7 @@ impl Ctx<'_, '_> {
     }
 
     fn implicit(&mut self) -> Option<Op> {
-        self.arity(
-            1,
-            1,
-            "implicit(box | sphere | cylinder | cone | pyramid | torus | capsule | \"file.cave\")",
-        )?;
+        self.arity(1, 1)?;
         if let Some(kind) = self.word(0).and_then(ImplicitKind::from_name) {
             return Some(Op::Implicit(kind));
         }
@@ -1401,8 +1485,7 @@ impl Ctx<'_, '_> {
     }
 
     fn csg(&mut self) -> Option<Op> {
-        let signature = "csg(\"group\", union | subtract | intersect [, fillet]) | csg(\"group\", morph, amount)";
-        self.arity(2, 3, signature)?;
+        self.arity(2, 3)?;
         let kinds = [
             CsgKind::Union,
             CsgKind::Subtract,
@@ -1414,7 +1497,7 @@ impl Ctx<'_, '_> {
             return self.bad_selector(1, "`union`, `subtract`, `intersect` or `morph`");
         };
         if kind == CsgKind::Morph && self.args.len() < 3 {
-            return self.wrong_arity(signature);
+            return self.wrong_arity();
         }
         let amount = (self.args.len() == 3).then(|| self.args.pop()).flatten();
         Some(Op::Csg {
@@ -1427,7 +1510,7 @@ impl Ctx<'_, '_> {
     /// `taper(axis, factor)`, `twist(axis, degrees)`, `shear(axis, toward, amount)`. CGA's own
     /// `taper(height)` (a pyramid over the face), which takes one number, is skipped with a
     /// warning, as it was before `taper` deformed.
-    fn deform(&mut self, kind: DeformKind, signature: &str) -> Option<Op> {
+    fn deform(&mut self, kind: DeformKind) -> Option<Op> {
         let name = kind.name();
         if kind == DeformKind::Taper
             && self.args.len() == 1
@@ -1445,7 +1528,7 @@ impl Ctx<'_, '_> {
         } else {
             2
         };
-        self.arity(count, count, signature)?;
+        self.arity(count, count)?;
         let axis = self.axis_word(0, name)?;
         let kind = match kind {
             DeformKind::Shear { .. } => {
@@ -1494,13 +1577,13 @@ impl Ctx<'_, '_> {
         axis
     }
 
-    fn roof(&mut self, kind: RoofKind, signature: &str) -> Option<Op> {
+    fn roof(&mut self, kind: RoofKind) -> Option<Op> {
         let max = if kind == RoofKind::Pyramid { 1 } else { 2 };
         // CGA also accepts `byAngle`/`byHeight` as a first word; only angles are supported.
         if let Some("byAngle") = self.word(0) {
             self.args.remove(0);
         }
-        self.arity(1, max, signature)?;
+        self.arity(1, max)?;
         Some(Op::Roof(kind, std::mem::take(&mut self.args)))
     }
 }
@@ -1586,4 +1669,38 @@ fn split_block(c: &mut Compiler, block: &ast::Block, params: &[ast::Ident]) -> O
         entries,
         repeat: block.repeat,
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn every_implemented_operation_has_a_signature_named_after_it() {
+        for name in IMPLEMENTED {
+            let signature = signature(name).unwrap_or_else(|| panic!("no signature for {name}"));
+            let shown = match *name {
+                "insert" => "i",
+                "tag" => "label",
+                "Snap" => "snap",
+                "offsetUV" => "translateUV",
+                other => other,
+            };
+            assert!(
+                signature.starts_with(&format!("{shown}(")),
+                "{name}: {signature}"
+            );
+        }
+        assert_eq!(SIGNATURES.len(), IMPLEMENTED.len());
+        let listed: Vec<_> = operations().collect();
+        assert_eq!(
+            listed.len(),
+            IMPLEMENTED.len() + VISUAL_ONLY.len() + UNSUPPORTED.len()
+        );
+        assert!(listed.contains(&(
+            "extrude",
+            Support::Implemented,
+            Some("extrude([world.up | face.normal,] distance)")
+        )));
+    }
 }
