@@ -438,3 +438,59 @@ async fn the_page_and_its_assets_are_served() {
         (StatusCode::NOT_FOUND, &json!("not found"))
     );
 }
+
+/// The vocabulary comes from the engine's tables: operations with their signatures and
+/// support, built-in functions with theirs, shape queries.
+#[tokio::test]
+async fn the_vocabulary_is_the_engines() {
+    let studio = Studio::new();
+    let (status, vocabulary) = studio.get("/api/vocabulary").await;
+    assert_eq!(status, StatusCode::OK);
+    let find = |list: &str, name: &str| {
+        vocabulary[list]
+            .as_array()
+            .unwrap()
+            .iter()
+            .find(|w| w["name"] == name)
+            .cloned()
+            .unwrap_or(Value::Null)
+    };
+    assert_eq!(
+        find("operations", "roofHip"),
+        json!({"name": "roofHip", "signature": "roofHip(angle [, overhang])", "support": "implemented"})
+    );
+    assert_eq!(
+        find("operations", "softenNormals"),
+        json!({"name": "softenNormals", "support": "visual-only"})
+    );
+    assert_eq!(
+        find("operations", "envelope"),
+        json!({"name": "envelope", "support": "unsupported"})
+    );
+    assert_eq!(
+        find("functions", "rand"),
+        json!({"name": "rand", "signature": "rand() | rand(max) | rand(min, max)"})
+    );
+    assert_eq!(find("functions", "sin"), json!({"name": "sin"}));
+    assert_eq!(find("queries", "scope.sx"), json!({"name": "scope.sx"}));
+    let implemented = vocabulary["operations"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .filter(|w| w["support"] == "implemented")
+        .count();
+    // Every implemented operation has its signature.
+    let signed = vocabulary["operations"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .filter(|w| w["signature"].is_string())
+        .count();
+    assert_eq!(signed, implemented);
+    assert_eq!(implemented, 60);
+    // A foreign page cannot read it either.
+    let (status, _) = studio
+        .send("GET", "/api/vocabulary", "evil.example:7370", None, None)
+        .await;
+    assert_eq!(status, StatusCode::FORBIDDEN);
+}

@@ -1,6 +1,6 @@
 //! `POST /api/derive`: grammar text derived by the [`Engine`] as the file it is edited in (its
-//! kind from the extension, assets and imports beside it), answered with the GLB (base64) and
-//! the diagnostics, counts and time.
+//! kind from the extension, assets and imports beside it), answered with the GLB (base64, or an
+//! SVG for a 2D drawing) and the diagnostics, counts and time.
 //!
 //! Typing sends a request per pause, so requests for one file are serialised and superseded:
 //! each takes a generation number; one derivation per file runs at a time, and a request whose
@@ -82,6 +82,11 @@ pub struct Derived {
     pub derive_ms: f64,
     /// Writing the GLB, in milliseconds.
     pub export_ms: f64,
+    /// A 2D drawing (a flat L-system) as SVG, shown instead of a model.
+    pub svg: Option<String>,
+    /// What was made, in the words of the grammar's kind (`3 steps, 3803 modules, …`), for
+    /// kinds whose shapes and leaves say little.
+    pub summary: Option<String>,
 }
 
 /// Per file, the newest generation asked for and the lock of the one running.
@@ -129,6 +134,10 @@ pub struct DeriveAnswer {
     pub leaves: usize,
     pub derive_ms: f64,
     pub export_ms: f64,
+    /// A 2D drawing as SVG (then there is no GLB).
+    pub svg: Option<String>,
+    /// What was made, for grammars that are not CGA-style.
+    pub summary: Option<String>,
 }
 
 /// `POST /api/derive`.
@@ -162,7 +171,7 @@ pub async fn derive(
         return Err(superseded());
     }
     Ok(Json(DeriveAnswer {
-        ok: derived.glb.is_some(),
+        ok: derived.glb.is_some() || derived.svg.is_some(),
         generation,
         glb_bytes: derived.glb.as_ref().map_or(0, Vec::len),
         glb: derived
@@ -176,5 +185,7 @@ pub async fn derive(
         leaves: derived.leaves,
         derive_ms: derived.derive_ms,
         export_ms: derived.export_ms,
+        svg: derived.svg,
+        summary: derived.summary,
     }))
 }

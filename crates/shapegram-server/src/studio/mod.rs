@@ -3,7 +3,8 @@
 //!
 //! It serves the page (built from `studio/` and embedded, [`assets`]) and a JSON API over the
 //! grammar files it was given and the grammar files in their folders ([`files`]): list, read,
-//! save, and derive text with the engine ([`derive`]). Because the page writes files, every
+//! save, and derive text with the engine ([`derive`]); and the engine's vocabulary for
+//! completion ([`vocabulary`]). Because the page writes files, every
 //! request passes [`guard`] first: the Host must be this server's loopback address (against DNS
 //! rebinding) and a request that is not a GET must come from the studio's own page (its Origin),
 //! so that no other site can write through the user's browser.
@@ -15,6 +16,7 @@ pub mod assets;
 pub mod derive;
 pub mod files;
 pub mod guard;
+pub mod vocabulary;
 
 use std::net::SocketAddr;
 use std::path::PathBuf;
@@ -70,6 +72,7 @@ pub fn router(state: StudioState) -> Router {
         .route("/api/files", get(files::list))
         .route("/api/file", get(files::read).put(files::save))
         .route("/api/derive", post(derive::derive))
+        .route("/api/vocabulary", get(vocabulary::vocabulary))
         .fallback(|| async { ApiError::not_found() })
         .method_not_allowed_fallback(|| async {
             ApiError::new(StatusCode::METHOD_NOT_ALLOWED, "method not allowed")
