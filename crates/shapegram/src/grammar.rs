@@ -227,6 +227,25 @@ pub fn compile_library_with(
     dialect: Option<Dialect>,
     options: &LibraryOptions,
 ) -> CompiledLibrary {
+    let (compiled, diagnostics) = compile_library_silently(sources, dialect, options);
+    let mut text = String::new();
+    for (i, d) in &diagnostics {
+        if d.is_error() || (print_warnings && *i < options.repository_from) {
+            text.push_str(&compiled.sources[*i].render(d));
+            text.push('\n');
+        }
+    }
+    eprint!("{text}");
+    compiled
+}
+
+/// [`compile_library_with`] without printing: the diagnostics come back with the index of the
+/// source each is in (0: the main grammar).
+pub fn compile_library_silently(
+    sources: Vec<SourceFile>,
+    dialect: Option<Dialect>,
+    options: &LibraryOptions,
+) -> (CompiledLibrary, Vec<(usize, Diagnostic)>) {
     let parsed: Vec<shapegram_syntax::Parsed> = sources
         .iter()
         .enumerate()
@@ -265,21 +284,14 @@ pub fn compile_library_with(
         program
     };
     let errors = diagnostics.iter().filter(|(_, d)| d.is_error()).count();
-    let mut text = String::new();
-    for (i, d) in &diagnostics {
-        if d.is_error() || (print_warnings && *i < options.repository_from) {
-            text.push_str(&sources[*i].render(d));
-            text.push('\n');
-        }
-    }
-    eprint!("{text}");
-    CompiledLibrary {
+    let compiled = CompiledLibrary {
         program,
         warnings: diagnostics.len() - errors,
         errors,
         rules: parsed.iter().map(|p| p.grammar.goal_rules.len()).sum(),
         sources,
-    }
+    };
+    (compiled, diagnostics)
 }
 
 /// `chair.goal` or `chair.goal and its library of 3 files`.

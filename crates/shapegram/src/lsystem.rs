@@ -218,7 +218,7 @@ fn derive(
 
 /// The drawing in the xy-plane: a polyline per run of equal width of each stroke, a polygon per
 /// polygon.
-fn svg_drawing(drawing: &Drawing, settings: &Settings) -> SvgDrawing {
+pub(crate) fn svg_drawing(drawing: &Drawing, settings: &Settings) -> SvgDrawing {
     let color = |index: usize| {
         settings
             .colors

@@ -17,6 +17,7 @@ mod repo;
 mod resolve;
 mod serve;
 mod studio;
+mod studio_kinds;
 mod topo;
 
 use std::io::{self, Write};

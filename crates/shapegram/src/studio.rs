@@ -1,7 +1,8 @@
 //! `shapegram studio`: the browser editor with a live preview, served by `shapegram_server::studio`
 //! on 127.0.0.1. This side brings the engine: grammar text compiled and derived the way
 //! `shapegram derive FILE` does it (notation detected from the text, imports and assets found
-//! beside the file, the default lot), then written as GLB. See docs/studio.md.
+//! beside the file, the default lot), then written as GLB; the other kinds of grammar are
+//! derived by [`studio_kinds`]. See docs/studio.md.
 
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
@@ -14,7 +15,7 @@ use shapegram_server::studio::{DeriveJob, Derived, Engine, StudioDiagnostic, Stu
 use shapegram_syntax::{Diagnostic, Severity, SourceFile};
 
 use crate::derive::millis;
-use crate::{Failure, grammar, lots};
+use crate::{Failure, grammar, lots, studio_kinds};
 
 /// Arguments of `shapegram studio`.
 #[derive(Debug, Args)]
@@ -64,19 +65,20 @@ pub struct CliEngine;
 impl Engine for CliEngine {
     fn derive(&self, job: &DeriveJob) -> Derived {
         let extension = job.path.extension().and_then(|e| e.to_str()).unwrap_or("");
-        if !matches!(extension, "cga" | "mul" | "sgl") {
-            return Derived {
-                error: Some(format!(
-                    "the studio derives .cga, .mul and .sgl files so far, not .{extension}"
-                )),
-                hints: vec![
-                    "edit it here and run it with the command line (docs/studio.md lists what is not done yet)"
-                        .to_owned(),
-                ],
-                ..Derived::default()
-            };
+        match extension {
+            "lsys" => studio_kinds::lsystem(&job.text),
+            "cave" => studio_kinds::cave(&job.text),
+            "grammar" => studio_kinds::topo(&job.text),
+            "goal" => studio_kinds::goal(&job.path, &job.text, job.time_budget),
+            _ => {
+                let source = SourceFile::new(job.path.display().to_string(), job.text.clone());
+                if grammar::is_goal_grammar(&source, None) {
+                    studio_kinds::goal(&job.path, &job.text, job.time_budget)
+                } else {
+                    derive_grammar(&job.path, &job.text, job.time_budget)
+                }
+            }
         }
-        derive_grammar(&job.path, &job.text, job.time_budget)
     }
 }
 
@@ -92,10 +94,6 @@ fn derive_grammar(path: &Path, text: &str, time_budget: Duration) -> Derived {
             .collect(),
         ..Derived::default()
     };
-    if grammar::is_goal_grammar(&source, None) {
-        derived.error = Some("goal grammars are not derived in the studio yet".to_owned());
-        return derived;
-    }
     let program = match compiled.program {
         Some(program) if compiled.errors == 0 => program,
         _ => {
@@ -147,7 +145,7 @@ fn derive_grammar(path: &Path, text: &str, time_budget: Duration) -> Derived {
 }
 
 /// `d`, found in `sources[file]`, with its place as lines and columns.
-fn located(sources: &[SourceFile], file: usize, d: &Diagnostic) -> StudioDiagnostic {
+pub(crate) fn located(sources: &[SourceFile], file: usize, d: &Diagnostic) -> StudioDiagnostic {
     let source = sources.get(file).unwrap_or(&sources[0]);
     let (line, column) = source.line_col(d.span.start);
     let (end_line, end_column) = source.line_col(d.span.end.max(d.span.start));

@@ -153,21 +153,6 @@ fn diagnostics_come_with_lines_and_columns() {
         (&answer["ok"], &answer["diagnostics"]),
         (&json!(true), &json!([]))
     );
-    // A kind of grammar the studio does not derive yet says so.
-    let plant = dir.path("plant.lsys");
-    std::fs::write(&plant, "axiom: F\nF -> FF\n").unwrap();
-    let answer = derive(
-        &studio,
-        &std::fs::canonicalize(&plant).unwrap(),
-        "axiom: F\n",
-    );
-    assert_eq!(
-        (&answer["ok"], &answer["error"]),
-        (
-            &json!(false),
-            &json!("the studio derives .cga, .mul and .sgl files so far, not .lsys")
-        )
-    );
 }
 
 #[test]
@@ -194,5 +179,166 @@ fn the_studio_listens_on_loopback_only() {
             "error: {} is not a grammar file (.cga, .mul, .sgl, .goal, .lsys, .cave, .grammar)\n",
             notes.display()
         )
+    );
+}
+
+/// The model or drawing of an answer, decoded.
+fn glb_of(answer: &Value) -> Vec<u8> {
+    use base64::Engine as _;
+    let glb = answer["glb"]
+        .as_str()
+        .unwrap_or_else(|| panic!("no GLB: {answer}"));
+    base64::engine::general_purpose::STANDARD
+        .decode(glb)
+        .unwrap()
+}
+
+/// Every kind of grammar derives in the studio as its command derives the file: a 2D L-system
+/// as the SVG of `shapegram lsystem -o x.svg`, a 3D one, a cave and a topological grammar as
+/// the GLB their commands write (byte for byte), and a goal grammar with its folder as library
+/// as `derive --library FOLDER` counts it.
+#[test]
+fn every_kind_derives_as_its_command_does() {
+    let dir = TempDir::new("studio-kinds");
+    let copy = |name: &str, to: &str| {
+        let path = dir.path(to);
+        std::fs::create_dir_all(path.parent().unwrap()).unwrap();
+        std::fs::copy(example(name), &path).unwrap();
+        std::fs::canonicalize(&path).unwrap()
+    };
+    let island = copy("koch-island.lsys", "koch-island.lsys");
+    let tree = copy("tree-3d.lsys", "tree-3d.lsys");
+    let grotto = copy("grotto.cave", "grotto.cave");
+    let house = copy("topo_house.grammar", "topo_house.grammar");
+    let chair = copy("chairs/chair.goal", "chairs/chair.goal");
+    for material in ["fabric", "metal", "wood"] {
+        copy(
+            &format!("chairs/materials/{material}.goal"),
+            &format!("chairs/materials/{material}.goal"),
+        );
+    }
+    let studio = start(&[&island, &chair]);
+    let text = |path: &std::path::Path| std::fs::read_to_string(path).unwrap();
+    let out = |name: &str| dir.path(name).to_str().unwrap().to_owned();
+
+    // 2D: the SVG `shapegram lsystem` writes, no GLB.
+    let answer = derive(&studio, &island, &text(&island));
+    shapegram(&[
+        "lsystem",
+        "-q",
+        island.to_str().unwrap(),
+        "-o",
+        &out("island.svg"),
+    ]);
+    assert_eq!(
+        (&answer["ok"], &answer["glb"], &answer["diagnostics"]),
+        (&json!(true), &Value::Null, &json!([]))
+    );
+    assert_eq!(
+        answer["svg"].as_str().unwrap(),
+        std::fs::read_to_string(out("island.svg")).unwrap()
+    );
+    assert_eq!(
+        answer["summary"],
+        json!("3 steps, 3803 modules, 2048 segments, 0 polygons")
+    );
+
+    // 3D, a cave, a topological grammar: their commands' GLB files.
+    for (path, command) in [
+        (&tree, vec!["lsystem", "-q"]),
+        (&grotto, vec!["cave", "-q"]),
+        (&house, vec!["topo", "-q"]),
+    ] {
+        let answer = derive(&studio, path, &text(path));
+        assert_eq!(answer["svg"], Value::Null, "{}", path.display());
+        let written = out("written.glb");
+        let mut args = command.clone();
+        args.extend([path.to_str().unwrap(), "-o", &written]);
+        shapegram(&args);
+        let file = std::fs::read(&written).unwrap();
+        assert!(
+            glb_of(&answer) == file,
+            "{} differs from {command:?}",
+            path.display()
+        );
+        assert_eq!(answer["glb_bytes"], json!(file.len()));
+    }
+
+    // A goal grammar with the goal grammars of its folder (and subfolders) as its library.
+    let answer = derive(&studio, &chair, &text(&chair));
+    let stats = shapegram(&[
+        "derive",
+        "-q",
+        "--stats",
+        chair.to_str().unwrap(),
+        "--library",
+        chair.parent().unwrap().to_str().unwrap(),
+    ]);
+    let stats: Value = serde_json::from_slice(&stats.stdout).unwrap();
+    assert_eq!(
+        (&answer["ok"], &answer["shapes"], &answer["leaves"]),
+        (&json!(true), &stats["shapes"], &stats["leaves"])
+    );
+    assert!(
+        answer["summary"]
+            .as_str()
+            .unwrap()
+            .ends_with("library of 3 files")
+    );
+}
+
+/// Mistakes in every kind come back at their line and column, as the parsers report them.
+#[test]
+fn mistakes_in_every_kind_have_lines_and_columns() {
+    let dir = TempDir::new("studio-kind-errors");
+    let mut files = Vec::new();
+    for name in ["plant.lsys", "cave.cave", "topo.grammar", "goals.goal"] {
+        std::fs::write(dir.path(name), "").unwrap();
+        files.push(std::fs::canonicalize(dir.path(name)).unwrap());
+    }
+    let studio = start(&[&files[0]]);
+    let place = |answer: &Value| {
+        let d = &answer["diagnostics"][0];
+        (
+            answer["ok"].clone(),
+            d["severity"].clone(),
+            d["line"].clone(),
+            d["column"].clone(),
+        )
+    };
+    let error_at =
+        |line: usize, column: usize| (json!(false), json!("error"), json!(line), json!(column));
+    let plant = derive(&studio, &files[0], "n: 2\naxiom: F\nF -> F(1,\n");
+    assert_eq!(place(&plant), error_at(3, 10), "{plant}");
+    let cave = derive(&studio, &files[1], "lod 4\nadd box(1, 0, 1)\n");
+    assert_eq!(place(&cave), error_at(2, 5), "{cave}");
+    assert_eq!(
+        cave["diagnostics"][0]["message"],
+        json!("invalid box size y 0: expected a finite number greater than 0")
+    );
+    let topo = derive(&studio, &files[2], "{\n  \"format\": 3,,\n}\n");
+    assert_eq!(place(&topo), error_at(2, 13), "{topo}");
+    assert_eq!(
+        topo["diagnostics"][0]["message"],
+        json!("invalid type: integer `3`, expected a string")
+    );
+    let goals = derive(
+        &studio,
+        &files[3],
+        "axiom chair size(1, 1, 1)\nfulfills(chair) --> s(1, 1\n",
+    );
+    assert_eq!(place(&goals), error_at(2, 22), "{goals}");
+    assert_eq!(goals["diagnostics"][0]["message"], json!("unclosed `(`"));
+    // A problem without a place in the text: a field of the wrong type, named by its path.
+    let house = std::fs::read_to_string(example("topo_house.grammar")).unwrap();
+    let topo = derive(
+        &studio,
+        &files[2],
+        &house.replace("\"version\": 1", "\"version\": 2"),
+    );
+    assert_eq!(topo["diagnostics"], json!([]));
+    assert!(
+        topo["error"].as_str().unwrap().starts_with("version: "),
+        "{topo}"
     );
 }
