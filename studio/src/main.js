@@ -6,7 +6,9 @@ import { EditorView, keymap, lineNumbers, highlightActiveLine, drawSelection } f
 import { defaultKeymap, history, historyKeymap, indentWithTab } from "@codemirror/commands";
 import { bracketMatching, indentOnInput } from "@codemirror/language";
 import { setDiagnostics, lintGutter } from "@codemirror/lint";
-import { cga } from "./cga.js";
+import { languageFor } from "./languages/index.js";
+import { completionFor, loadVocabulary } from "./complete.js";
+import { Drawing } from "./drawing.js";
 import { Preview } from "./preview.js";
 
 /** How long typing must pause before the text is derived. */
@@ -27,6 +29,7 @@ const studio = {
   leaves: 0,
   timings: {},
   saved: 0,
+  svg: null,
 };
 window.__studio = studio;
 
@@ -37,6 +40,7 @@ let timer = null;
 let drawnRev = -1;
 
 const preview = new Preview($("canvas"));
+const drawing = new Drawing($("drawing"));
 
 const view = new EditorView({
   parent: $("editor"),
@@ -53,7 +57,8 @@ function editorExtensions() {
     indentOnInput(),
     bracketMatching(),
     lintGutter(),
-    cga,
+    languageFor(path),
+    completionFor(path),
     keymap.of([
       { key: "Mod-s", preventDefault: true, run: () => (save(), true) },
       indentWithTab,
@@ -145,12 +150,19 @@ async function derive() {
   showDiagnostics(json.diagnostics);
   const errors = json.diagnostics.filter((d) => d.severity === "error" && !d.file).length;
   if (json.ok) {
-    lastGlb = Uint8Array.from(atob(json.glb), (c) => c.charCodeAt(0));
-    await preview.show(lastGlb.buffer);
+    if (json.svg) {
+      studio.svg = await drawing.show(json.svg);
+    } else {
+      drawing.hide();
+      studio.svg = null;
+      lastGlb = Uint8Array.from(atob(json.glb), (c) => c.charCodeAt(0));
+      await preview.show(lastGlb.buffer);
+    }
     studio.shapes = json.shapes;
     studio.leaves = json.leaves;
     const warnings = json.diagnostics.length ? ` · ${json.diagnostics.length} warnings` : "";
-    setStatus(`derived in ${json.derive_ms.toFixed(1)} ms · ${json.shapes} shapes · ${json.leaves} leaves${warnings}`);
+    const made = json.summary || `${json.shapes} shapes · ${json.leaves} leaves`;
+    setStatus(`derived in ${json.derive_ms.toFixed(1)} ms · ${made}${warnings}`);
   } else if (json.error) {
     setStatus(json.error, true);
   } else {
@@ -225,4 +237,5 @@ fileSelect.addEventListener("change", () => open(fileSelect.value));
 window.addEventListener("beforeunload", (event) => {
   if (path !== null && view.state.doc.toString() !== savedText) event.preventDefault();
 });
+loadVocabulary();
 loadFiles();

@@ -8,7 +8,7 @@
 // where screenshots go (default a temporary folder); CHROMIUM: the browser (/usr/bin/chromium).
 import { chromium } from "playwright-core";
 import { spawn } from "node:child_process";
-import { copyFileSync, mkdirSync, mkdtempSync, readFileSync, rmSync } from "node:fs";
+import { copyFileSync, mkdirSync, mkdtempSync, readFileSync, rmSync, writeFileSync } from "node:fs";
 import { tmpdir } from "node:os";
 import { dirname, join, resolve } from "node:path";
 import { createInterface } from "node:readline";
@@ -29,8 +29,8 @@ copyFileSync(join(root, "examples/house.cga"), grammar);
 copyFileSync(join(root, "examples/office.cga"), join(folder, "office.cga"));
 
 /** Starts `shapegram studio` on a free port; resolves with the child and the page's URL. */
-function startStudio() {
-  const child = spawn(binary, ["studio", grammar, "--listen", "127.0.0.1:0"], {
+function startStudio(files = [grammar]) {
+  const child = spawn(binary, ["studio", ...files, "--listen", "127.0.0.1:0"], {
     stdio: ["ignore", "pipe", "inherit"],
   });
   return new Promise((resolvePromise, reject) => {
@@ -117,6 +117,89 @@ function counts(status) {
   const match = /derived in ([\d.]+) ms · (\d+) shapes · (\d+) leaves/.exec(status);
   assert.ok(match, `status line: ${status}`);
   return { ms: Number(match[1]), shapes: Number(match[2]), leaves: Number(match[3]) };
+}
+
+/** Every kind of grammar, and completion, on a studio of its own over a folder of examples:
+ * a 2D L-system shows its SVG, a topological grammar and a cave show a model, a rule just
+ * written is offered by completion, and an operation is completed from the server's table. */
+async function kinds(context) {
+  const kindsFolder = mkdtempSync(join(tmpdir(), "studio-kinds-"));
+  for (const name of ["koch-island.lsys", "grotto.cave", "topo_house.grammar"]) {
+    copyFileSync(join(root, "examples", name), join(kindsFolder, name));
+  }
+  const tower = join(kindsFolder, "tower.cga");
+  writeFileSync(tower, 'Lot --> extrude(10) Mass\nMass --> comp(f) { top : Roof | side : Wall }\nWall --> color("#c8b8a0")\n');
+  const studio = await startStudio([join(kindsFolder, "koch-island.lsys")]);
+  const page = await context.newPage();
+  const problems = [];
+  page.on("pageerror", (e) => problems.push(e.message));
+  page.on("console", (m) => m.type() === "error" && problems.push(m.text()));
+  try {
+    // The 2D L-system: the SVG of its 4 · 8³ segments, drawn as an image.
+    await page.goto(studio.url);
+    const status = await settled(page);
+    assert.match(status, /3 steps, 3803 modules, 2048 segments, 0 polygons/);
+    const svg = await page.evaluate(() => window.__studio.svg);
+    assert.ok(svg && svg.polylines > 0 && svg.bytes > 10000, `the SVG: ${JSON.stringify(svg)}`);
+    const shown = await page.locator("#drawing").boundingBox();
+    assert.ok(await page.locator("#drawing").isVisible() && shown.width > 300, "the drawing is not shown");
+    const natural = await page.evaluate(() => document.getElementById("drawing").naturalWidth);
+    assert.equal(natural, 800, "the SVG did not decode");
+    await page.screenshot({ path: join(output, "studio-kinds-lsystem.png") });
+    console.log(`koch-island.lsys: ${svg.polylines} polylines, ${svg.bytes} bytes of SVG`);
+
+    // A topological grammar and a cave: models on the canvas, the drawing hidden.
+    for (const name of ["topo_house.grammar", "grotto.cave"]) {
+      await page.selectOption("#file", join(kindsFolder, name));
+      await page.waitForFunction(() => window.__studio.svg === null);
+      const made = await settled(page);
+      assert.match(made, /^derived in [\d.]+ ms · /, `${name}: ${made}`);
+      assert.equal(await page.locator("#drawing").isVisible(), false);
+      const pixels = await canvasPixels(page);
+      assert.ok(pixels.model > pixels.total * 0.02, `${name}: ${pixels.model} of ${pixels.total} model pixels`);
+      await page.screenshot({ path: join(output, `studio-kinds-${name.split(".").pop()}.png`) });
+      console.log(`${name}: ${made.replace(/^derived in [\d.]+ ms · /, "")}, ${pixels.model} model pixels`);
+    }
+
+    // Completion: a rule just written is offered and taken; an operation is offered with the
+    // signature the server gives, and taken.
+    await page.selectOption("#file", tower);
+    await page.waitForFunction(() => window.__studio.view.state.doc.toString().startsWith("Lot -->"));
+    await settled(page);
+    await page.evaluate(() => {
+      const view = window.__studio.view;
+      view.dispatch({ changes: { from: view.state.doc.length, insert: 'Balcony --> color("#3a6ea5")\n' } });
+    });
+    await select(page, 'color("#c8b8a0")', true);
+    await page.keyboard.type(" Balc");
+    const offered = page.locator(".cm-tooltip-autocomplete li");
+    await offered.first().waitFor();
+    assert.equal(await offered.first().textContent(), "Balconyrule");
+    await page.keyboard.press("Enter");
+    await page.evaluate(() => {
+      const view = window.__studio.view;
+      view.dispatch({ changes: { from: view.state.doc.length, insert: "Roof --> " }, selection: { anchor: view.state.doc.length + 9 } });
+      view.focus();
+    });
+    await page.keyboard.type("roofG");
+    await offered.first().waitFor();
+    // First, with the signature the engine's table gives (fuzzy matches such as roofRidge follow).
+    assert.equal(await offered.first().textContent(), "roofGableroofGable(angle [, overhang])");
+    await page.screenshot({ path: join(output, "studio-kinds-completion.png") });
+    await page.keyboard.press("Enter");
+    await page.keyboard.type("(30)");
+    const text = await page.evaluate(() => window.__studio.view.state.doc.toString());
+    assert.equal(text, 'Lot --> extrude(10) Mass\nMass --> comp(f) { top : Roof | side : Wall }\n'
+      + 'Wall --> color("#c8b8a0") Balcony\nBalcony --> color("#3a6ea5")\nRoof --> roofGable(30)');
+    const completed = counts(await settled(page));
+    assert.ok(completed.shapes > 5, `the completed grammar derives: ${JSON.stringify(completed)}`);
+    console.log(`completion: Balcony and roofGable taken, ${completed.shapes} shapes`);
+    assert.deepEqual(problems, [], "errors in the page's console");
+  } finally {
+    await page.close();
+    studio.child.kill();
+    rmSync(kindsFolder, { recursive: true, force: true });
+  }
 }
 
 const { child, url } = await startStudio();
@@ -223,6 +306,8 @@ try {
   assert.ok(twelve.shapes > eight.shapes, `12 floors: ${JSON.stringify(twelve)} against ${JSON.stringify(eight)}`);
   console.log(`office.cga (12 floors, ${twelve.shapes} shapes) edit-to-new-preview latency: ${officeLatency}`);
   await page.screenshot({ path: join(output, "studio-office.png") });
+
+  await kinds(context);
 
   assert.deepEqual(problems, [], "errors in the page's console");
   console.log(`studio browser test: ok (screenshots in ${output})`);
