@@ -26,6 +26,21 @@ pub struct Error {
     pub kind: ErrorKind,
     /// What went wrong, with the place in the grammar when there is one.
     pub message: String,
+    /// The one place in the grammar's text the error is at, when its parser or engine gives
+    /// one, for editors that mark it (a CGA-style grammar's errors, which may be many, are in
+    /// the message only).
+    pub place: Option<Place>,
+}
+
+/// A place in a grammar's text and what is wrong there.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Place {
+    /// Line, from 1.
+    pub line: usize,
+    /// Column, from 1, in characters.
+    pub column: usize,
+    /// What is wrong, without the place.
+    pub message: String,
 }
 
 impl Error {
@@ -34,7 +49,18 @@ impl Error {
         Self {
             kind,
             message: message.into(),
+            place: None,
         }
+    }
+
+    /// The error at `line:column` of the text, `message` saying what is wrong there.
+    pub fn at(mut self, line: usize, column: usize, message: impl Into<String>) -> Self {
+        self.place = Some(Place {
+            line,
+            column,
+            message: message.into(),
+        });
+        self
     }
 
     /// [`ErrorKind::Grammar`].

@@ -142,10 +142,10 @@ impl Grammar {
             Kind::Shape(dialect) => Self::load_shape(SourceFile::new(name, text), dialect),
             Kind::LSystem => shapegram_lsystem::LSystem::parse(text)
                 .map(|system| Grammar::LSystem(system, name.to_owned(), text.to_owned()))
-                .map_err(|e| Error::grammar(e.render(name, text))),
+                .map_err(|e| lsystem_error(Error::grammar(e.render(name, text)), e)),
             Kind::Cave => shapegram_implicit::text::parse(text)
                 .map(Grammar::Cave)
-                .map_err(|e| Error::grammar(format!("{name}:{e}"))),
+                .map_err(|e| Error::grammar(format!("{name}:{e}")).at(e.line, e.column, e.message)),
             Kind::Topo => {
                 let grammar = shapegram_topo::Grammar::from_json(text).map_err(|e| {
                     let separator = if e.location.starts_with(|c: char| c.is_ascii_digit()) {
@@ -153,7 +153,17 @@ impl Grammar {
                     } else {
                         ": "
                     };
-                    Error::grammar(format!("{name}{separator}{}: {}", e.location, e.message))
+                    let error =
+                        Error::grammar(format!("{name}{separator}{}: {}", e.location, e.message));
+                    // JSON syntax and type errors are at a line and column; others at a path.
+                    match e
+                        .location
+                        .split_once(':')
+                        .and_then(|(line, column)| Some((line.parse().ok()?, column.parse().ok()?)))
+                    {
+                        Some((line, column)) => error.at(line, column, e.message),
+                        None => error,
+                    }
                 })?;
                 let symbol = grammar
                     .symbol_names()
@@ -300,12 +310,12 @@ impl Grammar {
                     ..shapegram_lsystem::DeriveOptions::default()
                 };
                 shapegram_lsystem::model(system, &options)
-                    .map_err(|e| Error::derive(e.render(name, text)))?
+                    .map_err(|e| lsystem_error(Error::derive(e.render(name, text)), e))?
             }
             Grammar::Cave(program) => {
                 let run = program
                     .run(Some(settings.seed))
-                    .map_err(|e| Error::derive(e.to_string()))?;
+                    .map_err(|e| Error::derive(e.to_string()).at(e.line, e.column, e.message))?;
                 let lod = program
                     .lod
                     .unwrap_or(shapegram_implicit::CaveParams::default().lod);
@@ -338,6 +348,14 @@ impl Grammar {
         } else {
             model.posed()
         }))
+    }
+}
+
+/// `error` at the place of the L-system error `e`, if it has one.
+fn lsystem_error(error: Error, e: shapegram_lsystem::Error) -> Error {
+    match e.position {
+        Some(p) => error.at(p.line as usize, p.column as usize, e.message),
+        None => error,
     }
 }
 

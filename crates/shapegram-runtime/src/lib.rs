@@ -5,5 +5,5 @@
 mod error;
 mod grammar;
 
-pub use error::{Error, ErrorKind};
+pub use error::{Error, ErrorKind, Place};
 pub use grammar::{AttrType, Derived, Grammar, Kind, Settings, default_lot};

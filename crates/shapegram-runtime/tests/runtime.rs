@@ -6,7 +6,7 @@ use std::path::PathBuf;
 
 use shapegram_eval::Value;
 use shapegram_export::Buffers;
-use shapegram_runtime::{ErrorKind, Grammar, Kind, Settings};
+use shapegram_runtime::{Error, ErrorKind, Grammar, Kind, Settings};
 
 fn example(name: &str) -> (String, String) {
     let path = PathBuf::from(env!("CARGO_MANIFEST_DIR"))
@@ -109,4 +109,45 @@ fn bad_input_gives_errors_of_their_kind_with_their_place() {
         .check_attr("storeys", &Value::Str("two".into()))
         .unwrap_err();
     assert_eq!(typed.kind, ErrorKind::AttributeType);
+}
+
+/// The kinds whose parsers give one place have it on the error, with the bare message, for
+/// editors to mark; a CGA-style grammar's errors stay in the message.
+#[test]
+fn errors_with_one_place_carry_it() {
+    let place = |error: Error| {
+        let place = error.place.expect("a place");
+        (place.line, place.column, place.message)
+    };
+    let lsystem = Grammar::load("plant.lsys", "n: 2\naxiom: F\nF -> F(1,\n", None).err();
+    assert_eq!(
+        place(lsystem.expect("a syntax error")),
+        (
+            3,
+            10,
+            "expected a number, a name or '(', found the end of the line".to_owned()
+        )
+    );
+    // A cave's sizes are checked as it grows.
+    let cave = Grammar::load("cave.cave", "lod 4\nadd box(1, 0, 1)\n", None).unwrap();
+    let grown = cave.derive(&Settings::default()).err();
+    assert_eq!(
+        place(grown.expect("a bad size")),
+        (
+            2,
+            5,
+            "invalid box size y 0: expected a finite number greater than 0".to_owned()
+        )
+    );
+    let topo = Grammar::load("topo.grammar", "{\n  \"format\": 3\n}\n", None).err();
+    assert_eq!(
+        place(topo.expect("a type error")),
+        (
+            2,
+            13,
+            "invalid type: integer `3`, expected a string".to_owned()
+        )
+    );
+    let cga = Grammar::load("broken.cga", "Lot --> extrude(3\n", None).err();
+    assert_eq!(cga.expect("a syntax error").place, None);
 }
