@@ -20,7 +20,7 @@ use crate::progress::LateBar;
 use crate::{Failure, counted, print_stdout};
 
 /// The colour of cave rock in the written model.
-pub(crate) const ROCK: Color = Color::rgb(0.55, 0.48, 0.42);
+const ROCK: Color = Color::rgb(0.55, 0.48, 0.42);
 
 /// Arguments of `shapegram cave`.
 #[derive(Debug, Args)]

@@ -65,10 +65,11 @@ pub struct CliEngine;
 impl Engine for CliEngine {
     fn derive(&self, job: &DeriveJob) -> Derived {
         let extension = job.path.extension().and_then(|e| e.to_str()).unwrap_or("");
+        let name = job.path.display().to_string();
         match extension {
             "lsys" => studio_kinds::lsystem(&job.text),
-            "cave" => studio_kinds::cave(&job.text),
-            "grammar" => studio_kinds::topo(&job.text),
+            "cave" => studio_kinds::cave(&name, &job.text),
+            "grammar" => studio_kinds::topo(&name, &job.text),
             "goal" => studio_kinds::goal(&job.path, &job.text, job.time_budget),
             _ => {
                 let source = SourceFile::new(job.path.display().to_string(), job.text.clone());

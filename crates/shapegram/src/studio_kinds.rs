@@ -2,7 +2,10 @@
 //! as SVG, a 3D one as a model), implicit caves, topological grammars and goal grammars with the
 //! goal grammars of their folder as their library. Each is derived as its command derives the
 //! file (`shapegram lsystem`, `cave`, `topo`, `derive --library FOLDER`), and its mistakes come
-//! back as diagnostics at their line and column wherever the parser gives one.
+//! back as diagnostics at their line and column wherever the parser gives one. Caves and
+//! topological grammars load and derive through `shapegram-runtime`, as every host's do; an
+//! L-system needs its drawing (is it flat?) and a goal grammar its library, which the runtime
+//! does not give, so those two are derived here.
 
 use std::path::Path;
 use std::sync::Arc;
@@ -11,15 +14,14 @@ use std::time::{Duration, Instant};
 use shapegram_eval::{DeriveOptions, LibraryOptions};
 use shapegram_export::ExportOptions;
 use shapegram_geom::Model;
+use shapegram_implicit::CaveParams;
+use shapegram_runtime::{Derived as RuntimeDerived, Grammar, Kind, Settings};
 use shapegram_server::studio::{Derived, StudioDiagnostic};
 use shapegram_syntax::SourceFile;
 
 use crate::derive::millis;
 use crate::studio::located;
 use crate::{counted, grammar};
-
-/// Generations of a topological grammar, as `shapegram topo` runs it by default.
-const TOPO_GENERATIONS: u32 = 8;
 
 /// An error at `line:column` (1-based, columns in characters) of the file being edited.
 fn error_at(line: usize, column: usize, message: impl Into<String>) -> StudioDiagnostic {
@@ -134,38 +136,40 @@ pub fn lsystem(text: &str) -> Derived {
     }
 }
 
+/// A runtime error as the studio shows it: at its place in the text when it has one.
+fn runtime_failure(error: shapegram_runtime::Error, started: Instant) -> Derived {
+    match error.place {
+        Some(place) => failed_at(error_at(place.line, place.column, place.message), started),
+        None => failed(error.message, started),
+    }
+}
+
 /// A `.cave` grammar grown with its own seed and meshed at its level of detail, smooth-shaded,
-/// as `shapegram cave FILE` does.
-pub fn cave(text: &str) -> Derived {
-    use shapegram_implicit::{CaveParams, MeshOptions, text::TextError};
+/// as `shapegram cave FILE` does (through the runtime).
+pub fn cave(name: &str, text: &str) -> Derived {
     let started = Instant::now();
-    let at = |e: TextError| failed_at(error_at(e.line, e.column, e.message), started);
-    let program = match shapegram_implicit::text::parse(text) {
-        Ok(program) => program,
-        Err(e) => return at(e),
+    let grammar = match Grammar::load(name, text, Some(Kind::Cave)) {
+        Ok(grammar) => grammar,
+        Err(e) => return runtime_failure(e, started),
     };
-    let run = match program.run(None) {
-        Ok(run) => run,
-        Err(e) => return at(e),
+    let Grammar::Cave(program) = &grammar else {
+        unreachable!("a cave loads as a cave");
     };
     let lod = program.lod.unwrap_or(CaveParams::default().lod);
-    let options = MeshOptions::with_cell_size(1.0 / f64::from(lod));
-    let solid = run.builder.solid();
-    let meshing = match shapegram_implicit::mesh(solid, &options) {
-        Ok(meshing) => meshing,
-        Err(e) => return failed(e.to_string(), started),
+    let settings = Settings {
+        seed: program.seed,
+        ..Settings::default()
     };
-    let triangles = meshing.mesh.face_count();
-    let primitives = solid.primitive_count();
-    let mut model = Model::single("cave", crate::cave::ROCK, meshing.mesh);
-    model.parts[0].normals =
-        shapegram_implicit::surface_normals(solid, &model.parts[0].mesh, options.cell_size / 2.0);
+    let model = match grammar.derive(&settings) {
+        Ok(RuntimeDerived::Model(model)) => model,
+        Ok(RuntimeDerived::Triangles(_)) => unreachable!("a cave derives a model"),
+        Err(e) => return runtime_failure(e, started),
+    };
+    let triangles = model.parts[0].mesh.face_count();
     let derived = Derived {
-        shapes: primitives,
         leaves: triangles,
         summary: Some(format!(
-            "lod {lod}, {}, {}",
-            counted(primitives, "primitive", "primitives"),
+            "lod {lod}, {}",
             counted(triangles, "triangle", "triangles")
         )),
         derive_ms: millis(started.elapsed()),
@@ -174,47 +178,34 @@ pub fn cave(text: &str) -> Derived {
     export(derived, &model)
 }
 
-/// A topological `.grammar` from its first symbol, seed 0, as `shapegram topo FILE` runs it.
-pub fn topo(text: &str) -> Derived {
-    use shapegram_topo::{Grammar, GrammarMesh, GrammarState};
+/// A topological `.grammar` from its first symbol, seed 0, 8 generations, as `shapegram topo
+/// FILE` runs it (through the runtime).
+pub fn topo(name: &str, text: &str) -> Derived {
     let started = Instant::now();
-    let grammar = match Grammar::from_json(text) {
+    let grammar = match Grammar::load(name, text, Some(Kind::Topo)) {
         Ok(grammar) => grammar,
-        Err(e) => {
-            // JSON syntax errors have a line and column; a wrong field has a path.
-            let place = e
-                .location
-                .split_once(':')
-                .and_then(|(l, c)| Some((l.parse().ok()?, c.parse().ok()?)));
-            return match place {
-                Some((line, column)) => failed_at(error_at(line, column, e.message), started),
-                None => failed(format!("{}: {}", e.location, e.message), started),
-            };
-        }
+        Err(e) => return runtime_failure(e, started),
     };
-    let Some(symbol) = grammar.symbol_names().first().map(|s| (*s).to_owned()) else {
-        return failed("the grammar has no symbol", started);
+    let mesh = match grammar.derive(&Settings::default()) {
+        Ok(RuntimeDerived::Triangles(mesh)) => mesh,
+        Ok(RuntimeDerived::Model(_)) => unreachable!("a topological grammar derives triangles"),
+        Err(e) => return runtime_failure(e, started),
     };
-    let state = GrammarState::new(&grammar, &symbol).and_then(|state| {
-        let mut state = state.with_generations(TOPO_GENERATIONS);
-        state.generate_all()?;
-        Ok(state)
-    });
-    let state = match state {
-        Ok(state) => state,
-        Err(e) => return failed(e.to_string(), started),
+    let Grammar::Topo(_, symbol) = &grammar else {
+        unreachable!("a topological grammar loads as one");
     };
-    let mesh = GrammarMesh::new(&state);
-    let terminals = state.terminals().len();
-    let shapes = terminals + state.non_terminals().len();
+    let parts = mesh
+        .parts
+        .iter()
+        .filter(|p| !p.triangles.is_empty())
+        .count();
     let derived = Derived {
-        shapes,
-        leaves: terminals,
+        shapes: parts,
+        leaves: mesh.triangle_count(),
         summary: Some(format!(
-            "{} from {symbol}: {} ({terminals} terminal), {}",
-            counted(state.generation() as usize, "generation", "generations"),
-            counted(shapes, "shape", "shapes"),
-            counted(mesh.triangle_count(), "triangle", "triangles")
+            "from {symbol}: {}, {}",
+            counted(mesh.triangle_count(), "triangle", "triangles"),
+            counted(parts, "part", "parts")
         )),
         derive_ms: millis(started.elapsed()),
         ..Derived::default()
