@@ -151,6 +151,8 @@ async function derive() {
   const errors = json.diagnostics.filter((d) => d.severity === "error" && !d.file).length;
   if (json.ok) {
     if (json.svg) {
+      // Download GLB has nothing to give for a drawing.
+      lastGlb = null;
       studio.svg = await drawing.show(json.svg);
     } else {
       drawing.hide();
