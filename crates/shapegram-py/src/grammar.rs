@@ -1,0 +1,215 @@
+//! `shapegram.Grammar`: a loaded grammar, its attributes, and its derivation.
+
+use std::sync::Arc;
+
+use pyo3::exceptions::{PyTypeError, PyValueError};
+use pyo3::prelude::*;
+use pyo3::types::{PyBool, PyDict, PyFloat, PyInt, PyString};
+use shapegram_eval::{DeriveControl, InitialShape, Value};
+use shapegram_export::Buffers;
+use shapegram_geom::DVec3;
+use shapegram_runtime::{AttrType, Grammar as Engine, Kind, Settings};
+
+use crate::errors::{guard, to_py};
+use crate::mesh::Mesh;
+
+/// A grammar of any kind the engine runs, loaded and compiled. Immutable: derive it as often as
+/// needed, from any thread (each derivation runs without the GIL).
+#[pyclass(module = "shapegram", frozen)]
+pub struct Grammar {
+    engine: Engine,
+    name: String,
+}
+
+/// One attribute a grammar declares (`attr name = value`), for forms that set it.
+#[pyclass(module = "shapegram", frozen, get_all)]
+pub struct Attr {
+    /// The attribute's name.
+    name: String,
+    /// `"number"`, `"string"`, `"bool"`, or `None` when its default is an expression.
+    r#type: Option<&'static str>,
+}
+
+#[pymethods]
+impl Attr {
+    fn __repr__(&self) -> String {
+        format!(
+            "Attr(name={:?}, type={})",
+            self.name,
+            self.r#type
+                .map_or_else(|| "None".to_owned(), |t| format!("{t:?}"))
+        )
+    }
+}
+
+/// The kind of grammar a name (`"cga"`, `"lsys"`, …, the extension of its files) says.
+fn kind_of(name: Option<&str>) -> PyResult<Option<Kind>> {
+    name.map(|name| {
+        Kind::of_name(&format!("grammar.{name}")).ok_or_else(|| {
+            PyValueError::new_err(format!(
+                "unknown grammar kind {name:?} (one of \"cga\", \"mul\", \"sgl\", \"goal\", \
+                 \"lsys\", \"cave\", \"grammar\")"
+            ))
+        })
+    })
+    .transpose()
+}
+
+/// A Python value as an attribute value of `name`: a number, a string or a boolean.
+fn attr_value(name: &str, value: &Bound<'_, PyAny>) -> PyResult<Value> {
+    if value.is_instance_of::<PyBool>() {
+        Ok(Value::Bool(value.extract()?))
+    } else if value.is_instance_of::<PyInt>() || value.is_instance_of::<PyFloat>() {
+        Ok(Value::Number(value.extract()?))
+    } else if let Ok(text) = value.cast::<PyString>() {
+        Ok(Value::string(text.to_str()?))
+    } else {
+        Err(PyTypeError::new_err(format!(
+            "the attribute `{name}` takes a number, a string or a boolean, not {}",
+            value.get_type().name()?
+        )))
+    }
+}
+
+/// A lot from its corners, checked as the C ABI checks them.
+fn lot(index: usize, corners: &[[f64; 3]]) -> PyResult<InitialShape> {
+    let invalid = |what: String| PyValueError::new_err(format!("lot {index}: {what}"));
+    if corners.len() < 3 {
+        return Err(invalid(format!(
+            "a lot needs 3 corners or more, not {}",
+            corners.len()
+        )));
+    }
+    let footprint: Vec<DVec3> = corners
+        .iter()
+        .map(|&[x, y, z]| DVec3::new(x, y, z))
+        .collect();
+    if !footprint.iter().all(|p| p.is_finite()) {
+        return Err(invalid("a corner is not finite".to_owned()));
+    }
+    if shapegram_geom::mesh::newell(footprint.iter().copied()).length() <= 0.0 {
+        return Err(invalid("the lot has no area".to_owned()));
+    }
+    Ok(InitialShape { footprint })
+}
+
+#[pymethods]
+impl Grammar {
+    /// Loads the grammar in the file at `path` (its kind from the extension unless `kind` says
+    /// it); its imports and inserted files are found beside it.
+    #[staticmethod]
+    #[pyo3(signature = (path, kind=None))]
+    fn load(py: Python<'_>, path: std::path::PathBuf, kind: Option<&str>) -> PyResult<Self> {
+        let text = std::fs::read(&path).map_err(|e| {
+            pyo3::exceptions::PyOSError::new_err(format!("cannot read {}: {e}", path.display()))
+        })?;
+        let name = path.to_string_lossy().into_owned();
+        let text = String::from_utf8(text).map_err(|e| {
+            PyValueError::new_err(format!(
+                "{name} is not UTF-8 (invalid byte at offset {})",
+                e.utf8_error().valid_up_to()
+            ))
+        })?;
+        let text = text.strip_prefix('\u{feff}').unwrap_or(&text).to_owned();
+        Self::from_text(py, &text, &name, kind)
+    }
+
+    /// Loads a grammar from `text`, named `name` in messages; `name` also places it (its
+    /// imports are found beside it) and, without `kind`, tells its kind by its extension.
+    #[staticmethod]
+    #[pyo3(signature = (text, name="grammar", kind=None))]
+    fn from_text(py: Python<'_>, text: &str, name: &str, kind: Option<&str>) -> PyResult<Self> {
+        let kind = kind_of(kind)?;
+        let engine = py.detach(|| guard(|| Engine::load(name, text, kind).map_err(to_py)))?;
+        Ok(Self {
+            engine,
+            name: name.to_owned(),
+        })
+    }
+
+    /// The name the grammar was loaded under (its path, for a file).
+    #[getter]
+    fn name(&self) -> &str {
+        &self.name
+    }
+
+    /// The attributes the grammar declares, in order (none for L-systems, caves and
+    /// topological grammars).
+    #[getter]
+    fn attrs(&self) -> Vec<Attr> {
+        let Engine::Shape { attrs, .. } = &self.engine else {
+            return Vec::new();
+        };
+        attrs
+            .iter()
+            .map(|(name, declared)| Attr {
+                name: name.clone(),
+                r#type: declared.map(|t| match t {
+                    AttrType::Number => "number",
+                    AttrType::String => "string",
+                    AttrType::Bool => "bool",
+                }),
+            })
+            .collect()
+    }
+
+    /// Derives the grammar: `seed` for every random choice, `attrs` overriding the grammar's
+    /// (a dict of numbers, strings and booleans), `lots` as polygons of `(x, y, z)` corners
+    /// (y up, counter-clockwise seen from above; the default 20 × 30 lot when `None`) and
+    /// `generations` (the grammar's own when `None`). Releases the GIL while it derives.
+    #[pyo3(signature = (*, seed=0, attrs=None, lots=None, generations=None))]
+    fn derive(
+        &self,
+        py: Python<'_>,
+        seed: u64,
+        attrs: Option<&Bound<'_, PyDict>>,
+        lots: Option<Vec<Vec<[f64; 3]>>>,
+        generations: Option<u32>,
+    ) -> PyResult<Mesh> {
+        let mut values = Vec::new();
+        for (name, value) in attrs.into_iter().flat_map(|d| d.iter()) {
+            let name: String = name.extract().map_err(|_| {
+                PyTypeError::new_err(format!(
+                    "attribute names are strings, not {}",
+                    name.get_type()
+                        .name()
+                        .map_or_else(|_| "?".into(), |n| n.to_string())
+                ))
+            })?;
+            let value = attr_value(&name, &value)?;
+            self.engine.check_attr(&name, &value).map_err(to_py)?;
+            values.push((name, value));
+        }
+        let lots = lots
+            .unwrap_or_default()
+            .iter()
+            .enumerate()
+            .map(|(i, corners)| lot(i, corners))
+            .collect::<PyResult<Vec<_>>>()?;
+        let settings = Settings {
+            seed,
+            attrs: values,
+            lots,
+            generations,
+            control: Arc::new(DeriveControl::new()),
+        };
+        let (buffers, names) = py.detach(|| {
+            guard(|| {
+                let derived = self.engine.derive(&settings).map_err(to_py)?;
+                let mut buffers = Buffers::default();
+                derived.fill(&mut buffers);
+                let names: Vec<String> = buffers
+                    .parts
+                    .iter()
+                    .map(|p| derived.part_name(p.part).to_owned())
+                    .collect();
+                Ok((buffers, names))
+            })
+        })?;
+        Mesh::new(py, &buffers, names)
+    }
+
+    fn __repr__(&self) -> String {
+        format!("Grammar({:?})", self.name)
+    }
+}

@@ -1,0 +1,219 @@
+"""The Python module against the examples: every kind of grammar, attributes, lots, generations,
+buffers, errors. Run with `python -m unittest discover crates/shapegram-py/tests` in a venv where
+`maturin develop` installed the module."""
+
+import pathlib
+import struct
+import tempfile
+import threading
+import unittest
+
+import shapegram
+
+EXAMPLES = pathlib.Path(__file__).resolve().parents[3] / "examples"
+HOUSE = EXAMPLES / "house.cga"
+
+
+class House(unittest.TestCase):
+    def setUp(self):
+        self.house = shapegram.Grammar.load(HOUSE)
+
+    def test_buffers_have_the_c_abis_counts(self):
+        mesh = self.house.derive()
+        # docs/runtimes.md: the C ABI's counts for the house.
+        self.assertEqual((mesh.vertex_count, mesh.triangle_count, len(mesh.parts)), (3442, 1720, 8))
+        self.assertEqual((mesh.positions.typecode, mesh.positions.itemsize), ("f", 4))
+        self.assertEqual((mesh.normals.typecode, mesh.normals.itemsize), ("f", 4))
+        self.assertEqual((mesh.indices.typecode, mesh.indices.itemsize), ("I", 4))
+        self.assertEqual(len(mesh.positions), 3 * 3442)
+        self.assertEqual(len(mesh.normals), 3 * 3442)
+        self.assertEqual(len(mesh.indices), 3 * 1720)
+        self.assertEqual(max(mesh.indices), 3441)
+
+    def test_parts_tile_the_buffers(self):
+        mesh = self.house.derive()
+        vertex = index = 0
+        for part in mesh.parts:
+            self.assertEqual((part.first_vertex, part.first_index), (vertex, index))
+            vertex += part.vertex_count
+            index += part.index_count
+            self.assertTrue(part.name)
+            self.assertEqual(len(part.color), 4)
+            used = mesh.indices[part.first_index : part.first_index + part.index_count]
+            self.assertTrue(all(part.first_vertex <= i < part.first_vertex + part.vertex_count for i in used))
+        self.assertEqual((vertex, index), (mesh.vertex_count, 3 * mesh.triangle_count))
+        self.assertIn("#e8dcc4", {part.color_hex for part in mesh.parts})
+
+    def test_normals_are_unit_vectors(self):
+        normals = self.house.derive().normals
+        for i in range(0, len(normals), 3):
+            x, y, z = normals[i : i + 3]
+            self.assertAlmostEqual(x * x + y * y + z * z, 1.0, places=5)
+
+    def test_same_settings_give_the_same_bytes(self):
+        first = self.house.derive(seed=7, attrs={"storeys": 3})
+        second = self.house.derive(seed=7, attrs={"storeys": 3})
+        for name in ("positions", "normals", "indices"):
+            self.assertEqual(getattr(first, name).tobytes(), getattr(second, name).tobytes())
+        self.assertEqual([p.color for p in first.parts], [p.color for p in second.parts])
+
+    def test_threads_derive_at_once_and_agree(self):
+        expected = self.house.derive(seed=3).positions.tobytes()
+        results = []
+
+        def derive():
+            results.append(self.house.derive(seed=3).positions.tobytes())
+
+        threads = [threading.Thread(target=derive) for _ in range(4)]
+        for thread in threads:
+            thread.start()
+        for thread in threads:
+            thread.join()
+        self.assertEqual(results, [expected] * 4)
+
+    def test_attributes_are_declared_with_their_types(self):
+        attrs = [(a.name, a.type) for a in self.house.attrs]
+        self.assertEqual(
+            attrs,
+            [
+                ("storeys", "number"),
+                ("storeyH", "number"),
+                ("roofAngle", "number"),
+                ("wallColor", "string"),
+                ("roofColor", "string"),
+            ],
+        )
+
+    def test_attributes_change_the_model(self):
+        two = self.house.derive()
+        three = self.house.derive(attrs={"storeys": 3, "wallColor": "#ff0000"})
+        self.assertGreater(three.vertex_count, two.vertex_count)
+        colors = {p.color_hex for p in three.parts}
+        self.assertIn("#ff0000", colors)
+        self.assertNotIn("#e8dcc4", colors)
+
+    def test_an_attribute_of_the_wrong_type_is_refused(self):
+        with self.assertRaises(shapegram.AttributeTypeError) as raised:
+            self.house.derive(attrs={"storeys": "three"})
+        self.assertIn("the attribute `storeys` is a number, not a string", str(raised.exception))
+        with self.assertRaises(shapegram.AttributeTypeError):
+            self.house.derive(attrs={"wallColor": True})
+        with self.assertRaises(TypeError) as raised:
+            self.house.derive(attrs={"storeys": [3]})
+        self.assertEqual(
+            str(raised.exception), "the attribute `storeys` takes a number, a string or a boolean, not list"
+        )
+
+    def test_an_unknown_attribute_is_refused_with_a_suggestion(self):
+        with self.assertRaises(shapegram.UnknownAttributeError) as raised:
+            self.house.derive(attrs={"storey": 3})
+        self.assertEqual(str(raised.exception), "the grammar has no attribute `storey` (did you mean `storeys`?)")
+        self.assertIsInstance(raised.exception, shapegram.Error)
+
+    def test_lots(self):
+        one = self.house.derive(lots=[[(0, 0, 0), (20, 0, 0), (20, 0, 30), (0, 0, 30)]])
+        self.assertEqual(one.vertex_count, 3442)
+        two = self.house.derive(
+            lots=[
+                [(0, 0, 0), (20, 0, 0), (20, 0, 30), (0, 0, 30)],
+                [(40, 0, 0), (60, 0, 0), (60, 0, 30), (40, 0, 30)],
+            ]
+        )
+        self.assertEqual(two.vertex_count, 2 * 3442)
+        # Corners may be lists too (as JSON gives them).
+        self.assertEqual(self.house.derive(lots=[[[0, 0, 0], [20, 0, 0], [20, 0, 30], [0, 0, 30]]]).vertex_count, 3442)
+        # The roof overhangs each lot by 0.4 m.
+        xs = two.positions[0::3]
+        self.assertAlmostEqual(min(xs), -0.4, places=6)
+        self.assertAlmostEqual(max(xs), 60.4, places=5)
+
+    def test_bad_lots_are_value_errors(self):
+        with self.assertRaises(ValueError) as raised:
+            self.house.derive(lots=[[(0, 0, 0), (1, 0, 0)]])
+        self.assertEqual(str(raised.exception), "lot 0: a lot needs 3 corners or more, not 2")
+        with self.assertRaises(ValueError) as raised:
+            self.house.derive(lots=[[(0, 0, 0), (1, 0, 0), (2, 0, 0)]])
+        self.assertEqual(str(raised.exception), "lot 0: the lot has no area")
+        with self.assertRaises(ValueError) as raised:
+            self.house.derive(lots=[[(0, 0, 0), (1, 0, 0), (1, 0, float("nan"))]])
+        self.assertEqual(str(raised.exception), "lot 0: a corner is not finite")
+        with self.assertRaises(ValueError) as raised:
+            self.house.derive(lots=[[(0, 0), (1, 0), (1, 1)]])
+        self.assertIn("expected a sequence of length 3 (got 2)", str(raised.exception))
+        with self.assertRaises(TypeError):
+            self.house.derive(lots=[[(0, 0, "a"), (1, 0, 0), (1, 0, 1)]])
+
+
+class Kinds(unittest.TestCase):
+    def test_every_kind_derives_from_its_file(self):
+        for name in (
+            "house.cga",
+            "rotating_tower.mul",
+            "sgl_medieval_house.sgl",
+            "chairs/chair.goal",
+            "bush-3d.lsys",
+            "grotto.cave",
+            "topo_house.grammar",
+            "park.cga",
+        ):
+            with self.subTest(name):
+                mesh = shapegram.Grammar.load(EXAMPLES / name).derive()
+                self.assertGreater(mesh.triangle_count, 0)
+                self.assertGreater(len(mesh.parts), 0)
+
+    def test_topological_house_has_the_c_abis_counts(self):
+        mesh = shapegram.Grammar.load(EXAMPLES / "topo_house.grammar").derive()
+        self.assertEqual((mesh.vertex_count, mesh.triangle_count, len(mesh.parts)), (5994, 2996, 7))
+
+    def test_a_kind_given_overrides_the_extension(self):
+        text = (EXAMPLES / "tree-3d.lsys").read_text()
+        tree = shapegram.Grammar.from_text(text, name="tree.txt", kind="lsys")
+        self.assertEqual(tree.attrs, [])
+        self.assertGreater(tree.derive().vertex_count, 0)
+        with self.assertRaises(ValueError):
+            shapegram.Grammar.from_text(text, kind="png")
+
+    def test_generations_bound_an_l_system(self):
+        bush = shapegram.Grammar.load(EXAMPLES / "bush-3d.lsys")
+        counts = [bush.derive(generations=n).vertex_count for n in (1, 2, 3)]
+        self.assertLess(counts[0], counts[1])
+        self.assertLess(counts[1], counts[2])
+
+
+class Errors(unittest.TestCase):
+    def test_a_grammar_error_names_file_line_and_column(self):
+        with self.assertRaises(shapegram.GrammarError) as raised:
+            shapegram.Grammar.from_text("@StartRule\nLot --> extrude(4 Mass.\n", name="bad.cga")
+        message = str(raised.exception)
+        self.assertTrue(message.startswith("error: expected `,` or `)` in the argument list, found `Mass`"), message)
+        self.assertIn("--> bad.cga:2:19", message)
+
+    def test_a_derivation_error_names_its_place(self):
+        folder = tempfile.mkdtemp()
+        park = pathlib.Path(folder) / "park.cga"
+        park.write_text((EXAMPLES / "park.cga").read_text())
+        with self.assertRaises(shapegram.DeriveError) as raised:
+            shapegram.Grammar.load(park).derive()
+        self.assertIn("park.cga:21:", str(raised.exception))
+        self.assertIn("tree-3d.lsys", str(raised.exception))
+
+    def test_a_missing_file_is_an_os_error(self):
+        with self.assertRaises(OSError) as raised:
+            shapegram.Grammar.load("no/such/file.cga")
+        self.assertIn("cannot read no/such/file.cga", str(raised.exception))
+
+    def test_a_file_that_is_not_utf8_is_a_value_error(self):
+        path = pathlib.Path(tempfile.mkdtemp()) / "latin1.cga"
+        path.write_bytes(b"// caf\xe9\n")
+        with self.assertRaises(ValueError) as raised:
+            shapegram.Grammar.load(path)
+        self.assertIn("is not UTF-8 (invalid byte at offset 6)", str(raised.exception))
+
+    def test_attributes_of_a_grammar_without_any(self):
+        cave = shapegram.Grammar.load(EXAMPLES / "grotto.cave")
+        with self.assertRaises(shapegram.UnknownAttributeError):
+            cave.derive(attrs={"size": 1})
+
+
+if __name__ == "__main__":
+    unittest.main()
