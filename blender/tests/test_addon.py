@@ -1,0 +1,135 @@
+"""The add-on in a real Blender, headless:
+
+    blender -b --factory-startup --python-exit-code 1 --python blender/tests/test_addon.py \
+        -- shapegram_blender.zip examples/
+
+installs the zip, generates examples/house.cga on the default lot (objects, vertices, faces and
+materials counted against the shipped module's own buffers and the C ABI's figures), regenerates
+it in place with an attribute set in the panel, generates on a plane's three faces (a building
+per face, each on its face) and checks that a grammar error reaches the user with its place."""
+
+import json
+import pathlib
+import sys
+import tempfile
+
+import bpy
+
+zip_path, examples = sys.argv[sys.argv.index("--") + 1 :]
+house = str(pathlib.Path(examples) / "house.cga")
+
+bpy.ops.preferences.addon_install(filepath=zip_path, overwrite=True)
+bpy.ops.preferences.addon_enable(module="shapegram_blender")
+
+from shapegram_blender import shapegram as engine  # noqa: E402 (installed just above)
+
+
+def check(condition, what):
+    if not condition:
+        raise AssertionError(what)
+
+
+def generated():
+    return sorted((o for o in bpy.data.objects if "shapegram_lot" in o), key=lambda o: o.name)
+
+
+def select(objects):
+    for obj in bpy.context.view_layer.objects:
+        obj.select_set(False)
+    for obj in objects:
+        obj.select_set(True)
+    bpy.context.view_layer.objects.active = objects[0] if objects else None
+
+
+for obj in list(bpy.data.objects):
+    bpy.data.objects.remove(obj)
+settings = bpy.context.scene.shapegram
+settings.grammar_path = house
+check(bpy.ops.shapegram.reload() == {"FINISHED"}, "reload")
+check(
+    [(a.name, a.type) for a in settings.attrs]
+    == [
+        ("storeys", "number"),
+        ("storeyH", "number"),
+        ("roofAngle", "number"),
+        ("wallColor", "string"),
+        ("roofColor", "string"),
+    ],
+    f"the panel's attributes: {[(a.name, a.type) for a in settings.attrs]}",
+)
+
+# The house on the default lot: one object, the module's buffers as they are.
+check(bpy.ops.shapegram.generate() == {"FINISHED"}, "generate")
+expected = engine.Grammar.load(house).derive()
+(obj,) = generated()
+check(len(bpy.data.objects) == 1, f"{len(bpy.data.objects)} objects")
+mesh = obj.data
+check((len(mesh.vertices), len(mesh.polygons)) == (3442, 1720), f"{len(mesh.vertices)} vertices, {len(mesh.polygons)} faces")
+colors = sorted({p.color_hex for p in expected.parts})
+check(sorted(m.name for m in mesh.materials) == colors, f"materials {[m.name for m in mesh.materials]}, colours {colors}")
+check(len(colors) == 8, f"{len(colors)} colours")
+check("#e8dcc4" in bpy.data.materials, "the wall colour's material")
+# Each face has its part's material: the triangles of the first part.
+first = expected.parts[0]
+slot = [m.name for m in mesh.materials].index(first.color_hex)
+faces = range(first.first_index // 3, (first.first_index + first.index_count) // 3)
+check(all(mesh.polygons[f].material_index == slot for f in faces), "the first part's material")
+# y up in the engine is z up here: (x, y, z) there is (x, -z, y) here. The house stands on its
+# lot (x 0..20, z 0..30 there), its roof overhanging by 0.4 m.
+def bounds(values):
+    return (round(min(values), 4), round(max(values), 4))
+
+
+check(bounds([v.co.x for v in mesh.vertices]) == bounds(expected.positions[0::3]) == (-0.4, 20.4), "x")
+check(bounds([v.co.y for v in mesh.vertices]) == bounds([-z for z in expected.positions[2::3]]) == (-30.4, 0.4), "y")
+check(bounds([v.co.z for v in mesh.vertices]) == bounds(expected.positions[1::3]), "z")
+check(min(v.co.z for v in mesh.vertices) == 0, "the house stands on the ground")
+
+# An attribute set in the panel, regenerated in place: the same object, three storeys.
+storeys = next(a for a in settings.attrs if a.name == "storeys")
+storeys.number = 3
+check(storeys.use, "setting a value marks the attribute set")
+select([obj])
+check(bpy.ops.shapegram.regenerate() == {"FINISHED"}, "regenerate")
+three = engine.Grammar.load(house).derive(attrs={"storeys": 3.0})
+check(generated() == [obj] and obj.data == mesh, "regenerated in place")
+check(len(mesh.vertices) == three.vertex_count != 3442, f"{len(mesh.vertices)} vertices after regenerating")
+check(json.loads(obj["shapegram_settings"])["attrs"] == {"storeys": 3.0}, obj["shapegram_settings"])
+
+# A plane of three 20 x 30 faces: a building on each, on its face (with the roof's overhang).
+plane_mesh = bpy.data.meshes.new("plane")
+corners = []
+for i in range(3):
+    x = 30.0 * i
+    corners += [(x, 0, 0), (x + 20, 0, 0), (x + 20, 30, 0), (x, 30, 0)]
+plane_mesh.from_pydata(corners, [], [(4 * i, 4 * i + 1, 4 * i + 2, 4 * i + 3) for i in range(3)])
+plane = bpy.data.objects.new("plane", plane_mesh)
+bpy.context.scene.collection.objects.link(plane)
+select([plane])
+check(bpy.ops.shapegram.generate() == {"FINISHED"}, "generate on the plane")
+buildings = [o for o in generated() if o != obj]
+check(len(buildings) == 3, f"{len(buildings)} buildings on 3 faces")
+for i, building in enumerate(sorted(buildings, key=lambda o: min(v.co.x for v in o.data.vertices))):
+    lot = json.loads(building["shapegram_lot"])
+    derived = engine.Grammar.load(house).derive(attrs={"storeys": 3.0}, lots=[lot])
+    vertices = building.data.vertices
+    check(len(vertices) == derived.vertex_count, f"building {i}: {len(vertices)} vertices")
+    xs = [v.co.x for v in vertices]
+    ys = [v.co.y for v in vertices]
+    inside = 30 * i - 0.5 <= min(xs) and max(xs) <= 30 * i + 20.5 and -0.5 <= min(ys) and max(ys) <= 30.5
+    check(inside, f"building {i} lies on x {min(xs)}..{max(xs)}, y {min(ys)}..{max(ys)}")
+    check(min(v.co.z for v in vertices) > -1e-4, f"building {i} stands on its face")
+
+# A grammar with an error: the operator fails with the place of it, and makes nothing.
+bad = pathlib.Path(tempfile.mkdtemp()) / "bad.cga"
+bad.write_text("@StartRule\nLot --> extrude(4 Mass.\n")
+settings.grammar_path = str(bad)
+count = len(bpy.data.objects)
+try:
+    bpy.ops.shapegram.generate()
+    raise AssertionError("a grammar with an error generated")
+except RuntimeError as error:
+    check("bad.cga:2:" in str(error), f"the error says {error}")
+check(len(bpy.data.objects) == count, "nothing made by a failed generation")
+
+print(f"add-on: house {len(expected.parts)} parts in {len(colors)} materials, regenerated in place, 3 buildings on 3 faces")
