@@ -71,17 +71,40 @@ impl AttrType {
             AttrType::Bool => "a boolean",
         }
     }
+}
 
-    /// The type of a default value written as a literal (or a negated number); `None` for an
-    /// expression, whose type only deriving tells.
-    fn of_default(expr: &ast::Expr) -> Option<AttrType> {
-        match &expr.kind {
-            ast::ExprKind::Number(_) => Some(AttrType::Number),
-            ast::ExprKind::String(_) => Some(AttrType::String),
-            ast::ExprKind::Bool(_) => Some(AttrType::Bool),
-            ast::ExprKind::Unary { operand, .. } => Self::of_default(operand),
+/// An attribute a CGA-style or goal grammar declares (`attr name = value`), as a host's form
+/// shows it.
+#[derive(Clone, Debug, PartialEq)]
+pub struct AttrDecl {
+    /// Its name.
+    pub name: String,
+    /// Its default value when it is a literal (or a negated one); `None` for an expression,
+    /// whose value only deriving tells.
+    pub default: Option<Value>,
+    /// Where it is declared: `file:line:column` of its name.
+    pub location: String,
+}
+
+impl AttrDecl {
+    /// The type its default shows, when it is a literal.
+    pub fn ty(&self) -> Option<AttrType> {
+        self.default.as_ref().and_then(AttrType::of)
+    }
+}
+
+/// The value of a default written as a literal (or a negated one).
+fn literal(expr: &ast::Expr) -> Option<Value> {
+    match &expr.kind {
+        ast::ExprKind::Number(n) => Some(Value::Number(*n)),
+        ast::ExprKind::String(s) => Some(Value::string(s)),
+        ast::ExprKind::Bool(b) => Some(Value::Bool(*b)),
+        ast::ExprKind::Unary { op, operand } => match (op, literal(operand)?) {
+            (ast::UnaryOp::Neg, Value::Number(n)) => Some(Value::Number(-n)),
+            (ast::UnaryOp::Not, Value::Bool(b)) => Some(Value::Bool(!b)),
             _ => None,
-        }
+        },
+        _ => None,
     }
 }
 
@@ -95,8 +118,8 @@ pub enum Grammar {
         sources: Vec<SourceFile>,
         /// Where `i("file")` finds files: beside the grammar; kept, so each is read once.
         assets: Arc<FileAssets>,
-        /// Each attribute with the type its default shows.
-        attrs: Vec<(String, Option<AttrType>)>,
+        /// The attributes the grammar's file declares.
+        attrs: Vec<AttrDecl>,
         /// Whether it is a goal grammar (which starts from its axioms, not from a lot).
         goal: bool,
     },
@@ -223,7 +246,14 @@ impl Grammar {
                     attrs: grammar
                         .attrs
                         .iter()
-                        .map(|a| (a.name.name.clone(), AttrType::of_default(&a.value)))
+                        .map(|a| {
+                            let (line, column) = sources[0].line_col(a.name.span.start);
+                            AttrDecl {
+                                name: a.name.name.clone(),
+                                default: literal(&a.value),
+                                location: format!("{}:{line}:{column}", sources[0].name()),
+                            }
+                        })
                         .collect(),
                     assets: Arc::new(FileAssets::new(folder, MissingAssets::Error)),
                     sources,
@@ -238,30 +268,39 @@ impl Grammar {
         }
     }
 
-    /// Checks that the grammar has an attribute `name` that takes `value`.
+    /// The attributes the grammar declares, in order (none for L-systems, caves and
+    /// topological grammars).
+    pub fn attrs(&self) -> &[AttrDecl] {
+        match self {
+            Grammar::Shape { attrs, .. } => attrs,
+            _ => &[],
+        }
+    }
+
+    /// Checks that the grammar has an attribute `name` that takes `value`; a value of another
+    /// type than the declaration's is an error at the declaration's place.
     pub fn check_attr(&self, name: &str, value: &Value) -> Result<(), Error> {
         let Grammar::Shape { attrs, .. } = self else {
             return Err(Error::attribute(format!(
                 "only CGA-style and goal grammars have attributes, not `{name}`"
             )));
         };
-        let Some((_, declared)) = attrs.iter().find(|(n, _)| n == name) else {
+        let Some(declared) = attrs.iter().find(|a| a.name == name) else {
             let mut message = format!("the grammar has no attribute `{name}`");
             if let Some(close) =
-                shapegram_syntax::suggest(name, attrs.iter().map(|(n, _)| n.as_str()))
+                shapegram_syntax::suggest(name, attrs.iter().map(|a| a.name.as_str()))
             {
                 message.push_str(&format!(" (did you mean `{close}`?)"));
             }
             return Err(Error::attribute(message));
         };
-        match (declared, AttrType::of(value)) {
-            (Some(declared), Some(given)) if *declared != given => {
-                Err(Error::attribute_type(format!(
-                    "the attribute `{name}` is {}, not {}",
-                    declared.name(),
-                    given.name()
-                )))
-            }
+        match (declared.ty(), AttrType::of(value)) {
+            (Some(ty), Some(given)) if ty != given => Err(Error::attribute_type(format!(
+                "{}: the attribute `{name}` is {}, not {}",
+                declared.location,
+                ty.name(),
+                given.name()
+            ))),
             _ => Ok(()),
         }
     }

@@ -6,7 +6,7 @@ use std::path::PathBuf;
 
 use shapegram_eval::Value;
 use shapegram_export::Buffers;
-use shapegram_runtime::{Error, ErrorKind, Grammar, Kind, Settings};
+use shapegram_runtime::{AttrType, Error, ErrorKind, Grammar, Kind, Settings};
 
 fn example(name: &str) -> (String, String) {
     let path = PathBuf::from(env!("CARGO_MANIFEST_DIR"))
@@ -109,6 +109,55 @@ fn bad_input_gives_errors_of_their_kind_with_their_place() {
         .check_attr("storeys", &Value::Str("two".into()))
         .unwrap_err();
     assert_eq!(typed.kind, ErrorKind::AttributeType);
+    assert_eq!(
+        typed.message,
+        format!("{name}:8:6: the attribute `storeys` is a number, not a string")
+    );
+}
+
+#[test]
+fn attributes_are_declared_with_their_literal_defaults_and_places() {
+    let (name, text) = example("house.cga");
+    let grammar = Grammar::load(&name, &text, None).unwrap();
+    let declared: Vec<(&str, Option<Value>, Option<AttrType>, String)> = grammar
+        .attrs()
+        .iter()
+        .map(|a| {
+            (
+                a.name.as_str(),
+                a.default.clone(),
+                a.ty(),
+                a.location.clone(),
+            )
+        })
+        .collect();
+    assert_eq!(
+        declared,
+        [
+            ("storeys", Value::Number(2.0), AttrType::Number, 8),
+            ("storeyH", Value::Number(3.0), AttrType::Number, 9),
+            ("roofAngle", Value::Number(35.0), AttrType::Number, 10),
+            ("wallColor", Value::string("#e8dcc4"), AttrType::String, 11),
+            ("roofColor", Value::string("#8b3a2f"), AttrType::String, 12),
+        ]
+        .map(|(n, v, t, line)| (n, Some(v), Some(t), format!("{name}:{line}:6")))
+    );
+    // Negated literals are literals; anything else is known only by deriving.
+    let text = "attr low = -2\nattr off = !true\nattr wide = low * 2\nLot --> X.\n";
+    let grammar = Grammar::load("a.cga", text, None).unwrap();
+    let defaults: Vec<_> = grammar.attrs().iter().map(|a| a.default.clone()).collect();
+    assert_eq!(
+        defaults,
+        [Some(Value::Number(-2.0)), Some(Value::Bool(false)), None]
+    );
+    assert_eq!(grammar.attrs()[2].location, "a.cga:3:6");
+    let (name, text) = example("tree-3d.lsys");
+    assert!(
+        Grammar::load(&name, &text, None)
+            .unwrap()
+            .attrs()
+            .is_empty()
+    );
 }
 
 /// The kinds whose parsers give one place have it on the error, with the bare message, for
