@@ -77,6 +77,11 @@ class SHAPEGRAM_OT_reload(bpy.types.Operator):
             if declared.name in kept:
                 attr.number, attr.text, attr.flag = kept[declared.name][1:]
                 attr.use = kept[declared.name][0]
+            elif declared.default is not None:
+                # The field shows the grammar's default; only a value the user sets is passed.
+                field = {"number": "number", "string": "text", "bool": "flag"}[declared.type]
+                setattr(attr, field, declared.default)
+                attr.use = False
         return {"FINISHED"}
 
 

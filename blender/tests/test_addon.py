@@ -57,6 +57,11 @@ check(
     ],
     f"the panel's attributes: {[(a.name, a.type) for a in settings.attrs]}",
 )
+check(
+    (settings.attrs["storeys"].number, settings.attrs["wallColor"].text) == (2.0, "#e8dcc4"),
+    "the grammar's defaults in the panel",
+)
+check(not any(a.use for a in settings.attrs), "no attribute set before the user sets one")
 
 # The house on the default lot: one object, the module's buffers as they are.
 check(bpy.ops.shapegram.generate() == {"FINISHED"}, "generate")

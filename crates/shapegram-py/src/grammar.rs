@@ -28,18 +28,37 @@ pub struct Attr {
     name: String,
     /// `"number"`, `"string"`, `"bool"`, or `None` when its default is an expression.
     r#type: Option<&'static str>,
+    /// Its default (a float, str or bool) when it is a literal, else `None`.
+    default: Option<Py<PyAny>>,
+    /// Where it is declared: `file:line:column`.
+    location: String,
 }
 
 #[pymethods]
 impl Attr {
-    fn __repr__(&self) -> String {
-        format!(
-            "Attr(name={:?}, type={})",
+    fn __repr__(&self, py: Python<'_>) -> PyResult<String> {
+        let default = match &self.default {
+            Some(value) => value.bind(py).repr()?.to_string(),
+            None => "None".to_owned(),
+        };
+        Ok(format!(
+            "Attr(name={:?}, type={}, default={default}, location={:?})",
             self.name,
             self.r#type
-                .map_or_else(|| "None".to_owned(), |t| format!("{t:?}"))
-        )
+                .map_or_else(|| "None".to_owned(), |t| format!("{t:?}")),
+            self.location
+        ))
     }
+}
+
+/// A literal attribute value as a Python object.
+fn py_value(py: Python<'_>, value: &Value) -> PyResult<Option<Py<PyAny>>> {
+    Ok(Some(match value {
+        Value::Number(n) => PyFloat::new(py, *n).into_any().unbind(),
+        Value::Str(s) => PyString::new(py, s).into_any().unbind(),
+        Value::Bool(b) => PyBool::new(py, *b).to_owned().into_any().unbind(),
+        Value::Array(_) => return Ok(None),
+    }))
 }
 
 /// The kind of grammar a name (`"cga"`, `"lsys"`, …, the extension of its files) says.
@@ -136,19 +155,24 @@ impl Grammar {
     /// The attributes the grammar declares, in order (none for L-systems, caves and
     /// topological grammars).
     #[getter]
-    fn attrs(&self) -> Vec<Attr> {
-        let Engine::Shape { attrs, .. } = &self.engine else {
-            return Vec::new();
-        };
-        attrs
+    fn attrs(&self, py: Python<'_>) -> PyResult<Vec<Attr>> {
+        self.engine
+            .attrs()
             .iter()
-            .map(|(name, declared)| Attr {
-                name: name.clone(),
-                r#type: declared.map(|t| match t {
-                    AttrType::Number => "number",
-                    AttrType::String => "string",
-                    AttrType::Bool => "bool",
-                }),
+            .map(|declared| {
+                Ok(Attr {
+                    name: declared.name.clone(),
+                    r#type: declared.ty().map(|t| match t {
+                        AttrType::Number => "number",
+                        AttrType::String => "string",
+                        AttrType::Bool => "bool",
+                    }),
+                    default: match &declared.default {
+                        Some(value) => py_value(py, value)?,
+                        None => None,
+                    },
+                    location: declared.location.clone(),
+                })
             })
             .collect()
     }

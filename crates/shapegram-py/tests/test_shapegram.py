@@ -71,17 +71,22 @@ class House(unittest.TestCase):
             thread.join()
         self.assertEqual(results, [expected] * 4)
 
-    def test_attributes_are_declared_with_their_types(self):
-        attrs = [(a.name, a.type) for a in self.house.attrs]
+    def test_attributes_are_declared_with_their_types_defaults_and_places(self):
+        attrs = [(a.name, a.type, a.default, a.location) for a in self.house.attrs]
         self.assertEqual(
             attrs,
             [
-                ("storeys", "number"),
-                ("storeyH", "number"),
-                ("roofAngle", "number"),
-                ("wallColor", "string"),
-                ("roofColor", "string"),
+                ("storeys", "number", 2.0, f"{HOUSE}:8:6"),
+                ("storeyH", "number", 3.0, f"{HOUSE}:9:6"),
+                ("roofAngle", "number", 35.0, f"{HOUSE}:10:6"),
+                ("wallColor", "string", "#e8dcc4", f"{HOUSE}:11:6"),
+                ("roofColor", "string", "#8b3a2f", f"{HOUSE}:12:6"),
             ],
+        )
+        grammar = shapegram.Grammar.from_text("attr on = !false\nattr h = 2 * 3\nLot --> X.\n", name="a.cga")
+        self.assertEqual([(a.type, a.default) for a in grammar.attrs], [("bool", True), (None, None)])
+        self.assertEqual(
+            repr(grammar.attrs[0]), "Attr(name=\"on\", type=\"bool\", default=True, location=\"a.cga:1:6\")"
         )
 
     def test_attributes_change_the_model(self):
@@ -95,7 +100,9 @@ class House(unittest.TestCase):
     def test_an_attribute_of_the_wrong_type_is_refused(self):
         with self.assertRaises(shapegram.AttributeTypeError) as raised:
             self.house.derive(attrs={"storeys": "three"})
-        self.assertIn("the attribute `storeys` is a number, not a string", str(raised.exception))
+        self.assertEqual(
+            str(raised.exception), f"{HOUSE}:8:6: the attribute `storeys` is a number, not a string"
+        )
         with self.assertRaises(shapegram.AttributeTypeError):
             self.house.derive(attrs={"wallColor": True})
         with self.assertRaises(TypeError) as raised:
