@@ -11,7 +11,7 @@ use std::panic::{AssertUnwindSafe, catch_unwind};
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
 
-use shapegram_eval::{DeriveControl, InitialShape, Value};
+use shapegram_eval::{DeriveControl, Value};
 use shapegram_export::Buffers;
 use shapegram_geom::DVec3;
 
@@ -412,11 +412,6 @@ pub extern "C" fn sg_state_add_lot(
                 "the lot's corners are NULL",
             ));
         }
-        if corner_count < 3 {
-            return Err(Error::invalid(format!(
-                "a lot needs 3 corners or more, not {corner_count}"
-            )));
-        }
         let floats = corner_count
             .checked_mul(3)
             .ok_or_else(|| Error::invalid("too many corners"))?;
@@ -426,13 +421,7 @@ pub extern "C" fn sg_state_add_lot(
             .chunks_exact(3)
             .map(|c| DVec3::new(f64::from(c[0]), f64::from(c[1]), f64::from(c[2])))
             .collect();
-        if !footprint.iter().all(|p| p.is_finite()) {
-            return Err(Error::invalid("a lot's corner is not finite"));
-        }
-        if shapegram_geom::mesh::newell(footprint.iter().copied()).length() <= 0.0 {
-            return Err(Error::invalid("the lot has no area"));
-        }
-        inner.settings.lots.push(InitialShape { footprint });
+        inner.settings.lots.push(shapegram_runtime::lot(footprint)?);
         Ok(())
     })
 }

@@ -90,26 +90,11 @@ fn attr_value(name: &str, value: &Bound<'_, PyAny>) -> PyResult<Value> {
     }
 }
 
-/// A lot from its corners, checked as the C ABI checks them.
+/// Lot `index` of a derivation, from its corners.
 fn lot(index: usize, corners: &[[f64; 3]]) -> PyResult<InitialShape> {
-    let invalid = |what: String| PyValueError::new_err(format!("lot {index}: {what}"));
-    if corners.len() < 3 {
-        return Err(invalid(format!(
-            "a lot needs 3 corners or more, not {}",
-            corners.len()
-        )));
-    }
-    let footprint: Vec<DVec3> = corners
-        .iter()
-        .map(|&[x, y, z]| DVec3::new(x, y, z))
-        .collect();
-    if !footprint.iter().all(|p| p.is_finite()) {
-        return Err(invalid("a corner is not finite".to_owned()));
-    }
-    if shapegram_geom::mesh::newell(footprint.iter().copied()).length() <= 0.0 {
-        return Err(invalid("the lot has no area".to_owned()));
-    }
-    Ok(InitialShape { footprint })
+    let footprint = corners.iter().map(|&c| DVec3::from_array(c)).collect();
+    shapegram_runtime::lot(footprint)
+        .map_err(|e| PyValueError::new_err(format!("lot {index}: {}", e.message)))
 }
 
 #[pymethods]

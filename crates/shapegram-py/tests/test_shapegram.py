@@ -143,7 +143,7 @@ class House(unittest.TestCase):
         self.assertEqual(str(raised.exception), "lot 0: the lot has no area")
         with self.assertRaises(ValueError) as raised:
             self.house.derive(lots=[[(0, 0, 0), (1, 0, 0), (1, 0, float("nan"))]])
-        self.assertEqual(str(raised.exception), "lot 0: a corner is not finite")
+        self.assertEqual(str(raised.exception), "lot 0: a lot's corner is not finite")
         with self.assertRaises(ValueError) as raised:
             self.house.derive(lots=[[(0, 0), (1, 0), (1, 1)]])
         self.assertIn("expected a sequence of length 3 (got 2)", str(raised.exception))

@@ -5,7 +5,7 @@ use std::sync::Arc;
 
 use shapegram_eval::{DeriveControl, DeriveOptions, InitialShape, Program, Value};
 use shapegram_export::Buffers;
-use shapegram_geom::{Color, DVec2, Model};
+use shapegram_geom::{Color, DVec2, DVec3, Model};
 use shapegram_load::{FileAssets, MissingAssets};
 use shapegram_syntax::{Diagnostic, Dialect, SourceFile, ast};
 
@@ -435,6 +435,24 @@ impl Derived {
             Derived::Triangles(mesh) => &mesh.parts[part].name,
         }
     }
+}
+
+/// A lot from its corners (a planar polygon, counter-clockwise seen from above, y up), checked:
+/// three corners or more, all finite, with an area.
+pub fn lot(footprint: Vec<DVec3>) -> Result<InitialShape, Error> {
+    if footprint.len() < 3 {
+        return Err(Error::invalid(format!(
+            "a lot needs 3 corners or more, not {}",
+            footprint.len()
+        )));
+    }
+    if !footprint.iter().all(|p| p.is_finite()) {
+        return Err(Error::invalid("a lot's corner is not finite"));
+    }
+    if shapegram_geom::mesh::newell(footprint.iter().copied()).length() <= 0.0 {
+        return Err(Error::invalid("the lot has no area"));
+    }
+    Ok(InitialShape { footprint })
 }
 
 /// The lot a CGA-style grammar derives on when none is set: 20 × 30, as `shapegram derive`'s.

@@ -6,4 +6,4 @@ mod error;
 mod grammar;
 
 pub use error::{Error, ErrorKind, Place};
-pub use grammar::{AttrDecl, AttrType, Derived, Grammar, Kind, Settings, default_lot};
+pub use grammar::{AttrDecl, AttrType, Derived, Grammar, Kind, Settings, default_lot, lot};

@@ -6,7 +6,8 @@ use std::path::PathBuf;
 
 use shapegram_eval::Value;
 use shapegram_export::Buffers;
-use shapegram_runtime::{AttrType, Error, ErrorKind, Grammar, Kind, Settings};
+use shapegram_geom::DVec3;
+use shapegram_runtime::{AttrType, Error, ErrorKind, Grammar, Kind, Settings, lot};
 
 fn example(name: &str) -> (String, String) {
     let path = PathBuf::from(env!("CARGO_MANIFEST_DIR"))
@@ -199,4 +200,29 @@ fn errors_with_one_place_carry_it() {
     );
     let cga = Grammar::load("broken.cga", "Lot --> extrude(3\n", None).err();
     assert_eq!(cga.expect("a syntax error").place, None);
+}
+
+#[test]
+fn lots_are_checked_before_deriving() {
+    let message = |corners: &[[f64; 3]]| {
+        let footprint = corners.iter().map(|&c| DVec3::from_array(c)).collect();
+        lot(footprint).map(|_| ()).map_err(|e| (e.kind, e.message))
+    };
+    let invalid = |m: &str| Err((ErrorKind::InvalidArgument, m.to_owned()));
+    assert_eq!(
+        message(&[[0.0; 3], [1.0, 0.0, 0.0]]),
+        invalid("a lot needs 3 corners or more, not 2")
+    );
+    assert_eq!(
+        message(&[[0.0; 3], [1.0, 0.0, 0.0], [2.0, 0.0, 0.0]]),
+        invalid("the lot has no area")
+    );
+    assert_eq!(
+        message(&[[0.0; 3], [1.0, 0.0, 0.0], [1.0, 0.0, f64::NAN]]),
+        invalid("a lot's corner is not finite")
+    );
+    assert_eq!(
+        message(&[[0.0; 3], [1.0, 0.0, 0.0], [1.0, 0.0, 1.0]]),
+        Ok(())
+    );
 }
