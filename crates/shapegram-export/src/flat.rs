@@ -5,10 +5,11 @@ use std::borrow::Cow;
 use std::collections::{BTreeMap, BTreeSet};
 
 use std::io;
+use std::sync::Arc;
 
 use shapegram_geom::mesh::newell;
 use shapegram_geom::triangulate::{Triangulator, is_convex_about};
-use shapegram_geom::{Color, DVec3, Mesh, Model, Part};
+use shapegram_geom::{Color, DVec2, DVec3, Mesh, Model, Part};
 
 /// An `InvalidInput` error for the first part whose bone names a skeleton or section the model
 /// does not have (posing or skinning it would index out of bounds).
@@ -235,6 +236,46 @@ fn has_f32_area([a, b, c]: [[f32; 3]; 3]) -> bool {
     cross > eps * eps * ab.length_squared() * ac.length_squared()
 }
 
+/// A textured part's uvs: one per mesh vertex, when it has a texture with an image the formats
+/// can carry (PNG or JPEG); else the part is drawn in its colour alone.
+pub(crate) fn texture_uvs(part: &Part) -> Option<&[DVec2]> {
+    let texture = part.texture.as_ref()?;
+    (texture.mime_type().is_some() && part.uvs.len() == part.mesh.positions().len())
+        .then_some(&part.uvs)
+}
+
+/// The image files a model's textured parts need beside an OBJ's MTL, by texture path in order
+/// of first use: each named after its path's last component, made unique with `_2`, `_3` … .
+pub(crate) fn texture_files(model: &Model) -> Vec<(Arc<str>, String, Arc<[u8]>)> {
+    let mut files: Vec<(Arc<str>, String, Arc<[u8]>)> = Vec::new();
+    for part in &model.parts {
+        let Some(texture) = part
+            .texture
+            .as_ref()
+            .filter(|_| texture_uvs(part).is_some())
+        else {
+            continue;
+        };
+        if files.iter().any(|(path, _, _)| *path == texture.path) {
+            continue;
+        }
+        let Some(image) = texture.image.clone() else {
+            continue;
+        };
+        let base = texture.path.rsplit(['/', '\\']).next().unwrap_or_default();
+        let base = if base.is_empty() { "texture" } else { base };
+        let (stem, extension) = base.rsplit_once('.').unwrap_or((base, ""));
+        let mut name = base.to_owned();
+        let mut n = 2;
+        while files.iter().any(|(_, taken, _)| *taken == name) {
+            name = format!("{stem}_{n}.{extension}");
+            n += 1;
+        }
+        files.push((texture.path.clone(), name, image));
+    }
+    files
+}
+
 /// Colour channels as written: clamped to `0..=1`, NaN replaced, and -0 made +0 so that equal
 /// colours compare equal bit for bit.
 pub(crate) fn sanitized(color: Color) -> [f32; 4] {
@@ -263,11 +304,6 @@ pub(crate) struct Palette {
 }
 
 impl Palette {
-    /// The material index of a colour, adding it when new.
-    pub fn material(&mut self, color: Color) -> usize {
-        self.textured(color, None)
-    }
-
     /// The material index of a colour with a texture (an index the caller keeps), adding it
     /// when new.
     pub fn textured(&mut self, color: Color, texture: Option<usize>) -> usize {

@@ -30,8 +30,8 @@ use shapegram_geom::{Color, DVec2, DVec3, Lines, Mesh, MetaValue, Metadata, Mode
 
 use crate::ExportOptions;
 use crate::flat::{
-    FaceSplitter, Palette, check_bones, flat_faces, is_smooth, segment_is_exportable, unit,
-    usable_normals,
+    FaceSplitter, Palette, check_bones, flat_faces, is_smooth, segment_is_exportable, texture_uvs,
+    unit, usable_normals,
 };
 
 mod animation;
@@ -213,14 +213,6 @@ impl<'a> Chunk<'a> {
             Self::Lines { .. } => {}
         }
     }
-}
-
-/// A textured part's uvs: one per mesh vertex, when it has a texture with an image glTF can
-/// embed (else the part is drawn in its colour alone).
-fn texture_uvs(part: &Part) -> Option<&[DVec2]> {
-    let texture = part.texture.as_ref()?;
-    (texture.mime_type().is_some() && part.uvs.len() == part.mesh.positions().len())
-        .then_some(&part.uvs)
 }
 
 /// A uv as glTF stores it: v runs down the image, where CGA's runs up.

@@ -97,7 +97,8 @@ pub struct ExportOptions {
 }
 
 /// Writes to `path` in the format of its extension; OBJ also writes the .mtl beside it (same
-/// stem). Parent directories must exist. Files are streamed through a buffer rather than built
+/// stem) and the images of textured parts (named after their files; an existing file of that
+/// name is replaced). Parent directories must exist. Files are streamed through a buffer rather than built
 /// in memory first. STL holds triangles only: line sets are left out. GLB keeps skeletons as
 /// skins; OBJ and STL write the model in its current pose.
 pub fn save(model: &Model, path: &Path, options: &ExportOptions) -> Result<(), Error> {
@@ -120,7 +121,13 @@ pub fn save(model: &Model, path: &Path, options: &ExportOptions) -> Result<(), E
                 Ok(())
             })
             .map_err(failed(path))?;
-            std::fs::write(&mtl_path, mtl).map_err(failed(&mtl_path))
+            std::fs::write(&mtl_path, mtl).map_err(failed(&mtl_path))?;
+            let dir = path.parent().unwrap_or(Path::new(""));
+            for (_, name, image) in flat::texture_files(model) {
+                let image_path = dir.join(name);
+                std::fs::write(&image_path, image).map_err(failed(&image_path))?;
+            }
+            Ok(())
         }
     }
 }

@@ -9,26 +9,32 @@
 //!
 //! OBJ has no skins, so parts that hang from a skeleton are written in the current pose
 //! ([`Model::posed`]).
+//!
+//! A textured part (see [`shapegram_geom::Part::texture`]) writes one `vt` per vertex, in the
+//! order of its `v` lines, with v up as CGA has it (`f a/t/n`), and its material names the
+//! image with `map_Kd`; [`save`](crate::save) writes the images beside the MTL.
 
 use std::borrow::Cow;
 use std::fmt::Write as _;
 use std::io::{self, Write};
 
-use shapegram_geom::{DVec3, Mesh, Model};
+use shapegram_geom::{DVec2, DVec3, Mesh, Model};
 
 use crate::ExportOptions;
 use crate::flat::{
     Palette, face_is_exportable, is_smooth, posed, sanitized_name, segment_is_exportable,
-    usable_normals,
+    texture_files, texture_uvs, usable_normals,
 };
 
 /// What one part or line set puts into an object.
 enum Piece<'a> {
-    /// Faces of a part, with one normal per vertex when `normals` is given.
+    /// Faces of a part, with one normal per vertex when `normals` is given, and one uv per
+    /// vertex when the part is textured.
     Faces {
         mesh: &'a Mesh,
         faces: Vec<usize>,
         normals: Option<Cow<'a, [DVec3]>>,
+        uvs: Option<&'a [DVec2]>,
     },
     /// Segments of a line set.
     Segments {
@@ -72,6 +78,7 @@ pub fn write_obj_to(
     out: &mut impl Write,
 ) -> io::Result<String> {
     let model = posed(model)?;
+    let files = texture_files(&model);
     let mut palette = Palette::default();
     let mut objects: Vec<Object<'_>> = Vec::new();
     let parts = model.parts.iter().map(|part| {
@@ -79,12 +86,17 @@ pub fn write_obj_to(
             .filter(|&i| face_is_exportable(&part.mesh, i))
             .collect();
         let normals = is_smooth(part).then(|| usable_normals(part));
+        let uvs = texture_uvs(part);
+        let texture = uvs
+            .and(part.texture.as_ref())
+            .and_then(|t| files.iter().position(|(path, _, _)| *path == t.path));
         let piece = Piece::Faces {
             mesh: &part.mesh,
             faces,
             normals,
+            uvs: uvs.filter(|_| texture.is_some()),
         };
-        (&part.name, part.color, false, piece)
+        (&part.name, part.color, texture, false, piece)
     });
     let lines = model.lines.iter().map(|lines| {
         let segments: Vec<[u32; 2]> = lines
@@ -97,9 +109,9 @@ pub fn write_obj_to(
             points: &lines.points,
             segments,
         };
-        (&lines.name, lines.color, true, piece)
+        (&lines.name, lines.color, None, true, piece)
     });
-    for (name, color, lines, piece) in parts.chain(lines) {
+    for (name, color, texture, lines, piece) in parts.chain(lines) {
         let empty = match &piece {
             Piece::Faces { faces, .. } => faces.is_empty(),
             Piece::Segments { segments, .. } => segments.is_empty(),
@@ -107,7 +119,7 @@ pub fn write_obj_to(
         if empty {
             continue;
         }
-        let material = palette.material(color);
+        let material = palette.textured(color, texture);
         let existing = if options.group_by_part {
             None
         } else {
@@ -147,7 +159,8 @@ pub fn write_obj_to(
                     mesh,
                     faces,
                     normals,
-                } => numbering.write_faces(out, mesh, faces, normals.as_deref())?,
+                    uvs,
+                } => numbering.write_faces(out, mesh, faces, normals.as_deref(), *uvs)?,
                 Piece::Segments { points, segments } => {
                     numbering.write_segments(out, points, segments)?
                 }
@@ -156,8 +169,12 @@ pub fn write_obj_to(
     }
 
     let mut mtl = format!("# shapegram {}\n", env!("CARGO_PKG_VERSION"));
-    for (name, [r, g, b, a]) in material_names.iter().zip(palette.colors()) {
+    let materials = material_names.iter().zip(palette.colors());
+    for ((name, [r, g, b, a]), texture) in materials.zip(palette.textures()) {
         mtl.push_str(&format!("\nnewmtl {name}\nKd {r} {g} {b}\nd {a}\n"));
+        if let Some(texture) = texture {
+            mtl.push_str(&format!("map_Kd {}\n", files[*texture].1));
+        }
     }
     Ok(mtl)
 }
@@ -167,6 +184,7 @@ pub fn write_obj_to(
 struct Numbering {
     next_vertex: usize,
     next_normal: usize,
+    next_uv: usize,
     remap: Vec<usize>,
 }
 
@@ -175,6 +193,7 @@ impl Default for Numbering {
         Self {
             next_vertex: 1,
             next_normal: 1,
+            next_uv: 1,
             remap: Vec::new(),
         }
     }
@@ -211,9 +230,18 @@ impl Numbering {
         mesh: &Mesh,
         faces: &[usize],
         normals: Option<&[DVec3]>,
+        uvs: Option<&[DVec2]>,
     ) -> io::Result<()> {
         let corners = faces.iter().flat_map(|&f| mesh.face(f).iter().copied());
         let first = self.write_vertices(out, mesh.positions(), corners)?;
+        // A uv per written vertex, in the order of the `v` lines (v up, as OBJ has it).
+        if let Some(uvs) = uvs {
+            for (slot, uv) in self.remap.iter().zip(uvs) {
+                if *slot != usize::MAX {
+                    writeln!(out, "vt {} {}", num(uv.x), num(uv.y))?;
+                }
+            }
+        }
         let mut unit = |n: DVec3| -> io::Result<()> {
             let n = n / n.length();
             writeln!(out, "vn {} {} {}", num(n.x), num(n.y), num(n.z))
@@ -242,7 +270,14 @@ impl Numbering {
                     Some(_) => self.next_normal + (vertex - first),
                     None => self.next_normal + k,
                 };
-                write!(line, " {vertex}//{normal}").expect("writing to a String cannot fail");
+                let written = match uvs {
+                    Some(_) => {
+                        let uv = self.next_uv + (vertex - first);
+                        write!(line, " {vertex}/{uv}/{normal}")
+                    }
+                    None => write!(line, " {vertex}//{normal}"),
+                };
+                written.expect("writing to a String cannot fail");
             }
             writeln!(out, "{line}")?;
         }
@@ -250,6 +285,9 @@ impl Numbering {
             Some(_) => self.next_vertex - first,
             None => faces.len(),
         };
+        if uvs.is_some() {
+            self.next_uv += self.next_vertex - first;
+        }
         Ok(())
     }
 

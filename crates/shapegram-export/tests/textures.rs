@@ -149,3 +149,42 @@ fn a_texture_without_an_image_leaves_the_part_in_its_colour() {
             .is_none()
     );
 }
+
+#[test]
+fn obj_writes_vt_per_vertex_and_map_kd_and_save_writes_the_images() {
+    let model = model(vec![
+        quad_part("Wall", 0.0, Some(BRICK), "textures/brick.png"),
+        quad_part("Other", 1.0, Some(BRICK), "other/brick.png"),
+        quad_part("Plain", 2.0, None, "missing.png"),
+    ]);
+    let (obj, mtl) = shapegram_export::write_obj(&model, &ExportOptions::default(), "m.mtl");
+    // v up as CGA has it: the uvs as given, one per vertex in the order of the `v` lines.
+    let vts: Vec<&str> = obj.lines().filter(|l| l.starts_with("vt ")).collect();
+    assert_eq!(vts, ["vt 0 0", "vt 2 0", "vt 2 1", "vt 0 1"].repeat(2));
+    let faces: Vec<&str> = obj.lines().filter(|l| l.starts_with("f ")).collect();
+    assert_eq!(
+        faces,
+        [
+            "f 1/1/1 2/2/1 3/3/1 4/4/1",
+            "f 5/5/2 6/6/2 7/7/2 8/8/2",
+            "f 9//3 10//3 11//3 12//3"
+        ]
+    );
+    // Two images of one name: the second is renamed.
+    let maps: Vec<&str> = mtl.lines().filter(|l| l.starts_with("map_Kd")).collect();
+    assert_eq!(maps, ["map_Kd brick.png", "map_Kd brick_2.png"]);
+
+    let dir = common::scratch_dir("obj_textures");
+    shapegram_export::save(&model, &dir.join("house.obj"), &ExportOptions::default()).unwrap();
+    assert_eq!(std::fs::read(dir.join("brick.png")).unwrap(), BRICK);
+    assert_eq!(std::fs::read(dir.join("brick_2.png")).unwrap(), BRICK);
+    assert!(!dir.join("missing.png").exists());
+    let back = shapegram_export::load(&dir.join("house.obj")).unwrap();
+    assert_eq!(
+        back.parts
+            .iter()
+            .map(|p| p.mesh.face_count())
+            .sum::<usize>(),
+        3
+    );
+}
