@@ -1,0 +1,109 @@
+//! `GrammarMesh`: an `ArrayMesh` that follows a `GrammarState`, a surface per part.
+
+use godot::classes::base_material_3d::Transparency;
+use godot::classes::mesh::{ArrayType, PrimitiveType};
+use godot::classes::{ArrayMesh, StandardMaterial3D};
+use godot::prelude::*;
+use shapegram_export::PartRange;
+
+use crate::job::Output;
+use crate::state::GrammarState;
+
+/// The mesh of a `GrammarState`'s last derivation: one surface per part, named after it, with
+/// the part's colour as vertex colour and as the albedo of the surface's material. It is built
+/// again whenever the state emits `changed`.
+#[derive(GodotClass)]
+#[class(tool, init, base = ArrayMesh)]
+pub struct GrammarMesh {
+    /// The state this mesh follows.
+    #[export]
+    #[var(set)]
+    state: Option<Gd<GrammarState>>,
+    base: Base<ArrayMesh>,
+}
+
+#[godot_api]
+impl GrammarMesh {
+    /// Follows `state` from now on (and no longer the state before), and builds its mesh.
+    #[func]
+    pub fn set_state(&mut self, state: Option<Gd<GrammarState>>) {
+        let callable = Callable::from_object_method(&self.to_gd(), "rebuild");
+        if let Some(old) = self.state.take() {
+            let mut old = old.upcast::<Object>();
+            if old.is_connected("changed", &callable) {
+                old.disconnect("changed", &callable);
+            }
+        }
+        if let Some(new) = &state {
+            new.clone().upcast::<Object>().connect("changed", &callable);
+        }
+        self.state = state;
+        self.rebuild();
+    }
+
+    /// Builds the surfaces again from the state's last derivation.
+    #[func]
+    pub fn rebuild(&mut self) {
+        self.base_mut().clear_surfaces();
+        let Some(state) = self.state.clone() else {
+            return;
+        };
+        let state = state.bind();
+        let output = state.output();
+        for (range, name) in output.buffers.parts.iter().zip(&output.part_names) {
+            self.add_part(output, range, name);
+        }
+    }
+
+    /// How many vertices the surfaces hold together (what Godot draws).
+    #[func]
+    pub fn vertex_count(&self) -> i64 {
+        let mesh = self.base();
+        (0..mesh.get_surface_count())
+            .map(|surface| i64::from(mesh.surface_get_array_len(surface)))
+            .sum()
+    }
+
+    fn add_part(&mut self, output: &Output, range: &PartRange, name: &str) {
+        let buffers = &output.buffers;
+        let vertices =
+            range.first_vertex as usize..(range.first_vertex + range.vertex_count) as usize;
+        let vector = |v: &[f32; 3]| Vector3::new(v[0], v[1], v[2]);
+        let positions: PackedVector3Array = buffers.positions[vertices.clone()]
+            .iter()
+            .map(vector)
+            .collect();
+        let normals: PackedVector3Array = buffers.normals[vertices].iter().map(vector).collect();
+        let [r, g, b, a] = range.color;
+        let color = Color::from_rgba(r, g, b, a);
+        let colors: PackedColorArray = std::iter::repeat_n(color, positions.len()).collect();
+        let first = range.first_index as usize;
+        let triangles = buffers.indices[first..first + range.index_count as usize].chunks_exact(3);
+        // Godot's front faces wind clockwise, the buffers' (glTF's) counter-clockwise.
+        let indices: PackedInt32Array = triangles
+            .flat_map(|t| [t[0], t[2], t[1]])
+            .map(|index| (index - range.first_vertex) as i32)
+            .collect();
+        let mut arrays = VarArray::new();
+        arrays.resize(ArrayType::MAX.ord() as usize, &Variant::nil());
+        arrays.set(ArrayType::VERTEX.ord() as usize, &positions.to_variant());
+        arrays.set(ArrayType::NORMAL.ord() as usize, &normals.to_variant());
+        arrays.set(ArrayType::COLOR.ord() as usize, &colors.to_variant());
+        arrays.set(ArrayType::INDEX.ord() as usize, &indices.to_variant());
+        let mut mesh = self.base_mut();
+        mesh.add_surface_from_arrays(PrimitiveType::TRIANGLES, &arrays);
+        let surface = mesh.get_surface_count() - 1;
+        mesh.surface_set_name(surface, name);
+        mesh.surface_set_material(surface, &material(color));
+    }
+}
+
+/// A material in the part's colour (sRGB, as Godot's albedo is), see-through when it is.
+fn material(color: Color) -> Gd<StandardMaterial3D> {
+    let mut material = StandardMaterial3D::new_gd();
+    material.set_albedo(color);
+    if color.a < 1.0 {
+        material.set_transparency(Transparency::ALPHA);
+    }
+    material
+}
