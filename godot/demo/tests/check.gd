@@ -2,7 +2,8 @@ extends SceneTree
 ## The extension tested headless (`.ci/run`): loads the demo scene, waits for its three houses,
 ## gives them new seeds ROUNDS times and lets them derive in the background, checks every
 ## GrammarMesh's vertex count against the runtime's for the same grammar and seed, then does
-## the same with the derivation on the main thread, and prints the longest frame of each.
+## the same with the derivation on the main thread, and prints the longest frame of each; then
+## presses Enter as a player would and checks the houses got new seeds and meshes.
 ## The runtime's counts come as user arguments `FILE:SEED=VERTICES` (crates/shapegram-godot's
 ## counts example). Exits with 1 when a check fails.
 
@@ -49,13 +50,17 @@ func _process(_delta: float) -> bool:
 		return finish()
 	if not settled():
 		return false
-	check_round()
 	waited = 0
+	if phase == "enter":
+		check_enter()
+		return finish()
+	check_round()
 	if phase == "initial":
 		phase = "background"
 	elif round_index == ROUNDS - 1:
 		if phase == "main thread":
-			return finish()
+			press_enter()
+			return false
 		phase = "main thread"
 		round_index = 0
 		for house in houses:
@@ -95,6 +100,28 @@ func check_round() -> void:
 			fail("%s: %d surfaces for %d parts" % [key, house.mesh.get_surface_count(), parts.size()])
 		elif house.mesh.surface_get_name(0) != parts[0]:
 			fail("%s: the first surface is named %s, not %s" % [key, house.mesh.surface_get_name(0), parts[0]])
+
+
+## The demo's Enter, as a player presses it: every house gets a new random seed.
+func press_enter() -> void:
+	phase = "enter"
+	for i in houses.size():
+		arrived[i] = false
+		houses[i].set_meta("old_seed", houses[i].grammar_state.seed)
+	var key := InputEventKey.new()
+	key.keycode = KEY_ENTER
+	key.pressed = true
+	root.push_input(key)
+
+
+func check_enter() -> void:
+	for house in houses:
+		var state := house.grammar_state
+		if state.seed == house.get_meta("old_seed"):
+			fail("Enter left %s's seed at %d" % [house.name, state.seed])
+		if house.grammar_mesh().vertex_count() != state.vertex_count():
+			fail("after Enter, %s's mesh has %d vertices, its state %d" % [house.name, house.grammar_mesh().vertex_count(), state.vertex_count()])
+	print("Enter: new seeds %s" % ", ".join(houses.map(func(h: GrammarInstance3D) -> String: return str(h.grammar_state.seed))))
 
 
 ## A CGA grammar with attributes, derived on the main thread.
