@@ -1,7 +1,9 @@
 //! `GrammarInstance3D`: the node that shows a `GrammarState` in a scene.
 
-use godot::classes::{Mesh, MeshInstance3D};
+use godot::classes::{IMeshInstance3D, Mesh, MeshInstance3D};
+use godot::obj::EngineBitfield;
 use godot::prelude::*;
+use godot::register::info::{PropertyInfo, PropertyUsageFlags};
 
 use crate::mesh::GrammarMesh;
 use crate::state::GrammarState;
@@ -16,6 +18,17 @@ pub struct GrammarInstance3D {
     #[var(set)]
     grammar_state: Option<Gd<GrammarState>>,
     base: Base<MeshInstance3D>,
+}
+
+#[godot_api]
+impl IMeshInstance3D for GrammarInstance3D {
+    /// The mesh is made from the state: a saved scene keeps the state, not its triangles.
+    fn on_validate_property(&self, property: &mut PropertyInfo) {
+        if property.property_name == "mesh" {
+            let usage = property.usage.ord() & !PropertyUsageFlags::STORAGE.ord();
+            property.usage = PropertyUsageFlags::from_ord(usage);
+        }
+    }
 }
 
 #[godot_api]

@@ -36,6 +36,7 @@ func _initialize() -> void:
 		houses[i].grammar_state.changed.connect(func() -> void: arrived[i] = true)
 	check_errors()
 	check_cga()
+	check_saved(main)
 
 
 func _process(_delta: float) -> bool:
@@ -122,6 +123,23 @@ func check_enter() -> void:
 		if house.grammar_mesh().vertex_count() != state.vertex_count():
 			fail("after Enter, %s's mesh has %d vertices, its state %d" % [house.name, house.grammar_mesh().vertex_count(), state.vertex_count()])
 	print("Enter: new seeds %s" % ", ".join(houses.map(func(h: GrammarInstance3D) -> String: return str(h.grammar_state.seed))))
+
+
+## A saved scene keeps the houses' states, not their triangles (the meshes are made again).
+func check_saved(main: Node) -> void:
+	var packed := PackedScene.new()
+	packed.pack(main)
+	var path := "user://saved.tscn"
+	if ResourceSaver.save(packed, path) != OK:
+		fail("the scene cannot be saved")
+		return
+	var text := FileAccess.get_file_as_string(path)
+	if text.count("type=\"GrammarState\"") != 3 or "ArrayMesh" in text or "GrammarMesh" in text or "_surfaces" in text:
+		fail("the saved scene is not three states without meshes:\n%s" % text)
+	var loaded: Node = load(path).instantiate()
+	if not loaded.get_node("HouseA").grammar_mesh() is GrammarMesh:
+		fail("the loaded scene's house shows no GrammarMesh")
+	loaded.free()
 
 
 ## A CGA grammar with attributes, derived on the main thread.
