@@ -1,9 +1,11 @@
 //! A model as the flat arrays a game engine uploads: the triangles the GLB writer writes, with
 //! their normals, part after part.
 
-use shapegram_geom::{DVec3, Model};
+use std::sync::Arc;
 
-use crate::flat::unit;
+use shapegram_geom::{DVec3, Model, Texture};
+
+use crate::flat::{texture_uvs, unit};
 use crate::glb::Chunk;
 
 /// Where one part of the model is in [`Buffers`], and its colour.
@@ -22,6 +24,9 @@ pub struct PartRange {
     pub first_index: u32,
     /// How many indices it has (three per triangle).
     pub index_count: u32,
+    /// Its colour map, as an index into [`Buffers::textures`]; its vertices' uvs are in
+    /// [`Buffers::uvs`].
+    pub texture: Option<u32>,
 }
 
 /// Triangles of a model's parts, as the GLB writer makes them: a flat part gives every face its
@@ -38,6 +43,12 @@ pub struct Buffers {
     pub indices: Vec<u32>,
     /// The parts in model order.
     pub parts: Vec<PartRange>,
+    /// Texture coordinates as glTF has them (v down, the image's top row at v = 0), one per
+    /// position when some part is textured (0, 0 for the vertices of the others); empty when
+    /// none is.
+    pub uvs: Vec<[f32; 2]>,
+    /// The distinct images the textured parts name, in order of first use.
+    pub textures: Vec<Arc<Texture>>,
 }
 
 impl Buffers {
@@ -54,11 +65,14 @@ impl Buffers {
         self.normals.clear();
         self.indices.clear();
         self.parts.clear();
+        self.uvs.clear();
+        self.textures.clear();
     }
 
     /// Replaces the contents with the buffers of `model`, reusing the memory already held.
     pub fn fill(&mut self, model: &Model) {
         self.clear();
+        let textured = model.parts.iter().any(|p| texture_uvs(p).is_some());
         for (index, part) in model.parts.iter().enumerate() {
             let Some(chunk) = Chunk::of_part(part) else {
                 continue;
@@ -67,6 +81,18 @@ impl Buffers {
             let first_index = self.indices.len() as u32;
             chunk.positions(|p| self.positions.push(p));
             chunk.normals(|n| self.normals.push(n));
+            let texture = texture_uvs(part).and(part.texture.as_ref()).map(|texture| {
+                let known = self.textures.iter().position(|t| t.path == texture.path);
+                known.unwrap_or_else(|| {
+                    self.textures.push(texture.clone());
+                    self.textures.len() - 1
+                }) as u32
+            });
+            if texture.is_some() {
+                chunk.uvs(|uv| self.uvs.push(uv));
+            } else if textured {
+                self.uvs.resize(self.positions.len(), [0.0; 2]);
+            }
             self.indices
                 .extend(chunk.indices().iter().map(|&i| first_vertex + i));
             self.parts.push(PartRange {
@@ -76,6 +102,7 @@ impl Buffers {
                 vertex_count: chunk.vertex_count() as u32,
                 first_index,
                 index_count: chunk.indices().len() as u32,
+                texture,
             });
         }
     }
@@ -104,6 +131,7 @@ impl Buffers {
             vertex_count: positions.len() as u32,
             first_index,
             index_count: 3 * triangles.len() as u32,
+            texture: None,
         });
     }
 }

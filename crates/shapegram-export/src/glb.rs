@@ -191,7 +191,7 @@ impl<'a> Chunk<'a> {
     }
 
     /// Calls `visit` with every uv as glTF has it (v down), in vertex order (none without).
-    fn uvs(&self, mut visit: impl FnMut([f32; 2])) {
+    pub(crate) fn uvs(&self, mut visit: impl FnMut([f32; 2])) {
         match self {
             Self::Flat { uvs, .. } => uvs.iter().copied().for_each(visit),
             Self::Smooth {

@@ -188,3 +188,43 @@ fn obj_writes_vt_per_vertex_and_map_kd_and_save_writes_the_images() {
         3
     );
 }
+
+#[test]
+fn buffers_carry_uvs_for_every_vertex_and_each_image_once() {
+    let plain = Part {
+        name: "Box".into(),
+        mesh: shapegram_geom::primitives::cuboid(DVec3::ONE),
+        ..Part::default()
+    };
+    let model = model(vec![
+        plain.clone(),
+        quad_part("Wall", 0.0, Some(BRICK), "textures/brick.png"),
+        quad_part("Wall2", 1.0, Some(BRICK), "textures/brick.png"),
+    ]);
+    let buffers = shapegram_export::Buffers::of_model(&model);
+    assert_eq!(buffers.uvs.len(), buffers.positions.len());
+    let textures: Vec<Option<u32>> = buffers.parts.iter().map(|p| p.texture).collect();
+    assert_eq!(textures, [None, Some(0), Some(0)]);
+    assert_eq!(buffers.textures.len(), 1);
+    assert_eq!(buffers.textures[0].image.as_deref(), Some(BRICK));
+    // The box's 24 corners have no uvs to speak of; the quads' are glTF's (v down).
+    assert!(buffers.uvs[..24].iter().all(|uv| *uv == [0.0, 0.0]));
+    let wall = buffers.parts[1];
+    let range = wall.first_vertex as usize..(wall.first_vertex + wall.vertex_count) as usize;
+    let mut corners: Vec<([f32; 3], [f32; 2])> = range
+        .map(|v| (buffers.positions[v], buffers.uvs[v]))
+        .collect();
+    corners.sort_by(|a, b| a.0.partial_cmp(&b.0).unwrap());
+    assert_eq!(
+        corners,
+        [
+            ([0.0, 0.0, -1.0], [0.0, 0.0]),
+            ([0.0, 0.0, 0.0], [0.0, 1.0]),
+            ([2.0, 0.0, -1.0], [2.0, 0.0]),
+            ([2.0, 0.0, 0.0], [2.0, 1.0]),
+        ]
+    );
+    // Without a textured part there are no uvs at all.
+    let buffers = shapegram_export::Buffers::of_model(&self::model(vec![plain]));
+    assert!(buffers.uvs.is_empty() && buffers.textures.is_empty());
+}

@@ -162,6 +162,10 @@ typedef struct {
    * How many indices the part has (three per triangle).
    */
   uint32_t index_count;
+  /**
+   * The part's colour map, as an index for `sg_state_texture`; -1 when it has none.
+   */
+  int32_t texture;
 } sg_part;
 
 /**
@@ -199,7 +203,36 @@ typedef struct {
    * Number of parts.
    */
   size_t part_count;
+  /**
+   * `2 * vertex_count` floats: u, v of each vertex as glTF has them (v down: the image's
+   * top row at v = 0), when some part is textured (0, 0 for the others' vertices); NULL when
+   * none is.
+   */
+  const float *uvs;
+  /**
+   * Number of textures (`sg_state_texture` reads them).
+   */
+  size_t texture_count;
 } sg_mesh;
+
+/**
+ * An image a textured part is drawn with: its path as the grammar named it and the file's
+ * bytes (PNG or JPEG, undecoded). Owned by the handle, valid as long as the buffers.
+ */
+typedef struct {
+  /**
+   * The path (UTF-8, NUL-terminated).
+   */
+  const char *path;
+  /**
+   * `size` bytes of the image file.
+   */
+  const uint8_t *data;
+  /**
+   * Number of bytes.
+   */
+  size_t size;
+} sg_texture;
 
 #ifdef __cplusplus
 extern "C" {
@@ -312,6 +345,13 @@ sg_status sg_state_progress(const sg_state *state, uint64_t *applications);
  * next `sg_state_load_text`, `sg_state_load_file`, `sg_state_derive` or `sg_state_free` on it.
  */
 sg_status sg_state_mesh(sg_state *state, sg_mesh *mesh);
+
+/**
+ * Writes texture `index` of the last derivation's buffers (`sg_part.texture`) to `*texture`:
+ * its path and image bytes, owned by the handle and valid as long as the buffers. An index at
+ * or past `sg_mesh.texture_count` is `SG_INVALID_ARGUMENT`.
+ */
+sg_status sg_state_texture(sg_state *state, size_t index, sg_texture *texture);
 
 /**
  * The message of the last call on the handle that failed (UTF-8, NUL-terminated; empty after a

@@ -55,6 +55,8 @@ pub struct sg_part {
     pub first_index: u32,
     /// How many indices the part has (three per triangle).
     pub index_count: u32,
+    /// The part's colour map, as an index for `sg_state_texture`; -1 when it has none.
+    pub texture: i32,
 }
 
 /// The mesh buffers of the last derivation. The pointers point into memory the handle owns:
@@ -79,6 +81,26 @@ pub struct sg_mesh {
     pub parts: *const sg_part,
     /// Number of parts.
     pub part_count: usize,
+    /// `2 * vertex_count` floats: u, v of each vertex as glTF has them (v down: the image's
+    /// top row at v = 0), when some part is textured (0, 0 for the others' vertices); NULL when
+    /// none is.
+    pub uvs: *const f32,
+    /// Number of textures (`sg_state_texture` reads them).
+    pub texture_count: usize,
+}
+
+/// An image a textured part is drawn with: its path as the grammar named it and the file's
+/// bytes (PNG or JPEG, undecoded). Owned by the handle, valid as long as the buffers.
+#[allow(non_camel_case_types)]
+#[repr(C)]
+#[derive(Clone, Copy, Debug)]
+pub struct sg_texture {
+    /// The path (UTF-8, NUL-terminated).
+    pub path: *const c_char,
+    /// `size` bytes of the image file.
+    pub data: *const u8,
+    /// Number of bytes.
+    pub size: usize,
 }
 
 /// A grammar, the settings of its derivation and the buffers of its last derivation
@@ -105,6 +127,8 @@ struct Inner {
     parts: Vec<sg_part>,
     /// The parts' names, which `parts` point into.
     names: Vec<CString>,
+    /// The textures' paths, which `sg_state_texture` points into.
+    texture_paths: Vec<CString>,
     last_error: CString,
 }
 
@@ -249,6 +273,7 @@ pub extern "C" fn sg_state_new() -> *mut sg_state {
                 buffers: Buffers::default(),
                 parts: Vec::new(),
                 names: Vec::new(),
+                texture_paths: Vec::new(),
                 last_error: CString::default(),
             }),
         }))
@@ -467,7 +492,14 @@ pub extern "C" fn sg_state_derive(state: *mut sg_state) -> sg_status {
                 vertex_count: p.vertex_count,
                 first_index: p.first_index,
                 index_count: p.index_count,
+                texture: p.texture.map_or(-1, |t| t as i32),
             })
+            .collect();
+        inner.texture_paths = inner
+            .buffers
+            .textures
+            .iter()
+            .map(|t| CString::new(t.path.replace('\0', "")).unwrap_or_default())
             .collect();
         Ok(())
     })
@@ -523,9 +555,49 @@ pub extern "C" fn sg_state_mesh(state: *mut sg_state, mesh: *mut sg_mesh) -> sg_
             index_count: buffers.indices.len(),
             parts: inner.parts.as_ptr(),
             part_count: inner.parts.len(),
+            uvs: if buffers.uvs.is_empty() {
+                std::ptr::null()
+            } else {
+                buffers.uvs.as_flattened().as_ptr()
+            },
+            texture_count: buffers.textures.len(),
         };
         // SAFETY: checked non-NULL; the caller passes a writable `sg_mesh`.
         unsafe { mesh.write(out) };
+        Ok(())
+    })
+}
+
+/// Writes texture `index` of the last derivation's buffers (`sg_part.texture`) to `*texture`:
+/// its path and image bytes, owned by the handle and valid as long as the buffers. An index at
+/// or past `sg_mesh.texture_count` is `SG_INVALID_ARGUMENT`.
+#[unsafe(no_mangle)]
+pub extern "C" fn sg_state_texture(
+    state: *mut sg_state,
+    index: usize,
+    texture: *mut sg_texture,
+) -> sg_status {
+    with_state(state, |inner| {
+        if texture.is_null() {
+            return Err(Error::new(sg_status::SG_NULL_ARGUMENT, "the texture is NULL"));
+        }
+        let count = inner.buffers.textures.len();
+        let (Some(found), Some(path)) = (
+            inner.buffers.textures.get(index),
+            inner.texture_paths.get(index),
+        ) else {
+            return Err(Error::invalid(format!(
+                "texture {index}: the buffers have {count}"
+            )));
+        };
+        let image = found.image.as_deref().unwrap_or_default();
+        let out = sg_texture {
+            path: path.as_ptr(),
+            data: image.as_ptr(),
+            size: image.len(),
+        };
+        // SAFETY: checked non-NULL; the caller passes a writable `sg_texture`.
+        unsafe { texture.write(out) };
         Ok(())
     })
 }

@@ -142,6 +142,30 @@ int main(int argc, char **argv) {
     CHECK(sg_state_mesh(state, &mesh) == SG_OK);
     CHECK(mesh.vertex_count == 0 && mesh.part_count == 0);
 
+    /* A textured grammar (beside the house): uvs for every vertex, each image once. */
+    char textured[4096];
+    const char *slash = strrchr(argv[1], '/');
+    int folder = slash ? (int)(slash - argv[1] + 1) : 0;
+    snprintf(textured, sizeof textured, "%.*stextured_house.cga", folder, argv[1]);
+    CHECK(sg_state_load_file(state, textured, SG_KIND_AUTO) == SG_OK);
+    CHECK(sg_state_derive(state) == SG_OK);
+    CHECK(sg_state_mesh(state, &mesh) == SG_OK);
+    CHECK(mesh.uvs != NULL);
+    CHECK(mesh.texture_count == 2);
+    size_t textured_parts = 0;
+    for (size_t p = 0; p < mesh.part_count; p++) {
+        CHECK(mesh.parts[p].texture >= -1 && mesh.parts[p].texture < (int)mesh.texture_count);
+        textured_parts += mesh.parts[p].texture >= 0;
+    }
+    CHECK(textured_parts == 2);
+    sg_texture texture;
+    CHECK(sg_state_texture(state, 0, &texture) == SG_OK);
+    CHECK(strcmp(texture.path, "textures/brick.png") == 0);
+    CHECK(texture.size > 8 && memcmp(texture.data, "\x89PNG", 4) == 0);
+    CHECK(sg_state_texture(state, 2, &texture) == SG_INVALID_ARGUMENT);
+    CHECK(strcmp(sg_state_last_error(state), "texture 2: the buffers have 2") == 0);
+    CHECK(sg_state_texture(state, 0, NULL) == SG_NULL_ARGUMENT);
+
     uint64_t applications = 1;
     CHECK(sg_state_progress(state, &applications) == SG_OK);
     CHECK(sg_state_progress(state, NULL) == SG_NULL_ARGUMENT);
