@@ -579,7 +579,10 @@ pub extern "C" fn sg_state_texture(
 ) -> sg_status {
     with_state(state, |inner| {
         if texture.is_null() {
-            return Err(Error::new(sg_status::SG_NULL_ARGUMENT, "the texture is NULL"));
+            return Err(Error::new(
+                sg_status::SG_NULL_ARGUMENT,
+                "the texture is NULL",
+            ));
         }
         let count = inner.buffers.textures.len();
         let (Some(found), Some(path)) = (
