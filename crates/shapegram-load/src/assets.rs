@@ -193,9 +193,9 @@ impl AssetLoader for FileAssets {
     }
 
     /// PNG and JPEG images (what glTF embeds), read once each and found as assets are. A file
-    /// that cannot be read, or is of another format, is an error, or, as `--missing-assets`
-    /// allows stand-ins, no image (the shape keeps its colour, as CityEngine draws its
-    /// placeholder).
+    /// that cannot be read, or is of another format, is a warning (once per file) and no image:
+    /// the shapes keep their colour, as CityEngine draws its placeholder and goes on, since a
+    /// texture changes no geometry.
     fn image(&self, path: &str) -> Result<Option<Arc<[u8]>>, String> {
         let full = self.find(path);
         let mut images = self.images.lock().unwrap_or_else(PoisonError::into_inner);
@@ -217,14 +217,10 @@ impl AssetLoader for FileAssets {
                     )),
                 }
             });
-        let image = match read {
-            Ok(image) => image,
-            Err(e) if self.missing == MissingAssets::Error => return Err(e),
-            Err(e) => {
-                eprintln!("warning: {e}: the shapes keep their colour instead");
-                None
-            }
-        };
+        let image = read.unwrap_or_else(|e| {
+            eprintln!("warning: {e}: the shapes keep their colour instead");
+            None
+        });
         images.insert(full, image.clone());
         Ok(image)
     }
