@@ -34,7 +34,7 @@ mod value;
 pub use builtins::{functions, queries};
 pub use engine::{
     ASSET_VARIANTS, Asset, AssetLoader, Derivation, DeriveControl, DeriveOptions, InitialShape,
-    Leaf, Rederivation, Stats, Trace, TreeNode, derive, derive_again,
+    Leaf, LeafFaces, Rederivation, Stats, Trace, TreeNode, derive, derive_again,
 };
 pub use error::DeriveError;
 pub use goals::{GoalQuery, LeafSemantics};

@@ -236,6 +236,12 @@ impl Program {
             .find(|&r| self.rules[r as usize].params == arity)
     }
 
+    /// A rule's name and how many parameters it takes (`None` when there is no such rule).
+    pub fn rule_signature(&self, rule: RuleId) -> Option<(&str, usize)> {
+        let r = self.rules.get(rule as usize)?;
+        Some((self.symbol_name(r.symbol), r.params))
+    }
+
     /// Names of all rules, in file order without repeats.
     pub fn rule_names(&self) -> Vec<&str> {
         let mut seen = Vec::new();

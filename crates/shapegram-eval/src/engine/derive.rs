@@ -462,7 +462,9 @@ fn derive_lot<'a>(
         let name = Name::new(names[symbol as usize].clone());
         engine.skeleton = Some(Skeleton::with_capacity(root, name, room));
     }
-    if let Some(tree) = &mut engine.tree {
+    if engine.tree.is_some() {
+        let attrs = engine.node_attrs(&state.attrs);
+        let tree = engine.tree.as_mut().expect("checked above");
         state.node = tree.len() as u32;
         tree.push(TreeNode {
             name: names[symbol as usize].clone(),
@@ -470,6 +472,8 @@ fn derive_lot<'a>(
             scope,
             lot: index,
             section: 0,
+            attrs,
+            rule: None,
         });
     }
     engine.shapes = 1;

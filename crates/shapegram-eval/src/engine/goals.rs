@@ -184,7 +184,9 @@ fn derive_axiom(
     ev.assets = options.assets.as_deref();
     ev.lot = start.index;
     let mut engine = Engine::new(program, ev, names, options, Phase::Only, batch);
-    if let Some(tree) = &mut engine.tree {
+    if engine.tree.is_some() {
+        let attrs = engine.node_attrs(&state.attrs);
+        let tree = engine.tree.as_mut().expect("checked above");
         state.node = tree.len() as u32;
         tree.push(TreeNode {
             name: names[axiom.symbol as usize].clone(),
@@ -192,6 +194,8 @@ fn derive_axiom(
             scope: start.scope,
             lot: start.index,
             section: 0,
+            attrs,
+            rule: None,
         });
     }
     engine.shapes = 1;

@@ -1,6 +1,7 @@
 //! The engine of one lot: the machine's state, its work queue (depth first or in generations),
 //! rule bodies and statements, the limits, and where new shapes and leaves go.
 
+use std::rc::Rc;
 use std::sync::Arc;
 use std::time::Instant;
 
@@ -100,7 +101,13 @@ pub(super) struct Engine<'p> {
     pub(super) syncs: FxHashMap<u32, u64>,
     /// Goal grammars: the last leaf's semantics and their names.
     pub(super) last_semantics: Option<(Arc<Semantics>, Arc<LeafSemantics>)>,
+    /// The attribute values the last tree node got, and the shape values they were copied
+    /// from: shapes share their values until a `set`, so nodes share them too.
+    node_attrs: Option<NodeAttrs>,
 }
+
+/// A shape's attribute values and the copy of them its tree node kept.
+type NodeAttrs = (Rc<Vec<Value>>, Arc<[Value]>);
 
 impl<'p> Engine<'p> {
     /// An engine deriving into the lists of `batch` (taken from it until [`Engine::finish`]).
@@ -138,7 +145,20 @@ impl<'p> Engine<'p> {
             goal_cache: CandidateCache::default(),
             syncs: FxHashMap::default(),
             last_semantics: None,
+            node_attrs: None,
         }
+    }
+
+    /// A shape's attribute values as its tree node keeps them.
+    pub(super) fn node_attrs(&mut self, attrs: &Rc<Vec<Value>>) -> Arc<[Value]> {
+        if let Some((source, kept)) = &self.node_attrs
+            && Rc::ptr_eq(source, attrs)
+        {
+            return kept.clone();
+        }
+        let kept: Arc<[Value]> = Arc::from(attrs.as_slice());
+        self.node_attrs = Some((attrs.clone(), kept.clone()));
+        kept
     }
 
     /// Hands the results back to the batch.
@@ -229,6 +249,17 @@ impl<'p> Engine<'p> {
         Ok(())
     }
 
+    /// Records in the tree (when kept) that `task`'s rule rewrote its shape.
+    pub(super) fn note_rule(&mut self, task: &Task) {
+        if let Some(node) = self
+            .tree
+            .as_mut()
+            .and_then(|tree| tree.get_mut(task.state.node as usize))
+        {
+            node.rule = Some(task.rule);
+        }
+    }
+
     /// Applies a shape's rule; new shapes waiting for rules go to `out`, in order.
     fn apply(&mut self, mut task: Task, out: &mut Vec<Work>) -> Fallible<()> {
         if self.phase == Phase::Gather && self.program.context_rules[task.rule as usize] {
@@ -242,6 +273,7 @@ impl<'p> Engine<'p> {
         }
         self.counts[task.rule as usize] += 1;
         self.applications += 1;
+        self.note_rule(&task);
         if self
             .applications
             .is_multiple_of(super::control::CHECK_EVERY as usize)
@@ -404,13 +436,17 @@ impl<'p> Engine<'p> {
     /// Counts a new shape against the limits and enters it in the derivation tree. The shape
     /// still carries its parent's node number, which becomes its parent link.
     pub(super) fn admit(&mut self, state: &mut State, span: Span) -> Fallible<()> {
-        if let Some(tree) = &mut self.tree {
+        if self.tree.is_some() {
+            let attrs = self.node_attrs(&state.attrs);
+            let tree = self.tree.as_mut().expect("checked above");
             tree.push(TreeNode {
                 name: self.names[state.symbol as usize].clone(),
                 parent: Some(state.node),
                 scope: state.scope,
                 lot: self.ev.lot,
                 section: state.section,
+                attrs,
+                rule: None,
             });
             state.node = (tree.len() - 1) as u32;
         }

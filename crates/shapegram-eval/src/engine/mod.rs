@@ -173,6 +173,14 @@ pub struct TreeNode {
     /// The kinematic section it was attached to when it was made (0 without a skeleton): with
     /// [`Derivation::node_motion`] any shape of the tree can be shown posed.
     pub section: u32,
+    /// The shape's attribute values when it was made, in the order of
+    /// [`Program::attr_names`](crate::Program::attr_names); shared between nodes while no
+    /// `set` changes them.
+    pub attrs: Arc<[Value]>,
+    /// The rule that rewrote the shape; `None` for a shape no rule was applied to (a leaf
+    /// made by its successor's `.`, a part of a split named after the shape split, a shape
+    /// left when the generations ran out).
+    pub rule: Option<crate::RuleId>,
 }
 
 impl Leaf {
@@ -187,6 +195,19 @@ impl Leaf {
         let map = self.texturing.as_ref()?.uvs.get(set)?.as_ref()?;
         Some(mesh.positions().iter().map(|&p| map.at(p)).collect())
     }
+}
+
+/// Where a leaf's faces are in the model of [`Derivation::to_model_with_faces`].
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct LeafFaces {
+    /// The leaf, as an index into [`Derivation::leaves`].
+    pub leaf: u32,
+    /// The part its mesh was appended to, as an index into the model's parts.
+    pub part: u32,
+    /// Its first face in that part's mesh.
+    pub first: u32,
+    /// How many faces it has there.
+    pub count: u32,
 }
 
 /// Counts of a derivation.
@@ -252,6 +273,19 @@ impl Derivation {
     ///
     /// [`solids`]: Derivation::solids
     pub fn to_model(&self) -> Model {
+        self.build_model(None)
+    }
+
+    /// [`Derivation::to_model`], and where each leaf's faces went: for every leaf that is in a
+    /// part of its own kind (not an implicit solid, not without geometry), in leaf order, its
+    /// [`LeafFaces`]. Visual debugging maps the model's triangles back to the leaves with it.
+    pub fn to_model_with_faces(&self) -> (Model, Vec<LeafFaces>) {
+        let mut faces = Vec::new();
+        let model = self.build_model(Some(&mut faces));
+        (model, faces)
+    }
+
+    fn build_model(&self, mut places: Option<&mut Vec<LeafFaces>>) -> Model {
         let mut parts: Vec<ModelPart> = Vec::new();
         type Key<'a> = (
             &'a str,
@@ -268,7 +302,7 @@ impl Derivation {
             .enumerate()
             .map(|(i, (lot, _))| (*lot, i as u32))
             .collect();
-        for leaf in &self.leaves {
+        for (index, leaf) in self.leaves.iter().enumerate() {
             if matches!(leaf.geometry, Geometry::Implicit(_)) {
                 continue;
             }
@@ -308,6 +342,14 @@ impl Derivation {
             if let Some((_, map)) = textured {
                 let uvs = mesh.positions().iter().map(|&p| map.at(p));
                 parts[i].uvs.extend(uvs);
+            }
+            if let Some(places) = places.as_deref_mut() {
+                places.push(LeafFaces {
+                    leaf: index as u32,
+                    part: i as u32,
+                    first: parts[i].mesh.face_count() as u32,
+                    count: mesh.face_count() as u32,
+                });
             }
             parts[i].mesh.append(&mesh);
         }

@@ -279,6 +279,8 @@ impl Engine<'_> {
         }
         previous.cursor = application.end;
         previous.reused += application.end - i;
+        // The shape's own node was made by its parent's application, not copied.
+        self.note_rule(task);
         self.splice(i, task)?;
         Ok(true)
     }
