@@ -281,6 +281,8 @@ struct Primitive<'a> {
     textured: bool,
     skinned: Option<Skinned>,
     chunks: Vec<Chunk<'a>>,
+    /// The model part each chunk holds (`None`: a line set).
+    sources: Vec<Option<usize>>,
 }
 
 /// How a skinned primitive's vertices name their joints.
@@ -358,6 +360,43 @@ pub fn write_glb_to(
     Plan::new(model, options)?.write(out)
 }
 
+/// Which model parts each primitive of a GLB holds: by glTF mesh, by primitive, the parts
+/// whose triangles (or line sets' segments: `None`) it concatenates, in order.
+pub type GlbLayout = Vec<Vec<Vec<Option<usize>>>>;
+
+/// [`write_glb_to`], returning which model parts each primitive holds. With
+/// [`face_triangles`] this tells which triangles of a primitive came from which faces of the
+/// model.
+pub fn write_glb_with_layout(
+    model: &Model,
+    options: &ExportOptions,
+    out: &mut impl Write,
+) -> io::Result<GlbLayout> {
+    let plan = Plan::new(model, options)?;
+    plan.write(out)?;
+    Ok(plan
+        .groups
+        .iter()
+        .map(|group| group.primitives.iter().map(|p| p.sources.clone()).collect())
+        .collect())
+}
+
+/// How many triangles the GLB writer writes for each face of `part`, in face order: 0 for a
+/// face without area or with corners not finite in f32; otherwise its triangles that keep
+/// their area in f32. A part's triangles in a primitive are its faces' triangles in face order.
+pub fn face_triangles(part: &Part) -> Vec<u32> {
+    let mesh = &part.mesh;
+    let mut splitter = FaceSplitter::default();
+    let mut fan = Vec::new();
+    (0..mesh.face_count())
+        .map(|i| {
+            fan.clear();
+            splitter.split(mesh, i, &mut fan);
+            fan.len() as u32
+        })
+        .collect()
+}
+
 /// The file laid out: the JSON chunk, the primitives and skins whose data fill the BIN chunk.
 struct Plan<'a> {
     json: Vec<u8>,
@@ -373,14 +412,15 @@ struct Plan<'a> {
 impl<'a> Plan<'a> {
     fn new(model: &'a Model, options: &ExportOptions) -> io::Result<Self> {
         check_bones(model)?;
-        let parts: Vec<(&Part, Chunk<'a>)> = model
+        let parts: Vec<(usize, &Part, Chunk<'a>)> = model
             .parts
             .iter()
-            .filter_map(|part| Some((part, Chunk::of_part(part)?)))
+            .enumerate()
+            .filter_map(|(i, part)| Some((i, part, Chunk::of_part(part)?)))
             .collect();
         // A skin per skeleton that some written part hangs from, in skeleton order.
         let mut used = vec![false; model.skeletons.len()];
-        for bone in parts.iter().filter_map(|(part, _)| part.bone) {
+        for bone in parts.iter().filter_map(|(_, part, _)| part.bone) {
             used[bone.skeleton as usize] = true;
         }
         let mut skins = Vec::new();
@@ -389,7 +429,7 @@ impl<'a> Plan<'a> {
             skin_of[index] = Some(skins.len());
             skins.push(Skin::new(&model.skeletons[index], index)?);
         }
-        let chunks = parts.into_iter().map(|(part, chunk)| {
+        let chunks = parts.into_iter().map(|(index, part, chunk)| {
             let joint = part.bone.map(|bone| {
                 let skin =
                     skin_of[bone.skeleton as usize].expect("every bound skeleton has a skin");
@@ -402,7 +442,7 @@ impl<'a> Plan<'a> {
                 &part.name,
                 part.color,
                 texture,
-                false,
+                Some(index),
                 joint,
                 chunk,
                 part.metadata.as_deref(),
@@ -413,7 +453,7 @@ impl<'a> Plan<'a> {
                 &lines.name,
                 lines.color,
                 None,
-                true,
+                None,
                 None,
                 Chunk::of_lines(lines)?,
                 None,
@@ -429,7 +469,8 @@ impl<'a> Plan<'a> {
         // (group, material, lines) -> primitive slot in that group; triangles and lines of one
         // colour stay apart since a primitive has one mode.
         let mut merged: BTreeMap<(usize, usize, bool), usize> = BTreeMap::new();
-        for (name, color, texture, lines, joint, chunk, metadata) in chunks.chain(line_chunks) {
+        for (name, color, texture, source, joint, chunk, metadata) in chunks.chain(line_chunks) {
+            let lines = source.is_none();
             let texture = texture.map(|t| {
                 textures
                     .iter()
@@ -458,6 +499,7 @@ impl<'a> Plan<'a> {
                         textured,
                         skinned: joint.map(|(_, j)| skinned(vec![j])),
                         chunks: vec![chunk],
+                        sources: vec![source],
                     }],
                 });
                 continue;
@@ -479,11 +521,13 @@ impl<'a> Plan<'a> {
                     textured,
                     skinned: joint.map(|_| skinned(Vec::new())),
                     chunks: Vec::new(),
+                    sources: Vec::new(),
                 });
                 primitives.len() - 1
             });
             let primitive = &mut primitives[slot];
             primitive.chunks.push(chunk);
+            primitive.sources.push(source);
             if let (Some(skinned), Some((_, j))) = (&mut primitive.skinned, joint) {
                 skinned.joints.push(j);
             }

@@ -37,7 +37,7 @@ use shapegram_geom::Model;
 pub use buffers::{Buffers, PartRange};
 pub use error::Error;
 pub use geojson::{Footprints, read_geojson};
-pub use glb::{write_glb, write_glb_to};
+pub use glb::{GlbLayout, face_triangles, write_glb, write_glb_to, write_glb_with_layout};
 pub use obj::{write_obj, write_obj_to};
 pub use read::{read_glb, read_obj, read_stl};
 pub use stl::{write_stl, write_stl_to};
