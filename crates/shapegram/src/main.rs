@@ -18,6 +18,7 @@ mod resolve;
 mod serve;
 mod studio;
 mod studio_kinds;
+mod studio_tree;
 mod topo;
 
 use std::io::{self, Write};

@@ -20,7 +20,7 @@ pub fn apply(path: &Path, model: &mut Model) -> Result<(), Failure> {
 }
 
 /// Poses the joints named in the JSON `text`; the error names the joint and what is wrong.
-fn apply_text(text: &str, model: &mut Model) -> Result<(), String> {
+pub(crate) fn apply_text(text: &str, model: &mut Model) -> Result<(), String> {
     let json: Json = serde_json::from_str(text).map_err(|e| format!("invalid JSON: {e}"))?;
     let joints = json
         .as_object()

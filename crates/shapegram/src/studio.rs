@@ -15,7 +15,7 @@ use shapegram_server::studio::{DeriveJob, Derived, Engine, StudioDiagnostic, Stu
 use shapegram_syntax::{Diagnostic, Severity, SourceFile};
 
 use crate::derive::millis;
-use crate::{Failure, grammar, lots, studio_kinds};
+use crate::{Failure, grammar, lots, studio_kinds, studio_tree};
 
 /// Arguments of `shapegram studio`.
 #[derive(Debug, Args)]
@@ -76,15 +76,17 @@ impl Engine for CliEngine {
                 if grammar::is_goal_grammar(&source, None) {
                     studio_kinds::goal(&job.path, &job.text, job.time_budget)
                 } else {
-                    derive_grammar(&job.path, &job.text, job.time_budget)
+                    derive_grammar(job)
                 }
             }
         }
     }
 }
 
-/// Compiles and derives `text` as the file `path` on the default lot, then writes the GLB.
-fn derive_grammar(path: &Path, text: &str, time_budget: Duration) -> Derived {
+/// Compiles and derives the job's text as its file on the default lot, then writes the GLB
+/// (and the derivation tree, when asked for).
+fn derive_grammar(job: &DeriveJob) -> Derived {
+    let (path, text, time_budget) = (&job.path, &job.text, job.time_budget);
     let started = Instant::now();
     let source = SourceFile::new(path.display().to_string(), text.to_owned());
     let (compiled, diagnostics) = grammar::compile_silently(&source, false, None);
@@ -109,6 +111,8 @@ fn derive_grammar(path: &Path, text: &str, time_budget: Duration) -> Derived {
             folder,
             shapegram_load::MissingAssets::Error,
         ))),
+        keep_tree: job.tree,
+        generations: job.generations,
         ..DeriveOptions::default()
     };
     let derivation = match shapegram_eval::derive(&program, &[lots::default_lot()], &options) {
@@ -135,10 +139,32 @@ fn derive_grammar(path: &Path, text: &str, time_budget: Duration) -> Derived {
     derived.leaves = derivation.stats.leaves;
     derived.prints = derivation.prints.clone();
     let exported = Instant::now();
-    let model = derivation.to_model();
+    let (mut model, faces) = if job.tree {
+        derivation.to_model_with_faces()
+    } else {
+        (derivation.to_model(), Vec::new())
+    };
+    if let Some(pose) = &job.pose
+        && let Err(e) = crate::pose::apply_text(&pose.to_string(), &mut model)
+    {
+        derived.error = Some(format!("pose: {e}"));
+        return derived;
+    }
     let mut glb = Vec::new();
-    match shapegram_export::write_glb_to(&model, &ExportOptions::default(), &mut glb) {
-        Ok(()) => derived.glb = Some(glb),
+    match shapegram_export::write_glb_with_layout(&model, &ExportOptions::default(), &mut glb) {
+        Ok(layout) => {
+            derived.glb = Some(glb);
+            if job.tree {
+                derived.tree = Some(studio_tree::tree(
+                    &derivation,
+                    &program,
+                    &compiled.grammar,
+                    &compiled.sources[0],
+                    (&model, &faces),
+                    layout,
+                ));
+            }
+        }
         Err(e) => derived.error = Some(format!("cannot write the GLB: {e}")),
     }
     derived.export_ms = millis(exported.elapsed());

@@ -345,3 +345,222 @@ fn mistakes_in_every_kind_have_lines_and_columns() {
         ))
     );
 }
+/// The GLB of an answer: its JSON chunk, and its triangles by glTF mesh and primitive.
+fn glb_triangles(answer: &Value) -> (Value, Vec<Vec<u64>>) {
+    let glb = glb_of(answer);
+    let json_len = u32::from_le_bytes(glb[12..16].try_into().unwrap()) as usize;
+    let document: Value = serde_json::from_slice(&glb[20..20 + json_len]).unwrap();
+    let triangles = document["meshes"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|mesh| {
+            let primitives = mesh["primitives"].as_array().unwrap();
+            primitives
+                .iter()
+                .map(|p| {
+                    let accessor = p["indices"].as_u64().unwrap() as usize;
+                    document["accessors"][accessor]["count"].as_u64().unwrap() / 3
+                })
+                .collect()
+        })
+        .collect();
+    (document, triangles)
+}
+
+fn derive_with(studio: &Studio, path: &std::path::Path, text: &str, extra: Value) -> Value {
+    let mut body = json!({"path": path, "text": text});
+    body.as_object_mut()
+        .unwrap()
+        .extend(extra.as_object().unwrap().clone());
+    let (status, answer) = request(studio, "POST", "/api/derive", Some(body));
+    assert_eq!(status, 200, "{answer}");
+    answer
+}
+
+const BLOCKS: &str = "attr h = 6
+Lot --> extrude(h) Mass
+Mass --> split(x) { 5 : Red | ~1 : Blue | 5 : Red }
+Red --> color(\"#ff0000\")
+Blue --> set(h, 2) color(\"#0000ff\") Top
+Top --> color(\"#0000ff\")
+";
+
+#[test]
+fn the_tree_names_every_shape_and_each_triangle_its_leaf() {
+    let dir = TempDir::new("studio-tree");
+    let file = dir.path("blocks.cga");
+    std::fs::write(&file, BLOCKS).unwrap();
+    let file = std::fs::canonicalize(&file).unwrap();
+    let studio = start(&[&file]);
+    // Without asking, no tree.
+    assert_eq!(derive(&studio, &file, BLOCKS).get("tree"), None);
+    let answer = derive_with(&studio, &file, BLOCKS, json!({"tree": true}));
+    let tree = &answer["tree"];
+    // Each part of the split is a shape named after the shape split (Mass), whose successor
+    // is the shape its rule (Red, Blue) rewrites.
+    assert_eq!(
+        tree["symbols"],
+        json!(["Lot", "Mass", "Red", "Blue", "Top"])
+    );
+    assert_eq!(tree["parent"], json!([-1, 0, 1, 2, 1, 4, 1, 6, 5]));
+    assert_eq!(tree["symbol"], json!([0, 1, 1, 2, 1, 3, 1, 2, 4]));
+    assert_eq!(tree["rule"], json!([0, 1, -1, 2, -1, 3, -1, 2, 4]));
+    assert_eq!(answer["shapes"], json!(9));
+    // Lot, Mass, the parts' rules, Top's: four generations.
+    assert_eq!(tree["generations"], json!(4));
+    // Each rule with where it starts and ends (lines and columns, 1-based, end exclusive).
+    assert_eq!(
+        tree["rules"][3],
+        json!({"name": "Blue", "line": 5, "column": 1, "end_line": 5, "end_column": 40})
+    );
+    // `set(h, 2)` gives the Blue shape's successor its own values.
+    assert_eq!(tree["attr_names"], json!(["h"]));
+    assert_eq!(tree["attr_values"], json!([["6"], ["2"]]));
+    assert_eq!(tree["attrs"], json!([0, 0, 0, 0, 0, 0, 0, 0, 1]));
+    // The Blue shape's scope at birth: from x = 5, 10 m wide, 6 m high, 30 m deep.
+    let scopes = tree["scopes"].as_array().unwrap();
+    assert_eq!(scopes.len(), 9 * 15);
+    assert_eq!(
+        scopes[5 * 15..6 * 15].to_vec(),
+        [5, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 1, 10, 6, 30]
+            .map(|v| json!(f64::from(v)))
+            .to_vec()
+    );
+    // Red: one primitive holding both red blocks (12 triangles each), blue the other.
+    assert_eq!(
+        tree["primitives"],
+        json!([
+            {"mesh": 0, "primitive": 0, "runs": [3, 12, 7, 12]},
+            {"mesh": 0, "primitive": 1, "runs": [8, 12]},
+        ])
+    );
+    let (_, triangles) = glb_triangles(&answer);
+    assert_eq!(triangles, [vec![24, 12]]);
+}
+
+#[test]
+fn every_triangle_of_the_house_belongs_to_a_leaf_of_the_tree() {
+    let dir = TempDir::new("studio-tree-house");
+    let house = dir.path("house.cga");
+    std::fs::copy(example("house.cga"), &house).unwrap();
+    let house = std::fs::canonicalize(&house).unwrap();
+    let studio = start(&[&house]);
+    let text = std::fs::read_to_string(&house).unwrap();
+    let answer = derive_with(&studio, &house, &text, json!({"tree": true}));
+    let tree = &answer["tree"];
+    let parents = tree["parent"].as_array().unwrap();
+    assert_eq!(parents.len() as u64, answer["shapes"].as_u64().unwrap());
+    let mut has_children = vec![false; parents.len()];
+    for p in parents.iter().filter_map(Value::as_i64).filter(|&p| p >= 0) {
+        has_children[p as usize] = true;
+    }
+    let (_, triangles) = glb_triangles(&answer);
+    let mut leaves = std::collections::BTreeSet::new();
+    let mut mapped = 0;
+    for primitive in tree["primitives"].as_array().unwrap() {
+        let runs = primitive["runs"].as_array().unwrap();
+        let mut sum = 0;
+        for run in runs.chunks(2) {
+            let node = run[0].as_i64().unwrap();
+            assert!(node >= 0 && !has_children[node as usize], "node {node}");
+            leaves.insert(node);
+            sum += run[1].as_u64().unwrap();
+        }
+        let (mesh, index) = (primitive["mesh"].as_u64(), primitive["primitive"].as_u64());
+        assert_eq!(
+            sum,
+            triangles[mesh.unwrap() as usize][index.unwrap() as usize]
+        );
+        mapped += 1;
+    }
+    assert_eq!(mapped, triangles.iter().map(Vec::len).sum::<usize>());
+    assert_eq!(leaves.len() as u64, answer["leaves"].as_u64().unwrap());
+}
+
+#[test]
+fn generations_stop_the_derivation_early() {
+    let dir = TempDir::new("studio-generations");
+    let file = dir.path("blocks.cga");
+    std::fs::write(&file, BLOCKS).unwrap();
+    let file = std::fs::canonicalize(&file).unwrap();
+    let studio = start(&[&file]);
+    let counts = |n: u32| {
+        let answer = derive_with(
+            &studio,
+            &file,
+            BLOCKS,
+            json!({"tree": true, "generations": n}),
+        );
+        let (_, triangles) = glb_triangles(&answer);
+        (
+            answer["shapes"].as_u64().unwrap(),
+            answer["leaves"].as_u64().unwrap(),
+            answer["tree"]["generations"].as_u64().unwrap(),
+            triangles.iter().flatten().sum::<u64>(),
+        )
+    };
+    // The lot alone (a rectangle), the block, its three parts (each a part and its successor),
+    // the blue part's successor, and its rule applied: the shapes left show as their boxes.
+    assert_eq!(counts(0), (1, 1, 0, 2));
+    assert_eq!(counts(1), (2, 1, 1, 12));
+    assert_eq!(counts(2), (8, 3, 2, 36));
+    assert_eq!(counts(3), (9, 3, 3, 36));
+    assert_eq!(counts(4), (9, 3, 4, 36));
+    assert_eq!(counts(9), (9, 3, 4, 36));
+    let (status, answer) = request(
+        &studio,
+        "POST",
+        "/api/derive",
+        Some(json!({"path": file, "text": BLOCKS, "generations": 10_001})),
+    );
+    assert_eq!(status, 422);
+    assert_eq!(
+        answer["error"],
+        json!("generations: 10001 is more than the 10000 a derivation may have")
+    );
+}
+
+#[test]
+fn joints_are_posed_as_derive_poses_them() {
+    let dir = TempDir::new("studio-pose");
+    let file = dir.path("excavator.cga");
+    std::fs::copy(example("excavator.cga"), &file).unwrap();
+    let file = std::fs::canonicalize(&file).unwrap();
+    let studio = start(&[&file]);
+    let text = std::fs::read_to_string(&file).unwrap();
+    let rest = derive(&studio, &file, &text);
+    let (document, _) = glb_triangles(&rest);
+    let boom = document["nodes"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|n| n["name"].as_str().unwrap().starts_with("Boom"))
+        .unwrap();
+    let name = boom["extras"]["shapegram"]["joint"]["section"]
+        .as_str()
+        .unwrap();
+    let pose = json!({name: {"rotation": [0, 0, 45]}});
+    let posed = derive_with(&studio, &file, &text, json!({"pose": pose}));
+    let (document, _) = glb_triangles(&posed);
+    let boom = document["nodes"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|n| n["extras"]["shapegram"]["joint"]["section"] == json!(name))
+        .unwrap();
+    assert_eq!(
+        boom["extras"]["shapegram"]["joint"]["pose_rotation_deg"],
+        json!([0.0, 0.0, 45.0])
+    );
+    // Out of the boom's limits (-40° to 60° about z): refused with the joint's name.
+    let refused = derive_with(
+        &studio,
+        &file,
+        &text,
+        json!({"pose": {name: {"rotation": [0, 0, 90]}}}),
+    );
+    assert_eq!(refused["ok"], json!(false));
+    let error = refused["error"].as_str().unwrap();
+    assert!(error.starts_with(&format!("pose: {name}: ")), "{error}");
+}

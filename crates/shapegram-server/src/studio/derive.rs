@@ -39,6 +39,13 @@ pub struct DeriveJob {
     pub text: String,
     /// How long the derivation may take before the engine stops it.
     pub time_budget: Duration,
+    /// Whether to send the derivation tree (visual debugging).
+    pub tree: bool,
+    /// Rewrite in parallel generations and stop after this many (the generation slider).
+    pub generations: Option<u32>,
+    /// Joints posed by section name after deriving, as `derive --pose` reads them
+    /// (`{"Boom": {"rotation": [x, y, z], "translation": [x, y, z]}}`).
+    pub pose: Option<serde_json::Value>,
 }
 
 /// A diagnostic with its place as lines and columns (1-based, columns in characters; the end
@@ -87,6 +94,8 @@ pub struct Derived {
     /// What was made, in the words of the grammar's kind (`3 steps, 3803 modules, …`), for
     /// kinds whose shapes and leaves say little.
     pub summary: Option<String>,
+    /// The derivation tree, when the job asked for it and there is a model.
+    pub tree: Option<super::DerivationTree>,
 }
 
 /// Per file, the newest generation asked for and the lock of the one running.
@@ -114,6 +123,15 @@ pub struct DeriveRequest {
     /// The file the text is edited in (as `GET /api/files` names it).
     pub path: String,
     pub text: String,
+    /// Send the derivation tree with the model.
+    #[serde(default)]
+    pub tree: bool,
+    /// Stop after this many generations (at most 10,000).
+    #[serde(default)]
+    pub generations: Option<u32>,
+    /// Pose joints by section name, as `derive --pose` does.
+    #[serde(default)]
+    pub pose: Option<serde_json::Value>,
 }
 
 /// The answer of `POST /api/derive`.
@@ -138,13 +156,26 @@ pub struct DeriveAnswer {
     pub svg: Option<String>,
     /// What was made, for grammars that are not CGA-style.
     pub summary: Option<String>,
+    /// The derivation tree, when asked for (`"tree": true`) and there is a model.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub tree: Option<super::DerivationTree>,
 }
+
+/// The most generations a request may ask for: deeper derivations are refused by the engine's
+/// depth limit long before.
+const MAX_GENERATIONS: u32 = 10_000;
 
 /// `POST /api/derive`.
 pub async fn derive(
     State(state): State<StudioState>,
     JsonBody(request): JsonBody<DeriveRequest>,
 ) -> Result<Json<DeriveAnswer>, ApiError> {
+    if let Some(n) = request.generations.filter(|&n| n > MAX_GENERATIONS) {
+        return Err(ApiError::new(
+            StatusCode::UNPROCESSABLE_ENTITY,
+            format!("generations: {n} is more than the {MAX_GENERATIONS} a derivation may have"),
+        ));
+    }
     let path = state.folders.resolve(&request.path)?;
     let slot = state.generations.slot(&path);
     let generation = slot.newest.fetch_add(1, Ordering::SeqCst) + 1;
@@ -163,6 +194,9 @@ pub async fn derive(
         path,
         text: request.text,
         time_budget: state.time_budget,
+        tree: request.tree,
+        generations: request.generations,
+        pose: request.pose,
     };
     let derived = tokio::task::spawn_blocking(move || engine.derive(&job))
         .await
@@ -187,5 +221,6 @@ pub async fn derive(
         export_ms: derived.export_ms,
         svg: derived.svg,
         summary: derived.summary,
+        tree: derived.tree,
     }))
 }

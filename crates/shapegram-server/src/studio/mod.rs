@@ -16,6 +16,7 @@ pub mod assets;
 pub mod derive;
 pub mod files;
 pub mod guard;
+pub mod tree;
 pub mod vocabulary;
 
 use std::net::SocketAddr;
@@ -32,6 +33,7 @@ use crate::error::ApiError;
 
 pub use derive::{DeriveJob, Derived, Engine, StudioDiagnostic};
 pub use files::Folders;
+pub use tree::{DerivationTree, PrimitiveNodes, RuleInfo, RulePlace};
 
 /// What the studio's handlers share.
 #[derive(Clone)]
