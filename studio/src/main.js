@@ -10,6 +10,7 @@ import { languageFor } from "./languages/index.js";
 import { completionFor, loadVocabulary } from "./complete.js";
 import { Drawing } from "./drawing.js";
 import { Preview } from "./preview.js";
+import { Debugger } from "./debug.js";
 
 /** How long typing must pause before the text is derived. */
 const DEBOUNCE_MS = 40;
@@ -41,6 +42,28 @@ let drawnRev = -1;
 
 const preview = new Preview($("canvas"));
 const drawing = new Drawing($("drawing"));
+const debug = new Debugger(preview, {
+  tree: $("tree"),
+  info: $("node-info"),
+  generation: $("generation"),
+  generationValue: $("generation-value"),
+  joints: $("joints"),
+}, {
+  rederive: () => {
+    studio.rev += 1;
+    studio.timings[studio.rev] = { changed: performance.now() };
+    derive();
+  },
+  jump: (place) => {
+    const doc = view.state.doc;
+    const from = position(doc, place.line, place.column);
+    const to = position(doc, place.end_line, place.end_column);
+    // Scrolled to the rule's start: a long rule would otherwise scroll the editor sideways.
+    view.dispatch({ selection: { anchor: from, head: to }, effects: EditorView.scrollIntoView(from, { y: "center", x: "start" }) });
+    view.focus();
+  },
+});
+studio.debug = debug;
 
 const view = new EditorView({
   parent: $("editor"),
@@ -121,6 +144,7 @@ async function open(file) {
   path = file;
   fileSelect.value = file;
   preview.reset();
+  debug.reset();
   view.setState(EditorState.create({ doc: json.text, extensions: editorExtensions() }));
   savedText = view.state.doc.toString();
   studio.rev += 1;
@@ -134,9 +158,10 @@ async function derive() {
   const text = view.state.doc.toString();
   const timing = studio.timings[rev] || (studio.timings[rev] = {});
   timing.sent = performance.now();
+  const generations = debug.generations();
   let answer;
   try {
-    answer = await api("POST", "/api/derive", { path, text });
+    answer = await api("POST", "/api/derive", { path, text, tree: true, generations });
   } catch (e) {
     return setStatus(`cannot reach the studio: ${e.message}`, true);
   }
@@ -154,11 +179,12 @@ async function derive() {
       // Download GLB has nothing to give for a drawing.
       lastGlb = null;
       studio.svg = await drawing.show(json.svg);
+      debug.load(null, null, generations);
     } else {
       drawing.hide();
       studio.svg = null;
       lastGlb = Uint8Array.from(atob(json.glb), (c) => c.charCodeAt(0));
-      await preview.show(lastGlb.buffer);
+      await preview.show(lastGlb.buffer, (gltf) => debug.load(json.tree, gltf, generations));
     }
     studio.shapes = json.shapes;
     studio.leaves = json.leaves;

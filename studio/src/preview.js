@@ -47,8 +47,16 @@ export class Preview {
     this.render();
   }
 
-  /** Replaces the model with the GLB in `buffer`; frames the camera on the first one. */
-  async show(buffer) {
+  /** The length of the model's bounding box's diagonal (1 without a model). */
+  modelSize() {
+    const box = this.model && new Box3().setFromObject(this.model);
+    return box && !box.isEmpty() ? box.getSize(new Vector3()).length() : 1;
+  }
+
+  /** Replaces the model with the GLB in `buffer`; frames the camera on the first one.
+   * `loaded(gltf)` may add to the scene before it is drawn (the glTF's parser knows which glTF
+   * primitive each mesh is). */
+  async show(buffer, loaded) {
     const gltf = await this.loader.parseAsync(buffer, "");
     if (this.model) {
       this.scene.remove(this.model);
@@ -63,6 +71,7 @@ export class Preview {
       this.frame();
       this.framed = true;
     }
+    loaded?.(gltf);
     this.render();
   }
 

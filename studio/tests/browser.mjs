@@ -202,6 +202,150 @@ async function kinds(context) {
   }
 }
 
+/** Pixels of the highlight's colour (debug.js's HIGHLIGHT, #ff22cc) on the canvas, and where
+ * the middle one is (page coordinates). */
+async function highlightPixels(page) {
+  return page.evaluate(() => {
+    const source = document.getElementById("canvas");
+    const copy = document.createElement("canvas");
+    copy.width = source.width;
+    copy.height = source.height;
+    const context = copy.getContext("2d");
+    context.drawImage(source, 0, 0);
+    const { data, width, height } = context.getImageData(0, 0, copy.width, copy.height);
+    const found = [];
+    for (let i = 0; i < width * height; i++) {
+      const [r, g, b] = [data[i * 4], data[i * 4 + 1], data[i * 4 + 2]];
+      if (Math.abs(r - 0xff) + Math.abs(g - 0x22) + Math.abs(b - 0xcc) < 24) found.push(i);
+    }
+    const rect = source.getBoundingClientRect();
+    const middle = found[Math.floor(found.length / 2)] ?? 0;
+    return {
+      count: found.length,
+      total: width * height,
+      x: rect.left + ((middle % width) + 0.5) * (rect.width / width),
+      y: rect.top + (Math.floor(middle / width) + 0.5) * (rect.height / height),
+    };
+  });
+}
+
+/** The derivation tree, picking, the generation slider and the joints (docs/studio.md), on a
+ * studio of their own over fresh copies of house.cga and the excavator. */
+async function visualDebugging(context) {
+  const folder = mkdtempSync(join(tmpdir(), "studio-debug-"));
+  const house = join(folder, "house.cga");
+  const excavator = join(folder, "excavator.cga");
+  copyFileSync(join(root, "examples/house.cga"), house);
+  copyFileSync(join(root, "examples/excavator.cga"), excavator);
+  const { child, url } = await startStudio([house, excavator]);
+  const page = await context.newPage();
+  const problems = [];
+  page.on("pageerror", (e) => problems.push(e.message));
+  page.on("console", (m) => m.type() === "error" && problems.push(m.text()));
+  try {
+    await page.goto(url);
+    const full = counts(await settled(page));
+    const debug = () => window.__studio.debug;
+
+    // The tree: one initial shape, closed, with its count of children; opening it makes the
+    // rows of its children only.
+    assert.deepEqual(await page.locator("#tree li").allTextContents(), ["Lot (1)"]);
+    await page.click("#tree li .toggle");
+    assert.deepEqual(await page.locator("#tree li").count(), 2);
+    assert.equal(await page.locator("#tree li li .label").textContent(), "Walls (6)");
+    assert.equal(await highlightPixels(page).then((h) => h.count), 0);
+
+    // Clicking a node highlights the leaves under it (every wall, window and roof under
+    // Walls) and draws its scope box; the info panel shows its rule.
+    await page.click("#tree li li .label");
+    const walls = await highlightPixels(page);
+    assert.ok(walls.count > walls.total * 0.02, `highlight of Walls: ${walls.count} of ${walls.total} pixels`);
+    assert.equal(await page.evaluate(() => window.__studio.debug.scopeBox.visible), true);
+    assert.match(await page.locator("#node-info .rule").textContent(), /^shape 1 · 6 children · rule Walls --> … \(line 21\)$/);
+    await page.screenshot({ path: join(output, "studio-debug-tree.png") });
+    // The rule's link selects the rule in the editor.
+    await page.click("#node-info .rule a");
+    const selected = await page.evaluate(() => {
+      const { state } = window.__studio.view;
+      const { from, to } = state.selection.main;
+      return state.doc.sliceString(from, to);
+    });
+    assert.equal(selected, "Walls --> comp(f) { front : Front | side : Side | top : RoofBase | bottom : NIL }");
+    console.log(`tree: Walls highlighted on ${walls.count} pixels`);
+
+    // Clicking a shape in the preview selects its leaf's node: the tree opens down to it and
+    // marks it, the info panel names it, and only it is highlighted now.
+    await page.mouse.click(walls.x, walls.y);
+    const picked = await page.evaluate(() => {
+      const d = window.__studio.debug;
+      return { node: d.selected, name: d.index.name(d.selected), leaf: d.index.childrenOf(d.selected).length === 0 };
+    });
+    assert.ok(picked.node > 1 && picked.leaf, `picked ${JSON.stringify(picked)}`);
+    assert.equal(await page.locator("#tree li.selected > .label").textContent(), picked.name);
+    assert.match(await page.locator("#node-info .rule").textContent(), new RegExp(`^shape ${picked.node} · leaf · `));
+    const leaf = await highlightPixels(page);
+    assert.ok(leaf.count > 0 && leaf.count < walls.count, `highlight of the leaf: ${leaf.count} pixels`);
+    await page.screenshot({ path: join(output, "studio-debug-pick.png") });
+    console.log(`picked: shape ${picked.node} (${picked.name}), ${leaf.count} pixels`);
+
+    // The generation slider: after 2 generations only the walls' faces are there.
+    const before = await canvasPixels(page);
+    await page.fill("#generation", "2");
+    const early = counts(await settled(page));
+    assert.ok(early.shapes < full.shapes && early.leaves < full.leaves, `generation 2: ${JSON.stringify(early)}`);
+    assert.equal(await page.locator("#generation-value").textContent(), `2 of ${await page.getAttribute("#generation", "max")}`);
+    assert.ok(thumbnailDifference(before, await canvasPixels(page)) > 1, "the canvas did not change at generation 2");
+    await page.screenshot({ path: join(output, "studio-debug-generation.png") });
+    await page.fill("#generation", await page.getAttribute("#generation", "max"));
+    const again = counts(await settled(page));
+    assert.deepEqual([again.shapes, again.leaves], [full.shapes, full.leaves]);
+    console.log(`generation 2: ${early.shapes} shapes, ${early.leaves} leaves (all: ${full.shapes}, ${full.leaves})`);
+
+    // Joints: the excavator's are drawn and have sliders within their limits; moving the
+    // boom's poses the model on the page as the engine poses it.
+    await page.selectOption("#file", excavator);
+    await page.waitForFunction(() => window.__studio.view.state.doc.toString().includes("Boom -->"));
+    await settled(page);
+    const boom = page.locator('#joints input[data-section^="Boom"][data-kind="rotation"][data-axis="2"]');
+    assert.equal(await boom.count(), 1);
+    assert.deepEqual([await boom.getAttribute("min"), await boom.getAttribute("max")], ["-40", "60"]);
+    const rest = await canvasPixels(page);
+    await boom.fill("45");
+    const posed = await canvasPixels(page);
+    assert.ok(thumbnailDifference(rest, posed) > 0.5, "the canvas did not change with the boom at 45°");
+    await page.screenshot({ path: join(output, "studio-debug-joints.png") });
+    const section = await boom.getAttribute("data-section");
+    const difference = await page.evaluate(async (section) => {
+      const d = window.__studio.debug;
+      const { bone } = d.bones.find((b) => b.joint.section === section);
+      const text = window.__studio.view.state.doc.toString();
+      const path = document.getElementById("file").value;
+      const pose = { [section]: { rotation: [0, 0, 45] } };
+      const response = await fetch("/api/derive", {
+        method: "POST",
+        headers: { "content-type": "application/json" },
+        body: JSON.stringify({ path, text, pose }),
+      });
+      const answer = await response.json();
+      const glb = Uint8Array.from(atob(answer.glb), (c) => c.charCodeAt(0));
+      const length = new DataView(glb.buffer).getUint32(12, true);
+      const gltf = JSON.parse(new TextDecoder().decode(glb.subarray(20, 20 + length)));
+      const node = gltf.nodes.find((n) => n.extras?.shapegram?.joint?.section === section);
+      const t = node.translation || [0, 0, 0];
+      const r = node.rotation || [0, 0, 0, 1];
+      const client = [...bone.position.toArray(), ...bone.quaternion.toArray()];
+      return Math.max(...[...t, ...r].map((v, i) => Math.abs(v - client[i])));
+    }, section);
+    assert.ok(difference < 1e-6, `the page's boom pose differs from the engine's by ${difference}`);
+    console.log(`joints: ${await page.locator("#joints input").count()} sliders; boom at 45° as the engine poses it (within ${difference.toExponential(1)})`);
+    assert.deepEqual(problems, [], "errors in the page's console (visual debugging)");
+  } finally {
+    await page.close();
+    child.kill();
+    rmSync(folder, { recursive: true, force: true });
+  }
+}
+
 const { child, url } = await startStudio();
 const browser = await chromium.launch({
   executablePath: browserPath,
@@ -308,6 +452,7 @@ try {
   await page.screenshot({ path: join(output, "studio-office.png") });
 
   await kinds(context);
+  await visualDebugging(context);
 
   assert.deepEqual(problems, [], "errors in the page's console");
   console.log(`studio browser test: ok (screenshots in ${output})`);
