@@ -13,7 +13,7 @@ import {
 import { TreeIndex, TreeView } from "./tree.js";
 
 /** The highlight's colour: a magenta no example grammar uses, so tests can count it. */
-export const HIGHLIGHT = 0xff22cc;
+const HIGHLIGHT = 0xff22cc;
 const SCOPE_COLOR = 0x1060ff;
 const JOINT_COLOR = 0xff7a00;
 
@@ -155,13 +155,11 @@ export class Debugger {
       inside[at] = 1;
       for (const child of index.childrenOf(at)) stack.push(child);
     }
-    let triangles = 0;
     for (const mesh of this.meshes) {
       const nodes = mesh.userData.nodes;
       const picked = [];
       for (let t = 0; t < nodes.length; t++) if (nodes[t] >= 0 && inside[nodes[t]]) picked.push(t);
       if (!picked.length) continue;
-      triangles += picked.length;
       const source = mesh.geometry;
       const geometry = new BufferGeometry();
       for (const name of COPIED) {
@@ -191,7 +189,6 @@ export class Debugger {
       overlay.renderOrder = 5;
       this.overlays.push(overlay);
     }
-    this.highlighted = triangles;
   }
 
   clearHighlight() {
@@ -200,7 +197,6 @@ export class Debugger {
       overlay.geometry.dispose();
     }
     this.overlays = [];
-    this.highlighted = 0;
   }
 
   /** The node's scope box at its birth (rest pose): a rectangle for a flat scope. */

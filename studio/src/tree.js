@@ -39,12 +39,6 @@ export class TreeIndex {
     for (let at = node; at >= 0; at = this.tree.parent[at]) chain.push(at);
     return chain;
   }
-
-  /** Whether `node` lies in the subtree of `root`. */
-  within(node, root) {
-    for (let at = node; at >= 0; at = this.tree.parent[at]) if (at === root) return true;
-    return false;
-  }
 }
 
 export class TreeView {
