@@ -8,6 +8,7 @@
 //! A derivation is deterministic: the same program, initial shapes, seed and attribute values give
 //! the same leaves, in the same order, whatever the number of threads (see [`rng`]).
 
+mod annotations;
 mod builtins;
 mod context;
 mod engine;
@@ -31,10 +32,12 @@ pub mod texturing;
 mod trim;
 mod value;
 
+pub use annotations::{AttrAnnotations, AttrRange, Unit, attr_annotations};
 pub use builtins::{functions, queries};
 pub use engine::{
-    ASSET_VARIANTS, Asset, AssetLoader, Derivation, DeriveControl, DeriveOptions, InitialShape,
-    Leaf, LeafFaces, Rederivation, Stats, Trace, TreeNode, derive, derive_again,
+    ASSET_VARIANTS, Asset, AssetLoader, AttrValue, Derivation, DeriveControl, DeriveOptions,
+    InitialShape, Leaf, LeafFaces, Rederivation, Stats, Trace, TreeNode, attr_values, derive,
+    derive_again,
 };
 pub use error::DeriveError;
 pub use goals::{GoalQuery, LeafSemantics};

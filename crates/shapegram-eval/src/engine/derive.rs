@@ -49,23 +49,7 @@ pub(super) fn run(
             "implicit cell size {cell}: expected a finite number above 0"
         )));
     }
-    let overrides = options
-        .attrs
-        .iter()
-        .map(|(name, value)| {
-            program
-                .attr(name)
-                .map(|i| (i, value.clone()))
-                .ok_or_else(|| {
-                    let mut e =
-                        DeriveError::general(format!("the grammar has no attribute `{name}`"));
-                    if let Some(close) = shapegram_syntax::suggest(name, program.attr_names()) {
-                        e = e.with_hint(format!("did you mean `{close}`?"));
-                    }
-                    e
-                })
-        })
-        .collect::<Result<Vec<_>, _>>()?;
+    let overrides = overrides(program, options)?;
     let names: Vec<Arc<str>> = program
         .symbols
         .iter()
@@ -340,6 +324,31 @@ pub(super) fn rule_counts(program: &Program, counts: &[usize]) -> Vec<(String, u
         .iter()
         .zip(counts)
         .map(|(r, &n)| (program.symbol_name(r.symbol).to_owned(), n))
+        .collect()
+}
+
+/// The attribute overrides of `options` as attribute indices; a name the program does not
+/// declare is an error (with the closest name as a hint).
+pub(super) fn overrides(
+    program: &Program,
+    options: &DeriveOptions,
+) -> Result<Vec<(u32, Value)>, DeriveError> {
+    options
+        .attrs
+        .iter()
+        .map(|(name, value)| {
+            program
+                .attr(name)
+                .map(|i| (i, value.clone()))
+                .ok_or_else(|| {
+                    let mut e =
+                        DeriveError::general(format!("the grammar has no attribute `{name}`"));
+                    if let Some(close) = shapegram_syntax::suggest(name, program.attr_names()) {
+                        e = e.with_hint(format!("did you mean `{close}`?"));
+                    }
+                    e
+                })
+        })
         .collect()
 }
 

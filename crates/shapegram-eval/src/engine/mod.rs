@@ -21,6 +21,7 @@
 //! Operations are compiled from calls in [`crate::ops`]: a new one gets its `Op` there, an arm
 //! in `Engine::op` and its work in its family's file.
 
+mod attr_values;
 mod attributes;
 mod comp;
 mod context;
@@ -55,6 +56,7 @@ use crate::shape::Geometry;
 use crate::texturing::{COLORMAP, Texturing};
 use crate::value::Value;
 
+pub use attr_values::{AttrValue, attr_values};
 pub use control::DeriveControl;
 pub use derive::derive;
 pub use insert::{ASSET_VARIANTS, Asset, AssetLoader};
