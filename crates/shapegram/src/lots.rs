@@ -51,35 +51,68 @@ pub fn default_lot() -> InitialShape {
 /// Lots from an .obj (every face) or a .geojson/.json file (every polygon).
 fn read_file(path: &Path) -> Result<(Vec<InitialShape>, Vec<String>), Failure> {
     let name = path.display().to_string();
-    let extension = path
-        .extension()
-        .and_then(|e| e.to_str())
-        .map(str::to_ascii_lowercase);
-    let (lots, warnings) = match extension.as_deref() {
-        Some("obj") => from_obj(path, &name)?,
-        Some("geojson" | "json") => {
+    let (lots, warnings) = match kind(&name) {
+        Some(LotFile::Obj) => from_obj(&shapegram_export::load(path)?, &name),
+        Some(LotFile::GeoJson) => {
             let text = std::fs::read_to_string(path)
                 .map_err(|e| Failure::new(format!("cannot read {name}: {e}")))?;
             from_geojson(&text, &name).map_err(Failure::new)?
         }
-        _ => {
-            return Err(Failure::new(format!(
-                "cannot read lots from {name}: expected an .obj, .geojson or .json file"
-            )));
-        }
+        None => return Err(Failure::new(not_a_lot_file(&name))),
     };
     if lots.is_empty() {
-        return Err(Failure::new(format!(
-            "{name} has no polygons to use as lots"
-        )));
+        return Err(Failure::new(no_polygons(&name)));
     }
     Ok((lots, warnings))
 }
 
+/// Lots from the text of a file named `name` (its extension tells OBJ from GeoJSON), read as
+/// `--lots` reads a file: the studio's uploaded lots. The error is one line naming the file.
+pub fn from_text(name: &str, text: &str) -> Result<(Vec<InitialShape>, Vec<String>), String> {
+    let (lots, warnings) = match kind(name) {
+        Some(LotFile::Obj) => {
+            let model = shapegram_export::read_obj(text)
+                .map_err(|e| format!("cannot read lots from {name}: {e}"))?;
+            from_obj(&model, name)
+        }
+        Some(LotFile::GeoJson) => from_geojson(text, name)?,
+        None => return Err(not_a_lot_file(name)),
+    };
+    if lots.is_empty() {
+        return Err(no_polygons(name));
+    }
+    Ok((lots, warnings))
+}
+
+/// The kinds of file lots are read from.
+enum LotFile {
+    Obj,
+    GeoJson,
+}
+
+fn kind(name: &str) -> Option<LotFile> {
+    let extension = Path::new(name)
+        .extension()
+        .and_then(|e| e.to_str())
+        .map(str::to_ascii_lowercase);
+    match extension.as_deref() {
+        Some("obj") => Some(LotFile::Obj),
+        Some("geojson" | "json") => Some(LotFile::GeoJson),
+        _ => None,
+    }
+}
+
+fn not_a_lot_file(name: &str) -> String {
+    format!("cannot read lots from {name}: expected an .obj, .geojson or .json file")
+}
+
+fn no_polygons(name: &str) -> String {
+    format!("{name} has no polygons to use as lots")
+}
+
 /// Every face of an OBJ file is a lot, in world coordinates; faces whose normal points down are
 /// turned over so that every lot faces up (or sideways, for vertical faces).
-fn from_obj(path: &Path, name: &str) -> Result<(Vec<InitialShape>, Vec<String>), Failure> {
-    let model = shapegram_export::load(path)?;
+fn from_obj(model: &shapegram_geom::Model, name: &str) -> (Vec<InitialShape>, Vec<String>) {
     let mut lots = Vec::new();
     let mut flat = 0;
     for part in &model.parts {
@@ -100,7 +133,7 @@ fn from_obj(path: &Path, name: &str) -> Result<(Vec<InitialShape>, Vec<String>),
         .then(|| format!("{name}: skipped {} without area", faces(flat)))
         .into_iter()
         .collect();
-    Ok((lots, warnings))
+    (lots, warnings)
 }
 
 fn faces(n: usize) -> String {

@@ -18,6 +18,7 @@ mod resolve;
 mod serve;
 mod studio;
 mod studio_kinds;
+mod studio_settings;
 mod studio_tree;
 mod topo;
 

@@ -15,7 +15,7 @@ use shapegram_server::studio::{DeriveJob, Derived, Engine, StudioDiagnostic, Stu
 use shapegram_syntax::{Diagnostic, Severity, SourceFile};
 
 use crate::derive::millis;
-use crate::{Failure, grammar, lots, studio_kinds, studio_tree};
+use crate::{Failure, grammar, studio_kinds, studio_settings, studio_tree};
 
 /// Arguments of `shapegram studio`.
 #[derive(Debug, Args)]
@@ -83,10 +83,11 @@ impl Engine for CliEngine {
     }
 }
 
-/// Compiles and derives the job's text as its file on the default lot, then writes the GLB
-/// (and the derivation tree, when asked for).
+/// Compiles and derives the job's text as its file, with its seed, attribute values and lot,
+/// then writes the GLB (and the derivation tree, when asked for) or the files of its export
+/// format.
 fn derive_grammar(job: &DeriveJob) -> Derived {
-    let (path, text, time_budget) = (&job.path, &job.text, job.time_budget);
+    let (path, text) = (job.path.as_path(), job.text.as_str());
     let started = Instant::now();
     let source = SourceFile::new(path.display().to_string(), text.to_owned());
     let (compiled, diagnostics) = grammar::compile_silently(&source, false, None);
@@ -104,18 +105,44 @@ fn derive_grammar(job: &DeriveJob) -> Derived {
             return derived;
         }
     };
+    let (lots, lot_notes) = match studio_settings::lots(job.lot.as_ref()) {
+        Ok(found) => found,
+        Err(message) => {
+            derived.error = Some(message);
+            return derived;
+        }
+    };
+    derived.notes = lot_notes;
+    derived.lots = lots.len();
     let folder = path.parent().unwrap_or(Path::new("")).to_path_buf();
-    let options = DeriveOptions {
-        time_budget: Some(time_budget),
+    let mut options = DeriveOptions {
+        seed: job.seed,
+        time_budget: Some(job.time_budget),
         assets: Some(Arc::new(shapegram_load::FileAssets::new(
             folder,
             shapegram_load::MissingAssets::Error,
         ))),
-        keep_tree: job.tree,
+        keep_tree: job.tree && job.export.is_none(),
         generations: job.generations,
+        control: Some(job.control.clone()),
         ..DeriveOptions::default()
     };
-    let derivation = match shapegram_eval::derive(&program, &[lots::default_lot()], &options) {
+    options.attrs = match studio_settings::defaults(&program, &lots[0], &options) {
+        Some(types) => {
+            let (kept, dropped, notes) = studio_settings::overrides(&job.attrs, &types);
+            derived.dropped = dropped;
+            derived.notes.extend(notes);
+            kept
+        }
+        None => job
+            .attrs
+            .iter()
+            .filter(|(name, _)| program.attr(name).is_some())
+            .filter_map(|(name, value)| Some((name.clone(), studio_settings::from_json(value)?)))
+            .collect(),
+    };
+    derived.attrs = studio_settings::panel(&compiled.grammar, &program, &lots[0], &options);
+    let derivation = match shapegram_eval::derive(&program, &lots, &options) {
         Ok(derivation) => derivation,
         Err(e) => {
             derived.derive_ms = millis(started.elapsed());
@@ -139,7 +166,8 @@ fn derive_grammar(job: &DeriveJob) -> Derived {
     derived.leaves = derivation.stats.leaves;
     derived.prints = derivation.prints.clone();
     let exported = Instant::now();
-    let (mut model, faces) = if job.tree {
+    let tree = job.tree && job.export.is_none();
+    let (mut model, faces) = if tree {
         derivation.to_model_with_faces()
     } else {
         (derivation.to_model(), Vec::new())
@@ -150,11 +178,22 @@ fn derive_grammar(job: &DeriveJob) -> Derived {
         derived.error = Some(format!("pose: {e}"));
         return derived;
     }
+    if let Some(format) = job.export {
+        let stem = path
+            .file_stem()
+            .map_or_else(|| "model".into(), |s| s.to_string_lossy());
+        match studio_settings::export(&model, format, &stem) {
+            Ok(files) => derived.files = files,
+            Err(e) => derived.error = Some(e),
+        }
+        derived.export_ms = millis(exported.elapsed());
+        return derived;
+    }
     let mut glb = Vec::new();
     match shapegram_export::write_glb_with_layout(&model, &ExportOptions::default(), &mut glb) {
         Ok(layout) => {
             derived.glb = Some(glb);
-            if job.tree {
+            if tree {
                 derived.tree = Some(studio_tree::tree(
                     &derivation,
                     &program,

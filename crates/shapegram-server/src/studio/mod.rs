@@ -31,7 +31,9 @@ use axum::routing::{get, post};
 
 use crate::error::ApiError;
 
-pub use derive::{DeriveJob, Derived, Engine, StudioDiagnostic};
+pub use derive::{
+    DeriveJob, Derived, Engine, ExportFormat, LotRequest, StudioAttr, StudioDiagnostic,
+};
 pub use files::Folders;
 pub use tree::{DerivationTree, PrimitiveNodes, RuleInfo, RulePlace};
 
@@ -75,6 +77,7 @@ pub fn router(state: StudioState) -> Router {
         .route("/api/file", get(files::read).put(files::save))
         .route("/api/derive", post(derive::derive))
         .route("/api/vocabulary", get(vocabulary::vocabulary))
+        .route("/api/export", post(derive::export))
         .fallback(|| async { ApiError::not_found() })
         .method_not_allowed_fallback(|| async {
             ApiError::new(StatusCode::METHOD_NOT_ALLOWED, "method not allowed")
