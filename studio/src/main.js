@@ -11,6 +11,9 @@ import { completionFor, loadVocabulary } from "./complete.js";
 import { Drawing } from "./drawing.js";
 import { Preview } from "./preview.js";
 import { Debugger } from "./debug.js";
+import { AttrsPanel } from "./attrs.js";
+import { LotEditor } from "./lot.js";
+import * as exports from "./exports.js";
 
 /** How long typing must pause before the text is derived. */
 const DEBOUNCE_MS = 40;
@@ -39,6 +42,8 @@ let savedText = "";
 let lastGlb = null;
 let timer = null;
 let drawnRev = -1;
+/** The request whose model is shown: what the exports derive. */
+let shownRequest = null;
 
 const preview = new Preview($("canvas"));
 const drawing = new Drawing($("drawing"));
@@ -64,6 +69,10 @@ const debug = new Debugger(preview, {
   },
 });
 studio.debug = debug;
+const attrs = new AttrsPanel($("side"), changed);
+const lot = new LotEditor($("side"), preview, changed);
+studio.attrs = attrs;
+studio.lot = lot;
 
 const view = new EditorView({
   parent: $("editor"),
@@ -145,6 +154,7 @@ async function open(file) {
   fileSelect.value = file;
   preview.reset();
   debug.reset();
+  attrs.reset();
   view.setState(EditorState.create({ doc: json.text, extensions: editorExtensions() }));
   savedText = view.state.doc.toString();
   studio.rev += 1;
@@ -159,9 +169,11 @@ async function derive() {
   const timing = studio.timings[rev] || (studio.timings[rev] = {});
   timing.sent = performance.now();
   const generations = debug.generations();
+  const request = { path, text, tree: true, generations, ...attrs.settings() };
+  if (lot.request()) request.lot = lot.request();
   let answer;
   try {
-    answer = await api("POST", "/api/derive", { path, text, tree: true, generations });
+    answer = await api("POST", "/api/derive", request);
   } catch (e) {
     return setStatus(`cannot reach the studio: ${e.message}`, true);
   }
@@ -173,6 +185,12 @@ async function derive() {
   if (status !== 200) return setStatus(json.error, true);
   drawnRev = rev;
   showDiagnostics(json.diagnostics);
+  attrs.show(json.attrs, json.dropped);
+  $("notes").replaceChildren(...json.notes.map((note) => {
+    const item = document.createElement("li");
+    item.textContent = note;
+    return item;
+  }));
   const errors = json.diagnostics.filter((d) => d.severity === "error" && !d.file).length;
   if (json.ok) {
     if (json.svg) {
@@ -186,10 +204,12 @@ async function derive() {
       lastGlb = Uint8Array.from(atob(json.glb), (c) => c.charCodeAt(0));
       await preview.show(lastGlb.buffer, (gltf) => debug.load(json.tree, gltf, generations));
     }
+    shownRequest = request;
     studio.shapes = json.shapes;
     studio.leaves = json.leaves;
     const warnings = json.diagnostics.length ? ` · ${json.diagnostics.length} warnings` : "";
-    const made = json.summary || `${json.shapes} shapes · ${json.leaves} leaves`;
+    const lots = json.lots > 1 ? ` · ${json.lots} lots` : "";
+    const made = json.summary || `${json.shapes} shapes · ${json.leaves} leaves${lots}`;
     setStatus(`derived in ${json.derive_ms.toFixed(1)} ms · ${made}${warnings}`);
   } else if (json.error) {
     setStatus(json.error, true);
@@ -249,18 +269,27 @@ async function save() {
 
 function download() {
   if (!lastGlb) return setStatus("no model to download yet", true);
-  const url = URL.createObjectURL(new Blob([lastGlb], { type: "model/gltf-binary" }));
-  const link = document.createElement("a");
-  link.href = url;
-  link.download = `${(path || "model").split(/[\\/]/).pop().replace(/\.[^.]*$/, "")}.glb`;
-  document.body.append(link);
-  link.click();
-  link.remove();
-  setTimeout(() => URL.revokeObjectURL(url), 1000);
+  exports.save(lastGlb, `${stem()}.glb`, "model/gltf-binary");
+}
+
+/** The edited file's name without its extension. */
+function stem() {
+  return (path || "model").split(/[\\/]/).pop().replace(/\.[^.]*$/, "");
+}
+
+async function downloadAs(format) {
+  if (!shownRequest) return setStatus("no model to download yet", true);
+  try {
+    await exports.download(shownRequest, format);
+  } catch (e) {
+    setStatus(`not exported: ${e.message}`, true);
+  }
 }
 
 $("save").addEventListener("click", save);
 $("download").addEventListener("click", download);
+$("download-obj").addEventListener("click", () => downloadAs("obj"));
+$("download-stl").addEventListener("click", () => downloadAs("stl"));
 fileSelect.addEventListener("change", () => open(fileSelect.value));
 window.addEventListener("beforeunload", (event) => {
   if (path !== null && view.state.doc.toString() !== savedText) event.preventDefault();

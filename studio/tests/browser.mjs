@@ -346,6 +346,167 @@ async function visualDebugging(context) {
   }
 }
 
+/** A grammar with annotated attributes and a random colour per brick, for the panel's steps. */
+const TOWER = `@Group("Mass", 1) @Order(2) @Range(min=5, max=40, stepsize=1)
+@Description("Height in metres")
+attr height = 12
+@Group("Mass", 1) @Order(1) @Enum("flat", "hip")
+attr roof = "flat"
+@Color
+attr wall = "#c0b090"
+@Hidden
+attr secret = 1
+attr lit = true
+
+@StartRule
+Lot --> extrude(height) Mass
+Mass --> comp(f) { top : Top | bottom : NIL | side : Wall }
+Top --> case roof == "hip" : roofHip(30) color("#8b3a2f") Roof. else : color(wall) Roof.
+Wall --> split(y) { ~2 : Course }*
+Course --> split(x) { ~2 : Brick }*
+Brick --> 50% : color("#b03020") X. else : color("#2040b0") X.
+`;
+
+/** Triangles and vertices of a GLB (indexed triangle primitives), an OBJ (faces fanned) and
+ * a binary STL. */
+function glbCounts(glb) {
+  const length = glb.readUInt32LE(12);
+  const json = JSON.parse(glb.subarray(20, 20 + length).toString("utf8"));
+  let triangles = 0;
+  let vertices = 0;
+  for (const mesh of json.meshes) {
+    for (const primitive of mesh.primitives) {
+      if ((primitive.mode ?? 4) !== 4) continue;
+      triangles += json.accessors[primitive.indices].count / 3;
+      vertices += json.accessors[primitive.attributes.POSITION].count;
+    }
+  }
+  return { triangles, vertices };
+}
+
+function objCounts(text) {
+  let triangles = 0;
+  let vertices = 0;
+  for (const line of text.split("\n")) {
+    if (line.startsWith("v ")) vertices += 1;
+    if (line.startsWith("f ")) triangles += line.trim().split(/\s+/).length - 3;
+  }
+  return { triangles, vertices };
+}
+
+function stlCounts(stl) {
+  const triangles = stl.readUInt32LE(80);
+  assert.equal(stl.length, 84 + 50 * triangles, "the STL's length matches its triangle count");
+  return { triangles, vertices: 3 * triangles };
+}
+
+/** Downloads what clicking `button` saves: by file name, the bytes. */
+async function downloads(page, button, count) {
+  const files = {};
+  const arrived = new Promise((resolvePromise) => {
+    page.on("download", async function listener(download) {
+      files[download.suggestedFilename()] = readFileSync(await download.path());
+      if (Object.keys(files).length === count) {
+        page.off("download", listener);
+        resolvePromise();
+      }
+    });
+  });
+  await page.click(button);
+  await arrived;
+  return files;
+}
+
+/** The attributes panel, the seed, a drawn lot and the exports, on a grammar of their own. */
+async function attributesLotsAndExports(context, problems) {
+  writeFileSync(join(folder, "tower.cga"), TOWER);
+  const page = await context.newPage();
+  page.on("pageerror", (e) => problems.push(e.message));
+  page.on("console", (m) => m.type() === "error" && problems.push(m.text()));
+  await page.goto(url);
+  await settled(page);
+  await page.selectOption("#file", join(folder, "tower.cga"));
+  await page.waitForFunction(() => window.__studio.view.state.doc.toString().includes("attr height"));
+  const plain = counts(await settled(page));
+
+  // The panel: a slider with its number, a select, a colour picker, a checkbox; the hidden
+  // attribute left out; the group's heading.
+  const slider = page.locator('#attrs-list input[type=range][data-attr="height"]');
+  assert.equal(await slider.getAttribute("min"), "5");
+  assert.equal(await slider.getAttribute("max"), "40");
+  assert.equal(await slider.getAttribute("step"), "1");
+  assert.equal(await page.locator('#attrs-list select[data-attr="roof"]').inputValue(), "0");
+  assert.equal(await page.locator('#attrs-list input[type=color][data-attr="wall"]').inputValue(), "#c0b090");
+  assert.equal(await page.locator('#attrs-list input[type=checkbox][data-attr="lit"]').isChecked(), true);
+  assert.equal(await page.locator('#attrs-list [data-attr="secret"]').count(), 0, "a @Hidden attribute is shown");
+  assert.deepEqual(await page.locator("#attrs-list h3").allTextContents(), ["Mass"]);
+  // @Order: roof (1) before height (2) in the group.
+  assert.deepEqual(
+    await page.locator("#attrs-list [data-attr]").evaluateAll((list) => list.map((e) => e.dataset.attr)),
+    ["wall", "lit", "roof", "height"],
+  );
+  const before = await canvasPixels(page);
+
+  // Moving the slider derives the taller tower: another picture, the number beside it follows.
+  await slider.fill("30");
+  const taller = counts(await settled(page));
+  assert.equal(await page.evaluate(() => window.__studio.attrs.values.height), 30);
+  assert.equal(await page.locator("#attrs-list input.number").first().inputValue(), "30");
+  assert.ok(taller.shapes > plain.shapes, `height 30: ${JSON.stringify(taller)} against ${JSON.stringify(plain)}`);
+  const tallerPixels = await canvasPixels(page);
+  assert.ok(thumbnailDifference(before, tallerPixels) > 1, "the canvas did not change with the slider");
+  await page.screenshot({ path: join(output, "studio-attributes.png") });
+  console.log(`attribute slider: height 12 → 30, ${plain.shapes} → ${taller.shapes} shapes`);
+
+  // Another seed: other brick colours, the same counts.
+  await page.fill("#seed", "1");
+  await page.locator("#seed").dispatchEvent("change");
+  const seeded = counts(await settled(page));
+  assert.equal(seeded.shapes, taller.shapes);
+  const seededPixels = await canvasPixels(page);
+  assert.ok(thumbnailDifference(tallerPixels, seededPixels) > 0.5, "the canvas did not change with the seed");
+  await page.click("#new-seed");
+  await settled(page);
+  const newSeed = await page.locator("#seed").inputValue();
+  assert.notEqual(newSeed, "1");
+  assert.equal(await page.evaluate(() => window.__studio.attrs.seed), Number(newSeed));
+
+  // A polygon drawn on the ground: four corners, closed by clicking the first again.
+  await page.selectOption("#lot-mode", "draw");
+  const box = await page.locator("#canvas").boundingBox();
+  const corners = [[-4, -4], [14, -4], [14, 6], [-4, 6]];
+  for (const corner of [...corners, corners[0]]) {
+    const at = await page.evaluate((c) => window.__studio.lot.onScreen(c), corner);
+    await page.mouse.click(box.x + at.x, box.y + at.y);
+  }
+  const drawn = counts(await settled(page));
+  const lot = await page.evaluate(() => window.__studio.lot.request());
+  assert.equal(lot.kind, "polygon");
+  assert.equal(lot.points.length, 4);
+  for (const [i, [x, z]] of lot.points.entries()) {
+    assert.ok(Math.abs(x - corners[i][0]) < 0.2 && Math.abs(z - corners[i][1]) < 0.2, `corner ${i}: ${x},${z}`);
+  }
+  assert.notEqual(drawn.shapes, seeded.shapes, "the drawn lot gives another model");
+  await page.screenshot({ path: join(output, "studio-lot.png") });
+  console.log(`drawn lot ${JSON.stringify(lot.points)}: ${drawn.shapes} shapes`);
+
+  // Downloads of what is shown: GLB, OBJ with its MTL, STL, with the same triangles.
+  const glb = (await downloads(page, "#download", 1))["tower.glb"];
+  const obj = await downloads(page, "#download-obj", 2);
+  const stl = (await downloads(page, "#download-stl", 1))["tower.stl"];
+  assert.match(obj["tower.obj"].toString("utf8"), /^mtllib tower\.mtl$/m);
+  assert.match(obj["tower.mtl"].toString("utf8"), /^newmtl /m);
+  const fromGlb = glbCounts(glb);
+  const fromObj = objCounts(obj["tower.obj"].toString("utf8"));
+  const fromStl = stlCounts(stl);
+  assert.ok(fromGlb.triangles > 0);
+  assert.equal(fromObj.triangles, fromGlb.triangles, "OBJ and GLB triangles");
+  assert.equal(fromStl.triangles, fromGlb.triangles, "STL and GLB triangles");
+  assert.ok(fromObj.vertices <= fromGlb.vertices, `OBJ ${fromObj.vertices} and GLB ${fromGlb.vertices} vertices`);
+  console.log(`downloads: GLB ${JSON.stringify(fromGlb)}, OBJ ${JSON.stringify(fromObj)}, STL ${JSON.stringify(fromStl)}`);
+  await page.close();
+}
+
 const { child, url } = await startStudio();
 const browser = await chromium.launch({
   executablePath: browserPath,
@@ -453,6 +614,7 @@ try {
 
   await kinds(context);
   await visualDebugging(context);
+  await attributesLotsAndExports(context, problems);
 
   assert.deepEqual(problems, [], "errors in the page's console");
   console.log(`studio browser test: ok (screenshots in ${output})`);

@@ -5,7 +5,7 @@
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 use std::sync::atomic::{AtomicUsize, Ordering};
-use std::time::Duration;
+use std::time::{Duration, Instant};
 
 use axum::Router;
 use axum::body::Body;
@@ -19,7 +19,8 @@ const PORT: u16 = 7370;
 const ORIGIN: &str = "http://127.0.0.1:7370";
 
 /// An engine whose model is the text's length in shapes, after a pause as long as the text
-/// asks (`sleep 300`), counting its derivations.
+/// asks (`sleep 300`), or until it is cancelled (`spin`, at most 10 s), counting its
+/// derivations.
 #[derive(Default)]
 struct Counting {
     runs: AtomicUsize,
@@ -30,6 +31,16 @@ impl Engine for Counting {
         self.runs.fetch_add(1, Ordering::SeqCst);
         if let Some(ms) = job.text.strip_prefix("sleep ") {
             std::thread::sleep(Duration::from_millis(ms.trim().parse().unwrap()));
+        }
+        if job.text == "spin" {
+            let started = Instant::now();
+            while !job.control.is_cancelled() && started.elapsed() < Duration::from_secs(10) {
+                std::thread::sleep(Duration::from_millis(1));
+            }
+            return Derived {
+                error: Some("the derivation was cancelled".to_owned()),
+                ..Derived::default()
+            };
         }
         Derived {
             glb: Some(b"glTF".to_vec()),
@@ -387,6 +398,87 @@ async fn a_derivation_waiting_behind_a_newer_one_is_dropped_unrun() {
     );
     // The second never ran.
     assert_eq!(studio.engine.runs.load(Ordering::SeqCst), 2);
+}
+
+#[tokio::test]
+async fn a_newer_request_cancels_the_running_derivation_which_is_answered_409_at_once() {
+    let studio = Arc::new(Studio::new());
+    let house = studio.path("house.cga");
+    let request = |text: &str| {
+        let studio = studio.clone();
+        let body = json!({"path": house, "text": text});
+        async move {
+            let started = Instant::now();
+            let answer = studio.write("POST", "/api/derive", body).await;
+            (answer, started.elapsed())
+        }
+    };
+    let first = tokio::spawn(request("spin"));
+    tokio::time::sleep(Duration::from_millis(100)).await;
+    let ((status, answer), second_time) = request("Lot --> X.").await;
+    assert_eq!(status, StatusCode::OK, "{answer}");
+    let ((status, answer), first_time) = first.await.unwrap();
+    assert_eq!(status, StatusCode::CONFLICT, "{answer}");
+    assert_eq!(
+        answer["error"],
+        "derivation 1 of this file was superseded by a newer one"
+    );
+    // Without the cancel, the first would have spun for 10 s and the second waited for it.
+    assert!(first_time < Duration::from_secs(5), "{first_time:?}");
+    assert!(second_time < Duration::from_secs(5), "{second_time:?}");
+    assert_eq!(studio.engine.runs.load(Ordering::SeqCst), 2);
+}
+
+#[tokio::test]
+async fn bad_lots_seeds_and_formats_are_refused() {
+    let studio = Studio::new();
+    let house = studio.path("house.cga");
+    for (body, error) in [
+        (
+            json!({"path": house, "text": "x", "lot": {"kind": "circle"}}),
+            "unknown variant `circle`",
+        ),
+        (
+            json!({"path": house, "text": "x", "seed": -1}),
+            "invalid value",
+        ),
+        (
+            json!({"path": house, "text": "x", "format": "stl"}),
+            "unknown field `format`",
+        ),
+    ] {
+        let (status, answer) = studio.write("POST", "/api/derive", body).await;
+        assert_eq!(status, StatusCode::BAD_REQUEST, "{answer}");
+        assert!(
+            answer["error"].as_str().unwrap().contains(error),
+            "{answer}"
+        );
+    }
+    let (status, answer) = studio
+        .write(
+            "POST",
+            "/api/export",
+            json!({"path": house, "text": "x", "format": "ply"}),
+        )
+        .await;
+    assert_eq!(status, StatusCode::BAD_REQUEST, "{answer}");
+    assert!(
+        answer["error"]
+            .as_str()
+            .unwrap()
+            .contains("unknown variant `ply`"),
+        "{answer}"
+    );
+    // The counting engine writes no export files: the export says there is no model.
+    let (status, answer) = studio
+        .write(
+            "POST",
+            "/api/export",
+            json!({"path": house, "text": "x", "format": "obj"}),
+        )
+        .await;
+    assert_eq!(status, StatusCode::UNPROCESSABLE_ENTITY, "{answer}");
+    assert_eq!(answer["error"], "the grammar gives no model to export");
 }
 
 #[tokio::test]
