@@ -5,9 +5,6 @@
 // values are kept by name and sent with every derivation; the server drops those that no longer
 // fit and says so, and the panel forgets them.
 
-/** How long a slider must rest before its value is derived (dragging sends few requests). */
-const SLIDER_MS = 30;
-
 export class AttrsPanel {
   /** `onChange` is called when a value or the seed changes. */
   constructor(root, onChange) {
@@ -16,7 +13,6 @@ export class AttrsPanel {
     /** The user's values by attribute name. */
     this.values = {};
     this.seed = 0;
-    this.timer = null;
     this.list = root.querySelector("#attrs-list");
     /** What the rows show apart from the values, and each row's update by name: a derivation
      * that leaves them as they are updates the values in place, so a slider being dragged is
@@ -116,8 +112,8 @@ export class AttrsPanel {
       input.addEventListener("input", () => {
         number.value = input.value;
         set(Number(input.value));
-        clearTimeout(this.timer);
-        this.timer = setTimeout(() => this.onChange(), SLIDER_MS);
+        // The page's debounce spaces the derivations of a drag.
+        this.onChange();
       });
       number.addEventListener("change", () => {
         let typed = Number(number.value);
