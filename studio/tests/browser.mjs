@@ -504,6 +504,35 @@ async function attributesLotsAndExports(context, problems) {
   assert.equal(fromStl.triangles, fromGlb.triangles, "STL and GLB triangles");
   assert.ok(fromObj.vertices <= fromGlb.vertices, `OBJ ${fromObj.vertices} and GLB ${fromGlb.vertices} vertices`);
   console.log(`downloads: GLB ${JSON.stringify(fromGlb)}, OBJ ${JSON.stringify(fromObj)}, STL ${JSON.stringify(fromStl)}`);
+
+  // Lots from a file the user picks: two GeoJSON polygons; a bad file is the status's error.
+  const geojson = JSON.stringify({ type: "FeatureCollection", features: [[0, 0], [30, 0]].map(([x, z]) => ({
+    type: "Feature",
+    geometry: { type: "Polygon", coordinates: [[[x, z], [x + 12, z], [x + 12, z + 9], [x, z + 9], [x, z]]] },
+  })) });
+  const pick = async (name, text) => {
+    await page.setInputFiles("#lot-file", { name, mimeType: "application/json", buffer: Buffer.from(text) });
+    // The page reads the file before it derives.
+    await page.waitForFunction((n) => window.__studio.lot.request()?.name === n, name);
+    return settled(page);
+  };
+  assert.match(await pick("bad.geojson", "{\"type\": \"Circle\"}"),
+    /^invalid GeoJSON in bad\.geojson: the top level has the unknown type "Circle"/);
+  assert.match(await pick("lots.geojson", geojson), / · 2 lots/);
+
+  // A value that no longer fits is dropped with a note, once: renaming the attribute.
+  await select(page, "attr height");
+  await page.keyboard.type("attr tall");
+  await select(page, "extrude(height)");
+  await page.keyboard.type("extrude(tall)");
+  const renamed = counts(await settled(page));
+  assert.ok(renamed.shapes > 0);
+  assert.deepEqual(await page.locator("#notes li").allTextContents(),
+    ["`height` is no longer an attribute of the grammar: its value was dropped"]);
+  assert.equal(await page.evaluate(() => "height" in window.__studio.attrs.values), false);
+  await page.locator('#attrs-list input[type=range][data-attr="tall"]').fill("20");
+  await settled(page);
+  assert.equal(await page.locator("#notes li").count(), 0, "the note stays after the next derivation");
   await page.close();
 }
 
