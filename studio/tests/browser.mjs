@@ -474,7 +474,8 @@ async function attributesLotsAndExports(context, problems) {
   // A polygon drawn on the ground: four corners, closed by clicking the first again.
   await page.selectOption("#lot-mode", "draw");
   const box = await page.locator("#canvas").boundingBox();
-  const corners = [[-4, -4], [14, -4], [14, 6], [-4, 6]];
+  // Within the preview, which shares the page with the editor and two panels.
+  const corners = [[-3, -3], [9, -3], [9, 6], [-3, 6]];
   for (const corner of [...corners, corners[0]]) {
     const at = await page.evaluate((c) => window.__studio.lot.onScreen(c), corner);
     await page.mouse.click(box.x + at.x, box.y + at.y);
