@@ -280,7 +280,9 @@ function stem() {
 async function downloadAs(format) {
   if (!shownRequest) return setStatus("no model to download yet", true);
   try {
-    await exports.download(shownRequest, format);
+    // The tree is the preview's alone; the export derives the same model without it.
+    const { tree: _, ...request } = shownRequest;
+    await exports.download(request, format);
   } catch (e) {
     setStatus(`not exported: ${e.message}`, true);
   }
