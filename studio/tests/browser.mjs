@@ -497,6 +497,7 @@ async function attributesLotsAndExports(context, problems) {
   const stl = (await downloads(page, "#download-stl", 1))["tower.stl"];
   assert.match(obj["tower.obj"].toString("utf8"), /^mtllib tower\.mtl$/m);
   assert.match(obj["tower.mtl"].toString("utf8"), /^newmtl /m);
+  writeFileSync(join(output, "studio-download-tower.glb"), glb);
   const fromGlb = glbCounts(glb);
   const fromObj = objCounts(obj["tower.obj"].toString("utf8"));
   const fromStl = stlCounts(stl);
@@ -624,6 +625,8 @@ try {
   assert.equal(glb.subarray(0, 4).toString("latin1"), "glTF");
   assert.equal(glb.readUInt32LE(4), 2);
   assert.equal(glb.readUInt32LE(8), glb.length);
+  // .ci/run validates it with the Khronos validator.
+  writeFileSync(join(output, "studio-download-house.glb"), glb);
   console.log(`downloaded house.glb: ${glb.length} bytes`);
 
   // Another grammar of the folder, from the list: office.cga with 12 floors, then other floor
