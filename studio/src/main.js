@@ -194,7 +194,7 @@ async function derive() {
   const errors = json.diagnostics.filter((d) => d.severity === "error" && !d.file).length;
   if (json.ok) {
     if (json.svg) {
-      // Download GLB has nothing to give for a drawing.
+      // A drawing's downloads are its model, which the server makes (see download()).
       lastGlb = null;
       studio.svg = await drawing.show(json.svg);
       debug.load(null, null, generations);
@@ -268,8 +268,9 @@ async function save() {
 }
 
 function download() {
-  if (!lastGlb) return setStatus("no model to download yet", true);
-  exports.save(lastGlb, `${stem()}.glb`, "model/gltf-binary");
+  if (lastGlb) return exports.save(lastGlb, `${stem()}.glb`, "model/gltf-binary");
+  // A 2D L-system is shown as its SVG: its GLB is the tube model `shapegram lsystem` writes.
+  downloadAs("glb");
 }
 
 /** The edited file's name without its extension. */

@@ -147,6 +147,14 @@ async function kinds(context) {
     assert.equal(natural, 800, "the SVG did not decode");
     await page.screenshot({ path: join(output, "studio-kinds-lsystem.png") });
     console.log(`koch-island.lsys: ${svg.polylines} polylines, ${svg.bytes} bytes of SVG`);
+    // Its downloads are the model `shapegram lsystem` writes for it: tubes along the strokes.
+    const drawnGlb = (await downloads(page, "#download", 1))["koch-island.glb"];
+    const drawnStl = (await downloads(page, "#download-stl", 1))["koch-island.stl"];
+    writeFileSync(join(output, "studio-download-koch-island.glb"), drawnGlb);
+    const tubes = glbCounts(drawnGlb).triangles;
+    assert.ok(tubes >= 2048 * 8, `the drawing's GLB has ${tubes} triangles`);
+    assert.equal(stlCounts(drawnStl).triangles, tubes, "the drawing's STL and GLB triangles");
+    console.log(`koch-island.lsys downloads: ${tubes} triangles in its GLB and STL`);
 
     // A topological grammar and a cave: models on the canvas, the drawing hidden.
     for (const name of ["topo_house.grammar", "grotto.cave"]) {

@@ -65,16 +65,15 @@ pub struct CliEngine;
 impl Engine for CliEngine {
     fn derive(&self, job: &DeriveJob) -> Derived {
         let extension = job.path.extension().and_then(|e| e.to_str()).unwrap_or("");
-        let name = job.path.display().to_string();
         match extension {
-            "lsys" => studio_kinds::lsystem(&job.text),
-            "cave" => studio_kinds::cave(&name, &job.text),
-            "grammar" => studio_kinds::topo(&name, &job.text),
-            "goal" => studio_kinds::goal(&job.path, &job.text, job.time_budget),
+            "lsys" => studio_kinds::lsystem(job),
+            "cave" => studio_kinds::cave(job),
+            "grammar" => studio_kinds::topo(job),
+            "goal" => studio_kinds::goal(job),
             _ => {
                 let source = SourceFile::new(job.path.display().to_string(), job.text.clone());
                 if grammar::is_goal_grammar(&source, None) {
-                    studio_kinds::goal(&job.path, &job.text, job.time_budget)
+                    studio_kinds::goal(job)
                 } else {
                     derive_grammar(job)
                 }
@@ -172,37 +171,25 @@ fn derive_grammar(job: &DeriveJob) -> Derived {
     } else {
         (derivation.to_model(), Vec::new())
     };
-    if let Some(pose) = &job.pose
-        && let Err(e) = crate::pose::apply_text(&pose.to_string(), &mut model)
-    {
-        derived.error = Some(format!("pose: {e}"));
+    if let Err(e) = studio_kinds::pose(&mut model, job) {
+        derived.error = Some(e);
         return derived;
     }
-    if let Some(format) = job.export {
-        let stem = path
-            .file_stem()
-            .map_or_else(|| "model".into(), |s| s.to_string_lossy());
-        match studio_settings::export(&model, format, &stem) {
-            Ok(files) => derived.files = files,
-            Err(e) => derived.error = Some(e),
-        }
-        derived.export_ms = millis(exported.elapsed());
-        return derived;
+    if !tree {
+        return studio_kinds::deliver(derived, &model, job, exported);
     }
     let mut glb = Vec::new();
     match shapegram_export::write_glb_with_layout(&model, &ExportOptions::default(), &mut glb) {
         Ok(layout) => {
             derived.glb = Some(glb);
-            if tree {
-                derived.tree = Some(studio_tree::tree(
-                    &derivation,
-                    &program,
-                    &compiled.grammar,
-                    &compiled.sources[0],
-                    (&model, &faces),
-                    layout,
-                ));
-            }
+            derived.tree = Some(studio_tree::tree(
+                &derivation,
+                &program,
+                &compiled.grammar,
+                &compiled.sources[0],
+                (&model, &faces),
+                layout,
+            ));
         }
         Err(e) => derived.error = Some(format!("cannot write the GLB: {e}")),
     }

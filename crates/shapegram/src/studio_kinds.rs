@@ -9,19 +9,19 @@
 
 use std::path::Path;
 use std::sync::Arc;
-use std::time::{Duration, Instant};
+use std::time::Instant;
 
 use shapegram_eval::{DeriveOptions, LibraryOptions};
 use shapegram_export::ExportOptions;
 use shapegram_geom::Model;
 use shapegram_implicit::CaveParams;
 use shapegram_runtime::{Derived as RuntimeDerived, Grammar, Kind, Settings};
-use shapegram_server::studio::{Derived, StudioDiagnostic};
+use shapegram_server::studio::{DeriveJob, Derived, StudioDiagnostic};
 use shapegram_syntax::SourceFile;
 
 use crate::derive::millis;
 use crate::studio::located;
-use crate::{counted, grammar};
+use crate::{counted, grammar, studio_settings};
 
 /// An error at `line:column` (1-based, columns in characters) of the file being edited.
 fn error_at(line: usize, column: usize, message: impl Into<String>) -> StudioDiagnostic {
@@ -56,21 +56,63 @@ fn failed_at(diagnostic: StudioDiagnostic, started: Instant) -> Derived {
     }
 }
 
-/// `model` as GLB into `derived`, timing the export.
-fn export(mut derived: Derived, model: &Model) -> Derived {
-    let exported = Instant::now();
-    let mut glb = Vec::new();
-    match shapegram_export::write_glb_to(model, &ExportOptions::default(), &mut glb) {
-        Ok(()) => derived.glb = Some(glb),
-        Err(e) => derived.error = Some(format!("cannot write the GLB: {e}")),
+/// Poses `model` as the job asks (`derive --pose`), keeping the error for the page.
+pub(crate) fn pose(model: &mut Model, job: &DeriveJob) -> Result<(), String> {
+    match &job.pose {
+        Some(pose) => {
+            crate::pose::apply_text(&pose.to_string(), model).map_err(|e| format!("pose: {e}"))
+        }
+        None => Ok(()),
+    }
+}
+
+/// `model` into `derived` as the job asks: the files of its export format, else the GLB; the
+/// time taken from `exported` on.
+pub(crate) fn deliver(
+    mut derived: Derived,
+    model: &Model,
+    job: &DeriveJob,
+    exported: Instant,
+) -> Derived {
+    match job.export {
+        Some(format) => {
+            let stem = job
+                .path
+                .file_stem()
+                .map_or_else(|| "model".into(), |s| s.to_string_lossy());
+            match studio_settings::export(model, format, &stem) {
+                Ok(files) => derived.files = files,
+                Err(e) => derived.error = Some(e),
+            }
+        }
+        None => {
+            let mut glb = Vec::new();
+            match shapegram_export::write_glb_to(model, &ExportOptions::default(), &mut glb) {
+                Ok(()) => derived.glb = Some(glb),
+                Err(e) => derived.error = Some(format!("cannot write the GLB: {e}")),
+            }
+        }
     }
     derived.export_ms = millis(exported.elapsed());
     derived
 }
 
+/// `model` posed and delivered as the job asks.
+fn finish(mut derived: Derived, mut model: Model, job: &DeriveJob) -> Derived {
+    let exported = Instant::now();
+    if let Err(e) = pose(&mut model, job) {
+        derived.error = Some(e);
+        return derived;
+    }
+    deliver(derived, &model, job, exported)
+}
+
 /// An L-system with its file's settings: a drawing that stays in the xy-plane is 2D and comes
-/// back as SVG, as `shapegram lsystem -o x.svg` writes it; any other as a tube model.
-pub fn lsystem(text: &str) -> Derived {
+/// back as SVG, as `shapegram lsystem -o x.svg` writes it; any other as a tube model, as
+/// `shapegram lsystem -o x.glb` makes it.
+/// Downloads (`job.export`) get that model too.
+pub fn lsystem(job: &DeriveJob) -> Derived {
+    let text = job.text.as_str();
     use shapegram_lsystem::{DeriveOptions, LSystem};
     let started = Instant::now();
     let at = |e: shapegram_lsystem::Error| match e.position {
@@ -112,7 +154,7 @@ pub fn lsystem(text: &str) -> Derived {
         .flat_map(|s| &s.points)
         .chain(drawing.polygons.iter().flat_map(|p| &p.points))
         .all(|p| p.z == 0.0);
-    if flat {
+    if flat && job.export.is_none() {
         derived.derive_ms = millis(started.elapsed());
         let exported = Instant::now();
         let svg = crate::lsystem::svg_drawing(&drawing, &system.settings);
@@ -127,7 +169,7 @@ pub fn lsystem(text: &str) -> Derived {
     );
     derived.derive_ms = millis(started.elapsed());
     match model {
-        Ok(model) => export(derived, &model),
+        Ok(model) => finish(derived, model, job),
         Err(e) => {
             let mut failure = at(e);
             failure.summary = derived.summary;
@@ -146,9 +188,10 @@ fn runtime_failure(error: shapegram_runtime::Error, started: Instant) -> Derived
 
 /// A `.cave` grammar grown with its own seed and meshed at its level of detail, smooth-shaded,
 /// as `shapegram cave FILE` does (through the runtime).
-pub fn cave(name: &str, text: &str) -> Derived {
+pub fn cave(job: &DeriveJob) -> Derived {
     let started = Instant::now();
-    let grammar = match Grammar::load(name, text, Some(Kind::Cave)) {
+    let grammar = match Grammar::load(&job.path.display().to_string(), &job.text, Some(Kind::Cave))
+    {
         Ok(grammar) => grammar,
         Err(e) => return runtime_failure(e, started),
     };
@@ -175,14 +218,15 @@ pub fn cave(name: &str, text: &str) -> Derived {
         derive_ms: millis(started.elapsed()),
         ..Derived::default()
     };
-    export(derived, &model)
+    finish(derived, model, job)
 }
 
 /// A topological `.grammar` from its first symbol, seed 0, 8 generations, as `shapegram topo
 /// FILE` runs it (through the runtime).
-pub fn topo(name: &str, text: &str) -> Derived {
+pub fn topo(job: &DeriveJob) -> Derived {
     let started = Instant::now();
-    let grammar = match Grammar::load(name, text, Some(Kind::Topo)) {
+    let grammar = match Grammar::load(&job.path.display().to_string(), &job.text, Some(Kind::Topo))
+    {
         Ok(grammar) => grammar,
         Err(e) => return runtime_failure(e, started),
     };
@@ -210,12 +254,13 @@ pub fn topo(name: &str, text: &str) -> Derived {
         derive_ms: millis(started.elapsed()),
         ..Derived::default()
     };
-    export(derived, &mesh.to_model())
+    finish(derived, mesh.to_model(), job)
 }
 
 /// A goal grammar with the goal grammars of its folder and its subfolders as its library, as
 /// `shapegram derive FILE --library FOLDER` derives it: from its axioms, no lot.
-pub fn goal(path: &Path, text: &str, time_budget: Duration) -> Derived {
+pub fn goal(job: &DeriveJob) -> Derived {
+    let (path, text) = (job.path.as_path(), job.text.as_str());
     let started = Instant::now();
     let folder = path.parent().unwrap_or(Path::new("")).to_path_buf();
     let source = SourceFile::new(path.display().to_string(), text.to_owned());
@@ -245,7 +290,10 @@ pub fn goal(path: &Path, text: &str, time_budget: Duration) -> Derived {
         }
     };
     let options = DeriveOptions {
-        time_budget: Some(time_budget),
+        seed: job.seed,
+        time_budget: Some(job.time_budget),
+        generations: job.generations,
+        control: Some(job.control.clone()),
         assets: Some(Arc::new(shapegram_load::FileAssets::new(
             folder,
             shapegram_load::MissingAssets::Error,
@@ -280,5 +328,5 @@ pub fn goal(path: &Path, text: &str, time_budget: Duration) -> Derived {
         derivation.stats.leaves,
         counted(library, "file", "files")
     ));
-    export(derived, &derivation.to_model())
+    finish(derived, derivation.to_model(), job)
 }

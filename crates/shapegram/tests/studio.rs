@@ -287,6 +287,71 @@ fn every_kind_derives_as_its_command_does() {
     );
 }
 
+/// Downloads of every kind are the files its command writes: OBJ (with its MTL) and STL of a 2D
+/// L-system (its tubes, not the SVG shown), a 3D one, a cave, a topological grammar and a goal
+/// grammar with its folder as library, byte for byte.
+#[test]
+fn every_kind_exports_what_its_command_writes() {
+    use base64::Engine as _;
+    let dir = TempDir::new("studio-kind-exports");
+    let copy = |name: &str| {
+        let path = dir.path(name);
+        std::fs::create_dir_all(path.parent().unwrap()).unwrap();
+        std::fs::copy(example(name), &path).unwrap();
+        std::fs::canonicalize(&path).unwrap()
+    };
+    let grammars = [
+        (copy("koch-island.lsys"), vec!["lsystem"]),
+        (copy("tree-3d.lsys"), vec!["lsystem"]),
+        (copy("grotto.cave"), vec!["cave"]),
+        (copy("topo_house.grammar"), vec!["topo"]),
+        (copy("chairs/chair.goal"), vec!["derive", "--library"]),
+    ];
+    for material in ["fabric", "metal", "wood"] {
+        copy(&format!("chairs/materials/{material}.goal"));
+    }
+    let studio = start(&[&grammars[0].0, &grammars[4].0]);
+    let cli = dir.path("cli");
+    std::fs::create_dir(&cli).unwrap();
+    for (path, command) in &grammars {
+        let stem = path.file_stem().unwrap().to_str().unwrap();
+        for (format, names) in [
+            ("stl", vec![format!("{stem}.stl")]),
+            ("obj", vec![format!("{stem}.obj"), format!("{stem}.mtl")]),
+        ] {
+            let written = cli.join(&names[0]);
+            let mut args = vec![command[0], "-q", path.to_str().unwrap()];
+            if command.len() > 1 {
+                args.extend([command[1], path.parent().unwrap().to_str().unwrap()]);
+            }
+            args.extend(["-o", written.to_str().unwrap()]);
+            shapegram(&args);
+            let text = std::fs::read_to_string(path).unwrap();
+            let (status, answer) = request(
+                &studio,
+                "POST",
+                "/api/export",
+                Some(json!({"path": path, "text": text, "format": format})),
+            );
+            assert_eq!(status, 200, "{stem}.{format}: {answer}");
+            let files = answer["files"].as_array().unwrap();
+            let got: Vec<&str> = files.iter().map(|f| f["name"].as_str().unwrap()).collect();
+            assert_eq!(got, names);
+            for f in files {
+                let bytes = base64::engine::general_purpose::STANDARD
+                    .decode(f["data"].as_str().unwrap())
+                    .unwrap();
+                let name = f["name"].as_str().unwrap();
+                assert!(
+                    bytes == std::fs::read(cli.join(name)).unwrap(),
+                    "{name} differs from `shapegram {}`",
+                    command[0]
+                );
+            }
+        }
+    }
+}
+
 /// Mistakes in every kind come back at their line and column, as the parsers report them.
 #[test]
 fn mistakes_in_every_kind_have_lines_and_columns() {
