@@ -326,9 +326,10 @@ sg_status sg_state_derive(sg_state *state);
 
 /**
  * Asks the derivation running on the handle (on another thread) to stop: it returns
- * `SG_CANCELLED` within about a millisecond. CGA-style and goal grammars only: L-systems,
- * caves and topological grammars run to their end. A cancel while no derivation runs has no
- * effect. May be called from any thread at any time before `sg_state_free`.
+ * `SG_CANCELLED` at its next check (CGA-style and goal grammars every 1,024 rule
+ * applications, L-systems before each step, caves before each meshing block, topological
+ * grammars before each generation). A cancel while no derivation runs has no effect. May be
+ * called from any thread at any time before `sg_state_free`.
  */
 sg_status sg_state_cancel(const sg_state *state);
 

@@ -506,9 +506,10 @@ pub extern "C" fn sg_state_derive(state: *mut sg_state) -> sg_status {
 }
 
 /// Asks the derivation running on the handle (on another thread) to stop: it returns
-/// `SG_CANCELLED` within about a millisecond. CGA-style and goal grammars only: L-systems,
-/// caves and topological grammars run to their end. A cancel while no derivation runs has no
-/// effect. May be called from any thread at any time before `sg_state_free`.
+/// `SG_CANCELLED` at its next check (CGA-style and goal grammars every 1,024 rule
+/// applications, L-systems before each step, caves before each meshing block, topological
+/// grammars before each generation). A cancel while no derivation runs has no effect. May be
+/// called from any thread at any time before `sg_state_free`.
 #[unsafe(no_mangle)]
 pub extern "C" fn sg_state_cancel(state: *const sg_state) -> sg_status {
     // SAFETY: a handle from `sg_state_new`, not freed yet (the header's contract).

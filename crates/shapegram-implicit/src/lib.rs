@@ -24,7 +24,7 @@ pub mod text;
 pub use bond::{Bond, Label};
 pub use cave::{Attach, Cave, CaveBuilder, CaveParams, Direction, Operation, generate, grow};
 pub use error::{ImplicitError, Result};
-pub use mesher::{Grid, MeshOptions, Meshing, mesh, mesh_with_progress};
+pub use mesher::{Grid, MeshOptions, Meshing, mesh, mesh_until, mesh_with_progress};
 pub use metrics::{Convexity, Metrics};
 pub use normals::{surface_normals, surface_normals_with_progress};
 pub use primitive::Primitive;

@@ -158,6 +158,17 @@ pub fn mesh_with_progress(
     options: &MeshOptions,
     progress: &(dyn Fn(usize, usize) + Sync),
 ) -> Result<Meshing> {
+    mesh_until(solid, options, progress, &|| false)
+}
+
+/// Like [`mesh_with_progress`], giving up with a "cancelled" error once `stop()` says so:
+/// it is asked before each block, so a host can cancel meshing from another thread.
+pub fn mesh_until(
+    solid: &Solid,
+    options: &MeshOptions,
+    progress: &(dyn Fn(usize, usize) + Sync),
+    stop: &(dyn Fn() -> bool + Sync),
+) -> Result<Meshing> {
     let h = positive("cell size", options.cell_size)?;
     if !(2..=32).contains(&options.block) {
         return Err(ImplicitError::new(format!(
@@ -202,12 +213,20 @@ pub fn mesh_with_progress(
     let triangles = AtomicUsize::new(0);
     let over_limit = AtomicBool::new(false);
     let late = AtomicBool::new(false);
+    let stopped = AtomicBool::new(false);
     let blocks: Vec<BlockMesh> = leaves
         .par_iter()
         .map_init(
             || (tape.workspace(capacity), Scratch::new(capacity)),
             |(ws, scratch), leaf| {
-                if over_limit.load(Ordering::Relaxed) || late.load(Ordering::Relaxed) {
+                if over_limit.load(Ordering::Relaxed)
+                    || late.load(Ordering::Relaxed)
+                    || stopped.load(Ordering::Relaxed)
+                {
+                    return BlockMesh::default();
+                }
+                if stop() {
+                    stopped.store(true, Ordering::Relaxed);
                     return BlockMesh::default();
                 }
                 if options.deadline.is_some_and(|d| Instant::now() > d) {
@@ -225,6 +244,9 @@ pub fn mesh_with_progress(
             },
         )
         .collect();
+    if stopped.load(Ordering::Relaxed) {
+        return Err(ImplicitError::new("meshing was cancelled"));
+    }
     if over_limit.load(Ordering::Relaxed) {
         return Err(ImplicitError::new(format!(
             "the mesh would have more than {} triangles: use larger cells (a lower level of detail)",

@@ -86,8 +86,20 @@ impl LSystem {
     pub fn derive_with_progress(
         &self,
         options: &DeriveOptions,
-        mut progress: impl FnMut(u32, usize),
+        progress: impl FnMut(u32, usize),
     ) -> Result<Word, Error> {
+        self.derive_until(options, progress, || false)
+    }
+
+    /// Like [`LSystem::derive_with_progress`], giving up with a "cancelled" error when `stop()`
+    /// says so before a step: a host cancels a long derivation from another thread this way.
+    pub fn derive_until(
+        &self,
+        options: &DeriveOptions,
+        mut progress: impl FnMut(u32, usize),
+        stop: impl Fn() -> bool,
+    ) -> Result<Word, Error> {
+        let cancelled = || Error::general("the derivation was cancelled");
         let iterations = options.iterations.unwrap_or(self.settings.iterations);
         if iterations > MAX_ITERATIONS {
             return Err(Error::general(format!(
@@ -106,6 +118,9 @@ impl LSystem {
         if self.is_d0l() {
             let (table, slab) = self.d0l_table();
             for step in 1..=iterations {
+                if stop() {
+                    return Err(cancelled());
+                }
                 step_d0l(&word, &mut next, &table, &slab, step, max)?;
                 std::mem::swap(&mut word, &mut next);
                 progress(step, word.len());
@@ -115,6 +130,9 @@ impl LSystem {
         let arities = self.arities();
         let mut scratch = Scratch::default();
         for step in 1..=iterations {
+            if stop() {
+                return Err(cancelled());
+            }
             let key = rng::step_key(seed, step);
             let pass = Pass {
                 rules: &self.rules,

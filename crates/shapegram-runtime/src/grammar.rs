@@ -348,8 +348,23 @@ impl Grammar {
                     seed: Some(settings.seed),
                     ..shapegram_lsystem::DeriveOptions::default()
                 };
-                shapegram_lsystem::model(system, &options)
-                    .map_err(|e| lsystem_error(Error::derive(e.render(name, text)), e))?
+                let failed = |e: shapegram_lsystem::Error| {
+                    if settings.control.is_cancelled() {
+                        return Error::cancelled();
+                    }
+                    lsystem_error(Error::derive(e.render(name, text)), e)
+                };
+                let word = system
+                    .derive_until(&options, |_, _| {}, || settings.control.is_cancelled())
+                    .map_err(failed)?;
+                let shown = system.interpretation(&word, &options).map_err(failed)?;
+                let drawing = shapegram_lsystem::interpret(system, &shown);
+                shapegram_lsystem::drawing_to_model_within(
+                    &drawing,
+                    &system.settings,
+                    shapegram_lsystem::DEFAULT_MAX_VERTICES,
+                )
+                .map_err(failed)?
             }
             Grammar::Cave(program) => {
                 let run = program
@@ -360,8 +375,16 @@ impl Grammar {
                     .unwrap_or(shapegram_implicit::CaveParams::default().lod);
                 let options = shapegram_implicit::MeshOptions::with_cell_size(1.0 / f64::from(lod));
                 let solid = run.builder.solid();
-                let meshing = shapegram_implicit::mesh(solid, &options)
-                    .map_err(|e| Error::derive(e.to_string()))?;
+                let meshing = shapegram_implicit::mesh_until(solid, &options, &|_, _| {}, &|| {
+                    settings.control.is_cancelled()
+                })
+                .map_err(|e| {
+                    if settings.control.is_cancelled() {
+                        Error::cancelled()
+                    } else {
+                        Error::derive(e.to_string())
+                    }
+                })?;
                 let mut model = Model::single("cave", ROCK, meshing.mesh);
                 model.parts[0].normals = shapegram_implicit::surface_normals(
                     solid,
@@ -375,9 +398,19 @@ impl Grammar {
                     .map_err(|e| Error::derive(e.to_string()))?
                     .with_seed(settings.seed & shapegram_topo::SEED_MASK)
                     .with_generations(settings.generations.unwrap_or(TOPO_GENERATIONS));
-                state
-                    .generate_all()
-                    .map_err(|e| Error::derive(e.to_string()))?;
+                // Generation by generation, so that a host can cancel between two.
+                state.start();
+                for _ in 0..settings.generations.unwrap_or(TOPO_GENERATIONS) {
+                    if state.non_terminals().is_empty() {
+                        break;
+                    }
+                    if settings.control.is_cancelled() {
+                        return Err(Error::cancelled());
+                    }
+                    state
+                        .next_generation()
+                        .map_err(|e| Error::derive(e.to_string()))?;
+                }
                 // Already flat triangles: they go to the buffers as they are.
                 return Ok(Derived::Triangles(shapegram_topo::GrammarMesh::new(&state)));
             }

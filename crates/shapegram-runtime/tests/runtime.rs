@@ -226,3 +226,41 @@ fn lots_are_checked_before_deriving() {
         Ok(())
     );
 }
+
+/// The kinds that are not CGA-style stop at the control's cancellation with a `Cancelled`
+/// error: an L-system before a step, a cave before a meshing block, a topological grammar
+/// before a generation (CGA-style rules: `shapegram-ffi`'s tests/threads.rs).
+#[test]
+fn every_kind_stops_when_cancelled() {
+    for (file, kind) in [
+        ("tree-3d.lsys", Some(Kind::LSystem)),
+        ("grotto.cave", Some(Kind::Cave)),
+        ("topo_house.grammar", Some(Kind::Topo)),
+    ] {
+        let (name, text) = example(file);
+        let grammar = Grammar::load(&name, &text, kind).unwrap();
+        let settings = Settings::default();
+        settings.control.cancel();
+        let error = grammar.derive(&settings).err().expect(file);
+        assert_eq!(
+            (error.kind, error.message.as_str()),
+            (ErrorKind::Cancelled, "the derivation was cancelled"),
+            "{file}"
+        );
+    }
+}
+
+/// A cancellation from another thread stops meshing in the middle: a sphere of radius 20 at 32
+/// cells per metre (ten million triangles, minutes unoptimised) ends with `Cancelled` instead.
+#[test]
+fn a_cave_is_cancelled_while_it_is_meshed() {
+    let grammar = Grammar::load("big.cave", "lod 32\nadd sphere(20)\n", Some(Kind::Cave)).unwrap();
+    let settings = Settings::default();
+    let error = std::thread::scope(|scope| {
+        let worker = scope.spawn(|| grammar.derive(&settings));
+        std::thread::sleep(std::time::Duration::from_millis(300));
+        settings.control.cancel();
+        worker.join().unwrap().err().expect("cancelled")
+    });
+    assert_eq!(error.kind, ErrorKind::Cancelled, "{}", error.message);
+}

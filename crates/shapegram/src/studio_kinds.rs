@@ -127,7 +127,7 @@ pub fn lsystem(job: &DeriveJob) -> Derived {
         Err(e) => return at(e),
     };
     let options = DeriveOptions::default();
-    let word = match system.derive(&options) {
+    let word = match system.derive_until(&options, |_, _| {}, || job.control.is_cancelled()) {
         Ok(word) => word,
         Err(e) => return at(e),
     };
@@ -201,6 +201,7 @@ pub fn cave(job: &DeriveJob) -> Derived {
     let lod = program.lod.unwrap_or(CaveParams::default().lod);
     let settings = Settings {
         seed: program.seed,
+        control: job.control.clone(),
         ..Settings::default()
     };
     let model = match grammar.derive(&settings) {
@@ -230,7 +231,11 @@ pub fn topo(job: &DeriveJob) -> Derived {
         Ok(grammar) => grammar,
         Err(e) => return runtime_failure(e, started),
     };
-    let mesh = match grammar.derive(&Settings::default()) {
+    let settings = Settings {
+        control: job.control.clone(),
+        ..Settings::default()
+    };
+    let mesh = match grammar.derive(&settings) {
         Ok(RuntimeDerived::Triangles(mesh)) => mesh,
         Ok(RuntimeDerived::Model(_)) => unreachable!("a topological grammar derives triangles"),
         Err(e) => return runtime_failure(e, started),
