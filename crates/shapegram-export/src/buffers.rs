@@ -1,8 +1,10 @@
 //! A model as the flat arrays a game engine uploads: the triangles the GLB writer writes, with
-//! their normals, part after part.
+//! their normals, part after part, and the skeletons' joints with each vertex's joint, so that
+//! a host can pose the model as the GLB's skin does.
 
 use std::sync::Arc;
 
+use shapegram_geom::kinematics::{Frame, Skeleton};
 use shapegram_geom::{DVec3, Model, Texture};
 
 use crate::flat::{texture_uvs, unit};
@@ -49,6 +51,88 @@ pub struct Buffers {
     pub uvs: Vec<[f32; 2]>,
     /// The distinct images the textured parts name, in order of first use.
     pub textures: Vec<Arc<Texture>>,
+    /// The joints of the model's skeletons, skeleton after skeleton, each skeleton's parents
+    /// before their children; empty for a model without a skeleton.
+    pub joints: Vec<BufferJoint>,
+    /// Per vertex when some part hangs from a joint: the index in [`Buffers::joints`] of the
+    /// joint that moves it rigidly, [`NO_JOINT`] for a vertex of a part that hangs from none;
+    /// empty when no part hangs from a joint.
+    pub vertex_joints: Vec<u32>,
+}
+
+/// In [`Buffers::vertex_joints`]: the vertex hangs from no joint.
+pub const NO_JOINT: u32 = u32::MAX;
+
+/// A joint of a skeleton as a host's skeleton takes it: a glTF joint node's transformation with
+/// the section's limits and pose (`docs/kinematics.md`). The vertices are in the derived pose,
+/// so a host that poses joint `j` anew moves the vertices hanging from it by
+/// `world_new(j) · world(j)⁻¹`, where `world` multiplies the `translation`/`rotation` frames
+/// from the root down.
+#[derive(Clone, Debug, PartialEq)]
+pub struct BufferJoint {
+    /// The section's name, which stays the same when the grammar is derived again: its rule
+    /// and a hash of its place in the derivation (`Boom_5d7b45`).
+    pub name: String,
+    /// The skeleton it belongs to (one per initial shape that has one).
+    pub skeleton: u32,
+    /// Its parent's index in [`Buffers::joints`]; `None` for a skeleton's root.
+    pub parent: Option<u32>,
+    /// Its transformation relative to its parent in the derived pose: the translation, in
+    /// metres.
+    pub translation: [f32; 3],
+    /// … and the rotation, a unit quaternion in x, y, z, w order.
+    pub rotation: [f32; 4],
+    /// The same in the rest pose (every joint at rest): translation in metres.
+    pub rest_translation: [f32; 3],
+    /// … and rotation, x, y, z, w.
+    pub rest_rotation: [f32; 4],
+    /// The pose the derivation left it in: rotation about the joint's x, then y, then z axis
+    /// (fixed axes), in degrees; the posed transformation is `rest · T(translation) · R`.
+    pub pose_rotation_deg: [f32; 3],
+    /// … and translation along the joint's axes, in metres.
+    pub pose_translation_m: [f32; 3],
+    /// Per axis x, y, z: the least and greatest rotation, in degrees.
+    pub rotation_limits_deg: [[f32; 2]; 3],
+    /// Per axis x, y, z: the least and greatest translation, in metres.
+    pub translation_limits_m: [[f32; 2]; 3],
+}
+
+impl BufferJoint {
+    /// Section `id`'s joint in `skeleton` (model skeleton `index`), with its parent at `parent`.
+    fn of_section(
+        skeleton: &Skeleton,
+        index: usize,
+        id: shapegram_geom::kinematics::SectionId,
+        parent: Option<u32>,
+    ) -> Self {
+        let section = skeleton.section(id);
+        let (translation, rotation) = trs(&skeleton.local(id));
+        let (rest_translation, rest_rotation) = trs(&skeleton.joint(id));
+        let limits = section.limits();
+        let ranges =
+            |r: &[shapegram_geom::kinematics::Range; 3]| r.map(|r| [r.min as f32, r.max as f32]);
+        Self {
+            name: section.name().to_string(),
+            skeleton: index as u32,
+            parent,
+            translation,
+            rotation,
+            rest_translation,
+            rest_rotation,
+            pose_rotation_deg: section.pose().rotation.as_vec3().to_array(),
+            pose_translation_m: section.pose().translation.as_vec3().to_array(),
+            rotation_limits_deg: ranges(&limits.rotation),
+            translation_limits_m: ranges(&limits.translation),
+        }
+    }
+}
+
+/// A frame as single-precision translation and xyzw rotation.
+fn trs(frame: &Frame) -> ([f32; 3], [f32; 4]) {
+    (
+        frame.translation.as_vec3().to_array(),
+        frame.rotation.as_quat().to_array(),
+    )
 }
 
 impl Buffers {
@@ -67,13 +151,41 @@ impl Buffers {
         self.parts.clear();
         self.uvs.clear();
         self.textures.clear();
+        self.joints.clear();
+        self.vertex_joints.clear();
     }
 
     /// Replaces the contents with the buffers of `model`, reusing the memory already held.
+    /// Parts hanging from a joint come in the pose the derivation left them in.
     pub fn fill(&mut self, model: &Model) {
         self.clear();
+        // Each skeleton's first joint in `joints`, and each section's joint index.
+        let mut joint_of: Vec<Vec<u32>> = Vec::with_capacity(model.skeletons.len());
+        for (index, skeleton) in model.skeletons.iter().enumerate() {
+            let mut of_section = vec![0; skeleton.len()];
+            for id in skeleton.order() {
+                let parent = skeleton.section(id).parent().map(|p| of_section[p.index()]);
+                of_section[id.index()] = self.joints.len() as u32;
+                self.joints
+                    .push(BufferJoint::of_section(skeleton, index, id, parent));
+            }
+            joint_of.push(of_section);
+        }
+        let bound = model.parts.iter().any(|p| p.bone.is_some());
+        let posed;
+        let shown = if bound {
+            posed = model.posed();
+            &posed
+        } else {
+            model
+        };
         let textured = model.parts.iter().any(|p| texture_uvs(p).is_some());
-        for (index, part) in model.parts.iter().enumerate() {
+        for (index, (part, bone)) in shown
+            .parts
+            .iter()
+            .zip(model.parts.iter().map(|p| p.bone))
+            .enumerate()
+        {
             let Some(chunk) = Chunk::of_part(part) else {
                 continue;
             };
@@ -92,6 +204,12 @@ impl Buffers {
                 chunk.uvs(|uv| self.uvs.push(uv));
             } else if textured {
                 self.uvs.resize(self.positions.len(), [0.0; 2]);
+            }
+            if bound {
+                let joint = bone.map_or(NO_JOINT, |b| {
+                    joint_of[b.skeleton as usize][b.section.index()]
+                });
+                self.vertex_joints.resize(self.positions.len(), joint);
             }
             self.indices
                 .extend(chunk.indices().iter().map(|&i| first_vertex + i));

@@ -34,7 +34,7 @@ use std::path::Path;
 
 use shapegram_geom::Model;
 
-pub use buffers::{Buffers, PartRange};
+pub use buffers::{BufferJoint, Buffers, NO_JOINT, PartRange};
 pub use error::Error;
 pub use geojson::{Footprints, read_geojson};
 pub use glb::{GlbLayout, face_triangles, write_glb, write_glb_to, write_glb_with_layout};

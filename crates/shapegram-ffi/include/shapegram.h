@@ -66,6 +66,11 @@
 #define SG_KIND_TOPO 7
 
 /**
+ * In `sg_mesh.vertex_joints`: the vertex hangs from no joint.
+ */
+#define SG_NO_JOINT UINT32_MAX
+
+/**
  * What a call did: `SG_OK`, or why it did nothing. The message of every status but `SG_OK` is
  * in `sg_state_last_error`.
  */
@@ -169,6 +174,62 @@ typedef struct {
 } sg_part;
 
 /**
+ * A joint of a skeleton: its transformation relative to its parent, in the derived pose and at
+ * rest, its pose and its limits (the GLB's joint extras, `docs/kinematics.md`). The vertices
+ * are in the derived pose: a host that poses joint `j` anew moves the vertices hanging from it
+ * by `world_new(j) * inverse(world(j))`, where `world` multiplies the `translation`/`rotation`
+ * frames from the root down.
+ */
+typedef struct {
+  /**
+   * The section's name (UTF-8, NUL-terminated), the same when the grammar is derived again:
+   * its rule and a hash (`Boom_5d7b45`). Owned by the handle, valid as long as the buffers.
+   */
+  const char *name;
+  /**
+   * The skeleton it belongs to (one per lot that has one).
+   */
+  uint32_t skeleton;
+  /**
+   * Its parent's index in `sg_mesh.joints`; -1 for a skeleton's root.
+   */
+  int32_t parent;
+  /**
+   * Translation relative to the parent in the derived pose, metres.
+   */
+  float translation[3];
+  /**
+   * Rotation relative to the parent in the derived pose: a unit quaternion, x, y, z, w.
+   */
+  float rotation[4];
+  /**
+   * Translation relative to the parent at rest, metres.
+   */
+  float rest_translation[3];
+  /**
+   * Rotation relative to the parent at rest, x, y, z, w.
+   */
+  float rest_rotation[4];
+  /**
+   * The pose: degrees about the joint's x, then y, then z axis (fixed axes); the derived
+   * transformation is rest, then the pose's translation, then this rotation.
+   */
+  float pose_rotation_deg[3];
+  /**
+   * The pose's translation along the joint's axes, metres.
+   */
+  float pose_translation_m[3];
+  /**
+   * Per axis x, y, z: least and greatest rotation, degrees.
+   */
+  float rotation_limits_deg[3][2];
+  /**
+   * Per axis x, y, z: least and greatest translation, metres.
+   */
+  float translation_limits_m[3][2];
+} sg_joint;
+
+/**
  * The mesh buffers of the last derivation. The pointers point into memory the handle owns:
  * they stay valid and unchanged until the next call on the handle that loads, derives or frees
  * it; the caller never frees them. With no triangles they may be NULL (with their counts 0).
@@ -213,6 +274,21 @@ typedef struct {
    * Number of textures (`sg_state_texture` reads them).
    */
   size_t texture_count;
+  /**
+   * `joint_count` joints of the model's skeletons, skeleton after skeleton, parents before
+   * their children; NULL when the model has no skeleton.
+   */
+  const sg_joint *joints;
+  /**
+   * Number of joints.
+   */
+  size_t joint_count;
+  /**
+   * `vertex_count` joint indices, when some part hangs from a joint: the joint in `joints`
+   * that moves each vertex rigidly, `SG_NO_JOINT` for a vertex that hangs from none; NULL
+   * when no part hangs from a joint.
+   */
+  const uint32_t *vertex_joints;
 } sg_mesh;
 
 /**

@@ -87,6 +87,53 @@ pub struct sg_mesh {
     pub uvs: *const f32,
     /// Number of textures (`sg_state_texture` reads them).
     pub texture_count: usize,
+    /// `joint_count` joints of the model's skeletons, skeleton after skeleton, parents before
+    /// their children; NULL when the model has no skeleton.
+    pub joints: *const sg_joint,
+    /// Number of joints.
+    pub joint_count: usize,
+    /// `vertex_count` joint indices, when some part hangs from a joint: the joint in `joints`
+    /// that moves each vertex rigidly, `SG_NO_JOINT` for a vertex that hangs from none; NULL
+    /// when no part hangs from a joint.
+    pub vertex_joints: *const u32,
+}
+
+/// In `sg_mesh.vertex_joints`: the vertex hangs from no joint.
+pub const SG_NO_JOINT: u32 = u32::MAX;
+
+/// A joint of a skeleton: its transformation relative to its parent, in the derived pose and at
+/// rest, its pose and its limits (the GLB's joint extras, `docs/kinematics.md`). The vertices
+/// are in the derived pose: a host that poses joint `j` anew moves the vertices hanging from it
+/// by `world_new(j) * inverse(world(j))`, where `world` multiplies the `translation`/`rotation`
+/// frames from the root down.
+#[allow(non_camel_case_types)]
+#[repr(C)]
+#[derive(Clone, Copy, Debug)]
+pub struct sg_joint {
+    /// The section's name (UTF-8, NUL-terminated), the same when the grammar is derived again:
+    /// its rule and a hash (`Boom_5d7b45`). Owned by the handle, valid as long as the buffers.
+    pub name: *const c_char,
+    /// The skeleton it belongs to (one per lot that has one).
+    pub skeleton: u32,
+    /// Its parent's index in `sg_mesh.joints`; -1 for a skeleton's root.
+    pub parent: i32,
+    /// Translation relative to the parent in the derived pose, metres.
+    pub translation: [f32; 3],
+    /// Rotation relative to the parent in the derived pose: a unit quaternion, x, y, z, w.
+    pub rotation: [f32; 4],
+    /// Translation relative to the parent at rest, metres.
+    pub rest_translation: [f32; 3],
+    /// Rotation relative to the parent at rest, x, y, z, w.
+    pub rest_rotation: [f32; 4],
+    /// The pose: degrees about the joint's x, then y, then z axis (fixed axes); the derived
+    /// transformation is rest, then the pose's translation, then this rotation.
+    pub pose_rotation_deg: [f32; 3],
+    /// The pose's translation along the joint's axes, metres.
+    pub pose_translation_m: [f32; 3],
+    /// Per axis x, y, z: least and greatest rotation, degrees.
+    pub rotation_limits_deg: [[f32; 2]; 3],
+    /// Per axis x, y, z: least and greatest translation, metres.
+    pub translation_limits_m: [[f32; 2]; 3],
 }
 
 /// An image a textured part is drawn with: its path as the grammar named it and the file's
@@ -129,6 +176,9 @@ struct Inner {
     names: Vec<CString>,
     /// The textures' paths, which `sg_state_texture` points into.
     texture_paths: Vec<CString>,
+    joints: Vec<sg_joint>,
+    /// The joints' names, which `joints` point into.
+    joint_names: Vec<CString>,
     last_error: CString,
 }
 
@@ -163,8 +213,7 @@ fn with_state(
         Ok(Err(error)) => Some(error),
         Err(panic) => {
             // A derivation cut short leaves no half-made buffers behind.
-            inner.buffers = Buffers::default();
-            inner.parts.clear();
+            inner.clear_results();
             let what = panic
                 .downcast_ref::<&str>()
                 .map(|s| (*s).to_owned())
@@ -233,8 +282,14 @@ impl Inner {
     fn load(&mut self, grammar: Grammar) {
         self.grammar = Some(grammar);
         self.settings.attrs.clear();
-        self.buffers = Buffers::default();
+        self.clear_results();
+    }
+
+    /// Forgets the last derivation's buffers, keeping their memory.
+    fn clear_results(&mut self) {
+        self.buffers.clear();
         self.parts.clear();
+        self.joints.clear();
     }
 
     fn set_attr(&mut self, name: *const c_char, value: Value) -> Result<(), Error> {
@@ -274,6 +329,8 @@ pub extern "C" fn sg_state_new() -> *mut sg_state {
                 parts: Vec::new(),
                 names: Vec::new(),
                 texture_paths: Vec::new(),
+                joints: Vec::new(),
+                joint_names: Vec::new(),
                 last_error: CString::default(),
             }),
         }))
@@ -468,8 +525,7 @@ pub extern "C" fn sg_state_clear_lots(state: *mut sg_state) -> sg_status {
 pub extern "C" fn sg_state_derive(state: *mut sg_state) -> sg_status {
     with_state(state, |inner| {
         // Cleared, not replaced: a warm handle fills the same memory again.
-        inner.buffers.clear();
-        inner.parts.clear();
+        inner.clear_results();
         let grammar = inner.grammar.as_ref().ok_or_else(no_grammar)?;
         inner.settings.control.reset();
         let derived = grammar.derive(&inner.settings)?;
@@ -500,6 +556,31 @@ pub extern "C" fn sg_state_derive(state: *mut sg_state) -> sg_status {
             .textures
             .iter()
             .map(|t| CString::new(t.path.replace('\0', "")).unwrap_or_default())
+            .collect();
+        inner.joint_names = inner
+            .buffers
+            .joints
+            .iter()
+            .map(|j| CString::new(j.name.replace('\0', "")).unwrap_or_default())
+            .collect();
+        inner.joints = inner
+            .buffers
+            .joints
+            .iter()
+            .zip(&inner.joint_names)
+            .map(|(j, name)| sg_joint {
+                name: name.as_ptr(),
+                skeleton: j.skeleton,
+                parent: j.parent.map_or(-1, |p| p as i32),
+                translation: j.translation,
+                rotation: j.rotation,
+                rest_translation: j.rest_translation,
+                rest_rotation: j.rest_rotation,
+                pose_rotation_deg: j.pose_rotation_deg,
+                pose_translation_m: j.pose_translation_m,
+                rotation_limits_deg: j.rotation_limits_deg,
+                translation_limits_m: j.translation_limits_m,
+            })
             .collect();
         Ok(())
     })
@@ -562,6 +643,17 @@ pub extern "C" fn sg_state_mesh(state: *mut sg_state, mesh: *mut sg_mesh) -> sg_
                 buffers.uvs.as_flattened().as_ptr()
             },
             texture_count: buffers.textures.len(),
+            joints: if inner.joints.is_empty() {
+                std::ptr::null()
+            } else {
+                inner.joints.as_ptr()
+            },
+            joint_count: inner.joints.len(),
+            vertex_joints: if buffers.vertex_joints.is_empty() {
+                std::ptr::null()
+            } else {
+                buffers.vertex_joints.as_ptr()
+            },
         };
         // SAFETY: checked non-NULL; the caller passes a writable `sg_mesh`.
         unsafe { mesh.write(out) };

@@ -19,6 +19,9 @@ fn shapegram(module: &Bound<'_, PyModule>) -> PyResult<()> {
     module.add_class::<grammar::Attr>()?;
     module.add_class::<mesh::Mesh>()?;
     module.add_class::<mesh::Part>()?;
+    module.add_class::<mesh::Joint>()?;
+    module.add_class::<mesh::Texture>()?;
+    module.add("NO_JOINT", shapegram_export::NO_JOINT)?;
     module.add("Error", py.get_type::<errors::Error>())?;
     module.add("GrammarError", py.get_type::<errors::GrammarError>())?;
     module.add("DeriveError", py.get_type::<errors::DeriveError>())?;

@@ -23,6 +23,61 @@ pub struct Mesh {
     vertex_count: usize,
     /// Number of triangles.
     triangle_count: usize,
+    /// Texture coordinates as glTF has them (v down), `2 * vertex_count` floats when some
+    /// part is textured (0, 0 for the others' vertices); empty when none is.
+    uvs: Py<PyAny>,
+    /// The images the textured parts use (`Part.texture` indexes them).
+    textures: Py<PyTuple>,
+    /// The skeletons' joints, parents before their children; empty without a skeleton.
+    joints: Py<PyTuple>,
+    /// Per vertex when some part hangs from a joint: its joint's index in `joints`,
+    /// `NO_JOINT` for a vertex that hangs from none; empty when no part hangs from a joint.
+    vertex_joints: Py<PyAny>,
+}
+
+/// An image a textured part is drawn with.
+#[pyclass(module = "shapegram", frozen, get_all)]
+pub struct Texture {
+    /// Its path as the grammar named it.
+    path: String,
+    /// The image file's bytes (PNG or JPEG, undecoded).
+    data: Py<PyBytes>,
+}
+
+/// A joint of a skeleton (see `docs/runtimes.md`): the vertices are in the derived pose, so
+/// posing joint `j` anew moves the vertices hanging from it by `world_new(j) · world(j)⁻¹`,
+/// `world` multiplying the `translation`/`rotation` frames from the root down.
+#[pyclass(module = "shapegram", frozen, get_all)]
+pub struct Joint {
+    /// The section's name, the same when derived again (`Boom_5d7b45`).
+    name: String,
+    /// The skeleton it belongs to.
+    skeleton: u32,
+    /// Its parent's index in `Mesh.joints`; `None` for a root.
+    parent: Option<u32>,
+    /// Translation relative to the parent in the derived pose, metres.
+    translation: (f32, f32, f32),
+    /// Rotation relative to the parent in the derived pose, a quaternion `(x, y, z, w)`.
+    rotation: (f32, f32, f32, f32),
+    /// Translation relative to the parent at rest.
+    rest_translation: (f32, f32, f32),
+    /// Rotation relative to the parent at rest, `(x, y, z, w)`.
+    rest_rotation: (f32, f32, f32, f32),
+    /// The pose: degrees about x, then y, then z (fixed axes).
+    pose_rotation_deg: (f32, f32, f32),
+    /// The pose's translation along the joint's axes, metres.
+    pose_translation_m: (f32, f32, f32),
+    /// Per axis: `(least, greatest)` rotation in degrees.
+    rotation_limits_deg: ((f32, f32), (f32, f32), (f32, f32)),
+    /// Per axis: `(least, greatest)` translation in metres.
+    translation_limits_m: ((f32, f32), (f32, f32), (f32, f32)),
+}
+
+#[pymethods]
+impl Joint {
+    fn __repr__(&self) -> String {
+        format!("Joint(name={:?}, parent={:?})", self.name, self.parent)
+    }
 }
 
 /// One part of a mesh: its name, colour and ranges in the buffers.
@@ -42,6 +97,8 @@ pub struct Part {
     first_index: u32,
     /// How many indices it has (three per triangle).
     index_count: u32,
+    /// Its colour map's index in `Mesh.textures`, `None` when it has none.
+    texture: Option<u32>,
 }
 
 #[pymethods]
@@ -104,6 +161,7 @@ impl Mesh {
                     vertex_count: p.vertex_count,
                     first_index: p.first_index,
                     index_count: p.index_count,
+                    texture: p.texture,
                 }
             })
             .map(|part| Py::new(py, part))
@@ -115,6 +173,58 @@ impl Mesh {
             parts: PyTuple::new(py, parts)?.unbind(),
             vertex_count: buffers.positions.len(),
             triangle_count: buffers.indices.len() / 3,
+            uvs: view(py, buffers.uvs.as_flattened(), "f", f32::to_ne_bytes)?,
+            textures: PyTuple::new(
+                py,
+                buffers
+                    .textures
+                    .iter()
+                    .map(|t| {
+                        let data = PyBytes::new(py, t.image.as_deref().unwrap_or_default());
+                        Py::new(
+                            py,
+                            Texture {
+                                path: t.path.to_string(),
+                                data: data.unbind(),
+                            },
+                        )
+                    })
+                    .collect::<PyResult<Vec<_>>>()?,
+            )?
+            .unbind(),
+            joints: PyTuple::new(
+                py,
+                buffers
+                    .joints
+                    .iter()
+                    .map(|j| Py::new(py, Joint::of(j)))
+                    .collect::<PyResult<Vec<_>>>()?,
+            )?
+            .unbind(),
+            vertex_joints: view(py, &buffers.vertex_joints, "I", u32::to_ne_bytes)?,
         })
+    }
+}
+
+impl Joint {
+    /// The Python object of a buffers' joint.
+    fn of(j: &shapegram_export::BufferJoint) -> Self {
+        let pair = |[a, b]: [f32; 2]| (a, b);
+        let three = |[x, y, z]: [f32; 3]| (x, y, z);
+        let four = |[x, y, z, w]: [f32; 4]| (x, y, z, w);
+        let limits = |[x, y, z]: [[f32; 2]; 3]| (pair(x), pair(y), pair(z));
+        Self {
+            name: j.name.clone(),
+            skeleton: j.skeleton,
+            parent: j.parent,
+            translation: three(j.translation),
+            rotation: four(j.rotation),
+            rest_translation: three(j.rest_translation),
+            rest_rotation: four(j.rest_rotation),
+            pose_rotation_deg: three(j.pose_rotation_deg),
+            pose_translation_m: three(j.pose_translation_m),
+            rotation_limits_deg: limits(j.rotation_limits_deg),
+            translation_limits_m: limits(j.translation_limits_m),
+        }
     }
 }

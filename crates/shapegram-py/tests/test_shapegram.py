@@ -222,5 +222,33 @@ class Errors(unittest.TestCase):
             cave.derive(attrs={"size": 1})
 
 
+class SkeletonsAndTextures(unittest.TestCase):
+    def test_the_excavator_has_its_joints_and_each_vertex_its_joint(self):
+        mesh = shapegram.Grammar.load(EXAMPLES / "excavator.cga").derive(attrs={"boomAngle": 45})
+        self.assertEqual(mesh.vertex_joints.typecode, "I")
+        self.assertEqual(len(mesh.vertex_joints), mesh.vertex_count)
+        self.assertTrue(all(j < len(mesh.joints) for j in mesh.vertex_joints))
+        self.assertIsNone(mesh.joints[0].parent)
+        for i, joint in enumerate(mesh.joints):
+            self.assertTrue(joint.parent is None or joint.parent < i, joint)
+        boom = next(i for i, j in enumerate(mesh.joints) if j.name.startswith("Boom_"))
+        self.assertEqual(mesh.joints[boom].rotation_limits_deg[2], (-40.0, 60.0))
+        self.assertEqual(mesh.joints[boom].pose_rotation_deg, (0.0, 0.0, 45.0))
+        self.assertGreater(sum(1 for j in mesh.vertex_joints if j == boom), 0)
+
+    def test_the_house_has_no_joints_uvs_or_textures(self):
+        mesh = shapegram.Grammar.load(HOUSE).derive()
+        self.assertEqual((len(mesh.joints), len(mesh.vertex_joints)), (0, 0))
+        self.assertEqual((len(mesh.uvs), len(mesh.textures)), (0, 0))
+        self.assertTrue(all(part.texture is None for part in mesh.parts))
+
+    def test_the_textured_house_has_uvs_and_its_images(self):
+        mesh = shapegram.Grammar.load(EXAMPLES / "textured_house.cga").derive()
+        self.assertEqual(len(mesh.uvs), 2 * mesh.vertex_count)
+        self.assertEqual([t.path for t in mesh.textures], ["textures/brick.png", "textures/tiles.png"])
+        self.assertTrue(all(t.data.startswith(b"\x89PNG") for t in mesh.textures))
+        self.assertEqual(sorted(p.texture for p in mesh.parts if p.texture is not None), [0, 1])
+
+
 if __name__ == "__main__":
     unittest.main()

@@ -305,8 +305,8 @@ impl Grammar {
         }
     }
 
-    /// Derives the grammar as `settings` say: a model (posed, when it has a skeleton), or a
-    /// topological grammar's triangles.
+    /// Derives the grammar as `settings` say: a model with its skeletons (unposed: the buffers
+    /// [`Derived::fill`] makes are posed), or a topological grammar's triangles.
     pub fn derive(&self, settings: &Settings) -> Result<Derived, Error> {
         let model = match self {
             Grammar::Shape {
@@ -415,11 +415,7 @@ impl Grammar {
                 return Ok(Derived::Triangles(shapegram_topo::GrammarMesh::new(&state)));
             }
         };
-        Ok(Derived::Model(if model.skeletons.is_empty() {
-            model
-        } else {
-            model.posed()
-        }))
+        Ok(Derived::Model(model))
     }
 }
 

@@ -264,3 +264,85 @@ fn a_cave_is_cancelled_while_it_is_meshed() {
     });
     assert_eq!(error.kind, ErrorKind::Cancelled, "{}", error.message);
 }
+
+/// The world frame of joint `j` from the buffers' joint transformations, root down.
+fn joint_world(buffers: &Buffers, j: u32) -> shapegram_geom::DAffine3 {
+    use shapegram_geom::{DQuat, DVec3};
+    let joint = &buffers.joints[j as usize];
+    let local = shapegram_geom::DAffine3::from_rotation_translation(
+        DQuat::from_array(joint.rotation.map(f64::from)),
+        DVec3::from_array(joint.translation.map(f64::from)),
+    );
+    match joint.parent {
+        Some(parent) => joint_world(buffers, parent) * local,
+        None => local,
+    }
+}
+
+/// The excavator's buffers carry its skeleton: a host that turns the joints as another
+/// derivation does (the boom, stick and bucket angles changed) moves every vertex to where
+/// that derivation puts it, through the joints' frames alone.
+#[test]
+fn the_buffers_carry_the_skeleton_a_host_poses() {
+    let (name, text) = example("excavator.cga");
+    let grammar = Grammar::load(&name, &text, None).unwrap();
+    let derived = buffers(&grammar, &Settings::default());
+    assert_consistent(&derived);
+    assert_eq!(derived.vertex_joints.len(), derived.positions.len());
+    let names: Vec<&str> = derived.joints.iter().map(|j| j.name.as_str()).collect();
+    let find = |rule: &str| {
+        let found = names
+            .iter()
+            .position(|n| n.starts_with(&format!("{rule}_")));
+        found.unwrap_or_else(|| panic!("no {rule} in {names:?}"))
+    };
+    let boom = &derived.joints[find("Boom")];
+    assert!(find("Stick") > find("Boom") && find("Bucket") > find("Stick"));
+    assert_eq!(boom.rotation_limits_deg[2], [-40.0, 60.0]);
+    assert_eq!(boom.pose_rotation_deg, [0.0, 0.0, 35.0]);
+    assert!(derived.joints[0].parent.is_none());
+    assert!(
+        derived
+            .joints
+            .iter()
+            .enumerate()
+            .all(|(i, j)| j.parent.is_none_or(|p| (p as usize) < i)),
+        "parents come before their children"
+    );
+    assert!(
+        derived
+            .vertex_joints
+            .iter()
+            .all(|&j| (j as usize) < derived.joints.len())
+    );
+
+    let settings = Settings {
+        attrs: vec![
+            ("boomAngle".into(), Value::Number(-20.0)),
+            ("stickAngle".into(), Value::Number(-30.0)),
+            ("bucketAngle".into(), Value::Number(10.0)),
+        ],
+        ..Settings::default()
+    };
+    let posed = buffers(&grammar, &settings);
+    assert_eq!(posed.positions.len(), derived.positions.len());
+    assert_eq!(posed.vertex_joints, derived.vertex_joints);
+    let mut moved = 0;
+    for (v, (&j, (p0, p1))) in derived
+        .vertex_joints
+        .iter()
+        .zip(derived.positions.iter().zip(&posed.positions))
+        .enumerate()
+    {
+        let motion = joint_world(&posed, j) * joint_world(&derived, j).inverse();
+        let p0 = DVec3::from_array(p0.map(f64::from));
+        let p1 = DVec3::from_array(p1.map(f64::from));
+        let host = motion.transform_point3(p0);
+        assert!(
+            host.distance(p1) < 1e-4,
+            "vertex {v} on joint {j}: the host puts it at {host}, the derivation at {p1}"
+        );
+        moved += usize::from(p0.distance(p1) > 0.1);
+    }
+    assert!(moved > 100, "only {moved} vertices moved");
+}

@@ -166,6 +166,40 @@ int main(int argc, char **argv) {
     CHECK(strcmp(sg_state_last_error(state), "texture 2: the buffers have 2") == 0);
     CHECK(sg_state_texture(state, 0, NULL) == SG_NULL_ARGUMENT);
 
+    /* The excavator (beside the house): its skeleton's joints, and each vertex's joint. */
+    char excavator[4096];
+    snprintf(excavator, sizeof excavator, "%.*sexcavator.cga", folder, argv[1]);
+    CHECK(sg_state_load_file(state, excavator, SG_KIND_AUTO) == SG_OK);
+    CHECK(sg_state_set_number(state, "boomAngle", 45) == SG_OK);
+    CHECK(sg_state_derive(state) == SG_OK);
+    CHECK(sg_state_mesh(state, &mesh) == SG_OK);
+    CHECK(mesh.joints != NULL && mesh.joint_count > 3);
+    CHECK(mesh.vertex_joints != NULL);
+    CHECK(mesh.joints[0].parent == -1);
+    const sg_joint *boom = NULL;
+    for (size_t j = 0; j < mesh.joint_count; j++) {
+        CHECK(mesh.joints[j].parent < (int32_t)j);
+        if (strncmp(mesh.joints[j].name, "Boom_", 5) == 0) boom = &mesh.joints[j];
+    }
+    CHECK(boom != NULL);
+    if (boom) {
+        CHECK(boom->pose_rotation_deg[2] == 45.0f);
+        CHECK(boom->rotation_limits_deg[2][0] == -40.0f && boom->rotation_limits_deg[2][1] == 60.0f);
+    }
+    size_t on_boom = 0;
+    for (size_t v = 0; v < mesh.vertex_count; v++) {
+        CHECK(mesh.vertex_joints[v] < mesh.joint_count);
+        on_boom += boom && &mesh.joints[mesh.vertex_joints[v]] == boom;
+    }
+    CHECK(on_boom > 0);
+    printf("excavator: %zu joints, %zu of %zu vertices on the boom\n", mesh.joint_count, on_boom,
+           mesh.vertex_count);
+    /* The house has no skeleton. */
+    CHECK(sg_state_load_file(state, argv[1], SG_KIND_AUTO) == SG_OK);
+    CHECK(sg_state_derive(state) == SG_OK);
+    CHECK(sg_state_mesh(state, &mesh) == SG_OK);
+    CHECK(mesh.joints == NULL && mesh.joint_count == 0 && mesh.vertex_joints == NULL);
+
     uint64_t applications = 1;
     CHECK(sg_state_progress(state, &applications) == SG_OK);
     CHECK(sg_state_progress(state, NULL) == SG_NULL_ARGUMENT);
