@@ -1,10 +1,14 @@
 """Derived buffers to Blender meshes and materials, and mesh faces to lots.
 
 Shapegram is y-up, Blender z-up: a point (x, y, z) of the engine is (x, -z, y) in Blender, a
-quarter turn about x, which keeps counter-clockwise polygons counter-clockwise."""
+quarter turn about x, which keeps counter-clockwise polygons counter-clockwise. Textured parts
+get a UV map (the engine's v points down as glTF's does, Blender's up) and materials whose
+image, packed into the .blend file, multiplies the part's colour as in the GLB."""
 
 import array
 import math
+import pathlib
+import tempfile
 
 import bpy
 from mathutils import Matrix
@@ -28,23 +32,64 @@ def _linear(channel):
     return channel / 12.92 if channel <= 0.04045 else ((channel + 0.055) / 1.055) ** 2.4
 
 
-def material(part):
-    """The material named after the part's colour (`#rrggbb`), made on first use."""
-    found = bpy.data.materials.get(part.color_hex)
+def _image(texture):
+    """The texture's image, named after its path and packed into the .blend, made on first use."""
+    found = bpy.data.images.get(texture.path)
     if found is not None:
         return found
-    made = bpy.data.materials.new(part.color_hex)
+    suffix = ".png" if texture.data.startswith(b"\x89PNG") else ".jpg"
+    # Blender reads images from files only: the bytes go through a temporary one, then are
+    # packed, so the image outlives it.
+    with tempfile.TemporaryDirectory() as folder:
+        file = pathlib.Path(folder) / f"texture{suffix}"
+        file.write_bytes(texture.data)
+        image = bpy.data.images.load(str(file))
+        image.pack()
+    image.name = texture.path
+    return image
+
+
+def material(part, texture=None):
+    """The material of a part: named after its colour (`#rrggbb`), or its colour and texture
+    path when textured, made on first use."""
+    name = part.color_hex if texture is None else f"{part.color_hex} {texture.path}"
+    found = bpy.data.materials.get(name)
+    if found is not None:
+        return found
+    made = bpy.data.materials.new(name)
     r, g, b, a = part.color
     color = (_linear(r), _linear(g), _linear(b), a)
     made.diffuse_color = color
     made.use_nodes = True
-    principled = made.node_tree.nodes.get("Principled BSDF")
+    nodes = made.node_tree.nodes
+    principled = nodes.get("Principled BSDF")
     if principled is not None:
         principled.inputs["Base Color"].default_value = color
         principled.inputs["Alpha"].default_value = a
+        if texture is not None:
+            image = nodes.new("ShaderNodeTexImage")
+            image.image = _image(texture)
+            tint = nodes.new("ShaderNodeMixRGB")
+            tint.blend_type = "MULTIPLY"
+            tint.inputs["Fac"].default_value = 1.0
+            tint.inputs["Color2"].default_value = color
+            links = made.node_tree.links
+            links.new(image.outputs["Color"], tint.inputs["Color1"])
+            links.new(tint.outputs["Color"], principled.inputs["Base Color"])
     if a < 1.0:
         made.blend_method = "BLEND"
     return made
+
+
+def _uvs(data, result):
+    """The engine's uvs as the mesh's UV map, one per face corner, v flipped to point up."""
+    uvs = result.uvs
+    corners = array.array("f", bytes(8 * len(result.indices)))
+    for corner, vertex in enumerate(result.indices):
+        corners[2 * corner] = uvs[2 * vertex]
+        corners[2 * corner + 1] = 1.0 - uvs[2 * vertex + 1]
+    layer = data.uv_layers.get("UVMap") or data.uv_layers.new(name="UVMap")
+    layer.data.foreach_set("uv", corners)
 
 
 def fill(data, result):
@@ -65,13 +110,17 @@ def fill(data, result):
     slots = {}
     material_index = array.array("i", [0]) * triangles
     for part in result.parts:
-        slot = slots.get(part.color_hex)
+        texture = None if part.texture is None else result.textures[part.texture]
+        key = (part.color_hex, None if texture is None else texture.path)
+        slot = slots.get(key)
         if slot is None:
-            slot = slots[part.color_hex] = len(data.materials)
-            data.materials.append(material(part))
+            slot = slots[key] = len(data.materials)
+            data.materials.append(material(part, texture))
         first = part.first_index // 3
         material_index[first : first + part.index_count // 3] = array.array("i", [slot]) * (part.index_count // 3)
     data.polygons.foreach_set("material_index", material_index)
+    if len(result.uvs):
+        _uvs(data, result)
     data.update(calc_edges=True)
     # The engine's normals (flat faces have vertices of their own, smooth parts share them).
     normals = result.normals

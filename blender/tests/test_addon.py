@@ -6,7 +6,8 @@
 installs the zip, generates examples/house.cga on the default lot (objects, vertices, faces and
 materials counted against the shipped module's own buffers and the C ABI's figures), regenerates
 it in place with an attribute set in the panel, generates on a plane's three faces (a building
-per face, each on its face) and checks that a grammar error reaches the user with its place."""
+per face, each on its face), generates the textured house (its UV map and packed images) and
+checks that a grammar error reaches the user with its place."""
 
 import json
 import pathlib
@@ -125,6 +126,46 @@ for i, building in enumerate(sorted(buildings, key=lambda o: min(v.co.x for v in
     check(inside, f"building {i} lies on x {min(xs)}..{max(xs)}, y {min(ys)}..{max(ys)}")
     check(min(v.co.z for v in vertices) > -1e-4, f"building {i} stands on its face")
 
+# The textured house: a UV map of the module's uvs (v flipped up) and its two images packed,
+# each in the material of the parts that use it, multiplying their colour.
+for obj in list(bpy.data.objects):
+    bpy.data.objects.remove(obj)
+textured = str(pathlib.Path(examples) / "textured_house.cga")
+settings.grammar_path = textured
+check(bpy.ops.shapegram.reload() == {"FINISHED"}, "reload the textured house")
+check(bpy.ops.shapegram.generate() == {"FINISHED"}, "generate the textured house")
+# The panel keeps the storeys the user set for the house: this grammar declares them too.
+check(settings.overrides() == {"storeys": 3.0}, f"kept overrides {settings.overrides()}")
+expected = engine.Grammar.load(textured).derive(attrs={"storeys": 3.0})
+(obj,) = generated()
+mesh = obj.data
+check(len(mesh.vertices) == expected.vertex_count, f"{len(mesh.vertices)} textured vertices")
+check([layer.name for layer in mesh.uv_layers] == ["UVMap"], f"uv layers {list(mesh.uv_layers)}")
+uv = mesh.uv_layers["UVMap"].data
+for corner in (0, len(mesh.loops) // 2, len(mesh.loops) - 1):
+    vertex = expected.indices[corner]
+    want = (expected.uvs[2 * vertex], 1.0 - expected.uvs[2 * vertex + 1])
+    check(all(abs(a - b) < 1e-6 for a, b in zip(uv[corner].uv, want)), f"corner {corner}: uv {tuple(uv[corner].uv)}, want {want}")
+for part in expected.parts:
+    if part.texture is None:
+        continue
+    texture = expected.textures[part.texture]
+    material = mesh.materials[f"{part.color_hex} {texture.path}"]
+    images = [n.image for n in material.node_tree.nodes if n.type == "TEX_IMAGE"]
+    check(len(images) == 1 and images[0].name == texture.path, f"{material.name}: images {images}")
+    width = int.from_bytes(texture.data[16:20], "big")
+    height = int.from_bytes(texture.data[20:24], "big")
+    check(images[0].packed_file is not None, f"{texture.path} is packed")
+    check(tuple(images[0].size) == (width, height), f"{texture.path}: {tuple(images[0].size)} pixels, want {(width, height)}")
+    slot = [m.name for m in mesh.materials].index(material.name)
+    faces = range(part.first_index // 3, (part.first_index + part.index_count) // 3)
+    check(all(mesh.polygons[f].material_index == slot for f in faces), f"{material.name} on its faces")
+textures = sorted(t.path for t in expected.textures)
+check(sorted(i.name for i in bpy.data.images if i.packed_file) == textures, f"packed images {list(bpy.data.images)}")
+select([obj])
+check(bpy.ops.shapegram.regenerate() == {"FINISHED"}, "regenerate the textured house")
+check([layer.name for layer in obj.data.uv_layers] == ["UVMap"], "one UV map after regenerating")
+
 # A grammar with an error: the operator fails with the place of it, and makes nothing.
 bad = pathlib.Path(tempfile.mkdtemp()) / "bad.cga"
 bad.write_text("@StartRule\nLot --> extrude(4 Mass.\n")
@@ -137,4 +178,4 @@ except RuntimeError as error:
     check("bad.cga:2:" in str(error), f"the error says {error}")
 check(len(bpy.data.objects) == count, "nothing made by a failed generation")
 
-print(f"add-on: house {len(expected.parts)} parts in {len(colors)} materials, regenerated in place, 3 buildings on 3 faces")
+print(f"add-on: house {len(colors)} materials, regenerated in place, 3 buildings on 3 faces, textured house with {len(textures)} packed images")
