@@ -1,17 +1,20 @@
 //! `GrammarMesh`: an `ArrayMesh` that follows a `GrammarState`, a surface per part.
 
-use godot::classes::base_material_3d::Transparency;
+use godot::classes::base_material_3d::{TextureParam, Transparency};
 use godot::classes::mesh::{ArrayType, PrimitiveType};
-use godot::classes::{ArrayMesh, StandardMaterial3D};
+use godot::classes::{ArrayMesh, Image, ImageTexture, StandardMaterial3D};
+use godot::global::Error as GodotError;
 use godot::prelude::*;
 use shapegram_export::PartRange;
+use shapegram_geom::Texture;
 
 use crate::job::Output;
 use crate::state::GrammarState;
 
 /// The mesh of a `GrammarState`'s last derivation: one surface per part, named after it, with
-/// the part's colour as vertex colour and as the albedo of the surface's material. It is built
-/// again whenever the state emits `changed`.
+/// the part's colour as vertex colour and as the albedo of the surface's material; a textured
+/// part has its uvs and its image as the albedo texture (which the colour multiplies). It is
+/// built again whenever the state emits `changed`.
 #[derive(GodotClass)]
 #[class(tool, init, base = ArrayMesh)]
 pub struct GrammarMesh {
@@ -50,8 +53,12 @@ impl GrammarMesh {
         };
         let state = state.bind();
         let output = state.output();
+        // Each image once, however many parts use it.
+        let textures: Vec<Option<Gd<ImageTexture>>> =
+            output.buffers.textures.iter().map(|t| texture(t)).collect();
         for (range, name) in output.buffers.parts.iter().zip(&output.part_names) {
-            self.add_part(output, range, name);
+            let texture = range.texture.and_then(|t| textures[t as usize].clone());
+            self.add_part(output, range, name, texture);
         }
     }
 
@@ -64,7 +71,13 @@ impl GrammarMesh {
             .sum()
     }
 
-    fn add_part(&mut self, output: &Output, range: &PartRange, name: &str) {
+    fn add_part(
+        &mut self,
+        output: &Output,
+        range: &PartRange,
+        name: &str,
+        texture: Option<Gd<ImageTexture>>,
+    ) {
         let buffers = &output.buffers;
         let vertices =
             range.first_vertex as usize..(range.first_vertex + range.vertex_count) as usize;
@@ -73,7 +86,10 @@ impl GrammarMesh {
             .iter()
             .map(vector)
             .collect();
-        let normals: PackedVector3Array = buffers.normals[vertices].iter().map(vector).collect();
+        let normals: PackedVector3Array = buffers.normals[vertices.clone()]
+            .iter()
+            .map(vector)
+            .collect();
         let [r, g, b, a] = range.color;
         let color = Color::from_rgba(r, g, b, a);
         let colors: PackedColorArray = std::iter::repeat_n(color, positions.len()).collect();
@@ -90,20 +106,48 @@ impl GrammarMesh {
         arrays.set(ArrayType::NORMAL.ord() as usize, &normals.to_variant());
         arrays.set(ArrayType::COLOR.ord() as usize, &colors.to_variant());
         arrays.set(ArrayType::INDEX.ord() as usize, &indices.to_variant());
+        if texture.is_some() {
+            // Godot's v points down, as the buffers' (glTF's) does.
+            let uvs: PackedVector2Array = buffers.uvs[vertices]
+                .iter()
+                .map(|&[u, v]| Vector2::new(u, v))
+                .collect();
+            arrays.set(ArrayType::TEX_UV.ord() as usize, &uvs.to_variant());
+        }
         let mut mesh = self.base_mut();
         mesh.add_surface_from_arrays(PrimitiveType::TRIANGLES, &arrays);
         let surface = mesh.get_surface_count() - 1;
         mesh.surface_set_name(surface, name);
-        mesh.surface_set_material(surface, &material(color));
+        mesh.surface_set_material(surface, &material(color, texture));
     }
 }
 
-/// A material in the part's colour (sRGB, as Godot's albedo is), see-through when it is.
-fn material(color: Color) -> Gd<StandardMaterial3D> {
+/// A material in the part's colour (sRGB, as Godot's albedo is), see-through when it is, with
+/// `texture` as its albedo texture.
+fn material(color: Color, texture: Option<Gd<ImageTexture>>) -> Gd<StandardMaterial3D> {
     let mut material = StandardMaterial3D::new_gd();
     material.set_albedo(color);
     if color.a < 1.0 {
         material.set_transparency(Transparency::ALPHA);
     }
+    if let Some(texture) = texture {
+        material.set_texture(TextureParam::ALBEDO, &texture);
+    }
     material
+}
+
+/// The image of `texture` as a Godot texture; `None` (the part keeps its colour) when Godot
+/// cannot decode it, as a GLB viewer would show it.
+fn texture(texture: &Texture) -> Option<Gd<ImageTexture>> {
+    let bytes = PackedByteArray::from(texture.image.as_deref()?);
+    let mut image = Image::new_gd();
+    let loaded = match texture.mime_type()? {
+        "image/png" => image.load_png_from_buffer(&bytes),
+        _ => image.load_jpg_from_buffer(&bytes),
+    };
+    if loaded != GodotError::OK {
+        godot_warn!("{}: Godot cannot decode the image", texture.path);
+        return None;
+    }
+    ImageTexture::create_from_image(&image)
 }

@@ -36,6 +36,7 @@ func _initialize() -> void:
 		houses[i].grammar_state.changed.connect(func() -> void: arrived[i] = true)
 	check_errors()
 	check_cga()
+	check_textured()
 	check_saved(main)
 
 
@@ -158,6 +159,43 @@ func check_cga() -> void:
 	if not state.generate() or mesh.vertex_count() <= expected.get("house.cga:1", 0):
 		fail("house.cga with 3 storeys: %d vertices (%s)" % [mesh.vertex_count(), state.last_error])
 	print("house.cga: %d vertices with 3 storeys, %d surfaces" % [mesh.vertex_count(), mesh.get_surface_count()])
+
+
+## A textured grammar: its textured parts' surfaces have uvs and their image as the albedo
+## texture, at the image's size; the others neither.
+func check_textured() -> void:
+	var state := GrammarState.new()
+	state.auto_generate = false
+	state.grammar_file = "res://grammars/textured_house.cga"
+	var mesh := GrammarMesh.new()
+	mesh.state = state
+	if not state.generate():
+		fail("textured_house.cga: %s" % state.last_error)
+		return
+	var sizes := {}
+	for path in ["brick", "tiles"]:
+		var image := Image.load_from_file("res://grammars/textures/%s.png" % path)
+		sizes[image.get_size()] = path
+	var textured := []
+	for surface in mesh.get_surface_count():
+		var arrays := mesh.surface_get_arrays(surface)
+		var uvs = arrays[Mesh.ARRAY_TEX_UV]
+		var material: StandardMaterial3D = mesh.surface_get_material(surface)
+		var texture := material.albedo_texture
+		if texture == null:
+			if uvs != null and uvs.size() > 0:
+				fail("surface %d has uvs but no texture" % surface)
+			continue
+		if uvs == null or uvs.size() != mesh.surface_get_array_len(surface):
+			fail("textured surface %d has no uv per vertex" % surface)
+		var size := Vector2i(texture.get_size())
+		if size not in sizes:
+			fail("surface %d's texture is %s, no image's size" % [surface, size])
+		textured.append(sizes.get(size, "?"))
+	textured.sort()
+	if textured != ["brick", "tiles"]:
+		fail("textured surfaces: %s" % [textured])
+	print("textured_house.cga: %d surfaces, textured with %s" % [mesh.get_surface_count(), ", ".join(textured)])
 
 
 ## Bad input: errors with their place, the last mesh kept, no crash.
