@@ -50,15 +50,21 @@ def _image(texture):
 
 
 def material(part, texture=None):
-    """The material of a part: named after its colour (`#rrggbb`), or its colour and texture
-    path when textured, made on first use."""
-    name = part.color_hex if texture is None else f"{part.color_hex} {texture.path}"
-    found = bpy.data.materials.get(name)
-    if found is not None:
-        return found
-    made = bpy.data.materials.new(name)
+    """The material of a part, made on first use: named as the grammar names it
+    (`set(material.name, …)`), else after its colour (`#rrggbb`) and texture path when textured.
+    A name already taken by another colour or image gets Blender's `.001` suffix."""
+    if part.material:
+        name = part.material
+    else:
+        name = part.color_hex if texture is None else f"{part.color_hex} {texture.path}"
     r, g, b, a = part.color
     color = (_linear(r), _linear(g), _linear(b), a)
+    key = f"{part.color_hex} {texture.path if texture else ''}"
+    for found in bpy.data.materials:
+        if found.get("shapegram_key") == key and (found.name == name or found.name.startswith(f"{name}.")):
+            return found
+    made = bpy.data.materials.new(name)
+    made["shapegram_key"] = key
     made.diffuse_color = color
     made.use_nodes = True
     nodes = made.node_tree.nodes
@@ -111,7 +117,7 @@ def fill(data, result):
     material_index = array.array("i", [0]) * triangles
     for part in result.parts:
         texture = None if part.texture is None else result.textures[part.texture]
-        key = (part.color_hex, None if texture is None else texture.path)
+        key = (part.color_hex, None if texture is None else texture.path, part.material)
         slot = slots.get(key)
         if slot is None:
             slot = slots[key] = len(data.materials)

@@ -150,7 +150,8 @@ for part in expected.parts:
     if part.texture is None:
         continue
     texture = expected.textures[part.texture]
-    material = mesh.materials[f"{part.color_hex} {texture.path}"]
+    # Named as the grammar names the material.
+    material = mesh.materials[part.material]
     images = [n.image for n in material.node_tree.nodes if n.type == "TEX_IMAGE"]
     check(len(images) == 1 and images[0].name == texture.path, f"{material.name}: images {images}")
     width = int.from_bytes(texture.data[16:20], "big")

@@ -109,6 +109,7 @@ fn leaf_part(leaf: &Leaf, bone: Option<Bone>) -> Option<Part> {
         normals: Vec::new(),
         bone,
         metadata: None,
+        material: leaf.material.clone(),
     })
 }
 
@@ -124,5 +125,6 @@ fn box_part(name: &str, scope: &Scope, bone: Option<Bone>) -> Option<Part> {
         normals: Vec::new(),
         bone,
         metadata: None,
+        material: None,
     })
 }

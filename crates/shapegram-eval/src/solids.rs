@@ -183,6 +183,7 @@ fn mesh_group(
         color: group.color.unwrap_or_default(),
         mesh: meshing.mesh,
         normals,
+        material: None,
     }))
 }
 

@@ -21,6 +21,7 @@ fn part(name: &str, hex: &str, mesh: Mesh, at: DVec3) -> Part {
         color: Color::from_hex(hex).unwrap_or_default(),
         mesh: mesh.transformed(&DAffine3::from_translation(at)),
         normals: Vec::new(),
+        material: None,
     }
 }
 

@@ -294,26 +294,36 @@ pub(crate) fn sanitized(color: Color) -> [f32; 4] {
     ]
 }
 
-/// The distinct colours of a model, with the texture (if any) each is drawn with, in order of
-/// first appearance: one material each.
+/// What tells two materials apart: the colour's bits, the texture's index and the name.
+type MaterialKey = ([u32; 4], Option<usize>, Option<Arc<str>>);
+
+/// The distinct materials of a model: a colour, the texture (if any) it is drawn with and the
+/// name the grammar gave it (if any), in order of first appearance.
 #[derive(Default)]
 pub(crate) struct Palette {
     colors: Vec<[f32; 4]>,
     textures: Vec<Option<usize>>,
-    index: BTreeMap<([u32; 4], Option<usize>), usize>,
+    names: Vec<Option<Arc<str>>>,
+    index: BTreeMap<MaterialKey, usize>,
 }
 
 impl Palette {
-    /// The material index of a colour with a texture (an index the caller keeps), adding it
-    /// when new.
-    pub fn textured(&mut self, color: Color, texture: Option<usize>) -> usize {
+    /// The material index of a colour with a texture (an index the caller keeps) and a name,
+    /// adding it when new.
+    pub fn material(
+        &mut self,
+        color: Color,
+        texture: Option<usize>,
+        name: Option<&Arc<str>>,
+    ) -> usize {
         let rgba = sanitized(color);
         *self
             .index
-            .entry((rgba.map(f32::to_bits), texture))
+            .entry((rgba.map(f32::to_bits), texture, name.cloned()))
             .or_insert_with(|| {
                 self.colors.push(rgba);
                 self.textures.push(texture);
+                self.names.push(name.cloned());
                 self.colors.len() - 1
             })
     }
@@ -328,22 +338,31 @@ impl Palette {
         &self.colors
     }
 
-    /// `#rrggbb` (or `#rrggbbaa`) per material; two colours closer than 1/255 share a name.
-    pub fn hex_names(&self) -> Vec<String> {
+    /// Per material: the grammar's name for it, else `#rrggbb` (or `#rrggbbaa`), where two
+    /// colours closer than 1/255 share a name.
+    pub fn names(&self) -> Vec<String> {
         self.colors
             .iter()
-            .map(|&[r, g, b, a]| Color { r, g, b, a }.to_hex())
+            .zip(&self.names)
+            .map(|(&[r, g, b, a], name)| match name {
+                Some(name) => name.to_string(),
+                None => Color { r, g, b, a }.to_hex(),
+            })
             .collect()
     }
 
-    /// Names safe for MTL (no `#`, which some OBJ readers take for a comment) and unique, since
-    /// `usemtl` refers to materials by name.
+    /// Names safe for MTL (no `#`, which some OBJ readers take for a comment, no whitespace,
+    /// which ends a name) and unique, since `usemtl` refers to materials by name.
     pub fn unique_names(&self) -> Vec<String> {
         let mut taken = BTreeSet::new();
-        self.hex_names()
+        self.names()
             .into_iter()
-            .map(|hex| {
-                let base = format!("color_{}", hex.trim_start_matches('#'));
+            .zip(&self.names)
+            .map(|(name, given)| {
+                let base = match given {
+                    Some(_) => sanitized_name(&name.replace('#', "_")),
+                    None => format!("color_{}", name.trim_start_matches('#')),
+                };
                 let mut name = base.clone();
                 let mut n = 2;
                 while !taken.insert(name.clone()) {

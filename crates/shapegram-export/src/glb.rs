@@ -480,7 +480,8 @@ impl<'a> Plan<'a> {
                         textures.len() - 1
                     })
             });
-            let material = palette.textured(color, texture);
+            let named = source.and_then(|i| model.parts[i].material.as_ref());
+            let material = palette.material(color, texture, named);
             let textured = texture.is_some();
             let skin = joint.map(|(skin, _)| skin);
             let skinned = |joints| Skinned {
@@ -703,7 +704,7 @@ fn document(
         name: Some("shapegram".to_owned()),
         ..Default::default()
     });
-    let colors = palette.colors().iter().zip(palette.hex_names());
+    let colors = palette.colors().iter().zip(palette.names());
     for ((&[r, g, b, a], name), &texture) in colors.zip(palette.textures()) {
         // The palette holds sRGB, as written in grammars; glTF wants linear light.
         let mut material = material(Color { r, g, b, a }.to_linear(), name);

@@ -96,7 +96,14 @@ pub fn write_obj_to(
             normals,
             uvs: uvs.filter(|_| texture.is_some()),
         };
-        (&part.name, part.color, texture, false, piece)
+        (
+            &part.name,
+            part.color,
+            texture,
+            part.material.as_ref(),
+            false,
+            piece,
+        )
     });
     let lines = model.lines.iter().map(|lines| {
         let segments: Vec<[u32; 2]> = lines
@@ -109,9 +116,9 @@ pub fn write_obj_to(
             points: &lines.points,
             segments,
         };
-        (&lines.name, lines.color, None, true, piece)
+        (&lines.name, lines.color, None, None, true, piece)
     });
-    for (name, color, texture, lines, piece) in parts.chain(lines) {
+    for (name, color, texture, material_name, lines, piece) in parts.chain(lines) {
         let empty = match &piece {
             Piece::Faces { faces, .. } => faces.is_empty(),
             Piece::Segments { segments, .. } => segments.is_empty(),
@@ -119,7 +126,7 @@ pub fn write_obj_to(
         if empty {
             continue;
         }
-        let material = palette.textured(color, texture);
+        let material = palette.material(color, texture, material_name);
         let existing = if options.group_by_part {
             None
         } else {

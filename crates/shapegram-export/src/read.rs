@@ -677,6 +677,7 @@ fn push_part(parts: &mut Vec<Part>, name: String, color: Color, mesh: Mesh, norm
             color,
             mesh,
             normals,
+            material: None,
         });
     }
 }

@@ -18,6 +18,7 @@ fn flat(name: &str, color: Color, mesh: Mesh) -> Part {
         color,
         normals: Vec::new(),
         mesh,
+        material: None,
     }
 }
 

@@ -38,6 +38,7 @@ fn part(name: &str, color: Color, mesh: Mesh, bone: Option<Bone>) -> Part {
         normals: Vec::new(),
         bone,
         metadata: None,
+        material: None,
     }
 }
 

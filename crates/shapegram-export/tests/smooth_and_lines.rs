@@ -28,6 +28,7 @@ fn smooth(name: &str, mesh: Mesh) -> Part {
         color: GREEN,
         normals: mesh.vertex_normals(),
         mesh,
+        material: None,
     }
 }
 
@@ -242,6 +243,7 @@ fn glb_lines_are_a_primitive_of_their_own() {
             color: RED,
             mesh: cuboid(DVec3::ONE),
             normals: Vec::new(),
+            material: None,
         }],
         lines: vec![stroke()],
     };

@@ -171,6 +171,11 @@ typedef struct {
    * The part's colour map, as an index for `sg_state_texture`; -1 when it has none.
    */
   int32_t texture;
+  /**
+   * The material's name the grammar set (`set(material.name, …)`; UTF-8, NUL-terminated,
+   * owned by the handle like `name`); NULL when it set none.
+   */
+  const char *material;
 } sg_part;
 
 /**

@@ -57,6 +57,9 @@ pub struct sg_part {
     pub index_count: u32,
     /// The part's colour map, as an index for `sg_state_texture`; -1 when it has none.
     pub texture: i32,
+    /// The material's name the grammar set (`set(material.name, …)`; UTF-8, NUL-terminated,
+    /// owned by the handle like `name`); NULL when it set none.
+    pub material: *const c_char,
 }
 
 /// The mesh buffers of the last derivation. The pointers point into memory the handle owns:
@@ -174,6 +177,8 @@ struct Inner {
     parts: Vec<sg_part>,
     /// The parts' names, which `parts` point into.
     names: Vec<CString>,
+    /// The parts' material names, which `parts` point into.
+    materials: Vec<Option<CString>>,
     /// The textures' paths, which `sg_state_texture` points into.
     texture_paths: Vec<CString>,
     joints: Vec<sg_joint>,
@@ -328,6 +333,7 @@ pub extern "C" fn sg_state_new() -> *mut sg_state {
                 buffers: Buffers::default(),
                 parts: Vec::new(),
                 names: Vec::new(),
+                materials: Vec::new(),
                 texture_paths: Vec::new(),
                 joints: Vec::new(),
                 joint_names: Vec::new(),
@@ -536,12 +542,21 @@ pub extern "C" fn sg_state_derive(state: *mut sg_state) -> sg_status {
             .iter()
             .map(|p| CString::new(derived.part_name(p.part).replace('\0', "")).unwrap_or_default())
             .collect();
+        inner.materials = inner
+            .buffers
+            .parts
+            .iter()
+            .map(|p| {
+                let name = derived.part_material(p.part)?;
+                Some(CString::new(name.replace('\0', "")).unwrap_or_default())
+            })
+            .collect();
         inner.parts = inner
             .buffers
             .parts
             .iter()
-            .zip(&inner.names)
-            .map(|(p, name)| sg_part {
+            .zip(inner.names.iter().zip(&inner.materials))
+            .map(|(p, (name, material))| sg_part {
                 name: name.as_ptr(),
                 color: p.color,
                 first_vertex: p.first_vertex,
@@ -549,6 +564,7 @@ pub extern "C" fn sg_state_derive(state: *mut sg_state) -> sg_status {
                 first_index: p.first_index,
                 index_count: p.index_count,
                 texture: p.texture.map_or(-1, |t| t as i32),
+                material: material.as_ref().map_or(std::ptr::null(), |m| m.as_ptr()),
             })
             .collect();
         inner.texture_paths = inner

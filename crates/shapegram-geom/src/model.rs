@@ -133,6 +133,9 @@ pub struct Part {
     /// Texture coordinates, one per mesh vertex (v up, as CGA has them); empty when the part
     /// is not textured.
     pub uvs: Vec<DVec2>,
+    /// The material's name the grammar set (`set(material.name, …)`), which names the
+    /// written material; `None`: the material is named after the colour.
+    pub material: Option<Arc<str>>,
 }
 
 /// An image a part is textured with.

@@ -17,6 +17,8 @@ pub struct Output {
     pub buffers: Buffers,
     /// The name of each range of `buffers.parts`, in order.
     pub part_names: Vec<String>,
+    /// The material name the grammar gave each range of `buffers.parts`, if any.
+    pub part_materials: Vec<Option<String>>,
 }
 
 impl Output {
@@ -165,6 +167,12 @@ fn run(grammar: Shared, request: &Request, control: Arc<DeriveControl>) -> Resul
             .parts
             .iter()
             .map(|range| derived.part_name(range.part).to_owned())
+            .collect();
+        output.part_materials = output
+            .buffers
+            .parts
+            .iter()
+            .map(|range| derived.part_material(range.part).map(str::to_owned))
             .collect();
         Ok(output)
     })

@@ -5,14 +5,14 @@ use godot::classes::mesh::{ArrayType, PrimitiveType};
 use godot::classes::{ArrayMesh, Image, ImageTexture, StandardMaterial3D};
 use godot::global::Error as GodotError;
 use godot::prelude::*;
-use shapegram_export::PartRange;
 use shapegram_geom::Texture;
 
 use crate::job::Output;
 use crate::state::GrammarState;
 
 /// The mesh of a `GrammarState`'s last derivation: one surface per part, named after it, with
-/// the part's colour as vertex colour and as the albedo of the surface's material; a textured
+/// the part's colour as vertex colour and as the albedo of the surface's material (a resource
+/// named as the grammar names the material, `set(material.name, …)`); a textured
 /// part has its uvs and its image as the albedo texture (which the colour multiplies). It is
 /// built again whenever the state emits `changed`.
 #[derive(GodotClass)]
@@ -56,9 +56,9 @@ impl GrammarMesh {
         // Each image once, however many parts use it.
         let textures: Vec<Option<Gd<ImageTexture>>> =
             output.buffers.textures.iter().map(|t| texture(t)).collect();
-        for (range, name) in output.buffers.parts.iter().zip(&output.part_names) {
+        for (i, range) in output.buffers.parts.iter().enumerate() {
             let texture = range.texture.and_then(|t| textures[t as usize].clone());
-            self.add_part(output, range, name, texture);
+            self.add_part(output, i, texture);
         }
     }
 
@@ -71,14 +71,10 @@ impl GrammarMesh {
             .sum()
     }
 
-    fn add_part(
-        &mut self,
-        output: &Output,
-        range: &PartRange,
-        name: &str,
-        texture: Option<Gd<ImageTexture>>,
-    ) {
+    /// Adds part range `index` of `output` as a surface, drawn with `texture` when it has one.
+    fn add_part(&mut self, output: &Output, index: usize, texture: Option<Gd<ImageTexture>>) {
         let buffers = &output.buffers;
+        let range = &buffers.parts[index];
         let vertices =
             range.first_vertex as usize..(range.first_vertex + range.vertex_count) as usize;
         let vector = |v: &[f32; 3]| Vector3::new(v[0], v[1], v[2]);
@@ -117,8 +113,12 @@ impl GrammarMesh {
         let mut mesh = self.base_mut();
         mesh.add_surface_from_arrays(PrimitiveType::TRIANGLES, &arrays);
         let surface = mesh.get_surface_count() - 1;
-        mesh.surface_set_name(surface, name);
-        mesh.surface_set_material(surface, &material(color, texture));
+        mesh.surface_set_name(surface, &output.part_names[index]);
+        let mut material = material(color, texture);
+        if let Some(name) = &output.part_materials[index] {
+            material.set_name(name);
+        }
+        mesh.surface_set_material(surface, &material);
     }
 }
 

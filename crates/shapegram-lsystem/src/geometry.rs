@@ -51,6 +51,7 @@ pub fn drawing_to_model(drawing: &Drawing, settings: &Settings) -> Model {
                 color: palette.colors[slot],
                 mesh,
                 normals,
+                material: None,
             };
             ((slot, 0), part)
         })
@@ -146,6 +147,7 @@ fn leaves<'a>(drawing: &Drawing, palette: &'a Palette) -> impl Iterator<Item = (
                 color: palette.colors[slot],
                 mesh,
                 normals: Vec::new(),
+                material: None,
             };
             (slot, part)
         })
@@ -432,6 +434,7 @@ fn transformed(model: &Model, map: &DAffine3) -> Model {
                     .iter()
                     .map(|&n| (normal_map * n).normalize_or(n))
                     .collect(),
+                material: None,
             })
             .collect(),
         lines: model

@@ -217,10 +217,13 @@ impl Grammar {
                     .map(|mut b| take(&mut *b))
                     .unwrap_or_default();
                 derived.fill(&mut buffers);
-                let names: Vec<String> = buffers
+                let names: Vec<(String, Option<String>)> = buffers
                     .parts
                     .iter()
-                    .map(|p| derived.part_name(p.part).to_owned())
+                    .map(|p| {
+                        let material = derived.part_material(p.part).map(str::to_owned);
+                        (derived.part_name(p.part).to_owned(), material)
+                    })
                     .collect();
                 Ok((buffers, names))
             })

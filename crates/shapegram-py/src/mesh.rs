@@ -99,6 +99,8 @@ pub struct Part {
     index_count: u32,
     /// Its colour map's index in `Mesh.textures`, `None` when it has none.
     texture: Option<u32>,
+    /// The material's name the grammar set (`set(material.name, …)`), `None` when it set none.
+    material: Option<String>,
 }
 
 #[pymethods]
@@ -145,13 +147,17 @@ fn view<'py, T: Copy, const N: usize>(
 }
 
 impl Mesh {
-    /// The Python objects of `buffers`, whose parts are named `names`.
-    pub fn new(py: Python<'_>, buffers: &Buffers, names: Vec<String>) -> PyResult<Self> {
+    /// The Python objects of `buffers`, whose parts have the names and material names `names`.
+    pub fn new(
+        py: Python<'_>,
+        buffers: &Buffers,
+        names: Vec<(String, Option<String>)>,
+    ) -> PyResult<Self> {
         let parts = buffers
             .parts
             .iter()
             .zip(names)
-            .map(|(p, name)| {
+            .map(|(p, (name, material))| {
                 let [r, g, b, a] = p.color;
                 Part {
                     name,
@@ -162,6 +168,7 @@ impl Mesh {
                     first_index: p.first_index,
                     index_count: p.index_count,
                     texture: p.texture,
+                    material,
                 }
             })
             .map(|part| Py::new(py, part))

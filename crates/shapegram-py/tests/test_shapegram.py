@@ -240,7 +240,7 @@ class SkeletonsAndTextures(unittest.TestCase):
         mesh = shapegram.Grammar.load(HOUSE).derive()
         self.assertEqual((len(mesh.joints), len(mesh.vertex_joints)), (0, 0))
         self.assertEqual((len(mesh.uvs), len(mesh.textures)), (0, 0))
-        self.assertTrue(all(part.texture is None for part in mesh.parts))
+        self.assertTrue(all(part.texture is None and part.material is None for part in mesh.parts))
 
     def test_the_textured_house_has_uvs_and_its_images(self):
         mesh = shapegram.Grammar.load(EXAMPLES / "textured_house.cga").derive()
@@ -248,6 +248,11 @@ class SkeletonsAndTextures(unittest.TestCase):
         self.assertEqual([t.path for t in mesh.textures], ["textures/brick.png", "textures/tiles.png"])
         self.assertTrue(all(t.data.startswith(b"\x89PNG") for t in mesh.textures))
         self.assertEqual(sorted(p.texture for p in mesh.parts if p.texture is not None), [0, 1])
+        self.assertEqual(
+            sorted((p.material, mesh.textures[p.texture].path) for p in mesh.parts if p.material),
+            [("brick", "textures/brick.png"), ("roof_tiles", "textures/tiles.png")],
+        )
+        self.assertTrue(all(p.material is None for p in mesh.parts if p.texture is None))
 
 
 if __name__ == "__main__":

@@ -464,6 +464,14 @@ impl Derived {
             Derived::Triangles(mesh) => &mesh.parts[part].name,
         }
     }
+
+    /// The material name the grammar gave part `part` (`set(material.name, …)`), if any.
+    pub fn part_material(&self, part: usize) -> Option<&str> {
+        match self {
+            Derived::Model(model) => model.parts[part].material.as_deref(),
+            Derived::Triangles(_) => None,
+        }
+    }
 }
 
 /// A lot from its corners (a planar polygon, counter-clockwise seen from above, y up), checked:

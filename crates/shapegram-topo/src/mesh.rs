@@ -107,6 +107,7 @@ impl GrammarMesh {
                     color: p.color,
                     mesh: Mesh::from_faces(p.positions.clone(), &p.triangles),
                     normals: Vec::new(),
+                    material: None,
                 })
                 .collect(),
             lines: Vec::new(),

@@ -1694,6 +1694,34 @@ fn textured_house_embeds_its_textures_and_a_missing_one_is_a_warning() {
     }
     assert_eq!(textured, 1);
     assert_eq!((low, high), ([0.0, -11.0], [30.0, 1.0]));
+    // Materials are named as the grammar names them (`set(material.name, …)`), else by colour.
+    let mut materials: Vec<&str> = gltf.materials().filter_map(|m| m.name()).collect();
+    materials.sort_unstable();
+    assert_eq!(
+        materials,
+        [
+            "#2f5d3a",
+            "#3a4f7a",
+            "#5a3a22",
+            "#6c8ea8",
+            "#cccccc",
+            "#d6d0c4",
+            "brick",
+            "roof_tiles"
+        ]
+    );
+    let obj = dir.path("house.obj");
+    ok(&[
+        "derive",
+        text(&example("textured_house.cga")),
+        "-o",
+        text(&obj),
+    ]);
+    let mtl = std::fs::read_to_string(dir.path("house.mtl")).unwrap();
+    assert!(
+        mtl.contains("newmtl brick\n") && mtl.contains("newmtl roof_tiles\n"),
+        "{mtl}"
+    );
 
     let grammar = dir.path("missing.cga");
     std::fs::write(

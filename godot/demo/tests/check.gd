@@ -192,6 +192,9 @@ func check_textured() -> void:
 		if size not in sizes:
 			fail("surface %d's texture is %s, no image's size" % [surface, size])
 		textured.append(sizes.get(size, "?"))
+		var named: String = {"brick": "brick", "tiles": "roof_tiles"}.get(sizes.get(size, "?"), "?")
+		if material.resource_name != named:
+			fail("surface %d's material is called %s, not %s" % [surface, material.resource_name, named])
 	textured.sort()
 	if textured != ["brick", "tiles"]:
 		fail("textured surfaces: %s" % [textured])

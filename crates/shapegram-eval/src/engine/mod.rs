@@ -295,6 +295,7 @@ impl Derivation {
             Option<Bone>,
             Option<Arc<Metadata>>,
             Option<&'a str>,
+            Option<&'a str>,
         );
         let mut slot: FxHashMap<Key, usize> = FxHashMap::default();
         let mut metadata = MetadataCache::default();
@@ -327,6 +328,7 @@ impl Derivation {
                 bone,
                 meta.clone(),
                 textured.map(|(texture, _)| &*texture.path),
+                leaf.material.as_deref(),
             );
             let i = *slot.entry(key).or_insert_with(|| {
                 parts.push(ModelPart {
@@ -338,6 +340,7 @@ impl Derivation {
                     metadata: meta,
                     texture: textured.map(|(texture, _)| texture.clone()),
                     uvs: Vec::new(),
+                    material: leaf.material.clone(),
                 });
                 parts.len() - 1
             });

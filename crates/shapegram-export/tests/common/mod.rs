@@ -26,6 +26,7 @@ fn part(name: &str, color: Color, mesh: Mesh, at: DVec3) -> Part {
         color,
         mesh: mesh.transformed(&DAffine3::from_translation(at)),
         normals: Vec::new(),
+        material: None,
     }
 }
 

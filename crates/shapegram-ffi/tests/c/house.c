@@ -158,6 +158,16 @@ int main(int argc, char **argv) {
         textured_parts += mesh.parts[p].texture >= 0;
     }
     CHECK(textured_parts == 2);
+    /* The textured parts are named as the grammar names their materials; the others are not. */
+    for (size_t p = 0; p < mesh.part_count; p++) {
+        const char *material = mesh.parts[p].material;
+        if (mesh.parts[p].texture < 0) {
+            CHECK(material == NULL);
+        } else {
+            CHECK(material != NULL &&
+                  (strcmp(material, "brick") == 0 || strcmp(material, "roof_tiles") == 0));
+        }
+    }
     sg_texture texture;
     CHECK(sg_state_texture(state, 0, &texture) == SG_OK);
     CHECK(strcmp(texture.path, "textures/brick.png") == 0);
