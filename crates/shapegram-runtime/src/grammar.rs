@@ -438,11 +438,13 @@ impl Grammar {
 struct CompiledShape {
     /// The grammar's own file, parsed: the attributes a host sets are its.
     grammar: ast::Grammar,
+    /// The program, `None` when there were errors.
     program: Option<Program>,
     /// Errors and warnings, each with the index of its file in `sources`.
     diagnostics: Vec<(usize, Diagnostic)>,
     /// The grammar's file, then the files it imports or its library.
     sources: Vec<SourceFile>,
+    /// Whether it is a goal grammar.
     goal: bool,
 }
 
