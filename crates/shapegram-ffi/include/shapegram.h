@@ -342,7 +342,9 @@ sg_status sg_state_free(sg_state *state);
  * every error (`name:line:column`) in `sg_state_last_error`, and keep the old grammar.
  * `name` is also where the grammar is: its imports and the files it inserts (`i("…")`) are
  * found beside it (relative to the current folder), in its CityEngine project and workspace,
- * as `shapegram derive` finds them.
+ * as `shapegram derive` finds them. A goal grammar loads with the handle's library
+ * (`sg_state_add_library_text`, `sg_state_add_library_file`); any other grammar loads only
+ * while the library is empty (`SG_GRAMMAR_ERROR` otherwise).
  */
 sg_status sg_state_load_text(sg_state *state, const char *text_, uint32_t kind_, const char *name);
 
@@ -350,9 +352,37 @@ sg_status sg_state_load_text(sg_state *state, const char *text_, uint32_t kind_,
  * Loads a grammar from the file at `path` (NUL-terminated UTF-8), as `sg_state_load_text`
  * does with the path as its name (a byte-order mark is skipped). Reading errors return
  * `SG_IO`; a file that is not UTF-8, `SG_INVALID_UTF8`. Imports and inserted files are found
- * beside it (each read once per loaded grammar, and kept for later derivations).
+ * beside it (each read once per loaded grammar, and kept for later derivations). A goal
+ * grammar loads with the handle's library, which leaves the file itself out of a folder that
+ * holds it.
  */
 sg_status sg_state_load_file(sg_state *state, const char *path, uint32_t kind_);
+
+/**
+ * Adds a goal grammar to the library that the goal grammars loaded next derive with (their
+ * goals are fulfilled by its rules, as `shapegram derive --library` gives them): `text`
+ * (NUL-terminated UTF-8, copied) named `name` (NUL-terminated UTF-8: a file name or path,
+ * whose stem names the grammar; messages name it). The library stays for every later load
+ * until `sg_state_clear_library`; it is compiled at each load, where its errors come out
+ * (`SG_GRAMMAR_ERROR`, with `name:line:column`), as do two library grammars of one stem.
+ */
+sg_status sg_state_add_library_text(sg_state *state, const char *name, const char *text_);
+
+/**
+ * Adds a file, or a folder of goal grammars, to the library (`path`: NUL-terminated UTF-8),
+ * as `shapegram derive --library` takes it: a folder gives every `*.goal` file in it and its
+ * subfolders. The files are read at each load, so that a load sees them as they are: those of
+ * every file and folder added, sorted by path, each once, without the grammar being loaded,
+ * then the texts of `sg_state_add_library_text`. A path that is neither a file nor a folder is
+ * `SG_IO` and is not added; a file that cannot be read when a grammar loads, `SG_IO` there.
+ */
+sg_status sg_state_add_library_file(sg_state *state, const char *path);
+
+/**
+ * Empties the library: goal grammars loaded next derive on their own, and other kinds load
+ * again. The loaded grammar keeps the library it was loaded with.
+ */
+sg_status sg_state_clear_library(sg_state *state);
 
 /**
  * Sets the seed of every random choice (topological grammars use its low 48 bits).

@@ -8,6 +8,7 @@
 use std::cell::UnsafeCell;
 use std::ffi::{CStr, CString, c_char};
 use std::panic::{AssertUnwindSafe, catch_unwind};
+use std::path::{Path, PathBuf};
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
 
@@ -184,6 +185,10 @@ struct Inner {
     joints: Vec<sg_joint>,
     /// The joints' names, which `joints` point into.
     joint_names: Vec<CString>,
+    /// The files and folders of the library goal grammars load with, read at each load.
+    library_paths: Vec<PathBuf>,
+    /// The grammars of the library given as text: name and text.
+    library_texts: Vec<(String, String)>,
     last_error: CString,
 }
 
@@ -282,6 +287,23 @@ fn kind(kind: u32) -> Result<Option<Kind>, Error> {
 }
 
 impl Inner {
+    /// Loads `text`, named `name`, as `kind` with the handle's library, and takes it.
+    fn load_text(&mut self, name: &str, text: &str, kind: Option<Kind>) -> Result<(), Error> {
+        let library = self.library(name)?;
+        let grammar = Grammar::load_with_library(name, text, kind, &library)?;
+        self.load(grammar);
+        Ok(())
+    }
+
+    /// The library of the grammar named `main`: the goal grammars of the files and folders
+    /// added, read now as `--library` reads them (`main` left out), then the texts added, in
+    /// the order they were.
+    fn library(&self, main: &str) -> Result<Vec<(String, String)>, Error> {
+        let mut library = shapegram_runtime::read_library(&self.library_paths, Path::new(main))?;
+        library.extend(self.library_texts.iter().cloned());
+        Ok(library)
+    }
+
     /// Takes a newly loaded grammar: the attributes set for the old one go, and so do the old
     /// results.
     fn load(&mut self, grammar: Grammar) {
@@ -337,6 +359,8 @@ pub extern "C" fn sg_state_new() -> *mut sg_state {
                 texture_paths: Vec::new(),
                 joints: Vec::new(),
                 joint_names: Vec::new(),
+                library_paths: Vec::new(),
+                library_texts: Vec::new(),
                 last_error: CString::default(),
             }),
         }))
@@ -376,7 +400,9 @@ pub extern "C" fn sg_state_free(state: *mut sg_state) -> sg_status {
 /// every error (`name:line:column`) in `sg_state_last_error`, and keep the old grammar.
 /// `name` is also where the grammar is: its imports and the files it inserts (`i("…")`) are
 /// found beside it (relative to the current folder), in its CityEngine project and workspace,
-/// as `shapegram derive` finds them.
+/// as `shapegram derive` finds them. A goal grammar loads with the handle's library
+/// (`sg_state_add_library_text`, `sg_state_add_library_file`); any other grammar loads only
+/// while the library is empty (`SG_GRAMMAR_ERROR` otherwise).
 #[unsafe(no_mangle)]
 pub extern "C" fn sg_state_load_text(
     state: *mut sg_state,
@@ -391,16 +417,16 @@ pub extern "C" fn sg_state_load_text(
         } else {
             text(name, "the grammar name")?
         };
-        let grammar = Grammar::load(name, source, kind(kind_)?)?;
-        inner.load(grammar);
-        Ok(())
+        inner.load_text(name, source, kind(kind_)?)
     })
 }
 
 /// Loads a grammar from the file at `path` (NUL-terminated UTF-8), as `sg_state_load_text`
 /// does with the path as its name (a byte-order mark is skipped). Reading errors return
 /// `SG_IO`; a file that is not UTF-8, `SG_INVALID_UTF8`. Imports and inserted files are found
-/// beside it (each read once per loaded grammar, and kept for later derivations).
+/// beside it (each read once per loaded grammar, and kept for later derivations). A goal
+/// grammar loads with the handle's library, which leaves the file itself out of a folder that
+/// holds it.
 #[unsafe(no_mangle)]
 pub extern "C" fn sg_state_load_file(
     state: *mut sg_state,
@@ -421,8 +447,58 @@ pub extern "C" fn sg_state_load_file(
             )
         })?;
         let source = source.strip_prefix('\u{feff}').unwrap_or(&source);
-        let grammar = Grammar::load(path, source, kind(kind_)?)?;
-        inner.load(grammar);
+        inner.load_text(path, source, kind(kind_)?)
+    })
+}
+
+/// Adds a goal grammar to the library that the goal grammars loaded next derive with (their
+/// goals are fulfilled by its rules, as `shapegram derive --library` gives them): `text`
+/// (NUL-terminated UTF-8, copied) named `name` (NUL-terminated UTF-8: a file name or path,
+/// whose stem names the grammar; messages name it). The library stays for every later load
+/// until `sg_state_clear_library`; it is compiled at each load, where its errors come out
+/// (`SG_GRAMMAR_ERROR`, with `name:line:column`), as do two library grammars of one stem.
+#[unsafe(no_mangle)]
+pub extern "C" fn sg_state_add_library_text(
+    state: *mut sg_state,
+    name: *const c_char,
+    text_: *const c_char,
+) -> sg_status {
+    with_state(state, |inner| {
+        let name = text(name, "the library grammar's name")?;
+        let source = text(text_, "the library grammar's text")?;
+        inner
+            .library_texts
+            .push((name.to_owned(), source.to_owned()));
+        Ok(())
+    })
+}
+
+/// Adds a file, or a folder of goal grammars, to the library (`path`: NUL-terminated UTF-8),
+/// as `shapegram derive --library` takes it: a folder gives every `*.goal` file in it and its
+/// subfolders. The files are read at each load, so that a load sees them as they are: those of
+/// every file and folder added, sorted by path, each once, without the grammar being loaded,
+/// then the texts of `sg_state_add_library_text`. A path that is neither a file nor a folder is
+/// `SG_IO` and is not added; a file that cannot be read when a grammar loads, `SG_IO` there.
+#[unsafe(no_mangle)]
+pub extern "C" fn sg_state_add_library_file(
+    state: *mut sg_state,
+    path: *const c_char,
+) -> sg_status {
+    with_state(state, |inner| {
+        let path = PathBuf::from(text(path, "the library path")?);
+        shapegram_runtime::check_library_path(&path)?;
+        inner.library_paths.push(path);
+        Ok(())
+    })
+}
+
+/// Empties the library: goal grammars loaded next derive on their own, and other kinds load
+/// again. The loaded grammar keeps the library it was loaded with.
+#[unsafe(no_mangle)]
+pub extern "C" fn sg_state_clear_library(state: *mut sg_state) -> sg_status {
+    with_state(state, |inner| {
+        inner.library_paths.clear();
+        inner.library_texts.clear();
         Ok(())
     })
 }

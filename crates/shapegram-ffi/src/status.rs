@@ -71,6 +71,7 @@ impl From<shapegram_runtime::Error> for Error {
             ErrorKind::AttributeType => sg_status::SG_ATTRIBUTE_TYPE,
             ErrorKind::Derive => sg_status::SG_DERIVE_ERROR,
             ErrorKind::Cancelled => sg_status::SG_CANCELLED,
+            ErrorKind::Io => sg_status::SG_IO,
         };
         Self::new(status, error.message)
     }

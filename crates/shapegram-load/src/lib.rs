@@ -1,11 +1,17 @@
 //! Shapegram's grammar files as the `shapegram` command and the C ABI read them: the text
-//! (UTF-8, or Windows-1252 as CityEngine writes it), the files it imports, and the assets,
-//! tables and file searches its rules ask for, found as CityEngine finds them.
+//! (UTF-8, or Windows-1252 as CityEngine writes it), the files it imports, a goal grammar's
+//! library, and the assets, tables and file searches its rules ask for, found as CityEngine
+//! finds them.
 
 mod assets;
 mod grammar;
+mod library;
 mod search;
 
 pub use assets::{FileAssets, MissingAssets};
 pub use grammar::{Compiled, Read, compile, import_path, read};
+pub use library::{
+    CompiledLibrary, NameClash, check_library_names, check_library_path, compile_library,
+    goal_dialect, library_files,
+};
 pub use search::search;

@@ -2,7 +2,7 @@
 
 use std::panic::{AssertUnwindSafe, catch_unwind};
 
-use pyo3::exceptions::{PyException, PyValueError};
+use pyo3::exceptions::{PyException, PyOSError, PyValueError};
 use pyo3::prelude::*;
 use shapegram_runtime::{Error as EngineError, ErrorKind};
 
@@ -47,6 +47,7 @@ pub fn to_py(error: EngineError) -> PyErr {
         ErrorKind::AttributeType => AttributeTypeError::new_err(message),
         ErrorKind::InvalidArgument => PyValueError::new_err(message),
         ErrorKind::Cancelled => Error::new_err(message),
+        ErrorKind::Io => PyOSError::new_err(message),
     }
 }
 

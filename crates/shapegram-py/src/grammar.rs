@@ -1,6 +1,7 @@
 //! `shapegram.Grammar`: a loaded grammar, its attributes, and its derivation.
 
 use std::mem::take;
+use std::path::{Path, PathBuf};
 use std::sync::{Arc, Mutex};
 
 use pyo3::exceptions::{PyTypeError, PyValueError};
@@ -9,7 +10,7 @@ use pyo3::types::{PyBool, PyDict, PyFloat, PyInt, PyString};
 use shapegram_eval::{DeriveControl, InitialShape, Value};
 use shapegram_export::Buffers;
 use shapegram_geom::DVec3;
-use shapegram_runtime::{AttrType, Grammar as Engine, Kind, Settings};
+use shapegram_runtime::{AttrType, Grammar as Engine, Kind, Settings, read_library};
 
 use crate::errors::{guard, to_py};
 use crate::mesh::Mesh;
@@ -105,10 +106,16 @@ fn lot(index: usize, corners: &[[f64; 3]]) -> PyResult<InitialShape> {
 #[pymethods]
 impl Grammar {
     /// Loads the grammar in the file at `path` (its kind from the extension unless `kind` says
-    /// it); its imports and inserted files are found beside it.
+    /// it); its imports and inserted files are found beside it. A goal grammar takes a
+    /// `library`, as `from_text` does (its own file is left out of a folder that holds it).
     #[staticmethod]
-    #[pyo3(signature = (path, kind=None))]
-    fn load(py: Python<'_>, path: std::path::PathBuf, kind: Option<&str>) -> PyResult<Self> {
+    #[pyo3(signature = (path, kind=None, library=None))]
+    fn load(
+        py: Python<'_>,
+        path: PathBuf,
+        kind: Option<&str>,
+        library: Option<Vec<PathBuf>>,
+    ) -> PyResult<Self> {
         let text = std::fs::read(&path).map_err(|e| {
             pyo3::exceptions::PyOSError::new_err(format!("cannot read {}: {e}", path.display()))
         })?;
@@ -120,16 +127,31 @@ impl Grammar {
             ))
         })?;
         let text = text.strip_prefix('\u{feff}').unwrap_or(&text).to_owned();
-        Self::from_text(py, &text, &name, kind)
+        Self::from_text(py, &text, &name, kind, library)
     }
 
     /// Loads a grammar from `text`, named `name` in messages; `name` also places it (its
     /// imports are found beside it) and, without `kind`, tells its kind by its extension.
+    /// `library` (paths of goal grammar files, and of folders searched with their subfolders
+    /// for `*.goal` files) gives a goal grammar the rules that fulfil its goals, as `shapegram
+    /// derive --library` does; other grammars take none.
     #[staticmethod]
-    #[pyo3(signature = (text, name="grammar", kind=None))]
-    fn from_text(py: Python<'_>, text: &str, name: &str, kind: Option<&str>) -> PyResult<Self> {
+    #[pyo3(signature = (text, name="grammar", kind=None, library=None))]
+    fn from_text(
+        py: Python<'_>,
+        text: &str,
+        name: &str,
+        kind: Option<&str>,
+        library: Option<Vec<PathBuf>>,
+    ) -> PyResult<Self> {
         let kind = kind_of(kind)?;
-        let engine = py.detach(|| guard(|| Engine::load(name, text, kind).map_err(to_py)))?;
+        let paths = library.unwrap_or_default();
+        let engine = py.detach(|| {
+            guard(|| {
+                let library = read_library(&paths, Path::new(name)).map_err(to_py)?;
+                Engine::load_with_library(name, text, kind, &library).map_err(to_py)
+            })
+        })?;
         Ok(Self {
             engine,
             name: name.to_owned(),

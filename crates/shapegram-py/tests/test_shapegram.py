@@ -12,6 +12,8 @@ import shapegram
 
 EXAMPLES = pathlib.Path(__file__).resolve().parents[3] / "examples"
 HOUSE = EXAMPLES / "house.cga"
+CHAIR = EXAMPLES / "chairs" / "chair.goal"
+MATERIALS = EXAMPLES / "chairs" / "materials"
 
 
 class House(unittest.TestCase):
@@ -253,6 +255,50 @@ class SkeletonsAndTextures(unittest.TestCase):
             [("brick", "textures/brick.png"), ("roof_tiles", "textures/tiles.png")],
         )
         self.assertTrue(all(p.material is None for p in mesh.parts if p.texture is None))
+
+
+class Library(unittest.TestCase):
+    def test_a_goal_grammar_derives_with_its_library(self):
+        mesh = shapegram.Grammar.load(CHAIR, library=[MATERIALS]).derive()
+        # As `shapegram derive examples/chairs/chair.goal --library examples/chairs/materials`
+        # makes it: 72 triangles in three parts, which materials/wood.goal paints brown.
+        self.assertEqual((mesh.vertex_count, mesh.triangle_count, len(mesh.parts)), (144, 72, 3))
+        self.assertEqual({p.color_hex for p in mesh.parts}, {"#8b5a2b"})
+        # Without it, the same geometry with its goal `wooden` left open: the default grey.
+        alone = shapegram.Grammar.load(CHAIR).derive()
+        self.assertEqual(alone.positions.tobytes(), mesh.positions.tobytes())
+        self.assertEqual({p.color_hex for p in alone.parts}, {"#cccccc"})
+
+    def test_a_library_is_files_and_folders_for_files_and_texts(self):
+        # The chair's own folder, as strings: the chair itself is left out of it.
+        folder = shapegram.Grammar.load(str(CHAIR), library=[str(CHAIR.parent)]).derive()
+        self.assertEqual({p.color_hex for p in folder.parts}, {"#8b5a2b"})
+        wood = MATERIALS / "wood.goal"
+        chair = shapegram.Grammar.from_text(CHAIR.read_text(), name="chair.goal", library=[wood])
+        self.assertEqual({p.color_hex for p in chair.derive().parts}, {"#8b5a2b"})
+
+    def test_an_error_in_a_library_file_names_the_file(self):
+        paint = pathlib.Path(tempfile.mkdtemp()) / "paint.goal"
+        paint.write_text('// paints boxes\nfulfills(box) --> color("#ff0000"\n')
+        with self.assertRaises(shapegram.GrammarError) as raised:
+            shapegram.Grammar.load(CHAIR, library=[paint])
+        message = str(raised.exception)
+        self.assertTrue(message.startswith("error: unclosed `(`\n"), message)
+        self.assertIn(f"--> {paint}:2:24", message)
+
+    def test_a_library_is_refused_for_other_grammars(self):
+        with self.assertRaises(shapegram.GrammarError) as raised:
+            shapegram.Grammar.load(HOUSE, library=[MATERIALS])
+        self.assertEqual(
+            str(raised.exception), f"{HOUSE} is not a goal grammar: a library gives goal grammars their rules"
+        )
+
+    def test_bad_library_paths(self):
+        with self.assertRaises(OSError) as raised:
+            shapegram.Grammar.load(CHAIR, library=["no/such/library"])
+        self.assertEqual(str(raised.exception), "the library no/such/library is neither a file nor a folder")
+        with self.assertRaises(TypeError):
+            shapegram.Grammar.load(CHAIR, library=str(MATERIALS))
 
 
 if __name__ == "__main__":

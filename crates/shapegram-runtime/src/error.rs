@@ -17,6 +17,8 @@ pub enum ErrorKind {
     Derive,
     /// The derivation was cancelled through its control.
     Cancelled,
+    /// A file or folder could not be read (a goal grammar's library).
+    Io,
 }
 
 /// An error: its kind and its message.
@@ -86,6 +88,11 @@ impl Error {
     /// [`ErrorKind::Cancelled`].
     pub fn cancelled() -> Self {
         Self::new(ErrorKind::Cancelled, "the derivation was cancelled")
+    }
+
+    /// [`ErrorKind::Io`].
+    pub fn io(message: impl Into<String>) -> Self {
+        Self::new(ErrorKind::Io, message)
     }
 
     /// [`ErrorKind::InvalidArgument`].

@@ -158,11 +158,36 @@ impl Grammar {
     /// Parses and compiles `text`, named `name` in messages, as `kind` (`None`: by the name's
     /// extension, else CGA or the notation the text is in).
     pub fn load(name: &str, text: &str, kind: Option<Kind>) -> Result<Grammar, Error> {
+        Self::load_with_library(name, text, kind, &[])
+    }
+
+    /// [`Grammar::load`] for a goal grammar with its library: other goal grammars, each given
+    /// by its name (its file's path; the file's stem names the grammar) and its text, whose
+    /// rules fulfil the main grammar's goals. They compile with it into one program in the order
+    /// given, as `shapegram derive --library` compiles them ([`crate::read_library`] reads them
+    /// from paths in the command's order); an error in one is rendered with its name, line and
+    /// column. A library given to a grammar that is not a goal grammar, and two library
+    /// grammars of one name, are errors of kind [`crate::ErrorKind::Grammar`].
+    pub fn load_with_library(
+        name: &str,
+        text: &str,
+        kind: Option<Kind>,
+        library: &[(String, String)],
+    ) -> Result<Grammar, Error> {
         let kind = kind
             .or_else(|| Kind::of_name(name))
             .unwrap_or(Kind::Shape(None));
+        if !library.is_empty() && !matches!(kind, Kind::Shape(_)) {
+            return Err(not_goal(name));
+        }
         match kind {
-            Kind::Shape(dialect) => Self::load_shape(SourceFile::new(name, text), dialect),
+            Kind::Shape(dialect) => {
+                let library = library
+                    .iter()
+                    .map(|(name, text)| SourceFile::new(name.clone(), text.clone()))
+                    .collect();
+                Self::load_shape(SourceFile::new(name, text), dialect, library)
+            }
             Kind::LSystem => shapegram_lsystem::LSystem::parse(text)
                 .map(|system| Grammar::LSystem(system, name.to_owned(), text.to_owned()))
                 .map_err(|e| lsystem_error(Error::grammar(e.render(name, text)), e)),
@@ -199,36 +224,22 @@ impl Grammar {
     }
 
     /// A CGA-style grammar with the files it imports (as `shapegram derive` reads them), or a
-    /// goal grammar on its own.
-    fn load_shape(source: SourceFile, dialect: Option<Dialect>) -> Result<Grammar, Error> {
-        let dialect = dialect.unwrap_or_else(|| shapegram_syntax::detect(source.text()));
-        let goal = matches!(dialect, Dialect::Goal | Dialect::Michelangelo);
-        let (grammar, program, diagnostics, sources) = if goal {
-            let parsed = shapegram_syntax::parse_as(&source, dialect);
-            let mut diagnostics: Vec<(usize, Diagnostic)> =
-                parsed.diagnostics.into_iter().map(|d| (0, d)).collect();
-            let program = if diagnostics.iter().any(|(_, d)| d.is_error()) {
-                None
-            } else {
-                let name = Path::new(source.name()).file_stem().map_or_else(
-                    || source.name().to_owned(),
-                    |s| s.to_string_lossy().into_owned(),
-                );
-                let options = shapegram_eval::LibraryOptions::closed(1);
-                let (program, more) =
-                    Program::compile_library_with(&[(name.as_str(), &parsed.grammar)], &options);
-                diagnostics.extend(more);
-                program
-            };
-            (parsed.grammar, program, diagnostics, vec![source])
-        } else {
-            let compiled = shapegram_load::compile(&source, Some(dialect));
-            (
-                compiled.grammar,
-                compiled.program,
-                compiled.diagnostics,
-                compiled.sources,
-            )
+    /// goal grammar with its library.
+    fn load_shape(
+        source: SourceFile,
+        dialect: Option<Dialect>,
+        library: Vec<SourceFile>,
+    ) -> Result<Grammar, Error> {
+        let CompiledShape {
+            grammar,
+            program,
+            diagnostics,
+            sources,
+            goal,
+        } = match shapegram_load::goal_dialect(&source, dialect) {
+            Some(_) => compile_goals(source, dialect, library)?,
+            None if !library.is_empty() => return Err(not_goal(source.name())),
+            None => compile_cga_style(&source, dialect),
         };
         let errors: Vec<String> = diagnostics
             .iter()
@@ -417,6 +428,64 @@ impl Grammar {
         };
         Ok(Derived::Model(model))
     }
+}
+
+/// A CGA-style or goal grammar parsed and compiled, its errors not yet looked at.
+struct CompiledShape {
+    /// The grammar's own file, parsed: the attributes a host sets are its.
+    grammar: ast::Grammar,
+    /// The program, `None` when there were errors.
+    program: Option<Program>,
+    /// Errors and warnings, each with the index of its file in `sources`.
+    diagnostics: Vec<(usize, Diagnostic)>,
+    /// The grammar's file, then the files it imports or its library.
+    sources: Vec<SourceFile>,
+    /// Whether it is a goal grammar.
+    goal: bool,
+}
+
+/// A goal grammar and its library compiled together, named and ordered as
+/// `shapegram derive --library` compiles them.
+fn compile_goals(
+    source: SourceFile,
+    dialect: Option<Dialect>,
+    library: Vec<SourceFile>,
+) -> Result<CompiledShape, Error> {
+    let mut sources = vec![source];
+    sources.extend(library);
+    shapegram_load::check_library_names(sources.iter().map(SourceFile::name)).map_err(|clash| {
+        Error::grammar(format!("{clash} ({})", shapegram_load::NameClash::HINT))
+    })?;
+    let options = shapegram_eval::LibraryOptions::closed(sources.len());
+    let compiled = shapegram_load::compile_library(sources, dialect, &options);
+    Ok(CompiledShape {
+        grammar: compiled.grammar,
+        program: compiled.program,
+        diagnostics: compiled.diagnostics,
+        sources: compiled.sources,
+        goal: true,
+    })
+}
+
+/// A CGA-style grammar (in `dialect`, else the notation its text is in) with the files it
+/// imports.
+fn compile_cga_style(source: &SourceFile, dialect: Option<Dialect>) -> CompiledShape {
+    let dialect = dialect.unwrap_or_else(|| shapegram_syntax::detect(source.text()));
+    let compiled = shapegram_load::compile(source, Some(dialect));
+    CompiledShape {
+        grammar: compiled.grammar,
+        program: compiled.program,
+        diagnostics: compiled.diagnostics,
+        sources: compiled.sources,
+        goal: false,
+    }
+}
+
+/// The error for a library given to `name`, which is not a goal grammar.
+fn not_goal(name: &str) -> Error {
+    Error::grammar(format!(
+        "{name} is not a goal grammar: a library gives goal grammars their rules"
+    ))
 }
 
 /// `error` at the place of the L-system error `e`, if it has one.

@@ -2,17 +2,23 @@
 //! buffers, the same settings give the same buffers, and bad input gives errors of the right
 //! kind with their place.
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 use shapegram_eval::Value;
 use shapegram_export::Buffers;
 use shapegram_geom::DVec3;
-use shapegram_runtime::{AttrType, Error, ErrorKind, Grammar, Kind, Settings, lot};
+use shapegram_runtime::{
+    AttrType, Error, ErrorKind, Grammar, Kind, Settings, check_library_path, lot, read_library,
+};
+
+fn example_path(name: &str) -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .join("../../examples")
+        .join(name)
+}
 
 fn example(name: &str) -> (String, String) {
-    let path = PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-        .join("../../examples")
-        .join(name);
+    let path = example_path(name);
     let text = std::fs::read_to_string(&path).expect("the example exists");
     (path.display().to_string(), text)
 }
@@ -345,4 +351,146 @@ fn the_buffers_carry_the_skeleton_a_host_poses() {
         moved += usize::from(p0.distance(p1) > 0.1);
     }
     assert!(moved > 100, "only {moved} vertices moved");
+}
+
+/// `examples/chairs/chair.goal` with the library `read_library` reads from `paths`.
+fn chair_with(paths: &[PathBuf]) -> Grammar {
+    let (name, text) = example("chairs/chair.goal");
+    let library = read_library(paths, Path::new(&name)).expect("the library reads");
+    Grammar::load_with_library(&name, &text, None, &library).expect("the chair loads")
+}
+
+/// A part's colour as the grammar writes it.
+fn hex(color: [f32; 4]) -> String {
+    let [r, g, b] = [color[0], color[1], color[2]].map(|c| (c * 255.0).round() as u8);
+    format!("#{r:02x}{g:02x}{b:02x}")
+}
+
+/// `shapegram derive examples/chairs/chair.goal --library examples/chairs/materials --stats`
+/// makes 72 triangles in 3 parts whose six leaves `wood.goal` paints brown; without the library
+/// the same geometry, its goal `wooden` left open, in the default grey. (The shapegram crate's
+/// tests/goals.rs checks the GLB of this derivation against the command's byte for byte.)
+#[test]
+fn a_goal_grammar_derives_with_its_library_as_the_command_does() {
+    let materials = example_path("chairs/materials");
+    let (chair, _) = example("chairs/chair.goal");
+    let library = read_library(std::slice::from_ref(&materials), Path::new(&chair)).unwrap();
+    let names: Vec<&str> = library.iter().map(|(name, _)| name.as_str()).collect();
+    let file = |stem: &str| materials.join(stem).display().to_string();
+    assert_eq!(
+        names,
+        [file("fabric.goal"), file("metal.goal"), file("wood.goal")]
+    );
+
+    let with = buffers(&chair_with(&[materials]), &Settings::default());
+    assert_consistent(&with);
+    assert_eq!(
+        (with.positions.len(), with.indices.len(), with.parts.len()),
+        (144, 3 * 72, 3)
+    );
+    let colors = |b: &Buffers| b.parts.iter().map(|p| hex(p.color)).collect::<Vec<_>>();
+    assert_eq!(colors(&with), ["#8b5a2b"; 3]);
+
+    let alone = buffers(&chair_with(&[]), &Settings::default());
+    assert_eq!(
+        (&alone.positions, &alone.indices),
+        (&with.positions, &with.indices)
+    );
+    assert_eq!(colors(&alone), ["#cccccc"; 3]);
+}
+
+/// A grammar's own folder is its library without it, as `--library` reads it.
+#[test]
+fn a_goal_grammar_is_left_out_of_its_own_folder() {
+    let (chair, _) = example("chairs/chair.goal");
+    let folder = PathBuf::from(&chair).with_file_name("");
+    let library = read_library(&[folder], Path::new(&chair)).unwrap();
+    assert_eq!(library.len(), 9);
+    assert!(library.iter().all(|(name, _)| name != &chair));
+    assert!(
+        library
+            .iter()
+            .any(|(name, _)| name.ends_with("metallic_chair.goal"))
+    );
+}
+
+#[test]
+fn an_error_in_a_library_file_names_the_file_line_and_column() {
+    let folder = std::env::temp_dir().join(format!("shapegram-runtime-lib-{}", std::process::id()));
+    std::fs::create_dir_all(&folder).unwrap();
+    let paint = folder.join("paint.goal");
+    std::fs::write(
+        &paint,
+        "// paints boxes\nfulfills(box) --> color(\"#ff0000\"\n",
+    )
+    .unwrap();
+    let library = read_library(std::slice::from_ref(&paint), Path::new("main.goal"));
+    std::fs::remove_dir_all(&folder).unwrap();
+    let error = Grammar::load_with_library(
+        "main.goal",
+        "axiom box size(1, 1, 1)\n",
+        None,
+        &library.unwrap(),
+    )
+    .err()
+    .expect("a syntax error");
+    assert_eq!(error.kind, ErrorKind::Grammar);
+    assert!(
+        error.message.starts_with("error: unclosed `(`\n")
+            && error
+                .message
+                .contains(&format!("--> {}:2:24\n", paint.display())),
+        "{}",
+        error.message
+    );
+}
+
+#[test]
+fn a_library_is_refused_for_other_grammars_and_for_names_used_twice() {
+    let wood = (
+        "wood.goal".to_owned(),
+        "fulfills(wooden) --> color(\"#8b5a2b\")\n".to_owned(),
+    );
+    for file in ["house.cga", "tree-3d.lsys"] {
+        let (name, text) = example(file);
+        let error = Grammar::load_with_library(&name, &text, None, std::slice::from_ref(&wood))
+            .err()
+            .expect(file);
+        assert_eq!(
+            (error.kind, error.message),
+            (
+                ErrorKind::Grammar,
+                format!("{name} is not a goal grammar: a library gives goal grammars their rules")
+            )
+        );
+    }
+    let (name, text) = example("chairs/chair.goal");
+    let twice = [
+        ("a/wood.goal".to_owned(), wood.1.clone()),
+        ("b/wood.goal".to_owned(), wood.1.clone()),
+    ];
+    let error = Grammar::load_with_library(&name, &text, None, &twice)
+        .err()
+        .expect("two grammars called wood");
+    assert_eq!(
+        (error.kind, error.message.as_str()),
+        (
+            ErrorKind::Grammar,
+            "two library grammars are called `wood`: a/wood.goal and b/wood.goal \
+             (grammars are named by their file names: rename one)"
+        )
+    );
+}
+
+#[test]
+fn a_library_path_that_is_missing_is_an_io_error() {
+    let missing = PathBuf::from("no/such/library");
+    let expected = (
+        ErrorKind::Io,
+        "the library no/such/library is neither a file nor a folder".to_owned(),
+    );
+    let error = check_library_path(&missing).unwrap_err();
+    assert_eq!((error.kind, error.message), expected);
+    let error = read_library(&[missing], Path::new("main.goal")).unwrap_err();
+    assert_eq!((error.kind, error.message), expected);
 }

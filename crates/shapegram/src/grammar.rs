@@ -1,8 +1,9 @@
 //! Reading, parsing and compiling a grammar file, with its diagnostics printed rustc-style.
 
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 use shapegram_eval::{LibraryOptions, Program};
+use shapegram_load::NameClash;
 use shapegram_syntax::{Diagnostic, Dialect, SourceFile, ast};
 
 use crate::{Failure, counted};
@@ -107,20 +108,9 @@ pub struct CompiledLibrary {
 }
 
 /// Whether `source` is a goal grammar: in `dialect` when given, else by its text, or by its
-/// `.goal` extension.
+/// `.goal` extension (see [`shapegram_load::goal_dialect`]).
 pub fn is_goal_grammar(source: &SourceFile, dialect: Option<Dialect>) -> bool {
-    goal_dialect(source, dialect).is_some()
-}
-
-/// The goal notation `source` is in (see [`is_goal_grammar`]); a `.goal` file without the
-/// marks of either is read in the native one.
-fn goal_dialect(source: &SourceFile, dialect: Option<Dialect>) -> Option<Dialect> {
-    let goal = |d: Dialect| matches!(d, Dialect::Goal | Dialect::Michelangelo).then_some(d);
-    match dialect {
-        Some(d) => goal(d),
-        None => goal(shapegram_syntax::detect(source.text()))
-            .or_else(|| source.name().ends_with(".goal").then_some(Dialect::Goal)),
-    }
+    shapegram_load::goal_dialect(source, dialect).is_some()
 }
 
 /// A goal grammar (`source`, read from `main`) and the grammars of its library, read: the main
@@ -128,7 +118,7 @@ fn goal_dialect(source: &SourceFile, dialect: Option<Dialect>) -> Option<Dialect
 pub fn read_library(
     source: SourceFile,
     main: &Path,
-    library: &[std::path::PathBuf],
+    library: &[PathBuf],
     warn: bool,
 ) -> Result<Vec<SourceFile>, Failure> {
     let mut sources = vec![source];
@@ -138,71 +128,17 @@ pub fn read_library(
     Ok(sources)
 }
 
-/// The library a goal grammar derives with: the files given and the goal grammar files
-/// (`*.goal`) in the folders given and their subfolders, sorted by path, without `main`.
-fn library_files(
-    paths: &[std::path::PathBuf],
-    main: &Path,
-) -> Result<Vec<std::path::PathBuf>, Failure> {
-    let main_path = main;
-    let main = std::fs::canonicalize(main).ok();
-    let mut files = Vec::new();
-    let mut pending = Vec::new();
-    for path in paths {
-        if path.is_dir() {
-            pending.push(path.clone());
-        } else if path.is_file() {
-            if std::fs::canonicalize(path).ok() != main {
-                files.push(path.clone());
-            }
-        } else {
-            return Err(Failure::new(format!(
-                "the library {} is neither a file nor a folder",
-                path.display()
-            )));
-        }
-    }
-    while let Some(folder) = pending.pop() {
-        let entries = std::fs::read_dir(&folder).map_err(|e| {
-            Failure::new(format!(
-                "cannot read the library folder {}: {e}",
-                folder.display()
-            ))
-        })?;
-        for entry in entries {
-            let entry = entry
-                .map_err(|e| Failure::new(format!("cannot read {}: {e}", folder.display())))?;
-            let path = entry.path();
-            // Links to folders are not followed: one could lead back up the tree.
-            if entry.file_type().is_ok_and(|t| t.is_dir()) {
-                pending.push(path);
-            } else if path.extension().is_some_and(|e| e == "goal")
-                && std::fs::canonicalize(&path).ok() != main
-            {
-                files.push(path);
-            }
-        }
-    }
-    files.sort();
-    // A file reached twice (named, and in a folder) is one grammar.
-    let mut seen = std::collections::HashSet::new();
-    files.retain(|f| seen.insert(std::fs::canonicalize(f).unwrap_or_else(|_| f.clone())));
-    // Grammars are named by their file stems: two of one name would mix their rules' names.
-    let mut stems: std::collections::HashMap<String, &Path> = std::collections::HashMap::new();
-    stems.insert(stem(&main_path.display().to_string()), main_path);
-    for file in &files {
-        let name = stem(&file.display().to_string());
-        if let Some(other) = stems.insert(name.clone(), file) {
-            return Err(Failure::new(format!(
-                "two library grammars are called `{name}`: {} and {}",
-                other.display(),
-                file.display()
-            ))
-            .with_hints(vec![
-                "grammars are named by their file names: rename one".to_owned(),
-            ]));
-        }
-    }
+/// The library a goal grammar derives with ([`shapegram_load::library_files`]), its grammars'
+/// names checked before any is read.
+fn library_files(paths: &[PathBuf], main: &Path) -> Result<Vec<PathBuf>, Failure> {
+    let files = shapegram_load::library_files(paths, main).map_err(Failure::new)?;
+    let names: Vec<String> = std::iter::once(main)
+        .chain(files.iter().map(PathBuf::as_path))
+        .map(|path| path.display().to_string())
+        .collect();
+    shapegram_load::check_library_names(names.iter().map(String::as_str)).map_err(|clash| {
+        Failure::new(clash.to_string()).with_hints([NameClash::HINT.to_owned()])
+    })?;
     Ok(files)
 }
 
@@ -239,59 +175,23 @@ pub fn compile_library_with(
     compiled
 }
 
-/// [`compile_library_with`] without printing: the diagnostics come back with the index of the
-/// source each is in (0: the main grammar).
+/// [`compile_library_with`] without printing ([`shapegram_load::compile_library`]): the
+/// diagnostics come back with the index of the source each is in (0: the main grammar).
 pub fn compile_library_silently(
     sources: Vec<SourceFile>,
     dialect: Option<Dialect>,
     options: &LibraryOptions,
 ) -> (CompiledLibrary, Vec<(usize, Diagnostic)>) {
-    let parsed: Vec<shapegram_syntax::Parsed> = sources
-        .iter()
-        .enumerate()
-        .map(|(i, source)| {
-            let forced = if i == 0 { dialect } else { None };
-            let dialect = goal_dialect(source, forced).unwrap_or(Dialect::Goal);
-            shapegram_syntax::parse_as(source, dialect)
-        })
-        .collect();
-    let mut diagnostics: Vec<(usize, Diagnostic)> = parsed
-        .iter()
-        .enumerate()
-        .flat_map(|(i, p)| p.diagnostics.iter().map(move |d| (i, d.clone())))
-        .collect();
-    let names: Vec<String> = sources
-        .iter()
-        .enumerate()
-        .map(|(i, s)| {
-            if i < options.repository_from {
-                stem(s.name())
-            } else {
-                s.name().to_owned()
-            }
-        })
-        .collect();
-    let program = if diagnostics.iter().any(|(_, d)| d.is_error()) {
-        None
-    } else {
-        let grammars: Vec<(&str, &ast::Grammar)> = names
-            .iter()
-            .zip(&parsed)
-            .map(|(n, p)| (n.as_str(), &p.grammar))
-            .collect();
-        let (program, more) = Program::compile_library_with(&grammars, options);
-        diagnostics.extend(more);
-        program
-    };
-    let errors = diagnostics.iter().filter(|(_, d)| d.is_error()).count();
-    let compiled = CompiledLibrary {
-        program,
-        warnings: diagnostics.len() - errors,
+    let compiled = shapegram_load::compile_library(sources, dialect, options);
+    let errors = compiled.errors();
+    let compiled_library = CompiledLibrary {
+        program: compiled.program,
+        sources: compiled.sources,
         errors,
-        rules: parsed.iter().map(|p| p.grammar.goal_rules.len()).sum(),
-        sources,
+        warnings: compiled.diagnostics.len() - errors,
+        rules: compiled.rules,
     };
-    (compiled, diagnostics)
+    (compiled_library, compiled.diagnostics)
 }
 
 /// `chair.goal` or `chair.goal and its library of 3 files`.
@@ -304,11 +204,4 @@ pub fn library_name(sources: &[SourceFile]) -> String {
             counted(n - 1, "file", "files")
         ),
     }
-}
-
-/// A grammar's name in a library: its file's stem.
-fn stem(path: &str) -> String {
-    Path::new(path)
-        .file_stem()
-        .map_or_else(|| path.to_owned(), |s| s.to_string_lossy().into_owned())
 }

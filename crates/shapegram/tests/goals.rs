@@ -171,3 +171,45 @@ fn two_library_grammars_of_one_name_are_refused() {
         "{err}"
     );
 }
+
+/// The GLB of the runtime's model (what the C ABI, Python and Godot derive).
+fn runtime_glb(grammar: &std::path::Path, library: &[std::path::PathBuf]) -> Vec<u8> {
+    use shapegram_runtime::{Derived, Grammar, Settings};
+    let name = grammar.display().to_string();
+    let text = std::fs::read_to_string(grammar).unwrap();
+    let library = shapegram_runtime::read_library(library, grammar).unwrap();
+    let loaded = Grammar::load_with_library(&name, &text, None, &library).unwrap();
+    let Derived::Model(model) = loaded.derive(&Settings::default()).unwrap() else {
+        panic!("a goal grammar derives a model");
+    };
+    let mut glb = Vec::new();
+    shapegram_export::write_glb_to(&model, &Default::default(), &mut glb).unwrap();
+    glb
+}
+
+/// A host loading a goal grammar with its library through the runtime gets the model
+/// `derive --library` writes, byte for byte, and without it the model `derive` alone writes
+/// (its goal `wooden` left open).
+#[test]
+fn the_runtime_derives_a_goal_grammar_with_its_library_as_derive_does() {
+    let dir = TempDir::new("runtime-library");
+    let chair = example("chairs/chair.goal");
+    let materials = example("chairs/materials");
+    let (chair_arg, materials_arg) = (path("chairs/chair.goal"), path("chairs/materials"));
+    let out = dir.path("chair.glb").display().to_string();
+    for library in [vec![materials.clone()], vec![]] {
+        let mut command = vec!["derive", "-q", &chair_arg, "-o", &out];
+        if !library.is_empty() {
+            command.extend(["--library", &materials_arg]);
+        }
+        let output = shapegram(&command);
+        assert!(output.status.success(), "{}", stderr(&output));
+        let written = std::fs::read(&out).unwrap();
+        assert!(
+            runtime_glb(&chair, &library) == written,
+            "the runtime's GLB differs from `shapegram {}`",
+            command.join(" ")
+        );
+    }
+    assert!(runtime_glb(&chair, &[materials]) != runtime_glb(&chair, &[]));
+}
