@@ -2,7 +2,8 @@
 //!
 //! The functions take raw pointers without being `unsafe fn`: they are made for C, whose
 //! callers see no `unsafe`; the header states what each pointer must be, and the functions
-//! check all they can (NULL, UTF-8, lengths). Rust callers use [`crate::grammar`] instead.
+//! check all they can (NULL, UTF-8, lengths). Rust callers use the `shapegram-runtime` crate
+//! instead.
 #![allow(clippy::not_unsafe_ptr_arg_deref)]
 
 use std::cell::UnsafeCell;

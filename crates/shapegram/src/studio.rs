@@ -9,7 +9,7 @@ use std::sync::Arc;
 use std::time::{Duration, Instant};
 
 use clap::Args;
-use shapegram_eval::DeriveOptions;
+use shapegram_eval::{DeriveError, DeriveOptions};
 use shapegram_export::ExportOptions;
 use shapegram_server::studio::{DeriveJob, Derived, Engine, StudioDiagnostic, StudioOptions};
 use shapegram_syntax::{Diagnostic, Severity, SourceFile};
@@ -145,18 +145,7 @@ fn derive_grammar(job: &DeriveJob) -> Derived {
         Ok(derivation) => derivation,
         Err(e) => {
             derived.derive_ms = millis(started.elapsed());
-            match e.to_diagnostic() {
-                Some(d) => {
-                    let file = e.file.unwrap_or(0);
-                    derived
-                        .diagnostics
-                        .push(located(&compiled.sources, file, &d));
-                }
-                None => {
-                    derived.error = Some(e.message.replace('\n', " "));
-                    derived.hints = e.hints;
-                }
-            }
+            failed(&mut derived, &compiled.sources, e);
             return derived;
         }
     };
@@ -195,6 +184,20 @@ fn derive_grammar(job: &DeriveJob) -> Derived {
     }
     derived.export_ms = millis(exported.elapsed());
     derived
+}
+
+/// Records a derivation's failure: a diagnostic where it has a place in the text, else the
+/// error and its hints.
+pub(crate) fn failed(derived: &mut Derived, sources: &[SourceFile], e: DeriveError) {
+    match e.to_diagnostic() {
+        Some(d) => derived
+            .diagnostics
+            .push(located(sources, e.file.unwrap_or(0), &d)),
+        None => {
+            derived.error = Some(e.message.replace('\n', " "));
+            derived.hints = e.hints;
+        }
+    }
 }
 
 /// `d`, found in `sources[file]`, with its place as lines and columns.

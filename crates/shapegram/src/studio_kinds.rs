@@ -20,7 +20,7 @@ use shapegram_server::studio::{DeriveJob, Derived, StudioDiagnostic};
 use shapegram_syntax::SourceFile;
 
 use crate::derive::millis;
-use crate::studio::located;
+use crate::studio::{failed, located};
 use crate::{counted, grammar, studio_settings};
 
 /// An error at `line:column` (1-based, columns in characters) of the file being edited.
@@ -309,17 +309,7 @@ pub fn goal(job: &DeriveJob) -> Derived {
         Ok(derivation) => derivation,
         Err(e) => {
             derived.derive_ms = millis(started.elapsed());
-            match e.to_diagnostic() {
-                Some(d) => {
-                    derived
-                        .diagnostics
-                        .push(located(&compiled.sources, e.file.unwrap_or(0), &d))
-                }
-                None => {
-                    derived.error = Some(e.message.replace('\n', " "));
-                    derived.hints = e.hints;
-                }
-            }
+            failed(&mut derived, &compiled.sources, e);
             return derived;
         }
     };
