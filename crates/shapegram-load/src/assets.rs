@@ -103,10 +103,11 @@ impl FileAssets {
 
     /// Where `path` is, searched as CityEngine does: next to the grammar, then in the project's
     /// `assets` folder, then in the project; a path starting with `/` is in the workspace (the
-    /// folder holding the project, or the project's `.ws` folder). In a rule package, the package's resolve map comes first,
-    /// and workspace paths name the package itself (`/Project/…`) or the workspace files it
-    /// brings (`.ws/`). The first place that has the file, or else the first place. Each path
-    /// is looked for once: every insert asks.
+    /// folder holding the project, or the `.ws` folder of the grammar's folder or one above it).
+    /// In a rule package, the package's resolve map comes first, and workspace paths name the
+    /// package itself (`/Project/…`) or the workspace files it brings (`.ws/`). The first place
+    /// that has the file, or else the first place. Each path is looked for once: every insert
+    /// asks.
     pub fn find(&self, path: &str) -> PathBuf {
         let mut found = self.found.lock().unwrap_or_else(PoisonError::into_inner);
         if let Some(place) = found.get(path) {
@@ -137,8 +138,13 @@ impl FileAssets {
                 if let Some(workspace) = project.parent() {
                     places.push(workspace.join(in_workspace));
                 }
-                // An extracted rule package keeps the workspace files it brings in `.ws/`.
-                places.push(project.join(".ws").join(in_workspace));
+                // An extracted rule package keeps the workspace files it brings in `.ws/` at
+                // its root, which need not have an `assets` folder.
+                places.extend(
+                    self.folder
+                        .ancestors()
+                        .map(|folder| folder.join(".ws").join(in_workspace)),
+                );
                 places.push(self.folder.join(in_workspace));
             }
             None => {

@@ -256,3 +256,31 @@ fn imports_resolve_inside_the_package() {
         "cannot find the imported file \"missing.cga\""
     );
 }
+
+#[test]
+fn an_extracted_package_finds_its_workspace_files_as_the_archive_does() {
+    let root = std::env::temp_dir().join(format!("shapegram-extracted-{}", std::process::id()));
+    for (file, bytes) in [
+        ("uvs/rules/r1.cga", b"Lot --> X." as &[u8]),
+        ("uvs/.ws/Shared.lib/assets/uvtest.png", PNG),
+    ] {
+        let path = root.join(file);
+        std::fs::create_dir_all(path.parent().unwrap()).unwrap();
+        std::fs::write(path, bytes).unwrap();
+    }
+    // No assets/ folder: the project is not found, and the package's root holds `.ws/`.
+    let assets = FileAssets::new(root.join("uvs/rules"), MissingAssets::Error);
+    let found = assets.find("/Shared.lib/assets/uvtest.png");
+    assert_eq!(
+        found,
+        std::fs::canonicalize(root.join("uvs/.ws/Shared.lib/assets/uvtest.png")).unwrap()
+    );
+    assert_eq!(
+        assets
+            .image("/Shared.lib/assets/uvtest.png")
+            .unwrap()
+            .as_deref(),
+        Some(PNG)
+    );
+    std::fs::remove_dir_all(root).unwrap();
+}
