@@ -75,6 +75,11 @@ impl RulePackage {
 
     /// Reads a package from its bytes; `name` names it in messages.
     pub fn from_bytes(name: String, bytes: Vec<u8>) -> Result<Self, PackageError> {
+        Self::read(name, bytes, MAX_UNPACKED)
+    }
+
+    /// [`RulePackage::from_bytes`] for packages that unpack to at most `limit` bytes.
+    fn read(name: String, bytes: Vec<u8>, limit: u64) -> Result<Self, PackageError> {
         let broken = |why: String| {
             PackageError::new(format!(
                 "{name} is not a readable rule package (a 7-Zip archive): {why}"
@@ -86,15 +91,20 @@ impl RulePackage {
         )
         .map_err(|e| broken(e.to_string()))?;
         reader.set_thread_count(1);
-        let unpacked: u64 = reader
-            .archive()
-            .files
+        // What the files claim, and what the compressed blocks holding them unpack to (the
+        // reader decodes a block whole, also what no file claims).
+        let archive = reader.archive();
+        let files_size = archive.files.iter().map(|f| f.size);
+        let blocks_size = archive
+            .blocks
             .iter()
-            .map(|f| f.size)
-            .fold(0, u64::saturating_add);
-        if unpacked > MAX_UNPACKED {
+            .map(sevenz_rust2::Block::get_unpack_size);
+        let unpacked = files_size
+            .fold(0, u64::saturating_add)
+            .max(blocks_size.fold(0, u64::saturating_add));
+        if unpacked > limit {
             return Err(broken(format!(
-                "it claims to unpack to {unpacked} bytes, more than the {MAX_UNPACKED} a package may hold"
+                "it claims to unpack to {unpacked} bytes, more than the {limit} a package may hold"
             )));
         }
         let mut files = BTreeMap::new();
@@ -103,7 +113,7 @@ impl RulePackage {
                 if entry.is_directory || entry.is_anti_item {
                     return Ok(true);
                 }
-                let mut bytes = Vec::with_capacity(entry.size.min(MAX_UNPACKED) as usize);
+                let mut bytes = Vec::with_capacity(entry.size.min(limit) as usize);
                 // Never more than the entry claims, which the total above bounds.
                 std::io::Read::read_to_end(&mut std::io::Read::take(data, entry.size), &mut bytes)?;
                 if let Some(path) = entry_path(&entry.name) {
@@ -383,6 +393,28 @@ mod tests {
             Some("assets/a.obj")
         );
         assert_eq!(entry_path("../a.obj"), None);
+    }
+
+    #[test]
+    fn packages_that_unpack_to_more_than_the_limit_are_refused() {
+        let mut writer =
+            sevenz_rust2::ArchiveWriter::new(std::io::Cursor::new(Vec::new())).unwrap();
+        let big = vec![b'a'; 5000];
+        writer
+            .push_archive_entry(
+                sevenz_rust2::ArchiveEntry::new_file("rules/a.cga"),
+                Some(big.as_slice()),
+            )
+            .unwrap();
+        let bytes = writer.finish().unwrap().into_inner();
+        assert!(RulePackage::read("a.rpk".into(), bytes.clone(), 5000).is_ok());
+        let error = RulePackage::read("a.rpk".into(), bytes, 4999)
+            .err()
+            .unwrap();
+        assert_eq!(
+            error.message,
+            "a.rpk is not a readable rule package (a 7-Zip archive): it claims to unpack to 5000 bytes, more than the 4999 a package may hold"
+        );
     }
 
     #[test]
