@@ -284,3 +284,31 @@ fn an_extracted_package_finds_its_workspace_files_as_the_archive_does() {
     );
     std::fs::remove_dir_all(root).unwrap();
 }
+
+#[test]
+fn damaged_packages_are_read_or_refused_never_a_panic() {
+    let whole = archive(&[
+        (
+            "rules/a.cga",
+            b"@StartRule\nLot --> extrude(3) i(\"box.obj\")",
+        ),
+        ("assets/box.obj", BOX_OBJ),
+        (".resolvemap.xml", RESOLVE_MAP),
+    ]);
+    let mut refused = 0;
+    for at in 0..whole.len() {
+        for damage in [0x01u8, 0x80, 0xff] {
+            let mut bytes = whole.clone();
+            bytes[at] ^= damage;
+            refused += usize::from(RulePackage::from_bytes("x.rpk".into(), bytes).is_err());
+        }
+        refused +=
+            usize::from(RulePackage::from_bytes("x.rpk".into(), whole[..at].to_vec()).is_err());
+    }
+    // Every cut is refused; most flipped bytes are caught by the checksums.
+    assert!(
+        refused >= whole.len() * 3,
+        "{refused} of {}",
+        whole.len() * 4
+    );
+}
