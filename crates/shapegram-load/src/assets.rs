@@ -167,6 +167,14 @@ impl FileAssets {
         self.files.display(full)
     }
 
+    /// A text file (an L-system or implicit grammar) and its name for messages.
+    fn read_text(&self, full: &Path) -> Result<NamedText, String> {
+        let name = self.display(full);
+        let bytes = self.files.read(full)?;
+        let text = String::from_utf8(bytes).map_err(|_| format!("{name} is not UTF-8 text"))?;
+        Ok(NamedText { name, text })
+    }
+
     /// What stands in for a file that cannot be read, if anything does.
     fn stand_in(&self) -> Option<Mesh> {
         match self.missing {
@@ -196,16 +204,6 @@ impl FileAssets {
             }
         };
         Ok(Arc::new(mesh))
-    }
-}
-
-impl FileAssets {
-    /// A text file (an L-system or implicit grammar) and its name for messages.
-    fn read_text(&self, full: &Path) -> Result<NamedText, String> {
-        let name = self.display(full);
-        let bytes = self.files.read(full)?;
-        let text = String::from_utf8(bytes).map_err(|_| format!("{name} is not UTF-8 text"))?;
-        Ok(NamedText { name, text })
     }
 }
 

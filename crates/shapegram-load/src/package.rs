@@ -195,6 +195,24 @@ impl RulePackage {
             .collect()
     }
 
+    /// [`RulePackage::rule_sources`], or why the package has none to run: it holds only
+    /// compiled rules, or no rules at all.
+    pub fn runnable_sources(&self) -> Result<Vec<&str>, PackageError> {
+        let sources = self.rule_sources();
+        if !sources.is_empty() {
+            return Ok(sources);
+        }
+        let compiled = self.compiled_rules();
+        if compiled.is_empty() {
+            Err(PackageError::new(format!(
+                "{} holds no rule file (rules/*.cga)",
+                self.name
+            )))
+        } else {
+            Err(self.compiled_only(&compiled))
+        }
+    }
+
     /// The compiled rule files PRT can start from (`bin/**/*.cgb`): the rule files themselves,
     /// not the compiled imports beside them (`rule$import.cgb`), sorted.
     pub fn compiled_rules(&self) -> Vec<&str> {

@@ -107,6 +107,12 @@ fn a_package_of_compiled_rules_only_says_so() {
         package.rule_file(Some("Candler Building.cga")).unwrap_err(),
         error
     );
+    assert_eq!(package.runnable_sources().unwrap_err(), error);
+    // Assets alone: no rules of either kind.
+    let assets = self::package(&[("assets/a.obj", b"")]);
+    let none = "town.rpk holds no rule file (rules/*.cga)";
+    assert_eq!(assets.rule_file(None).unwrap_err().message, none);
+    assert_eq!(assets.runnable_sources().unwrap_err().message, none);
 }
 
 #[test]

@@ -107,22 +107,11 @@ pub fn open(path: &Path, rule_file: Option<&str>, warn: bool) -> Result<Input, F
 pub fn open_package_sources(path: &Path, warn: bool) -> Result<Vec<Input>, Failure> {
     let package = open_package(path)?;
     let sources: Vec<String> = package
-        .rule_sources()
+        .runnable_sources()
+        .map_err(package_failure)?
         .into_iter()
         .map(str::to_owned)
         .collect();
-    if sources.is_empty() {
-        // The package's own explanation: only compiled rules, or none at all.
-        return Err(package_failure(
-            package
-                .rule_file(None)
-                .err()
-                .unwrap_or_else(|| PackageError {
-                    message: format!("{} holds no rule file (rules/*.cga)", package.name()),
-                    hint: None,
-                }),
-        ));
-    }
     sources
         .into_iter()
         .map(|entry| read_package_file(Arc::clone(&package), entry, warn))
