@@ -145,8 +145,18 @@ fn stream(
 /// Reads a file by extension; for OBJ, an MTL named by `mtllib` beside it gives the colours
 /// (Kd, d) when it exists.
 pub fn load(path: &Path) -> Result<Model, Error> {
+    load_with(path, |file| std::fs::read(file))
+}
+
+/// [`load`] with the bytes of the file and of the MTL files it names read by `read`: the
+/// assets of a rule package are entries of an archive, not files. `path` names the file in
+/// messages and its extension picks the format.
+pub fn load_with(
+    path: &Path,
+    read: impl Fn(&Path) -> std::io::Result<Vec<u8>>,
+) -> Result<Model, Error> {
     let format = Format::from_path(path)?;
-    let bytes = std::fs::read(path).map_err(|source| Error::Read {
+    let bytes = read(path).map_err(|source| Error::Read {
         path: path.to_path_buf(),
         source,
     })?;
@@ -158,7 +168,7 @@ pub fn load(path: &Path) -> Result<Model, Error> {
                 .map_err(|e| Error::broken(Format::Obj, format!("not UTF-8 text ({e})")))
                 .map_err(|e| e.at(path))?;
             let dir = path.parent().unwrap_or(Path::new(""));
-            read::read_obj_with(text, |mtl| match std::fs::read(dir.join(mtl)) {
+            read::read_obj_with(text, |mtl| match read(&dir.join(mtl)) {
                 Ok(bytes) => tobj::load_mtl_buf(&mut bytes.as_slice()),
                 Err(_) => Err(tobj::LoadError::OpenFileFailed),
             })

@@ -1,5 +1,6 @@
-//! Where a grammar's `i("file")`, `implicit("file")`, tables and file searches find their
-//! files: beside the grammar, in its CityEngine project, in the workspace.
+//! Where a grammar's `i("file")`, `texture("file")`, `implicit("file")`, tables and file
+//! searches find their files: beside the grammar, in its CityEngine project, in the workspace;
+//! on disk or in a rule package.
 
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
@@ -8,6 +9,9 @@ use std::sync::{Arc, Mutex, PoisonError};
 use shapegram_eval::{ASSET_VARIANTS, Asset, AssetLoader};
 use shapegram_geom::{DVec3, Mesh};
 use shapegram_implicit::Solid;
+
+use crate::files::Files;
+use crate::package::RulePackage;
 
 /// What to insert in place of an asset file that cannot be read.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -24,8 +28,11 @@ pub enum MissingAssets {
 /// Assets for `i("path")`: files relative to the grammar's folder (absolute paths as they are),
 /// read once each with `shapegram_export::load`, all parts merged into one mesh; L-system files
 /// are grown once per variant. Files that cannot be read are an error, or stand-ins as
-/// `--missing-assets` says.
+/// `--missing-assets` says. Every file the derivation reads (assets, textures, tables, file
+/// searches) is found by [`FileAssets::find`]'s one search.
 pub struct FileAssets {
+    /// Where the files are: on disk or in a rule package.
+    files: Files,
     folder: PathBuf,
     /// The CityEngine project the grammar is in: the nearest folder at or above the grammar's
     /// that has an `assets` folder.
@@ -56,7 +63,31 @@ impl FileAssets {
             .ancestors()
             .find(|a| a.join("assets").is_dir())
             .map(Path::to_path_buf);
+        Self::with_files(Files::Disk, folder, project, missing)
+    }
+
+    /// Assets for the rule file `rule_file` (an entry such as `rules/a.cga`) of a rule package:
+    /// the package is the project.
+    pub fn in_package(package: Arc<RulePackage>, rule_file: &str, missing: MissingAssets) -> Self {
+        let folder = Path::new(rule_file)
+            .parent()
+            .map_or_else(PathBuf::new, Path::to_path_buf);
+        Self::with_files(
+            Files::Package(package),
+            folder,
+            Some(PathBuf::new()),
+            missing,
+        )
+    }
+
+    fn with_files(
+        files: Files,
+        folder: PathBuf,
+        project: Option<PathBuf>,
+        missing: MissingAssets,
+    ) -> Self {
         Self {
+            files,
             folder,
             project,
             found: Mutex::new(HashMap::new()),
@@ -72,9 +103,12 @@ impl FileAssets {
 
     /// Where `path` is, searched as CityEngine does: next to the grammar, then in the project's
     /// `assets` folder, then in the project; a path starting with `/` is in the workspace (the
-    /// folder holding the project). The first place that has the file, or else the first place.
-    /// Each path is looked for once: every insert asks.
-    fn find(&self, path: &str) -> PathBuf {
+    /// folder holding the project, or the `.ws` folder of the grammar's folder or one above it).
+    /// In a rule package, the package's resolve map comes first, and workspace paths name the
+    /// package itself (`/Project/…`) or the workspace files it brings (`.ws/`). The first place
+    /// that has the file, or else the first place. Each path is looked for once: every insert
+    /// asks.
+    pub fn find(&self, path: &str) -> PathBuf {
         let mut found = self.found.lock().unwrap_or_else(PoisonError::into_inner);
         if let Some(place) = found.get(path) {
             return place.clone();
@@ -87,13 +121,30 @@ impl FileAssets {
     /// The search behind [`FileAssets::find`].
     fn search(&self, path: &str) -> PathBuf {
         let mut places = Vec::new();
+        if let Files::Package(package) = &self.files {
+            places.extend(package.resolve(path).map(PathBuf::from));
+        }
         match path.strip_prefix('/') {
+            Some(in_workspace) if let Files::Package(package) = &self.files => {
+                let own = in_workspace
+                    .strip_prefix(package.project())
+                    .and_then(|p| p.strip_prefix('/'));
+                places.extend(own.map(PathBuf::from));
+                places.push(Path::new(".ws").join(in_workspace));
+            }
             Some(in_workspace) => {
                 // Without a project, the grammar's folder stands for it (as `fileSearch` takes it).
                 let project = self.project.as_deref().unwrap_or(&self.folder);
                 if let Some(workspace) = project.parent() {
                     places.push(workspace.join(in_workspace));
                 }
+                // An extracted rule package keeps the workspace files it brings in `.ws/` at
+                // its root, which need not have an `assets` folder.
+                places.extend(
+                    self.folder
+                        .ancestors()
+                        .map(|folder| folder.join(".ws").join(in_workspace)),
+                );
                 places.push(self.folder.join(in_workspace));
             }
             None => {
@@ -106,9 +157,22 @@ impl FileAssets {
         }
         places
             .iter()
-            .find(|p| p.is_file())
+            .find(|p| self.files.is_file(p))
             .unwrap_or(&places[0])
             .clone()
+    }
+
+    /// How messages name the file at `full`.
+    fn display(&self, full: &Path) -> String {
+        self.files.display(full)
+    }
+
+    /// A text file (an L-system or implicit grammar) and its name for messages.
+    fn read_text(&self, full: &Path) -> Result<NamedText, String> {
+        let name = self.display(full);
+        let bytes = self.files.read(full)?;
+        let text = String::from_utf8(bytes).map_err(|_| format!("{name} is not UTF-8 text"))?;
+        Ok(NamedText { name, text })
     }
 
     /// What stands in for a file that cannot be read, if anything does.
@@ -143,6 +207,12 @@ impl FileAssets {
     }
 }
 
+/// A text file's contents and its name for messages.
+struct NamedText {
+    name: String,
+    text: String,
+}
+
 impl AssetLoader for FileAssets {
     /// Files under the project (the grammar's folder when it is in none); each query is
     /// answered once.
@@ -152,7 +222,13 @@ impl AssetLoader for FileAssets {
             return Ok(found.clone());
         }
         let root = self.project.as_deref().unwrap_or(&self.folder);
-        let found: Vec<Arc<str>> = crate::search::search(root, query)?
+        let name = match &self.files {
+            Files::Disk => root
+                .file_name()
+                .map_or_else(String::new, |n| n.to_string_lossy().into_owned()),
+            Files::Package(package) => package.project().to_owned(),
+        };
+        let found: Vec<Arc<str>> = crate::search::search_in(&self.files, root, &name, query)?
             .into_iter()
             .map(Arc::from)
             .collect();
@@ -169,17 +245,18 @@ impl AssetLoader for FileAssets {
         if let Some(text) = texts.get(&full) {
             return Ok(Arc::clone(text));
         }
-        let read = std::fs::read(&full)
-            .map_err(|e| format!("cannot read {}: {e}", full.display()))
-            .and_then(|bytes| {
-                let (text, _, malformed) = encoding_rs::Encoding::for_bom(&bytes)
-                    .map_or(encoding_rs::UTF_8, |(encoding, _)| encoding)
-                    .decode(&bytes);
-                if malformed {
-                    return Err(format!("{} is not UTF-8 or UTF-16 text", full.display()));
-                }
-                Ok(Arc::from(text.as_ref()))
-            });
+        let read = self.files.read(&full).and_then(|bytes| {
+            let (text, _, malformed) = encoding_rs::Encoding::for_bom(&bytes)
+                .map_or(encoding_rs::UTF_8, |(encoding, _)| encoding)
+                .decode(&bytes);
+            if malformed {
+                return Err(format!(
+                    "{} is not UTF-8 or UTF-16 text",
+                    self.display(&full)
+                ));
+            }
+            Ok(Arc::from(text.as_ref()))
+        });
         let text = match read {
             Ok(text) => text,
             Err(e) if self.missing == MissingAssets::Error => return Err(e),
@@ -202,21 +279,19 @@ impl AssetLoader for FileAssets {
         if let Some(image) = images.get(&full) {
             return Ok(image.clone());
         }
-        let read = std::fs::read(&full)
-            .map_err(|e| format!("cannot read {}: {e}", full.display()))
-            .and_then(|bytes| {
-                let texture = shapegram_geom::Texture {
-                    path: Arc::from(path),
-                    image: Some(Arc::from(bytes)),
-                };
-                match texture.mime_type() {
-                    Some(_) => Ok(texture.image),
-                    None => Err(format!(
-                        "{} is not a PNG or JPEG image (the formats glTF embeds)",
-                        full.display()
-                    )),
-                }
-            });
+        let read = self.files.read(&full).and_then(|bytes| {
+            let texture = shapegram_geom::Texture {
+                path: Arc::from(path),
+                image: Some(Arc::from(bytes)),
+            };
+            match texture.mime_type() {
+                Some(_) => Ok(texture.image),
+                None => Err(format!(
+                    "{} is not a PNG or JPEG image (the formats glTF embeds)",
+                    self.display(&full)
+                )),
+            }
+        });
         let image = read.unwrap_or_else(|e| {
             eprintln!("warning: {e}: the shapes keep their colour instead");
             None
@@ -234,11 +309,19 @@ impl AssetLoader for FileAssets {
             return Ok(Arc::clone(mesh));
         }
         let loaded = match full.extension().and_then(|e| e.to_str()) {
-            Some("lsys") => plant(&full, 0).map(|(mesh, _)| mesh),
-            Some("cave") => carve(&full),
-            _ => shapegram_export::load(&full)
+            Some("lsys") => self
+                .read_text(&full)
+                .and_then(|t| plant(&t, 0))
+                .map(|(m, _)| m),
+            Some("cave") => self.read_text(&full).and_then(|t| carve(&t)),
+            _ => {
+                let shown = PathBuf::from(self.display(&full));
+                shapegram_export::load_with(&shown, |file| {
+                    self.files.read_io(&self.files.undisplay(file))
+                })
                 .map(|model| model.merged_mesh())
-                .map_err(|e| e.to_string()),
+                .map_err(|e| e.to_string())
+            }
         };
         let mesh = self.or_stand_in(loaded)?;
         cache.insert(full, Arc::clone(&mesh));
@@ -259,7 +342,7 @@ impl AssetLoader for FileAssets {
         let mesh = match plants.get(&key) {
             Some(mesh) => Arc::clone(mesh),
             None => {
-                let grown = plant(&key.0, variant);
+                let grown = self.read_text(&key.0).and_then(|t| plant(&t, variant));
                 // A system without random choices grows the same tree for every variant.
                 let variants = match &grown {
                     Ok((_, true)) => variant..variant + 1,
@@ -289,7 +372,7 @@ impl AssetLoader for FileAssets {
         if full.extension().and_then(|e| e.to_str()) != Some("cave") {
             return Err("only implicit grammars (.cave files) make implicit solids".to_owned());
         }
-        let (solid, _) = cave_solid(&full)?;
+        let (solid, _) = cave_solid(&self.read_text(&full)?)?;
         solids.insert(full, solid.clone());
         Ok(solid)
     }
@@ -300,45 +383,38 @@ impl AssetLoader for FileAssets {
 /// system's variant `k` derives with the file's seed plus `k`, so variant 0 is the tree that
 /// `shapegram lsystem` draws; other systems ignore the variant. Also says whether the system is
 /// stochastic.
-fn plant(path: &Path, variant: u32) -> Result<(Mesh, bool), String> {
-    let (text, name) = read_text(path)?;
-    let system = shapegram_lsystem::LSystem::parse(&text).map_err(|e| e.render(&name, &text))?;
+fn plant(file: &NamedText, variant: u32) -> Result<(Mesh, bool), String> {
+    let NamedText { name, text } = file;
+    let system = shapegram_lsystem::LSystem::parse(text).map_err(|e| e.render(name, text))?;
     let options = shapegram_lsystem::DeriveOptions {
         seed: system
             .is_stochastic()
             .then(|| system.settings.seed.wrapping_add(u64::from(variant))),
         ..shapegram_lsystem::DeriveOptions::default()
     };
-    let model = shapegram_lsystem::model(&system, &options).map_err(|e| e.render(&name, &text))?;
+    let model = shapegram_lsystem::model(&system, &options).map_err(|e| e.render(name, text))?;
     Ok((model.merged_mesh(), system.is_stochastic()))
 }
 
 /// The geometry of an implicit grammar (`i("grotto.cave")`): its productions run with the seed
 /// of the file and meshed at its level of detail, as one closed mesh that `i` stretches to the
 /// scope like any asset.
-fn carve(path: &Path) -> Result<Mesh, String> {
-    let (solid, lod) = cave_solid(path)?;
+fn carve(file: &NamedText) -> Result<Mesh, String> {
+    let (solid, lod) = cave_solid(file)?;
     let options = shapegram_implicit::MeshOptions::with_cell_size(1.0 / f64::from(lod));
     shapegram_implicit::mesh(&solid, &options)
         .map(|meshing| meshing.mesh)
-        .map_err(|e| format!("{}: {e}", path.display()))
+        .map_err(|e| format!("{}: {e}", file.name))
 }
 
 /// The solid an implicit grammar makes with the seed of its file, and its level of detail.
-fn cave_solid(path: &Path) -> Result<(Solid, u32), String> {
-    let (text, name) = read_text(path)?;
+fn cave_solid(file: &NamedText) -> Result<(Solid, u32), String> {
+    let NamedText { name, text } = file;
     let located = |e: shapegram_implicit::TextError| format!("{name}:{e}");
-    let program = shapegram_implicit::text::parse(&text).map_err(located)?;
+    let program = shapegram_implicit::text::parse(text).map_err(located)?;
     let run = program.run(None).map_err(located)?;
     let lod = program
         .lod
         .unwrap_or(shapegram_implicit::CaveParams::default().lod);
     Ok((run.builder.solid().clone(), lod))
-}
-
-/// A text file and its name for messages.
-fn read_text(path: &Path) -> Result<(String, String), String> {
-    let name = path.display().to_string();
-    let text = std::fs::read_to_string(path).map_err(|e| format!("cannot read {name}: {e}"))?;
-    Ok((text, name))
 }

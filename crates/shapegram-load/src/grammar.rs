@@ -5,6 +5,8 @@ use std::path::Path;
 use shapegram_eval::Program;
 use shapegram_syntax::{Diagnostic, Dialect, SourceFile, ast};
 
+use crate::files::Files;
+
 /// A grammar file's text, and the warning reading it gave.
 pub struct Read {
     /// The text, named by the path as given.
@@ -17,8 +19,13 @@ pub struct Read {
 /// or else Windows-1252, which CityEngine writes on Windows (Latin-1 files read the same but
 /// for bytes 0x80–0x9F, which Latin-1 leaves to control characters), with a warning.
 pub fn read(path: &Path) -> Result<Read, String> {
-    let name = path.display().to_string();
-    let bytes = std::fs::read(path).map_err(|e| format!("cannot read {name}: {e}"))?;
+    read_in(&Files::Disk, path)
+}
+
+/// [`read`] for a file of `files`, named as `files` displays it (`package.rpk!/rules/a.cga`).
+pub fn read_in(files: &Files, path: &Path) -> Result<Read, String> {
+    let name = files.display(path);
+    let bytes = files.read(path)?;
     let (text, warning) = match String::from_utf8(bytes) {
         Ok(mut text) => {
             if text.starts_with('\u{feff}') {
@@ -70,6 +77,17 @@ impl Compiled {
 /// the files it imports (see [`import_path`]). A grammar with parse errors is not compiled, so
 /// that declarations the parser had to skip do not show up again as unknown names.
 pub fn compile(source: &SourceFile, dialect: Option<Dialect>) -> Compiled {
+    compile_in(source, dialect, &Files::Disk, Path::new(source.name()))
+}
+
+/// [`compile`] for a grammar read from `path` in `files` (see [`read_in`]): its imports are
+/// looked for there.
+pub fn compile_in(
+    source: &SourceFile,
+    dialect: Option<Dialect>,
+    files: &Files,
+    path: &Path,
+) -> Compiled {
     let parsed = match dialect {
         Some(dialect) => shapegram_syntax::parse_as(source, dialect),
         None => shapegram_syntax::parse(source),
@@ -85,7 +103,7 @@ pub fn compile(source: &SourceFile, dialect: Option<Dialect>) -> Compiled {
         diagnostics.extend(more.into_iter().map(|d| (0, d)));
         program
     } else {
-        let imported = load_imports(source, &parsed.grammar);
+        let imported = load_imports(files, path, &parsed.grammar);
         diagnostics.extend(imported.diagnostics);
         sources.extend(imported.sources);
         read_warnings = imported.warnings;
@@ -131,7 +149,7 @@ struct Imported {
 /// project, where `rules/` and `assets/` are, or the workspace for `/Project/…` paths): the
 /// nearest that has the file wins. A file that cannot be found or read is an error at the
 /// import that names it.
-fn load_imports(source: &SourceFile, grammar: &ast::Grammar) -> Imported {
+fn load_imports(files: &Files, path: &Path, grammar: &ast::Grammar) -> Imported {
     let mut imported = Imported {
         sources: Vec::new(),
         grammars: Vec::new(),
@@ -141,11 +159,9 @@ fn load_imports(source: &SourceFile, grammar: &ast::Grammar) -> Imported {
     };
     let mut index: std::collections::HashMap<std::path::PathBuf, usize> =
         std::collections::HashMap::new();
-    if let Ok(path) = std::fs::canonicalize(source.name()) {
-        index.insert(path, 0);
-    }
+    index.insert(files.canonical(path), 0);
     // Files whose imports are still to be followed: (file index, its path).
-    let mut pending = vec![(0usize, Path::new(source.name()).to_path_buf())];
+    let mut pending = vec![(0usize, path.to_path_buf())];
     while let Some((file, path)) = pending.pop() {
         let imports = if file == 0 {
             grammar.imports.clone()
@@ -155,7 +171,7 @@ fn load_imports(source: &SourceFile, grammar: &ast::Grammar) -> Imported {
         let mut links = Vec::new();
         let mut found = Vec::new();
         for import in &imports {
-            let Some(target) = import_path(&path, &import.path.value) else {
+            let Some(target) = files.import_path(&path, &import.path.value) else {
                 imported.diagnostics.push((
                     file,
                     Diagnostic::error(
@@ -167,12 +183,12 @@ fn load_imports(source: &SourceFile, grammar: &ast::Grammar) -> Imported {
                 links.push(usize::MAX);
                 continue;
             };
-            let key = std::fs::canonicalize(&target).unwrap_or_else(|_| target.clone());
+            let key = files.canonical(&target);
             if let Some(&known) = index.get(&key) {
                 links.push(known);
                 continue;
             }
-            let text = match read(&target) {
+            let text = match read_in(files, &target) {
                 Ok(read) => {
                     imported.warnings.extend(read.warning);
                     read.source
@@ -207,18 +223,7 @@ fn load_imports(source: &SourceFile, grammar: &ast::Grammar) -> Imported {
     imported
 }
 
-/// Where an import's file is: next to the importing file, else in the nearest folder above it
-/// that has it. A path starting with `/` names a file of the workspace (`/ESRI.lib/rules/a.cga`):
-/// it is looked for in each folder above, and in its `.ws` folder, where rule packages keep the
-/// workspace files they bring.
+/// Where an import's file is on disk (see [`Files::import_path`]).
 pub fn import_path(from: &Path, path: &str) -> Option<std::path::PathBuf> {
-    let relative = path.trim_start_matches('/');
-    let workspace = path.starts_with('/');
-    from.parent()?
-        .ancestors()
-        .flat_map(|folder| {
-            let packaged = workspace.then(|| folder.join(".ws").join(relative));
-            std::iter::once(folder.join(relative)).chain(packaged)
-        })
-        .find(|candidate| candidate.is_file())
+    Files::Disk.import_path(from, path)
 }

@@ -6,9 +6,24 @@
 
 use std::path::Path;
 
+use crate::files::Files;
+
 /// The files under `project` (hidden folders aside) that `query` finds, as workspace paths
 /// (`/{project's name}/…`), sorted.
 pub fn search(project: &Path, query: &str) -> Result<Vec<String>, String> {
+    let name = project
+        .file_name()
+        .map_or_else(String::new, |n| n.to_string_lossy().into_owned());
+    search_in(&Files::Disk, project, &name, query)
+}
+
+/// [`search`] over the files under `project` in `files`, the project called `name`.
+pub(crate) fn search_in(
+    files: &Files,
+    project: &Path,
+    name: &str,
+    query: &str,
+) -> Result<Vec<String>, String> {
     let terms: Vec<&str> = query.split_whitespace().collect();
     if terms.is_empty() {
         return Err("an empty file search: give a name or pattern, such as `assets/*.obj`".into());
@@ -21,9 +36,6 @@ pub fn search(project: &Path, query: &str) -> Result<Vec<String>, String> {
             "`{term}`: regular expressions, quoted terms and properties (`Name:`, `Ext:`) in file searches are not supported yet"
         ));
     }
-    let name = project
-        .file_name()
-        .map_or_else(String::new, |n| n.to_string_lossy().into_owned());
     let patterns: Vec<Vec<char>> = terms
         .iter()
         .map(|t| {
@@ -35,35 +47,15 @@ pub fn search(project: &Path, query: &str) -> Result<Vec<String>, String> {
             full.to_lowercase().chars().collect()
         })
         .collect();
-    let mut found = Vec::new();
-    let mut pending = vec![project.to_path_buf()];
-    while let Some(folder) = pending.pop() {
-        let Ok(entries) = std::fs::read_dir(&folder) else {
-            continue;
-        };
-        for entry in entries.flatten() {
-            let path = entry.path();
-            let hidden = entry.file_name().to_string_lossy().starts_with('.');
-            match entry.file_type() {
-                Ok(t) if t.is_dir() && !hidden => pending.push(path),
-                Ok(t) if t.is_file() => {
-                    let Ok(relative) = path.strip_prefix(project) else {
-                        continue;
-                    };
-                    let parts: Vec<String> = relative
-                        .components()
-                        .map(|c| c.as_os_str().to_string_lossy().into_owned())
-                        .collect();
-                    let workspace = format!("/{name}/{}", parts.join("/"));
-                    let text: Vec<char> = workspace.to_lowercase().chars().collect();
-                    if patterns.iter().all(|p| wildcard(p, &text)) {
-                        found.push(workspace);
-                    }
-                }
-                _ => {}
-            }
-        }
-    }
+    let mut found: Vec<String> = files
+        .listing(project)
+        .into_iter()
+        .map(|parts| format!("/{name}/{}", parts.join("/")))
+        .filter(|workspace| {
+            let text: Vec<char> = workspace.to_lowercase().chars().collect();
+            patterns.iter().all(|p| wildcard(p, &text))
+        })
+        .collect();
     found.sort();
     Ok(found)
 }

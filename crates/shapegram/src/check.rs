@@ -5,7 +5,7 @@ use std::path::Path;
 use shapegram_syntax::SourceFile;
 
 use crate::cli::CheckArgs;
-use crate::grammar::{self, error_summary};
+use crate::grammar::{self, Input, error_summary};
 use crate::{Failure, counted};
 
 /// Checks every file, printing its diagnostics and one result line; fails if any file has
@@ -13,39 +13,51 @@ use crate::{Failure, counted};
 pub fn run(args: &CheckArgs) -> Result<(), Failure> {
     let mut failed = 0;
     for path in &args.files {
-        let source = match grammar::read(path, !args.quiet_warnings) {
-            Ok(source) => source,
+        let inputs = if shapegram_load::is_package(path) {
+            grammar::open_package_sources(path, !args.quiet_warnings)
+        } else {
+            grammar::open(path, None, !args.quiet_warnings).map(|input| vec![input])
+        };
+        let inputs = match inputs {
+            Ok(inputs) => inputs,
             Err(failure) => {
-                if let Some(message) = failure.message {
-                    eprintln!("error: {message}");
-                }
+                failure.print();
                 failed += 1;
                 continue;
             }
         };
-        let dialect = args.dialect.dialect();
-        if grammar::is_goal_grammar(&source, dialect) {
-            failed += usize::from(!check_goals(source, path, args)?);
-            continue;
-        }
-        let compiled = grammar::compile(&source, !args.quiet_warnings, dialect);
-        if compiled.program.is_some() && compiled.errors == 0 {
-            eprintln!(
-                "ok: {} ({}, {}, {})",
-                source.name(),
-                counted(compiled.grammar.rules.len(), "rule", "rules"),
-                counted(compiled.grammar.attrs.len(), "attribute", "attributes"),
-                counted(compiled.warnings, "warning", "warnings"),
-            );
-        } else {
-            eprintln!("error: {}", error_summary(compiled.errors, source.name()));
-            failed += 1;
+        for input in inputs {
+            failed += usize::from(!check(input, path, args)?);
         }
     }
     if failed > 0 {
         Err(Failure::reported())
     } else {
         Ok(())
+    }
+}
+
+/// Checks one grammar, printing its diagnostics and result line; returns whether it has no
+/// errors.
+fn check(input: Input, path: &Path, args: &CheckArgs) -> Result<bool, Failure> {
+    let dialect = args.dialect.dialect();
+    if grammar::is_goal_grammar(&input.source, dialect) {
+        return check_goals(input.source, path, args);
+    }
+    let source = &input.source;
+    let compiled = grammar::compile(&input, !args.quiet_warnings, dialect);
+    if compiled.program.is_some() && compiled.errors == 0 {
+        eprintln!(
+            "ok: {} ({}, {}, {})",
+            source.name(),
+            counted(compiled.grammar.rules.len(), "rule", "rules"),
+            counted(compiled.grammar.attrs.len(), "attribute", "attributes"),
+            counted(compiled.warnings, "warning", "warnings"),
+        );
+        Ok(true)
+    } else {
+        eprintln!("error: {}", error_summary(compiled.errors, source.name()));
+        Ok(false)
     }
 }
 

@@ -77,10 +77,13 @@ pub enum Command {
             Lots are derived in parallel; the result is the same whatever the number of\n\
             threads (RAYON_NUM_THREADS) and depends only on the grammar, the lots, --seed and\n\
             --attr.\n\n\
-            Assets inserted with i(\"path\") (OBJ, GLB or STL) are looked up as CityEngine\n\
-            does: beside the grammar, then in the project's assets/ folder (the nearest folder\n\
-            at or above the grammar's that has one), then in the project. print() output goes\n\
-            to stderr as `print: ` lines (also with -q).\n\
+            Assets inserted with i(\"path\") (OBJ, GLB or STL), textures and tables are looked\n\
+            up as CityEngine does: beside the grammar, then in the project's assets/ folder (the\n\
+            nearest folder at or above the grammar's that has one), then in the project. print()\n\
+            output goes to stderr as `print: ` lines (also with -q).\n\n\
+            A CityEngine rule package (.rpk) is read as it is, without extracting it: its rule\n\
+            file (the one PRT runs, or --rule-file), the files that rule file imports and its\n\
+            assets all come from the archive, and the start rule is the rule file's @StartRule.\n\
             Without -o nothing is written, which is useful with --stats.\n\n\
             To see how a model came about, --generations N stops after N parallel rewriting\n\
             steps and --at-node N writes the state right after shape N was made (numbered\n\
@@ -91,6 +94,7 @@ pub enum Command {
             shapegram derive house.cga --lot \"0,0 30,0 30,12 12,12 12,25 0,25\" -o l-house.glb\n  \
             shapegram derive house.cga --lots parcels.geojson --group -o block.glb\n  \
             shapegram derive house.cga --stats -q | jq .rules\n  \
+            shapegram derive candler.rpk -o candler.glb\n  \
             shapegram derive excavator.cga --at-node 40 -o step.glb\n  \
             shapegram derive menger.sgl --dialect sgl -o menger.glb"
     )]
@@ -105,6 +109,7 @@ pub enum Command {
             file has errors.",
         after_help = "Examples:\n  \
             shapegram check house.cga\n  \
+            shapegram check candler.rpk\n  \
             shapegram check --quiet-warnings rules/*.cga"
     )]
     Check(CheckArgs),
@@ -274,9 +279,13 @@ impl LinkMode {
 /// Arguments of `shapegram derive`.
 #[derive(Debug, Args)]
 pub struct DeriveArgs {
-    /// The grammar file
+    /// The grammar file, or a CityEngine rule package (.rpk)
     #[arg(value_name = "GRAMMAR")]
     pub grammar: PathBuf,
+    /// Rule packages: the rule file to derive, by its path in the package (rules/a.cga) or its
+    /// name [default: the one PRT runs, the source of the package's compiled rule file]
+    #[arg(long, value_name = "FILE")]
+    pub rule_file: Option<String>,
     /// Output file; its extension picks the format: .glb, .obj (writes a .mtl beside it) or .stl.
     /// Without it nothing is written
     #[arg(short, long, value_name = "FILE")]
@@ -399,7 +408,7 @@ impl From<MissingAssets> for shapegram_load::MissingAssets {
 /// Arguments of `shapegram check`.
 #[derive(Debug, Args)]
 pub struct CheckArgs {
-    /// The grammar files
+    /// The grammar files; a CityEngine rule package (.rpk) checks each of its rule files
     #[arg(value_name = "FILE", required = true)]
     pub files: Vec<PathBuf>,
     /// Count warnings but do not print them

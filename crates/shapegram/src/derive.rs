@@ -2,7 +2,6 @@
 
 use std::collections::HashMap;
 use std::io::IsTerminal;
-use std::path::Path;
 use std::sync::Arc;
 use std::time::{Duration, Instant};
 
@@ -11,7 +10,6 @@ use serde::ser::SerializeMap;
 use shapegram_eval::{Derivation, DeriveError, DeriveOptions, Program, Value};
 use shapegram_export::{ExportOptions, Format};
 use shapegram_geom::Model;
-use shapegram_load::FileAssets;
 use shapegram_syntax::SourceFile;
 
 use crate::cli::DeriveArgs;
@@ -30,7 +28,8 @@ pub fn run(args: &DeriveArgs) -> Result<(), Failure> {
             eprintln!("warning: {warning}");
         }
     }
-    let source = grammar::read(&args.grammar, !args.quiet)?;
+    let input = grammar::open(&args.grammar, args.rule_file.as_deref(), !args.quiet)?;
+    let source = input.source.clone();
     let goal = grammar::is_goal_grammar(&source, args.dialect.dialect());
     check_goal_options(&source, goal, args)?;
     // Goal grammars start from their axioms: lots only when asked for.
@@ -40,7 +39,6 @@ pub fn run(args: &DeriveArgs) -> Result<(), Failure> {
         lots
     };
 
-    let folder = args.grammar.parent().unwrap_or(Path::new("")).to_path_buf();
     let options = DeriveOptions {
         seed: args.seed,
         attrs: args
@@ -53,10 +51,7 @@ pub fn run(args: &DeriveArgs) -> Result<(), Failure> {
         max_depth: args.max_depth,
         time_budget: (args.timeout > 0.0).then(|| Duration::from_secs_f64(args.timeout)),
         generations: args.generations,
-        assets: Some(Arc::new(FileAssets::new(
-            folder,
-            args.missing_assets.into(),
-        ))),
+        assets: Some(Arc::new(input.assets(args.missing_assets.into()))),
         // The tree is what a state at a node is made from.
         keep_tree: args.at_node.is_some(),
         implicit_cell: args.implicit_cell,
@@ -83,7 +78,7 @@ pub fn run(args: &DeriveArgs) -> Result<(), Failure> {
         with_spinner(spinner, &label, || resolve::derive(&library, plan))?
     } else {
         let (program, sources) =
-            grammar::compile(&source, !args.quiet, args.dialect.dialect()).into_program()?;
+            grammar::compile(&input, !args.quiet, args.dialect.dialect()).into_program()?;
         let derivation = with_spinner(spinner, &label, || derive(&program, &sources))?;
         resolve::Derived {
             program,

@@ -1,9 +1,10 @@
 //! Reading, parsing and compiling a grammar file, with its diagnostics printed rustc-style.
 
 use std::path::{Path, PathBuf};
+use std::sync::Arc;
 
 use shapegram_eval::{LibraryOptions, Program};
-use shapegram_load::NameClash;
+use shapegram_load::{FileAssets, Files, MissingAssets, NameClash, PackageError, RulePackage};
 use shapegram_syntax::{Diagnostic, Dialect, SourceFile, ast};
 
 use crate::{Failure, counted};
@@ -52,11 +53,107 @@ pub fn read(path: &Path, warn: bool) -> Result<SourceFile, Failure> {
     Ok(read.source)
 }
 
+/// A grammar as the command line names it: a grammar file, or a rule file of a rule package
+/// (`.rpk`), with where its imports and assets are.
+pub struct Input {
+    /// The grammar's text, named as messages name it (`package.rpk!/rules/a.cga` in a package).
+    pub source: SourceFile,
+    /// Where the grammar, its imports and its assets are read from.
+    pub files: Files,
+    /// The grammar's path in `files`.
+    pub path: PathBuf,
+}
+
+impl Input {
+    /// The assets of the grammar's derivation: files found as CityEngine finds them, beside
+    /// the grammar, in its project, in the workspace (see [`FileAssets`]).
+    pub fn assets(&self, missing: MissingAssets) -> FileAssets {
+        match &self.files {
+            Files::Disk => FileAssets::new(
+                self.path.parent().unwrap_or(Path::new("")).to_path_buf(),
+                missing,
+            ),
+            Files::Package(package) => {
+                FileAssets::in_package(Arc::clone(package), &self.path.to_string_lossy(), missing)
+            }
+        }
+    }
+}
+
+/// The grammar at `path`: the file itself, or for a rule package the rule file `rule_file`
+/// names, else the one PRT runs ([`RulePackage::rule_file`]). `--rule-file` is only for
+/// packages.
+pub fn open(path: &Path, rule_file: Option<&str>, warn: bool) -> Result<Input, Failure> {
+    if !shapegram_load::is_package(path) {
+        if rule_file.is_some() {
+            return Err(Failure::usage(format!(
+                "--rule-file picks a rule file of a rule package (.rpk); {} is a grammar file",
+                path.display()
+            )));
+        }
+        return Ok(Input {
+            source: read(path, warn)?,
+            files: Files::Disk,
+            path: path.to_path_buf(),
+        });
+    }
+    let package = open_package(path)?;
+    let entry = package.rule_file(rule_file).map_err(package_failure)?;
+    read_package_file(package, entry, warn)
+}
+
+/// Every rule source of the rule package at `path` (`rules/**/*.cga`), in the order of their
+/// paths.
+pub fn open_package_sources(path: &Path, warn: bool) -> Result<Vec<Input>, Failure> {
+    let package = open_package(path)?;
+    let sources: Vec<String> = package
+        .runnable_sources()
+        .map_err(package_failure)?
+        .into_iter()
+        .map(str::to_owned)
+        .collect();
+    sources
+        .into_iter()
+        .map(|entry| read_package_file(Arc::clone(&package), entry, warn))
+        .collect()
+}
+
+/// Reads the rule package at `path` into memory.
+fn open_package(path: &Path) -> Result<Arc<RulePackage>, Failure> {
+    RulePackage::open(path)
+        .map(Arc::new)
+        .map_err(package_failure)
+}
+
+/// The rule file `entry` of `package`, read.
+fn read_package_file(
+    package: Arc<RulePackage>,
+    entry: String,
+    warn: bool,
+) -> Result<Input, Failure> {
+    let files = Files::Package(package);
+    let path = PathBuf::from(entry);
+    let read = shapegram_load::read_in(&files, &path).map_err(Failure::new)?;
+    if warn && let Some(warning) = &read.warning {
+        eprintln!("warning: {warning}");
+    }
+    Ok(Input {
+        source: read.source,
+        files,
+        path,
+    })
+}
+
+/// A package's error as the command's failure, with its hint.
+fn package_failure(error: PackageError) -> Failure {
+    Failure::new(error.message).with_hints(error.hint)
+}
+
 /// Parses and compiles a grammar in the given notation (`None`: detect it from the text) with
-/// its imports ([`shapegram_load::compile`]) and prints its diagnostics on stderr: errors always,
-/// warnings when `print_warnings`.
-pub fn compile(source: &SourceFile, print_warnings: bool, dialect: Option<Dialect>) -> Compiled {
-    let (compiled, diagnostics) = compile_silently(source, print_warnings, dialect);
+/// its imports, read from where the grammar is ([`shapegram_load::compile_in`]), and prints its
+/// diagnostics on stderr: errors always, warnings when `print_warnings`.
+pub fn compile(input: &Input, print_warnings: bool, dialect: Option<Dialect>) -> Compiled {
+    let (compiled, diagnostics) = compile_silently_in(input, print_warnings, dialect);
     let mut text = String::new();
     for (file, d) in &diagnostics {
         if d.is_error() || print_warnings {
@@ -75,7 +172,21 @@ pub fn compile_silently(
     warn: bool,
     dialect: Option<Dialect>,
 ) -> (Compiled, Vec<(usize, Diagnostic)>) {
-    let compiled = shapegram_load::compile(source, dialect);
+    let input = Input {
+        source: source.clone(),
+        files: Files::Disk,
+        path: PathBuf::from(source.name()),
+    };
+    compile_silently_in(&input, warn, dialect)
+}
+
+/// [`compile_silently`] for a grammar that may come from a rule package.
+fn compile_silently_in(
+    input: &Input,
+    warn: bool,
+    dialect: Option<Dialect>,
+) -> (Compiled, Vec<(usize, Diagnostic)>) {
+    let compiled = shapegram_load::compile_in(&input.source, dialect, &input.files, &input.path);
     if warn {
         for warning in &compiled.read_warnings {
             eprintln!("warning: {warning}");

@@ -47,12 +47,7 @@ fn main() -> ExitCode {
     match result {
         Ok(()) => ExitCode::SUCCESS,
         Err(failure) => {
-            if let Some(message) = &failure.message {
-                eprintln!("error: {message}");
-                for hint in &failure.hints {
-                    eprintln!("  = hint: {hint}");
-                }
-            }
+            failure.print();
             ExitCode::from(failure.code)
         }
     }
@@ -99,6 +94,16 @@ impl Failure {
     pub fn with_code(mut self, code: u8) -> Self {
         self.code = code;
         self
+    }
+
+    /// Prints the message and hints on stderr, unless they have been printed already.
+    pub fn print(&self) {
+        if let Some(message) = &self.message {
+            eprintln!("error: {message}");
+            for hint in &self.hints {
+                eprintln!("  = hint: {hint}");
+            }
+        }
     }
 
     /// The same failure with `= hint:` lines.

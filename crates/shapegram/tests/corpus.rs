@@ -50,6 +50,26 @@ fn check_accepts_the_cityengine_anchor_grammars(corpus: &Corpus) {
     assert!(output.status.success(), "{}", stderr(&output));
 }
 
+/// `check` on the 16 packages themselves: each of their 21 rule files (envelope2002 has five,
+/// dynamic_imports two) is read from the archive with its imports, including the ESRI.lib
+/// files envelope2002 brings in `.ws/`.
+fn check_accepts_every_rule_package(corpus: &Corpus) {
+    let packages = Corpus::files(&corpus.rpk(), "rpk");
+    let mut args = vec!["check".into(), "--quiet-warnings".into()];
+    args.extend(packages.iter().map(|f| f.clone().into_os_string()));
+    let output = shapegram(&args);
+    let err = stderr(&output);
+    assert!(output.status.success(), "{err}");
+    let ok: Vec<&str> = err.lines().filter(|l| l.starts_with("ok: ")).collect();
+    assert_eq!(ok.len(), 21, "{err}");
+    assert!(
+        ok.iter().any(|l| l.contains(
+            "pyprt__envelope2002.rpk!/rules/typology/envelope2002.cga (75 rules, 36 attributes"
+        )),
+        "{err}"
+    );
+}
+
 fn the_cityengine_anchor_grammars_derive_or_fail_with_a_message(corpus: &Corpus) {
     let mut derived = 0;
     for file in corpus.cga_files() {
@@ -95,23 +115,9 @@ fn the_prt_reference_names_every_rule_package(corpus: &Corpus) {
 
 /// The Candler building from its rule package, with the package's own assets (no stand-ins),
 /// on PRT's initial shape (the default lot): PRT's bounding box within 1 % per axis (the
-/// cornices end on the corner mitres of the trim planes) and PRT's area within 5 %.
+/// cornices end on the corner mitres of the trim planes) and PRT's area within 5 %; read from
+/// the `.rpk` itself and from its extracted copy alike.
 fn the_candler_building_measures_what_prt_makes(corpus: &Corpus) {
-    let rules = corpus
-        .rpk()
-        .join("palladio__candler/rules/Candler Building.cga");
-    let dir = TempDir::new("candler");
-    let out = dir.path("candler.glb");
-    let output = shapegram(&[
-        "derive".as_ref(),
-        rules.as_os_str(),
-        "-q".as_ref(),
-        "-o".as_ref(),
-        out.as_os_str(),
-    ]);
-    assert!(output.status.success(), "{}", stderr(&output));
-    let info = shapegram(&["info".as_ref(), "--json".as_ref(), out.as_os_str()]);
-    let info: serde_json::Value = serde_json::from_slice(&info.stdout).expect("info JSON");
     let path = corpus.rpk().join("prt-reference.json");
     let text = std::fs::read_to_string(&path).expect("the PRT reference");
     let reference: serde_json::Value = serde_json::from_str(&text).expect("valid JSON");
@@ -120,31 +126,71 @@ fn the_candler_building_measures_what_prt_makes(corpus: &Corpus) {
         .and_then(|all| all.iter().find(|p| p["package"] == "palladio__candler"))
         .map(|p| &p["prt"])
         .expect("PRT's Candler");
-    let triple = |v: &serde_json::Value| -> Vec<f64> {
-        v.as_array()
-            .unwrap()
-            .iter()
-            .map(|x| x.as_f64().unwrap())
-            .collect()
-    };
-    let (ours, theirs) = (
-        triple(&info["bounds"]["size"]),
-        triple(&prt["bbox"]["size"]),
-    );
-    for axis in 0..3 {
-        assert!(
-            (ours[axis] - theirs[axis]).abs() <= 0.01 * theirs[axis],
-            "size {ours:?} against PRT's {theirs:?}"
+    let dir = TempDir::new("candler");
+    for grammar in [
+        corpus.rpk().join("palladio__candler.rpk"),
+        corpus
+            .rpk()
+            .join("palladio__candler/rules/Candler Building.cga"),
+    ] {
+        let out = dir.path("candler.glb");
+        let output = shapegram(&[
+            "derive".as_ref(),
+            grammar.as_os_str(),
+            "-q".as_ref(),
+            "-o".as_ref(),
+            out.as_os_str(),
+        ]);
+        let err = stderr(&output);
+        assert!(output.status.success(), "{}: {err}", grammar.display());
+        // Every asset and texture found: no stand-ins, no warnings about files.
+        assert!(!err.contains("warning"), "{}: {err}", grammar.display());
+        let info = shapegram(&["info".as_ref(), "--json".as_ref(), out.as_os_str()]);
+        let info: serde_json::Value = serde_json::from_slice(&info.stdout).expect("info JSON");
+        let triple = |v: &serde_json::Value| -> Vec<f64> {
+            v.as_array()
+                .unwrap()
+                .iter()
+                .map(|x| x.as_f64().unwrap())
+                .collect()
+        };
+        let (ours, theirs) = (
+            triple(&info["bounds"]["size"]),
+            triple(&prt["bbox"]["size"]),
         );
+        for axis in 0..3 {
+            assert!(
+                (ours[axis] - theirs[axis]).abs() <= 0.01 * theirs[axis],
+                "{}: size {ours:?} against PRT's {theirs:?}",
+                grammar.display()
+            );
+        }
+        let (area, prt_area) = (
+            info["area"].as_f64().unwrap(),
+            prt["area"].as_f64().unwrap(),
+        );
+        assert!(
+            (area - prt_area).abs() <= 0.05 * prt_area,
+            "{}: area {area} against PRT's {prt_area}",
+            grammar.display()
+        );
+        // The textures came with it: the GLB embeds the package's JPEG images (walls, windows,
+        // ledges, roof and ground floor).
+        let glb = gltf::Gltf::from_slice(&std::fs::read(&out).unwrap()).expect("a GLB");
+        let jpeg = glb
+            .images()
+            .filter(|i| {
+                matches!(
+                    i.source(),
+                    gltf::image::Source::View {
+                        mime_type: "image/jpeg",
+                        ..
+                    }
+                )
+            })
+            .count();
+        assert!(jpeg >= 5, "{}: {jpeg} images", grammar.display());
     }
-    let (area, prt_area) = (
-        info["area"].as_f64().unwrap(),
-        prt["area"].as_f64().unwrap(),
-    );
-    assert!(
-        (area - prt_area).abs() <= 0.05 * prt_area,
-        "area {area} against PRT's {prt_area}"
-    );
 }
 
 /// The packages whose derivation matches PRT's on its initial shape (bounding box within 1 %
@@ -173,6 +219,30 @@ const MATCHING_PRT: &[&str] = &[
 const RANDOM_PACKAGES: &[&str] = &["pyprt-examples__extrusion_rule", "pyprt__envelope2002"];
 
 fn the_rule_packages_match_prt_as_listed(corpus: &Corpus) {
+    let (matching, table) = compare_with_prt(corpus, Source::Extracted);
+    assert_eq!(matching, MATCHING_PRT, "\n{table}");
+}
+
+/// The same packages derived straight from their `.rpk` archives, with the rule file and start
+/// rule chosen as PRT chooses them (nothing named on the command line), match PRT alike.
+fn the_rule_packages_derived_from_their_archives_match_prt_as_listed(corpus: &Corpus) {
+    let (matching, table) = compare_with_prt(corpus, Source::Archive);
+    assert_eq!(matching, MATCHING_PRT, "\n{table}");
+}
+
+/// Where a package's rules are read from.
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum Source {
+    /// The extracted copy, its rule file and start rule named as PRT's reference names them.
+    Extracted,
+    /// The `.rpk` file itself, rule file and start rule left to the package.
+    Archive,
+}
+
+/// Derives every package of PRT's reference list from `source` on PRT's initial shape: the
+/// packages that match PRT's output, and a table of every comparison. From the archive, the
+/// rule file and start rule chosen must be the ones PRT ran.
+fn compare_with_prt(corpus: &Corpus, source: Source) -> (Vec<String>, String) {
     let path = corpus.rpk().join("prt-reference.json");
     let text = std::fs::read_to_string(&path).expect("the PRT reference");
     let reference: serde_json::Value = serde_json::from_str(&text).expect("valid JSON");
@@ -186,23 +256,44 @@ fn the_rule_packages_match_prt_as_listed(corpus: &Corpus) {
             .expect("a rule file")
             .replace("bin/", "rules/")
             .replace(".cgb", ".cga");
+        let start = package["start_rule"].as_str().expect("a start rule");
         let out = dir.path(&format!("{name}.glb"));
-        let rule_file = corpus.rpk().join(name).join(rules);
-        let output = shapegram(&[
-            "derive".as_ref(),
-            rule_file.as_os_str(),
-            "--start".as_ref(),
-            package["start_rule"]
-                .as_str()
-                .expect("a start rule")
-                .as_ref(),
-            "-q".as_ref(),
-            "-o".as_ref(),
-            out.as_os_str(),
-        ]);
+        let args: Vec<std::ffi::OsString> = match source {
+            Source::Extracted => vec![
+                "derive".into(),
+                corpus.rpk().join(name).join(&rules).into(),
+                "--start".into(),
+                start.into(),
+            ],
+            Source::Archive => vec![
+                "derive".into(),
+                corpus
+                    .rpk()
+                    .join(package["rpk"].as_str().expect("an archive"))
+                    .into(),
+            ],
+        };
+        let mut args = args;
+        args.extend(["--stats", "-q", "-o"].map(Into::into));
+        args.push(out.clone().into());
+        let output = shapegram(&args);
         if !output.status.success() {
             table += &format!("{name}: {}\n", stderr(&output).lines().next().unwrap_or(""));
             continue;
+        }
+        if source == Source::Archive {
+            let stats: serde_json::Value =
+                serde_json::from_slice(&output.stdout).expect("stats JSON");
+            let grammar = stats["grammar"].as_str().expect("the grammar's name");
+            assert!(
+                grammar.ends_with(&format!(".rpk!/{rules}")),
+                "{name}: derived {grammar}, PRT ran {rules}"
+            );
+            assert!(
+                stats["rules"][start].as_u64().unwrap_or(0) >= 1,
+                "{name}: did not start from {start}: {}",
+                stats["rules"]
+            );
         }
         let info = shapegram(&["info".as_ref(), "--json".as_ref(), out.as_os_str()]);
         let info: serde_json::Value = serde_json::from_slice(&info.stdout).expect("info JSON");
@@ -241,12 +332,14 @@ fn the_rule_packages_match_prt_as_listed(corpus: &Corpus) {
             matching.push(name.to_owned());
         }
     }
-    assert_eq!(matching, MATCHING_PRT, "\n{table}");
+    (matching, table)
 }
 
 corpus_tests!(
     check_accepts_the_cityengine_anchor_grammars,
+    check_accepts_every_rule_package,
     the_rule_packages_match_prt_as_listed,
+    the_rule_packages_derived_from_their_archives_match_prt_as_listed,
     the_candler_building_measures_what_prt_makes,
     the_cityengine_anchor_grammars_derive_or_fail_with_a_message,
     the_prt_reference_names_every_rule_package,
