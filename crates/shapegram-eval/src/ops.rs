@@ -41,7 +41,8 @@ pub(crate) enum Op {
         second: usize,
     },
     RotateScope([CExpr; 3]),
-    Insert(CExpr),
+    /// `i(path [, yUp | zUp [, mode [, cleanup]]])`: the asset at the path, placed so.
+    Insert(CExpr, Placement),
     Primitive(Primitive, Vec<CExpr>),
     Split {
         axis: usize,
@@ -204,6 +205,28 @@ pub(crate) enum SplitJoints {
     Sequential,
     /// A fork: each part a child of the shape's parent.
     Parallel,
+}
+
+/// How `i()` places its asset: the asset's up axis and how the scope is fitted to it.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub(crate) struct Placement {
+    /// `zUp`: the asset's up axis is z, so it is turned −90° about x before it is placed.
+    pub z_up: bool,
+    /// How the asset and the scope meet.
+    pub fit: InsertFit,
+}
+
+/// The modes of `i()` (its third argument).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub(crate) enum InsertFit {
+    /// `alignSizeAndPosition` (the default): the asset stretched to fill the scope.
+    #[default]
+    AlignSizeAndPosition,
+    /// `keepSizeAndPosition`: the asset as it is, in scope coordinates (as after `s(0,0,0)`).
+    KeepSizeAndPosition,
+    /// `keepSizeAlignPosition`: the asset at its own size, centred in scope x and z and
+    /// standing on the scope's floor.
+    KeepSizeAlignPosition,
 }
 
 /// Built-in primitives inserted by `primitiveCube()` and friends.
@@ -578,8 +601,14 @@ const SIGNATURES: &[(&str, &str)] = &[
         "alignScopeToAxes([x | y | z | world.xyz])",
     ),
     ("rotateScope", "rotateScope(x, y, z)"),
-    ("i", "i(path)"),
-    ("insert", "i(path)"),
+    (
+        "i",
+        "i(path [, yUp | zUp [, alignSizeAndPosition | keepSizeAndPosition | keepSizeAlignPosition [, numericalCleanup | noCleanup]]])",
+    ),
+    (
+        "insert",
+        "i(path [, yUp | zUp [, alignSizeAndPosition | keepSizeAndPosition | keepSizeAlignPosition [, numericalCleanup | noCleanup]]])",
+    ),
     ("primitiveCube", "primitiveCube()"),
     ("primitiveQuad", "primitiveQuad()"),
     ("primitivePyramid", "primitivePyramid()"),
@@ -805,10 +834,7 @@ impl Ctx<'_, '_> {
             "alignScopeToGeometry" => self.align_to_geometry()?,
             "alignScopeToGeometryBBox" => self.align_to_bbox()?,
             "rotateScope" => Op::RotateScope(self.three()?),
-            "i" | "insert" => {
-                self.arity(1, 3)?;
-                Op::Insert(self.args.swap_remove(0))
-            }
+            "i" | "insert" => self.insert()?,
             "primitiveCube" => self.primitive(Primitive::Cube, 0)?,
             "primitiveQuad" => self.primitive(Primitive::Quad, 0)?,
             "primitivePyramid" => self.primitive(Primitive::Pyramid, 0)?,
@@ -1081,6 +1107,36 @@ impl Ctx<'_, '_> {
             Some("world.xyz" | "xyz") => Some(Op::AlignScopeToAxes(None)),
             _ => self.bad_selector(0, "`x`, `y`, `z` or `world.xyz`"),
         }
+    }
+
+    fn insert(&mut self) -> Option<Op> {
+        self.arity(1, 4)?;
+        let mut placement = Placement::default();
+        if self.args.len() > 1 {
+            placement.z_up = match self.word(1) {
+                Some("yUp") => false,
+                Some("zUp") => true,
+                _ => return self.bad_selector(1, "the asset's up axis, `yUp` or `zUp`"),
+            };
+        }
+        if self.args.len() > 2 {
+            placement.fit = match self.word(2) {
+                Some("alignSizeAndPosition") => InsertFit::AlignSizeAndPosition,
+                Some("keepSizeAndPosition") => InsertFit::KeepSizeAndPosition,
+                Some("keepSizeAlignPosition") => InsertFit::KeepSizeAlignPosition,
+                _ => {
+                    return self.bad_selector(
+                        2,
+                        "`alignSizeAndPosition`, `keepSizeAndPosition` or `keepSizeAlignPosition`",
+                    );
+                }
+            };
+        }
+        // Shapegram's meshes need no numerical cleanup, so both choices insert alike.
+        if self.args.len() > 3 && !matches!(self.word(3), Some("numericalCleanup" | "noCleanup")) {
+            return self.bad_selector(3, "`numericalCleanup` or `noCleanup`");
+        }
+        Some(Op::Insert(self.args.swap_remove(0), placement))
     }
 
     fn primitive(&mut self, kind: Primitive, max_args: usize) -> Option<Op> {
