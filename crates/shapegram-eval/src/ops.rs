@@ -221,12 +221,12 @@ pub(crate) struct Placement {
 pub(crate) enum InsertFit {
     /// `alignSizeAndPosition` (the default): the asset stretched to fill the scope.
     #[default]
-    AlignSizeAndPosition,
+    Align,
     /// `keepSizeAndPosition`: the asset as it is, in scope coordinates (as after `s(0,0,0)`).
-    KeepSizeAndPosition,
+    Keep,
     /// `keepSizeAlignPosition`: the asset at its own size, centred in scope x and z and
     /// standing on the scope's floor.
-    KeepSizeAlignPosition,
+    KeepSize,
 }
 
 /// Built-in primitives inserted by `primitiveCube()` and friends.
@@ -373,6 +373,8 @@ pub(crate) enum SetTarget {
     MaterialName,
     /// A texture layer (`material.colormap` and the others of [`texturing::LAYERS`]).
     Map(usize),
+    /// Another material attribute (`material.metallic`, …).
+    Finish(texturing::FinishAttr),
     /// `trim.horizontal` (true) or `trim.vertical` (false).
     Trim(bool),
     Ignored,
@@ -1121,9 +1123,9 @@ impl Ctx<'_, '_> {
         }
         if self.args.len() > 2 {
             placement.fit = match self.word(2) {
-                Some("alignSizeAndPosition") => InsertFit::AlignSizeAndPosition,
-                Some("keepSizeAndPosition") => InsertFit::KeepSizeAndPosition,
-                Some("keepSizeAlignPosition") => InsertFit::KeepSizeAlignPosition,
+                Some("alignSizeAndPosition") => InsertFit::Align,
+                Some("keepSizeAndPosition") => InsertFit::Keep,
+                Some("keepSizeAlignPosition") => InsertFit::KeepSize,
                 _ => {
                     return self.bad_selector(
                         2,
@@ -1390,8 +1392,22 @@ impl Ctx<'_, '_> {
             "material.color.r" => SetTarget::Color(Some(0)),
             "material.color.g" => SetTarget::Color(Some(1)),
             "material.color.b" => SetTarget::Color(Some(2)),
-            "material.opacity" => SetTarget::Color(Some(3)),
+            "material.opacity" | "material.color.a" => SetTarget::Color(Some(3)),
+            "material.color.rgb" => SetTarget::Color(None),
             "material.name" => SetTarget::MaterialName,
+            // Every material is written as a PBR material, whichever shader CityEngine would
+            // draw it with.
+            "material.shader" => SetTarget::Ignored,
+            n if n
+                .strip_prefix("material.")
+                .and_then(texturing::FinishAttr::from_name)
+                .is_some() =>
+            {
+                SetTarget::Finish(
+                    n.strip_prefix("material.")
+                        .and_then(texturing::FinishAttr::from_name)?,
+                )
+            }
             n if n
                 .strip_prefix("material.")
                 .and_then(texturing::layer)

@@ -30,14 +30,16 @@ use shapegram_geom::{Color, DVec2, DVec3, Lines, Mesh, MetaValue, Metadata, Mode
 
 use crate::ExportOptions;
 use crate::flat::{
-    FaceSplitter, Palette, check_bones, flat_faces, is_smooth, segment_is_exportable, texture_uvs,
-    unit, usable_normals,
+    FaceSplitter, Palette, check_bones, drawable, flat_faces, is_smooth, segment_is_exportable,
+    texture_uvs, unit, usable_normals,
 };
 
 mod animation;
+mod material;
 mod skin;
 
 use animation::Animation;
+use material::{gltf_textures, material, textured, with_surface};
 use skin::Skin;
 
 /// GLB framing constants from the glTF 2.0 specification, section "Binary glTF Layout".
@@ -435,13 +437,9 @@ impl<'a> Plan<'a> {
                     skin_of[bone.skeleton as usize].expect("every bound skeleton has a skin");
                 (skin, skins[skin].joint(bone.section))
             });
-            let texture = (chunk.has_uvs())
-                .then_some(part.texture.as_deref())
-                .flatten();
             (
                 &part.name,
                 part.color,
-                texture,
                 Some(index),
                 joint,
                 chunk,
@@ -452,7 +450,6 @@ impl<'a> Plan<'a> {
             Some((
                 &lines.name,
                 lines.color,
-                None,
                 None,
                 None,
                 Chunk::of_lines(lines)?,
@@ -469,20 +466,22 @@ impl<'a> Plan<'a> {
         // (group, material, lines) -> primitive slot in that group; triangles and lines of one
         // colour stay apart since a primitive has one mode.
         let mut merged: BTreeMap<(usize, usize, bool), usize> = BTreeMap::new();
-        for (name, color, texture, source, joint, chunk, metadata) in chunks.chain(line_chunks) {
+        for (name, color, source, joint, chunk, metadata) in chunks.chain(line_chunks) {
             let lines = source.is_none();
-            let texture = texture.map(|t| {
-                textures
-                    .iter()
-                    .position(|known| known.path == t.path)
-                    .unwrap_or_else(|| {
-                        textures.push(t);
-                        textures.len() - 1
-                    })
-            });
-            let named = source.and_then(|i| model.parts[i].material.as_ref());
-            let material = palette.material(color, texture, named);
-            let textured = texture.is_some();
+            let part = source.map(|i| &model.parts[i]);
+            let textured = chunk.has_uvs();
+            for t in part.into_iter().flat_map(gltf_textures) {
+                if !textures.iter().any(|known| known.path == t.path) {
+                    textures.push(t);
+                }
+            }
+            let texture = part
+                .and_then(|p| p.texture.as_deref())
+                .filter(|t| textured && drawable(t))
+                .and_then(|t| textures.iter().position(|known| known.path == t.path));
+            let named = part.and_then(|p| p.material.as_ref());
+            let surface = part.and_then(|p| p.surface.as_ref());
+            let material = palette.material(color, texture, named, surface, textured);
             let skin = joint.map(|(skin, _)| skin);
             let skinned = |joints| Skinned {
                 wide: skins[skin.expect("only skinned chunks have joints")].wide(),
@@ -705,11 +704,17 @@ fn document(
         ..Default::default()
     });
     let colors = palette.colors().iter().zip(palette.names());
-    for ((&[r, g, b, a], name), &texture) in colors.zip(palette.textures()) {
+    let looks = palette.textures().iter().zip(palette.surfaces());
+    for ((&[r, g, b, a], name), (&texture, surface)) in colors.zip(looks) {
         // The palette holds sRGB, as written in grammars; glTF wants linear light.
         let mut material = material(Color { r, g, b, a }.to_linear(), name);
         if let Some(texture) = texture {
             textured(&mut material, texture, textures[texture]);
+        }
+        if let Some(surface) = surface {
+            with_surface(&mut material, surface, |t| {
+                textures.iter().position(|known| known.path == t.path)
+            });
         }
         builder.root.push(material);
     }
@@ -757,40 +762,6 @@ fn document(
         builder.image(texture);
     }
     builder.finish(children, roots)
-}
-
-fn material(rgba: [f32; 4], name: String) -> json::Material {
-    json::Material {
-        name: Some(name),
-        alpha_mode: Valid(if rgba[3] < 1.0 {
-            json::material::AlphaMode::Blend
-        } else {
-            json::material::AlphaMode::Opaque
-        }),
-        double_sided: false,
-        pbr_metallic_roughness: json::material::PbrMetallicRoughness {
-            base_color_factor: json::material::PbrBaseColorFactor(rgba),
-            metallic_factor: json::material::StrengthFactor(0.0),
-            // Matte: procedural models are mostly buildings and props, not polished metal.
-            roughness_factor: json::material::StrengthFactor(0.9),
-            ..Default::default()
-        },
-        ..Default::default()
-    }
-}
-
-/// A material drawn with texture `index` (`texture`) through TEXCOORD_0: blended when the
-/// image has alpha.
-fn textured(material: &mut json::Material, index: usize, texture: &Texture) {
-    material.pbr_metallic_roughness.base_color_texture = Some(json::texture::Info {
-        index: json::Index::new(index as u32),
-        tex_coord: 0,
-        extensions: None,
-        extras: Default::default(),
-    });
-    if texture.has_alpha() {
-        material.alpha_mode = Valid(json::material::AlphaMode::Blend);
-    }
 }
 
 /// The JSON document being filled and the length of the BIN chunk so far.

@@ -210,9 +210,9 @@ fn builtin_asset(path: &str) -> Option<Mesh> {
 fn place(state: &mut State, asset: &Asset, fit: InsertFit) {
     let bounds = asset.mesh.bounds().filter(|_| !asset.mesh.is_empty());
     match (fit, bounds) {
-        (InsertFit::AlignSizeAndPosition, _) | (_, None) => {}
-        (InsertFit::KeepSizeAndPosition, Some(_)) => state.scope.size = DVec3::ZERO,
-        (InsertFit::KeepSizeAlignPosition, Some(bounds)) => {
+        (InsertFit::Align, _) | (_, None) => {}
+        (InsertFit::Keep, Some(_)) => state.scope.size = DVec3::ZERO,
+        (InsertFit::KeepSize, Some(bounds)) => {
             let size = bounds.size();
             let scope = &mut state.scope;
             let centred = DVec3::new(
@@ -225,7 +225,7 @@ fn place(state: &mut State, asset: &Asset, fit: InsertFit) {
         }
     }
     let asset = match fit {
-        InsertFit::AlignSizeAndPosition => asset,
+        InsertFit::Align => asset,
         // The keeping modes place the asset as it is, seeded or not.
         _ => &Asset {
             mesh: asset.mesh.clone(),

@@ -5,7 +5,7 @@
 
 use std::sync::Arc;
 
-use shapegram_geom::{DAffine3, DMat3, DVec2, DVec3, Scope, Texture};
+use shapegram_geom::{AlphaMode, DAffine3, DMat3, DVec2, DVec3, Scope, Texture};
 
 use super::Fallible;
 use super::machine::Engine;
@@ -13,7 +13,7 @@ use crate::error::DeriveError;
 use crate::ops::{ProjectionSetup, UvEdit};
 use crate::program::{CExpr, CKind};
 use crate::shape::State;
-use crate::texturing::{COLORMAP, OPACITYMAP, ProjectionFrame, Texturing, UV_SETS, UvMap};
+use crate::texturing::{FinishAttr, OPACITYMAP, ProjectionFrame, Texturing, UV_SETS, UvMap};
 use crate::value::Value;
 
 impl Engine<'_> {
@@ -97,8 +97,8 @@ impl Engine<'_> {
 
     /// `texture(path)` (`texture_op`: also the opacity map, to the same image when it has
     /// alpha and to none otherwise) and `set(material.<layer>, path)`: a texture layer; `""` is
-    /// none. The colour map's image is read through the asset loader (without one, the texture
-    /// is kept by its path alone).
+    /// none. The image is read through the asset loader (without one, the texture is kept by
+    /// its path alone).
     pub(super) fn texture(
         &mut self,
         state: &mut State,
@@ -112,11 +112,11 @@ impl Engine<'_> {
         let texture = if path.is_empty() {
             None
         } else {
-            let image = match (&self.options.assets, layer == COLORMAP) {
-                (Some(loader), true) => loader
+            let image = match &self.options.assets {
+                Some(loader) => loader
                     .image(&path)
                     .map_err(|e| DeriveError::at(format!("cannot read the texture: {e}"), span))?,
-                _ => None,
+                None => None,
             };
             Some(Arc::new(Texture { path, image }))
         };
@@ -126,6 +126,43 @@ impl Engine<'_> {
             texturing.maps[OPACITYMAP] = texture.clone().filter(|_| alpha);
         }
         texturing.maps[layer] = texture;
+        Ok(())
+    }
+
+    /// `set(material.<attribute>, value)` for the attributes of [`FinishAttr`]: numbers
+    /// (clamped to their ranges), `"blend"`, `"mask"` or `"opaque"` for the opacity map's mode,
+    /// true or false for `doubleSided`.
+    pub(super) fn set_finish(
+        &mut self,
+        state: &mut State,
+        attr: FinishAttr,
+        value: &CExpr,
+        args: &[Value],
+    ) -> Fallible<()> {
+        let span = value.span;
+        let value = self.ev.eval(value, state, args)?;
+        let finish = &mut texturing_mut(state).finish;
+        let wrong = |what: &str| {
+            DeriveError::at(
+                format!("expected {what}, found a {}", value.type_name()),
+                span,
+            )
+        };
+        match (attr, &value) {
+            (FinishAttr::AlphaMode, Value::Str(mode)) => {
+                finish.alpha_mode = Some(AlphaMode::from_cga(mode).ok_or_else(|| {
+                    DeriveError::at(format!("unknown opacity map mode `{mode}`"), span)
+                        .with_hint("the modes are \"blend\", \"mask\" and \"opaque\"")
+                })?);
+            }
+            (FinishAttr::AlphaMode, _) => return Err(wrong("\"blend\", \"mask\" or \"opaque\"")),
+            (FinishAttr::DoubleSided, Value::Bool(on)) => finish.double_sided = Some(*on),
+            (FinishAttr::DoubleSided, _) => return Err(wrong("true or false")),
+            (_, Value::Number(n)) => {
+                attr.set_number(finish, *n);
+            }
+            _ => return Err(wrong("a number")),
+        }
         Ok(())
     }
 
