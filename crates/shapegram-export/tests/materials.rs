@@ -297,3 +297,33 @@ fn save_writes_every_layer_image_beside_the_mtl() {
         assert_eq!(std::fs::read(dir.join(name)).unwrap(), BRICK, "{name}");
     }
 }
+
+#[test]
+fn normal_mapped_primitives_carry_tangents_along_u() {
+    let surface = Surface {
+        maps: Maps {
+            normal: image("normal.png"),
+            ..Maps::default()
+        },
+        ..Surface::default()
+    };
+    let parts = vec![quad(0.0, Some("wall.png"), surface), {
+        let mut plain = quad(1.0, Some("wall.png"), Surface::default());
+        plain.surface = None;
+        plain
+    }];
+    let bytes = write_glb(&model(parts), &ExportOptions::default());
+    let gltf = gltf::Gltf::from_slice(&bytes).unwrap();
+    let blob = gltf.blob.clone();
+    let tangents: Vec<Option<Vec<[f32; 4]>>> = gltf
+        .meshes()
+        .flat_map(|m| m.primitives().collect::<Vec<_>>())
+        .map(|p| {
+            let reader = p.reader(|_| blob.as_deref());
+            reader.read_tangents().map(Iterator::collect)
+        })
+        .collect();
+    // u runs along +x; glTF's v (1 − v) grows towards +z, and the floor faces up, so
+    // normal × tangent = y × x = −z points against it: w = −1.
+    assert_eq!(tangents, [Some(vec![[1.0, 0.0, 0.0, -1.0]; 4]), None]);
+}
