@@ -132,8 +132,9 @@ pub(crate) enum Op {
     ProjectUv(CExpr),
     /// `texture(path)`: the colour map.
     Texture(CExpr),
-    /// `tileUV`, `scaleUV`, `translateUV` (`offsetUV`), `rotateUV`, `deleteUV`, `copyUV`: a uv
-    /// set edited, its arguments in order.
+    /// `tileUV`, `scaleUV`, `translateUV` (`offsetUV`), `rotateUV`, `deleteUV`, `copyUV`,
+    /// `normalizeUV`: a uv set edited, its arguments in order (`normalizeUV`'s words are in
+    /// its [`UvEdit`]).
     EditUv(UvEdit, Vec<CExpr>),
     /// Parsed and accepted, but without effect on the model yet (texturing and the like).
     Ignored,
@@ -170,6 +171,21 @@ pub(crate) enum UvEdit {
     Delete,
     /// `copyUV(from, to)`.
     Copy,
+    /// `normalizeUV(uvSet, mode, type)`: the uvs mapped into `[0, 1]`.
+    Normalize(UvNormalization),
+}
+
+/// Which axes `normalizeUV` maps into `[0, 1]` (its mode).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum UvNormalization {
+    /// `uv`: u and v each by itself.
+    Each,
+    /// `uvUniform`: both by one scale, the larger extent becoming 1, keeping the aspect.
+    Uniform,
+    /// `u`: u alone.
+    U,
+    /// `v`: v alone.
+    V,
 }
 
 /// The deformations, with what each takes besides its axis and amount.
@@ -478,7 +494,6 @@ impl CompSelector {
 
 /// Operations that would only change texturing or shading: accepted without effect.
 const VISUAL_ONLY: &[&str] = &[
-    "normalizeUV",
     "softenNormals",
     "setNormals",
     "cleanupGeom",
@@ -538,6 +553,7 @@ const IMPLEMENTED: &[&str] = &[
     "rotateUV",
     "deleteUV",
     "copyUV",
+    "normalizeUV",
     "extrude",
     "t",
     "r",
@@ -688,6 +704,10 @@ const SIGNATURES: &[(&str, &str)] = &[
     ("rotateUV", "rotateUV(uvSet, degrees)"),
     ("deleteUV", "deleteUV(uvSet)"),
     ("copyUV", "copyUV(fromSet, toSet)"),
+    (
+        "normalizeUV",
+        "normalizeUV(uvSet, uv | uvUniform | u | v, separatePerFace | collectiveAllFaces)",
+    ),
 ];
 
 /// The signature of an implemented operation.
@@ -888,6 +908,7 @@ impl Ctx<'_, '_> {
             "rotateUV" => self.edit_uv(UvEdit::Rotate, 2)?,
             "deleteUV" => self.edit_uv(UvEdit::Delete, 1)?,
             "copyUV" => self.edit_uv(UvEdit::Copy, 2)?,
+            "normalizeUV" => self.normalize_uv()?,
             "color" => {
                 if !matches!(self.args.len(), 1 | 3 | 4) {
                     return self.wrong_arity();
@@ -1038,6 +1059,30 @@ impl Ctx<'_, '_> {
             offsets,
             uw_factor,
         })))
+    }
+
+    fn normalize_uv(&mut self) -> Option<Op> {
+        self.arity(3, 3)?;
+        let mode = match self.word(1) {
+            Some("uv") => UvNormalization::Each,
+            Some("uvUniform") => UvNormalization::Uniform,
+            Some("u") => UvNormalization::U,
+            Some("v") => UvNormalization::V,
+            _ => return self.bad_selector(1, "`uv`, `uvUniform`, `u` or `v`"),
+        };
+        match self.word(2) {
+            Some("collectiveAllFaces") => {}
+            Some("separatePerFace") => self.warn_once(
+                "`normalizeUV(…, separatePerFace)` normalizes the faces of a shape together (as `collectiveAllFaces`): exact for shapes of one face"
+                    .into(),
+            ),
+            _ => return self.bad_selector(2, "`separatePerFace` or `collectiveAllFaces`"),
+        }
+        self.args.truncate(1);
+        Some(Op::EditUv(
+            UvEdit::Normalize(mode),
+            std::mem::take(&mut self.args),
+        ))
     }
 
     fn edit_uv(&mut self, edit: UvEdit, count: usize) -> Option<Op> {

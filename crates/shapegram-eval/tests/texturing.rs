@@ -312,3 +312,46 @@ fn every_layer_reads_its_image_and_parts_carry_the_layers_with_uvs() {
     let part = &d.to_model().parts[0];
     assert!(part.surface.is_none() && part.uvs.is_empty());
 }
+
+#[test]
+fn normalize_uv_maps_the_uvs_onto_the_unit_square() {
+    let project = "setupProjection(0, scope.xy, 5, 3) projectUV(0) translateUV(0, 3, -1)";
+    let normalized = |args: &str| facade(&format!("{project} normalizeUV(0, {args}) Wall"));
+    // Before: u from 3 to 7 and v from -1 to 1 over the 20 × 6 facade.
+    assert_range(
+        &normalized("uv, collectiveAllFaces").leaves[0],
+        0,
+        [0.0, 0.0],
+        [1.0, 1.0],
+    );
+    // One scale for both: the larger extent (4) becomes 1.
+    assert_range(
+        &normalized("uvUniform, collectiveAllFaces").leaves[0],
+        0,
+        [0.0, 0.0],
+        [1.0, 0.5],
+    );
+    assert_range(
+        &normalized("u, separatePerFace").leaves[0],
+        0,
+        [0.0, -1.0],
+        [1.0, 1.0],
+    );
+    assert_range(
+        &normalized("v, collectiveAllFaces").leaves[0],
+        0,
+        [3.0, 0.0],
+        [7.0, 1.0],
+    );
+    let errors = compile_errors("Lot --> normalizeUV(0, w, collectiveAllFaces)");
+    assert!(
+        errors[0].contains("expected `uv`, `uvUniform`, `u` or `v`"),
+        "{errors:?}"
+    );
+    let warnings = compile_errors("Lot --> normalizeUV(0, uv, separatePerFace)");
+    assert_eq!(warnings.len(), 1, "{warnings:?}");
+    assert!(
+        warnings[0].contains("normalizes the faces of a shape together"),
+        "{warnings:?}"
+    );
+}

@@ -1,6 +1,6 @@
 //! Texturing operations: `setupProjection`, `projectUV`, `texture`, the uv edits (`tileUV`,
-//! `scaleUV`, `translateUV`, `rotateUV`, `deleteUV`, `copyUV`), texture layers set with
-//! `set(material.…)`, and uv sets following the geometry when `t`, `r`, `s`, `center` or
+//! `scaleUV`, `translateUV`, `rotateUV`, `deleteUV`, `copyUV`, `normalizeUV`), texture layers
+//! and the other material attributes set with `set(material.…)`, and uv sets following the geometry when `t`, `r`, `s`, `center` or
 //! `mirror` move it (see [`crate::texturing`]).
 
 use std::sync::Arc;
@@ -10,7 +10,7 @@ use shapegram_geom::{AlphaMode, DAffine3, DMat3, DVec2, DVec3, Scope, Texture};
 use super::Fallible;
 use super::machine::Engine;
 use crate::error::DeriveError;
-use crate::ops::{ProjectionSetup, UvEdit};
+use crate::ops::{ProjectionSetup, UvEdit, UvNormalization};
 use crate::program::{CExpr, CKind};
 use crate::shape::State;
 use crate::texturing::{FinishAttr, OPACITYMAP, ProjectionFrame, Texturing, UV_SETS, UvMap};
@@ -205,6 +205,7 @@ impl Engine<'_> {
                 Some(map.then([[cos, -sin], [sin, cos]], DVec2::ZERO))
             }
             UvEdit::Tile => Some(self.tile(state, map, &params[1..], args)?),
+            UvEdit::Normalize(mode) => Some(normalized(state, map, mode)),
             UvEdit::Copy => Some(map),
         };
         texturing_mut(state).uvs[set] = edited;
@@ -221,18 +222,9 @@ impl Engine<'_> {
         sizes: &[CExpr],
         args: &[Value],
     ) -> Fallible<UvMap> {
-        let Some(mesh) = state.geometry.world_mesh(&state.scope) else {
+        let Some((low, high)) = uv_bounds(state, &map) else {
             return Ok(map);
         };
-        let (mut low, mut high) = (DVec2::splat(f64::INFINITY), DVec2::splat(f64::NEG_INFINITY));
-        for &p in mesh.positions() {
-            let uv = map.at(p);
-            low = low.min(uv);
-            high = high.max(uv);
-        }
-        if !low.is_finite() {
-            return Ok(map);
-        }
         let extent = high - low;
         let rates = map.rates();
         let (mut scale, mut shift) = (DVec2::ONE, DVec2::ZERO);
@@ -298,6 +290,44 @@ impl Engine<'_> {
             self.ev.number(&e[1], state, args)?,
         ))
     }
+}
+
+/// The smallest and largest uv a map gives the shape's geometry; `None` without geometry.
+fn uv_bounds(state: &State, map: &UvMap) -> Option<(DVec2, DVec2)> {
+    let mesh = state.geometry.world_mesh(&state.scope)?;
+    let (mut low, mut high) = (DVec2::splat(f64::INFINITY), DVec2::splat(f64::NEG_INFINITY));
+    for &p in mesh.positions() {
+        let uv = map.at(p);
+        low = low.min(uv);
+        high = high.max(uv);
+    }
+    low.is_finite().then_some((low, high))
+}
+
+/// `normalizeUV`: the uvs over the geometry mapped onto `[0, 1]` along the mode's axes (the
+/// smallest becoming 0); an axis along which they do not change is left alone.
+fn normalized(state: &State, map: UvMap, mode: UvNormalization) -> UvMap {
+    let Some((low, high)) = uv_bounds(state, &map) else {
+        return map;
+    };
+    let extent = high - low;
+    let axes = match mode {
+        UvNormalization::Each | UvNormalization::Uniform => [true, true],
+        UvNormalization::U => [true, false],
+        UvNormalization::V => [false, true],
+    };
+    let (mut scale, mut shift) = (DVec2::ONE, DVec2::ZERO);
+    for i in 0..2 {
+        let length = match mode {
+            UvNormalization::Uniform => extent.max_element(),
+            _ => extent[i],
+        };
+        if axes[i] && length > 0.0 {
+            scale[i] = 1.0 / length;
+            shift[i] = -low[i] / length;
+        }
+    }
+    map.then([[scale.x, 0.0], [0.0, scale.y]], shift)
 }
 
 /// The shape's texturing, made its own to change.
