@@ -1,7 +1,7 @@
 //! Texturing operations: `setupProjection`, `projectUV`, `texture`, the uv edits (`tileUV`,
 //! `scaleUV`, `translateUV`, `rotateUV`, `deleteUV`, `copyUV`, `normalizeUV`), texture layers
-//! and the other material attributes set with `set(material.…)`, and uv sets following the geometry when `t`, `r`, `s`, `center` or
-//! `mirror` move it (see [`crate::texturing`]).
+//! and the other material attributes set with `set(material.…)`, and uv sets following the
+//! geometry when `t`, `r`, `s`, `center` or `mirror` move it (see [`crate::texturing`]).
 
 use std::sync::Arc;
 
