@@ -211,8 +211,17 @@ fn inserts_into_scopes_with_zero_sizes_follow_cityengine() {
     // A primitive is a unit asset: on a flat 20 × 30 lot, a cube 25 high (PRT's measure).
     let d = run("Lot --> primitiveCube() X", lot(20.0, 30.0));
     assert!(close(d.leaves[0].scope.size, DVec3::new(20.0, 25.0, 30.0)));
-    let d = run("Lot --> i(\"builtin:cube\") X", lot(20.0, 30.0));
-    assert!(close(d.leaves[0].scope.size, DVec3::new(20.0, 25.0, 30.0)));
+    for cube in ["builtin:cube", "builtin:cube:notex"] {
+        let d = run(&format!("Lot --> i(\"{cube}\") X"), lot(20.0, 30.0));
+        assert!(
+            close(d.leaves[0].scope.size, DVec3::new(20.0, 25.0, 30.0)),
+            "{cube}"
+        );
+        assert_eq!(d.leaves[0].world_mesh().unwrap().face_count(), 6, "{cube}");
+    }
+    // A flat unit quad keeps its flatness: on a 2 × 0 × 0 line, a 2 × 2 square.
+    let d = run("Lot --> s(2, 0, 0) primitiveQuad() X", lot(20.0, 30.0));
+    assert!(close(d.leaves[0].scope.size, DVec3::new(2.0, 2.0, 0.0)));
 }
 
 #[test]

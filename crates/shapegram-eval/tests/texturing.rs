@@ -152,7 +152,12 @@ fn sets_are_copied_and_deleted_and_inserts_bring_their_own() {
         d.leaves[0]
             .uvs(0, &d.leaves[0].world_mesh().unwrap())
             .is_none()
-    );
+    ); // A quad brings uv set 0 across it, and only that, whatever the projection gave before.
+    let d = facade(&format!(
+        "{project} copyUV(0, 2) t(0, 0, 1) primitiveQuad() Sign"
+    ));
+    assert_range(&d.leaves[0], 0, [0.0, 0.0], [1.0, 1.0]);
+    assert_eq!(d.leaves[0].texturing.as_ref().unwrap().uvs[2], None);
 }
 
 #[test]

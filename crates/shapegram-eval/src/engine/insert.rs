@@ -4,18 +4,19 @@
 use std::sync::Arc;
 
 use shapegram_geom::fit::adapt_scope_to_asset;
-use shapegram_geom::{Aabb, DAffine3, DVec3, Mesh, primitives};
+use shapegram_geom::{Aabb, DAffine3, DVec2, DVec3, Mesh, primitives};
 use shapegram_implicit::Solid;
 use shapegram_syntax::Span;
 
 use super::Fallible;
 use super::machine::Engine;
-use super::texturing::drop_uvs;
+use super::texturing::{drop_uvs, texturing_mut};
 use crate::error::DeriveError;
 use crate::ops::{InsertFit, Placement, Primitive};
 use crate::program::CExpr;
 use crate::rng::child_seed;
 use crate::shape::{Geometry, State, box_mesh};
+use crate::texturing::{ProjectionFrame, UvMap};
 use crate::value::Value;
 
 /// Loads the assets that `i("path")` inserts (built-in assets are handled by the engine) and
@@ -130,6 +131,9 @@ impl Engine<'_> {
                 )),
             }
         };
+        if kind == Primitive::Quad {
+            quad_uvs(state);
+        }
         state.geometry = match kind {
             Primitive::Cube | Primitive::Quad => Geometry::Box,
             Primitive::Pyramid => Geometry::mesh(primitives::pyramid(size)),
@@ -164,6 +168,27 @@ impl Engine<'_> {
             .asset(path, variant)
             .map_err(|why| DeriveError::at(format!("cannot insert `{path}`: {why}"), span))
     }
+}
+
+/// The uvs `primitiveQuad()` brings: uv set 0 running from 0 to 1 across the quad, u along
+/// scope x and v along scope y, as CityEngine gives its primitives. (Its other primitives
+/// give every face the whole texture, which one affine map per shape cannot hold: they bring
+/// none yet.)
+fn quad_uvs(state: &mut State) {
+    let scope = &state.scope;
+    if scope.size.x == 0.0 || scope.size.y == 0.0 {
+        return;
+    }
+    let (u, v) = (scope.axes.col(0), scope.axes.col(1));
+    let frame = ProjectionFrame {
+        origin: scope.origin,
+        u,
+        v,
+        w: u.cross(v),
+        uw_factor: 0.0,
+    };
+    let map = UvMap::projection(&frame, scope.size.x, scope.size.y, DVec2::ZERO);
+    texturing_mut(state).uvs[0] = Some(map);
 }
 
 /// Cuts the shape's geometry at its trim planes (see [`crate::trim`]), as inserts do and CGA's

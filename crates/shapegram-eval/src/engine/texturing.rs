@@ -331,7 +331,7 @@ fn normalized(state: &State, map: UvMap, mode: UvNormalization) -> UvMap {
 }
 
 /// The shape's texturing, made its own to change.
-fn texturing_mut(state: &mut State) -> &mut Texturing {
+pub(super) fn texturing_mut(state: &mut State) -> &mut Texturing {
     Arc::make_mut(state.texturing.get_or_insert_with(Default::default))
 }
 
