@@ -103,7 +103,7 @@ impl FinishAttr {
     }
 
     /// Sets the attribute to a number, clamped to its range (shininess 0 to 128, bumpValue as
-    /// given, the others 0 to 1); `None` if it takes no number.
+    /// given but finite in f32, the others 0 to 1); `None` if it takes no number.
     pub fn set_number(self, finish: &mut Finish, n: f64) -> Option<()> {
         let unit = n.clamp(0.0, 1.0) as f32;
         let channel = |colour: &mut Option<[f32; 3]>, c: usize| {
@@ -115,7 +115,7 @@ impl FinishAttr {
             Self::Reflectivity => finish.reflectivity = Some(unit),
             Self::AlphaCutoff => finish.alpha_cutoff = Some(unit),
             Self::Shininess => finish.shininess = Some(n.clamp(0.0, 128.0) as f32),
-            Self::BumpValue => finish.bump_value = Some(n as f32),
+            Self::BumpValue => finish.bump_value = Some((n as f32).clamp(f32::MIN, f32::MAX)),
             Self::Emissive(c) => channel(&mut finish.emissive, c),
             Self::Specular(c) => channel(&mut finish.specular, c),
             Self::Ambient(c) => channel(&mut finish.ambient, c),
@@ -332,6 +332,10 @@ mod tests {
             .set_number(&mut finish, 300.0)
             .unwrap();
         FinishAttr::Roughness.set_number(&mut finish, -1.0).unwrap();
+        FinishAttr::BumpValue
+            .set_number(&mut finish, -1e300)
+            .unwrap();
+        assert_eq!(finish.bump_value, Some(f32::MIN));
         assert_eq!(finish.emissive, Some([0.0, 0.0, 0.25]));
         assert_eq!(finish.shininess, Some(128.0));
         assert_eq!(finish.roughness, Some(0.0));
