@@ -360,3 +360,31 @@ fn normalize_uv_maps_the_uvs_onto_the_unit_square() {
         "{warnings:?}"
     );
 }
+
+#[test]
+fn uv_queries_read_the_uv_sets_over_the_geometry() {
+    let queries = "print(geometry.hasUVs()) print(geometry.hasUVs(2)) \
+                   print(geometry.uMin()) print(geometry.uMax(0)) \
+                   print(geometry.vMin()) print(geometry.vMax()) \
+                   print(geometry.du(0, uvSpace)) print(geometry.dv(0, unitSpace))";
+    // u from 3 to 7 and v from -1 to 1 over the 20 × 6 facade, in tiles of 5 × 3 m.
+    let d = facade(&format!(
+        "setupProjection(0, scope.xy, 5, 3) projectUV(0) translateUV(0, 3, -1) {queries} Wall"
+    ));
+    assert_eq!(d.prints, ["true", "false", "3", "7", "-1", "1", "4", "6"]);
+    // Without uvs, no set and zero bounds.
+    let d = facade(&format!("{queries} Wall"));
+    assert_eq!(d.prints, ["false", "false", "0", "0", "0", "0", "0", "0"]);
+    let error = try_run(
+        "Lot --> print(geometry.du(0, metres))",
+        lot(20.0, 30.0),
+        &DeriveOptions::default(),
+    )
+    .unwrap_err();
+    assert_eq!(error.message, "expected `uvSpace` or `unitSpace`");
+    let errors = compile_errors("Lot --> print(geometry.du(0))");
+    assert!(
+        errors[0].contains("the signature is `geometry.du(uvSet, uvSpace | unitSpace)`"),
+        "{errors:?}"
+    );
+}
