@@ -149,7 +149,8 @@ pub struct Leaf {
     pub color: Color,
     /// Its material name, when one was set.
     pub material: Option<Arc<str>>,
-    /// Its uv sets and texture layers, when texturing operations ran on it or its ancestors.
+    /// Its uv sets, texture layers and other material attributes, when texturing operations or
+    /// `set(material.…)` ran on it or its ancestors.
     pub texturing: Option<Arc<Texturing>>,
     /// Its node in [`Derivation::tree`], when the tree is kept.
     pub node: Option<u32>,
