@@ -248,9 +248,11 @@ fn material_attributes_are_kept_clamped_and_reach_the_model() {
         .map(|p| p.surface.as_ref().unwrap().finish.roughness)
         .collect();
     assert_eq!(roughness, [Some(1.0), Some(0.5)]);
-    // Shapes that set none carry no surface.
-    let d = facade("color(\"#ff0000\") Wall");
-    assert!(d.to_model().parts[0].surface.is_none());
+    // Shapes that set none carry no surface; `color.rgb` and `color.a` are the colour's.
+    let d = facade("set(material.color.rgb, \"#ff0000\") set(material.color.a, 0.5) Wall");
+    let part = &d.to_model().parts[0];
+    assert!(part.surface.is_none());
+    assert_eq!(part.color.to_array(), [1.0, 0.0, 0.0, 0.5]);
 }
 
 #[test]
