@@ -1,6 +1,7 @@
 //! Built-in functions and shape queries of the expression language.
 
 use crate::text::Text;
+use crate::uv_queries::UvQuery;
 
 /// Every built-in function's name with its signature (`None` for the functions of one number,
 /// `sin`, `floor`, …), for editors to offer.
@@ -67,6 +68,8 @@ pub(crate) enum Builtin {
     FileRandom,
     /// A string or string-list function.
     Text(Text),
+    /// A uv query (`geometry.uMin` and the others).
+    Uv(UvQuery),
 }
 
 impl Builtin {
@@ -180,11 +183,16 @@ impl Builtin {
             .position(|&n| n == name)
             .map(|i| Self::ALL[i])
             .or_else(|| Text::from_name(name).map(Self::Text))
+            .or_else(|| UvQuery::from_name(name).map(Self::Uv))
     }
 
     /// Every built-in's name, the string functions' included.
     pub fn all_names() -> impl Iterator<Item = &'static str> {
-        Self::NAMES.iter().copied().chain(Text::names())
+        Self::NAMES
+            .iter()
+            .copied()
+            .chain(Text::names())
+            .chain(UvQuery::names())
     }
 
     /// Fewest and most arguments.
@@ -201,6 +209,7 @@ impl Builtin {
             | Self::BoundaryLength
             | Self::Height => (0, 0),
             Self::Text(t) => t.arity(),
+            Self::Uv(q) => q.arity(),
             _ => (1, 1),
         }
     }
@@ -238,6 +247,7 @@ impl Builtin {
             Self::FilesSearch => "filesSearch(query)",
             Self::FileRandom => "fileRandom(query)",
             Self::Text(t) => t.signature(),
+            Self::Uv(q) => q.signature(),
             _ => "f(number)",
         }
     }

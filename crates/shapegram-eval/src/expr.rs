@@ -730,6 +730,7 @@ impl<'p> Evaluator<'p> {
                 return self.occlusion(b, params, shape, args, span);
             }
             Builtin::Text(t) => return self.text(t, params, shape, args, span),
+            Builtin::Uv(q) => return self.uv_query(q, params, shape, args),
             Builtin::IsRectangular
             | Builtin::IsConcave
             | Builtin::IsPlanar
@@ -863,7 +864,8 @@ impl<'p> Evaluator<'p> {
             | Builtin::FileSearch
             | Builtin::FilesSearch
             | Builtin::FileRandom
-            | Builtin::Text(_) => unreachable!("handled above"),
+            | Builtin::Text(_)
+            | Builtin::Uv(_) => unreachable!("handled above"),
         };
         if !value.is_finite() {
             return Err(DeriveError::at(

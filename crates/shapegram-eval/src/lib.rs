@@ -30,6 +30,7 @@ mod tables;
 mod text;
 pub mod texturing;
 mod trim;
+mod uv_queries;
 mod value;
 
 pub use annotations::{AttrAnnotations, AttrRange, Unit, attr_annotations};

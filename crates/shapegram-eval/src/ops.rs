@@ -41,7 +41,8 @@ pub(crate) enum Op {
         second: usize,
     },
     RotateScope([CExpr; 3]),
-    Insert(CExpr),
+    /// `i(path [, yUp | zUp [, mode [, cleanup]]])`: the asset at the path, placed so.
+    Insert(CExpr, Placement),
     Primitive(Primitive, Vec<CExpr>),
     Split {
         axis: usize,
@@ -131,8 +132,9 @@ pub(crate) enum Op {
     ProjectUv(CExpr),
     /// `texture(path)`: the colour map.
     Texture(CExpr),
-    /// `tileUV`, `scaleUV`, `translateUV` (`offsetUV`), `rotateUV`, `deleteUV`, `copyUV`: a uv
-    /// set edited, its arguments in order.
+    /// `tileUV`, `scaleUV`, `translateUV` (`offsetUV`), `rotateUV`, `deleteUV`, `copyUV`,
+    /// `normalizeUV`: a uv set edited, its arguments in order (`normalizeUV`'s words are in
+    /// its [`UvEdit`]).
     EditUv(UvEdit, Vec<CExpr>),
     /// Parsed and accepted, but without effect on the model yet (texturing and the like).
     Ignored,
@@ -169,6 +171,21 @@ pub(crate) enum UvEdit {
     Delete,
     /// `copyUV(from, to)`.
     Copy,
+    /// `normalizeUV(uvSet, mode, type)`: the uvs mapped into `[0, 1]`.
+    Normalize(UvNormalization),
+}
+
+/// Which axes `normalizeUV` maps into `[0, 1]` (its mode).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum UvNormalization {
+    /// `uv`: u and v each by itself.
+    Each,
+    /// `uvUniform`: both by one scale, the larger extent becoming 1, keeping the aspect.
+    Uniform,
+    /// `u`: u alone.
+    U,
+    /// `v`: v alone.
+    V,
 }
 
 /// The deformations, with what each takes besides its axis and amount.
@@ -204,6 +221,28 @@ pub(crate) enum SplitJoints {
     Sequential,
     /// A fork: each part a child of the shape's parent.
     Parallel,
+}
+
+/// How `i()` places its asset: the asset's up axis and how the scope is fitted to it.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub(crate) struct Placement {
+    /// `zUp`: the asset's up axis is z, so it is turned −90° about x before it is placed.
+    pub z_up: bool,
+    /// How the asset and the scope meet.
+    pub fit: InsertFit,
+}
+
+/// The modes of `i()` (its third argument).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub(crate) enum InsertFit {
+    /// `alignSizeAndPosition` (the default): the asset stretched to fill the scope.
+    #[default]
+    Align,
+    /// `keepSizeAndPosition`: the asset as it is, in scope coordinates (as after `s(0,0,0)`).
+    Keep,
+    /// `keepSizeAlignPosition`: the asset at its own size, centred in scope x and z and
+    /// standing on the scope's floor.
+    KeepSize,
 }
 
 /// Built-in primitives inserted by `primitiveCube()` and friends.
@@ -350,6 +389,8 @@ pub(crate) enum SetTarget {
     MaterialName,
     /// A texture layer (`material.colormap` and the others of [`texturing::LAYERS`]).
     Map(usize),
+    /// Another material attribute (`material.metallic`, …).
+    Finish(texturing::FinishAttr),
     /// `trim.horizontal` (true) or `trim.vertical` (false).
     Trim(bool),
     Ignored,
@@ -453,7 +494,6 @@ impl CompSelector {
 
 /// Operations that would only change texturing or shading: accepted without effect.
 const VISUAL_ONLY: &[&str] = &[
-    "normalizeUV",
     "softenNormals",
     "setNormals",
     "cleanupGeom",
@@ -513,6 +553,7 @@ const IMPLEMENTED: &[&str] = &[
     "rotateUV",
     "deleteUV",
     "copyUV",
+    "normalizeUV",
     "extrude",
     "t",
     "r",
@@ -578,8 +619,14 @@ const SIGNATURES: &[(&str, &str)] = &[
         "alignScopeToAxes([x | y | z | world.xyz])",
     ),
     ("rotateScope", "rotateScope(x, y, z)"),
-    ("i", "i(path)"),
-    ("insert", "i(path)"),
+    (
+        "i",
+        "i(path [, yUp | zUp [, alignSizeAndPosition | keepSizeAndPosition | keepSizeAlignPosition [, numericalCleanup | noCleanup]]])",
+    ),
+    (
+        "insert",
+        "i(path [, yUp | zUp [, alignSizeAndPosition | keepSizeAndPosition | keepSizeAlignPosition [, numericalCleanup | noCleanup]]])",
+    ),
     ("primitiveCube", "primitiveCube()"),
     ("primitiveQuad", "primitiveQuad()"),
     ("primitivePyramid", "primitivePyramid()"),
@@ -657,6 +704,10 @@ const SIGNATURES: &[(&str, &str)] = &[
     ("rotateUV", "rotateUV(uvSet, degrees)"),
     ("deleteUV", "deleteUV(uvSet)"),
     ("copyUV", "copyUV(fromSet, toSet)"),
+    (
+        "normalizeUV",
+        "normalizeUV(uvSet, uv | uvUniform | u | v, separatePerFace | collectiveAllFaces)",
+    ),
 ];
 
 /// The signature of an implemented operation.
@@ -805,10 +856,7 @@ impl Ctx<'_, '_> {
             "alignScopeToGeometry" => self.align_to_geometry()?,
             "alignScopeToGeometryBBox" => self.align_to_bbox()?,
             "rotateScope" => Op::RotateScope(self.three()?),
-            "i" | "insert" => {
-                self.arity(1, 3)?;
-                Op::Insert(self.args.swap_remove(0))
-            }
+            "i" | "insert" => self.insert()?,
             "primitiveCube" => self.primitive(Primitive::Cube, 0)?,
             "primitiveQuad" => self.primitive(Primitive::Quad, 0)?,
             "primitivePyramid" => self.primitive(Primitive::Pyramid, 0)?,
@@ -860,6 +908,7 @@ impl Ctx<'_, '_> {
             "rotateUV" => self.edit_uv(UvEdit::Rotate, 2)?,
             "deleteUV" => self.edit_uv(UvEdit::Delete, 1)?,
             "copyUV" => self.edit_uv(UvEdit::Copy, 2)?,
+            "normalizeUV" => self.normalize_uv()?,
             "color" => {
                 if !matches!(self.args.len(), 1 | 3 | 4) {
                     return self.wrong_arity();
@@ -1012,6 +1061,30 @@ impl Ctx<'_, '_> {
         })))
     }
 
+    fn normalize_uv(&mut self) -> Option<Op> {
+        self.arity(3, 3)?;
+        let mode = match self.word(1) {
+            Some("uv") => UvNormalization::Each,
+            Some("uvUniform") => UvNormalization::Uniform,
+            Some("u") => UvNormalization::U,
+            Some("v") => UvNormalization::V,
+            _ => return self.bad_selector(1, "`uv`, `uvUniform`, `u` or `v`"),
+        };
+        match self.word(2) {
+            Some("collectiveAllFaces") => {}
+            Some("separatePerFace") => self.warn_once(
+                "`normalizeUV(…, separatePerFace)` normalizes the faces of a shape together (as `collectiveAllFaces`): exact for shapes of one face"
+                    .into(),
+            ),
+            _ => return self.bad_selector(2, "`separatePerFace` or `collectiveAllFaces`"),
+        }
+        self.args.truncate(1);
+        Some(Op::EditUv(
+            UvEdit::Normalize(mode),
+            std::mem::take(&mut self.args),
+        ))
+    }
+
     fn edit_uv(&mut self, edit: UvEdit, count: usize) -> Option<Op> {
         self.arity(count, count)?;
         Some(Op::EditUv(edit, std::mem::take(&mut self.args)))
@@ -1081,6 +1154,36 @@ impl Ctx<'_, '_> {
             Some("world.xyz" | "xyz") => Some(Op::AlignScopeToAxes(None)),
             _ => self.bad_selector(0, "`x`, `y`, `z` or `world.xyz`"),
         }
+    }
+
+    fn insert(&mut self) -> Option<Op> {
+        self.arity(1, 4)?;
+        let mut placement = Placement::default();
+        if self.args.len() > 1 {
+            placement.z_up = match self.word(1) {
+                Some("yUp") => false,
+                Some("zUp") => true,
+                _ => return self.bad_selector(1, "the asset's up axis, `yUp` or `zUp`"),
+            };
+        }
+        if self.args.len() > 2 {
+            placement.fit = match self.word(2) {
+                Some("alignSizeAndPosition") => InsertFit::Align,
+                Some("keepSizeAndPosition") => InsertFit::Keep,
+                Some("keepSizeAlignPosition") => InsertFit::KeepSize,
+                _ => {
+                    return self.bad_selector(
+                        2,
+                        "`alignSizeAndPosition`, `keepSizeAndPosition` or `keepSizeAlignPosition`",
+                    );
+                }
+            };
+        }
+        // Shapegram's meshes need no numerical cleanup, so both choices insert alike.
+        if self.args.len() > 3 && !matches!(self.word(3), Some("numericalCleanup" | "noCleanup")) {
+            return self.bad_selector(3, "`numericalCleanup` or `noCleanup`");
+        }
+        Some(Op::Insert(self.args.swap_remove(0), placement))
     }
 
     fn primitive(&mut self, kind: Primitive, max_args: usize) -> Option<Op> {
@@ -1334,8 +1437,22 @@ impl Ctx<'_, '_> {
             "material.color.r" => SetTarget::Color(Some(0)),
             "material.color.g" => SetTarget::Color(Some(1)),
             "material.color.b" => SetTarget::Color(Some(2)),
-            "material.opacity" => SetTarget::Color(Some(3)),
+            "material.opacity" | "material.color.a" => SetTarget::Color(Some(3)),
+            "material.color.rgb" => SetTarget::Color(None),
             "material.name" => SetTarget::MaterialName,
+            // Every material is written as a PBR material, whichever shader CityEngine would
+            // draw it with.
+            "material.shader" => SetTarget::Ignored,
+            n if n
+                .strip_prefix("material.")
+                .and_then(texturing::FinishAttr::from_name)
+                .is_some() =>
+            {
+                SetTarget::Finish(
+                    n.strip_prefix("material.")
+                        .and_then(texturing::FinishAttr::from_name)?,
+                )
+            }
             n if n
                 .strip_prefix("material.")
                 .and_then(texturing::layer)

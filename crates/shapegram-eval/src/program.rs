@@ -832,11 +832,14 @@ impl<'g> Compiler<'g> {
                 return CKind::Query(q);
             }
         }
-        // Occlusion queries take bare target words: `inside(intra)`.
-        let context = Builtin::from_name(&name.name).is_some_and(Builtin::is_context_query);
+        let builtin = Builtin::from_name(&name.name);
+        let context = builtin.is_some_and(Builtin::is_context_query);
+        // Occlusion queries take bare target words (`inside(intra)`), uv queries a space
+        // (`geometry.du(0, unitSpace)`).
+        let words = context || builtin.is_some_and(|b| matches!(b, Builtin::Uv(_)));
         let compiled: Vec<CExpr> = args
             .iter()
-            .map(|a| self.expr_in(&a.value, params, context))
+            .map(|a| self.expr_in(&a.value, params, words))
             .collect();
         if let Some(overloads) = self.function_by_name.get(name.name.as_str()) {
             if let Some(&(_, f)) = overloads.iter().find(|(n, _)| *n == compiled.len()) {

@@ -217,7 +217,8 @@ pub struct State {
     pub color: Color,
     /// Material name set with `set(material.name, …)`.
     pub material: Option<Arc<str>>,
-    /// Projections, uv sets and texture layers; `None` until a texturing operation runs.
+    /// Projections, uv sets, texture layers and the other material attributes; `None` until a
+    /// texturing operation or `set(material.…)` runs.
     pub texturing: Option<Arc<Texturing>>,
     /// Position among the parts of the split that made it, and their count.
     pub split: (u32, u32),

@@ -110,6 +110,7 @@ fn leaf_part(leaf: &Leaf, bone: Option<Bone>) -> Option<Part> {
         bone,
         metadata: None,
         material: leaf.material.clone(),
+        surface: None,
     })
 }
 
@@ -126,5 +127,6 @@ fn box_part(name: &str, scope: &Scope, bone: Option<Bone>) -> Option<Part> {
         bone,
         metadata: None,
         material: None,
+        surface: None,
     })
 }

@@ -184,6 +184,7 @@ fn mesh_group(
         mesh: meshing.mesh,
         normals,
         material: None,
+        surface: None,
     }))
 }
 

@@ -1,6 +1,7 @@
 //! What a shape carries for texturing, as CGA has it: up to ten projections set up in world
 //! space (`setupProjection`), up to ten uv sets (`projectUV`, edited by `tileUV` and friends)
-//! and the texture layers of its material (`texture`, `set(material.colormap, …)`).
+//! and the texture layers of its material (`texture`, `set(material.colormap, …)`), with the
+//! material's other attributes (`set(material.metallic, …)` and the rest of [`FinishAttr`]).
 //!
 //! A projection is affine in world position, and so is every uv set made from one, edited in uv
 //! space, or carried along when `t`, `r`, `s`, `center` or `mirror` move the geometry: a uv set
@@ -10,7 +11,7 @@
 
 use std::sync::Arc;
 
-use shapegram_geom::{DAffine3, DVec2, DVec3, Texture};
+use shapegram_geom::{DAffine3, DVec2, DVec3, Finish, Maps, Surface, Texture};
 
 /// The layer of the colour map, the one layer whose image is read and exported.
 pub const COLORMAP: usize = 0;
@@ -45,6 +46,83 @@ pub fn layer(name: &str) -> Option<usize> {
         other => other,
     };
     LAYERS.iter().position(|l| *l == name)
+}
+
+/// A material attribute that `set(material.<name>, value)` sets, besides colour, opacity, name
+/// and texture layers (see [`Finish`] for their meanings).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum FinishAttr {
+    /// `metallic`.
+    Metallic,
+    /// `roughness`.
+    Roughness,
+    /// A channel (0 red, 1 green, 2 blue) of `emissive`.
+    Emissive(usize),
+    /// A channel of `specular`.
+    Specular(usize),
+    /// A channel of `ambient`.
+    Ambient(usize),
+    /// `shininess`.
+    Shininess,
+    /// `reflectivity`.
+    Reflectivity,
+    /// `bumpValue` (and its old name `bump`).
+    BumpValue,
+    /// `opacitymap.mode`.
+    AlphaMode,
+    /// `opacitymap.cutoff`.
+    AlphaCutoff,
+    /// `doubleSided`.
+    DoubleSided,
+}
+
+impl FinishAttr {
+    /// The attribute `material.<name>` names, if it is one.
+    pub fn from_name(name: &str) -> Option<Self> {
+        let channel = |c: &str| ["r", "g", "b"].iter().position(|x| *x == c);
+        Some(match name {
+            "metallic" => Self::Metallic,
+            "roughness" => Self::Roughness,
+            "shininess" => Self::Shininess,
+            "reflectivity" => Self::Reflectivity,
+            "bumpValue" | "bump" => Self::BumpValue,
+            "opacitymap.mode" => Self::AlphaMode,
+            "opacitymap.cutoff" => Self::AlphaCutoff,
+            "doubleSided" => Self::DoubleSided,
+            _ => {
+                let (colour, c) = name.split_once('.')?;
+                let c = channel(c)?;
+                match colour {
+                    "emissive" => Self::Emissive(c),
+                    "specular" => Self::Specular(c),
+                    "ambient" => Self::Ambient(c),
+                    _ => return None,
+                }
+            }
+        })
+    }
+
+    /// Sets the attribute to a number, clamped to its range (shininess 0 to 128, bumpValue as
+    /// given but finite in f32, the others 0 to 1); `None` if it takes no number.
+    pub fn set_number(self, finish: &mut Finish, n: f64) -> Option<()> {
+        let unit = n.clamp(0.0, 1.0) as f32;
+        let channel = |colour: &mut Option<[f32; 3]>, c: usize| {
+            colour.get_or_insert([0.0; 3])[c] = unit;
+        };
+        match self {
+            Self::Metallic => finish.metallic = Some(unit),
+            Self::Roughness => finish.roughness = Some(unit),
+            Self::Reflectivity => finish.reflectivity = Some(unit),
+            Self::AlphaCutoff => finish.alpha_cutoff = Some(unit),
+            Self::Shininess => finish.shininess = Some(n.clamp(0.0, 128.0) as f32),
+            Self::BumpValue => finish.bump_value = Some((n as f32).clamp(f32::MIN, f32::MAX)),
+            Self::Emissive(c) => channel(&mut finish.emissive, c),
+            Self::Specular(c) => channel(&mut finish.specular, c),
+            Self::Ambient(c) => channel(&mut finish.ambient, c),
+            Self::AlphaMode | Self::DoubleSided => return None,
+        }
+        Some(())
+    }
 }
 
 /// u and v as affine functions of a world position: `u = u.xyz · p + u.w`, likewise v.
@@ -138,8 +216,10 @@ pub struct Texturing {
     /// Each uv set of the geometry, if it has one.
     pub uvs: [Option<UvMap>; UV_SETS],
     /// The texture of each layer (see [`LAYERS`]): the path the grammar gave, with the image
-    /// read for the colour map.
+    /// read.
     pub maps: [Option<Arc<Texture>>; UV_SETS],
+    /// The material's other attributes the grammar set.
+    pub finish: Finish,
 }
 
 impl Texturing {
@@ -148,10 +228,28 @@ impl Texturing {
         self.uvs.iter().any(Option::is_some)
     }
 
-    /// The uv set a texture layer is drawn with: its own, else set 0 (as CityEngine's
-    /// exporters fall back), else none.
-    pub fn uvs_of_layer(&self, layer: usize) -> Option<&UvMap> {
-        self.uvs.get(layer)?.as_ref().or(self.uvs[0].as_ref())
+    /// The uvs exported with the shape's texture layers: uv set 0, as CityEngine's exporters
+    /// write it for every layer; `None` when no layer has a texture or there is no set 0.
+    pub fn drawn_uvs(&self) -> Option<&UvMap> {
+        self.maps.iter().any(Option::is_some).then_some(())?;
+        self.uvs[0].as_ref()
+    }
+
+    /// The material attributes and layers besides the colour map, as a part carries them (the
+    /// layers only when `drawn`, that is with uvs to place them); `None` when there are none.
+    pub fn surface(&self, drawn: bool) -> Option<Surface> {
+        let mut maps = Maps::default();
+        if drawn {
+            for (set, texture) in self.maps.iter().enumerate().skip(1) {
+                if let Some(layer) = maps.layer_mut(set) {
+                    layer.clone_from(texture);
+                }
+            }
+        }
+        (!self.finish.is_unset() || !maps.is_empty()).then_some(Surface {
+            finish: self.finish,
+            maps,
+        })
     }
 }
 
@@ -207,6 +305,41 @@ mod tests {
         let turned = map.then([[0.0, -1.0], [1.0, 0.0]], DVec2::new(10.0, 20.0));
         let uv = map.at(p);
         assert_eq!(turned.at(p), DVec2::new(-uv.y + 10.0, uv.x + 20.0));
+    }
+
+    #[test]
+    fn finish_attributes_by_name_and_their_ranges() {
+        assert_eq!(
+            FinishAttr::from_name("metallic"),
+            Some(FinishAttr::Metallic)
+        );
+        assert_eq!(
+            FinishAttr::from_name("specular.g"),
+            Some(FinishAttr::Specular(1))
+        );
+        assert_eq!(FinishAttr::from_name("bump"), Some(FinishAttr::BumpValue));
+        assert_eq!(
+            FinishAttr::from_name("opacitymap.cutoff"),
+            Some(FinishAttr::AlphaCutoff)
+        );
+        assert_eq!(FinishAttr::from_name("specular.a"), None);
+        assert_eq!(FinishAttr::from_name("colormap"), None);
+        let mut finish = Finish::default();
+        FinishAttr::Emissive(2)
+            .set_number(&mut finish, 0.25)
+            .unwrap();
+        FinishAttr::Shininess
+            .set_number(&mut finish, 300.0)
+            .unwrap();
+        FinishAttr::Roughness.set_number(&mut finish, -1.0).unwrap();
+        FinishAttr::BumpValue
+            .set_number(&mut finish, -1e300)
+            .unwrap();
+        assert_eq!(finish.bump_value, Some(f32::MIN));
+        assert_eq!(finish.emissive, Some([0.0, 0.0, 0.25]));
+        assert_eq!(finish.shininess, Some(128.0));
+        assert_eq!(finish.roughness, Some(0.0));
+        assert!(FinishAttr::AlphaMode.set_number(&mut finish, 1.0).is_none());
     }
 
     #[test]

@@ -211,8 +211,106 @@ fn inserts_into_scopes_with_zero_sizes_follow_cityengine() {
     // A primitive is a unit asset: on a flat 20 × 30 lot, a cube 25 high (PRT's measure).
     let d = run("Lot --> primitiveCube() X", lot(20.0, 30.0));
     assert!(close(d.leaves[0].scope.size, DVec3::new(20.0, 25.0, 30.0)));
-    let d = run("Lot --> i(\"builtin:cube\") X", lot(20.0, 30.0));
-    assert!(close(d.leaves[0].scope.size, DVec3::new(20.0, 25.0, 30.0)));
+    for cube in ["builtin:cube", "builtin:cube:notex"] {
+        let d = run(&format!("Lot --> i(\"{cube}\") X"), lot(20.0, 30.0));
+        assert!(
+            close(d.leaves[0].scope.size, DVec3::new(20.0, 25.0, 30.0)),
+            "{cube}"
+        );
+        assert_eq!(d.leaves[0].world_mesh().unwrap().face_count(), 6, "{cube}");
+    }
+    // A flat unit quad keeps its flatness: on a 2 × 0 × 0 line, a 2 × 2 square.
+    let d = run("Lot --> s(2, 0, 0) primitiveQuad() X", lot(20.0, 30.0));
+    assert!(close(d.leaves[0].scope.size, DVec3::new(2.0, 2.0, 0.0)));
+}
+
+#[test]
+fn insert_modes_and_up_axis_place_the_asset_as_cityengine() {
+    let options = DeriveOptions {
+        assets: Some(std::sync::Arc::new(OffsetBox)),
+        ..DeriveOptions::default()
+    };
+    // The scope and the world box of the asset inserted with `args` into a 10 × 8 × 20 scope
+    // at (1, 1, 1).
+    let insert = |args: &str| {
+        let text = format!("Lot --> extrude(8) t(1, 1, 1) i(\"box.obj\"{args}) X");
+        let d = try_run(&text, lot(10.0, 20.0), &options).unwrap();
+        let leaf = &d.leaves[0];
+        let bounds = leaf.world_mesh().unwrap().bounds().unwrap();
+        [leaf.scope.origin, leaf.scope.size, bounds.min, bounds.max]
+    };
+    let expect = |args: &str, want: [[f64; 3]; 4]| {
+        let got = insert(args);
+        assert!(
+            got.iter()
+                .zip(want)
+                .all(|(g, w)| close(*g, DVec3::from_array(w))),
+            "i(\"box.obj\"{args}): origin, size, min, max {got:?}, expected {want:?}"
+        );
+    };
+    // The default stretches the asset's box onto the scope's.
+    expect(
+        "",
+        [
+            [1.0, 1.0, 1.0],
+            [10.0, 8.0, 20.0],
+            [1.0, 1.0, 1.0],
+            [11.0, 9.0, 21.0],
+        ],
+    );
+    expect(
+        ", yUp, alignSizeAndPosition",
+        [
+            [1.0, 1.0, 1.0],
+            [10.0, 8.0, 20.0],
+            [1.0, 1.0, 1.0],
+            [11.0, 9.0, 21.0],
+        ],
+    );
+    // keepSizeAndPosition: the asset as it is, relative to the scope's origin, as after s(0,0,0).
+    expect(
+        ", yUp, keepSizeAndPosition",
+        [
+            [2.0, 3.0, 4.0],
+            [1.0, 2.0, 3.0],
+            [2.0, 3.0, 4.0],
+            [3.0, 5.0, 7.0],
+        ],
+    );
+    // keepSizeAlignPosition: its own size, centred in x and z, on the scope's floor.
+    expect(
+        ", yUp, keepSizeAlignPosition, noCleanup",
+        [
+            [5.5, 1.0, 9.5],
+            [1.0, 2.0, 3.0],
+            [5.5, 1.0, 9.5],
+            [6.5, 3.0, 12.5],
+        ],
+    );
+    // zUp turns the asset −90° about x first: (x, y, z) → (x, z, −y), so its box is
+    // [1, 2] × [3, 6] × [−4, −2].
+    expect(
+        ", zUp, keepSizeAndPosition",
+        [
+            [2.0, 4.0, -3.0],
+            [1.0, 3.0, 2.0],
+            [2.0, 4.0, -3.0],
+            [3.0, 7.0, -1.0],
+        ],
+    );
+    let errors = compile_errors("Lot --> i(\"box.obj\", xUp)");
+    assert_eq!(errors.len(), 1, "{errors:?}");
+    assert!(
+        errors[0].contains("expected the asset's up axis, `yUp` or `zUp`")
+            && errors[0].contains("test.cga:1:22"),
+        "{}",
+        errors[0]
+    );
+    let errors = compile_errors("Lot --> i(\"box.obj\", yUp, stretch)");
+    assert!(
+        errors[0].contains("`alignSizeAndPosition`, `keepSizeAndPosition` or"),
+        "{errors:?}"
+    );
 }
 
 #[test]

@@ -5,7 +5,7 @@ mod common;
 
 use common::{compile_errors, lot, run, try_run};
 use shapegram_eval::{Derivation, DeriveOptions, Leaf};
-use shapegram_geom::DVec2;
+use shapegram_geom::{AlphaMode, DVec2, Finish};
 
 /// A 20 m wide, 6 m high facade, its rule body given.
 fn facade(body: &str) -> Derivation {
@@ -152,7 +152,12 @@ fn sets_are_copied_and_deleted_and_inserts_bring_their_own() {
         d.leaves[0]
             .uvs(0, &d.leaves[0].world_mesh().unwrap())
             .is_none()
-    );
+    ); // A quad brings uv set 0 across it, and only that, whatever the projection gave before.
+    let d = facade(&format!(
+        "{project} copyUV(0, 2) t(0, 0, 1) primitiveQuad() Sign"
+    ));
+    assert_range(&d.leaves[0], 0, [0.0, 0.0], [1.0, 1.0]);
+    assert_eq!(d.leaves[0].texturing.as_ref().unwrap().uvs[2], None);
 }
 
 #[test]
@@ -203,6 +208,185 @@ fn bad_uv_sets_sizes_and_axes_are_errors_at_their_place() {
     assert!(
         errors[0].contains("expected projection axes such as `scope.xy` or `world.xz`")
             && errors[0].contains("test.cga:2:"),
+        "{errors:?}"
+    );
+}
+
+#[test]
+fn material_attributes_are_kept_clamped_and_reach_the_model() {
+    let d = facade(
+        "set(material.metallic, 0.8) set(material.roughness, 1.5) set(material.specular.r, 0.5) \
+         set(material.shininess, 40) set(material.emissive.g, 0.25) set(material.ambient.b, 1) \
+         set(material.reflectivity, 0.3) set(material.bumpValue, 2) \
+         set(material.opacitymap.mode, \"mask\") set(material.opacitymap.cutoff, 0.2) \
+         set(material.doubleSided, false) set(material.shader, \"CityEnginePBRShader\") \
+         split(x) { 10 : Wall | 10 : set(material.roughness, 0.5) Wall }",
+    );
+    let finish = |i: usize| d.leaves[i].texturing.as_ref().unwrap().finish;
+    assert_eq!(
+        finish(0),
+        Finish {
+            metallic: Some(0.8),
+            roughness: Some(1.0),
+            emissive: Some([0.0, 0.25, 0.0]),
+            specular: Some([0.5, 0.0, 0.0]),
+            ambient: Some([0.0, 0.0, 1.0]),
+            shininess: Some(40.0),
+            reflectivity: Some(0.3),
+            bump_value: Some(2.0),
+            alpha_mode: Some(AlphaMode::Mask),
+            alpha_cutoff: Some(0.2),
+            double_sided: Some(false),
+        }
+    );
+    assert_eq!(finish(1).roughness, Some(0.5));
+    // One part per material: the two walls differ in roughness alone.
+    let model = d.to_model();
+    let roughness: Vec<Option<f32>> = model
+        .parts
+        .iter()
+        .map(|p| p.surface.as_ref().unwrap().finish.roughness)
+        .collect();
+    assert_eq!(roughness, [Some(1.0), Some(0.5)]);
+    // Shapes that set none carry no surface; `color.rgb` and `color.a` are the colour's.
+    let d = facade("set(material.color.rgb, \"#ff0000\") set(material.color.a, 0.5) Wall");
+    let part = &d.to_model().parts[0];
+    assert!(part.surface.is_none());
+    assert_eq!(part.color.to_array(), [1.0, 0.0, 0.0, 0.5]);
+}
+
+#[test]
+fn bad_material_attribute_values_are_errors_at_their_place() {
+    let error = |body: &str| {
+        try_run(
+            &format!("Lot --> extrude(6) comp(f) {{ front : Facade }}\nFacade --> {body}\n"),
+            lot(20.0, 30.0),
+            &DeriveOptions::default(),
+        )
+        .unwrap_err()
+    };
+    let e = error("set(material.opacitymap.mode, \"cutout\") Wall");
+    assert_eq!(e.message, "unknown opacity map mode `cutout`");
+    // At the value: `"cutout"` starts 41 bytes into the second line, which starts at byte 46.
+    assert_eq!(e.span.map(|s| s.start), Some(87));
+    let e = error("set(material.metallic, \"high\") Wall");
+    assert_eq!(e.message, "expected a number, found a string");
+    let e = error("set(material.doubleSided, 1) Wall");
+    assert_eq!(e.message, "expected true or false, found a number");
+}
+
+/// Every image is the brick PNG.
+struct Images;
+
+impl shapegram_eval::AssetLoader for Images {
+    fn load(&self, path: &str) -> Result<std::sync::Arc<shapegram_geom::Mesh>, String> {
+        Err(format!("no mesh {path}"))
+    }
+
+    fn image(&self, _: &str) -> Result<Option<std::sync::Arc<[u8]>>, String> {
+        Ok(Some(std::sync::Arc::from(
+            &include_bytes!("../../../examples/textures/brick.png")[..],
+        )))
+    }
+}
+
+#[test]
+fn every_layer_reads_its_image_and_parts_carry_the_layers_with_uvs() {
+    let options = DeriveOptions {
+        assets: Some(std::sync::Arc::new(Images)),
+        ..DeriveOptions::default()
+    };
+    let grammar = |body: &str| {
+        format!("Lot --> extrude(6) comp(f) {{ front : Facade }}\nFacade --> {body}\n")
+    };
+    let layers = "set(material.normalmap, \"n.png\") set(material.roughnessmap, \"r.png\")";
+    let with_uvs = format!("setupProjection(0, scope.xy, 5, 3) projectUV(0) {layers} Wall");
+    let d = try_run(&grammar(&with_uvs), lot(20.0, 30.0), &options).unwrap();
+    let part = &d.to_model().parts[0];
+    let maps = &part.surface.as_ref().unwrap().maps;
+    assert_eq!(maps.normal.as_ref().map(|t| &*t.path), Some("n.png"));
+    assert!(maps.normal.as_ref().unwrap().image.is_some());
+    assert_eq!(maps.roughness.as_ref().map(|t| &*t.path), Some("r.png"));
+    assert!(part.texture.is_none());
+    assert_eq!(part.uvs.len(), part.mesh.vertex_count());
+    // Without uv set 0 there is nothing to place the layers with.
+    let d = try_run(
+        &grammar(&format!("{layers} Wall")),
+        lot(20.0, 30.0),
+        &options,
+    )
+    .unwrap();
+    let part = &d.to_model().parts[0];
+    assert!(part.surface.is_none() && part.uvs.is_empty());
+}
+
+#[test]
+fn normalize_uv_maps_the_uvs_onto_the_unit_square() {
+    let project = "setupProjection(0, scope.xy, 5, 3) projectUV(0) translateUV(0, 3, -1)";
+    let normalized = |args: &str| facade(&format!("{project} normalizeUV(0, {args}) Wall"));
+    // Before: u from 3 to 7 and v from -1 to 1 over the 20 × 6 facade.
+    assert_range(
+        &normalized("uv, collectiveAllFaces").leaves[0],
+        0,
+        [0.0, 0.0],
+        [1.0, 1.0],
+    );
+    // One scale for both: the larger extent (4) becomes 1.
+    assert_range(
+        &normalized("uvUniform, collectiveAllFaces").leaves[0],
+        0,
+        [0.0, 0.0],
+        [1.0, 0.5],
+    );
+    assert_range(
+        &normalized("u, separatePerFace").leaves[0],
+        0,
+        [0.0, -1.0],
+        [1.0, 1.0],
+    );
+    assert_range(
+        &normalized("v, collectiveAllFaces").leaves[0],
+        0,
+        [3.0, 0.0],
+        [7.0, 1.0],
+    );
+    let errors = compile_errors("Lot --> normalizeUV(0, w, collectiveAllFaces)");
+    assert!(
+        errors[0].contains("expected `uv`, `uvUniform`, `u` or `v`"),
+        "{errors:?}"
+    );
+    let warnings = compile_errors("Lot --> normalizeUV(0, uv, separatePerFace)");
+    assert_eq!(warnings.len(), 1, "{warnings:?}");
+    assert!(
+        warnings[0].contains("normalizes the faces of a shape together"),
+        "{warnings:?}"
+    );
+}
+
+#[test]
+fn uv_queries_read_the_uv_sets_over_the_geometry() {
+    let queries = "print(geometry.hasUVs()) print(geometry.hasUVs(2)) \
+                   print(geometry.uMin()) print(geometry.uMax(0)) \
+                   print(geometry.vMin()) print(geometry.vMax()) \
+                   print(geometry.du(0, uvSpace)) print(geometry.dv(0, unitSpace))";
+    // u from 3 to 7 and v from -1 to 1 over the 20 × 6 facade, in tiles of 5 × 3 m.
+    let d = facade(&format!(
+        "setupProjection(0, scope.xy, 5, 3) projectUV(0) translateUV(0, 3, -1) {queries} Wall"
+    ));
+    assert_eq!(d.prints, ["true", "false", "3", "7", "-1", "1", "4", "6"]);
+    // Without uvs, no set and zero bounds.
+    let d = facade(&format!("{queries} Wall"));
+    assert_eq!(d.prints, ["false", "false", "0", "0", "0", "0", "0", "0"]);
+    let error = try_run(
+        "Lot --> print(geometry.du(0, metres))",
+        lot(20.0, 30.0),
+        &DeriveOptions::default(),
+    )
+    .unwrap_err();
+    assert_eq!(error.message, "expected `uvSpace` or `unitSpace`");
+    let errors = compile_errors("Lot --> print(geometry.du(0))");
+    assert!(
+        errors[0].contains("the signature is `geometry.du(uvSet, uvSpace | unitSpace)`"),
         "{errors:?}"
     );
 }

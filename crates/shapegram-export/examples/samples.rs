@@ -22,6 +22,7 @@ fn part(name: &str, hex: &str, mesh: Mesh, at: DVec3) -> Part {
         mesh: mesh.transformed(&DAffine3::from_translation(at)),
         normals: Vec::new(),
         material: None,
+        surface: None,
     }
 }
 

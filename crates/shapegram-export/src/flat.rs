@@ -7,9 +7,10 @@ use std::collections::{BTreeMap, BTreeSet};
 use std::io;
 use std::sync::Arc;
 
+use shapegram_geom::material::FinishKey;
 use shapegram_geom::mesh::newell;
 use shapegram_geom::triangulate::{Triangulator, is_convex_about};
-use shapegram_geom::{Color, DVec2, DVec3, Mesh, Model, Part};
+use shapegram_geom::{Color, DVec2, DVec3, Maps, Mesh, Model, Part, Surface, Texture};
 
 /// An `InvalidInput` error for the first part whose bone names a skeleton or section the model
 /// does not have (posing or skinning it would index out of bounds).
@@ -236,26 +237,37 @@ fn has_f32_area([a, b, c]: [[f32; 3]; 3]) -> bool {
     cross > eps * eps * ab.length_squared() * ac.length_squared()
 }
 
-/// A textured part's uvs: one per mesh vertex, when it has a texture with an image the formats
-/// can carry (PNG or JPEG); else the part is drawn in its colour alone.
+/// A textured part's uvs: one per mesh vertex, when a texture layer (the colour map or one of
+/// [`Part::surface`]'s) has an image the formats can carry (PNG or JPEG); else the part is
+/// drawn in its colour alone.
 pub(crate) fn texture_uvs(part: &Part) -> Option<&[DVec2]> {
-    let texture = part.texture.as_ref()?;
-    (texture.mime_type().is_some() && part.uvs.len() == part.mesh.positions().len())
-        .then_some(&part.uvs)
+    let surface_maps = part.surface.iter().flat_map(|s| s.maps.layers());
+    let drawn = part.texture.as_ref().is_some_and(|t| drawable(t))
+        || surface_maps.filter_map(|(_, t)| t).any(|t| drawable(t));
+    (drawn && part.uvs.len() == part.mesh.positions().len()).then_some(&part.uvs)
 }
 
-/// The image files a model's textured parts need beside an OBJ's MTL, by texture path in order
-/// of first use: each named after its path's last component, made unique with `_2`, `_3` … .
+/// Whether a texture has an image the formats can carry.
+pub(crate) fn drawable(texture: &Texture) -> bool {
+    texture.mime_type().is_some()
+}
+
+/// The textures a part is drawn with (its colour map, then its other layers in CGA's order),
+/// those with images, when it has uvs for them.
+pub(crate) fn drawn_textures(part: &Part) -> impl Iterator<Item = &Arc<Texture>> {
+    let textured = texture_uvs(part).is_some();
+    let surface_maps = part.surface.iter().flat_map(|s| s.maps.layers());
+    part.texture
+        .iter()
+        .chain(surface_maps.filter_map(|(_, t)| t))
+        .filter(move |t| textured && drawable(t))
+}
+
+/// The image files a model's textured parts need beside an OBJ's MTL (every layer's), by
+/// texture path in order of first use: each named after its path's last component, made unique with `_2`, `_3` … .
 pub(crate) fn texture_files(model: &Model) -> Vec<(Arc<str>, String, Arc<[u8]>)> {
     let mut files: Vec<(Arc<str>, String, Arc<[u8]>)> = Vec::new();
-    for part in &model.parts {
-        let Some(texture) = part
-            .texture
-            .as_ref()
-            .filter(|_| texture_uvs(part).is_some())
-        else {
-            continue;
-        };
+    for texture in model.parts.iter().flat_map(drawn_textures) {
         if files.iter().any(|(path, _, _)| *path == texture.path) {
             continue;
         }
@@ -294,36 +306,56 @@ pub(crate) fn sanitized(color: Color) -> [f32; 4] {
     ]
 }
 
-/// What tells two materials apart: the colour's bits, the texture's index and the name.
-type MaterialKey = ([u32; 4], Option<usize>, Option<Arc<str>>);
+/// What tells two surfaces apart: their attributes and the paths of their drawn layers.
+type SurfaceKey = (FinishKey, [Option<Arc<str>>; 9]);
 
-/// The distinct materials of a model: a colour, the texture (if any) it is drawn with and the
-/// name the grammar gave it (if any), in order of first appearance.
+/// What tells two materials apart: the colour's bits, the texture's index, the name and the
+/// surface.
+type MaterialKey = (
+    [u32; 4],
+    Option<usize>,
+    Option<Arc<str>>,
+    Option<SurfaceKey>,
+);
+
+/// The distinct materials of a model: a colour, the texture (if any) it is drawn with, the
+/// name the grammar gave it (if any) and its other attributes and layers (if any), in order of
+/// first appearance.
 #[derive(Default)]
 pub(crate) struct Palette {
     colors: Vec<[f32; 4]>,
     textures: Vec<Option<usize>>,
     names: Vec<Option<Arc<str>>>,
+    surfaces: Vec<Option<Arc<Surface>>>,
     index: BTreeMap<MaterialKey, usize>,
 }
 
 impl Palette {
-    /// The material index of a colour with a texture (an index the caller keeps) and a name,
-    /// adding it when new.
+    /// The material index of a colour with a texture (an index the caller keeps), a name and a
+    /// surface, adding it when new. The surface's layers count only when `textured` (the part
+    /// has uvs for them) and have images.
     pub fn material(
         &mut self,
         color: Color,
         texture: Option<usize>,
         name: Option<&Arc<str>>,
+        surface: Option<&Arc<Surface>>,
+        textured: bool,
     ) -> usize {
         let rgba = sanitized(color);
+        let surface = surface.map(|s| drawn_surface(s, textured));
+        let key = surface.as_ref().map(|s| {
+            let paths = s.maps.layers().map(|(_, t)| t.map(|t| t.path.clone()));
+            (s.finish.key(), paths)
+        });
         *self
             .index
-            .entry((rgba.map(f32::to_bits), texture, name.cloned()))
+            .entry((rgba.map(f32::to_bits), texture, name.cloned(), key))
             .or_insert_with(|| {
                 self.colors.push(rgba);
                 self.textures.push(texture);
                 self.names.push(name.cloned());
+                self.surfaces.push(surface);
                 self.colors.len() - 1
             })
     }
@@ -331,6 +363,11 @@ impl Palette {
     /// The texture of each material.
     pub fn textures(&self) -> &[Option<usize>] {
         &self.textures
+    }
+
+    /// The surface of each material, its layers those that are drawn.
+    pub fn surfaces(&self) -> &[Option<Arc<Surface>>] {
+        &self.surfaces
     }
 
     /// The sanitized colours, by material index.
@@ -372,6 +409,32 @@ impl Palette {
                 name
             })
             .collect()
+    }
+}
+
+/// A surface with the layers that are drawn: none without uvs, and only those with images
+/// (the same surface when that is all of them).
+fn drawn_surface(surface: &Arc<Surface>, textured: bool) -> Arc<Surface> {
+    let kept = |t: &Option<Arc<Texture>>| t.as_ref().filter(|t| textured && drawable(t)).cloned();
+    let maps = &surface.maps;
+    let drawn = Maps {
+        bump: kept(&maps.bump),
+        dirt: kept(&maps.dirt),
+        specular: kept(&maps.specular),
+        opacity: kept(&maps.opacity),
+        normal: kept(&maps.normal),
+        emissive: kept(&maps.emissive),
+        occlusion: kept(&maps.occlusion),
+        roughness: kept(&maps.roughness),
+        metallic: kept(&maps.metallic),
+    };
+    if drawn == *maps {
+        surface.clone()
+    } else {
+        Arc::new(Surface {
+            finish: surface.finish,
+            maps: drawn,
+        })
     }
 }
 

@@ -20,257 +20,31 @@
 //! The file is planned first (sizes, bounds, the JSON chunk) and then streamed: shared vertices
 //! and points go from the model straight to the writer, so a large model is never held twice.
 
-use std::borrow::Cow;
 use std::collections::BTreeMap;
 use std::io::{self, Write};
 
 use gltf_json as json;
 use json::validation::{Checked::Valid, USize64};
-use shapegram_geom::{Color, DVec2, DVec3, Lines, Mesh, MetaValue, Metadata, Model, Part, Texture};
+use shapegram_geom::{Color, MetaValue, Metadata, Model, Part, Texture};
 
 use crate::ExportOptions;
-use crate::flat::{
-    FaceSplitter, Palette, check_bones, flat_faces, is_smooth, segment_is_exportable, texture_uvs,
-    unit, usable_normals,
-};
+use crate::flat::{FaceSplitter, Palette, check_bones, drawable};
 
 mod animation;
+mod chunk;
+mod material;
 mod skin;
+mod tangents;
 
 use animation::Animation;
+pub(crate) use chunk::Chunk;
+use material::{gltf_textures, material, textured, with_surface};
 use skin::Skin;
 
 /// GLB framing constants from the glTF 2.0 specification, section "Binary glTF Layout".
 pub(crate) const MAGIC: &[u8; 4] = b"glTF";
 pub(crate) const CHUNK_JSON: u32 = 0x4E4F_534A;
 pub(crate) const CHUNK_BIN: u32 = 0x004E_4942;
-
-/// Vertices taken from a model's own list: all of them, or those in `keep` (in that order) when
-/// some are not used by anything written.
-pub(crate) struct Shared<'a> {
-    all: &'a [DVec3],
-    keep: Option<Vec<u32>>,
-}
-
-impl Shared<'_> {
-    fn len(&self) -> usize {
-        self.keep.as_ref().map_or(self.all.len(), Vec::len)
-    }
-
-    /// Calls `visit` with the index in `all` of every vertex written, in order.
-    fn each(&self, mut visit: impl FnMut(usize)) {
-        match &self.keep {
-            Some(keep) => keep.iter().for_each(|&v| visit(v as usize)),
-            None => (0..self.all.len()).for_each(visit),
-        }
-    }
-}
-
-/// Keeps only the vertices `indices` use, renumbering `indices` when some are left out.
-fn shared<'a>(all: &'a [DVec3], indices: &mut Cow<'_, [u32]>) -> Shared<'a> {
-    let mut used = vec![false; all.len()];
-    for &v in indices.iter() {
-        used[v as usize] = true;
-    }
-    if used.iter().all(|&u| u) {
-        return Shared { all, keep: None };
-    }
-    let mut remap = vec![u32::MAX; all.len()];
-    let mut keep = Vec::new();
-    for (v, _) in used.iter().enumerate().filter(|(_, u)| **u) {
-        remap[v] = keep.len() as u32;
-        keep.push(v as u32);
-    }
-    for v in indices.to_mut().iter_mut() {
-        *v = remap[*v as usize];
-    }
-    Shared {
-        all,
-        keep: Some(keep),
-    }
-}
-
-/// Part of a primitive's vertex data, with indices counted from its own first vertex.
-pub(crate) enum Chunk<'a> {
-    /// Flat-shaded faces: corners per face, each with the face normal (and its vertex's uv,
-    /// for a textured part; empty otherwise).
-    Flat {
-        positions: Vec<[f32; 3]>,
-        normals: Vec<[f32; 3]>,
-        uvs: Vec<[f32; 2]>,
-        indices: Vec<u32>,
-    },
-    /// A smooth part's shared vertices with their normals (and uvs, for a textured part).
-    Smooth {
-        vertices: Shared<'a>,
-        normals: Cow<'a, [DVec3]>,
-        uvs: Option<&'a [DVec2]>,
-        indices: Vec<u32>,
-    },
-    /// A line set's points and segments.
-    Lines {
-        points: Shared<'a>,
-        indices: Cow<'a, [u32]>,
-    },
-}
-
-impl<'a> Chunk<'a> {
-    /// A part's triangles: smooth when it has one normal per vertex, flat otherwise.
-    pub(crate) fn of_part(part: &'a Part) -> Option<Self> {
-        let uvs = texture_uvs(part);
-        let chunk = if is_smooth(part) {
-            smooth_chunk(part, uvs)
-        } else {
-            flat_chunk(&part.mesh, uvs)
-        };
-        (chunk.index_count() > 0).then_some(chunk)
-    }
-
-    /// A line set's segments (those [`segment_is_exportable`] keeps).
-    fn of_lines(lines: &'a Lines) -> Option<Self> {
-        let drawn = |s: &[u32; 2]| segment_is_exportable(&lines.points, *s);
-        let mut indices: Cow<'_, [u32]> = if lines.segments.iter().all(drawn) {
-            Cow::Borrowed(lines.segments.as_flattened())
-        } else {
-            Cow::Owned(
-                lines
-                    .segments
-                    .iter()
-                    .filter(|s| drawn(s))
-                    .flatten()
-                    .copied()
-                    .collect(),
-            )
-        };
-        if indices.is_empty() {
-            return None;
-        }
-        let points = shared(&lines.points, &mut indices);
-        Some(Self::Lines { points, indices })
-    }
-
-    pub(crate) fn vertex_count(&self) -> usize {
-        match self {
-            Self::Flat { positions, .. } => positions.len(),
-            Self::Smooth { vertices, .. } => vertices.len(),
-            Self::Lines { points, .. } => points.len(),
-        }
-    }
-
-    pub(crate) fn indices(&self) -> &[u32] {
-        match self {
-            Self::Flat { indices, .. } | Self::Smooth { indices, .. } => indices,
-            Self::Lines { indices, .. } => indices,
-        }
-    }
-
-    fn index_count(&self) -> usize {
-        self.indices().len()
-    }
-
-    /// Calls `visit` with every f32 position, in vertex order.
-    pub(crate) fn positions(&self, mut visit: impl FnMut([f32; 3])) {
-        match self {
-            Self::Flat { positions, .. } => positions.iter().copied().for_each(visit),
-            Self::Smooth {
-                vertices: shared, ..
-            }
-            | Self::Lines { points: shared, .. } => {
-                shared.each(|v| visit(shared.all[v].as_vec3().to_array()))
-            }
-        }
-    }
-
-    /// Whether the chunk has a uv per vertex.
-    fn has_uvs(&self) -> bool {
-        match self {
-            Self::Flat { uvs, .. } => !uvs.is_empty(),
-            Self::Smooth { uvs, .. } => uvs.is_some(),
-            Self::Lines { .. } => false,
-        }
-    }
-
-    /// Calls `visit` with every uv as glTF has it (v down), in vertex order (none without).
-    pub(crate) fn uvs(&self, mut visit: impl FnMut([f32; 2])) {
-        match self {
-            Self::Flat { uvs, .. } => uvs.iter().copied().for_each(visit),
-            Self::Smooth {
-                vertices,
-                uvs: Some(uvs),
-                ..
-            } => vertices.each(|v| visit(gltf_uv(uvs[v]))),
-            Self::Smooth { .. } | Self::Lines { .. } => {}
-        }
-    }
-
-    /// Calls `visit` with every f32 unit normal, in vertex order (none for lines).
-    pub(crate) fn normals(&self, mut visit: impl FnMut([f32; 3])) {
-        match self {
-            Self::Flat { normals, .. } => normals.iter().copied().for_each(visit),
-            Self::Smooth {
-                vertices, normals, ..
-            } => vertices.each(|v| visit(unit(normals[v]))),
-            Self::Lines { .. } => {}
-        }
-    }
-}
-
-/// A uv as glTF stores it: v runs down the image, where CGA's runs up.
-fn gltf_uv(uv: DVec2) -> [f32; 2] {
-    [uv.x as f32, (1.0 - uv.y) as f32]
-}
-
-/// A mesh's faces with vertices of their own, as flat shading needs.
-fn flat_chunk<'a>(mesh: &Mesh, texture_uvs: Option<&[DVec2]>) -> Chunk<'a> {
-    let (mut positions, mut normals, mut indices) = (Vec::new(), Vec::new(), Vec::new());
-    let mut uvs = Vec::new();
-    flat_faces(mesh, |face| {
-        let base = positions.len() as u32;
-        positions.extend_from_slice(face.corners);
-        normals.extend(std::iter::repeat_n(face.normal, face.corners.len()));
-        if let Some(texture_uvs) = texture_uvs {
-            uvs.extend(
-                face.vertices
-                    .iter()
-                    .map(|&v| gltf_uv(texture_uvs[v as usize])),
-            );
-        }
-        indices.extend(face.triangles.iter().flatten().map(|&c| base + c));
-    });
-    Chunk::Flat {
-        positions,
-        normals,
-        uvs,
-        indices,
-    }
-}
-
-/// A smooth part's faces over its shared vertices (see [`usable_normals`]).
-fn smooth_chunk<'a>(part: &'a Part, uvs: Option<&'a [DVec2]>) -> Chunk<'a> {
-    let mesh = &part.mesh;
-    let mut splitter = FaceSplitter::default();
-    let mut fan = Vec::new();
-    // Every corner beyond the first two of a face adds a triangle.
-    let mut indices =
-        Vec::with_capacity(3 * mesh.indices_len().saturating_sub(2 * mesh.face_count()));
-    for i in 0..mesh.face_count() {
-        fan.clear();
-        if splitter.split(mesh, i, &mut fan).is_none() || fan.is_empty() {
-            continue;
-        }
-        let face = mesh.face(i);
-        indices.extend(fan.iter().flatten().map(|&c| face[c as usize]));
-    }
-    let normals = usable_normals(part);
-    let mut indices = Cow::Owned(indices);
-    let vertices = shared(mesh.positions(), &mut indices);
-    Chunk::Smooth {
-        vertices,
-        normals,
-        uvs,
-        indices: indices.into_owned(),
-    }
-}
 
 /// One glTF primitive to be: its material, its mode, its skinning and the chunks whose data it
 /// concatenates.
@@ -279,6 +53,8 @@ struct Primitive<'a> {
     lines: bool,
     /// Whether its vertices carry uvs (TEXCOORD_0): its material is textured.
     textured: bool,
+    /// Whether its vertices carry tangents: its material has a normal map.
+    tangents: bool,
     skinned: Option<Skinned>,
     chunks: Vec<Chunk<'a>>,
     /// The model part each chunk holds (`None`: a line set).
@@ -435,13 +211,9 @@ impl<'a> Plan<'a> {
                     skin_of[bone.skeleton as usize].expect("every bound skeleton has a skin");
                 (skin, skins[skin].joint(bone.section))
             });
-            let texture = (chunk.has_uvs())
-                .then_some(part.texture.as_deref())
-                .flatten();
             (
                 &part.name,
                 part.color,
-                texture,
                 Some(index),
                 joint,
                 chunk,
@@ -452,7 +224,6 @@ impl<'a> Plan<'a> {
             Some((
                 &lines.name,
                 lines.color,
-                None,
                 None,
                 None,
                 Chunk::of_lines(lines)?,
@@ -469,20 +240,23 @@ impl<'a> Plan<'a> {
         // (group, material, lines) -> primitive slot in that group; triangles and lines of one
         // colour stay apart since a primitive has one mode.
         let mut merged: BTreeMap<(usize, usize, bool), usize> = BTreeMap::new();
-        for (name, color, texture, source, joint, chunk, metadata) in chunks.chain(line_chunks) {
+        for (name, color, source, joint, chunk, metadata) in chunks.chain(line_chunks) {
             let lines = source.is_none();
-            let texture = texture.map(|t| {
-                textures
-                    .iter()
-                    .position(|known| known.path == t.path)
-                    .unwrap_or_else(|| {
-                        textures.push(t);
-                        textures.len() - 1
-                    })
-            });
-            let named = source.and_then(|i| model.parts[i].material.as_ref());
-            let material = palette.material(color, texture, named);
-            let textured = texture.is_some();
+            let part = source.map(|i| &model.parts[i]);
+            let textured = chunk.has_uvs();
+            let tangents = chunk.has_tangents();
+            for t in part.into_iter().flat_map(gltf_textures) {
+                if !textures.iter().any(|known| known.path == t.path) {
+                    textures.push(t);
+                }
+            }
+            let texture = part
+                .and_then(|p| p.texture.as_deref())
+                .filter(|t| textured && drawable(t))
+                .and_then(|t| textures.iter().position(|known| known.path == t.path));
+            let named = part.and_then(|p| p.material.as_ref());
+            let surface = part.and_then(|p| p.surface.as_ref());
+            let material = palette.material(color, texture, named, surface, textured);
             let skin = joint.map(|(skin, _)| skin);
             let skinned = |joints| Skinned {
                 wide: skins[skin.expect("only skinned chunks have joints")].wide(),
@@ -498,6 +272,7 @@ impl<'a> Plan<'a> {
                         material,
                         lines,
                         textured,
+                        tangents,
                         skinned: joint.map(|(_, j)| skinned(vec![j])),
                         chunks: vec![chunk],
                         sources: vec![source],
@@ -520,6 +295,7 @@ impl<'a> Plan<'a> {
                     material,
                     lines,
                     textured,
+                    tangents,
                     skinned: joint.map(|_| skinned(Vec::new())),
                     chunks: Vec::new(),
                     sources: Vec::new(),
@@ -605,6 +381,15 @@ impl<'a> Plan<'a> {
                     chunk.uvs(|[u, v]| {
                         put(&u.to_le_bytes());
                         put(&v.to_le_bytes());
+                    });
+                }
+            }
+            if primitive.tangents {
+                for chunk in &primitive.chunks {
+                    chunk.tangents(|t| {
+                        for x in t {
+                            put(&x.to_le_bytes());
+                        }
                     });
                 }
             }
@@ -705,11 +490,17 @@ fn document(
         ..Default::default()
     });
     let colors = palette.colors().iter().zip(palette.names());
-    for ((&[r, g, b, a], name), &texture) in colors.zip(palette.textures()) {
+    let looks = palette.textures().iter().zip(palette.surfaces());
+    for ((&[r, g, b, a], name), (&texture, surface)) in colors.zip(looks) {
         // The palette holds sRGB, as written in grammars; glTF wants linear light.
         let mut material = material(Color { r, g, b, a }.to_linear(), name);
         if let Some(texture) = texture {
             textured(&mut material, texture, textures[texture]);
+        }
+        if let Some(surface) = surface {
+            with_surface(&mut material, surface, |t| {
+                textures.iter().position(|known| known.path == t.path)
+            });
         }
         builder.root.push(material);
     }
@@ -759,40 +550,6 @@ fn document(
     builder.finish(children, roots)
 }
 
-fn material(rgba: [f32; 4], name: String) -> json::Material {
-    json::Material {
-        name: Some(name),
-        alpha_mode: Valid(if rgba[3] < 1.0 {
-            json::material::AlphaMode::Blend
-        } else {
-            json::material::AlphaMode::Opaque
-        }),
-        double_sided: false,
-        pbr_metallic_roughness: json::material::PbrMetallicRoughness {
-            base_color_factor: json::material::PbrBaseColorFactor(rgba),
-            metallic_factor: json::material::StrengthFactor(0.0),
-            // Matte: procedural models are mostly buildings and props, not polished metal.
-            roughness_factor: json::material::StrengthFactor(0.9),
-            ..Default::default()
-        },
-        ..Default::default()
-    }
-}
-
-/// A material drawn with texture `index` (`texture`) through TEXCOORD_0: blended when the
-/// image has alpha.
-fn textured(material: &mut json::Material, index: usize, texture: &Texture) {
-    material.pbr_metallic_roughness.base_color_texture = Some(json::texture::Info {
-        index: json::Index::new(index as u32),
-        tex_coord: 0,
-        extensions: None,
-        extras: Default::default(),
-    });
-    if texture.has_alpha() {
-        material.alpha_mode = Valid(json::material::AlphaMode::Blend);
-    }
-}
-
 /// The JSON document being filled and the length of the BIN chunk so far.
 #[derive(Default)]
 struct Builder {
@@ -834,6 +591,16 @@ impl Builder {
                 None,
             );
             attributes.insert(Valid(json::mesh::Semantic::TexCoords(0)), uvs);
+        }
+        if primitive.tangents {
+            let tangents = self.accessor(
+                vertices,
+                16,
+                Some(Target::ArrayBuffer),
+                (ComponentType::F32, Type::Vec4),
+                None,
+            );
+            attributes.insert(Valid(json::mesh::Semantic::Tangents), tangents);
         }
         if let Some(skinned) = &primitive.skinned {
             let (size, component) = if skinned.wide {

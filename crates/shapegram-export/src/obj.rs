@@ -18,7 +18,9 @@ use std::borrow::Cow;
 use std::fmt::Write as _;
 use std::io::{self, Write};
 
-use shapegram_geom::{DVec2, DVec3, Mesh, Model};
+use std::sync::Arc;
+
+use shapegram_geom::{Color, DVec2, DVec3, Mesh, Model, Surface, Texture};
 
 use crate::ExportOptions;
 use crate::flat::{
@@ -96,14 +98,14 @@ pub fn write_obj_to(
             normals,
             uvs: uvs.filter(|_| texture.is_some()),
         };
-        (
-            &part.name,
-            part.color,
+        let look = Look {
+            color: part.color,
             texture,
-            part.material.as_ref(),
-            false,
-            piece,
-        )
+            name: part.material.as_ref(),
+            surface: part.surface.as_ref(),
+            textured: uvs.is_some(),
+        };
+        (&part.name, look, false, piece)
     });
     let lines = model.lines.iter().map(|lines| {
         let segments: Vec<[u32; 2]> = lines
@@ -116,9 +118,9 @@ pub fn write_obj_to(
             points: &lines.points,
             segments,
         };
-        (&lines.name, lines.color, None, None, true, piece)
+        (&lines.name, Look::of_color(lines.color), true, piece)
     });
-    for (name, color, texture, material_name, lines, piece) in parts.chain(lines) {
+    for (name, look, lines, piece) in parts.chain(lines) {
         let empty = match &piece {
             Piece::Faces { faces, .. } => faces.is_empty(),
             Piece::Segments { segments, .. } => segments.is_empty(),
@@ -126,7 +128,13 @@ pub fn write_obj_to(
         if empty {
             continue;
         }
-        let material = palette.material(color, texture, material_name);
+        let material = palette.material(
+            look.color,
+            look.texture,
+            look.name,
+            look.surface,
+            look.textured,
+        );
         let existing = if options.group_by_part {
             None
         } else {
@@ -177,13 +185,97 @@ pub fn write_obj_to(
 
     let mut mtl = format!("# shapegram {}\n", env!("CARGO_PKG_VERSION"));
     let materials = material_names.iter().zip(palette.colors());
-    for ((name, [r, g, b, a]), texture) in materials.zip(palette.textures()) {
-        mtl.push_str(&format!("\nnewmtl {name}\nKd {r} {g} {b}\nd {a}\n"));
+    let looks = palette.textures().iter().zip(palette.surfaces());
+    for ((name, [r, g, b, a]), (texture, surface)) in materials.zip(looks) {
+        mtl.push_str(&format!("\nnewmtl {name}\n"));
+        if let Some([r, g, b]) = surface.as_ref().and_then(|s| s.finish.ambient) {
+            mtl.push_str(&format!("Ka {r} {g} {b}\n"));
+        }
+        mtl.push_str(&format!("Kd {r} {g} {b}\nd {a}\n"));
         if let Some(texture) = texture {
             mtl.push_str(&format!("map_Kd {}\n", files[*texture].1));
         }
+        if let Some(surface) = surface {
+            let file = |t: &Texture| {
+                let at = files.iter().position(|(path, _, _)| *path == t.path);
+                at.map(|i| files[i].1.as_str())
+            };
+            surface_lines(&mut mtl, surface, file);
+        }
     }
     Ok(mtl)
+}
+
+/// How a part or line set looks: what its material is made of.
+struct Look<'a> {
+    color: Color,
+    texture: Option<usize>,
+    name: Option<&'a Arc<str>>,
+    surface: Option<&'a Arc<Surface>>,
+    textured: bool,
+}
+
+impl Look<'_> {
+    /// A plain colour.
+    fn of_color(color: Color) -> Self {
+        Self {
+            color,
+            texture: None,
+            name: None,
+            surface: None,
+            textured: false,
+        }
+    }
+}
+
+/// The MTL statements of a surface's attributes and layers (after `Kd`, `d` and `map_Kd`):
+/// `Ks`, `Ns`, `Ke`, the PBR extension's `Pr` and `Pm`, and the maps `map_Ks`, `map_Bump`
+/// (with `-bm` for the bump value), `norm`, `map_d`, `map_Ke`, `map_Pr` and `map_Pm`; `file`
+/// names each image's file. MTL has no place for reflectivity, the dirt map or the occlusion
+/// map.
+fn surface_lines<'a>(
+    mtl: &mut String,
+    surface: &'a Surface,
+    file: impl Fn(&'a Texture) -> Option<&'a str>,
+) {
+    let finish = &surface.finish;
+    let mut line = |statement: &str, value: String| {
+        let _ = writeln!(mtl, "{statement} {value}");
+    };
+    if let Some([r, g, b]) = finish.specular {
+        line("Ks", format!("{r} {g} {b}"));
+    }
+    if let Some(shininess) = finish.shininess {
+        line("Ns", shininess.to_string());
+    }
+    if let Some([r, g, b]) = finish.emissive {
+        line("Ke", format!("{r} {g} {b}"));
+    }
+    if let Some(roughness) = finish.roughness {
+        line("Pr", roughness.to_string());
+    }
+    if let Some(metallic) = finish.metallic {
+        line("Pm", metallic.to_string());
+    }
+    let maps = &surface.maps;
+    let layers = [
+        ("map_Ks", &maps.specular),
+        ("map_Bump", &maps.bump),
+        ("norm", &maps.normal),
+        ("map_d", &maps.opacity),
+        ("map_Ke", &maps.emissive),
+        ("map_Pr", &maps.roughness),
+        ("map_Pm", &maps.metallic),
+    ];
+    for (statement, map) in layers {
+        let Some(name) = map.as_deref().and_then(&file) else {
+            continue;
+        };
+        match finish.bump_value.filter(|_| statement == "map_Bump") {
+            Some(bump) => line(statement, format!("-bm {bump} {name}")),
+            None => line(statement, name.to_owned()),
+        }
+    }
 }
 
 /// The file's running vertex and normal numbers (OBJ indices are global and 1-based) and the

@@ -678,6 +678,7 @@ fn push_part(parts: &mut Vec<Part>, name: String, color: Color, mesh: Mesh, norm
             mesh,
             normals,
             material: None,
+            surface: None,
         });
     }
 }

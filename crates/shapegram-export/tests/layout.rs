@@ -19,6 +19,7 @@ fn flat(name: &str, color: Color, mesh: Mesh) -> Part {
         normals: Vec::new(),
         mesh,
         material: None,
+        surface: None,
     }
 }
 

@@ -39,6 +39,7 @@ fn part(name: &str, color: Color, mesh: Mesh, bone: Option<Bone>) -> Part {
         bone,
         metadata: None,
         material: None,
+        surface: None,
     }
 }
 

@@ -29,6 +29,7 @@ fn smooth(name: &str, mesh: Mesh) -> Part {
         normals: mesh.vertex_normals(),
         mesh,
         material: None,
+        surface: None,
     }
 }
 
@@ -244,6 +245,7 @@ fn glb_lines_are_a_primitive_of_their_own() {
             mesh: cuboid(DVec3::ONE),
             normals: Vec::new(),
             material: None,
+            surface: None,
         }],
         lines: vec![stroke()],
     };

@@ -6,7 +6,7 @@ use glam::{DVec2, DVec3};
 
 use shapegram_kinematics::{Frame, SectionId, Skeleton};
 
-use crate::{Aabb, Mesh};
+use crate::{Aabb, Mesh, Surface};
 
 /// An sRGB colour (as in `#rrggbb` notation) with straight alpha, each channel in `0..=1`.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -136,6 +136,9 @@ pub struct Part {
     /// The material's name the grammar set (`set(material.name, …)`), which names the
     /// written material; `None`: the material is named after the colour.
     pub material: Option<Arc<str>>,
+    /// The material's other attributes and texture layers, when the grammar set any (the
+    /// layers are drawn through `uvs`).
+    pub surface: Option<Arc<Surface>>,
 }
 
 /// An image a part is textured with.

@@ -52,6 +52,7 @@ pub fn drawing_to_model(drawing: &Drawing, settings: &Settings) -> Model {
                 mesh,
                 normals,
                 material: None,
+                surface: None,
             };
             ((slot, 0), part)
         })
@@ -148,6 +149,7 @@ fn leaves<'a>(drawing: &Drawing, palette: &'a Palette) -> impl Iterator<Item = (
                 mesh,
                 normals: Vec::new(),
                 material: None,
+                surface: None,
             };
             (slot, part)
         })
@@ -435,6 +437,7 @@ fn transformed(model: &Model, map: &DAffine3) -> Model {
                     .map(|&n| (normal_map * n).normalize_or(n))
                     .collect(),
                 material: None,
+                surface: None,
             })
             .collect(),
         lines: model

@@ -108,6 +108,7 @@ impl GrammarMesh {
                     mesh: Mesh::from_faces(p.positions.clone(), &p.triangles),
                     normals: Vec::new(),
                     material: None,
+                    surface: None,
                 })
                 .collect(),
             lines: Vec::new(),

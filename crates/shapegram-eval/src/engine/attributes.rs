@@ -56,6 +56,9 @@ impl Engine<'_> {
         if let SetTarget::Map(layer) = target {
             return self.texture(state, *layer, false, value, args);
         }
+        if let SetTarget::Finish(attr) = target {
+            return self.set_finish(state, *attr, value, args);
+        }
         let span = value.span;
         let value = self.ev.eval(value, state, args)?;
         let wrong = |what: &str, v: &Value| {
@@ -90,7 +93,7 @@ impl Engine<'_> {
                 Value::Bool(on) => state.trim.set_vertical(on),
                 v => return Err(wrong("true or false", &v)),
             },
-            SetTarget::Ignored | SetTarget::Map(_) => {}
+            SetTarget::Ignored | SetTarget::Map(_) | SetTarget::Finish(_) => {}
         }
         Ok(())
     }

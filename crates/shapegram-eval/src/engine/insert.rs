@@ -4,18 +4,19 @@
 use std::sync::Arc;
 
 use shapegram_geom::fit::adapt_scope_to_asset;
-use shapegram_geom::{Aabb, DVec3, Mesh, primitives};
+use shapegram_geom::{Aabb, DAffine3, DVec2, DVec3, Mesh, primitives};
 use shapegram_implicit::Solid;
 use shapegram_syntax::Span;
 
 use super::Fallible;
 use super::machine::Engine;
-use super::texturing::drop_uvs;
+use super::texturing::{drop_uvs, texturing_mut};
 use crate::error::DeriveError;
-use crate::ops::Primitive;
+use crate::ops::{InsertFit, Placement, Primitive};
 use crate::program::CExpr;
 use crate::rng::child_seed;
 use crate::shape::{Geometry, State, box_mesh};
+use crate::texturing::{ProjectionFrame, UvMap};
 use crate::value::Value;
 
 /// Loads the assets that `i("path")` inserts (built-in assets are handled by the engine) and
@@ -75,21 +76,27 @@ pub struct Asset {
 }
 
 impl Engine<'_> {
-    /// CGA `i("path")`: the asset at the path fitted into the scope (see [`fit_asset`]); a
-    /// seeded asset in the variant the shape's seed picks.
+    /// CGA `i("path" [, upAxis [, mode]])`: the asset at the path, turned up if it is `zUp`,
+    /// placed as the mode says (see [`place`]); a seeded asset in the variant the shape's seed
+    /// picks.
     pub(super) fn insert(
         &mut self,
         state: &mut State,
         path: &CExpr,
+        placement: Placement,
         args: &[Value],
     ) -> Fallible<()> {
         let file = self.ev.string(path, state, args)?;
         // From the shape's seed, not its stream, so asking for a variant draws nothing
         // that later random choices of the shape would miss.
         let variant = (child_seed(state.seed, u64::MAX) % u64::from(ASSET_VARIANTS)) as u32;
-        let asset = self.asset(&file, variant, path.span)?;
+        let mut asset = self.asset(&file, variant, path.span)?;
+        if placement.z_up {
+            let up = DAffine3::from_rotation_x(-std::f64::consts::FRAC_PI_2);
+            asset.mesh = Arc::new(asset.mesh.transformed(&up));
+        }
         drop_uvs(state);
-        fit_asset(state, &asset);
+        place(state, &asset, placement.fit);
         trim(state);
         Ok(())
     }
@@ -124,6 +131,9 @@ impl Engine<'_> {
                 )),
             }
         };
+        if kind == Primitive::Quad {
+            quad_uvs(state);
+        }
         state.geometry = match kind {
             Primitive::Cube | Primitive::Quad => Geometry::Box,
             Primitive::Pyramid => Geometry::mesh(primitives::pyramid(size)),
@@ -160,6 +170,27 @@ impl Engine<'_> {
     }
 }
 
+/// The uvs `primitiveQuad()` brings: uv set 0 running from 0 to 1 across the quad, u along
+/// scope x and v along scope y, as CityEngine gives its primitives. (Its other primitives
+/// give every face the whole texture, which one affine map per shape cannot hold: they bring
+/// none yet.)
+fn quad_uvs(state: &mut State) {
+    let scope = &state.scope;
+    if scope.size.x == 0.0 || scope.size.y == 0.0 {
+        return;
+    }
+    let (u, v) = (scope.axes.col(0), scope.axes.col(1));
+    let frame = ProjectionFrame {
+        origin: scope.origin,
+        u,
+        v,
+        w: u.cross(v),
+        uw_factor: 0.0,
+    };
+    let map = UvMap::projection(&frame, scope.size.x, scope.size.y, DVec2::ZERO);
+    texturing_mut(state).uvs[0] = Some(map);
+}
+
 /// Cuts the shape's geometry at its trim planes (see [`crate::trim`]), as inserts do and CGA's
 /// `trim()`; what nothing is left of keeps no geometry. A plane cuts what lies along its edge,
 /// give or take the shape's largest size.
@@ -194,6 +225,39 @@ fn builtin_asset(path: &str) -> Option<Mesh> {
         "quad" => box_mesh(DVec3::new(1.0, 1.0, 0.0))?,
         _ => return None,
     })
+}
+
+/// Places an asset as `i()`'s mode says: `alignSizeAndPosition` fits it to the scope
+/// ([`fit_asset`]); `keepSizeAndPosition` fits it to a scope of size zero, so it keeps its size
+/// and its place relative to the scope's origin; `keepSizeAlignPosition` gives the scope the
+/// asset's size, centred where the scope was in x and z, on its floor. The scope keeps the
+/// asset's box in both keeping modes.
+fn place(state: &mut State, asset: &Asset, fit: InsertFit) {
+    let bounds = asset.mesh.bounds().filter(|_| !asset.mesh.is_empty());
+    match (fit, bounds) {
+        (InsertFit::Align, _) | (_, None) => {}
+        (InsertFit::Keep, Some(_)) => state.scope.size = DVec3::ZERO,
+        (InsertFit::KeepSize, Some(bounds)) => {
+            let size = bounds.size();
+            let scope = &mut state.scope;
+            let centred = DVec3::new(
+                (scope.size.x - size.x) / 2.0,
+                0.0,
+                (scope.size.z - size.z) / 2.0,
+            );
+            scope.origin = scope.to_world(centred);
+            scope.size = size;
+        }
+    }
+    let asset = match fit {
+        InsertFit::Align => asset,
+        // The keeping modes place the asset as it is, seeded or not.
+        _ => &Asset {
+            mesh: asset.mesh.clone(),
+            proportional: false,
+        },
+    };
+    fit_asset(state, asset);
 }
 
 /// Fits an asset into the scope (CGA `i`, see `shapegram_geom::fit`): stretched, after a scope

@@ -617,7 +617,7 @@ impl<'p> Engine<'p> {
             }
             Op::AlignScopeToGeometryBBox { first, second } => align_to_bbox(state, *first, *second),
             Op::RotateScope(v) => self.rotate_scope(state, v, args)?,
-            Op::Insert(path) => self.insert(state, path, args)?,
+            Op::Insert(path, placement) => self.insert(state, path, *placement, args)?,
             Op::Primitive(kind, params) => self.primitive(state, *kind, params, span, args)?,
             Op::Split {
                 axis,

@@ -46,7 +46,8 @@ use std::time::Duration;
 
 use rustc_hash::FxHashMap;
 use shapegram_geom::{
-    Bone, Color, DVec3, Mesh, MetaValue, Metadata, Model, Part as ModelPart, Scope, primitives,
+    Bone, Color, DVec3, Mesh, MetaValue, Metadata, Model, Part as ModelPart, Scope, Surface,
+    material::FinishKey, primitives,
 };
 use shapegram_kinematics::{Frame, SectionId, Skeleton};
 
@@ -148,7 +149,8 @@ pub struct Leaf {
     pub color: Color,
     /// Its material name, when one was set.
     pub material: Option<Arc<str>>,
-    /// Its uv sets and texture layers, when texturing operations ran on it or its ancestors.
+    /// Its uv sets, texture layers and other material attributes, when texturing operations or
+    /// `set(material.…)` ran on it or its ancestors.
     pub texturing: Option<Arc<Texturing>>,
     /// Its node in [`Derivation::tree`], when the tree is kept.
     pub node: Option<u32>,
@@ -296,6 +298,7 @@ impl Derivation {
             Option<Arc<Metadata>>,
             Option<&'a str>,
             Option<&'a str>,
+            Option<SurfaceKey>,
         );
         let mut slot: FxHashMap<Key, usize> = FxHashMap::default();
         let mut metadata = MetadataCache::default();
@@ -317,18 +320,23 @@ impl Derivation {
                 section: SectionId(leaf.section),
             });
             let meta = leaf.semantics.as_ref().map(|s| metadata.of(s));
-            // A colour map counts only with uvs to place it, as in CityEngine.
-            let textured = leaf
+            // Texture layers count only with uvs to place them, as in CityEngine.
+            let uv_map = leaf.texturing.as_ref().and_then(|t| t.drawn_uvs());
+            let colormap = uv_map
+                .and(leaf.texturing.as_ref())
+                .and_then(|t| t.maps[COLORMAP].as_ref());
+            let surface = leaf
                 .texturing
                 .as_ref()
-                .and_then(|t| Some((t.maps[COLORMAP].as_ref()?, t.uvs_of_layer(COLORMAP)?)));
+                .and_then(|t| t.surface(uv_map.is_some()));
             let key = (
                 &*leaf.name,
                 leaf.color.to_array().map(f32::to_bits),
                 bone,
                 meta.clone(),
-                textured.map(|(texture, _)| &*texture.path),
+                colormap.map(|texture| &*texture.path),
                 leaf.material.as_deref(),
+                surface.as_ref().map(surface_key),
             );
             let i = *slot.entry(key).or_insert_with(|| {
                 parts.push(ModelPart {
@@ -338,13 +346,14 @@ impl Derivation {
                     mesh: Mesh::new(),
                     normals: Vec::new(),
                     metadata: meta,
-                    texture: textured.map(|(texture, _)| texture.clone()),
+                    texture: colormap.cloned(),
                     uvs: Vec::new(),
                     material: leaf.material.clone(),
+                    surface: surface.map(Arc::new),
                 });
                 parts.len() - 1
             });
-            if let Some((_, map)) = textured {
+            if let Some(map) = uv_map {
                 let uvs = mesh.positions().iter().map(|&p| map.at(p));
                 parts[i].uvs.extend(uvs);
             }
@@ -365,6 +374,17 @@ impl Derivation {
             lines: Vec::new(),
         }
     }
+}
+
+/// What tells two surfaces apart: their attributes and their layers' paths.
+type SurfaceKey = (FinishKey, [Option<Arc<str>>; 9]);
+
+fn surface_key(surface: &Surface) -> SurfaceKey {
+    let paths = surface
+        .maps
+        .layers()
+        .map(|(_, t)| t.map(|t| t.path.clone()));
+    (surface.finish.key(), paths)
 }
 
 /// Leaves' semantics as part metadata: equal semantics share one [`Metadata`], and the

@@ -1,19 +1,19 @@
 //! Texturing operations: `setupProjection`, `projectUV`, `texture`, the uv edits (`tileUV`,
-//! `scaleUV`, `translateUV`, `rotateUV`, `deleteUV`, `copyUV`), texture layers set with
-//! `set(material.…)`, and uv sets following the geometry when `t`, `r`, `s`, `center` or
-//! `mirror` move it (see [`crate::texturing`]).
+//! `scaleUV`, `translateUV`, `rotateUV`, `deleteUV`, `copyUV`, `normalizeUV`), texture layers
+//! and the other material attributes set with `set(material.…)`, and uv sets following the
+//! geometry when `t`, `r`, `s`, `center` or `mirror` move it (see [`crate::texturing`]).
 
 use std::sync::Arc;
 
-use shapegram_geom::{DAffine3, DMat3, DVec2, DVec3, Scope, Texture};
+use shapegram_geom::{AlphaMode, DAffine3, DMat3, DVec2, DVec3, Scope, Texture};
 
 use super::Fallible;
 use super::machine::Engine;
 use crate::error::DeriveError;
-use crate::ops::{ProjectionSetup, UvEdit};
+use crate::ops::{ProjectionSetup, UvEdit, UvNormalization};
 use crate::program::{CExpr, CKind};
 use crate::shape::State;
-use crate::texturing::{COLORMAP, OPACITYMAP, ProjectionFrame, Texturing, UV_SETS, UvMap};
+use crate::texturing::{FinishAttr, OPACITYMAP, ProjectionFrame, Texturing, UV_SETS, UvMap};
 use crate::value::Value;
 
 impl Engine<'_> {
@@ -97,8 +97,8 @@ impl Engine<'_> {
 
     /// `texture(path)` (`texture_op`: also the opacity map, to the same image when it has
     /// alpha and to none otherwise) and `set(material.<layer>, path)`: a texture layer; `""` is
-    /// none. The colour map's image is read through the asset loader (without one, the texture
-    /// is kept by its path alone).
+    /// none. The image is read through the asset loader (without one, the texture is kept by
+    /// its path alone).
     pub(super) fn texture(
         &mut self,
         state: &mut State,
@@ -112,11 +112,11 @@ impl Engine<'_> {
         let texture = if path.is_empty() {
             None
         } else {
-            let image = match (&self.options.assets, layer == COLORMAP) {
-                (Some(loader), true) => loader
+            let image = match &self.options.assets {
+                Some(loader) => loader
                     .image(&path)
                     .map_err(|e| DeriveError::at(format!("cannot read the texture: {e}"), span))?,
-                _ => None,
+                None => None,
             };
             Some(Arc::new(Texture { path, image }))
         };
@@ -126,6 +126,43 @@ impl Engine<'_> {
             texturing.maps[OPACITYMAP] = texture.clone().filter(|_| alpha);
         }
         texturing.maps[layer] = texture;
+        Ok(())
+    }
+
+    /// `set(material.<attribute>, value)` for the attributes of [`FinishAttr`]: numbers
+    /// (clamped to their ranges), `"blend"`, `"mask"` or `"opaque"` for the opacity map's mode,
+    /// true or false for `doubleSided`.
+    pub(super) fn set_finish(
+        &mut self,
+        state: &mut State,
+        attr: FinishAttr,
+        value: &CExpr,
+        args: &[Value],
+    ) -> Fallible<()> {
+        let span = value.span;
+        let value = self.ev.eval(value, state, args)?;
+        let finish = &mut texturing_mut(state).finish;
+        let wrong = |what: &str| {
+            DeriveError::at(
+                format!("expected {what}, found a {}", value.type_name()),
+                span,
+            )
+        };
+        match (attr, &value) {
+            (FinishAttr::AlphaMode, Value::Str(mode)) => {
+                finish.alpha_mode = Some(AlphaMode::from_cga(mode).ok_or_else(|| {
+                    DeriveError::at(format!("unknown opacity map mode `{mode}`"), span)
+                        .with_hint("the modes are \"blend\", \"mask\" and \"opaque\"")
+                })?);
+            }
+            (FinishAttr::AlphaMode, _) => return Err(wrong("\"blend\", \"mask\" or \"opaque\"")),
+            (FinishAttr::DoubleSided, Value::Bool(on)) => finish.double_sided = Some(*on),
+            (FinishAttr::DoubleSided, _) => return Err(wrong("true or false")),
+            (_, Value::Number(n)) => {
+                attr.set_number(finish, *n);
+            }
+            _ => return Err(wrong("a number")),
+        }
         Ok(())
     }
 
@@ -168,6 +205,7 @@ impl Engine<'_> {
                 Some(map.then([[cos, -sin], [sin, cos]], DVec2::ZERO))
             }
             UvEdit::Tile => Some(self.tile(state, map, &params[1..], args)?),
+            UvEdit::Normalize(mode) => Some(normalized(state, map, mode)),
             UvEdit::Copy => Some(map),
         };
         texturing_mut(state).uvs[set] = edited;
@@ -184,18 +222,9 @@ impl Engine<'_> {
         sizes: &[CExpr],
         args: &[Value],
     ) -> Fallible<UvMap> {
-        let Some(mesh) = state.geometry.world_mesh(&state.scope) else {
+        let Some((low, high)) = uv_bounds(state, &map) else {
             return Ok(map);
         };
-        let (mut low, mut high) = (DVec2::splat(f64::INFINITY), DVec2::splat(f64::NEG_INFINITY));
-        for &p in mesh.positions() {
-            let uv = map.at(p);
-            low = low.min(uv);
-            high = high.max(uv);
-        }
-        if !low.is_finite() {
-            return Ok(map);
-        }
         let extent = high - low;
         let rates = map.rates();
         let (mut scale, mut shift) = (DVec2::ONE, DVec2::ZERO);
@@ -263,8 +292,46 @@ impl Engine<'_> {
     }
 }
 
+/// The smallest and largest uv a map gives the shape's geometry; `None` without geometry.
+fn uv_bounds(state: &State, map: &UvMap) -> Option<(DVec2, DVec2)> {
+    let mesh = state.geometry.world_mesh(&state.scope)?;
+    let (mut low, mut high) = (DVec2::splat(f64::INFINITY), DVec2::splat(f64::NEG_INFINITY));
+    for &p in mesh.positions() {
+        let uv = map.at(p);
+        low = low.min(uv);
+        high = high.max(uv);
+    }
+    low.is_finite().then_some((low, high))
+}
+
+/// `normalizeUV`: the uvs over the geometry mapped onto `[0, 1]` along the mode's axes (the
+/// smallest becoming 0); an axis along which they do not change is left alone.
+fn normalized(state: &State, map: UvMap, mode: UvNormalization) -> UvMap {
+    let Some((low, high)) = uv_bounds(state, &map) else {
+        return map;
+    };
+    let extent = high - low;
+    let axes = match mode {
+        UvNormalization::Each | UvNormalization::Uniform => [true, true],
+        UvNormalization::U => [true, false],
+        UvNormalization::V => [false, true],
+    };
+    let (mut scale, mut shift) = (DVec2::ONE, DVec2::ZERO);
+    for i in 0..2 {
+        let length = match mode {
+            UvNormalization::Uniform => extent.max_element(),
+            _ => extent[i],
+        };
+        if axes[i] && length > 0.0 {
+            scale[i] = 1.0 / length;
+            shift[i] = -low[i] / length;
+        }
+    }
+    map.then([[scale.x, 0.0], [0.0, scale.y]], shift)
+}
+
 /// The shape's texturing, made its own to change.
-fn texturing_mut(state: &mut State) -> &mut Texturing {
+pub(super) fn texturing_mut(state: &mut State) -> &mut Texturing {
     Arc::make_mut(state.texturing.get_or_insert_with(Default::default))
 }
 

@@ -27,6 +27,7 @@ fn part(name: &str, color: Color, mesh: Mesh, at: DVec3) -> Part {
         mesh: mesh.transformed(&DAffine3::from_translation(at)),
         normals: Vec::new(),
         material: None,
+        surface: None,
     }
 }
 

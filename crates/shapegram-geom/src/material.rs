@@ -1,0 +1,239 @@
+//! Material attributes beyond a part's colour, colour map and name: CGA's `material.*`
+//! scalars and colours ([`Finish`]) and its texture layers other than the colour map
+//! ([`Maps`]), together a part's [`Surface`].
+//!
+//! Every attribute of a [`Finish`] is `None` until a grammar sets it, as CityEngine counts only
+//! the material attributes set in CGA; exporters then write their own defaults, so a model that
+//! sets none is written exactly as before these attributes existed.
+
+use std::sync::Arc;
+
+use crate::Texture;
+
+/// How a material's alpha is used (CGA `material.opacitymap.mode`, glTF `alphaMode`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum AlphaMode {
+    /// Alpha blends the surface with what lies behind it (CGA's default, `"blend"`).
+    Blend,
+    /// Alpha below the cutoff cuts the surface away, the rest is opaque (`"mask"`).
+    Mask,
+    /// Alpha is ignored (`"opaque"`).
+    Opaque,
+}
+
+impl AlphaMode {
+    /// The mode CGA names `name` (`"blend"`, `"mask"` or `"opaque"`).
+    pub fn from_cga(name: &str) -> Option<Self> {
+        match name {
+            "blend" => Some(Self::Blend),
+            "mask" => Some(Self::Mask),
+            "opaque" => Some(Self::Opaque),
+            _ => None,
+        }
+    }
+}
+
+/// The material attributes a grammar set besides colour, opacity and name (`None`: not set).
+/// Colours are sRGB, as written in grammars, each channel in `0..=1`.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Finish {
+    /// `material.metallic`, 0 (dielectric) to 1 (metal); CGA's default is 0.
+    pub metallic: Option<f32>,
+    /// `material.roughness`, 0 (polished) to 1 (matte); CGA's default is 1.
+    pub roughness: Option<f32>,
+    /// `material.emissive.r/g/b`: light the surface gives off; CGA's default is black.
+    pub emissive: Option<[f32; 3]>,
+    /// `material.specular.r/g/b`: the colour of highlights; CGA's default is black.
+    pub specular: Option<[f32; 3]>,
+    /// `material.ambient.r/g/b`; CGA's default is black.
+    pub ambient: Option<[f32; 3]>,
+    /// `material.shininess`, the Phong exponent, 0 to 128; CGA's default is 1.
+    pub shininess: Option<f32>,
+    /// `material.reflectivity`, 0 to 1.
+    pub reflectivity: Option<f32>,
+    /// `material.bumpValue`, how strongly the bump map bumps; CGA's default is 1.
+    pub bump_value: Option<f32>,
+    /// `material.opacitymap.mode`; CGA's default is blend.
+    pub alpha_mode: Option<AlphaMode>,
+    /// `material.opacitymap.cutoff`, the alpha below which a masked surface is cut away;
+    /// CGA's default is 0.5.
+    pub alpha_cutoff: Option<f32>,
+    /// `material.doubleSided`; CGA's default is true.
+    pub double_sided: Option<bool>,
+}
+
+/// One value per attribute of a [`Finish`], equal exactly when the attributes are (bit for
+/// bit), for telling materials apart in hash maps.
+pub type FinishKey = [Option<u32>; 17];
+
+impl Finish {
+    /// Whether no attribute is set.
+    pub fn is_unset(&self) -> bool {
+        *self == Self::default()
+    }
+
+    /// The attributes as a [`FinishKey`].
+    pub fn key(&self) -> FinishKey {
+        let one = |v: Option<f32>| v.map(f32::to_bits);
+        let channel = |v: Option<[f32; 3]>, i: usize| v.map(|c| c[i].to_bits());
+        [
+            one(self.metallic),
+            one(self.roughness),
+            channel(self.emissive, 0),
+            channel(self.emissive, 1),
+            channel(self.emissive, 2),
+            channel(self.specular, 0),
+            channel(self.specular, 1),
+            channel(self.specular, 2),
+            channel(self.ambient, 0),
+            channel(self.ambient, 1),
+            channel(self.ambient, 2),
+            one(self.shininess),
+            one(self.reflectivity),
+            one(self.bump_value),
+            self.alpha_mode.map(|m| m as u32),
+            one(self.alpha_cutoff),
+            self.double_sided.map(u32::from),
+        ]
+    }
+}
+
+/// A material's texture layers besides the colour map (which is [`crate::Part::texture`]), by
+/// CGA's names; all drawn through the part's uvs.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Maps {
+    /// `material.bumpmap`: heights, read as luminance.
+    pub bump: Option<Arc<Texture>>,
+    /// `material.dirtmap`: multiplies the colour in CityEngine's own viewer.
+    pub dirt: Option<Arc<Texture>>,
+    /// `material.specularmap`: the colour of highlights.
+    pub specular: Option<Arc<Texture>>,
+    /// `material.opacitymap`: alpha (`texture()` sets it to a colour map with alpha).
+    pub opacity: Option<Arc<Texture>>,
+    /// `material.normalmap`: tangent-space normals.
+    pub normal: Option<Arc<Texture>>,
+    /// `material.emissivemap`: light given off.
+    pub emissive: Option<Arc<Texture>>,
+    /// `material.occlusionmap`: ambient occlusion, in the red channel.
+    pub occlusion: Option<Arc<Texture>>,
+    /// `material.roughnessmap`: roughness, in the green channel.
+    pub roughness: Option<Arc<Texture>>,
+    /// `material.metallicmap`: metalness, in the blue channel.
+    pub metallic: Option<Arc<Texture>>,
+}
+
+impl Maps {
+    /// The layers in CGA's uv-set order (bump map first), each with its `material.*` name.
+    pub fn layers(&self) -> [(&'static str, Option<&Arc<Texture>>); 9] {
+        [
+            ("bumpmap", self.bump.as_ref()),
+            ("dirtmap", self.dirt.as_ref()),
+            ("specularmap", self.specular.as_ref()),
+            ("opacitymap", self.opacity.as_ref()),
+            ("normalmap", self.normal.as_ref()),
+            ("emissivemap", self.emissive.as_ref()),
+            ("occlusionmap", self.occlusion.as_ref()),
+            ("roughnessmap", self.roughness.as_ref()),
+            ("metallicmap", self.metallic.as_ref()),
+        ]
+    }
+
+    /// The layer of CGA uv set `set` (1 to 9), to fill.
+    pub fn layer_mut(&mut self, set: usize) -> Option<&mut Option<Arc<Texture>>> {
+        Some(match set {
+            1 => &mut self.bump,
+            2 => &mut self.dirt,
+            3 => &mut self.specular,
+            4 => &mut self.opacity,
+            5 => &mut self.normal,
+            6 => &mut self.emissive,
+            7 => &mut self.occlusion,
+            8 => &mut self.roughness,
+            9 => &mut self.metallic,
+            _ => return None,
+        })
+    }
+
+    /// Whether no layer has a texture.
+    pub fn is_empty(&self) -> bool {
+        self.layers().iter().all(|(_, t)| t.is_none())
+    }
+}
+
+/// What a part's material has besides colour, colour map and name.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Surface {
+    /// The attributes set.
+    pub finish: Finish,
+    /// The texture layers set.
+    pub maps: Maps,
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn keys_tell_every_attribute_apart() {
+        let base = Finish::default();
+        assert!(base.is_unset());
+        let variants = [
+            Finish {
+                metallic: Some(0.0),
+                ..base
+            },
+            Finish {
+                roughness: Some(0.0),
+                ..base
+            },
+            Finish {
+                emissive: Some([0.0, 0.0, 0.0]),
+                ..base
+            },
+            Finish {
+                specular: Some([0.0, 0.0, 0.5]),
+                ..base
+            },
+            Finish {
+                alpha_mode: Some(AlphaMode::Blend),
+                ..base
+            },
+            Finish {
+                alpha_mode: Some(AlphaMode::Mask),
+                ..base
+            },
+            Finish {
+                double_sided: Some(false),
+                ..base
+            },
+        ];
+        let mut keys: Vec<FinishKey> = variants.iter().map(Finish::key).collect();
+        keys.push(base.key());
+        let count = keys.len();
+        keys.sort();
+        keys.dedup();
+        assert_eq!(keys.len(), count);
+    }
+
+    #[test]
+    fn alpha_modes_by_their_cga_names() {
+        assert_eq!(AlphaMode::from_cga("mask"), Some(AlphaMode::Mask));
+        assert_eq!(AlphaMode::from_cga("blend"), Some(AlphaMode::Blend));
+        assert_eq!(AlphaMode::from_cga("opaque"), Some(AlphaMode::Opaque));
+        assert_eq!(AlphaMode::from_cga("Mask"), None);
+    }
+
+    #[test]
+    fn layers_follow_the_uv_sets() {
+        let mut maps = Maps::default();
+        assert!(maps.is_empty());
+        let normal = Arc::new(Texture {
+            path: "n.png".into(),
+            image: None,
+        });
+        *maps.layer_mut(5).unwrap() = Some(normal.clone());
+        assert!(maps.layer_mut(0).is_none() && maps.layer_mut(10).is_none());
+        assert_eq!(maps.layers()[4], ("normalmap", Some(&normal)));
+        assert!(!maps.is_empty());
+    }
+}
