@@ -145,7 +145,7 @@ fn derive_grammar(job: &DeriveJob) -> Derived {
         Ok(derivation) => derivation,
         Err(e) => {
             derived.derive_ms = millis(started.elapsed());
-            failed(&mut derived, &compiled.sources, e);
+            record_failure(&mut derived, &compiled.sources, e);
             return derived;
         }
     };
@@ -188,7 +188,7 @@ fn derive_grammar(job: &DeriveJob) -> Derived {
 
 /// Records a derivation's failure: a diagnostic where it has a place in the text, else the
 /// error and its hints.
-pub(crate) fn failed(derived: &mut Derived, sources: &[SourceFile], e: DeriveError) {
+pub(crate) fn record_failure(derived: &mut Derived, sources: &[SourceFile], e: DeriveError) {
     match e.to_diagnostic() {
         Some(d) => derived
             .diagnostics

@@ -20,7 +20,7 @@ use shapegram_server::studio::{DeriveJob, Derived, StudioDiagnostic};
 use shapegram_syntax::SourceFile;
 
 use crate::derive::millis;
-use crate::studio::{failed, located};
+use crate::studio::{located, record_failure};
 use crate::{counted, grammar, studio_settings};
 
 /// An error at `line:column` (1-based, columns in characters) of the file being edited.
@@ -309,7 +309,7 @@ pub fn goal(job: &DeriveJob) -> Derived {
         Ok(derivation) => derivation,
         Err(e) => {
             derived.derive_ms = millis(started.elapsed());
-            failed(&mut derived, &compiled.sources, e);
+            record_failure(&mut derived, &compiled.sources, e);
             return derived;
         }
     };
