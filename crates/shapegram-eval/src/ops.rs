@@ -7,6 +7,7 @@ use shapegram_syntax::{
 };
 
 use crate::program::{CExpr, CKind, CStmt, Compiler};
+pub(crate) use crate::selectors::{CompSelector, comp_selector, edge_selector};
 use crate::shape::CsgOp;
 use crate::texturing;
 use crate::value::Value;
@@ -320,6 +321,8 @@ impl CsgKind {
 pub(crate) enum CompKind {
     Faces,
     Edges,
+    /// The edges of each face, shared ones once per face.
+    FaceEdges,
     Vertices,
 }
 
@@ -375,80 +378,6 @@ pub(crate) struct CompEntry {
     pub selector: CompSelector,
     pub merge: bool,
     pub body: Vec<CStmt>,
-}
-
-/// Which components an entry of `comp` takes.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub(crate) enum CompSelector {
-    Class(FaceClass),
-    Side,
-    All,
-    Vertical,
-    Horizontal,
-    Aslant,
-    Index(usize),
-    Inside,
-    Border,
-    /// A selector we do not know how to evaluate: selects nothing (with a warning).
-    Never,
-}
-
-impl CompSelector {
-    /// Whether the selector takes edge `index` of a face (counted within the face), whose
-    /// outward direction in the face's plane is `outward`, seen in `scope`.
-    pub fn takes_edge(
-        &self,
-        outward: shapegram_geom::DVec3,
-        index: usize,
-        scope: &shapegram_geom::Scope,
-    ) -> bool {
-        match self {
-            Self::All => true,
-            Self::Index(i) => *i == index,
-            Self::Class(class) => FaceClass::of(outward, scope) == *class,
-            Self::Side => FaceClass::of(outward, scope).is_side(),
-            _ => false,
-        }
-    }
-
-    /// The names `comp.sel` gives, by [`CompSelector::code`]; an index selector has no name.
-    pub const NAMES: [&'static str; 14] = [
-        "",
-        "front",
-        "back",
-        "left",
-        "right",
-        "top",
-        "bottom",
-        "side",
-        "all",
-        "vertical",
-        "horizontal",
-        "aslant",
-        "inside",
-        "border",
-    ];
-
-    /// The selector's position in [`CompSelector::NAMES`].
-    pub fn code(self) -> u8 {
-        use FaceClass::*;
-        match self {
-            Self::Class(Front) => 1,
-            Self::Class(Back) => 2,
-            Self::Class(Left) => 3,
-            Self::Class(Right) => 4,
-            Self::Class(Top) => 5,
-            Self::Class(Bottom) => 6,
-            Self::Side => 7,
-            Self::All => 8,
-            Self::Vertical => 9,
-            Self::Horizontal => 10,
-            Self::Aslant => 11,
-            Self::Inside => 12,
-            Self::Border => 13,
-            Self::Index(_) | Self::Never => 0,
-        }
-    }
 }
 
 /// Operations that would only change texturing or shading: accepted without effect.
@@ -590,7 +519,7 @@ const SIGNATURES: &[(&str, &str)] = &[
         "split",
         "split(x | y | z [, adjust | noAdjust] [, sequential | parallel] [, snap [, \"tag\"]]) { … }",
     ),
-    ("comp", "comp(f | e | v) { … }"),
+    ("comp", "comp(f | e | fe | v) { … }"),
     ("color", "color(\"#rrggbb\") | color(r, g, b)"),
     ("set", "set(attribute, value)"),
     ("report", "report(key, value)"),
@@ -1196,13 +1125,14 @@ impl Ctx<'_, '_> {
         let kind = match self.word(0) {
             Some("f") => CompKind::Faces,
             Some("e") => CompKind::Edges,
+            Some("fe") => CompKind::FaceEdges,
             Some("v") => CompKind::Vertices,
             Some(other) => {
                 let other = other.to_owned();
                 self.warn_once(format!("`comp({other})` is not supported yet: skipped"));
                 return Some(Op::Ignored);
             }
-            None => return self.bad_selector(0, "`f`, `e` or `v`"),
+            None => return self.bad_selector(0, "`f`, `e`, `fe` or `v`"),
         };
         let Some(block) = &self.call.block else {
             self.error("`comp` needs a `{ selector : … }` block".into());
@@ -1586,72 +1516,6 @@ impl Ctx<'_, '_> {
         self.arity(1, max)?;
         Some(Op::Roof(kind, std::mem::take(&mut self.args)))
     }
-}
-
-fn comp_selector(c: &mut Compiler, key: &ast::Expr, span: Span) -> CompSelector {
-    use FaceClass::*;
-    let word = match &key.kind {
-        ast::ExprKind::Name(n) => n.as_str(),
-        ast::ExprKind::Number(n) if *n >= 0.0 && n.fract() == 0.0 => {
-            return CompSelector::Index(*n as usize);
-        }
-        _ => "",
-    };
-    match word {
-        "front" => CompSelector::Class(Front),
-        "back" => CompSelector::Class(Back),
-        "left" => CompSelector::Class(Left),
-        "right" => CompSelector::Class(Right),
-        "top" => CompSelector::Class(Top),
-        "bottom" => CompSelector::Class(Bottom),
-        "side" => CompSelector::Side,
-        "all" => CompSelector::All,
-        "vertical" => CompSelector::Vertical,
-        "horizontal" => CompSelector::Horizontal,
-        "aslant" => CompSelector::Aslant,
-        "inside" => CompSelector::Inside,
-        "border" => CompSelector::Border,
-        _ => {
-            c.report(Diagnostic::warning(
-                "this component selector is not supported yet: it selects nothing",
-                span,
-            ));
-            CompSelector::Never
-        }
-    }
-}
-
-/// A selector of the edges a `setback` moves: a face class of the edge's outward direction
-/// (`street.front` and `object.front` read as `front`, there being no streets), `side`, `all` or
-/// an index.
-pub(crate) fn edge_selector(c: &mut Compiler, key: &ast::Expr, span: Span) -> CompSelector {
-    let selector = match &key.kind {
-        ast::ExprKind::Name(n) => {
-            let word = n
-                .strip_prefix("street.")
-                .or_else(|| n.strip_prefix("object."))
-                .unwrap_or(n);
-            let plain = ast::Expr {
-                kind: ast::ExprKind::Name(word.into()),
-                span: key.span,
-            };
-            comp_selector(c, &plain, span)
-        }
-        _ => comp_selector(c, key, span),
-    };
-    if let CompSelector::Vertical
-    | CompSelector::Horizontal
-    | CompSelector::Aslant
-    | CompSelector::Inside
-    | CompSelector::Border = selector
-    {
-        c.report(Diagnostic::warning(
-            "this selector is for faces, not the edges of a setback: it selects nothing",
-            span,
-        ));
-        return CompSelector::Never;
-    }
-    selector
 }
 
 fn split_block(c: &mut Compiler, block: &ast::Block, params: &[ast::Ident]) -> Option<SplitBlock> {

@@ -131,6 +131,7 @@ impl<'p> Engine<'p> {
         let entries = outputs.entries;
         let world = flat_faces(state, "setback", span)?;
         let scope = state.scope;
+        let frames = self.ev.frames(&scope);
         // Strips by entry, the outline's pieces (each its polygons) and remainder loops.
         let mut strips: Vec<Vec<(DVec3, Vec<DVec3>)>> = vec![Vec::new(); entries.len()];
         let (mut outline, mut rest): (Vec<Vec<Vec<DVec3>>>, Vec<Vec<DVec3>>) =
@@ -143,7 +144,7 @@ impl<'p> Engine<'p> {
             let taker = |i: usize, a: DVec3, b: DVec3| {
                 entries
                     .iter()
-                    .position(|e| e.selector.takes_edge(outward(a, b), i, &scope))
+                    .position(|e| e.selector.takes_edge(outward(a, b), i, &frames))
             };
             let distance = |i: usize, a: DVec3, b: DVec3| match depths {
                 EdgeDepths::Selected(d) => taker(i, a, b).map_or(0.0, |_| *d),
