@@ -225,6 +225,11 @@ pub(crate) enum Depths {
     Selected(CExpr),
     /// Edges by the class of their outward direction (shapeL/U/O); other edges stay.
     ByClass(Vec<(FaceClass, CExpr)>),
+    /// `setbackPerEdge(d)`: every face edge by `d` evaluated on that edge.
+    PerEdge(CExpr),
+    /// `setbackToArea(area [, minDists [, maxDists]])`: the selected edges by a common distance
+    /// (added to their minimum, capped at their maximum) that leaves the remainder `area`.
+    ToArea(Vec<CExpr>),
 }
 
 /// Which face `alignScopeToGeometry` takes.
@@ -393,8 +398,6 @@ const VISUAL_ONLY: &[&str] = &[
 
 /// CGA operations that are recognised but not implemented yet.
 const UNSUPPORTED: &[&str] = &[
-    "setbackPerEdge",
-    "setbackToArea",
     "innerRect",
     "innerRectangle",
     "innerCircle",
@@ -480,6 +483,8 @@ const IMPLEMENTED: &[&str] = &[
     "alignScopeToGeometry",
     "alignScopeToGeometryBBox",
     "setback",
+    "setbackPerEdge",
+    "setbackToArea",
     "shapeL",
     "shapeU",
     "shapeO",
@@ -554,6 +559,14 @@ const SIGNATURES: &[(&str, &str)] = &[
     (
         "setback",
         "setback(distance) { selector : … | remainder : … }",
+    ),
+    (
+        "setbackPerEdge",
+        "setbackPerEdge(distance [, uvSet]) { selector : … | remainder : … }",
+    ),
+    (
+        "setbackToArea",
+        "setbackToArea(area [, minDistances[] [, maxDistances[]]] [, uvSet]) { selector : … | remainder : … }",
     ),
     ("shapeL", "shapeL(frontDepth, leftWidth)"),
     ("shapeU", "shapeU(frontDepth, rightWidth, leftWidth)"),
@@ -766,6 +779,27 @@ impl Ctx<'_, '_> {
             }
             "comp" => self.comp()?,
             "setback" => self.setback()?,
+            "setbackPerEdge" => {
+                self.arity(1, 2)?;
+                self.args.truncate(1);
+                let blocks = self.setback_block(name, false)?;
+                Op::Setback {
+                    depths: Depths::PerEdge(self.args.pop()?),
+                    entries: blocks.0,
+                    shape: None,
+                    remainder: blocks.2,
+                }
+            }
+            "setbackToArea" => {
+                self.arity(1, 4)?;
+                let blocks = self.setback_block(name, false)?;
+                Op::Setback {
+                    depths: Depths::ToArea(std::mem::take(&mut self.args)),
+                    entries: blocks.0,
+                    shape: None,
+                    remainder: blocks.2,
+                }
+            }
             "shapeL" => self.shape_luo(&[FaceClass::Front, FaceClass::Left])?,
             "shapeU" => self.shape_luo(&[FaceClass::Front, FaceClass::Right, FaceClass::Left])?,
             "shapeO" => self.shape_luo(&[

@@ -12,10 +12,10 @@ use shapegram_geom::{
 use shapegram_syntax::Span;
 
 use super::Fallible;
+use super::edge_depths::EdgeDepths;
 use super::implicit::no_solid;
 use super::machine::{Engine, Work};
 use crate::error::DeriveError;
-use crate::expr::Evaluator;
 use crate::ops::{CompEntry, Depths, OffsetKeep};
 use crate::program::{CExpr, CStmt};
 use crate::shape::{FaceTag, Geometry, State, fills_box, flat_axis};
@@ -127,9 +127,9 @@ impl<'p> Engine<'p> {
         args: &[Value],
         out: &mut Vec<Work>,
     ) -> Fallible<()> {
-        let depths = &self.edge_depths(state, depths, args)?;
         let entries = outputs.entries;
         let world = flat_faces(state, "setback", span)?;
+        let depths = &self.edge_depths(state, depths, &world, entries, span, args)?;
         let scope = state.scope;
         let frames = self.ev.frames(&scope);
         // Strips by entry, the outline's pieces (each its polygons) and remainder loops.
@@ -221,48 +221,6 @@ impl<'p> Engine<'p> {
         Ok(())
     }
 
-    /// How far the edges of a setback move: the distances evaluated, none below 0.
-    fn edge_depths(
-        &mut self,
-        state: &mut State,
-        depths: &Depths,
-        args: &[Value],
-    ) -> Fallible<EdgeDepths> {
-        let depth = |ev: &mut Evaluator, e: &CExpr, state: &mut State| {
-            let d = ev.number(e, state, args)?;
-            if d < 0.0 {
-                return Err(DeriveError::at(
-                    format!("setback distance {d}: expected 0 or more"),
-                    e.span,
-                ));
-            }
-            Ok(d)
-        };
-        Ok(match depths {
-            Depths::Selected(e) => match self.ev.eval(e, state, args)? {
-                Value::Array(list) => EdgeDepths::PerEdge(
-                    list.iter()
-                        .map(|v| match v {
-                            Value::Number(d) if *d >= 0.0 => Ok(*d),
-                            other => Err(DeriveError::at(
-                                format!(
-                                    "setback distances: expected numbers of 0 or more, found {other}"
-                                ),
-                                e.span,
-                            )),
-                        })
-                        .collect::<Fallible<Vec<_>>>()?,
-                ),
-                _ => EdgeDepths::Selected(depth(&mut self.ev, e, state)?),
-            },
-            Depths::ByClass(list) => EdgeDepths::ByClass(
-                list.iter()
-                    .map(|(class, e)| Ok((*class, depth(&mut self.ev, e, state)?)))
-                    .collect::<Fallible<Vec<_>>>()?,
-            ),
-        })
-    }
-
     /// Derives a child per piece (or one for all when `merge`), each a set of polygons with a
     /// scope of the given axes fitted around them.
     #[allow(clippy::too_many_arguments)]
@@ -310,16 +268,6 @@ impl<'p> Engine<'p> {
 /// Polygons that become one shape, with the axes of its scope.
 type Piece<'a> = (DMat3, Vec<&'a [DVec3]>);
 
-/// How far the edges of a setback move, evaluated.
-enum EdgeDepths {
-    /// The edges that entries select, by this distance.
-    Selected(f64),
-    /// Each face edge by its own distance, in face-edge order (`setback(comp(fe){ … })`).
-    PerEdge(Vec<f64>),
-    /// Edges by the class of their outward direction.
-    ByClass(Vec<(FaceClass, f64)>),
-}
-
 /// Where the pieces of a setback go.
 pub(super) struct SetbackOutputs<'p> {
     /// Entries selecting the edges that move, each taking their strips (setback).
@@ -330,8 +278,6 @@ pub(super) struct SetbackOutputs<'p> {
     pub(super) remainder: Option<&'p (bool, Vec<CStmt>)>,
 }
 
-/// Whether a setback entry's selector takes the edge `index` whose outward direction (in the
-/// face's plane) is `outward`.
 /// CGA `reverseNormals`: every face of the geometry turned the other way.
 pub(super) fn reverse_normals(state: &mut State, span: Span) -> Fallible<()> {
     no_solid(state, "reverseNormals", span)?;

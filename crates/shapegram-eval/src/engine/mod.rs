@@ -28,6 +28,7 @@ mod context;
 mod control;
 mod deform;
 mod derive;
+mod edge_depths;
 mod footprint;
 mod goals;
 mod implicit;
