@@ -84,6 +84,8 @@ pub(crate) enum Op {
     ReverseNormals,
     /// `trim()`: the shape's geometry cut at its trim planes.
     Trim,
+    /// `convexify([maxCut])`: concave faces cut into convex ones.
+    Convexify(Option<CExpr>),
     Offset {
         distance: CExpr,
         keep: OffsetKeep,
@@ -403,7 +405,6 @@ const UNSUPPORTED: &[&str] = &[
     "innerCircle",
     "splitArea",
     "envelope",
-    "convexify",
     "scatter",
     "footprint",
     "deleteHoles",
@@ -469,6 +470,7 @@ const IMPLEMENTED: &[&str] = &[
     "print",
     "reverseNormals",
     "trim",
+    "convexify",
     "offset",
     "roofGable",
     "roofHip",
@@ -531,6 +533,7 @@ const SIGNATURES: &[(&str, &str)] = &[
     ("print", "print(value)"),
     ("reverseNormals", "reverseNormals()"),
     ("trim", "trim()"),
+    ("convexify", "convexify([maxCutLength])"),
     ("offset", "offset(distance [, inside | border])"),
     ("roofGable", "roofGable(angle [, overhang])"),
     ("roofHip", "roofHip(angle [, overhang])"),
@@ -858,6 +861,10 @@ impl Ctx<'_, '_> {
             "trim" => {
                 self.arity(0, 0)?;
                 Op::Trim
+            }
+            "convexify" => {
+                self.arity(0, 1)?;
+                Op::Convexify(self.args.pop())
             }
             "offset" => self.offset()?,
             "roofGable" => self.roof(RoofKind::Gable)?,

@@ -16,6 +16,7 @@
 pub mod aabb;
 pub mod bvh;
 pub mod component;
+pub mod convex;
 pub mod deform;
 pub mod extrude;
 pub mod fit;

@@ -328,3 +328,67 @@ fn an_empty_mesh_has_no_area_and_no_volume() {
     assert!(empty.area() == 0.0 && empty.area().is_sign_positive());
     assert!(empty.signed_volume() == 0.0 && empty.signed_volume().is_sign_positive());
 }
+
+#[test]
+fn concave_polygons_fall_into_convex_pieces() {
+    use shapegram_geom::{DVec3, Mesh, convex::convex_pieces, triangulate::is_convex};
+    let at = |x: f64, z: f64| DVec3::new(x, 0.0, z);
+    // An L, counter-clockwise seen from above (+y): one reflex corner at (1, 1).
+    let l = [
+        at(0.0, 0.0),
+        at(0.0, 2.0),
+        at(2.0, 2.0),
+        at(2.0, 1.0),
+        at(1.0, 1.0),
+        at(1.0, 0.0),
+    ];
+    assert!(Mesh::from_polygon(&l).face_normal(0).y > 0.0);
+    let pieces = convex_pieces(&l, None);
+    assert_eq!(pieces.len(), 2, "{pieces:?}");
+    let areas: Vec<f64> = pieces
+        .iter()
+        .map(|p| Mesh::from_polygon(p).area())
+        .collect();
+    assert!((areas.iter().sum::<f64>() - 3.0).abs() < 1e-12, "{areas:?}");
+    for piece in &pieces {
+        assert!(is_convex(piece), "{piece:?}");
+        assert!(Mesh::from_polygon(piece).face_normal(0).y > 0.0);
+        // Only the polygon's own corners.
+        assert!(piece.iter().all(|p| l.contains(p)));
+    }
+    // A convex polygon stays whole, its corner on a straight line dropped.
+    let square = [
+        at(0.0, 0.0),
+        at(0.0, 2.0),
+        at(1.0, 2.0),
+        at(2.0, 2.0),
+        at(2.0, 0.0),
+    ];
+    assert_eq!(
+        convex_pieces(&square, None),
+        vec![vec![at(0.0, 0.0), at(0.0, 2.0), at(2.0, 2.0), at(2.0, 0.0)]]
+    );
+    // A cut no shorter than 1 m is not made: the L stays whole.
+    assert_eq!(convex_pieces(&l, Some(1.0)).len(), 1);
+    assert_eq!(convex_pieces(&l, Some(1.5)).len(), 2);
+    // A comb with three teeth has four reflex corners and needs three convex pieces at least.
+    let comb = [
+        at(0.0, 0.0),
+        at(0.0, 3.0),
+        at(1.0, 3.0),
+        at(1.0, 1.0),
+        at(2.0, 1.0),
+        at(2.0, 3.0),
+        at(3.0, 3.0),
+        at(3.0, 1.0),
+        at(4.0, 1.0),
+        at(4.0, 3.0),
+        at(5.0, 3.0),
+        at(5.0, 0.0),
+    ];
+    let pieces = convex_pieces(&comb, None);
+    let total: f64 = pieces.iter().map(|p| Mesh::from_polygon(p).area()).sum();
+    assert!((total - 11.0).abs() < 1e-12);
+    assert!(pieces.iter().all(|p| is_convex(p)));
+    assert!((3..=5).contains(&pieces.len()), "{}", pieces.len());
+}

@@ -6,6 +6,7 @@ use std::sync::Arc;
 
 use shapegram_geom::{
     DMat3, DVec3, FaceClass, Mesh, Scope,
+    convex::convex_pieces,
     extrude::{extrude_along, extrude_polygon},
     mesh::newell,
 };
@@ -276,6 +277,62 @@ pub(super) struct SetbackOutputs<'p> {
     pub(super) shape: Option<&'p (bool, Vec<CStmt>)>,
     /// The remainder's entry, likewise.
     pub(super) remainder: Option<&'p (bool, Vec<CStmt>)>,
+}
+
+impl Engine<'_> {
+    /// CGA `convexify([maxCut])`: every concave face of the geometry cut into convex faces
+    /// (only along cuts shorter than `maxCut`, when given) that share the face's corners; the
+    /// scope stays. Geometry without concave faces is left as it is.
+    pub(super) fn convexify(
+        &mut self,
+        state: &mut State,
+        max: Option<&CExpr>,
+        span: Span,
+        args: &[Value],
+    ) -> Fallible<()> {
+        no_solid(state, "convexify", span)?;
+        let max = match max {
+            Some(e) => {
+                let m = self.ev.number(e, state, args)?;
+                if m <= 0.0 {
+                    return Err(DeriveError::at(
+                        format!("convexify's longest cut must be more than 0, not {m}"),
+                        e.span,
+                    ));
+                }
+                Some(m)
+            }
+            None => None,
+        };
+        let Some(mesh) = state.geometry.local_mesh(state.scope.size) else {
+            return Ok(());
+        };
+        let tags = state.geometry.tags();
+        let mut faces: Vec<Vec<u32>> = Vec::with_capacity(mesh.face_count());
+        let mut kept_tags = Vec::with_capacity(mesh.face_count());
+        for (f, face) in mesh.faces().enumerate() {
+            let points: Vec<DVec3> = mesh.face_points(f).collect();
+            for piece in convex_pieces(&points, max) {
+                // The pieces' corners are the face's own: they keep their vertices.
+                let piece: Option<Vec<u32>> = piece
+                    .iter()
+                    .map(|p| points.iter().position(|q| q == p).map(|k| face[k]))
+                    .collect();
+                faces.push(piece.unwrap_or_else(|| face.to_vec()));
+                kept_tags.push(
+                    tags.and_then(|t| t.get(f))
+                        .copied()
+                        .unwrap_or(FaceTag::None),
+                );
+            }
+        }
+        if faces.len() == mesh.face_count() {
+            return Ok(());
+        }
+        let cut = Mesh::from_faces(mesh.positions().to_vec(), faces);
+        state.geometry = Geometry::Mesh(Arc::new(cut), tags.map(|_| kept_tags.into()));
+        Ok(())
+    }
 }
 
 /// CGA `reverseNormals`: every face of the geometry turned the other way.

@@ -657,6 +657,7 @@ impl<'p> Engine<'p> {
             Op::Print(value) => self.print(state, value, args)?,
             Op::ReverseNormals => reverse_normals(state, span)?,
             Op::Trim => trim(state),
+            Op::Convexify(max) => self.convexify(state, max.as_ref(), span, args)?,
             Op::Offset { distance, keep } => self.offset(state, distance, *keep, span, args)?,
             Op::Roof(kind, params) => self.roof(state, *kind, params, span, args)?,
             Op::Implicit(kind) => implicit(state, *kind, span)?,

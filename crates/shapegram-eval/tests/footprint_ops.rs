@@ -1,0 +1,102 @@
+//! Footprint operations on lots of other shapes than rectangles: `convexify`, `innerRectangle`
+//! and the rest, with exact areas, corners and counts.
+
+mod common;
+
+use common::{compile_errors, try_run};
+use shapegram_eval::{DeriveOptions, InitialShape, Value};
+use shapegram_geom::DVec2;
+
+/// An L-shaped lot: 20 × 10 m along x, and a 10 × 20 m wing along z from its left half; one
+/// reflex corner, at (10, 10).
+fn l_lot() -> InitialShape {
+    InitialShape::from_xz(&[
+        DVec2::new(0.0, 0.0),
+        DVec2::new(20.0, 0.0),
+        DVec2::new(20.0, 10.0),
+        DVec2::new(10.0, 10.0),
+        DVec2::new(10.0, 30.0),
+        DVec2::new(0.0, 30.0),
+    ])
+    .unwrap()
+}
+
+/// The `(key, number)` reports of `text` derived on `lot`.
+fn reports(text: &str, lot: InitialShape) -> Vec<(String, f64)> {
+    let d = try_run(text, lot, &DeriveOptions::default()).unwrap();
+    d.reports
+        .into_iter()
+        .map(|(k, v)| match v {
+            Value::Number(n) => (k, n),
+            Value::Bool(b) => (k, f64::from(u8::from(b))),
+            v => panic!("{v:?}"),
+        })
+        .collect()
+}
+
+/// The reported numbers under `key`.
+fn of(reports: &[(String, f64)], key: &str) -> Vec<f64> {
+    reports
+        .iter()
+        .filter(|(k, _)| k == key)
+        .map(|(_, v)| *v)
+        .collect()
+}
+
+fn assert_close(a: &[f64], b: &[f64]) {
+    assert_eq!(a.len(), b.len(), "{a:?} != {b:?}");
+    for (x, y) in a.iter().zip(b) {
+        assert!((x - y).abs() < 1e-9, "{a:?} != {b:?}");
+    }
+}
+
+#[test]
+fn convexify_cuts_an_l_into_two_convex_faces() {
+    let r = reports(
+        "Lot --> convexify report(\"faces\", geometry.nFaces) comp(f) { all : report(\"area\", geometry.area) report(\"corners\", geometry.nVertices) report(\"concave\", geometry.isConcave()) P. }",
+        l_lot(),
+    );
+    // The cut runs from the reflex corner (10, 10) to (0, 0): a 10 m-high trapezoid under it
+    // (20 and 10 m wide), and one of 10 m across (30 and 20 m long) beside it.
+    assert_close(&of(&r, "faces"), &[2.0]);
+    assert_close(&of(&r, "area"), &[250.0, 150.0]);
+    assert_close(&of(&r, "corners"), &[4.0, 4.0]);
+    assert_close(&of(&r, "concave"), &[0.0, 0.0]);
+    // Cuts of √200 m are longer than 14 m: the L stays whole; up to 15 m it is cut.
+    let faces = |grammar: &str| of(&reports(grammar, l_lot()), "faces");
+    assert_close(
+        &faces("Lot --> convexify(14) report(\"faces\", geometry.nFaces) X."),
+        &[1.0],
+    );
+    assert_close(
+        &faces("Lot --> convexify(15) report(\"faces\", geometry.nFaces) X."),
+        &[2.0],
+    );
+    // A convex lot, and a mass whose faces are all convex, stay as they are.
+    assert_close(
+        &of(
+            &reports(
+                "Lot --> convexify extrude(3) convexify report(\"faces\", geometry.nFaces) X.",
+                common::lot(20.0, 30.0),
+            ),
+            "faces",
+        ),
+        &[6.0],
+    );
+    let error = try_run(
+        "Lot --> convexify(0) X.",
+        l_lot(),
+        &DeriveOptions::default(),
+    )
+    .unwrap_err()
+    .to_string();
+    assert!(
+        error.contains("convexify's longest cut must be more than 0, not 0"),
+        "{error}"
+    );
+    let errors = compile_errors("Lot --> convexify(1, 2) X.").join("\n");
+    assert!(
+        errors.contains("the signature is `convexify([maxCutLength])`"),
+        "{errors}"
+    );
+}
