@@ -86,6 +86,16 @@ pub(crate) enum Op {
     Trim,
     /// `convexify([maxCut])`: concave faces cut into convex ones.
     Convexify(Option<CExpr>),
+    /// `innerRectangle(scope | edge) { shape : … | remainder : … }`: the largest rectangle in
+    /// each face, and the rest; without a block (`innerRect`), the rectangles replace the faces.
+    InnerRectangle {
+        /// Sides along an edge of the face rather than the scope's axes.
+        edge: bool,
+        shape: Option<(bool, Vec<CStmt>)>,
+        remainder: Option<(bool, Vec<CStmt>)>,
+        /// Whether the operation has a block (`innerRectangle`) or not (`innerRect`).
+        split: bool,
+    },
     Offset {
         distance: CExpr,
         keep: OffsetKeep,
@@ -400,8 +410,6 @@ const VISUAL_ONLY: &[&str] = &[
 
 /// CGA operations that are recognised but not implemented yet.
 const UNSUPPORTED: &[&str] = &[
-    "innerRect",
-    "innerRectangle",
     "innerCircle",
     "splitArea",
     "envelope",
@@ -471,6 +479,8 @@ const IMPLEMENTED: &[&str] = &[
     "reverseNormals",
     "trim",
     "convexify",
+    "innerRectangle",
+    "innerRect",
     "offset",
     "roofGable",
     "roofHip",
@@ -534,6 +544,11 @@ const SIGNATURES: &[(&str, &str)] = &[
     ("reverseNormals", "reverseNormals()"),
     ("trim", "trim()"),
     ("convexify", "convexify([maxCutLength])"),
+    (
+        "innerRectangle",
+        "innerRectangle(scope | edge) { shape : … | remainder : … }",
+    ),
+    ("innerRect", "innerRect()"),
     ("offset", "offset(distance [, inside | border])"),
     ("roofGable", "roofGable(angle [, overhang])"),
     ("roofHip", "roofHip(angle [, overhang])"),
@@ -866,6 +881,30 @@ impl Ctx<'_, '_> {
                 self.arity(0, 1)?;
                 Op::Convexify(self.args.pop())
             }
+            "innerRectangle" => {
+                self.arity(1, 1)?;
+                let edge = match self.word(0) {
+                    Some("scope") => false,
+                    Some("edge") => true,
+                    _ => return self.bad_selector(0, "`scope` or `edge`"),
+                };
+                let (_, shape, remainder) = self.setback_block(name, true)?;
+                Op::InnerRectangle {
+                    edge,
+                    shape,
+                    remainder,
+                    split: true,
+                }
+            }
+            "innerRect" => {
+                self.arity(0, 0)?;
+                Op::InnerRectangle {
+                    edge: false,
+                    shape: None,
+                    remainder: None,
+                    split: false,
+                }
+            }
             "offset" => self.offset()?,
             "roofGable" => self.roof(RoofKind::Gable)?,
             "roofHip" => self.roof(RoofKind::Hip)?,
@@ -879,7 +918,13 @@ impl Ctx<'_, '_> {
             "sync" => self.sync()?,
             _ => unreachable!("`{name}` is listed in IMPLEMENTED but not built"),
         };
-        let needs_block = matches!(op, Op::Split { .. } | Op::Comp { .. } | Op::Setback { .. });
+        let needs_block = matches!(
+            op,
+            Op::Split { .. }
+                | Op::Comp { .. }
+                | Op::Setback { .. }
+                | Op::InnerRectangle { split: true, .. }
+        );
         if !needs_block && self.call.block.is_some() {
             self.error(format!("`{name}` takes no `{{…}}` block"));
             return None;

@@ -100,3 +100,67 @@ fn convexify_cuts_an_l_into_two_convex_faces() {
         "{errors}"
     );
 }
+
+const AREA: &str = "report(\"area\", geometry.area)";
+
+#[test]
+fn inner_rectangle_takes_the_largest_rectangle_and_leaves_the_rest() {
+    // In the L, the 10 × 30 m wing with the corner under it; the rest is the 10 × 10 m arm.
+    let r = reports(
+        &format!(
+            "Lot --> innerRectangle(scope) {{ shape : report(\"sx\", scope.sx) report(\"sz\", scope.sz) {AREA} S. | remainder : report(\"rest\", geometry.area) R. }}"
+        ),
+        l_lot(),
+    );
+    assert_close(&of(&r, "area"), &[300.0]);
+    assert_close(&of(&r, "sx"), &[10.0]);
+    assert_close(&of(&r, "sz"), &[30.0]);
+    assert_close(&of(&r, "rest"), &[100.0]);
+    // A square lot turned 45°: along the world's axes the largest rectangle is half of it,
+    // along an edge the lot itself.
+    let diamond = || {
+        InitialShape::from_xz(&[
+            DVec2::new(10.0, 0.0),
+            DVec2::new(20.0, 10.0),
+            DVec2::new(10.0, 20.0),
+            DVec2::new(0.0, 10.0),
+        ])
+        .unwrap()
+    };
+    let area = |how: &str| {
+        of(
+            &reports(
+                &format!(
+                    "Lot --> alignScopeToAxes() innerRectangle({how}) {{ shape : {AREA} S. | remainder = report(\"rest\", geometry.area) R. }}"
+                ),
+                diamond(),
+            ),
+            "area",
+        )
+    };
+    assert_close(&area("scope"), &[100.0]);
+    assert_close(&area("edge"), &[200.0]);
+    // innerRect: the rectangle replaces the face.
+    let r = reports(&format!("Lot --> innerRect {AREA} X."), l_lot());
+    assert_close(&of(&r, "area"), &[300.0]);
+    let errors = compile_errors("Lot --> innerRectangle(largest) { shape : X. }").join("\n");
+    assert!(errors.contains("expected `scope` or `edge`"), "{errors}");
+    let errors = compile_errors("Lot --> innerRectangle(scope) X.").join("\n");
+    assert!(
+        errors.contains("`innerRectangle` needs a `{ shape : … | remainder : … }` block"),
+        "{errors}"
+    );
+    let errors = compile_errors("Lot --> innerRectangle(edge) { front : X. }").join("\n");
+    assert!(
+        errors.contains("`innerRectangle` selects `shape` or `remainder`"),
+        "{errors}"
+    );
+    let error = try_run(
+        "Lot --> extrude(3) innerRect X.",
+        l_lot(),
+        &DeriveOptions::default(),
+    )
+    .unwrap_err()
+    .to_string();
+    assert!(error.contains("innerRect needs a flat shape"), "{error}");
+}

@@ -20,6 +20,7 @@ pub mod convex;
 pub mod deform;
 pub mod extrude;
 pub mod fit;
+pub mod inner_rectangle;
 pub mod mesh;
 pub mod model;
 pub mod occlusion;

@@ -392,3 +392,57 @@ fn concave_polygons_fall_into_convex_pieces() {
     assert!(pieces.iter().all(|p| is_convex(p)));
     assert!((3..=5).contains(&pieces.len()), "{}", pieces.len());
 }
+
+#[test]
+fn the_largest_inner_rectangle_and_what_is_around_it() {
+    use shapegram_geom::{
+        DVec3, Mesh,
+        inner_rectangle::{around_rectangle, inner_rectangle},
+    };
+    let at = |x: f64, z: f64| DVec3::new(x, 0.0, z);
+    let area = |p: &[DVec3]| Mesh::from_polygon(p).area();
+    // A right triangle with legs of 20 m along x and 30 m along z: the rectangle sits in the
+    // right angle, half of each leg long, half the triangle's area.
+    let triangle = [at(0.0, 0.0), at(0.0, 30.0), at(20.0, 0.0)];
+    let rectangle = inner_rectangle(&triangle, DVec3::X).unwrap();
+    let (lo, hi) = rectangle.iter().fold(
+        (DVec3::splat(f64::MAX), DVec3::splat(f64::MIN)),
+        |(lo, hi), &p| (lo.min(p), hi.max(p)),
+    );
+    assert!(
+        lo.abs_diff_eq(at(0.0, 0.0), 1e-9) && hi.abs_diff_eq(at(10.0, 15.0), 1e-9),
+        "{rectangle:?}"
+    );
+    let around = around_rectangle(&triangle, &rectangle);
+    let rest: f64 = around.iter().map(|p| area(p)).sum();
+    assert!((rest - (300.0 - 150.0)).abs() < 1e-9, "{around:?}");
+    // An L of 20 × 10 and 10 × 20 m: the 10 × 30 m wing with the corner under it.
+    let l = [
+        at(0.0, 0.0),
+        at(0.0, 30.0),
+        at(10.0, 30.0),
+        at(10.0, 10.0),
+        at(20.0, 10.0),
+        at(20.0, 0.0),
+    ];
+    let rectangle = inner_rectangle(&l, DVec3::X).unwrap();
+    assert!((area(&rectangle) - 300.0).abs() < 1e-9, "{rectangle:?}");
+    let around = around_rectangle(&l, &rectangle);
+    assert_eq!(around.len(), 1);
+    assert!((area(&around[0]) - 100.0).abs() < 1e-9);
+    // In a square turned 45°, the largest rectangle along x is a square of half its area; along
+    // an edge, it is the square itself.
+    let diamond = [at(0.0, -1.0), at(-1.0, 0.0), at(0.0, 1.0), at(1.0, 0.0)];
+    let rectangle = inner_rectangle(&diamond, DVec3::X).unwrap();
+    assert!(
+        (area(&rectangle) - 1.0).abs() < 1e-9,
+        "{}",
+        area(&rectangle)
+    );
+    let along_edge = inner_rectangle(&diamond, DVec3::new(1.0, 0.0, 1.0)).unwrap();
+    assert!(
+        (area(&along_edge) - 2.0).abs() < 1e-9,
+        "{}",
+        area(&along_edge)
+    );
+}

@@ -225,7 +225,7 @@ impl<'p> Engine<'p> {
     /// Derives a child per piece (or one for all when `merge`), each a set of polygons with a
     /// scope of the given axes fitted around them.
     #[allow(clippy::too_many_arguments)]
-    fn flat_children(
+    pub(super) fn flat_children(
         &mut self,
         state: &mut State,
         pieces: Vec<Piece>,
@@ -267,7 +267,7 @@ impl<'p> Engine<'p> {
 }
 
 /// Polygons that become one shape, with the axes of its scope.
-type Piece<'a> = (DMat3, Vec<&'a [DVec3]>);
+pub(super) type Piece<'a> = (DMat3, Vec<&'a [DVec3]>);
 
 /// Where the pieces of a setback go.
 pub(super) struct SetbackOutputs<'p> {

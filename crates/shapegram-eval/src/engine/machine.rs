@@ -636,6 +636,20 @@ impl<'p> Engine<'p> {
                 self.comp(state, *kind, entries, span, args, out)?;
                 return Ok(true);
             }
+            Op::InnerRectangle {
+                edge,
+                shape,
+                remainder,
+                split,
+            } => {
+                let outputs = SetbackOutputs {
+                    entries: &[],
+                    shape: shape.as_ref(),
+                    remainder: remainder.as_ref(),
+                };
+                self.inner_rectangle(state, *edge, outputs, *split, span, args, out)?;
+                return Ok(*split);
+            }
             Op::Setback {
                 depths,
                 entries,

@@ -32,6 +32,7 @@ mod edge_depths;
 mod footprint;
 mod goals;
 mod implicit;
+mod inner_rect;
 mod insert;
 mod kinematics;
 mod machine;
