@@ -100,7 +100,13 @@ pub(crate) enum Op {
         distance: CExpr,
         keep: OffsetKeep,
     },
-    Roof(RoofKind, Vec<CExpr>),
+    /// `roofGable(…)` and the others: the angle (or with `byHeight` the height) first, then the
+    /// roof's options in order.
+    Roof {
+        kind: RoofKind,
+        by_height: bool,
+        params: Vec<CExpr>,
+    },
     /// `implicit(sphere)`: the shape becomes an implicit solid filling its scope.
     Implicit(ImplicitKind),
     /// `implicit("grotto.cave")`: the solid of an implicit grammar, stretched to the scope.
@@ -550,10 +556,19 @@ const SIGNATURES: &[(&str, &str)] = &[
     ),
     ("innerRect", "innerRect()"),
     ("offset", "offset(distance [, inside | border])"),
-    ("roofGable", "roofGable(angle [, overhang])"),
-    ("roofHip", "roofHip(angle [, overhang])"),
-    ("roofPyramid", "roofPyramid(angle)"),
-    ("roofShed", "roofShed(angle [, edgeIndex])"),
+    (
+        "roofGable",
+        "roofGable([byAngle | byHeight,] value [, overhangX [, overhangY [, even [, edgeIndex]]]])",
+    ),
+    (
+        "roofHip",
+        "roofHip([byAngle | byHeight,] value [, overhang [, even]])",
+    ),
+    ("roofPyramid", "roofPyramid([byAngle | byHeight,] value)"),
+    (
+        "roofShed",
+        "roofShed([byAngle | byHeight,] value [, edgeIndex])",
+    ),
     ("label", "label(\"name\")"),
     ("tag", "label(\"name\")"),
     ("snap", "snap(x | y | z | xy | … [, \"tag\"])"),
@@ -1594,13 +1609,30 @@ impl Ctx<'_, '_> {
     }
 
     fn roof(&mut self, kind: RoofKind) -> Option<Op> {
-        let max = if kind == RoofKind::Pyramid { 1 } else { 2 };
-        // CGA also accepts `byAngle`/`byHeight` as a first word; only angles are supported.
-        if let Some("byAngle") = self.word(0) {
+        let by_height = match self.args.first().map(|a| &a.kind) {
+            Some(CKind::Selector(w)) if w == "byAngle" => Some(false),
+            Some(CKind::Selector(w)) if w == "byHeight" => Some(true),
+            _ => None,
+        };
+        if by_height.is_some() {
+            self.words.push(0);
             self.args.remove(0);
         }
+        // The angle or height, then: overhangX, overhangY, even, index (gable); overhang, even
+        // (hip); index (shed). CGA's byHeight gable takes no index.
+        let max = match kind {
+            RoofKind::Gable if by_height.is_some() => 4,
+            RoofKind::Gable => 5,
+            RoofKind::Hip => 3,
+            RoofKind::Pyramid => 1,
+            RoofKind::Shed => 2,
+        };
         self.arity(1, max)?;
-        Some(Op::Roof(kind, std::mem::take(&mut self.args)))
+        Some(Op::Roof {
+            kind,
+            by_height: by_height == Some(true),
+            params: std::mem::take(&mut self.args),
+        })
     }
 }
 

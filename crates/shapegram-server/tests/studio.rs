@@ -549,7 +549,7 @@ async fn the_vocabulary_is_the_engines() {
     };
     assert_eq!(
         find("operations", "roofHip"),
-        json!({"name": "roofHip", "signature": "roofHip(angle [, overhang])", "support": "implemented"})
+        json!({"name": "roofHip", "signature": "roofHip([byAngle | byHeight,] value [, overhang [, even]])", "support": "implemented"})
     );
     assert_eq!(
         find("operations", "softenNormals"),

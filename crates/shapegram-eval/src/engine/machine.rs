@@ -673,7 +673,11 @@ impl<'p> Engine<'p> {
             Op::Trim => trim(state),
             Op::Convexify(max) => self.convexify(state, max.as_ref(), span, args)?,
             Op::Offset { distance, keep } => self.offset(state, distance, *keep, span, args)?,
-            Op::Roof(kind, params) => self.roof(state, *kind, params, span, args)?,
+            Op::Roof {
+                kind,
+                by_height,
+                params,
+            } => self.roof(state, *kind, *by_height, params, span, args)?,
             Op::Implicit(kind) => implicit(state, *kind, span)?,
             Op::ImplicitFile(path) => self.implicit_file(state, path, span, args)?,
             Op::Csg {
