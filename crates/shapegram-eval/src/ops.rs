@@ -84,6 +84,13 @@ pub(crate) enum Op {
     ReverseNormals,
     /// `trim()`: the shape's geometry cut at its trim planes.
     Trim,
+    /// `envelope(normal | world.up, maxHeight, …)`: the volume under a height limit and under
+    /// planes rising inward from the edges, by base heights and angles per edge class (or per
+    /// face edge, from two arrays).
+    Envelope {
+        world_up: bool,
+        params: Vec<CExpr>,
+    },
     /// `convexify([maxCut])`: concave faces cut into convex ones.
     Convexify(Option<CExpr>),
     /// `innerRectangle(scope | edge) { shape : … | remainder : … }`: the largest rectangle in
@@ -418,7 +425,6 @@ const VISUAL_ONLY: &[&str] = &[
 const UNSUPPORTED: &[&str] = &[
     "innerCircle",
     "splitArea",
-    "envelope",
     "scatter",
     "footprint",
     "deleteHoles",
@@ -485,6 +491,7 @@ const IMPLEMENTED: &[&str] = &[
     "reverseNormals",
     "trim",
     "convexify",
+    "envelope",
     "innerRectangle",
     "innerRect",
     "offset",
@@ -550,6 +557,10 @@ const SIGNATURES: &[(&str, &str)] = &[
     ("reverseNormals", "reverseNormals()"),
     ("trim", "trim()"),
     ("convexify", "convexify([maxCutLength])"),
+    (
+        "envelope",
+        "envelope(normal | world.up, maxHeight, frontBase, frontAngle [, backBase, backAngle [, sideBase, sideAngle | rightBase, rightAngle, leftBase, leftAngle]]) | envelope(normal | world.up, maxHeight, baseHeights[], angles[])",
+    ),
     (
         "innerRectangle",
         "innerRectangle(scope | edge) { shape : … | remainder : … }",
@@ -895,6 +906,20 @@ impl Ctx<'_, '_> {
             "convexify" => {
                 self.arity(0, 1)?;
                 Op::Convexify(self.args.pop())
+            }
+            "envelope" => {
+                if !matches!(self.args.len(), 4 | 6 | 8 | 10) {
+                    return self.wrong_arity();
+                }
+                let world_up = match self.word(0) {
+                    Some("world.up") => true,
+                    Some("normal") => false,
+                    _ => return self.bad_selector(0, "`normal` or `world.up`"),
+                };
+                Op::Envelope {
+                    world_up,
+                    params: self.args.split_off(1),
+                }
             }
             "innerRectangle" => {
                 self.arity(1, 1)?;

@@ -164,3 +164,64 @@ fn inner_rectangle_takes_the_largest_rectangle_and_leaves_the_rest() {
     .to_string();
     assert!(error.contains("innerRect needs a flat shape"), "{error}");
 }
+
+/// The volume and scope size of the one leaf `rule` makes on a `w` × `d` lot.
+fn solid(rule: &str, w: f64, d: f64) -> (f64, shapegram_geom::DVec3) {
+    let derivation = try_run(rule, common::lot(w, d), &DeriveOptions::default()).unwrap();
+    let leaf = &derivation.leaves[0];
+    let mesh = leaf.world_mesh().unwrap();
+    assert!(mesh.is_watertight(), "{rule}");
+    (mesh.signed_volume(), leaf.scope.size)
+}
+
+#[test]
+fn envelope_cuts_the_volume_under_planes_from_the_edges() {
+    use shapegram_geom::DVec3;
+    // Only the front edge slopes, at 45° above a 2 m wall: a wedge 8 × 8 / 2 m² along 20 m goes.
+    let (volume, size) = solid("Lot --> envelope(world.up, 10, 2, 45) E.", 20.0, 30.0);
+    assert!((volume - (6000.0 - 32.0 * 20.0)).abs() < 1e-9, "{volume}");
+    assert!(
+        size.abs_diff_eq(DVec3::new(20.0, 10.0, 30.0), 1e-9),
+        "{size}"
+    );
+    // The same from arrays in face-edge order.
+    let (volume, _) = solid("Lot --> envelope(normal, 10, [2], [45]) E.", 20.0, 30.0);
+    assert!((volume - 5360.0).abs() < 1e-9, "{volume}");
+    // The Candler's ventilation box: every edge chamfered at 45° above 0.45 m, up to 0.6 m.
+    let (volume, size) = solid(
+        "Lot --> envelope(world.up, 0.6, 0.45, 45, 0.45, 45, 0.45, 45) E.",
+        2.0,
+        3.0,
+    );
+    let chamfered = 6.0 * 0.15 - 5.0 * 0.15 * 0.15 + 4.0 / 3.0 * 0.15f64.powi(3);
+    assert!(
+        (volume - (2.0 * 3.0 * 0.45 + chamfered)).abs() < 1e-9,
+        "{volume}"
+    );
+    assert!(size.abs_diff_eq(DVec3::new(2.0, 0.6, 3.0), 1e-9), "{size}");
+    // Right and left apart: only the right edge slopes, from the ground at 45°.
+    let (volume, _) = solid(
+        "Lot --> envelope(world.up, 10, 0, 90, 0, 90, 0, 45, 0, 90) E.",
+        20.0,
+        30.0,
+    );
+    assert!((volume - (6000.0 - 50.0 * 30.0)).abs() < 1e-9, "{volume}");
+    let errors = compile_errors("Lot --> envelope(up, 10, 2, 45) E.").join("\n");
+    assert!(
+        errors.contains("expected `normal` or `world.up`"),
+        "{errors}"
+    );
+    let errors = compile_errors("Lot --> envelope(world.up, 10, 2) E.").join("\n");
+    assert!(
+        errors.contains("wrong number of arguments for `envelope`"),
+        "{errors}"
+    );
+    let error = try_run(
+        "Lot --> envelope(world.up, -1, 2, 45) E.",
+        common::lot(20.0, 30.0),
+        &DeriveOptions::default(),
+    )
+    .unwrap_err()
+    .to_string();
+    assert!(error.contains("cannot build this envelope"), "{error}");
+}

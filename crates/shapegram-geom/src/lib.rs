@@ -18,6 +18,7 @@ pub mod bvh;
 pub mod component;
 pub mod convex;
 pub mod deform;
+pub mod envelope;
 pub mod extrude;
 pub mod fit;
 pub mod inner_rectangle;

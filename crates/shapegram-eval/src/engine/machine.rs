@@ -671,6 +671,9 @@ impl<'p> Engine<'p> {
             Op::Print(value) => self.print(state, value, args)?,
             Op::ReverseNormals => reverse_normals(state, span)?,
             Op::Trim => trim(state),
+            Op::Envelope { world_up, params } => {
+                self.envelope(state, *world_up, params, span, args)?
+            }
             Op::Convexify(max) => self.convexify(state, max.as_ref(), span, args)?,
             Op::Offset { distance, keep } => self.offset(state, distance, *keep, span, args)?,
             Op::Roof {

@@ -29,6 +29,7 @@ mod control;
 mod deform;
 mod derive;
 mod edge_depths;
+mod envelope;
 mod footprint;
 mod goals;
 mod implicit;
