@@ -91,6 +91,12 @@ pub(crate) enum Op {
         world_up: bool,
         params: Vec<CExpr>,
     },
+    /// `cleanupGeometry(vertices | edges | faces | all, tolerance)`: close vertices merged,
+    /// straight corners and small faces dropped.
+    Cleanup {
+        what: shapegram_geom::cleanup::Cleanup,
+        tolerance: CExpr,
+    },
     /// `convexify([maxCut])`: concave faces cut into convex ones.
     Convexify(Option<CExpr>),
     /// `innerRectangle(scope | edge) { shape : … | remainder : … }`: the largest rectangle in
@@ -491,6 +497,7 @@ const IMPLEMENTED: &[&str] = &[
     "reverseNormals",
     "trim",
     "convexify",
+    "cleanupGeometry",
     "envelope",
     "innerRectangle",
     "innerRect",
@@ -557,6 +564,10 @@ const SIGNATURES: &[(&str, &str)] = &[
     ("reverseNormals", "reverseNormals()"),
     ("trim", "trim()"),
     ("convexify", "convexify([maxCutLength])"),
+    (
+        "cleanupGeometry",
+        "cleanupGeometry(vertices | edges | faces | all, tolerance)",
+    ),
     (
         "envelope",
         "envelope(normal | world.up, maxHeight, frontBase, frontAngle [, backBase, backAngle [, sideBase, sideAngle | rightBase, rightAngle, leftBase, leftAngle]]) | envelope(normal | world.up, maxHeight, baseHeights[], angles[])",
@@ -906,6 +917,26 @@ impl Ctx<'_, '_> {
             "convexify" => {
                 self.arity(0, 1)?;
                 Op::Convexify(self.args.pop())
+            }
+            "cleanupGeometry" => {
+                self.arity(2, 2)?;
+                let (vertices, edges, faces) = match self.word(0) {
+                    Some("vertices") => (true, false, false),
+                    Some("edges") => (false, true, false),
+                    Some("faces") => (false, false, true),
+                    Some("all") => (true, true, true),
+                    _ => return self.bad_selector(0, "`vertices`, `edges`, `faces` or `all`"),
+                };
+                if edges {
+                    self.warn_once(
+                        "`cleanupGeometry` does not merge coplanar faces yet: their shared edges stay"
+                            .into(),
+                    );
+                }
+                Op::Cleanup {
+                    what: shapegram_geom::cleanup::Cleanup { vertices, faces },
+                    tolerance: self.args.pop()?,
+                }
             }
             "envelope" => {
                 if !matches!(self.args.len(), 4 | 6 | 8 | 10) {

@@ -225,3 +225,80 @@ fn envelope_cuts_the_volume_under_planes_from_the_edges() {
     .to_string();
     assert!(error.contains("cannot build this envelope"), "{error}");
 }
+
+#[test]
+fn cleanup_geometry_merges_vertices_and_drops_corners_and_faces() {
+    let lot = |points: &[(f64, f64)]| {
+        InitialShape::from_xz(
+            &points
+                .iter()
+                .map(|&(x, z)| DVec2::new(x, z))
+                .collect::<Vec<_>>(),
+        )
+        .unwrap()
+    };
+    let corners = |grammar: &str, points: &[(f64, f64)]| of(&reports(grammar, lot(points)), "n");
+    // A corner on the straight front edge goes at tolerance 0; one bent by 5° only at 1 (10°).
+    let straight = [
+        (0.0, 0.0),
+        (10.0, 0.0),
+        (20.0, 0.0),
+        (20.0, 30.0),
+        (0.0, 30.0),
+    ];
+    let rule = |what: &str, t: f64| {
+        format!("Lot --> cleanupGeometry({what}, {t}) report(\"n\", geometry.nVertices) X.")
+    };
+    assert_close(&corners(&rule("vertices", 0.0), &straight), &[4.0]);
+    let bent = [
+        (0.0, 0.0),
+        (10.0, -10.0 * 5f64.to_radians().tan() / 2.0),
+        (20.0, 0.0),
+        (20.0, 30.0),
+        (0.0, 30.0),
+    ];
+    assert_close(&corners(&rule("vertices", 0.0), &bent), &[5.0]);
+    assert_close(&corners(&rule("all", 1.0), &bent), &[4.0]);
+    // Corners 0.71 m apart merge at tolerance 1 (1 m), not at 0.5.
+    let chamfered = [
+        (0.0, 0.0),
+        (20.0, 0.0),
+        (20.0, 30.0),
+        (0.5, 30.0),
+        (0.0, 29.5),
+    ];
+    assert_close(&corners(&rule("vertices", 0.5), &chamfered), &[5.0]);
+    assert_close(&corners(&rule("vertices", 1.0), &chamfered), &[4.0]);
+    // A 4 cm slab of the L: at tolerance 1, side faces under 1 m² go (all but the 30 m side).
+    let r = reports(
+        "Lot --> extrude(0.04) cleanupGeometry(faces, 1) report(\"n\", geometry.nFaces) X.",
+        l_lot(),
+    );
+    assert_close(&of(&r, "n"), &[3.0]);
+    let r = reports(
+        "Lot --> extrude(0.04) cleanupGeometry(faces, 0) report(\"n\", geometry.nFaces) X.",
+        l_lot(),
+    );
+    assert_close(&of(&r, "n"), &[8.0]);
+    let error = try_run(
+        "Lot --> cleanupGeometry(all, 2) X.",
+        l_lot(),
+        &DeriveOptions::default(),
+    )
+    .unwrap_err()
+    .to_string();
+    assert!(
+        error.contains("cleanupGeometry's tolerance must be between 0 and 1, not 2"),
+        "{error}"
+    );
+    let errors = compile_errors("Lot --> cleanupGeometry(corners, 0) X.").join("\n");
+    assert!(
+        errors.contains("expected `vertices`, `edges`, `faces` or `all`"),
+        "{errors}"
+    );
+    let warnings = compile_errors("Lot --> cleanupGeometry(edges, 0) X.").join("\n");
+    assert!(
+        warnings.contains("does not merge coplanar faces yet"),
+        "{warnings}"
+    );
+}

@@ -15,6 +15,7 @@
 
 pub mod aabb;
 pub mod bvh;
+pub mod cleanup;
 pub mod component;
 pub mod convex;
 pub mod deform;

@@ -6,6 +6,7 @@ use std::sync::Arc;
 
 use shapegram_geom::{
     DMat3, DVec3, FaceClass, Mesh, Scope,
+    cleanup::{Cleanup, cleanup},
     convex::convex_pieces,
     extrude::{extrude_along, extrude_polygon},
     mesh::newell,
@@ -280,6 +281,44 @@ pub(super) struct SetbackOutputs<'p> {
 }
 
 impl Engine<'_> {
+    /// CGA `cleanupGeometry(vertices | faces | all, tolerance)`: the geometry cleaned (see
+    /// [`shapegram_geom::cleanup`]); the scope stays.
+    pub(super) fn cleanup(
+        &mut self,
+        state: &mut State,
+        what: Cleanup,
+        tolerance: &CExpr,
+        span: Span,
+        args: &[Value],
+    ) -> Fallible<()> {
+        no_solid(state, "cleanupGeometry", span)?;
+        let t = self.ev.number(tolerance, state, args)?;
+        if !(0.0..=1.0).contains(&t) {
+            return Err(DeriveError::at(
+                format!("cleanupGeometry's tolerance must be between 0 and 1, not {t}"),
+                tolerance.span,
+            ));
+        }
+        if state.geometry == Geometry::Box {
+            return Ok(());
+        }
+        let Some(mesh) = state.geometry.local_mesh(state.scope.size) else {
+            return Ok(());
+        };
+        let cleaned = cleanup(&mesh, what, t);
+        let tags = state
+            .geometry
+            .tags()
+            .filter(|t| t.len() == cleaned.face_count())
+            .map(Arc::from);
+        state.geometry = if cleaned.is_empty() {
+            Geometry::Empty
+        } else {
+            Geometry::Mesh(Arc::new(cleaned), tags)
+        };
+        Ok(())
+    }
+
     /// CGA `convexify([maxCut])`: every concave face of the geometry cut into convex faces
     /// (only along cuts shorter than `maxCut`, when given) that share the face's corners; the
     /// scope stays. Geometry without concave faces is left as it is.

@@ -674,6 +674,7 @@ impl<'p> Engine<'p> {
             Op::Envelope { world_up, params } => {
                 self.envelope(state, *world_up, params, span, args)?
             }
+            Op::Cleanup { what, tolerance } => self.cleanup(state, *what, tolerance, span, args)?,
             Op::Convexify(max) => self.convexify(state, max.as_ref(), span, args)?,
             Op::Offset { distance, keep } => self.offset(state, distance, *keep, span, args)?,
             Op::Roof {
