@@ -97,6 +97,8 @@ pub(crate) enum Op {
         what: shapegram_geom::cleanup::Cleanup,
         tolerance: CExpr,
     },
+    /// `footprint()`: the geometry projected onto the scope's xz-plane.
+    Footprint,
     /// `convexify([maxCut])`: concave faces cut into convex ones.
     Convexify(Option<CExpr>),
     /// `innerRectangle(scope | edge) { shape : … | remainder : … }`: the largest rectangle in
@@ -432,8 +434,6 @@ const UNSUPPORTED: &[&str] = &[
     "innerCircle",
     "splitArea",
     "scatter",
-    "footprint",
-    "deleteHoles",
     "resetGeometry",
     "mirrorScope",
     "rectify",
@@ -497,6 +497,8 @@ const IMPLEMENTED: &[&str] = &[
     "reverseNormals",
     "trim",
     "convexify",
+    "footprint",
+    "deleteHoles",
     "cleanupGeometry",
     "envelope",
     "innerRectangle",
@@ -564,6 +566,8 @@ const SIGNATURES: &[(&str, &str)] = &[
     ("reverseNormals", "reverseNormals()"),
     ("trim", "trim()"),
     ("convexify", "convexify([maxCutLength])"),
+    ("footprint", "footprint()"),
+    ("deleteHoles", "deleteHoles()"),
     (
         "cleanupGeometry",
         "cleanupGeometry(vertices | edges | faces | all, tolerance)",
@@ -917,6 +921,15 @@ impl Ctx<'_, '_> {
             "convexify" => {
                 self.arity(0, 1)?;
                 Op::Convexify(self.args.pop())
+            }
+            "footprint" => {
+                self.arity(0, 0)?;
+                Op::Footprint
+            }
+            // Shapegram's faces hold no holes: nothing to delete.
+            "deleteHoles" => {
+                self.arity(0, 0)?;
+                Op::Ignored
             }
             "cleanupGeometry" => {
                 self.arity(2, 2)?;

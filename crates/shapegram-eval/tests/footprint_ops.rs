@@ -302,3 +302,33 @@ fn cleanup_geometry_merges_vertices_and_drops_corners_and_faces() {
         "{warnings}"
     );
 }
+
+#[test]
+fn footprint_projects_the_geometry_onto_the_ground() {
+    // A mass of the L: its bottom, 400 m², flat, facing up; extruded again to 5 m.
+    let r = reports(
+        "Lot --> extrude(10) footprint() report(\"area\", geometry.area) report(\"sy\", scope.sy) report(\"faces\", geometry.nFaces) extrude(5) report(\"volume\", geometry.volume) X.",
+        l_lot(),
+    );
+    assert_close(&of(&r, "area"), &[400.0]);
+    assert_close(&of(&r, "sy"), &[0.0]);
+    assert_close(&of(&r, "faces"), &[1.0]);
+    assert_close(&of(&r, "volume"), &[2000.0]);
+    // Under a hip roof with eaves, the eaves' outline: the 20 × 30 m lot grown by 1 m.
+    let r = reports(
+        "Lot --> roofHip(30, 1) footprint() report(\"area\", geometry.area) X.",
+        common::lot(20.0, 30.0),
+    );
+    assert_close(&of(&r, "area"), &[22.0 * 32.0]);
+    // A lot is its own footprint; deleteHoles has nothing to delete.
+    let r = reports(
+        "Lot --> footprint() deleteHoles() report(\"area\", geometry.area) X.",
+        l_lot(),
+    );
+    assert_close(&of(&r, "area"), &[400.0]);
+    let errors = compile_errors("Lot --> footprint(1) X.").join("\n");
+    assert!(
+        errors.contains("the signature is `footprint()`"),
+        "{errors}"
+    );
+}

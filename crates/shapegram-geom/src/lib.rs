@@ -22,6 +22,7 @@ pub mod deform;
 pub mod envelope;
 pub mod extrude;
 pub mod fit;
+pub mod footprint;
 pub mod inner_rectangle;
 pub mod mesh;
 pub mod model;

@@ -374,6 +374,30 @@ impl Engine<'_> {
     }
 }
 
+/// CGA `footprint()`: the geometry projected onto the scope's xz-plane (its downward faces, or
+/// for geometry without any, its upward ones), a flat shape facing the scope's y; the scope
+/// keeps its axes and loses its height.
+pub(super) fn footprint(state: &mut State, span: Span) -> Fallible<()> {
+    no_solid(state, "footprint", span)?;
+    let Some(mesh) = state.geometry.local_mesh(state.scope.size) else {
+        return Ok(());
+    };
+    let flat = shapegram_geom::footprint::footprint(&mesh, DVec3::Y);
+    if flat.is_empty() {
+        state.geometry = Geometry::Empty;
+        return Ok(());
+    }
+    let world: Vec<DVec3> = flat
+        .positions()
+        .iter()
+        .map(|&p| state.scope.to_world(p))
+        .collect();
+    let fitted = Scope::fit(state.scope.axes, world.iter().copied());
+    state.geometry = Geometry::mesh(flat);
+    state.rescope(fitted);
+    Ok(())
+}
+
 /// CGA `reverseNormals`: every face of the geometry turned the other way.
 pub(super) fn reverse_normals(state: &mut State, span: Span) -> Fallible<()> {
     no_solid(state, "reverseNormals", span)?;

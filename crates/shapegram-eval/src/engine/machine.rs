@@ -9,7 +9,7 @@ use shapegram_geom::Scope;
 use shapegram_syntax::Span;
 
 use super::derive::Batch;
-use super::footprint::{SetbackOutputs, reverse_normals};
+use super::footprint::{SetbackOutputs, footprint, reverse_normals};
 use super::implicit::implicit;
 use super::insert::trim;
 use super::kinematics::LastRotation;
@@ -675,6 +675,7 @@ impl<'p> Engine<'p> {
                 self.envelope(state, *world_up, params, span, args)?
             }
             Op::Cleanup { what, tolerance } => self.cleanup(state, *what, tolerance, span, args)?,
+            Op::Footprint => footprint(state, span)?,
             Op::Convexify(max) => self.convexify(state, max.as_ref(), span, args)?,
             Op::Offset { distance, keep } => self.offset(state, distance, *keep, span, args)?,
             Op::Roof {
