@@ -97,6 +97,13 @@ pub(crate) enum Op {
         what: shapegram_geom::cleanup::Cleanup,
         tolerance: CExpr,
     },
+    /// `translate(abs | rel, frame, x, y, z)` and `rotate(abs | rel, frame, x, y, z)`.
+    Transform {
+        rotate: bool,
+        absolute: bool,
+        system: CoordSystem,
+        values: [CExpr; 3],
+    },
     /// `footprint()`: the geometry projected onto the scope's xz-plane.
     Footprint,
     /// `convexify([maxCut])`: concave faces cut into convex ones.
@@ -263,6 +270,17 @@ pub(crate) enum Depths {
     /// `setbackToArea(area [, minDists [, maxDists]])`: the selected edges by a common distance
     /// (added to their minimum, capped at their maximum) that leaves the remainder `area`.
     ToArea(Vec<CExpr>),
+}
+
+/// The frame `translate` and `rotate` take their values in.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum CoordSystem {
+    /// The scope's (also for `pivot`, which Shapegram does not keep apart).
+    Scope,
+    /// The initial shape's.
+    Object,
+    /// The world's.
+    World,
 }
 
 /// Which face `alignScopeToGeometry` takes.
@@ -443,8 +461,6 @@ const UNSUPPORTED: &[&str] = &[
     "union",
     "subtract",
     "intersect",
-    "rotate",
-    "translate",
     "roofRidge",
     "generalize",
     "reduceGeometry",
@@ -497,6 +513,8 @@ const IMPLEMENTED: &[&str] = &[
     "reverseNormals",
     "trim",
     "convexify",
+    "translate",
+    "rotate",
     "footprint",
     "deleteHoles",
     "cleanupGeometry",
@@ -566,6 +584,14 @@ const SIGNATURES: &[(&str, &str)] = &[
     ("reverseNormals", "reverseNormals()"),
     ("trim", "trim()"),
     ("convexify", "convexify([maxCutLength])"),
+    (
+        "translate",
+        "translate(abs | rel, scope | pivot | object | world, x, y, z)",
+    ),
+    (
+        "rotate",
+        "rotate(abs | rel, scope | pivot | object | world, xAngle, yAngle, zAngle)",
+    ),
     ("footprint", "footprint()"),
     ("deleteHoles", "deleteHoles()"),
     (
@@ -921,6 +947,27 @@ impl Ctx<'_, '_> {
             "convexify" => {
                 self.arity(0, 1)?;
                 Op::Convexify(self.args.pop())
+            }
+            "translate" | "rotate" => {
+                self.arity(5, 5)?;
+                let absolute = match self.word(0) {
+                    Some("abs") => true,
+                    Some("rel") => false,
+                    _ => return self.bad_selector(0, "`abs` or `rel`"),
+                };
+                let system = match self.word(1) {
+                    Some("scope" | "pivot") => CoordSystem::Scope,
+                    Some("object") => CoordSystem::Object,
+                    Some("world") => CoordSystem::World,
+                    _ => return self.bad_selector(1, "`scope`, `pivot`, `object` or `world`"),
+                };
+                self.args.drain(..2);
+                Op::Transform {
+                    rotate: name == "rotate",
+                    absolute,
+                    system,
+                    values: self.three()?,
+                }
             }
             "footprint" => {
                 self.arity(0, 0)?;

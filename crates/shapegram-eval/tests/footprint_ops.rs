@@ -332,3 +332,58 @@ fn footprint_projects_the_geometry_onto_the_ground() {
         "{errors}"
     );
 }
+
+#[test]
+fn translate_and_rotate_work_in_their_frames() {
+    use shapegram_geom::{DMat3, DVec3};
+    let scope = |rule: &str| {
+        let d = try_run(rule, common::lot(20.0, 30.0), &DeriveOptions::default()).unwrap();
+        d.leaves[0].scope
+    };
+    let close = |a: DVec3, b: DVec3| a.abs_diff_eq(b, 1e-9);
+    // The lot's scope starts at the world origin with the world's axes.
+    let s = scope("Lot --> translate(rel, world, 5, 0, 0) X.");
+    assert!(close(s.origin, DVec3::new(5.0, 0.0, 0.0)), "{:?}", s.origin);
+    // Turned a quarter about y, the scope's x is the world's -z.
+    let s = scope("Lot --> r(0, 90, 0) translate(rel, scope, 5, 0, 0) X.");
+    assert!(
+        close(s.origin, DVec3::new(0.0, 0.0, -5.0)),
+        "{:?}",
+        s.origin
+    );
+    let s = scope("Lot --> r(0, 90, 0) translate(rel, pivot, 5, 0, 0) X.");
+    assert!(
+        close(s.origin, DVec3::new(0.0, 0.0, -5.0)),
+        "{:?}",
+        s.origin
+    );
+    let s = scope("Lot --> r(0, 90, 0) translate(rel, world, 5, 0, 0) X.");
+    assert!(close(s.origin, DVec3::new(5.0, 0.0, 0.0)), "{:?}", s.origin);
+    let s = scope("Lot --> t(3, 4, 5) translate(abs, world, 1, 2, 3) X.");
+    assert!(close(s.origin, DVec3::new(1.0, 2.0, 3.0)), "{:?}", s.origin);
+    let s = scope("Lot --> r(0, 90, 0) t(3, 4, 5) translate(abs, object, 0, 0, 0) X.");
+    assert!(close(s.origin, DVec3::ZERO), "{:?}", s.origin);
+    // rotate turns about the scope's origin: to world angles, or by them.
+    let s = scope("Lot --> r(30, 40, 50) rotate(abs, world, 0, 0, 0) X.");
+    assert!(s.axes.abs_diff_eq(DMat3::IDENTITY, 1e-12), "{:?}", s.axes);
+    let s = scope("Lot --> t(2, 0, 0) rotate(rel, world, 0, 90, 0) X.");
+    assert!(close(s.axes.x_axis, DVec3::new(0.0, 0.0, -1.0)));
+    assert!(close(s.axes.z_axis, DVec3::new(1.0, 0.0, 0.0)));
+    assert!(close(s.origin, DVec3::new(2.0, 0.0, 0.0)));
+    // Relative to the scope, a rotation is r's.
+    let a = scope("Lot --> r(10, 20, 30) rotate(rel, scope, 0, 45, 0) X.");
+    let b = scope("Lot --> r(10, 20, 30) r(0, 45, 0) X.");
+    assert!(a.axes.abs_diff_eq(b.axes, 1e-12) && close(a.origin, b.origin));
+    let errors = compile_errors("Lot --> translate(add, world, 1, 0, 0) X.").join("\n");
+    assert!(errors.contains("expected `abs` or `rel`"), "{errors}");
+    let errors = compile_errors("Lot --> rotate(abs, lot, 1, 0, 0) X.").join("\n");
+    assert!(
+        errors.contains("expected `scope`, `pivot`, `object` or `world`"),
+        "{errors}"
+    );
+    let errors = compile_errors("Lot --> rotate(abs, world, 1, 0) X.").join("\n");
+    assert!(
+        errors.contains("wrong number of arguments for `rotate`"),
+        "{errors}"
+    );
+}

@@ -676,6 +676,15 @@ impl<'p> Engine<'p> {
             }
             Op::Cleanup { what, tolerance } => self.cleanup(state, *what, tolerance, span, args)?,
             Op::Footprint => footprint(state, span)?,
+            Op::Transform {
+                rotate,
+                absolute,
+                system,
+                values,
+            } => match rotate {
+                true => self.rotate_in(state, *absolute, *system, values, args)?,
+                false => self.translate_in(state, *absolute, *system, values, args)?,
+            },
             Op::Convexify(max) => self.convexify(state, max.as_ref(), span, args)?,
             Op::Offset { distance, keep } => self.offset(state, distance, *keep, span, args)?,
             Op::Roof {

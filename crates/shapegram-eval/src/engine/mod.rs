@@ -43,6 +43,7 @@ mod scope;
 mod split;
 mod texturing;
 mod trace;
+mod transform;
 
 use std::sync::Arc;
 use std::time::Duration;
