@@ -46,6 +46,8 @@ pub(crate) enum Op {
     Primitive(Primitive, Vec<CExpr>),
     Split {
         axis: usize,
+        /// `splitArea`: the sizes are areas of the parts, not lengths.
+        by_area: bool,
         adjust: bool,
         /// `split(x, snap [, "tag"])`: boundaries move to snap planes (with the tag, if given).
         snap: Option<Option<CExpr>>,
@@ -450,7 +452,6 @@ const VISUAL_ONLY: &[&str] = &[
 /// CGA operations that are recognised but not implemented yet.
 const UNSUPPORTED: &[&str] = &[
     "innerCircle",
-    "splitArea",
     "scatter",
     "resetGeometry",
     "mirrorScope",
@@ -505,6 +506,7 @@ const IMPLEMENTED: &[&str] = &[
     "primitiveCone",
     "primitiveSphere",
     "split",
+    "splitArea",
     "comp",
     "color",
     "set",
@@ -575,6 +577,10 @@ const SIGNATURES: &[(&str, &str)] = &[
     (
         "split",
         "split(x | y | z [, adjust | noAdjust] [, sequential | parallel] [, snap [, \"tag\"]]) { … }",
+    ),
+    (
+        "splitArea",
+        "splitArea(x | y | z [, adjust | noAdjust]) { area : … | … }",
     ),
     ("comp", "comp(f | e | fe | v) { … }"),
     ("color", "color(\"#rrggbb\") | color(r, g, b)"),
@@ -842,7 +848,8 @@ impl Ctx<'_, '_> {
             "primitiveCylinder" => self.primitive(Primitive::Cylinder, 1)?,
             "primitiveCone" => self.primitive(Primitive::Cone, 1)?,
             "primitiveSphere" => self.primitive(Primitive::Sphere, 2)?,
-            "split" => self.split()?,
+            "split" => self.split(false)?,
+            "splitArea" => self.split(true)?,
             "joint" => {
                 self.c.kinematic = true;
                 Op::Joint(self.three()?)
@@ -1234,7 +1241,7 @@ impl Ctx<'_, '_> {
         Some(Op::Primitive(kind, std::mem::take(&mut self.args)))
     }
 
-    fn split(&mut self) -> Option<Op> {
+    fn split(&mut self, by_area: bool) -> Option<Op> {
         self.arity(1, 5)?;
         let axis = match self.word(0) {
             Some("x") => 0,
@@ -1279,13 +1286,19 @@ impl Ctx<'_, '_> {
             }
             i += 1;
         }
+        if by_area && (snap.is_some() || joints != SplitJoints::Auto) {
+            self.error("`splitArea` takes `adjust` or `noAdjust` only".into());
+            return None;
+        }
         let Some(block) = &self.call.block else {
-            self.error("`split` needs a `{ size : … }` block".into());
+            let name = &self.call.name.name;
+            self.error(format!("`{name}` needs a `{{ size : … }}` block"));
             return None;
         };
         let block = split_block(self.c, block, self.params)?;
         Some(Op::Split {
             axis,
+            by_area,
             adjust,
             snap,
             joints,

@@ -387,3 +387,58 @@ fn translate_and_rotate_work_in_their_frames() {
         "{errors}"
     );
 }
+
+#[test]
+fn split_area_cuts_parts_of_the_areas_asked_for() {
+    // On the 20 × 30 lot, 200 m² is 6⅔ m of its 20 m width.
+    let r = reports(
+        "Lot --> splitArea(x) { 200 : report(\"a\", geometry.area) report(\"sx\", scope.sx) A. | ~1 : report(\"b\", geometry.area) B. }",
+        common::lot(20.0, 30.0),
+    );
+    assert_close(&of(&r, "a"), &[200.0]);
+    assert_close(&of(&r, "sx"), &[20.0 / 3.0]);
+    assert_close(&of(&r, "b"), &[400.0]);
+    // A right triangle with legs of 20 and 30 m: halves of 150 m², and repeats of 100 m².
+    let triangle = || {
+        InitialShape::from_xz(&[
+            DVec2::new(0.0, 0.0),
+            DVec2::new(20.0, 0.0),
+            DVec2::new(0.0, 30.0),
+        ])
+        .unwrap()
+    };
+    let r = reports(
+        "Lot --> splitArea(x) { '0.5 : report(\"a\", geometry.area) A. | '0.5 : report(\"a\", geometry.area) B. }",
+        triangle(),
+    );
+    assert_close(&of(&r, "a"), &[150.0, 150.0]);
+    let r = reports(
+        "Lot --> splitArea(z) { 100 : report(\"a\", geometry.area) P. }*",
+        triangle(),
+    );
+    assert_close(&of(&r, "a"), &[100.0, 100.0, 100.0]);
+    // Sizes short of the whole leave the rest out.
+    let r = reports(
+        "Lot --> splitArea(x) { 50 : report(\"a\", geometry.area) P. }",
+        triangle(),
+    );
+    assert_close(&of(&r, "a"), &[50.0]);
+    let error = try_run(
+        "Lot --> extrude(3) splitArea(x) { 10 : A. }",
+        l_lot(),
+        &DeriveOptions::default(),
+    )
+    .unwrap_err()
+    .to_string();
+    assert!(error.contains("splitArea needs a flat shape"), "{error}");
+    let errors = compile_errors("Lot --> splitArea(x, snap) { 10 : A. }").join("\n");
+    assert!(
+        errors.contains("`splitArea` takes `adjust` or `noAdjust` only"),
+        "{errors}"
+    );
+    let errors = compile_errors("Lot --> splitArea(x)").join("\n");
+    assert!(
+        errors.contains("`splitArea` needs a `{ size : … }` block"),
+        "{errors}"
+    );
+}

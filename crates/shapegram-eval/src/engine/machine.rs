@@ -621,13 +621,18 @@ impl<'p> Engine<'p> {
             Op::Primitive(kind, params) => self.primitive(state, *kind, params, span, args)?,
             Op::Split {
                 axis,
+                by_area,
                 adjust,
                 snap,
                 joints,
                 block,
             } => {
                 let how = (*adjust, *joints);
-                self.split(state, *axis, how, snap.as_ref(), block, span, args, out)?;
+                if *by_area {
+                    self.split_area(state, *axis, *adjust, block, span, args, out)?;
+                } else {
+                    self.split(state, *axis, how, snap.as_ref(), block, span, args, out)?;
+                }
                 return Ok(true);
             }
             Op::Snap { axes, tag } => self.snap(state, *axes, tag.as_ref(), args)?,
