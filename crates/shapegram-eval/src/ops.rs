@@ -399,6 +399,8 @@ pub(crate) enum RoofKind {
     Hip,
     Pyramid,
     Shed,
+    /// One ridge along the scope's x axis.
+    Ridge,
 }
 
 /// The target of `set(…)`.
@@ -462,7 +464,6 @@ const UNSUPPORTED: &[&str] = &[
     "union",
     "subtract",
     "intersect",
-    "roofRidge",
     "generalize",
     "reduceGeometry",
     "splitAndSetbackPerimeter",
@@ -528,6 +529,7 @@ const IMPLEMENTED: &[&str] = &[
     "roofHip",
     "roofPyramid",
     "roofShed",
+    "roofRidge",
     "label",
     "tag",
     "snap",
@@ -627,6 +629,7 @@ const SIGNATURES: &[(&str, &str)] = &[
         "roofShed",
         "roofShed([byAngle | byHeight,] value [, edgeIndex])",
     ),
+    ("roofRidge", "roofRidge([byAngle | byHeight,] value)"),
     ("label", "label(\"name\")"),
     ("tag", "label(\"name\")"),
     ("snap", "snap(x | y | z | xy | … [, \"tag\"])"),
@@ -1048,6 +1051,7 @@ impl Ctx<'_, '_> {
             "roofHip" => self.roof(RoofKind::Hip)?,
             "roofPyramid" => self.roof(RoofKind::Pyramid)?,
             "roofShed" => self.roof(RoofKind::Shed)?,
+            "roofRidge" => self.roof(RoofKind::Ridge)?,
             "implicit" => self.implicit()?,
             "csg" => self.csg()?,
             "taper" => self.deform(DeformKind::Taper)?,
@@ -1753,7 +1757,7 @@ impl Ctx<'_, '_> {
             RoofKind::Gable if by_height.is_some() => 4,
             RoofKind::Gable => 5,
             RoofKind::Hip => 3,
-            RoofKind::Pyramid => 1,
+            RoofKind::Pyramid | RoofKind::Ridge => 1,
             RoofKind::Shed => 2,
         };
         self.arity(1, max)?;

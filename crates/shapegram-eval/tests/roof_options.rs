@@ -102,3 +102,36 @@ fn bad_roof_options_are_errors() {
         "{errors}"
     );
 }
+
+#[test]
+fn a_ridge_roof_runs_along_the_scopes_x_axis() {
+    // Over a rectangle it is the gable along x: 2 m high at 45° over the 4 m depth.
+    let (size, volume) = roof("roofRidge(byAngle, 45)", 10.0, 4.0);
+    assert!(close(size, DVec3::new(10.0, 2.0, 4.0)), "{size}");
+    assert!((volume - 40.0).abs() < 1e-9);
+    let (size, _) = roof("roofRidge(byHeight, 3)", 10.0, 4.0);
+    assert!(close(size, DVec3::new(10.0, 3.0, 4.0)), "{size}");
+    // Turned a quarter, the ridge runs across: 5 m high.
+    let (_, volume) = roof("rotateScope(0, 90, 0) roofRidge(45)", 10.0, 4.0);
+    assert!((volume - 0.5 * 10.0 * 5.0 * 4.0).abs() < 1e-9, "{volume}");
+    // Over an L (10 m wide over 30 m, and a 10 × 10 m arm), the planes rise from z = 0 and
+    // z = 30 to a 15 m ridge; the arm ends in an upright wall 10 m high.
+    let derivation = try_run(
+        "Lot --> roofRidge(45) Roof.",
+        shapegram_eval::InitialShape::from_xz(&[
+            shapegram_geom::DVec2::new(0.0, 0.0),
+            shapegram_geom::DVec2::new(20.0, 0.0),
+            shapegram_geom::DVec2::new(20.0, 10.0),
+            shapegram_geom::DVec2::new(10.0, 10.0),
+            shapegram_geom::DVec2::new(10.0, 30.0),
+            shapegram_geom::DVec2::new(0.0, 30.0),
+        ])
+        .unwrap(),
+        &DeriveOptions::default(),
+    )
+    .unwrap();
+    let mesh = derivation.leaves[0].world_mesh().unwrap();
+    assert!(mesh.is_watertight());
+    assert!((mesh.signed_volume() - (2250.0 + 500.0)).abs() < 1e-9);
+    assert!((mesh.bounds().unwrap().max.y - 15.0).abs() < 1e-9);
+}

@@ -108,8 +108,29 @@ pub fn roof_gable_with(points: &[DVec3], angle_deg: f64, gable: &Gable) -> Optio
     Some(base.roof(&footprint, &skeleton, slope))
 }
 
+/// A ridge roof (CGA's `roofRidge`): one level ridge along `along` (projected into the
+/// footprint's plane), two planes rising at `angle_deg` from the outermost lines of the
+/// footprint on either side of it, and upright walls on every other edge up to them; no hips and
+/// no gables of their own. Any simple footprint, convex or not; a direction along the normal or
+/// invalid input (see the module docs) gives `None`.
+pub fn roof_ridge(points: &[DVec3], angle_deg: f64, along: DVec3) -> Option<Mesh> {
+    let slope = slope(angle_deg)?;
+    let footprint = Polygon::new(points, true)?;
+    let out = ridge_across(&footprint, along)?;
+    let base = Base::new(&footprint, 0.0, slope)?;
+    ridged(&footprint, &base, slope, out)
+}
+
+/// The unit direction across a ridge along `along`, in the footprint's plane coordinates.
+fn ridge_across(footprint: &Polygon, along: DVec3) -> Option<DVec2> {
+    let frame = &footprint.frame;
+    let d = along.reject_from(frame.normal).try_normalize()?;
+    let flat = DVec2::new(d.dot(frame.u), d.dot(frame.v));
+    Some(DVec2::new(flat.y, -flat.x))
+}
+
 /// The roofs whose angle [`roof_run`] relates to their height.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, PartialEq)]
 pub enum RoofShape {
     /// [`roof_hip`] (and [`roof_gable`] on a non-convex footprint).
     Hip,
@@ -119,6 +140,8 @@ pub enum RoofShape {
     Pyramid,
     /// [`roof_shed`] rising from the given edge.
     Shed(usize),
+    /// [`roof_ridge`] with its ridge along the direction.
+    Ridge(DVec3),
 }
 
 /// How far, across the footprint, a roof rises to its highest point: its height is this run
@@ -154,6 +177,12 @@ pub fn roof_run(points: &[DVec3], shape: RoofShape) -> Option<f64> {
             0.5 * (across.fold(f64::NEG_INFINITY, f64::max) - near)
         }
         RoofShape::Hip | RoofShape::Gable(_) => skeleton_depth()?,
+        RoofShape::Ridge(along) => {
+            let out = ridge_across(&footprint, along)?;
+            let across = flat.iter().map(|q| q.dot(out));
+            let near = across.clone().fold(f64::INFINITY, f64::min);
+            0.5 * (across.fold(f64::NEG_INFINITY, f64::max) - near)
+        }
         RoofShape::Pyramid => {
             let centroid = area_centroid(flat);
             (0..n)
@@ -407,6 +436,12 @@ fn convex_gable(footprint: &Polygon, base: &Base, slope: f64, ridge_edge: usize)
     let flat = &footprint.flat;
     let n = flat.len();
     let out = outward(flat[ridge_edge], flat[(ridge_edge + 1) % n]);
+    ridged(footprint, base, slope, out)
+}
+
+/// The prism over `base` cut by two planes rising at `slope` toward each other from the
+/// outermost lines of the base across `out` (a unit direction in the footprint's plane).
+fn ridged(footprint: &Polygon, base: &Base, slope: f64, out: DVec2) -> Option<Mesh> {
     let across = base.flat.iter().map(|q| q.dot(out));
     let near = across.clone().fold(f64::INFINITY, f64::min);
     let far = across.fold(f64::NEG_INFINITY, f64::max);

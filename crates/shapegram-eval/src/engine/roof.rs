@@ -1,9 +1,11 @@
-//! CGA's roofs, `roofGable`, `roofHip`, `roofPyramid` and `roofShed`, on the faces of a flat
-//! shape, by angle or (`byHeight`) by height.
+//! CGA's roofs, `roofGable`, `roofHip`, `roofPyramid`, `roofShed` and `roofRidge`, on the
+//! faces of a flat shape, by angle or (`byHeight`) by height.
 
 use shapegram_geom::{
     DVec3, Mesh, Scope,
-    roof::{Gable, RoofShape, roof_gable_with, roof_hip, roof_pyramid, roof_run, roof_shed},
+    roof::{
+        Gable, RoofShape, roof_gable_with, roof_hip, roof_pyramid, roof_ridge, roof_run, roof_shed,
+    },
 };
 use shapegram_syntax::Span;
 
@@ -49,7 +51,8 @@ impl Engine<'_> {
             let edge = options
                 .edge
                 .map(|i| i.rem_euclid(points.len() as i64) as usize);
-            let angle = angle_of(kind, &options, edge, &points, span)?;
+            let ridge = state.scope.x_axis();
+            let angle = angle_of(kind, &options, (edge, ridge), &points, span)?;
             let built = match kind {
                 RoofKind::Gable => roof_gable_with(
                     &points,
@@ -63,6 +66,7 @@ impl Engine<'_> {
                 RoofKind::Hip => roof_hip(&points, angle, options.overhang_x),
                 RoofKind::Pyramid => roof_pyramid(&points, angle),
                 RoofKind::Shed => roof_shed(&points, angle, edge.unwrap_or(0)),
+                RoofKind::Ridge => roof_ridge(&points, angle, ridge),
             };
             let Some(built) = built else {
                 return Err(DeriveError::at(
@@ -110,7 +114,7 @@ impl Engine<'_> {
         let (overhang_x, overhang_y, edge_at) = match kind {
             RoofKind::Gable => (number(1, state)?, number(2, state)?, Some(4)),
             RoofKind::Hip => (number(1, state)?, None, None),
-            RoofKind::Pyramid => (None, None, None),
+            RoofKind::Pyramid | RoofKind::Ridge => (None, None, None),
             RoofKind::Shed => (None, None, Some(1)),
         };
         let edge = match edge_at.and_then(|i| params.get(i)) {
@@ -141,7 +145,7 @@ impl Engine<'_> {
 fn angle_of(
     kind: RoofKind,
     options: &RoofOptions,
-    edge: Option<usize>,
+    (edge, ridge): (Option<usize>, DVec3),
     points: &[DVec3],
     span: Span,
 ) -> Fallible<f64> {
@@ -153,6 +157,7 @@ fn angle_of(
         RoofKind::Hip => RoofShape::Hip,
         RoofKind::Pyramid => RoofShape::Pyramid,
         RoofKind::Shed => RoofShape::Shed(edge.unwrap_or(0)),
+        RoofKind::Ridge => RoofShape::Ridge(ridge),
     };
     let height = options.value;
     let run = roof_run(points, shape).filter(|_| height > 0.0 && height.is_finite());
