@@ -55,6 +55,15 @@ pub(crate) enum Op {
         joints: SplitJoints,
         block: SplitBlock,
     },
+    /// `split(u | v, uvSpace | unitSpace, uvSet) { … }`: a split along a texture coordinate.
+    UvSplit {
+        /// 0 for u, 1 for v.
+        coordinate: usize,
+        /// Sizes in metres (`unitSpace`) rather than in uv units.
+        metres: bool,
+        set: CExpr,
+        block: SplitBlock,
+    },
     /// `snap(x [, "tag"])`: snap planes across the given scope axes, at both ends of the scope.
     Snap {
         axes: [bool; 3],
@@ -578,7 +587,7 @@ const SIGNATURES: &[(&str, &str)] = &[
     ("primitiveSphere", "primitiveSphere(nRows, nColumns)"),
     (
         "split",
-        "split(x | y | z [, adjust | noAdjust] [, sequential | parallel] [, snap [, \"tag\"]]) { … }",
+        "split(x | y | z [, adjust | noAdjust] [, sequential | parallel] [, snap [, \"tag\"]]) { … } | split(u | v, uvSpace | unitSpace, uvSet) { … }",
     ),
     (
         "splitArea",
@@ -1063,6 +1072,7 @@ impl Ctx<'_, '_> {
         let needs_block = matches!(
             op,
             Op::Split { .. }
+                | Op::UvSplit { .. }
                 | Op::Comp { .. }
                 | Op::Setback { .. }
                 | Op::InnerRectangle { split: true, .. }
@@ -1251,12 +1261,8 @@ impl Ctx<'_, '_> {
             Some("x") => 0,
             Some("y") => 1,
             Some("z") => 2,
-            Some("u" | "v") => {
-                self.warn_once(
-                    "texture-space splits (`split(u|v)`) are not supported yet: skipped".into(),
-                );
-                return Some(Op::Ignored);
-            }
+            Some("u") if !by_area => return self.uv_split(0),
+            Some("v") if !by_area => return self.uv_split(1),
             _ => return self.bad_selector(0, "the split axis `x`, `y` or `z`"),
         };
         let mut adjust = true;
@@ -1306,6 +1312,29 @@ impl Ctx<'_, '_> {
             adjust,
             snap,
             joints,
+            block,
+        })
+    }
+
+    /// `split(u | v, uvSpace | unitSpace, uvSet) { … }`.
+    fn uv_split(&mut self, coordinate: usize) -> Option<Op> {
+        if self.args.len() != 3 {
+            return self.wrong_arity();
+        }
+        let metres = match self.word(1) {
+            Some("uvSpace") => false,
+            Some("unitSpace") => true,
+            _ => return self.bad_selector(1, "`uvSpace` or `unitSpace`"),
+        };
+        let Some(block) = &self.call.block else {
+            self.error("`split` needs a `{ size : … }` block".into());
+            return None;
+        };
+        let block = split_block(self.c, block, self.params)?;
+        Some(Op::UvSplit {
+            coordinate,
+            metres,
+            set: self.args.pop()?,
             block,
         })
     }

@@ -442,3 +442,53 @@ fn split_area_cuts_parts_of_the_areas_asked_for() {
         "{errors}"
     );
 }
+
+#[test]
+fn uv_splits_cut_across_a_texture_coordinate() {
+    // u runs along x, 1 per 5 m: u from 0 to 4 over the 20 m lot.
+    let project = "setupProjection(0, scope.xz, 5, 5) projectUV(0)";
+    let r = reports(
+        &format!(
+            "Lot --> {project} split(u, uvSpace, 0) {{ 1 : report(\"a\", geometry.area) A. | ~1 : report(\"b\", geometry.area) B. }}"
+        ),
+        common::lot(20.0, 30.0),
+    );
+    assert_close(&of(&r, "a"), &[150.0]);
+    assert_close(&of(&r, "b"), &[450.0]);
+    // In metres, 4 m strips: five of 120 m², numbered by split.index.
+    let r = reports(
+        &format!(
+            "Lot --> {project} split(u, unitSpace, 0) {{ ~4 : report(\"a\", geometry.area) report(\"i\", split.index) P. }}*"
+        ),
+        common::lot(20.0, 30.0),
+    );
+    assert_close(&of(&r, "a"), &[120.0; 5]);
+    assert_close(&of(&r, "i"), &[0.0, 1.0, 2.0, 3.0, 4.0]);
+    // v runs along z, 1 per 10 m.
+    let r = reports(
+        "Lot --> setupProjection(0, scope.xz, 5, 10) projectUV(0) split(v, uvSpace, 0) { 1 : report(\"a\", geometry.area) A. }*",
+        common::lot(20.0, 30.0),
+    );
+    assert_close(&of(&r, "a"), &[200.0, 200.0, 200.0]);
+    let error = try_run(
+        "Lot --> split(u, uvSpace, 0) { 1 : A. }",
+        common::lot(20.0, 30.0),
+        &DeriveOptions::default(),
+    )
+    .unwrap_err()
+    .to_string();
+    assert!(
+        error.contains("the shape has no uv set 0 to split along"),
+        "{error}"
+    );
+    let errors = compile_errors("Lot --> split(u, pixelSpace, 0) { 1 : A. }").join("\n");
+    assert!(
+        errors.contains("expected `uvSpace` or `unitSpace`"),
+        "{errors}"
+    );
+    let errors = compile_errors("Lot --> split(v, uvSpace) { 1 : A. }").join("\n");
+    assert!(
+        errors.contains("wrong number of arguments for `split`"),
+        "{errors}"
+    );
+}

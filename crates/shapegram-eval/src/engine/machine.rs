@@ -619,6 +619,16 @@ impl<'p> Engine<'p> {
             Op::RotateScope(v) => self.rotate_scope(state, v, args)?,
             Op::Insert(path) => self.insert(state, path, args)?,
             Op::Primitive(kind, params) => self.primitive(state, *kind, params, span, args)?,
+            Op::UvSplit {
+                coordinate,
+                metres,
+                set,
+                block,
+            } => {
+                let how = (*coordinate, *metres);
+                self.uv_split(state, how, set, block, span, args, out)?;
+                return Ok(true);
+            }
             Op::Split {
                 axis,
                 by_area,

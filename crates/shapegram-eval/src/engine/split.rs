@@ -3,6 +3,7 @@
 //! mesh cut into slabs, a solid intersected with one, a box by its scope alone).
 
 mod layout;
+mod uv;
 
 use shapegram_geom::{DAffine3, DVec3, Scope, split::split_slabs};
 use shapegram_syntax::Span;
