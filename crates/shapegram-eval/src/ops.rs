@@ -115,6 +115,8 @@ pub(crate) enum Op {
         system: CoordSystem,
         values: [CExpr; 3],
     },
+    /// CGA's `taper(height)`: a pyramid over the first face.
+    Pyramid(CExpr),
     /// `footprint()`: the geometry projected onto the scope's xz-plane.
     Footprint,
     /// `convexify([maxCut])`: concave faces cut into convex ones.
@@ -685,7 +687,7 @@ const SIGNATURES: &[(&str, &str)] = &[
     ),
     ("rotateJoint", "rotateJoint(x, y, z)"),
     ("translateJoint", "translateJoint(x, y, z)"),
-    ("taper", "taper(x | y | z, factor)"),
+    ("taper", "taper(x | y | z, factor) | taper(height)"),
     ("twist", "twist(x | y | z, degrees)"),
     ("shear", "shear(x | y | z, toward x | y | z, amount)"),
     ("sync", "sync(synchronization)"),
@@ -1700,21 +1702,15 @@ impl Ctx<'_, '_> {
         })
     }
 
-    /// `taper(axis, factor)`, `twist(axis, degrees)`, `shear(axis, toward, amount)`. CGA's own
-    /// `taper(height)` (a pyramid over the face), which takes one number, is skipped with a
-    /// warning, as it was before `taper` deformed.
+    /// `taper(axis, factor)`, `twist(axis, degrees)`, `shear(axis, toward, amount)`; CGA's own
+    /// `taper(height)`, which takes one number, is the pyramid over the first face.
     fn deform(&mut self, kind: DeformKind) -> Option<Op> {
         let name = kind.name();
         if kind == DeformKind::Taper
             && self.args.len() == 1
             && !matches!(self.args[0].kind, CKind::Selector(_))
         {
-            self.warn_once(
-                "CGA's `taper(height)` (a pyramid over the face) is not supported yet: it is \
-                 skipped; `taper(axis, factor)` tapers the shape along a scope axis"
-                    .into(),
-            );
-            return Some(Op::Ignored);
+            return Some(Op::Pyramid(self.args.pop()?));
         }
         let count = if matches!(kind, DeformKind::Shear { .. }) {
             3

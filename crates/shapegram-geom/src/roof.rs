@@ -246,6 +246,34 @@ pub fn roof_pyramid(points: &[DVec3], angle_deg: f64) -> Option<Mesh> {
     Some(mesh)
 }
 
+/// A pyramid of `height` over a simple planar polygon (CGA's `taper(height)`): its apex
+/// `height` along the normal above the polygon's centroid (the centre of its area), joined to
+/// every corner; a negative height points the apex the other way. The polygon (turned to face
+/// away from the apex) is the bottom, so the mesh is closed with outward normals. `None` for a
+/// height of zero or not finite, and for invalid polygons (see the module docs).
+pub fn pyramid(points: &[DVec3], height: f64) -> Option<Mesh> {
+    if height == 0.0 || !height.is_finite() {
+        return None;
+    }
+    let footprint = Polygon::new(points, true)?;
+    let n = footprint.world.len() as u32;
+    let mut positions = footprint.world.clone();
+    positions.push(footprint.frame.lift(area_centroid(&footprint.flat), height));
+    let apex = n;
+    let up = height > 0.0;
+    let bottom: Vec<u32> = if up {
+        (0..n).rev().collect()
+    } else {
+        (0..n).collect()
+    };
+    let mut mesh = Mesh::from_faces(positions, [bottom]);
+    for i in 0..n {
+        let (a, b) = (i, (i + 1) % n);
+        mesh.add_face(&if up { [a, b, apex] } else { [b, a, apex] });
+    }
+    Some(mesh)
+}
+
 /// A shed roof: one plane rising at `angle_deg` from edge `edge_index` (from `points[edge_index]`
 /// to the next point) across the footprint, over upright walls on the other edges.
 ///

@@ -691,6 +691,7 @@ impl<'p> Engine<'p> {
             }
             Op::Cleanup { what, tolerance } => self.cleanup(state, *what, tolerance, span, args)?,
             Op::Footprint => footprint(state, span)?,
+            Op::Pyramid(height) => self.pyramid(state, height, span, args)?,
             Op::Transform {
                 rotate,
                 absolute,

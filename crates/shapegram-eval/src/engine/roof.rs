@@ -4,7 +4,8 @@
 use shapegram_geom::{
     DVec3, Mesh, Scope,
     roof::{
-        Gable, RoofShape, roof_gable_with, roof_hip, roof_pyramid, roof_ridge, roof_run, roof_shed,
+        Gable, RoofShape, pyramid, roof_gable_with, roof_hip, roof_pyramid, roof_ridge, roof_run,
+        roof_shed,
     },
 };
 use shapegram_syntax::Span;
@@ -85,6 +86,36 @@ impl Engine<'_> {
         }
         let fitted = Scope::fit(
             grown_axes(&state.scope, up),
+            solid.positions().iter().copied(),
+        );
+        solid.transform(&fitted.world_to_local());
+        state.scope = fitted;
+        state.geometry = Geometry::mesh(solid);
+        Ok(())
+    }
+
+    /// CGA `taper(height)`: a pyramid over the first face of a flat shape, its apex `height`
+    /// along the face's normal over its centroid; the scope keeps x and has y along the normal.
+    pub(super) fn pyramid(
+        &mut self,
+        state: &mut State,
+        height: &CExpr,
+        span: Span,
+        args: &[Value],
+    ) -> Fallible<()> {
+        let h = self.ev.number(height, state, args)?;
+        let world = flat_faces(state, "taper", span)?;
+        let points: Vec<DVec3> = world.face_points(0).collect();
+        let Some(mut solid) = pyramid(&points, h) else {
+            return Err(DeriveError::at(
+                format!(
+                    "cannot build a pyramid {h} high: the height must not be 0 and the face must be a simple polygon"
+                ),
+                span,
+            ));
+        };
+        let fitted = Scope::fit(
+            grown_axes(&state.scope, world.face_normal(0)),
             solid.positions().iter().copied(),
         );
         solid.transform(&fitted.world_to_local());
