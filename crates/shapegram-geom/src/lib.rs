@@ -5,7 +5,9 @@
 //! extraction and face classification ([`component`]), roofs ([`roof`]), occlusion tests
 //! ([`occlusion`]) with a bounding-volume hierarchy ([`bvh`]), offsets of convex and
 //! non-convex polygons ([`offset`]), fitting assets into scopes ([`fit`]), taper, twist and shear
-//! ([`deform`]), triangulation and mesh metrics.
+//! ([`deform`]), convex pieces ([`convex`]), largest inner rectangles ([`inner_rectangle`]),
+//! envelopes ([`envelope`]), clean-up ([`cleanup`]) and footprints ([`footprint`]) of meshes,
+//! triangulation and mesh metrics.
 //!
 //! Conventions shared by every crate of the workspace:
 //! - y is up in world space (the glTF convention); lots and footprints lie in the xz-plane facing +y.
