@@ -115,6 +115,9 @@ pub(crate) enum Op {
         system: CoordSystem,
         values: [CExpr; 3],
     },
+    /// `scatter(surface | volume | scope, n, uniform | gaussian [, mean [, stddev]]) { … }`:
+    /// `n` point shapes at random places.
+    Scatter(Box<ScatterSpec>),
     /// CGA's `taper(height)`: a pyramid over the first face.
     Pyramid(CExpr),
     /// `footprint()`: the geometry projected onto the scope's xz-plane.
@@ -283,6 +286,25 @@ pub(crate) enum Depths {
     /// `setbackToArea(area [, minDists [, maxDists]])`: the selected edges by a common distance
     /// (added to their minimum, capped at their maximum) that leaves the remainder `area`.
     ToArea(Vec<CExpr>),
+}
+
+/// What `scatter` scatters over and how.
+#[derive(Debug)]
+pub(crate) struct ScatterSpec {
+    pub domain: ScatterDomain,
+    pub count: CExpr,
+    /// Gaussian about a point of the scope (a fraction of its size per axis), with a standard
+    /// deviation per axis (`None`: `'0.16`); uniform when `None`.
+    pub gaussian: Option<([f64; 3], Option<CExpr>)>,
+    pub body: Vec<CStmt>,
+}
+
+/// Where `scatter` puts its points.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum ScatterDomain {
+    Surface,
+    Volume,
+    Scope,
 }
 
 /// The frame `translate` and `rotate` take their values in.
@@ -465,7 +487,6 @@ const VISUAL_ONLY: &[&str] = &[
 /// CGA operations that are recognised but not implemented yet.
 const UNSUPPORTED: &[&str] = &[
     "innerCircle",
-    "scatter",
     "resetGeometry",
     "mirrorScope",
     "rectify",
@@ -527,6 +548,7 @@ const IMPLEMENTED: &[&str] = &[
     "reverseNormals",
     "trim",
     "convexify",
+    "scatter",
     "translate",
     "rotate",
     "footprint",
@@ -610,6 +632,10 @@ const SIGNATURES: &[(&str, &str)] = &[
     (
         "rotate",
         "rotate(abs | rel, scope | pivot | object | world, xAngle, yAngle, zAngle)",
+    ),
+    (
+        "scatter",
+        "scatter(surface | volume | scope, n, uniform | gaussian [, center | front | back | left | right | top | bottom [, stddev]]) { … }",
     ),
     ("footprint", "footprint()"),
     ("deleteHoles", "deleteHoles()"),
@@ -990,6 +1016,7 @@ impl Ctx<'_, '_> {
                     values: self.three()?,
                 }
             }
+            "scatter" => self.scatter()?,
             "footprint" => {
                 self.arity(0, 0)?;
                 Op::Footprint
@@ -1075,6 +1102,7 @@ impl Ctx<'_, '_> {
             op,
             Op::Split { .. }
                 | Op::UvSplit { .. }
+                | Op::Scatter(_)
                 | Op::Comp { .. }
                 | Op::Setback { .. }
                 | Op::InnerRectangle { split: true, .. }
@@ -1316,6 +1344,60 @@ impl Ctx<'_, '_> {
             joints,
             block,
         })
+    }
+
+    /// `scatter(domain, n, uniform | gaussian [, mean [, stddev]]) { … }`.
+    fn scatter(&mut self) -> Option<Op> {
+        self.arity(3, 5)?;
+        let domain = match self.word(0) {
+            Some("surface") => ScatterDomain::Surface,
+            Some("volume") => ScatterDomain::Volume,
+            Some("scope") => ScatterDomain::Scope,
+            _ => return self.bad_selector(0, "`surface`, `volume` or `scope`"),
+        };
+        let count = self.args.len();
+        let gaussian = match self.word(2) {
+            Some("uniform") if count == 3 => false,
+            Some("gaussian") => true,
+            Some("uniform") => return self.bad_selector(3, "nothing after `uniform`"),
+            _ => return self.bad_selector(2, "`uniform` or `gaussian`"),
+        };
+        let mean = if self.args.len() > 3 {
+            let at = match self.word(3) {
+                Some("center") => [0.5, 0.5, 0.5],
+                Some("front") => [0.5, 0.5, 1.0],
+                Some("back") => [0.5, 0.5, 0.0],
+                Some("left") => [0.0, 0.5, 0.5],
+                Some("right") => [1.0, 0.5, 0.5],
+                Some("top") => [0.5, 1.0, 0.5],
+                Some("bottom") => [0.5, 0.0, 0.5],
+                _ => {
+                    return self.bad_selector(
+                        3,
+                        "`center`, `front`, `back`, `left`, `right`, `top` or `bottom`",
+                    );
+                }
+            };
+            Some(at)
+        } else {
+            None
+        };
+        let stddev = (self.args.len() == 5).then(|| self.args.pop()).flatten();
+        let Some(block) = &self.call.block else {
+            self.error("`scatter` needs a `{ … }` block with what to do at each point".into());
+            return None;
+        };
+        let [BlockEntry::Part { body, .. }] = block.entries.as_slice() else {
+            self.error("`scatter` takes one body in its block: `{ operations }`".into());
+            return None;
+        };
+        let body = self.c.stmts(body, self.params);
+        Some(Op::Scatter(Box::new(ScatterSpec {
+            domain,
+            count: self.args.swap_remove(1),
+            gaussian: gaussian.then(|| (mean.unwrap_or([0.5; 3]), stddev)),
+            body,
+        })))
     }
 
     /// `split(u | v, uvSpace | unitSpace, uvSet) { … }`.

@@ -492,3 +492,77 @@ fn uv_splits_cut_across_a_texture_coordinate() {
         "{errors}"
     );
 }
+
+#[test]
+fn scatter_makes_point_shapes_on_and_in_the_shape() {
+    use shapegram_geom::DVec3;
+    let points = |rule: &str| -> Vec<(DVec3, DVec3)> {
+        let d = try_run(
+            &format!("{rule}\nT --> s(1, 1, 1) primitiveCube()"),
+            common::lot(20.0, 30.0),
+            &DeriveOptions::default(),
+        )
+        .unwrap();
+        d.leaves
+            .iter()
+            .map(|l| (l.scope.origin, l.scope.axes.y_axis))
+            .collect()
+    };
+    // On the lot: 50 points on it, their y up.
+    let on = points("Lot --> scatter(surface, 50, uniform) { T }");
+    assert_eq!(on.len(), 50);
+    for (p, up) in &on {
+        assert!(p.y.abs() < 1e-9 && (0.0..=20.0).contains(&p.x) && (0.0..=30.0).contains(&p.z));
+        assert!(up.abs_diff_eq(DVec3::Y, 1e-12));
+    }
+    // In a mass, strictly inside; on its surface, on one of its faces.
+    let inside = points("Lot --> extrude(10) scatter(volume, 40, uniform) { T }");
+    assert_eq!(inside.len(), 40);
+    assert!(
+        inside
+            .iter()
+            .all(|(p, _)| p.y > 0.0 && p.y < 10.0 && p.x > 0.0 && p.x < 20.0)
+    );
+    let surface = points("Lot --> extrude(10) scatter(surface, 40, uniform) { T }");
+    let on_a_face = |p: DVec3| {
+        [p.x, p.x - 20.0, p.y, p.y - 10.0, p.z, p.z - 30.0]
+            .iter()
+            .any(|d| d.abs() < 1e-9)
+    };
+    assert!(surface.iter().all(|(p, _)| on_a_face(*p)));
+    // Gaussian about the centre with a small spread stays near it.
+    let near = points("Lot --> scatter(scope, 100, gaussian, center, '0.05) { T }");
+    assert_eq!(near.len(), 100);
+    let mean = near.iter().map(|(p, _)| *p).sum::<DVec3>() / 100.0;
+    assert!(
+        (mean.x - 10.0).abs() < 1.0 && (mean.z - 15.0).abs() < 1.5,
+        "{mean}"
+    );
+    assert!(
+        near.iter().all(|(p, _)| (p.x - 10.0).abs() < 6.0),
+        "{near:?}"
+    );
+    // The same grammar scatters the same points.
+    assert_eq!(on, points("Lot --> scatter(surface, 50, uniform) { T }"));
+    let error = try_run(
+        "Lot --> scatter(surface, -1, uniform) { T. }",
+        common::lot(20.0, 30.0),
+        &DeriveOptions::default(),
+    )
+    .unwrap_err()
+    .to_string();
+    assert!(
+        error.contains("scatter's count must be 0 or more, not -1"),
+        "{error}"
+    );
+    let errors = compile_errors("Lot --> scatter(line, 3, uniform) { T. }").join("\n");
+    assert!(
+        errors.contains("expected `surface`, `volume` or `scope`"),
+        "{errors}"
+    );
+    let errors = compile_errors("Lot --> scatter(surface, 3, evenly) { T. }").join("\n");
+    assert!(
+        errors.contains("expected `uniform` or `gaussian`"),
+        "{errors}"
+    );
+}

@@ -6,7 +6,7 @@
 //! ([`occlusion`]) with a bounding-volume hierarchy ([`bvh`]), offsets of convex and
 //! non-convex polygons ([`offset`]), fitting assets into scopes ([`fit`]), taper, twist and shear
 //! ([`deform`]), convex pieces ([`convex`]), largest inner rectangles ([`inner_rectangle`]),
-//! envelopes ([`envelope`]), clean-up ([`cleanup`]) and footprints ([`footprint`]) of meshes,
+//! envelopes ([`envelope`]), clean-up ([`cleanup`]), footprints ([`footprint`]) and random points ([`scatter`]) of meshes,
 //! triangulation and mesh metrics.
 //!
 //! Conventions shared by every crate of the workspace:
@@ -35,6 +35,7 @@ pub mod plane;
 pub mod primitives;
 pub mod rectangle;
 pub mod roof;
+pub mod scatter;
 pub mod scope;
 pub mod shape_metrics;
 mod skeleton;

@@ -619,6 +619,10 @@ impl<'p> Engine<'p> {
             Op::RotateScope(v) => self.rotate_scope(state, v, args)?,
             Op::Insert(path) => self.insert(state, path, args)?,
             Op::Primitive(kind, params) => self.primitive(state, *kind, params, span, args)?,
+            Op::Scatter(spec) => {
+                self.scatter(state, spec, span, args, out)?;
+                return Ok(true);
+            }
             Op::UvSplit {
                 coordinate,
                 metres,

@@ -39,6 +39,7 @@ mod kinematics;
 mod machine;
 mod reuse;
 mod roof;
+mod scatter;
 mod scope;
 mod split;
 mod texturing;
