@@ -192,7 +192,7 @@ async function kinds(context) {
     await page.keyboard.type("roofG");
     await offered.first().waitFor();
     // First, with the signature the engine's table gives (fuzzy matches such as roofRidge follow).
-    assert.equal(await offered.first().textContent(), "roofGableroofGable(angle [, overhang])");
+    assert.equal(await offered.first().textContent(), "roofGableroofGable([byAngle | byHeight,] value [, overhangX [, overhangY [, even [, edgeIndex]]]])");
     await page.screenshot({ path: join(output, "studio-kinds-completion.png") });
     await page.keyboard.press("Enter");
     await page.keyboard.type("(30)");

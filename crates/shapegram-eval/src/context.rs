@@ -193,6 +193,8 @@ pub(crate) struct Parked {
 pub(crate) struct Waiting {
     pub lot: u32,
     pub origin: DVec3,
+    /// The initial shape's axes (`object.*` selectors).
+    pub object_axes: shapegram_geom::DMat3,
     pub consts: ConstMemo,
     pub shapes: Vec<Parked>,
     /// The lot's skeleton as phase 1 left it, which phase 2 goes on building.

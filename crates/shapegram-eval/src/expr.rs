@@ -2,7 +2,7 @@
 
 use std::sync::Arc;
 
-use shapegram_geom::DVec3;
+use shapegram_geom::{DMat3, DVec3, Scope};
 use shapegram_syntax::{
     Span,
     ast::{AttributeKind, BinaryOp, UnaryOp},
@@ -40,6 +40,8 @@ pub(crate) struct Evaluator<'p> {
     const_rng: Rng,
     call_depth: usize,
     pub initial_origin: DVec3,
+    /// The initial shape's axes, the frame of `object.*` selectors.
+    pub object_axes: DMat3,
     /// `report(key, value)` calls, in derivation order.
     pub reports: Vec<(String, Value)>,
     /// `print(value)` output, in derivation order.
@@ -85,6 +87,7 @@ impl<'p> Evaluator<'p> {
             const_rng: Rng::new(seed ^ 0xC0D5_7A11_5EED_0001),
             call_depth: 0,
             initial_origin,
+            object_axes: DMat3::IDENTITY,
             reports: Vec::new(),
             prints: Vec::new(),
             context: None,
@@ -92,6 +95,14 @@ impl<'p> Evaluator<'p> {
             const_log: None,
             motions: Vec::new(),
             assets: None,
+        }
+    }
+
+    /// The frames selectors classify directions in, for a shape of this scope.
+    pub fn frames<'s>(&self, scope: &'s Scope) -> crate::selectors::Frames<'s> {
+        crate::selectors::Frames {
+            scope,
+            object: self.object_axes,
         }
     }
 
@@ -289,7 +300,7 @@ impl<'p> Evaluator<'p> {
                 let outward = (b - a).cross(normal);
                 let value = entries
                     .iter()
-                    .position(|(s, _)| s.takes_edge(outward, i, &shape.scope))
+                    .position(|(s, _)| s.takes_edge(outward, i, &self.frames(&shape.scope)))
                     .map_or(Value::Number(0.0), |k| values[k].clone());
                 out.push(value);
             }

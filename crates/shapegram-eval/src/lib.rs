@@ -23,6 +23,7 @@ mod ops;
 mod program;
 pub mod rng;
 mod rule_keys;
+mod selectors;
 mod shape;
 mod snapshot;
 mod solids;

@@ -7,6 +7,7 @@ use shapegram_syntax::{
 };
 
 use crate::program::{CExpr, CKind, CStmt, Compiler};
+pub(crate) use crate::selectors::{CompSelector, comp_selector, edge_selector};
 use crate::shape::CsgOp;
 use crate::texturing;
 use crate::value::Value;
@@ -46,11 +47,22 @@ pub(crate) enum Op {
     Primitive(Primitive, Vec<CExpr>),
     Split {
         axis: usize,
+        /// `splitArea`: the sizes are areas of the parts, not lengths.
+        by_area: bool,
         adjust: bool,
         /// `split(x, snap [, "tag"])`: boundaries move to snap planes (with the tag, if given).
         snap: Option<Option<CExpr>>,
         /// How the parts join the skeleton.
         joints: SplitJoints,
+        block: SplitBlock,
+    },
+    /// `split(u | v, uvSpace | unitSpace, uvSet) { … }`: a split along a texture coordinate.
+    UvSplit {
+        /// 0 for u, 1 for v.
+        coordinate: usize,
+        /// Sizes in metres (`unitSpace`) rather than in uv units.
+        metres: bool,
+        set: CExpr,
         block: SplitBlock,
     },
     /// `snap(x [, "tag"])`: snap planes across the given scope axes, at both ends of the scope.
@@ -84,11 +96,56 @@ pub(crate) enum Op {
     ReverseNormals,
     /// `trim()`: the shape's geometry cut at its trim planes.
     Trim,
+    /// `envelope(normal | world.up, maxHeight, …)`: the volume under a height limit and under
+    /// planes rising inward from the edges, by base heights and angles per edge class (or per
+    /// face edge, from two arrays).
+    Envelope {
+        world_up: bool,
+        params: Vec<CExpr>,
+    },
+    /// `cleanupGeometry(vertices | edges | faces | all, tolerance)`: close vertices merged,
+    /// straight corners and small faces dropped.
+    Cleanup {
+        what: shapegram_geom::cleanup::Cleanup,
+        tolerance: CExpr,
+    },
+    /// `translate(abs | rel, frame, x, y, z)` and `rotate(abs | rel, frame, x, y, z)`.
+    Transform {
+        rotate: bool,
+        absolute: bool,
+        system: CoordSystem,
+        values: [CExpr; 3],
+    },
+    /// `scatter(surface | volume | scope, n, uniform | gaussian [, mean [, stddev]]) { … }`:
+    /// `n` point shapes at random places.
+    Scatter(Box<ScatterSpec>),
+    /// CGA's `taper(height)`: a pyramid over the first face.
+    Pyramid(CExpr),
+    /// `footprint()`: the geometry projected onto the scope's xz-plane.
+    Footprint,
+    /// `convexify([maxCut])`: concave faces cut into convex ones.
+    Convexify(Option<CExpr>),
+    /// `innerRectangle(scope | edge) { shape : … | remainder : … }`: the largest rectangle in
+    /// each face, and the rest; without a block (`innerRect`), the rectangles replace the faces.
+    InnerRectangle {
+        /// Sides along an edge of the face rather than the scope's axes.
+        edge: bool,
+        shape: Option<(bool, Vec<CStmt>)>,
+        remainder: Option<(bool, Vec<CStmt>)>,
+        /// Whether the operation has a block (`innerRectangle`) or not (`innerRect`).
+        split: bool,
+    },
     Offset {
         distance: CExpr,
         keep: OffsetKeep,
     },
-    Roof(RoofKind, Vec<CExpr>),
+    /// `roofGable(…)` and the others: the angle (or with `byHeight` the height) first, then the
+    /// roof's options in order.
+    Roof {
+        kind: RoofKind,
+        by_height: bool,
+        params: Vec<CExpr>,
+    },
     /// `implicit(sphere)`: the shape becomes an implicit solid filling its scope.
     Implicit(ImplicitKind),
     /// `implicit("grotto.cave")`: the solid of an implicit grammar, stretched to the scope.
@@ -263,6 +320,41 @@ pub(crate) enum Depths {
     Selected(CExpr),
     /// Edges by the class of their outward direction (shapeL/U/O); other edges stay.
     ByClass(Vec<(FaceClass, CExpr)>),
+    /// `setbackPerEdge(d)`: every face edge by `d` evaluated on that edge.
+    PerEdge(CExpr),
+    /// `setbackToArea(area [, minDists [, maxDists]])`: the selected edges by a common distance
+    /// (added to their minimum, capped at their maximum) that leaves the remainder `area`.
+    ToArea(Vec<CExpr>),
+}
+
+/// What `scatter` scatters over and how.
+#[derive(Debug)]
+pub(crate) struct ScatterSpec {
+    pub domain: ScatterDomain,
+    pub count: CExpr,
+    /// Gaussian about a point of the scope (a fraction of its size per axis), with a standard
+    /// deviation per axis (`None`: `'0.16`); uniform when `None`.
+    pub gaussian: Option<([f64; 3], Option<CExpr>)>,
+    pub body: Vec<CStmt>,
+}
+
+/// Where `scatter` puts its points.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum ScatterDomain {
+    Surface,
+    Volume,
+    Scope,
+}
+
+/// The frame `translate` and `rotate` take their values in.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum CoordSystem {
+    /// The scope's (also for `pivot`, which Shapegram does not keep apart).
+    Scope,
+    /// The initial shape's.
+    Object,
+    /// The world's.
+    World,
 }
 
 /// Which face `alignScopeToGeometry` takes.
@@ -359,6 +451,8 @@ impl CsgKind {
 pub(crate) enum CompKind {
     Faces,
     Edges,
+    /// The edges of each face, shared ones once per face.
+    FaceEdges,
     Vertices,
 }
 
@@ -377,6 +471,8 @@ pub(crate) enum RoofKind {
     Hip,
     Pyramid,
     Shed,
+    /// One ridge along the scope's x axis.
+    Ridge,
 }
 
 /// The target of `set(…)`.
@@ -418,80 +514,6 @@ pub(crate) struct CompEntry {
     pub body: Vec<CStmt>,
 }
 
-/// Which components an entry of `comp` takes.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub(crate) enum CompSelector {
-    Class(FaceClass),
-    Side,
-    All,
-    Vertical,
-    Horizontal,
-    Aslant,
-    Index(usize),
-    Inside,
-    Border,
-    /// A selector we do not know how to evaluate: selects nothing (with a warning).
-    Never,
-}
-
-impl CompSelector {
-    /// Whether the selector takes edge `index` of a face (counted within the face), whose
-    /// outward direction in the face's plane is `outward`, seen in `scope`.
-    pub fn takes_edge(
-        &self,
-        outward: shapegram_geom::DVec3,
-        index: usize,
-        scope: &shapegram_geom::Scope,
-    ) -> bool {
-        match self {
-            Self::All => true,
-            Self::Index(i) => *i == index,
-            Self::Class(class) => FaceClass::of(outward, scope) == *class,
-            Self::Side => FaceClass::of(outward, scope).is_side(),
-            _ => false,
-        }
-    }
-
-    /// The names `comp.sel` gives, by [`CompSelector::code`]; an index selector has no name.
-    pub const NAMES: [&'static str; 14] = [
-        "",
-        "front",
-        "back",
-        "left",
-        "right",
-        "top",
-        "bottom",
-        "side",
-        "all",
-        "vertical",
-        "horizontal",
-        "aslant",
-        "inside",
-        "border",
-    ];
-
-    /// The selector's position in [`CompSelector::NAMES`].
-    pub fn code(self) -> u8 {
-        use FaceClass::*;
-        match self {
-            Self::Class(Front) => 1,
-            Self::Class(Back) => 2,
-            Self::Class(Left) => 3,
-            Self::Class(Right) => 4,
-            Self::Class(Top) => 5,
-            Self::Class(Bottom) => 6,
-            Self::Side => 7,
-            Self::All => 8,
-            Self::Vertical => 9,
-            Self::Horizontal => 10,
-            Self::Aslant => 11,
-            Self::Inside => 12,
-            Self::Border => 13,
-            Self::Index(_) | Self::Never => 0,
-        }
-    }
-}
-
 /// Operations that would only change texturing or shading: accepted without effect.
 const VISUAL_ONLY: &[&str] = &[
     "softenNormals",
@@ -504,17 +526,7 @@ const VISUAL_ONLY: &[&str] = &[
 
 /// CGA operations that are recognised but not implemented yet.
 const UNSUPPORTED: &[&str] = &[
-    "setbackPerEdge",
-    "setbackToArea",
-    "innerRect",
-    "innerRectangle",
     "innerCircle",
-    "splitArea",
-    "envelope",
-    "convexify",
-    "scatter",
-    "footprint",
-    "deleteHoles",
     "resetGeometry",
     "mirrorScope",
     "rectify",
@@ -524,9 +536,6 @@ const UNSUPPORTED: &[&str] = &[
     "union",
     "subtract",
     "intersect",
-    "rotate",
-    "translate",
-    "roofRidge",
     "generalize",
     "reduceGeometry",
     "splitAndSetbackPerimeter",
@@ -571,6 +580,7 @@ const IMPLEMENTED: &[&str] = &[
     "primitiveCone",
     "primitiveSphere",
     "split",
+    "splitArea",
     "comp",
     "color",
     "set",
@@ -578,11 +588,22 @@ const IMPLEMENTED: &[&str] = &[
     "print",
     "reverseNormals",
     "trim",
+    "convexify",
+    "scatter",
+    "translate",
+    "rotate",
+    "footprint",
+    "deleteHoles",
+    "cleanupGeometry",
+    "envelope",
+    "innerRectangle",
+    "innerRect",
     "offset",
     "roofGable",
     "roofHip",
     "roofPyramid",
     "roofShed",
+    "roofRidge",
     "label",
     "tag",
     "snap",
@@ -592,6 +613,8 @@ const IMPLEMENTED: &[&str] = &[
     "alignScopeToGeometry",
     "alignScopeToGeometryBBox",
     "setback",
+    "setbackPerEdge",
+    "setbackToArea",
     "shapeL",
     "shapeU",
     "shapeO",
@@ -635,20 +658,62 @@ const SIGNATURES: &[(&str, &str)] = &[
     ("primitiveSphere", "primitiveSphere(nRows, nColumns)"),
     (
         "split",
-        "split(x | y | z [, adjust | noAdjust] [, sequential | parallel] [, snap [, \"tag\"]]) { … }",
+        "split(x | y | z [, adjust | noAdjust] [, sequential | parallel] [, snap [, \"tag\"]]) { … } | split(u | v, uvSpace | unitSpace, uvSet) { … }",
     ),
-    ("comp", "comp(f | e | v) { … }"),
+    (
+        "splitArea",
+        "splitArea(x | y | z [, adjust | noAdjust]) { area : … | … }",
+    ),
+    ("comp", "comp(f | e | fe | v) { … }"),
     ("color", "color(\"#rrggbb\") | color(r, g, b)"),
     ("set", "set(attribute, value)"),
     ("report", "report(key, value)"),
     ("print", "print(value)"),
     ("reverseNormals", "reverseNormals()"),
     ("trim", "trim()"),
+    ("convexify", "convexify([maxCutLength])"),
+    (
+        "translate",
+        "translate(abs | rel, scope | pivot | object | world, x, y, z)",
+    ),
+    (
+        "rotate",
+        "rotate(abs | rel, scope | pivot | object | world, xAngle, yAngle, zAngle)",
+    ),
+    (
+        "scatter",
+        "scatter(surface | volume | scope, n, uniform | gaussian [, center | front | back | left | right | top | bottom [, stddev]]) { … }",
+    ),
+    ("footprint", "footprint()"),
+    ("deleteHoles", "deleteHoles()"),
+    (
+        "cleanupGeometry",
+        "cleanupGeometry(vertices | edges | faces | all, tolerance)",
+    ),
+    (
+        "envelope",
+        "envelope(normal | world.up, maxHeight, frontBase, frontAngle [, backBase, backAngle [, sideBase, sideAngle | rightBase, rightAngle, leftBase, leftAngle]]) | envelope(normal | world.up, maxHeight, baseHeights[], angles[])",
+    ),
+    (
+        "innerRectangle",
+        "innerRectangle(scope | edge) { shape : … | remainder : … }",
+    ),
+    ("innerRect", "innerRect()"),
     ("offset", "offset(distance [, inside | border])"),
-    ("roofGable", "roofGable(angle [, overhang])"),
-    ("roofHip", "roofHip(angle [, overhang])"),
-    ("roofPyramid", "roofPyramid(angle)"),
-    ("roofShed", "roofShed(angle [, edgeIndex])"),
+    (
+        "roofGable",
+        "roofGable([byAngle | byHeight,] value [, overhangX [, overhangY [, even [, edgeIndex]]]])",
+    ),
+    (
+        "roofHip",
+        "roofHip([byAngle | byHeight,] value [, overhang [, even]])",
+    ),
+    ("roofPyramid", "roofPyramid([byAngle | byHeight,] value)"),
+    (
+        "roofShed",
+        "roofShed([byAngle | byHeight,] value [, edgeIndex])",
+    ),
+    ("roofRidge", "roofRidge([byAngle | byHeight,] value)"),
     ("label", "label(\"name\")"),
     ("tag", "label(\"name\")"),
     ("snap", "snap(x | y | z | xy | … [, \"tag\"])"),
@@ -673,6 +738,14 @@ const SIGNATURES: &[(&str, &str)] = &[
         "setback",
         "setback(distance) { selector : … | remainder : … }",
     ),
+    (
+        "setbackPerEdge",
+        "setbackPerEdge(distance [, uvSet]) { selector : … | remainder : … }",
+    ),
+    (
+        "setbackToArea",
+        "setbackToArea(area [, minDistances[] [, maxDistances[]]] [, uvSet]) { selector : … | remainder : … }",
+    ),
     ("shapeL", "shapeL(frontDepth, leftWidth)"),
     ("shapeU", "shapeU(frontDepth, rightWidth, leftWidth)"),
     (
@@ -687,7 +760,7 @@ const SIGNATURES: &[(&str, &str)] = &[
     ),
     ("rotateJoint", "rotateJoint(x, y, z)"),
     ("translateJoint", "translateJoint(x, y, z)"),
-    ("taper", "taper(x | y | z, factor)"),
+    ("taper", "taper(x | y | z, factor) | taper(height)"),
     ("twist", "twist(x | y | z, degrees)"),
     ("shear", "shear(x | y | z, toward x | y | z, amount)"),
     ("sync", "sync(synchronization)"),
@@ -863,7 +936,8 @@ impl Ctx<'_, '_> {
             "primitiveCylinder" => self.primitive(Primitive::Cylinder, 1)?,
             "primitiveCone" => self.primitive(Primitive::Cone, 1)?,
             "primitiveSphere" => self.primitive(Primitive::Sphere, 2)?,
-            "split" => self.split()?,
+            "split" => self.split(false)?,
+            "splitArea" => self.split(true)?,
             "joint" => {
                 self.c.kinematic = true;
                 Op::Joint(self.three()?)
@@ -885,6 +959,27 @@ impl Ctx<'_, '_> {
             }
             "comp" => self.comp()?,
             "setback" => self.setback()?,
+            "setbackPerEdge" => {
+                self.arity(1, 2)?;
+                self.args.truncate(1);
+                let blocks = self.setback_block(name, false)?;
+                Op::Setback {
+                    depths: Depths::PerEdge(self.args.pop()?),
+                    entries: blocks.0,
+                    shape: None,
+                    remainder: blocks.2,
+                }
+            }
+            "setbackToArea" => {
+                self.arity(1, 4)?;
+                let blocks = self.setback_block(name, false)?;
+                Op::Setback {
+                    depths: Depths::ToArea(std::mem::take(&mut self.args)),
+                    entries: blocks.0,
+                    shape: None,
+                    remainder: blocks.2,
+                }
+            }
             "shapeL" => self.shape_luo(&[FaceClass::Front, FaceClass::Left])?,
             "shapeU" => self.shape_luo(&[FaceClass::Front, FaceClass::Right, FaceClass::Left])?,
             "shapeO" => self.shape_luo(&[
@@ -945,11 +1040,105 @@ impl Ctx<'_, '_> {
                 self.arity(0, 0)?;
                 Op::Trim
             }
+            "convexify" => {
+                self.arity(0, 1)?;
+                Op::Convexify(self.args.pop())
+            }
+            "translate" | "rotate" => {
+                self.arity(5, 5)?;
+                let absolute = match self.word(0) {
+                    Some("abs") => true,
+                    Some("rel") => false,
+                    _ => return self.bad_selector(0, "`abs` or `rel`"),
+                };
+                let system = match self.word(1) {
+                    Some("scope" | "pivot") => CoordSystem::Scope,
+                    Some("object") => CoordSystem::Object,
+                    Some("world") => CoordSystem::World,
+                    _ => return self.bad_selector(1, "`scope`, `pivot`, `object` or `world`"),
+                };
+                self.args.drain(..2);
+                Op::Transform {
+                    rotate: name == "rotate",
+                    absolute,
+                    system,
+                    values: self.three()?,
+                }
+            }
+            "scatter" => self.scatter()?,
+            "footprint" => {
+                self.arity(0, 0)?;
+                Op::Footprint
+            }
+            // Shapegram's faces hold no holes: nothing to delete.
+            "deleteHoles" => {
+                self.arity(0, 0)?;
+                Op::Ignored
+            }
+            "cleanupGeometry" => {
+                self.arity(2, 2)?;
+                let (vertices, edges, faces) = match self.word(0) {
+                    Some("vertices") => (true, false, false),
+                    Some("edges") => (false, true, false),
+                    Some("faces") => (false, false, true),
+                    Some("all") => (true, true, true),
+                    _ => return self.bad_selector(0, "`vertices`, `edges`, `faces` or `all`"),
+                };
+                if edges {
+                    self.warn_once(
+                        "`cleanupGeometry` does not merge coplanar faces yet: their shared edges stay"
+                            .into(),
+                    );
+                }
+                Op::Cleanup {
+                    what: shapegram_geom::cleanup::Cleanup { vertices, faces },
+                    tolerance: self.args.pop()?,
+                }
+            }
+            "envelope" => {
+                if !matches!(self.args.len(), 4 | 6 | 8 | 10) {
+                    return self.wrong_arity();
+                }
+                let world_up = match self.word(0) {
+                    Some("world.up") => true,
+                    Some("normal") => false,
+                    _ => return self.bad_selector(0, "`normal` or `world.up`"),
+                };
+                Op::Envelope {
+                    world_up,
+                    params: self.args.split_off(1),
+                }
+            }
+            "innerRectangle" => {
+                self.arity(1, 1)?;
+                let edge = match self.word(0) {
+                    Some("scope") => false,
+                    Some("edge") => true,
+                    _ => return self.bad_selector(0, "`scope` or `edge`"),
+                };
+                let (_, shape, remainder) = self.setback_block(name, true)?;
+                Op::InnerRectangle {
+                    edge,
+                    shape,
+                    remainder,
+                    split: true,
+                }
+            }
+            "innerRect" => {
+                self.arity(0, 0)?;
+                Op::InnerRectangle {
+                    edge: false,
+                    shape: None,
+                    remainder: None,
+                    split: false,
+                }
+            }
             "offset" => self.offset()?,
             "roofGable" => self.roof(RoofKind::Gable)?,
             "roofHip" => self.roof(RoofKind::Hip)?,
             "roofPyramid" => self.roof(RoofKind::Pyramid)?,
             "roofShed" => self.roof(RoofKind::Shed)?,
+            "roofRidge" => self.roof(RoofKind::Ridge)?,
             "implicit" => self.implicit()?,
             "csg" => self.csg()?,
             "taper" => self.deform(DeformKind::Taper)?,
@@ -958,7 +1147,15 @@ impl Ctx<'_, '_> {
             "sync" => self.sync()?,
             _ => unreachable!("`{name}` is listed in IMPLEMENTED but not built"),
         };
-        let needs_block = matches!(op, Op::Split { .. } | Op::Comp { .. } | Op::Setback { .. });
+        let needs_block = matches!(
+            op,
+            Op::Split { .. }
+                | Op::UvSplit { .. }
+                | Op::Scatter(_)
+                | Op::Comp { .. }
+                | Op::Setback { .. }
+                | Op::InnerRectangle { split: true, .. }
+        );
         if !needs_block && self.call.block.is_some() {
             self.error(format!("`{name}` takes no `{{…}}` block"));
             return None;
@@ -1191,18 +1388,14 @@ impl Ctx<'_, '_> {
         Some(Op::Primitive(kind, std::mem::take(&mut self.args)))
     }
 
-    fn split(&mut self) -> Option<Op> {
+    fn split(&mut self, by_area: bool) -> Option<Op> {
         self.arity(1, 5)?;
         let axis = match self.word(0) {
             Some("x") => 0,
             Some("y") => 1,
             Some("z") => 2,
-            Some("u" | "v") => {
-                self.warn_once(
-                    "texture-space splits (`split(u|v)`) are not supported yet: skipped".into(),
-                );
-                return Some(Op::Ignored);
-            }
+            Some("u") if !by_area => return self.uv_split(0),
+            Some("v") if !by_area => return self.uv_split(1),
             _ => return self.bad_selector(0, "the split axis `x`, `y` or `z`"),
         };
         let mut adjust = true;
@@ -1236,16 +1429,99 @@ impl Ctx<'_, '_> {
             }
             i += 1;
         }
+        if by_area && (snap.is_some() || joints != SplitJoints::Auto) {
+            self.error("`splitArea` takes `adjust` or `noAdjust` only".into());
+            return None;
+        }
         let Some(block) = &self.call.block else {
-            self.error("`split` needs a `{ size : … }` block".into());
+            let name = &self.call.name.name;
+            self.error(format!("`{name}` needs a `{{ size : … }}` block"));
             return None;
         };
         let block = split_block(self.c, block, self.params)?;
         Some(Op::Split {
             axis,
+            by_area,
             adjust,
             snap,
             joints,
+            block,
+        })
+    }
+
+    /// `scatter(domain, n, uniform | gaussian [, mean [, stddev]]) { … }`.
+    fn scatter(&mut self) -> Option<Op> {
+        self.arity(3, 5)?;
+        let domain = match self.word(0) {
+            Some("surface") => ScatterDomain::Surface,
+            Some("volume") => ScatterDomain::Volume,
+            Some("scope") => ScatterDomain::Scope,
+            _ => return self.bad_selector(0, "`surface`, `volume` or `scope`"),
+        };
+        let count = self.args.len();
+        let gaussian = match self.word(2) {
+            Some("uniform") if count == 3 => false,
+            Some("gaussian") => true,
+            Some("uniform") => return self.bad_selector(3, "nothing after `uniform`"),
+            _ => return self.bad_selector(2, "`uniform` or `gaussian`"),
+        };
+        let mean = if self.args.len() > 3 {
+            let at = match self.word(3) {
+                Some("center") => [0.5, 0.5, 0.5],
+                Some("front") => [0.5, 0.5, 1.0],
+                Some("back") => [0.5, 0.5, 0.0],
+                Some("left") => [0.0, 0.5, 0.5],
+                Some("right") => [1.0, 0.5, 0.5],
+                Some("top") => [0.5, 1.0, 0.5],
+                Some("bottom") => [0.5, 0.0, 0.5],
+                _ => {
+                    return self.bad_selector(
+                        3,
+                        "`center`, `front`, `back`, `left`, `right`, `top` or `bottom`",
+                    );
+                }
+            };
+            Some(at)
+        } else {
+            None
+        };
+        let stddev = (self.args.len() == 5).then(|| self.args.pop()).flatten();
+        let Some(block) = &self.call.block else {
+            self.error("`scatter` needs a `{ … }` block with what to do at each point".into());
+            return None;
+        };
+        let [BlockEntry::Part { body, .. }] = block.entries.as_slice() else {
+            self.error("`scatter` takes one body in its block: `{ operations }`".into());
+            return None;
+        };
+        let body = self.c.stmts(body, self.params);
+        Some(Op::Scatter(Box::new(ScatterSpec {
+            domain,
+            count: self.args.swap_remove(1),
+            gaussian: gaussian.then(|| (mean.unwrap_or([0.5; 3]), stddev)),
+            body,
+        })))
+    }
+
+    /// `split(u | v, uvSpace | unitSpace, uvSet) { … }`.
+    fn uv_split(&mut self, coordinate: usize) -> Option<Op> {
+        if self.args.len() != 3 {
+            return self.wrong_arity();
+        }
+        let metres = match self.word(1) {
+            Some("uvSpace") => false,
+            Some("unitSpace") => true,
+            _ => return self.bad_selector(1, "`uvSpace` or `unitSpace`"),
+        };
+        let Some(block) = &self.call.block else {
+            self.error("`split` needs a `{ size : … }` block".into());
+            return None;
+        };
+        let block = split_block(self.c, block, self.params)?;
+        Some(Op::UvSplit {
+            coordinate,
+            metres,
+            set: self.args.pop()?,
             block,
         })
     }
@@ -1299,13 +1575,14 @@ impl Ctx<'_, '_> {
         let kind = match self.word(0) {
             Some("f") => CompKind::Faces,
             Some("e") => CompKind::Edges,
+            Some("fe") => CompKind::FaceEdges,
             Some("v") => CompKind::Vertices,
             Some(other) => {
                 let other = other.to_owned();
                 self.warn_once(format!("`comp({other})` is not supported yet: skipped"));
                 return Some(Op::Ignored);
             }
-            None => return self.bad_selector(0, "`f`, `e` or `v`"),
+            None => return self.bad_selector(0, "`f`, `e`, `fe` or `v`"),
         };
         let Some(block) = &self.call.block else {
             self.error("`comp` needs a `{ selector : … }` block".into());
@@ -1624,21 +1901,15 @@ impl Ctx<'_, '_> {
         })
     }
 
-    /// `taper(axis, factor)`, `twist(axis, degrees)`, `shear(axis, toward, amount)`. CGA's own
-    /// `taper(height)` (a pyramid over the face), which takes one number, is skipped with a
-    /// warning, as it was before `taper` deformed.
+    /// `taper(axis, factor)`, `twist(axis, degrees)`, `shear(axis, toward, amount)`; CGA's own
+    /// `taper(height)`, which takes one number, is the pyramid over the first face.
     fn deform(&mut self, kind: DeformKind) -> Option<Op> {
         let name = kind.name();
         if kind == DeformKind::Taper
             && self.args.len() == 1
             && !matches!(self.args[0].kind, CKind::Selector(_))
         {
-            self.warn_once(
-                "CGA's `taper(height)` (a pyramid over the face) is not supported yet: it is \
-                 skipped; `taper(axis, factor)` tapers the shape along a scope axis"
-                    .into(),
-            );
-            return Some(Op::Ignored);
+            return Some(Op::Pyramid(self.args.pop()?));
         }
         let count = if matches!(kind, DeformKind::Shear { .. }) {
             3
@@ -1695,80 +1966,31 @@ impl Ctx<'_, '_> {
     }
 
     fn roof(&mut self, kind: RoofKind) -> Option<Op> {
-        let max = if kind == RoofKind::Pyramid { 1 } else { 2 };
-        // CGA also accepts `byAngle`/`byHeight` as a first word; only angles are supported.
-        if let Some("byAngle") = self.word(0) {
+        let by_height = match self.args.first().map(|a| &a.kind) {
+            Some(CKind::Selector(w)) if w == "byAngle" => Some(false),
+            Some(CKind::Selector(w)) if w == "byHeight" => Some(true),
+            _ => None,
+        };
+        if by_height.is_some() {
+            self.words.push(0);
             self.args.remove(0);
         }
+        // The angle or height, then: overhangX, overhangY, even, index (gable); overhang, even
+        // (hip); index (shed). CGA's byHeight gable takes no index.
+        let max = match kind {
+            RoofKind::Gable if by_height.is_some() => 4,
+            RoofKind::Gable => 5,
+            RoofKind::Hip => 3,
+            RoofKind::Pyramid | RoofKind::Ridge => 1,
+            RoofKind::Shed => 2,
+        };
         self.arity(1, max)?;
-        Some(Op::Roof(kind, std::mem::take(&mut self.args)))
+        Some(Op::Roof {
+            kind,
+            by_height: by_height == Some(true),
+            params: std::mem::take(&mut self.args),
+        })
     }
-}
-
-fn comp_selector(c: &mut Compiler, key: &ast::Expr, span: Span) -> CompSelector {
-    use FaceClass::*;
-    let word = match &key.kind {
-        ast::ExprKind::Name(n) => n.as_str(),
-        ast::ExprKind::Number(n) if *n >= 0.0 && n.fract() == 0.0 => {
-            return CompSelector::Index(*n as usize);
-        }
-        _ => "",
-    };
-    match word {
-        "front" => CompSelector::Class(Front),
-        "back" => CompSelector::Class(Back),
-        "left" => CompSelector::Class(Left),
-        "right" => CompSelector::Class(Right),
-        "top" => CompSelector::Class(Top),
-        "bottom" => CompSelector::Class(Bottom),
-        "side" => CompSelector::Side,
-        "all" => CompSelector::All,
-        "vertical" => CompSelector::Vertical,
-        "horizontal" => CompSelector::Horizontal,
-        "aslant" => CompSelector::Aslant,
-        "inside" => CompSelector::Inside,
-        "border" => CompSelector::Border,
-        _ => {
-            c.report(Diagnostic::warning(
-                "this component selector is not supported yet: it selects nothing",
-                span,
-            ));
-            CompSelector::Never
-        }
-    }
-}
-
-/// A selector of the edges a `setback` moves: a face class of the edge's outward direction
-/// (`street.front` and `object.front` read as `front`, there being no streets), `side`, `all` or
-/// an index.
-pub(crate) fn edge_selector(c: &mut Compiler, key: &ast::Expr, span: Span) -> CompSelector {
-    let selector = match &key.kind {
-        ast::ExprKind::Name(n) => {
-            let word = n
-                .strip_prefix("street.")
-                .or_else(|| n.strip_prefix("object."))
-                .unwrap_or(n);
-            let plain = ast::Expr {
-                kind: ast::ExprKind::Name(word.into()),
-                span: key.span,
-            };
-            comp_selector(c, &plain, span)
-        }
-        _ => comp_selector(c, key, span),
-    };
-    if let CompSelector::Vertical
-    | CompSelector::Horizontal
-    | CompSelector::Aslant
-    | CompSelector::Inside
-    | CompSelector::Border = selector
-    {
-        c.report(Diagnostic::warning(
-            "this selector is for faces, not the edges of a setback: it selects nothing",
-            span,
-        ));
-        return CompSelector::Never;
-    }
-    selector
 }
 
 fn split_block(c: &mut Compiler, block: &ast::Block, params: &[ast::Ident]) -> Option<SplitBlock> {

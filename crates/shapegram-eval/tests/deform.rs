@@ -344,21 +344,48 @@ fn bad_amounts_fail_the_derivation_at_the_argument() {
 }
 
 #[test]
-fn cga_taper_by_height_is_skipped_with_a_warning() {
-    let text = "Lot --> extrude(10) taper(5) X.";
-    let all = diagnostics(text);
-    assert_eq!(
-        all,
-        [(
-            Severity::Warning,
-            "CGA's `taper(height)` (a pyramid over the face) is not supported yet: it is skipped; \
-             `taper(axis, factor)` tapers the shape along a scope axis"
-                .to_string(),
-            "taper".to_string()
-        )]
+fn cga_taper_by_height_builds_a_pyramid_over_the_face() {
+    // Over the 4 × 4 m lot, 6 m up: 4 · 4 · 6 / 3 m³, closed, its scope 6 m high.
+    let d = run("Lot --> taper(6) X.", lot(4.0, 4.0));
+    let mesh = d.leaves[0].world_mesh().unwrap();
+    assert!(mesh.is_watertight());
+    assert!((mesh.signed_volume() - 32.0).abs() < 1e-9);
+    assert!((d.leaves[0].scope.size.y - 6.0).abs() < 1e-9);
+    let apex = mesh
+        .positions()
+        .iter()
+        .copied()
+        .fold(DVec3::splat(f64::MIN), DVec3::max);
+    assert!((apex.y - 6.0).abs() < 1e-9);
+    // Downward, the apex 3 m below the lot's centre.
+    let d = run("Lot --> taper(-3) X.", lot(4.0, 4.0));
+    let mesh = d.leaves[0].world_mesh().unwrap();
+    assert!(mesh.is_watertight());
+    assert!((mesh.signed_volume() - 16.0).abs() < 1e-9);
+    assert!((mesh.bounds().unwrap().min.y + 3.0).abs() < 1e-9);
+    // taper(height) needs a face; taper(axis, factor) deforms volumes.
+    let err = try_run(
+        "Lot --> extrude(10) taper(5) X.",
+        lot(4.0, 4.0),
+        &DeriveOptions::default(),
+    )
+    .unwrap_err();
+    assert!(
+        err.message.contains("taper needs a flat shape"),
+        "{}",
+        err.message
     );
-    let d = run(text, lot(4.0, 4.0));
-    assert_eq!(d.leaves[0].geometry, Geometry::Box);
+    let err = try_run(
+        "Lot --> taper(0) X.",
+        lot(4.0, 4.0),
+        &DeriveOptions::default(),
+    )
+    .unwrap_err();
+    assert!(
+        err.message.contains("cannot build a pyramid 0 high"),
+        "{}",
+        err.message
+    );
 }
 
 #[test]

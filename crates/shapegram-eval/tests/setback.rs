@@ -202,3 +202,101 @@ fn setback_takes_a_distance_per_edge_from_an_array_or_the_comp_function() {
         "setback distances: expected numbers of 0 or more, found -2"
     );
 }
+
+#[test]
+fn setback_per_edge_evaluates_its_distance_on_each_edge() {
+    // scope.sx is the edge's length: the 20 m edges move 2 m, the 30 m edges 3 m.
+    let r = reports(&format!(
+        "Lot --> setbackPerEdge(scope.sx / 10) {{ all = NIL | remainder : {AREA} Rest. }}"
+    ));
+    assert_close(&of(&r, "area"), &[(20.0 - 6.0) * (30.0 - 4.0)]);
+    // comp.index counts the face edges: 0 and 2 across the depth, 1 and 3 across the width.
+    let d = common::run(
+        "Lot --> setbackPerEdge(comp.index) { all = NIL | remainder : Rest. }",
+        common::lot(10.0, 10.0),
+    );
+    let rest = d.leaves[0].world_mesh().unwrap().area();
+    assert!(
+        (rest - (10.0 - 1.0 - 3.0) * (10.0 - 0.0 - 2.0)).abs() < 1e-9,
+        "{rest}"
+    );
+    // Every edge moves, selected or not; the front strip is a mitred trapezoid.
+    let r = reports(&format!(
+        "Lot --> setbackPerEdge(2) {{ front : report(\"front\", geometry.area) F. | remainder : {AREA} R. }}"
+    ));
+    assert_close(&of(&r, "front"), &[(20.0 + 16.0) / 2.0 * 2.0]);
+    assert_close(&of(&r, "area"), &[16.0 * 26.0]);
+    let errors = compile_errors("Lot --> setbackPerEdge(1, 0, 2) { all : A. }").join("\n");
+    assert!(
+        errors.contains("wrong number of arguments for `setbackPerEdge`"),
+        "{errors}"
+    );
+    let error = try_run(
+        "Lot --> setbackPerEdge(comp.index - 1) { all : A. }",
+        lot(20.0, 30.0),
+        &DeriveOptions::default(),
+    )
+    .unwrap_err()
+    .to_string();
+    assert!(
+        error.contains("setback distance -1: expected 0 or more"),
+        "{error}"
+    );
+}
+
+#[test]
+fn setback_to_area_leaves_the_remainder_that_area() {
+    let rest = |grammar: &str| of(&reports(grammar), "area");
+    // One common distance d for all edges: (20 - 2d)(30 - 2d) = 300.
+    assert_close(
+        &rest(&format!(
+            "Lot --> setbackToArea(300) {{ all = NIL | remainder : {AREA} R. }}"
+        )),
+        &[300.0],
+    );
+    // The front edge alone moves 15 m; its strip is the other half.
+    let r = reports(&format!(
+        "Lot --> setbackToArea(300) {{ front : report(\"strip\", scope.sz) {AREA} S. | remainder : {AREA} R. }}"
+    ));
+    assert_close(&of(&r, "area"), &[300.0, 300.0]);
+    assert_close(&of(&r, "strip"), &[15.0]);
+    // Minimum distances come first, the common distance on top: the front 10 m + d.
+    assert_close(
+        &rest(&format!(
+            "Lot --> setbackToArea(300, [10, 0, 0, 0]) {{ all = report(\"strips\", geometry.area) NIL | remainder : {AREA} R. }}"
+        )),
+        &[300.0],
+    );
+    // Targets out of reach leave the shape whole: maxima of 1 m leave at least 18 × 28 m, and
+    // no setback grows a lot.
+    for (arguments, left) in [
+        ("300, [0, 0, 0, 0], [1, 1, 1, 1]", 600.0),
+        ("700", 600.0),
+        // A number last is the uv set.
+        ("300, 0", 300.0),
+    ] {
+        let r = reports(&format!(
+            "Lot --> setbackToArea({arguments}) {{ all = S. | remainder : {AREA} R. }}"
+        ));
+        assert_close(&of(&r, "area"), &[left]);
+    }
+    for (grammar, message) in [
+        (
+            "Lot --> setbackToArea(-5) { all : A. }",
+            "setbackToArea's area must be more than 0, not -5",
+        ),
+        (
+            "Lot --> setbackToArea(5, \"x\") { all : A. }",
+            "expected arrays of minimum and maximum distances",
+        ),
+        (
+            "Lot --> setbackToArea(5, [1, -1]) { all : A. }",
+            "expected numbers of 0 or more",
+        ),
+    ] {
+        let error = try_run(grammar, lot(20.0, 30.0), &DeriveOptions::default())
+            .unwrap_err()
+            .to_string();
+        assert!(error.contains(message), "{grammar}: {error}");
+    }
+}

@@ -7,6 +7,10 @@
 //! - An **edge** gets x along the edge, in the direction of the first face that uses it, z along
 //!   the mean normal of the faces that use it (made orthogonal to x), and y = z × x; its scope is
 //!   `(length, 0, 0)`.
+//! - A **face edge** (one per edge of every face, shared edges once per face) gets x along the
+//!   edge in the face's winding, z pointing out of the face, perpendicular to the edge and the
+//!   face's normal, and y = z × x, the face's normal; its scope is `(length, 0, 0)` with the
+//!   origin at the edge's first corner.
 //! - A **vertex** gets z along the mean normal of the faces around it, x along the world x axis
 //!   projected off z (or world z when z is vertical), y = z × x; its scope has zero size.
 //!
@@ -25,6 +29,8 @@ pub enum ComponentKind {
     Face,
     /// An edge (segment).
     Edge,
+    /// An edge of one face, directed along the face's winding.
+    FaceEdge,
     /// A vertex (point).
     Vertex,
 }
@@ -87,15 +93,16 @@ pub struct Component {
     pub kind: ComponentKind,
     /// Index among the components of this kind, in mesh order.
     pub index: usize,
-    /// What it came from: the face index for faces, the vertex index for vertices, the position
-    /// in [`Mesh::edges`] for edges.
+    /// What it came from: the face index for faces and face edges, the vertex index for
+    /// vertices, the position in [`Mesh::edges`] for edges.
     pub source: usize,
     /// The component's scope: its local frame, fitted around its points.
     pub scope: Scope,
     /// The component's points in world coordinates: the face loop, the edge's two ends, or the
     /// vertex.
     pub points: Vec<DVec3>,
-    /// The outward normal (mean of the adjacent faces for edges and vertices; zero if none).
+    /// The outward normal (mean of the adjacent faces for edges and vertices; zero if none); for
+    /// a face edge, the direction out of its face in the face's plane.
     pub normal: DVec3,
 }
 
@@ -153,6 +160,35 @@ pub fn edges(mesh: &Mesh) -> Vec<Component> {
             normal,
         })
         .collect()
+}
+
+/// The edges of every face of a mesh as components, face after face, each edge of a face in
+/// order from its first corner; edges without length are skipped.
+pub fn face_edges(mesh: &Mesh) -> Vec<Component> {
+    let mut out = Vec::new();
+    for f in 0..mesh.face_count() {
+        let normal = mesh.face_normal(f);
+        let points: Vec<DVec3> = mesh.face_points(f).collect();
+        for (i, &a) in points.iter().enumerate() {
+            let b = points[(i + 1) % points.len()];
+            let Some(x) = (b - a).try_normalize() else {
+                continue;
+            };
+            let z = x
+                .cross(normal)
+                .try_normalize()
+                .unwrap_or_else(|| x.any_orthonormal_vector());
+            out.push(Component {
+                kind: ComponentKind::FaceEdge,
+                index: out.len(),
+                source: f,
+                scope: Scope::new(a, frame(x, z), DVec3::new(a.distance(b), 0.0, 0.0)),
+                points: vec![a, b],
+                normal: z,
+            });
+        }
+    }
+    out
 }
 
 /// The vertices used by faces of a mesh as components, in index order.

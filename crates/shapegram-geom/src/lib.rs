@@ -5,7 +5,9 @@
 //! extraction and face classification ([`component`]), roofs ([`roof`]), occlusion tests
 //! ([`occlusion`]) with a bounding-volume hierarchy ([`bvh`]), offsets of convex and
 //! non-convex polygons ([`offset`]), fitting assets into scopes ([`fit`]), taper, twist and shear
-//! ([`deform`]), triangulation and mesh metrics.
+//! ([`deform`]), convex pieces ([`convex`]), largest inner rectangles ([`inner_rectangle`]),
+//! envelopes ([`envelope`]), clean-up ([`cleanup`]), footprints ([`footprint`]) and random points ([`scatter`]) of meshes,
+//! triangulation and mesh metrics.
 //!
 //! Conventions shared by every crate of the workspace:
 //! - y is up in world space (the glTF convention); lots and footprints lie in the xz-plane facing +y.
@@ -15,10 +17,15 @@
 
 pub mod aabb;
 pub mod bvh;
+pub mod cleanup;
 pub mod component;
+pub mod convex;
 pub mod deform;
+pub mod envelope;
 pub mod extrude;
 pub mod fit;
+pub mod footprint;
+pub mod inner_rectangle;
 pub mod material;
 pub mod mesh;
 pub mod model;
@@ -29,6 +36,7 @@ pub mod plane;
 pub mod primitives;
 pub mod rectangle;
 pub mod roof;
+pub mod scatter;
 pub mod scope;
 pub mod shape_metrics;
 mod skeleton;

@@ -27,7 +27,7 @@ use crate::{
     DVec2, DVec3, Mesh, Plane,
     extrude::extrude_polygon,
     offset::grown_outline,
-    planar::{Polygon, is_convex},
+    planar::{Polygon, is_convex, signed_area},
     skeleton::{Skeleton, propagate},
     split::split,
 };
@@ -58,15 +58,160 @@ pub fn roof_hip(points: &[DVec3], angle_deg: f64, overhang: f64) -> Option<Mesh>
 /// edge; hips whose ridge would leave the edge stay hips. See the module docs for `overhang` and
 /// invalid input.
 pub fn roof_gable(points: &[DVec3], angle_deg: f64, overhang: f64) -> Option<Mesh> {
+    roof_gable_with(
+        points,
+        angle_deg,
+        &Gable {
+            overhang_x: overhang,
+            overhang_y: overhang,
+            ridge_edge: None,
+        },
+    )
+}
+
+/// The options of a gable roof beyond its angle.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Gable {
+    /// The overhang at the eaves, across the ridge.
+    pub overhang_x: f64,
+    /// The overhang at the gable ends, along the ridge; negative shortens the roof there.
+    pub overhang_y: f64,
+    /// The edge the ridge runs along (counted after dropping repeated corners and corners on a
+    /// straight line, modulo their count) instead of the longest; only for convex footprints.
+    pub ridge_edge: Option<usize>,
+}
+
+/// A gable roof as [`roof_gable`] builds it, with separate overhangs at the eaves and at the
+/// gable ends and, on a convex footprint, the ridge along a chosen edge. On a convex footprint
+/// every edge along the ridge moves out by `overhang_x` and every other edge (the gable walls)
+/// by `overhang_y`, mitred; the eaves end `overhang_x · tan(angle)` below the footprint's plane.
+/// Non-convex footprints take `overhang_x` all round and their ridges as [`roof_gable`] finds
+/// them. A negative `overhang_x`, or an `overhang_y` that leaves no roof, gives `None`.
+pub fn roof_gable_with(points: &[DVec3], angle_deg: f64, gable: &Gable) -> Option<Mesh> {
     let slope = slope(angle_deg)?;
     let footprint = Polygon::new(points, true)?;
-    let base = Base::new(&footprint, overhang, slope)?;
     if is_convex(&footprint.flat, footprint.eps) {
-        return convex_gable(&footprint, &base, slope);
+        let ridge_edge = match gable.ridge_edge {
+            Some(i) => i % footprint.flat.len(),
+            None => longest_edge(&footprint.flat)?,
+        };
+        let base = if gable.overhang_x == gable.overhang_y {
+            Base::new(&footprint, gable.overhang_x, slope)?
+        } else {
+            Base::gable_ends(&footprint, ridge_edge, gable, slope)?
+        };
+        return convex_gable(&footprint, &base, slope, ridge_edge);
     }
+    let base = Base::new(&footprint, gable.overhang_x, slope)?;
     let mut skeleton = propagate(&base.flat, f64::INFINITY, true)?;
     raise_gables(&mut skeleton, &base.flat);
     Some(base.roof(&footprint, &skeleton, slope))
+}
+
+/// A ridge roof (CGA's `roofRidge`): one level ridge along `along` (projected into the
+/// footprint's plane), two planes rising at `angle_deg` from the outermost lines of the
+/// footprint on either side of it, and upright walls on every other edge up to them; no hips and
+/// no gables of their own. Any simple footprint, convex or not; a direction along the normal or
+/// invalid input (see the module docs) gives `None`.
+pub fn roof_ridge(points: &[DVec3], angle_deg: f64, along: DVec3) -> Option<Mesh> {
+    let slope = slope(angle_deg)?;
+    let footprint = Polygon::new(points, true)?;
+    let out = ridge_across(&footprint, along)?;
+    let base = Base::new(&footprint, 0.0, slope)?;
+    ridged(&footprint, &base, slope, out)
+}
+
+/// The unit direction across a ridge along `along`, in the footprint's plane coordinates.
+fn ridge_across(footprint: &Polygon, along: DVec3) -> Option<DVec2> {
+    let frame = &footprint.frame;
+    let d = along.reject_from(frame.normal).try_normalize()?;
+    let flat = DVec2::new(d.dot(frame.u), d.dot(frame.v));
+    Some(DVec2::new(flat.y, -flat.x))
+}
+
+/// The roofs whose angle [`roof_run`] relates to their height.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum RoofShape {
+    /// [`roof_hip`] (and [`roof_gable`] on a non-convex footprint).
+    Hip,
+    /// [`roof_gable_with`] on a convex footprint, the ridge along the given edge or the longest.
+    Gable(Option<usize>),
+    /// [`roof_pyramid`].
+    Pyramid,
+    /// [`roof_shed`] rising from the given edge.
+    Shed(usize),
+    /// [`roof_ridge`] with its ridge along the direction.
+    Ridge(DVec3),
+}
+
+/// How far, across the footprint, a roof rises to its highest point: its height is this run
+/// times the tangent of its angle, whatever the overhang; `atan(height / run)` is the angle of a
+/// roof of a given height (CGA's `byHeight`). The greatest depth of the straight skeleton for a
+/// hip roof (and a gable roof on a non-convex footprint), half the footprint's width across the
+/// ridge for a gable roof, the distance from the centroid to the nearest edge's line for a
+/// pyramid, the footprint's depth behind the edge for a shed roof. `None` for invalid
+/// footprints.
+pub fn roof_run(points: &[DVec3], shape: RoofShape) -> Option<f64> {
+    let footprint = Polygon::new(points, true)?;
+    let flat = &footprint.flat;
+    let n = flat.len();
+    let skeleton_depth = || {
+        let skeleton = propagate(flat, f64::INFINITY, true)?;
+        Some(
+            skeleton
+                .nodes
+                .iter()
+                .map(|node| node.time)
+                .fold(0.0, f64::max),
+        )
+    };
+    let run = match shape {
+        RoofShape::Gable(edge) if is_convex(flat, footprint.eps) => {
+            let edge = match edge {
+                Some(i) => i % n,
+                None => longest_edge(flat)?,
+            };
+            let out = outward(flat[edge], flat[(edge + 1) % n]);
+            let across = flat.iter().map(|q| q.dot(out));
+            let near = across.clone().fold(f64::INFINITY, f64::min);
+            0.5 * (across.fold(f64::NEG_INFINITY, f64::max) - near)
+        }
+        RoofShape::Hip | RoofShape::Gable(_) => skeleton_depth()?,
+        RoofShape::Ridge(along) => {
+            let out = ridge_across(&footprint, along)?;
+            let across = flat.iter().map(|q| q.dot(out));
+            let near = across.clone().fold(f64::INFINITY, f64::min);
+            0.5 * (across.fold(f64::NEG_INFINITY, f64::max) - near)
+        }
+        RoofShape::Pyramid => {
+            let centroid = area_centroid(flat);
+            (0..n)
+                .map(|i| {
+                    let (a, b) = (flat[i], flat[(i + 1) % n]);
+                    (b - a).normalize().perp_dot(centroid - a)
+                })
+                .fold(f64::INFINITY, f64::min)
+        }
+        RoofShape::Shed(edge) => {
+            let frame = &footprint.frame;
+            let a = frame.flat(*points.get(edge)?);
+            let b = frame.flat(points[(edge + 1) % points.len()]);
+            if a.distance(b) <= footprint.eps {
+                return None;
+            }
+            let out = outward(a, b);
+            -flat.iter().map(|&q| (q - a).dot(out)).fold(0.0, f64::min)
+        }
+    };
+    (run > footprint.eps).then_some(run)
+}
+
+/// The first edge within rounding of the longest, so that squares pick a stable ridge.
+fn longest_edge(flat: &[DVec2]) -> Option<usize> {
+    let n = flat.len();
+    let length = |i: usize| flat[i].distance(flat[(i + 1) % n]);
+    let longest = (0..n).map(length).fold(0.0, f64::max);
+    (0..n).find(|&i| length(i) >= longest * (1.0 - 1e-9))
 }
 
 /// A pyramid roof: one triangle per edge up to an apex above the footprint's centroid.
@@ -97,6 +242,34 @@ pub fn roof_pyramid(points: &[DVec3], angle_deg: f64) -> Option<Mesh> {
     let mut mesh = Mesh::from_faces(positions, [(0..n).rev().collect::<Vec<_>>()]);
     for i in 0..n {
         mesh.add_face(&[i, (i + 1) % n, apex]);
+    }
+    Some(mesh)
+}
+
+/// A pyramid of `height` over a simple planar polygon (CGA's `taper(height)`): its apex
+/// `height` along the normal above the polygon's centroid (the centre of its area), joined to
+/// every corner; a negative height points the apex the other way. The polygon (turned to face
+/// away from the apex) is the bottom, so the mesh is closed with outward normals. `None` for a
+/// height of zero or not finite, and for invalid polygons (see the module docs).
+pub fn pyramid(points: &[DVec3], height: f64) -> Option<Mesh> {
+    if height == 0.0 || !height.is_finite() {
+        return None;
+    }
+    let footprint = Polygon::new(points, true)?;
+    let n = footprint.world.len() as u32;
+    let mut positions = footprint.world.clone();
+    positions.push(footprint.frame.lift(area_centroid(&footprint.flat), height));
+    let apex = n;
+    let up = height > 0.0;
+    let bottom: Vec<u32> = if up {
+        (0..n).rev().collect()
+    } else {
+        (0..n).collect()
+    };
+    let mut mesh = Mesh::from_faces(positions, [bottom]);
+    for i in 0..n {
+        let (a, b) = (i, (i + 1) % n);
+        mesh.add_face(&if up { [a, b, apex] } else { [b, a, apex] });
     }
     Some(mesh)
 }
@@ -136,6 +309,23 @@ pub fn roof_shed(points: &[DVec3], angle_deg: f64, edge_index: usize) -> Option<
     let plane = Plane::from_point_normal(start, frame.normal + frame.direction(out) * slope);
     let (roof, _) = split(&prism, &plane);
     (!roof.is_empty()).then_some(roof)
+}
+
+/// The part of a convex 2D polygon where `normal · p <= offset` (Sutherland–Hodgman).
+fn clip_half_plane(polygon: &[DVec2], normal: DVec2, offset: f64) -> Vec<DVec2> {
+    let n = polygon.len();
+    let mut out = Vec::with_capacity(n + 1);
+    for i in 0..n {
+        let (a, b) = (polygon[i], polygon[(i + 1) % n]);
+        let (da, db) = (normal.dot(a) - offset, normal.dot(b) - offset);
+        if da <= 0.0 {
+            out.push(a);
+        }
+        if (da < 0.0 && db > 0.0) || (da > 0.0 && db < 0.0) {
+            out.push(a + (b - a) * (da / (da - db)));
+        }
+    }
+    out
 }
 
 /// The tangent of a roof angle in degrees, if the angle is strictly between 0 and 90.
@@ -196,6 +386,55 @@ impl Base {
         })
     }
 
+    /// The base of a convex gable roof with separate overhangs: the edges parallel to the ridge's
+    /// edge moved out by the eaves' overhang, the others by the gable ends', each the boundary of
+    /// a half-plane; the base is where they all hold, lowered to the eaves.
+    fn gable_ends(
+        footprint: &Polygon,
+        ridge_edge: usize,
+        gable: &Gable,
+        slope: f64,
+    ) -> Option<Self> {
+        let (x, y) = (gable.overhang_x, gable.overhang_y);
+        if !(x >= 0.0 && x.is_finite() && y.is_finite()) {
+            return None;
+        }
+        let flat = &footprint.flat;
+        let n = flat.len();
+        let direction = |i: usize| (flat[(i + 1) % n] - flat[i]).normalize();
+        let ridge = direction(ridge_edge);
+        let reach =
+            flat.iter().fold(0.0_f64, |r, q| r.max(q.distance(flat[0]))) + x.abs() + y.abs();
+        let mut region = vec![
+            flat[0] + DVec2::new(-2.0, -2.0) * reach,
+            flat[0] + DVec2::new(2.0, -2.0) * reach,
+            flat[0] + DVec2::new(2.0, 2.0) * reach,
+            flat[0] + DVec2::new(-2.0, 2.0) * reach,
+        ];
+        for i in 0..n {
+            let out = outward(flat[i], flat[(i + 1) % n]);
+            let moved = if direction(i).perp_dot(ridge).abs() <= 1e-9 {
+                x
+            } else {
+                y
+            };
+            region = clip_half_plane(&region, out, out.dot(flat[i]) + moved);
+        }
+        if region.len() < 3 || signed_area(&region) <= 1e-9 * signed_area(flat) {
+            return None;
+        }
+        let height = -x * slope;
+        let world = region
+            .iter()
+            .map(|&q| footprint.frame.lift(q, height))
+            .collect();
+        Some(Self {
+            flat: region,
+            world,
+            height,
+        })
+    }
+
     /// The closed roof mesh over this base from the faces of its skeleton: base corners as they
     /// are, the other nodes lifted by their time times the slope.
     fn roof(&self, footprint: &Polygon, skeleton: &Skeleton, slope: f64) -> Mesh {
@@ -220,15 +459,17 @@ impl Base {
 }
 
 /// The gable roof of a convex footprint: its prism cut by the two planes rising from the outermost
-/// lines parallel to the longest edge.
-fn convex_gable(footprint: &Polygon, base: &Base, slope: f64) -> Option<Mesh> {
+/// lines parallel to the ridge's edge.
+fn convex_gable(footprint: &Polygon, base: &Base, slope: f64, ridge_edge: usize) -> Option<Mesh> {
     let flat = &footprint.flat;
     let n = flat.len();
-    let length = |i: usize| flat[i].distance(flat[(i + 1) % n]);
-    let longest = (0..n).map(length).fold(0.0, f64::max);
-    // The first edge within rounding of the longest, so that squares pick a stable ridge.
-    let ridge_edge = (0..n).find(|&i| length(i) >= longest * (1.0 - 1e-9))?;
     let out = outward(flat[ridge_edge], flat[(ridge_edge + 1) % n]);
+    ridged(footprint, base, slope, out)
+}
+
+/// The prism over `base` cut by two planes rising at `slope` toward each other from the
+/// outermost lines of the base across `out` (a unit direction in the footprint's plane).
+fn ridged(footprint: &Polygon, base: &Base, slope: f64, out: DVec2) -> Option<Mesh> {
     let across = base.flat.iter().map(|q| q.dot(out));
     let near = across.clone().fold(f64::INFINITY, f64::min);
     let far = across.fold(f64::NEG_INFINITY, f64::max);

@@ -328,3 +328,121 @@ fn an_empty_mesh_has_no_area_and_no_volume() {
     assert!(empty.area() == 0.0 && empty.area().is_sign_positive());
     assert!(empty.signed_volume() == 0.0 && empty.signed_volume().is_sign_positive());
 }
+
+#[test]
+fn concave_polygons_fall_into_convex_pieces() {
+    use shapegram_geom::{DVec3, Mesh, convex::convex_pieces, triangulate::is_convex};
+    let at = |x: f64, z: f64| DVec3::new(x, 0.0, z);
+    // An L, counter-clockwise seen from above (+y): one reflex corner at (1, 1).
+    let l = [
+        at(0.0, 0.0),
+        at(0.0, 2.0),
+        at(2.0, 2.0),
+        at(2.0, 1.0),
+        at(1.0, 1.0),
+        at(1.0, 0.0),
+    ];
+    assert!(Mesh::from_polygon(&l).face_normal(0).y > 0.0);
+    let pieces = convex_pieces(&l, None);
+    assert_eq!(pieces.len(), 2, "{pieces:?}");
+    let areas: Vec<f64> = pieces
+        .iter()
+        .map(|p| Mesh::from_polygon(p).area())
+        .collect();
+    assert!((areas.iter().sum::<f64>() - 3.0).abs() < 1e-12, "{areas:?}");
+    for piece in &pieces {
+        assert!(is_convex(piece), "{piece:?}");
+        assert!(Mesh::from_polygon(piece).face_normal(0).y > 0.0);
+        // Only the polygon's own corners.
+        assert!(piece.iter().all(|p| l.contains(p)));
+    }
+    // A convex polygon stays whole, its corner on a straight line dropped.
+    let square = [
+        at(0.0, 0.0),
+        at(0.0, 2.0),
+        at(1.0, 2.0),
+        at(2.0, 2.0),
+        at(2.0, 0.0),
+    ];
+    assert_eq!(
+        convex_pieces(&square, None),
+        vec![vec![at(0.0, 0.0), at(0.0, 2.0), at(2.0, 2.0), at(2.0, 0.0)]]
+    );
+    // A cut no shorter than 1 m is not made: the L stays whole.
+    assert_eq!(convex_pieces(&l, Some(1.0)).len(), 1);
+    assert_eq!(convex_pieces(&l, Some(1.5)).len(), 2);
+    // A comb with three teeth has four reflex corners and needs three convex pieces at least.
+    let comb = [
+        at(0.0, 0.0),
+        at(0.0, 3.0),
+        at(1.0, 3.0),
+        at(1.0, 1.0),
+        at(2.0, 1.0),
+        at(2.0, 3.0),
+        at(3.0, 3.0),
+        at(3.0, 1.0),
+        at(4.0, 1.0),
+        at(4.0, 3.0),
+        at(5.0, 3.0),
+        at(5.0, 0.0),
+    ];
+    let pieces = convex_pieces(&comb, None);
+    let total: f64 = pieces.iter().map(|p| Mesh::from_polygon(p).area()).sum();
+    assert!((total - 11.0).abs() < 1e-12);
+    assert!(pieces.iter().all(|p| is_convex(p)));
+    assert!((3..=5).contains(&pieces.len()), "{}", pieces.len());
+}
+
+#[test]
+fn the_largest_inner_rectangle_and_what_is_around_it() {
+    use shapegram_geom::{
+        DVec3, Mesh,
+        inner_rectangle::{around_rectangle, inner_rectangle},
+    };
+    let at = |x: f64, z: f64| DVec3::new(x, 0.0, z);
+    let area = |p: &[DVec3]| Mesh::from_polygon(p).area();
+    // A right triangle with legs of 20 m along x and 30 m along z: the rectangle sits in the
+    // right angle, half of each leg long, half the triangle's area.
+    let triangle = [at(0.0, 0.0), at(0.0, 30.0), at(20.0, 0.0)];
+    let rectangle = inner_rectangle(&triangle, DVec3::X).unwrap();
+    let (lo, hi) = rectangle.iter().fold(
+        (DVec3::splat(f64::MAX), DVec3::splat(f64::MIN)),
+        |(lo, hi), &p| (lo.min(p), hi.max(p)),
+    );
+    assert!(
+        lo.abs_diff_eq(at(0.0, 0.0), 1e-9) && hi.abs_diff_eq(at(10.0, 15.0), 1e-9),
+        "{rectangle:?}"
+    );
+    let around = around_rectangle(&triangle, &rectangle);
+    let rest: f64 = around.iter().map(|p| area(p)).sum();
+    assert!((rest - (300.0 - 150.0)).abs() < 1e-9, "{around:?}");
+    // An L of 20 × 10 and 10 × 20 m: the 10 × 30 m wing with the corner under it.
+    let l = [
+        at(0.0, 0.0),
+        at(0.0, 30.0),
+        at(10.0, 30.0),
+        at(10.0, 10.0),
+        at(20.0, 10.0),
+        at(20.0, 0.0),
+    ];
+    let rectangle = inner_rectangle(&l, DVec3::X).unwrap();
+    assert!((area(&rectangle) - 300.0).abs() < 1e-9, "{rectangle:?}");
+    let around = around_rectangle(&l, &rectangle);
+    assert_eq!(around.len(), 1);
+    assert!((area(&around[0]) - 100.0).abs() < 1e-9);
+    // In a square turned 45°, the largest rectangle along x is a square of half its area; along
+    // an edge, it is the square itself.
+    let diamond = [at(0.0, -1.0), at(-1.0, 0.0), at(0.0, 1.0), at(1.0, 0.0)];
+    let rectangle = inner_rectangle(&diamond, DVec3::X).unwrap();
+    assert!(
+        (area(&rectangle) - 1.0).abs() < 1e-9,
+        "{}",
+        area(&rectangle)
+    );
+    let along_edge = inner_rectangle(&diamond, DVec3::new(1.0, 0.0, 1.0)).unwrap();
+    assert!(
+        (area(&along_edge) - 2.0).abs() < 1e-9,
+        "{}",
+        area(&along_edge)
+    );
+}

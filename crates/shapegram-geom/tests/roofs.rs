@@ -705,3 +705,30 @@ fn hip_over_corners_almost_on_a_line_has_no_needles() {
     assert_faces_on_slopes(&roof, &footprint, tan(5.0));
     assert_eq!(roof.face_count(), 6);
 }
+
+#[test]
+fn roof_runs_relate_height_and_angle() {
+    use shapegram_geom::roof::{Gable, RoofShape, roof_gable_with, roof_run};
+    let rect = rectangle(10.0, 4.0);
+    let run = |shape| roof_run(&rect, shape).unwrap();
+    assert!((run(RoofShape::Hip) - 2.0).abs() < 1e-12);
+    assert!((run(RoofShape::Gable(None)) - 2.0).abs() < 1e-12);
+    assert!((run(RoofShape::Gable(Some(1))) - 5.0).abs() < 1e-12);
+    assert!((run(RoofShape::Pyramid) - 2.0).abs() < 1e-12);
+    assert!((run(RoofShape::Shed(0)) - 4.0).abs() < 1e-12);
+    assert!((run(RoofShape::Shed(1)) - 10.0).abs() < 1e-12);
+    // Separate overhangs: 1 m at the eaves, 2 m at the gable ends, over a 10 × 4 m rectangle.
+    let roof = roof_gable_with(
+        &rect,
+        45.0,
+        &Gable {
+            overhang_x: 1.0,
+            overhang_y: 2.0,
+            ridge_edge: None,
+        },
+    )
+    .unwrap();
+    let bounds = roof.bounds().unwrap();
+    assert!((bounds.max - bounds.min - DVec3::new(14.0, 3.0, 6.0)).length() < 1e-9);
+    assert!(roof.is_watertight());
+}

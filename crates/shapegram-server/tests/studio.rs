@@ -549,15 +549,15 @@ async fn the_vocabulary_is_the_engines() {
     };
     assert_eq!(
         find("operations", "roofHip"),
-        json!({"name": "roofHip", "signature": "roofHip(angle [, overhang])", "support": "implemented"})
+        json!({"name": "roofHip", "signature": "roofHip([byAngle | byHeight,] value [, overhang [, even]])", "support": "implemented"})
     );
     assert_eq!(
         find("operations", "softenNormals"),
         json!({"name": "softenNormals", "support": "visual-only"})
     );
     assert_eq!(
-        find("operations", "envelope"),
-        json!({"name": "envelope", "support": "unsupported"})
+        find("operations", "splitAndSetbackPerimeter"),
+        json!({"name": "splitAndSetbackPerimeter", "support": "unsupported"})
     );
     assert_eq!(
         find("functions", "rand"),
@@ -579,7 +579,7 @@ async fn the_vocabulary_is_the_engines() {
         .filter(|w| w["signature"].is_string())
         .count();
     assert_eq!(signed, implemented);
-    assert_eq!(implemented, 61);
+    assert_eq!(implemented, 75);
     // A foreign page cannot read it either.
     let (status, _) = studio
         .send("GET", "/api/vocabulary", "evil.example:7370", None, None)

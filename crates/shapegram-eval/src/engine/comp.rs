@@ -1,14 +1,15 @@
-//! CGA `comp(f | e | v) { selector : … }`: the faces, edges or vertices of the shape, each a
-//! new shape with a scope of its own, going to the first entry whose selector takes it (or,
-//! with `selector = …`, all of an entry's in one shape).
+//! CGA `comp(f | e | fe | v) { selector : … }`: the faces, edges, face edges or vertices of the
+//! shape, each a new shape with a scope of its own, going to the first entry whose selector
+//! takes it (or, with `selector = …`, all of an entry's in one shape).
 
-use shapegram_geom::{DVec3, FaceClass, Mesh, Scope, component};
+use shapegram_geom::{DVec3, Mesh, Scope, component};
 use shapegram_syntax::Span;
 
 use super::Fallible;
 use super::implicit::no_solid;
 use super::machine::{Engine, Phase, Work};
 use crate::ops::{CompEntry, CompKind, CompSelector};
+use crate::selectors::Frames;
 use crate::shape::{FaceTag, Geometry, State, fills_box};
 use crate::trim::Faces;
 use crate::value::Value;
@@ -36,12 +37,14 @@ impl<'p> Engine<'p> {
         let components = match kind {
             CompKind::Faces => component::faces(&world),
             CompKind::Edges => component::edges(&world),
+            CompKind::FaceEdges => component::face_edges(&world),
             CompKind::Vertices => component::vertices(&world),
         };
         // The faces' trim planes, at the edges each shares with the others, for what is
         // inserted below them.
         let faces = (kind == CompKind::Faces).then(|| Faces::new(world));
         let tags = state.geometry.tags();
+        let frames = self.ev.frames(&state.scope);
         let mut assigned: Vec<Vec<usize>> = vec![Vec::new(); entries.len()];
         for (c, comp) in components.iter().enumerate() {
             let tag = tags
@@ -50,7 +53,7 @@ impl<'p> Engine<'p> {
                 .unwrap_or(FaceTag::None);
             if let Some(e) = entries
                 .iter()
-                .position(|e| selects(&e.selector, comp, c, tag, &state.scope, kind))
+                .position(|e| selects(&e.selector, comp, c, tag, &frames, kind))
             {
                 assigned[e].push(c);
             }
@@ -104,7 +107,7 @@ impl<'p> Engine<'p> {
                             Geometry::mesh(Mesh::from_polygon(&local))
                         }
                     }
-                    CompKind::Edges | CompKind::Vertices => Geometry::Empty,
+                    CompKind::Edges | CompKind::FaceEdges | CompKind::Vertices => Geometry::Empty,
                 };
                 self.admit(&mut child, span)?;
                 self.run_stmts(&entry.body, &mut child, args, out)?;
@@ -114,28 +117,33 @@ impl<'p> Engine<'p> {
     }
 }
 
-/// Whether an entry's selector takes a component.
+/// Whether an entry's selector takes a component: faces by their normal, face edges by their
+/// direction out of the face, edges by their scope's y axis (for the slope selectors only).
 fn selects(
     selector: &CompSelector,
     comp: &component::Component,
     index: usize,
     tag: FaceTag,
-    scope: &Scope,
+    frames: &Frames,
     kind: CompKind,
 ) -> bool {
-    // Angle of the normal from world up decides vertical, horizontal and aslant.
-    let up = comp.normal.y.abs();
-    match selector {
-        CompSelector::All => true,
-        CompSelector::Index(i) => *i == index,
-        CompSelector::Never => false,
-        _ if kind != CompKind::Faces => false,
-        CompSelector::Class(class) => FaceClass::of(comp.normal, scope) == *class,
-        CompSelector::Side => FaceClass::of(comp.normal, scope).is_side(),
-        CompSelector::Horizontal => up >= 30f64.to_radians().cos(),
-        CompSelector::Vertical => up <= 60f64.to_radians().cos(),
-        CompSelector::Aslant => up < 30f64.to_radians().cos() && up > 60f64.to_radians().cos(),
-        CompSelector::Inside => tag == FaceTag::Inside,
-        CompSelector::Border => tag == FaceTag::Border,
+    match (selector, kind) {
+        (CompSelector::All, _) => true,
+        (CompSelector::Index(i), _) => *i == index,
+        (CompSelector::Inside, CompKind::Faces) => tag == FaceTag::Inside,
+        (CompSelector::Border, CompKind::Faces) => tag == FaceTag::Border,
+        (
+            CompSelector::Vertical
+            | CompSelector::Horizontal
+            | CompSelector::Aslant
+            | CompSelector::Nutant,
+            CompKind::Edges,
+        ) => selector
+            .takes_direction(comp.scope.axes.y_axis, index, frames)
+            .unwrap_or(false),
+        (_, CompKind::Faces | CompKind::FaceEdges) => selector
+            .takes_direction(comp.normal, index, frames)
+            .unwrap_or(false),
+        _ => false,
     }
 }

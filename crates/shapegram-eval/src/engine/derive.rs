@@ -444,6 +444,7 @@ fn derive_lot<'a>(
     let symbol = program.rules[start as usize].symbol;
     let mut state = State::initial(symbol, scope, geometry, seed);
     let mut ev = Evaluator::new(program, seed, scope.origin);
+    ev.object_axes = scope.axes;
     ev.assets = options.assets.as_deref();
     ev.lot = index;
     state.attrs = Rc::new(ev.initial_attrs(&mut state, overrides)?);
@@ -499,6 +500,7 @@ fn derive_lot<'a>(
         batch.waiting.push(Waiting {
             lot: index,
             origin: scope.origin,
+            object_axes: scope.axes,
             consts: engine.ev.memo(),
             shapes: std::mem::take(&mut engine.parked),
             skeleton: engine.skeleton.take(),
@@ -564,6 +566,7 @@ fn resume_lot(
     batch: &mut Batch,
 ) -> Result<(), DeriveError> {
     let mut ev = Evaluator::new(program, seed, waiting.origin);
+    ev.object_axes = waiting.object_axes;
     ev.assets = options.assets.as_deref();
     ev.restore(waiting.consts);
     ev.lot = waiting.lot;

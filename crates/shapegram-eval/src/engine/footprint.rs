@@ -6,16 +6,18 @@ use std::sync::Arc;
 
 use shapegram_geom::{
     DMat3, DVec3, FaceClass, Mesh, Scope,
+    cleanup::{Cleanup, cleanup},
+    convex::convex_pieces,
     extrude::{extrude_along, extrude_polygon},
     mesh::newell,
 };
 use shapegram_syntax::Span;
 
 use super::Fallible;
+use super::edge_depths::EdgeDepths;
 use super::implicit::no_solid;
 use super::machine::{Engine, Work};
 use crate::error::DeriveError;
-use crate::expr::Evaluator;
 use crate::ops::{CompEntry, Depths, OffsetKeep};
 use crate::program::{CExpr, CStmt};
 use crate::shape::{FaceTag, Geometry, State, fills_box, flat_axis};
@@ -127,10 +129,11 @@ impl<'p> Engine<'p> {
         args: &[Value],
         out: &mut Vec<Work>,
     ) -> Fallible<()> {
-        let depths = &self.edge_depths(state, depths, args)?;
         let entries = outputs.entries;
         let world = flat_faces(state, "setback", span)?;
+        let depths = &self.edge_depths(state, depths, &world, entries, span, args)?;
         let scope = state.scope;
+        let frames = self.ev.frames(&scope);
         // Strips by entry, the outline's pieces (each its polygons) and remainder loops.
         let mut strips: Vec<Vec<(DVec3, Vec<DVec3>)>> = vec![Vec::new(); entries.len()];
         let (mut outline, mut rest): (Vec<Vec<Vec<DVec3>>>, Vec<Vec<DVec3>>) =
@@ -143,7 +146,7 @@ impl<'p> Engine<'p> {
             let taker = |i: usize, a: DVec3, b: DVec3| {
                 entries
                     .iter()
-                    .position(|e| e.selector.takes_edge(outward(a, b), i, &scope))
+                    .position(|e| e.selector.takes_edge(outward(a, b), i, &frames))
             };
             let distance = |i: usize, a: DVec3, b: DVec3| match depths {
                 EdgeDepths::Selected(d) => taker(i, a, b).map_or(0.0, |_| *d),
@@ -220,52 +223,10 @@ impl<'p> Engine<'p> {
         Ok(())
     }
 
-    /// How far the edges of a setback move: the distances evaluated, none below 0.
-    fn edge_depths(
-        &mut self,
-        state: &mut State,
-        depths: &Depths,
-        args: &[Value],
-    ) -> Fallible<EdgeDepths> {
-        let depth = |ev: &mut Evaluator, e: &CExpr, state: &mut State| {
-            let d = ev.number(e, state, args)?;
-            if d < 0.0 {
-                return Err(DeriveError::at(
-                    format!("setback distance {d}: expected 0 or more"),
-                    e.span,
-                ));
-            }
-            Ok(d)
-        };
-        Ok(match depths {
-            Depths::Selected(e) => match self.ev.eval(e, state, args)? {
-                Value::Array(list) => EdgeDepths::PerEdge(
-                    list.iter()
-                        .map(|v| match v {
-                            Value::Number(d) if *d >= 0.0 => Ok(*d),
-                            other => Err(DeriveError::at(
-                                format!(
-                                    "setback distances: expected numbers of 0 or more, found {other}"
-                                ),
-                                e.span,
-                            )),
-                        })
-                        .collect::<Fallible<Vec<_>>>()?,
-                ),
-                _ => EdgeDepths::Selected(depth(&mut self.ev, e, state)?),
-            },
-            Depths::ByClass(list) => EdgeDepths::ByClass(
-                list.iter()
-                    .map(|(class, e)| Ok((*class, depth(&mut self.ev, e, state)?)))
-                    .collect::<Fallible<Vec<_>>>()?,
-            ),
-        })
-    }
-
     /// Derives a child per piece (or one for all when `merge`), each a set of polygons with a
     /// scope of the given axes fitted around them.
     #[allow(clippy::too_many_arguments)]
-    fn flat_children(
+    pub(super) fn flat_children(
         &mut self,
         state: &mut State,
         pieces: Vec<Piece>,
@@ -307,17 +268,7 @@ impl<'p> Engine<'p> {
 }
 
 /// Polygons that become one shape, with the axes of its scope.
-type Piece<'a> = (DMat3, Vec<&'a [DVec3]>);
-
-/// How far the edges of a setback move, evaluated.
-enum EdgeDepths {
-    /// The edges that entries select, by this distance.
-    Selected(f64),
-    /// Each face edge by its own distance, in face-edge order (`setback(comp(fe){ … })`).
-    PerEdge(Vec<f64>),
-    /// Edges by the class of their outward direction.
-    ByClass(Vec<(FaceClass, f64)>),
-}
+pub(super) type Piece<'a> = (DMat3, Vec<&'a [DVec3]>);
 
 /// Where the pieces of a setback go.
 pub(super) struct SetbackOutputs<'p> {
@@ -329,8 +280,124 @@ pub(super) struct SetbackOutputs<'p> {
     pub(super) remainder: Option<&'p (bool, Vec<CStmt>)>,
 }
 
-/// Whether a setback entry's selector takes the edge `index` whose outward direction (in the
-/// face's plane) is `outward`.
+impl Engine<'_> {
+    /// CGA `cleanupGeometry(vertices | faces | all, tolerance)`: the geometry cleaned (see
+    /// [`shapegram_geom::cleanup`]); the scope stays.
+    pub(super) fn cleanup(
+        &mut self,
+        state: &mut State,
+        what: Cleanup,
+        tolerance: &CExpr,
+        span: Span,
+        args: &[Value],
+    ) -> Fallible<()> {
+        no_solid(state, "cleanupGeometry", span)?;
+        let t = self.ev.number(tolerance, state, args)?;
+        if !(0.0..=1.0).contains(&t) {
+            return Err(DeriveError::at(
+                format!("cleanupGeometry's tolerance must be between 0 and 1, not {t}"),
+                tolerance.span,
+            ));
+        }
+        if state.geometry == Geometry::Box {
+            return Ok(());
+        }
+        let Some(mesh) = state.geometry.local_mesh(state.scope.size) else {
+            return Ok(());
+        };
+        let cleaned = cleanup(&mesh, what, t);
+        let tags = state
+            .geometry
+            .tags()
+            .filter(|t| t.len() == cleaned.face_count())
+            .map(Arc::from);
+        state.geometry = if cleaned.is_empty() {
+            Geometry::Empty
+        } else {
+            Geometry::Mesh(Arc::new(cleaned), tags)
+        };
+        Ok(())
+    }
+
+    /// CGA `convexify([maxCut])`: every concave face of the geometry cut into convex faces
+    /// (only along cuts shorter than `maxCut`, when given) that share the face's corners; the
+    /// scope stays. Geometry without concave faces is left as it is.
+    pub(super) fn convexify(
+        &mut self,
+        state: &mut State,
+        max: Option<&CExpr>,
+        span: Span,
+        args: &[Value],
+    ) -> Fallible<()> {
+        no_solid(state, "convexify", span)?;
+        let max = match max {
+            Some(e) => {
+                let m = self.ev.number(e, state, args)?;
+                if m <= 0.0 {
+                    return Err(DeriveError::at(
+                        format!("convexify's longest cut must be more than 0, not {m}"),
+                        e.span,
+                    ));
+                }
+                Some(m)
+            }
+            None => None,
+        };
+        let Some(mesh) = state.geometry.local_mesh(state.scope.size) else {
+            return Ok(());
+        };
+        let tags = state.geometry.tags();
+        let mut faces: Vec<Vec<u32>> = Vec::with_capacity(mesh.face_count());
+        let mut kept_tags = Vec::with_capacity(mesh.face_count());
+        for (f, face) in mesh.faces().enumerate() {
+            let points: Vec<DVec3> = mesh.face_points(f).collect();
+            for piece in convex_pieces(&points, max) {
+                // The pieces' corners are the face's own: they keep their vertices.
+                let piece: Option<Vec<u32>> = piece
+                    .iter()
+                    .map(|p| points.iter().position(|q| q == p).map(|k| face[k]))
+                    .collect();
+                faces.push(piece.unwrap_or_else(|| face.to_vec()));
+                kept_tags.push(
+                    tags.and_then(|t| t.get(f))
+                        .copied()
+                        .unwrap_or(FaceTag::None),
+                );
+            }
+        }
+        if faces.len() == mesh.face_count() {
+            return Ok(());
+        }
+        let cut = Mesh::from_faces(mesh.positions().to_vec(), faces);
+        state.geometry = Geometry::Mesh(Arc::new(cut), tags.map(|_| kept_tags.into()));
+        Ok(())
+    }
+}
+
+/// CGA `footprint()`: the geometry projected onto the scope's xz-plane (its downward faces, or
+/// for geometry without any, its upward ones), a flat shape facing the scope's y; the scope
+/// keeps its axes and loses its height.
+pub(super) fn footprint(state: &mut State, span: Span) -> Fallible<()> {
+    no_solid(state, "footprint", span)?;
+    let Some(mesh) = state.geometry.local_mesh(state.scope.size) else {
+        return Ok(());
+    };
+    let flat = shapegram_geom::footprint::footprint(&mesh, DVec3::Y);
+    if flat.is_empty() {
+        state.geometry = Geometry::Empty;
+        return Ok(());
+    }
+    let world: Vec<DVec3> = flat
+        .positions()
+        .iter()
+        .map(|&p| state.scope.to_world(p))
+        .collect();
+    let fitted = Scope::fit(state.scope.axes, world.iter().copied());
+    state.geometry = Geometry::mesh(flat);
+    state.rescope(fitted);
+    Ok(())
+}
+
 /// CGA `reverseNormals`: every face of the geometry turned the other way.
 pub(super) fn reverse_normals(state: &mut State, span: Span) -> Fallible<()> {
     no_solid(state, "reverseNormals", span)?;

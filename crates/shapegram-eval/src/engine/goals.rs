@@ -181,6 +181,7 @@ fn derive_axiom(
         ..Semantics::default()
     }));
     let mut ev = Evaluator::new(program, start.seed, start.scope.origin);
+    ev.object_axes = start.scope.axes;
     ev.assets = options.assets.as_deref();
     ev.lot = start.index;
     let mut engine = Engine::new(program, ev, names, options, Phase::Only, batch);

@@ -9,7 +9,7 @@ use shapegram_geom::Scope;
 use shapegram_syntax::Span;
 
 use super::derive::Batch;
-use super::footprint::{SetbackOutputs, reverse_normals};
+use super::footprint::{SetbackOutputs, footprint, reverse_normals};
 use super::implicit::implicit;
 use super::insert::trim;
 use super::kinematics::LastRotation;
@@ -619,15 +619,34 @@ impl<'p> Engine<'p> {
             Op::RotateScope(v) => self.rotate_scope(state, v, args)?,
             Op::Insert(path, placement) => self.insert(state, path, *placement, args)?,
             Op::Primitive(kind, params) => self.primitive(state, *kind, params, span, args)?,
+            Op::Scatter(spec) => {
+                self.scatter(state, spec, span, args, out)?;
+                return Ok(true);
+            }
+            Op::UvSplit {
+                coordinate,
+                metres,
+                set,
+                block,
+            } => {
+                let how = (*coordinate, *metres);
+                self.uv_split(state, how, set, block, span, args, out)?;
+                return Ok(true);
+            }
             Op::Split {
                 axis,
+                by_area,
                 adjust,
                 snap,
                 joints,
                 block,
             } => {
                 let how = (*adjust, *joints);
-                self.split(state, *axis, how, snap.as_ref(), block, span, args, out)?;
+                if *by_area {
+                    self.split_area(state, *axis, *adjust, block, span, args, out)?;
+                } else {
+                    self.split(state, *axis, how, snap.as_ref(), block, span, args, out)?;
+                }
                 return Ok(true);
             }
             Op::Snap { axes, tag } => self.snap(state, *axes, tag.as_ref(), args)?,
@@ -635,6 +654,20 @@ impl<'p> Engine<'p> {
             Op::Comp { kind, entries } => {
                 self.comp(state, *kind, entries, span, args, out)?;
                 return Ok(true);
+            }
+            Op::InnerRectangle {
+                edge,
+                shape,
+                remainder,
+                split,
+            } => {
+                let outputs = SetbackOutputs {
+                    entries: &[],
+                    shape: shape.as_ref(),
+                    remainder: remainder.as_ref(),
+                };
+                self.inner_rectangle(state, *edge, outputs, *split, span, args, out)?;
+                return Ok(*split);
             }
             Op::Setback {
                 depths,
@@ -657,8 +690,28 @@ impl<'p> Engine<'p> {
             Op::Print(value) => self.print(state, value, args)?,
             Op::ReverseNormals => reverse_normals(state, span)?,
             Op::Trim => trim(state),
+            Op::Envelope { world_up, params } => {
+                self.envelope(state, *world_up, params, span, args)?
+            }
+            Op::Cleanup { what, tolerance } => self.cleanup(state, *what, tolerance, span, args)?,
+            Op::Footprint => footprint(state, span)?,
+            Op::Pyramid(height) => self.pyramid(state, height, span, args)?,
+            Op::Transform {
+                rotate,
+                absolute,
+                system,
+                values,
+            } => match rotate {
+                true => self.rotate_in(state, *absolute, *system, values, args)?,
+                false => self.translate_in(state, *absolute, *system, values, args)?,
+            },
+            Op::Convexify(max) => self.convexify(state, max.as_ref(), span, args)?,
             Op::Offset { distance, keep } => self.offset(state, distance, *keep, span, args)?,
-            Op::Roof(kind, params) => self.roof(state, *kind, params, span, args)?,
+            Op::Roof {
+                kind,
+                by_height,
+                params,
+            } => self.roof(state, *kind, *by_height, params, span, args)?,
             Op::Implicit(kind) => implicit(state, *kind, span)?,
             Op::ImplicitFile(path) => self.implicit_file(state, path, span, args)?,
             Op::Csg {

@@ -3,10 +3,12 @@
 //! mesh cut into slabs, a solid intersected with one, a box by its scope alone).
 
 mod layout;
+mod uv;
 
 use shapegram_geom::{DAffine3, DVec3, Scope, split::split_slabs};
 use shapegram_syntax::Span;
 
+use super::footprint::flat_faces;
 use super::machine::{Engine, Phase, Work};
 use super::scope::refit;
 use super::{Fallible, Leaf};
@@ -17,6 +19,9 @@ use crate::shape::{Geometry, State};
 use crate::value::Value;
 
 pub(super) use layout::Layout;
+
+/// Bisection steps that place a boundary of `splitArea`: enough for the last bits of an f64.
+const AREA_STEPS: usize = 100;
 
 impl<'p> Engine<'p> {
     /// CGA `split(axis [, adjust | noAdjust] [, snap [, "tag"]]) { … }`: the parts laid out
@@ -45,6 +50,66 @@ impl<'p> Engine<'p> {
             layout.snap(&positions);
         }
         let result = self.split_parts(state, axis, (adjust, joints), &layout, span, args, out);
+        self.layouts.push(layout);
+        result
+    }
+
+    /// CGA `splitArea(axis [, adjust | noAdjust]) { … }`: a split of a flat shape whose sizes
+    /// are the areas of the parts (`'` of the geometry's area, `~` floating, `*` repeating, as
+    /// in [`Layout`]); each boundary goes where the geometry before it has the area the layout
+    /// puts before it, found by bisection.
+    #[allow(clippy::too_many_arguments)]
+    pub(super) fn split_area(
+        &mut self,
+        state: &mut State,
+        axis: usize,
+        adjust: bool,
+        block: &'p SplitBlock,
+        span: Span,
+        args: &[Value],
+        out: &mut Vec<Work>,
+    ) -> Fallible<()> {
+        flat_faces(state, "splitArea", span)?;
+        let Some(mesh) = state.geometry.local_mesh(state.scope.size) else {
+            return Ok(());
+        };
+        let length = state.scope.size[axis];
+        let total = mesh.area();
+        let mut layout = self.layouts.pop().unwrap_or_default();
+        let laid = layout.lay_out(block, total, span, &mut self.ev, state, args);
+        if let Err(e) = laid {
+            self.layouts.push(layout);
+            return Err(e);
+        }
+        layout.forget();
+        // The area before a position along the axis, and the position before which lies an
+        // area.
+        let before = |x: f64| split_slabs(&mesh, DVec3::AXES[axis], &[x])[0].area();
+        let position = |area: f64| {
+            if area <= 0.0 {
+                return 0.0;
+            }
+            if area >= total {
+                return length;
+            }
+            let (mut lo, mut hi) = (0.0, length);
+            for _ in 0..AREA_STEPS {
+                let mid = 0.5 * (lo + hi);
+                if before(mid) < area {
+                    lo = mid;
+                } else {
+                    hi = mid;
+                }
+            }
+            0.5 * (lo + hi)
+        };
+        for part in &mut layout.parts {
+            let (start, end) = (position(part.start), position(part.start + part.size));
+            part.start = start;
+            part.size = end - start;
+        }
+        let how = (adjust, SplitJoints::Auto);
+        let result = self.split_parts(state, axis, how, &layout, span, args, out);
         self.layouts.push(layout);
         result
     }

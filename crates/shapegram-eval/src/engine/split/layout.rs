@@ -139,6 +139,11 @@ impl<'a> Layout<'a> {
 }
 
 impl Layout<'_> {
+    /// Forgets the block and length of the last layout, for a caller that changes the parts.
+    pub(in crate::engine) fn forget(&mut self) {
+        self.last = None;
+    }
+
     /// Moves boundaries of the laid-out parts to snap positions (distances along the axis,
     /// ascending), as Müller et al. 2006 describe: for each position, the nearest boundary
     /// moves onto it. A boundary inside a repeated group redistributes the group: its
