@@ -464,6 +464,7 @@ const VISUAL_ONLY: &[&str] = &[
 
 /// CGA operations that are recognised but not implemented yet.
 const UNSUPPORTED: &[&str] = &[
+    "cleanupGeometry",
     "setbackPerEdge",
     "setbackToArea",
     "innerRect",
@@ -760,10 +761,12 @@ pub(crate) fn compile(
         words: Vec::new(),
     };
     let op = ctx.build(name);
-    // A bare word where the operation wanted a value is a name that does not exist.
+    // A bare word where the operation wanted a value is a name that does not exist. A skipped
+    // operation reads none of its arguments: its words (`cleanupGeometry(all, 1)`) are its own.
     let errors = ctx.c.error_count();
+    let reads_words = op.as_ref().is_some_and(|op| !matches!(op, Op::Ignored));
     for (i, word, span) in stray {
-        if op.is_some() && !ctx.words.contains(&i) {
+        if reads_words && !ctx.words.contains(&i) {
             ctx.c.unknown_name(&word, span, params);
         }
     }

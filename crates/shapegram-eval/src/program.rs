@@ -101,6 +101,8 @@ pub(crate) enum CStmt {
     Push,
     Pop(Span),
     Nil,
+    /// `[ case … ]`: the chosen branch's statements run, then the statements after this one.
+    Branch(Box<CBody>),
     /// Goal grammars: the shape goes on with these goals opened and named by `symbol`.
     Goals {
         goals: GoalList,
@@ -551,6 +553,7 @@ impl<'g> Compiler<'g> {
                 Stmt::Push(_) => Some(CStmt::Push),
                 Stmt::Pop(span) => Some(CStmt::Pop(*span)),
                 Stmt::Nil(_) => Some(CStmt::Nil),
+                Stmt::Branch(body) => Some(CStmt::Branch(Box::new(self.body(body, params)))),
                 Stmt::Call(call) => self.call_stmt(call, params),
                 Stmt::Goals(goals, span) => self.goal_successor(goals, *span),
             })

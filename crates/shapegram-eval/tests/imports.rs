@@ -171,3 +171,29 @@ fn errors_point_into_the_file_they_are_in() {
         Some(failing.find("\"high\"").unwrap() as u32)
     );
 }
+
+#[test]
+fn selectors_of_imported_rules_are_not_renamed_after_the_file_s_attributes() {
+    // massmodeling_01.cga has `attr shape` and `shapeL(…){ shape : … }`: the key stays the
+    // selector when the file is imported.
+    let shapes = "attr shape = \"auto\"\nattr w = 4\n\
+                  Wing --> shapeL(w, w) { shape : extrude(3) L | remainder : NIL }\n\
+                  Split --> split(x) { w : A | ~1 : B }\n";
+    let main = "import s : \"shapes.cga\"\nLot --> s.Wing\n";
+    let program = compile(
+        &[("main.cga", main), ("shapes.cga", shapes)],
+        &[vec![1], vec![]],
+    )
+    .unwrap();
+    assert_eq!(heights(&program), [("L".to_owned(), 3.0)]);
+    // A split's sizes are expressions: `w` is the file's attribute.
+    let main = "import s : \"shapes.cga\"\nLot --> s.Split\n";
+    let program = compile(
+        &[("main.cga", main), ("shapes.cga", shapes)],
+        &[vec![1], vec![]],
+    )
+    .unwrap();
+    let d = derive(&program, &[common::lot(20.0, 30.0)], &DeriveOptions::default()).unwrap();
+    let widths: Vec<f64> = d.leaves.iter().map(|l| l.scope.size.x).collect();
+    assert_eq!(widths, [4.0, 16.0]);
+}

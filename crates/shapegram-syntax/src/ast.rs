@@ -205,6 +205,9 @@ pub enum Stmt {
     Pop(Span),
     /// `NIL` (or ε in the Müller notation): delete the current shape.
     Nil(Span),
+    /// `[ case c: A else: B ]`: a `case` or percentage choice right after `[`, up to the
+    /// matching `]`. The statements after it go on from the chosen branch.
+    Branch(Box<Body>),
     /// Goal grammars: `+seat +wooden`, the shape goes on with these goals added and the rules
     /// that match it are sought (a successor without a symbol).
     Goals(Vec<Goal>, Span),

@@ -65,10 +65,30 @@ impl Parser<'_> {
     /// rule body (`in_body`), a percentage arm also ends the list.
     pub(super) fn statements(&mut self, in_body: bool) -> PResult<Vec<Stmt>> {
         let mut statements = Vec::new();
+        // `[`s opened in this list: a `]` beyond them closes the `[` before an enclosing branch.
+        let mut open = 0usize;
         loop {
             let statement = match self.peek().clone() {
-                TokenKind::LBracket => Stmt::Push(self.bump()),
-                TokenKind::RBracket => Stmt::Pop(self.bump()),
+                TokenKind::LBracket => {
+                    open += 1;
+                    let push = Stmt::Push(self.bump());
+                    if in_body && (self.at_word("case") || self.at_percent_arm()) {
+                        statements.push(push);
+                        self.bracket_branches += 1;
+                        let branch = self.body();
+                        self.bracket_branches -= 1;
+                        Stmt::Branch(Box::new(branch?))
+                    } else {
+                        push
+                    }
+                }
+                TokenKind::RBracket if open == 0 && self.bracket_branches > 0 => {
+                    return Ok(statements);
+                }
+                TokenKind::RBracket => {
+                    open = open.saturating_sub(1);
+                    Stmt::Pop(self.bump())
+                }
                 TokenKind::Ident if self.at_word("NIL") => Stmt::Nil(self.bump()),
                 TokenKind::Plus if self.dialect == Dialect::Goal => self.goal_successor()?,
                 TokenKind::Ident if self.dialect == Dialect::Goal && self.at_word("void") => {

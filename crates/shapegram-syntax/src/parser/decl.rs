@@ -46,7 +46,10 @@ impl Parser<'_> {
                 return Err(self.error_expected("an annotation name", "after `@`"));
             }
             let name = self.ident();
-            let args = if self.at(&TokenKind::LParen) {
+            let args = if self.at(&TokenKind::LParen) && name.name == "Handle" {
+                self.skip_parenthesised();
+                Vec::new()
+            } else if self.at(&TokenKind::LParen) {
                 self.call_args()?.0
             } else {
                 Vec::new()
@@ -58,6 +61,28 @@ impl Parser<'_> {
             });
         }
         Ok(annotations)
+    }
+
+    /// Skips a `( … )` with whatever it holds, nested brackets included. `@Handle`'s arguments
+    /// (`shape=Rule^2`, `translate={.1,0,0}`) only place a handle in CityEngine's viewport, and
+    /// are not expressions.
+    fn skip_parenthesised(&mut self) {
+        let mut depth = 0usize;
+        loop {
+            match self.peek() {
+                TokenKind::Eof => return,
+                TokenKind::LParen => depth += 1,
+                TokenKind::RParen => {
+                    depth -= 1;
+                    if depth == 0 {
+                        self.bump();
+                        return;
+                    }
+                }
+                _ => {}
+            }
+            self.bump();
+        }
     }
 
     pub(super) fn declaration(

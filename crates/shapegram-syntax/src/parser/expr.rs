@@ -248,6 +248,15 @@ impl Parser<'_> {
 
     fn prefix(&mut self) -> PResult<Expr> {
         let start = self.span();
+        if self.at(&TokenKind::Plus) {
+            // CGA's unary plus (`h ++.3048` is `h + +0.3048`) leaves its operand as it is.
+            self.bump();
+            let operand = self.binary(PREFIX_BP)?;
+            return Ok(Expr {
+                span: start.to(operand.span),
+                kind: operand.kind,
+            });
+        }
         let (wrap, bp): (fn(Box<Expr>) -> ExprKind, u8) = match self.peek() {
             TokenKind::Minus => (
                 |e| ExprKind::Unary {
@@ -387,7 +396,10 @@ impl Parser<'_> {
                     TokenKind::Ident | TokenKind::Number(_) => p.ident(),
                     _ => return Err(p.error_expected("a selector", "in the comp function")),
                 };
-                p.expect(&TokenKind::Colon, "`:`", "after the selector")?;
+                // `sel = v` (CityEngine's grouping form) gives the value as `sel : v` does.
+                if p.eat(&TokenKind::Eq).is_none() {
+                    p.expect(&TokenKind::Colon, "`:`", "after the selector")?;
+                }
                 entries.push(Argument {
                     name: Some(selector),
                     value: p.expr()?,

@@ -104,6 +104,9 @@ pub(crate) struct Parser<'a> {
     errors: usize,
     /// Set while looking ahead for a percentage arm (see [`Parser::at_percent_arm`]).
     speculating: bool,
+    /// How many `[ case … ]` branches are being read: their statement lists end at a `]`
+    /// that closes no `[` of their own.
+    bracket_branches: usize,
     diagnostics: Vec<Diagnostic>,
     /// The "too many errors" note, kept apart so it stays last after sorting.
     overflow: Option<Diagnostic>,
@@ -138,6 +141,7 @@ impl<'a> Parser<'a> {
             aborted: false,
             errors: 0,
             speculating: false,
+            bracket_branches: 0,
             diagnostics: Vec::new(),
             overflow: None,
             muller_rule: None,

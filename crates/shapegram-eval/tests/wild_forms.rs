@@ -1,0 +1,89 @@
+//! Forms that real CityEngine rule files use and our own examples did not: each test is a small
+//! grammar of our own with the form a public rule file taught us.
+
+mod common;
+
+use common::{compile_errors, lot, names, run};
+
+#[test]
+fn case_right_after_a_bracket_chooses_up_to_the_matching_bracket() {
+    // The chosen branch runs inside the brackets; what follows `]` runs on the restored shape.
+    let grammar = "attr kind = \"MAJOR\"
+        Lot --> extrude(4) [ case kind == \"MAJOR\": s('0.5, '1, '1) Lamp else: NIL ] Base";
+    let d = run(grammar, lot(20.0, 30.0));
+    assert_eq!(names(&d), ["Lamp", "Base"]);
+    assert_eq!(d.leaves[0].scope.size.x, 10.0);
+    assert_eq!(d.leaves[1].scope.size.x, 20.0);
+    let d = run(&grammar.replace("\"MAJOR\"\n", "\"MINOR\"\n"), lot(20.0, 30.0));
+    assert_eq!(names(&d), ["Base"]);
+}
+
+#[test]
+fn nested_cases_and_brackets_inside_a_bracketed_branch() {
+    let grammar = "attr n = 2
+        Lot --> [ case n > 1: [ t(1, 0, 0) A ] case n > 5 : B else: C ] [ D ] E";
+    let d = run(grammar, lot(4.0, 4.0));
+    assert_eq!(names(&d), ["A", "D", "E"]);
+    assert_eq!(d.leaves[0].scope.origin.x, 1.0);
+    assert_eq!(d.leaves[1].scope.origin.x, 0.0);
+}
+
+#[test]
+fn percentages_right_after_a_bracket_draw_one_branch() {
+    let d = run("Lot --> [ 100% : A else : B ] C", lot(4.0, 4.0));
+    assert_eq!(names(&d), ["A", "C"]);
+}
+
+#[test]
+fn a_bracketed_case_left_open_ends_at_the_next_rule() {
+    let d = run(
+        "Lot --> [ case true: A else: B\nNext --> C",
+        lot(4.0, 4.0),
+    );
+    assert_eq!(names(&d), ["A"]);
+}
+
+#[test]
+fn unary_plus_keeps_its_operand() {
+    let d = run("const h = 2 ++.5\nLot --> extrude(h) X", lot(4.0, 4.0));
+    assert_eq!(d.leaves[0].scope.size.y, 2.5);
+}
+
+#[test]
+fn handle_annotations_are_skipped_whatever_they_hold() {
+    let errors = errors(
+        "@Handle(shape=Street^4, axis=x, translate={.1,0,0}, color=\"#FF11FF\")\n\
+         attr w = 3\nLot --> extrude(w) Street",
+    );
+    assert!(errors.is_empty(), "{errors:?}");
+}
+
+#[test]
+fn comp_function_entries_may_use_the_grouping_form() {
+    // `street.back = v` gives the value as `street.back : v` does.
+    let d = run(
+        "const d = comp(fe) { front : 1 | back = 2 | all = 0 }\nLot --> setback(d) { all : Ring | remainder : Core }",
+        lot(20.0, 30.0),
+    );
+    let core = d.leaves.iter().find(|l| &*l.name == "Core").unwrap();
+    assert_eq!((core.scope.size.x, core.scope.size.z), (20.0, 27.0));
+}
+
+#[test]
+fn skipped_operations_keep_their_selector_words() {
+    let diagnostics = compile_errors("Lot --> cleanupGeometry(all, 0.1) X.");
+    assert_eq!(diagnostics.len(), 1, "{diagnostics:?}");
+    assert!(
+        diagnostics[0].starts_with("warning: operation `cleanupGeometry` is not supported yet"),
+        "{}",
+        diagnostics[0]
+    );
+}
+
+/// The errors among the diagnostics of compiling `text`.
+fn errors(text: &str) -> Vec<String> {
+    compile_errors(text)
+        .into_iter()
+        .filter(|d| d.starts_with("error"))
+        .collect()
+}
