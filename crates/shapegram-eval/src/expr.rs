@@ -155,6 +155,15 @@ impl<'p> Evaluator<'p> {
                 }
             }
             CKind::Binary(op, lhs, rhs) => self.binary(*op, lhs, rhs, shape, args, e.span)?,
+            CKind::EachBinary(op, lhs, rhs) => {
+                let a = self.eval(lhs, shape, args)?;
+                let b = self.eval(rhs, shape, args)?;
+                each_binary(*op, &a, &b, e.span, rhs.span)?
+            }
+            CKind::EachUnary(op, operand) => {
+                let v = self.eval(operand, shape, args)?;
+                each_unary(*op, &v, e.span)?
+            }
             CKind::Conditional(cond, then, otherwise) => {
                 if self.condition(cond, shape, args)? {
                     self.eval(then, shape, args)?
@@ -896,47 +905,7 @@ impl<'p> Evaluator<'p> {
         }
         let a = self.eval(lhs, shape, args)?;
         let b = self.eval(rhs, shape, args)?;
-        let mismatch = |a: &Value, b: &Value| {
-            DeriveError::at(
-                format!(
-                    "cannot apply `{}` to a {} and a {}",
-                    binary_symbol(op),
-                    a.type_name(),
-                    b.type_name()
-                ),
-                span,
-            )
-        };
-        Ok(match (op, &a, &b) {
-            (Eq, _, _) => Value::Bool(a == b),
-            (Ne, _, _) => Value::Bool(a != b),
-            (Add, Value::Str(_), _) | (Add, _, Value::Str(_)) => Value::string(&format!("{a}{b}")),
-            (_, Value::Number(x), Value::Number(y)) => {
-                let (x, y) = (*x, *y);
-                match op {
-                    Add => Value::Number(x + y),
-                    Sub => Value::Number(x - y),
-                    Mul => Value::Number(x * y),
-                    Div | Rem if y == 0.0 => {
-                        return Err(DeriveError::at("division by zero", rhs.span));
-                    }
-                    Div => Value::Number(x / y),
-                    Rem => Value::Number(x % y),
-                    Lt => Value::Bool(x < y),
-                    Le => Value::Bool(x <= y),
-                    Gt => Value::Bool(x > y),
-                    Ge => Value::Bool(x >= y),
-                    Eq | Ne | And | Or => unreachable!(),
-                }
-            }
-            (Lt | Le | Gt | Ge, Value::Str(x), Value::Str(y)) => Value::Bool(match op {
-                Lt => x < y,
-                Le => x <= y,
-                Gt => x > y,
-                _ => x >= y,
-            }),
-            _ => return Err(mismatch(&a, &b)),
-        })
+        apply_binary(op, &a, &b, span, rhs.span)
     }
 
     fn query(&self, q: Query, shape: &State) -> f64 {
@@ -978,6 +947,114 @@ impl<'p> Evaluator<'p> {
             Query::CompSel => unreachable!("comp.sel is a string, evaluated in `eval`"),
         }
     }
+}
+
+/// A binary operator on two values (`&&` and `||` on booleans; the engine short-circuits them
+/// before it gets here).
+fn apply_binary(op: BinaryOp, a: &Value, b: &Value, span: Span, rhs_span: Span) -> Result<Value> {
+    use BinaryOp::*;
+    let mismatch = |a: &Value, b: &Value| {
+        DeriveError::at(
+            format!(
+                "cannot apply `{}` to a {} and a {}",
+                binary_symbol(op),
+                a.type_name(),
+                b.type_name()
+            ),
+            span,
+        )
+    };
+    Ok(match (op, a, b) {
+        (Eq, _, _) => Value::Bool(a == b),
+        (Ne, _, _) => Value::Bool(a != b),
+        (Add, Value::Str(_), _) | (Add, _, Value::Str(_)) => Value::string(&format!("{a}{b}")),
+        (_, Value::Number(x), Value::Number(y)) => {
+            let (x, y) = (*x, *y);
+            match op {
+                Add => Value::Number(x + y),
+                Sub => Value::Number(x - y),
+                Mul => Value::Number(x * y),
+                Div | Rem if y == 0.0 => {
+                    return Err(DeriveError::at("division by zero", rhs_span));
+                }
+                Div => Value::Number(x / y),
+                Rem => Value::Number(x % y),
+                Lt => Value::Bool(x < y),
+                Le => Value::Bool(x <= y),
+                Gt => Value::Bool(x > y),
+                Ge => Value::Bool(x >= y),
+                Eq | Ne | And | Or => unreachable!("compared above or not numeric"),
+            }
+        }
+        (And, Value::Bool(x), Value::Bool(y)) => Value::Bool(*x && *y),
+        (Or, Value::Bool(x), Value::Bool(y)) => Value::Bool(*x || *y),
+        (And | Or, _, _) => return Err(mismatch(a, b)),
+        (Lt | Le | Gt | Ge, Value::Str(x), Value::Str(y)) => Value::Bool(match op {
+            Lt => x < y,
+            Le => x <= y,
+            Gt => x > y,
+            _ => x >= y,
+        }),
+        _ => return Err(mismatch(a, b)),
+    })
+}
+
+/// An element-wise operator: arrays element by element (of the same size), a single value with
+/// every element of an array.
+fn each_binary(op: BinaryOp, a: &Value, b: &Value, span: Span, rhs_span: Span) -> Result<Value> {
+    let items = match (a, b) {
+        (Value::Array(x), Value::Array(y)) if x.len() != y.len() => {
+            return Err(DeriveError::at(
+                format!(
+                    "`.{}` needs arrays of the same size, not {} and {} elements",
+                    binary_symbol(op),
+                    x.len(),
+                    y.len()
+                ),
+                span,
+            ));
+        }
+        (Value::Array(x), Value::Array(y)) => x
+            .iter()
+            .zip(y.iter())
+            .map(|(x, y)| each_binary(op, x, y, span, rhs_span))
+            .collect::<Result<Vec<_>>>()?,
+        (Value::Array(x), y) => x
+            .iter()
+            .map(|x| each_binary(op, x, y, span, rhs_span))
+            .collect::<Result<Vec<_>>>()?,
+        (x, Value::Array(y)) => y
+            .iter()
+            .map(|y| each_binary(op, x, y, span, rhs_span))
+            .collect::<Result<Vec<_>>>()?,
+        (x, y) => return apply_binary(op, x, y, span, rhs_span),
+    };
+    Ok(Value::Array(items.into()))
+}
+
+/// `.-` and `.!` on every element.
+fn each_unary(op: UnaryOp, v: &Value, span: Span) -> Result<Value> {
+    Ok(match (op, v) {
+        (_, Value::Array(items)) => Value::Array(
+            items
+                .iter()
+                .map(|x| each_unary(op, x, span))
+                .collect::<Result<Vec<_>>>()?
+                .into(),
+        ),
+        (UnaryOp::Neg, Value::Number(n)) => Value::Number(-n),
+        (UnaryOp::Not, Value::Bool(b)) => Value::Bool(!b),
+        (op, v) => {
+            return Err(DeriveError::at(
+                format!(
+                    "cannot apply `.{}` to a {}",
+                    unary_symbol(op),
+                    v.type_name()
+                ),
+                span,
+            ));
+        }
+    })
 }
 
 fn unary_symbol(op: UnaryOp) -> &'static str {
@@ -1032,7 +1109,7 @@ fn range(from: f64, by: f64, to: f64, span: Span) -> Result<Vec<Value>> {
 }
 
 /// The element of `items` at the index `at` (a number), or the elements at the indices of an
-/// array of numbers, as an array.
+/// array of numbers, or where an array of booleans is true, as an array.
 fn select(items: &[Value], at: &Value, span: Span) -> Result<Value> {
     let one = |i: f64| {
         let k = i.floor();
@@ -1046,6 +1123,27 @@ fn select(items: &[Value], at: &Value, span: Span) -> Result<Value> {
     };
     match at {
         Value::Number(i) => one(*i),
+        // A mask (`names .== "oak"`) keeps the elements where it is true.
+        Value::Array(mask)
+            if mask.iter().all(|m| matches!(m, Value::Bool(_))) && !mask.is_empty() =>
+        {
+            if mask.len() != items.len() {
+                return Err(DeriveError::at(
+                    format!(
+                        "a mask of {} booleans cannot select from an array of {}",
+                        mask.len(),
+                        items.len()
+                    ),
+                    span,
+                ));
+            }
+            let kept = items
+                .iter()
+                .zip(mask.iter())
+                .filter(|(_, m)| **m == Value::Bool(true))
+                .map(|(item, _)| item.clone());
+            Ok(Value::Array(kept.collect::<Vec<_>>().into()))
+        }
         Value::Array(indices) => indices
             .iter()
             .map(|i| match i {

@@ -912,7 +912,11 @@ impl Ctx<'_, '_> {
             "sync" => self.sync()?,
             _ => unreachable!("`{name}` is listed in IMPLEMENTED but not built"),
         };
-        let needs_block = matches!(op, Op::Split { .. } | Op::Comp { .. } | Op::Setback { .. });
+        // A skipped form (`split(u, unitSpace, 0){ … }`) keeps the block it was written with.
+        let needs_block = matches!(
+            op,
+            Op::Split { .. } | Op::Comp { .. } | Op::Setback { .. } | Op::Ignored
+        );
         if !needs_block && self.call.block.is_some() {
             self.error(format!("`{name}` takes no `{{…}}` block"));
             return None;

@@ -148,6 +148,11 @@ pub(crate) enum CKind {
     Query(Query),
     Unary(UnaryOp, Box<CExpr>),
     Binary(BinaryOp, Box<CExpr>, Box<CExpr>),
+    /// An element-wise operator (`a .* b`): the operation on each element of the arrays, a
+    /// single value taking part with every element.
+    EachBinary(BinaryOp, Box<CExpr>, Box<CExpr>),
+    /// `.!a`, `.-a`: the operation on each element.
+    EachUnary(UnaryOp, Box<CExpr>),
     Conditional(Box<CExpr>, Box<CExpr>, Box<CExpr>),
     Cases(Vec<(CExpr, CExpr)>, Box<CExpr>),
     Stochastic(Vec<(CExpr, CExpr)>, Box<CExpr>),
@@ -790,6 +795,38 @@ impl<'g> Compiler<'g> {
 
     /// Reports a name that resolves to nothing (a warning for CGA queries not implemented yet)
     /// and returns what stands in its place.
+    /// The element-wise operators, which the parser gives as calls named `.op`.
+    fn element_wise(&mut self, name: &ast::Ident, args: &[ast::Argument], params: Params) -> CKind {
+        use BinaryOp as B;
+        let mut operands = args.iter().map(|a| Box::new(self.expr(&a.value, params)));
+        let (Some(first), second) = (operands.next(), operands.next()) else {
+            return CKind::Value(Value::Number(0.0));
+        };
+        let Some(second) = second else {
+            return match name.name.as_str() {
+                ".-" => CKind::EachUnary(UnaryOp::Neg, first),
+                ".!" => CKind::EachUnary(UnaryOp::Not, first),
+                _ => first.kind,
+            };
+        };
+        let op = match name.name.as_str() {
+            ".*" => B::Mul,
+            "./" => B::Div,
+            ".%" => B::Rem,
+            ".+" => B::Add,
+            ".-" => B::Sub,
+            ".<" => B::Lt,
+            ".<=" => B::Le,
+            ".>" => B::Gt,
+            ".>=" => B::Ge,
+            ".==" => B::Eq,
+            ".!=" => B::Ne,
+            ".&&" => B::And,
+            _ => B::Or,
+        };
+        CKind::EachBinary(op, first, second)
+    }
+
     pub(crate) fn unknown_name(&mut self, name: &str, span: Span, params: Params) -> CKind {
         if Query::is_known_unsupported(name) {
             self.diagnostics.push(Diagnostic::warning(
@@ -815,6 +852,9 @@ impl<'g> Compiler<'g> {
     }
 
     fn call_expr(&mut self, name: &ast::Ident, args: &[ast::Argument], params: Params) -> CKind {
+        if name.name.starts_with('.') {
+            return self.element_wise(name, args, params);
+        }
         if let ("comp", [first, entries @ ..]) = (name.name.as_str(), args)
             && matches!(&first.value.kind, ExprKind::Name(k) if k == "fe")
             && first.name.is_none()

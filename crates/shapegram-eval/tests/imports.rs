@@ -193,7 +193,12 @@ fn selectors_of_imported_rules_are_not_renamed_after_the_file_s_attributes() {
         &[vec![1], vec![]],
     )
     .unwrap();
-    let d = derive(&program, &[common::lot(20.0, 30.0)], &DeriveOptions::default()).unwrap();
+    let d = derive(
+        &program,
+        &[common::lot(20.0, 30.0)],
+        &DeriveOptions::default(),
+    )
+    .unwrap();
     let widths: Vec<f64> = d.leaves.iter().map(|l| l.scope.size.x).collect();
     assert_eq!(widths, [4.0, 16.0]);
 }

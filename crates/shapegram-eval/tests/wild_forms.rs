@@ -14,7 +14,10 @@ fn case_right_after_a_bracket_chooses_up_to_the_matching_bracket() {
     assert_eq!(names(&d), ["Lamp", "Base"]);
     assert_eq!(d.leaves[0].scope.size.x, 10.0);
     assert_eq!(d.leaves[1].scope.size.x, 20.0);
-    let d = run(&grammar.replace("\"MAJOR\"\n", "\"MINOR\"\n"), lot(20.0, 30.0));
+    let d = run(
+        &grammar.replace("\"MAJOR\"\n", "\"MINOR\"\n"),
+        lot(20.0, 30.0),
+    );
     assert_eq!(names(&d), ["Base"]);
 }
 
@@ -36,10 +39,7 @@ fn percentages_right_after_a_bracket_draw_one_branch() {
 
 #[test]
 fn a_bracketed_case_left_open_ends_at_the_next_rule() {
-    let d = run(
-        "Lot --> [ case true: A else: B\nNext --> C",
-        lot(4.0, 4.0),
-    );
+    let d = run("Lot --> [ case true: A else: B\nNext --> C", lot(4.0, 4.0));
     assert_eq!(names(&d), ["A"]);
 }
 
@@ -86,4 +86,50 @@ fn errors(text: &str) -> Vec<String> {
         .into_iter()
         .filter(|d| d.starts_with("error"))
         .collect()
+}
+
+#[test]
+fn element_wise_operators_work_on_each_element() {
+    // Complete_Street.cga filters a table's rows with `t[t[0:n, 1] .== category, 0]`.
+    let grammar = "const t = [\"oak\", \"tree\"; \"bench\", \"furniture\"; \"elm\", \"tree\"]
+        const trees = t[t[0:2, 1] .== \"tree\", 0]
+        const scaled = [1, 2; 3, 4] .* 2 .+ [1, 1; 1, 1]
+        const flags = .![true, false] .|| [false, false]
+        Lot --> print(trees) print(scaled) print(flags) print(.-[1, 2]) print(3 .> [1, 5]) X.";
+    let d = run(grammar, lot(4.0, 4.0));
+    assert_eq!(
+        d.prints,
+        [
+            "[oak,elm]",
+            "[[3,5],[7,9]]",
+            "[false,true]",
+            "[-1,-2]",
+            "[true,false]"
+        ]
+    );
+    let errors = errors("Lot --> print([1, 2] .* [1, 2, 3]) X.");
+    assert!(errors.is_empty(), "{errors:?}");
+    let failed = common::try_run(
+        "Lot --> print([1, 2] .* [1, 2, 3]) X.",
+        lot(4.0, 4.0),
+        &shapegram_eval::DeriveOptions::default(),
+    )
+    .unwrap_err();
+    assert_eq!(
+        failed.to_string(),
+        "`.*` needs arrays of the same size, not 2 and 3 elements"
+    );
+}
+
+#[test]
+fn a_skipped_texture_space_split_keeps_its_block() {
+    let diagnostics =
+        compile_errors("Street --> split(v, unitSpace, 0) { 0.2 : Curb | ~1 : Road }");
+    assert_eq!(diagnostics.len(), 1, "{diagnostics:?}");
+    assert!(
+        diagnostics[0]
+            .starts_with("warning: texture-space splits (`split(u|v)`) are not supported yet"),
+        "{}",
+        diagnostics[0]
+    );
 }
