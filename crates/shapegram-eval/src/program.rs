@@ -597,7 +597,9 @@ impl<'g> Compiler<'g> {
             }
             return Some(self.successor(call, rule, params));
         }
-        if let Some(op) = ops::compile(self, call, params) {
+        // `r.` is a leaf named `r`: a terminal name without arguments is never an operation.
+        let leaf_symbol = call.terminal && call.args.is_none() && call.block.is_none();
+        if !leaf_symbol && let Some(op) = ops::compile(self, call, params) {
             return op.map(|op| CStmt::Op(op, call.span));
         }
         if self.goal.is_some() {

@@ -133,3 +133,10 @@ fn a_skipped_texture_space_split_keeps_its_block() {
         diagnostics[0]
     );
 }
+
+#[test]
+fn a_terminal_name_without_arguments_is_a_leaf_even_when_an_operation_has_its_name() {
+    let d = run("Lot --> t(1, 0, 0) r.", lot(4.0, 4.0));
+    assert_eq!(names(&d), ["r"]);
+    assert_eq!(d.leaves[0].scope.origin.x, 1.0);
+}
