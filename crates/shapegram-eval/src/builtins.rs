@@ -1,5 +1,7 @@
 //! Built-in functions and shape queries of the expression language.
 
+use crate::arrays::ArrayFn;
+use crate::colors::ColorFn;
 use crate::text::Text;
 
 /// Every built-in function's name with its signature (`None` for the functions of one number,
@@ -67,6 +69,10 @@ pub(crate) enum Builtin {
     FileRandom,
     /// A string or string-list function.
     Text(Text),
+    /// An array function or `isNull`.
+    Array(ArrayFn),
+    /// A colour conversion.
+    Color(ColorFn),
 }
 
 impl Builtin {
@@ -180,11 +186,18 @@ impl Builtin {
             .position(|&n| n == name)
             .map(|i| Self::ALL[i])
             .or_else(|| Text::from_name(name).map(Self::Text))
+            .or_else(|| ArrayFn::from_name(name).map(Self::Array))
+            .or_else(|| ColorFn::from_name(name).map(Self::Color))
     }
 
     /// Every built-in's name, the string functions' included.
     pub fn all_names() -> impl Iterator<Item = &'static str> {
-        Self::NAMES.iter().copied().chain(Text::names())
+        Self::NAMES
+            .iter()
+            .copied()
+            .chain(Text::names())
+            .chain(ArrayFn::names())
+            .chain(ColorFn::names())
     }
 
     /// Fewest and most arguments.
@@ -201,6 +214,8 @@ impl Builtin {
             | Self::BoundaryLength
             | Self::Height => (0, 0),
             Self::Text(t) => t.arity(),
+            Self::Array(f) => f.arity(),
+            Self::Color(f) => (f.arity(), f.arity()),
             _ => (1, 1),
         }
     }
@@ -238,6 +253,8 @@ impl Builtin {
             Self::FilesSearch => "filesSearch(query)",
             Self::FileRandom => "fileRandom(query)",
             Self::Text(t) => t.signature(),
+            Self::Array(f) => f.signature(),
+            Self::Color(f) => f.signature(),
             _ => "f(number)",
         }
     }

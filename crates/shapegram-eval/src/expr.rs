@@ -9,6 +9,7 @@ use shapegram_syntax::{
 };
 
 use crate::builtins::{Builtin, Query};
+use crate::colors::ColorFn;
 use crate::context::{Context, Target};
 use crate::error::DeriveError;
 use crate::goals::AttrId;
@@ -661,6 +662,25 @@ impl<'p> Evaluator<'p> {
         })
     }
 
+    /// A colour function: a hexadecimal string in, a component out, or numbers in, a string out.
+    fn color(
+        &mut self,
+        f: ColorFn,
+        params: &[CExpr],
+        shape: &mut State,
+        args: &[Value],
+    ) -> Result<Value> {
+        if f.reads_hex() {
+            let hex = self.string(&params[0], shape, args)?;
+            return Ok(Value::Number(f.component(&hex)));
+        }
+        let numbers = params
+            .iter()
+            .map(|p| self.number(p, shape, args))
+            .collect::<Result<Vec<_>>>()?;
+        Ok(Value::string(&f.hex(&numbers)))
+    }
+
     /// A string or string-list function: its numeric arguments as numbers, the others as
     /// strings (`listFromArray` takes an array of strings).
     fn text(
@@ -739,6 +759,14 @@ impl<'p> Evaluator<'p> {
                 return self.occlusion(b, params, shape, args, span);
             }
             Builtin::Text(t) => return self.text(t, params, shape, args, span),
+            Builtin::Array(f) => {
+                let values = params
+                    .iter()
+                    .map(|p| self.eval(p, shape, args))
+                    .collect::<Result<Vec<_>>>()?;
+                return f.apply(&values).map_err(|e| DeriveError::at(e, span));
+            }
+            Builtin::Color(f) => return self.color(f, params, shape, args),
             Builtin::IsRectangular
             | Builtin::IsConcave
             | Builtin::IsPlanar
@@ -872,7 +900,9 @@ impl<'p> Evaluator<'p> {
             | Builtin::FileSearch
             | Builtin::FilesSearch
             | Builtin::FileRandom
-            | Builtin::Text(_) => unreachable!("handled above"),
+            | Builtin::Text(_)
+            | Builtin::Array(_)
+            | Builtin::Color(_) => unreachable!("handled above"),
         };
         if !value.is_finite() {
             return Err(DeriveError::at(

@@ -9,7 +9,9 @@
 //! the same leaves, in the same order, whatever the number of threads (see [`rng`]).
 
 mod annotations;
+mod arrays;
 mod builtins;
+mod colors;
 mod context;
 mod engine;
 mod error;

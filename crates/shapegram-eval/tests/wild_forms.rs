@@ -140,3 +140,29 @@ fn a_terminal_name_without_arguments_is_a_leaf_even_when_an_operation_has_its_na
     assert_eq!(names(&d), ["r"]);
     assert_eq!(d.leaves[0].scope.origin.x, 1.0);
 }
+
+#[test]
+fn colour_and_array_functions_of_the_reference() {
+    // 6SetUp.cga turns a shutter's colour: colorHSVToHex(colorHexToH(c) - 185, …).
+    let d = run(
+        "const c = \"#ff0000\"
+         Lot --> print(colorHSVToHex(colorHexToH(c) + 120, colorHexToS(c), colorHexToV(c)))
+                 print(colorRGBOToHex(1, 0.5, 0, 1)) print(colorHexToO(\"#00000080\") * 255)
+                 print(sum([1, 2, 3])) print([30, 10, 20][sortIndices([30, 10, 20])])
+                 print(transpose([1, 2; 3, 4])) print(isNull(floatArray([\"1\", \"x\"])))
+                 X.",
+        lot(4.0, 4.0),
+    );
+    assert_eq!(
+        d.prints,
+        [
+            "#00ff00",
+            "#ff8000ff",
+            "128",
+            "6",
+            "[10,20,30]",
+            "[[1,3],[2,4]]",
+            "[false,true]"
+        ]
+    );
+}
