@@ -67,6 +67,9 @@ pub(crate) enum Builtin {
     FileSearch,
     FilesSearch,
     FileRandom,
+    FileExists,
+    ReadTextFile,
+    Angle,
     /// A string or string-list function.
     Text(Text),
     /// An array function or `isNull`.
@@ -124,9 +127,12 @@ impl Builtin {
         "fileSearch",
         "filesSearch",
         "fileRandom",
+        "fileExists",
+        "readTextFile",
+        "geometry.angle",
     ];
 
-    const ALL: [Builtin; 46] = [
+    const ALL: [Builtin; 49] = [
         Self::Rand,
         Self::P,
         Self::Floor,
@@ -173,6 +179,9 @@ impl Builtin {
         Self::FileSearch,
         Self::FilesSearch,
         Self::FileRandom,
+        Self::FileExists,
+        Self::ReadTextFile,
+        Self::Angle,
     ];
 
     /// The built-in with this name.
@@ -252,11 +261,20 @@ impl Builtin {
             Self::FileSearch => "fileSearch(query)",
             Self::FilesSearch => "filesSearch(query)",
             Self::FileRandom => "fileRandom(query)",
+            Self::FileExists => "fileExists(filePath)",
+            Self::ReadTextFile => "readTextFile(filePath)",
+            Self::Angle => "geometry.angle(maxSlope | azimuth | zenith)",
             Self::Text(t) => t.signature(),
             Self::Array(f) => f.signature(),
             Self::Color(f) => f.signature(),
             _ => "f(number)",
         }
+    }
+
+    /// Whether the built-in takes bare words as arguments (`inside(intra)`,
+    /// `geometry.angle(azimuth)`).
+    pub fn takes_words(self) -> bool {
+        self.is_context_query() || self == Self::Angle
     }
 
     /// Whether the built-in asks about other shapes (occlusion), which makes the rules that

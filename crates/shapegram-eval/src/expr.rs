@@ -350,6 +350,32 @@ impl<'p> Evaluator<'p> {
         })
     }
 
+    /// `fileExists(path)`: whether the derivation's assets have the file (false when it reads
+    /// no files); `readTextFile(path)`: the file's text.
+    fn read_file(
+        &mut self,
+        b: Builtin,
+        path: &CExpr,
+        shape: &mut State,
+        args: &[Value],
+    ) -> Result<Value> {
+        let name = self.string(path, shape, args)?;
+        let assets = self.assets;
+        if b == Builtin::FileExists {
+            return Ok(Value::Bool(assets.is_some_and(|a| a.exists(&name))));
+        }
+        let Some(assets) = assets else {
+            return Err(DeriveError::at(
+                format!("cannot read `{name}`: this derivation reads no files"),
+                path.span,
+            ));
+        };
+        let text = assets
+            .text(&name)
+            .map_err(|why| DeriveError::at(why, path.span))?;
+        Ok(Value::Str(text))
+    }
+
     /// `readStringTable(path)` and `readFloatTable(path)`: the file's table, read through the
     /// derivation's assets.
     fn read_table(
@@ -806,6 +832,13 @@ impl<'p> Evaluator<'p> {
             Builtin::FileSearch | Builtin::FilesSearch | Builtin::FileRandom => {
                 return self.search_files(b, &params[0], shape, args);
             }
+            Builtin::FileExists | Builtin::ReadTextFile => {
+                return self.read_file(b, &params[0], shape, args);
+            }
+            Builtin::Angle => {
+                let which = self.word(&params[0], shape, args)?;
+                return slope_angle(&which, shape).map_err(|e| DeriveError::at(e, params[0].span));
+            }
             Builtin::Rows | Builtin::Columns => {
                 let table = self.eval(&params[0], shape, args)?;
                 let Value::Array(rows) = &table else {
@@ -900,6 +933,9 @@ impl<'p> Evaluator<'p> {
             | Builtin::FileSearch
             | Builtin::FilesSearch
             | Builtin::FileRandom
+            | Builtin::FileExists
+            | Builtin::ReadTextFile
+            | Builtin::Angle
             | Builtin::Text(_)
             | Builtin::Array(_)
             | Builtin::Color(_) => unreachable!("handled above"),
@@ -1085,6 +1121,35 @@ fn each_unary(op: UnaryOp, v: &Value, span: Span) -> Result<Value> {
             ));
         }
     })
+}
+
+/// `geometry.angle(…)`: of the shape's steepest face, its slope against the ground (degrees,
+/// 0 flat, 90 upright), the compass direction it faces (degrees clockwise from north, −z; 0 for
+/// a flat face), or 90 − the slope; 0 for a shape without faces.
+fn slope_angle(which: &str, shape: &State) -> std::result::Result<Value, String> {
+    let steepest = shape.geometry.world_mesh(&shape.scope).and_then(|mesh| {
+        (0..mesh.face_count())
+            .map(|i| mesh.face_normal(i))
+            .filter(|n| *n != DVec3::ZERO)
+            .min_by(|a, b| a.y.abs().total_cmp(&b.y.abs()))
+    });
+    let slope = steepest.map_or(0.0, |n| n.y.abs().min(1.0).acos().to_degrees());
+    Ok(Value::Number(match which {
+        "maxSlope" => slope,
+        "zenith" => 90.0 - slope,
+        "azimuth" => steepest.map_or(0.0, |n| {
+            if n.x.hypot(n.z) < 1e-12 {
+                0.0
+            } else {
+                n.x.atan2(-n.z).to_degrees().rem_euclid(360.0)
+            }
+        }),
+        other => {
+            return Err(format!(
+                "expected `maxSlope`, `azimuth` or `zenith`, found `{other}`"
+            ));
+        }
+    }))
 }
 
 fn unary_symbol(op: UnaryOp) -> &'static str {

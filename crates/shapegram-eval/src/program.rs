@@ -878,7 +878,7 @@ impl<'g> Compiler<'g> {
             }
         }
         // Occlusion queries take bare target words: `inside(intra)`.
-        let context = Builtin::from_name(&name.name).is_some_and(Builtin::is_context_query);
+        let context = Builtin::from_name(&name.name).is_some_and(Builtin::takes_words);
         let compiled: Vec<CExpr> = args
             .iter()
             .map(|a| self.expr_in(&a.value, params, context))

@@ -166,3 +166,55 @@ fn colour_and_array_functions_of_the_reference() {
         ]
     );
 }
+
+#[test]
+fn geometry_angle_gives_slope_azimuth_and_zenith() {
+    // The lot's front edge faces +z, south: its facade's azimuth is 180.
+    let d = run(
+        "Lot --> extrude(10) comp(f) { front : F | right : R | top : T }
+         F --> print(geometry.angle(maxSlope) + \" \" + geometry.angle(azimuth)) X.
+         R --> print(geometry.angle(azimuth)) X.
+         T --> print(geometry.angle(zenith) + \" \" + geometry.angle(maxSlope)) X.",
+        lot(20.0, 30.0),
+    );
+    assert_eq!(d.prints, ["90 180", "90", "90 0"]);
+    let roof = run(
+        "Lot --> roofShed(30) comp(f) { all : A }
+         A --> print(rint(geometry.angle(maxSlope)) + \" \" + rint(geometry.angle(azimuth))) X.",
+        lot(20.0, 30.0),
+    );
+    // The bottom, the two gable ends and the high wall of the shed, then its slope, facing
+    // south (+z).
+    assert_eq!(roof.prints, ["0 0", "90 90", "90 0", "90 270", "30 180"]);
+    let errors = errors("Lot --> print(geometry.angle(steepest)) X.");
+    assert!(errors.is_empty(), "{errors:?}");
+    let failed = common::try_run(
+        "Lot --> print(geometry.angle(steepest)) X.",
+        lot(4.0, 4.0),
+        &shapegram_eval::DeriveOptions::default(),
+    )
+    .unwrap_err();
+    assert_eq!(
+        failed.to_string(),
+        "expected `maxSlope`, `azimuth` or `zenith`, found `steepest`"
+    );
+}
+
+#[test]
+fn file_functions_without_files() {
+    let d = run(
+        "Lot --> print(fileExists(\"facade.jpg\")) X.",
+        lot(4.0, 4.0),
+    );
+    assert_eq!(d.prints, ["false"]);
+    let failed = common::try_run(
+        "Lot --> print(readTextFile(\"notes.txt\")) X.",
+        lot(4.0, 4.0),
+        &shapegram_eval::DeriveOptions::default(),
+    )
+    .unwrap_err();
+    assert_eq!(
+        failed.to_string(),
+        "cannot read `notes.txt`: this derivation reads no files"
+    );
+}
