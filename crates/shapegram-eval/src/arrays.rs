@@ -1,5 +1,5 @@
-//! CGA's array functions (`sum`, `sortIndices`, `sortRowIndices`, `transpose`, the array
-//! conversions) and `isNull`. A 2D array is an array of rows.
+//! CGA's array functions (`sum`, `sortIndices`, `sortRowIndices`, `transpose`, `setElems`, the
+//! array conversions) and `isNull`. A 2D array is an array of rows.
 
 use std::cmp::Ordering;
 use std::sync::Arc;
@@ -17,13 +17,14 @@ pub(crate) enum ArrayFn {
     StringArray,
     BoolArray,
     IsNull,
+    SetElems,
 }
 
 /// The string CGA uses for a missing text value.
 const NULL_STRING: &str = "\u{e000}";
 
 impl ArrayFn {
-    const ALL: [(&'static str, ArrayFn, &'static str); 8] = [
+    const ALL: [(&'static str, ArrayFn, &'static str); 9] = [
         ("sum", Self::Sum, "sum(array)"),
         ("sortIndices", Self::SortIndices, "sortIndices(array)"),
         (
@@ -36,6 +37,11 @@ impl ArrayFn {
         ("stringArray", Self::StringArray, "stringArray([values])"),
         ("boolArray", Self::BoolArray, "boolArray([values])"),
         ("isNull", Self::IsNull, "isNull(value)"),
+        (
+            "setElems",
+            Self::SetElems,
+            "setElems(array, indices, values) | setElems(array, rowIndices, colIndices, values)",
+        ),
     ];
 
     /// Every array function's name.
@@ -52,6 +58,7 @@ impl ArrayFn {
     pub fn arity(self) -> (usize, usize) {
         match self {
             Self::FloatArray | Self::StringArray | Self::BoolArray => (0, 1),
+            Self::SetElems => (3, 4),
             _ => (1, 1),
         }
     }
@@ -107,6 +114,7 @@ impl ArrayFn {
                 }
             }
             Self::Transpose => transpose(array(first)?),
+            Self::SetElems => set_elems(array(first)?, &args[1..]),
         }
     }
 }
@@ -244,6 +252,86 @@ fn transpose(items: &[Value]) -> Result<Value, String> {
     Ok(Value::Array(columns.into()))
 }
 
+/// The positions an index selects among `len`: a number, an array of numbers, or a mask.
+fn positions(at: &Value, len: usize) -> Result<Vec<usize>, String> {
+    let one = |v: &Value| match v {
+        Value::Number(i) if *i >= 0.0 && (i.floor() as usize) < len => Ok(i.floor() as usize),
+        Value::Number(i) => Err(format!("index {i} is out of range for {len} elements")),
+        other => Err(format!(
+            "an index must be a number, found a {}",
+            other.type_name()
+        )),
+    };
+    match at {
+        Value::Array(mask)
+            if !mask.is_empty() && mask.iter().all(|m| matches!(m, Value::Bool(_))) =>
+        {
+            if mask.len() != len {
+                return Err(format!(
+                    "a mask of {} booleans cannot select from {len} elements",
+                    mask.len()
+                ));
+            }
+            Ok((0..len).filter(|&i| mask[i] == Value::Bool(true)).collect())
+        }
+        Value::Array(indices) => indices.iter().map(one).collect(),
+        single => Ok(vec![one(single)?]),
+    }
+}
+
+/// `setElems`: the array with the selected elements replaced, by one value or by the values
+/// in the order of the selection (later repeats win).
+fn set_elems(items: &[Value], args: &[Value]) -> Result<Value, String> {
+    let values = &args[args.len() - 1];
+    let mut out: Vec<Value> = items.to_vec();
+    if args.len() == 2 {
+        let at = positions(&args[0], out.len())?;
+        for (k, &i) in at.iter().enumerate() {
+            out[i] = pick(values, k, at.len())?;
+        }
+        return Ok(Value::Array(out.into()));
+    }
+    let rows = positions(&args[0], out.len())?;
+    let width = out
+        .first()
+        .map_or(0, |r| array(r).map_or(0, <[Value]>::len));
+    let columns = positions(&args[1], width)?;
+    let cells: Vec<Value> = match values {
+        Value::Array(value_rows) if value_rows.iter().all(|r| matches!(r, Value::Array(_))) => {
+            flat(value_rows)
+        }
+        other => vec![other.clone(); rows.len() * columns.len()],
+    };
+    if cells.len() != rows.len() * columns.len() {
+        return Err(format!(
+            "setElems needs {} × {} values, found {}",
+            rows.len(),
+            columns.len(),
+            cells.len()
+        ));
+    }
+    for (r, &row) in rows.iter().enumerate() {
+        let mut cells_of_row = array(&out[row])?.to_vec();
+        for (c, &column) in columns.iter().enumerate() {
+            cells_of_row[column] = cells[r * columns.len() + c].clone();
+        }
+        out[row] = Value::Array(cells_of_row.into());
+    }
+    Ok(Value::Array(out.into()))
+}
+
+/// The `k`th of `count` new values: the one value, or the `k`th of an array of `count`.
+fn pick(values: &Value, k: usize, count: usize) -> Result<Value, String> {
+    match values {
+        Value::Array(items) if items.len() == count => Ok(items[k].clone()),
+        Value::Array(items) => Err(format!(
+            "setElems needs {count} values for {count} indices, found {}",
+            items.len()
+        )),
+        one => Ok(one.clone()),
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -289,6 +377,46 @@ mod tests {
         assert_eq!(
             ArrayFn::SortRowIndices.apply(&[table]),
             Ok(numbers(&[2.0, 3.0, 1.0, 0.0]))
+        );
+    }
+
+    #[test]
+    fn set_elems_as_the_reference_shows() {
+        let zeros = numbers(&[0.0; 6]);
+        let set = |args: &[Value]| {
+            let mut all = vec![zeros.clone()];
+            all.extend_from_slice(args);
+            ArrayFn::SetElems.apply(&all)
+        };
+        assert_eq!(
+            set(&[Value::Number(2.0), Value::Number(1.0)]),
+            Ok(numbers(&[0.0, 0.0, 1.0, 0.0, 0.0, 0.0]))
+        );
+        assert_eq!(
+            set(&[numbers(&[5.0, 1.0, 3.0]), numbers(&[1.0, 2.0, 3.0])]),
+            Ok(numbers(&[0.0, 2.0, 0.0, 3.0, 0.0, 1.0]))
+        );
+        assert_eq!(
+            set(&[numbers(&[1.0, 1.0, 1.0]), numbers(&[1.0, 2.0, 3.0])]),
+            Ok(numbers(&[0.0, 3.0, 0.0, 0.0, 0.0, 0.0]))
+        );
+        let grid = Value::Array(Arc::from([
+            numbers(&[0.0; 3]),
+            numbers(&[0.0; 3]),
+            numbers(&[0.0; 3]),
+        ]));
+        let values = Value::Array(Arc::from([numbers(&[1.0, 2.0]), numbers(&[3.0, 4.0])]));
+        assert_eq!(
+            ArrayFn::SetElems.apply(&[grid, numbers(&[1.0, 2.0]), numbers(&[0.0, 2.0]), values]),
+            Ok(Value::Array(Arc::from([
+                numbers(&[0.0, 0.0, 0.0]),
+                numbers(&[1.0, 0.0, 2.0]),
+                numbers(&[3.0, 0.0, 4.0])
+            ])))
+        );
+        assert_eq!(
+            set(&[Value::Number(6.0), Value::Number(1.0)]),
+            Err("index 6 is out of range for 6 elements".to_owned())
         );
     }
 
