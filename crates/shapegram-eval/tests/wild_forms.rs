@@ -218,3 +218,21 @@ fn file_functions_without_files() {
         "cannot read `notes.txt`: this derivation reads no files"
     );
 }
+
+#[test]
+fn reference_functions_not_supported_yet_warn_at_check_and_stop_when_reached() {
+    let diagnostics = compile_errors(
+        "Lot --> case false : print(imagesSortRatio(fileSearch(\"*.jpg\"), xz)) X. else : Y.",
+    );
+    assert_eq!(diagnostics.len(), 1, "{diagnostics:?}");
+    assert!(
+        diagnostics[0].starts_with("warning: function `imagesSortRatio` is not supported yet"),
+        "{}",
+        diagnostics[0]
+    );
+    let d = run(
+        "Lot --> case false : print(edgeAttr.getFloat(\"w\")) X. else : Y.",
+        lot(4.0, 4.0),
+    );
+    assert_eq!(names(&d), ["Y"]);
+}
