@@ -527,6 +527,31 @@ impl<'p> Evaluator<'p> {
             .collect())
     }
 
+    /// Sets the attributes `attrs` of the shape afresh: those in `overrides` to their value,
+    /// the others to their defaults, evaluated in order (a default sees the values before it).
+    pub fn reset_attrs(
+        &mut self,
+        shape: &mut State,
+        attrs: &[u32],
+        overrides: &[(u32, Value)],
+    ) -> Result<()> {
+        let program = self.program;
+        let mut values: Vec<Value> = shape.attrs.to_vec();
+        for (i, v) in overrides {
+            values[*i as usize] = v.clone();
+        }
+        for &i in attrs {
+            if overrides.iter().any(|(o, _)| *o == i) {
+                continue;
+            }
+            shape.attrs = std::rc::Rc::new(values.clone());
+            let value = self.eval(&program.attrs[i as usize].value, shape, &[]);
+            values[i as usize] = self.placed(value, |o| o.attrs[i as usize])?;
+        }
+        shape.attrs = std::rc::Rc::new(values);
+        Ok(())
+    }
+
     fn constant(&mut self, i: u32, shape: &mut State) -> Result<Value> {
         let program = self.program;
         let constant = &program.consts[i as usize];

@@ -78,6 +78,12 @@ pub(crate) enum Op {
     /// `color("#rrggbb")` with a literal: parsed once, when compiled.
     ColorLiteral(Color),
     Set(SetTarget, CExpr),
+    /// A dynamic import's attributes (`id(a = v).Rule`): the overrides, evaluated where the
+    /// call is, then every other attribute of the import from its default, in order.
+    Reimport {
+        attrs: Vec<u32>,
+        overrides: Vec<(u32, CExpr)>,
+    },
     Report(CExpr, CExpr),
     Print(CExpr),
     ReverseNormals,

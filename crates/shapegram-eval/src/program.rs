@@ -569,6 +569,9 @@ impl<'g> Compiler<'g> {
     /// one is known, else a successor without a rule (a leaf, as in CGA, with a warning).
     fn call_stmt(&mut self, call: &ast::Call, params: Params) -> Option<CStmt> {
         let name = &call.name.name;
+        if name == ast::DYNAMIC_IMPORT {
+            return self.dynamic_import(call, params);
+        }
         let arity = call.args.as_ref().map_or(0, Vec::len);
         if call.block.is_none()
             && let Some(rules) = self.rule_by_name.get(name)
@@ -649,6 +652,39 @@ impl<'g> Compiler<'g> {
             terminal: call.terminal,
             span: call.span,
         }
+    }
+
+    /// The first statement of a dynamic import `id(a = v).Rule` (see [`ast::DYNAMIC_IMPORT`]):
+    /// the attributes of import `id`, set afresh with the overrides.
+    fn dynamic_import(&mut self, call: &ast::Call, params: Params) -> Option<CStmt> {
+        let args = call.args.as_deref().unwrap_or_default();
+        let ExprKind::Name(id) = &args.first()?.value.kind else {
+            return None;
+        };
+        let prefix = format!("{id}.");
+        let mut attrs: Vec<u32> = self
+            .attr_by_name
+            .iter()
+            .filter(|(name, _)| name.starts_with(&prefix))
+            .map(|(_, &i)| i)
+            .collect();
+        attrs.sort_unstable();
+        let mut overrides = Vec::new();
+        for a in &args[1..] {
+            let attr = a.name.as_ref()?;
+            let Some(&i) = self.attr_by_name.get(&format!("{prefix}{}", attr.name)) else {
+                self.diagnostics.push(
+                    Diagnostic::error(
+                        format!("the import `{id}` has no attribute `{}`", attr.name),
+                        attr.span,
+                    )
+                    .with_label("not an attribute of the imported file"),
+                );
+                return None;
+            };
+            overrides.push((i, self.expr(&a.value, params)));
+        }
+        Some(CStmt::Op(Op::Reimport { attrs, overrides }, call.span))
     }
 
     /// The target of `set(@name, …)`: the attribute, recorded as written, not read.

@@ -202,3 +202,39 @@ fn selectors_of_imported_rules_are_not_renamed_after_the_file_s_attributes() {
     let widths: Vec<f64> = d.leaves.iter().map(|l| l.scope.size.x).collect();
     assert_eq!(widths, [4.0, 16.0]);
 }
+
+#[test]
+fn dynamic_imports_set_the_imported_attributes_afresh_for_the_call() {
+    // PRT's dynamic_imports package: ruleB's `h`, set by the call; `h2` follows it.
+    let tower = "attr h = 1\nattr h2 = h * 2\nfoo --> extrude(h2) Top\n";
+    let links = [vec![1], vec![]];
+    let heights_of = |main: &str| {
+        let program = compile(&[("main.cga", main), ("tower.cga", tower)], &links).unwrap();
+        heights(&program)
+    };
+    let main = "attr big = 3.5\nimport b : \"tower.cga\"\nLot --> b(h = big * 2).foo\n";
+    assert_eq!(heights_of(main), [("Top".to_owned(), 14.0)]);
+    // `b().foo` goes back to the import statement's values, undoing a `set`.
+    let main = "import b : \"tower.cga\" (h = 3)\nLot --> set(b.h, 5) b().foo\n";
+    assert_eq!(heights_of(main), [("Top".to_owned(), 6.0)]);
+    // The shape that calls keeps its own values: after the brackets, `b.foo` sees h = 3.
+    let main = "import b : \"tower.cga\" (h = 3)\nLot --> b(h = 1).foo t(30, 0, 0) b.foo\n";
+    assert_eq!(
+        heights_of(main),
+        [("Top".to_owned(), 2.0), ("Top".to_owned(), 6.0)]
+    );
+    let errors = compile(
+        &[
+            ("main.cga", "import b : \"tower.cga\"\nLot --> b(width = 2).foo\n"),
+            ("tower.cga", tower),
+        ],
+        &links,
+    )
+    .unwrap_err();
+    assert_eq!(errors.len(), 1, "{errors:?}");
+    assert!(
+        errors[0].starts_with("error: the import `b` has no attribute `width`\n --> main.cga:2:11"),
+        "{}",
+        errors[0]
+    );
+}

@@ -236,3 +236,16 @@ fn reference_functions_not_supported_yet_warn_at_check_and_stop_when_reached() {
     );
     assert_eq!(names(&d), ["Y"]);
 }
+
+#[test]
+fn a_dynamic_import_takes_named_attributes() {
+    let errors = errors("Lot --> tower(12).Mass");
+    assert_eq!(errors.len(), 1, "{errors:?}");
+    assert!(
+        errors[0].starts_with(
+            "error: a dynamic import sets attributes: `id(name = value).Rule`\n --> test.cga:1:15"
+        ),
+        "{}",
+        errors[0]
+    );
+}

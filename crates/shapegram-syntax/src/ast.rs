@@ -213,6 +213,11 @@ pub enum Stmt {
     Goals(Vec<Goal>, Span),
 }
 
+/// The name of the statement a dynamic import `id(a = v).Rule` begins with (see
+/// [`Stmt`]): a call whose first argument names the import and whose named arguments set its
+/// attributes. No name written in a grammar can take this form.
+pub const DYNAMIC_IMPORT: &str = "import()";
+
 /// A name with optional arguments and an optional block, e.g. `split(y){ … }*`, `A(1, 2)`, `B.`.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Call {

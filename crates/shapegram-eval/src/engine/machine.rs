@@ -682,6 +682,13 @@ impl<'p> Engine<'p> {
             Op::Color(params) => state.color = self.color(state, params, args)?,
             Op::ColorLiteral(color) => state.color = *color,
             Op::Set(target, value) => self.set(state, target, value, args)?,
+            Op::Reimport { attrs, overrides } => {
+                let values = overrides
+                    .iter()
+                    .map(|(i, e)| Ok((*i, self.ev.eval(e, state, args)?)))
+                    .collect::<Fallible<Vec<_>>>()?;
+                self.ev.reset_attrs(state, attrs, &values)?;
+            }
             Op::Report(key, value) => self.report(state, key, value, args)?,
             Op::Print(value) => self.print(state, value, args)?,
             Op::ReverseNormals => reverse_normals(state, span)?,
