@@ -914,10 +914,10 @@ impl<'g> Compiler<'g> {
             }
         }
         // Occlusion queries take bare target words: `inside(intra)`.
-        let context = Builtin::from_name(&name.name).is_some_and(Builtin::takes_words);
+        let words = Builtin::from_name(&name.name).is_some_and(Builtin::takes_words);
         let compiled: Vec<CExpr> = args
             .iter()
-            .map(|a| self.expr_in(&a.value, params, context))
+            .map(|a| self.expr_in(&a.value, params, words))
             .collect();
         if let Some(overloads) = self.function_by_name.get(name.name.as_str()) {
             if let Some(&(_, f)) = overloads.iter().find(|(n, _)| *n == compiled.len()) {
@@ -951,7 +951,7 @@ impl<'g> Compiler<'g> {
                 );
                 return CKind::Value(Value::Number(0.0));
             }
-            self.uses.context |= context;
+            self.uses.context |= builtin.is_context_query();
             return CKind::Builtin(builtin, compiled);
         }
         let mut candidates: Vec<&str> = self.function_by_name.keys().copied().collect();

@@ -188,6 +188,12 @@ fn geometry_angle_gives_slope_azimuth_and_zenith() {
     assert_eq!(roof.prints, ["0 0", "90 90", "90 0", "90 270", "30 180"]);
     let errors = errors("Lot --> print(geometry.angle(steepest)) X.");
     assert!(errors.is_empty(), "{errors:?}");
+    // It asks about the shape alone, so an attribute may use it, unlike occlusion queries.
+    let d = run(
+        "attr slope = geometry.angle(maxSlope)\nLot --> print(slope) X.",
+        lot(4.0, 4.0),
+    );
+    assert_eq!(d.prints, ["0"]);
     let failed = common::try_run(
         "Lot --> print(geometry.angle(steepest)) X.",
         lot(4.0, 4.0),
