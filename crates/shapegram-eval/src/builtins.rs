@@ -70,6 +70,9 @@ pub(crate) enum Builtin {
     FileExists,
     ReadTextFile,
     Angle,
+    ContextCount,
+    ContextCompare,
+    MinimumDistance,
     /// A string or string-list function.
     Text(Text),
     /// An array function or `isNull`.
@@ -130,9 +133,12 @@ impl Builtin {
         "fileExists",
         "readTextFile",
         "geometry.angle",
+        "contextCount",
+        "contextCompare",
+        "minimumDistance",
     ];
 
-    const ALL: [Builtin; 49] = [
+    const ALL: [Builtin; 52] = [
         Self::Rand,
         Self::P,
         Self::Floor,
@@ -182,6 +188,9 @@ impl Builtin {
         Self::FileExists,
         Self::ReadTextFile,
         Self::Angle,
+        Self::ContextCount,
+        Self::ContextCompare,
+        Self::MinimumDistance,
     ];
 
     /// The built-in with this name.
@@ -214,7 +223,8 @@ impl Builtin {
         match self {
             Self::Rand => (0, 2),
             Self::Min | Self::Max | Self::Pow | Self::Atan2 => (2, 2),
-            Self::Clamp => (3, 3),
+            Self::Clamp | Self::ContextCompare => (3, 3),
+            Self::ContextCount | Self::MinimumDistance => (2, 2),
             Self::Inside | Self::Overlaps | Self::Touches => (0, 2),
             Self::Occ => (0, 1),
             Self::IsConcave
@@ -264,6 +274,11 @@ impl Builtin {
             Self::FileExists => "fileExists(filePath)",
             Self::ReadTextFile => "readTextFile(filePath)",
             Self::Angle => "geometry.angle(maxSlope | azimuth | zenith)",
+            Self::ContextCount => "contextCount(intra | inter | all, label)",
+            Self::ContextCompare => {
+                "contextCompare(intra | inter | all, label, world.northernmost | …)"
+            }
+            Self::MinimumDistance => "minimumDistance(intra | inter | all, label)",
             Self::Text(t) => t.signature(),
             Self::Array(f) => f.signature(),
             Self::Color(f) => f.signature(),
@@ -282,7 +297,13 @@ impl Builtin {
     pub fn is_context_query(self) -> bool {
         matches!(
             self,
-            Self::Inside | Self::Overlaps | Self::Touches | Self::Occ
+            Self::Inside
+                | Self::Overlaps
+                | Self::Touches
+                | Self::Occ
+                | Self::ContextCount
+                | Self::ContextCompare
+                | Self::MinimumDistance
         )
     }
 

@@ -10,7 +10,7 @@ use shapegram_syntax::{
 
 use crate::builtins::{Builtin, Query};
 use crate::colors::ColorFn;
-use crate::context::{Context, Target};
+use crate::context::{Context, Extreme, Target};
 use crate::error::DeriveError;
 use crate::goals::AttrId;
 use crate::imports::Origins;
@@ -262,8 +262,11 @@ impl<'p> Evaluator<'p> {
                 ));
             }
         };
+        // `minimumDistance` is infinite when nothing is near: CGA's `isinf` asks for that.
+        let infinite_allowed = matches!(e.kind, CKind::Builtin(Builtin::MinimumDistance, _));
         if let Value::Number(n) = value
             && !n.is_finite()
+            && !infinite_allowed
         {
             return Err(DeriveError::at(
                 "this evaluates to a number that is not finite (NaN or infinity)",
@@ -679,6 +682,55 @@ impl<'p> Evaluator<'p> {
         })
     }
 
+    /// `contextCount(target, label)`, `contextCompare(target, label, key)` and
+    /// `minimumDistance(target, label)` over the labelled shapes of phase 1.
+    fn context_function(
+        &mut self,
+        b: Builtin,
+        params: &[CExpr],
+        shape: &mut State,
+        args: &[Value],
+        span: Span,
+    ) -> Result<Value> {
+        let Some(context) = self.context else {
+            return Err(DeriveError::at(
+                "context functions can only be asked in rules (not in attributes or in rules \
+                 made before the derivation starts)",
+                span,
+            ));
+        };
+        let word = self.word(&params[0], shape, args)?;
+        let target = Target::from_name(&word).ok_or_else(|| {
+            DeriveError::at(
+                format!("expected the target `all`, `intra` or `inter`, found `{word}`"),
+                params[0].span,
+            )
+        })?;
+        let label = self.string(&params[1], shape, args)?;
+        if label.is_empty() {
+            return Ok(Value::Number(match b {
+                Builtin::MinimumDistance => f64::INFINITY,
+                _ => 0.0,
+            }));
+        }
+        Ok(Value::Number(match b {
+            Builtin::ContextCount => context.count(shape, self.lot, target, &label) as f64,
+            Builtin::MinimumDistance => context.nearest(shape, self.lot, target, &label),
+            _ => {
+                let key = self.word(&params[2], shape, args)?;
+                let extreme = Extreme::from_name(&key).ok_or_else(|| {
+                    DeriveError::at(
+                        format!(
+                            "expected `world.northernmost`, `world.southernmost`, `world.easternmost`, `world.westernmost`, `world.highest` or `world.lowest`, found `{key}`"
+                        ),
+                        params[2].span,
+                    )
+                })?;
+                context.rank(shape, self.lot, target, &label, extreme) as f64
+            }
+        }))
+    }
+
     /// `geometry.isRectangular(tolerance)` and the other questions about the shape's mesh
     /// (see `shapegram_geom::shape_metrics`); a shape without geometry has no faces.
     fn measure(
@@ -808,6 +860,9 @@ impl<'p> Evaluator<'p> {
         match b {
             Builtin::Inside | Builtin::Overlaps | Builtin::Touches | Builtin::Occ => {
                 return self.occlusion(b, params, shape, args, span);
+            }
+            Builtin::ContextCount | Builtin::ContextCompare | Builtin::MinimumDistance => {
+                return self.context_function(b, params, shape, args, span);
             }
             Builtin::Text(t) => return self.text(t, params, shape, args, span),
             Builtin::Array(f) => {
@@ -961,6 +1016,9 @@ impl<'p> Evaluator<'p> {
             | Builtin::FileExists
             | Builtin::ReadTextFile
             | Builtin::Angle
+            | Builtin::ContextCount
+            | Builtin::ContextCompare
+            | Builtin::MinimumDistance
             | Builtin::Text(_)
             | Builtin::Array(_)
             | Builtin::Color(_) => unreachable!("handled above"),

@@ -225,7 +225,10 @@ fn dynamic_imports_set_the_imported_attributes_afresh_for_the_call() {
     );
     let errors = compile(
         &[
-            ("main.cga", "import b : \"tower.cga\"\nLot --> b(width = 2).foo\n"),
+            (
+                "main.cga",
+                "import b : \"tower.cga\"\nLot --> b(width = 2).foo\n",
+            ),
             ("tower.cga", tower),
         ],
         &links,
