@@ -385,11 +385,7 @@ fn context_functions_count_rank_and_measure_the_labelled_shapes() {
     .unwrap();
     assert_eq!(
         d.prints,
-        [
-            "2 0 5 2 0 true 0",
-            "2 0 5 1 0 true 0",
-            "2 0 5 0 0 true 0"
-        ]
+        ["2 0 5 2 0 true 0", "2 0 5 1 0 true 0", "2 0 5 0 0 true 0"]
     );
     let failed = try_run(
         "Lot --> extrude(6) label(\"b\") Ask\nAsk --> print(contextCompare(all, \"b\", area.largest)) X.",
@@ -398,7 +394,9 @@ fn context_functions_count_rank_and_measure_the_labelled_shapes() {
     )
     .unwrap_err();
     assert!(
-        failed.to_string().starts_with("expected `world.northernmost`"),
+        failed
+            .to_string()
+            .starts_with("expected `world.northernmost`"),
         "{failed}"
     );
 }

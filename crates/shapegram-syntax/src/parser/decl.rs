@@ -4,7 +4,7 @@
 use super::{Fail, PResult, Parser};
 use crate::ast::{
     Annotation, Attr, Const, ExprKind, Function, Grammar, Ident, Import, ImportAttribute, Rule,
-    Spanned, Unsupported,
+    Spanned, Style, Unsupported,
 };
 use crate::lexer::TokenKind;
 use crate::{Diagnostic, Span};
@@ -265,7 +265,14 @@ impl Parser<'_> {
     fn style(&mut self, grammar: &mut Grammar) -> PResult<()> {
         let start = self.bump();
         let name = self.declared_name("a style name", "after `style`")?;
-        let span = start.to(name.span);
+        let mut span = start.to(name.span);
+        let mut base = None;
+        if self.at_word("extends") {
+            self.bump();
+            let b = self.declared_name("the name of the style it extends", "after `extends`")?;
+            span = span.to(b.span);
+            base = Some(b);
+        }
         self.report(
             Diagnostic::warning("`style` is not supported yet", span)
                 .with_label("ignored")
@@ -281,6 +288,12 @@ impl Parser<'_> {
             span,
         });
         grammar.unsupported.append(&mut section.unsupported);
+        grammar.styles.push(Style {
+            name,
+            base,
+            declarations: section,
+            span,
+        });
         Ok(())
     }
 
