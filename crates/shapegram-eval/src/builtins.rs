@@ -73,6 +73,7 @@ pub(crate) enum Builtin {
     ContextCount,
     ContextCompare,
     MinimumDistance,
+    Print,
     /// A string or string-list function.
     Text(Text),
     /// An array function or `isNull`.
@@ -136,9 +137,10 @@ impl Builtin {
         "contextCount",
         "contextCompare",
         "minimumDistance",
+        "print",
     ];
 
-    const ALL: [Builtin; 52] = [
+    const ALL: [Builtin; 53] = [
         Self::Rand,
         Self::P,
         Self::Floor,
@@ -191,6 +193,7 @@ impl Builtin {
         Self::ContextCount,
         Self::ContextCompare,
         Self::MinimumDistance,
+        Self::Print,
     ];
 
     /// The built-in with this name.
@@ -279,6 +282,7 @@ impl Builtin {
                 "contextCompare(intra | inter | all, label, world.northernmost | …)"
             }
             Self::MinimumDistance => "minimumDistance(intra | inter | all, label)",
+            Self::Print => "print(value)",
             Self::Text(t) => t.signature(),
             Self::Array(f) => f.signature(),
             Self::Color(f) => f.signature(),
@@ -403,6 +407,8 @@ pub(crate) enum Query {
     Seed,
     Depth,
     CompSel,
+    /// `initialShape.startRule`: the name of the rule the derivation started from.
+    StartRule,
 }
 
 impl Query {
@@ -432,6 +438,7 @@ impl Query {
         "shape.depth",
         "comp.sel",
         "geometry.nHoles",
+        "initialShape.startRule",
     ];
 
     /// The query with this name.
@@ -453,7 +460,8 @@ impl Query {
             20 => Self::Seed,
             21 => Self::Depth,
             22 => Self::CompSel,
-            _ => Self::GeometryHoles,
+            23 => Self::GeometryHoles,
+            _ => Self::StartRule,
         })
     }
 

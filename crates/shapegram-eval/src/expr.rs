@@ -56,6 +56,8 @@ pub(crate) struct Evaluator<'p> {
     pub motions: Vec<Frame>,
     /// Where tables (`readStringTable`) are read from: the derivation's assets.
     pub assets: Option<&'p dyn crate::AssetLoader>,
+    /// The rule the derivation started from (`initialShape.startRule`).
+    pub start: Option<crate::program::RuleId>,
 }
 
 /// A constant's first evaluation in a lot: which constant, its value, and the constants'
@@ -93,6 +95,7 @@ impl<'p> Evaluator<'p> {
             const_log: None,
             motions: Vec::new(),
             assets: None,
+            start: None,
         }
     }
 
@@ -135,6 +138,10 @@ impl<'p> Evaluator<'p> {
             CKind::Query(Query::CompSel) => {
                 Value::string(crate::ops::CompSelector::NAMES[usize::from(shape.comp_sel)])
             }
+            CKind::Query(Query::StartRule) => Value::string(self.start.map_or("", |rule| {
+                self.program
+                    .symbol_name(self.program.rules[rule as usize].symbol)
+            })),
             CKind::Query(q) => Value::Number(self.query(*q, shape)),
             CKind::GoalAttr(attr, kind) => self.goal_attribute(*attr, *kind, shape, e.span)?,
             CKind::EdgeValues(entries) => self.edge_values(entries, shape, args)?,
@@ -864,6 +871,12 @@ impl<'p> Evaluator<'p> {
             Builtin::ContextCount | Builtin::ContextCompare | Builtin::MinimumDistance => {
                 return self.context_function(b, params, shape, args, span);
             }
+            Builtin::Print => {
+                // As a function, `print` gives its value on.
+                let value = self.eval(&params[0], shape, args)?;
+                self.prints.push(value.to_string());
+                return Ok(value);
+            }
             Builtin::Text(t) => return self.text(t, params, shape, args, span),
             Builtin::Array(f) => {
                 let values = params
@@ -1019,6 +1032,7 @@ impl<'p> Evaluator<'p> {
             | Builtin::ContextCount
             | Builtin::ContextCompare
             | Builtin::MinimumDistance
+            | Builtin::Print
             | Builtin::Text(_)
             | Builtin::Array(_)
             | Builtin::Color(_) => unreachable!("handled above"),
@@ -1093,7 +1107,9 @@ impl<'p> Evaluator<'p> {
             // A number in [0, 1) stable for the shape: CGA's `seedian`.
             Query::Seed => (crate::rng::mix(shape.seed) >> 11) as f64 / (1u64 << 53) as f64,
             Query::Depth => f64::from(shape.depth),
-            Query::CompSel => unreachable!("comp.sel is a string, evaluated in `eval`"),
+            Query::CompSel | Query::StartRule => {
+                unreachable!("string queries are evaluated in `eval`")
+            }
         }
     }
 }

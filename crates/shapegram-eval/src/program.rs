@@ -825,14 +825,19 @@ impl<'g> Compiler<'g> {
         if let Some(q) = Query::from_name(name) {
             return CKind::Query(q);
         }
+        // `geometry.isConcave` and the other shape questions without arguments may be written
+        // without parentheses, as the queries are.
+        if let Some(b) =
+            Builtin::from_name(name).filter(|b| name.starts_with("geometry.") && b.arity().0 == 0)
+        {
+            return CKind::Builtin(b, Vec::new());
+        }
         if selectors {
             return CKind::Selector(name.to_owned());
         }
         self.unknown_name(name, span, params)
     }
 
-    /// Reports a name that resolves to nothing (a warning for CGA queries not implemented yet)
-    /// and returns what stands in its place.
     /// The element-wise operators, which the parser gives as calls named `.op`.
     fn element_wise(&mut self, name: &ast::Ident, args: &[ast::Argument], params: Params) -> CKind {
         use BinaryOp as B;
@@ -865,6 +870,8 @@ impl<'g> Compiler<'g> {
         CKind::EachBinary(op, first, second)
     }
 
+    /// Reports a name that resolves to nothing (a warning for CGA queries not implemented yet)
+    /// and returns what stands in its place.
     pub(crate) fn unknown_name(&mut self, name: &str, span: Span, params: Params) -> CKind {
         if Query::is_known_unsupported(name) {
             self.diagnostics.push(Diagnostic::warning(

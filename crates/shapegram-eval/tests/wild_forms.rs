@@ -255,3 +255,18 @@ fn a_dynamic_import_takes_named_attributes() {
         errors[0]
     );
 }
+
+#[test]
+fn start_rule_print_as_a_function_and_geometry_questions_without_parentheses() {
+    // Complete_Street.cga picks its street parts by `initialShape.startRule`.
+    let d = run(
+        "attr part = case initialShape.startRule == \"Street\" : \"lanes\" else : \"other\"
+         @StartRule
+         Street --> print(part) extrude(print(2) + 1) Mass
+         Mass --> case geometry.isConcave : Concave. else : print(geometry.nEdges) Box.",
+        lot(4.0, 4.0),
+    );
+    assert_eq!(d.prints, ["lanes", "2", "12"]);
+    assert_eq!(names(&d), ["Box"]);
+    assert_eq!(d.leaves[0].scope.size.y, 3.0);
+}

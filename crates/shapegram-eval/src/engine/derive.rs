@@ -446,6 +446,7 @@ fn derive_lot<'a>(
     let mut ev = Evaluator::new(program, seed, scope.origin);
     ev.assets = options.assets.as_deref();
     ev.lot = index;
+    ev.start = Some(start);
     state.attrs = Rc::new(ev.initial_attrs(&mut state, overrides)?);
     // A lot derived again grows to about its previous size.
     let previous = how
@@ -565,6 +566,7 @@ fn resume_lot(
 ) -> Result<(), DeriveError> {
     let mut ev = Evaluator::new(program, seed, waiting.origin);
     ev.assets = options.assets.as_deref();
+    ev.start = start_rule(program, options).ok();
     ev.restore(waiting.consts);
     ev.lot = waiting.lot;
     ev.context = Some(context);
