@@ -74,6 +74,7 @@ pub(crate) enum Builtin {
     ContextCompare,
     MinimumDistance,
     Print,
+    Convert,
     /// A string or string-list function.
     Text(Text),
     /// An array function or `isNull`.
@@ -138,9 +139,10 @@ impl Builtin {
         "contextCompare",
         "minimumDistance",
         "print",
+        "convert",
     ];
 
-    const ALL: [Builtin; 53] = [
+    const ALL: [Builtin; 54] = [
         Self::Rand,
         Self::P,
         Self::Floor,
@@ -194,6 +196,7 @@ impl Builtin {
         Self::ContextCompare,
         Self::MinimumDistance,
         Self::Print,
+        Self::Convert,
     ];
 
     /// The built-in with this name.
@@ -227,6 +230,7 @@ impl Builtin {
             Self::Rand => (0, 2),
             Self::Min | Self::Max | Self::Pow | Self::Atan2 => (2, 2),
             Self::Clamp | Self::ContextCompare => (3, 3),
+            Self::Convert => (4, 7),
             Self::ContextCount | Self::MinimumDistance => (2, 2),
             Self::Inside | Self::Overlaps | Self::Touches => (0, 2),
             Self::Occ => (0, 1),
@@ -283,6 +287,9 @@ impl Builtin {
             }
             Self::MinimumDistance => "minimumDistance(intra | inter | all, label)",
             Self::Print => "print(value)",
+            Self::Convert => {
+                "convert(x | y | z, from, to, pos | orient, x, y, z) | convert(from, to, pos | orient, [x, y, z])"
+            }
             Self::Text(t) => t.signature(),
             Self::Array(f) => f.signature(),
             Self::Color(f) => f.signature(),
@@ -293,7 +300,7 @@ impl Builtin {
     /// Whether the built-in takes bare words as arguments (`inside(intra)`,
     /// `geometry.angle(azimuth)`).
     pub fn takes_words(self) -> bool {
-        self.is_context_query() || self == Self::Angle
+        self.is_context_query() || matches!(self, Self::Angle | Self::Convert)
     }
 
     /// Whether the built-in asks about other shapes (occlusion), which makes the rules that

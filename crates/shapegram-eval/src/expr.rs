@@ -11,6 +11,7 @@ use shapegram_syntax::{
 use crate::builtins::{Builtin, Query};
 use crate::colors::ColorFn;
 use crate::context::{Context, Extreme, Target};
+use crate::convert::CoordinateSystem;
 use crate::error::DeriveError;
 use crate::goals::AttrId;
 use crate::imports::Origins;
@@ -689,6 +690,98 @@ impl<'p> Evaluator<'p> {
         })
     }
 
+    /// `convert(x, from, to, pos, x, y, z)` (one coordinate) and `convert(from, to, pos, [x,
+    /// y, z])` (all three): see [`crate::convert`].
+    fn convert(
+        &mut self,
+        params: &[CExpr],
+        shape: &mut State,
+        args: &[Value],
+        span: Span,
+    ) -> Result<Value> {
+        let (component, rest) = match params.len() {
+            7 => {
+                let word = self.word(&params[0], shape, args)?;
+                let i = match &*word {
+                    "x" => 0,
+                    "y" => 1,
+                    "z" => 2,
+                    other => {
+                        return Err(DeriveError::at(
+                            format!("expected the coordinate `x`, `y` or `z`, found `{other}`"),
+                            params[0].span,
+                        ));
+                    }
+                };
+                (Some(i), &params[1..])
+            }
+            4 => (None, params),
+            n => {
+                return Err(DeriveError::at(
+                    format!("`convert` takes 4 or 7 arguments, not {n}"),
+                    span,
+                ));
+            }
+        };
+        let mut frames = [CoordinateSystem::World; 2];
+        for (frame, p) in frames.iter_mut().zip(rest) {
+            let word = self.word(p, shape, args)?;
+            *frame = CoordinateSystem::from_name(&word).ok_or_else(|| {
+                DeriveError::at(
+                    format!(
+                        "expected the coordinate system `scope`, `pivot`, `object` or `world`, found `{word}`"
+                    ),
+                    p.span,
+                )
+            })?;
+        }
+        let orient = match &*self.word(&rest[2], shape, args)? {
+            "pos" => false,
+            "orient" => true,
+            other => {
+                return Err(DeriveError::at(
+                    format!("expected `pos` or `orient`, found `{other}`"),
+                    rest[2].span,
+                ));
+            }
+        };
+        let v = if component.is_some() {
+            DVec3::new(
+                self.number(&rest[3], shape, args)?,
+                self.number(&rest[4], shape, args)?,
+                self.number(&rest[5], shape, args)?,
+            )
+        } else {
+            match self.eval(&rest[3], shape, args)? {
+                Value::Array(items) if items.len() == 3 => {
+                    let n = |v: &Value| match v {
+                        Value::Number(n) => Ok(*n),
+                        other => Err(DeriveError::at(
+                            format!("expected a number, found a {}", other.type_name()),
+                            rest[3].span,
+                        )),
+                    };
+                    DVec3::new(n(&items[0])?, n(&items[1])?, n(&items[2])?)
+                }
+                other => {
+                    return Err(DeriveError::at(
+                        format!("expected three coordinates `[x, y, z]`, found {other}"),
+                        rest[3].span,
+                    ));
+                }
+            }
+        };
+        let out = crate::convert::convert(&shape.scope, frames[0], frames[1], orient, v);
+        Ok(match component {
+            Some(i) => Value::Number(out[i]),
+            None => Value::Array(Arc::from([
+                Value::Number(out.x),
+                Value::Number(out.y),
+                Value::Number(out.z),
+            ])),
+        })
+    }
+
     /// `contextCount(target, label)`, `contextCompare(target, label, key)` and
     /// `minimumDistance(target, label)` over the labelled shapes of phase 1.
     fn context_function(
@@ -871,6 +964,7 @@ impl<'p> Evaluator<'p> {
             Builtin::ContextCount | Builtin::ContextCompare | Builtin::MinimumDistance => {
                 return self.context_function(b, params, shape, args, span);
             }
+            Builtin::Convert => return self.convert(params, shape, args, span),
             Builtin::Print => {
                 // As a function, `print` gives its value on.
                 let value = self.eval(&params[0], shape, args)?;
@@ -1033,6 +1127,7 @@ impl<'p> Evaluator<'p> {
             | Builtin::ContextCompare
             | Builtin::MinimumDistance
             | Builtin::Print
+            | Builtin::Convert
             | Builtin::Text(_)
             | Builtin::Array(_)
             | Builtin::Color(_) => unreachable!("handled above"),

@@ -13,6 +13,7 @@ mod arrays;
 mod builtins;
 mod colors;
 mod context;
+mod convert;
 mod engine;
 mod error;
 mod expr;

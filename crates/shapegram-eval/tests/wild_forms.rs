@@ -270,3 +270,27 @@ fn start_rule_print_as_a_function_and_geometry_questions_without_parentheses() {
     assert_eq!(names(&d), ["Box"]);
     assert_eq!(d.leaves[0].scope.size.y, 3.0);
 }
+
+#[test]
+fn convert_takes_positions_and_angles_between_scope_and_world() {
+    // The lot's right facade: its scope starts at (20, 0, 30) with x along −z.
+    let d = run(
+        "Lot --> extrude(10) comp(f) { right : R }
+         R --> print(convert(scope, world, pos, [2, 1, 0]))
+               print(convert(x, world, scope, pos, 20, 0, 26))
+               print(rint(convert(y, scope, object, orient, 0, 0, 0)))
+               X.",
+        lot(20.0, 30.0),
+    );
+    assert_eq!(d.prints, ["[20,1,28]", "4", "90"]);
+    let failed = common::try_run(
+        "Lot --> print(convert(scope, screen, pos, [0, 0, 0])) X.",
+        lot(4.0, 4.0),
+        &shapegram_eval::DeriveOptions::default(),
+    )
+    .unwrap_err();
+    assert_eq!(
+        failed.to_string(),
+        "expected the coordinate system `scope`, `pivot`, `object` or `world`, found `screen`"
+    );
+}
