@@ -416,6 +416,8 @@ pub(crate) enum Query {
     CompSel,
     /// `initialShape.startRule`: the name of the rule the derivation started from.
     StartRule,
+    /// `scope.elevation`: the world height of the scope's origin.
+    Elevation,
 }
 
 impl Query {
@@ -446,6 +448,7 @@ impl Query {
         "comp.sel",
         "geometry.nHoles",
         "initialShape.startRule",
+        "scope.elevation",
     ];
 
     /// The query with this name.
@@ -468,7 +471,8 @@ impl Query {
             21 => Self::Depth,
             22 => Self::CompSel,
             23 => Self::GeometryHoles,
-            _ => Self::StartRule,
+            24 => Self::StartRule,
+            _ => Self::Elevation,
         })
     }
 

@@ -987,6 +987,7 @@ impl<'p> Evaluator<'p> {
         match q {
             Query::ScopeSize(i) => scope.size[i],
             Query::ScopeOrigin(i) => scope.origin[i],
+            Query::Elevation => scope.origin.y,
             Query::ScopeRotation(i) => {
                 // Intrinsic x, y, z like `r(…)`.
                 let (x, y, z) =

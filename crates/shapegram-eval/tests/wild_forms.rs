@@ -263,10 +263,10 @@ fn start_rule_print_as_a_function_and_geometry_questions_without_parentheses() {
         "attr part = case initialShape.startRule == \"Street\" : \"lanes\" else : \"other\"
          @StartRule
          Street --> print(part) extrude(print(2) + 1) Mass
-         Mass --> case geometry.isConcave : Concave. else : print(geometry.nEdges) Box.",
+         Mass --> case geometry.isConcave : Concave. else : print(geometry.nEdges) t(0, 2, 0) print(scope.elevation) Box.",
         lot(4.0, 4.0),
     );
-    assert_eq!(d.prints, ["lanes", "2", "12"]);
+    assert_eq!(d.prints, ["lanes", "2", "12", "2"]);
     assert_eq!(names(&d), ["Box"]);
     assert_eq!(d.leaves[0].scope.size.y, 3.0);
 }
