@@ -241,3 +241,46 @@ fn dynamic_imports_set_the_imported_attributes_afresh_for_the_call() {
         errors[0]
     );
 }
+
+#[test]
+fn an_import_redefines_the_file_s_extension_rules() {
+    let file = "extension Roof --> Flat.\nstart Main --> extrude(2) Roof\n";
+    let links = [vec![1], vec![]];
+    let leaves = |main: &str| -> Vec<String> {
+        let program = compile(&[("main.cga", main), ("house.cga", file)], &links).unwrap();
+        let d = derive(
+            &program,
+            &[common::lot(4.0, 4.0)],
+            &DeriveOptions::default(),
+        )
+        .unwrap();
+        d.leaves.iter().map(|l| l.name.to_string()).collect()
+    };
+    // The file alone: `start` makes Main its start rule, and Roof makes a flat roof.
+    assert_eq!(
+        leaves("import h : \"house.cga\"\nLot --> h.Main\n"),
+        ["Flat"]
+    );
+    // Redefined by the import, in the importer's terms (its own rules).
+    assert_eq!(
+        leaves("import h : \"house.cga\" (Roof --> Gable)\nLot --> h.Main\nGable --> Tiles.\n"),
+        ["Tiles"]
+    );
+    let (_, parsed) = {
+        let source = SourceFile::new(
+            "main.cga",
+            "import \"house.cga\" (Roof --> Gable)\nLot --> X\n",
+        );
+        let parsed = parse(&source);
+        (source, parsed)
+    };
+    let errors: Vec<&str> = parsed
+        .diagnostics
+        .iter()
+        .map(|d| d.message.as_str())
+        .collect();
+    assert_eq!(
+        errors,
+        ["only an import with a name can redefine the file's rules"]
+    );
+}

@@ -294,3 +294,12 @@ fn convert_takes_positions_and_angles_between_scope_and_world() {
         "expected the coordinate system `scope`, `pivot`, `object` or `world`, found `screen`"
     );
 }
+
+#[test]
+fn start_and_extension_rules_are_rules_with_a_keyword() {
+    let d = run(
+        "Lot --> A.\nextension Roof --> Flat.\nstart Main --> extrude(1) Roof",
+        lot(4.0, 4.0),
+    );
+    assert_eq!(names(&d), ["Flat"]);
+}
