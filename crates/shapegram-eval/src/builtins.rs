@@ -1,5 +1,7 @@
 //! Built-in functions and shape queries of the expression language.
 
+use crate::arrays::ArrayFn;
+use crate::colors::ColorFn;
 use crate::text::Text;
 use crate::uv_queries::UvQuery;
 
@@ -66,8 +68,20 @@ pub(crate) enum Builtin {
     FileSearch,
     FilesSearch,
     FileRandom,
+    FileExists,
+    ReadTextFile,
+    Angle,
+    ContextCount,
+    ContextCompare,
+    MinimumDistance,
+    Print,
+    Convert,
     /// A string or string-list function.
     Text(Text),
+    /// An array function or `isNull`.
+    Array(ArrayFn),
+    /// A colour conversion.
+    Color(ColorFn),
     /// A uv query (`geometry.uMin` and the others).
     Uv(UvQuery),
 }
@@ -121,9 +135,17 @@ impl Builtin {
         "fileSearch",
         "filesSearch",
         "fileRandom",
+        "fileExists",
+        "readTextFile",
+        "geometry.angle",
+        "contextCount",
+        "contextCompare",
+        "minimumDistance",
+        "print",
+        "convert",
     ];
 
-    const ALL: [Builtin; 46] = [
+    const ALL: [Builtin; 54] = [
         Self::Rand,
         Self::P,
         Self::Floor,
@@ -170,6 +192,14 @@ impl Builtin {
         Self::FileSearch,
         Self::FilesSearch,
         Self::FileRandom,
+        Self::FileExists,
+        Self::ReadTextFile,
+        Self::Angle,
+        Self::ContextCount,
+        Self::ContextCompare,
+        Self::MinimumDistance,
+        Self::Print,
+        Self::Convert,
     ];
 
     /// The built-in with this name.
@@ -183,6 +213,8 @@ impl Builtin {
             .position(|&n| n == name)
             .map(|i| Self::ALL[i])
             .or_else(|| Text::from_name(name).map(Self::Text))
+            .or_else(|| ArrayFn::from_name(name).map(Self::Array))
+            .or_else(|| ColorFn::from_name(name).map(Self::Color))
             .or_else(|| UvQuery::from_name(name).map(Self::Uv))
     }
 
@@ -192,6 +224,8 @@ impl Builtin {
             .iter()
             .copied()
             .chain(Text::names())
+            .chain(ArrayFn::names())
+            .chain(ColorFn::names())
             .chain(UvQuery::names())
     }
 
@@ -200,7 +234,9 @@ impl Builtin {
         match self {
             Self::Rand => (0, 2),
             Self::Min | Self::Max | Self::Pow | Self::Atan2 => (2, 2),
-            Self::Clamp => (3, 3),
+            Self::Clamp | Self::ContextCompare => (3, 3),
+            Self::Convert => (4, 7),
+            Self::ContextCount | Self::MinimumDistance => (2, 2),
             Self::Inside | Self::Overlaps | Self::Touches => (0, 2),
             Self::Occ => (0, 1),
             Self::IsConcave
@@ -209,6 +245,8 @@ impl Builtin {
             | Self::BoundaryLength
             | Self::Height => (0, 0),
             Self::Text(t) => t.arity(),
+            Self::Array(f) => f.arity(),
+            Self::Color(f) => (f.arity(), f.arity()),
             Self::Uv(q) => q.arity(),
             _ => (1, 1),
         }
@@ -246,10 +284,30 @@ impl Builtin {
             Self::FileSearch => "fileSearch(query)",
             Self::FilesSearch => "filesSearch(query)",
             Self::FileRandom => "fileRandom(query)",
+            Self::FileExists => "fileExists(filePath)",
+            Self::ReadTextFile => "readTextFile(filePath)",
+            Self::Angle => "geometry.angle(maxSlope | azimuth | zenith)",
+            Self::ContextCount => "contextCount(intra | inter | all, label)",
+            Self::ContextCompare => {
+                "contextCompare(intra | inter | all, label, world.northernmost | …)"
+            }
+            Self::MinimumDistance => "minimumDistance(intra | inter | all, label)",
+            Self::Print => "print(value)",
+            Self::Convert => {
+                "convert(x | y | z, from, to, pos | orient, x, y, z) | convert(from, to, pos | orient, [x, y, z])"
+            }
             Self::Text(t) => t.signature(),
+            Self::Array(f) => f.signature(),
+            Self::Color(f) => f.signature(),
             Self::Uv(q) => q.signature(),
             _ => "f(number)",
         }
+    }
+
+    /// Whether the built-in takes bare words as arguments (`inside(intra)`,
+    /// `geometry.angle(azimuth)`).
+    pub fn takes_words(self) -> bool {
+        self.is_context_query() || matches!(self, Self::Angle | Self::Convert | Self::Uv(_))
     }
 
     /// Whether the built-in asks about other shapes (occlusion), which makes the rules that
@@ -257,7 +315,13 @@ impl Builtin {
     pub fn is_context_query(self) -> bool {
         matches!(
             self,
-            Self::Inside | Self::Overlaps | Self::Touches | Self::Occ
+            Self::Inside
+                | Self::Overlaps
+                | Self::Touches
+                | Self::Occ
+                | Self::ContextCount
+                | Self::ContextCompare
+                | Self::MinimumDistance
         )
     }
 
@@ -267,6 +331,15 @@ impl Builtin {
             "contextCompare",
             "contextCount",
             "minimumDistance",
+            "assetApproxRatio",
+            "assetApproxSize",
+            "assetMetadata",
+            "assetSearch",
+            "imageApproxRatio",
+            "imagesSortRatio",
+            "getGeoCoord",
+            "getMaterial",
+            "sel",
             "fileExists",
             "fileSearch",
             "filesSearch",
@@ -306,6 +379,9 @@ impl Builtin {
             "item",
             "isect",
             "edgeAttr",
+            "edgeAttr.getFloat",
+            "edgeAttr.getString",
+            "edgeAttr.getBool",
             "infoDebug",
             "print",
             "trim",
@@ -345,6 +421,10 @@ pub(crate) enum Query {
     Seed,
     Depth,
     CompSel,
+    /// `initialShape.startRule`: the name of the rule the derivation started from.
+    StartRule,
+    /// `scope.elevation`: the world height of the scope's origin.
+    Elevation,
 }
 
 impl Query {
@@ -374,6 +454,8 @@ impl Query {
         "shape.depth",
         "comp.sel",
         "geometry.nHoles",
+        "initialShape.startRule",
+        "scope.elevation",
     ];
 
     /// The query with this name.
@@ -395,7 +477,9 @@ impl Query {
             20 => Self::Seed,
             21 => Self::Depth,
             22 => Self::CompSel,
-            _ => Self::GeometryHoles,
+            23 => Self::GeometryHoles,
+            24 => Self::StartRule,
+            _ => Self::Elevation,
         })
     }
 

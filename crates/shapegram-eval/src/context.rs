@@ -12,6 +12,9 @@
 //!    Their queries look at the occluders and snap planes of phase 1 only: shapes made in phase
 //!    2 neither occlude nor snap.
 //!
+//! CGA's context functions `contextCount`, `contextCompare` and `minimumDistance` look at the
+//! same occluders, chosen by label.
+//!
 //! A query never sees the querying shape's own ancestors (the mass a facade came from always
 //! "occludes" it); it sees every other occluder of its lot (`intra`), of the other lots
 //! (`inter`) or both (`all`, the default), optionally only those with a given label or rule name.
@@ -224,6 +227,44 @@ impl Target {
     }
 }
 
+/// A direction `contextCompare` ranks shapes in (`world.northernmost`, …); north is −z.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum Extreme {
+    North,
+    South,
+    East,
+    West,
+    Highest,
+    Lowest,
+}
+
+impl Extreme {
+    /// The direction named by `contextCompare`'s key.
+    pub fn from_name(name: &str) -> Option<Self> {
+        Some(match name {
+            "world.northernmost" => Self::North,
+            "world.southernmost" => Self::South,
+            "world.easternmost" => Self::East,
+            "world.westernmost" => Self::West,
+            "world.highest" => Self::Highest,
+            "world.lowest" => Self::Lowest,
+            _ => return None,
+        })
+    }
+
+    /// How far bounds reach in the direction: the larger, the more extreme.
+    fn reach(self, b: &Aabb) -> f64 {
+        match self {
+            Self::North => -b.min.z,
+            Self::South => b.max.z,
+            Self::East => b.max.x,
+            Self::West => -b.min.x,
+            Self::Highest => b.max.y,
+            Self::Lowest => -b.min.y,
+        }
+    }
+}
+
 /// The occluders and snap planes of phase 1, indexed for the queries of phase 2.
 #[derive(Debug, Default)]
 pub(crate) struct Context {
@@ -303,6 +344,71 @@ impl Context {
             }
         }
         found
+    }
+
+    /// The occluders the target and label select for the shape, its own ancestors aside: the
+    /// labelled shapes that CGA's context functions look at.
+    fn labelled<'a>(
+        &'a self,
+        state: &'a State,
+        lot: u32,
+        target: Target,
+        label: &'a str,
+    ) -> impl Iterator<Item = &'a Occluder> + 'a {
+        self.occluders
+            .iter()
+            .enumerate()
+            .filter(move |(i, o)| {
+                let in_target = match target {
+                    Target::All => true,
+                    Target::Intra => o.lot == lot,
+                    Target::Inter => o.lot != lot,
+                };
+                let named =
+                    o.label.as_deref() == Some(label) || &*self.names[o.symbol as usize] == label;
+                in_target && named && !self.is_ancestor(*i as u32, state.occluder)
+            })
+            .map(|(_, o)| o)
+    }
+
+    /// `contextCount`: how many shapes the target and label select.
+    pub fn count(&self, state: &State, lot: u32, target: Target, label: &str) -> usize {
+        self.labelled(state, lot, target, label).count()
+    }
+
+    /// `minimumDistance`: the least distance between the world bounds of the shape and those
+    /// of the shapes the target and label select; infinite when there are none.
+    pub fn nearest(&self, state: &State, lot: u32, target: Target, label: &str) -> f64 {
+        let Some(own) = bounds(&state.scope, &state.geometry) else {
+            return f64::INFINITY;
+        };
+        self.labelled(state, lot, target, label)
+            .map(|o| {
+                let gap = (o.bounds.min - own.max)
+                    .max(own.min - o.bounds.max)
+                    .max(DVec3::ZERO);
+                gap.length()
+            })
+            .fold(f64::INFINITY, f64::min)
+    }
+
+    /// `contextCompare`: how many of the shapes the target and label select lie further
+    /// towards `extreme` than the shape (by their world bounds); ties count as not further.
+    pub fn rank(
+        &self,
+        state: &State,
+        lot: u32,
+        target: Target,
+        label: &str,
+        extreme: Extreme,
+    ) -> usize {
+        let Some(own) = bounds(&state.scope, &state.geometry) else {
+            return 0;
+        };
+        let reach = |b: &Aabb| extreme.reach(b);
+        self.labelled(state, lot, target, label)
+            .filter(|o| reach(&o.bounds) > reach(&own))
+            .count()
     }
 
     /// Whether occluder `i` is `of` or one of its ancestors. Parents come before their

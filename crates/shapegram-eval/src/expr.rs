@@ -20,6 +20,10 @@ use crate::text::{Out, Text};
 use crate::value::Value;
 use shapegram_kinematics::Frame;
 
+mod functions;
+
+use functions::{each_binary, each_unary, slope_angle};
+
 /// How deep user functions may call each other before the derivation stops with an error.
 const MAX_CALL_DEPTH: usize = 256;
 
@@ -57,6 +61,8 @@ pub(crate) struct Evaluator<'p> {
     pub motions: Vec<Frame>,
     /// Where tables (`readStringTable`) are read from: the derivation's assets.
     pub assets: Option<&'p dyn crate::AssetLoader>,
+    /// The rule the derivation started from (`initialShape.startRule`).
+    pub start: Option<crate::program::RuleId>,
 }
 
 /// A constant's first evaluation in a lot: which constant, its value, and the constants'
@@ -95,6 +101,7 @@ impl<'p> Evaluator<'p> {
             const_log: None,
             motions: Vec::new(),
             assets: None,
+            start: None,
         }
     }
 
@@ -145,6 +152,10 @@ impl<'p> Evaluator<'p> {
             CKind::Query(Query::CompSel) => {
                 Value::string(crate::ops::CompSelector::NAMES[usize::from(shape.comp_sel)])
             }
+            CKind::Query(Query::StartRule) => Value::string(self.start.map_or("", |rule| {
+                self.program
+                    .symbol_name(self.program.rules[rule as usize].symbol)
+            })),
             CKind::Query(q) => Value::Number(self.query(*q, shape)),
             CKind::GoalAttr(attr, kind) => self.goal_attribute(*attr, *kind, shape, e.span)?,
             CKind::EdgeValues(entries) => self.edge_values(entries, shape, args)?,
@@ -166,6 +177,15 @@ impl<'p> Evaluator<'p> {
                 }
             }
             CKind::Binary(op, lhs, rhs) => self.binary(*op, lhs, rhs, shape, args, e.span)?,
+            CKind::EachBinary(op, lhs, rhs) => {
+                let a = self.eval(lhs, shape, args)?;
+                let b = self.eval(rhs, shape, args)?;
+                each_binary(*op, &a, &b, e.span, rhs.span)?
+            }
+            CKind::EachUnary(op, operand) => {
+                let v = self.eval(operand, shape, args)?;
+                each_unary(*op, &v, e.span)?
+            }
             CKind::Conditional(cond, then, otherwise) => {
                 if self.condition(cond, shape, args)? {
                     self.eval(then, shape, args)?
@@ -263,8 +283,11 @@ impl<'p> Evaluator<'p> {
                 ));
             }
         };
+        // `minimumDistance` is infinite when nothing is near: CGA's `isinf` asks for that.
+        let infinite_allowed = matches!(e.kind, CKind::Builtin(Builtin::MinimumDistance, _));
         if let Value::Number(n) = value
             && !n.is_finite()
+            && !infinite_allowed
         {
             return Err(DeriveError::at(
                 "this evaluates to a number that is not finite (NaN or infinity)",
@@ -500,6 +523,31 @@ impl<'p> Evaluator<'p> {
             .into_iter()
             .map(|v| v.unwrap_or(Value::Number(0.0)))
             .collect())
+    }
+
+    /// Sets the attributes `attrs` of the shape afresh: those in `overrides` to their value,
+    /// the others to their defaults, evaluated in order (a default sees the values before it).
+    pub fn reset_attrs(
+        &mut self,
+        shape: &mut State,
+        attrs: &[u32],
+        overrides: &[(u32, Value)],
+    ) -> Result<()> {
+        let program = self.program;
+        let mut values: Vec<Value> = shape.attrs.to_vec();
+        for (i, v) in overrides {
+            values[*i as usize] = v.clone();
+        }
+        for &i in attrs {
+            if overrides.iter().any(|(o, _)| *o == i) {
+                continue;
+            }
+            shape.attrs = std::rc::Rc::new(values.clone());
+            let value = self.eval(&program.attrs[i as usize].value, shape, &[]);
+            values[i as usize] = self.placed(value, |o| o.attrs[i as usize])?;
+        }
+        shape.attrs = std::rc::Rc::new(values);
+        Ok(())
     }
 
     fn constant(&mut self, i: u32, shape: &mut State) -> Result<Value> {
@@ -740,8 +788,26 @@ impl<'p> Evaluator<'p> {
             Builtin::Inside | Builtin::Overlaps | Builtin::Touches | Builtin::Occ => {
                 return self.occlusion(b, params, shape, args, span);
             }
+            Builtin::ContextCount | Builtin::ContextCompare | Builtin::MinimumDistance => {
+                return self.context_function(b, params, shape, args, span);
+            }
+            Builtin::Convert => return self.convert(params, shape, args, span),
+            Builtin::Print => {
+                // As a function, `print` gives its value on.
+                let value = self.eval(&params[0], shape, args)?;
+                self.prints.push(value.to_string());
+                return Ok(value);
+            }
             Builtin::Text(t) => return self.text(t, params, shape, args, span),
             Builtin::Uv(q) => return self.uv_query(q, params, shape, args),
+            Builtin::Array(f) => {
+                let values = params
+                    .iter()
+                    .map(|p| self.eval(p, shape, args))
+                    .collect::<Result<Vec<_>>>()?;
+                return f.apply(&values).map_err(|e| DeriveError::at(e, span));
+            }
+            Builtin::Color(f) => return self.color(f, params, shape, args),
             Builtin::IsRectangular
             | Builtin::IsConcave
             | Builtin::IsPlanar
@@ -780,6 +846,13 @@ impl<'p> Evaluator<'p> {
             }
             Builtin::FileSearch | Builtin::FilesSearch | Builtin::FileRandom => {
                 return self.search_files(b, &params[0], shape, args);
+            }
+            Builtin::FileExists | Builtin::ReadTextFile => {
+                return self.read_file(b, &params[0], shape, args);
+            }
+            Builtin::Angle => {
+                let which = self.word(&params[0], shape, args)?;
+                return slope_angle(&which, shape).map_err(|e| DeriveError::at(e, params[0].span));
             }
             Builtin::Rows | Builtin::Columns => {
                 let table = self.eval(&params[0], shape, args)?;
@@ -875,7 +948,17 @@ impl<'p> Evaluator<'p> {
             | Builtin::FileSearch
             | Builtin::FilesSearch
             | Builtin::FileRandom
+            | Builtin::FileExists
+            | Builtin::ReadTextFile
+            | Builtin::Angle
+            | Builtin::ContextCount
+            | Builtin::ContextCompare
+            | Builtin::MinimumDistance
+            | Builtin::Print
+            | Builtin::Convert
             | Builtin::Text(_)
+            | Builtin::Array(_)
+            | Builtin::Color(_)
             | Builtin::Uv(_) => unreachable!("handled above"),
         };
         if !value.is_finite() {
@@ -909,47 +992,7 @@ impl<'p> Evaluator<'p> {
         }
         let a = self.eval(lhs, shape, args)?;
         let b = self.eval(rhs, shape, args)?;
-        let mismatch = |a: &Value, b: &Value| {
-            DeriveError::at(
-                format!(
-                    "cannot apply `{}` to a {} and a {}",
-                    binary_symbol(op),
-                    a.type_name(),
-                    b.type_name()
-                ),
-                span,
-            )
-        };
-        Ok(match (op, &a, &b) {
-            (Eq, _, _) => Value::Bool(a == b),
-            (Ne, _, _) => Value::Bool(a != b),
-            (Add, Value::Str(_), _) | (Add, _, Value::Str(_)) => Value::string(&format!("{a}{b}")),
-            (_, Value::Number(x), Value::Number(y)) => {
-                let (x, y) = (*x, *y);
-                match op {
-                    Add => Value::Number(x + y),
-                    Sub => Value::Number(x - y),
-                    Mul => Value::Number(x * y),
-                    Div | Rem if y == 0.0 => {
-                        return Err(DeriveError::at("division by zero", rhs.span));
-                    }
-                    Div => Value::Number(x / y),
-                    Rem => Value::Number(x % y),
-                    Lt => Value::Bool(x < y),
-                    Le => Value::Bool(x <= y),
-                    Gt => Value::Bool(x > y),
-                    Ge => Value::Bool(x >= y),
-                    Eq | Ne | And | Or => unreachable!(),
-                }
-            }
-            (Lt | Le | Gt | Ge, Value::Str(x), Value::Str(y)) => Value::Bool(match op {
-                Lt => x < y,
-                Le => x <= y,
-                Gt => x > y,
-                _ => x >= y,
-            }),
-            _ => return Err(mismatch(&a, &b)),
-        })
+        apply_binary(op, &a, &b, span, rhs.span)
     }
 
     fn query(&self, q: Query, shape: &State) -> f64 {
@@ -957,6 +1000,7 @@ impl<'p> Evaluator<'p> {
         match q {
             Query::ScopeSize(i) => scope.size[i],
             Query::ScopeOrigin(i) => scope.origin[i],
+            Query::Elevation => scope.origin.y,
             Query::ScopeRotation(i) => {
                 // Intrinsic x, y, z like `r(…)`.
                 let (x, y, z) =
@@ -988,9 +1032,61 @@ impl<'p> Evaluator<'p> {
             // A number in [0, 1) stable for the shape: CGA's `seedian`.
             Query::Seed => (crate::rng::mix(shape.seed) >> 11) as f64 / (1u64 << 53) as f64,
             Query::Depth => f64::from(shape.depth),
-            Query::CompSel => unreachable!("comp.sel is a string, evaluated in `eval`"),
+            Query::CompSel | Query::StartRule => {
+                unreachable!("string queries are evaluated in `eval`")
+            }
         }
     }
+}
+
+/// A binary operator on two values (`&&` and `||` on booleans; the engine short-circuits them
+/// before it gets here).
+fn apply_binary(op: BinaryOp, a: &Value, b: &Value, span: Span, rhs_span: Span) -> Result<Value> {
+    use BinaryOp::*;
+    let mismatch = |a: &Value, b: &Value| {
+        DeriveError::at(
+            format!(
+                "cannot apply `{}` to a {} and a {}",
+                binary_symbol(op),
+                a.type_name(),
+                b.type_name()
+            ),
+            span,
+        )
+    };
+    Ok(match (op, a, b) {
+        (Eq, _, _) => Value::Bool(a == b),
+        (Ne, _, _) => Value::Bool(a != b),
+        (Add, Value::Str(_), _) | (Add, _, Value::Str(_)) => Value::string(&format!("{a}{b}")),
+        (_, Value::Number(x), Value::Number(y)) => {
+            let (x, y) = (*x, *y);
+            match op {
+                Add => Value::Number(x + y),
+                Sub => Value::Number(x - y),
+                Mul => Value::Number(x * y),
+                Div | Rem if y == 0.0 => {
+                    return Err(DeriveError::at("division by zero", rhs_span));
+                }
+                Div => Value::Number(x / y),
+                Rem => Value::Number(x % y),
+                Lt => Value::Bool(x < y),
+                Le => Value::Bool(x <= y),
+                Gt => Value::Bool(x > y),
+                Ge => Value::Bool(x >= y),
+                Eq | Ne | And | Or => unreachable!("compared above or not numeric"),
+            }
+        }
+        (And, Value::Bool(x), Value::Bool(y)) => Value::Bool(*x && *y),
+        (Or, Value::Bool(x), Value::Bool(y)) => Value::Bool(*x || *y),
+        (And | Or, _, _) => return Err(mismatch(a, b)),
+        (Lt | Le | Gt | Ge, Value::Str(x), Value::Str(y)) => Value::Bool(match op {
+            Lt => x < y,
+            Le => x <= y,
+            Gt => x > y,
+            _ => x >= y,
+        }),
+        _ => return Err(mismatch(a, b)),
+    })
 }
 
 fn unary_symbol(op: UnaryOp) -> &'static str {
@@ -1045,7 +1141,7 @@ fn range(from: f64, by: f64, to: f64, span: Span) -> Result<Vec<Value>> {
 }
 
 /// The element of `items` at the index `at` (a number), or the elements at the indices of an
-/// array of numbers, as an array.
+/// array of numbers, or where an array of booleans is true, as an array.
 fn select(items: &[Value], at: &Value, span: Span) -> Result<Value> {
     let one = |i: f64| {
         let k = i.floor();
@@ -1059,6 +1155,27 @@ fn select(items: &[Value], at: &Value, span: Span) -> Result<Value> {
     };
     match at {
         Value::Number(i) => one(*i),
+        // A mask (`names .== "oak"`) keeps the elements where it is true.
+        Value::Array(mask)
+            if mask.iter().all(|m| matches!(m, Value::Bool(_))) && !mask.is_empty() =>
+        {
+            if mask.len() != items.len() {
+                return Err(DeriveError::at(
+                    format!(
+                        "a mask of {} booleans cannot select from an array of {}",
+                        mask.len(),
+                        items.len()
+                    ),
+                    span,
+                ));
+            }
+            let kept = items
+                .iter()
+                .zip(mask.iter())
+                .filter(|(_, m)| **m == Value::Bool(true))
+                .map(|(item, _)| item.clone());
+            Ok(Value::Array(kept.collect::<Vec<_>>().into()))
+        }
         Value::Array(indices) => indices
             .iter()
             .map(|i| match i {

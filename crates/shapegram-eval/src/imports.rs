@@ -324,8 +324,13 @@ fn rename_body(body: &mut Body, rename: &dyn Fn(&str) -> Option<String>, params:
 
 fn rename_stmts(stmts: &mut [Stmt], rename: &dyn Fn(&str) -> Option<String>, params: &[Ident]) {
     for stmt in stmts {
-        let Stmt::Call(call) = stmt else {
-            continue;
+        let call = match stmt {
+            Stmt::Call(call) => call,
+            Stmt::Branch(body) => {
+                rename_body(body, rename, params);
+                continue;
+            }
+            _ => continue,
         };
         if let Some(name) = rename(&call.name.name) {
             call.name.name = name;
@@ -334,19 +339,30 @@ fn rename_stmts(stmts: &mut [Stmt], rename: &dyn Fn(&str) -> Option<String>, par
             rename_expr(&mut arg.value, rename, params);
         }
         if let Some(block) = &mut call.block {
-            rename_block(block, rename, params);
+            let sizes = call.name.name.starts_with("split");
+            rename_block(block, sizes, rename, params);
         }
     }
 }
 
-fn rename_block(block: &mut Block, rename: &dyn Fn(&str) -> Option<String>, params: &[Ident]) {
+/// Renames in a block's entries. The keys of splits (`sizes`) are expressions; those of other
+/// operations are selectors (`shape`, `front`, `street.back`), which no declared name hides:
+/// `shapeL(…){ shape : … }` selects the L even in a file with an `attr shape`.
+fn rename_block(
+    block: &mut Block,
+    sizes: bool,
+    rename: &dyn Fn(&str) -> Option<String>,
+    params: &[Ident],
+) {
     for entry in &mut block.entries {
         match entry {
             BlockEntry::Part { key, body, .. } => {
-                rename_expr(key, rename, params);
+                if sizes || !matches!(key.kind, ExprKind::Name(_)) {
+                    rename_expr(key, rename, params);
+                }
                 rename_stmts(body, rename, params);
             }
-            BlockEntry::Group(group) => rename_block(group, rename, params),
+            BlockEntry::Group(group) => rename_block(group, sizes, rename, params),
         }
     }
 }

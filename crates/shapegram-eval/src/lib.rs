@@ -9,8 +9,11 @@
 //! the same leaves, in the same order, whatever the number of threads (see [`rng`]).
 
 mod annotations;
+mod arrays;
 mod builtins;
+mod colors;
 mod context;
+mod convert;
 mod engine;
 mod error;
 mod expr;
@@ -21,6 +24,7 @@ mod library;
 mod named_poses;
 mod ops;
 mod program;
+mod reports;
 pub mod rng;
 mod rule_keys;
 mod selectors;
@@ -47,6 +51,7 @@ pub use imports::ImportGraph;
 pub use library::LibraryOptions;
 pub use ops::{Support, operations};
 pub use program::{Program, RuleId, Sym};
+pub use reports::summarise_reports;
 pub use rule_keys::RuleKeys;
 pub use shape::{Csg, CsgOp, FaceTag, Geometry, Implicit};
 pub use value::Value;

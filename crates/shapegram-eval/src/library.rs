@@ -433,11 +433,12 @@ fn collect_lists<'a>(body: &'a Body, out: &mut Vec<&'a [Stmt]>) {
 fn collect_stmts<'a>(stmts: &'a [Stmt], out: &mut Vec<&'a [Stmt]>) {
     out.push(stmts);
     for s in stmts {
-        if let Stmt::Call(ast::Call {
-            block: Some(block), ..
-        }) = s
-        {
-            collect_block(block, out);
+        match s {
+            Stmt::Call(ast::Call {
+                block: Some(block), ..
+            }) => collect_block(block, out),
+            Stmt::Branch(body) => collect_lists(body, out),
+            _ => {}
         }
     }
 }

@@ -91,6 +91,12 @@ pub(crate) enum Op {
     /// `color("#rrggbb")` with a literal: parsed once, when compiled.
     ColorLiteral(Color),
     Set(SetTarget, CExpr),
+    /// A dynamic import's attributes (`id(a = v).Rule`): the overrides, evaluated where the
+    /// call is, then every other attribute of the import from its default, in order.
+    Reimport {
+        attrs: Vec<u32>,
+        overrides: Vec<(u32, CExpr)>,
+    },
     Report(CExpr, CExpr),
     Print(CExpr),
     ReverseNormals,
@@ -884,10 +890,12 @@ pub(crate) fn compile(
         words: Vec::new(),
     };
     let op = ctx.build(name);
-    // A bare word where the operation wanted a value is a name that does not exist.
+    // A bare word where the operation wanted a value is a name that does not exist. A skipped
+    // operation reads none of its arguments: its words (`cleanupGeometry(all, 1)`) are its own.
     let errors = ctx.c.error_count();
+    let reads_words = op.as_ref().is_some_and(|op| !matches!(op, Op::Ignored));
     for (i, word, span) in stray {
-        if op.is_some() && !ctx.words.contains(&i) {
+        if reads_words && !ctx.words.contains(&i) {
             ctx.c.unknown_name(&word, span, params);
         }
     }
@@ -1147,6 +1155,7 @@ impl Ctx<'_, '_> {
             "sync" => self.sync()?,
             _ => unreachable!("`{name}` is listed in IMPLEMENTED but not built"),
         };
+        // A skipped form (`comp(g) { … }`) keeps the block it was written with.
         let needs_block = matches!(
             op,
             Op::Split { .. }
@@ -1155,6 +1164,7 @@ impl Ctx<'_, '_> {
                 | Op::Comp { .. }
                 | Op::Setback { .. }
                 | Op::InnerRectangle { split: true, .. }
+                | Op::Ignored
         );
         if !needs_block && self.call.block.is_some() {
             self.error(format!("`{name}` takes no `{{…}}` block"));

@@ -101,6 +101,8 @@ pub(crate) enum CStmt {
     Push,
     Pop(Span),
     Nil,
+    /// `[ case … ]`: the chosen branch's statements run, then the statements after this one.
+    Branch(Box<CBody>),
     /// Goal grammars: the shape goes on with these goals opened and named by `symbol`.
     Goals {
         goals: GoalList,
@@ -146,6 +148,11 @@ pub(crate) enum CKind {
     Query(Query),
     Unary(UnaryOp, Box<CExpr>),
     Binary(BinaryOp, Box<CExpr>, Box<CExpr>),
+    /// An element-wise operator (`a .* b`): the operation on each element of the arrays, a
+    /// single value taking part with every element.
+    EachBinary(BinaryOp, Box<CExpr>, Box<CExpr>),
+    /// `.!a`, `.-a`: the operation on each element.
+    EachUnary(UnaryOp, Box<CExpr>),
     Conditional(Box<CExpr>, Box<CExpr>, Box<CExpr>),
     Cases(Vec<(CExpr, CExpr)>, Box<CExpr>),
     Stochastic(Vec<(CExpr, CExpr)>, Box<CExpr>),
@@ -551,6 +558,7 @@ impl<'g> Compiler<'g> {
                 Stmt::Push(_) => Some(CStmt::Push),
                 Stmt::Pop(span) => Some(CStmt::Pop(*span)),
                 Stmt::Nil(_) => Some(CStmt::Nil),
+                Stmt::Branch(body) => Some(CStmt::Branch(Box::new(self.body(body, params)))),
                 Stmt::Call(call) => self.call_stmt(call, params),
                 Stmt::Goals(goals, span) => self.goal_successor(goals, *span),
             })
@@ -561,6 +569,9 @@ impl<'g> Compiler<'g> {
     /// one is known, else a successor without a rule (a leaf, as in CGA, with a warning).
     fn call_stmt(&mut self, call: &ast::Call, params: Params) -> Option<CStmt> {
         let name = &call.name.name;
+        if name == ast::DYNAMIC_IMPORT {
+            return self.dynamic_import(call, params);
+        }
         let arity = call.args.as_ref().map_or(0, Vec::len);
         if call.block.is_none()
             && let Some(rules) = self.rule_by_name.get(name)
@@ -589,7 +600,9 @@ impl<'g> Compiler<'g> {
             }
             return Some(self.successor(call, rule, params));
         }
-        if let Some(op) = ops::compile(self, call, params) {
+        // `r.` is a leaf named `r`: a terminal name without arguments is never an operation.
+        let leaf_symbol = call.terminal && call.args.is_none() && call.block.is_none();
+        if !leaf_symbol && let Some(op) = ops::compile(self, call, params) {
             return op.map(|op| CStmt::Op(op, call.span));
         }
         if self.goal.is_some() {
@@ -639,6 +652,39 @@ impl<'g> Compiler<'g> {
             terminal: call.terminal,
             span: call.span,
         }
+    }
+
+    /// The first statement of a dynamic import `id(a = v).Rule` (see [`ast::DYNAMIC_IMPORT`]):
+    /// the attributes of import `id`, set afresh with the overrides.
+    fn dynamic_import(&mut self, call: &ast::Call, params: Params) -> Option<CStmt> {
+        let args = call.args.as_deref().unwrap_or_default();
+        let ExprKind::Name(id) = &args.first()?.value.kind else {
+            return None;
+        };
+        let prefix = format!("{id}.");
+        let mut attrs: Vec<u32> = self
+            .attr_by_name
+            .iter()
+            .filter(|(name, _)| name.starts_with(&prefix))
+            .map(|(_, &i)| i)
+            .collect();
+        attrs.sort_unstable();
+        let mut overrides = Vec::new();
+        for a in &args[1..] {
+            let attr = a.name.as_ref()?;
+            let Some(&i) = self.attr_by_name.get(&format!("{prefix}{}", attr.name)) else {
+                self.diagnostics.push(
+                    Diagnostic::error(
+                        format!("the import `{id}` has no attribute `{}`", attr.name),
+                        attr.span,
+                    )
+                    .with_label("not an attribute of the imported file"),
+                );
+                return None;
+            };
+            overrides.push((i, self.expr(&a.value, params)));
+        }
+        Some(CStmt::Op(Op::Reimport { attrs, overrides }, call.span))
     }
 
     /// The target of `set(@name, …)`: the attribute, recorded as written, not read.
@@ -779,10 +825,49 @@ impl<'g> Compiler<'g> {
         if let Some(q) = Query::from_name(name) {
             return CKind::Query(q);
         }
+        // `geometry.isConcave` and the other shape questions without arguments may be written
+        // without parentheses, as the queries are.
+        if let Some(b) =
+            Builtin::from_name(name).filter(|b| name.starts_with("geometry.") && b.arity().0 == 0)
+        {
+            return CKind::Builtin(b, Vec::new());
+        }
         if selectors {
             return CKind::Selector(name.to_owned());
         }
         self.unknown_name(name, span, params)
+    }
+
+    /// The element-wise operators, which the parser gives as calls named `.op`.
+    fn element_wise(&mut self, name: &ast::Ident, args: &[ast::Argument], params: Params) -> CKind {
+        use BinaryOp as B;
+        let mut operands = args.iter().map(|a| Box::new(self.expr(&a.value, params)));
+        let (Some(first), second) = (operands.next(), operands.next()) else {
+            return CKind::Value(Value::Number(0.0));
+        };
+        let Some(second) = second else {
+            return match name.name.as_str() {
+                ".-" => CKind::EachUnary(UnaryOp::Neg, first),
+                ".!" => CKind::EachUnary(UnaryOp::Not, first),
+                _ => first.kind,
+            };
+        };
+        let op = match name.name.as_str() {
+            ".*" => B::Mul,
+            "./" => B::Div,
+            ".%" => B::Rem,
+            ".+" => B::Add,
+            ".-" => B::Sub,
+            ".<" => B::Lt,
+            ".<=" => B::Le,
+            ".>" => B::Gt,
+            ".>=" => B::Ge,
+            ".==" => B::Eq,
+            ".!=" => B::Ne,
+            ".&&" => B::And,
+            _ => B::Or,
+        };
+        CKind::EachBinary(op, first, second)
     }
 
     /// Reports a name that resolves to nothing (a warning for CGA queries not implemented yet)
@@ -812,6 +897,9 @@ impl<'g> Compiler<'g> {
     }
 
     fn call_expr(&mut self, name: &ast::Ident, args: &[ast::Argument], params: Params) -> CKind {
+        if name.name.starts_with('.') {
+            return self.element_wise(name, args, params);
+        }
         if let ("comp", [first, entries @ ..]) = (name.name.as_str(), args)
             && matches!(&first.value.kind, ExprKind::Name(k) if k == "fe")
             && first.name.is_none()
@@ -832,11 +920,9 @@ impl<'g> Compiler<'g> {
                 return CKind::Query(q);
             }
         }
-        let builtin = Builtin::from_name(&name.name);
-        let context = builtin.is_some_and(Builtin::is_context_query);
         // Occlusion queries take bare target words (`inside(intra)`), uv queries a space
         // (`geometry.du(0, unitSpace)`).
-        let words = context || builtin.is_some_and(|b| matches!(b, Builtin::Uv(_)));
+        let words = Builtin::from_name(&name.name).is_some_and(Builtin::takes_words);
         let compiled: Vec<CExpr> = args
             .iter()
             .map(|a| self.expr_in(&a.value, params, words))
@@ -873,7 +959,7 @@ impl<'g> Compiler<'g> {
                 );
                 return CKind::Value(Value::Number(0.0));
             }
-            self.uses.context |= context;
+            self.uses.context |= builtin.is_context_query();
             return CKind::Builtin(builtin, compiled);
         }
         let mut candidates: Vec<&str> = self.function_by_name.keys().copied().collect();

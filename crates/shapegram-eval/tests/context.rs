@@ -363,3 +363,40 @@ fn the_derivation_tree_links_shapes_of_both_phases() {
         assert!(path.contains(&"Mass"), "{}: {path:?}", leaf.name);
     }
 }
+
+#[test]
+fn context_functions_count_rank_and_measure_the_labelled_shapes() {
+    // Three 10 × 10 lots 15 m apart, each a labelled block 6 m high; each block asks about the
+    // others (its own label is its ancestor, which context queries never see).
+    let program = compile(
+        "Lot --> extrude(6) label(\"block\") Ask
+         Ask --> print(contextCount(inter, \"block\") + \" \" + contextCount(intra, \"block\")
+                       + \" \" + minimumDistance(inter, \"block\")
+                       + \" \" + contextCompare(all, \"block\", world.easternmost)
+                       + \" \" + contextCompare(all, \"block\", world.highest)
+                       + \" \" + isinf(minimumDistance(intra, \"block\"))
+                       + \" \" + contextCount(all, \"\")) X.",
+    );
+    let d = derive(
+        &program,
+        &common::lots_in_a_row(3, 10.0, 10.0, 15.0),
+        &DeriveOptions::default(),
+    )
+    .unwrap();
+    assert_eq!(
+        d.prints,
+        ["2 0 5 2 0 true 0", "2 0 5 1 0 true 0", "2 0 5 0 0 true 0"]
+    );
+    let failed = try_run(
+        "Lot --> extrude(6) label(\"b\") Ask\nAsk --> print(contextCompare(all, \"b\", area.largest)) X.",
+        lot(10.0, 10.0),
+        &DeriveOptions::default(),
+    )
+    .unwrap_err();
+    assert!(
+        failed
+            .to_string()
+            .starts_with("expected `world.northernmost`"),
+        "{failed}"
+    );
+}

@@ -171,3 +171,116 @@ fn errors_point_into_the_file_they_are_in() {
         Some(failing.find("\"high\"").unwrap() as u32)
     );
 }
+
+#[test]
+fn selectors_of_imported_rules_are_not_renamed_after_the_file_s_attributes() {
+    // massmodeling_01.cga has `attr shape` and `shapeL(…){ shape : … }`: the key stays the
+    // selector when the file is imported.
+    let shapes = "attr shape = \"auto\"\nattr w = 4\n\
+                  Wing --> shapeL(w, w) { shape : extrude(3) L | remainder : NIL }\n\
+                  Split --> split(x) { w : A | ~1 : B }\n";
+    let main = "import s : \"shapes.cga\"\nLot --> s.Wing\n";
+    let program = compile(
+        &[("main.cga", main), ("shapes.cga", shapes)],
+        &[vec![1], vec![]],
+    )
+    .unwrap();
+    assert_eq!(heights(&program), [("L".to_owned(), 3.0)]);
+    // A split's sizes are expressions: `w` is the file's attribute.
+    let main = "import s : \"shapes.cga\"\nLot --> s.Split\n";
+    let program = compile(
+        &[("main.cga", main), ("shapes.cga", shapes)],
+        &[vec![1], vec![]],
+    )
+    .unwrap();
+    let d = derive(
+        &program,
+        &[common::lot(20.0, 30.0)],
+        &DeriveOptions::default(),
+    )
+    .unwrap();
+    let widths: Vec<f64> = d.leaves.iter().map(|l| l.scope.size.x).collect();
+    assert_eq!(widths, [4.0, 16.0]);
+}
+
+#[test]
+fn dynamic_imports_set_the_imported_attributes_afresh_for_the_call() {
+    // PRT's dynamic_imports package: ruleB's `h`, set by the call; `h2` follows it.
+    let tower = "attr h = 1\nattr h2 = h * 2\nfoo --> extrude(h2) Top\n";
+    let links = [vec![1], vec![]];
+    let heights_of = |main: &str| {
+        let program = compile(&[("main.cga", main), ("tower.cga", tower)], &links).unwrap();
+        heights(&program)
+    };
+    let main = "attr big = 3.5\nimport b : \"tower.cga\"\nLot --> b(h = big * 2).foo\n";
+    assert_eq!(heights_of(main), [("Top".to_owned(), 14.0)]);
+    // `b().foo` goes back to the import statement's values, undoing a `set`.
+    let main = "import b : \"tower.cga\" (h = 3)\nLot --> set(b.h, 5) b().foo\n";
+    assert_eq!(heights_of(main), [("Top".to_owned(), 6.0)]);
+    // The shape that calls keeps its own values: after the brackets, `b.foo` sees h = 3.
+    let main = "import b : \"tower.cga\" (h = 3)\nLot --> b(h = 1).foo t(30, 0, 0) b.foo\n";
+    assert_eq!(
+        heights_of(main),
+        [("Top".to_owned(), 2.0), ("Top".to_owned(), 6.0)]
+    );
+    let errors = compile(
+        &[
+            (
+                "main.cga",
+                "import b : \"tower.cga\"\nLot --> b(width = 2).foo\n",
+            ),
+            ("tower.cga", tower),
+        ],
+        &links,
+    )
+    .unwrap_err();
+    assert_eq!(errors.len(), 1, "{errors:?}");
+    assert!(
+        errors[0].starts_with("error: the import `b` has no attribute `width`\n --> main.cga:2:11"),
+        "{}",
+        errors[0]
+    );
+}
+
+#[test]
+fn an_import_redefines_the_file_s_extension_rules() {
+    let file = "extension Roof --> Flat.\nstart Main --> extrude(2) Roof\n";
+    let links = [vec![1], vec![]];
+    let leaves = |main: &str| -> Vec<String> {
+        let program = compile(&[("main.cga", main), ("house.cga", file)], &links).unwrap();
+        let d = derive(
+            &program,
+            &[common::lot(4.0, 4.0)],
+            &DeriveOptions::default(),
+        )
+        .unwrap();
+        d.leaves.iter().map(|l| l.name.to_string()).collect()
+    };
+    // The file alone: `start` makes Main its start rule, and Roof makes a flat roof.
+    assert_eq!(
+        leaves("import h : \"house.cga\"\nLot --> h.Main\n"),
+        ["Flat"]
+    );
+    // Redefined by the import, in the importer's terms (its own rules).
+    assert_eq!(
+        leaves("import h : \"house.cga\" (Roof --> Gable)\nLot --> h.Main\nGable --> Tiles.\n"),
+        ["Tiles"]
+    );
+    let (_, parsed) = {
+        let source = SourceFile::new(
+            "main.cga",
+            "import \"house.cga\" (Roof --> Gable)\nLot --> X\n",
+        );
+        let parsed = parse(&source);
+        (source, parsed)
+    };
+    let errors: Vec<&str> = parsed
+        .diagnostics
+        .iter()
+        .map(|d| d.message.as_str())
+        .collect();
+    assert_eq!(
+        errors,
+        ["only an import with a name can redefine the file's rules"]
+    );
+}

@@ -36,9 +36,70 @@ pub struct Grammar {
     pub local_goals: Vec<Goal>,
     /// Goal grammars: the synchronizations declared (`var windows = new Synchronize();`).
     pub syncs: Vec<Ident>,
+    /// CGA's `style` sections, in file order; the declarations above hold the default style
+    /// (see [`Grammar::with_style`]).
+    pub styles: Vec<Style>,
+}
+
+/// `style Name` or `style Name extends Base`, with the declarations up to the next `style`.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Style {
+    /// The style's name.
+    pub name: Ident,
+    /// The style it extends; the default style when `None`.
+    pub base: Option<Ident>,
+    /// Its attributes, constants, functions and rules.
+    pub declarations: Grammar,
+    /// `style Name [extends Base]`.
+    pub span: Span,
 }
 
 impl Grammar {
+    /// The grammar in style `name`: the default style's declarations with those of the style
+    /// and of the styles it extends laid over them, base first. A declaration replaces the one
+    /// of the same name (for functions and rules, of the same name and parameter count) and
+    /// keeps its place; others are added. `Default` is the grammar as it is.
+    pub fn with_style(&self, name: &str) -> Result<Grammar, String> {
+        let mut chain: Vec<&Style> = Vec::new();
+        let mut next = Some(name);
+        while let Some(wanted) = next.filter(|n| *n != "Default") {
+            let Some(style) = self.styles.iter().find(|s| s.name.name == wanted) else {
+                let known: Vec<&str> = self.styles.iter().map(|s| s.name.name.as_str()).collect();
+                return Err(match chain.last() {
+                    Some(from) => format!(
+                        "style `{}` extends `{wanted}`, which is not declared",
+                        from.name.name
+                    ),
+                    None => format!(
+                        "no style `{wanted}` (the styles: Default{})",
+                        known.iter().map(|k| format!(", {k}")).collect::<String>()
+                    ),
+                });
+            };
+            if chain.iter().any(|s| s.name.name == wanted) {
+                return Err(format!("style `{wanted}` extends itself"));
+            }
+            chain.push(style);
+            next = style.base.as_ref().map(|b| b.name.as_str());
+        }
+        let mut out = Grammar {
+            styles: Vec::new(),
+            ..self.clone()
+        };
+        for style in chain.into_iter().rev() {
+            let d = &style.declarations;
+            overlay(&mut out.attrs, &d.attrs, |a| (a.name.name.clone(), 0));
+            overlay(&mut out.consts, &d.consts, |c| (c.name.name.clone(), 0));
+            overlay(&mut out.functions, &d.functions, |f| {
+                (f.name.name.clone(), f.params.len())
+            });
+            overlay(&mut out.rules, &d.rules, |r| {
+                (r.name.name.clone(), r.params.len())
+            });
+        }
+        Ok(out)
+    }
+
     /// Whether the grammar is a goal grammar (it has axioms or goal rules).
     pub fn is_goal_grammar(&self) -> bool {
         matches!(self.dialect, Dialect::Goal | Dialect::Michelangelo)
@@ -205,10 +266,18 @@ pub enum Stmt {
     Pop(Span),
     /// `NIL` (or ε in the Müller notation): delete the current shape.
     Nil(Span),
+    /// `[ case c: A else: B ]`: a `case` or percentage choice right after `[`, up to the
+    /// matching `]`. The statements after it go on from the chosen branch.
+    Branch(Box<Body>),
     /// Goal grammars: `+seat +wooden`, the shape goes on with these goals added and the rules
     /// that match it are sought (a successor without a symbol).
     Goals(Vec<Goal>, Span),
 }
+
+/// The name of the statement a dynamic import `id(a = v).Rule` begins with (see
+/// [`Stmt`]): a call whose first argument names the import and whose named arguments set its
+/// attributes. No name written in a grammar can take this form.
+pub const DYNAMIC_IMPORT: &str = "import()";
 
 /// A name with optional arguments and an optional block, e.g. `split(y){ … }*`, `A(1, 2)`, `B.`.
 #[derive(Clone, Debug, PartialEq)]
@@ -565,4 +634,16 @@ pub enum ImportAttribute {
     /// `a`: the imported attribute keeps its own value, even if the importing file has an
     /// attribute of that name.
     Keep(Ident),
+}
+
+/// Lays `over` on `under`: an item whose key is already there replaces it in place, the others
+/// are added at the end.
+fn overlay<T: Clone>(under: &mut Vec<T>, over: &[T], key: impl Fn(&T) -> (String, usize)) {
+    for item in over {
+        let k = key(item);
+        match under.iter().position(|u| key(u) == k) {
+            Some(i) => under[i] = item.clone(),
+            None => under.push(item.clone()),
+        }
+    }
 }

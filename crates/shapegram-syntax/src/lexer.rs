@@ -36,6 +36,8 @@ pub(crate) enum TokenKind {
     Quote,
     /// `%`
     Percent,
+    /// `^`: only in `@Handle(shape=Rule^2)`, which names the second application of a rule.
+    Caret,
     /// `:`
     Colon,
     /// `;` (row separator in 2D arrays)
@@ -442,6 +444,7 @@ impl Lexer<'_> {
                 Some('~') => T::Tilde,
                 Some('\'') => T::Quote,
                 Some('%') => T::Percent,
+                Some('^') => T::Caret,
                 Some(':') => T::Colon,
                 Some(';') => T::Semi,
                 Some('|') => T::Pipe,

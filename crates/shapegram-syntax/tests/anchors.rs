@@ -332,6 +332,9 @@ fn small_anchors(corpus: &Corpus) {
     );
     assert_eq!(expr(&g.attrs[0].value), "10");
     assert_eq!(g.unsupported.len(), 2);
+    // PRT derives the default style (h = 10); style A's value is there to be chosen.
+    let styled = g.with_style("A").unwrap();
+    assert_eq!(expr(&styled.attrs[0].value), "20");
 
     let (_, g) = anchor(corpus, "pyprt__extrusion_rule/rules/extrusion_rule.cga");
     assert_eq!(

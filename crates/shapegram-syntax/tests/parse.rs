@@ -560,3 +560,59 @@ fn scatter_takes_a_body_without_a_selector() {
         "(scatter(surface, 10, uniform){all : (Plant.Generate(p))} NIL)"
     );
 }
+
+#[test]
+fn styles_lay_their_declarations_over_the_default_style() {
+    let text = "attr h = 10\nattr w = 4\nLot --> extrude(h) Mass\n\
+                style Tall\nattr h = 30\nLot --> extrude(h) Tower\n\
+                style Slim extends Tall\nattr w = 2\nattr roof = 1\n\
+                style Loop extends Loop\nattr h = 1";
+    let (_, parsed) = common::parse_str(text);
+    let g = &parsed.grammar;
+    let names: Vec<(&str, Option<&str>)> = g
+        .styles
+        .iter()
+        .map(|s| {
+            (
+                s.name.name.as_str(),
+                s.base.as_ref().map(|b| b.name.as_str()),
+            )
+        })
+        .collect();
+    assert_eq!(
+        names,
+        [
+            ("Tall", None),
+            ("Slim", Some("Tall")),
+            ("Loop", Some("Loop"))
+        ]
+    );
+    // The grammar itself is the default style.
+    let attrs = |g: &shapegram_syntax::ast::Grammar| -> Vec<String> {
+        g.attrs
+            .iter()
+            .map(|a| format!("{}={}", a.name.name, expr(&a.value)))
+            .collect()
+    };
+    assert_eq!(attrs(g), ["h=10", "w=4"]);
+    let slim = g.with_style("Slim").unwrap();
+    assert_eq!(attrs(&slim), ["h=30", "w=2", "roof=1"]);
+    assert_eq!(slim.rules.len(), 1);
+    assert_eq!(
+        common::stmts_str(match &slim.rules[0].body {
+            shapegram_syntax::ast::Body::Sequence(s) => s,
+            other => panic!("{other:?}"),
+        }),
+        "(extrude(h) Tower)"
+    );
+    assert!(slim.styles.is_empty());
+    assert_eq!(attrs(&g.with_style("Default").unwrap()), ["h=10", "w=4"]);
+    assert_eq!(
+        g.with_style("Red").unwrap_err(),
+        "no style `Red` (the styles: Default, Tall, Slim, Loop)"
+    );
+    assert_eq!(
+        g.with_style("Loop").unwrap_err(),
+        "style `Loop` extends itself"
+    );
+}

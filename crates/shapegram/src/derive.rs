@@ -312,6 +312,9 @@ struct StatsJson<'a> {
     export_ms: f64,
     rules: Ordered<usize>,
     reports: Ordered<ReportSummary>,
+    /// The reports as CityEngine's PRT summarises them: `key_n`, `key_sum`, `key_avg`,
+    /// `key_min`, `key_max`.
+    prt_reports: Ordered<SummaryValue>,
     /// Only for grammars that build skeletons.
     #[serde(skip_serializing_if = "Option::is_none")]
     skeleton: Option<SkeletonJson>,
@@ -429,6 +432,13 @@ impl<'a> StatsJson<'a> {
         for (key, value) in &derivation.reports {
             reports.entry(key).add(value);
         }
+        let mut prt_reports: Ordered<SummaryValue> = Ordered::default();
+        for (key, value) in shapegram_eval::summarise_reports(&derivation.reports) {
+            *prt_reports.entry(&key) = match value {
+                Value::Number(n) => SummaryValue::Number(n),
+                other => SummaryValue::Text(other.to_string()),
+            };
+        }
         Self {
             grammar,
             lots,
@@ -441,6 +451,7 @@ impl<'a> StatsJson<'a> {
             export_ms: millis(export_time),
             rules,
             reports,
+            prt_reports,
             skeleton: SkeletonJson::of(model),
             named_poses: Vec::new(),
             at_node: None,
@@ -487,6 +498,16 @@ impl<V: Serialize> Serialize for Ordered<V> {
         }
         map.end()
     }
+}
+
+/// One entry of PRT's report summary: a number, or for string reports a string.
+#[derive(Default, Serialize)]
+#[serde(untagged)]
+enum SummaryValue {
+    #[default]
+    None,
+    Number(f64),
+    Text(String),
 }
 
 /// The values reported under one key: how many, and sum, min and max of the numeric ones.

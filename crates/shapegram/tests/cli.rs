@@ -812,6 +812,16 @@ fn print_and_report_reach_stderr_and_stats() {
             "kind": {"count": 1 + 3}
         })
     );
+    // PRT's summary of the same reports: a facade 30 × 9 or 20 × 9, two of each.
+    assert_eq!(
+        stats["prt_reports"],
+        serde_json::json!({
+            "wall area_n": 4.0, "wall area_sum": 900.0, "wall area_avg": 225.0,
+            "wall area_min": 180.0, "wall area_max": 270.0,
+            "kind_n": 4.0, "kind_sum": "wall", "kind_avg": "wall",
+            "kind_min": "wall", "kind_max": "wall"
+        })
+    );
     let text = String::from_utf8(output.stdout).unwrap();
     assert!(text.find("\"wall area\"").unwrap() < text.find("\"kind\"").unwrap());
 }

@@ -447,6 +447,7 @@ fn derive_lot<'a>(
     ev.object_axes = scope.axes;
     ev.assets = options.assets.as_deref();
     ev.lot = index;
+    ev.start = Some(start);
     state.attrs = Rc::new(ev.initial_attrs(&mut state, overrides)?);
     // A lot derived again grows to about its previous size.
     let previous = how
@@ -568,6 +569,7 @@ fn resume_lot(
     let mut ev = Evaluator::new(program, seed, waiting.origin);
     ev.object_axes = waiting.object_axes;
     ev.assets = options.assets.as_deref();
+    ev.start = start_rule(program, options).ok();
     ev.restore(waiting.consts);
     ev.lot = waiting.lot;
     ev.context = Some(context);

@@ -53,6 +53,14 @@ pub trait AssetLoader: Send + Sync {
         Err(format!("cannot search for `{query}` here"))
     }
 
+    /// Whether there is a file at `path` (CGA's `fileExists`): by default, whether it can be
+    /// read as text, an image or a mesh.
+    fn exists(&self, path: &str) -> bool {
+        self.text(path).is_ok()
+            || matches!(self.image(path), Ok(Some(_)))
+            || self.load(path).is_ok()
+    }
+
     /// The bytes of the image at `path` (a PNG or JPEG texture); `Ok(None)` when it cannot be
     /// had but the derivation goes on without it; or a one-line reason why it cannot be had.
     fn image(&self, path: &str) -> Result<Option<Arc<[u8]>>, String> {

@@ -316,27 +316,45 @@ impl<'p> Engine<'p> {
         args: &[Value],
         out: &mut Vec<Work>,
     ) -> Fallible<()> {
-        match body {
-            CBody::Sequence(stmts) => self.run_stmts(stmts, state, args, out),
-            CBody::Cases(arms, otherwise) => {
-                for (cond, branch) in arms {
-                    if self.ev.condition(cond, state, args)? {
-                        return self.run_body(branch, state, args, out);
+        let stmts = self.branch_of(body, state, args)?;
+        self.run_stmts(stmts, state, args, out)
+    }
+
+    /// The statements of the branch of `body` that `case` and percentage arms choose for the
+    /// shape (drawing from its random stream for the percentages).
+    fn branch_of(
+        &mut self,
+        mut body: &'p CBody,
+        state: &mut State,
+        args: &[Value],
+    ) -> Fallible<&'p [CStmt]> {
+        loop {
+            body = match body {
+                CBody::Sequence(stmts) => return Ok(stmts),
+                CBody::Cases(arms, otherwise) => {
+                    let mut chosen = &**otherwise;
+                    for (cond, branch) in arms {
+                        if self.ev.condition(cond, state, args)? {
+                            chosen = branch;
+                            break;
+                        }
                     }
+                    chosen
                 }
-                self.run_body(otherwise, state, args, out)
-            }
-            CBody::Stochastic(arms, otherwise) => {
-                let draw = state.rng.next_f64() * 100.0;
-                let mut acc = 0.0;
-                for (percent, branch) in arms {
-                    acc += self.ev.number(percent, state, args)?;
-                    if draw < acc {
-                        return self.run_body(branch, state, args, out);
+                CBody::Stochastic(arms, otherwise) => {
+                    let draw = state.rng.next_f64() * 100.0;
+                    let mut acc = 0.0;
+                    let mut chosen = &**otherwise;
+                    for (percent, branch) in arms {
+                        acc += self.ev.number(percent, state, args)?;
+                        if draw < acc {
+                            chosen = branch;
+                            break;
+                        }
                     }
+                    chosen
                 }
-                self.run_body(otherwise, state, args, out)
-            }
+            };
         }
     }
 
@@ -354,15 +372,23 @@ impl<'p> Engine<'p> {
         // (only kept when a `center` needs it).
         let centers = stmts
             .iter()
-            .any(|s| matches!(s, CStmt::Op(Op::Center(_), _)));
+            .any(|s| matches!(s, CStmt::Op(Op::Center(_), _) | CStmt::Branch(_)));
         let mut anchor = if centers {
             state.scope
         } else {
             Scope::default()
         };
         let mut saved: Vec<(State, Scope)> = Vec::new();
-        for (i, stmt) in stmts.iter().enumerate() {
+        // The statement lists under way: the rule's and, after a `[ case … ]`, the chosen
+        // branch's, which runs before the rest of the list that holds it.
+        let mut lists = vec![stmts.iter()];
+        while let Some(stmt) = next_stmt(&mut lists) {
+            let last = lists.iter().all(|list| list.len() == 0);
             match stmt {
+                CStmt::Branch(body) => {
+                    let chosen = self.branch_of(body, state, args)?;
+                    lists.push(chosen.iter());
+                }
                 CStmt::Push => {
                     saved.push((state.clone(), anchor));
                     anchor = state.scope;
@@ -378,6 +404,9 @@ impl<'p> Engine<'p> {
                     *state = restored;
                     anchor = outer;
                 }
+                // Inside brackets, `NIL` deletes the pushed copy: the statements up to the
+                // matching `]` are skipped (`[ case c: Lamp else: NIL ] Base` makes the base).
+                CStmt::Nil if !saved.is_empty() => skip_to_pop(&mut lists),
                 CStmt::Nil => return Ok(()),
                 CStmt::Successor {
                     symbol,
@@ -395,7 +424,7 @@ impl<'p> Engine<'p> {
                             .collect::<Fallible<Vec<_>>>()?
                     };
                     let rule = rule.filter(|_| !terminal);
-                    if i + 1 == stmts.len() {
+                    if last {
                         // A successor that ends the statements takes the shape itself.
                         state.make_child();
                         return self.successor(state, *symbol, rule, values, *span, out);
@@ -413,7 +442,7 @@ impl<'p> Engine<'p> {
                     span,
                 } => {
                     let goals = goals.as_slice();
-                    if i + 1 == stmts.len() {
+                    if last {
                         state.make_child();
                         return self.goal_successor(state, goals, *symbol, *span, out);
                     }
@@ -686,6 +715,13 @@ impl<'p> Engine<'p> {
             Op::Color(params) => state.color = self.color(state, params, args)?,
             Op::ColorLiteral(color) => state.color = *color,
             Op::Set(target, value) => self.set(state, target, value, args)?,
+            Op::Reimport { attrs, overrides } => {
+                let values = overrides
+                    .iter()
+                    .map(|(i, e)| Ok((*i, self.ev.eval(e, state, args)?)))
+                    .collect::<Fallible<Vec<_>>>()?;
+                self.ev.reset_attrs(state, attrs, &values)?;
+            }
             Op::Report(key, value) => self.report(state, key, value, args)?,
             Op::Print(value) => self.print(state, value, args)?,
             Op::ReverseNormals => reverse_normals(state, span)?,
@@ -753,5 +789,36 @@ impl<'p> Engine<'p> {
             .iter()
             .map(|p| self.ev.number(p, state, args))
             .collect()
+    }
+}
+
+/// The next statement of the innermost list under way, dropping the lists that are done.
+fn next_stmt<'p>(lists: &mut Vec<std::slice::Iter<'p, CStmt>>) -> Option<&'p CStmt> {
+    loop {
+        let list = lists.last_mut()?;
+        if let Some(stmt) = list.next() {
+            return Some(stmt);
+        }
+        lists.pop();
+    }
+}
+
+/// Drops the statements up to the `]` that closes the innermost open `[`, and leaves that `]`
+/// next.
+fn skip_to_pop(lists: &mut Vec<std::slice::Iter<'_, CStmt>>) {
+    let mut depth = 0usize;
+    while let Some(list) = lists.last_mut() {
+        let rest = list.as_slice();
+        let Some(stmt) = rest.first() else {
+            lists.pop();
+            continue;
+        };
+        match stmt {
+            CStmt::Pop(_) if depth == 0 => return,
+            CStmt::Pop(_) => depth -= 1,
+            CStmt::Push => depth += 1,
+            _ => {}
+        }
+        list.next();
     }
 }

@@ -5,7 +5,9 @@
 //! next `else` belongs to the enclosing construct.
 
 use super::{Fail, PResult, Parser, Start};
-use crate::ast::{Block, BlockEntry, Body, Call, Dialect, Expr, ExprKind, Stmt};
+use crate::ast::{
+    Argument, Block, BlockEntry, Body, Call, DYNAMIC_IMPORT, Dialect, Expr, ExprKind, Ident, Stmt,
+};
 use crate::lexer::TokenKind;
 use crate::{Diagnostic, Span};
 
@@ -65,14 +67,38 @@ impl Parser<'_> {
     /// rule body (`in_body`), a percentage arm also ends the list.
     pub(super) fn statements(&mut self, in_body: bool) -> PResult<Vec<Stmt>> {
         let mut statements = Vec::new();
+        // `[`s opened in this list: a `]` beyond them closes the `[` before an enclosing branch.
+        let mut open = 0usize;
         loop {
             let statement = match self.peek().clone() {
-                TokenKind::LBracket => Stmt::Push(self.bump()),
-                TokenKind::RBracket => Stmt::Pop(self.bump()),
+                TokenKind::LBracket => {
+                    open += 1;
+                    let push = Stmt::Push(self.bump());
+                    if in_body && (self.at_word("case") || self.at_percent_arm()) {
+                        statements.push(push);
+                        self.bracket_branches += 1;
+                        let branch = self.body();
+                        self.bracket_branches -= 1;
+                        Stmt::Branch(Box::new(branch?))
+                    } else {
+                        push
+                    }
+                }
+                TokenKind::RBracket if open == 0 && self.bracket_branches > 0 => {
+                    return Ok(statements);
+                }
+                TokenKind::RBracket => {
+                    open = open.saturating_sub(1);
+                    Stmt::Pop(self.bump())
+                }
                 TokenKind::Ident if self.at_word("NIL") => Stmt::Nil(self.bump()),
                 TokenKind::Plus if self.dialect == Dialect::Goal => self.goal_successor()?,
                 TokenKind::Ident if self.dialect == Dialect::Goal && self.at_word("void") => {
                     Stmt::Nil(self.bump())
+                }
+                TokenKind::Ident if self.dialect == Dialect::Cga && self.at_dynamic_import() => {
+                    statements.extend(self.dynamic_import()?);
+                    continue;
                 }
                 TokenKind::Ident
                     if self.is_name_at(self.pos)
@@ -85,6 +111,83 @@ impl Parser<'_> {
             };
             statements.push(statement);
         }
+    }
+
+    /// Whether a dynamic import call `id(a = v).Rule` starts here: a call whose `)` is followed,
+    /// with nothing between, by `.` and a name.
+    fn at_dynamic_import(&self) -> bool {
+        if *self.kind_at(self.pos + 1) != TokenKind::LParen {
+            return false;
+        }
+        let Some(close) = self.closing_paren(self.pos + 1) else {
+            return false;
+        };
+        let touching =
+            |a: usize, b: usize| self.token_at(a).span.end == self.token_at(b).span.start;
+        *self.kind_at(close + 1) == TokenKind::Dot
+            && *self.kind_at(close + 2) == TokenKind::Ident
+            && touching(close, close + 1)
+            && touching(close + 1, close + 2)
+    }
+
+    /// `id(a = v, …).Rule(args)`: the imported file's rule called with its attributes set
+    /// afresh. It is read as `[ «set id's attributes» id.Rule(args) ]`, the first statement a
+    /// call of [`DYNAMIC_IMPORT`] with the import's name and the overrides: the successor takes
+    /// the shape with the new values, and the shape itself keeps its own.
+    fn dynamic_import(&mut self) -> PResult<Vec<Stmt>> {
+        let id = self.ident();
+        let (overrides, close) = self.call_args()?;
+        if let Some(positional) = overrides.iter().find(|a| a.name.is_none()) {
+            let d = Diagnostic::error(
+                "a dynamic import sets attributes: `id(name = value).Rule`",
+                positional.value.span,
+            )
+            .with_label("an attribute name and `=` are missing");
+            self.report(d);
+            return Err(Fail);
+        }
+        let dot = self.bump();
+        let rule = self.ident();
+        let mut args = vec![Argument {
+            name: None,
+            value: Expr {
+                kind: ExprKind::Name(id.name.clone()),
+                span: id.span,
+            },
+        }];
+        args.extend(overrides);
+        let reset = Call {
+            name: Ident {
+                name: DYNAMIC_IMPORT.to_owned(),
+                span: id.span,
+            },
+            args: Some(args),
+            block: None,
+            terminal: false,
+            span: id.span.to(close),
+        };
+        let mut successor = Call {
+            name: Ident {
+                name: format!("{}.{}", id.name, rule.name),
+                span: id.span.to(rule.span),
+            },
+            args: None,
+            block: None,
+            terminal: false,
+            span: id.span.to(rule.span),
+        };
+        if self.at(&TokenKind::LParen) {
+            let (args, close) = self.call_args()?;
+            successor.args = Some(args);
+            successor.span = successor.span.to(close);
+        }
+        let end = successor.span;
+        Ok(vec![
+            Stmt::Push(id.span),
+            Stmt::Call(reset),
+            Stmt::Call(successor),
+            Stmt::Pop(dot.to(end)),
+        ])
     }
 
     /// `name`, `name(args)`, `name(args){ … }`, `name(args){ … }*`, each optionally with `.`.

@@ -3,8 +3,8 @@
 
 use super::{Fail, PResult, Parser};
 use crate::ast::{
-    Annotation, Attr, Const, ExprKind, Function, Grammar, Ident, Import, ImportAttribute, Rule,
-    Spanned, Unsupported,
+    Annotation, Argument, Attr, Const, ExprKind, Function, Grammar, Ident, Import, ImportAttribute,
+    Rule, Spanned, Style, Unsupported,
 };
 use crate::lexer::TokenKind;
 use crate::{Diagnostic, Span};
@@ -46,7 +46,10 @@ impl Parser<'_> {
                 return Err(self.error_expected("an annotation name", "after `@`"));
             }
             let name = self.ident();
-            let args = if self.at(&TokenKind::LParen) {
+            let args = if self.at(&TokenKind::LParen) && name.name == "Handle" {
+                self.skip_parenthesised();
+                Vec::new()
+            } else if self.at(&TokenKind::LParen) {
                 self.call_args()?.0
             } else {
                 Vec::new()
@@ -58,6 +61,28 @@ impl Parser<'_> {
             });
         }
         Ok(annotations)
+    }
+
+    /// Skips a `( … )` with whatever it holds, nested brackets included. `@Handle`'s arguments
+    /// (`shape=Rule^2`, `translate={.1,0,0}`) only place a handle in CityEngine's viewport, and
+    /// are not expressions.
+    fn skip_parenthesised(&mut self) {
+        let mut depth = 0usize;
+        loop {
+            match self.peek() {
+                TokenKind::Eof => return,
+                TokenKind::LParen => depth += 1,
+                TokenKind::RParen => {
+                    depth -= 1;
+                    if depth == 0 {
+                        self.bump();
+                        return;
+                    }
+                }
+                _ => {}
+            }
+            self.bump();
+        }
     }
 
     pub(super) fn declaration(
@@ -75,6 +100,23 @@ impl Parser<'_> {
                 "version" => self.version(grammar),
                 "import" => self.import(grammar),
                 "style" => self.style(grammar),
+                // `extension Ext --> …` is a rule that importers may redefine; `start S --> …`
+                // the file's start rule.
+                "extension" | "start" if self.is_rule_head(self.pos + 1) => {
+                    let keyword = self.bump();
+                    let mut annotations = annotations;
+                    if &self.src[keyword.range()] == "start" {
+                        annotations.push(Annotation {
+                            name: Ident {
+                                name: "StartRule".to_owned(),
+                                span: keyword,
+                            },
+                            args: Vec::new(),
+                            span: keyword,
+                        });
+                    }
+                    self.rule_or_function(grammar, annotations)
+                }
                 _ if self.is_name_at(self.pos) => self.rule_or_function(grammar, annotations),
                 _ => Err(self.not_a_declaration()),
             },
@@ -203,7 +245,7 @@ impl Parser<'_> {
             span: self.bump(),
         };
         let attributes = if self.at(&TokenKind::LParen) {
-            let (args, _) = self.call_args()?;
+            let args = self.import_arguments(id.as_ref())?;
             let mut list = Vec::new();
             for arg in args {
                 match (arg.name, &arg.value.kind) {
@@ -236,11 +278,69 @@ impl Parser<'_> {
         Ok(())
     }
 
-    /// `style Name` and the declarations after it: checked, then dropped.
+    /// The `( … )` of an import: attributes to keep (`a`) or set (`a = v`), as arguments, and
+    /// extension rules redefined (`Ext --> ops`), which become the importer's rules `id.Ext`
+    /// (replacing the file's `Ext`, as an importer's `id.Ext -->` does).
+    fn import_arguments(&mut self, id: Option<&Ident>) -> PResult<Vec<Argument>> {
+        let open = self.bump();
+        let mut args = Vec::new();
+        while !self.at(&TokenKind::RParen) {
+            if self.is_name_at(self.pos) && *self.kind_at(self.pos + 1) == TokenKind::Arrow {
+                let name = self.ident();
+                self.bump();
+                let body = self.body()?;
+                let Some(id) = id else {
+                    let d = Diagnostic::error(
+                        "only an import with a name can redefine the file's rules",
+                        name.span,
+                    )
+                    .with_hint("name the import: `import id : \"file.cga\" (Ext --> …)`");
+                    self.report(d);
+                    return Err(Fail);
+                };
+                self.import_rules.push(Rule {
+                    annotations: Vec::new(),
+                    name: Ident {
+                        name: format!("{}.{}", id.name, name.name),
+                        span: name.span,
+                    },
+                    params: Vec::new(),
+                    body,
+                    span: self.span_from(name.span),
+                });
+            } else if self.is_name_at(self.pos) && *self.kind_at(self.pos + 1) == TokenKind::Eq {
+                let name = self.ident();
+                self.bump();
+                args.push(Argument {
+                    name: Some(name),
+                    value: self.expr()?,
+                });
+            } else {
+                args.push(Argument {
+                    name: None,
+                    value: self.expr()?,
+                });
+            }
+            if self.eat(&TokenKind::Comma).is_none() {
+                break;
+            }
+        }
+        self.close(&TokenKind::RParen, open, "`,` or `)`", "in the import")?;
+        Ok(args)
+    }
+
+    /// `style Name [extends Base]` and the declarations after it, kept as the style's.
     fn style(&mut self, grammar: &mut Grammar) -> PResult<()> {
         let start = self.bump();
         let name = self.declared_name("a style name", "after `style`")?;
-        let span = start.to(name.span);
+        let mut span = start.to(name.span);
+        let mut base = None;
+        if self.at_word("extends") {
+            self.bump();
+            let b = self.declared_name("the name of the style it extends", "after `extends`")?;
+            span = span.to(b.span);
+            base = Some(b);
+        }
         self.report(
             Diagnostic::warning("`style` is not supported yet", span)
                 .with_label("ignored")
@@ -256,6 +356,12 @@ impl Parser<'_> {
             span,
         });
         grammar.unsupported.append(&mut section.unsupported);
+        grammar.styles.push(Style {
+            name,
+            base,
+            declarations: section,
+            span,
+        });
         Ok(())
     }
 

@@ -163,6 +163,10 @@ impl Parser<'_> {
                     lhs = p.index(lhs)?;
                     continue;
                 }
+                if let Some(each) = p.element_wise_infix(&lhs, min_bp)? {
+                    lhs = each;
+                    continue;
+                }
                 let Some((op, left_bp)) = p.infix_op() else {
                     break;
                 };
@@ -183,6 +187,39 @@ impl Parser<'_> {
             }
             Ok(lhs)
         })
+    }
+
+    /// Whether the current token is a `.` written right against the operator after it: CGA's
+    /// element-wise operators on arrays (`[1, 2] .* 2`, `names .== "a"`, `.![true]`).
+    fn at_element_wise(&self) -> bool {
+        self.at(&TokenKind::Dot)
+            && self.token_at(self.pos).span.end == self.token_at(self.pos + 1).span.start
+    }
+
+    /// An element-wise infix operator with `lhs` on its left, if one binding at least as tightly
+    /// as `min_bp` follows. It is read as a call of the built-in named by the operator (`.==`).
+    fn element_wise_infix(&mut self, lhs: &Expr, min_bp: u8) -> PResult<Option<Expr>> {
+        if !self.at_element_wise() {
+            return Ok(None);
+        }
+        let saved = self.pos;
+        self.pos += 1;
+        let op = self.infix_op();
+        self.pos = saved;
+        let Some((_, left_bp)) = op.filter(|(_, bp)| *bp >= min_bp) else {
+            return Ok(None);
+        };
+        let start = self.bump();
+        let symbol = format!(".{}", self.text());
+        let op_span = start.to(self.bump());
+        let rhs = self.binary(left_bp + 1)?;
+        let span = lhs.span.to(rhs.span);
+        Ok(Some(element_wise_call(
+            symbol,
+            op_span,
+            vec![lhs.clone(), rhs],
+            span,
+        )))
     }
 
     /// The infix operator at the current token and its (left) binding power.
@@ -248,6 +285,28 @@ impl Parser<'_> {
 
     fn prefix(&mut self) -> PResult<Expr> {
         let start = self.span();
+        if self.at_element_wise()
+            && matches!(
+                self.kind_at(self.pos + 1),
+                TokenKind::Bang | TokenKind::Minus | TokenKind::Plus
+            )
+        {
+            self.bump();
+            let symbol = format!(".{}", self.text());
+            let op_span = start.to(self.bump());
+            let operand = self.binary(PREFIX_BP)?;
+            let span = start.to(operand.span);
+            return Ok(element_wise_call(symbol, op_span, vec![operand], span));
+        }
+        if self.at(&TokenKind::Plus) {
+            // CGA's unary plus (`h ++.3048` is `h + +0.3048`) leaves its operand as it is.
+            self.bump();
+            let operand = self.binary(PREFIX_BP)?;
+            return Ok(Expr {
+                span: start.to(operand.span),
+                kind: operand.kind,
+            });
+        }
         let (wrap, bp): (fn(Box<Expr>) -> ExprKind, u8) = match self.peek() {
             TokenKind::Minus => (
                 |e| ExprKind::Unary {
@@ -387,7 +446,10 @@ impl Parser<'_> {
                     TokenKind::Ident | TokenKind::Number(_) => p.ident(),
                     _ => return Err(p.error_expected("a selector", "in the comp function")),
                 };
-                p.expect(&TokenKind::Colon, "`:`", "after the selector")?;
+                // `sel = v` (CityEngine's grouping form) gives the value as `sel : v` does.
+                if p.eat(&TokenKind::Eq).is_none() {
+                    p.expect(&TokenKind::Colon, "`:`", "after the selector")?;
+                }
                 entries.push(Argument {
                     name: Some(selector),
                     value: p.expr()?,
@@ -543,5 +605,27 @@ impl Parser<'_> {
                 );
             }
         }
+    }
+}
+
+/// `a .op b` (or `.op a`) as the call `.op(a, b)` of the element-wise built-in.
+fn element_wise_call(
+    symbol: String,
+    op_span: crate::Span,
+    operands: Vec<Expr>,
+    span: crate::Span,
+) -> Expr {
+    Expr {
+        kind: ExprKind::Call {
+            name: Ident {
+                name: symbol,
+                span: op_span,
+            },
+            args: operands
+                .into_iter()
+                .map(|value| Argument { name: None, value })
+                .collect(),
+        },
+        span,
     }
 }

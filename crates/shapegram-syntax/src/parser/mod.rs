@@ -75,7 +75,12 @@ pub(crate) fn parse_dialect(src: &str, dialect: Dialect) -> (Grammar, Vec<Diagno
         ..Grammar::default()
     };
     match dialect {
-        Dialect::Cga => parser.declarations(&mut grammar, false),
+        Dialect::Cga => {
+            parser.declarations(&mut grammar, false);
+            // Extension rules an import redefines come after the file's own rules, so that the
+            // first of those stays the default start rule.
+            grammar.rules.append(&mut parser.import_rules);
+        }
         Dialect::Muller2006 => parser.muller_file(&mut grammar),
         Dialect::Sgl => parser.sgl_file(&mut grammar),
         Dialect::Goal => parser.goal_file(&mut grammar),
@@ -104,6 +109,11 @@ pub(crate) struct Parser<'a> {
     errors: usize,
     /// Set while looking ahead for a percentage arm (see [`Parser::at_percent_arm`]).
     speculating: bool,
+    /// How many `[ case … ]` branches are being read: their statement lists end at a `]`
+    /// that closes no `[` of their own.
+    bracket_branches: usize,
+    /// The rules imports redefine (`import id : "f" (Ext --> …)`), named `id.Ext`.
+    import_rules: Vec<ast::Rule>,
     diagnostics: Vec<Diagnostic>,
     /// The "too many errors" note, kept apart so it stays last after sorting.
     overflow: Option<Diagnostic>,
@@ -138,6 +148,8 @@ impl<'a> Parser<'a> {
             aborted: false,
             errors: 0,
             speculating: false,
+            bracket_branches: 0,
+            import_rules: Vec::new(),
             diagnostics: Vec::new(),
             overflow: None,
             muller_rule: None,
@@ -240,6 +252,10 @@ impl<'a> Parser<'a> {
         if !self.is_name_at(i) {
             return None;
         }
+        // `extension Ext -->` and `start Main -->`: rules with a keyword before them.
+        if matches!(self.text_at(i), "extension" | "start") && self.is_rule_head(i + 1) {
+            return Some(Start::Strong);
+        }
         let after = match self.kind_at(i + 1) {
             TokenKind::LParen => self.closing_paren(i + 1)? + 1,
             _ => i + 1,
@@ -249,6 +265,21 @@ impl<'a> Parser<'a> {
             TokenKind::Eq => Some(Start::Weak),
             _ => other(after),
         }
+    }
+
+    /// Whether a rule's head, a name with optional `(…)` and the arrow, starts at token `i`.
+    fn is_rule_head(&self, i: usize) -> bool {
+        if !self.is_name_at(i) {
+            return false;
+        }
+        let after = match self.kind_at(i + 1) {
+            TokenKind::LParen => match self.closing_paren(i + 1) {
+                Some(close) => close + 1,
+                None => return false,
+            },
+            _ => i + 1,
+        };
+        *self.kind_at(after) == TokenKind::Arrow
     }
 
     fn at_declaration_start(&self) -> bool {

@@ -67,6 +67,7 @@ pub fn stmt(s: &Stmt) -> String {
         Stmt::Push(_) => "[".into(),
         Stmt::Pop(_) => "]".into(),
         Stmt::Nil(_) => "NIL".into(),
+        Stmt::Branch(b) => body(b),
         Stmt::Call(c) => call(c),
         Stmt::Goals(goals, _) => goals.iter().map(|g| format!("+{}", g.name)).collect(),
     }

@@ -1,0 +1,305 @@
+//! Forms that real CityEngine rule files use and our own examples did not: each test is a small
+//! grammar of our own with the form a public rule file taught us.
+
+mod common;
+
+use common::{compile_errors, lot, names, run};
+
+#[test]
+fn case_right_after_a_bracket_chooses_up_to_the_matching_bracket() {
+    // The chosen branch runs inside the brackets; what follows `]` runs on the restored shape.
+    let grammar = "attr kind = \"MAJOR\"
+        Lot --> extrude(4) [ case kind == \"MAJOR\": s('0.5, '1, '1) Lamp else: NIL ] Base";
+    let d = run(grammar, lot(20.0, 30.0));
+    assert_eq!(names(&d), ["Lamp", "Base"]);
+    assert_eq!(d.leaves[0].scope.size.x, 10.0);
+    assert_eq!(d.leaves[1].scope.size.x, 20.0);
+    let d = run(
+        &grammar.replace("\"MAJOR\"\n", "\"MINOR\"\n"),
+        lot(20.0, 30.0),
+    );
+    assert_eq!(names(&d), ["Base"]);
+}
+
+#[test]
+fn nested_cases_and_brackets_inside_a_bracketed_branch() {
+    let grammar = "attr n = 2
+        Lot --> [ case n > 1: [ t(1, 0, 0) A ] case n > 5 : B else: C ] [ D ] E";
+    let d = run(grammar, lot(4.0, 4.0));
+    assert_eq!(names(&d), ["A", "D", "E"]);
+    assert_eq!(d.leaves[0].scope.origin.x, 1.0);
+    assert_eq!(d.leaves[1].scope.origin.x, 0.0);
+}
+
+#[test]
+fn percentages_right_after_a_bracket_draw_one_branch() {
+    let d = run("Lot --> [ 100% : A else : B ] C", lot(4.0, 4.0));
+    assert_eq!(names(&d), ["A", "C"]);
+}
+
+#[test]
+fn a_bracketed_case_left_open_ends_at_the_next_rule() {
+    let d = run("Lot --> [ case true: A else: B\nNext --> C", lot(4.0, 4.0));
+    assert_eq!(names(&d), ["A"]);
+}
+
+#[test]
+fn unary_plus_keeps_its_operand() {
+    let d = run("const h = 2 ++.5\nLot --> extrude(h) X", lot(4.0, 4.0));
+    assert_eq!(d.leaves[0].scope.size.y, 2.5);
+}
+
+#[test]
+fn handle_annotations_are_skipped_whatever_they_hold() {
+    let errors = errors(
+        "@Handle(shape=Street^4, axis=x, translate={.1,0,0}, color=\"#FF11FF\")\n\
+         attr w = 3\nLot --> extrude(w) Street",
+    );
+    assert!(errors.is_empty(), "{errors:?}");
+}
+
+#[test]
+fn comp_function_entries_may_use_the_grouping_form() {
+    // `street.back = v` gives the value as `street.back : v` does.
+    let d = run(
+        "const d = comp(fe) { front : 1 | back = 2 | all = 0 }\nLot --> setback(d) { all : Ring | remainder : Core }",
+        lot(20.0, 30.0),
+    );
+    let core = d.leaves.iter().find(|l| &*l.name == "Core").unwrap();
+    assert_eq!((core.scope.size.x, core.scope.size.z), (20.0, 27.0));
+}
+
+#[test]
+fn skipped_operations_keep_their_selector_words() {
+    let diagnostics = compile_errors("Lot --> cleanupGeometry(all, 0.1) X.");
+    assert_eq!(diagnostics.len(), 1, "{diagnostics:?}");
+    assert!(
+        diagnostics[0].starts_with("warning: operation `cleanupGeometry` is not supported yet"),
+        "{}",
+        diagnostics[0]
+    );
+}
+
+/// The errors among the diagnostics of compiling `text`.
+fn errors(text: &str) -> Vec<String> {
+    compile_errors(text)
+        .into_iter()
+        .filter(|d| d.starts_with("error"))
+        .collect()
+}
+
+#[test]
+fn element_wise_operators_work_on_each_element() {
+    // Complete_Street.cga filters a table's rows with `t[t[0:n, 1] .== category, 0]`.
+    let grammar = "const t = [\"oak\", \"tree\"; \"bench\", \"furniture\"; \"elm\", \"tree\"]
+        const trees = t[t[0:2, 1] .== \"tree\", 0]
+        const scaled = [1, 2; 3, 4] .* 2 .+ [1, 1; 1, 1]
+        const flags = .![true, false] .|| [false, false]
+        Lot --> print(trees) print(scaled) print(flags) print(.-[1, 2]) print(3 .> [1, 5]) X.";
+    let d = run(grammar, lot(4.0, 4.0));
+    assert_eq!(
+        d.prints,
+        [
+            "[oak,elm]",
+            "[[3,5],[7,9]]",
+            "[false,true]",
+            "[-1,-2]",
+            "[true,false]"
+        ]
+    );
+    let errors = errors("Lot --> print([1, 2] .* [1, 2, 3]) X.");
+    assert!(errors.is_empty(), "{errors:?}");
+    let failed = common::try_run(
+        "Lot --> print([1, 2] .* [1, 2, 3]) X.",
+        lot(4.0, 4.0),
+        &shapegram_eval::DeriveOptions::default(),
+    )
+    .unwrap_err();
+    assert_eq!(
+        failed.to_string(),
+        "`.*` needs arrays of the same size, not 2 and 3 elements"
+    );
+}
+
+#[test]
+fn a_skipped_texture_space_split_keeps_its_block() {
+    let diagnostics =
+        compile_errors("Street --> split(v, unitSpace, 0) { 0.2 : Curb | ~1 : Road }");
+    assert_eq!(diagnostics.len(), 1, "{diagnostics:?}");
+    assert!(
+        diagnostics[0]
+            .starts_with("warning: texture-space splits (`split(u|v)`) are not supported yet"),
+        "{}",
+        diagnostics[0]
+    );
+}
+
+#[test]
+fn a_terminal_name_without_arguments_is_a_leaf_even_when_an_operation_has_its_name() {
+    let d = run("Lot --> t(1, 0, 0) r.", lot(4.0, 4.0));
+    assert_eq!(names(&d), ["r"]);
+    assert_eq!(d.leaves[0].scope.origin.x, 1.0);
+}
+
+#[test]
+fn colour_and_array_functions_of_the_reference() {
+    // 6SetUp.cga turns a shutter's colour: colorHSVToHex(colorHexToH(c) - 185, …).
+    let d = run(
+        "const c = \"#ff0000\"
+         Lot --> print(colorHSVToHex(colorHexToH(c) + 120, colorHexToS(c), colorHexToV(c)))
+                 print(colorRGBOToHex(1, 0.5, 0, 1)) print(colorHexToO(\"#00000080\") * 255)
+                 print(sum([1, 2, 3])) print([30, 10, 20][sortIndices([30, 10, 20])])
+                 print(transpose([1, 2; 3, 4])) print(isNull(floatArray([\"1\", \"x\"])))
+                 X.",
+        lot(4.0, 4.0),
+    );
+    assert_eq!(
+        d.prints,
+        [
+            "#00ff00",
+            "#ff8000ff",
+            "128",
+            "6",
+            "[10,20,30]",
+            "[[1,3],[2,4]]",
+            "[false,true]"
+        ]
+    );
+}
+
+#[test]
+fn geometry_angle_gives_slope_azimuth_and_zenith() {
+    // The lot's front edge faces +z, south: its facade's azimuth is 180.
+    let d = run(
+        "Lot --> extrude(10) comp(f) { front : F | right : R | top : T }
+         F --> print(geometry.angle(maxSlope) + \" \" + geometry.angle(azimuth)) X.
+         R --> print(geometry.angle(azimuth)) X.
+         T --> print(geometry.angle(zenith) + \" \" + geometry.angle(maxSlope)) X.",
+        lot(20.0, 30.0),
+    );
+    assert_eq!(d.prints, ["90 180", "90", "90 0"]);
+    let roof = run(
+        "Lot --> roofShed(30) comp(f) { all : A }
+         A --> print(rint(geometry.angle(maxSlope)) + \" \" + rint(geometry.angle(azimuth))) X.",
+        lot(20.0, 30.0),
+    );
+    // The bottom, the two gable ends and the high wall of the shed, then its slope, facing
+    // south (+z).
+    assert_eq!(roof.prints, ["0 0", "90 90", "90 0", "90 270", "30 180"]);
+    let errors = errors("Lot --> print(geometry.angle(steepest)) X.");
+    assert!(errors.is_empty(), "{errors:?}");
+    // It asks about the shape alone, so an attribute may use it, unlike occlusion queries.
+    let d = run(
+        "attr slope = geometry.angle(maxSlope)\nLot --> print(slope) X.",
+        lot(4.0, 4.0),
+    );
+    assert_eq!(d.prints, ["0"]);
+    let failed = common::try_run(
+        "Lot --> print(geometry.angle(steepest)) X.",
+        lot(4.0, 4.0),
+        &shapegram_eval::DeriveOptions::default(),
+    )
+    .unwrap_err();
+    assert_eq!(
+        failed.to_string(),
+        "expected `maxSlope`, `azimuth` or `zenith`, found `steepest`"
+    );
+}
+
+#[test]
+fn file_functions_without_files() {
+    let d = run(
+        "Lot --> print(fileExists(\"facade.jpg\")) X.",
+        lot(4.0, 4.0),
+    );
+    assert_eq!(d.prints, ["false"]);
+    let failed = common::try_run(
+        "Lot --> print(readTextFile(\"notes.txt\")) X.",
+        lot(4.0, 4.0),
+        &shapegram_eval::DeriveOptions::default(),
+    )
+    .unwrap_err();
+    assert_eq!(
+        failed.to_string(),
+        "cannot read `notes.txt`: this derivation reads no files"
+    );
+}
+
+#[test]
+fn reference_functions_not_supported_yet_warn_at_check_and_stop_when_reached() {
+    let diagnostics = compile_errors(
+        "Lot --> case false : print(imagesSortRatio(fileSearch(\"*.jpg\"), xz)) X. else : Y.",
+    );
+    assert_eq!(diagnostics.len(), 1, "{diagnostics:?}");
+    assert!(
+        diagnostics[0].starts_with("warning: function `imagesSortRatio` is not supported yet"),
+        "{}",
+        diagnostics[0]
+    );
+    let d = run(
+        "Lot --> case false : print(edgeAttr.getFloat(\"w\")) X. else : Y.",
+        lot(4.0, 4.0),
+    );
+    assert_eq!(names(&d), ["Y"]);
+}
+
+#[test]
+fn a_dynamic_import_takes_named_attributes() {
+    let errors = errors("Lot --> tower(12).Mass");
+    assert_eq!(errors.len(), 1, "{errors:?}");
+    assert!(
+        errors[0].starts_with(
+            "error: a dynamic import sets attributes: `id(name = value).Rule`\n --> test.cga:1:15"
+        ),
+        "{}",
+        errors[0]
+    );
+}
+
+#[test]
+fn start_rule_print_as_a_function_and_geometry_questions_without_parentheses() {
+    // Complete_Street.cga picks its street parts by `initialShape.startRule`.
+    let d = run(
+        "attr part = case initialShape.startRule == \"Street\" : \"lanes\" else : \"other\"
+         @StartRule
+         Street --> print(part) extrude(print(2) + 1) Mass
+         Mass --> case geometry.isConcave : Concave. else : print(geometry.nEdges) t(0, 2, 0) print(scope.elevation) Box.",
+        lot(4.0, 4.0),
+    );
+    assert_eq!(d.prints, ["lanes", "2", "12", "2"]);
+    assert_eq!(names(&d), ["Box"]);
+    assert_eq!(d.leaves[0].scope.size.y, 3.0);
+}
+
+#[test]
+fn convert_takes_positions_and_angles_between_scope_and_world() {
+    // The lot's right facade: its scope starts at (20, 0, 30) with x along −z.
+    let d = run(
+        "Lot --> extrude(10) comp(f) { right : R }
+         R --> print(convert(scope, world, pos, [2, 1, 0]))
+               print(convert(x, world, scope, pos, 20, 0, 26))
+               print(rint(convert(y, scope, object, orient, 0, 0, 0)))
+               X.",
+        lot(20.0, 30.0),
+    );
+    assert_eq!(d.prints, ["[20,1,28]", "4", "90"]);
+    let failed = common::try_run(
+        "Lot --> print(convert(scope, screen, pos, [0, 0, 0])) X.",
+        lot(4.0, 4.0),
+        &shapegram_eval::DeriveOptions::default(),
+    )
+    .unwrap_err();
+    assert_eq!(
+        failed.to_string(),
+        "expected the coordinate system `scope`, `pivot`, `object` or `world`, found `screen`"
+    );
+}
+
+#[test]
+fn start_and_extension_rules_are_rules_with_a_keyword() {
+    let d = run(
+        "Lot --> A.\nextension Roof --> Flat.\nstart Main --> extrude(1) Roof",
+        lot(4.0, 4.0),
+    );
+    assert_eq!(names(&d), ["Flat"]);
+}
