@@ -2,7 +2,7 @@
 
 mod common;
 
-use common::{compile, compile_errors};
+use common::{assert_close, compile, compile_errors};
 use shapegram_eval::{DeriveOptions, InitialShape, Value, derive};
 use shapegram_geom::DVec2;
 
@@ -29,13 +29,6 @@ fn reports(text: &str, lot: InitialShape) -> Vec<f64> {
 }
 
 const SIZE: &str = "report(\"sx\", scope.sx) report(\"sy\", scope.sy) report(\"sz\", scope.sz)";
-
-fn assert_close(actual: &[f64], expected: &[f64]) {
-    assert_eq!(actual.len(), expected.len(), "{actual:?}");
-    for (a, e) in actual.iter().zip(expected) {
-        assert!((a - e).abs() < 1e-9, "{actual:?} != {expected:?}");
-    }
-}
 
 #[test]
 fn a_lot_aligns_to_its_longest_edge() {

@@ -3,8 +3,8 @@
 
 mod common;
 
-use common::{compile_errors, try_run};
-use shapegram_eval::{DeriveOptions, InitialShape, Value};
+use common::{assert_close, compile_errors, numeric_reports as reports, of, try_run};
+use shapegram_eval::{DeriveOptions, InitialShape};
 use shapegram_geom::DVec2;
 
 /// An L-shaped lot: 20 × 10 m along x, and a 10 × 20 m wing along z from its left half; one
@@ -19,35 +19,6 @@ fn l_lot() -> InitialShape {
         DVec2::new(0.0, 30.0),
     ])
     .unwrap()
-}
-
-/// The `(key, number)` reports of `text` derived on `lot`.
-fn reports(text: &str, lot: InitialShape) -> Vec<(String, f64)> {
-    let d = try_run(text, lot, &DeriveOptions::default()).unwrap();
-    d.reports
-        .into_iter()
-        .map(|(k, v)| match v {
-            Value::Number(n) => (k, n),
-            Value::Bool(b) => (k, f64::from(u8::from(b))),
-            v => panic!("{v:?}"),
-        })
-        .collect()
-}
-
-/// The reported numbers under `key`.
-fn of(reports: &[(String, f64)], key: &str) -> Vec<f64> {
-    reports
-        .iter()
-        .filter(|(k, _)| k == key)
-        .map(|(_, v)| *v)
-        .collect()
-}
-
-fn assert_close(a: &[f64], b: &[f64]) {
-    assert_eq!(a.len(), b.len(), "{a:?} != {b:?}");
-    for (x, y) in a.iter().zip(b) {
-        assert!((x - y).abs() < 1e-9, "{a:?} != {b:?}");
-    }
 }
 
 #[test]

@@ -3,35 +3,12 @@
 
 mod common;
 
-use common::{compile_errors, lot, names, try_run};
-use shapegram_eval::{DeriveOptions, Value};
+use common::{assert_close, compile_errors, lot, names, numeric_reports, of, try_run};
+use shapegram_eval::DeriveOptions;
 
 /// The `(key, number)` reports of `text` derived on the 20 × 30 lot.
 fn reports(text: &str) -> Vec<(String, f64)> {
-    let d = try_run(text, lot(20.0, 30.0), &DeriveOptions::default()).unwrap();
-    d.reports
-        .into_iter()
-        .map(|(k, v)| match v {
-            Value::Number(n) => (k, n),
-            v => panic!("{v:?}"),
-        })
-        .collect()
-}
-
-/// The reported numbers under `key`.
-fn of(reports: &[(String, f64)], key: &str) -> Vec<f64> {
-    reports
-        .iter()
-        .filter(|(k, _)| k == key)
-        .map(|(_, v)| *v)
-        .collect()
-}
-
-fn assert_close(a: &[f64], b: &[f64]) {
-    assert_eq!(a.len(), b.len(), "{a:?} != {b:?}");
-    for (x, y) in a.iter().zip(b) {
-        assert!((x - y).abs() < 1e-9, "{a:?} != {b:?}");
-    }
+    numeric_reports(text, lot(20.0, 30.0))
 }
 
 const AREA: &str = "report(\"area\", geometry.area)";

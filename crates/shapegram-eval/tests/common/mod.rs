@@ -5,7 +5,9 @@ pub mod generated;
 
 use std::path::PathBuf;
 
-use shapegram_eval::{Derivation, DeriveError, DeriveOptions, InitialShape, Program, derive};
+use shapegram_eval::{
+    Derivation, DeriveError, DeriveOptions, InitialShape, Program, Value, derive,
+};
 use shapegram_geom::DVec2;
 use shapegram_syntax::{Dialect, SourceFile, parse};
 
@@ -207,3 +209,33 @@ using is(chair) {
 
 /// A grammar that makes wooden things brown.
 pub const WOOD: &str = r##"fulfills(wooden) --> color("#8b5a2b")"##;
+
+/// The `(key, number)` reports of `text` derived on `lot`; booleans count as 0 or 1.
+pub fn numeric_reports(text: &str, lot: InitialShape) -> Vec<(String, f64)> {
+    let d = try_run(text, lot, &DeriveOptions::default()).unwrap();
+    d.reports
+        .into_iter()
+        .map(|(k, v)| match v {
+            Value::Number(n) => (k, n),
+            Value::Bool(b) => (k, f64::from(u8::from(b))),
+            v => panic!("{v:?}"),
+        })
+        .collect()
+}
+
+/// The reported numbers under `key`.
+pub fn of(reports: &[(String, f64)], key: &str) -> Vec<f64> {
+    reports
+        .iter()
+        .filter(|(k, _)| k == key)
+        .map(|(_, v)| *v)
+        .collect()
+}
+
+/// Asserts two lists of numbers agree within 1e-9.
+pub fn assert_close(actual: &[f64], expected: &[f64]) {
+    assert_eq!(actual.len(), expected.len(), "{actual:?} != {expected:?}");
+    for (a, e) in actual.iter().zip(expected) {
+        assert!((a - e).abs() < 1e-9, "{actual:?} != {expected:?}");
+    }
+}
