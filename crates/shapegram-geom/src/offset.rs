@@ -11,7 +11,7 @@
 use crate::{
     DVec2, DVec3,
     mesh::newell,
-    planar::{Polygon, is_convex, kept_corners, signed_area},
+    planar::{Polygon, clip_convex, is_convex, kept_corners, signed_area},
     skeleton::{Skeleton, outline, propagate, propagate_weighted},
 };
 
@@ -80,23 +80,6 @@ fn edges_with_outward(points: &[DVec3], normal: DVec3) -> Vec<(DVec3, DVec3, DVe
         }
     }
     edges
-}
-
-/// Keeps the part of a convex polygon where `normal · p <= offset` (Sutherland–Hodgman).
-fn clip_convex(poly: &[DVec3], normal: DVec3, offset: f64) -> Vec<DVec3> {
-    let n = poly.len();
-    let mut out = Vec::with_capacity(n + 1);
-    for i in 0..n {
-        let (a, b) = (poly[i], poly[(i + 1) % n]);
-        let (da, db) = (normal.dot(a) - offset, normal.dot(b) - offset);
-        if da <= 0.0 {
-            out.push(a);
-        }
-        if (da < 0.0 && db > 0.0) || (da > 0.0 && db < 0.0) {
-            out.push(a + (b - a) * (da / (da - db)));
-        }
-    }
-    out
 }
 
 /// Offsets a simple planar polygon (counter-clockwise about its normal, convex or not) by moving

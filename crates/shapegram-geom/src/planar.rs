@@ -1,5 +1,7 @@
 //! Planar polygons in their own 2D frame: validation and clean-up shared by roofs and offsets.
 
+use std::ops::{Add, Mul, Sub};
+
 use crate::{DVec2, DVec3, mesh::newell, triangulate::plane_basis};
 
 /// How far (relative to the polygon's size) a corner may lie off the polygon's plane.
@@ -192,4 +194,40 @@ fn segment_distance(a: DVec2, b: DVec2, c: DVec2, d: DVec2, eps: f64) -> f64 {
         .min(point_segment_distance(b, c, d))
         .min(point_segment_distance(c, a, b))
         .min(point_segment_distance(d, a, b))
+}
+
+/// A point of a plane or of space, for the clipping both kinds of polygon share.
+pub(crate) trait Point:
+    Copy + Add<Output = Self> + Sub<Output = Self> + Mul<f64, Output = Self>
+{
+    fn dot(self, other: Self) -> f64;
+}
+
+impl Point for DVec2 {
+    fn dot(self, other: Self) -> f64 {
+        DVec2::dot(self, other)
+    }
+}
+
+impl Point for DVec3 {
+    fn dot(self, other: Self) -> f64 {
+        DVec3::dot(self, other)
+    }
+}
+
+/// Keeps the part of a convex polygon where `normal · p <= offset` (Sutherland–Hodgman).
+pub(crate) fn clip_convex<P: Point>(polygon: &[P], normal: P, offset: f64) -> Vec<P> {
+    let n = polygon.len();
+    let mut out = Vec::with_capacity(n + 1);
+    for i in 0..n {
+        let (a, b) = (polygon[i], polygon[(i + 1) % n]);
+        let (da, db) = (normal.dot(a) - offset, normal.dot(b) - offset);
+        if da <= 0.0 {
+            out.push(a);
+        }
+        if (da < 0.0 && db > 0.0) || (da > 0.0 && db < 0.0) {
+            out.push(a + (b - a) * (da / (da - db)));
+        }
+    }
+    out
 }

@@ -27,7 +27,7 @@ use crate::{
     DVec2, DVec3, Mesh, Plane,
     extrude::extrude_polygon,
     offset::grown_outline,
-    planar::{Polygon, is_convex, signed_area},
+    planar::{Polygon, clip_convex, is_convex, signed_area},
     skeleton::{Skeleton, propagate},
     split::split,
 };
@@ -311,23 +311,6 @@ pub fn roof_shed(points: &[DVec3], angle_deg: f64, edge_index: usize) -> Option<
     (!roof.is_empty()).then_some(roof)
 }
 
-/// The part of a convex 2D polygon where `normal · p <= offset` (Sutherland–Hodgman).
-fn clip_half_plane(polygon: &[DVec2], normal: DVec2, offset: f64) -> Vec<DVec2> {
-    let n = polygon.len();
-    let mut out = Vec::with_capacity(n + 1);
-    for i in 0..n {
-        let (a, b) = (polygon[i], polygon[(i + 1) % n]);
-        let (da, db) = (normal.dot(a) - offset, normal.dot(b) - offset);
-        if da <= 0.0 {
-            out.push(a);
-        }
-        if (da < 0.0 && db > 0.0) || (da > 0.0 && db < 0.0) {
-            out.push(a + (b - a) * (da / (da - db)));
-        }
-    }
-    out
-}
-
 /// The tangent of a roof angle in degrees, if the angle is strictly between 0 and 90.
 fn slope(angle_deg: f64) -> Option<f64> {
     (angle_deg > 0.0 && angle_deg < 90.0).then(|| angle_deg.to_radians().tan())
@@ -418,7 +401,7 @@ impl Base {
             } else {
                 y
             };
-            region = clip_half_plane(&region, out, out.dot(flat[i]) + moved);
+            region = clip_convex(&region, out, out.dot(flat[i]) + moved);
         }
         if region.len() < 3 || signed_area(&region) <= 1e-9 * signed_area(flat) {
             return None;
