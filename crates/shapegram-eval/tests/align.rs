@@ -182,12 +182,10 @@ fn strips_of_a_wall_keep_its_first_edge() {
     // as the wall's was 20 × 10.
     let lot = turned_lot(&[(0.0, 0.0), (20.0, 0.0), (20.0, 30.0), (0.0, 30.0)], 30.0);
     let strips = reports(
-        &format!(
-            "Lot --> extrude(10) comp(f) {{ front : W }}\n\
-             W --> alignScopeToAxes(y) split(y) {{ ~2 : T }}*\n\
-             T --> comp(f) {{ all : F }}\n\
-             F --> report(\"sx\", scope.sx) report(\"sy\", scope.sy)"
-        ),
+        "Lot --> extrude(10) comp(f) { front : W }\n\
+         W --> alignScopeToAxes(y) split(y) { ~2 : T }*\n\
+         T --> comp(f) { all : F }\n\
+         F --> report(\"sx\", scope.sx) report(\"sy\", scope.sy)",
         lot,
     );
     assert_close(&strips, &[20.0, 2.0].repeat(5));
