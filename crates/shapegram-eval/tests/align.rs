@@ -149,3 +149,37 @@ fn bad_selectors_are_errors() {
     .unwrap_err();
     assert_eq!(err.message, "index 0.5: expected a whole number");
 }
+
+#[test]
+fn aligning_one_axis_keeps_the_x_axis_as_cityengine_does() {
+    // The front wall (20 × 10) of a 20 × 30 lot turned by 30°, thickened by 0.1: the slab's
+    // scope has x along the wall, y out of it, z down the wall. Aligning y to the world's keeps
+    // x (projected off y) and turns z out of the wall: the slab's own box, 20 × 10 × 0.1 (keeping
+    // z instead, which runs down the wall, would leave nothing to keep and turn the box to the
+    // world's axes).
+    let lot = turned_lot(&[(0.0, 0.0), (20.0, 0.0), (20.0, 30.0), (0.0, 30.0)], 30.0);
+    let slab = reports(
+        &format!(
+            "Lot --> extrude(10) comp(f) {{ front : W }}\n\
+             W --> extrude(0.1) alignScopeToAxes(y) {SIZE}"
+        ),
+        lot,
+    );
+    assert_close(&slab, &[20.0, 10.0, 0.1]);
+}
+
+#[test]
+fn strips_of_a_wall_keep_its_first_edge() {
+    // A wall aligned to the world's y axis (its geometry a mesh now) and split into 2 m strips:
+    // each strip's first edge runs along its foot, so its face scope is 20 wide and 2 high,
+    // as the wall's was 20 × 10.
+    let lot = turned_lot(&[(0.0, 0.0), (20.0, 0.0), (20.0, 30.0), (0.0, 30.0)], 30.0);
+    let strips = reports(
+        "Lot --> extrude(10) comp(f) { front : W }\n\
+         W --> alignScopeToAxes(y) split(y) { ~2 : T }*\n\
+         T --> comp(f) { all : F }\n\
+         F --> report(\"sx\", scope.sx) report(\"sy\", scope.sy)",
+        lot,
+    );
+    assert_close(&strips, &[20.0, 2.0].repeat(5));
+}

@@ -123,7 +123,8 @@ fn the_office_building_is_derived_at_the_scale_of_the_paper() {
     assert_eq!(count_parts(&d, "seat_pan", "office_chair"), 226);
     assert_eq!(count_tagged(&d, "desk"), 4464);
     assert_eq!(count_tagged(&d, "office_chair"), 6511);
-    assert_eq!(d.leaves.len(), 28_300);
+    // (Two repeats in one split take their shares in turn, as CityEngine counts them.)
+    assert_eq!(d.leaves.len(), 28_366);
 
     // Three storeys of 36 × 24 m on the site, fins and the canopy standing out of the facades,
     // the stair's roof exit on top.

@@ -121,3 +121,64 @@ fn a_huge_repeat_is_an_error_not_a_hang() {
     assert!(err.message.contains("limit is 1000000"), "{}", err.message);
     assert!(err.span.is_some());
 }
+
+#[test]
+fn a_repeat_makes_the_parts_closest_to_their_size() {
+    // 2.45 m of `~1` parts: two would be 1.225 m, three 0.8167 m, nearer 1 m.
+    let d = run(
+        "Lot --> s(2.45, 1, 1) primitiveCube() split(x) { ~1 : A }*",
+        lot(10.0, 10.0),
+    );
+    assert_eq!(names(&d), ["A", "A", "A"]);
+    assert_eq!(round(spans(&d)[0].1), round(2.45 / 3.0));
+}
+
+#[test]
+fn a_floating_part_after_a_repeat_can_leave_it_out() {
+    // Windows and dividers with a last window: where one window fills the tile the repeat
+    // makes nothing; where three fit better than two (0.55 m against 0.72 m nominal, rather
+    // than 0.95 m), it repeats twice.
+    let windows = |width: f64, window: f64| {
+        run(
+            &format!(
+                "Lot --> s({width}, 1, 1) primitiveCube() \
+                 split(x) {{ {{ ~{window} : W | 0.25 : D }}* | ~{window} : W }}"
+            ),
+            lot(10.0, 10.0),
+        )
+    };
+    let one = windows(2.15, 2.15);
+    assert_eq!(names(&one), ["W"]);
+    assert_eq!(spans(&one), [(0.0, 2.15)]);
+    let three = windows(2.15, 0.72);
+    assert_eq!(names(&three), ["W", "D", "W", "D", "W"]);
+    assert_eq!(
+        spans(&three),
+        [
+            (0.0, 0.55),
+            (0.55, 0.25),
+            (0.8, 0.55),
+            (1.35, 0.25),
+            (1.6, 0.55)
+        ]
+    );
+}
+
+#[test]
+fn two_repeats_take_their_shares_in_turn() {
+    // 9 m between fixed parts for two repeats of `~2`: 4.5 m each would make two parts each
+    // (four in all, 2.25 m); taken in turn, the first makes two and leaves 5 m to the second,
+    // which makes three: five parts of 1.8 m, nearest 2 m.
+    let d = run(
+        "Lot --> s(12.35, 1, 1) primitiveCube() \
+         split(x) { 1 : E | { ~2 : A }* | 1.35 : M | { ~2 : B }* | 1 : E }",
+        lot(10.0, 10.0),
+    );
+    assert_eq!(names(&d), ["E", "A", "A", "M", "B", "B", "B", "E"]);
+    assert!(
+        spans(&d)[1..7]
+            .iter()
+            .filter(|s| s.1 != 1.35)
+            .all(|s| s.1 == 1.8)
+    );
+}

@@ -49,8 +49,15 @@ pub fn split_slabs(mesh: &Mesh, normal: DVec3, offsets: &[f64]) -> Vec<Mesh> {
         seams: false,
     };
     let mut slabs: Vec<Vec<Vec<u32>>> = vec![Vec::new(); offsets.len() + 1];
+    let mut cut: Vec<Vec<Vec<u32>>> = vec![Vec::new(); offsets.len() + 1];
     for face in mesh.faces() {
-        cutter.distribute(face, &mut slabs);
+        cutter.distribute(face, &mut cut);
+        for (slab, pieces) in slabs.iter_mut().zip(&mut cut) {
+            for mut piece in pieces.drain(..) {
+                cutter.keep_first_edge(face, &mut piece);
+                slab.push(piece);
+            }
+        }
     }
     slabs
         .iter()
@@ -172,6 +179,33 @@ impl Cutter<'_> {
     fn distance(&self, v: u32, k: usize) -> f64 {
         let d = self.normal.dot(self.positions[v as usize]) - self.offsets[k];
         if d.abs() <= self.eps { 0.0 } else { d }
+    }
+
+    /// Rotates a piece of `face` so that its first edge runs as the face's first edge did, as
+    /// CityEngine's pieces keep it (a component's x axis follows its first edge): from the
+    /// face's first corner when the piece has it, or else along the piece's edge closest in
+    /// direction to the face's first edge (the cut edge across a wall's floor strip, not a
+    /// side of it).
+    fn keep_first_edge(&self, face: &[u32], piece: &mut [u32]) {
+        if let Some(at) = piece.iter().position(|&v| v == face[0]) {
+            piece.rotate_left(at);
+            return;
+        }
+        let at = |v: u32| self.positions[v as usize];
+        let Some(first) = (at(face[1]) - at(face[0])).try_normalize() else {
+            return;
+        };
+        let n = piece.len();
+        let alignment = |i: usize| {
+            (at(piece[(i + 1) % n]) - at(piece[i]))
+                .try_normalize()
+                .map_or(f64::NEG_INFINITY, |d| d.dot(first))
+        };
+        // The first of the best within rounding, so near-ties keep the loop as it was.
+        let best = (0..n).map(alignment).fold(f64::NEG_INFINITY, f64::max);
+        if let Some(start) = (0..n).find(|&i| alignment(i) >= best - 1e-9) {
+            piece.rotate_left(start);
+        }
     }
 
     /// Sends the pieces of one face to the slabs they fall in.

@@ -286,3 +286,38 @@ fn slicing_a_tube_and_an_l_through_their_corners() {
         assert!((sliced.area() - mesh.area()).abs() < 1e-9);
     }
 }
+
+#[test]
+fn pieces_of_a_face_keep_its_first_edge() {
+    // A 4 × 4 wall whose first edge runs along its foot, cut into three strips: every strip
+    // starts with its own foot, running the same way, so its first edge (a component's x axis)
+    // stays horizontal; the bottom strip from the wall's first corner.
+    let wall = Mesh::from_faces(
+        vec![
+            DVec3::new(0.0, 0.0, 0.0),
+            DVec3::new(4.0, 0.0, 0.0),
+            DVec3::new(4.0, 4.0, 0.0),
+            DVec3::new(0.0, 4.0, 0.0),
+        ],
+        [vec![0, 1, 2, 3]],
+    );
+    let strips = split_slabs(&wall, DVec3::Y, &[1.0, 2.0]);
+    assert_eq!(strips.len(), 3);
+    for (k, (strip, (y, top))) in strips
+        .iter()
+        .zip([(0.0, 1.0), (1.0, 2.0), (2.0, 4.0)])
+        .enumerate()
+    {
+        let corners: Vec<DVec3> = strip.face_points(0).collect();
+        assert_eq!(
+            corners,
+            [
+                DVec3::new(0.0, y, 0.0),
+                DVec3::new(4.0, y, 0.0),
+                DVec3::new(4.0, top, 0.0),
+                DVec3::new(0.0, top, 0.0),
+            ],
+            "strip {k}"
+        );
+    }
+}

@@ -237,8 +237,9 @@ impl AssetLoader for FileAssets {
     }
 
     /// Text files (tables) as UTF-8 or, with a byte-order mark, UTF-16; read once each. A
-    /// file that cannot be read is an error, or, as `--missing-assets` allows stand-ins, an
-    /// empty table (as CityEngine goes on without it).
+    /// file that cannot be read is a warning (once per file) and an empty table, whatever
+    /// `--missing-assets` says: CityEngine's `readStringTable` reports the file and goes on
+    /// with an empty table.
     fn text(&self, path: &str) -> Result<Arc<str>, String> {
         let full = self.find(path);
         let mut texts = self.texts.lock().unwrap_or_else(PoisonError::into_inner);
@@ -257,14 +258,10 @@ impl AssetLoader for FileAssets {
             }
             Ok(Arc::from(text.as_ref()))
         });
-        let text = match read {
-            Ok(text) => text,
-            Err(e) if self.missing == MissingAssets::Error => return Err(e),
-            Err(e) => {
-                eprintln!("warning: {e}: reading an empty table instead");
-                Arc::from("")
-            }
-        };
+        let text = read.unwrap_or_else(|e| {
+            eprintln!("warning: {e}: reading an empty table instead");
+            Arc::from("")
+        });
         texts.insert(full, Arc::clone(&text));
         Ok(text)
     }

@@ -36,3 +36,27 @@ fn files_are_searched_in_the_project_and_drawn_at_random() {
     assert_eq!(stats["reports"]["n"]["min"], 2.0);
     assert_eq!(stats["leaves"], 5);
 }
+
+#[test]
+fn a_missing_table_is_a_warning_and_an_empty_table() {
+    // CityEngine's readStringTable reports a file it cannot read and goes on with an empty
+    // table; so does derive, without `--missing-assets`.
+    let dir = TempDir::new("missing-table");
+    let grammar = dir.path("lot.cga");
+    std::fs::write(
+        &grammar,
+        "const rows = nRows(readStringTable(\"plants.csv\"))\n\
+         Lot --> report(\"rows\", rows) extrude(rows + 2) X.\n",
+    )
+    .unwrap();
+    let output = shapegram(&["derive".as_ref(), grammar.as_os_str(), "--stats".as_ref()]);
+    let err = stderr(&output);
+    assert!(output.status.success(), "{err}");
+    assert!(
+        err.contains("plants.csv") && err.contains(": reading an empty table instead"),
+        "{err}"
+    );
+    let stats: serde_json::Value = serde_json::from_slice(&output.stdout).unwrap();
+    assert_eq!(stats["reports"]["rows"]["sum"], 0.0);
+    assert_eq!(stats["triangles"], 12);
+}

@@ -301,25 +301,28 @@ fn bbox_axes(state: &State, first: usize, second: usize) -> Option<DMat3> {
     Some(DMat3::from_cols(cols[0], cols[1], cols[2]))
 }
 
-/// CGA `alignScopeToAxes`: all axes to the world's, or one axis to the world's keeping the
-/// others as close as possible.
+/// CGA `alignScopeToAxes`: all axes to the world's, or one axis to the world's with a second
+/// axis kept, projected onto the plane across it, as CityEngine keeps it: for `x` the scope's z
+/// axis, for `y` and `z` its x axis; the third completes a right-handed frame.
 pub(super) fn align_to_axes(state: &mut State, axis: Option<usize>) {
     let axes = match axis {
         None => DMat3::IDENTITY,
         Some(k) => {
             let target = DVec3::AXES[k];
-            let (next, _) = ((k + 1) % 3, (k + 2) % 3);
+            let kept = if k == 0 { 2 } else { 0 };
             let keep = state
                 .scope
                 .axes
-                .col(next)
+                .col(kept)
                 .reject_from(target)
                 .try_normalize()
-                .unwrap_or(DVec3::AXES[next]);
+                .unwrap_or(DVec3::AXES[kept]);
             let mut cols = [DVec3::ZERO; 3];
             cols[k] = target;
-            cols[next] = keep;
-            cols[(k + 2) % 3] = target.cross(keep);
+            cols[kept] = keep;
+            let third = 3 - k - kept;
+            // x = y × z, y = z × x, z = x × y.
+            cols[third] = cols[(third + 1) % 3].cross(cols[(third + 2) % 3]);
             DMat3::from_cols(cols[0], cols[1], cols[2])
         }
     };

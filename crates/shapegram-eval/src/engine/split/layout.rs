@@ -4,9 +4,14 @@
 //! 1. Sizes are evaluated once per split: `'r` becomes `r × length`, `~f` is a floating size
 //!    with nominal value `f`, anything else is absolute.
 //! 2. Repeated groups `{ … }*` share the length left after the parts outside them (at their
-//!    nominal sizes), equally. A group repeats `max(1, round(budget / group))` times when it
-//!    holds a floating size, else `floor(budget / group)` times. Repeats nested inside a
-//!    repeated group run once per repetition of the outer group.
+//!    nominal sizes): each in turn takes an equal share of what the groups before it left
+//!    (at their nominal sizes times their repetitions). A group that holds a floating size repeats the number of times
+//!    that stretches the floating sizes least (CityEngine's "closest to the target length"):
+//!    of the two whole counts around `budget / group`, the one whose floating sizes come out
+//!    nearer their nominal ones (the smaller on a tie); at least once, unless floating parts
+//!    outside the group can fill the length (`{ ~w : Window | 0.25 : Wall }* | ~w : Window`
+//!    is one window where one window fits). Other groups repeat `floor(budget / group)` times.
+//!    Repeats nested inside a repeated group run once per repetition of the outer group.
 //! 3. Floating sizes scale together to fill the length the absolute sizes leave (never below
 //!    zero).
 //! 4. Parts are laid out from 0. Zero or negative sizes make no part and take no room; a part
@@ -320,6 +325,42 @@ fn nominal(items: &[Item]) -> f64 {
     top(items).map(|(i, inner)| nominal_of(i, inner)).sum()
 }
 
+/// Nominal length of the floating parts of items at one repetition each.
+fn floating_nominal(items: &[Item]) -> f64 {
+    top(items)
+        .map(|(i, inner)| match i {
+            Item::Part { floating, size, .. } => f64::from(u8::from(*floating)) * size.max(0.0),
+            Item::Group { .. } => floating_nominal(inner),
+        })
+        .sum()
+}
+
+/// How often a repeated group of nominal length `unit`, `floating` of it floating, repeats in
+/// `budget` (its share of the length beyond the nominal parts outside the groups, `outside` of
+/// which float): the whole count around `budget / unit` whose floating sizes stretch least
+/// from nominal, the smaller on a tie; zero only when floating parts outside can fill.
+fn least_stretching_count(budget: f64, unit: f64, floating: f64, outside: f64) -> f64 {
+    let lowest = if outside > 0.0 { 0.0 } else { 1.0 };
+    // What the floating sizes are multiplied by with `r` repetitions; never a fit below zero.
+    let stretch = |r: f64| {
+        let fixed = r * (unit - floating);
+        let floats = outside + r * floating;
+        let scale = (budget + outside - fixed) / floats;
+        if scale > 0.0 && scale.is_finite() {
+            (scale - 1.0).abs()
+        } else {
+            f64::INFINITY
+        }
+    };
+    let ideal = budget / unit;
+    let (below, above) = (ideal.floor().max(lowest), ideal.ceil().max(lowest));
+    if stretch(above) < stretch(below) {
+        above
+    } else {
+        below
+    }
+}
+
 fn has_floating(items: &[Item]) -> bool {
     items
         .iter()
@@ -341,14 +382,20 @@ fn expand<'a>(
             other => std::iter::once(nominal_of(other, inner)).sum(),
         })
         .sum();
+    let outside_floating: f64 = top(items)
+        .map(|(i, inner)| match i {
+            Item::Group { repeat: true, .. } => 0.0,
+            Item::Group { .. } => floating_nominal(inner),
+            Item::Part { floating, size, .. } => f64::from(u8::from(*floating)) * size.max(0.0),
+        })
+        .sum();
     let repeats = top(items)
         .filter(|(i, _)| matches!(i, Item::Group { repeat: true, .. }))
         .count();
-    let budget = if repeats > 0 {
-        (length - outside).max(0.0) / repeats as f64
-    } else {
-        0.0
-    };
+    // Groups take their share of what is left in turn, so two groups that each fit 2.4 times
+    // make 5 repetitions between them, not 4 or 6.
+    let mut left = (length - outside).max(0.0);
+    let mut groups_left = repeats;
     for (g, (item, inner)) in top(items).enumerate() {
         match item {
             Item::Part {
@@ -367,11 +414,15 @@ fn expand<'a>(
                         *span,
                     ));
                 }
+                let budget = left / groups_left as f64;
                 let count = if has_floating(inner) {
-                    (budget / unit).round().max(1.0)
+                    let shared = outside_floating / repeats as f64;
+                    least_stretching_count(budget, unit, floating_nominal(inner), shared)
                 } else {
                     (budget / unit + 1e-9).floor()
                 };
+                left = (left - count * unit).max(0.0);
+                groups_left -= 1;
                 if count > MAX_PARTS as f64 || out.len() as f64 + count > MAX_PARTS as f64 {
                     return Err(DeriveError::at(
                         format!("this repeat would make {count} parts (the limit is {MAX_PARTS})"),
