@@ -297,3 +297,46 @@ fn start_and_extension_rules_are_rules_with_a_keyword() {
     );
     assert_eq!(names(&d), ["Flat"]);
 }
+
+#[test]
+fn primitives_given_dimensions_stand_centred_on_the_scope_floor() {
+    // The Swiss building rules and the solar-panel rules size their primitives in the call.
+    let d = run(
+        "Lot --> [ primitiveCube(4, 2, 6) Cube ] [ primitiveCylinder(8, 1, 3) Cylinder ] \
+         primitiveQuad(5, 7) Quad",
+        lot(20.0, 30.0),
+    );
+    assert_eq!(names(&d), ["Cube", "Cylinder", "Quad"]);
+    let scope = |i: usize| {
+        let s = &d.leaves[i].scope;
+        (s.origin.to_array(), s.size.to_array())
+    };
+    assert_eq!(scope(0), ([8.0, 0.0, 12.0], [4.0, 2.0, 6.0]));
+    assert_eq!(scope(1), ([9.0, 0.0, 14.0], [2.0, 3.0, 2.0]));
+    assert_eq!(scope(2), ([7.5, 0.0, 11.5], [5.0, 0.0, 7.0]));
+    // A quad on an upright face stands in the face's plane, centred in it.
+    let d = run(
+        "Lot --> extrude(4) comp(f) { front : primitiveQuad(2, 1) Q }",
+        lot(20.0, 30.0),
+    );
+    let s = &d.leaves[0].scope;
+    assert_eq!(s.size.to_array(), [2.0, 1.0, 0.0]);
+    assert_eq!(s.origin.y, 1.5);
+    let errors = compile_errors("Lot --> primitiveCube(1, 2) X");
+    assert!(
+        errors[0].starts_with("error: wrong number of arguments for `primitiveCube`"),
+        "{errors:?}"
+    );
+}
+
+#[test]
+fn align_scope_to_geometry_with_two_arguments_takes_an_edge_of_face_0() {
+    // Older street rules write `alignScopeToGeometry(yUp, dir)` for `(yUp, 0, dir)`.
+    let d = run("Lot --> alignScopeToGeometry(yUp, 1) X", lot(4.0, 10.0));
+    assert_eq!(d.leaves[0].scope.size.to_array(), [10.0, 0.0, 4.0]);
+    let d = run(
+        "Lot --> alignScopeToGeometry(yUp, longest) X",
+        lot(4.0, 10.0),
+    );
+    assert_eq!(d.leaves[0].scope.size.to_array(), [10.0, 0.0, 4.0]);
+}
