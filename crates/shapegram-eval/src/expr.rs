@@ -20,6 +20,7 @@ use crate::text::{Out, Text};
 use crate::value::Value;
 use shapegram_kinematics::Frame;
 
+mod assets;
 mod functions;
 
 use functions::{each_binary, each_unary, slope_angle};
@@ -847,6 +848,9 @@ impl<'p> Evaluator<'p> {
             Builtin::FileSearch | Builtin::FilesSearch | Builtin::FileRandom => {
                 return self.search_files(b, &params[0], shape, args);
             }
+            Builtin::AssetInfo | Builtin::AssetBestSize => {
+                return self.asset_function(b, params, shape, args);
+            }
             Builtin::FileExists | Builtin::ReadTextFile => {
                 return self.read_file(b, &params[0], shape, args);
             }
@@ -956,6 +960,8 @@ impl<'p> Evaluator<'p> {
             | Builtin::MinimumDistance
             | Builtin::Print
             | Builtin::Convert
+            | Builtin::AssetInfo
+            | Builtin::AssetBestSize
             | Builtin::Text(_)
             | Builtin::Array(_)
             | Builtin::Color(_)

@@ -340,3 +340,80 @@ fn align_scope_to_geometry_with_two_arguments_takes_an_edge_of_face_0() {
     );
     assert_eq!(d.leaves[0].scope.size.to_array(), [10.0, 0.0, 4.0]);
 }
+
+/// Three box assets of different sizes, found by any search.
+struct Boxes;
+
+impl shapegram_eval::AssetLoader for Boxes {
+    fn load(&self, path: &str) -> Result<std::sync::Arc<shapegram_geom::Mesh>, String> {
+        use shapegram_geom::{DAffine3, DVec3, primitives};
+        let (size, at) = match path {
+            "small.obj" => (DVec3::new(2.0, 3.0, 2.0), DVec3::new(-1.0, 0.0, -1.0)),
+            "wide.obj" => (DVec3::new(9.0, 3.0, 4.0), DVec3::ZERO),
+            "tall.obj" => (DVec3::new(5.0, 20.0, 5.0), DVec3::new(0.5, 0.25, 0.0)),
+            other => return Err(format!("no mesh `{other}`")),
+        };
+        let mesh = primitives::cuboid(size).transformed(&DAffine3::from_translation(at));
+        Ok(std::sync::Arc::new(mesh))
+    }
+
+    fn search(&self, _query: &str) -> Result<Vec<std::sync::Arc<str>>, String> {
+        Ok(vec![
+            "small.obj".into(),
+            "tall.obj".into(),
+            "wide.obj".into(),
+            "notes.txt".into(),
+        ])
+    }
+}
+
+/// The reports of `grammar` derived on a 10 × 5 lot with the [`Boxes`].
+fn box_reports(grammar: &str) -> Vec<(String, shapegram_eval::Value)> {
+    let options = shapegram_eval::DeriveOptions {
+        assets: Some(std::sync::Arc::new(Boxes)),
+        ..Default::default()
+    };
+    shapegram_eval::derive(&common::compile(grammar), &[lot(10.0, 5.0)], &options)
+        .unwrap()
+        .reports
+}
+
+#[test]
+fn asset_info_gives_the_bounding_box_of_an_asset() {
+    // The plant rules scale trees by `assetInfo(asset, tx)`; the instance reports by "sx".
+    let r = box_reports(
+        "Lot --> report(\"sx\", assetInfo(\"tall.obj\", \"sx\")) report(\"sy\", assetInfo(\"tall.obj\", sy)) \
+         report(\"tx\", assetInfo(\"tall.obj\", tx)) report(\"ty\", assetInfo(\"tall.obj\", ty)) \
+         report(\"tz\", assetInfo(\"small.obj\", tz)) report(\"cube\", assetInfo(\"builtin:cube\", sz))",
+    );
+    let numbers: Vec<(String, f64)> = r
+        .into_iter()
+        .map(|(k, v)| match v {
+            shapegram_eval::Value::Number(n) => (k, n),
+            v => panic!("{v:?}"),
+        })
+        .collect();
+    let expected = [
+        ("sx", 5.0),
+        ("sy", 20.0),
+        ("tx", 0.5),
+        ("ty", 0.25),
+        ("tz", -1.0),
+        ("cube", 1.0),
+    ];
+    assert_eq!(numbers, expected.map(|(k, n)| (k.to_owned(), n)).to_vec());
+    let errors = errors("Lot --> report(\"r\", assetInfo(\"a.obj\", rx))");
+    assert!(errors.is_empty(), "{errors:?}");
+}
+
+#[test]
+fn asset_best_size_picks_the_asset_closest_to_the_scope_along_the_axes_asked() {
+    // The 10 × 5 lot: "xz" fits the 9 × 4 asset best, "x" too; a 20 high scope takes the
+    // tall one by "y"; files that are not meshes take no part.
+    let r = box_reports(
+        "Lot --> report(\"xz\", assetBestSize(\"*\", \"xz\")) report(\"x\", assetBestSize(\"*\", \"x\")) \
+         extrude(19) report(\"y\", assetBestSize(\"*\", \"y\"))",
+    );
+    let files: Vec<String> = r.into_iter().map(|(_, v)| v.to_string()).collect();
+    assert_eq!(files, ["wide.obj", "wide.obj", "tall.obj"]);
+}

@@ -266,7 +266,7 @@ pub(super) fn trim(state: &mut State) {
 }
 
 /// CGA's built-in assets, each filling the unit box.
-fn builtin_asset(path: &str) -> Option<Mesh> {
+pub(crate) fn builtin_asset(path: &str) -> Option<Mesh> {
     let name = path.strip_prefix("builtin:")?;
     let name = name.split(':').next().unwrap_or(name);
     Some(match name {
