@@ -417,3 +417,25 @@ fn asset_best_size_picks_the_asset_closest_to_the_scope_along_the_axes_asked() {
     let files: Vec<String> = r.into_iter().map(|(_, v)| v.to_string()).collect();
     assert_eq!(files, ["wide.obj", "wide.obj", "tall.obj"]);
 }
+
+#[test]
+fn an_attribute_default_may_read_attributes_declared_after_it() {
+    // The Complete Street rule: `attr Lane_Distribution = _initial` (a function reading
+    // `Lane_Width`) comes before `attr Lane_Width = laneWidth - .2`, before `attr laneWidth`.
+    let d = run(
+        "attr share = initial\n\
+         attr width = (lane - .2)\n\
+         initial = case 10 / width >= 2.2 : 0.5 else : 1\n\
+         attr lane = 3.5\n\
+         Lot --> extrude(share * 10 + width) X",
+        lot(4.0, 4.0),
+    );
+    assert_eq!(d.leaves[0].scope.size.y, 5.0 + 3.3);
+    let errors = common::try_run(
+        "attr a = b + 1\nattr b = a * 2\nLot --> extrude(a) X",
+        lot(4.0, 4.0),
+        &shapegram_eval::DeriveOptions::default(),
+    )
+    .unwrap_err();
+    assert_eq!(errors.message, "the default of attribute `a` reads itself");
+}
