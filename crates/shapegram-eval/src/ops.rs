@@ -495,6 +495,10 @@ pub(crate) enum SetTarget {
     Finish(texturing::FinishAttr),
     /// `trim.horizontal` (true) or `trim.vertical` (false).
     Trim(bool),
+    /// `scope.tx`, `scope.ty` or `scope.tz`: the scope moved to it, the geometry with it.
+    ScopeOrigin(usize),
+    /// `scope.sx`, `scope.sy` or `scope.sz`: the scope sized to it, the geometry scaled.
+    ScopeSize(usize),
     Ignored,
 }
 
@@ -1723,6 +1727,19 @@ impl Ctx<'_, '_> {
             CKind::Attr(i) => return Some(Op::Set(SetTarget::Attr(*i), value)),
             CKind::GoalAttr(i, _) => return Some(Op::Set(SetTarget::Goal(*i), value)),
             CKind::Selector(name) => name.clone(),
+            CKind::Query(crate::builtins::Query::ScopeOrigin(i)) => {
+                return Some(Op::Set(SetTarget::ScopeOrigin(*i), value));
+            }
+            CKind::Query(crate::builtins::Query::ScopeSize(i)) => {
+                return Some(Op::Set(SetTarget::ScopeSize(*i), value));
+            }
+            CKind::Query(_) => {
+                self.c.report(
+                    Diagnostic::error("`set` cannot write this shape attribute", target.span)
+                        .with_hint("`set` writes attributes, `scope.t*`, `scope.s*` and `material.*`; turn the scope with `r(…)`"),
+                );
+                return None;
+            }
             _ => {
                 self.c.report(
                     Diagnostic::error("`set` needs an attribute name", target.span)

@@ -439,3 +439,26 @@ fn an_attribute_default_may_read_attributes_declared_after_it() {
     .unwrap_err();
     assert_eq!(errors.message, "the default of attribute `a` reads itself");
 }
+
+#[test]
+fn set_moves_and_sizes_the_scope_along_one_axis() {
+    // `set(scope.tx, …)` as the instance-placing rules write it.
+    let d = run(
+        "Lot --> extrude(4) set(scope.tx, 3) set(scope.sz, 2) set(scope.ty, scope.ty + 1) X",
+        lot(10.0, 6.0),
+    );
+    let s = &d.leaves[0].scope;
+    assert_eq!(s.origin.to_array(), [3.0, 1.0, 0.0]);
+    assert_eq!(s.size.to_array(), [10.0, 4.0, 2.0]);
+    let volume = d.leaves[0]
+        .geometry
+        .local_mesh(s.size)
+        .unwrap()
+        .signed_volume();
+    assert!((volume - 80.0).abs() < 1e-9, "{volume}");
+    let errors = compile_errors("Lot --> set(scope.rx, 30) X");
+    assert!(
+        errors[0].starts_with("error: `set` cannot write this shape attribute"),
+        "{errors:?}"
+    );
+}
