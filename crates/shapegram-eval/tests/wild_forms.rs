@@ -462,3 +462,23 @@ fn set_moves_and_sizes_the_scope_along_one_axis() {
         "{errors:?}"
     );
 }
+
+#[test]
+fn offset_works_on_each_face_of_a_volume() {
+    // The solar-panel rules offset a thin cube: every face gets its inset and border.
+    let d = run(
+        "Lot --> extrude(2) offset(-0.5, inside) comp(f) { all : F }",
+        lot(4.0, 3.0),
+    );
+    // Six faces, each shrunk by 0.5 on every side: 3 × 2, 3 × 1 and 2 × 1, twice each.
+    assert_eq!(d.leaves.len(), 6);
+    let area: f64 = d
+        .leaves
+        .iter()
+        .map(|l| l.geometry.local_mesh(l.scope.size).unwrap().area())
+        .sum();
+    assert!((area - 2.0 * (6.0 + 3.0 + 2.0)).abs() < 1e-9, "{area}");
+    let d = run("Lot --> extrude(2) offset(-0.5, border) X", lot(4.0, 3.0));
+    let s = d.leaves[0].scope.size;
+    assert_eq!(s.to_array(), [4.0, 2.0, 3.0]);
+}
