@@ -322,6 +322,13 @@ fn primitives_given_dimensions_stand_centred_on_the_scope_floor() {
     let s = &d.leaves[0].scope;
     assert_eq!(s.size.to_array(), [2.0, 1.0, 0.0]);
     assert_eq!(s.origin.y, 1.5);
+    // Negative dimensions mirror: still centred across, hanging below the floor.
+    let d = run("Lot --> primitiveCube(-4, -2, 6) X", lot(20.0, 30.0));
+    let s = &d.leaves[0].scope;
+    assert_eq!(s.size.to_array(), [4.0, 2.0, 6.0]);
+    assert_eq!(s.origin.to_array(), [12.0, 0.0, 12.0]);
+    assert_eq!(s.axes.col(0).to_array(), [-1.0, 0.0, 0.0]);
+    assert_eq!(s.axes.col(1).to_array(), [0.0, -1.0, 0.0]);
     let errors = compile_errors("Lot --> primitiveCube(1, 2) X");
     assert!(
         errors[0].starts_with("error: wrong number of arguments for `primitiveCube`"),

@@ -130,7 +130,17 @@ impl Engine<'_> {
             _ => (&numbers[..], None),
         };
         match size {
-            Some((size, up)) => place_sized(&mut state.scope, size, up, span)?,
+            Some((size, up)) => {
+                place_sized(&mut state.scope, size.abs(), up, span)?;
+                // A negative dimension mirrors, as a negative size of `s()` does: the
+                // primitive stays centred across, and a negative height hangs below y = 0.
+                for i in (0..3).filter(|&i| size[i] < 0.0) {
+                    if i != up {
+                        state.scope.origin += state.scope.axes.col(i) * size[i].abs();
+                    }
+                    state.mirror_axis(i);
+                }
+            }
             None => {
                 // A primitive is a unit asset: a flat scope takes sizes by `i()`'s rules (a
                 // cube on a 20 × 30 lot is 25 high, the mean of the other two).
@@ -207,10 +217,10 @@ fn quad_size(scope: &Scope, width: f64, length: f64) -> (DVec3, usize) {
 /// across the two other axes, lying on the scope's plane `up` = 0 (y for all but a quad
 /// standing in the yz- or xy-plane).
 fn place_sized(scope: &mut Scope, size: DVec3, up: usize, span: Span) -> Fallible<()> {
-    if !size.is_finite() || size.min_element() < 0.0 {
+    if !size.is_finite() {
         return Err(DeriveError::at(
             format!(
-                "primitive dimensions {} × {} × {}: expected sizes of 0 or more",
+                "primitive dimensions {} × {} × {}: expected finite sizes",
                 size.x, size.y, size.z
             ),
             span,
