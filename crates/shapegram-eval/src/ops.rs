@@ -1736,7 +1736,9 @@ impl Ctx<'_, '_> {
             CKind::Query(_) => {
                 self.c.report(
                     Diagnostic::error("`set` cannot write this shape attribute", target.span)
-                        .with_hint("`set` writes attributes, `scope.t*`, `scope.s*` and `material.*`; turn the scope with `r(…)`"),
+                        .with_hint(
+                            "`set` writes attributes, `scope.tx`…`scope.sz`, `material.*` and `trim.*`",
+                        ),
                 );
                 return None;
             }
