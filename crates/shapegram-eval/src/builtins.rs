@@ -76,6 +76,8 @@ pub(crate) enum Builtin {
     MinimumDistance,
     Print,
     Convert,
+    AssetInfo,
+    AssetBestSize,
     /// A string or string-list function.
     Text(Text),
     /// An array function or `isNull`.
@@ -143,9 +145,11 @@ impl Builtin {
         "minimumDistance",
         "print",
         "convert",
+        "assetInfo",
+        "assetBestSize",
     ];
 
-    const ALL: [Builtin; 54] = [
+    const ALL: [Builtin; 56] = [
         Self::Rand,
         Self::P,
         Self::Floor,
@@ -200,6 +204,8 @@ impl Builtin {
         Self::MinimumDistance,
         Self::Print,
         Self::Convert,
+        Self::AssetInfo,
+        Self::AssetBestSize,
     ];
 
     /// The built-in with this name.
@@ -236,6 +242,7 @@ impl Builtin {
             Self::Min | Self::Max | Self::Pow | Self::Atan2 => (2, 2),
             Self::Clamp | Self::ContextCompare => (3, 3),
             Self::Convert => (4, 7),
+            Self::AssetInfo | Self::AssetBestSize => (2, 2),
             Self::ContextCount | Self::MinimumDistance => (2, 2),
             Self::Inside | Self::Overlaps | Self::Touches => (0, 2),
             Self::Occ => (0, 1),
@@ -293,6 +300,8 @@ impl Builtin {
             }
             Self::MinimumDistance => "minimumDistance(intra | inter | all, label)",
             Self::Print => "print(value)",
+            Self::AssetInfo => "assetInfo(filePath, sx | sy | sz | tx | ty | tz)",
+            Self::AssetBestSize => "assetBestSize(searchQuery, \"x\" | \"xz\" | … | \"xyz\")",
             Self::Convert => {
                 "convert(x | y | z, from, to, pos | orient, x, y, z) | convert(from, to, pos | orient, [x, y, z])"
             }
@@ -307,7 +316,11 @@ impl Builtin {
     /// Whether the built-in takes bare words as arguments (`inside(intra)`,
     /// `geometry.angle(azimuth)`).
     pub fn takes_words(self) -> bool {
-        self.is_context_query() || matches!(self, Self::Angle | Self::Convert | Self::Uv(_))
+        self.is_context_query()
+            || matches!(
+                self,
+                Self::Angle | Self::Convert | Self::Uv(_) | Self::AssetInfo
+            )
     }
 
     /// Whether the built-in asks about other shapes (occlusion), which makes the rules that
@@ -343,9 +356,7 @@ impl Builtin {
             "fileExists",
             "fileSearch",
             "filesSearch",
-            "assetInfo",
             "assetBestRatio",
-            "assetBestSize",
             "assetFitSize",
             "assetNamingInfo",
             "assetsSortRatio",

@@ -20,6 +20,7 @@ use crate::text::{Out, Text};
 use crate::value::Value;
 use shapegram_kinematics::Frame;
 
+mod assets;
 mod functions;
 
 use functions::{each_binary, each_unary, slope_angle};
@@ -63,6 +64,9 @@ pub(crate) struct Evaluator<'p> {
     pub assets: Option<&'p dyn crate::AssetLoader>,
     /// The rule the derivation started from (`initialShape.startRule`).
     pub start: Option<crate::program::RuleId>,
+    /// While an initial shape's attributes are given their defaults: each attribute's, so
+    /// that a default reading an attribute declared later evaluates that one first.
+    attr_defaults: Option<Vec<Slot>>,
 }
 
 /// A constant's first evaluation in a lot: which constant, its value, and the constants'
@@ -102,6 +106,7 @@ impl<'p> Evaluator<'p> {
             motions: Vec::new(),
             assets: None,
             start: None,
+            attr_defaults: None,
         }
     }
 
@@ -145,6 +150,9 @@ impl<'p> Evaluator<'p> {
         let value = match &e.kind {
             CKind::Value(v) => v.clone(),
             CKind::Param(i) => args[*i as usize].clone(),
+            CKind::Attr(i) if self.attr_defaults.is_some() => {
+                self.attr_default(*i as usize, shape)?
+            }
             CKind::Attr(i) => shape.attrs[*i as usize].clone(),
             CKind::Const(i) => self.constant(*i, shape)?,
             CKind::Call(f, params) => self.call(*f, params, shape, args, e.span)?,
@@ -500,29 +508,55 @@ impl<'p> Evaluator<'p> {
         shape: &mut State,
         overrides: &[(u32, Value)],
     ) -> Result<Vec<Value>> {
-        let program = self.program;
-        let mut values: Vec<Option<Value>> = vec![None; program.attrs.len()];
+        let count = self.program.attrs.len();
+        let mut slots = vec![Slot::Pending; count];
         for (i, v) in overrides {
-            values[*i as usize] = Some(v.clone());
+            slots[*i as usize] = Slot::Done(v.clone());
         }
-        // Defaults may read other attributes (`attr groundH = floorH + 1`): evaluate in order,
-        // each seeing the attributes before it and the overrides.
-        for (i, attr) in program.attrs.iter().enumerate() {
-            if values[i].is_none() {
-                shape.attrs = std::rc::Rc::new(
-                    values
-                        .iter()
-                        .map(|v| v.clone().unwrap_or(Value::Number(0.0)))
-                        .collect(),
-                );
-                let value = self.eval(&attr.value, shape, &[]);
-                values[i] = Some(self.placed(value, |o| o.attrs[i])?);
-            }
-        }
-        Ok(values
+        // Defaults may read other attributes (`attr groundH = floorH + 1`), declared before
+        // or after them as in CityEngine: in file order, each evaluating the ones it reads
+        // first (see `attr_default`).
+        let outer = self.attr_defaults.replace(slots);
+        let evaluated = (0..count).try_for_each(|i| self.attr_default(i, shape).map(drop));
+        let slots = std::mem::replace(&mut self.attr_defaults, outer).unwrap_or_default();
+        evaluated?;
+        Ok(slots
             .into_iter()
-            .map(|v| v.unwrap_or(Value::Number(0.0)))
+            .map(|slot| match slot {
+                Slot::Done(v) => v,
+                Slot::Pending | Slot::Evaluating => Value::Number(0.0),
+            })
             .collect())
+    }
+
+    /// Attribute `i`'s value while the attributes are given their defaults: its override or
+    /// default, evaluated on first use; a default that reads itself, directly or through
+    /// others, is an error.
+    fn attr_default(&mut self, i: usize, shape: &mut State) -> Result<Value> {
+        let program = self.program;
+        let slots = self
+            .attr_defaults
+            .as_mut()
+            .expect("called while defaults are given");
+        match &slots[i] {
+            Slot::Done(v) => return Ok(v.clone()),
+            Slot::Evaluating => {
+                return Err(DeriveError::at(
+                    format!(
+                        "the default of attribute `{}` reads itself",
+                        program.attrs[i].name
+                    ),
+                    program.attrs[i].value.span,
+                ));
+            }
+            Slot::Pending => slots[i] = Slot::Evaluating,
+        }
+        let value = self.eval(&program.attrs[i].value, shape, &[]);
+        let value = self.placed(value, |o| o.attrs[i])?;
+        if let Some(slots) = &mut self.attr_defaults {
+            slots[i] = Slot::Done(value.clone());
+        }
+        Ok(value)
     }
 
     /// Sets the attributes `attrs` of the shape afresh: those in `overrides` to their value,
@@ -847,6 +881,9 @@ impl<'p> Evaluator<'p> {
             Builtin::FileSearch | Builtin::FilesSearch | Builtin::FileRandom => {
                 return self.search_files(b, &params[0], shape, args);
             }
+            Builtin::AssetInfo | Builtin::AssetBestSize => {
+                return self.asset_function(b, params, shape, args);
+            }
             Builtin::FileExists | Builtin::ReadTextFile => {
                 return self.read_file(b, &params[0], shape, args);
             }
@@ -956,6 +993,8 @@ impl<'p> Evaluator<'p> {
             | Builtin::MinimumDistance
             | Builtin::Print
             | Builtin::Convert
+            | Builtin::AssetInfo
+            | Builtin::AssetBestSize
             | Builtin::Text(_)
             | Builtin::Array(_)
             | Builtin::Color(_)

@@ -495,6 +495,10 @@ pub(crate) enum SetTarget {
     Finish(texturing::FinishAttr),
     /// `trim.horizontal` (true) or `trim.vertical` (false).
     Trim(bool),
+    /// `scope.tx`, `scope.ty` or `scope.tz`: the scope moved to it, the geometry with it.
+    ScopeOrigin(usize),
+    /// `scope.sx`, `scope.sy` or `scope.sz`: the scope sized to it, the geometry scaled.
+    ScopeSize(usize),
     Ignored,
 }
 
@@ -656,12 +660,21 @@ const SIGNATURES: &[(&str, &str)] = &[
         "insert",
         "i(path [, yUp | zUp [, alignSizeAndPosition | keepSizeAndPosition | keepSizeAlignPosition [, numericalCleanup | noCleanup]]])",
     ),
-    ("primitiveCube", "primitiveCube()"),
-    ("primitiveQuad", "primitiveQuad()"),
+    (
+        "primitiveCube",
+        "primitiveCube() | primitiveCube(width, height, depth)",
+    ),
+    (
+        "primitiveQuad",
+        "primitiveQuad() | primitiveQuad(width, length)",
+    ),
     ("primitivePyramid", "primitivePyramid()"),
-    ("primitiveCylinder", "primitiveCylinder(nSides)"),
-    ("primitiveCone", "primitiveCone(nSides)"),
-    ("primitiveSphere", "primitiveSphere(nRows, nColumns)"),
+    (
+        "primitiveCylinder",
+        "primitiveCylinder([nSides]) | primitiveCylinder(nSides, radius, height)",
+    ),
+    ("primitiveCone", "primitiveCone([nSides])"),
+    ("primitiveSphere", "primitiveSphere([nRows [, nColumns]])"),
     (
         "split",
         "split(x | y | z [, adjust | noAdjust] [, sequential | parallel] [, snap [, \"tag\"]]) { … } | split(u | v, uvSpace | unitSpace, uvSet) { … }",
@@ -734,7 +747,7 @@ const SIGNATURES: &[(&str, &str)] = &[
     ),
     (
         "alignScopeToGeometry",
-        "alignScopeToGeometry(yUp | zUp, faceIndex | world.lowest | largest | any, edgeIndex | world.lowest | longest)",
+        "alignScopeToGeometry(yUp | zUp, [faceIndex | world.lowest | largest | any,] edgeIndex | world.lowest | longest)",
     ),
     (
         "alignScopeToGeometryBBox",
@@ -938,12 +951,12 @@ impl Ctx<'_, '_> {
             "alignScopeToGeometryBBox" => self.align_to_bbox()?,
             "rotateScope" => Op::RotateScope(self.three()?),
             "i" | "insert" => self.insert()?,
-            "primitiveCube" => self.primitive(Primitive::Cube, 0)?,
-            "primitiveQuad" => self.primitive(Primitive::Quad, 0)?,
-            "primitivePyramid" => self.primitive(Primitive::Pyramid, 0)?,
-            "primitiveCylinder" => self.primitive(Primitive::Cylinder, 1)?,
-            "primitiveCone" => self.primitive(Primitive::Cone, 1)?,
-            "primitiveSphere" => self.primitive(Primitive::Sphere, 2)?,
+            "primitiveCube" => self.primitive(Primitive::Cube, &[0, 3])?,
+            "primitiveQuad" => self.primitive(Primitive::Quad, &[0, 2])?,
+            "primitivePyramid" => self.primitive(Primitive::Pyramid, &[0])?,
+            "primitiveCylinder" => self.primitive(Primitive::Cylinder, &[0, 1, 3])?,
+            "primitiveCone" => self.primitive(Primitive::Cone, &[0, 1])?,
+            "primitiveSphere" => self.primitive(Primitive::Sphere, &[0, 1, 2])?,
             "split" => self.split(false)?,
             "splitArea" => self.split(true)?,
             "joint" => {
@@ -1393,8 +1406,11 @@ impl Ctx<'_, '_> {
         Some(Op::Insert(self.args.swap_remove(0), placement))
     }
 
-    fn primitive(&mut self, kind: Primitive, max_args: usize) -> Option<Op> {
-        self.arity(0, max_args)?;
+    /// A `primitive…(…)` call with one of the argument counts its forms take.
+    fn primitive(&mut self, kind: Primitive, forms: &[usize]) -> Option<Op> {
+        if !forms.contains(&self.args.len()) {
+            return self.wrong_arity();
+        }
         Some(Op::Primitive(kind, std::mem::take(&mut self.args)))
     }
 
@@ -1711,6 +1727,21 @@ impl Ctx<'_, '_> {
             CKind::Attr(i) => return Some(Op::Set(SetTarget::Attr(*i), value)),
             CKind::GoalAttr(i, _) => return Some(Op::Set(SetTarget::Goal(*i), value)),
             CKind::Selector(name) => name.clone(),
+            CKind::Query(crate::builtins::Query::ScopeOrigin(i)) => {
+                return Some(Op::Set(SetTarget::ScopeOrigin(*i), value));
+            }
+            CKind::Query(crate::builtins::Query::ScopeSize(i)) => {
+                return Some(Op::Set(SetTarget::ScopeSize(*i), value));
+            }
+            CKind::Query(_) => {
+                self.c.report(
+                    Diagnostic::error("`set` cannot write this shape attribute", target.span)
+                        .with_hint(
+                            "`set` writes attributes, `scope.tx`…`scope.sz`, `material.*` and `trim.*`",
+                        ),
+                );
+                return None;
+            }
             _ => {
                 self.c.report(
                     Diagnostic::error("`set` needs an attribute name", target.span)
@@ -1822,7 +1853,16 @@ impl Ctx<'_, '_> {
     }
 
     fn align_to_geometry(&mut self) -> Option<Op> {
-        self.arity(3, 3)?;
+        self.arity(2, 3)?;
+        if self.args.len() == 2 {
+            // The older two-argument form `(upAxis, edgeIndex)` real files still use: an edge of face 0.
+            let span = self.args[1].span;
+            let first_face = CExpr {
+                kind: CKind::Value(Value::Number(0.0)),
+                span,
+            };
+            self.args.insert(1, first_face);
+        }
         let z_up = match self.word(0) {
             Some("yUp") => false,
             Some("zUp") => true,

@@ -139,7 +139,7 @@ fn bad_selectors_are_errors() {
     );
     let e = all("Lot --> alignScopeToGeometryBBox(xx) X");
     assert!(e.contains("expected two axes"), "{e}");
-    let e = all("Lot --> alignScopeToGeometry(yUp, 0) X");
+    let e = all("Lot --> alignScopeToGeometry(yUp) X");
     assert!(e.contains("the signature is `alignScopeToGeometry("), "{e}");
     let err = derive(
         &compile("Lot --> alignScopeToGeometry(yUp, 0.5, 0) X"),

@@ -297,3 +297,195 @@ fn start_and_extension_rules_are_rules_with_a_keyword() {
     );
     assert_eq!(names(&d), ["Flat"]);
 }
+
+#[test]
+fn primitives_given_dimensions_stand_centred_on_the_scope_floor() {
+    // The Swiss building rules and the solar-panel rules size their primitives in the call.
+    let d = run(
+        "Lot --> [ primitiveCube(4, 2, 6) Cube ] [ primitiveCylinder(8, 1, 3) Cylinder ] \
+         primitiveQuad(5, 7) Quad",
+        lot(20.0, 30.0),
+    );
+    assert_eq!(names(&d), ["Cube", "Cylinder", "Quad"]);
+    let scope = |i: usize| {
+        let s = &d.leaves[i].scope;
+        (s.origin.to_array(), s.size.to_array())
+    };
+    assert_eq!(scope(0), ([8.0, 0.0, 12.0], [4.0, 2.0, 6.0]));
+    assert_eq!(scope(1), ([9.0, 0.0, 14.0], [2.0, 3.0, 2.0]));
+    assert_eq!(scope(2), ([7.5, 0.0, 11.5], [5.0, 0.0, 7.0]));
+    // A quad on an upright face stands in the face's plane, centred in it.
+    let d = run(
+        "Lot --> extrude(4) comp(f) { front : primitiveQuad(2, 1) Q }",
+        lot(20.0, 30.0),
+    );
+    let s = &d.leaves[0].scope;
+    assert_eq!(s.size.to_array(), [2.0, 1.0, 0.0]);
+    assert_eq!(s.origin.y, 1.5);
+    // Negative dimensions mirror: still centred across, hanging below the floor.
+    let d = run("Lot --> primitiveCube(-4, -2, 6) X", lot(20.0, 30.0));
+    let s = &d.leaves[0].scope;
+    assert_eq!(s.size.to_array(), [4.0, 2.0, 6.0]);
+    assert_eq!(s.origin.to_array(), [12.0, 0.0, 12.0]);
+    assert_eq!(s.axes.col(0).to_array(), [-1.0, 0.0, 0.0]);
+    assert_eq!(s.axes.col(1).to_array(), [0.0, -1.0, 0.0]);
+    let errors = compile_errors("Lot --> primitiveCube(1, 2) X");
+    assert!(
+        errors[0].starts_with("error: wrong number of arguments for `primitiveCube`"),
+        "{errors:?}"
+    );
+}
+
+#[test]
+fn align_scope_to_geometry_with_two_arguments_takes_an_edge_of_face_0() {
+    // Older street rules write `alignScopeToGeometry(yUp, dir)` for `(yUp, 0, dir)`.
+    let d = run("Lot --> alignScopeToGeometry(yUp, 1) X", lot(4.0, 10.0));
+    assert_eq!(d.leaves[0].scope.size.to_array(), [10.0, 0.0, 4.0]);
+    let d = run(
+        "Lot --> alignScopeToGeometry(yUp, longest) X",
+        lot(4.0, 10.0),
+    );
+    assert_eq!(d.leaves[0].scope.size.to_array(), [10.0, 0.0, 4.0]);
+}
+
+/// Three box assets of different sizes, found by any search.
+struct Boxes;
+
+impl shapegram_eval::AssetLoader for Boxes {
+    fn load(&self, path: &str) -> Result<std::sync::Arc<shapegram_geom::Mesh>, String> {
+        use shapegram_geom::{DAffine3, DVec3, primitives};
+        let (size, at) = match path {
+            "small.obj" => (DVec3::new(2.0, 3.0, 2.0), DVec3::new(-1.0, 0.0, -1.0)),
+            "wide.obj" => (DVec3::new(9.0, 3.0, 4.0), DVec3::ZERO),
+            "tall.obj" => (DVec3::new(5.0, 20.0, 5.0), DVec3::new(0.5, 0.25, 0.0)),
+            other => return Err(format!("no mesh `{other}`")),
+        };
+        let mesh = primitives::cuboid(size).transformed(&DAffine3::from_translation(at));
+        Ok(std::sync::Arc::new(mesh))
+    }
+
+    fn search(&self, _query: &str) -> Result<Vec<std::sync::Arc<str>>, String> {
+        Ok(vec![
+            "small.obj".into(),
+            "tall.obj".into(),
+            "wide.obj".into(),
+            "notes.txt".into(),
+        ])
+    }
+}
+
+/// The reports of `grammar` derived on a 10 × 5 lot with the [`Boxes`].
+fn box_reports(grammar: &str) -> Vec<(String, shapegram_eval::Value)> {
+    let options = shapegram_eval::DeriveOptions {
+        assets: Some(std::sync::Arc::new(Boxes)),
+        ..Default::default()
+    };
+    shapegram_eval::derive(&common::compile(grammar), &[lot(10.0, 5.0)], &options)
+        .unwrap()
+        .reports
+}
+
+#[test]
+fn asset_info_gives_the_bounding_box_of_an_asset() {
+    // The plant rules scale trees by `assetInfo(asset, tx)`; the instance reports by "sx".
+    let r = box_reports(
+        "Lot --> report(\"sx\", assetInfo(\"tall.obj\", \"sx\")) report(\"sy\", assetInfo(\"tall.obj\", sy)) \
+         report(\"tx\", assetInfo(\"tall.obj\", tx)) report(\"ty\", assetInfo(\"tall.obj\", ty)) \
+         report(\"tz\", assetInfo(\"small.obj\", tz)) report(\"cube\", assetInfo(\"builtin:cube\", sz))",
+    );
+    let numbers: Vec<(String, f64)> = r
+        .into_iter()
+        .map(|(k, v)| match v {
+            shapegram_eval::Value::Number(n) => (k, n),
+            v => panic!("{v:?}"),
+        })
+        .collect();
+    let expected = [
+        ("sx", 5.0),
+        ("sy", 20.0),
+        ("tx", 0.5),
+        ("ty", 0.25),
+        ("tz", -1.0),
+        ("cube", 1.0),
+    ];
+    assert_eq!(numbers, expected.map(|(k, n)| (k.to_owned(), n)).to_vec());
+    let errors = errors("Lot --> report(\"r\", assetInfo(\"a.obj\", rx))");
+    assert!(errors.is_empty(), "{errors:?}");
+}
+
+#[test]
+fn asset_best_size_picks_the_asset_closest_to_the_scope_along_the_axes_asked() {
+    // The 10 × 5 lot: "xz" fits the 9 × 4 asset best, "x" too; a 20 high scope takes the
+    // tall one by "y"; files that are not meshes take no part.
+    let r = box_reports(
+        "Lot --> report(\"xz\", assetBestSize(\"*\", \"xz\")) report(\"x\", assetBestSize(\"*\", \"x\")) \
+         extrude(19) report(\"y\", assetBestSize(\"*\", \"y\"))",
+    );
+    let files: Vec<String> = r.into_iter().map(|(_, v)| v.to_string()).collect();
+    assert_eq!(files, ["wide.obj", "wide.obj", "tall.obj"]);
+}
+
+#[test]
+fn an_attribute_default_may_read_attributes_declared_after_it() {
+    // The Complete Street rule: `attr Lane_Distribution = _initial` (a function reading
+    // `Lane_Width`) comes before `attr Lane_Width = laneWidth - .2`, before `attr laneWidth`.
+    let d = run(
+        "attr share = initial\n\
+         attr width = (lane - .2)\n\
+         initial = case 10 / width >= 2.2 : 0.5 else : 1\n\
+         attr lane = 3.5\n\
+         Lot --> extrude(share * 10 + width) X",
+        lot(4.0, 4.0),
+    );
+    assert_eq!(d.leaves[0].scope.size.y, 5.0 + 3.3);
+    let errors = common::try_run(
+        "attr a = b + 1\nattr b = a * 2\nLot --> extrude(a) X",
+        lot(4.0, 4.0),
+        &shapegram_eval::DeriveOptions::default(),
+    )
+    .unwrap_err();
+    assert_eq!(errors.message, "the default of attribute `a` reads itself");
+}
+
+#[test]
+fn set_moves_and_sizes_the_scope_along_one_axis() {
+    // `set(scope.tx, …)` as the instance-placing rules write it.
+    let d = run(
+        "Lot --> extrude(4) set(scope.tx, 3) set(scope.sz, 2) set(scope.ty, scope.ty + 1) X",
+        lot(10.0, 6.0),
+    );
+    let s = &d.leaves[0].scope;
+    assert_eq!(s.origin.to_array(), [3.0, 1.0, 0.0]);
+    assert_eq!(s.size.to_array(), [10.0, 4.0, 2.0]);
+    let volume = d.leaves[0]
+        .geometry
+        .local_mesh(s.size)
+        .unwrap()
+        .signed_volume();
+    assert!((volume - 80.0).abs() < 1e-9, "{volume}");
+    let errors = compile_errors("Lot --> set(scope.rx, 30) X");
+    assert!(
+        errors[0].starts_with("error: `set` cannot write this shape attribute"),
+        "{errors:?}"
+    );
+}
+
+#[test]
+fn offset_works_on_each_face_of_a_volume() {
+    // The solar-panel rules offset a thin cube: every face gets its inset and border.
+    let d = run(
+        "Lot --> extrude(2) offset(-0.5, inside) comp(f) { all : F }",
+        lot(4.0, 3.0),
+    );
+    // Six faces, each shrunk by 0.5 on every side: 3 × 2, 3 × 1 and 2 × 1, twice each.
+    assert_eq!(d.leaves.len(), 6);
+    let area: f64 = d
+        .leaves
+        .iter()
+        .map(|l| l.geometry.local_mesh(l.scope.size).unwrap().area())
+        .sum();
+    assert!((area - 2.0 * (6.0 + 3.0 + 2.0)).abs() < 1e-9, "{area}");
+    let d = run("Lot --> extrude(2) offset(-0.5, border) X", lot(4.0, 3.0));
+    let s = d.leaves[0].scope.size;
+    assert_eq!(s.to_array(), [4.0, 2.0, 3.0]);
+}

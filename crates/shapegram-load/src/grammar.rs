@@ -88,10 +88,59 @@ pub fn compile_in(
     files: &Files,
     path: &Path,
 ) -> Compiled {
-    let parsed = match dialect {
+    compile_parsed(source, parse(source, dialect), files, path)
+}
+
+/// [`compile_in`] in the grammar's CGA style `style` ([`ast::Grammar::with_style`]): its
+/// declarations laid over the default style's, the default style itself for `Default`. A
+/// style the grammar does not declare is an error (the message names the styles there are);
+/// the warnings that the chosen styles are not derived are left out.
+pub fn compile_in_style(
+    source: &SourceFile,
+    dialect: Option<Dialect>,
+    files: &Files,
+    path: &Path,
+    style: &str,
+) -> Result<Compiled, String> {
+    let mut parsed = parse(source, dialect);
+    let styled = parsed.grammar.with_style(style)?;
+    let chosen = style_chain(&parsed.grammar, style);
+    parsed
+        .diagnostics
+        .retain(|d| d.is_error() || !chosen.contains(&d.span));
+    parsed.grammar = styled;
+    Ok(compile_parsed(source, parsed, files, path))
+}
+
+/// The spans of style `name` and of the styles it extends.
+fn style_chain(grammar: &ast::Grammar, name: &str) -> Vec<shapegram_syntax::Span> {
+    let mut spans = Vec::new();
+    let mut next = Some(name);
+    while let Some(style) = next.and_then(|n| grammar.styles.iter().find(|s| s.name.name == n)) {
+        if spans.contains(&style.span) {
+            break;
+        }
+        spans.push(style.span);
+        next = style.base.as_ref().map(|b| b.name.as_str());
+    }
+    spans
+}
+
+/// Parses a grammar in the given notation (`None`: detect it from the text).
+fn parse(source: &SourceFile, dialect: Option<Dialect>) -> shapegram_syntax::Parsed {
+    match dialect {
         Some(dialect) => shapegram_syntax::parse_as(source, dialect),
         None => shapegram_syntax::parse(source),
-    };
+    }
+}
+
+/// Compiles a parsed grammar with the files it imports.
+fn compile_parsed(
+    source: &SourceFile,
+    parsed: shapegram_syntax::Parsed,
+    files: &Files,
+    path: &Path,
+) -> Compiled {
     let mut diagnostics: Vec<(usize, Diagnostic)> =
         parsed.diagnostics.into_iter().map(|d| (0, d)).collect();
     let mut sources = vec![source.clone()];

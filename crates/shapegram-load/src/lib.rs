@@ -12,7 +12,9 @@ mod search;
 
 pub use assets::{FileAssets, MissingAssets};
 pub use files::Files;
-pub use grammar::{Compiled, Read, compile, compile_in, import_path, read, read_in};
+pub use grammar::{
+    Compiled, Read, compile, compile_in, compile_in_style, import_path, read, read_in,
+};
 pub use library::{
     CompiledLibrary, NameClash, check_library_names, check_library_path, compile_library,
     goal_dialect, library_files,

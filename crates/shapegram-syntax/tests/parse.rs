@@ -513,8 +513,8 @@ fn imports_are_recorded_and_styles_warned_about() {
     assert_eq!(
         messages,
         [
-            "`style` is not supported yet",
-            "`style` is not supported yet",
+            "`style` is derived only when chosen",
+            "`style` is derived only when chosen",
         ]
     );
     // Only the default style's declarations are kept.
@@ -523,7 +523,7 @@ fn imports_are_recorded_and_styles_warned_about() {
     assert!(parsed.grammar.rules.is_empty());
     assert_eq!(
         source.render(&parsed.diagnostics[0]),
-        "warning: `style` is not supported yet\n --> test.cga:5:1\n  |\n5 | style Red\n  | ^^^^^^^^^ ignored\n  = hint: the declarations of style `Red` are ignored; the default style is used\n"
+        "warning: `style` is derived only when chosen\n --> test.cga:5:1\n  |\n5 | style Red\n  | ^^^^^^^^^ not derived by default\n  = hint: the default style is derived; `shapegram derive --style Red` derives this one\n"
     );
 }
 

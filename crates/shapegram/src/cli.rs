@@ -293,6 +293,10 @@ pub struct DeriveArgs {
     /// The rule to start from [default: the @StartRule, else the first rule]
     #[arg(long, value_name = "RULE")]
     pub start: Option<String>,
+    /// The CGA style to derive: the declarations of `style NAME` (and of the styles it
+    /// extends) laid over the default ones [default: the default style]
+    #[arg(long, value_name = "NAME")]
+    pub style: Option<String>,
     /// A lot: its footprint corners in the xz-plane, at least three, in either winding
     /// (repeatable: one lot each)
     #[arg(long, value_name = "\"X,Z X,Z ...\"", allow_hyphen_values = true)]

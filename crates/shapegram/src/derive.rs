@@ -77,8 +77,12 @@ pub fn run(args: &DeriveArgs) -> Result<(), Failure> {
         };
         with_spinner(spinner, &label, || resolve::derive(&library, plan))?
     } else {
-        let (program, sources) =
-            grammar::compile(&input, !args.quiet, args.dialect.dialect()).into_program()?;
+        let dialect = args.dialect.dialect();
+        let compiled = match &args.style {
+            Some(style) => grammar::compile_style(&input, !args.quiet, dialect, style)?,
+            None => grammar::compile(&input, !args.quiet, dialect),
+        };
+        let (program, sources) = compiled.into_program()?;
         let derivation = with_spinner(spinner, &label, || derive(&program, &sources))?;
         resolve::Derived {
             program,
@@ -248,6 +252,12 @@ fn add_named_poses(
 /// `--library` and the repository's options are for goal grammars only.
 fn check_goal_options(source: &SourceFile, goal: bool, args: &DeriveArgs) -> Result<(), Failure> {
     if goal {
+        if args.style.is_some() {
+            return Err(Failure::usage(format!(
+                "{} is a goal grammar: --style picks a style of a CGA grammar",
+                source.name()
+            )));
+        }
         return Ok(());
     }
     let option = if !args.library.is_empty() {

@@ -153,7 +153,28 @@ fn package_failure(error: PackageError) -> Failure {
 /// its imports, read from where the grammar is ([`shapegram_load::compile_in`]), and prints its
 /// diagnostics on stderr: errors always, warnings when `print_warnings`.
 pub fn compile(input: &Input, print_warnings: bool, dialect: Option<Dialect>) -> Compiled {
-    let (compiled, diagnostics) = compile_silently_in(input, print_warnings, dialect);
+    let compiled = shapegram_load::compile_in(&input.source, dialect, &input.files, &input.path);
+    print_compiled(compiled, print_warnings)
+}
+
+/// [`compile`] in the grammar's CGA style `style` (see [`shapegram_load::compile_in_style`]);
+/// a style the grammar does not declare is a usage error.
+pub fn compile_style(
+    input: &Input,
+    print_warnings: bool,
+    dialect: Option<Dialect>,
+    style: &str,
+) -> Result<Compiled, Failure> {
+    let compiled =
+        shapegram_load::compile_in_style(&input.source, dialect, &input.files, &input.path, style)
+            .map_err(|message| Failure::usage(format!("--style: {message}")))?;
+    Ok(print_compiled(compiled, print_warnings))
+}
+
+/// Prints a compiled grammar's diagnostics on stderr: errors always, warnings when
+/// `print_warnings`.
+fn print_compiled(compiled: shapegram_load::Compiled, print_warnings: bool) -> Compiled {
+    let (compiled, diagnostics) = summarize(compiled, print_warnings);
     let mut text = String::new();
     for (file, d) in &diagnostics {
         if d.is_error() || print_warnings {
@@ -187,6 +208,15 @@ fn compile_silently_in(
     dialect: Option<Dialect>,
 ) -> (Compiled, Vec<(usize, Diagnostic)>) {
     let compiled = shapegram_load::compile_in(&input.source, dialect, &input.files, &input.path);
+    summarize(compiled, warn)
+}
+
+/// A compiled grammar with its diagnostics counted; `warn` prints the warnings of reading its
+/// imported files.
+fn summarize(
+    compiled: shapegram_load::Compiled,
+    warn: bool,
+) -> (Compiled, Vec<(usize, Diagnostic)>) {
     if warn {
         for warning in &compiled.read_warnings {
             eprintln!("warning: {warning}");

@@ -1753,3 +1753,41 @@ fn textured_house_embeds_its_textures_and_a_missing_one_is_a_warning() {
     let gltf = gltf::Gltf::from_slice(&std::fs::read(&out).unwrap()).unwrap();
     assert_eq!(gltf.images().count(), 0);
 }
+
+#[test]
+fn derive_style_picks_a_cga_style() {
+    let dir = TempDir::new("derive_style");
+    let grammar = dir.path("styles.cga");
+    std::fs::write(
+        &grammar,
+        "attr h = 3\nconst label = \"default\"\n\
+         Lot --> print(label + \" \" + h) extrude(h) X.\n\
+         style Tall\nattr h = 9\n\
+         style Taller extends Tall\nconst label = \"taller\"\n",
+    )
+    .unwrap();
+    let printed = |args: &[&str]| {
+        let mut all = vec!["derive", text(&grammar), "-q"];
+        all.extend_from_slice(args);
+        let output = shapegram(&all);
+        assert!(output.status.success(), "{}", stderr(&output));
+        stderr(&output)
+    };
+    assert_eq!(printed(&[]), "print: default 3\n");
+    assert_eq!(printed(&["--style", "Tall"]), "print: default 9\n");
+    assert_eq!(printed(&["--style", "Taller"]), "print: taller 9\n");
+    assert_eq!(printed(&["--style", "Default"]), "print: default 3\n");
+    // The chosen style's warning is left out; the other style's stays.
+    let warnings = ok(&["derive", text(&grammar), "--style", "Tall"]);
+    assert_eq!(
+        warnings.matches("derived only when chosen").count(),
+        1,
+        "{warnings}"
+    );
+    assert!(warnings.contains("style Taller"), "{warnings}");
+    fails(
+        &["derive", text(&grammar), "--style", "Wide"],
+        2,
+        "--style: no style `Wide` (the styles: Default, Tall, Taller)",
+    );
+}

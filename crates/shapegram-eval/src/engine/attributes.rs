@@ -4,10 +4,11 @@
 use std::rc::Rc;
 use std::sync::Arc;
 
-use shapegram_geom::Color;
+use shapegram_geom::{Color, DAffine3, DVec3};
 
 use super::Fallible;
 use super::machine::Engine;
+use super::texturing::follow_geometry;
 use crate::error::DeriveError;
 use crate::ops::SetTarget;
 use crate::program::CExpr;
@@ -44,8 +45,8 @@ impl Engine<'_> {
         })
     }
 
-    /// CGA `set(target, value)`: an attribute, the colour or a channel of it, or the material
-    /// name.
+    /// CGA `set(target, value)`: an attribute, the colour or a channel of it, the material
+    /// name, or the scope's position or size along one axis.
     pub(super) fn set(
         &mut self,
         state: &mut State,
@@ -92,6 +93,26 @@ impl Engine<'_> {
                 Value::Bool(on) if *horizontal => state.trim.horizontal = on,
                 Value::Bool(on) => state.trim.set_vertical(on),
                 v => return Err(wrong("true or false", &v)),
+            },
+            SetTarget::ScopeOrigin(axis) => {
+                let Value::Number(n) = value else {
+                    return Err(wrong("a number", &value));
+                };
+                let before = state.scope;
+                state.scope.origin[*axis] = n;
+                follow_geometry(state, &before, DAffine3::IDENTITY);
+            }
+            SetTarget::ScopeSize(axis) => match value {
+                Value::Number(n) if n >= 0.0 => {
+                    let mut size = state.scope.size;
+                    size[*axis] = n;
+                    let before = state.scope;
+                    state.resize(size);
+                    let old = before.size;
+                    let factor = DVec3::select(old.cmpeq(DVec3::ZERO), DVec3::ONE, size / old);
+                    follow_geometry(state, &before, DAffine3::from_scale(factor));
+                }
+                v => return Err(wrong("a size of 0 or more", &v)),
             },
             SetTarget::Ignored | SetTarget::Map(_) | SetTarget::Finish(_) => {}
         }

@@ -78,8 +78,9 @@ impl<'p> Engine<'p> {
         Ok(())
     }
 
-    /// CGA `offset(d)`: every face shrunk (negative `d`) or grown (positive) by `d`, the ring
-    /// between old and new outline kept as border faces; `inside` or `border` keeps only those.
+    /// CGA `offset(d)`: every face (of a polygon or a volume) shrunk (negative `d`) or grown
+    /// (positive) by `d`, the ring between old and new outline kept as border faces; `inside`
+    /// or `border` keeps only those.
     pub(super) fn offset(
         &mut self,
         state: &mut State,
@@ -89,7 +90,13 @@ impl<'p> Engine<'p> {
         args: &[Value],
     ) -> Fallible<()> {
         let distance = self.ev.number(distance, state, args)?;
-        let world = flat_faces(state, "offset", span)?;
+        // Each face by itself, a volume's as well (as CityEngine does): the result is faces.
+        let Some(world) = state.geometry.world_mesh(&state.scope) else {
+            return Err(DeriveError::at(
+                "offset needs faces, but the shape has no geometry",
+                span,
+            ));
+        };
         let mut mesh = Mesh::new();
         let mut tags = Vec::new();
         for f in 0..world.face_count() {

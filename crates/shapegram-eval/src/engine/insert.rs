@@ -4,7 +4,7 @@
 use std::sync::Arc;
 
 use shapegram_geom::fit::adapt_scope_to_asset;
-use shapegram_geom::{Aabb, DAffine3, DVec2, DVec3, Mesh, primitives};
+use shapegram_geom::{Aabb, DAffine3, DVec2, DVec3, Mesh, Scope, primitives};
 use shapegram_implicit::Solid;
 use shapegram_syntax::Span;
 
@@ -119,15 +119,38 @@ impl Engine<'_> {
         span: Span,
         args: &[Value],
     ) -> Fallible<()> {
-        let counts = self.numbers(params, state, args)?;
+        let numbers = self.numbers(params, state, args)?;
         drop_uvs(state);
-        // A primitive is a unit asset: a flat scope takes sizes by `i()`'s rules (a cube on a
-        // 20 × 30 lot is 25 high, the mean of the other two).
-        let unit = match kind {
-            Primitive::Quad => DVec3::new(1.0, 1.0, 0.0),
-            _ => DVec3::ONE,
+        let (counts, size) = match (kind, numbers.as_slice()) {
+            (Primitive::Cube, &[w, h, d]) => (&[][..], Some((DVec3::new(w, h, d), 1))),
+            (Primitive::Quad, &[w, l]) => (&[][..], Some(quad_size(&state.scope, w, l))),
+            (Primitive::Cylinder, &[_, r, h]) => {
+                (&numbers[..1], Some((DVec3::new(2.0 * r, h, 2.0 * r), 1)))
+            }
+            _ => (&numbers[..], None),
         };
-        adapt_scope_to_asset(&mut state.scope, &Aabb::new(DVec3::ZERO, unit));
+        match size {
+            Some((size, up)) => {
+                place_sized(&mut state.scope, size.abs(), up, span)?;
+                // A negative dimension mirrors, as a negative size of `s()` does: the
+                // primitive stays centred across, and a negative height hangs below y = 0.
+                for i in (0..3).filter(|&i| size[i] < 0.0) {
+                    if i != up {
+                        state.scope.origin += state.scope.axes.col(i) * size[i].abs();
+                    }
+                    state.mirror_axis(i);
+                }
+            }
+            None => {
+                // A primitive is a unit asset: a flat scope takes sizes by `i()`'s rules (a
+                // cube on a 20 × 30 lot is 25 high, the mean of the other two).
+                let unit = match kind {
+                    Primitive::Quad => DVec3::new(1.0, 1.0, 0.0),
+                    _ => DVec3::ONE,
+                };
+                adapt_scope_to_asset(&mut state.scope, &Aabb::new(DVec3::ZERO, unit));
+            }
+        }
         let size = state.scope.size;
         let count = |i: usize, default: u32| -> Fallible<u32> {
             match counts.get(i) {
@@ -178,6 +201,38 @@ impl Engine<'_> {
     }
 }
 
+/// The sizes along the scope's axes of `primitiveQuad(width, length)` and the axis it lies
+/// across: in the plane of the two scope sizes that are not zero when one is, else in the
+/// scope's xz-plane.
+fn quad_size(scope: &Scope, width: f64, length: f64) -> (DVec3, usize) {
+    let zero: Vec<usize> = (0..3).filter(|&i| scope.size[i] == 0.0).collect();
+    match zero.as_slice() {
+        [0] => (DVec3::new(0.0, width, length), 0),
+        [2] => (DVec3::new(width, length, 0.0), 2),
+        _ => (DVec3::new(width, 0.0, length), 1),
+    }
+}
+
+/// A primitive given its dimensions, as CityEngine places it: `size` centred in the scope
+/// across the two other axes, lying on the scope's plane `up` = 0 (y for all but a quad
+/// standing in the yz- or xy-plane).
+fn place_sized(scope: &mut Scope, size: DVec3, up: usize, span: Span) -> Fallible<()> {
+    if !size.is_finite() {
+        return Err(DeriveError::at(
+            format!(
+                "primitive dimensions {} × {} × {}: expected finite sizes",
+                size.x, size.y, size.z
+            ),
+            span,
+        ));
+    }
+    for i in (0..3).filter(|&i| i != up) {
+        scope.origin += scope.axes.col(i) * ((scope.size[i] - size[i]) / 2.0);
+    }
+    scope.size = size;
+    Ok(())
+}
+
 /// The uvs `primitiveQuad()` brings: uv set 0 running from 0 to 1 across the quad, u along
 /// scope x and v along scope y, as CityEngine gives its primitives. (Its other primitives
 /// give every face the whole texture, which one affine map per shape cannot hold: they bring
@@ -221,7 +276,7 @@ pub(super) fn trim(state: &mut State) {
 }
 
 /// CGA's built-in assets, each filling the unit box.
-fn builtin_asset(path: &str) -> Option<Mesh> {
+pub(crate) fn builtin_asset(path: &str) -> Option<Mesh> {
     let name = path.strip_prefix("builtin:")?;
     let name = name.split(':').next().unwrap_or(name);
     Some(match name {

@@ -342,10 +342,10 @@ impl Parser<'_> {
             base = Some(b);
         }
         self.report(
-            Diagnostic::warning("`style` is not supported yet", span)
-                .with_label("ignored")
+            Diagnostic::warning("`style` is derived only when chosen", span)
+                .with_label("not derived by default")
                 .with_hint(format!(
-                    "the declarations of style `{}` are ignored; the default style is used",
+                    "the default style is derived; `shapegram derive --style {}` derives this one",
                     name.name
                 )),
         );
