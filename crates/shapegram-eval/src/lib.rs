@@ -10,6 +10,7 @@
 
 mod annotations;
 mod arrays;
+pub mod asset_look;
 mod builtins;
 mod colors;
 mod context;

@@ -10,7 +10,8 @@ use shapegram_syntax::Span;
 
 use super::Fallible;
 use super::machine::Engine;
-use super::texturing::{drop_uvs, texturing_mut};
+use super::texturing::{drop_uvs, texturing_mut, wear};
+use crate::asset_look::AssetLook;
 use crate::error::DeriveError;
 use crate::ops::{InsertFit, Placement, Primitive};
 use crate::program::CExpr;
@@ -32,6 +33,7 @@ pub trait AssetLoader: Send + Sync {
         Ok(Asset {
             mesh: self.load(path)?,
             proportional: false,
+            look: None,
         })
     }
 
@@ -81,6 +83,8 @@ pub struct Asset {
     /// Scaled uniformly to fit inside the scope, centred in x and z and standing on the scope's
     /// floor (a planted tree keeps its shape), instead of stretched to the scope as CGA's `i()`.
     pub proportional: bool,
+    /// Its materials and uvs, when it has any (see [`AssetLook::from_parts`]).
+    pub look: Option<Arc<AssetLook>>,
 }
 
 impl Engine<'_> {
@@ -106,6 +110,7 @@ impl Engine<'_> {
         drop_uvs(state);
         place(state, &asset, placement.fit);
         trim(state);
+        wear(state, asset.look.as_ref());
         Ok(())
     }
 
@@ -163,6 +168,7 @@ impl Engine<'_> {
             return Ok(Asset {
                 mesh: Arc::new(mesh),
                 proportional: false,
+                look: None,
             });
         }
         let Some(loader) = &self.options.assets else {
@@ -261,8 +267,8 @@ fn place(state: &mut State, asset: &Asset, fit: InsertFit) {
         InsertFit::Align => asset,
         // The keeping modes place the asset as it is, seeded or not.
         _ => &Asset {
-            mesh: asset.mesh.clone(),
             proportional: false,
+            ..asset.clone()
         },
     };
     fit_asset(state, asset);
