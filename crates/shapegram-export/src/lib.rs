@@ -165,12 +165,12 @@ pub fn load_with(
         source,
     })?;
     let model = match format {
-        // Embedded images are named within their file: the file's path tells them apart from
-        // another asset's.
+        // Embedded images are named within their file: under the file's path, they stay apart
+        // from another asset's and keep their own name as the last part.
         Format::Glb => read_glb(&bytes).map(|mut model| {
             for part in &mut model.parts {
                 if let Some(texture) = &mut part.texture {
-                    let path = format!("{}#{}", path.display(), texture.path);
+                    let path = format!("{}/{}", path.display(), texture.path);
                     Arc::make_mut(texture).path = Arc::from(path);
                 }
             }

@@ -69,7 +69,7 @@ fn derive(grammar: &Path, out: &Path) {
 }
 
 /// What a GLB's materials are: name, base colour factor, colour map image name, and the
-/// TEXCOORD_0 values of the primitives using it (sorted), by material.
+/// distinct TEXCOORD_0 values of the primitives using it (sorted), by material.
 #[derive(Debug, PartialEq)]
 struct Worn {
     name: Option<String>,
@@ -78,7 +78,7 @@ struct Worn {
     uvs: Vec<[f32; 2]>,
 }
 
-fn worn(glb: &Path) -> Vec<Worn> {
+fn read_worn(glb: &Path) -> Vec<Worn> {
     let gltf = gltf::Gltf::from_slice(&std::fs::read(glb).unwrap()).unwrap();
     let blob = gltf.blob.as_deref().unwrap();
     let mut out: Vec<Worn> = gltf
@@ -104,6 +104,7 @@ fn worn(glb: &Path) -> Vec<Worn> {
     }
     for w in &mut out {
         w.uvs.sort_by(|a, b| a.partial_cmp(b).unwrap());
+        w.uvs.dedup();
     }
     out
 }
@@ -145,7 +146,7 @@ fn an_inserted_obj_keeps_its_materials_texture_and_uvs_in_glb_and_obj() {
     let grammar = project(&dir, "", "");
     let glb = dir.path("window.glb");
     derive(&grammar, &glb);
-    let worn = worn(&glb);
+    let worn = read_worn(&glb);
     assert_eq!(worn.len(), 2, "{worn:?}");
     assert_eq!(worn[0].name.as_deref(), Some("glass"));
     assert_factor(worn[0].factor, [1.0, 1.0, 1.0, 0.5]);
@@ -184,7 +185,7 @@ fn a_colour_the_grammar_sets_wins_over_the_assets_and_its_opacity_stays() {
         let grammar = project(&dir, before, after);
         let glb = dir.path("window.glb");
         derive(&grammar, &glb);
-        let worn = worn(&glb);
+        let worn = read_worn(&glb);
         assert_eq!(worn.len(), 2, "{before} {after}: {worn:?}");
         assert_eq!(worn[0].name.as_deref(), Some("glass"));
         // The 3-argument colour sets opacity 1, which leaves the asset's.
@@ -204,7 +205,7 @@ fn a_texture_and_a_name_the_grammar_sets_win_and_use_the_assets_uvs() {
     );
     let glb = dir.path("window.glb");
     derive(&grammar, &glb);
-    let worn = worn(&glb);
+    let worn = read_worn(&glb);
     assert_eq!(worn.len(), 2, "{worn:?}");
     for w in &worn {
         assert_eq!(w.image.as_deref(), Some("other.png"), "{w:?}");
@@ -220,7 +221,7 @@ fn project_uv_replaces_the_assets_uvs() {
     let grammar = project(&dir, "", "setupProjection(0, scope.xy, 2, 2) projectUV(0)");
     let glb = dir.path("window.glb");
     derive(&grammar, &glb);
-    let worn = worn(&glb);
+    let worn = read_worn(&glb);
     // The pane is 4 × 2 after the insert: two tiles along u, one along v (turned down).
     assert_eq!(worn[0].image.as_deref(), Some("window.png"));
     assert_eq!(
@@ -242,10 +243,47 @@ fn uv_edits_change_the_assets_own_uvs() {
         let grammar = project(&dir, "", edits);
         let glb = dir.path("window.glb");
         derive(&grammar, &glb);
-        let worn = worn(&glb);
+        let worn = read_worn(&glb);
         let expected = [[us[0], 0.0], [us[0], 1.0], [us[1], 0.0], [us[1], 1.0]];
         assert_eq!(worn[0].uvs, expected, "{edits}");
         // The frame has no texture: nothing is drawn through its uvs.
         assert!(worn[1].uvs.is_empty(), "{edits}");
     }
+}
+
+#[test]
+fn an_inserted_glb_keeps_its_materials_texture_and_uvs() {
+    let dir = TempDir::new("asset-glb");
+    // The window as a GLB asset, retextured so that both its parts carry uvs.
+    let grammar = project(&dir, "", "texture(\"other.png\")");
+    derive(&grammar, &dir.path("asset.glb"));
+    let inserting = dir.path("glb.cga");
+    std::fs::write(&inserting, "Lot --> s(4, 2, 1) i(\"asset.glb\") Window.\n").unwrap();
+    let glb = dir.path("window.glb");
+    derive(&inserting, &glb);
+    let worn = read_worn(&glb);
+    assert_eq!(worn.len(), 2, "{worn:?}");
+    assert_eq!(worn[0].name.as_deref(), Some("glass"));
+    assert_factor(worn[0].factor, [1.0, 1.0, 1.0, 0.5]);
+    assert_eq!(worn[1].name.as_deref(), Some("frame"));
+    assert_factor(
+        worn[1].factor,
+        [linear(0.5), linear(0.25), linear(0.125), 1.0],
+    );
+    for w in &worn {
+        assert_eq!(w.image.as_deref(), Some("other.png"), "{w:?}");
+        assert_eq!(w.uvs, WHOLE);
+    }
+    assert_eq!(images(&glb), [BRICK]);
+
+    // As in CityEngine, an asset some of whose faces lack uvs loses them all: the untextured
+    // frame of the plain window carries none, so the glass's texture has nothing to go by.
+    let grammar = project(&dir, "", "");
+    derive(&grammar, &dir.path("asset.glb"));
+    derive(&inserting, &glb);
+    let plain = read_worn(&glb);
+    assert_eq!(plain.len(), 2, "{plain:?}");
+    assert_factor(plain[0].factor, [1.0, 1.0, 1.0, 0.5]);
+    assert!(plain.iter().all(|w| w.image.is_none() && w.uvs.is_empty()));
+    assert!(images(&glb).is_empty());
 }
