@@ -9,15 +9,21 @@
 //! less than 1, the name, the colour map and each other layer and attribute when set. uv set 0
 //! is the asset's until `projectUV(0)` replaces it.
 //!
-//! The look belongs to the asset's faces: an operation that changes them (a split cutting the
-//! asset, a component split, a trim plane cutting it) leaves the shape in its own material
-//! alone, as before assets had looks. Moving, scaling or turning the shape keeps it.
+//! The look follows the asset through moves, scales and turns of the shape, and through cuts
+//! (splits, component splits, trim planes): a cut piece's faces wear the material of the asset
+//! face under them and its uvs there (see [`crate::asset_faces`]); faces on none of the asset's
+//! (the caps of an extrusion, say) wear the shape's material.
 
 use std::sync::Arc;
 
-use shapegram_geom::{Color, DVec2, Mesh, Part, Surface, Texture};
+use shapegram_geom::{Color, DAffine3, DVec2, Mesh, Part, Surface, Texture};
+
+use crate::asset_faces::Dressed;
 
 use crate::texturing::COLORMAP;
+
+/// The material index of a face on none of the asset's faces: it wears the shape's material.
+pub const NO_MATERIAL: u32 = u32::MAX;
 
 /// The materials and uvs an inserted asset brings.
 #[derive(Clone, Debug, PartialEq)]
@@ -53,6 +59,9 @@ pub struct WornAsset {
     pub look: Arc<AssetLook>,
     /// uv set 0 as `m · uv + t` of the asset's own uvs; `None` once `deleteUV(0)` removed it.
     pub uv_edit: Option<UvAffine>,
+    /// Where the asset's coordinates are in the world, following the shape's geometry as it
+    /// moves: what cut pieces of the asset are looked up by.
+    pub placed: DAffine3,
 }
 
 /// An affine change of uvs: `(u, v) → (m00 u + m01 v + t0, m10 u + m11 v + t1)`.
@@ -92,12 +101,34 @@ impl UvAffine {
 }
 
 impl WornAsset {
-    /// A freshly inserted asset's look.
-    pub fn new(look: Arc<AssetLook>) -> Self {
+    /// A freshly inserted asset's look, the asset placed in the world by `placed`.
+    pub fn new(look: Arc<AssetLook>, placed: DAffine3) -> Self {
         Self {
             look,
             uv_edit: Some(UvAffine::IDENTITY),
+            placed,
         }
+    }
+
+    /// The world-space `mesh` of a shape wearing the asset dressed in it: as the asset's own
+    /// faces when it still has them (`local`, its scope-local geometry, tells), else each face
+    /// as the asset face under it.
+    pub(crate) fn dress(&self, mesh: Mesh, local: Option<&Mesh>) -> Dressed {
+        let uvs = self.uvs();
+        if local.is_some_and(|local| self.look.fits(local)) {
+            return Dressed {
+                mesh,
+                face_materials: self.look.face_materials.clone(),
+                uvs,
+            };
+        }
+        crate::asset_faces::dress(
+            &mesh,
+            &self.look.faces,
+            &self.placed,
+            &self.look.face_materials,
+            uvs.as_deref(),
+        )
     }
 
     /// uv set 0 at each vertex of the asset, when it has one.
@@ -248,19 +279,36 @@ impl ShapeMaterial<'_> {
     /// The leaf's world mesh `mesh`, which has the faces of `look`'s asset, as one piece per
     /// material of the asset (in the asset's order, those with faces), each wearing the
     /// shape's attributes over the asset's.
-    pub fn pieces(&self, mesh: &Mesh, worn: &WornAsset) -> Vec<Piece> {
-        let look = &worn.look;
+    pub fn pieces(&self, dressed: Dressed, look: &AssetLook) -> Vec<Piece> {
+        let Dressed {
+            mesh,
+            face_materials,
+            uvs,
+        } = dressed;
         let projected = self.texturing.and_then(|t| t.uvs[0].as_ref());
         let uvs: Option<Vec<DVec2>> = match projected {
             Some(map) => Some(mesh.positions().iter().map(|&p| map.at(p)).collect()),
-            None => worn.uvs(),
+            None => uvs,
         };
+        let mesh = &mesh;
         let drawn = uvs.is_some();
         let shape_surface = self.texturing.and_then(|t| t.surface(drawn));
         let shape_map = self.texturing.and_then(|t| t.maps[COLORMAP].clone());
         let mut pieces = Vec::new();
-        for (index, asset) in look.materials.iter().enumerate() {
-            let faces = (0..mesh.face_count()).filter(|&f| look.face_materials[f] == index as u32);
+        let none = AssetMaterial {
+            name: None,
+            color: self.color,
+            texture: None,
+            surface: None,
+        };
+        let materials = look.materials.iter().chain(std::iter::once(&none));
+        for (index, asset) in materials.enumerate() {
+            let index = if asset == &none && index == look.materials.len() {
+                NO_MATERIAL
+            } else {
+                index as u32
+            };
+            let faces = (0..mesh.face_count()).filter(|&f| face_materials[f] == index);
             let Some((piece_mesh, piece_uvs)) = submesh(mesh, faces, uvs.as_deref()) else {
                 continue;
             };

@@ -287,3 +287,28 @@ fn an_inserted_glb_keeps_its_materials_texture_and_uvs() {
     assert!(plain.iter().all(|w| w.image.is_none() && w.uvs.is_empty()));
     assert!(images(&glb).is_empty());
 }
+
+#[test]
+fn pieces_split_from_an_asset_keep_its_materials_and_uvs() {
+    let dir = TempDir::new("asset-split");
+    let grammar = project(&dir, "", "");
+    std::fs::write(
+        &grammar,
+        "Lot --> s(4, 2, 1) i(\"window.obj\") t(1, 0, 0) split(x) { ~1 : Piece. }*\n",
+    )
+    .unwrap();
+    let glb = dir.path("window.glb");
+    derive(&grammar, &glb);
+    let worn = read_worn(&glb);
+    assert_eq!(worn.len(), 2, "{worn:?}");
+    assert_eq!(worn[0].name.as_deref(), Some("glass"));
+    assert_eq!(worn[0].image.as_deref(), Some("window.png"));
+    assert_factor(worn[0].factor, [1.0, 1.0, 1.0, 0.5]);
+    // Four 1 m pieces of the 4 m pane: u steps by a quarter, v still spans the texture.
+    let expected: Vec<[f32; 2]> = [0.0, 0.25, 0.5, 0.75, 1.0]
+        .iter()
+        .flat_map(|&u| [[u, 0.0], [u, 1.0]])
+        .collect();
+    assert_eq!(worn[0].uvs, expected);
+    assert_eq!(worn[1].name.as_deref(), Some("frame"));
+}

@@ -103,14 +103,20 @@ impl Engine<'_> {
         // that later random choices of the shape would miss.
         let variant = (child_seed(state.seed, u64::MAX) % u64::from(ASSET_VARIANTS)) as u32;
         let mut asset = self.asset(&file, variant, path.span)?;
+        let up = if placement.z_up {
+            DAffine3::from_rotation_x(-std::f64::consts::FRAC_PI_2)
+        } else {
+            DAffine3::IDENTITY
+        };
         if placement.z_up {
-            let up = DAffine3::from_rotation_x(-std::f64::consts::FRAC_PI_2);
             asset.mesh = Arc::new(asset.mesh.transformed(&up));
         }
         drop_uvs(state);
         place(state, &asset, placement.fit);
+        if asset.look.is_some() {
+            wear(state, asset.look.as_ref(), placed(state, &asset.mesh) * up);
+        }
         trim(state);
-        wear(state, asset.look.as_ref());
         Ok(())
     }
 
@@ -224,6 +230,29 @@ pub(super) fn trim(state: &mut State) {
             Geometry::mesh(cut)
         };
     }
+}
+
+/// Where the coordinates of `asset` are in the world once placed: its box onto the box of the
+/// shape's geometry, axis by axis (every placement stretches, scales or keeps it along the
+/// scope's axes).
+fn placed(state: &State, asset: &Mesh) -> DAffine3 {
+    let (Some(from), Geometry::Mesh(local, _)) = (asset.bounds(), &state.geometry) else {
+        return state.scope.local_to_world();
+    };
+    let Some(to) = local.bounds() else {
+        return state.scope.local_to_world();
+    };
+    let (from_size, to_size) = (from.size(), to.size());
+    let scale = DVec3::from_array(std::array::from_fn(|i| {
+        if from_size[i] > 0.0 {
+            to_size[i] / from_size[i]
+        } else {
+            1.0
+        }
+    }));
+    let fit = DAffine3::from_scale(scale);
+    let fit = DAffine3::from_translation(to.min - fit.transform_point3(from.min)) * fit;
+    state.scope.local_to_world() * fit
 }
 
 /// CGA's built-in assets, each filling the unit box.

@@ -211,13 +211,14 @@ impl Leaf {
             material: self.material.as_ref(),
             texturing: self.texturing.as_deref(),
         };
-        let worn = self.texturing.as_ref().and_then(|t| t.asset.as_ref());
-        match (&self.geometry, worn) {
-            (Geometry::Mesh(local, _), Some(worn)) if worn.look.fits(local) => {
-                material.pieces(&mesh, worn)
-            }
-            _ => vec![material.piece(mesh)],
-        }
+        let Some(worn) = self.texturing.as_ref().and_then(|t| t.asset.as_ref()) else {
+            return vec![material.piece(mesh)];
+        };
+        let local = match &self.geometry {
+            Geometry::Mesh(local, _) => Some(&**local),
+            _ => None,
+        };
+        material.pieces(worn.dress(mesh, local), &worn.look)
     }
 
     /// The uvs of uv set `set` at the vertices of `mesh` (the leaf's [`Leaf::world_mesh`]);

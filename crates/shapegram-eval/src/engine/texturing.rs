@@ -380,16 +380,25 @@ pub(super) fn texturing_mut(state: &mut State) -> &mut Texturing {
     Arc::make_mut(state.texturing.get_or_insert_with(Default::default))
 }
 
-/// Carries the shape's uv sets along after its geometry moved with its scope from `before`,
+/// Carries the shape's uv sets, and where the asset it wears is, along after its geometry moved
+/// with its scope from `before`,
 /// where `local` is how the geometry's scope-local coordinates changed (identity when they
 /// did not).
 pub(super) fn follow_geometry(state: &mut State, before: &Scope, local: DAffine3) {
-    if !state.texturing.as_ref().is_some_and(|t| t.has_uvs()) {
+    if !state
+        .texturing
+        .as_ref()
+        .is_some_and(|t| t.has_uvs() || t.asset.is_some())
+    {
         return;
     }
     let motion = state.scope.local_to_world() * local * before.world_to_local();
-    for map in texturing_mut(state).uvs.iter_mut().flatten() {
+    let texturing = texturing_mut(state);
+    for map in texturing.uvs.iter_mut().flatten() {
         *map = map.moved(&motion);
+    }
+    if let Some(worn) = &mut texturing.asset {
+        worn.placed = motion * worn.placed;
     }
 }
 
@@ -409,8 +418,8 @@ pub(super) fn drop_uvs(state: &mut State) {
 
 /// Gives the shape the look of the asset it now holds (see [`crate::asset_look`]); nothing
 /// for an asset without one.
-pub(super) fn wear(state: &mut State, look: Option<&Arc<AssetLook>>) {
+pub(super) fn wear(state: &mut State, look: Option<&Arc<AssetLook>>, placed: DAffine3) {
     if let Some(look) = look {
-        texturing_mut(state).asset = Some(WornAsset::new(Arc::clone(look)));
+        texturing_mut(state).asset = Some(WornAsset::new(Arc::clone(look), placed));
     }
 }
