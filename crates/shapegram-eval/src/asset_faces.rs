@@ -112,3 +112,48 @@ fn barycentric(mesh: &Mesh, corners: [u32; 3], p: DVec3) -> Option<DVec3> {
     let z = (d2 * g11 - d1 * g12) / det;
     Some(DVec3::new(1.0 - y - z, y, z))
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_piece_of_an_asset_face_takes_its_material_and_interpolated_uvs() {
+        // A 2 × 1 asset quad with the whole texture on it, placed 3 m along x.
+        let faces = Mesh::from_faces(
+            vec![
+                DVec3::ZERO,
+                DVec3::new(2.0, 0.0, 0.0),
+                DVec3::new(2.0, 1.0, 0.0),
+                DVec3::new(0.0, 1.0, 0.0),
+            ],
+            [[0u32, 1, 2, 3]],
+        );
+        let uvs = [DVec2::ZERO, DVec2::X, DVec2::ONE, DVec2::Y];
+        let placed = DAffine3::from_translation(DVec3::new(3.0, 0.0, 0.0));
+        // Its right half, and a face standing across it (on no asset face).
+        let piece = Mesh::from_faces(
+            vec![
+                DVec3::new(4.0, 0.0, 0.0),
+                DVec3::new(5.0, 0.0, 0.0),
+                DVec3::new(5.0, 1.0, 0.0),
+                DVec3::new(4.0, 1.0, 0.0),
+                DVec3::new(4.0, 0.0, 1.0),
+            ],
+            [vec![0u32, 1, 2, 3], vec![0, 3, 4]],
+        );
+        let dressed = dress(&piece, &faces, &placed, &[7], Some(&uvs));
+        assert_eq!(dressed.face_materials, [7, NO_MATERIAL]);
+        assert_eq!(dressed.mesh.vertex_count(), 7);
+        let uvs = dressed.uvs.unwrap();
+        let expected = [
+            DVec2::new(0.5, 0.0),
+            DVec2::new(1.0, 0.0),
+            DVec2::new(1.0, 1.0),
+            DVec2::new(0.5, 1.0),
+        ];
+        for (uv, want) in uvs.iter().zip(expected) {
+            assert!((*uv - want).length() < 1e-12, "{uv} != {want}");
+        }
+    }
+}

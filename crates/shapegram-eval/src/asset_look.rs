@@ -391,3 +391,66 @@ fn submesh(
     }
     (!out.is_empty()).then_some((out, out_uvs))
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use shapegram_geom::DVec3;
+
+    #[test]
+    fn uv_changes_compose_in_order() {
+        let scale = UvAffine {
+            m: [[2.0, 0.0], [0.0, 3.0]],
+            t: DVec2::ZERO,
+        };
+        let shift = UvAffine {
+            t: DVec2::new(0.5, -1.0),
+            ..UvAffine::IDENTITY
+        };
+        let uv = DVec2::new(1.0, 2.0);
+        assert_eq!(scale.then(&shift).at(uv), DVec2::new(2.5, 5.0));
+        assert_eq!(shift.then(&scale).at(uv), DVec2::new(3.0, 3.0));
+    }
+
+    #[test]
+    fn parts_merge_with_a_material_per_face_and_uvs_only_when_all_have_them() {
+        let quad = |z: f64| {
+            Mesh::from_faces(
+                vec![
+                    DVec3::new(0.0, 0.0, z),
+                    DVec3::new(1.0, 0.0, z),
+                    DVec3::new(1.0, 1.0, z),
+                    DVec3::new(0.0, 1.0, z),
+                ],
+                [[0u32, 1, 2, 3]],
+            )
+        };
+        let part = |name: &str, z: f64, uvs: bool| Part {
+            material: Some(Arc::from(name)),
+            uvs: if uvs {
+                vec![DVec2::ZERO, DVec2::X, DVec2::ONE, DVec2::Y]
+            } else {
+                Vec::new()
+            },
+            ..Part::new(name.to_owned(), Color::default(), quad(z), Vec::new())
+        };
+        let parts = [
+            part("a", 0.0, true),
+            part("b", 1.0, true),
+            part("a", 2.0, true),
+        ];
+        let (mesh, look) = AssetLook::from_parts(&parts);
+        let look = look.unwrap();
+        assert_eq!(mesh.face_count(), 3);
+        assert_eq!(look.face_materials, [0, 1, 0]);
+        assert_eq!(look.materials.len(), 2);
+        assert_eq!(look.uvs.len(), 12);
+        assert!(look.fits(&mesh));
+        assert!(!look.fits(&quad(0.0)));
+        let (_, look) = AssetLook::from_parts(&[part("a", 0.0, true), part("b", 1.0, false)]);
+        assert!(look.unwrap().uvs.is_empty());
+        // Neither materials nor uvs: nothing to wear.
+        let plain = Part::new("p".to_owned(), Color::default(), quad(0.0), Vec::new());
+        assert!(AssetLook::from_parts(&[plain]).1.is_none());
+    }
+}
