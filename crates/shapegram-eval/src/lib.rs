@@ -10,6 +10,8 @@
 
 mod annotations;
 mod arrays;
+mod asset_faces;
+pub mod asset_look;
 mod builtins;
 mod colors;
 mod context;

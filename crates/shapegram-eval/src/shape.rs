@@ -215,6 +215,9 @@ pub struct State {
     pub attrs: Rc<Vec<Value>>,
     /// Surface colour.
     pub color: Color,
+    /// Whether the grammar set the colour (`color()`, `set(material.color…)`): only then does
+    /// it win over an inserted asset's own (see [`crate::asset_look`]).
+    pub painted: bool,
     /// Material name set with `set(material.name, …)`.
     pub material: Option<Arc<str>>,
     /// Projections, uv sets, texture layers and the other material attributes; `None` until a
@@ -268,6 +271,7 @@ impl FrozenState {
             geometry: self.geometry,
             attrs: Rc::new(self.attrs),
             color: self.color,
+            painted: self.painted,
             material: self.material,
             texturing: self.texturing,
             split: self.split,
@@ -298,6 +302,7 @@ pub struct FrozenState {
     geometry: Geometry,
     attrs: Vec<Value>,
     color: Color,
+    painted: bool,
     material: Option<Arc<str>>,
     texturing: Option<Arc<Texturing>>,
     split: (u32, u32),
@@ -323,6 +328,7 @@ impl State {
             geometry,
             attrs: Rc::new(Vec::new()),
             color: Color::default(),
+            painted: false,
             material: None,
             texturing: None,
             split: (0, 1),
@@ -365,6 +371,7 @@ impl State {
             geometry: std::mem::replace(&mut self.geometry, Geometry::Empty),
             attrs: self.attrs.clone(),
             color: self.color,
+            painted: self.painted,
             material: self.material.take(),
             texturing: self.texturing.take(),
             split: self.split,
@@ -390,6 +397,7 @@ impl State {
             geometry: self.geometry,
             attrs: Rc::try_unwrap(self.attrs).unwrap_or_else(|shared| (*shared).clone()),
             color: self.color,
+            painted: self.painted,
             material: self.material,
             texturing: self.texturing,
             split: self.split,

@@ -13,6 +13,8 @@ use std::sync::Arc;
 
 use shapegram_geom::{DAffine3, DVec2, DVec3, Finish, Maps, Surface, Texture};
 
+use crate::asset_look::WornAsset;
+
 /// The layer of the colour map, the one layer whose image is read and exported.
 pub const COLORMAP: usize = 0;
 
@@ -220,6 +222,9 @@ pub struct Texturing {
     pub maps: [Option<Arc<Texture>>; UV_SETS],
     /// The material's other attributes the grammar set.
     pub finish: Finish,
+    /// The materials and uvs of the asset the shape holds, when `i()` inserted one that has
+    /// any (see [`crate::asset_look`]).
+    pub asset: Option<WornAsset>,
 }
 
 impl Texturing {

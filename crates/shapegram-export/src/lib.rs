@@ -23,6 +23,7 @@ mod error;
 mod flat;
 mod geojson;
 mod glb;
+mod mtl;
 mod obj;
 mod read;
 mod stl;
@@ -32,7 +33,9 @@ use std::fs::File;
 use std::io::{BufWriter, Write};
 use std::path::Path;
 
-use shapegram_geom::Model;
+use std::sync::Arc;
+
+use shapegram_geom::{Model, Texture};
 
 pub use buffers::{BufferJoint, Buffers, NO_JOINT, PartRange};
 pub use error::Error;
@@ -142,13 +145,14 @@ fn stream(
     out.flush()
 }
 
-/// Reads a file by extension; for OBJ, an MTL named by `mtllib` beside it gives the colours
-/// (Kd, d) when it exists.
+/// Reads a file by extension; for OBJ, an MTL named by `mtllib` beside it gives the materials
+/// (name, `Kd`, `d`, texture maps read beside it, …) when it exists.
 pub fn load(path: &Path) -> Result<Model, Error> {
     load_with(path, |file| std::fs::read(file))
 }
 
-/// [`load`] with the bytes of the file and of the MTL files it names read by `read`: the
+/// [`load`] with the bytes of the file and of the MTL and texture files it names read by
+/// `read`: the
 /// assets of a rule package are entries of an archive, not files. `path` names the file in
 /// messages and its extension picks the format.
 pub fn load_with(
@@ -161,17 +165,40 @@ pub fn load_with(
         source,
     })?;
     let model = match format {
-        Format::Glb => read_glb(&bytes),
+        // Embedded images are named within their file: under the file's path, they stay apart
+        // from another asset's and keep their own name as the last part.
+        Format::Glb => read_glb(&bytes).map(|mut model| {
+            for part in &mut model.parts {
+                if let Some(texture) = &mut part.texture {
+                    let path = format!("{}/{}", path.display(), texture.path);
+                    Arc::make_mut(texture).path = Arc::from(path);
+                }
+            }
+            model
+        }),
         Format::Stl => read_stl(&bytes),
         Format::Obj => {
             let text = std::str::from_utf8(&bytes)
                 .map_err(|e| Error::broken(Format::Obj, format!("not UTF-8 text ({e})")))
                 .map_err(|e| e.at(path))?;
             let dir = path.parent().unwrap_or(Path::new(""));
-            read::read_obj_with(text, |mtl| match read(&dir.join(mtl)) {
-                Ok(bytes) => tobj::load_mtl_buf(&mut bytes.as_slice()),
-                Err(_) => Err(tobj::LoadError::OpenFileFailed),
-            })
+            // A texture that cannot be read leaves its part in its colour, as CityEngine
+            // draws an asset whose texture is missing.
+            let texture = |name: &str| {
+                let file = dir.join(name);
+                Arc::new(Texture {
+                    path: Arc::from(file.to_string_lossy().as_ref()),
+                    image: read(&file).ok().map(Arc::from),
+                })
+            };
+            read::read_obj_with(
+                text,
+                |mtl| match read(&dir.join(mtl)) {
+                    Ok(bytes) => tobj::load_mtl_buf(&mut bytes.as_slice()),
+                    Err(_) => Err(tobj::LoadError::OpenFileFailed),
+                },
+                &texture,
+            )
         }
     };
     model.map_err(|e| e.at(path))

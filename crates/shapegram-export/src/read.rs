@@ -9,18 +9,22 @@
 //! without skeletons.
 
 use std::borrow::Cow;
+use std::collections::HashMap;
 use std::io::Cursor;
 use std::path::Path;
+use std::sync::Arc;
 
 use gltf::accessor::{DataType, Dimensions};
 use gltf::mesh::Mode;
-use shapegram_geom::{Color, DAffine3, DVec3, Lines, Mesh, Model, Part};
+use shapegram_geom::{Color, DAffine3, DVec2, DVec3, Lines, Mesh, Model, Part, Texture};
 
 use crate::glb::{CHUNK_BIN, CHUNK_JSON, MAGIC};
-use crate::{Error, Format};
+use crate::{Error, Format, mtl};
 
 /// Reads a GLB file (binary glTF 2.0): triangle primitives of the default scene, in world
-/// coordinates, one part per primitive named after its node, coloured by `baseColorFactor`;
+/// coordinates, one part per primitive named after its node, coloured by `baseColorFactor`,
+/// with its material's name, its float `TEXCOORD_0` as uvs and, with them, its embedded colour
+/// texture;
 /// line primitives likewise as line sets. Points are skipped; strips and fans become triangles,
 /// line strips and loops segments.
 pub fn read_glb(bytes: &[u8]) -> Result<Model, Error> {
@@ -72,10 +76,18 @@ pub fn read_glb(bytes: &[u8]) -> Result<Model, Error> {
                 .base_color_factor();
             let color = Color::from_linear(factor);
             match read_primitive(&primitive, blob).map_err(context)? {
-                Read::Triangles(mut part_mesh, mut normals) => {
+                Read::Triangles(mut part_mesh, mut normals, uvs) => {
                     part_mesh.transform(&world);
                     transform_normals(&mut normals, &world);
-                    push_part(&mut model.parts, name.clone(), color, part_mesh, normals);
+                    if !part_mesh.is_empty() {
+                        let material = primitive.material();
+                        model.parts.push(Part {
+                            texture: color_map(&material, blob).filter(|_| !uvs.is_empty()),
+                            uvs,
+                            material: material.name().map(Arc::from),
+                            ..Part::new(name.clone(), color, part_mesh, normals)
+                        });
+                    }
                 }
                 Read::Lines(mut points, segments) => {
                     for p in &mut points {
@@ -198,10 +210,38 @@ fn scene_nodes(document: &gltf::Document) -> Result<Vec<(gltf::Node<'_>, DAffine
     Ok(out)
 }
 
+/// The colour map of a material, when it is an image embedded in the BIN chunk, named after
+/// the image (or its index); its bytes are kept when they are PNG or JPEG.
+fn color_map(material: &gltf::Material<'_>, blob: &[u8]) -> Option<Arc<Texture>> {
+    let info = material.pbr_metallic_roughness().base_color_texture()?;
+    let image = info.texture().source();
+    let gltf::image::Source::View { view, .. } = image.source() else {
+        return None;
+    };
+    let bytes = view
+        .offset()
+        .checked_add(view.length())
+        .and_then(|end| blob.get(view.offset()..end));
+    let texture = Texture {
+        path: Arc::from(
+            image
+                .name()
+                .map_or_else(|| format!("image{}", image.index()), str::to_owned),
+        ),
+        image: bytes.map(Arc::from),
+    };
+    let readable = texture.mime_type().is_some();
+    Some(Arc::new(Texture {
+        image: texture.image.filter(|_| readable),
+        ..texture
+    }))
+}
+
 /// What a primitive holds, in node space.
 enum Read {
-    /// Triangles, with the normals of a smooth primitive (empty for flat data).
-    Triangles(Mesh, Vec<DVec3>),
+    /// Triangles, with the normals of a smooth primitive (empty for flat data) and the uvs of
+    /// TEXCOORD_0 (v up, as CGA has them; empty without).
+    Triangles(Mesh, Vec<DVec3>, Vec<DVec2>),
     /// Points and segments.
     Lines(Vec<DVec3>, Vec<[u32; 2]>),
     /// Points only, which a model does not hold.
@@ -288,7 +328,21 @@ fn read_primitive(primitive: &gltf::Primitive<'_>, blob: &[u8]) -> Result<Read, 
         Some(normals) if normal.is_some() => smooth_normals(&mesh, normals.map(vector).collect()),
         _ => Vec::new(),
     };
-    Ok(Read::Triangles(mesh, normals))
+    // Only float uvs are read; a set that does not fit is left out, as it changes no geometry.
+    let uvs = primitive
+        .get(&gltf::Semantic::TexCoords(0))
+        .filter(|uvs| {
+            uvs.count() == mesh.vertex_count()
+                && check_accessor(uvs, blob, &[DataType::F32], Dimensions::Vec2).is_ok()
+        })
+        .and_then(|_| reader.read_tex_coords(0))
+        .map(|uvs| {
+            uvs.into_f32()
+                .map(|[u, v]| DVec2::new(f64::from(u), 1.0 - f64::from(v)))
+                .collect()
+        })
+        .unwrap_or_default();
+    Ok(Read::Triangles(mesh, normals, uvs))
 }
 
 /// The segments of a line, line strip or line loop primitive.
@@ -399,15 +453,24 @@ fn check_accessor(
 /// changes between materials found in `mtllib`); faces stay polygons. The `l` elements of a
 /// group become a line set of the same name (a polyline `l a b c` one segment per pair). Without
 /// an MTL the colour is the default one. A part is smooth when each vertex has one normal and
-/// the group holds no lines.
+/// the group holds no lines. A group whose every face corner names a `vt` keeps them as its
+/// uvs, a vertex with several becoming one vertex per uv.
 pub fn read_obj(text: &str) -> Result<Model, Error> {
-    read_obj_with(text, |_| Err(tobj::LoadError::OpenFileFailed))
+    read_obj_with(text, |_| Err(tobj::LoadError::OpenFileFailed), &|path| {
+        Arc::new(Texture {
+            path: Arc::from(path),
+            image: None,
+        })
+    })
 }
 
-/// [`read_obj`] with a loader for the MTL files named by `mtllib`; Kd and d give the colours.
+/// [`read_obj`] with a loader for the MTL files named by `mtllib` and one for the texture
+/// files they name: a part wears its material's name, colour (`Kd`, `d`), colour map and the
+/// rest (see [`crate::mtl`]).
 pub(crate) fn read_obj_with(
     text: &str,
     load_mtl: impl Fn(&Path) -> tobj::MTLLoadResult,
+    load_texture: &dyn Fn(&str) -> Arc<Texture>,
 ) -> Result<Model, Error> {
     let broken = |message: String| Error::broken(Format::Obj, message);
     // Other tobj features add fields; the update keeps this compiling when one is enabled.
@@ -424,29 +487,18 @@ pub(crate) fn read_obj_with(
     let text = split_polylines(text);
     let (models, materials) = tobj::load_obj_buf(&mut text.as_bytes(), &options, load_mtl)
         .map_err(|e| broken(e.to_string()))?;
-    // A missing or broken MTL only costs the colours.
+    // A missing or broken MTL only costs the materials.
     let materials = materials.unwrap_or_default();
+    let looks: Vec<mtl::Look> = materials
+        .iter()
+        .map(|m| mtl::look(m, load_texture))
+        .collect();
     let mut model_out = Model::default();
     for model in models {
         let m = &model.mesh;
-        let color = m
-            .material_id
-            .and_then(|id| materials.get(id))
-            .and_then(|mat| {
-                let [r, g, b] = mat.diffuse?.map(|c| c as f32);
-                Some(Color {
-                    r,
-                    g,
-                    b,
-                    a: mat.dissolve.map_or(1.0, |d| d as f32),
-                })
-            })
-            .unwrap_or_default();
-        let positions: Vec<DVec3> = m
-            .positions
-            .chunks_exact(3)
-            .map(|p| DVec3::new(p[0], p[1], p[2]))
-            .collect();
+        let look = m.material_id.and_then(|id| looks.get(id));
+        let color = look.map_or_else(Color::default, |l| l.color);
+        let (positions, indices, uvs) = corners(m).map_err(broken)?;
         // tobj leaves `face_arities` empty when every face is a triangle.
         let arities: Cow<'_, [u32]> = if m.face_arities.is_empty() {
             vec![3; m.indices.len() / 3].into()
@@ -455,7 +507,7 @@ pub(crate) fn read_obj_with(
         };
         let mut faces = Vec::with_capacity(arities.len());
         let mut segments = Vec::new();
-        let mut rest = m.indices.as_slice();
+        let mut rest = indices.as_slice();
         for &arity in arities.iter() {
             let Some((face, tail)) = rest.split_at_checked(arity as usize) else {
                 return Err(broken(format!("faces of '{}' are cut short", model.name)));
@@ -473,25 +525,69 @@ pub(crate) fn read_obj_with(
             rest = tail;
         }
         let normals = if segments.is_empty() {
-            obj_vertex_normals(m, positions.len())
+            obj_vertex_normals(m, &indices, positions.len())
         } else {
             None
         };
         let lines = (!segments.is_empty()).then(|| compact_lines(&positions, segments));
         let mesh = Mesh::from_faces(positions, faces);
         let normals = normals.map_or_else(Vec::new, |n| smooth_normals(&mesh, n));
-        push_part(
-            &mut model_out.parts,
-            model.name.clone(),
-            color,
-            mesh,
-            normals,
-        );
+        if !mesh.is_empty() {
+            model_out.parts.push(Part {
+                texture: look
+                    .and_then(|l| l.texture.clone())
+                    .filter(|_| !uvs.is_empty()),
+                uvs,
+                material: look.map(|l| l.name.clone()),
+                surface: look.and_then(|l| l.surface.clone()),
+                ..Part::new(model.name.clone(), color, mesh, normals)
+            });
+        }
         if let Some((points, segments)) = lines {
             push_lines(&mut model_out.lines, model.name, color, points, segments);
         }
     }
     Ok(model_out)
+}
+
+/// A group's vertices and its corners' indices into them, with one uv per vertex when every
+/// corner names a `vt`: a position used with several uvs becomes one vertex per uv, in the
+/// order the corners first use them. Without `vt` (or with some corners lacking one) the
+/// positions as the file has them, and no uvs.
+#[allow(clippy::type_complexity)]
+fn corners(m: &tobj::Mesh) -> Result<(Vec<DVec3>, Vec<u32>, Vec<DVec2>), String> {
+    let positions: Vec<DVec3> = m
+        .positions
+        .chunks_exact(3)
+        .map(|p| DVec3::new(p[0], p[1], p[2]))
+        .collect();
+    if m.texcoord_indices.is_empty() || m.texcoord_indices.len() != m.indices.len() {
+        return Ok((positions, m.indices.clone(), Vec::new()));
+    }
+    let mut vertex_of: HashMap<(u32, u32), u32> = HashMap::new();
+    let (mut points, mut uvs) = (Vec::new(), Vec::new());
+    let mut indices = Vec::with_capacity(m.indices.len());
+    for (&p, &t) in m.indices.iter().zip(&m.texcoord_indices) {
+        let i = match vertex_of.get(&(p, t)) {
+            Some(&i) => i,
+            None => {
+                let point = positions
+                    .get(p as usize)
+                    .ok_or("a face refers to a missing vertex")?;
+                let uv = m
+                    .texcoords
+                    .get(2 * t as usize..2 * t as usize + 2)
+                    .ok_or("a face refers to a missing texture coordinate")?;
+                points.push(*point);
+                uvs.push(DVec2::new(uv[0], uv[1]));
+                let i = (points.len() - 1) as u32;
+                vertex_of.insert((p, t), i);
+                i
+            }
+        };
+        indices.push(i);
+    }
+    Ok((points, indices, uvs))
 }
 
 /// Checks that every index of a face, line or point element names an element of the file:
@@ -574,13 +670,14 @@ fn split_polylines(text: &str) -> Cow<'_, str> {
     Cow::Owned(out)
 }
 
-/// One normal per vertex when every corner names one and each vertex is always given the same.
-fn obj_vertex_normals(mesh: &tobj::Mesh, vertices: usize) -> Option<Vec<DVec3>> {
-    if mesh.normal_indices.len() != mesh.indices.len() {
+/// One normal per vertex (of `indices`, the corners of `mesh` renumbered by [`corners`]) when
+/// every corner names one and each vertex is always given the same.
+fn obj_vertex_normals(mesh: &tobj::Mesh, indices: &[u32], vertices: usize) -> Option<Vec<DVec3>> {
+    if mesh.normal_indices.len() != indices.len() {
         return None;
     }
     let mut chosen = vec![u32::MAX; vertices];
-    for (&v, &n) in mesh.indices.iter().zip(&mesh.normal_indices) {
+    for (&v, &n) in indices.iter().zip(&mesh.normal_indices) {
         let slot = chosen.get_mut(v as usize)?;
         if *slot != u32::MAX && *slot != n {
             return None;
@@ -668,18 +765,7 @@ pub fn read_stl(bytes: &[u8]) -> Result<Model, Error> {
 
 fn push_part(parts: &mut Vec<Part>, name: String, color: Color, mesh: Mesh, normals: Vec<DVec3>) {
     if !mesh.is_empty() {
-        parts.push(Part {
-            texture: None,
-            uvs: Vec::new(),
-            bone: None,
-            metadata: None,
-            name,
-            color,
-            mesh,
-            normals,
-            material: None,
-            surface: None,
-        });
+        parts.push(Part::new(name, color, mesh, normals));
     }
 }
 

@@ -154,6 +154,22 @@ impl Maps {
         })
     }
 
+    /// The layer of CGA uv set `set` (1 to 9).
+    pub fn layer(&self, set: usize) -> Option<&Option<Arc<Texture>>> {
+        Some(match set {
+            1 => &self.bump,
+            2 => &self.dirt,
+            3 => &self.specular,
+            4 => &self.opacity,
+            5 => &self.normal,
+            6 => &self.emissive,
+            7 => &self.occlusion,
+            8 => &self.roughness,
+            9 => &self.metallic,
+            _ => return None,
+        })
+    }
+
     /// Whether no layer has a texture.
     pub fn is_empty(&self) -> bool {
         self.layers().iter().all(|(_, t)| t.is_none())
@@ -169,9 +185,78 @@ pub struct Surface {
     pub maps: Maps,
 }
 
+impl Surface {
+    /// `self` laid over `under`, attribute by attribute and layer by layer: what `self` sets
+    /// wins, the rest comes from `under` (a shape's material over an inserted asset's, as CGA
+    /// has it).
+    pub fn over(&self, under: &Surface) -> Surface {
+        let (a, b) = (&self.finish, &under.finish);
+        let finish = Finish {
+            metallic: a.metallic.or(b.metallic),
+            roughness: a.roughness.or(b.roughness),
+            emissive: a.emissive.or(b.emissive),
+            specular: a.specular.or(b.specular),
+            ambient: a.ambient.or(b.ambient),
+            shininess: a.shininess.or(b.shininess),
+            reflectivity: a.reflectivity.or(b.reflectivity),
+            bump_value: a.bump_value.or(b.bump_value),
+            alpha_mode: a.alpha_mode.or(b.alpha_mode),
+            alpha_cutoff: a.alpha_cutoff.or(b.alpha_cutoff),
+            double_sided: a.double_sided.or(b.double_sided),
+        };
+        let mut maps = self.maps.clone();
+        for set in 1..=9 {
+            if let (Some(mine), Some(theirs)) = (maps.layer_mut(set), under.maps.layer(set))
+                && mine.is_none()
+            {
+                mine.clone_from(theirs);
+            }
+        }
+        Surface { finish, maps }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_surface_over_another_wins_where_it_sets_something() {
+        let texture = |path: &str| {
+            Some(Arc::new(Texture {
+                path: path.into(),
+                image: None,
+            }))
+        };
+        let shape = Surface {
+            finish: Finish {
+                shininess: Some(40.0),
+                ..Finish::default()
+            },
+            maps: Maps {
+                bump: texture("shape-bump.png"),
+                ..Maps::default()
+            },
+        };
+        let asset = Surface {
+            finish: Finish {
+                shininess: Some(10.0),
+                specular: Some([0.5, 0.25, 0.0]),
+                ..Finish::default()
+            },
+            maps: Maps {
+                bump: texture("asset-bump.png"),
+                specular: texture("asset-spec.png"),
+                ..Maps::default()
+            },
+        };
+        let both = shape.over(&asset);
+        assert_eq!(both.finish.shininess, Some(40.0));
+        assert_eq!(both.finish.specular, Some([0.5, 0.25, 0.0]));
+        assert_eq!(both.maps.bump.unwrap().path.as_ref(), "shape-bump.png");
+        assert_eq!(both.maps.specular.unwrap().path.as_ref(), "asset-spec.png");
+        assert!(both.maps.normal.is_none());
+    }
 
     #[test]
     fn keys_tell_every_attribute_apart() {

@@ -131,7 +131,7 @@ pub struct Part {
     /// The colour map, when the part is textured; then `uvs` has one uv per mesh vertex.
     pub texture: Option<Arc<Texture>>,
     /// Texture coordinates, one per mesh vertex (v up, as CGA has them); empty when the part
-    /// is not textured.
+    /// has none. Writers write them only for a textured part.
     pub uvs: Vec<DVec2>,
     /// The material's name the grammar set (`set(material.name, …)`), which names the
     /// written material; `None`: the material is named after the colour.
@@ -139,6 +139,20 @@ pub struct Part {
     /// The material's other attributes and texture layers, when the grammar set any (the
     /// layers are drawn through `uvs`).
     pub surface: Option<Arc<Surface>>,
+}
+
+impl Part {
+    /// An untextured part with the default material of its colour, attached to no bone and
+    /// without metadata.
+    pub fn new(name: String, color: Color, mesh: Mesh, normals: Vec<DVec3>) -> Self {
+        Self {
+            name,
+            color,
+            mesh,
+            normals,
+            ..Self::default()
+        }
+    }
 }
 
 /// An image a part is textured with.

@@ -6,6 +6,7 @@ use std::collections::HashMap;
 use std::path::{Path, PathBuf};
 use std::sync::{Arc, Mutex, PoisonError};
 
+use shapegram_eval::asset_look::AssetLook;
 use shapegram_eval::{ASSET_VARIANTS, Asset, AssetLoader};
 use shapegram_geom::{DVec3, Mesh};
 use shapegram_implicit::Solid;
@@ -26,7 +27,8 @@ pub enum MissingAssets {
 }
 
 /// Assets for `i("path")`: files relative to the grammar's folder (absolute paths as they are),
-/// read once each with `shapegram_export::load`, all parts merged into one mesh; L-system files
+/// read once each with `shapegram_export::load`, all parts merged into one mesh that keeps
+/// their materials and uvs (see [`AssetLook`]); L-system files
 /// are grown once per variant. Files that cannot be read are an error, or stand-ins as
 /// `--missing-assets` says. Every file the derivation reads (assets, textures, tables, file
 /// searches) is found by [`FileAssets::find`]'s one search.
@@ -40,7 +42,7 @@ pub struct FileAssets {
     /// Where each path asked for was found.
     found: Mutex<HashMap<String, PathBuf>>,
     missing: MissingAssets,
-    cache: Mutex<HashMap<PathBuf, Arc<Mesh>>>,
+    cache: Mutex<HashMap<PathBuf, Loaded>>,
     plants: Mutex<HashMap<(PathBuf, u32), Arc<Mesh>>>,
     solids: Mutex<HashMap<PathBuf, Solid>>,
     texts: Mutex<HashMap<PathBuf, Arc<str>>>,
@@ -175,6 +177,44 @@ impl FileAssets {
         Ok(NamedText { name, text })
     }
 
+    /// The asset at `path` with its look (for files that have materials or uvs), read once
+    /// per file.
+    fn load_worn(&self, path: &str) -> Result<Loaded, String> {
+        let full = self.find(path);
+        // Loading under the lock means each file is read once even when lots derived in
+        // parallel ask for it together.
+        let mut cache = self.cache.lock().unwrap_or_else(PoisonError::into_inner);
+        if let Some(loaded) = cache.get(&full) {
+            return Ok(loaded.clone());
+        }
+        let mut look = None;
+        let read = match full.extension().and_then(|e| e.to_str()) {
+            Some("lsys") => self
+                .read_text(&full)
+                .and_then(|t| plant(&t, 0))
+                .map(|(m, _)| m),
+            Some("cave") => self.read_text(&full).and_then(|t| carve(&t)),
+            _ => {
+                let shown = PathBuf::from(self.display(&full));
+                shapegram_export::load_with(&shown, |file| {
+                    self.files.read_io(&self.files.undisplay(file))
+                })
+                .map(|model| {
+                    let (mesh, worn) = AssetLook::from_parts(&model.parts);
+                    look = worn;
+                    mesh
+                })
+                .map_err(|e| e.to_string())
+            }
+        };
+        let loaded = Loaded {
+            mesh: self.or_stand_in(read)?,
+            look,
+        };
+        cache.insert(full, loaded.clone());
+        Ok(loaded)
+    }
+
     /// What stands in for a file that cannot be read, if anything does.
     fn stand_in(&self) -> Option<Mesh> {
         match self.missing {
@@ -205,6 +245,13 @@ impl FileAssets {
         };
         Ok(Arc::new(mesh))
     }
+}
+
+/// An asset file as read: its parts merged, and their materials and uvs.
+#[derive(Clone)]
+struct Loaded {
+    mesh: Arc<Mesh>,
+    look: Option<Arc<AssetLook>>,
 }
 
 /// A text file's contents and its name for messages.
@@ -298,40 +345,18 @@ impl AssetLoader for FileAssets {
     }
 
     fn load(&self, path: &str) -> Result<Arc<Mesh>, String> {
-        let full = self.find(path);
-        // Loading under the lock means each file is read once even when lots derived in
-        // parallel ask for it together.
-        let mut cache = self.cache.lock().unwrap_or_else(PoisonError::into_inner);
-        if let Some(mesh) = cache.get(&full) {
-            return Ok(Arc::clone(mesh));
-        }
-        let loaded = match full.extension().and_then(|e| e.to_str()) {
-            Some("lsys") => self
-                .read_text(&full)
-                .and_then(|t| plant(&t, 0))
-                .map(|(m, _)| m),
-            Some("cave") => self.read_text(&full).and_then(|t| carve(&t)),
-            _ => {
-                let shown = PathBuf::from(self.display(&full));
-                shapegram_export::load_with(&shown, |file| {
-                    self.files.read_io(&self.files.undisplay(file))
-                })
-                .map(|model| model.merged_mesh())
-                .map_err(|e| e.to_string())
-            }
-        };
-        let mesh = self.or_stand_in(loaded)?;
-        cache.insert(full, Arc::clone(&mesh));
-        Ok(mesh)
+        self.load_worn(path).map(|loaded| loaded.mesh)
     }
 
     /// L-systems keep their proportions, and stochastic ones grow one tree per variant.
     fn asset(&self, path: &str, variant: u32) -> Result<Asset, String> {
         let full = self.find(path);
         if full.extension().and_then(|e| e.to_str()) != Some("lsys") {
+            let Loaded { mesh, look } = self.load_worn(path)?;
             return Ok(Asset {
-                mesh: self.load(path)?,
+                mesh,
                 proportional: false,
+                look,
             });
         }
         let mut plants = self.plants.lock().unwrap_or_else(PoisonError::into_inner);
@@ -355,6 +380,7 @@ impl AssetLoader for FileAssets {
         Ok(Asset {
             mesh,
             proportional: true,
+            look: None,
         })
     }
 

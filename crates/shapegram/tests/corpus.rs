@@ -190,6 +190,12 @@ fn the_candler_building_measures_what_prt_makes(corpus: &Corpus) {
             })
             .count();
         assert!(jpeg >= 5, "{}: {jpeg} images", grammar.display());
+        // The window and ledge textures are drawn through the assets' own uvs (the OBJs' `vt`,
+        // retiled by `tileUV` for the windows), as CityEngine draws them.
+        let names: Vec<&str> = glb.images().filter_map(|i| i.name()).collect();
+        for drawn in ["windowTiles_2000x256.jpg", "ledge.jpg"] {
+            assert!(names.contains(&drawn), "{}: {names:?}", grammar.display());
+        }
     }
 }
 

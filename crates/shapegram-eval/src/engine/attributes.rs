@@ -73,18 +73,21 @@ impl Engine<'_> {
                     state.color = Color::from_hex(s).ok_or_else(|| {
                         DeriveError::at(format!("`{s}` is not a colour like \"#3a6ea5\""), span)
                     })?;
+                    state.painted = true;
                 }
                 v => return Err(wrong("a colour string", v)),
             },
             SetTarget::Color(Some(channel)) => match value {
                 Value::Number(n) => {
                     let c = n.clamp(0.0, 1.0) as f32;
+                    // Opacity is told set by being below 1 (see `crate::asset_look`).
                     match channel {
                         0 => state.color.r = c,
                         1 => state.color.g = c,
                         2 => state.color.b = c,
                         _ => state.color.a = c,
                     }
+                    state.painted |= *channel < 3;
                 }
                 v => return Err(wrong("a number", &v)),
             },

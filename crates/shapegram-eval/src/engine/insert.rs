@@ -10,7 +10,8 @@ use shapegram_syntax::Span;
 
 use super::Fallible;
 use super::machine::Engine;
-use super::texturing::{drop_uvs, texturing_mut};
+use super::texturing::{drop_uvs, texturing_mut, wear};
+use crate::asset_look::AssetLook;
 use crate::error::DeriveError;
 use crate::ops::{InsertFit, Placement, Primitive};
 use crate::program::CExpr;
@@ -32,6 +33,7 @@ pub trait AssetLoader: Send + Sync {
         Ok(Asset {
             mesh: self.load(path)?,
             proportional: false,
+            look: None,
         })
     }
 
@@ -81,6 +83,8 @@ pub struct Asset {
     /// Scaled uniformly to fit inside the scope, centred in x and z and standing on the scope's
     /// floor (a planted tree keeps its shape), instead of stretched to the scope as CGA's `i()`.
     pub proportional: bool,
+    /// Its materials and uvs, when it has any (see [`AssetLook::from_parts`]).
+    pub look: Option<Arc<AssetLook>>,
 }
 
 impl Engine<'_> {
@@ -99,12 +103,19 @@ impl Engine<'_> {
         // that later random choices of the shape would miss.
         let variant = (child_seed(state.seed, u64::MAX) % u64::from(ASSET_VARIANTS)) as u32;
         let mut asset = self.asset(&file, variant, path.span)?;
+        let up = if placement.z_up {
+            DAffine3::from_rotation_x(-std::f64::consts::FRAC_PI_2)
+        } else {
+            DAffine3::IDENTITY
+        };
         if placement.z_up {
-            let up = DAffine3::from_rotation_x(-std::f64::consts::FRAC_PI_2);
             asset.mesh = Arc::new(asset.mesh.transformed(&up));
         }
         drop_uvs(state);
         place(state, &asset, placement.fit);
+        if asset.look.is_some() {
+            wear(state, asset.look.as_ref(), placed(state, &asset.mesh) * up);
+        }
         trim(state);
         Ok(())
     }
@@ -186,6 +197,7 @@ impl Engine<'_> {
             return Ok(Asset {
                 mesh: Arc::new(mesh),
                 proportional: false,
+                look: None,
             });
         }
         let Some(loader) = &self.options.assets else {
@@ -275,6 +287,29 @@ pub(super) fn trim(state: &mut State) {
     }
 }
 
+/// Where the coordinates of `asset` are in the world once placed: its box onto the box of the
+/// shape's geometry, axis by axis (every placement stretches, scales or keeps it along the
+/// scope's axes).
+fn placed(state: &State, asset: &Mesh) -> DAffine3 {
+    let (Some(from), Geometry::Mesh(local, _)) = (asset.bounds(), &state.geometry) else {
+        return state.scope.local_to_world();
+    };
+    let Some(to) = local.bounds() else {
+        return state.scope.local_to_world();
+    };
+    let (from_size, to_size) = (from.size(), to.size());
+    let scale = DVec3::from_array(std::array::from_fn(|i| {
+        if from_size[i] > 0.0 {
+            to_size[i] / from_size[i]
+        } else {
+            1.0
+        }
+    }));
+    let fit = DAffine3::from_scale(scale);
+    let fit = DAffine3::from_translation(to.min - fit.transform_point3(from.min)) * fit;
+    state.scope.local_to_world() * fit
+}
+
 /// CGA's built-in assets, each filling the unit box.
 pub(crate) fn builtin_asset(path: &str) -> Option<Mesh> {
     let name = path.strip_prefix("builtin:")?;
@@ -316,8 +351,8 @@ fn place(state: &mut State, asset: &Asset, fit: InsertFit) {
         InsertFit::Align => asset,
         // The keeping modes place the asset as it is, seeded or not.
         _ => &Asset {
-            mesh: asset.mesh.clone(),
             proportional: false,
+            ..asset.clone()
         },
     };
     fit_asset(state, asset);

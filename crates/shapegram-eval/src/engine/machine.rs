@@ -608,6 +608,7 @@ impl<'p> Engine<'p> {
             scope: state.scope,
             geometry: std::mem::replace(&mut state.geometry, Geometry::Empty),
             color: state.color,
+            painted: state.painted,
             material: state.material.take(),
             texturing: state.texturing.take(),
             node: self.tree.is_some().then_some(state.node),
@@ -712,8 +713,14 @@ impl<'p> Engine<'p> {
                 self.setback(state, depths, outputs, span, args, out)?;
                 return Ok(true);
             }
-            Op::Color(params) => state.color = self.color(state, params, args)?,
-            Op::ColorLiteral(color) => state.color = *color,
+            Op::Color(params) => {
+                state.color = self.color(state, params, args)?;
+                state.painted = true;
+            }
+            Op::ColorLiteral(color) => {
+                state.color = *color;
+                state.painted = true;
+            }
             Op::Set(target, value) => self.set(state, target, value, args)?,
             Op::Reimport { attrs, overrides } => {
                 let values = overrides

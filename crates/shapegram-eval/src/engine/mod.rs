@@ -56,10 +56,11 @@ use shapegram_geom::{
 };
 use shapegram_kinematics::{Frame, SectionId, Skeleton};
 
+use crate::asset_look::{Piece, ShapeMaterial};
 use crate::error::DeriveError;
 use crate::goals::{GoalQuery, LeafSemantics};
 use crate::shape::Geometry;
-use crate::texturing::{COLORMAP, Texturing};
+use crate::texturing::Texturing;
 use crate::value::Value;
 
 pub use attr_values::{AttrValue, attr_values};
@@ -153,6 +154,8 @@ pub struct Leaf {
     pub geometry: Geometry,
     /// Its colour.
     pub color: Color,
+    /// Whether the grammar set its colour (see [`crate::asset_look`]).
+    pub painted: bool,
     /// Its material name, when one was set.
     pub material: Option<Arc<str>>,
     /// Its uv sets, texture layers and other material attributes, when texturing operations or
@@ -197,6 +200,26 @@ impl Leaf {
     /// The leaf's geometry in world coordinates (`None` when it has none).
     pub fn world_mesh(&self) -> Option<Mesh> {
         self.geometry.world_mesh(&self.scope)
+    }
+
+    /// The leaf's world mesh `mesh` as the model draws it: one piece in the shape's material,
+    /// or, when it holds an inserted asset with a look, one per material of the asset (see
+    /// [`crate::asset_look`]).
+    fn pieces(&self, mesh: Mesh) -> Vec<Piece> {
+        let material = ShapeMaterial {
+            color: self.color,
+            painted: self.painted,
+            material: self.material.as_ref(),
+            texturing: self.texturing.as_deref(),
+        };
+        let Some(worn) = self.texturing.as_ref().and_then(|t| t.asset.as_ref()) else {
+            return vec![material.piece(mesh)];
+        };
+        let local = match &self.geometry {
+            Geometry::Mesh(local, _) => Some(&**local),
+            _ => None,
+        };
+        material.pieces(worn.dress(mesh, local), &worn.look)
     }
 
     /// The uvs of uv set `set` at the vertices of `mesh` (the leaf's [`Leaf::world_mesh`]);
@@ -302,8 +325,8 @@ impl Derivation {
             [u32; 4],
             Option<Bone>,
             Option<Arc<Metadata>>,
-            Option<&'a str>,
-            Option<&'a str>,
+            Option<Arc<str>>,
+            Option<Arc<str>>,
             Option<SurfaceKey>,
         );
         let mut slot: FxHashMap<Key, usize> = FxHashMap::default();
@@ -326,52 +349,44 @@ impl Derivation {
                 section: SectionId(leaf.section),
             });
             let meta = leaf.semantics.as_ref().map(|s| metadata.of(s));
-            // Texture layers count only with uvs to place them, as in CityEngine.
-            let uv_map = leaf.texturing.as_ref().and_then(|t| t.drawn_uvs());
-            let colormap = uv_map
-                .and(leaf.texturing.as_ref())
-                .and_then(|t| t.maps[COLORMAP].as_ref());
-            let surface = leaf
-                .texturing
-                .as_ref()
-                .and_then(|t| t.surface(uv_map.is_some()));
-            let key = (
-                &*leaf.name,
-                leaf.color.to_array().map(f32::to_bits),
-                bone,
-                meta.clone(),
-                colormap.map(|texture| &*texture.path),
-                leaf.material.as_deref(),
-                surface.as_ref().map(surface_key),
-            );
-            let i = *slot.entry(key).or_insert_with(|| {
-                parts.push(ModelPart {
+            for piece in leaf.pieces(mesh) {
+                let key = (
+                    &*leaf.name,
+                    piece.color.to_array().map(f32::to_bits),
                     bone,
-                    name: leaf.name.to_string(),
-                    color: leaf.color,
-                    mesh: Mesh::new(),
-                    normals: Vec::new(),
-                    metadata: meta,
-                    texture: colormap.cloned(),
-                    uvs: Vec::new(),
-                    material: leaf.material.clone(),
-                    surface: surface.map(Arc::new),
+                    meta.clone(),
+                    piece.colormap.as_ref().map(|texture| texture.path.clone()),
+                    piece.material.clone(),
+                    piece.surface.as_ref().map(surface_key),
+                );
+                let i = *slot.entry(key).or_insert_with(|| {
+                    parts.push(ModelPart {
+                        bone,
+                        name: leaf.name.to_string(),
+                        color: piece.color,
+                        mesh: Mesh::new(),
+                        normals: Vec::new(),
+                        metadata: meta.clone(),
+                        texture: piece.colormap.clone(),
+                        uvs: Vec::new(),
+                        material: piece.material.clone(),
+                        surface: piece.surface.clone().map(Arc::new),
+                    });
+                    parts.len() - 1
                 });
-                parts.len() - 1
-            });
-            if let Some(map) = uv_map {
-                let uvs = mesh.positions().iter().map(|&p| map.at(p));
-                parts[i].uvs.extend(uvs);
+                if let Some(uvs) = piece.uvs {
+                    parts[i].uvs.extend(uvs);
+                }
+                if let Some(places) = places.as_deref_mut() {
+                    places.push(LeafFaces {
+                        leaf: index as u32,
+                        part: i as u32,
+                        first: parts[i].mesh.face_count() as u32,
+                        count: piece.mesh.face_count() as u32,
+                    });
+                }
+                parts[i].mesh.append(&piece.mesh);
             }
-            if let Some(places) = places.as_deref_mut() {
-                places.push(LeafFaces {
-                    leaf: index as u32,
-                    part: i as u32,
-                    first: parts[i].mesh.face_count() as u32,
-                    count: mesh.face_count() as u32,
-                });
-            }
-            parts[i].mesh.append(&mesh);
         }
         parts.extend(self.solids.iter().cloned());
         Model {

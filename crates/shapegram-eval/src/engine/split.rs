@@ -238,6 +238,7 @@ impl<'p> Engine<'p> {
                 scope,
                 geometry: state.geometry.clone(),
                 color: state.color,
+                painted: state.painted,
                 material: state.material.clone(),
                 texturing: state.texturing.clone(),
                 node: None,

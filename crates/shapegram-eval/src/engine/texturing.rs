@@ -9,10 +9,11 @@ use shapegram_geom::{AlphaMode, DAffine3, DMat3, DVec2, DVec3, Scope, Texture};
 
 use super::Fallible;
 use super::machine::Engine;
+use crate::asset_look::{AssetLook, UvAffine, WornAsset};
 use crate::error::DeriveError;
 use crate::ops::{ProjectionSetup, UvEdit, UvNormalization};
 use crate::program::{CExpr, CKind};
-use crate::shape::State;
+use crate::shape::{Geometry, State};
 use crate::texturing::{FinishAttr, OPACITYMAP, ProjectionFrame, Texturing, UV_SETS, UvMap};
 use crate::value::Value;
 
@@ -166,7 +167,8 @@ impl Engine<'_> {
         Ok(())
     }
 
-    /// A uv edit (see [`UvEdit`]); a set the geometry does not have is left alone.
+    /// A uv edit (see [`UvEdit`]); a set the geometry does not have is left alone. uv set 0
+    /// of an inserted asset (its own uvs, per vertex) is edited as a projected set is.
     pub(super) fn edit_uv(
         &mut self,
         state: &mut State,
@@ -183,18 +185,57 @@ impl Engine<'_> {
             }
             return Ok(());
         }
-        let Some(map) = state.texturing.as_ref().and_then(|t| t.uvs[set]) else {
+        let texturing = state.texturing.as_ref();
+        if let Some(map) = texturing.and_then(|t| t.uvs[set]) {
+            let extent = uv_bounds(state, &map).map(|bounds| (bounds, map.rates()));
+            let change = self.uv_change(state, edit, extent, params, args)?;
+            texturing_mut(state).uvs[set] = change.map(|c| map.then(c.m, c.t));
+            return Ok(());
+        }
+        let Some(worn) = texturing
+            .and_then(|t| t.asset.as_ref())
+            .filter(|_| set == 0)
+        else {
             return Ok(());
         };
-        let edited = match edit {
+        let Some(extent) = state
+            .geometry
+            .world_mesh(&state.scope)
+            .filter(|_| matches!(&state.geometry, Geometry::Mesh(m, _) if worn.look.fits(m)))
+            .and_then(|mesh| worn.uv_extent(&mesh))
+        else {
+            return Ok(());
+        };
+        let change = self.uv_change(state, edit, Some(extent), params, args)?;
+        if let Some(worn) = &mut texturing_mut(state).asset {
+            worn.uv_edit = worn.uv_edit.zip(change).map(|(old, new)| old.then(&new));
+        }
+        Ok(())
+    }
+
+    /// What a uv edit does to uvs whose smallest and largest values and growth per metre are
+    /// `extent` (`None` when there is no geometry): `None` removes the set.
+    fn uv_change(
+        &mut self,
+        state: &mut State,
+        edit: UvEdit,
+        extent: Option<((DVec2, DVec2), DVec2)>,
+        params: &[CExpr],
+        args: &[Value],
+    ) -> Fallible<Option<UvAffine>> {
+        let linear = |m: [[f64; 2]; 2]| UvAffine { m, t: DVec2::ZERO };
+        Ok(match edit {
             UvEdit::Delete => None,
             UvEdit::Scale => {
                 let s = self.two(&params[1..], state, args)?;
-                Some(map.then([[s.x, 0.0], [0.0, s.y]], DVec2::ZERO))
+                Some(linear([[s.x, 0.0], [0.0, s.y]]))
             }
             UvEdit::Translate => {
                 let t = self.two(&params[1..], state, args)?;
-                Some(map.then([[1.0, 0.0], [0.0, 1.0]], t))
+                Some(UvAffine {
+                    t,
+                    ..UvAffine::IDENTITY
+                })
             }
             UvEdit::Rotate => {
                 let (sin, cos) = self
@@ -202,31 +243,32 @@ impl Engine<'_> {
                     .number(&params[1], state, args)?
                     .to_radians()
                     .sin_cos();
-                Some(map.then([[cos, -sin], [sin, cos]], DVec2::ZERO))
+                Some(linear([[cos, -sin], [sin, cos]]))
             }
-            UvEdit::Tile => Some(self.tile(state, map, &params[1..], args)?),
-            UvEdit::Normalize(mode) => Some(normalized(state, map, mode)),
-            UvEdit::Copy => Some(map),
-        };
-        texturing_mut(state).uvs[set] = edited;
-        Ok(())
+            UvEdit::Tile => Some(match extent {
+                Some((bounds, rates)) => self.tile(state, bounds, rates, &params[1..], args)?,
+                None => UvAffine::IDENTITY,
+            }),
+            UvEdit::Normalize(mode) => Some(match extent {
+                Some((bounds, _)) => normalized(bounds, mode),
+                None => UvAffine::IDENTITY,
+            }),
+            UvEdit::Copy => Some(UvAffine::IDENTITY),
+        })
     }
 
-    /// `tileUV`: the uvs start at 0 over the geometry and one tile spans the given size along
-    /// each axis (metres on the surface, `'r` of the current extent, `~f` whole tiles of about
-    /// `f`; 0 leaves the axis alone).
+    /// `tileUV`: the uvs (from `low` to `high`, growing `rates` per metre) start at 0 over the
+    /// geometry and one tile spans the given size along each axis (metres on the surface, `'r`
+    /// of the current extent, `~f` whole tiles of about `f`; 0 leaves the axis alone).
     fn tile(
         &mut self,
         state: &mut State,
-        map: UvMap,
+        (low, high): (DVec2, DVec2),
+        rates: DVec2,
         sizes: &[CExpr],
         args: &[Value],
-    ) -> Fallible<UvMap> {
-        let Some((low, high)) = uv_bounds(state, &map) else {
-            return Ok(map);
-        };
+    ) -> Fallible<UvAffine> {
         let extent = high - low;
-        let rates = map.rates();
         let (mut scale, mut shift) = (DVec2::ONE, DVec2::ZERO);
         for i in 0..2 {
             if extent[i] <= 0.0 || rates[i] <= 0.0 {
@@ -250,7 +292,10 @@ impl Engine<'_> {
                 shift[i] = -low[i] * factor;
             }
         }
-        Ok(map.then([[scale.x, 0.0], [0.0, scale.y]], shift))
+        Ok(UvAffine {
+            m: [[scale.x, 0.0], [0.0, scale.y]],
+            t: shift,
+        })
     }
 
     /// A uv set's number, 0 to 9.
@@ -304,12 +349,9 @@ fn uv_bounds(state: &State, map: &UvMap) -> Option<(DVec2, DVec2)> {
     low.is_finite().then_some((low, high))
 }
 
-/// `normalizeUV`: the uvs over the geometry mapped onto `[0, 1]` along the mode's axes (the
+/// `normalizeUV`: uvs from `low` to `high` mapped onto `[0, 1]` along the mode's axes (the
 /// smallest becoming 0); an axis along which they do not change is left alone.
-fn normalized(state: &State, map: UvMap, mode: UvNormalization) -> UvMap {
-    let Some((low, high)) = uv_bounds(state, &map) else {
-        return map;
-    };
+fn normalized((low, high): (DVec2, DVec2), mode: UvNormalization) -> UvAffine {
     let extent = high - low;
     let axes = match mode {
         UvNormalization::Each | UvNormalization::Uniform => [true, true],
@@ -327,7 +369,10 @@ fn normalized(state: &State, map: UvMap, mode: UvNormalization) -> UvMap {
             shift[i] = -low[i] / length;
         }
     }
-    map.then([[scale.x, 0.0], [0.0, scale.y]], shift)
+    UvAffine {
+        m: [[scale.x, 0.0], [0.0, scale.y]],
+        t: shift,
+    }
 }
 
 /// The shape's texturing, made its own to change.
@@ -335,23 +380,46 @@ pub(super) fn texturing_mut(state: &mut State) -> &mut Texturing {
     Arc::make_mut(state.texturing.get_or_insert_with(Default::default))
 }
 
-/// Carries the shape's uv sets along after its geometry moved with its scope from `before`,
+/// Carries the shape's uv sets, and where the asset it wears is, along after its geometry moved
+/// with its scope from `before`,
 /// where `local` is how the geometry's scope-local coordinates changed (identity when they
 /// did not).
 pub(super) fn follow_geometry(state: &mut State, before: &Scope, local: DAffine3) {
-    if !state.texturing.as_ref().is_some_and(|t| t.has_uvs()) {
+    if !state
+        .texturing
+        .as_ref()
+        .is_some_and(|t| t.has_uvs() || t.asset.is_some())
+    {
         return;
     }
     let motion = state.scope.local_to_world() * local * before.world_to_local();
-    for map in texturing_mut(state).uvs.iter_mut().flatten() {
+    let texturing = texturing_mut(state);
+    for map in texturing.uvs.iter_mut().flatten() {
         *map = map.moved(&motion);
+    }
+    if let Some(worn) = &mut texturing.asset {
+        worn.placed = motion * worn.placed;
     }
 }
 
-/// Drops the shape's uv sets when its geometry is replaced (an inserted asset or a primitive
-/// brings its own uvs, not read yet).
+/// Drops the shape's uv sets and the look of an asset it held when its geometry is replaced
+/// (an inserted asset or a primitive brings its own).
 pub(super) fn drop_uvs(state: &mut State) {
-    if state.texturing.as_ref().is_some_and(|t| t.has_uvs()) {
-        texturing_mut(state).uvs = Default::default();
+    if state
+        .texturing
+        .as_ref()
+        .is_some_and(|t| t.has_uvs() || t.asset.is_some())
+    {
+        let texturing = texturing_mut(state);
+        texturing.uvs = Default::default();
+        texturing.asset = None;
+    }
+}
+
+/// Gives the shape the look of the asset it now holds (see [`crate::asset_look`]); nothing
+/// for an asset without one.
+pub(super) fn wear(state: &mut State, look: Option<&Arc<AssetLook>>, placed: DAffine3) {
+    if let Some(look) = look {
+        texturing_mut(state).asset = Some(WornAsset::new(Arc::clone(look), placed));
     }
 }
