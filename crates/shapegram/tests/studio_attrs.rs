@@ -326,7 +326,7 @@ fn a_newer_request_cancels_the_running_derivation() {
 fn a_newer_request_cancels_the_running_cave() {
     newer_request_cancels(
         "slow.cave",
-        "lod 32\nadd sphere(3)\n",
+        "lod 32\nadd sphere(5)\n",
         "lod 2\nadd box(1, 1, 1)\n",
     );
 }
