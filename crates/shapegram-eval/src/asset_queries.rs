@@ -217,7 +217,7 @@ pub(crate) fn size_misfit(asset: DVec3, scope: DVec3, axes: &[usize]) -> f64 {
     axes.iter()
         .map(|&a| match (asset[a], scope[a]) {
             (s, t) if s == t => 0.0,
-            (s, _) if s == 0.0 => f64::INFINITY,
+            (0.0, _) => f64::INFINITY,
             (s, t) => (t / s - 1.0).abs(),
         })
         .fold(0.0, f64::max)

@@ -47,7 +47,7 @@ pub struct FileAssets {
     solids: Mutex<HashMap<PathBuf, Solid>>,
     texts: Mutex<HashMap<PathBuf, Arc<str>>>,
     images: Mutex<HashMap<PathBuf, Option<Arc<[u8]>>>>,
-    image_sizes: Mutex<HashMap<PathBuf, Result<(u32, u32), String>>>,
+    image_sizes: Mutex<HashMap<PathBuf, Result<ImageSize, String>>>,
     searches: Mutex<HashMap<String, Vec<Arc<str>>>>,
 }
 
@@ -251,6 +251,9 @@ impl FileAssets {
         Ok(Arc::new(mesh))
     }
 }
+
+/// An image's width and height in pixels.
+type ImageSize = (u32, u32);
 
 /// An asset file as read: its parts merged, and their materials and uvs.
 #[derive(Clone)]
