@@ -195,19 +195,20 @@ fn the_best_image_is_drawn_among_images_of_the_same_ratio() {
     // Two 2:1 images fit a 4 × 2 cell equally: each cell draws one of them.
     let p = prints(
         "Lot --> split(x) { 4 : Cell }*\nCell --> print(imageBestRatio(\"twins\", \"xz\")) \
-         print(imageApproxRatio(\"twins\", \"xz\", 0)) X.",
+         print(imageApproxRatio(\"twins\", \"xz\", 0)) print(imageApproxRatio(\"twins\", \"xz\", 0.5)) X.",
         40.0,
         2.0,
     );
-    let best: Vec<&str> = p.iter().step_by(2).map(|s| &**s).collect();
+    let best: Vec<&str> = p.iter().step_by(3).map(|s| &**s).collect();
     assert!(
         best.contains(&"twin_a.png") && best.contains(&"twin_b.png"),
         "{best:?}"
     );
     assert!(!best.contains(&"wide.png"));
-    // With `n` below 1 the draw is among every image.
-    let any: Vec<&str> = p.iter().skip(1).step_by(2).map(|s| &**s).collect();
+    // With `n` of 0 or less the draw is among every image, between 0 and 1 among none.
+    let any: Vec<&str> = p.iter().skip(1).step_by(3).map(|s| &**s).collect();
     assert!(any.contains(&"wide.png"), "{any:?}");
+    assert!(p.iter().skip(2).step_by(3).all(|s| s.is_empty()), "{p:?}");
 }
 
 #[test]

@@ -24,19 +24,23 @@ struct FileList {
 }
 
 impl FileList {
-    /// `files` in the form the list came in: an array, or a string list with each entry
-    /// ended by `;`.
+    /// `files` in the form the list came in.
     fn value(&self, files: impl IntoIterator<Item = Arc<str>>) -> Value {
-        if self.array {
-            Value::Array(files.into_iter().map(Value::Str).collect())
-        } else {
-            Value::string(
-                &files
-                    .into_iter()
-                    .map(|f| format!("{f};"))
-                    .collect::<String>(),
-            )
-        }
+        listed(files, self.array)
+    }
+}
+
+/// `names` as an array, or as a string list with each entry ended by `;`.
+fn listed(names: impl IntoIterator<Item = Arc<str>>, array: bool) -> Value {
+    if array {
+        Value::Array(names.into_iter().map(Value::Str).collect())
+    } else {
+        Value::string(
+            &names
+                .into_iter()
+                .map(|n| format!("{n};"))
+                .collect::<String>(),
+        )
     }
 }
 
@@ -51,36 +55,10 @@ impl Evaluator<'_> {
     ) -> Result<Value> {
         match f {
             AssetFn::Info => self.asset_info(params, shape, args),
+            AssetFn::ImageInfo => self.image_info(params, shape, args),
             AssetFn::NamingInfo | AssetFn::NamingInfos => {
-                let path = self.string(&params[0], shape, args)?;
-                let which = self.word(&params[1], shape, args)?;
-                let naming = match crate::engine::builtin_asset(&path) {
-                    Some(_) => Arc::default(),
-                    None => self
-                        .loader(&params[0], &format!("read the asset `{path}`"))?
-                        .naming(&path)
-                        .map_err(|why| {
-                            DeriveError::at(
-                                format!("cannot read the asset `{path}`: {why}"),
-                                params[0].span,
-                            )
-                        })?,
-                };
-                let names = match &*which {
-                    "g" => &naming.groups,
-                    "m" => &naming.materials,
-                    _ => {
-                        return Err(DeriveError::at(
-                            format!("`{which}`: expected g (group names) or m (material names)"),
-                            params[1].span,
-                        ));
-                    }
-                };
-                let list = FileList {
-                    files: Vec::new(),
-                    array: f == AssetFn::NamingInfos,
-                };
-                Ok(list.value(names.iter().cloned()))
+                let names = self.naming_info(params, shape, args)?;
+                Ok(listed(names, f == AssetFn::NamingInfos))
             }
             AssetFn::Metadata => {
                 let path = self.string(&params[0], shape, args)?;
@@ -91,108 +69,177 @@ impl Evaluator<'_> {
                 self.asset_bounds(&path, &params[0])?;
                 Ok(default)
             }
-            AssetFn::SortSize => {
-                let list = self.file_list(&params[0], shape, args)?;
-                let axes = self.size_selector(&params[1], shape, args)?;
-                let max_error = self.number(&params[2], shape, args)?;
-                let sorted = self.by_size(&list.files, axes, shape.scope.size, max_error);
-                Ok(list.value(sorted))
-            }
-            AssetFn::SortRatio => {
-                let list = self.file_list(&params[0], shape, args)?;
-                let pairs = self.ratio_selector(&params[1], shape, args)?;
-                let sorted = self.by_ratio(&list.files, pairs, shape.scope.size);
-                Ok(list.value(sorted.into_iter().map(|(_, f)| f)))
-            }
-            AssetFn::ImagesSortRatio => {
-                let list = self.file_list(&params[0], shape, args)?;
-                let axes = self.image_selector(&params[1], shape, args)?;
-                let sorted = self.images_by_ratio(&list.files, axes, shape.scope.size);
-                Ok(list.value(sorted.into_iter().map(|(_, f)| f)))
+            AssetFn::SortSize | AssetFn::SortRatio | AssetFn::ImagesSortRatio => {
+                self.sort_files(f, params, shape, args)
             }
             AssetFn::BestSize | AssetFn::ApproxSize | AssetFn::FitSize => {
-                let found = self.searched(&params[0], shape, args)?;
-                let axes = self.size_selector(&params[1], shape, args)?;
-                let last = match f {
-                    AssetFn::BestSize => None,
-                    _ => Some(self.number(&params[2], shape, args)?),
-                };
-                let scope = shape.scope.size;
-                let chosen = match (f, last) {
-                    (AssetFn::ApproxSize, Some(n)) => {
-                        let sorted = self.by_size(&found, axes, scope, 0.0);
-                        draw(first(sorted, n), shape)
-                    }
-                    (AssetFn::FitSize, Some(e)) => {
-                        draw(self.by_size(&found, axes, scope, e), shape)
-                    }
-                    _ => self.by_size(&found, axes, scope, 0.0).into_iter().next(),
-                };
+                let chosen = self.choose_by_size(f, params, shape, args)?;
                 Ok(Value::Str(chosen.unwrap_or_else(|| Arc::from(""))))
             }
-            AssetFn::BestRatio | AssetFn::ApproxRatio => {
-                let found = self.searched(&params[0], shape, args)?;
-                let pairs = self.ratio_selector(&params[1], shape, args)?;
-                let sorted = self.by_ratio(&found, pairs, shape.scope.size);
-                let chosen = if f == AssetFn::BestRatio {
-                    sorted.into_iter().next().map(|(_, file)| file)
-                } else {
-                    let n = self.number(&params[2], shape, args)?;
-                    draw(
-                        first(sorted.into_iter().map(|(_, f)| f).collect(), n),
-                        shape,
-                    )
-                };
+            AssetFn::BestRatio
+            | AssetFn::ApproxRatio
+            | AssetFn::ImageBestRatio
+            | AssetFn::ImageApproxRatio => {
+                let chosen = self.choose_by_ratio(f, params, shape, args)?;
                 Ok(Value::Str(chosen.unwrap_or_else(|| Arc::from(""))))
-            }
-            AssetFn::ImageBestRatio | AssetFn::ImageApproxRatio => {
-                let found = self.searched(&params[0], shape, args)?;
-                let axes = self.image_selector(&params[1], shape, args)?;
-                let sorted = self.images_by_ratio(&found, axes, shape.scope.size);
-                let chosen = if f == AssetFn::ImageBestRatio {
-                    // The reference: among images that share the best ratio, a random one.
-                    let best = sorted.first().map(|(m, _)| *m);
-                    let ties = sorted
-                        .into_iter()
-                        .take_while(|(m, _)| Some(*m) == best)
-                        .map(|(_, f)| f)
-                        .collect::<Vec<_>>();
-                    match ties.len() {
-                        0 | 1 => ties.into_iter().next(),
-                        _ => draw(ties, shape),
-                    }
-                } else {
-                    let n = self.number(&params[2], shape, args)?;
-                    let files: Vec<Arc<str>> = sorted.into_iter().map(|(_, f)| f).collect();
-                    // Unlike the asset functions, an `n` below 1 draws from all the images.
-                    draw(if n >= 1.0 { first(files, n) } else { files }, shape)
-                };
-                Ok(Value::Str(chosen.unwrap_or_else(|| Arc::from(""))))
-            }
-            AssetFn::ImageInfo => {
-                let path = self.string(&params[0], shape, args)?;
-                let which = self.word(&params[1], shape, args)?;
-                let pick_width = match &*which {
-                    "sx" => true,
-                    "sy" => false,
-                    _ => {
-                        return Err(DeriveError::at(
-                            format!("`{which}`: expected sx (the width) or sy (the height)"),
-                            params[1].span,
-                        ));
-                    }
-                };
-                let (width, height) = self
-                    .loader(&params[0], &format!("read the image `{path}`"))?
-                    .image_size(&path)
-                    .map_err(|why| DeriveError::at(why, params[0].span))?;
-                Ok(Value::Number(f64::from(if pick_width {
-                    width
-                } else {
-                    height
-                })))
             }
         }
+    }
+
+    /// `assetNamingInfo(s)(path, g | m)`: the asset's group or material names.
+    fn naming_info(
+        &mut self,
+        params: &[CExpr],
+        shape: &mut State,
+        args: &[Value],
+    ) -> Result<Vec<Arc<str>>> {
+        let path = self.string(&params[0], shape, args)?;
+        let which = self.word(&params[1], shape, args)?;
+        let naming = match crate::engine::builtin_asset(&path) {
+            Some(_) => Arc::default(),
+            None => self
+                .loader(&params[0], &format!("read the asset `{path}`"))?
+                .naming(&path)
+                .map_err(|why| {
+                    DeriveError::at(
+                        format!("cannot read the asset `{path}`: {why}"),
+                        params[0].span,
+                    )
+                })?,
+        };
+        match &*which {
+            "g" => Ok(naming.groups.clone()),
+            "m" => Ok(naming.materials.clone()),
+            _ => Err(DeriveError::at(
+                format!("`{which}`: expected g (group names) or m (material names)"),
+                params[1].span,
+            )),
+        }
+    }
+
+    /// `assetsSortSize`, `assetsSortRatio` and `imagesSortRatio` on a list or array of files.
+    fn sort_files(
+        &mut self,
+        f: AssetFn,
+        params: &[CExpr],
+        shape: &mut State,
+        args: &[Value],
+    ) -> Result<Value> {
+        let list = self.file_list(&params[0], shape, args)?;
+        let scope = shape.scope.size;
+        let sorted = match f {
+            AssetFn::SortSize => {
+                let axes = self.size_selector(&params[1], shape, args)?;
+                let max_error = self.number(&params[2], shape, args)?;
+                self.by_size(&list.files, axes, scope, max_error)
+            }
+            AssetFn::SortRatio => {
+                let pairs = self.ratio_selector(&params[1], shape, args)?;
+                files_of(self.by_ratio(&list.files, pairs, scope))
+            }
+            _ => {
+                let axes = self.image_selector(&params[1], shape, args)?;
+                files_of(self.images_by_ratio(&list.files, axes, scope))
+            }
+        };
+        Ok(list.value(sorted))
+    }
+
+    /// `assetBestSize`, `assetApproxSize` and `assetFitSize`: an asset of a search by size.
+    fn choose_by_size(
+        &mut self,
+        f: AssetFn,
+        params: &[CExpr],
+        shape: &mut State,
+        args: &[Value],
+    ) -> Result<Option<Arc<str>>> {
+        let found = self.searched(&params[0], shape, args)?;
+        let axes = self.size_selector(&params[1], shape, args)?;
+        let scope = shape.scope.size;
+        Ok(match f {
+            AssetFn::ApproxSize => {
+                let n = self.number(&params[2], shape, args)?;
+                draw(first(self.by_size(&found, axes, scope, 0.0), n), shape)
+            }
+            AssetFn::FitSize => {
+                let max_error = self.number(&params[2], shape, args)?;
+                draw(self.by_size(&found, axes, scope, max_error), shape)
+            }
+            _ => self.by_size(&found, axes, scope, 0.0).into_iter().next(),
+        })
+    }
+
+    /// `assetBestRatio`, `assetApproxRatio`, `imageBestRatio` and `imageApproxRatio`: an asset
+    /// or image of a search by proportions.
+    fn choose_by_ratio(
+        &mut self,
+        f: AssetFn,
+        params: &[CExpr],
+        shape: &mut State,
+        args: &[Value],
+    ) -> Result<Option<Arc<str>>> {
+        let found = self.searched(&params[0], shape, args)?;
+        let scope = shape.scope.size;
+        let sorted = if matches!(f, AssetFn::BestRatio | AssetFn::ApproxRatio) {
+            let pairs = self.ratio_selector(&params[1], shape, args)?;
+            self.by_ratio(&found, pairs, scope)
+        } else {
+            let axes = self.image_selector(&params[1], shape, args)?;
+            self.images_by_ratio(&found, axes, scope)
+        };
+        Ok(match f {
+            AssetFn::BestRatio => sorted.into_iter().next().map(|(_, file)| file),
+            AssetFn::ImageBestRatio => {
+                // The reference: among images that share the best ratio, a random one.
+                let best = sorted.first().map(|(m, _)| *m);
+                let ties: Vec<Arc<str>> = sorted
+                    .into_iter()
+                    .take_while(|(m, _)| Some(*m) == best)
+                    .map(|(_, file)| file)
+                    .collect();
+                match ties.len() {
+                    0 | 1 => ties.into_iter().next(),
+                    _ => draw(ties, shape),
+                }
+            }
+            _ => {
+                let n = self.number(&params[2], shape, args)?;
+                let files = files_of(sorted);
+                // CityEngine's library draws among all the images for an `n` of 0 or less,
+                // and among the first `n` (none below 1) otherwise.
+                let drawn = if f == AssetFn::ImageApproxRatio && n <= 0.0 {
+                    files
+                } else {
+                    first(files, n)
+                };
+                draw(drawn, shape)
+            }
+        })
+    }
+
+    /// `imageInfo(path, sx | sy)`: the image's width or height in pixels.
+    fn image_info(&mut self, params: &[CExpr], shape: &mut State, args: &[Value]) -> Result<Value> {
+        let path = self.string(&params[0], shape, args)?;
+        let which = self.word(&params[1], shape, args)?;
+        let pick_width = match &*which {
+            "sx" => true,
+            "sy" => false,
+            _ => {
+                return Err(DeriveError::at(
+                    format!("`{which}`: expected sx (the width) or sy (the height)"),
+                    params[1].span,
+                ));
+            }
+        };
+        let (width, height) = self
+            .loader(&params[0], &format!("read the image `{path}`"))?
+            .image_size(&path)
+            .map_err(|why| DeriveError::at(why, params[0].span))?;
+        Ok(Value::Number(f64::from(if pick_width {
+            width
+        } else {
+            height
+        })))
     }
 
     /// `assetInfo(path, sx | sy | sz | tx | ty | tz)`: a size or the minimum of the asset's
@@ -407,6 +454,11 @@ impl Evaluator<'_> {
         };
         Ok(bounds.unwrap_or_else(|| Aabb::new(DVec3::ZERO, DVec3::ZERO)))
     }
+}
+
+/// The files of a ranking, in its order.
+fn files_of(ranked: Vec<(f64, Arc<str>)>) -> Vec<Arc<str>> {
+    ranked.into_iter().map(|(_, file)| file).collect()
 }
 
 /// The first `n` of `files` (none when `n` is below 1), as CGA's `listRange(list, 0, n)`.
