@@ -1,6 +1,7 @@
 //! Built-in functions and shape queries of the expression language.
 
 use crate::arrays::ArrayFn;
+use crate::asset_queries::AssetFn;
 use crate::colors::ColorFn;
 use crate::text::Text;
 use crate::uv_queries::UvQuery;
@@ -76,8 +77,8 @@ pub(crate) enum Builtin {
     MinimumDistance,
     Print,
     Convert,
-    AssetInfo,
-    AssetBestSize,
+    /// An asset or image function.
+    Asset(AssetFn),
     /// A string or string-list function.
     Text(Text),
     /// An array function or `isNull`.
@@ -145,11 +146,9 @@ impl Builtin {
         "minimumDistance",
         "print",
         "convert",
-        "assetInfo",
-        "assetBestSize",
     ];
 
-    const ALL: [Builtin; 56] = [
+    const ALL: [Builtin; 54] = [
         Self::Rand,
         Self::P,
         Self::Floor,
@@ -204,8 +203,6 @@ impl Builtin {
         Self::MinimumDistance,
         Self::Print,
         Self::Convert,
-        Self::AssetInfo,
-        Self::AssetBestSize,
     ];
 
     /// The built-in with this name.
@@ -222,6 +219,7 @@ impl Builtin {
             .or_else(|| ArrayFn::from_name(name).map(Self::Array))
             .or_else(|| ColorFn::from_name(name).map(Self::Color))
             .or_else(|| UvQuery::from_name(name).map(Self::Uv))
+            .or_else(|| AssetFn::from_name(name).map(Self::Asset))
     }
 
     /// Every built-in's name, the string functions' included.
@@ -233,6 +231,7 @@ impl Builtin {
             .chain(ArrayFn::names())
             .chain(ColorFn::names())
             .chain(UvQuery::names())
+            .chain(AssetFn::names())
     }
 
     /// Fewest and most arguments.
@@ -242,7 +241,7 @@ impl Builtin {
             Self::Min | Self::Max | Self::Pow | Self::Atan2 => (2, 2),
             Self::Clamp | Self::ContextCompare => (3, 3),
             Self::Convert => (4, 7),
-            Self::AssetInfo | Self::AssetBestSize => (2, 2),
+            Self::Asset(f) => (f.arity(), f.arity()),
             Self::ContextCount | Self::MinimumDistance => (2, 2),
             Self::Inside | Self::Overlaps | Self::Touches => (0, 2),
             Self::Occ => (0, 1),
@@ -300,8 +299,6 @@ impl Builtin {
             }
             Self::MinimumDistance => "minimumDistance(intra | inter | all, label)",
             Self::Print => "print(value)",
-            Self::AssetInfo => "assetInfo(filePath, sx | sy | sz | tx | ty | tz)",
-            Self::AssetBestSize => "assetBestSize(searchQuery, \"x\" | \"xz\" | … | \"xyz\")",
             Self::Convert => {
                 "convert(x | y | z, from, to, pos | orient, x, y, z) | convert(from, to, pos | orient, [x, y, z])"
             }
@@ -309,6 +306,7 @@ impl Builtin {
             Self::Array(f) => f.signature(),
             Self::Color(f) => f.signature(),
             Self::Uv(q) => q.signature(),
+            Self::Asset(f) => f.signature(),
             _ => "f(number)",
         }
     }
@@ -319,7 +317,7 @@ impl Builtin {
         self.is_context_query()
             || matches!(
                 self,
-                Self::Angle | Self::Convert | Self::Uv(_) | Self::AssetInfo
+                Self::Angle | Self::Convert | Self::Uv(_) | Self::Asset(_)
             )
     }
 
@@ -344,25 +342,12 @@ impl Builtin {
             "contextCompare",
             "contextCount",
             "minimumDistance",
-            "assetApproxRatio",
-            "assetApproxSize",
-            "assetMetadata",
-            "assetSearch",
-            "imageApproxRatio",
-            "imagesSortRatio",
             "getGeoCoord",
             "getMaterial",
             "sel",
             "fileExists",
             "fileSearch",
             "filesSearch",
-            "assetBestRatio",
-            "assetFitSize",
-            "assetNamingInfo",
-            "assetsSortRatio",
-            "assetsSortSize",
-            "imageBestRatio",
-            "imageInfo",
             "isNull",
             "readMaterial",
             "readStringTable",

@@ -881,9 +881,7 @@ impl<'p> Evaluator<'p> {
             Builtin::FileSearch | Builtin::FilesSearch | Builtin::FileRandom => {
                 return self.search_files(b, &params[0], shape, args);
             }
-            Builtin::AssetInfo | Builtin::AssetBestSize => {
-                return self.asset_function(b, params, shape, args);
-            }
+            Builtin::Asset(f) => return self.asset_function(f, params, shape, args),
             Builtin::FileExists | Builtin::ReadTextFile => {
                 return self.read_file(b, &params[0], shape, args);
             }
@@ -993,8 +991,7 @@ impl<'p> Evaluator<'p> {
             | Builtin::MinimumDistance
             | Builtin::Print
             | Builtin::Convert
-            | Builtin::AssetInfo
-            | Builtin::AssetBestSize
+            | Builtin::Asset(_)
             | Builtin::Text(_)
             | Builtin::Array(_)
             | Builtin::Color(_)

@@ -12,6 +12,7 @@ mod annotations;
 mod arrays;
 mod asset_faces;
 pub mod asset_look;
+mod asset_queries;
 mod builtins;
 mod colors;
 mod context;
@@ -43,9 +44,9 @@ mod value;
 pub use annotations::{AttrAnnotations, AttrRange, Unit, attr_annotations};
 pub use builtins::{functions, queries};
 pub use engine::{
-    ASSET_VARIANTS, Asset, AssetLoader, AttrValue, Derivation, DeriveControl, DeriveOptions,
-    InitialShape, Leaf, LeafFaces, Rederivation, Stats, Trace, TreeNode, attr_values, derive,
-    derive_again,
+    ASSET_VARIANTS, Asset, AssetLoader, AssetNaming, AttrValue, Derivation, DeriveControl,
+    DeriveOptions, InitialShape, Leaf, LeafFaces, Rederivation, Stats, Trace, TreeNode,
+    attr_values, derive, derive_again,
 };
 pub use error::DeriveError;
 pub use goals::{GoalQuery, LeafSemantics};

@@ -7,7 +7,7 @@ use std::path::{Path, PathBuf};
 use std::sync::{Arc, Mutex, PoisonError};
 
 use shapegram_eval::asset_look::AssetLook;
-use shapegram_eval::{ASSET_VARIANTS, Asset, AssetLoader};
+use shapegram_eval::{ASSET_VARIANTS, Asset, AssetLoader, AssetNaming};
 use shapegram_geom::{DVec3, Mesh};
 use shapegram_implicit::Solid;
 
@@ -47,6 +47,7 @@ pub struct FileAssets {
     solids: Mutex<HashMap<PathBuf, Solid>>,
     texts: Mutex<HashMap<PathBuf, Arc<str>>>,
     images: Mutex<HashMap<PathBuf, Option<Arc<[u8]>>>>,
+    image_sizes: Mutex<HashMap<PathBuf, Result<ImageSize, String>>>,
     searches: Mutex<HashMap<String, Vec<Arc<str>>>>,
 }
 
@@ -99,6 +100,7 @@ impl FileAssets {
             solids: Mutex::new(HashMap::new()),
             texts: Mutex::new(HashMap::new()),
             images: Mutex::new(HashMap::new()),
+            image_sizes: Mutex::new(HashMap::new()),
             searches: Mutex::new(HashMap::new()),
         }
     }
@@ -188,6 +190,7 @@ impl FileAssets {
             return Ok(loaded.clone());
         }
         let mut look = None;
+        let mut naming = AssetNaming::default();
         let read = match full.extension().and_then(|e| e.to_str()) {
             Some("lsys") => self
                 .read_text(&full)
@@ -202,6 +205,7 @@ impl FileAssets {
                 .map(|model| {
                     let (mesh, worn) = AssetLook::from_parts(&model.parts);
                     look = worn;
+                    naming = names(&model.parts);
                     mesh
                 })
                 .map_err(|e| e.to_string())
@@ -210,6 +214,7 @@ impl FileAssets {
         let loaded = Loaded {
             mesh: self.or_stand_in(read)?,
             look,
+            naming: Arc::new(naming),
         };
         cache.insert(full, loaded.clone());
         Ok(loaded)
@@ -247,11 +252,31 @@ impl FileAssets {
     }
 }
 
+/// An image's width and height in pixels.
+type ImageSize = (u32, u32);
+
 /// An asset file as read: its parts merged, and their materials and uvs.
 #[derive(Clone)]
 struct Loaded {
     mesh: Arc<Mesh>,
     look: Option<Arc<AssetLook>>,
+    naming: Arc<AssetNaming>,
+}
+
+/// The group and material names of an asset's parts, each once, in the order of the parts.
+fn names(parts: &[shapegram_geom::Part]) -> AssetNaming {
+    let mut naming = AssetNaming::default();
+    for part in parts {
+        if !naming.groups.iter().any(|g| **g == *part.name) {
+            naming.groups.push(Arc::from(part.name.as_str()));
+        }
+        if let Some(material) = &part.material
+            && !naming.materials.contains(material)
+        {
+            naming.materials.push(Arc::clone(material));
+        }
+    }
+    naming
 }
 
 /// A text file's contents and its name for messages.
@@ -344,6 +369,36 @@ impl AssetLoader for FileAssets {
         Ok(image)
     }
 
+    /// Read from the image's header (PNG, JPEG, TIFF, BMP, GIF, WebP), once per file.
+    fn image_size(&self, path: &str) -> Result<(u32, u32), String> {
+        let full = self.find(path);
+        let mut sizes = self
+            .image_sizes
+            .lock()
+            .unwrap_or_else(PoisonError::into_inner);
+        if let Some(size) = sizes.get(&full) {
+            return size.clone();
+        }
+        let size = self.files.read(&full).and_then(|bytes| {
+            let size = imagesize::blob_size(&bytes).map_err(|e| {
+                format!(
+                    "cannot read the size of the image {}: {e} (PNG, JPEG, TIFF, BMP, GIF and WebP are read)",
+                    self.display(&full)
+                )
+            })?;
+            let pixels = |n: usize| u32::try_from(n).map_err(|_| format!("{}: {n} pixels is too many", self.display(&full)));
+            Ok((pixels(size.width)?, pixels(size.height)?))
+        });
+        sizes.insert(full, size.clone());
+        size
+    }
+
+    /// The names of the file's parts; none for grown assets (L-systems, caves) and
+    /// stand-ins.
+    fn naming(&self, path: &str) -> Result<Arc<AssetNaming>, String> {
+        self.load_worn(path).map(|loaded| loaded.naming)
+    }
+
     fn load(&self, path: &str) -> Result<Arc<Mesh>, String> {
         self.load_worn(path).map(|loaded| loaded.mesh)
     }
@@ -352,7 +407,7 @@ impl AssetLoader for FileAssets {
     fn asset(&self, path: &str, variant: u32) -> Result<Asset, String> {
         let full = self.find(path);
         if full.extension().and_then(|e| e.to_str()) != Some("lsys") {
-            let Loaded { mesh, look } = self.load_worn(path)?;
+            let Loaded { mesh, look, .. } = self.load_worn(path)?;
             return Ok(Asset {
                 mesh,
                 proportional: false,

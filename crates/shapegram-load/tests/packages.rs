@@ -211,6 +211,45 @@ fn assets_are_found_in_the_package_as_cityengine_finds_them() {
 }
 
 #[test]
+fn image_sizes_part_names_and_regular_expressions_read_inside_the_package() {
+    // A JPEG's frame header says 7 × 5 pixels; the PNG's header 1 × 1.
+    const JPEG: &[u8] =
+        b"\xff\xd8\xff\xc0\0\x11\x08\0\x05\0\x07\x03\x01\x22\0\x02\x11\x01\x03\x11\x01\xff\xd9";
+    let package = package(&[
+        (".resolvemap.xml", RESOLVE_MAP),
+        ("rules/a.cga", b"Lot --> X."),
+        ("assets/facade/box.obj", BOX_OBJ),
+        ("assets/facade/box.mtl", BOX_MTL),
+        ("assets/wall.png", PNG),
+        ("assets/sky.jpg", JPEG),
+        ("assets/wall.tif", b"II*\0"),
+    ]);
+    let assets = FileAssets::in_package(package, "rules/a.cga", MissingAssets::Error);
+    assert_eq!(assets.image_size("wall.png"), Ok((1, 1)));
+    assert_eq!(assets.image_size("/My Town/assets/sky.jpg"), Ok((7, 5)));
+    assert!(
+        assets
+            .image_size("wall.tif")
+            .unwrap_err()
+            .starts_with("cannot read the size of the image town.rpk!/assets/wall.tif: "),
+    );
+    assert_eq!(
+        assets.image_size("gone.png").unwrap_err(),
+        "cannot read town.rpk!/rules/gone.png: not in the rule package"
+    );
+    let naming = assets.naming("facade/box.obj").unwrap();
+    assert_eq!(naming.materials, [Arc::from("red")]);
+    assert_eq!(naming.groups, [Arc::from("unnamed_object")]);
+    assert_eq!(
+        assets.search("$(wall|sky)[.](png|jpg)").unwrap(),
+        [
+            Arc::from("/My Town/assets/sky.jpg"),
+            Arc::from("/My Town/assets/wall.png"),
+        ]
+    );
+}
+
+#[test]
 fn missing_assets_in_a_package_get_stand_ins_as_asked() {
     let package = package(&[("rules/a.cga", b"Lot --> X.")]);
     let cube = FileAssets::in_package(Arc::clone(&package), "rules/a.cga", MissingAssets::Cube);

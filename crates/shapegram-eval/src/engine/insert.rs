@@ -68,6 +68,27 @@ pub trait AssetLoader: Send + Sync {
     fn image(&self, path: &str) -> Result<Option<Arc<[u8]>>, String> {
         Err(format!("cannot read the image `{path}` here"))
     }
+
+    /// The width and height in pixels of the image at `path` (CGA's `imageInfo`), or a
+    /// one-line reason why they cannot be had.
+    fn image_size(&self, path: &str) -> Result<(u32, u32), String> {
+        Err(format!("cannot read the image `{path}` here"))
+    }
+
+    /// The group and material names of the asset at `path` (CGA's `assetNamingInfo`), or a
+    /// one-line reason why they cannot be had.
+    fn naming(&self, path: &str) -> Result<Arc<AssetNaming>, String> {
+        Err(format!("cannot read the asset `{path}` here"))
+    }
+}
+
+/// The names an asset file gives its parts, each once, in the order the file first uses them.
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub struct AssetNaming {
+    /// Group names (OBJ `o` and `g`, glTF node names).
+    pub groups: Vec<Arc<str>>,
+    /// Material names (OBJ `usemtl`, glTF material names); parts without a material name none.
+    pub materials: Vec<Arc<str>>,
 }
 
 /// How many variants of a seeded asset (see [`AssetLoader::asset`]) the shapes of a derivation

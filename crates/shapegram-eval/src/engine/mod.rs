@@ -67,7 +67,7 @@ pub use attr_values::{AttrValue, attr_values};
 pub use control::DeriveControl;
 pub use derive::derive;
 pub(crate) use insert::builtin_asset;
-pub use insert::{ASSET_VARIANTS, Asset, AssetLoader};
+pub use insert::{ASSET_VARIANTS, Asset, AssetLoader, AssetNaming};
 pub use reuse::{Rederivation, derive_again};
 pub use trace::Trace;
 
