@@ -556,8 +556,8 @@ async fn the_vocabulary_is_the_engines() {
         json!({"name": "softenNormals", "support": "visual-only"})
     );
     assert_eq!(
-        find("operations", "splitAndSetbackPerimeter"),
-        json!({"name": "splitAndSetbackPerimeter", "support": "unsupported"})
+        find("operations", "fill"),
+        json!({"name": "fill", "support": "unsupported"})
     );
     assert_eq!(
         find("functions", "rand"),

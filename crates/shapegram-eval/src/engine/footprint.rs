@@ -252,26 +252,31 @@ impl<'p> Engine<'p> {
         };
         let total = pieces.len() as u32;
         for (i, (axes, polygons)) in pieces.into_iter().enumerate() {
-            let mut mesh = Mesh::new();
-            for polygon in &polygons {
-                mesh.append(&Mesh::from_polygon(polygon));
-            }
             let mut child = state.spawn();
             child.comp = (i as u32, total);
             child.comp_sel = selector;
-            child.scope = Scope::fit(axes, mesh.positions().iter().copied());
-            mesh.transform(&child.scope.world_to_local());
-            let single = polygons.len() == 1;
-            child.geometry = if single && fills_box(mesh.positions(), child.scope.size) {
-                Geometry::Box
-            } else {
-                Geometry::mesh(mesh)
-            };
+            set_flat_geometry(&mut child, axes, &polygons);
             self.admit(&mut child, span)?;
             self.run_stmts(body, &mut child, args, out)?;
         }
         Ok(())
     }
+}
+
+/// Gives a shape these polygons (world coordinates) as its geometry, in a scope of the given
+/// axes fitted around them; a single polygon that fills its scope is a box.
+pub(super) fn set_flat_geometry(shape: &mut State, axes: DMat3, polygons: &[&[DVec3]]) {
+    let mut mesh = Mesh::new();
+    for polygon in polygons {
+        mesh.append(&Mesh::from_polygon(polygon));
+    }
+    shape.scope = Scope::fit(axes, mesh.positions().iter().copied());
+    mesh.transform(&shape.scope.world_to_local());
+    shape.geometry = if polygons.len() == 1 && fills_box(mesh.positions(), shape.scope.size) {
+        Geometry::Box
+    } else {
+        Geometry::mesh(mesh)
+    };
 }
 
 /// Polygons that become one shape, with the axes of its scope.

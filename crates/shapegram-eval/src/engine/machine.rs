@@ -699,6 +699,10 @@ impl<'p> Engine<'p> {
                 self.inner_rectangle(state, *edge, outputs, *split, span, args, out)?;
                 return Ok(*split);
             }
+            Op::PerimeterSplit(spec) => {
+                self.perimeter_split(state, spec, span, args, out)?;
+                return Ok(true);
+            }
             Op::Setback {
                 depths,
                 entries,

@@ -37,6 +37,7 @@ mod inner_rect;
 mod insert;
 mod kinematics;
 mod machine;
+mod perimeter;
 mod reuse;
 mod roof;
 mod scatter;

@@ -129,6 +129,7 @@ impl Ctx<'_, '_> {
             "primitiveSphere" => self.primitive(Primitive::Sphere, &[0, 1, 2])?,
             "split" => self.split(false)?,
             "splitArea" => self.split(true)?,
+            "splitAndSetbackPerimeter" => self.perimeter_split()?,
             "joint" => {
                 self.c.kinematic = true;
                 Op::Joint(self.three()?)
@@ -346,6 +347,7 @@ impl Ctx<'_, '_> {
                 | Op::Scatter(_)
                 | Op::Comp { .. }
                 | Op::Setback { .. }
+                | Op::PerimeterSplit(_)
                 | Op::InnerRectangle { split: true, .. }
                 | Op::Ignored
         );

@@ -25,7 +25,6 @@ pub(super) const UNSUPPORTED: &[&str] = &[
     "intersect",
     "generalize",
     "reduceGeometry",
-    "splitAndSetbackPerimeter",
     "fill",
     "primitiveDisk",
     "primitiveTorus",
@@ -68,6 +67,7 @@ pub(super) const IMPLEMENTED: &[&str] = &[
     "primitiveSphere",
     "split",
     "splitArea",
+    "splitAndSetbackPerimeter",
     "comp",
     "color",
     "set",
@@ -159,6 +159,10 @@ const SIGNATURES: &[(&str, &str)] = &[
     (
         "splitArea",
         "splitArea(x | y | z [, adjust | noAdjust]) { area : … | … }",
+    ),
+    (
+        "splitAndSetbackPerimeter",
+        "splitAndSetbackPerimeter(offset [, firstEdge, edgeMask[]]) { length : depth : … | … }[*] { remainder : … }",
     ),
     ("comp", "comp(f | e | fe | v) { … }"),
     ("color", "color(\"#rrggbb\") | color(r, g, b)"),
