@@ -112,3 +112,39 @@ fn bad_arguments_are_errors_with_their_place() {
         );
     }
 }
+
+#[test]
+fn an_l_shaped_lot_all_round_and_the_reference_examples_run() {
+    use shapegram_eval::InitialShape;
+    use shapegram_geom::DVec2;
+    // 20 × 20 less its 10 × 10 back-right quarter: 300 m², perimeter 80 m.
+    let l = InitialShape::from_xz(&[
+        DVec2::new(0.0, 0.0),
+        DVec2::new(20.0, 0.0),
+        DVec2::new(20.0, 10.0),
+        DVec2::new(10.0, 10.0),
+        DVec2::new(10.0, 20.0),
+        DVec2::new(0.0, 20.0),
+    ])
+    .unwrap();
+    let r = numeric_reports(
+        &format!(
+            "Lot --> splitAndSetbackPerimeter(0) {{ ~1 : 1 : {AREA} A. }} {{ remainder : report(\"rest\", geometry.area) R. }}"
+        ),
+        l.clone(),
+    );
+    // One section all round, 1 deep: the rest is the L inset by 1 (18 × 8 + 8 × 10).
+    assert_close(&of(&r, "rest"), &[18.0 * 8.0 + 8.0 * 10.0]);
+    assert_close(&of(&r, "area"), &[300.0 - 224.0]);
+    for grammar in [
+        "Lot --> splitAndSetbackPerimeter(6) { 40 : 5 : Y | 20 : 10 : B } { remainder : G }",
+        "Lot --> splitAndSetbackPerimeter('0.1) { '0.5 : 10 : extrude(15) Y | ~1 : 0 : NIL | '0.4 : 8 : extrude(10) B | ~1 : 0 : NIL } { remainder : G }",
+        "Lot --> splitAndSetbackPerimeter(0) { ~30 : rand(3, 15) : extrude(rand(2, 10)) Y }* { remainder : G }",
+        "Lot --> splitAndSetbackPerimeter(3) { 2 : 6 : Y | 2 : 0 : NIL | 2 : 4 : B } { remainder : G }",
+    ] {
+        for shape in [l.clone(), lot(20.0, 30.0)] {
+            try_run(grammar, shape, &DeriveOptions::default())
+                .unwrap_or_else(|e| panic!("{grammar}: {e}"));
+        }
+    }
+}
