@@ -276,14 +276,12 @@ impl Ctx<'_, '_> {
                     Some("all") => (true, true, true),
                     _ => return self.bad_selector(0, "`vertices`, `edges`, `faces` or `all`"),
                 };
-                if edges {
-                    self.warn_once(
-                        "`cleanupGeometry` does not merge coplanar faces yet: their shared edges stay"
-                            .into(),
-                    );
-                }
                 Op::Cleanup {
-                    what: shapegram_geom::cleanup::Cleanup { vertices, faces },
+                    what: shapegram_geom::cleanup::Cleanup {
+                        vertices,
+                        faces,
+                        edges,
+                    },
                     tolerance: self.args.pop()?,
                 }
             }
