@@ -38,6 +38,7 @@ mod insert;
 mod kinematics;
 mod machine;
 mod perimeter;
+mod pivot;
 mod reuse;
 mod roof;
 mod scatter;

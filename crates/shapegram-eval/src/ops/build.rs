@@ -120,9 +120,28 @@ impl Ctx<'_, '_> {
             "alignScopeToGeometry" => self.align_to_geometry()?,
             "alignScopeToGeometryBBox" => self.align_to_bbox()?,
             "rotateScope" => Op::RotateScope(self.three()?),
+            "mirrorScope" => Op::MirrorScope(self.three()?),
+            "setPivot" => {
+                self.arity(2, 2)?;
+                let up = match self.word(0) {
+                    Some("xyz") => 1,
+                    Some("yzx") => 0,
+                    Some("zxy") => 2,
+                    _ => return self.bad_selector(0, "`xyz`, `yzx` or `zxy`"),
+                };
+                Op::SetPivot {
+                    up,
+                    corner: self.args.pop()?,
+                }
+            }
+            "resetGeometry" => {
+                self.arity(0, 0)?;
+                Op::ResetGeometry
+            }
             "i" | "insert" => self.insert()?,
             "primitiveCube" => self.primitive(Primitive::Cube, &[0, 3])?,
             "primitiveQuad" => self.primitive(Primitive::Quad, &[0, 2])?,
+            "primitiveDisk" => self.primitive(Primitive::Disk, &[0, 1, 2])?,
             "primitivePyramid" => self.primitive(Primitive::Pyramid, &[0])?,
             "primitiveCylinder" => self.primitive(Primitive::Cylinder, &[0, 1, 3])?,
             "primitiveCone" => self.primitive(Primitive::Cone, &[0, 1])?,

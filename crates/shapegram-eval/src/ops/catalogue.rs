@@ -6,7 +6,6 @@ pub(super) const VISUAL_ONLY: &[&str] = &[
     "softenNormals",
     "setNormals",
     "cleanupGeom",
-    "setPivot",
     "resetMaterial",
     "annotation",
 ];
@@ -14,8 +13,6 @@ pub(super) const VISUAL_ONLY: &[&str] = &[
 /// CGA operations that are recognised but not implemented yet.
 pub(super) const UNSUPPORTED: &[&str] = &[
     "innerCircle",
-    "resetGeometry",
-    "mirrorScope",
     "rectify",
     "simplify",
     "modify",
@@ -26,7 +23,6 @@ pub(super) const UNSUPPORTED: &[&str] = &[
     "generalize",
     "reduceGeometry",
     "fill",
-    "primitiveDisk",
     "primitiveTorus",
     "dissolve",
     "bevel",
@@ -57,10 +53,14 @@ pub(super) const IMPLEMENTED: &[&str] = &[
     "mirror",
     "alignScopeToAxes",
     "rotateScope",
+    "mirrorScope",
+    "setPivot",
+    "resetGeometry",
     "i",
     "insert",
     "primitiveCube",
     "primitiveQuad",
+    "primitiveDisk",
     "primitivePyramid",
     "primitiveCylinder",
     "primitiveCone",
@@ -129,6 +129,9 @@ const SIGNATURES: &[(&str, &str)] = &[
         "alignScopeToAxes([x | y | z | world.xyz])",
     ),
     ("rotateScope", "rotateScope(x, y, z)"),
+    ("mirrorScope", "mirrorScope(xFlip, yFlip, zFlip)"),
+    ("setPivot", "setPivot(xyz | yzx | zxy, cornerIndex)"),
+    ("resetGeometry", "resetGeometry()"),
     (
         "i",
         "i(path [, yUp | zUp [, alignSizeAndPosition | keepSizeAndPosition | keepSizeAlignPosition [, numericalCleanup | noCleanup]]])",
@@ -144,6 +147,10 @@ const SIGNATURES: &[(&str, &str)] = &[
     (
         "primitiveQuad",
         "primitiveQuad() | primitiveQuad(width, length)",
+    ),
+    (
+        "primitiveDisk",
+        "primitiveDisk() | primitiveDisk(nVertices) | primitiveDisk(nVertices, radius)",
     ),
     ("primitivePyramid", "primitivePyramid()"),
     (

@@ -53,6 +53,16 @@ pub(crate) enum Op {
         second: usize,
     },
     RotateScope([CExpr; 3]),
+    /// `mirrorScope(x, y, z)`: the flagged scope axes turned round, the geometry staying.
+    MirrorScope([CExpr; 3]),
+    /// `setPivot(xyz | yzx | zxy, corner)`: the scope's origin at a corner, its axes turned
+    /// into the box, the new y along old axis `up`; the geometry staying.
+    SetPivot {
+        up: usize,
+        corner: CExpr,
+    },
+    /// `resetGeometry()`: the initial shape's geometry and scope back.
+    ResetGeometry,
     /// `i(path [, yUp | zUp [, mode [, cleanup]]])`: the asset at the path, placed so.
     Insert(CExpr, Placement),
     Primitive(Primitive, Vec<CExpr>),
@@ -326,6 +336,8 @@ pub(crate) enum InsertFit {
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub(crate) enum Primitive {
     Cube,
+    /// A flat polygon round the ellipse in the scope's flat face.
+    Disk,
     Cylinder,
     Cone,
     Sphere,
