@@ -62,6 +62,13 @@ fn the_first_edge_the_mask_and_a_relative_offset_pick_the_stretch() {
     ));
     assert_close(&of(&round, "area"), &[2.0 * 9.5]);
     assert_close(&of(&round, "faces"), &[1.0]);
+    // A section's scope runs along the edge it starts on: here the last 20 m of the left side
+    // (then 10 m of the front), so x runs up the side.
+    let start = reports(
+        "Lot --> splitAndSetbackPerimeter(80) { 30 : 1 : report(\"sx\", scope.sx) report(\"sz\", scope.sz) A. } { remainder : NIL }",
+    );
+    assert_close(&of(&start, "sx"), &[20.0]);
+    assert_close(&of(&start, "sz"), &[10.0]);
 }
 
 #[test]

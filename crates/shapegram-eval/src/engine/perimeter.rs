@@ -252,7 +252,7 @@ fn section_depth(
 }
 
 /// The pieces of face `face`'s edges that the section from `start` (wrapped round the
-/// perimeter) over `size` metres covers.
+/// perimeter) over `size` metres covers, in the section's order.
 fn pieces_on_face(
     edges: &[FaceEdge],
     chain: &[usize],
@@ -271,16 +271,18 @@ fn pieces_on_face(
             let from = start.max(at + shift);
             let to = (start + size).min(at + shift + long);
             if edge.face == face && to > from {
-                pieces.push(EdgePiece {
+                let piece = EdgePiece {
                     edge: edge.index,
                     from: from - at - shift,
                     to: to - at - shift,
-                });
+                };
+                pieces.push((from, piece));
             }
         }
         at += long;
     }
-    pieces
+    pieces.sort_by(|a, b| a.0.total_cmp(&b.0));
+    pieces.into_iter().map(|(_, piece)| piece).collect()
 }
 
 /// A section's scope axes, as a setback strip's: x along its first edge (against the face's
