@@ -17,12 +17,24 @@ use crate::planar::signed_area;
 /// count as one.
 pub(crate) fn merge_loops(polygons: &[Vec<DVec2>], eps: f64) -> Option<Vec<Vec<DVec2>>> {
     let mut corners: Vec<DVec2> = Vec::new();
-    let mut weld = |p: DVec2| match corners.iter().position(|q| q.distance(p) <= eps) {
-        Some(i) => i,
-        None => {
+    // Corners by column of width `eps` along x: a corner within `eps` of another lies in its
+    // column or a neighbouring one.
+    let cell = eps.max(f64::MIN_POSITIVE);
+    let column = |x: f64| (x / cell).floor() as i64;
+    let mut columns: BTreeMap<i64, Vec<usize>> = BTreeMap::new();
+    let mut weld = |p: DVec2| {
+        let c = column(p.x);
+        let near = (c - 1..=c + 1)
+            .filter_map(|k| columns.get(&k))
+            .flatten()
+            .copied()
+            .filter(|&i| corners[i].distance(p) <= eps)
+            .min();
+        near.unwrap_or_else(|| {
             corners.push(p);
+            columns.entry(c).or_default().push(corners.len() - 1);
             corners.len() - 1
-        }
+        })
     };
     let loops: Vec<Vec<usize>> = polygons
         .iter()
@@ -37,11 +49,13 @@ pub(crate) fn merge_loops(polygons: &[Vec<DVec2>], eps: f64) -> Option<Vec<Vec<D
         .filter(|l| l.len() >= 3)
         .collect();
     // Directed edges, each split at the corners lying on it; opposite pairs cancel.
+    let mut by_x: Vec<usize> = (0..corners.len()).collect();
+    by_x.sort_by(|&a, &b| corners[a].x.total_cmp(&corners[b].x));
     let mut edges: BTreeMap<(usize, usize), usize> = BTreeMap::new();
     for l in &loops {
         for (k, &a) in l.iter().enumerate() {
             let b = l[(k + 1) % l.len()];
-            let chain = split_at_corners(&corners, a, b, eps);
+            let chain = split_at_corners(&corners, &by_x, (a, b), eps);
             for pair in chain.windows(2) {
                 let (u, v) = (pair[0], pair[1]);
                 match edges.get_mut(&(v, u)) {
@@ -82,16 +96,24 @@ pub(crate) fn merge_loops(polygons: &[Vec<DVec2>], eps: f64) -> Option<Vec<Vec<D
 }
 
 /// The corners from `a` to `b` along the edge between them: `a`, the welded corners lying on
-/// the edge in order, `b`.
-fn split_at_corners(corners: &[DVec2], a: usize, b: usize, eps: f64) -> Vec<usize> {
+/// the edge in order, `b`. `by_x` lists the corners by x.
+fn split_at_corners(
+    corners: &[DVec2],
+    by_x: &[usize],
+    (a, b): (usize, usize),
+    eps: f64,
+) -> Vec<usize> {
     let (pa, pb) = (corners[a], corners[b]);
     let d = pb - pa;
     let length2 = d.length_squared();
-    let mut on: Vec<(f64, usize)> = corners
+    let (lo, hi) = (pa.x.min(pb.x) - eps, pa.x.max(pb.x) + eps);
+    let first = by_x.partition_point(|&i| corners[i].x < lo);
+    let mut on: Vec<(f64, usize)> = by_x[first..]
         .iter()
-        .enumerate()
-        .filter(|&(i, _)| i != a && i != b)
-        .filter_map(|(i, &p)| {
+        .take_while(|&&i| corners[i].x <= hi)
+        .filter(|&&i| i != a && i != b)
+        .filter_map(|&i| {
+            let p = corners[i];
             let t = (p - pa).dot(d) / length2;
             let off = (p - pa).perp_dot(d).abs() / length2.sqrt();
             (t > 0.0 && t < 1.0 && off <= eps).then_some((t, i))

@@ -167,6 +167,17 @@ fn subtract_all(mut pieces: Vec<Vec<DVec2>>, taken: &[Vec<DVec2>], tiny: f64) ->
 /// A convex piece less a convex cutter (both counter-clockwise): the piece itself when they
 /// share no area, else the parts of it outside each of the cutter's edges in turn.
 fn subtract(piece: Vec<DVec2>, cutter: &[DVec2], tiny: f64) -> Vec<Vec<DVec2>> {
+    let bounds = |points: &[DVec2]| {
+        points
+            .iter()
+            .fold((DVec2::MAX, DVec2::MIN), |(lo, hi), &p| {
+                (lo.min(p), hi.max(p))
+            })
+    };
+    let ((a_lo, a_hi), (b_lo, b_hi)) = (bounds(&piece), bounds(cutter));
+    if a_lo.cmpge(b_hi).any() || b_lo.cmpge(a_hi).any() {
+        return vec![piece];
+    }
     let m = cutter.len();
     let outward = |i: usize| {
         let (a, b) = (cutter[i], cutter[(i + 1) % m]);
