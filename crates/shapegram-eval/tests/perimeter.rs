@@ -155,3 +155,20 @@ fn an_l_shaped_lot_all_round_and_the_reference_examples_run() {
         }
     }
 }
+
+#[test]
+fn random_depths_are_drawn_per_section_and_the_same_each_run() {
+    let grammar = format!(
+        "Lot --> splitAndSetbackPerimeter(0) {{ ~25 : rand(1, 3) : {AREA} A. }}* {{ remainder : {AREA} R. }}"
+    );
+    let first = of(&reports(&grammar), "area");
+    assert_eq!(first.len(), 5);
+    // Four sections, each its own depth: no two of the same area, and all of them with the
+    // remainder the lot.
+    let mut sections = first[..4].to_vec();
+    sections.sort_by(f64::total_cmp);
+    sections.dedup();
+    assert_eq!(sections.len(), 4, "{first:?}");
+    assert!((first.iter().sum::<f64>() - 600.0).abs() < 1e-9);
+    assert_eq!(of(&reports(&grammar), "area"), first);
+}
