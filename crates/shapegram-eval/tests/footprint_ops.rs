@@ -290,6 +290,15 @@ fn cleanup_of_edges_merges_coplanar_faces_into_one_polygon() {
     assert_close(&n, &[1.0]);
     assert_close(&corners, &[6.0]);
     assert_close(&area, &[400.0]);
+    // Faces keep their tags, and faces of different tags never merge: the L's inset by 2,
+    // cut in two by convexify, is one `inside` face again; the border stays its six strips.
+    let r = reports(
+        "Lot --> offset(-2) convexify cleanupGeometry(edges, 0) comp(f) { inside : report(\"in\", geometry.area) X. | border : report(\"border\", geometry.area) Y. }",
+        l_lot(),
+    );
+    assert_close(&of(&r, "in"), &[16.0 * 6.0 + 6.0 * 20.0]);
+    assert_eq!(of(&r, "border").len(), 6);
+    assert!((of(&r, "border").iter().sum::<f64>() - 184.0).abs() < 1e-9);
     // A hip roof 3° steep over the L: six sloped faces (and its bottom), whose normals turn by
     // 4.2° between neighbours and 6° between opposite faces. At tolerance 0.3 (3°) none merge;
     // at 1 (10°) all six become one polygon round the L's six corners, the ridge's three

@@ -29,16 +29,28 @@ const ZERO: f64 = 1e-12;
 /// A cleaned copy of `mesh` (see the module docs); faces left with fewer than three corners are
 /// dropped, and unused vertices removed. A tolerance outside `0..=1` is clamped to it.
 pub fn cleanup(mesh: &Mesh, what: Cleanup, tolerance: f64) -> Mesh {
+    cleanup_classes(mesh, what, tolerance, &[]).0
+}
+
+/// [`cleanup`] of a mesh whose faces belong to classes (a face without an entry in `classes`
+/// is in class 0): faces of different classes never merge. Returns the cleaned mesh and, for
+/// each of its faces, the face of `mesh` it came from (a merged face: the first of its group).
+pub fn cleanup_classes(
+    mesh: &Mesh,
+    what: Cleanup,
+    tolerance: f64,
+    classes: &[u32],
+) -> (Mesh, Vec<usize>) {
     let t = if tolerance.is_nan() {
         0.0
     } else {
         tolerance.clamp(0.0, 1.0)
     };
     let scale = mesh.bounds().map_or(1.0, |b| b.diagonal().max(1e-300));
-    let mut faces: Vec<Vec<u32>> = mesh.faces().map(<[u32]>::to_vec).collect();
+    let mut faces: Vec<(usize, Vec<u32>)> = mesh.faces().map(<[u32]>::to_vec).enumerate().collect();
     if what.vertices || what.edges {
         let remap = merged(mesh.positions(), t * 1.0);
-        for face in &mut faces {
+        for (_, face) in &mut faces {
             for v in face.iter_mut() {
                 *v = remap[*v as usize];
             }
@@ -46,7 +58,8 @@ pub fn cleanup(mesh: &Mesh, what: Cleanup, tolerance: f64) -> Mesh {
         drop_repeats(&mut faces);
     }
     if what.edges {
-        faces = merged_faces(mesh.positions(), faces, (t * 10.0).to_radians());
+        let class = |f: usize| classes.get(f).copied().unwrap_or(0);
+        faces = merged_faces(mesh.positions(), faces, (t * 10.0).to_radians(), class);
     }
     if what.vertices {
         drop_straight_corners(mesh.positions(), &mut faces, (t * 10.0).to_radians());
@@ -54,12 +67,17 @@ pub fn cleanup(mesh: &Mesh, what: Cleanup, tolerance: f64) -> Mesh {
     drop_repeats(&mut faces);
     if what.faces {
         let least = (t * 1.0).max(ZERO * scale * scale);
-        faces.retain(|face| {
+        faces.retain(|(_, face)| {
             let points: Vec<DVec3> = face.iter().map(|&v| mesh.position(v)).collect();
             crate::mesh::newell(points.iter().copied()).length() * 0.5 > least
         });
     }
-    Mesh::from_faces(mesh.positions().to_vec(), faces).compacted()
+    let sources = faces.iter().map(|(f, _)| *f).collect();
+    let loops = faces.into_iter().map(|(_, face)| face);
+    (
+        Mesh::from_faces(mesh.positions().to_vec(), loops).compacted(),
+        sources,
+    )
 }
 
 /// For each vertex, the vertex it merges into: the first (by index) of those chained to it by
@@ -94,19 +112,19 @@ fn merged(positions: &[DVec3], within: f64) -> Vec<u32> {
 
 /// Removes consecutive repeated corners (also last to first) and faces left with fewer than
 /// three.
-fn drop_repeats(faces: &mut Vec<Vec<u32>>) {
-    for face in faces.iter_mut() {
+fn drop_repeats(faces: &mut Vec<(usize, Vec<u32>)>) {
+    for (_, face) in faces.iter_mut() {
         face.dedup();
         while face.len() > 1 && face.first() == face.last() {
             face.pop();
         }
     }
-    faces.retain(|f| f.len() >= 3);
+    faces.retain(|(_, f)| f.len() >= 3);
 }
 
 /// Removes corners that turn by at most `angle` (radians; exactly straight at 0) in every face
 /// that uses them, so that no face keeps a corner its neighbour lost.
-fn drop_straight_corners(positions: &[DVec3], faces: &mut [Vec<u32>], angle: f64) {
+fn drop_straight_corners(positions: &[DVec3], faces: &mut [(usize, Vec<u32>)], angle: f64) {
     let turn = |face: &[u32], k: usize| {
         let m = face.len();
         let at = |i: usize| positions[face[i] as usize];
@@ -120,26 +138,33 @@ fn drop_straight_corners(positions: &[DVec3], faces: &mut [Vec<u32>], angle: f64
     };
     let mut keep = vec![false; positions.len()];
     let mut seen = vec![false; positions.len()];
-    for face in faces.iter() {
+    for (_, face) in faces.iter() {
         for k in 0..face.len() {
             let v = face[k] as usize;
             seen[v] = true;
             keep[v] |= !straight(face, k);
         }
     }
-    for face in faces.iter_mut() {
+    for (_, face) in faces.iter_mut() {
         if face.iter().filter(|&&v| keep[v as usize]).count() >= 3 {
             face.retain(|&v| keep[v as usize] || !seen[v as usize]);
         }
     }
 }
 
-/// Faces merged across the edges they share with faces (nearly) coplanar with them: each group
-/// grows from its first face (in order) over shared edges to faces whose normals turn by at
-/// most `angle` from that face's (exactly parallel at 0), and becomes the one polygon around
-/// it, in the place of its first face. A group whose outline is not one simple loop (a hole, or
-/// faces touching at a corner) stays as it was.
-fn merged_faces(positions: &[DVec3], faces: Vec<Vec<u32>>, angle: f64) -> Vec<Vec<u32>> {
+/// Faces (each with the face it came from) merged across the edges they share with faces
+/// (nearly) coplanar with them and of the same class: each group grows from its first face (in
+/// order) over shared edges to faces whose normals turn by at most `angle` from that face's
+/// (exactly parallel at 0), and becomes the one polygon around it, in the place of its first
+/// face. A group whose outline is not one simple loop (a hole, or faces touching at a corner)
+/// stays as it was.
+fn merged_faces(
+    positions: &[DVec3],
+    faces: Vec<(usize, Vec<u32>)>,
+    angle: f64,
+    class: impl Fn(usize) -> u32,
+) -> Vec<(usize, Vec<u32>)> {
+    let (sources, faces): (Vec<usize>, Vec<Vec<u32>>) = faces.into_iter().unzip();
     let normals: Vec<DVec3> = faces
         .iter()
         .map(|f| crate::mesh::newell(f.iter().map(|&v| positions[v as usize])).normalize_or_zero())
@@ -175,6 +200,7 @@ fn merged_faces(positions: &[DVec3], faces: Vec<Vec<u32>>, angle: f64) -> Vec<Ve
                 let b = face[(i + 1) % face.len()];
                 if let Some(&g) = by_edge.get(&(b, a))
                     && group[g] == usize::MAX
+                    && class(sources[g]) == class(sources[seed])
                     && within(normals[seed], normals[g])
                 {
                     group[g] = seed;
@@ -184,8 +210,8 @@ fn merged_faces(positions: &[DVec3], faces: Vec<Vec<u32>>, angle: f64) -> Vec<Ve
             k += 1;
         }
         match outline(&faces, &members) {
-            Some(merged) if members.len() > 1 => out.push(merged),
-            _ => out.extend(members.iter().map(|&m| faces[m].clone())),
+            Some(merged) if members.len() > 1 => out.push((sources[seed], merged)),
+            _ => out.extend(members.iter().map(|&m| (sources[m], faces[m].clone()))),
         }
     }
     out

@@ -6,7 +6,7 @@ use std::sync::Arc;
 
 use shapegram_geom::{
     DMat3, DVec3, FaceClass, Mesh, Scope,
-    cleanup::{Cleanup, cleanup},
+    cleanup::{Cleanup, cleanup_classes},
     convex::convex_pieces,
     extrude::{extrude_along, extrude_polygon},
     mesh::newell,
@@ -317,12 +317,19 @@ impl Engine<'_> {
         let Some(mesh) = state.geometry.local_mesh(state.scope.size) else {
             return Ok(());
         };
-        let cleaned = cleanup(&mesh, what, t);
-        let tags = state
-            .geometry
-            .tags()
-            .filter(|t| t.len() == cleaned.face_count())
-            .map(Arc::from);
+        // Faces of different tags stay apart, and each face keeps its tag.
+        let old_tags = state.geometry.tags();
+        let classes: Vec<u32> = old_tags
+            .map(|tags| tags.iter().map(|&tag| tag as u32).collect())
+            .unwrap_or_default();
+        let (cleaned, sources) = cleanup_classes(&mesh, what, t, &classes);
+        let tags = old_tags.map(|tags| {
+            let kept: Vec<FaceTag> = sources
+                .iter()
+                .map(|&f| tags.get(f).copied().unwrap_or(FaceTag::None))
+                .collect();
+            Arc::from(kept)
+        });
         state.geometry = if cleaned.is_empty() {
             Geometry::Empty
         } else {
