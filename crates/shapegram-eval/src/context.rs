@@ -198,6 +198,8 @@ pub(crate) struct Waiting {
     pub origin: DVec3,
     /// The initial shape's axes (`object.*` selectors).
     pub object_axes: shapegram_geom::DMat3,
+    /// The initial shape's scope and geometry (`resetGeometry`).
+    pub initial: (shapegram_geom::Scope, crate::shape::Geometry),
     pub consts: ConstMemo,
     pub shapes: Vec<Parked>,
     /// The lot's skeleton as phase 1 left it, which phase 2 goes on building.

@@ -339,8 +339,18 @@ fn rename_stmts(stmts: &mut [Stmt], rename: &dyn Fn(&str) -> Option<String>, par
             rename_expr(&mut arg.value, rename, params);
         }
         if let Some(block) = &mut call.block {
-            let sizes = call.name.name.starts_with("split");
-            rename_block(block, sizes, rename, params);
+            if call.name.name == "splitAndSetbackPerimeter" {
+                // Sized sections in a group, then the `remainder` selector (see `ast::Call`).
+                for entry in &mut block.entries {
+                    match entry {
+                        BlockEntry::Group(sections) => rename_block(sections, true, rename, params),
+                        BlockEntry::Part { body, .. } => rename_stmts(body, rename, params),
+                    }
+                }
+            } else {
+                let sizes = call.name.name.starts_with("split");
+                rename_block(block, sizes, rename, params);
+            }
         }
     }
 }

@@ -267,11 +267,55 @@ fn cleanup_geometry_merges_vertices_and_drops_corners_and_faces() {
         errors.contains("expected `vertices`, `edges`, `faces` or `all`"),
         "{errors}"
     );
-    let warnings = compile_errors("Lot --> cleanupGeometry(edges, 0) X.").join("\n");
-    assert!(
-        warnings.contains("does not merge coplanar faces yet"),
-        "{warnings}"
+    assert_eq!(
+        compile_errors("Lot --> cleanupGeometry(edges, 0) X."),
+        Vec::<String>::new()
     );
+}
+
+#[test]
+fn cleanup_of_edges_merges_coplanar_faces_into_one_polygon() {
+    let faces = |grammar: &str| {
+        let r = reports(grammar, l_lot());
+        (of(&r, "faces"), of(&r, "corners"), of(&r, "area"))
+    };
+    let count = "report(\"faces\", geometry.nFaces) report(\"corners\", geometry.nVertices) report(\"area\", geometry.area)";
+    // The L cut into convex pieces, and merged back: one face with the L's six corners.
+    let (n, corners, area) = faces(&format!("Lot --> convexify {count} X."));
+    assert_close(&n, &[2.0]);
+    assert_eq!((corners.clone(), area.clone()), (vec![6.0], vec![400.0]));
+    let (n, corners, area) = faces(&format!(
+        "Lot --> convexify cleanupGeometry(edges, 0) {count} X."
+    ));
+    assert_close(&n, &[1.0]);
+    assert_close(&corners, &[6.0]);
+    assert_close(&area, &[400.0]);
+    // Faces keep their tags, and faces of different tags never merge: the L's inset by 2,
+    // cut in two by convexify, is one `inside` face again; the border stays its six strips.
+    let r = reports(
+        "Lot --> offset(-2) convexify cleanupGeometry(edges, 0) comp(f) { inside : report(\"in\", geometry.area) X. | border : report(\"border\", geometry.area) Y. }",
+        l_lot(),
+    );
+    assert_close(&of(&r, "in"), &[16.0 * 6.0 + 6.0 * 20.0]);
+    assert_eq!(of(&r, "border").len(), 6);
+    assert!((of(&r, "border").iter().sum::<f64>() - 184.0).abs() < 1e-9);
+    // A hip roof 3° steep over the L: six sloped faces (and its bottom), whose normals turn by
+    // 4.2° between neighbours and 6° between opposite faces. At tolerance 0.3 (3°) none merge;
+    // at 1 (10°) all six become one polygon round the L's six corners, the ridge's three
+    // corners gone with the edges between them.
+    let roof = |t: f64| {
+        faces(&format!(
+            "Lot --> roofHip(3) cleanupGeometry(edges, {t}) {count} X."
+        ))
+    };
+    for t in [0.0, 0.3] {
+        let (n, corners, _) = roof(t);
+        assert_close(&n, &[7.0]);
+        assert_close(&corners, &[9.0]);
+    }
+    let (n, corners, _) = roof(1.0);
+    assert_close(&n, &[2.0]);
+    assert_close(&corners, &[6.0]);
 }
 
 #[test]

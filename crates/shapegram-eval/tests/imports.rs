@@ -284,3 +284,20 @@ fn an_import_redefines_the_file_s_extension_rules() {
         ["only an import with a name can redefine the file's rules"]
     );
 }
+
+#[test]
+fn an_imported_perimeter_split_reads_its_own_attributes_and_keeps_its_remainder() {
+    // The imported file's `depth` and `remainder` attributes: the section's length and depth
+    // are its attributes, the `remainder` key stays the selector.
+    let yard = "attr depth = 3\nattr remainder = 7\nYard --> splitAndSetbackPerimeter(0) { 20 : depth : extrude(depth) Strip } { remainder : extrude(remainder) Rest }\n";
+    let main = "import y : \"yard.cga\"\n@StartRule\nLot --> y.Yard\n";
+    let program = compile(
+        &[("main.cga", main), ("yard.cga", yard)],
+        &[vec![1], vec![]],
+    )
+    .unwrap();
+    assert_eq!(
+        heights(&program),
+        [("Strip".to_owned(), 3.0), ("Rest".to_owned(), 7.0)]
+    );
+}

@@ -6,7 +6,7 @@
 //! ([`occlusion`]) with a bounding-volume hierarchy ([`bvh`]), offsets of convex and
 //! non-convex polygons ([`offset`]), fitting assets into scopes ([`fit`]), taper, twist and shear
 //! ([`deform`]), convex pieces ([`convex`]), largest inner rectangles ([`inner_rectangle`]),
-//! envelopes ([`envelope`]), clean-up ([`cleanup`]), footprints ([`footprint`]) and random points ([`scatter`]) of meshes,
+//! envelopes ([`envelope`]), perimeter splits ([`perimeter`]), clean-up ([`cleanup`]), footprints ([`footprint`]) and random points ([`scatter`]) of meshes,
 //! triangulation and mesh metrics.
 //!
 //! Conventions shared by every crate of the workspace:
@@ -27,10 +27,12 @@ pub mod fit;
 pub mod footprint;
 pub mod inner_rectangle;
 pub mod material;
+mod merge;
 pub mod mesh;
 pub mod model;
 pub mod occlusion;
 pub mod offset;
+pub mod perimeter;
 mod planar;
 pub mod plane;
 pub mod primitives;

@@ -91,6 +91,30 @@ pub fn cylinder(size: DVec3, sides: u32) -> Mesh {
     mesh
 }
 
+/// A flat disk: the polygon of `vertices` corners (at least 3) on the ellipse inscribed in the
+/// box's face across axis `flat` (at 0 along it), facing along that axis. The first corner lies
+/// at the high end of the first axis after `flat` in the order x, y, z that is not up the face
+/// (x for a disk facing y or z, y for one facing x), the others follow counter-clockwise.
+pub fn disk(size: DVec3, flat: usize, vertices: u32) -> Mesh {
+    let n = vertices.max(3);
+    // (u, v) with u × v along the flat axis.
+    let (u, v, v_sign) = match flat {
+        0 => (1, 2, 1.0),
+        2 => (0, 1, 1.0),
+        _ => (0, 2, -1.0),
+    };
+    let points: Vec<DVec3> = (0..n)
+        .map(|k| {
+            let a = TAU * f64::from(k) / f64::from(n);
+            let mut p = DVec3::ZERO;
+            p[u] = size[u] * 0.5 * (1.0 + a.cos());
+            p[v] = size[v] * 0.5 * (1.0 + v_sign * a.sin());
+            p
+        })
+        .collect();
+    Mesh::from_polygon(&points)
+}
+
 /// An upright cone with `sides` faces around the ellipse inscribed in the box's base, apex at the
 /// top centre. `sides` is raised to at least 3.
 pub fn cone(size: DVec3, sides: u32) -> Mesh {

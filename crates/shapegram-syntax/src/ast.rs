@@ -286,7 +286,10 @@ pub struct Call {
     pub name: Ident,
     /// Arguments; `None` when written without parentheses (`Window` vs `Window()`).
     pub args: Option<Vec<Argument>>,
-    /// The `{ … }` block of splits, component splits and similar operations.
+    /// The `{ … }` block of splits, component splits and similar operations. A perimeter split's
+    /// two blocks `splitAndSetbackPerimeter(…) { len : depth : … }* { remainder : … }` are one:
+    /// the sections' block as a group whose keys are the pairs `[len, depth]`, then the
+    /// remainder's entries.
     pub block: Option<Block>,
     /// Whether a terminal marker `.` follows (`Glass.`).
     pub terminal: bool,

@@ -616,3 +616,21 @@ fn styles_lay_their_declarations_over_the_default_style() {
         "style `Loop` extends itself"
     );
 }
+
+#[test]
+fn perimeter_split_sections_carry_length_and_depth_and_the_remainder_block_follows() {
+    assert_eq!(
+        body("splitAndSetbackPerimeter(6) { 40 : 5 : Y | ~2 : rand(3, 4) : B }* { remainder : G }"),
+        "(splitAndSetbackPerimeter(6){{[40, 5] : (Y) | [~2, rand(3, 4)] : (B)}* | remainder : (G)})"
+    );
+    assert_eq!(
+        body("splitAndSetbackPerimeter(0) { 2 : 1 : X }"),
+        "(splitAndSetbackPerimeter(0){{[2, 1] : (X)}})"
+    );
+    let (source, parsed) = common::parse_str("A --> splitAndSetbackPerimeter(0) { 2 : X }");
+    let shown = common::render_all(&source, &parsed.diagnostics);
+    assert!(
+        shown.contains("expected `:` after the section's depth"),
+        "{shown}"
+    );
+}

@@ -442,6 +442,7 @@ fn derive_lot<'a>(
     } = how;
     let (scope, geometry) = initial_shape(&lot.footprint)?;
     let symbol = program.rules[start as usize].symbol;
+    let initial = (scope, geometry.clone());
     let mut state = State::initial(symbol, scope, geometry, seed);
     let mut ev = Evaluator::new(program, seed, scope.origin);
     ev.object_axes = scope.axes;
@@ -457,6 +458,7 @@ fn derive_lot<'a>(
         .unwrap_or_default();
     let room = batch.skeleton_room.max(previous.sections);
     let mut engine = Engine::new(program, ev, names, options, phase, batch);
+    engine.initial = Some(initial.clone());
     engine.leaves.reserve(previous.leaves);
     if let Some(tree) = &mut engine.tree {
         tree.reserve(previous.nodes);
@@ -502,6 +504,7 @@ fn derive_lot<'a>(
             lot: index,
             origin: scope.origin,
             object_axes: scope.axes,
+            initial,
             consts: engine.ev.memo(),
             shapes: std::mem::take(&mut engine.parked),
             skeleton: engine.skeleton.take(),
@@ -576,6 +579,7 @@ fn resume_lot(
     ev.motions = motions;
     let mut engine = Engine::new(program, ev, names, options, Phase::Answer, batch);
     engine.skeleton = waiting.skeleton;
+    engine.initial = Some(waiting.initial);
     for p in waiting.shapes {
         let task = Work::Rewrite(Task {
             state: Box::new(p.state.thaw()),

@@ -6,7 +6,7 @@ use std::sync::Arc;
 
 use shapegram_geom::{
     DMat3, DVec3, FaceClass, Mesh, Scope,
-    cleanup::{Cleanup, cleanup},
+    cleanup::{Cleanup, cleanup_classes},
     convex::convex_pieces,
     extrude::{extrude_along, extrude_polygon},
     mesh::newell,
@@ -252,26 +252,31 @@ impl<'p> Engine<'p> {
         };
         let total = pieces.len() as u32;
         for (i, (axes, polygons)) in pieces.into_iter().enumerate() {
-            let mut mesh = Mesh::new();
-            for polygon in &polygons {
-                mesh.append(&Mesh::from_polygon(polygon));
-            }
             let mut child = state.spawn();
             child.comp = (i as u32, total);
             child.comp_sel = selector;
-            child.scope = Scope::fit(axes, mesh.positions().iter().copied());
-            mesh.transform(&child.scope.world_to_local());
-            let single = polygons.len() == 1;
-            child.geometry = if single && fills_box(mesh.positions(), child.scope.size) {
-                Geometry::Box
-            } else {
-                Geometry::mesh(mesh)
-            };
+            set_flat_geometry(&mut child, axes, &polygons);
             self.admit(&mut child, span)?;
             self.run_stmts(body, &mut child, args, out)?;
         }
         Ok(())
     }
+}
+
+/// Gives a shape these polygons (world coordinates) as its geometry, in a scope of the given
+/// axes fitted around them; a single polygon that fills its scope is a box.
+pub(super) fn set_flat_geometry(shape: &mut State, axes: DMat3, polygons: &[&[DVec3]]) {
+    let mut mesh = Mesh::new();
+    for polygon in polygons {
+        mesh.append(&Mesh::from_polygon(polygon));
+    }
+    shape.scope = Scope::fit(axes, mesh.positions().iter().copied());
+    mesh.transform(&shape.scope.world_to_local());
+    shape.geometry = if polygons.len() == 1 && fills_box(mesh.positions(), shape.scope.size) {
+        Geometry::Box
+    } else {
+        Geometry::mesh(mesh)
+    };
 }
 
 /// Polygons that become one shape, with the axes of its scope.
@@ -312,12 +317,19 @@ impl Engine<'_> {
         let Some(mesh) = state.geometry.local_mesh(state.scope.size) else {
             return Ok(());
         };
-        let cleaned = cleanup(&mesh, what, t);
-        let tags = state
-            .geometry
-            .tags()
-            .filter(|t| t.len() == cleaned.face_count())
-            .map(Arc::from);
+        // Faces of different tags stay apart, and each face keeps its tag.
+        let old_tags = state.geometry.tags();
+        let classes: Vec<u32> = old_tags
+            .map(|tags| tags.iter().map(|&tag| tag as u32).collect())
+            .unwrap_or_default();
+        let (cleaned, sources) = cleanup_classes(&mesh, what, t, &classes);
+        let tags = old_tags.map(|tags| {
+            let kept: Vec<FaceTag> = sources
+                .iter()
+                .map(|&f| tags.get(f).copied().unwrap_or(FaceTag::None))
+                .collect();
+            Arc::from(kept)
+        });
         state.geometry = if cleaned.is_empty() {
             Geometry::Empty
         } else {

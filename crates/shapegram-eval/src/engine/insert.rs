@@ -156,6 +156,10 @@ impl Engine<'_> {
         let (counts, size) = match (kind, numbers.as_slice()) {
             (Primitive::Cube, &[w, h, d]) => (&[][..], Some((DVec3::new(w, h, d), 1))),
             (Primitive::Quad, &[w, l]) => (&[][..], Some(quad_size(&state.scope, w, l))),
+            (Primitive::Disk, &[_, r]) => (
+                &numbers[..1],
+                Some(quad_size(&state.scope, 2.0 * r, 2.0 * r)),
+            ),
             (Primitive::Cylinder, &[_, r, h]) => {
                 (&numbers[..1], Some((DVec3::new(2.0 * r, h, 2.0 * r), 1)))
             }
@@ -173,6 +177,8 @@ impl Engine<'_> {
                     state.mirror_axis(i);
                 }
             }
+            // A disk fills the scope's flat face as it is.
+            None if kind == Primitive::Disk => {}
             None => {
                 // A primitive is a unit asset: a flat scope takes sizes by `i()`'s rules (a
                 // cube on a 20 × 30 lot is 25 high, the mean of the other two).
@@ -199,6 +205,15 @@ impl Engine<'_> {
         }
         state.geometry = match kind {
             Primitive::Cube | Primitive::Quad => Geometry::Box,
+            Primitive::Disk => {
+                let flat = quad_size(&state.scope, 1.0, 1.0).1;
+                let across = (0..3).filter(|&i| i != flat);
+                if across.clone().any(|i| size[i] == 0.0) {
+                    Geometry::Empty
+                } else {
+                    Geometry::mesh(primitives::disk(size, flat, count(0, 16)?))
+                }
+            }
             Primitive::Pyramid => Geometry::mesh(primitives::pyramid(size)),
             Primitive::Cylinder => Geometry::mesh(primitives::cylinder(size, count(0, 16)?)),
             Primitive::Cone => Geometry::mesh(primitives::cone(size, count(0, 16)?)),

@@ -104,6 +104,8 @@ pub(super) struct Engine<'p> {
     /// The attribute values the last tree node got, and the shape values they were copied
     /// from: shapes share their values until a `set`, so nodes share them too.
     node_attrs: Option<NodeAttrs>,
+    /// The initial shape's scope and geometry, for `resetGeometry`.
+    pub(super) initial: Option<(Scope, Geometry)>,
 }
 
 /// A shape's attribute values and the copy of them its tree node kept.
@@ -146,6 +148,7 @@ impl<'p> Engine<'p> {
             syncs: FxHashMap::default(),
             last_semantics: None,
             node_attrs: None,
+            initial: None,
         }
     }
 
@@ -647,6 +650,9 @@ impl<'p> Engine<'p> {
             }
             Op::AlignScopeToGeometryBBox { first, second } => align_to_bbox(state, *first, *second),
             Op::RotateScope(v) => self.rotate_scope(state, v, args)?,
+            Op::MirrorScope(flags) => self.mirror_scope(state, flags, args)?,
+            Op::SetPivot { up, corner } => self.set_pivot(state, *up, corner, args)?,
+            Op::ResetGeometry => self.reset_geometry(state, span)?,
             Op::Insert(path, placement) => self.insert(state, path, *placement, args)?,
             Op::Primitive(kind, params) => self.primitive(state, *kind, params, span, args)?,
             Op::Scatter(spec) => {
@@ -698,6 +704,10 @@ impl<'p> Engine<'p> {
                 };
                 self.inner_rectangle(state, *edge, outputs, *split, span, args, out)?;
                 return Ok(*split);
+            }
+            Op::PerimeterSplit(spec) => {
+                self.perimeter_split(state, spec, span, args, out)?;
+                return Ok(true);
             }
             Op::Setback {
                 depths,

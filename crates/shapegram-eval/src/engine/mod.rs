@@ -37,6 +37,8 @@ mod inner_rect;
 mod insert;
 mod kinematics;
 mod machine;
+mod perimeter;
+mod pivot;
 mod reuse;
 mod roof;
 mod scatter;

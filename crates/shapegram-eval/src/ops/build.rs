@@ -120,15 +120,35 @@ impl Ctx<'_, '_> {
             "alignScopeToGeometry" => self.align_to_geometry()?,
             "alignScopeToGeometryBBox" => self.align_to_bbox()?,
             "rotateScope" => Op::RotateScope(self.three()?),
+            "mirrorScope" => Op::MirrorScope(self.three()?),
+            "setPivot" => {
+                self.arity(2, 2)?;
+                let up = match self.word(0) {
+                    Some("xyz") => 1,
+                    Some("yzx") => 0,
+                    Some("zxy") => 2,
+                    _ => return self.bad_selector(0, "`xyz`, `yzx` or `zxy`"),
+                };
+                Op::SetPivot {
+                    up,
+                    corner: self.args.pop()?,
+                }
+            }
+            "resetGeometry" => {
+                self.arity(0, 0)?;
+                Op::ResetGeometry
+            }
             "i" | "insert" => self.insert()?,
             "primitiveCube" => self.primitive(Primitive::Cube, &[0, 3])?,
             "primitiveQuad" => self.primitive(Primitive::Quad, &[0, 2])?,
+            "primitiveDisk" => self.primitive(Primitive::Disk, &[0, 1, 2])?,
             "primitivePyramid" => self.primitive(Primitive::Pyramid, &[0])?,
             "primitiveCylinder" => self.primitive(Primitive::Cylinder, &[0, 1, 3])?,
             "primitiveCone" => self.primitive(Primitive::Cone, &[0, 1])?,
             "primitiveSphere" => self.primitive(Primitive::Sphere, &[0, 1, 2])?,
             "split" => self.split(false)?,
             "splitArea" => self.split(true)?,
+            "splitAndSetbackPerimeter" => self.perimeter_split()?,
             "joint" => {
                 self.c.kinematic = true;
                 Op::Joint(self.three()?)
@@ -275,14 +295,12 @@ impl Ctx<'_, '_> {
                     Some("all") => (true, true, true),
                     _ => return self.bad_selector(0, "`vertices`, `edges`, `faces` or `all`"),
                 };
-                if edges {
-                    self.warn_once(
-                        "`cleanupGeometry` does not merge coplanar faces yet: their shared edges stay"
-                            .into(),
-                    );
-                }
                 Op::Cleanup {
-                    what: shapegram_geom::cleanup::Cleanup { vertices, faces },
+                    what: shapegram_geom::cleanup::Cleanup {
+                        vertices,
+                        faces,
+                        edges,
+                    },
                     tolerance: self.args.pop()?,
                 }
             }
@@ -346,6 +364,7 @@ impl Ctx<'_, '_> {
                 | Op::Scatter(_)
                 | Op::Comp { .. }
                 | Op::Setback { .. }
+                | Op::PerimeterSplit(_)
                 | Op::InnerRectangle { split: true, .. }
                 | Op::Ignored
         );

@@ -226,7 +226,7 @@ impl Ctx<'_, '_> {
             self.error(format!("`{name}` needs a `{{ size : … }}` block"));
             return None;
         };
-        let block = split_block(self.c, block, self.params)?;
+        let block = split_block(self.c, block, self.params, false)?;
         Some(Op::Split {
             axis,
             by_area,
@@ -235,6 +235,64 @@ impl Ctx<'_, '_> {
             joints,
             block,
         })
+    }
+
+    /// `splitAndSetbackPerimeter(offset [, firstEdge, mask]) { len : depth : … }[*] {
+    /// remainder : … }`, its blocks joined by the parser (see `ast::Call`).
+    pub(super) fn perimeter_split(&mut self) -> Option<Op> {
+        if !matches!(self.args.len(), 1 | 3) {
+            return self.wrong_arity();
+        }
+        let Some(block) = &self.call.block else {
+            self.error("`splitAndSetbackPerimeter` needs a `{ length : depth : … }` block".into());
+            return None;
+        };
+        let mut entries = block.entries.iter();
+        let Some(BlockEntry::Group(sections)) = entries.next() else {
+            self.error("`splitAndSetbackPerimeter` needs a `{ length : depth : … }` block".into());
+            return None;
+        };
+        let sections = split_block(self.c, sections, self.params, true)?;
+        let mut remainder = None;
+        for entry in entries {
+            match entry {
+                BlockEntry::Part {
+                    key:
+                        ast::Expr {
+                            kind: ast::ExprKind::Name(name),
+                            ..
+                        },
+                    merge,
+                    body,
+                    ..
+                } if name == "remainder" && remainder.is_none() => {
+                    remainder = Some((*merge, self.c.stmts(body, self.params)));
+                }
+                BlockEntry::Part { span, .. } => {
+                    self.c.report(Diagnostic::error(
+                        "the second block of `splitAndSetbackPerimeter` holds one `remainder : …` entry",
+                        *span,
+                    ));
+                    return None;
+                }
+                BlockEntry::Group(group) => {
+                    self.c.report(Diagnostic::error(
+                        "the second block of `splitAndSetbackPerimeter` holds one `remainder : …` entry",
+                        group.span,
+                    ));
+                    return None;
+                }
+            }
+        }
+        let mut args = std::mem::take(&mut self.args).into_iter();
+        let offset = args.next()?;
+        Some(Op::PerimeterSplit(Box::new(PerimeterSplit {
+            offset,
+            first_edge: args.next(),
+            mask: args.next(),
+            sections,
+            remainder,
+        })))
     }
 
     /// `scatter(domain, n, uniform | gaussian [, mean [, stddev]]) { … }`.
@@ -305,7 +363,7 @@ impl Ctx<'_, '_> {
             self.error("`split` needs a `{ size : … }` block".into());
             return None;
         };
-        let block = split_block(self.c, block, self.params)?;
+        let block = split_block(self.c, block, self.params, false)?;
         Some(Op::UvSplit {
             coordinate,
             metres,
@@ -805,15 +863,31 @@ impl Ctx<'_, '_> {
     }
 }
 
-fn split_block(c: &mut Compiler, block: &ast::Block, params: &[ast::Ident]) -> Option<SplitBlock> {
+/// A split block compiled; in a perimeter split (`sections`) its keys are `[length, depth]`.
+fn split_block(
+    c: &mut Compiler,
+    block: &ast::Block,
+    params: &[ast::Ident],
+    sections: bool,
+) -> Option<SplitBlock> {
     let mut entries = Vec::with_capacity(block.entries.len());
     for entry in &block.entries {
         entries.push(match entry {
-            BlockEntry::Part { key, body, .. } => SplitEntry::Part {
-                size: c.expr(key, params),
-                body: c.stmts(body, params),
-            },
-            BlockEntry::Group(group) => SplitEntry::Group(split_block(c, group, params)?),
+            BlockEntry::Part { key, body, .. } => {
+                // A perimeter split's key is the pair `[length, depth]` (see `ast::Call`).
+                let (size, depth) = match &key.kind {
+                    ast::ExprKind::Array(pair) if sections && pair.len() == 2 => {
+                        (c.expr(&pair[0], params), Some(c.expr(&pair[1], params)))
+                    }
+                    _ => (c.expr(key, params), None),
+                };
+                SplitEntry::Part {
+                    size,
+                    depth,
+                    body: c.stmts(body, params),
+                }
+            }
+            BlockEntry::Group(group) => SplitEntry::Group(split_block(c, group, params, sections)?),
         });
     }
     Some(SplitBlock {

@@ -53,6 +53,16 @@ pub(crate) enum Op {
         second: usize,
     },
     RotateScope([CExpr; 3]),
+    /// `mirrorScope(x, y, z)`: the flagged scope axes turned round, the geometry staying.
+    MirrorScope([CExpr; 3]),
+    /// `setPivot(xyz | yzx | zxy, corner)`: the scope's origin at a corner, its axes turned
+    /// into the box, the new y along old axis `up`; the geometry staying.
+    SetPivot {
+        up: usize,
+        corner: CExpr,
+    },
+    /// `resetGeometry()`: the initial shape's geometry and scope back.
+    ResetGeometry,
     /// `i(path [, yUp | zUp [, mode [, cleanup]]])`: the asset at the path, placed so.
     Insert(CExpr, Placement),
     Primitive(Primitive, Vec<CExpr>),
@@ -87,6 +97,9 @@ pub(crate) enum Op {
         kind: CompKind,
         entries: Vec<CompEntry>,
     },
+    /// `splitAndSetbackPerimeter(offset [, firstEdge, mask]) { len : depth : … }[*] {
+    /// remainder : … }`: the perimeter split into sections, each set back by its depth.
+    PerimeterSplit(Box<PerimeterSplit>),
     /// `setback(d) { front : … | remainder : … }` and `shapeL(front, left) { shape : … |
     /// remainder : … }` (and `shapeU`, `shapeO`): strips along edges, their outline, the rest.
     Setback {
@@ -323,6 +336,8 @@ pub(crate) enum InsertFit {
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub(crate) enum Primitive {
     Cube,
+    /// A flat polygon round the ellipse in the scope's flat face.
+    Disk,
     Cylinder,
     Cone,
     Sphere,
@@ -523,8 +538,28 @@ pub(crate) struct SplitBlock {
 /// One entry of a split block.
 #[derive(Debug)]
 pub(crate) enum SplitEntry {
-    Part { size: CExpr, body: Vec<CStmt> },
+    Part {
+        size: CExpr,
+        /// A perimeter split's setback depth for the section.
+        depth: Option<CExpr>,
+        body: Vec<CStmt>,
+    },
     Group(SplitBlock),
+}
+
+/// A perimeter split: where its pattern starts, which face edges it runs along, its sections
+/// (each size with its depth) and the remainder's entry.
+#[derive(Debug)]
+pub(crate) struct PerimeterSplit {
+    /// Metres along the perimeter (`'`: a fraction of it) where the pattern starts.
+    pub offset: CExpr,
+    /// The face edge the perimeter starts on.
+    pub first_edge: Option<CExpr>,
+    /// Which face edges belong to the perimeter (booleans in face-edge order).
+    pub mask: Option<CExpr>,
+    pub sections: SplitBlock,
+    /// The `remainder` entry: whether it merges, and its body.
+    pub remainder: Option<(bool, Vec<CStmt>)>,
 }
 
 /// One `selector : body` entry of a component split.

@@ -201,7 +201,10 @@ impl Parser<'_> {
             args = Some(list);
             span = span.to(close);
             if self.at(&TokenKind::LBrace) {
-                let b = self.block(key_kind(&name.name))?;
+                let mut b = self.block(key_kind(&name.name))?;
+                if name.name == PERIMETER_SPLIT {
+                    b = self.perimeter_blocks(b)?;
+                }
                 span = span.to(b.span);
                 block = Some(b);
             }
@@ -218,6 +221,23 @@ impl Parser<'_> {
             args,
             block,
             terminal,
+            span,
+        })
+    }
+
+    /// The blocks of `splitAndSetbackPerimeter(…) { len : depth : … }[*] { remainder : … }`
+    /// as one: the sections' block as a group, then the entries of the remainder's block.
+    fn perimeter_blocks(&mut self, sections: Block) -> PResult<Block> {
+        let mut span = sections.span;
+        let mut entries = vec![BlockEntry::Group(sections)];
+        if self.at(&TokenKind::LBrace) {
+            let rest = self.block("selector")?;
+            span = span.to(rest.span);
+            entries.extend(rest.entries);
+        }
+        Ok(Block {
+            entries,
+            repeat: false,
             span,
         })
     }
@@ -342,12 +362,34 @@ impl Parser<'_> {
                 false
             }
         };
+        let key = if key_kind == PERIMETER_SECTION {
+            self.section_depth(key)?
+        } else {
+            key
+        };
         let body = self.statements(false)?;
         Ok(BlockEntry::Part {
             span: self.span_from(key.span),
             key,
             merge,
             body,
+        })
+    }
+
+    /// The `depth :` after a section's length in a perimeter split: the key becomes the pair
+    /// `[length, depth]`.
+    fn section_depth(&mut self, length: Expr) -> PResult<Expr> {
+        if !self.at_expression_start() {
+            return Err(self.error_expected("the section's setback depth", "after its length"));
+        }
+        let depth = self.ternary()?;
+        if self.eat(&TokenKind::Colon).is_none() {
+            self.report(self.expected("`:`", "after the section's depth"));
+        }
+        let span = length.span.to(depth.span);
+        Ok(Expr {
+            kind: ExprKind::Array(vec![length, depth]),
+            span,
         })
     }
 }
@@ -364,7 +406,9 @@ pub(super) struct Braced<T> {
 
 /// What the keys of an operation's block are called in messages.
 fn key_kind(operation: &str) -> &'static str {
-    if operation.starts_with("split") {
+    if operation == PERIMETER_SPLIT {
+        PERIMETER_SECTION
+    } else if operation.starts_with("split") {
         "split size"
     } else if operation == "scatter" {
         BODY_ONLY
@@ -372,6 +416,12 @@ fn key_kind(operation: &str) -> &'static str {
         "selector"
     }
 }
+
+/// The operation whose blocks [`Parser::perimeter_blocks`] reads.
+const PERIMETER_SPLIT: &str = "splitAndSetbackPerimeter";
+
+/// The key kind of a perimeter split's sections: `length : depth : body`.
+const PERIMETER_SECTION: &str = "section length";
 
 /// The key kind of blocks whose one entry is a body without a key (`scatter(…){ Tree }`).
 const BODY_ONLY: &str = "body";

@@ -23,7 +23,7 @@ use shapegram_syntax::Span;
 use crate::error::DeriveError;
 use crate::expr::Evaluator;
 use crate::ops::{SplitBlock, SplitEntry};
-use crate::program::{CKind, CStmt};
+use crate::program::{CExpr, CKind, CStmt};
 use crate::shape::State;
 use crate::value::Value;
 
@@ -35,6 +35,8 @@ pub(in crate::engine) struct Part<'a> {
     pub start: f64,
     pub size: f64,
     pub body: &'a [CStmt],
+    /// A perimeter split's setback depth for the part.
+    pub depth: Option<&'a CExpr>,
     /// The top-level repeated group the part came from and its repetition, if any.
     pub repeat: Option<Repetition>,
 }
@@ -42,8 +44,13 @@ pub(in crate::engine) struct Part<'a> {
 /// A repetition of a top-level repeated group: (group number, repetition number).
 pub(in crate::engine) type Repetition = (u32, u32);
 
-/// One flattened part: floating or not, nominal size, body, repetition.
-type FlatPart<'a> = (bool, f64, &'a [CStmt], Option<Repetition>);
+/// One flattened part: floating or not, nominal size, body and depth, repetition.
+type FlatPart<'a> = (
+    bool,
+    f64,
+    (&'a [CStmt], Option<&'a CExpr>),
+    Option<Repetition>,
+);
 
 /// An evaluated entry of a split block. Groups are stored flat, in preorder: a group is
 /// followed by the `len` items inside it.
@@ -52,6 +59,7 @@ enum Item<'a> {
         floating: bool,
         size: f64,
         body: &'a [CStmt],
+        depth: Option<&'a CExpr>,
     },
     Group {
         len: usize,
@@ -75,7 +83,7 @@ pub(in crate::engine) struct Layout<'a> {
 
 impl<'a> Layout<'a> {
     /// Lays out the parts of `block` along a length into [`Layout::parts`].
-    pub(super) fn lay_out(
+    pub(in crate::engine) fn lay_out(
         &mut self,
         block: &'a SplitBlock,
         length: f64,
@@ -116,7 +124,7 @@ impl<'a> Layout<'a> {
         };
         let eps = 1e-9 * length.abs().max(1.0);
         let mut at = 0.0;
-        for &(is_floating, nominal, body, repeat) in flat {
+        for &(is_floating, nominal, (body, depth), repeat) in flat {
             let size = if is_floating {
                 nominal * scale
             } else {
@@ -132,6 +140,7 @@ impl<'a> Layout<'a> {
                 start: at,
                 size: size.min(length - at),
                 body,
+                depth,
                 repeat,
             });
             at += size;
@@ -264,7 +273,7 @@ fn evaluate<'a>(
 ) -> Result<(), DeriveError> {
     for entry in &block.entries {
         match entry {
-            SplitEntry::Part { size, body } => {
+            SplitEntry::Part { size, depth, body } => {
                 let (floating, value) = match &size.kind {
                     CKind::Floating(inner) => (true, ev.number(inner, shape, args)?),
                     CKind::Relative(inner) => (false, ev.number(inner, shape, args)? * length),
@@ -274,6 +283,7 @@ fn evaluate<'a>(
                     floating,
                     size: value,
                     body,
+                    depth: depth.as_ref(),
                 });
             }
             SplitEntry::Group(group) => {
@@ -402,7 +412,8 @@ fn expand<'a>(
                 floating,
                 size,
                 body,
-            } => out.push((*floating, *size, body, within)),
+                depth,
+            } => out.push((*floating, *size, (body, *depth), within)),
             Item::Group { repeat: false, .. } => expand(inner, nominal(inner), out, within)?,
             Item::Group {
                 repeat: true, span, ..
