@@ -7,7 +7,8 @@ installs the zip, generates examples/house.cga on the default lot (objects, vert
 materials counted against the shipped module's own buffers and the C ABI's figures), regenerates
 it in place with an attribute set in the panel, generates on a plane's three faces (a building
 per face, each on its face), generates the textured house (its UV map and packed images) and
-checks that a grammar error reaches the user with its place."""
+the rule package examples/town.rpk, and checks that a grammar error reaches the user with its
+place."""
 
 import json
 import pathlib
@@ -167,6 +168,25 @@ select([obj])
 check(bpy.ops.shapegram.regenerate() == {"FINISHED"}, "regenerate the textured house")
 check([layer.name for layer in obj.data.uv_layers] == ["UVMap"], "one UV map after regenerating")
 
+# A CityEngine rule package: the rule file PRT runs, its attributes in the panel, generated with
+# the brick texture packed from inside the archive.
+for obj in list(bpy.data.objects):
+    bpy.data.objects.remove(obj)
+town = str(pathlib.Path(examples) / "town.rpk")
+settings.grammar_path = town
+check(bpy.ops.shapegram.reload() == {"FINISHED"}, "reload the rule package")
+check(
+    [(a.name, a.type) for a in settings.attrs] == [("height", "number"), ("roofAngle", "number"), ("roofColor", "string")],
+    f"the package's attributes: {[(a.name, a.type) for a in settings.attrs]}",
+)
+check(bpy.ops.shapegram.generate() == {"FINISHED"}, "generate the rule package")
+expected = engine.Grammar.load(town).derive(attrs=settings.overrides())
+(obj,) = generated()
+check(len(obj.data.vertices) == expected.vertex_count, f"{len(obj.data.vertices)} vertices of the package's model")
+brick = bpy.data.images.get("brick.png")
+check(brick is not None and brick.packed_file is not None, f"packed images {list(bpy.data.images)}")
+check([t.path for t in expected.textures] == ["brick.png"], f"the package's textures {expected.textures}")
+
 # A grammar with an error: the operator fails with the place of it, and makes nothing.
 bad = pathlib.Path(tempfile.mkdtemp()) / "bad.cga"
 bad.write_text("@StartRule\nLot --> extrude(4 Mass.\n")
@@ -179,4 +199,4 @@ except RuntimeError as error:
     check("bad.cga:2:" in str(error), f"the error says {error}")
 check(len(bpy.data.objects) == count, "nothing made by a failed generation")
 
-print(f"add-on: house {len(colors)} materials, regenerated in place, 3 buildings on 3 faces, textured house with {len(textures)} packed images")
+print(f"add-on: house {len(colors)} materials, regenerated in place, 3 buildings on 3 faces, textured house with {len(textures)} packed images, the town from its rule package")

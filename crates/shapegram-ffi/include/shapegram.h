@@ -129,6 +129,12 @@ typedef enum {
    * The library hit a bug (a Rust panic, caught at the boundary); the handle stays usable.
    */
   SG_INTERNAL = 12,
+  /**
+   * A rule package (`.rpk`) cannot be used: it is not a 7-Zip archive or is damaged, holds
+   * only compiled rules (`.cgb`) or none, or has no rule file of the name given (or several
+   * and none was named); the message says which, listing its rule files.
+   */
+  SG_PACKAGE_ERROR = 13,
 } sg_status;
 
 /**
@@ -354,9 +360,38 @@ sg_status sg_state_load_text(sg_state *state, const char *text_, uint32_t kind_,
  * `SG_IO`; a file that is not UTF-8, `SG_INVALID_UTF8`. Imports and inserted files are found
  * beside it (each read once per loaded grammar, and kept for later derivations). A goal
  * grammar loads with the handle's library, which leaves the file itself out of a folder that
- * holds it.
+ * holds it. With `SG_KIND_AUTO`, a rule package (`.rpk`) loads as `sg_state_load_package_file`
+ * loads it with no rule file named.
  */
 sg_status sg_state_load_file(sg_state *state, const char *path, uint32_t kind_);
+
+/**
+ * Loads a rule file of the CityEngine rule package (`.rpk`, a 7-Zip archive) at `path`
+ * (NUL-terminated UTF-8), as `shapegram derive package.rpk` does: the package is read into
+ * memory, and the rule file's imports, inserted assets, textures and tables are read from it.
+ * `rule_file` (NUL-terminated UTF-8, or NULL) names the rule file as `--rule-file` does: its
+ * path in the package (`rules/a.cga`, `a.cga`, or its compiled `bin/a.cgb`) or its file name;
+ * NULL runs the one PRT runs (the source of the package's one compiled rule file, or its one
+ * rule source). Replaces the loaded grammar as `sg_state_load_text` does; messages name the
+ * rule file `package.rpk!/rules/a.cga`. A package that cannot be read returns `SG_IO`; one
+ * that is not a 7-Zip archive or is damaged, holds only compiled rules (`.cgb`), or lacks the
+ * rule file named (or holds several, none named), `SG_PACKAGE_ERROR`, the message listing its
+ * rule files; grammar errors, `SG_GRAMMAR_ERROR`. The handle's library is not used: packages
+ * hold CGA, not goal grammars.
+ */
+sg_status sg_state_load_package_file(sg_state *state, const char *path, const char *rule_file);
+
+/**
+ * Loads a rule file of a rule package given as the `size` bytes at `data` (copied), as
+ * `sg_state_load_package_file` does; `name` (NUL-terminated UTF-8, or NULL for
+ * "package.rpk") names the package in messages (`name!/rules/a.cga:3:7`). `data` may be NULL
+ * only when `size` is 0.
+ */
+sg_status sg_state_load_package_bytes(sg_state *state,
+                                      const uint8_t *data,
+                                      size_t size,
+                                      const char *name,
+                                      const char *rule_file);
 
 /**
  * Adds a goal grammar to the library that the goal grammars loaded next derive with (their
@@ -454,7 +489,8 @@ sg_status sg_state_progress(const sg_state *state, uint64_t *applications);
 /**
  * Writes the buffers of the last successful derivation to `*mesh` (all counts 0 before the
  * first, or after a failed one). The pointers are owned by the handle and stay valid until the
- * next `sg_state_load_text`, `sg_state_load_file`, `sg_state_derive` or `sg_state_free` on it.
+ * next `sg_state_load_text`, `sg_state_load_file`, `sg_state_load_package_file`,
+ * `sg_state_load_package_bytes`, `sg_state_derive` or `sg_state_free` on it.
  */
 sg_status sg_state_mesh(sg_state *state, sg_mesh *mesh);
 

@@ -271,6 +271,15 @@ fn text<'a>(pointer: *const c_char, what: &str) -> Result<&'a str, Error> {
     })
 }
 
+/// A string argument that may be NULL (`None`).
+fn optional_text<'a>(pointer: *const c_char, what: &str) -> Result<Option<&'a str>, Error> {
+    if pointer.is_null() {
+        Ok(None)
+    } else {
+        text(pointer, what).map(Some)
+    }
+}
+
 /// The kind of `SG_KIND_…`; `None` for `SG_KIND_AUTO`.
 fn kind(kind: u32) -> Result<Option<Kind>, Error> {
     use shapegram_syntax::Dialect;
@@ -427,7 +436,8 @@ pub extern "C" fn sg_state_load_text(
 /// `SG_IO`; a file that is not UTF-8, `SG_INVALID_UTF8`. Imports and inserted files are found
 /// beside it (each read once per loaded grammar, and kept for later derivations). A goal
 /// grammar loads with the handle's library, which leaves the file itself out of a folder that
-/// holds it.
+/// holds it. With `SG_KIND_AUTO`, a rule package (`.rpk`) loads as `sg_state_load_package_file`
+/// loads it with no rule file named.
 #[unsafe(no_mangle)]
 pub extern "C" fn sg_state_load_file(
     state: *mut sg_state,
@@ -436,6 +446,11 @@ pub extern "C" fn sg_state_load_file(
 ) -> sg_status {
     with_state(state, |inner| {
         let path = text(path, "the path")?;
+        if kind_ == SG_KIND_AUTO && shapegram_runtime::is_package(Path::new(path)) {
+            let grammar = Grammar::load_package(Path::new(path), None)?;
+            inner.load(grammar);
+            return Ok(());
+        }
         let bytes = std::fs::read(path)
             .map_err(|e| Error::new(sg_status::SG_IO, format!("cannot read {path}: {e}")))?;
         let source = String::from_utf8(bytes).map_err(|e| {
@@ -449,6 +464,65 @@ pub extern "C" fn sg_state_load_file(
         })?;
         let source = source.strip_prefix('\u{feff}').unwrap_or(&source);
         inner.load_text(path, source, kind(kind_)?)
+    })
+}
+
+/// Loads a rule file of the CityEngine rule package (`.rpk`, a 7-Zip archive) at `path`
+/// (NUL-terminated UTF-8), as `shapegram derive package.rpk` does: the package is read into
+/// memory, and the rule file's imports, inserted assets, textures and tables are read from it.
+/// `rule_file` (NUL-terminated UTF-8, or NULL) names the rule file as `--rule-file` does: its
+/// path in the package (`rules/a.cga`, `a.cga`, or its compiled `bin/a.cgb`) or its file name;
+/// NULL runs the one PRT runs (the source of the package's one compiled rule file, or its one
+/// rule source). Replaces the loaded grammar as `sg_state_load_text` does; messages name the
+/// rule file `package.rpk!/rules/a.cga`. A package that cannot be read returns `SG_IO`; one
+/// that is not a 7-Zip archive or is damaged, holds only compiled rules (`.cgb`), or lacks the
+/// rule file named (or holds several, none named), `SG_PACKAGE_ERROR`, the message listing its
+/// rule files; grammar errors, `SG_GRAMMAR_ERROR`. The handle's library is not used: packages
+/// hold CGA, not goal grammars.
+#[unsafe(no_mangle)]
+pub extern "C" fn sg_state_load_package_file(
+    state: *mut sg_state,
+    path: *const c_char,
+    rule_file: *const c_char,
+) -> sg_status {
+    with_state(state, |inner| {
+        let path = text(path, "the path")?;
+        let rule_file = optional_text(rule_file, "the rule file")?;
+        let grammar = Grammar::load_package(Path::new(path), rule_file)?;
+        inner.load(grammar);
+        Ok(())
+    })
+}
+
+/// Loads a rule file of a rule package given as the `size` bytes at `data` (copied), as
+/// `sg_state_load_package_file` does; `name` (NUL-terminated UTF-8, or NULL for
+/// "package.rpk") names the package in messages (`name!/rules/a.cga:3:7`). `data` may be NULL
+/// only when `size` is 0.
+#[unsafe(no_mangle)]
+pub extern "C" fn sg_state_load_package_bytes(
+    state: *mut sg_state,
+    data: *const u8,
+    size: usize,
+    name: *const c_char,
+    rule_file: *const c_char,
+) -> sg_status {
+    with_state(state, |inner| {
+        let bytes = if size == 0 {
+            Vec::new()
+        } else if data.is_null() {
+            return Err(Error::new(
+                sg_status::SG_NULL_ARGUMENT,
+                "the package's bytes are NULL",
+            ));
+        } else {
+            // SAFETY: the caller passes `size` readable bytes (the header's contract).
+            unsafe { std::slice::from_raw_parts(data, size) }.to_vec()
+        };
+        let name = optional_text(name, "the package name")?.unwrap_or("package.rpk");
+        let rule_file = optional_text(rule_file, "the rule file")?;
+        let grammar = Grammar::load_package_bytes(name, bytes, rule_file)?;
+        inner.load(grammar);
+        Ok(())
     })
 }
 
@@ -714,7 +788,8 @@ pub extern "C" fn sg_state_progress(state: *const sg_state, applications: *mut u
 
 /// Writes the buffers of the last successful derivation to `*mesh` (all counts 0 before the
 /// first, or after a failed one). The pointers are owned by the handle and stay valid until the
-/// next `sg_state_load_text`, `sg_state_load_file`, `sg_state_derive` or `sg_state_free` on it.
+/// next `sg_state_load_text`, `sg_state_load_file`, `sg_state_load_package_file`,
+/// `sg_state_load_package_bytes`, `sg_state_derive` or `sg_state_free` on it.
 #[unsafe(no_mangle)]
 pub extern "C" fn sg_state_mesh(state: *mut sg_state, mesh: *mut sg_mesh) -> sg_status {
     with_state(state, |inner| {

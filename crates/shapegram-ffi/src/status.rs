@@ -36,6 +36,10 @@ pub enum sg_status {
     SG_BUSY = 11,
     /// The library hit a bug (a Rust panic, caught at the boundary); the handle stays usable.
     SG_INTERNAL = 12,
+    /// A rule package (`.rpk`) cannot be used: it is not a 7-Zip archive or is damaged, holds
+    /// only compiled rules (`.cgb`) or none, or has no rule file of the name given (or several
+    /// and none was named); the message says which, listing its rule files.
+    SG_PACKAGE_ERROR = 13,
 }
 
 /// An error: its status and its message.
@@ -72,6 +76,7 @@ impl From<shapegram_runtime::Error> for Error {
             ErrorKind::Derive => sg_status::SG_DERIVE_ERROR,
             ErrorKind::Cancelled => sg_status::SG_CANCELLED,
             ErrorKind::Io => sg_status::SG_IO,
+            ErrorKind::Package => sg_status::SG_PACKAGE_ERROR,
         };
         Self::new(status, error.message)
     }

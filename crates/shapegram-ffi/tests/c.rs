@@ -1,5 +1,6 @@
 //! `tests/c/house.c`, compiled with gcc against the header and the shared library, derives
-//! `examples/house.cga` through the C ABI and checks its counts against the Rust API's.
+//! `examples/house.cga` and the rule package `examples/town.rpk` through the C ABI and checks
+//! their counts against the Rust API's.
 //! Skipped (with a note) without gcc; run under valgrind when `SHAPEGRAM_FFI_VALGRIND` is set
 //! (as `.ci/run` does), where any leak or invalid access fails it.
 
@@ -8,6 +9,19 @@ use std::process::Command;
 
 use shapegram_export::Buffers;
 use shapegram_runtime::{Grammar, Settings};
+
+/// A package of one compiled rule file and no CGA source, as PRT's runtime packages are.
+fn compiled_only(path: &Path) {
+    let mut writer = sevenz_rust2::ArchiveWriter::new(std::io::Cursor::new(Vec::new())).unwrap();
+    let compiled: &[u8] = b"compiled";
+    writer
+        .push_archive_entry(
+            sevenz_rust2::ArchiveEntry::new_file("bin/main.cgb"),
+            Some(compiled),
+        )
+        .unwrap();
+    std::fs::write(path, writer.finish().unwrap().into_inner()).unwrap();
+}
 
 fn counts(grammar: &Grammar, seed: u64, storeys: Option<f64>) -> [usize; 3] {
     let settings = Settings {
@@ -52,6 +66,9 @@ fn the_c_program_derives_the_house_with_the_counts_of_the_rust_api() {
     let first = counts(&grammar, 0, None);
     let second = counts(&grammar, 7, Some(3.0));
     assert_ne!(first, second, "three storeys make more geometry than two");
+    let package = crate_dir.join("../../examples/town.rpk");
+    let town = Grammar::load_package(&package, None).expect("the town loads");
+    let packaged = counts(&town, 0, None);
 
     let libs = library_dir();
     assert!(
@@ -90,8 +107,16 @@ fn the_c_program_derives_the_house_with_the_counts_of_the_rust_api() {
     for n in first.iter().chain(&second) {
         command.arg(n.to_string());
     }
+    command.arg(&package);
+    for n in &packaged {
+        command.arg(n.to_string());
+    }
+    let compiled = out.with_extension("compiled.rpk");
+    compiled_only(&compiled);
+    command.arg(&compiled);
     let output = command.output().expect("the C program runs");
     let _ = std::fs::remove_file(&out);
+    let _ = std::fs::remove_file(&compiled);
     let stdout = String::from_utf8_lossy(&output.stdout);
     let stderr = String::from_utf8_lossy(&output.stderr);
     assert!(

@@ -37,6 +37,13 @@ pyo3::create_exception!(
     "An attribute was given a value of another type than its declaration's."
 );
 
+pyo3::create_exception!(
+    shapegram,
+    PackageError,
+    Error,
+    "A rule package (.rpk) cannot be used: not a 7-Zip archive, only compiled rules, no such rule file."
+);
+
 /// The exception of an engine error.
 pub fn to_py(error: EngineError) -> PyErr {
     let message = error.message;
@@ -48,6 +55,7 @@ pub fn to_py(error: EngineError) -> PyErr {
         ErrorKind::InvalidArgument => PyValueError::new_err(message),
         ErrorKind::Cancelled => Error::new_err(message),
         ErrorKind::Io => PyOSError::new_err(message),
+        ErrorKind::Package => PackageError::new_err(message),
     }
 }
 

@@ -103,19 +103,48 @@ fn lot(index: usize, corners: &[[f64; 3]]) -> PyResult<InitialShape> {
         .map_err(|e| PyValueError::new_err(format!("lot {index}: {}", e.message)))
 }
 
+impl Grammar {
+    fn new(engine: Engine, name: String) -> Self {
+        Self {
+            engine,
+            name,
+            scratch: Mutex::default(),
+        }
+    }
+}
+
 #[pymethods]
 impl Grammar {
     /// Loads the grammar in the file at `path` (its kind from the extension unless `kind` says
     /// it); its imports and inserted files are found beside it. A goal grammar takes a
-    /// `library`, as `from_text` does (its own file is left out of a folder that holds it).
+    /// `library`, as `from_text` does (its own file is left out of a folder that holds it). A
+    /// CityEngine rule package (`.rpk`) loads its rule file `rule_file` (`"rules/a.cga"`,
+    /// `"a.cga"`), or without it the one PRT runs, as `from_package` does.
     #[staticmethod]
-    #[pyo3(signature = (path, kind=None, library=None))]
+    #[pyo3(signature = (path, kind=None, library=None, rule_file=None))]
     fn load(
         py: Python<'_>,
         path: PathBuf,
         kind: Option<&str>,
         library: Option<Vec<PathBuf>>,
+        rule_file: Option<&str>,
     ) -> PyResult<Self> {
+        if kind.is_none() && shapegram_runtime::is_package(&path) {
+            if library.is_some() {
+                return Err(PyValueError::new_err(
+                    "a rule package holds CGA rule files, which take no library",
+                ));
+            }
+            let engine =
+                py.detach(|| guard(|| Engine::load_package(&path, rule_file).map_err(to_py)))?;
+            return Ok(Self::new(engine, path.to_string_lossy().into_owned()));
+        }
+        if rule_file.is_some() {
+            return Err(PyValueError::new_err(format!(
+                "rule_file picks a rule file of a rule package (.rpk); {} is a grammar file",
+                path.display()
+            )));
+        }
         let text = std::fs::read(&path).map_err(|e| {
             pyo3::exceptions::PyOSError::new_err(format!("cannot read {}: {e}", path.display()))
         })?;
@@ -152,11 +181,27 @@ impl Grammar {
                 Engine::load_with_library(name, text, kind, &library).map_err(to_py)
             })
         })?;
-        Ok(Self {
-            engine,
-            name: name.to_owned(),
-            scratch: Mutex::default(),
-        })
+        Ok(Self::new(engine, name.to_owned()))
+    }
+
+    /// Loads a rule file of the CityEngine rule package (`.rpk`, a 7-Zip archive) whose bytes
+    /// are `data`, named `name` in messages (`town.rpk!/rules/town.cga:3:7`): `rule_file` (its
+    /// path in the package or its file name), or without it the one PRT runs (the source of the
+    /// package's one compiled rule file, or its one rule source). Imports, assets and textures
+    /// are read from the package. A package that cannot be used raises `PackageError`.
+    #[staticmethod]
+    #[pyo3(signature = (data, name="package.rpk", rule_file=None))]
+    fn from_package(
+        py: Python<'_>,
+        data: &[u8],
+        name: &str,
+        rule_file: Option<&str>,
+    ) -> PyResult<Self> {
+        let data = data.to_vec();
+        let engine = py.detach(|| {
+            guard(|| Engine::load_package_bytes(name, data, rule_file).map_err(to_py))
+        })?;
+        Ok(Self::new(engine, name.to_owned()))
     }
 
     /// The name the grammar was loaded under (its path, for a file).

@@ -29,6 +29,7 @@ fn shapegram(module: &Bound<'_, PyModule>) -> PyResult<()> {
         "UnknownAttributeError",
         py.get_type::<errors::UnknownAttributeError>(),
     )?;
+    module.add("PackageError", py.get_type::<errors::PackageError>())?;
     module.add(
         "AttributeTypeError",
         py.get_type::<errors::AttributeTypeError>(),

@@ -13,6 +13,7 @@ import shapegram
 EXAMPLES = pathlib.Path(__file__).resolve().parents[3] / "examples"
 HOUSE = EXAMPLES / "house.cga"
 CHAIR = EXAMPLES / "chairs" / "chair.goal"
+TOWN = EXAMPLES / "town.rpk"
 MATERIALS = EXAMPLES / "chairs" / "materials"
 
 
@@ -255,6 +256,67 @@ class SkeletonsAndTextures(unittest.TestCase):
             [("brick", "textures/brick.png"), ("roof_tiles", "textures/tiles.png")],
         )
         self.assertTrue(all(p.material is None for p in mesh.parts if p.texture is None))
+
+
+class Packages(unittest.TestCase):
+    """CityEngine rule packages (.rpk): examples/town.rpk, its rule file, assets and texture read
+    from the archive (the C test checks the same counts)."""
+
+    def check_town(self, grammar):
+        mesh = grammar.derive()
+        self.assertEqual((mesh.vertex_count, mesh.triangle_count, len(mesh.parts)), (58, 28, 3))
+        self.assertEqual([t.path for t in mesh.textures], ["brick.png"])
+        self.assertTrue(mesh.textures[0].data.startswith(b"\x89PNG"))
+        return mesh
+
+    def test_a_package_loads_from_its_file_and_from_its_bytes(self):
+        from_file = shapegram.Grammar.load(TOWN)
+        self.assertEqual(from_file.name, str(TOWN))
+        first = self.check_town(from_file)
+        from_bytes = shapegram.Grammar.from_package(TOWN.read_bytes(), name="town.rpk")
+        self.assertEqual(from_bytes.name, "town.rpk")
+        self.assertEqual(self.check_town(from_bytes).positions.tobytes(), first.positions.tobytes())
+        named = shapegram.Grammar.load(TOWN, rule_file="town.cga")
+        self.assertEqual(self.check_town(named).indices.tobytes(), first.indices.tobytes())
+
+    def test_its_attributes_are_named_by_their_place_in_the_package(self):
+        grammar = shapegram.Grammar.from_package(TOWN.read_bytes(), name="town.rpk")
+        attrs = {a.name: a for a in grammar.attrs}
+        self.assertEqual(sorted(attrs), ["height", "roofAngle", "roofColor"])
+        self.assertEqual(attrs["height"].default, 9.0)
+        self.assertEqual(attrs["height"].location, "town.rpk!/rules/town.cga:10:6")
+        low = grammar.derive(attrs={"height": 3})
+        top = max(low.positions[1::3])
+        self.assertLess(top, max(grammar.derive().positions[1::3]))
+        with self.assertRaises(shapegram.AttributeTypeError):
+            grammar.derive(attrs={"height": "tall"})
+
+    def test_a_rule_file_the_package_lacks_is_a_package_error(self):
+        with self.assertRaises(shapegram.PackageError) as raised:
+            shapegram.Grammar.load(TOWN, rule_file="nope.cga")
+        self.assertIsInstance(raised.exception, shapegram.Error)
+        self.assertEqual(
+            str(raised.exception),
+            f"{TOWN} has no rule file `nope.cga`; its rule files are rules/town.cga",
+        )
+
+    def test_damaged_and_foreign_packages_are_package_errors(self):
+        whole = TOWN.read_bytes()
+        for data in (whole[: len(whole) // 2], b"Lot --> X.", b""):
+            with self.assertRaises(shapegram.PackageError) as raised:
+                shapegram.Grammar.from_package(data, name="cut.rpk")
+            self.assertTrue(
+                str(raised.exception).startswith("cut.rpk is not a readable rule package (a 7-Zip archive): "),
+                raised.exception,
+            )
+        with self.assertRaises(OSError) as raised:
+            shapegram.Grammar.load("no/such/town.rpk")
+        self.assertIn("cannot read the rule package no/such/town.rpk", str(raised.exception))
+
+    def test_rule_file_is_for_packages_only(self):
+        with self.assertRaises(ValueError) as raised:
+            shapegram.Grammar.load(HOUSE, rule_file="house.cga")
+        self.assertIn("rule_file picks a rule file of a rule package (.rpk)", str(raised.exception))
 
 
 class Library(unittest.TestCase):

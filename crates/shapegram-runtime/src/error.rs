@@ -17,8 +17,12 @@ pub enum ErrorKind {
     Derive,
     /// The derivation was cancelled through its control.
     Cancelled,
-    /// A file or folder could not be read (a goal grammar's library).
+    /// A file or folder could not be read (a goal grammar's library, a rule package).
     Io,
+    /// A rule package cannot be used: it is not a 7-Zip archive or is damaged, holds no CGA
+    /// source (only compiled `.cgb` rules, or no rules), or has no rule file of the name asked
+    /// for (or several, none named).
+    Package,
 }
 
 /// An error: its kind and its message.
@@ -93,6 +97,11 @@ impl Error {
     /// [`ErrorKind::Io`].
     pub fn io(message: impl Into<String>) -> Self {
         Self::new(ErrorKind::Io, message)
+    }
+
+    /// [`ErrorKind::Package`].
+    pub fn package(message: impl Into<String>) -> Self {
+        Self::new(ErrorKind::Package, message)
     }
 
     /// [`ErrorKind::InvalidArgument`].

@@ -1,12 +1,12 @@
 //! A grammar of any kind the engine runs, loaded from text, and one derivation of it.
 
-use std::path::Path;
+use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
 use shapegram_eval::{DeriveControl, DeriveOptions, InitialShape, Program, Value};
 use shapegram_export::Buffers;
 use shapegram_geom::{Color, DVec2, DVec3, Model};
-use shapegram_load::{FileAssets, MissingAssets};
+use shapegram_load::{FileAssets, Files, MissingAssets, RulePackage};
 use shapegram_syntax::{Diagnostic, Dialect, SourceFile, ast};
 
 use crate::error::Error;
@@ -186,7 +186,7 @@ impl Grammar {
                     .iter()
                     .map(|(name, text)| SourceFile::new(name.clone(), text.clone()))
                     .collect();
-                Self::load_shape(SourceFile::new(name, text), dialect, library)
+                Self::load_shape(SourceFile::new(name, text), dialect, library, Origin::Disk)
             }
             Kind::LSystem => shapegram_lsystem::LSystem::parse(text)
                 .map(|system| Grammar::LSystem(system, name.to_owned(), text.to_owned()))
@@ -224,11 +224,12 @@ impl Grammar {
     }
 
     /// A CGA-style grammar with the files it imports (as `shapegram derive` reads them), or a
-    /// goal grammar with its library.
-    fn load_shape(
+    /// goal grammar with its library, its files read from `origin`.
+    pub(crate) fn load_shape(
         source: SourceFile,
         dialect: Option<Dialect>,
         library: Vec<SourceFile>,
+        origin: Origin,
     ) -> Result<Grammar, Error> {
         let CompiledShape {
             grammar,
@@ -239,7 +240,7 @@ impl Grammar {
         } = match shapegram_load::goal_dialect(&source, dialect) {
             Some(_) => compile_goals(source, dialect, library)?,
             None if !library.is_empty() => return Err(not_goal(source.name())),
-            None => compile_cga_style(&source, dialect),
+            None => compile_cga_style(&source, dialect, &origin),
         };
         let errors: Vec<String> = diagnostics
             .iter()
@@ -248,10 +249,7 @@ impl Grammar {
             .collect();
         match program {
             Some(program) if errors.is_empty() => {
-                let folder = Path::new(sources[0].name())
-                    .parent()
-                    .unwrap_or(Path::new(""))
-                    .to_path_buf();
+                let assets = origin.assets(sources[0].name());
                 Ok(Grammar::Shape {
                     program,
                     attrs: grammar
@@ -266,7 +264,7 @@ impl Grammar {
                             }
                         })
                         .collect(),
-                    assets: Arc::new(FileAssets::new(folder, MissingAssets::Error)),
+                    assets: Arc::new(assets),
                     sources,
                     goal,
                 })
@@ -467,11 +465,49 @@ fn compile_goals(
     })
 }
 
+/// Where a grammar's imports and assets are read from.
+pub(crate) enum Origin {
+    /// The file system: beside the grammar, whose name is its path.
+    Disk,
+    /// A rule package, the grammar being its rule file at `entry`.
+    Package(Arc<RulePackage>, PathBuf),
+}
+
+impl Origin {
+    /// The files, and the grammar's path among them (`name` on disk).
+    fn files(&self, name: &str) -> (Files, PathBuf) {
+        match self {
+            Origin::Disk => (Files::Disk, PathBuf::from(name)),
+            Origin::Package(package, entry) => (Files::Package(Arc::clone(package)), entry.clone()),
+        }
+    }
+
+    /// The assets of the grammar named `name`, found as CityEngine finds them.
+    fn assets(&self, name: &str) -> FileAssets {
+        match self {
+            Origin::Disk => {
+                let folder = Path::new(name).parent().unwrap_or(Path::new(""));
+                FileAssets::new(folder.to_path_buf(), MissingAssets::Error)
+            }
+            Origin::Package(package, entry) => FileAssets::in_package(
+                Arc::clone(package),
+                &entry.to_string_lossy(),
+                MissingAssets::Error,
+            ),
+        }
+    }
+}
+
 /// A CGA-style grammar (in `dialect`, else the notation its text is in) with the files it
-/// imports.
-fn compile_cga_style(source: &SourceFile, dialect: Option<Dialect>) -> CompiledShape {
+/// imports, read from `origin`.
+fn compile_cga_style(
+    source: &SourceFile,
+    dialect: Option<Dialect>,
+    origin: &Origin,
+) -> CompiledShape {
     let dialect = dialect.unwrap_or_else(|| shapegram_syntax::detect(source.text()));
-    let compiled = shapegram_load::compile(source, Some(dialect));
+    let (files, path) = origin.files(source.name());
+    let compiled = shapegram_load::compile_in(source, Some(dialect), &files, &path);
     CompiledShape {
         grammar: compiled.grammar,
         program: compiled.program,

@@ -3,8 +3,8 @@
 //! read in, and derivations superseded by newer ones.
 
 use std::path::{Path, PathBuf};
-use std::sync::Arc;
 use std::sync::atomic::{AtomicUsize, Ordering};
+use std::sync::{Arc, Mutex};
 use std::time::{Duration, Instant};
 
 use axum::Router;
@@ -20,15 +20,20 @@ const ORIGIN: &str = "http://127.0.0.1:7370";
 
 /// An engine whose model is the text's length in shapes, after a pause as long as the text
 /// asks (`sleep 300`), or until it is cancelled (`spin`, at most 10 s), counting its
-/// derivations.
+/// derivations and noting the path and packaged rule file of each.
 #[derive(Default)]
 struct Counting {
     runs: AtomicUsize,
+    jobs: Mutex<Vec<(PathBuf, Option<String>)>>,
 }
 
 impl Engine for Counting {
     fn derive(&self, job: &DeriveJob) -> Derived {
         self.runs.fetch_add(1, Ordering::SeqCst);
+        self.jobs.lock().unwrap().push((
+            job.path.clone(),
+            job.package.as_ref().map(|p| p.entry.clone()),
+        ));
         if let Some(ms) = job.text.strip_prefix("sleep ") {
             std::thread::sleep(Duration::from_millis(ms.trim().parse().unwrap()));
         }
@@ -70,7 +75,39 @@ impl Studio {
         #[cfg(unix)]
         std::os::unix::fs::symlink(dir.path().join("outside.cga"), folder.join("escape.cga"))
             .unwrap();
-        let folders = Folders::new(&[folder.join("house.cga")]).unwrap();
+        Studio::serve(dir, &["house.cga"])
+    }
+
+    /// A studio over the folder of [`Studio::new`] with rule packages beside its files: the
+    /// given `town.rpk` (a main rule file compiled, another not, an asset), `broken.rpk` (not an
+    /// archive) and `compiled.rpk` (compiled rules only).
+    fn with_packages() -> Studio {
+        let studio = Studio::new();
+        let folder = studio.path("");
+        std::fs::write(
+            folder.join("town.rpk"),
+            archive(&[
+                ("rules/town.cga", TOWN.as_bytes()),
+                ("rules/flat.cga", b"Lot --> Flat.\n"),
+                ("bin/town.cgb", b"compiled"),
+                ("assets/box.obj", b"v 0 0 0\n"),
+            ]),
+        )
+        .unwrap();
+        std::fs::write(folder.join("broken.rpk"), b"Lot --> X.\n").unwrap();
+        std::fs::write(
+            folder.join("compiled.rpk"),
+            archive(&[("bin/main.cgb", b"compiled")]),
+        )
+        .unwrap();
+        Studio::serve(studio.dir, &["house.cga", "town.rpk"])
+    }
+
+    /// A studio given the files `given` of the folder `project` in `dir`.
+    fn serve(dir: tempfile::TempDir, given: &[&str]) -> Studio {
+        let folder = dir.path().join("project");
+        let given: Vec<PathBuf> = given.iter().map(|name| folder.join(name)).collect();
+        let folders = Folders::new(&given).unwrap();
         let engine = Arc::new(Counting::default());
         let state = StudioState::new(folders, engine.clone(), PORT);
         Studio {
@@ -134,6 +171,20 @@ impl Studio {
         let query = format!("/api/file?path={}", path.display()).replace(' ', "%20");
         self.get(&query).await
     }
+}
+
+/// The main rule file of `town.rpk`.
+const TOWN: &str = "attr height = 9\nLot --> extrude(height) Mass.\n";
+
+/// A 7-Zip archive of `files` (path, contents), as CityEngine writes rule packages.
+fn archive(files: &[(&str, &[u8])]) -> Vec<u8> {
+    let mut writer = sevenz_rust2::ArchiveWriter::new(std::io::Cursor::new(Vec::new())).unwrap();
+    for (name, bytes) in files {
+        writer
+            .push_archive_entry(sevenz_rust2::ArchiveEntry::new_file(name), Some(*bytes))
+            .unwrap();
+    }
+    writer.finish().unwrap().into_inner()
 }
 
 #[tokio::test]
@@ -265,7 +316,7 @@ async fn paths_that_leave_the_folders_are_refused() {
             studio.path("notes.txt").display().to_string(),
             StatusCode::FORBIDDEN,
             format!(
-                "`{}` is not a grammar file (.cga, .mul, .sgl, .goal, .lsys, .cave, .grammar)",
+                "`{}` is not a grammar file (.cga, .mul, .sgl, .goal, .lsys, .cave, .grammar) or a rule file of a rule package (.rpk!/rules/…)",
                 studio.path("notes.txt").display()
             ),
         ),
@@ -306,6 +357,144 @@ async fn paths_that_leave_the_folders_are_refused() {
 }
 
 #[tokio::test]
+async fn a_rule_packages_rule_files_are_listed_read_and_derived_but_never_written() {
+    let studio = Studio::with_packages();
+    let town = studio.path("town.rpk");
+    let (status, list) = studio.get("/api/files").await;
+    assert_eq!(status, StatusCode::OK);
+    let files: Vec<(&str, bool, bool)> = list["files"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|f| {
+            (
+                f["name"].as_str().unwrap(),
+                f["given"].as_bool().unwrap(),
+                f["read_only"].as_bool().unwrap(),
+            )
+        })
+        .collect();
+    // The given files first, the package's main rule file (the one PRT runs) before its other;
+    // packages without rule files to run as themselves.
+    assert_eq!(
+        files,
+        [
+            ("house.cga", true, false),
+            ("town.rpk!/rules/town.cga", true, true),
+            ("town.rpk!/rules/flat.cga", true, true),
+            ("broken.rpk", false, false),
+            ("compiled.rpk", false, false),
+            ("old.cga", false, false),
+        ]
+    );
+    let main = format!("{}!/rules/town.cga", town.display());
+    assert_eq!(list["files"][1]["path"], json!(main));
+
+    // Read from the archive; the package's own path reads its main rule file.
+    for asked in [main.clone(), town.display().to_string()] {
+        let (status, file) = studio.read(Path::new(&asked)).await;
+        assert_eq!(status, StatusCode::OK, "{file}");
+        assert_eq!(file["text"], json!(TOWN));
+        assert_eq!(file["path"], json!(main));
+        assert_eq!(file["read_only"], json!(true));
+    }
+
+    // Derived as the rule file of its package.
+    let (status, answer) = studio
+        .write(
+            "POST",
+            "/api/derive",
+            json!({"path": main, "text": "Lot --> X.\n"}),
+        )
+        .await;
+    assert_eq!(status, StatusCode::OK, "{answer}");
+    assert_eq!(
+        studio.engine.jobs.lock().unwrap().as_slice(),
+        [(PathBuf::from(&main), Some("rules/town.cga".to_owned()))]
+    );
+
+    // Never written: the archive stays as it was.
+    let before = std::fs::read(&town).unwrap();
+    let (status, body) = studio
+        .write(
+            "PUT",
+            "/api/file",
+            json!({"path": main, "text": "Lot --> Hacked.\n"}),
+        )
+        .await;
+    assert_eq!(status, StatusCode::FORBIDDEN);
+    assert_eq!(
+        body["error"],
+        json!(format!(
+            "`{main}` is inside the rule package {}, which the studio does not write: edits derive, but are not saved",
+            town.display()
+        ))
+    );
+    assert_eq!(std::fs::read(&town).unwrap(), before);
+}
+
+#[tokio::test]
+async fn packages_that_cannot_be_used_say_why() {
+    let studio = Studio::with_packages();
+    let town = studio.path("town.rpk").display().to_string();
+    let broken = studio.path("broken.rpk").display().to_string();
+    let compiled = studio.path("compiled.rpk").display().to_string();
+    let cases = [
+        (
+            broken.clone(),
+            StatusCode::UNPROCESSABLE_ENTITY,
+            format!("{broken} is not a readable rule package (a 7-Zip archive): "),
+        ),
+        (
+            compiled.clone(),
+            StatusCode::UNPROCESSABLE_ENTITY,
+            format!(
+                "{compiled} holds only compiled rules (bin/main.cgb) and no CGA source: Shapegram runs CGA source, not CityEngine's compiled .cgb files (use a package that includes its rules/*.cga files"
+            ),
+        ),
+        (
+            format!("{town}!/rules/missing.cga"),
+            StatusCode::UNPROCESSABLE_ENTITY,
+            format!(
+                "{town} has no rule file `rules/missing.cga`; its rule files are rules/flat.cga, rules/town.cga"
+            ),
+        ),
+        (
+            format!("{town}!/assets/box.obj"),
+            StatusCode::UNPROCESSABLE_ENTITY,
+            format!(
+                "{town} has no rule file `assets/box.obj`; its rule files are rules/flat.cga, rules/town.cga"
+            ),
+        ),
+        (
+            format!("{town}!/rules/../rules/town.cga"),
+            StatusCode::FORBIDDEN,
+            format!("`{town}!/rules/../rules/town.cga` goes up with `..`"),
+        ),
+        (
+            format!("{}!/rules/town.cga", studio.path("gone.rpk").display()),
+            StatusCode::NOT_FOUND,
+            format!("no file `{}`", studio.path("gone.rpk").display()),
+        ),
+    ];
+    for (path, status, message) in cases {
+        let (got, body) = studio.read(Path::new(&path)).await;
+        let error = body["error"].as_str().unwrap();
+        assert_eq!(got, status, "{path}: {error}");
+        assert!(error.starts_with(&message), "{path}: {error}");
+        let (got, body) = studio
+            .write(
+                "POST",
+                "/api/derive",
+                json!({"path": path, "text": "Lot --> X.\n"}),
+            )
+            .await;
+        assert_eq!((got, &body["error"]), (status, &json!(error)), "{path}");
+    }
+    assert_eq!(studio.engine.runs.load(Ordering::SeqCst), 0);
+}
+
+#[tokio::test]
 async fn a_windows_1252_file_is_saved_back_in_windows_1252_with_its_line_endings() {
     let studio = Studio::new();
     let old = studio.path("old.cga");
@@ -313,7 +502,7 @@ async fn a_windows_1252_file_is_saved_back_in_windows_1252_with_its_line_endings
     assert_eq!(status, StatusCode::OK);
     assert_eq!(
         file,
-        json!({"path": old, "text": "// café\r\nLot --> X.\r\n", "encoding": "windows-1252", "line_endings": "crlf"})
+        json!({"path": old, "text": "// café\r\nLot --> X.\r\n", "encoding": "windows-1252", "line_endings": "crlf", "read_only": false})
     );
     // An editor gives lines ending in LF.
     let (status, saved) = studio

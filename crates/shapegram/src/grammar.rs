@@ -202,7 +202,7 @@ pub fn compile_silently(
 }
 
 /// [`compile_silently`] for a grammar that may come from a rule package.
-fn compile_silently_in(
+pub fn compile_silently_in(
     input: &Input,
     warn: bool,
     dialect: Option<Dialect>,

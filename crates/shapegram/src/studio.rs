@@ -1,8 +1,8 @@
 //! `shapegram studio`: the browser editor with a live preview, served by `shapegram_server::studio`
 //! on 127.0.0.1. This side brings the engine: grammar text compiled and derived the way
 //! `shapegram derive FILE` does it (notation detected from the text, imports and assets found
-//! beside the file, the default lot), then written as GLB; the other kinds of grammar are
-//! derived by [`studio_kinds`]. See docs/studio.md.
+//! beside the file, or inside the rule package the file is in; the default lot), then written
+//! as GLB; the other kinds of grammar are derived by [`studio_kinds`]. See docs/studio.md.
 
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
@@ -11,6 +11,7 @@ use std::time::{Duration, Instant};
 use clap::Args;
 use shapegram_eval::{DeriveError, DeriveOptions};
 use shapegram_export::ExportOptions;
+use shapegram_load::{FileAssets, Files, MissingAssets};
 use shapegram_server::studio::{DeriveJob, Derived, Engine, StudioDiagnostic, StudioOptions};
 use shapegram_syntax::{Diagnostic, Severity, SourceFile};
 
@@ -20,8 +21,8 @@ use crate::{Failure, grammar, studio_kinds, studio_settings, studio_tree};
 /// Arguments of `shapegram studio`.
 #[derive(Debug, Args)]
 pub struct StudioArgs {
-    /// Grammar files to edit (their folders' grammar files are listed too); none: the current
-    /// folder's
+    /// Grammar files or rule packages (.rpk) to edit (their folders' grammar files and packages
+    /// are listed too); none: the current folder's
     #[arg(value_name = "FILE")]
     pub files: Vec<PathBuf>,
     /// Loopback address and port to listen on (port 0: any free port)
@@ -89,7 +90,18 @@ fn derive_grammar(job: &DeriveJob) -> Derived {
     let (path, text) = (job.path.as_path(), job.text.as_str());
     let started = Instant::now();
     let source = SourceFile::new(path.display().to_string(), text.to_owned());
-    let (compiled, diagnostics) = grammar::compile_silently(&source, false, None);
+    // A rule file inside a rule package imports from the package, as `derive package.rpk` does.
+    let (compiled, diagnostics) = match &job.package {
+        Some(rule) => {
+            let input = grammar::Input {
+                source,
+                files: Files::Package(Arc::clone(&rule.package)),
+                path: PathBuf::from(&rule.entry),
+            };
+            grammar::compile_silently_in(&input, false, None)
+        }
+        None => grammar::compile_silently(&source, false, None),
+    };
     let mut derived = Derived {
         diagnostics: diagnostics
             .iter()
@@ -113,14 +125,19 @@ fn derive_grammar(job: &DeriveJob) -> Derived {
     };
     derived.notes = lot_notes;
     derived.lots = lots.len();
-    let folder = path.parent().unwrap_or(Path::new("")).to_path_buf();
+    let assets = match &job.package {
+        Some(rule) => {
+            FileAssets::in_package(Arc::clone(&rule.package), &rule.entry, MissingAssets::Error)
+        }
+        None => {
+            let folder = path.parent().unwrap_or(Path::new("")).to_path_buf();
+            FileAssets::new(folder, MissingAssets::Error)
+        }
+    };
     let mut options = DeriveOptions {
         seed: job.seed,
         time_budget: Some(job.time_budget),
-        assets: Some(Arc::new(shapegram_load::FileAssets::new(
-            folder,
-            shapegram_load::MissingAssets::Error,
-        ))),
+        assets: Some(Arc::new(assets)),
         keep_tree: job.tree && job.export.is_none(),
         generations: job.generations,
         control: Some(job.control.clone()),

@@ -176,7 +176,7 @@ fn the_studio_listens_on_loopback_only() {
     assert_eq!(
         stderr(&output),
         format!(
-            "error: {} is not a grammar file (.cga, .mul, .sgl, .goal, .lsys, .cave, .grammar)\n",
+            "error: {} is not a grammar file (.cga, .mul, .sgl, .goal, .lsys, .cave, .grammar) or a rule package (.rpk)\n",
             notes.display()
         )
     );
@@ -628,4 +628,106 @@ fn joints_are_posed_as_derive_poses_them() {
     assert_eq!(refused["ok"], json!(false));
     let error = refused["error"].as_str().unwrap();
     assert!(error.starts_with(&format!("pose: {name}: ")), "{error}");
+}
+
+/// A rule package opened in the studio: its rule file listed by its path in the package, read
+/// from the archive, derived with the package's assets as `derive package.rpk` derives it (the
+/// same counts, the same GLB byte for byte), its attributes in the panel with their
+/// annotations; never saved.
+#[test]
+fn a_rule_package_derives_in_the_studio_as_derive_does_the_package() {
+    use base64::Engine as _;
+    let dir = TempDir::new("studio-package");
+    let package = dir.path("town.rpk");
+    std::fs::copy(example("town.rpk"), &package).unwrap();
+    let package = std::fs::canonicalize(&package).unwrap();
+    let studio = start(&[&package]);
+    let (status, list) = request(&studio, "GET", "/api/files", None);
+    assert_eq!(status, 200, "{list}");
+    let rule = format!("{}!/rules/town.cga", package.display());
+    assert_eq!(
+        list["files"],
+        json!([{"path": rule, "name": "town.rpk!/rules/town.cga", "given": true, "read_only": true}])
+    );
+    let query = format!("/api/file?path={}", rule.replace(' ', "%20"));
+    let (status, file) = request(&studio, "GET", &query, None);
+    assert_eq!(status, 200, "{file}");
+    let text = file["text"].as_str().unwrap().to_owned();
+    assert!(text.contains("attr height = 9"), "{text}");
+
+    let answer = derive(&studio, std::path::Path::new(&rule), &text);
+    let stats = shapegram(&["derive", "-q", "--stats", package.to_str().unwrap()]);
+    let stats: Value = serde_json::from_slice(&stats.stdout).unwrap();
+    assert_eq!(
+        (&answer["ok"], &answer["shapes"], &answer["leaves"]),
+        (&json!(true), &stats["shapes"], &stats["leaves"])
+    );
+    assert_eq!(answer["diagnostics"], json!([]));
+    let attrs: Vec<(&str, &Value, &Value, bool)> = answer["attrs"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|a| {
+            (
+                a["name"].as_str().unwrap(),
+                &a["value"],
+                &a["range"],
+                a["color"].as_bool().unwrap(),
+            )
+        })
+        .collect();
+    assert_eq!(
+        attrs,
+        [
+            (
+                "height",
+                &json!(9.0),
+                &json!({"min": 3.0, "max": 30.0, "step": 0.0}),
+                false
+            ),
+            (
+                "roofAngle",
+                &json!(30.0),
+                &json!({"min": 10.0, "max": 60.0, "step": 0.0}),
+                false
+            ),
+            ("roofColor", &json!("#8a3b2e"), &Value::Null, true),
+        ]
+    );
+
+    // The panel's value, exported, is `derive --attr`'s GLB, the package's texture embedded.
+    let out = dir.path("town.glb");
+    let derived = shapegram(&[
+        "derive",
+        "-q",
+        package.to_str().unwrap(),
+        "--attr",
+        "height=20",
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    assert!(derived.status.success(), "{}", stderr(&derived));
+    let (status, exported) = request(
+        &studio,
+        "POST",
+        "/api/export",
+        Some(json!({"path": rule, "text": text, "attrs": {"height": 20}, "format": "glb"})),
+    );
+    assert_eq!(status, 200, "{exported}");
+    let glb = base64::engine::general_purpose::STANDARD
+        .decode(exported["files"][0]["data"].as_str().unwrap())
+        .unwrap();
+    assert_eq!(glb, std::fs::read(&out).unwrap());
+
+    let (status, refused) = request(
+        &studio,
+        "PUT",
+        "/api/file",
+        Some(json!({"path": rule, "text": "Lot --> X.\n"})),
+    );
+    assert_eq!(status, 403, "{refused}");
+    assert_eq!(
+        std::fs::read(&package).unwrap(),
+        std::fs::read(example("town.rpk")).unwrap()
+    );
 }

@@ -1,9 +1,12 @@
 /* The C ABI from C: derives examples/house.cga, checks the buffers' counts against those the
- * Rust API gives (passed as arguments by tests/c.rs), then the errors. Run under valgrind by
- * .ci/run, so that a leak fails CI.
+ * Rust API gives (passed as arguments by tests/c.rs), then the errors; then the rule package
+ * examples/town.rpk, from its file and from its bytes, and packages that cannot be used. Run
+ * under valgrind by .ci/run, so that a leak fails CI.
  *
- * usage: house GRAMMAR VERTICES INDICES PARTS VERTICES3 INDICES3 PARTS3
- * (the counts of seed 0, then of seed 7 with storeys = 3). */
+ * usage: house GRAMMAR VERTICES INDICES PARTS VERTICES3 INDICES3 PARTS3 PACKAGE PVERTICES
+ *        PINDICES PPARTS COMPILED_ONLY
+ * (the counts of seed 0, then of seed 7 with storeys = 3, then of the package; COMPILED_ONLY
+ * is a package of compiled rules alone). */
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -62,13 +65,98 @@ static void derive_and_check(sg_state *state, size_t vertices, size_t indices,
     }
 }
 
+/* The bytes of the file at `path` (malloc'ed; NULL when it cannot be read). */
+static unsigned char *read_file(const char *path, size_t *size) {
+    FILE *file = fopen(path, "rb");
+    if (!file) return NULL;
+    unsigned char *bytes = NULL;
+    if (fseek(file, 0, SEEK_END) == 0) {
+        long length = ftell(file);
+        if (length >= 0 && fseek(file, 0, SEEK_SET) == 0) {
+            bytes = malloc((size_t)length + 1);
+            if (bytes && fread(bytes, 1, (size_t)length, file) != (size_t)length) {
+                free(bytes);
+                bytes = NULL;
+            }
+            *size = (size_t)length;
+        }
+    }
+    fclose(file);
+    return bytes;
+}
+
+/* A rule package from its file (named and not), from its bytes, another rule file of it, and
+ * packages that cannot be used. */
+static void check_packages(sg_state *state, const char *package, const size_t counts[3],
+                           const char *compiled_only) {
+    CHECK(sg_state_load_package_file(state, package, NULL) == SG_OK);
+    derive_and_check(state, counts[0], counts[1], counts[2]);
+    sg_mesh mesh;
+    CHECK(sg_state_mesh(state, &mesh) == SG_OK);
+    /* The brick texture comes from inside the package. */
+    CHECK(mesh.texture_count == 1);
+    sg_texture texture;
+    CHECK(sg_state_texture(state, 0, &texture) == SG_OK);
+    CHECK(strcmp(texture.path, "brick.png") == 0);
+    CHECK(texture.size > 8 && memcmp(texture.data, "\x89PNG", 4) == 0);
+    /* Its attributes: a higher mass, the same count of triangles. */
+    CHECK(sg_state_set_number(state, "height", 20) == SG_OK);
+    derive_and_check(state, counts[0], counts[1], counts[2]);
+    CHECK(sg_state_set_string(state, "height", "tall") == SG_ATTRIBUTE_TYPE);
+    CHECK(strstr(sg_state_last_error(state), "town.rpk!/rules/town.cga:10:6: ") != NULL);
+
+    /* The same through sg_state_load_file, and by the rule file's name. */
+    CHECK(sg_state_load_file(state, package, SG_KIND_AUTO) == SG_OK);
+    derive_and_check(state, counts[0], counts[1], counts[2]);
+    CHECK(sg_state_load_package_file(state, package, "town.cga") == SG_OK);
+    derive_and_check(state, counts[0], counts[1], counts[2]);
+
+    /* From its bytes. */
+    size_t size = 0;
+    unsigned char *bytes = read_file(package, &size);
+    CHECK(bytes != NULL);
+    if (bytes) {
+        CHECK(sg_state_load_package_bytes(state, bytes, size, "town.rpk", NULL) == SG_OK);
+        derive_and_check(state, counts[0], counts[1], counts[2]);
+        /* A damaged copy: its second half cut off. */
+        CHECK(sg_state_load_package_bytes(state, bytes, size / 2, "cut.rpk", NULL) ==
+              SG_PACKAGE_ERROR);
+        printf("cut package: %s\n", sg_state_last_error(state));
+        CHECK(strncmp(sg_state_last_error(state),
+                      "cut.rpk is not a readable rule package (a 7-Zip archive): ", 58) == 0);
+        free(bytes);
+    }
+    /* The failed loads kept the package loaded. */
+    derive_and_check(state, counts[0], counts[1], counts[2]);
+
+    /* A rule file the package lacks: the message lists those it has. */
+    CHECK(sg_state_load_package_file(state, package, "nope.cga") == SG_PACKAGE_ERROR);
+    CHECK(strstr(sg_state_last_error(state),
+                 "has no rule file `nope.cga`; its rule files are rules/town.cga") != NULL);
+    /* Not an archive, compiled rules only, no file, NULL. */
+    const char *text = "Lot --> X.";
+    CHECK(sg_state_load_package_bytes(state, (const unsigned char *)text, strlen(text), NULL,
+                                      NULL) == SG_PACKAGE_ERROR);
+    CHECK(strncmp(sg_state_last_error(state), "package.rpk is not a readable rule package", 42) ==
+          0);
+    CHECK(sg_state_load_package_file(state, compiled_only, NULL) == SG_PACKAGE_ERROR);
+    CHECK(strstr(sg_state_last_error(state),
+                 "holds only compiled rules (bin/main.cgb) and no CGA source") != NULL);
+    CHECK(sg_state_load_package_file(state, "/nonexistent/town.rpk", NULL) == SG_IO);
+    CHECK(sg_state_load_package_file(state, NULL, NULL) == SG_NULL_ARGUMENT);
+    CHECK(sg_state_load_package_bytes(state, NULL, 4, NULL, NULL) == SG_NULL_ARGUMENT);
+    CHECK(sg_state_load_package_bytes(state, NULL, 0, NULL, NULL) == SG_PACKAGE_ERROR);
+}
+
 int main(int argc, char **argv) {
-    if (argc != 8) {
-        fprintf(stderr, "usage: house GRAMMAR V I P V3 I3 P3\n");
+    if (argc != 13) {
+        fprintf(stderr, "usage: house GRAMMAR V I P V3 I3 P3 PACKAGE PV PI PP COMPILED_ONLY\n");
         return 2;
     }
     size_t counts[6];
     for (int i = 0; i < 6; i++) counts[i] = strtoull(argv[2 + i], NULL, 10);
+    size_t package_counts[3];
+    for (int i = 0; i < 3; i++) package_counts[i] = strtoull(argv[9 + i], NULL, 10);
 
     sg_state *state = sg_state_new();
     CHECK(state != NULL);
@@ -209,6 +297,8 @@ int main(int argc, char **argv) {
     CHECK(sg_state_derive(state) == SG_OK);
     CHECK(sg_state_mesh(state, &mesh) == SG_OK);
     CHECK(mesh.joints == NULL && mesh.joint_count == 0 && mesh.vertex_joints == NULL);
+
+    check_packages(state, argv[8], package_counts, argv[12]);
 
     uint64_t applications = 1;
     CHECK(sg_state_progress(state, &applications) == SG_OK);

@@ -27,6 +27,8 @@ use serde::{Deserialize, Serialize};
 use shapegram_eval::DeriveControl;
 
 use super::StudioState;
+use super::files::Source;
+use super::packages::PackagedRule;
 use crate::error::ApiError;
 use crate::extract::JsonBody;
 
@@ -38,8 +40,12 @@ pub trait Engine: Send + Sync + 'static {
 
 /// One derivation to make.
 pub struct DeriveJob {
-    /// The file the text is edited in (canonical): its kind and where assets are.
+    /// The file the text is edited in (canonical): its kind and where assets are. For a rule
+    /// file inside a package, its path as the API names it (`/folder/town.rpk!/rules/a.cga`).
     pub path: PathBuf,
+    /// The rule file inside a rule package the text is edited in: its imports and assets are
+    /// read from the package.
+    pub package: Option<PackagedRule>,
     /// The text, perhaps not saved yet.
     pub text: String,
     /// How long the derivation may take before the engine stops it.
@@ -349,7 +355,7 @@ pub async fn derive(
             format!("generations: {n} is more than the {MAX_GENERATIONS} a derivation may have"),
         ));
     }
-    let path = state.folders.resolve(&request.path)?;
+    let (path, package) = source_job(state.folders.resolve_source(&request.path)?);
     let slot = state.generations.slot(&path);
     let generation = slot.newest.fetch_add(1, Ordering::SeqCst) + 1;
     slot.cancel_current();
@@ -369,6 +375,7 @@ pub async fn derive(
     }
     let job = DeriveJob {
         path,
+        package,
         text: request.text,
         time_budget: state.time_budget,
         tree: request.tree,
@@ -411,6 +418,14 @@ pub async fn derive(
     }))
 }
 
+/// The path and package of a job on `source`.
+fn source_job(source: Source) -> (PathBuf, Option<PackagedRule>) {
+    match source {
+        Source::File(path) => (path, None),
+        Source::Packaged(rule) => (PathBuf::from(rule.path()), Some(rule)),
+    }
+}
+
 /// Runs the engine on a blocking thread.
 async fn run(state: &StudioState, job: DeriveJob) -> Result<Derived, ApiError> {
     let engine = state.engine.clone();
@@ -425,9 +440,10 @@ pub async fn export(
     State(state): State<StudioState>,
     JsonBody(request): JsonBody<ExportRequest>,
 ) -> Result<Json<ExportAnswer>, ApiError> {
-    let path = state.folders.resolve(&request.path)?;
+    let (path, package) = source_job(state.folders.resolve_source(&request.path)?);
     let job = DeriveJob {
         path,
+        package,
         text: request.text,
         time_budget: state.time_budget,
         seed: request.seed,

@@ -1,5 +1,6 @@
 //! The files the studio may touch: grammar files (by extension) directly inside the folders of
-//! the files it was given. A path is refused when it has a `..`, is not in one of those folders
+//! the files it was given, and the rule files inside the rule packages there (see
+//! [`super::packages`]). A path is refused when it has a `..`, is not in one of those folders
 //! once links are resolved (a link leading out), or has another extension. Files are read as
 //! `shapegram derive` reads them (UTF-8, a byte-order mark dropped, else Windows-1252) and saved
 //! back the same way (encoding, byte-order mark, line endings), atomically: a temporary file in
@@ -16,6 +17,7 @@ use axum::http::StatusCode;
 use serde::{Deserialize, Serialize};
 
 use super::StudioState;
+use super::packages::{PackagedRule, Packages};
 use crate::error::ApiError;
 use crate::extract::{ApiQuery, JsonBody};
 
@@ -23,24 +25,33 @@ use crate::extract::{ApiQuery, JsonBody};
 pub const GRAMMAR_EXTENSIONS: [&str; 7] = ["cga", "mul", "sgl", "goal", "lsys", "cave", "grammar"];
 
 /// The folders the studio works in and the files it was given (all canonical paths).
-#[derive(Debug)]
 pub struct Folders {
     given: Vec<PathBuf>,
     folders: Vec<PathBuf>,
+    /// The rule packages read.
+    packages: Packages,
+}
+
+/// A file the API names: a grammar file, or a rule file inside a rule package.
+pub enum Source {
+    /// A grammar file's canonical path.
+    File(PathBuf),
+    /// A rule file of a package.
+    Packaged(PackagedRule),
 }
 
 impl Folders {
-    /// The folders of `files` (none: the current folder). Each file must be a grammar file that
-    /// exists.
+    /// The folders of `files` (none: the current folder). Each file must be a grammar file or a
+    /// rule package (`.rpk`) that exists.
     pub fn new(files: &[PathBuf]) -> Result<Folders, String> {
         let mut given = Vec::new();
         let mut folders = Vec::new();
         for file in files {
             let path = std::fs::canonicalize(file)
                 .map_err(|e| format!("cannot open {}: {e}", file.display()))?;
-            if !path.is_file() || !has_grammar_extension(&path) {
+            if !path.is_file() || !is_listed(&path) {
                 return Err(format!(
-                    "{} is not a grammar file (.{})",
+                    "{} is not a grammar file (.{}) or a rule package (.rpk)",
                     file.display(),
                     GRAMMAR_EXTENSIONS.join(", .")
                 ));
@@ -57,11 +68,44 @@ impl Folders {
                 .map_err(|e| format!("cannot find the current folder: {e}"))?;
             folders.push(here);
         }
-        Ok(Folders { given, folders })
+        Ok(Folders {
+            given,
+            folders,
+            packages: Packages::default(),
+        })
     }
 
     /// The canonical path of the existing grammar file `path` names, if the studio may touch it.
     pub fn resolve(&self, path: &str) -> Result<PathBuf, ApiError> {
+        self.check(path, has_grammar_extension)
+    }
+
+    /// The grammar file or packaged rule file `path` names, if the studio may touch it: a
+    /// grammar file as [`Folders::resolve`] finds it, or `/folder/town.rpk!/rules/a.cga` (a rule
+    /// source of a package the studio may touch); a package's own path names the rule file
+    /// `shapegram derive` runs. A package that cannot be used, or has no such rule file, is
+    /// refused with the reason (422).
+    pub fn resolve_source(&self, path: &str) -> Result<Source, ApiError> {
+        let (archive, entry) = match super::packages::split(path) {
+            Some((archive, entry)) => (archive, Some(entry)),
+            None if shapegram_load::is_package(Path::new(path)) => (path, None),
+            None => return self.resolve(path).map(Source::File),
+        };
+        if let Some(entry) = entry
+            && entry.split(['/', '\\']).any(|part| part == "..")
+        {
+            return Err(ApiError::forbidden(format!("`{path}` goes up with `..`")));
+        }
+        let real = self.check(archive, shapegram_load::is_package)?;
+        self.packages
+            .rule(&real, entry)
+            .map(Source::Packaged)
+            .map_err(|e| ApiError::new(StatusCode::UNPROCESSABLE_ENTITY, e))
+    }
+
+    /// The canonical path of the existing file `path` names, if it is of a kind `allowed` (by
+    /// its extension) and in the folders the studio may touch.
+    fn check(&self, path: &str, allowed: fn(&Path) -> bool) -> Result<PathBuf, ApiError> {
         let named = Path::new(path);
         if !named.is_absolute() {
             return Err(ApiError::bad_request(format!(
@@ -71,9 +115,9 @@ impl Folders {
         if named.components().any(|c| c == Component::ParentDir) {
             return Err(ApiError::forbidden(format!("`{path}` goes up with `..`")));
         }
-        if !has_grammar_extension(named) {
+        if !allowed(named) {
             return Err(ApiError::forbidden(format!(
-                "`{path}` is not a grammar file (.{})",
+                "`{path}` is not a grammar file (.{}) or a rule file of a rule package (.rpk!/rules/…)",
                 GRAMMAR_EXTENSIONS.join(", .")
             )));
         }
@@ -88,7 +132,7 @@ impl Folders {
             p.parent()
                 .is_some_and(|f| self.folders.iter().any(|x| x == f))
         };
-        if !inside(named) || !inside(&real) || !has_grammar_extension(&real) {
+        if !inside(named) || !inside(&real) || !allowed(&real) {
             return Err(ApiError::forbidden(format!(
                 "`{path}` is outside the folders of the files the studio was given"
             )));
@@ -99,7 +143,32 @@ impl Folders {
         Ok(real)
     }
 
-    /// The grammar files: those given first, then the others in their folders, by path.
+    /// The files to list: the grammar files and rule packages given first, then the others in
+    /// their folders, by path; each package as its rule files, or as itself when it has none to
+    /// run (reading it says why). With each, whether it was given and whether it is inside a
+    /// package.
+    fn listing(&self) -> Vec<(String, bool, bool)> {
+        self.files()
+            .into_iter()
+            .flat_map(|(path, given)| {
+                let rules = if shapegram_load::is_package(&path) {
+                    self.packages.rules(&path)
+                } else {
+                    Vec::new()
+                };
+                let plain = rules
+                    .is_empty()
+                    .then(|| (path.display().to_string(), given, false));
+                rules
+                    .into_iter()
+                    .map(move |rule| (rule.path(), given, true))
+                    .chain(plain)
+            })
+            .collect()
+    }
+
+    /// The grammar files and packages: those given first, then the others in their folders, by
+    /// path.
     fn files(&self) -> Vec<(PathBuf, bool)> {
         let mut others = Vec::new();
         for folder in &self.folders {
@@ -108,7 +177,7 @@ impl Folders {
             };
             for entry in entries.flatten() {
                 let path = entry.path();
-                if has_grammar_extension(&path)
+                if is_listed(&path)
                     && entry.file_type().is_ok_and(|t| t.is_file())
                     && !self.given.contains(&path)
                 {
@@ -129,6 +198,11 @@ fn has_grammar_extension(path: &Path) -> bool {
     path.extension()
         .and_then(|e| e.to_str())
         .is_some_and(|e| GRAMMAR_EXTENSIONS.contains(&e))
+}
+
+/// Whether the file list shows `path`: a grammar file or a rule package.
+fn is_listed(path: &Path) -> bool {
+    has_grammar_extension(path) || shapegram_load::is_package(path)
 }
 
 /// A file's encoding, as it was read.
@@ -242,12 +316,15 @@ fn write_atomically(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
 /// One grammar file in the list.
 #[derive(Serialize)]
 pub struct FileEntry {
-    /// The absolute path: how the API names the file.
+    /// The absolute path: how the API names the file (`/folder/town.rpk!/rules/a.cga` inside a
+    /// rule package).
     pub path: String,
-    /// The file name.
+    /// The file name (`town.rpk!/rules/a.cga` inside a package).
     pub name: String,
-    /// Whether it was named on the command line.
+    /// Whether it was named on the command line (for a packaged rule file: its package).
     pub given: bool,
+    /// Whether it is a rule file inside a package, which the studio derives but does not save.
+    pub read_only: bool,
 }
 
 /// The answer of `GET /api/files`.
@@ -261,16 +338,20 @@ pub struct FileList {
 pub async fn list(State(state): State<StudioState>) -> Json<FileList> {
     let files = state
         .folders
-        .files()
+        .listing()
         .into_iter()
-        .map(|(path, given)| FileEntry {
-            name: path
-                .file_name()
-                .unwrap_or_default()
-                .to_string_lossy()
-                .into_owned(),
-            path: path.display().to_string(),
-            given,
+        .map(|(path, given, read_only)| {
+            let archive = super::packages::split(&path).map_or(path.as_str(), |(a, _)| a);
+            let folder = Path::new(archive).parent().unwrap_or(Path::new(""));
+            let name = Path::new(&path)
+                .strip_prefix(folder)
+                .map_or_else(|_| path.clone(), |n| n.to_string_lossy().into_owned());
+            FileEntry {
+                name,
+                path,
+                given,
+                read_only,
+            }
         })
         .collect();
     let folders = state
@@ -292,11 +373,14 @@ pub struct FileQuery {
 /// The answer of `GET /api/file`.
 #[derive(Serialize)]
 pub struct FileText {
+    /// The file's path; for a package's own path, its rule file's.
     pub path: String,
     pub text: String,
     pub encoding: Encoding,
     /// `lf` or `crlf`: how lines end in the file (the text keeps them).
     pub line_endings: &'static str,
+    /// Whether it is a rule file inside a package, which the studio does not save.
+    pub read_only: bool,
 }
 
 /// `GET /api/file?path=…`: the text of a file, decoded.
@@ -304,22 +388,34 @@ pub async fn read(
     State(state): State<StudioState>,
     ApiQuery(query): ApiQuery<FileQuery>,
 ) -> Result<Json<FileText>, ApiError> {
-    let real = state.folders.resolve(&query.path)?;
-    let bytes = std::fs::read(&real)
-        .map_err(|e| ApiError::bad_request(format!("cannot read `{}`: {e}", query.path)))?;
+    // A packaged rule file has no path of its own on disk, and is never saved.
+    let (shown, bytes, real) = match state.folders.resolve_source(&query.path)? {
+        Source::File(real) => {
+            let bytes = std::fs::read(&real)
+                .map_err(|e| ApiError::bad_request(format!("cannot read `{}`: {e}", query.path)))?;
+            (query.path, bytes, Some(real))
+        }
+        Source::Packaged(rule) => {
+            let bytes = rule.package.file(&rule.entry).map(|b| b.to_vec());
+            (rule.path(), bytes.unwrap_or_default(), None)
+        }
+    };
     let (text, encoding) = decode(bytes);
     let crlf = text.contains("\r\n");
-    state
-        .formats
-        .0
-        .lock()
-        .unwrap_or_else(PoisonError::into_inner)
-        .insert(real, Format { encoding, crlf });
+    if let Some(real) = &real {
+        state
+            .formats
+            .0
+            .lock()
+            .unwrap_or_else(PoisonError::into_inner)
+            .insert(real.clone(), Format { encoding, crlf });
+    }
     Ok(Json(FileText {
-        path: query.path,
+        path: shown,
         text,
         encoding,
         line_endings: if crlf { "crlf" } else { "lf" },
+        read_only: real.is_none(),
     }))
 }
 
@@ -346,7 +442,16 @@ pub async fn save(
     State(state): State<StudioState>,
     JsonBody(request): JsonBody<SaveRequest>,
 ) -> Result<Json<Saved>, ApiError> {
-    let real = state.folders.resolve(&request.path)?;
+    let real = match state.folders.resolve_source(&request.path)? {
+        Source::File(real) => real,
+        Source::Packaged(rule) => {
+            return Err(ApiError::forbidden(format!(
+                "`{}` is inside the rule package {}, which the studio does not write: edits derive, but are not saved",
+                rule.path(),
+                rule.package.name()
+            )));
+        }
+    };
     let known = state
         .formats
         .0

@@ -2,12 +2,12 @@
 //! beside the multi-user repository of [`crate::router`]. See `docs/studio.md`.
 //!
 //! It serves the page (built from `studio/` and embedded, [`assets`]) and a JSON API over the
-//! grammar files it was given and the grammar files in their folders ([`files`]): list, read,
-//! save, and derive text with the engine ([`derive`]); and the engine's vocabulary for
-//! completion ([`vocabulary`]). Because the page writes files, every
-//! request passes [`guard`] first: the Host must be this server's loopback address (against DNS
-//! rebinding) and a request that is not a GET must come from the studio's own page (its Origin),
-//! so that no other site can write through the user's browser.
+//! grammar files it was given and the grammar files in their folders ([`files`]), and the rule
+//! files inside rule packages ([`packages`]): list, read, save, and derive text with the engine
+//! ([`derive`]); and the engine's vocabulary for completion ([`vocabulary`]). Because the page
+//! writes files, every request passes [`guard`] first: the Host must be this server's loopback
+//! address (against DNS rebinding) and a request that is not a GET must come from the studio's
+//! own page (its Origin), so that no other site can write through the user's browser.
 //!
 //! Deriving is the engine's business, which lives in the `shapegram` crate with the command line
 //! (assets, imports, goal libraries, GLB export): it comes in as an [`Engine`].
@@ -16,6 +16,7 @@ pub mod assets;
 pub mod derive;
 pub mod files;
 pub mod guard;
+pub mod packages;
 pub mod tree;
 pub mod vocabulary;
 
@@ -34,7 +35,8 @@ use crate::error::ApiError;
 pub use derive::{
     DeriveJob, Derived, Engine, ExportFormat, LotRequest, StudioAttr, StudioDiagnostic,
 };
-pub use files::Folders;
+pub use files::{Folders, Source};
+pub use packages::PackagedRule;
 pub use tree::{DerivationTree, PrimitiveNodes, RuleInfo, RulePlace};
 
 /// What the studio's handlers share.
