@@ -54,12 +54,7 @@ impl Evaluator<'_> {
                     params[1].span,
                 )
             })?;
-        let Some(loader) = self.assets else {
-            return Err(DeriveError::at(
-                format!("cannot search for `{first}`: this derivation reads no files"),
-                params[0].span,
-            ));
-        };
+        let loader = self.loader(&format!("search for `{first}`"), params[0].span)?;
         let found = loader
             .search(&first)
             .map_err(|why| DeriveError::at(why, params[0].span))?;
@@ -87,12 +82,7 @@ impl Evaluator<'_> {
         let bounds = match crate::engine::builtin_asset(path) {
             Some(mesh) => mesh.bounds(),
             None => {
-                let Some(loader) = self.assets else {
-                    return Err(DeriveError::at(
-                        format!("cannot read the asset `{path}`: this derivation reads no files"),
-                        at.span,
-                    ));
-                };
+                let loader = self.loader(&format!("read the asset `{path}`"), at.span)?;
                 let mesh = loader.load(path).map_err(|why| {
                     DeriveError::at(format!("cannot read the asset `{path}`: {why}"), at.span)
                 })?;
