@@ -78,6 +78,13 @@ pub(crate) enum Builtin {
     Convert,
     AssetInfo,
     AssetBestSize,
+    ColorRamp,
+    Sel,
+    GeoCoord,
+    EdgeAttrFloat,
+    EdgeAttrString,
+    EdgeAttrBool,
+    IsOriented,
     /// A string or string-list function.
     Text(Text),
     /// An array function or `isNull`.
@@ -147,9 +154,16 @@ impl Builtin {
         "convert",
         "assetInfo",
         "assetBestSize",
+        "colorRamp",
+        "sel",
+        "getGeoCoord",
+        "edgeAttr.getFloat",
+        "edgeAttr.getString",
+        "edgeAttr.getBool",
+        "geometry.isOriented",
     ];
 
-    const ALL: [Builtin; 56] = [
+    const ALL: [Builtin; 63] = [
         Self::Rand,
         Self::P,
         Self::Floor,
@@ -206,6 +220,13 @@ impl Builtin {
         Self::Convert,
         Self::AssetInfo,
         Self::AssetBestSize,
+        Self::ColorRamp,
+        Self::Sel,
+        Self::GeoCoord,
+        Self::EdgeAttrFloat,
+        Self::EdgeAttrString,
+        Self::EdgeAttrBool,
+        Self::IsOriented,
     ];
 
     /// The built-in with this name.
@@ -242,7 +263,7 @@ impl Builtin {
             Self::Min | Self::Max | Self::Pow | Self::Atan2 => (2, 2),
             Self::Clamp | Self::ContextCompare => (3, 3),
             Self::Convert => (4, 7),
-            Self::AssetInfo | Self::AssetBestSize => (2, 2),
+            Self::AssetInfo | Self::AssetBestSize | Self::ColorRamp => (2, 2),
             Self::ContextCount | Self::MinimumDistance => (2, 2),
             Self::Inside | Self::Overlaps | Self::Touches => (0, 2),
             Self::Occ => (0, 1),
@@ -302,6 +323,15 @@ impl Builtin {
             Self::Print => "print(value)",
             Self::AssetInfo => "assetInfo(filePath, sx | sy | sz | tx | ty | tz)",
             Self::AssetBestSize => "assetBestSize(searchQuery, \"x\" | \"xz\" | … | \"xyz\")",
+            Self::ColorRamp => {
+                "colorRamp(whiteToBlack | greenToRed | yellowToRed | redToBlue | orangeToBlue | brownToBlue | spectrum, value)"
+            }
+            Self::Sel => "sel(selString)",
+            Self::GeoCoord => "getGeoCoord(x | y | lon | lat)",
+            Self::EdgeAttrFloat => "edgeAttr.getFloat(attributeName)",
+            Self::EdgeAttrString => "edgeAttr.getString(attributeName)",
+            Self::EdgeAttrBool => "edgeAttr.getBool(attributeName)",
+            Self::IsOriented => "geometry.isOriented(orientation)",
             Self::Convert => {
                 "convert(x | y | z, from, to, pos | orient, x, y, z) | convert(from, to, pos | orient, [x, y, z])"
             }
@@ -319,7 +349,12 @@ impl Builtin {
         self.is_context_query()
             || matches!(
                 self,
-                Self::Angle | Self::Convert | Self::Uv(_) | Self::AssetInfo
+                Self::Angle
+                    | Self::Convert
+                    | Self::Uv(_)
+                    | Self::AssetInfo
+                    | Self::GeoCoord
+                    | Self::IsOriented
             )
     }
 

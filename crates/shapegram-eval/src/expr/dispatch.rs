@@ -44,6 +44,13 @@ impl Evaluator<'_> {
                 return f.apply(&values).map_err(|e| DeriveError::at(e, span));
             }
             Builtin::Color(f) => return self.color(f, params, shape, args),
+            Builtin::ColorRamp => return self.color_ramp(params, shape, args),
+            Builtin::Sel => return self.string(&params[0], shape, args).map(Value::Str),
+            Builtin::GeoCoord => return self.geo_coord(&params[0], shape, args),
+            Builtin::EdgeAttrFloat | Builtin::EdgeAttrString | Builtin::EdgeAttrBool => {
+                return self.edge_attr(b, &params[0], shape, args);
+            }
+            Builtin::IsOriented => return self.is_oriented(&params[0], shape, args),
             Builtin::IsRectangular
             | Builtin::IsConcave
             | Builtin::IsPlanar
@@ -197,6 +204,13 @@ impl Evaluator<'_> {
             | Builtin::Convert
             | Builtin::AssetInfo
             | Builtin::AssetBestSize
+            | Builtin::ColorRamp
+            | Builtin::Sel
+            | Builtin::GeoCoord
+            | Builtin::EdgeAttrFloat
+            | Builtin::EdgeAttrString
+            | Builtin::EdgeAttrBool
+            | Builtin::IsOriented
             | Builtin::Text(_)
             | Builtin::Array(_)
             | Builtin::Color(_)

@@ -1,4 +1,6 @@
-//! The built-in functions of coordinates and colours: `convert` and the colour conversions.
+//! The built-in functions of coordinates, colours and the inputs Shapegram has no source for:
+//! `convert`, `getGeoCoord`, the colour conversions and ramps, and the street graph's edge
+//! attributes.
 
 use std::sync::Arc;
 
@@ -6,6 +8,7 @@ use shapegram_geom::DVec3;
 use shapegram_syntax::Span;
 
 use super::{Evaluator, Result};
+use crate::builtins::Builtin;
 use crate::colors::ColorFn;
 use crate::convert::CoordinateSystem;
 use crate::error::DeriveError;
@@ -123,5 +126,71 @@ impl Evaluator<'_> {
             .map(|p| self.number(p, shape, args))
             .collect::<Result<Vec<_>>>()?;
         Ok(Value::string(&f.hex(&numbers)))
+    }
+
+    /// `colorRamp(gradient, value)`: the colour of a named ramp at a value in [0, 1], as
+    /// `#RRGGBB` (see [`crate::color_ramps`]).
+    pub(super) fn color_ramp(
+        &mut self,
+        params: &[CExpr],
+        shape: &mut State,
+        args: &[Value],
+    ) -> Result<Value> {
+        let name = self.string(&params[0], shape, args)?;
+        let value = self.number(&params[1], shape, args)?;
+        crate::color_ramps::color_at(&name, value)
+            .map(|hex| Value::string(&hex))
+            .ok_or_else(|| {
+                let names: Vec<String> = crate::color_ramps::names()
+                    .map(|n| format!("`{n}`"))
+                    .collect();
+                DeriveError::at(
+                    format!("`{name}` is no colour ramp: expected {}", names.join(", ")),
+                    params[0].span,
+                )
+            })
+    }
+
+    /// `getGeoCoord(x | y | lon | lat)`: where the shape's scope origin lies on the map. Lots
+    /// are in a local metric frame without georeference, so the scene's coordinates are that
+    /// frame's: `x` east (+x) and `y` north (−z), in metres; `lon` and `lat` need a
+    /// georeference and are 0.
+    pub(super) fn geo_coord(
+        &mut self,
+        which: &CExpr,
+        shape: &mut State,
+        args: &[Value],
+    ) -> Result<Value> {
+        let origin = shape.scope.origin;
+        Ok(Value::Number(match &*self.word(which, shape, args)? {
+            "x" => origin.x,
+            "y" => -origin.z,
+            "lon" | "lat" => 0.0,
+            other => {
+                return Err(DeriveError::at(
+                    format!("expected `x`, `y`, `lon` or `lat`, found `{other}`"),
+                    which.span,
+                ));
+            }
+        }))
+    }
+
+    /// `edgeAttr.getFloat/getString/getBool(name)`: the street graph's attribute of the edge
+    /// nearest the shape. Shapegram's lots come without a street graph, so every attribute is
+    /// missing and each getter gives its default, as CityEngine does for a missing attribute:
+    /// 0, `""` and false.
+    pub(super) fn edge_attr(
+        &mut self,
+        b: Builtin,
+        name: &CExpr,
+        shape: &mut State,
+        args: &[Value],
+    ) -> Result<Value> {
+        self.string(name, shape, args)?;
+        Ok(match b {
+            Builtin::EdgeAttrFloat => Value::Number(0.0),
+            Builtin::EdgeAttrString => Value::string(""),
+            _ => Value::Bool(false),
+        })
     }
 }

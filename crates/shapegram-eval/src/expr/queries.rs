@@ -11,11 +11,42 @@ use super::{Evaluator, Result};
 use crate::builtins::{Builtin, Query};
 use crate::error::DeriveError;
 use crate::goals::AttrId;
+use crate::ops::CompSelector;
 use crate::program::CExpr;
 use crate::shape::{Geometry, State};
 use crate::value::Value;
 
 impl Evaluator<'_> {
+    /// `geometry.isOriented(selector)`: whether some face of the shape faces as the selector
+    /// (`front`, `world.north`, `street.side`, …) says, as `comp(f)` would select it.
+    pub(super) fn is_oriented(
+        &mut self,
+        which: &CExpr,
+        shape: &mut State,
+        args: &[Value],
+    ) -> Result<Value> {
+        let word = self.word(which, shape, args)?;
+        let selector = crate::selectors::named(&word)
+            .filter(|s| !matches!(s, CompSelector::Inside | CompSelector::Border))
+            .ok_or_else(|| {
+                DeriveError::at(
+                    format!(
+                        "`{word}` is no orientation: expected a face selector such as `front`, `side`, `object.top`, `world.north` or `street.front`"
+                    ),
+                    which.span,
+                )
+            })?;
+        let Some(mesh) = shape.geometry.world_mesh(&shape.scope) else {
+            return Ok(Value::Bool(false));
+        };
+        let frames = self.frames(&shape.scope);
+        Ok(Value::Bool((0..mesh.face_count()).any(|f| {
+            selector
+                .takes_direction(mesh.face_normal(f), f, &frames)
+                .unwrap_or(false)
+        })))
+    }
+
     pub(super) fn query(&self, q: Query, shape: &State) -> f64 {
         let scope = &shape.scope;
         match q {

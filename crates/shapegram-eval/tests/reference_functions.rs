@@ -1,0 +1,164 @@
+//! Functions of the CGA reference's function list that real rule files call: each with the
+//! values CityEngine gives and the error a wrong argument gets, at the argument.
+
+mod common;
+
+use common::{compile_errors, lot, run, try_run};
+use shapegram_eval::DeriveOptions;
+
+/// The message of the derivation's error and the text its span covers.
+fn failure(grammar: &str) -> (String, String) {
+    let error = try_run(grammar, lot(4.0, 4.0), &DeriveOptions::default()).unwrap_err();
+    let span = error.span.expect("the error has a place");
+    let covered = grammar[span.start as usize..span.end as usize].to_owned();
+    (error.message, covered)
+}
+
+#[test]
+fn color_ramps_pick_one_of_36_colours_clamped_at_the_ends() {
+    let d = run(
+        "Lot --> print(colorRamp(\"yellowToRed\", 0)) print(colorRamp(\"yellowToRed\", 0.5))
+                 print(colorRamp(\"yellowToRed\", 1)) print(colorRamp(\"yellowToRed\", 0.999))
+                 print(colorRamp(\"yellowToRed\", -0.2)) print(colorRamp(\"yellowToRed\", 7))
+                 print(colorRamp(\"spectrum\", 0.25)) print(colorRamp(\"whiteToBlack\", 0.5))
+                 print(colorRamp(\"brownToBlue\", 0.5)) print(colorRamp(\"greenToRed\", 0.02))
+                 print(colorRamp(\"redToBlue\", 1)) print(colorRamp(\"orangeToBlue\", 0))
+                 X.",
+        lot(4.0, 4.0),
+    );
+    assert_eq!(
+        d.prints,
+        [
+            "#F5F500", "#F57700", "#F50000", "#F50000", "#F5F500", "#F50000", "#39A9DF", "#7B7B7B",
+            "#F2F8BC", "#3BA800", "#3661CF", "#FFC800"
+        ]
+    );
+}
+
+#[test]
+fn a_colour_ramp_colours_the_shape() {
+    let d = run(
+        "Lot --> color(colorRamp(\"whiteToBlack\", 0.5)) X.",
+        lot(4.0, 4.0),
+    );
+    let c = d.leaves[0].color;
+    assert_eq!(
+        [c.r, c.g, c.b].map(|v| (v * 255.0).round()),
+        [123.0, 123.0, 123.0]
+    );
+}
+
+#[test]
+fn an_unknown_colour_ramp_is_an_error_at_its_name() {
+    let (message, at) = failure("Lot --> print(colorRamp(\"rainbow\", 0.5)) X.");
+    assert_eq!(
+        message,
+        "`rainbow` is no colour ramp: expected `whiteToBlack`, `greenToRed`, `yellowToRed`, \
+         `redToBlue`, `orangeToBlue`, `brownToBlue`, `spectrum`"
+    );
+    assert_eq!(at, "\"rainbow\"");
+    let (message, at) = failure("Lot --> print(colorRamp(\"spectrum\", \"half\")) X.");
+    assert_eq!(message, "expected a number, found a string");
+    assert_eq!(at, "\"half\"");
+}
+
+#[test]
+fn sel_turns_a_string_into_a_selector_word() {
+    // The reference's `sel` is a cast (`set(sel("material.color." + c), 0.5)`), not a
+    // conditional: a word built as a string goes where a selector goes.
+    let d = run(
+        "axis(i) = case i == 0 : \"x\" else : \"y\"
+         Lot --> print(sel(\"front\")) print(getGeoCoord(sel(axis(0))))
+                 print(geometry.isOriented(sel(\"top\"))) X.",
+        lot(4.0, 4.0),
+    );
+    assert_eq!(d.prints, ["front", "0", "true"]);
+    let d = run(
+        "Lot --> color(0, 0, 0) set(sel(\"material.color.r\"), 0.5) X.",
+        lot(4.0, 4.0),
+    );
+    assert_eq!(d.leaves[0].color.r, 0.5);
+    let diagnostics =
+        compile_errors("f(c) = \"material.color.\" + c\nLot --> set(sel(f(\"r\")), 0.5) X.");
+    assert_eq!(diagnostics.len(), 1, "{diagnostics:?}");
+    assert!(
+        diagnostics[0].starts_with(
+            "error: `set(sel(…), …)` needs the name as a string literal: a name computed \
+             during the derivation is not supported\n --> test.cga:2:17"
+        ),
+        "{}",
+        diagnostics[0]
+    );
+    let (message, at) = failure("Lot --> print(sel(3)) X.");
+    assert_eq!(message, "expected a string, found a number");
+    assert_eq!(at, "3");
+}
+
+#[test]
+fn geo_coordinates_are_the_local_frame_without_a_georeference() {
+    let d = run(
+        "Lot --> t(3, 2, 5) print(getGeoCoord(x)) print(getGeoCoord(y))
+                 print(getGeoCoord(lon)) print(getGeoCoord(\"lat\")) X.",
+        lot(4.0, 4.0),
+    );
+    assert_eq!(d.prints, ["3", "-5", "0", "0"]);
+    let (message, at) = failure("Lot --> print(getGeoCoord(z)) X.");
+    assert_eq!(message, "expected `x`, `y`, `lon` or `lat`, found `z`");
+    assert_eq!(at, "z");
+}
+
+#[test]
+fn edge_attributes_without_a_street_graph_are_their_defaults() {
+    let d = run(
+        "Lot --> print(edgeAttr.getFloat(\"width\")) print(edgeAttr.getString(\"name\") == \"\")
+                 print(edgeAttr.getBool(\"oneway\")) X.",
+        lot(4.0, 4.0),
+    );
+    assert_eq!(d.prints, ["0", "true", "false"]);
+    let (message, at) = failure("Lot --> print(edgeAttr.getFloat(2)) X.");
+    assert_eq!(message, "expected a string, found a number");
+    assert_eq!(at, "2");
+}
+
+#[test]
+fn is_oriented_asks_whether_some_face_faces_the_selector() {
+    let d = run(
+        "Lot --> print(geometry.isOriented(top)) print(geometry.isOriented(side))
+                 print(geometry.isOriented(world.up)) print(geometry.isOriented(world.down))
+                 extrude(3) Mass
+         Mass --> print(geometry.isOriented(side)) print(geometry.isOriented(bottom))
+                  comp(f) { top : Roof }
+         Roof --> print(geometry.isOriented(world.up)) print(geometry.isOriented(world.side)) X.",
+        lot(4.0, 4.0),
+    );
+    assert_eq!(
+        d.prints,
+        [
+            "true", "false", "true", "false", "true", "true", "true", "false"
+        ]
+    );
+    let (message, at) = failure("Lot --> print(geometry.isOriented(inside)) X.");
+    assert_eq!(
+        message,
+        "`inside` is no orientation: expected a face selector such as `front`, `side`, \
+         `object.top`, `world.north` or `street.front`"
+    );
+    assert_eq!(at, "inside");
+}
+
+#[test]
+fn the_implemented_functions_check_without_warnings() {
+    let diagnostics = compile_errors(
+        "Lot --> print(colorRamp(\"spectrum\", 0.5)) print(sel(\"x\"))
+                 print(getGeoCoord(lat)) print(edgeAttr.getBool(\"a\"))
+                 print(geometry.isOriented(front)) X.",
+    );
+    assert!(diagnostics.is_empty(), "{diagnostics:?}");
+    let diagnostics = compile_errors("Lot --> print(colorRamp(\"spectrum\")) X.");
+    assert_eq!(diagnostics.len(), 1, "{diagnostics:?}");
+    assert!(
+        diagnostics[0].starts_with("error: wrong number of arguments for `colorRamp`"),
+        "{}",
+        diagnostics[0]
+    );
+}
