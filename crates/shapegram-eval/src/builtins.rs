@@ -85,6 +85,8 @@ pub(crate) enum Builtin {
     EdgeAttrString,
     EdgeAttrBool,
     IsOriented,
+    /// `geometry.area(selector)`; without arguments `geometry.area` is a [`Query`].
+    AreaOf,
     /// A string or string-list function.
     Text(Text),
     /// An array function or `isNull`.
@@ -161,9 +163,10 @@ impl Builtin {
         "edgeAttr.getString",
         "edgeAttr.getBool",
         "geometry.isOriented",
+        "geometry.area",
     ];
 
-    const ALL: [Builtin; 63] = [
+    const ALL: [Builtin; 64] = [
         Self::Rand,
         Self::P,
         Self::Floor,
@@ -227,6 +230,7 @@ impl Builtin {
         Self::EdgeAttrString,
         Self::EdgeAttrBool,
         Self::IsOriented,
+        Self::AreaOf,
     ];
 
     /// The built-in with this name.
@@ -332,6 +336,7 @@ impl Builtin {
             Self::EdgeAttrString => "edgeAttr.getString(attributeName)",
             Self::EdgeAttrBool => "edgeAttr.getBool(attributeName)",
             Self::IsOriented => "geometry.isOriented(orientation)",
+            Self::AreaOf => "geometry.area() | geometry.area(faceOrientation)",
             Self::Convert => {
                 "convert(x | y | z, from, to, pos | orient, x, y, z) | convert(from, to, pos | orient, [x, y, z])"
             }
@@ -355,6 +360,7 @@ impl Builtin {
                     | Self::AssetInfo
                     | Self::GeoCoord
                     | Self::IsOriented
+                    | Self::AreaOf
             )
     }
 

@@ -162,3 +162,21 @@ fn the_implemented_functions_check_without_warnings() {
         diagnostics[0]
     );
 }
+
+#[test]
+fn area_with_a_selector_sums_the_faces_it_selects() {
+    let d = run(
+        "Lot --> extrude(3) Mass
+         Mass --> print(geometry.area(side)) print(geometry.area(top)) print(geometry.area(surface))
+                  print(geometry.area(world.down)) print(geometry.area()) print(geometry.area) X.",
+        lot(4.0, 5.0),
+    );
+    assert_eq!(d.prints, ["54", "20", "94", "20", "94", "94"]);
+    let (message, at) = failure("Lot --> print(geometry.area(border)) X.");
+    assert_eq!(
+        message,
+        "`border` is no orientation: expected a face selector such as `front`, `side`, \
+         `object.top`, `world.north` or `street.front`"
+    );
+    assert_eq!(at, "border");
+}

@@ -50,7 +50,9 @@ impl Evaluator<'_> {
             Builtin::EdgeAttrFloat | Builtin::EdgeAttrString | Builtin::EdgeAttrBool => {
                 return self.edge_attr(b, &params[0], shape, args);
             }
-            Builtin::IsOriented => return self.is_oriented(&params[0], shape, args),
+            Builtin::IsOriented | Builtin::AreaOf => {
+                return self.oriented(b, &params[0], shape, args);
+            }
             Builtin::IsRectangular
             | Builtin::IsConcave
             | Builtin::IsPlanar
@@ -211,6 +213,7 @@ impl Evaluator<'_> {
             | Builtin::EdgeAttrString
             | Builtin::EdgeAttrBool
             | Builtin::IsOriented
+            | Builtin::AreaOf
             | Builtin::Text(_)
             | Builtin::Array(_)
             | Builtin::Color(_)

@@ -18,15 +18,36 @@ use crate::value::Value;
 
 impl Evaluator<'_> {
     /// `geometry.isOriented(selector)`: whether some face of the shape faces as the selector
-    /// (`front`, `world.north`, `street.side`, …) says, as `comp(f)` would select it.
-    pub(super) fn is_oriented(
+    /// says; `geometry.area(selector)`: the area of those faces.
+    pub(super) fn oriented(
         &mut self,
+        b: Builtin,
         which: &CExpr,
         shape: &mut State,
         args: &[Value],
     ) -> Result<Value> {
+        let areas = self.faces_facing(which, shape, args)?;
+        Ok(match b {
+            Builtin::IsOriented => Value::Bool(!areas.is_empty()),
+            _ => Value::Number(areas.iter().sum()),
+        })
+    }
+
+    /// The areas of the shape's faces that face as a face selector of `comp(f)` says
+    /// (`front`, `world.north`, `street.side`, …; `surface` is `all`), as `comp(f)` would
+    /// select them.
+    fn faces_facing(
+        &mut self,
+        which: &CExpr,
+        shape: &mut State,
+        args: &[Value],
+    ) -> Result<Vec<f64>> {
         let word = self.word(which, shape, args)?;
-        let selector = crate::selectors::named(&word)
+        let named = match &*word {
+            "surface" => Some(CompSelector::All),
+            other => crate::selectors::named(other),
+        };
+        let selector = named
             .filter(|s| !matches!(s, CompSelector::Inside | CompSelector::Border))
             .ok_or_else(|| {
                 DeriveError::at(
@@ -37,14 +58,17 @@ impl Evaluator<'_> {
                 )
             })?;
         let Some(mesh) = shape.geometry.world_mesh(&shape.scope) else {
-            return Ok(Value::Bool(false));
+            return Ok(Vec::new());
         };
         let frames = self.frames(&shape.scope);
-        Ok(Value::Bool((0..mesh.face_count()).any(|f| {
-            selector
-                .takes_direction(mesh.face_normal(f), f, &frames)
-                .unwrap_or(false)
-        })))
+        Ok((0..mesh.face_count())
+            .filter(|&f| {
+                selector
+                    .takes_direction(mesh.face_normal(f), f, &frames)
+                    .unwrap_or(false)
+            })
+            .map(|f| mesh.face_area(f))
+            .collect())
     }
 
     pub(super) fn query(&self, q: Query, shape: &State) -> f64 {
