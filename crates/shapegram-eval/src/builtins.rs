@@ -477,6 +477,10 @@ pub(crate) enum Query {
     StartRule,
     /// `scope.elevation`: the world height of the scope's origin.
     Elevation,
+    /// `initialShape.name`: the name PRT's clients give an initial shape, `shape_<index>`.
+    InitialName,
+    /// `initialShape.origin.ox/oy/oz`: the Euler angles of the initial shape's object frame.
+    InitialRotation(usize),
 }
 
 impl Query {
@@ -508,6 +512,10 @@ impl Query {
         "geometry.nHoles",
         "initialShape.startRule",
         "scope.elevation",
+        "initialShape.name",
+        "initialShape.origin.ox",
+        "initialShape.origin.oy",
+        "initialShape.origin.oz",
     ];
 
     /// The query with this name.
@@ -531,7 +539,9 @@ impl Query {
             22 => Self::CompSel,
             23 => Self::GeometryHoles,
             24 => Self::StartRule,
-            _ => Self::Elevation,
+            25 => Self::Elevation,
+            26 => Self::InitialName,
+            _ => Self::InitialRotation(i - 27),
         })
     }
 

@@ -3,7 +3,9 @@
 
 mod common;
 
-use common::{compile_errors, lot, run, try_run};
+use common::{compile_errors, lot, lots_in_a_row, run, try_run};
+use shapegram_eval::InitialShape;
+use shapegram_geom::DVec2;
 use shapegram_eval::DeriveOptions;
 
 /// The message of the derivation's error and the text its span covers.
@@ -179,4 +181,30 @@ fn area_with_a_selector_sums_the_faces_it_selects() {
          `object.top`, `world.north` or `street.front`"
     );
     assert_eq!(at, "border");
+}
+
+#[test]
+fn initial_shapes_have_a_name_and_an_object_frame() {
+    let d = shapegram_eval::derive(
+        &common::compile("Lot --> print(initialShape.name) X."),
+        &lots_in_a_row(2, 4.0, 4.0, 10.0),
+        &DeriveOptions::default(),
+    )
+    .unwrap();
+    assert_eq!(d.prints, ["shape_0", "shape_1"]);
+    // A lot whose first edge runs along +z: its object frame is turned about y.
+    let turned = InitialShape::from_xz(&[
+        DVec2::new(0.0, 0.0),
+        DVec2::new(0.0, 4.0),
+        DVec2::new(-3.0, 4.0),
+        DVec2::new(-3.0, 0.0),
+    ])
+    .unwrap();
+    let d = run(
+        "Lot --> print(initialShape.origin.ox) print(initialShape.origin.oy)
+                 print(initialShape.origin.oz) print(scope.ry) X.",
+        turned,
+    );
+    let angles: Vec<f64> = d.prints.iter().map(|p| p.parse().unwrap()).collect();
+    common::assert_close(&angles, &[0.0, -90.0, 0.0, -90.0]);
 }

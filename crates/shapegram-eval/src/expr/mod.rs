@@ -164,6 +164,7 @@ impl<'p> Evaluator<'p> {
                 self.program
                     .symbol_name(self.program.rules[rule as usize].symbol)
             })),
+            CKind::Query(Query::InitialName) => Value::string(&format!("shape_{}", self.lot)),
             CKind::Query(q) => Value::Number(self.query(*q, shape)),
             CKind::GoalAttr(attr, kind) => self.goal_attribute(*attr, *kind, shape, e.span)?,
             CKind::EdgeValues(entries) => self.edge_values(entries, shape, args)?,

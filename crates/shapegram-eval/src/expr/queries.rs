@@ -77,12 +77,7 @@ impl Evaluator<'_> {
             Query::ScopeSize(i) => scope.size[i],
             Query::ScopeOrigin(i) => scope.origin[i],
             Query::Elevation => scope.origin.y,
-            Query::ScopeRotation(i) => {
-                // Intrinsic x, y, z like `r(…)`.
-                let (x, y, z) =
-                    shapegram_geom::DQuat::from_mat3(&scope.axes).to_euler(glam::EulerRot::XYZ);
-                [x, y, z][i].to_degrees()
-            }
+            Query::ScopeRotation(i) => euler_degrees(&scope.axes)[i],
             Query::SplitIndex => f64::from(shape.split.0),
             Query::SplitTotal => f64::from(shape.split.1),
             Query::CompIndex => f64::from(shape.comp.0),
@@ -108,7 +103,8 @@ impl Evaluator<'_> {
             // A number in [0, 1) stable for the shape: CGA's `seedian`.
             Query::Seed => (crate::rng::mix(shape.seed) >> 11) as f64 / (1u64 << 53) as f64,
             Query::Depth => f64::from(shape.depth),
-            Query::CompSel | Query::StartRule => {
+            Query::InitialRotation(i) => euler_degrees(&self.object_axes)[i],
+            Query::CompSel | Query::StartRule | Query::InitialName => {
                 unreachable!("string queries are evaluated in `eval`")
             }
         }
@@ -247,4 +243,10 @@ pub(super) fn slope_angle(which: &str, shape: &State) -> std::result::Result<Val
             ));
         }
     }))
+}
+
+/// The Euler angles of a frame in degrees: intrinsic x, y, z, as `r(…)` turns.
+fn euler_degrees(axes: &shapegram_geom::DMat3) -> [f64; 3] {
+    let (x, y, z) = shapegram_geom::DQuat::from_mat3(axes).to_euler(glam::EulerRot::XYZ);
+    [x, y, z].map(f64::to_degrees)
 }
