@@ -382,21 +382,13 @@ impl Builtin {
     /// CGA functions that parse but are not implemented yet: a warning, and an error if reached.
     pub fn is_known_unsupported(name: &str) -> bool {
         const NAMES: &[&str] = &[
-            "contextCompare",
-            "contextCount",
-            "minimumDistance",
             "assetApproxRatio",
             "assetApproxSize",
             "assetMetadata",
             "assetSearch",
             "imageApproxRatio",
             "imagesSortRatio",
-            "getGeoCoord",
             "getMaterial",
-            "sel",
-            "fileExists",
-            "fileSearch",
-            "filesSearch",
             "assetBestRatio",
             "assetFitSize",
             "assetNamingInfo",
@@ -404,48 +396,19 @@ impl Builtin {
             "assetsSortSize",
             "imageBestRatio",
             "imageInfo",
-            "isNull",
             "readMaterial",
-            "readStringTable",
-            "readFloatTable",
-            "readTextFile",
-            "getTreeKey",
             "index",
             "comp",
             "isInside",
             "isOccluded",
-            "convert",
             "scope",
             "geometry",
-            "colorRamp",
-            "colorHSVToHex",
             "colorHSOToHex",
-            "colorRGBToHex",
-            "sortIndices",
-            "transpose",
-            "nRows",
-            "nColumns",
-            "boolArray",
-            "floatArray",
-            "stringArray",
             "item",
             "isect",
             "edgeAttr",
-            "edgeAttr.getFloat",
-            "edgeAttr.getString",
-            "edgeAttr.getBool",
             "infoDebug",
-            "print",
             "trim",
-            "fileRandom",
-            "geometry.isOriented",
-            "geometry.angle",
-            "geometry.du",
-            "geometry.dv",
-            "geometry.uMin",
-            "geometry.uMax",
-            "geometry.vMin",
-            "geometry.vMax",
         ];
         // A name that is implemented is never "not supported", whatever the list says.
         NAMES.contains(&name) && Self::from_name(name).is_none()
@@ -481,6 +444,8 @@ pub(crate) enum Query {
     InitialName,
     /// `initialShape.origin.ox/oy/oz`: the Euler angles of the initial shape's object frame.
     InitialRotation(usize),
+    /// `getTreeKey`: the shape's rule application in the derivation tree, as `0;2;1;`.
+    TreeKey,
 }
 
 impl Query {
@@ -516,6 +481,7 @@ impl Query {
         "initialShape.origin.ox",
         "initialShape.origin.oy",
         "initialShape.origin.oz",
+        "getTreeKey",
     ];
 
     /// The query with this name.
@@ -541,7 +507,8 @@ impl Query {
             24 => Self::StartRule,
             25 => Self::Elevation,
             26 => Self::InitialName,
-            _ => Self::InitialRotation(i - 27),
+            27..=29 => Self::InitialRotation(i - 27),
+            _ => Self::TreeKey,
         })
     }
 

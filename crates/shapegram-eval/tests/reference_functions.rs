@@ -4,9 +4,9 @@
 mod common;
 
 use common::{compile_errors, lot, lots_in_a_row, run, try_run};
+use shapegram_eval::DeriveOptions;
 use shapegram_eval::InitialShape;
 use shapegram_geom::DVec2;
-use shapegram_eval::DeriveOptions;
 
 /// The message of the derivation's error and the text its span covers.
 fn failure(grammar: &str) -> (String, String) {
@@ -207,4 +207,48 @@ fn initial_shapes_have_a_name_and_an_object_frame() {
     );
     let angles: Vec<f64> = d.prints.iter().map(|p| p.parse().unwrap()).collect();
     common::assert_close(&angles, &[0.0, -90.0, 0.0, -90.0]);
+}
+
+#[test]
+fn tree_keys_follow_the_reference_example() {
+    // The reference's own example: each rule's successors are numbered in order, and the key
+    // names the rule application the shape belongs to.
+    let d = run(
+        "Init --> print(getTreeKey() + \" - Init\") center(xz) extrude(10) comp(f) { front : Facade }
+         Facade --> print(getTreeKey() + \" - Facade\") split(y) { '0.5 : Floor }*
+         Floor --> print(getTreeKey() + \" - Floor\")
+                   split(x) { '0.1 : Wall | '0.3 : Window | '0.1 : Wall }*
+         Wall --> print(getTreeKey() + \" - Wall\")
+         Window --> print(getTreeKey() + \" - Window\")",
+        lot(4.0, 4.0),
+    );
+    let mut prints = d.prints.clone();
+    prints.sort();
+    assert_eq!(
+        prints,
+        [
+            "0; - Init",
+            "0;0; - Facade",
+            "0;0;0; - Floor",
+            "0;0;0;0; - Wall",
+            "0;0;0;1; - Window",
+            "0;0;0;2; - Wall",
+            "0;0;0;3; - Wall",
+            "0;0;0;4; - Window",
+            "0;0;0;5; - Wall",
+            "0;0;1; - Floor",
+            "0;0;1;0; - Wall",
+            "0;0;1;1; - Window",
+            "0;0;1;2; - Wall",
+            "0;0;1;3; - Wall",
+            "0;0;1;4; - Window",
+            "0;0;1;5; - Wall",
+        ]
+    );
+    // The key stays the rule's while the rule runs, in split parts too.
+    let d = run(
+        "A --> print(getTreeKey) split(x) { 2 : B print(getTreeKey) | 3 : C print(getTreeKey) }",
+        lot(5.0, 4.0),
+    );
+    assert_eq!(d.prints, ["0;", "0;", "0;"]);
 }

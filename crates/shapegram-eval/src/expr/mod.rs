@@ -165,6 +165,13 @@ impl<'p> Evaluator<'p> {
                     .symbol_name(self.program.rules[rule as usize].symbol)
             })),
             CKind::Query(Query::InitialName) => Value::string(&format!("shape_{}", self.lot)),
+            CKind::Query(Query::TreeKey) => Value::string(
+                &shape
+                    .tree_key
+                    .iter()
+                    .map(|i| format!("{i};"))
+                    .collect::<String>(),
+            ),
             CKind::Query(q) => Value::Number(self.query(*q, shape)),
             CKind::GoalAttr(attr, kind) => self.goal_attribute(*attr, *kind, shape, e.span)?,
             CKind::EdgeValues(entries) => self.edge_values(entries, shape, args)?,

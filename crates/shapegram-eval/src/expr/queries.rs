@@ -104,7 +104,7 @@ impl Evaluator<'_> {
             Query::Seed => (crate::rng::mix(shape.seed) >> 11) as f64 / (1u64 << 53) as f64,
             Query::Depth => f64::from(shape.depth),
             Query::InitialRotation(i) => euler_degrees(&self.object_axes)[i],
-            Query::CompSel | Query::StartRule | Query::InitialName => {
+            Query::CompSel | Query::StartRule | Query::InitialName | Query::TreeKey => {
                 unreachable!("string queries are evaluated in `eval`")
             }
         }
