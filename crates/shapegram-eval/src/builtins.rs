@@ -87,6 +87,7 @@ pub(crate) enum Builtin {
     IsOriented,
     /// `geometry.area(selector)`; without arguments `geometry.area` is a [`Query`].
     AreaOf,
+    GetMaterial,
     /// A string or string-list function.
     Text(Text),
     /// An array function or `isNull`.
@@ -164,9 +165,10 @@ impl Builtin {
         "edgeAttr.getBool",
         "geometry.isOriented",
         "geometry.area",
+        "getMaterial",
     ];
 
-    const ALL: [Builtin; 64] = [
+    const ALL: [Builtin; 65] = [
         Self::Rand,
         Self::P,
         Self::Floor,
@@ -231,6 +233,7 @@ impl Builtin {
         Self::EdgeAttrBool,
         Self::IsOriented,
         Self::AreaOf,
+        Self::GetMaterial,
     ];
 
     /// The built-in with this name.
@@ -267,7 +270,7 @@ impl Builtin {
             Self::Min | Self::Max | Self::Pow | Self::Atan2 => (2, 2),
             Self::Clamp | Self::ContextCompare => (3, 3),
             Self::Convert => (4, 7),
-            Self::AssetInfo | Self::AssetBestSize | Self::ColorRamp => (2, 2),
+            Self::AssetInfo | Self::AssetBestSize | Self::ColorRamp | Self::GetMaterial => (2, 2),
             Self::ContextCount | Self::MinimumDistance => (2, 2),
             Self::Inside | Self::Overlaps | Self::Touches => (0, 2),
             Self::Occ => (0, 1),
@@ -337,6 +340,7 @@ impl Builtin {
             Self::EdgeAttrBool => "edgeAttr.getBool(attributeName)",
             Self::IsOriented => "geometry.isOriented(orientation)",
             Self::AreaOf => "geometry.area() | geometry.area(faceOrientation)",
+            Self::GetMaterial => "getMaterial(used | shape | geometry, changed | all)",
             Self::Convert => {
                 "convert(x | y | z, from, to, pos | orient, x, y, z) | convert(from, to, pos | orient, [x, y, z])"
             }
@@ -361,6 +365,7 @@ impl Builtin {
                     | Self::GeoCoord
                     | Self::IsOriented
                     | Self::AreaOf
+                    | Self::GetMaterial
             )
     }
 
@@ -388,7 +393,6 @@ impl Builtin {
             "assetSearch",
             "imageApproxRatio",
             "imagesSortRatio",
-            "getMaterial",
             "assetBestRatio",
             "assetFitSize",
             "assetNamingInfo",

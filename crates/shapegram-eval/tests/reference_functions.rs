@@ -252,3 +252,32 @@ fn tree_keys_follow_the_reference_example() {
     );
     assert_eq!(d.prints, ["0;", "0;", "0;"]);
 }
+
+#[test]
+fn get_material_lists_the_attributes_set_or_all_of_them() {
+    let d = run(
+        "Lot --> color(0.5, 0.6, 0.7) set(material.metallic, 0.25) set(material.name, \"brick\")
+                 print(getMaterial(used, changed)) print(nRows(getMaterial(shape, all)))
+                 print(nRows(getMaterial(geometry, changed)))
+                 print(getMaterial(shape, all)[6, 1]) X.",
+        lot(4.0, 4.0),
+    );
+    assert_eq!(
+        d.prints,
+        [
+            "[[name,brick],[color.r,0.5],[color.g,0.6],[color.b,0.7],[metallic,0.25]]",
+            "32",
+            "0",
+            "1"
+        ]
+    );
+    let (message, at) = failure("Lot --> print(getMaterial(mine, all)) X.");
+    assert_eq!(
+        message,
+        "expected `used`, `shape` or `geometry`, found `mine`"
+    );
+    assert_eq!(at, "mine");
+    let (message, at) = failure("Lot --> print(getMaterial(used, some)) X.");
+    assert_eq!(message, "expected `changed` or `all`, found `some`");
+    assert_eq!(at, "some");
+}

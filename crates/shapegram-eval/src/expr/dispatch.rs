@@ -50,6 +50,7 @@ impl Evaluator<'_> {
             Builtin::EdgeAttrFloat | Builtin::EdgeAttrString | Builtin::EdgeAttrBool => {
                 return self.edge_attr(b, &params[0], shape, args);
             }
+            Builtin::GetMaterial => return self.material_table(params, shape, args),
             Builtin::IsOriented | Builtin::AreaOf => {
                 return self.oriented(b, &params[0], shape, args);
             }
@@ -214,6 +215,7 @@ impl Evaluator<'_> {
             | Builtin::EdgeAttrBool
             | Builtin::IsOriented
             | Builtin::AreaOf
+            | Builtin::GetMaterial
             | Builtin::Text(_)
             | Builtin::Array(_)
             | Builtin::Color(_)

@@ -20,6 +20,7 @@ mod context;
 mod dispatch;
 mod files;
 mod functions;
+mod materials;
 mod operators;
 mod queries;
 
