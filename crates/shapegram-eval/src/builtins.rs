@@ -88,6 +88,7 @@ pub(crate) enum Builtin {
     /// `geometry.area(selector)`; without arguments `geometry.area` is a [`Query`].
     AreaOf,
     GetMaterial,
+    ReadMaterial,
     /// A string or string-list function.
     Text(Text),
     /// An array function or `isNull`.
@@ -166,9 +167,10 @@ impl Builtin {
         "geometry.isOriented",
         "geometry.area",
         "getMaterial",
+        "readMaterial",
     ];
 
-    const ALL: [Builtin; 65] = [
+    const ALL: [Builtin; 66] = [
         Self::Rand,
         Self::P,
         Self::Floor,
@@ -234,6 +236,7 @@ impl Builtin {
         Self::IsOriented,
         Self::AreaOf,
         Self::GetMaterial,
+        Self::ReadMaterial,
     ];
 
     /// The built-in with this name.
@@ -341,6 +344,7 @@ impl Builtin {
             Self::IsOriented => "geometry.isOriented(orientation)",
             Self::AreaOf => "geometry.area() | geometry.area(faceOrientation)",
             Self::GetMaterial => "getMaterial(used | shape | geometry, changed | all)",
+            Self::ReadMaterial => "readMaterial(filePath)",
             Self::Convert => {
                 "convert(x | y | z, from, to, pos | orient, x, y, z) | convert(from, to, pos | orient, [x, y, z])"
             }
@@ -400,7 +404,6 @@ impl Builtin {
             "assetsSortSize",
             "imageBestRatio",
             "imageInfo",
-            "readMaterial",
             "index",
             "comp",
             "isInside",

@@ -5,7 +5,9 @@ mod common;
 
 use common::{compile_errors, lot, lots_in_a_row, run, try_run};
 use shapegram_eval::DeriveOptions;
-use shapegram_eval::InitialShape;
+use std::sync::Arc;
+
+use shapegram_eval::{AssetLoader, InitialShape};
 use shapegram_geom::DVec2;
 
 /// The message of the derivation's error and the text its span covers.
@@ -280,4 +282,66 @@ fn get_material_lists_the_attributes_set_or_all_of_them() {
     let (message, at) = failure("Lot --> print(getMaterial(used, some)) X.");
     assert_eq!(message, "expected `changed` or `all`, found `some`");
     assert_eq!(at, "some");
+}
+
+/// Assets holding one MTL file, `materials/brick.mtl`.
+struct MaterialFiles;
+
+impl AssetLoader for MaterialFiles {
+    fn load(&self, path: &str) -> Result<Arc<shapegram_geom::Mesh>, String> {
+        Err(format!("no mesh `{path}`"))
+    }
+
+    fn text(&self, path: &str) -> Result<Arc<str>, String> {
+        match path {
+            "materials/brick.mtl" => Ok("# two materials: the first is read\n\
+                 newmtl brick\nKd 0.5 0.25 0.125\nd 0.75\nNs 16\nKs 0.1 0.2 0.3\n\
+                 map_Kd tex/brick.png\nbump tex/brick_bump.png\n\
+                 newmtl other\nKd 1 1 1\n"
+                .into()),
+            other => Err(format!("no file `{other}`")),
+        }
+    }
+}
+
+#[test]
+fn read_material_reads_an_mtl_files_first_material() {
+    let options = DeriveOptions {
+        assets: Some(Arc::new(MaterialFiles)),
+        ..DeriveOptions::default()
+    };
+    let grammar = "Lot --> print(readMaterial(\"materials/brick.mtl\")) X.";
+    let d = shapegram_eval::derive(&common::compile(grammar), &[lot(4.0, 4.0)], &options).unwrap();
+    assert_eq!(
+        d.prints,
+        [
+            "[[name,brick],[color.r,0.5],[color.g,0.25],[color.b,0.125],[opacity,0.75],\
+          [specular.r,0.1],[specular.g,0.2],[specular.b,0.3],[shininess,16],\
+          [colormap,materials/tex/brick.png],[bumpmap,materials/tex/brick_bump.png]]"
+        ]
+    );
+    let failed = |grammar: &str| {
+        let e = shapegram_eval::derive(&common::compile(grammar), &[lot(4.0, 4.0)], &options)
+            .unwrap_err();
+        let span = e.span.unwrap();
+        (
+            e.message,
+            grammar[span.start as usize..span.end as usize].to_owned(),
+        )
+    };
+    assert_eq!(
+        failed("Lot --> print(readMaterial(\"metal.cgamat\")) X."),
+        (
+            "cannot read `metal.cgamat`: CityEngine's .cgamat format is not supported".to_owned(),
+            "\"metal.cgamat\"".to_owned()
+        )
+    );
+    assert_eq!(
+        failed("Lot --> print(readMaterial(\"brick.png\")) X.").0,
+        "`brick.png` is no material file: expected a .mtl (or .cgamat) file"
+    );
+    assert_eq!(
+        failed("Lot --> print(readMaterial(\"gone.mtl\")) X.").0,
+        "no file `gone.mtl`"
+    );
 }

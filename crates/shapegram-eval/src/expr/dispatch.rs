@@ -51,6 +51,7 @@ impl Evaluator<'_> {
                 return self.edge_attr(b, &params[0], shape, args);
             }
             Builtin::GetMaterial => return self.material_table(params, shape, args),
+            Builtin::ReadMaterial => return self.read_material(&params[0], shape, args),
             Builtin::IsOriented | Builtin::AreaOf => {
                 return self.oriented(b, &params[0], shape, args);
             }
@@ -216,6 +217,7 @@ impl Evaluator<'_> {
             | Builtin::IsOriented
             | Builtin::AreaOf
             | Builtin::GetMaterial
+            | Builtin::ReadMaterial
             | Builtin::Text(_)
             | Builtin::Array(_)
             | Builtin::Color(_)

@@ -1,5 +1,6 @@
-//! `getMaterial(source, mode)`: a shape's material as CGA's attribute names and their values,
-//! a table of rows `[name, value]` that CGA's `setMaterial` takes.
+//! `getMaterial(source, mode)` and `readMaterial(path)`: a shape's material, or a material
+//! file's, as CGA's attribute names and their values, a table of rows `[name, value]` that
+//! CGA's `setMaterial` takes.
 
 use std::sync::Arc;
 
@@ -60,6 +61,52 @@ impl Material {
             }
         }
         material
+    }
+
+    /// The first material of an MTL file, its textures named by their paths from the folder
+    /// `folder` the file is in, as the statements map to CGA's attributes (`Kd` colour, `d`
+    /// opacity, `Ns` shininess, `Ks`, `Ka` and `Ke` the specular, ambient and emissive colours;
+    /// `map_Kd`, `map_d`, `map_Ks`, `bump` and `norm` the colour, opacity, specular, bump and
+    /// normal maps).
+    fn from_mtl(text: &str, folder: &str) -> std::result::Result<Self, String> {
+        let (materials, _) = tobj::load_mtl_buf(&mut text.as_bytes())
+            .map_err(|e| format!("not a material file ({e})"))?;
+        let first = materials
+            .first()
+            .ok_or_else(|| "the file defines no material (`newmtl`)".to_owned())?;
+        let unit = |v: f64| v as f32;
+        let colour = |c: Option<[f64; 3]>| c.map(|c| c.map(unit));
+        let mut material = Self {
+            name: Some(Arc::from(first.name.as_str())),
+            color: first.diffuse.map(|[r, g, b]| Color {
+                r: unit(r),
+                g: unit(g),
+                b: unit(b),
+                a: unit(first.dissolve.unwrap_or(1.0)),
+            }),
+            ..Self::default()
+        };
+        material.finish.shininess = first.shininess.map(unit);
+        material.finish.specular = colour(first.specular);
+        material.finish.ambient = colour(first.ambient);
+        material.finish.emissive = colour(first.emissive);
+        let path = |file: &String| -> Arc<str> {
+            match folder {
+                "" => Arc::from(file.as_str()),
+                _ => Arc::from(format!("{folder}/{file}")),
+            }
+        };
+        let layer = |name: &str| LAYERS.iter().position(|l| *l == name).unwrap_or(0);
+        for (name, file) in [
+            ("colormap", first.diffuse_texture.as_ref()),
+            ("opacitymap", first.dissolve_texture.as_ref()),
+            ("specularmap", first.specular_texture.as_ref()),
+            ("bumpmap", first.normal_texture.as_ref()),
+            ("normalmap", first.unknown_param.get("norm")),
+        ] {
+            material.layers[layer(name)] = file.map(path);
+        }
+        Ok(material)
     }
 
     /// `self` over `under`, attribute by attribute, as a shape's material overrides its
@@ -174,5 +221,38 @@ impl Evaluator<'_> {
             }
         };
         Ok(Value::Array(material.rows(all).into()))
+    }
+
+    /// `readMaterial(path)`: the attributes an MTL file's first material sets, read as assets
+    /// are; a `.cgamat` file, whose format CityEngine does not publish, is an error.
+    pub(super) fn read_material(
+        &mut self,
+        path: &CExpr,
+        shape: &mut State,
+        args: &[Value],
+    ) -> Result<Value> {
+        let name = self.string(path, shape, args)?;
+        let lower = name.to_ascii_lowercase();
+        if lower.ends_with(".cgamat") {
+            return Err(DeriveError::at(
+                format!("cannot read `{name}`: CityEngine's .cgamat format is not supported"),
+                path.span,
+            )
+            .with_hint("export the material as an .mtl file and read that"));
+        }
+        if !lower.ends_with(".mtl") {
+            return Err(DeriveError::at(
+                format!("`{name}` is no material file: expected a .mtl (or .cgamat) file"),
+                path.span,
+            ));
+        }
+        let loader = self.loader(&format!("read `{name}`"), path.span)?;
+        let text = loader
+            .text(&name)
+            .map_err(|why| DeriveError::at(why, path.span))?;
+        let folder = name.rfind('/').map_or("", |i| &name[..i]);
+        let material = Material::from_mtl(&text, folder)
+            .map_err(|why| DeriveError::at(format!("`{name}`: {why}"), path.span))?;
+        Ok(Value::Array(material.rows(false).into()))
     }
 }
