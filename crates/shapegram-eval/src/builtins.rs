@@ -416,6 +416,7 @@ impl Builtin {
             "edgeAttr",
             "infoDebug",
             "trim",
+            "geometry.isInstanced",
         ];
         // A name that is implemented is never "not supported", whatever the list says.
         NAMES.contains(&name) && Self::from_name(name).is_none()

@@ -345,3 +345,20 @@ fn read_material_reads_an_mtl_files_first_material() {
         "no file `gone.mtl`"
     );
 }
+
+#[test]
+fn is_instanced_is_not_supported_yet_a_warning_and_an_error_when_reached() {
+    // Whether an inserted asset is still untouched is not tracked: the call parses, warns at
+    // check, and stops the derivation where it is evaluated.
+    let grammar = "Lot --> case geometry.isInstanced() : X. else : Y.";
+    let diagnostics = compile_errors(grammar);
+    assert_eq!(diagnostics.len(), 1, "{diagnostics:?}");
+    assert!(
+        diagnostics[0].starts_with("warning: function `geometry.isInstanced` is not supported yet"),
+        "{}",
+        diagnostics[0]
+    );
+    let (message, at) = failure(grammar);
+    assert_eq!(message, "`geometry.isInstanced` is not supported yet");
+    assert_eq!(at, "geometry.isInstanced()");
+}
