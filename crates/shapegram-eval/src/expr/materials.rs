@@ -10,7 +10,7 @@ use super::{Evaluator, Result};
 use crate::error::DeriveError;
 use crate::program::CExpr;
 use crate::shape::State;
-use crate::texturing::{LAYERS, UV_SETS};
+use crate::texturing::{COLORMAP, LAYERS, UV_SETS};
 use crate::value::Value;
 
 /// A material as far as it is set: `None` and empty layers leave CGA's defaults.
@@ -51,7 +51,7 @@ impl Material {
             color: Some(part.color),
             ..Self::default()
         };
-        material.layers[0] = part.texture.as_ref().map(|t| Arc::clone(&t.path));
+        material.layers[COLORMAP] = part.texture.as_ref().map(|t| Arc::clone(&t.path));
         if let Some(surface) = &part.surface {
             material.finish = surface.finish;
             for (name, map) in surface.maps.layers() {
