@@ -253,6 +253,13 @@ fn tree_keys_follow_the_reference_example() {
         lot(5.0, 4.0),
     );
     assert_eq!(d.prints, ["0;", "0;", "0;"]);
+    // Terminal successors take their places too.
+    let d = run(
+        "A --> split(x) { 1 : X. | 1 : B | 1 : Y. | 1 : B }
+         B --> print(getTreeKey)",
+        lot(4.0, 4.0),
+    );
+    assert_eq!(d.prints, ["0;1;", "0;3;"]);
 }
 
 #[test]

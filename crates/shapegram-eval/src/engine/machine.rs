@@ -67,7 +67,7 @@ pub(super) struct Engine<'p> {
     /// Rule applications so far; the clock is read every 1024 of them.
     pub(super) applications: usize,
     /// How many successors the rule being applied has named so far (`getTreeKey`).
-    successors: u32,
+    pub(super) successors: u32,
     pub(super) shapes: usize,
     started: Instant,
     /// Where the outputs of the rule being applied start on the depth-first stack: while none
