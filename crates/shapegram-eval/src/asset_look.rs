@@ -180,6 +180,11 @@ fn surface_rates(mesh: &Mesh, uvs: &[DVec2], corners: [u32; 3]) -> Option<DVec2>
 }
 
 impl AssetLook {
+    /// The material of the asset's first part that has one (`getMaterial(geometry, …)`).
+    pub fn first_material(&self) -> Option<&AssetMaterial> {
+        self.materials.iter().find(|m| m.name.is_some())
+    }
+
     /// An asset's parts merged into one mesh (the geometry `i()` places), and their look when
     /// some part has a material or uvs: without, the asset wears the shape's material alone.
     pub fn from_parts(parts: &[Part]) -> (Mesh, Option<Arc<AssetLook>>) {

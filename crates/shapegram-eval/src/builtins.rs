@@ -79,6 +79,17 @@ pub(crate) enum Builtin {
     Convert,
     /// An asset or image function.
     Asset(AssetFn),
+    ColorRamp,
+    Sel,
+    GeoCoord,
+    EdgeAttrFloat,
+    EdgeAttrString,
+    EdgeAttrBool,
+    IsOriented,
+    /// `geometry.area(selector)`; without arguments `geometry.area` is a [`Query`].
+    AreaOf,
+    GetMaterial,
+    ReadMaterial,
     /// A string or string-list function.
     Text(Text),
     /// An array function or `isNull`.
@@ -146,9 +157,19 @@ impl Builtin {
         "minimumDistance",
         "print",
         "convert",
+        "colorRamp",
+        "sel",
+        "getGeoCoord",
+        "edgeAttr.getFloat",
+        "edgeAttr.getString",
+        "edgeAttr.getBool",
+        "geometry.isOriented",
+        "geometry.area",
+        "getMaterial",
+        "readMaterial",
     ];
 
-    const ALL: [Builtin; 54] = [
+    const ALL: [Builtin; 64] = [
         Self::Rand,
         Self::P,
         Self::Floor,
@@ -203,6 +224,16 @@ impl Builtin {
         Self::MinimumDistance,
         Self::Print,
         Self::Convert,
+        Self::ColorRamp,
+        Self::Sel,
+        Self::GeoCoord,
+        Self::EdgeAttrFloat,
+        Self::EdgeAttrString,
+        Self::EdgeAttrBool,
+        Self::IsOriented,
+        Self::AreaOf,
+        Self::GetMaterial,
+        Self::ReadMaterial,
     ];
 
     /// The built-in with this name.
@@ -242,6 +273,7 @@ impl Builtin {
             Self::Clamp | Self::ContextCompare => (3, 3),
             Self::Convert => (4, 7),
             Self::Asset(f) => (f.arity(), f.arity()),
+            Self::ColorRamp | Self::GetMaterial => (2, 2),
             Self::ContextCount | Self::MinimumDistance => (2, 2),
             Self::Inside | Self::Overlaps | Self::Touches => (0, 2),
             Self::Occ => (0, 1),
@@ -299,6 +331,18 @@ impl Builtin {
             }
             Self::MinimumDistance => "minimumDistance(intra | inter | all, label)",
             Self::Print => "print(value)",
+            Self::ColorRamp => {
+                "colorRamp(whiteToBlack | greenToRed | yellowToRed | redToBlue | orangeToBlue | brownToBlue | spectrum, value)"
+            }
+            Self::Sel => "sel(selString)",
+            Self::GeoCoord => "getGeoCoord(x | y | lon | lat)",
+            Self::EdgeAttrFloat => "edgeAttr.getFloat(attributeName)",
+            Self::EdgeAttrString => "edgeAttr.getString(attributeName)",
+            Self::EdgeAttrBool => "edgeAttr.getBool(attributeName)",
+            Self::IsOriented => "geometry.isOriented(orientation)",
+            Self::AreaOf => "geometry.area() | geometry.area(faceOrientation)",
+            Self::GetMaterial => "getMaterial(used | shape | geometry, changed | all)",
+            Self::ReadMaterial => "readMaterial(filePath)",
             Self::Convert => {
                 "convert(x | y | z, from, to, pos | orient, x, y, z) | convert(from, to, pos | orient, [x, y, z])"
             }
@@ -317,7 +361,14 @@ impl Builtin {
         self.is_context_query()
             || matches!(
                 self,
-                Self::Angle | Self::Convert | Self::Uv(_) | Self::Asset(_)
+                Self::Angle
+                    | Self::Convert
+                    | Self::Uv(_)
+                    | Self::Asset(_)
+                    | Self::GeoCoord
+                    | Self::IsOriented
+                    | Self::AreaOf
+                    | Self::GetMaterial
             )
     }
 
@@ -339,57 +390,19 @@ impl Builtin {
     /// CGA functions that parse but are not implemented yet: a warning, and an error if reached.
     pub fn is_known_unsupported(name: &str) -> bool {
         const NAMES: &[&str] = &[
-            "contextCompare",
-            "contextCount",
-            "minimumDistance",
-            "getGeoCoord",
-            "getMaterial",
-            "sel",
-            "fileExists",
-            "fileSearch",
-            "filesSearch",
-            "isNull",
-            "readMaterial",
-            "readStringTable",
-            "readFloatTable",
-            "readTextFile",
-            "getTreeKey",
             "index",
             "comp",
             "isInside",
             "isOccluded",
-            "convert",
             "scope",
             "geometry",
-            "colorRamp",
-            "colorHSVToHex",
             "colorHSOToHex",
-            "colorRGBToHex",
-            "sortIndices",
-            "transpose",
-            "nRows",
-            "nColumns",
-            "boolArray",
-            "floatArray",
-            "stringArray",
             "item",
             "isect",
             "edgeAttr",
-            "edgeAttr.getFloat",
-            "edgeAttr.getString",
-            "edgeAttr.getBool",
             "infoDebug",
-            "print",
             "trim",
-            "fileRandom",
-            "geometry.isOriented",
-            "geometry.angle",
-            "geometry.du",
-            "geometry.dv",
-            "geometry.uMin",
-            "geometry.uMax",
-            "geometry.vMin",
-            "geometry.vMax",
+            "geometry.isInstanced",
         ];
         // A name that is implemented is never "not supported", whatever the list says.
         NAMES.contains(&name) && Self::from_name(name).is_none()
@@ -421,6 +434,12 @@ pub(crate) enum Query {
     StartRule,
     /// `scope.elevation`: the world height of the scope's origin.
     Elevation,
+    /// `initialShape.name`: the name PRT's clients give an initial shape, `shape_<index>`.
+    InitialName,
+    /// `initialShape.origin.ox/oy/oz`: the Euler angles of the initial shape's object frame.
+    InitialRotation(usize),
+    /// `getTreeKey`: the shape's rule application in the derivation tree, as `0;2;1;`.
+    TreeKey,
 }
 
 impl Query {
@@ -452,6 +471,11 @@ impl Query {
         "geometry.nHoles",
         "initialShape.startRule",
         "scope.elevation",
+        "initialShape.name",
+        "initialShape.origin.ox",
+        "initialShape.origin.oy",
+        "initialShape.origin.oz",
+        "getTreeKey",
     ];
 
     /// The query with this name.
@@ -475,7 +499,10 @@ impl Query {
             22 => Self::CompSel,
             23 => Self::GeometryHoles,
             24 => Self::StartRule,
-            _ => Self::Elevation,
+            25 => Self::Elevation,
+            26 => Self::InitialName,
+            27..=29 => Self::InitialRotation(i - 27),
+            _ => Self::TreeKey,
         })
     }
 

@@ -14,6 +14,7 @@ mod asset_faces;
 pub mod asset_look;
 mod asset_queries;
 mod builtins;
+mod color_ramps;
 mod colors;
 mod context;
 mod convert;

@@ -217,7 +217,7 @@ impl CompSelector {
 }
 
 /// The selector a word names, `None` for words that are no selector.
-fn named(word: &str) -> Option<CompSelector> {
+pub(crate) fn named(word: &str) -> Option<CompSelector> {
     use CompSelector::*;
     let class = |name: &str| CLASSES.iter().copied().find(|c| c.name() == name);
     let in_frame = |name: &str, frame| match name {

@@ -240,6 +240,10 @@ pub struct State {
     pub children: u64,
     /// The shape's node in the derivation tree (when one is kept).
     pub node: u32,
+    /// The rule application the shape belongs to, as CGA's `getTreeKey` names it: the initial
+    /// shape's is `[0]`, and each successor a rule names adds its position among that rule's
+    /// successors.
+    pub tree_key: Arc<[u32]>,
     /// The nearest ancestor (or the shape itself) that is an occluder, as an index into the
     /// occluders of the derivation ([`NO_OCCLUDER`] when none): occlusion queries ignore it and
     /// its ancestors.
@@ -282,6 +286,7 @@ impl FrozenState {
             rng: self.rng,
             children: self.children,
             node: self.node,
+            tree_key: self.tree_key.clone(),
             occluder: self.occluder,
             section: self.section,
             trim: self.trim,
@@ -313,6 +318,7 @@ pub struct FrozenState {
     rng: Rng,
     children: u64,
     node: u32,
+    tree_key: Arc<[u32]>,
     occluder: u32,
     section: u32,
     trim: Trim,
@@ -339,6 +345,7 @@ impl State {
             rng: Rng::new(seed),
             children: 0,
             node: 0,
+            tree_key: Arc::from([0]),
             occluder: NO_OCCLUDER,
             section: 0,
             trim: Trim::default(),
@@ -382,6 +389,7 @@ impl State {
             rng: self.rng.clone(),
             children: self.children,
             node: self.node,
+            tree_key: self.tree_key.clone(),
             occluder: self.occluder,
             section: self.section,
             trim: self.trim.clone(),
@@ -408,6 +416,7 @@ impl State {
             rng: self.rng,
             children: self.children,
             node: self.node,
+            tree_key: self.tree_key.clone(),
             occluder: self.occluder,
             section: self.section,
             trim: self.trim,

@@ -1791,3 +1791,37 @@ fn derive_style_picks_a_cga_style() {
         "--style: no style `Wide` (the styles: Default, Tall, Taller)",
     );
 }
+
+#[test]
+fn reference_functions_read_material_files_beside_the_grammar() {
+    // `readMaterial` finds its file as assets are found, and names the file's textures from
+    // its folder; `colorRamp` and `getTreeKey` print CityEngine's values.
+    let dir = TempDir::new("reference_functions");
+    std::fs::create_dir_all(dir.path("materials")).unwrap();
+    std::fs::write(
+        dir.path("materials/brick.mtl"),
+        "newmtl brick\nKd 0.5 0.25 0.125\nmap_Kd brick.png\n",
+    )
+    .unwrap();
+    let grammar = dir.path("functions.cga");
+    std::fs::write(
+        &grammar,
+        "Lot --> print(readMaterial(\"materials/brick.mtl\")) print(colorRamp(\"spectrum\", 0.25))\n\
+         \x20       print(getTreeKey) Mass\nMass --> print(getTreeKey) X.\n",
+    )
+    .unwrap();
+    let out = dir.path("functions.obj");
+    let err = ok(&["derive", text(&grammar), "-q", "-o", text(&out)]);
+    assert_eq!(
+        err,
+        "print: [[name,brick],[color.r,0.5],[color.g,0.25],[color.b,0.125],\
+         [colormap,materials/brick.png]]\nprint: #39A9DF\nprint: 0;\nprint: 0;0;\n"
+    );
+    assert_eq!(
+        ok(&["check", text(&grammar)]),
+        format!(
+            "ok: {} (2 rules, 0 attributes, 0 warnings)\n",
+            text(&grammar)
+        )
+    );
+}

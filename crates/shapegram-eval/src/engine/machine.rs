@@ -66,6 +66,8 @@ pub(super) struct Engine<'p> {
     pub(super) counts: Vec<usize>,
     /// Rule applications so far; the clock is read every 1024 of them.
     pub(super) applications: usize,
+    /// How many successors the rule being applied has named so far (`getTreeKey`).
+    pub(super) successors: u32,
     pub(super) shapes: usize,
     started: Instant,
     /// Where the outputs of the rule being applied start on the depth-first stack: while none
@@ -130,6 +132,7 @@ impl<'p> Engine<'p> {
             leaves: std::mem::take(&mut batch.leaves),
             counts: vec![0; program.rules.len()],
             applications: 0,
+            successors: 0,
             shapes: 0,
             started: Instant::now(),
             base: usize::MAX,
@@ -276,6 +279,7 @@ impl<'p> Engine<'p> {
         }
         self.counts[task.rule as usize] += 1;
         self.applications += 1;
+        self.successors = 0;
         self.note_rule(&task);
         if self
             .applications
@@ -568,6 +572,13 @@ impl<'p> Engine<'p> {
         out: &mut Vec<Work>,
     ) -> Fallible<()> {
         state.symbol = symbol;
+        state.tree_key = state
+            .tree_key
+            .iter()
+            .copied()
+            .chain([self.successors])
+            .collect();
+        self.successors += 1;
         self.admit(state, span)?;
         match rule {
             Some(rule) => {

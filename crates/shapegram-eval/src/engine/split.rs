@@ -221,8 +221,10 @@ impl<'p> Engine<'p> {
         {
             return Ok(false);
         }
-        // The part, as `State::spawn` would have made it.
+        // The part, as `State::spawn` would have made it, and its successor's place among
+        // the rule's (`getTreeKey`).
         state.children += 1;
+        self.successors += 1;
         self.count(state.depth + 1, state.symbol, span)?;
         // Its successor, as `State::make_child` would have made it.
         self.count(state.depth + 2, *symbol, *successor_span)?;

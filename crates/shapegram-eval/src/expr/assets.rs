@@ -7,7 +7,6 @@ use std::sync::Arc;
 use shapegram_geom::{Aabb, DVec3};
 
 use super::{Evaluator, Result};
-use crate::AssetLoader;
 use crate::asset_queries::{
     AssetFn, image_axes, ranked, ratio_misfit, ratio_pairs, size_axes, size_misfit,
 };
@@ -98,7 +97,7 @@ impl Evaluator<'_> {
         let naming = match crate::engine::builtin_asset(&path) {
             Some(_) => Arc::default(),
             None => self
-                .loader(&params[0], &format!("read the asset `{path}`"))?
+                .loader(&format!("read the asset `{path}`"), params[0].span)?
                 .naming(&path)
                 .map_err(|why| {
                     DeriveError::at(
@@ -232,7 +231,7 @@ impl Evaluator<'_> {
             }
         };
         let (width, height) = self
-            .loader(&params[0], &format!("read the image `{path}`"))?
+            .loader(&format!("read the image `{path}`"), params[0].span)?
             .image_size(&path)
             .map_err(|why| DeriveError::at(why, params[0].span))?;
         Ok(Value::Number(f64::from(if pick_width {
@@ -262,17 +261,6 @@ impl Evaluator<'_> {
         Ok(Value::Number(v[usize::from(axis)]))
     }
 
-    /// The derivation's file reader, or an error at `at` saying that it reads none and so
-    /// cannot `what`.
-    fn loader(&self, at: &CExpr, what: &str) -> Result<&'_ dyn AssetLoader> {
-        self.assets.ok_or_else(|| {
-            DeriveError::at(
-                format!("cannot {what}: this derivation reads no files"),
-                at.span,
-            )
-        })
-    }
-
     /// The files a search query finds, as `fileSearch` has them.
     fn searched(
         &mut self,
@@ -281,7 +269,7 @@ impl Evaluator<'_> {
         args: &[Value],
     ) -> Result<Vec<Arc<str>>> {
         let text = self.string(query, shape, args)?;
-        self.loader(query, &format!("search for `{text}`"))?
+        self.loader(&format!("search for `{text}`"), query.span)?
             .search(&text)
             .map_err(|why| DeriveError::at(why, query.span))
     }
@@ -445,7 +433,7 @@ impl Evaluator<'_> {
         let bounds = match crate::engine::builtin_asset(path) {
             Some(mesh) => mesh.bounds(),
             None => {
-                let loader = self.loader(at, &format!("read the asset `{path}`"))?;
+                let loader = self.loader(&format!("read the asset `{path}`"), at.span)?;
                 let mesh = loader.load(path).map_err(|why| {
                     DeriveError::at(format!("cannot read the asset `{path}`: {why}"), at.span)
                 })?;

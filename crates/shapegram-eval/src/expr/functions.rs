@@ -1,17 +1,15 @@
-//! The built-in functions CGA's reference lists beyond arithmetic and text: file reading,
-//! colours, `convert`, the context functions and `geometry.angle`, and the element-wise
-//! operators on arrays.
+//! The built-in functions of coordinates, colours and the inputs Shapegram has no source for:
+//! `convert`, `getGeoCoord`, the colour conversions and ramps, and the street graph's edge
+//! attributes.
 
 use std::sync::Arc;
 
 use shapegram_geom::DVec3;
 use shapegram_syntax::Span;
-use shapegram_syntax::ast::{BinaryOp, UnaryOp};
 
-use super::{Evaluator, Result, apply_binary, binary_symbol, unary_symbol};
+use super::{Evaluator, Result};
 use crate::builtins::Builtin;
 use crate::colors::ColorFn;
-use crate::context::{Extreme, Target};
 use crate::convert::CoordinateSystem;
 use crate::error::DeriveError;
 use crate::program::CExpr;
@@ -19,32 +17,6 @@ use crate::shape::State;
 use crate::value::Value;
 
 impl Evaluator<'_> {
-    /// `fileExists(path)`: whether the derivation's assets have the file (false when it reads
-    /// no files); `readTextFile(path)`: the file's text.
-    pub(super) fn read_file(
-        &mut self,
-        b: Builtin,
-        path: &CExpr,
-        shape: &mut State,
-        args: &[Value],
-    ) -> Result<Value> {
-        let name = self.string(path, shape, args)?;
-        let assets = self.assets;
-        if b == Builtin::FileExists {
-            return Ok(Value::Bool(assets.is_some_and(|a| a.exists(&name))));
-        }
-        let Some(assets) = assets else {
-            return Err(DeriveError::at(
-                format!("cannot read `{name}`: this derivation reads no files"),
-                path.span,
-            ));
-        };
-        let text = assets
-            .text(&name)
-            .map_err(|why| DeriveError::at(why, path.span))?;
-        Ok(Value::Str(text))
-    }
-
     /// `convert(x, from, to, pos, x, y, z)` (one coordinate) and `convert(from, to, pos, [x,
     /// y, z])` (all three): see [`crate::convert`].
     pub(super) fn convert(
@@ -137,55 +109,6 @@ impl Evaluator<'_> {
         })
     }
 
-    /// `contextCount(target, label)`, `contextCompare(target, label, key)` and
-    /// `minimumDistance(target, label)` over the labelled shapes of phase 1.
-    pub(super) fn context_function(
-        &mut self,
-        b: Builtin,
-        params: &[CExpr],
-        shape: &mut State,
-        args: &[Value],
-        span: Span,
-    ) -> Result<Value> {
-        let Some(context) = self.context else {
-            return Err(DeriveError::at(
-                "context functions can only be asked in rules (not in attributes or in rules \
-                 made before the derivation starts)",
-                span,
-            ));
-        };
-        let word = self.word(&params[0], shape, args)?;
-        let target = Target::from_name(&word).ok_or_else(|| {
-            DeriveError::at(
-                format!("expected the target `all`, `intra` or `inter`, found `{word}`"),
-                params[0].span,
-            )
-        })?;
-        let label = self.string(&params[1], shape, args)?;
-        if label.is_empty() {
-            return Ok(Value::Number(match b {
-                Builtin::MinimumDistance => f64::INFINITY,
-                _ => 0.0,
-            }));
-        }
-        Ok(Value::Number(match b {
-            Builtin::ContextCount => context.count(shape, self.lot, target, &label) as f64,
-            Builtin::MinimumDistance => context.nearest(shape, self.lot, target, &label),
-            _ => {
-                let key = self.word(&params[2], shape, args)?;
-                let extreme = Extreme::from_name(&key).ok_or_else(|| {
-                    DeriveError::at(
-                        format!(
-                            "expected `world.northernmost`, `world.southernmost`, `world.easternmost`, `world.westernmost`, `world.highest` or `world.lowest`, found `{key}`"
-                        ),
-                        params[2].span,
-                    )
-                })?;
-                context.rank(shape, self.lot, target, &label, extreme) as f64
-            }
-        }))
-    }
-
     /// A colour function: a hexadecimal string in, a component out, or numbers in, a string out.
     pub(super) fn color(
         &mut self,
@@ -204,97 +127,70 @@ impl Evaluator<'_> {
             .collect::<Result<Vec<_>>>()?;
         Ok(Value::string(&f.hex(&numbers)))
     }
-}
 
-/// An element-wise operator: arrays element by element (of the same size), a single value with
-/// every element of an array.
-pub(super) fn each_binary(
-    op: BinaryOp,
-    a: &Value,
-    b: &Value,
-    span: Span,
-    rhs_span: Span,
-) -> Result<Value> {
-    let items = match (a, b) {
-        (Value::Array(x), Value::Array(y)) if x.len() != y.len() => {
-            return Err(DeriveError::at(
-                format!(
-                    "`.{}` needs arrays of the same size, not {} and {} elements",
-                    binary_symbol(op),
-                    x.len(),
-                    y.len()
-                ),
-                span,
-            ));
-        }
-        (Value::Array(x), Value::Array(y)) => x
-            .iter()
-            .zip(y.iter())
-            .map(|(x, y)| each_binary(op, x, y, span, rhs_span))
-            .collect::<Result<Vec<_>>>()?,
-        (Value::Array(x), y) => x
-            .iter()
-            .map(|x| each_binary(op, x, y, span, rhs_span))
-            .collect::<Result<Vec<_>>>()?,
-        (x, Value::Array(y)) => y
-            .iter()
-            .map(|y| each_binary(op, x, y, span, rhs_span))
-            .collect::<Result<Vec<_>>>()?,
-        (x, y) => return apply_binary(op, x, y, span, rhs_span),
-    };
-    Ok(Value::Array(items.into()))
-}
+    /// `colorRamp(gradient, value)`: the colour of a named ramp at a value in [0, 1], as
+    /// `#RRGGBB` (see [`crate::color_ramps`]).
+    pub(super) fn color_ramp(
+        &mut self,
+        params: &[CExpr],
+        shape: &mut State,
+        args: &[Value],
+    ) -> Result<Value> {
+        let name = self.string(&params[0], shape, args)?;
+        let value = self.number(&params[1], shape, args)?;
+        crate::color_ramps::color_at(&name, value)
+            .map(|hex| Value::string(&hex))
+            .ok_or_else(|| {
+                let names: Vec<String> = crate::color_ramps::names()
+                    .map(|n| format!("`{n}`"))
+                    .collect();
+                DeriveError::at(
+                    format!("`{name}` is no colour ramp: expected {}", names.join(", ")),
+                    params[0].span,
+                )
+            })
+    }
 
-/// `.-` and `.!` on every element.
-pub(super) fn each_unary(op: UnaryOp, v: &Value, span: Span) -> Result<Value> {
-    Ok(match (op, v) {
-        (_, Value::Array(items)) => Value::Array(
-            items
-                .iter()
-                .map(|x| each_unary(op, x, span))
-                .collect::<Result<Vec<_>>>()?
-                .into(),
-        ),
-        (UnaryOp::Neg, Value::Number(n)) => Value::Number(-n),
-        (UnaryOp::Not, Value::Bool(b)) => Value::Bool(!b),
-        (op, v) => {
-            return Err(DeriveError::at(
-                format!(
-                    "cannot apply `.{}` to a {}",
-                    unary_symbol(op),
-                    v.type_name()
-                ),
-                span,
-            ));
-        }
-    })
-}
-
-/// `geometry.angle(…)`: of the shape's steepest face, its slope against the ground (degrees,
-/// 0 flat, 90 upright), the compass direction it faces (degrees clockwise from north, −z; 0 for
-/// a flat face), or 90 − the slope; 0 for a shape without faces.
-pub(super) fn slope_angle(which: &str, shape: &State) -> std::result::Result<Value, String> {
-    let steepest = shape.geometry.world_mesh(&shape.scope).and_then(|mesh| {
-        (0..mesh.face_count())
-            .map(|i| mesh.face_normal(i))
-            .filter(|n| *n != DVec3::ZERO)
-            .min_by(|a, b| a.y.abs().total_cmp(&b.y.abs()))
-    });
-    let slope = steepest.map_or(0.0, |n| n.y.abs().min(1.0).acos().to_degrees());
-    Ok(Value::Number(match which {
-        "maxSlope" => slope,
-        "zenith" => 90.0 - slope,
-        "azimuth" => steepest.map_or(0.0, |n| {
-            if n.x.hypot(n.z) < 1e-12 {
-                0.0
-            } else {
-                n.x.atan2(-n.z).to_degrees().rem_euclid(360.0)
+    /// `getGeoCoord(x | y | lon | lat)`: where the shape's scope origin lies on the map. Lots
+    /// are in a local metric frame without georeference, so the scene's coordinates are that
+    /// frame's: `x` east (+x) and `y` north (−z), in metres; `lon` and `lat` need a
+    /// georeference and are 0.
+    pub(super) fn geo_coord(
+        &mut self,
+        which: &CExpr,
+        shape: &mut State,
+        args: &[Value],
+    ) -> Result<Value> {
+        let origin = shape.scope.origin;
+        Ok(Value::Number(match &*self.word(which, shape, args)? {
+            "x" => origin.x,
+            "y" => -origin.z,
+            "lon" | "lat" => 0.0,
+            other => {
+                return Err(DeriveError::at(
+                    format!("expected `x`, `y`, `lon` or `lat`, found `{other}`"),
+                    which.span,
+                ));
             }
-        }),
-        other => {
-            return Err(format!(
-                "expected `maxSlope`, `azimuth` or `zenith`, found `{other}`"
-            ));
-        }
-    }))
+        }))
+    }
+
+    /// `edgeAttr.getFloat/getString/getBool(name)`: the street graph's attribute of the edge
+    /// nearest the shape. Shapegram's lots come without a street graph, so every attribute is
+    /// missing and each getter gives its default, as CityEngine does for a missing attribute:
+    /// 0, `""` and false.
+    pub(super) fn edge_attr(
+        &mut self,
+        b: Builtin,
+        name: &CExpr,
+        shape: &mut State,
+        args: &[Value],
+    ) -> Result<Value> {
+        self.string(name, shape, args)?;
+        Ok(match b {
+            Builtin::EdgeAttrFloat => Value::Number(0.0),
+            Builtin::EdgeAttrString => Value::string(""),
+            _ => Value::Bool(false),
+        })
+    }
 }

@@ -547,6 +547,18 @@ impl Ctx<'_, '_> {
             CKind::Attr(i) => return Some(Op::Set(SetTarget::Attr(*i), value)),
             CKind::GoalAttr(i, _) => return Some(Op::Set(SetTarget::Goal(*i), value)),
             CKind::Selector(name) => name.clone(),
+            // `set(sel("material.color.r"), v)`: the name must be known before the derivation.
+            CKind::Builtin(crate::builtins::Builtin::Sel, word) => match &word[0].kind {
+                CKind::Value(Value::Str(name)) => name.to_string(),
+                _ => {
+                    self.c.report(Diagnostic::error(
+                        "`set(sel(…), …)` needs the name as a string literal: a name computed \
+                         during the derivation is not supported",
+                        word[0].span,
+                    ));
+                    return None;
+                }
+            },
             CKind::Query(crate::builtins::Query::ScopeOrigin(i)) => {
                 return Some(Op::Set(SetTarget::ScopeOrigin(*i), value));
             }
