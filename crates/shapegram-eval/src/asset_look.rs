@@ -343,6 +343,11 @@ impl ShapeMaterial<'_> {
                 } else {
                     Default::default()
                 },
+                transforms: if drawn {
+                    s.transforms
+                } else {
+                    Default::default()
+                },
             });
             let surface = match (&shape_surface, asset_surface) {
                 (Some(shape), Some(asset)) => Some(shape.over(&asset)),

@@ -5,7 +5,7 @@ mod common;
 
 use common::{compile_errors, lot, run, try_run};
 use shapegram_eval::{Derivation, DeriveOptions, Leaf};
-use shapegram_geom::{AlphaMode, DVec2, Finish};
+use shapegram_geom::{AlphaMode, DVec2, Finish, MapTransform};
 
 /// A 20 m wide, 6 m high facade, its rule body given.
 fn facade(body: &str) -> Derivation {
@@ -361,6 +361,62 @@ fn normalize_uv_maps_the_uvs_onto_the_unit_square() {
         warnings[0].contains("normalizes the faces of a shape together"),
         "{warnings:?}"
     );
+}
+
+#[test]
+fn map_transforms_of_every_layer_reach_the_parts_that_draw_them() {
+    let options = DeriveOptions {
+        assets: Some(std::sync::Arc::new(Images)),
+        ..DeriveOptions::default()
+    };
+    let grammar = |body: &str| {
+        format!("Lot --> extrude(6) comp(f) {{ front : Facade }}\nFacade --> {body}\n")
+    };
+    let body = "setupProjection(0, scope.xy, 5, 3) projectUV(0) texture(\"a.png\") \
+                set(material.colormap.su, 2) set(material.colormap.sv, 0.5) \
+                set(material.colormap.tu, 0.25) set(material.colormap.tv, -1) \
+                set(material.colormap.rw, 30) set(material.map5.rw, 90) \
+                set(material.metallicmap.tu, 3) \
+                split(x) { 10 : Wall. | 10 : set(material.colormap.su, 1) Wall. }";
+    let d = try_run(&grammar(body), lot(20.0, 30.0), &options).unwrap();
+    assert_eq!(compile_errors(&grammar(body)), Vec::<String>::new());
+    let model = d.to_model();
+    assert_eq!(model.parts.len(), 2, "the two walls differ in su alone");
+    let transforms = model.parts[0].surface.as_ref().unwrap().transforms;
+    assert_eq!(
+        transforms[0],
+        MapTransform {
+            su: 2.0,
+            sv: 0.5,
+            tu: 0.25,
+            tv: -1.0,
+            rw: 30.0,
+        }
+    );
+    assert_eq!(transforms[5].rw, 90.0);
+    assert_eq!(transforms[9].tu, 3.0);
+    assert!(transforms[1].is_identity());
+    assert_eq!(
+        model.parts[1].surface.as_ref().unwrap().transforms[0].su,
+        1.0
+    );
+    // Without uvs nothing is drawn, and nothing is transformed.
+    let d = try_run(
+        &grammar("texture(\"a.png\") set(material.colormap.su, 2) Wall"),
+        lot(20.0, 30.0),
+        &options,
+    )
+    .unwrap();
+    assert!(d.to_model().parts[0].surface.is_none());
+    let e = try_run(
+        &grammar("set(material.colormap.rw, \"left\") Wall"),
+        lot(20.0, 30.0),
+        &options,
+    )
+    .unwrap_err();
+    assert_eq!(e.message, "expected a number, found a string");
+    // At the value: `"left"` starts 37 bytes into the second line, which starts at byte 46.
+    assert_eq!(e.span.map(|s| s.start), Some(83));
 }
 
 #[test]

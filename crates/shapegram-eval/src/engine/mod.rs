@@ -52,7 +52,7 @@ use std::time::Duration;
 use rustc_hash::FxHashMap;
 use shapegram_geom::{
     Bone, Color, DVec3, Mesh, MetaValue, Metadata, Model, Part as ModelPart, Scope, Surface,
-    material::FinishKey, primitives,
+    SurfaceKey, primitives,
 };
 use shapegram_kinematics::{Frame, SectionId, Skeleton};
 
@@ -357,7 +357,7 @@ impl Derivation {
                     meta.clone(),
                     piece.colormap.as_ref().map(|texture| texture.path.clone()),
                     piece.material.clone(),
-                    piece.surface.as_ref().map(surface_key),
+                    piece.surface.as_ref().map(Surface::key),
                 );
                 let i = *slot.entry(key).or_insert_with(|| {
                     parts.push(ModelPart {
@@ -395,17 +395,6 @@ impl Derivation {
             lines: Vec::new(),
         }
     }
-}
-
-/// What tells two surfaces apart: their attributes and their layers' paths.
-type SurfaceKey = (FinishKey, [Option<Arc<str>>; 9]);
-
-fn surface_key(surface: &Surface) -> SurfaceKey {
-    let paths = surface
-        .maps
-        .layers()
-        .map(|(_, t)| t.map(|t| t.path.clone()));
-    (surface.finish.key(), paths)
 }
 
 /// Leaves' semantics as part metadata: equal semantics share one [`Metadata`], and the

@@ -142,6 +142,22 @@ impl Engine<'_> {
     ) -> Fallible<()> {
         let span = value.span;
         let value = self.ev.eval(value, state, args)?;
+        if let FinishAttr::Transform(layer, part) = attr {
+            let Value::Number(n) = value else {
+                return Err(DeriveError::at(
+                    format!("expected a number, found a {}", value.type_name()),
+                    span,
+                ));
+            };
+            if !n.is_finite() {
+                return Err(DeriveError::at(
+                    format!("{n}: expected a finite number"),
+                    span,
+                ));
+            }
+            part.set(&mut texturing_mut(state).transforms[layer], n);
+            return Ok(());
+        }
         let finish = &mut texturing_mut(state).finish;
         let wrong = |what: &str| {
             DeriveError::at(
