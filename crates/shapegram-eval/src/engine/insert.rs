@@ -4,7 +4,7 @@
 use std::sync::Arc;
 
 use shapegram_geom::fit::adapt_scope_to_asset;
-use shapegram_geom::{Aabb, DAffine3, DVec2, DVec3, Mesh, Scope, primitives};
+use shapegram_geom::{Aabb, DAffine3, DVec2, DVec3, Mesh, Part, Scope, primitives};
 use shapegram_implicit::Solid;
 use shapegram_syntax::Span;
 
@@ -176,6 +176,10 @@ impl Engine<'_> {
         if kind == Primitive::Quad {
             quad_uvs(state);
         }
+        if kind == Primitive::Cube && size.cmpgt(DVec3::ZERO).all() {
+            let placed = state.scope.local_to_world() * DAffine3::from_scale(size);
+            wear(state, Some(cube_look()), placed);
+        }
         state.geometry = match kind {
             Primitive::Cube | Primitive::Quad => Geometry::Box,
             Primitive::Pyramid => Geometry::mesh(primitives::pyramid(size)),
@@ -197,7 +201,7 @@ impl Engine<'_> {
             return Ok(Asset {
                 mesh: Arc::new(mesh),
                 proportional: false,
-                look: None,
+                look: (path == "builtin:cube").then(|| Arc::clone(cube_look())),
             });
         }
         let Some(loader) = &self.options.assets else {
@@ -246,9 +250,9 @@ fn place_sized(scope: &mut Scope, size: DVec3, up: usize, span: Span) -> Fallibl
 }
 
 /// The uvs `primitiveQuad()` brings: uv set 0 running from 0 to 1 across the quad, u along
-/// scope x and v along scope y, as CityEngine gives its primitives. (Its other primitives
-/// give every face the whole texture, which one affine map per shape cannot hold: they bring
-/// none yet.)
+/// scope x and v along scope y, as CityEngine gives its primitives. (The cube brings its
+/// faces' uvs as an asset's, see [`cube_look`]; the round primitives, whose every face shows
+/// the whole texture in CityEngine, bring none yet.)
 fn quad_uvs(state: &mut State) {
     let scope = &state.scope;
     if scope.size.x == 0.0 || scope.size.y == 0.0 {
@@ -264,6 +268,31 @@ fn quad_uvs(state: &mut State) {
     };
     let map = UvMap::projection(&frame, scope.size.x, scope.size.y, DVec2::ZERO);
     texturing_mut(state).uvs[0] = Some(map);
+}
+
+/// The look of CityEngine's built-in cube (`primitiveCube()`, `i("builtin:cube")`): uv set 0
+/// covering every face from 0 to 1, u along the face's first edge (its bottom edge on the
+/// sides) and v across it, so each face shows the whole texture upright; no material of its
+/// own. `builtin:cube:notex` has none.
+fn cube_look() -> &'static Arc<AssetLook> {
+    static LOOK: std::sync::OnceLock<Arc<AssetLook>> = std::sync::OnceLock::new();
+    LOOK.get_or_init(|| {
+        let cube = primitives::cuboid(DVec3::ONE);
+        let corners = [DVec2::ZERO, DVec2::X, DVec2::ONE, DVec2::Y];
+        let faces: Vec<Part> = (0..cube.face_count())
+            .map(|f| {
+                let points: Vec<DVec3> = cube.face_points(f).collect();
+                let face = Mesh::from_faces(points, [[0u32, 1, 2, 3]]);
+                Part {
+                    uvs: corners.to_vec(),
+                    ..Part::new(String::new(), Default::default(), face, Vec::new())
+                }
+            })
+            .collect();
+        AssetLook::from_parts(&faces)
+            .1
+            .expect("the cube's faces have uvs")
+    })
 }
 
 /// Cuts the shape's geometry at its trim planes (see [`crate::trim`]), as inserts do and CGA's

@@ -212,7 +212,15 @@ impl Leaf {
             material: self.material.as_ref(),
             texturing: self.texturing.as_deref(),
         };
-        let Some(worn) = self.texturing.as_ref().and_then(|t| t.asset.as_ref()) else {
+        // An asset's uvs count only when something is drawn through them: a look without
+        // materials on a shape without texture layers draws as the shape's material alone.
+        let worn = self.texturing.as_ref().and_then(|t| {
+            let drawn = t.maps.iter().any(Option::is_some);
+            t.asset
+                .as_ref()
+                .filter(|worn| drawn || worn.look.has_materials())
+        });
+        let Some(worn) = worn else {
             return vec![material.piece(mesh)];
         };
         let local = match &self.geometry {

@@ -13,7 +13,7 @@ use crate::asset_look::{AssetLook, UvAffine, WornAsset};
 use crate::error::DeriveError;
 use crate::ops::{ProjectionSetup, UvEdit, UvNormalization};
 use crate::program::{CExpr, CKind};
-use crate::shape::{Geometry, State};
+use crate::shape::State;
 use crate::texturing::{FinishAttr, OPACITYMAP, ProjectionFrame, Texturing, UV_SETS, UvMap};
 use crate::value::Value;
 
@@ -214,12 +214,7 @@ impl Engine<'_> {
         else {
             return Ok(());
         };
-        let Some(extent) = state
-            .geometry
-            .world_mesh(&state.scope)
-            .filter(|_| matches!(&state.geometry, Geometry::Mesh(m, _) if worn.look.fits(m)))
-            .and_then(|mesh| worn.uv_extent(&mesh))
-        else {
+        let Some(extent) = crate::uv_queries::asset_uv_extent(state, worn) else {
             return Ok(());
         };
         let change = self.uv_change(state, edit, Some(extent), params, args)?;
