@@ -55,6 +55,14 @@ pub trait AssetLoader: Send + Sync {
         Err(format!("cannot search for `{query}` here"))
     }
 
+    /// How a rule of an imported file whose folder is `folder` (relative to the grammar's,
+    /// `/`-separated) names `path` to the other methods, when CityEngine finds it next to that
+    /// file, which it looks at first; `None` to look `path` up as from the grammar. By default
+    /// `None`.
+    fn beside(&self, _folder: &str, _path: &str) -> Option<String> {
+        None
+    }
+
     /// Whether there is a file at `path` (CGA's `fileExists`): by default, whether it can be
     /// read as text, an image or a mesh.
     fn exists(&self, path: &str) -> bool {
@@ -99,6 +107,7 @@ impl Engine<'_> {
         args: &[Value],
     ) -> Fallible<()> {
         let file = self.ev.string(path, state, args)?;
+        let file = self.rule_path(&file);
         // From the shape's seed, not its stream, so asking for a variant draws nothing
         // that later random choices of the shape would miss.
         let variant = (child_seed(state.seed, u64::MAX) % u64::from(ASSET_VARIANTS)) as u32;
@@ -192,6 +201,20 @@ impl Engine<'_> {
         };
         trim(state);
         Ok(())
+    }
+
+    /// The path by which the loader finds the file the rule being applied names `path`: as
+    /// CityEngine looks first next to the rule's own file, an imported file's rule names a
+    /// file beside it by its place from the grammar (see [`AssetLoader::beside`]).
+    pub(super) fn rule_path(&self, path: &str) -> String {
+        let relative = !path.starts_with('/') && !path.starts_with("builtin:");
+        let beside = self
+            .program
+            .rule_folder(self.rule)
+            .filter(|_| relative && !path.is_empty())
+            .zip(self.options.assets.as_ref())
+            .and_then(|(folder, loader)| loader.beside(folder, path));
+        beside.unwrap_or_else(|| path.to_owned())
     }
 
     /// The asset `i("path")` inserts: a built-in one, or variant `variant` of what the

@@ -110,6 +110,7 @@ impl Engine<'_> {
     ) -> Fallible<()> {
         let span = path.span;
         let path = self.ev.string(path, state, args)?;
+        let path = Arc::<str>::from(self.rule_path(&path));
         let texture = if path.is_empty() {
             None
         } else {
