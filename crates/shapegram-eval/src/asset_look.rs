@@ -137,22 +137,37 @@ impl WornAsset {
         Some(self.look.uvs.iter().map(|&uv| edit.at(uv)).collect())
     }
 
-    /// The smallest and largest of uv set 0, and how fast u and v grow per metre on the
-    /// surface (on its largest face) of `mesh`, the asset as the shape holds it in world space;
-    /// `None` without uvs.
-    pub fn uv_extent(&self, mesh: &Mesh) -> Option<((DVec2, DVec2), DVec2)> {
-        let uvs = self.uvs()?;
-        let low = uvs
+    /// The smallest and largest of uv set 0 over `mesh` (the shape's geometry in world space,
+    /// `local` its scope-local mesh when it has one), dressed from the asset as the model draws
+    /// it, and how fast u and v grow per metre on its largest face that lies on the asset;
+    /// `None` without uvs or without a face on the asset.
+    pub(crate) fn uv_extent(
+        &self,
+        mesh: Mesh,
+        local: Option<&Mesh>,
+    ) -> Option<((DVec2, DVec2), DVec2)> {
+        let Dressed {
+            mesh,
+            face_materials,
+            uvs,
+        } = self.dress(mesh, local);
+        let uvs = uvs?;
+        // Faces on none of the asset's faces have no uvs of the asset.
+        let on_asset: Vec<usize> = (0..mesh.face_count())
+            .filter(|&f| face_materials[f] != NO_MATERIAL)
+            .collect();
+        let corners = on_asset.iter().flat_map(|&f| mesh.face(f).iter());
+        let (low, high) = corners.fold(
+            (DVec2::splat(f64::INFINITY), DVec2::splat(f64::NEG_INFINITY)),
+            |(low, high), &v| (low.min(uvs[v as usize]), high.max(uvs[v as usize])),
+        );
+        let largest = on_asset
             .iter()
-            .fold(DVec2::splat(f64::INFINITY), |a, &b| a.min(b));
-        let high = uvs
-            .iter()
-            .fold(DVec2::splat(f64::NEG_INFINITY), |a, &b| a.max(b));
-        let largest = (0..mesh.face_count())
+            .copied()
             .max_by(|&a, &b| mesh.face_area(a).total_cmp(&mesh.face_area(b)))?;
         let face = mesh.face(largest);
         let rates = (face.len() >= 3)
-            .then(|| surface_rates(mesh, &uvs, [face[0], face[1], face[2]]))
+            .then(|| surface_rates(&mesh, &uvs, [face[0], face[1], face[2]]))
             .flatten()
             .unwrap_or(DVec2::ZERO);
         low.is_finite().then_some(((low, high), rates))
@@ -223,6 +238,11 @@ impl AssetLook {
             })
         });
         (mesh, look)
+    }
+
+    /// Whether some part of the asset has a material of its own.
+    pub fn has_materials(&self) -> bool {
+        self.materials.iter().any(|m| m.name.is_some())
     }
 
     /// Whether `mesh` still has the asset's faces (however placed), so the look applies.
@@ -345,6 +365,11 @@ impl ShapeMaterial<'_> {
                 finish: s.finish,
                 maps: if drawn {
                     s.maps.clone()
+                } else {
+                    Default::default()
+                },
+                transforms: if drawn {
+                    s.transforms
                 } else {
                     Default::default()
                 },

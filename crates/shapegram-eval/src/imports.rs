@@ -42,6 +42,10 @@ pub(crate) struct Origins {
     pub consts: Vec<u16>,
     pub functions: Vec<u16>,
     pub rules: Vec<u16>,
+    /// Each file's folder, relative to the importing grammar's and `/`-separated (`""` for
+    /// the grammar's own), when the caller told them: where the files a rule names (`i()`,
+    /// `texture()`) are looked for first, as CityEngine looks next to the rule file.
+    pub folders: Vec<std::sync::Arc<str>>,
 }
 
 /// How deeply imports may nest.

@@ -1,6 +1,8 @@
 //! Compiling a parsed grammar into a [`Program`]: names resolved to indices, operations told
 //! apart from successors, arity and unknown names reported with spans and hints.
 
+use std::sync::Arc;
+
 use rustc_hash::FxHashMap;
 use shapegram_syntax::{
     Diagnostic, Span,
@@ -222,6 +224,25 @@ impl Program {
             program.origins = None;
         }
         ((!failed).then_some(program), diagnostics)
+    }
+
+    /// Tells a program compiled with imports where each file of its [`ImportGraph`] lies:
+    /// its folder relative to the importing grammar's, `/`-separated (`""` for the grammar's
+    /// own). A rule then names files (`i("win.obj")`, `texture("a.png")`) from its own file's
+    /// folder first (see [`crate::AssetLoader::beside`]).
+    pub fn set_file_folders(&mut self, folders: Vec<String>) {
+        if let Some(origins) = &mut self.origins {
+            origins.folders = folders.into_iter().map(Arc::from).collect();
+        }
+    }
+
+    /// The folder of the file rule `rule` came from, relative to the grammar's; `None` for the
+    /// grammar's own folder or when it is not known.
+    pub(crate) fn rule_folder(&self, rule: RuleId) -> Option<&str> {
+        let origins = self.origins.as_ref()?;
+        let file = *origins.rules.get(rule as usize)?;
+        let folder = origins.folders.get(usize::from(file))?;
+        (!folder.is_empty()).then_some(&**folder)
     }
 
     /// Whether the program is a library of goal grammars, which starts from its axioms.

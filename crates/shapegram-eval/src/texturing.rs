@@ -11,7 +11,7 @@
 
 use std::sync::Arc;
 
-use shapegram_geom::{DAffine3, DVec2, DVec3, Finish, Maps, Surface, Texture};
+use shapegram_geom::{DAffine3, DVec2, DVec3, Finish, MapTransform, Maps, Surface, Texture};
 
 use crate::asset_look::WornAsset;
 
@@ -76,6 +76,50 @@ pub enum FinishAttr {
     AlphaCutoff,
     /// `doubleSided`.
     DoubleSided,
+    /// A number of how a layer's image lies on its uvs (`colormap.su`, …, `metallicmap.rw`):
+    /// the layer, as its uv set, and which number.
+    Transform(usize, TransformPart),
+}
+
+/// One of the numbers of a [`MapTransform`].
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum TransformPart {
+    /// `su`.
+    Su,
+    /// `sv`.
+    Sv,
+    /// `tu`.
+    Tu,
+    /// `tv`.
+    Tv,
+    /// `rw`.
+    Rw,
+}
+
+impl TransformPart {
+    /// The part CGA names `name` (`su`, `sv`, `tu`, `tv` or `rw`).
+    fn from_name(name: &str) -> Option<Self> {
+        Some(match name {
+            "su" => Self::Su,
+            "sv" => Self::Sv,
+            "tu" => Self::Tu,
+            "tv" => Self::Tv,
+            "rw" => Self::Rw,
+            _ => return None,
+        })
+    }
+
+    /// Sets the part of `transform` to `n`.
+    pub fn set(self, transform: &mut MapTransform, n: f64) {
+        let slot = match self {
+            Self::Su => &mut transform.su,
+            Self::Sv => &mut transform.sv,
+            Self::Tu => &mut transform.tu,
+            Self::Tv => &mut transform.tv,
+            Self::Rw => &mut transform.rw,
+        };
+        *slot = n;
+    }
 }
 
 impl FinishAttr {
@@ -93,6 +137,9 @@ impl FinishAttr {
             "doubleSided" => Self::DoubleSided,
             _ => {
                 let (colour, c) = name.split_once('.')?;
+                if let (Some(layer), Some(part)) = (layer(colour), TransformPart::from_name(c)) {
+                    return Some(Self::Transform(layer, part));
+                }
                 let c = channel(c)?;
                 match colour {
                     "emissive" => Self::Emissive(c),
@@ -121,7 +168,7 @@ impl FinishAttr {
             Self::Emissive(c) => channel(&mut finish.emissive, c),
             Self::Specular(c) => channel(&mut finish.specular, c),
             Self::Ambient(c) => channel(&mut finish.ambient, c),
-            Self::AlphaMode | Self::DoubleSided => return None,
+            Self::AlphaMode | Self::DoubleSided | Self::Transform(..) => return None,
         }
         Some(())
     }
@@ -222,6 +269,8 @@ pub struct Texturing {
     pub maps: [Option<Arc<Texture>>; UV_SETS],
     /// The material's other attributes the grammar set.
     pub finish: Finish,
+    /// How each layer's image lies on its uvs (`material.<layer>.su` and the others).
+    pub transforms: [MapTransform; UV_SETS],
     /// The materials and uvs of the asset the shape holds, when `i()` inserted one that has
     /// any (see [`crate::asset_look`]).
     pub asset: Option<WornAsset>,
@@ -251,9 +300,16 @@ impl Texturing {
                 }
             }
         }
-        (!self.finish.is_unset() || !maps.is_empty()).then_some(Surface {
+        let transforms = if drawn {
+            self.transforms
+        } else {
+            Default::default()
+        };
+        let turned = transforms.iter().any(|t| !t.is_identity());
+        (!self.finish.is_unset() || !maps.is_empty() || turned).then_some(Surface {
             finish: self.finish,
             maps,
+            transforms,
         })
     }
 }
@@ -328,6 +384,20 @@ mod tests {
             Some(FinishAttr::AlphaCutoff)
         );
         assert_eq!(FinishAttr::from_name("specular.a"), None);
+        assert_eq!(
+            FinishAttr::from_name("colormap.su"),
+            Some(FinishAttr::Transform(0, TransformPart::Su))
+        );
+        assert_eq!(
+            FinishAttr::from_name("map5.rw"),
+            Some(FinishAttr::Transform(5, TransformPart::Rw))
+        );
+        assert_eq!(
+            FinishAttr::from_name("metallicmap.tv"),
+            Some(FinishAttr::Transform(9, TransformPart::Tv))
+        );
+        assert_eq!(FinishAttr::from_name("colormap.r"), None);
+        assert_eq!(FinishAttr::from_name("colormap.sw"), None);
         assert_eq!(FinishAttr::from_name("colormap"), None);
         let mut finish = Finish::default();
         FinishAttr::Emissive(2)

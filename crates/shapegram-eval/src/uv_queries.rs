@@ -1,14 +1,16 @@
 //! CGA's uv queries: `geometry.hasUVs([uvSet])`, `geometry.uMin/uMax/vMin/vMax([uvSet])` and
 //! `geometry.du/dv(uvSet, uvSpace | unitSpace)`, read from the shape's uv sets (see
 //! [`crate::texturing`]) at the vertices of its geometry. Without the argument, the sets are
-//! read from set 0; without uvs (or geometry), the bounds and extents are 0.
+//! read from set 0, which is the uvs an inserted asset brought until `projectUV(0)` replaces
+//! them; without uvs (or geometry), the bounds and extents are 0.
 
 use shapegram_geom::DVec2;
 
+use crate::asset_look::WornAsset;
 use crate::error::DeriveError;
 use crate::expr::Evaluator;
 use crate::program::{CExpr, CKind};
-use crate::shape::State;
+use crate::shape::{Geometry, State};
 use crate::texturing::{UV_SETS, UvMap};
 use crate::value::Value;
 
@@ -139,17 +141,24 @@ impl Evaluator<'_> {
                 }
             },
         };
-        let map = shape.texturing.as_ref().and_then(|t| t.uvs[set]);
-        let bounds = map.and_then(|map| Some((map, uv_bounds(shape, &map)?)));
+        let texturing = shape.texturing.as_ref();
+        let extent = match texturing.and_then(|t| t.uvs[set]) {
+            Some(map) => uv_bounds(shape, &map).map(|bounds| (bounds, map.rates())),
+            // Until `projectUV(0)` replaces them, set 0 is the uvs an inserted asset brought.
+            None => texturing
+                .and_then(|t| t.asset.as_ref())
+                .filter(|_| set == 0)
+                .and_then(|worn| asset_uv_extent(shape, worn)),
+        };
         if query == UvQuery::HasUvs {
-            return Ok(Value::Bool(bounds.is_some()));
+            return Ok(Value::Bool(extent.is_some()));
         }
-        let Some((map, (low, high))) = bounds else {
+        let Some(((low, high), rates)) = extent else {
             return Ok(Value::Number(0.0));
         };
         let extent = |i: usize| {
             let uv = high[i] - low[i];
-            let rate = map.rates()[i];
+            let rate = rates[i];
             match (in_metres, rate > 0.0) {
                 (false, _) => uv,
                 (true, true) => uv / rate,
@@ -177,4 +186,15 @@ fn uv_bounds(shape: &State, map: &UvMap) -> Option<(DVec2, DVec2)> {
         |(low, high), uv| (low.min(uv), high.max(uv)),
     );
     low.is_finite().then_some((low, high))
+}
+
+/// The bounds of uv set 0 that the asset `worn` brought, over the shape's geometry, and how
+/// fast u and v grow per metre on its surface; `None` without geometry or uvs.
+pub(crate) fn asset_uv_extent(shape: &State, worn: &WornAsset) -> Option<((DVec2, DVec2), DVec2)> {
+    let mesh = shape.geometry.world_mesh(&shape.scope)?;
+    let local = match &shape.geometry {
+        Geometry::Mesh(local, _) => Some(&**local),
+        _ => None,
+    };
+    worn.uv_extent(mesh, local)
 }

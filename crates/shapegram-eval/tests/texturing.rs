@@ -5,7 +5,7 @@ mod common;
 
 use common::{compile_errors, lot, run, try_run};
 use shapegram_eval::{Derivation, DeriveOptions, Leaf};
-use shapegram_geom::{AlphaMode, DVec2, Finish};
+use shapegram_geom::{AlphaMode, DVec2, Finish, MapTransform};
 
 /// A 20 m wide, 6 m high facade, its rule body given.
 fn facade(body: &str) -> Derivation {
@@ -364,6 +364,62 @@ fn normalize_uv_maps_the_uvs_onto_the_unit_square() {
 }
 
 #[test]
+fn map_transforms_of_every_layer_reach_the_parts_that_draw_them() {
+    let options = DeriveOptions {
+        assets: Some(std::sync::Arc::new(Images)),
+        ..DeriveOptions::default()
+    };
+    let grammar = |body: &str| {
+        format!("Lot --> extrude(6) comp(f) {{ front : Facade }}\nFacade --> {body}\n")
+    };
+    let body = "setupProjection(0, scope.xy, 5, 3) projectUV(0) texture(\"a.png\") \
+                set(material.colormap.su, 2) set(material.colormap.sv, 0.5) \
+                set(material.colormap.tu, 0.25) set(material.colormap.tv, -1) \
+                set(material.colormap.rw, 30) set(material.map5.rw, 90) \
+                set(material.metallicmap.tu, 3) \
+                split(x) { 10 : Wall. | 10 : set(material.colormap.su, 1) Wall. }";
+    let d = try_run(&grammar(body), lot(20.0, 30.0), &options).unwrap();
+    assert_eq!(compile_errors(&grammar(body)), Vec::<String>::new());
+    let model = d.to_model();
+    assert_eq!(model.parts.len(), 2, "the two walls differ in su alone");
+    let transforms = model.parts[0].surface.as_ref().unwrap().transforms;
+    assert_eq!(
+        transforms[0],
+        MapTransform {
+            su: 2.0,
+            sv: 0.5,
+            tu: 0.25,
+            tv: -1.0,
+            rw: 30.0,
+        }
+    );
+    assert_eq!(transforms[5].rw, 90.0);
+    assert_eq!(transforms[9].tu, 3.0);
+    assert!(transforms[1].is_identity());
+    assert_eq!(
+        model.parts[1].surface.as_ref().unwrap().transforms[0].su,
+        1.0
+    );
+    // Without uvs nothing is drawn, and nothing is transformed.
+    let d = try_run(
+        &grammar("texture(\"a.png\") set(material.colormap.su, 2) Wall"),
+        lot(20.0, 30.0),
+        &options,
+    )
+    .unwrap();
+    assert!(d.to_model().parts[0].surface.is_none());
+    let e = try_run(
+        &grammar("set(material.colormap.rw, \"left\") Wall"),
+        lot(20.0, 30.0),
+        &options,
+    )
+    .unwrap_err();
+    assert_eq!(e.message, "expected a number, found a string");
+    // At the value: `"left"` starts 37 bytes into the second line, which starts at byte 46.
+    assert_eq!(e.span.map(|s| s.start), Some(83));
+}
+
+#[test]
 fn uv_queries_read_the_uv_sets_over_the_geometry() {
     let queries = "print(geometry.hasUVs()) print(geometry.hasUVs(2)) \
                    print(geometry.uMin()) print(geometry.uMax(0)) \
@@ -389,4 +445,145 @@ fn uv_queries_read_the_uv_sets_over_the_geometry() {
         errors[0].contains("the signature is `geometry.du(uvSet, uvSpace | unitSpace)`"),
         "{errors:?}"
     );
+}
+
+/// `Images`, and one asset: `w.obj`, a 1 × 1 quad in the xy-plane whose uvs run from (0, 0)
+/// to (2, 3).
+struct Window;
+
+impl shapegram_eval::AssetLoader for Window {
+    fn load(&self, path: &str) -> Result<std::sync::Arc<shapegram_geom::Mesh>, String> {
+        Err(format!("no mesh {path}"))
+    }
+
+    fn asset(&self, path: &str, variant: u32) -> Result<shapegram_eval::Asset, String> {
+        if path != "w.obj" {
+            return Images.asset(path, variant);
+        }
+        let quad = shapegram_geom::Mesh::from_faces(
+            vec![
+                shapegram_geom::DVec3::new(0.0, 0.0, 0.0),
+                shapegram_geom::DVec3::new(1.0, 0.0, 0.0),
+                shapegram_geom::DVec3::new(1.0, 1.0, 0.0),
+                shapegram_geom::DVec3::new(0.0, 1.0, 0.0),
+            ],
+            [[0u32, 1, 2, 3]],
+        );
+        let part = shapegram_geom::Part {
+            uvs: vec![
+                DVec2::ZERO,
+                DVec2::new(2.0, 0.0),
+                DVec2::new(2.0, 3.0),
+                DVec2::new(0.0, 3.0),
+            ],
+            ..shapegram_geom::Part::new(String::new(), Default::default(), quad, Vec::new())
+        };
+        let (mesh, look) = shapegram_eval::asset_look::AssetLook::from_parts(&[part]);
+        Ok(shapegram_eval::Asset {
+            mesh: std::sync::Arc::new(mesh),
+            proportional: false,
+            look,
+        })
+    }
+
+    fn image(&self, path: &str) -> Result<Option<std::sync::Arc<[u8]>>, String> {
+        Images.image(path)
+    }
+}
+
+fn with_window(text: &str) -> Derivation {
+    let options = DeriveOptions {
+        assets: Some(std::sync::Arc::new(Window)),
+        ..DeriveOptions::default()
+    };
+    try_run(text, lot(20.0, 30.0), &options).unwrap()
+}
+
+const UV_QUERIES: &str = "print(geometry.hasUVs()) print(geometry.uMin()) print(geometry.uMax()) \
+                          print(geometry.vMin()) print(geometry.vMax()) \
+                          print(geometry.du(0, uvSpace)) print(geometry.du(0, unitSpace)) \
+                          print(geometry.dv(0, unitSpace))";
+
+#[test]
+fn uv_queries_read_the_uvs_an_inserted_asset_brings_and_its_cut_pieces_keep() {
+    // The window stretched to 4 × 2 m: u from 0 to 2 over 4 m, v from 0 to 3 over 2 m.
+    let d = with_window(&format!(
+        "Lot --> s(4, 2, 0) i(\"w.obj\") {UV_QUERIES} \
+         split(x) {{ 1 : Left | ~1 : NIL }}\nLeft --> {UV_QUERIES} scaleUV(0, 3, 1) {UV_QUERIES} L."
+    ));
+    assert_eq!(
+        d.prints,
+        [
+            "true", "0", "2", "0", "3", "2", "4", "2", // the whole window
+            "true", "0", "0.5", "0", "3", "0.5", "1", "2", // its left metre
+            "true", "0", "1.5", "0", "3", "1.5", "1", "2", // u scaled by 3 there
+        ]
+    );
+    // `projectUV(0)` replaces them; a shape without the asset has none.
+    let d = with_window(&format!(
+        "Lot --> s(4, 2, 0) i(\"w.obj\") setupProjection(0, scope.xy, 8, 1) projectUV(0) \
+         {UV_QUERIES} X.\n"
+    ));
+    assert_eq!(d.prints, ["true", "0", "0.5", "0", "2", "0.5", "4", "2"]);
+}
+
+/// The uvs of each face of a leaf's drawn part, in the order of its corners.
+fn face_uvs(d: &Derivation) -> Vec<Vec<[f64; 2]>> {
+    let model = d.to_model();
+    let part = &model.parts[0];
+    let round = |x: f64| (x * 1e9).round() / 1e9 + 0.0;
+    part.mesh
+        .faces()
+        .map(|face| {
+            face.iter()
+                .map(|&v| {
+                    let uv = part.uvs[v as usize];
+                    [round(uv.x), round(uv.y)]
+                })
+                .collect()
+        })
+        .collect()
+}
+
+#[test]
+fn primitive_cubes_cover_every_face_with_the_whole_texture() {
+    let whole = vec![[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]];
+    for cube in [
+        "primitiveCube()",
+        "primitiveCube(4, 3, 2)",
+        "i(\"builtin:cube\")",
+    ] {
+        let d = with_window(&format!(
+            "Lot --> s(5, 2, 3) {cube} texture(\"a.png\") {UV_QUERIES} Cube.\n"
+        ));
+        assert_eq!(face_uvs(&d), vec![whole.clone(); 6], "{cube}");
+        // Over all six faces u and v run from 0 to 1; on the largest face (5 × 3 or 4 × 3
+        // at the bottom), one unit of u spans its 3 m edge along z.
+        assert_eq!(&d.prints[..6], ["true", "0", "1", "0", "1", "1"], "{cube}");
+        // A face split off the cube keeps its own uvs, whatever its neighbours have.
+        let d = with_window(&format!(
+            "Lot --> s(5, 2, 3) {cube} comp(f) {{ front : Front | all : NIL }}\n\
+             Front --> texture(\"a.png\") {UV_QUERIES} F.\n"
+        ));
+        assert_eq!(face_uvs(&d), vec![whole.clone()], "{cube}");
+        let (width, height) = if cube.contains('4') {
+            ("4", "3")
+        } else {
+            ("5", "2")
+        };
+        assert_eq!(
+            d.prints,
+            ["true", "0", "1", "0", "1", "1", width, height],
+            "{cube}"
+        );
+    }
+    // `builtin:cube:notex` brings none.
+    let d = with_window(&format!(
+        "Lot --> s(5, 2, 3) i(\"builtin:cube:notex\") texture(\"a.png\") {UV_QUERIES} Cube.\n"
+    ));
+    assert_eq!(d.prints, ["false", "0", "0", "0", "0", "0", "0", "0"]);
+    assert!(d.to_model().parts[0].uvs.is_empty());
+    // Untextured, a cube is drawn as before: eight corners shared by its faces.
+    let d = with_window("Lot --> s(5, 2, 3) primitiveCube() Cube.\n");
+    assert_eq!(d.to_model().parts[0].mesh.vertex_count(), 8);
 }

@@ -7,10 +7,9 @@ use std::collections::{BTreeMap, BTreeSet};
 use std::io;
 use std::sync::Arc;
 
-use shapegram_geom::material::FinishKey;
 use shapegram_geom::mesh::newell;
 use shapegram_geom::triangulate::{Triangulator, is_convex_about};
-use shapegram_geom::{Color, DVec2, DVec3, Maps, Mesh, Model, Part, Surface, Texture};
+use shapegram_geom::{Color, DVec2, DVec3, Maps, Mesh, Model, Part, Surface, SurfaceKey, Texture};
 
 /// An `InvalidInput` error for the first part whose bone names a skeleton or section the model
 /// does not have (posing or skinning it would index out of bounds).
@@ -306,9 +305,6 @@ pub(crate) fn sanitized(color: Color) -> [f32; 4] {
     ]
 }
 
-/// What tells two surfaces apart: their attributes and the paths of their drawn layers.
-type SurfaceKey = (FinishKey, [Option<Arc<str>>; 9]);
-
 /// What tells two materials apart: the colour's bits, the texture's index, the name and the
 /// surface.
 type MaterialKey = (
@@ -344,10 +340,7 @@ impl Palette {
     ) -> usize {
         let rgba = sanitized(color);
         let surface = surface.map(|s| drawn_surface(s, textured));
-        let key = surface.as_ref().map(|s| {
-            let paths = s.maps.layers().map(|(_, t)| t.map(|t| t.path.clone()));
-            (s.finish.key(), paths)
-        });
+        let key = surface.as_ref().map(|s| s.key());
         *self
             .index
             .entry((rgba.map(f32::to_bits), texture, name.cloned(), key))
@@ -434,6 +427,7 @@ fn drawn_surface(surface: &Arc<Surface>, textured: bool) -> Arc<Surface> {
         Arc::new(Surface {
             finish: surface.finish,
             maps: drawn,
+            transforms: surface.transforms,
         })
     }
 }

@@ -495,7 +495,13 @@ fn document(
         // The palette holds sRGB, as written in grammars; glTF wants linear light.
         let mut material = material(Color { r, g, b, a }.to_linear(), name);
         if let Some(texture) = texture {
-            textured(&mut material, texture, textures[texture]);
+            let transform = surface.as_ref().map(|s| s.transforms[0]);
+            textured(
+                &mut material,
+                texture,
+                textures[texture],
+                transform.unwrap_or_default(),
+            );
         }
         if let Some(surface) = surface {
             with_surface(&mut material, surface, |t| {
@@ -745,6 +751,11 @@ impl Builder {
         });
         self.root.scene = Some(scene);
         self.root.asset.generator = Some(format!("shapegram {}", env!("CARGO_PKG_VERSION")));
+        if material::uses_texture_transform(&self.root.materials) {
+            self.root
+                .extensions_used
+                .push(material::TEXTURE_TRANSFORM.to_owned());
+        }
         if self.bin_len > 0 {
             self.root.push(json::Buffer {
                 byte_length: USize64::from(self.bin_len),

@@ -47,8 +47,13 @@ pub(crate) fn look(material: &tobj::Material, image: &dyn Fn(&str) -> Arc<Textur
         shininess: material.shininess.map(|s| s.clamp(0.0, 128.0) as f32),
         ..Finish::default()
     };
-    let surface =
-        (!finish.is_unset() || !maps.is_empty()).then(|| Arc::new(Surface { finish, maps }));
+    let surface = (!finish.is_unset() || !maps.is_empty()).then(|| {
+        Arc::new(Surface {
+            finish,
+            maps,
+            ..Surface::default()
+        })
+    });
     Look {
         color,
         name: Arc::from(material.name.as_str()),

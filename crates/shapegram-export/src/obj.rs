@@ -20,7 +20,7 @@ use std::io::{self, Write};
 
 use std::sync::Arc;
 
-use shapegram_geom::{Color, DVec2, DVec3, Mesh, Model, Surface, Texture};
+use shapegram_geom::{Color, DVec2, DVec3, MapTransform, Mesh, Model, Surface, Texture};
 
 use crate::ExportOptions;
 use crate::flat::{
@@ -193,7 +193,9 @@ pub fn write_obj_to(
         }
         mtl.push_str(&format!("Kd {r} {g} {b}\nd {a}\n"));
         if let Some(texture) = texture {
-            mtl.push_str(&format!("map_Kd {}\n", files[*texture].1));
+            let transform = surface.as_ref().map(|s| s.transforms[0]);
+            let options = map_options(transform.unwrap_or_default());
+            mtl.push_str(&format!("map_Kd {options}{}\n", files[*texture].1));
         }
         if let Some(surface) = surface {
             let file = |t: &Texture| {
@@ -258,24 +260,45 @@ fn surface_lines<'a>(
         line("Pm", metallic.to_string());
     }
     let maps = &surface.maps;
+    // Each statement with its layer's uv set, for the layer's transform.
     let layers = [
-        ("map_Ks", &maps.specular),
-        ("map_Bump", &maps.bump),
-        ("norm", &maps.normal),
-        ("map_d", &maps.opacity),
-        ("map_Ke", &maps.emissive),
-        ("map_Pr", &maps.roughness),
-        ("map_Pm", &maps.metallic),
+        ("map_Ks", &maps.specular, 3),
+        ("map_Bump", &maps.bump, 1),
+        ("norm", &maps.normal, 5),
+        ("map_d", &maps.opacity, 4),
+        ("map_Ke", &maps.emissive, 6),
+        ("map_Pr", &maps.roughness, 8),
+        ("map_Pm", &maps.metallic, 9),
     ];
-    for (statement, map) in layers {
+    for (statement, map, set) in layers {
         let Some(name) = map.as_deref().and_then(&file) else {
             continue;
         };
+        let options = map_options(surface.transforms[set]);
         match finish.bump_value.filter(|_| statement == "map_Bump") {
-            Some(bump) => line(statement, format!("-bm {bump} {name}")),
-            None => line(statement, name.to_owned()),
+            Some(bump) => line(statement, format!("-bm {bump} {options}{name}")),
+            None => line(statement, format!("{options}{name}")),
         }
     }
+}
+
+/// The options of a texture statement that place its image as `transform` does, each
+/// followed by a space: `-s su sv 1` and `-o tu tv 0` (MTL reads a uv as scaled, then
+/// moved). MTL cannot turn a map, so a map turned by `rw` gets none: it is written as it lies
+/// on the uvs (GLB carries the whole transform).
+fn map_options(transform: MapTransform) -> String {
+    let MapTransform { su, sv, tu, tv, rw } = transform;
+    let mut options = String::new();
+    if rw != 0.0 {
+        return options;
+    }
+    if (su, sv) != (1.0, 1.0) {
+        let _ = write!(options, "-s {su} {sv} 1 ");
+    }
+    if (tu, tv) != (0.0, 0.0) {
+        let _ = write!(options, "-o {tu} {tv} 0 ");
+    }
+    options
 }
 
 /// The file's running vertex and normal numbers (OBJ indices are global and 1-based) and the

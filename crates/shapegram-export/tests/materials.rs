@@ -9,7 +9,7 @@ use common::split_glb;
 use serde_json::json;
 use shapegram_export::{ExportOptions, write_glb, write_obj};
 use shapegram_geom::{
-    AlphaMode, Color, DVec2, DVec3, Finish, Maps, Mesh, Model, Part, Surface, Texture,
+    AlphaMode, Color, DVec2, DVec3, Finish, MapTransform, Maps, Mesh, Model, Part, Surface, Texture,
 };
 
 const BRICK: &[u8] = include_bytes!("../../../examples/textures/brick.png");
@@ -75,6 +75,7 @@ fn full_surface() -> Surface {
             roughness: image("rough.png"),
             metallic: image("metal.png"),
         },
+        transforms: Default::default(),
     }
 }
 
@@ -326,4 +327,119 @@ fn normal_mapped_primitives_carry_tangents_along_u() {
     // u runs along +x; glTF's v (1 − v) grows towards +z, and the floor faces up, so
     // normal × tangent = y × x = −z points against it: w = −1.
     assert_eq!(tangents, [Some(vec![[1.0, 0.0, 0.0, -1.0]; 4]), None]);
+}
+
+/// A surface with a normal and an occlusion map, the colour map and those two placed by
+/// CGA map transforms (`material.colormap.su` and the others).
+fn transformed_surface() -> Surface {
+    let mut transforms = [MapTransform::IDENTITY; 10];
+    transforms[0] = MapTransform {
+        su: 2.0,
+        sv: 0.5,
+        tu: 0.25,
+        tv: 0.125,
+        rw: 90.0,
+    };
+    transforms[5].su = 3.0;
+    transforms[7].tv = 0.5;
+    Surface {
+        maps: Maps {
+            normal: image("normal.png"),
+            occlusion: image("ao.png"),
+            ..Maps::default()
+        },
+        transforms,
+        ..Surface::default()
+    }
+}
+
+#[test]
+fn map_transforms_become_khr_texture_transforms_in_gltf_uv_space() {
+    let bytes = write_glb(
+        &model(vec![quad(0.0, Some("wall.png"), transformed_surface())]),
+        &ExportOptions::default(),
+    );
+    let (json, _) = split_glb(&bytes);
+    assert_eq!(json["extensionsUsed"], json!(["KHR_texture_transform"]));
+    let material = &json["materials"][0];
+    // The colour map: scaled (2, 0.5), turned a quarter, moved (0.25, 0.125) with v up; in
+    // glTF's v-down space the offset is (tu − sv, 1 − tv) = (−0.25, 0.875).
+    assert_eq!(
+        material["pbrMetallicRoughness"]["baseColorTexture"],
+        json!({
+            "index": 0,
+            "texCoord": 0,
+            "extensions": { "KHR_texture_transform": {
+                "offset": [-0.25, 0.875],
+                "rotation": std::f64::consts::FRAC_PI_2,
+                "scale": [2.0, 0.5],
+            }},
+        })
+    );
+    // A scale of u alone needs no offset; a shift of v up by 0.5 is one down by 0.5.
+    assert_eq!(
+        material["normalTexture"],
+        json!({
+            "index": 1,
+            "scale": 1.0,
+            "texCoord": 0,
+            "extensions": { "KHR_texture_transform": { "scale": [3.0, 1.0] } },
+        })
+    );
+    assert_eq!(
+        material["occlusionTexture"],
+        json!({
+            "index": 2,
+            "strength": 1.0,
+            "texCoord": 0,
+            "extensions": { "KHR_texture_transform": { "offset": [0.0, -0.5] } },
+        })
+    );
+    // Read back through the gltf crate, as a viewer would.
+    gltf::Gltf::from_slice(&bytes).unwrap();
+}
+
+#[test]
+fn untransformed_maps_use_no_extension_and_transforms_keep_materials_apart() {
+    let parts = vec![
+        quad(0.0, Some("wall.png"), Surface::default()),
+        quad(1.0, Some("wall.png"), transformed_surface()),
+    ];
+    let (json, _) = split_glb(&write_glb(&model(parts), &ExportOptions::default()));
+    assert_eq!(json["materials"].as_array().unwrap().len(), 2);
+    assert_eq!(
+        json["materials"][0]["pbrMetallicRoughness"]["baseColorTexture"],
+        json!({ "index": 0, "texCoord": 0 })
+    );
+    let (json, _) = split_glb(&write_glb(
+        &model(vec![quad(0.0, Some("wall.png"), Surface::default())]),
+        &ExportOptions::default(),
+    ));
+    assert!(json.get("extensionsUsed").is_none(), "{json}");
+}
+
+#[test]
+fn mtl_scales_and_moves_maps_and_leaves_turned_ones_as_they_lie() {
+    let mut surface = transformed_surface();
+    surface.maps.specular = image("spec.png");
+    surface.transforms[3] = MapTransform {
+        su: 0.5,
+        tu: 0.25,
+        tv: -1.0,
+        ..MapTransform::IDENTITY
+    };
+    let (_, mtl) = write_obj(
+        &model(vec![quad(0.0, Some("wall.png"), surface)]),
+        &ExportOptions::default(),
+        "m.mtl",
+    );
+    let maps: Vec<&str> = mtl.lines().filter(|l| l.contains(".png")).collect();
+    assert_eq!(
+        maps,
+        [
+            "map_Kd wall.png",
+            "map_Ks -s 0.5 1 1 -o 0.25 -1 0 spec.png",
+            "norm -s 3 1 1 normal.png",
+        ]
+    );
 }

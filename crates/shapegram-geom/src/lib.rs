@@ -50,7 +50,7 @@ pub use aabb::Aabb;
 pub use bvh::Bvh;
 pub use component::{Component, ComponentKind, FaceClass};
 pub use glam::{DAffine3, DMat3, DQuat, DVec2, DVec3};
-pub use material::{AlphaMode, Finish, Maps, Surface};
+pub use material::{AlphaMode, Finish, MapTransform, Maps, Surface, SurfaceKey};
 pub use mesh::Mesh;
 pub use model::{Bone, Color, Lines, MetaValue, Metadata, Model, Part, Texture};
 pub use plane::Plane;

@@ -176,6 +176,73 @@ impl Maps {
     }
 }
 
+/// How a texture layer's image lies on its uvs (CGA's `material.<layer>.su/sv/tu/tv/rw`): a
+/// uv is scaled, turned `rw` degrees counter-clockwise about (0, 0), then moved:
+/// `(u, v) → (tu, tv) + R(rw) · (su · u, sv · v)`, in CGA's uv space (v up).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct MapTransform {
+    /// `su`: the scale of u.
+    pub su: f64,
+    /// `sv`: the scale of v.
+    pub sv: f64,
+    /// `tu`: the shift of u.
+    pub tu: f64,
+    /// `tv`: the shift of v.
+    pub tv: f64,
+    /// `rw`: the turn in degrees, counter-clockwise.
+    pub rw: f64,
+}
+
+impl Default for MapTransform {
+    fn default() -> Self {
+        Self::IDENTITY
+    }
+}
+
+impl MapTransform {
+    /// No change, CGA's default.
+    pub const IDENTITY: Self = Self {
+        su: 1.0,
+        sv: 1.0,
+        tu: 0.0,
+        tv: 0.0,
+        rw: 0.0,
+    };
+
+    /// Whether the transform changes nothing.
+    pub fn is_identity(&self) -> bool {
+        *self == Self::IDENTITY
+    }
+
+    /// The sine and cosine of `rw`, exact at whole quarter turns (so that a map turned by 90°
+    /// is written with exact numbers).
+    pub fn turn(&self) -> (f64, f64) {
+        let quarters = self.rw / 90.0;
+        if quarters.fract() == 0.0 && quarters.is_finite() {
+            match quarters.rem_euclid(4.0) as u8 {
+                0 => (0.0, 1.0),
+                1 => (1.0, 0.0),
+                2 => (0.0, -1.0),
+                _ => (-1.0, 0.0),
+            }
+        } else {
+            self.rw.to_radians().sin_cos()
+        }
+    }
+
+    /// The uv `uv` transformed.
+    pub fn apply(&self, uv: [f64; 2]) -> [f64; 2] {
+        let (s, c) = self.turn();
+        let (x, y) = (self.su * uv[0], self.sv * uv[1]);
+        [self.tu + c * x - s * y, self.tv + s * x + c * y]
+    }
+
+    /// The five numbers' bits, for telling transforms apart in hash maps.
+    pub fn key(&self) -> [u64; 5] {
+        [self.su, self.sv, self.tu, self.tv, self.rw].map(f64::to_bits)
+    }
+}
+
 /// What a part's material has besides colour, colour map and name.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Surface {
@@ -183,9 +250,22 @@ pub struct Surface {
     pub finish: Finish,
     /// The texture layers set.
     pub maps: Maps,
+    /// How each layer's image lies on the uvs, by CGA's uv set (0 the colour map, then the
+    /// layers of [`Maps`]).
+    pub transforms: [MapTransform; 10],
 }
 
+/// What tells two surfaces apart: their attributes, their layers' paths and how each layer
+/// lies on the uvs.
+pub type SurfaceKey = (FinishKey, [Option<Arc<str>>; 9], [[u64; 5]; 10]);
+
 impl Surface {
+    /// The surface as a [`SurfaceKey`].
+    pub fn key(&self) -> SurfaceKey {
+        let paths = self.maps.layers().map(|(_, t)| t.map(|t| t.path.clone()));
+        (self.finish.key(), paths, self.transforms.map(|t| t.key()))
+    }
+
     /// `self` laid over `under`, attribute by attribute and layer by layer: what `self` sets
     /// wins, the rest comes from `under` (a shape's material over an inserted asset's, as CGA
     /// has it).
@@ -212,7 +292,19 @@ impl Surface {
                 mine.clone_from(theirs);
             }
         }
-        Surface { finish, maps }
+        let transforms = std::array::from_fn(|set| {
+            let mine = self.transforms[set];
+            if mine.is_identity() {
+                under.transforms[set]
+            } else {
+                mine
+            }
+        });
+        Surface {
+            finish,
+            maps,
+            transforms,
+        }
     }
 }
 
@@ -228,6 +320,10 @@ mod tests {
                 image: None,
             }))
         };
+        let turned = MapTransform {
+            rw: 30.0,
+            ..MapTransform::IDENTITY
+        };
         let shape = Surface {
             finish: Finish {
                 shininess: Some(40.0),
@@ -237,6 +333,10 @@ mod tests {
                 bump: texture("shape-bump.png"),
                 ..Maps::default()
             },
+            transforms: std::array::from_fn(|set| match set {
+                1 => turned,
+                _ => MapTransform::IDENTITY,
+            }),
         };
         let asset = Surface {
             finish: Finish {
@@ -249,6 +349,10 @@ mod tests {
                 specular: texture("asset-spec.png"),
                 ..Maps::default()
             },
+            transforms: std::array::from_fn(|set| MapTransform {
+                su: set as f64 + 1.0,
+                ..MapTransform::IDENTITY
+            }),
         };
         let both = shape.over(&asset);
         assert_eq!(both.finish.shininess, Some(40.0));
@@ -256,6 +360,27 @@ mod tests {
         assert_eq!(both.maps.bump.unwrap().path.as_ref(), "shape-bump.png");
         assert_eq!(both.maps.specular.unwrap().path.as_ref(), "asset-spec.png");
         assert!(both.maps.normal.is_none());
+        assert_eq!(both.transforms[1], turned);
+        assert_eq!(both.transforms[3].su, 4.0);
+    }
+
+    #[test]
+    fn a_map_transform_scales_then_turns_counter_clockwise_then_moves() {
+        let t = MapTransform {
+            su: 2.0,
+            sv: 3.0,
+            tu: 0.5,
+            tv: -1.0,
+            rw: 90.0,
+        };
+        // (1, 1) scaled is (2, 3); a quarter turn makes it (-3, 2); moved, (-2.5, 1).
+        assert_eq!(t.apply([1.0, 1.0]), [-2.5, 1.0]);
+        assert_eq!(MapTransform { rw: -90.0, ..t }.turn(), (-1.0, 0.0));
+        assert_eq!(MapTransform { rw: 540.0, ..t }.turn(), (0.0, -1.0));
+        let (s, c) = MapTransform { rw: 30.0, ..t }.turn();
+        assert!((s - 0.5).abs() < 1e-15 && (c - 0.75f64.sqrt()).abs() < 1e-15);
+        assert!(MapTransform::default().is_identity());
+        assert_ne!(t.key(), MapTransform::IDENTITY.key());
     }
 
     #[test]

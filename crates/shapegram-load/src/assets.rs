@@ -399,6 +399,21 @@ impl AssetLoader for FileAssets {
         self.load_worn(path).map(|loaded| loaded.naming)
     }
 
+    fn beside(&self, folder: &str, path: &str) -> Option<String> {
+        // Beside the rule's file, then in the project's assets (not beside the grammar, which
+        // CityEngine does not search for an imported file's names), each named from the
+        // grammar's folder, where the search starts.
+        let assets = self.project.as_ref().map(|project| {
+            match crate::files::relative(&self.folder, &project.join("assets")) {
+                assets if assets.is_empty() => path.to_owned(),
+                assets => format!("{assets}/{path}"),
+            }
+        });
+        std::iter::once(format!("{folder}/{path}"))
+            .chain(assets)
+            .find(|named| self.files.is_file(&self.folder.join(named)))
+    }
+
     fn load(&self, path: &str) -> Result<Arc<Mesh>, String> {
         self.load_worn(path).map(|loaded| loaded.mesh)
     }

@@ -162,3 +162,44 @@ fn disk_listing(root: &Path) -> Vec<Vec<String>> {
     }
     found
 }
+
+/// The folder `to` relative to the folder `from` (both named from the same place),
+/// `/`-separated: `lib`, `../lib`, or `""` for the same folder.
+pub(crate) fn relative(from: &Path, to: &Path) -> String {
+    use std::path::Component;
+    let parts = |p: &Path| {
+        let mut parts: Vec<String> = Vec::new();
+        for c in p.components() {
+            match c {
+                Component::CurDir => {}
+                Component::ParentDir if parts.last().is_some_and(|l| l != "..") => {
+                    parts.pop();
+                }
+                c => parts.push(c.as_os_str().to_string_lossy().into_owned()),
+            }
+        }
+        parts
+    };
+    let (from, to) = (parts(from), parts(to));
+    let common = from.iter().zip(&to).take_while(|(a, b)| a == b).count();
+    let up = std::iter::repeat_n("..".to_owned(), from.len() - common);
+    up.chain(to[common..].iter().cloned())
+        .collect::<Vec<_>>()
+        .join("/")
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn folders_relative_to_another_go_up_then_down() {
+        let r = |a: &str, b: &str| relative(Path::new(a), Path::new(b));
+        assert_eq!(r("rules", "rules/lib"), "lib");
+        assert_eq!(r("", "lib/deep"), "lib/deep");
+        assert_eq!(r("rules/main", "rules/shared"), "../shared");
+        assert_eq!(r("/p/rules", "/p/assets"), "../assets");
+        assert_eq!(r("./rules/a/..", "rules"), "");
+        assert_eq!(r("rules", "rules/../.ws/Lib/rules"), "../.ws/Lib/rules");
+    }
+}

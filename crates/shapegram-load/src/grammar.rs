@@ -166,8 +166,21 @@ fn compile_parsed(
                 files: &files,
                 links: &imported.links,
             };
-            let (program, more) = Program::compile_imports(graph);
+            let (mut program, more) = Program::compile_imports(graph);
             diagnostics.extend(more);
+            if let Some(program) = &mut program {
+                let folder = |file: &Path| file.parent().unwrap_or(Path::new("")).to_path_buf();
+                let main = folder(path);
+                let folders = std::iter::once(String::new())
+                    .chain(
+                        imported
+                            .paths
+                            .iter()
+                            .map(|p| crate::files::relative(&main, &folder(p))),
+                    )
+                    .collect();
+                program.set_file_folders(folders);
+            }
             program
         }
     };
@@ -191,6 +204,8 @@ struct Imported {
     diagnostics: Vec<(usize, Diagnostic)>,
     /// Warnings from reading the files.
     warnings: Vec<String>,
+    /// Where each imported file is, in the order of `sources`.
+    paths: Vec<std::path::PathBuf>,
 }
 
 /// Reads every file `grammar` imports, directly or through others, in CGA. An import names a
@@ -205,6 +220,7 @@ fn load_imports(files: &Files, path: &Path, grammar: &ast::Grammar) -> Imported 
         links: Vec::new(),
         diagnostics: Vec::new(),
         warnings: Vec::new(),
+        paths: Vec::new(),
     };
     let mut index: std::collections::HashMap<std::path::PathBuf, usize> =
         std::collections::HashMap::new();
@@ -256,6 +272,7 @@ fn load_imports(files: &Files, path: &Path, grammar: &ast::Grammar) -> Imported 
                 .diagnostics
                 .extend(parsed.diagnostics.into_iter().map(|d| (id, d)));
             imported.sources.push(text);
+            imported.paths.push(target.clone());
             imported.grammars.push(parsed.grammar);
             index.insert(key, id);
             links.push(id);

@@ -57,3 +57,68 @@ fn a_missing_import_is_an_error_at_its_path() {
     );
     assert!(err.contains("lot.cga:1:12"), "{err}");
 }
+
+/// A `w` × 1 quad standing in the xy-plane, as an OBJ.
+fn quad_obj(w: u32) -> String {
+    format!("v 0 0 0\nv {w} 0 0\nv {w} 1 0\nv 0 1 0\nf 1 2 3 4\n")
+}
+
+#[test]
+fn files_an_imported_rule_names_are_found_beside_its_file_then_in_the_projects_assets() {
+    let dir = TempDir::new("import-assets");
+    let write = |path: &str, bytes: &[u8]| {
+        let path = dir.path(path);
+        std::fs::create_dir_all(path.parent().unwrap()).unwrap();
+        std::fs::write(path, bytes).unwrap();
+    };
+    let brick = include_bytes!("../../../examples/textures/brick.png");
+    let lattice = include_bytes!("../../../examples/textures/lattice.png");
+    write(
+        "project/rules/main.cga",
+        b"import lib : \"lib/other.cga\"\n@StartRule\nLot --> [ lib.Win ] [ lib.Door ] Mine\n\
+          Mine --> i(\"win.obj\", yUp, keepSizeAndPosition) report(\"main\", scope.sx) M.\n",
+    );
+    write(
+        "project/rules/lib/other.cga",
+        b"Win --> i(\"win.obj\", yUp, keepSizeAndPosition) report(\"win\", scope.sx)\n\
+          setupProjection(0, scope.xy, 1, 1) projectUV(0) texture(\"a.png\") W.\n\
+          Door --> i(\"door.obj\", yUp, keepSizeAndPosition) report(\"door\", scope.sx) D.\n",
+    );
+    // The same names beside the grammar, beside the imported file and in the assets.
+    write("project/rules/win.obj", quad_obj(1).as_bytes());
+    write("project/rules/a.png", lattice);
+    write("project/rules/lib/win.obj", quad_obj(2).as_bytes());
+    write("project/rules/lib/a.png", brick);
+    write("project/assets/door.obj", quad_obj(3).as_bytes());
+    write("project/rules/door.obj", quad_obj(4).as_bytes());
+    let out = dir.path("out.glb");
+    let output = shapegram(&[
+        "derive".as_ref(),
+        dir.path("project/rules/main.cga").as_os_str(),
+        "-o".as_ref(),
+        out.as_os_str(),
+        "--stats".as_ref(),
+        "-q".as_ref(),
+    ]);
+    assert!(output.status.success(), "{}", stderr(&output));
+    let stats: serde_json::Value = serde_json::from_slice(&output.stdout).unwrap();
+    // The imported rule inserts its own folder's window, and a door from the project's assets
+    // (not the one beside the grammar, which CityEngine does not search for an imported
+    // file's names); the grammar's rule its own window.
+    assert_eq!(stats["reports"]["win"]["sum"], 2.0);
+    assert_eq!(stats["reports"]["main"]["sum"], 1.0);
+    // The imported file's texture is the image beside it.
+    let gltf = gltf::Gltf::from_slice(&std::fs::read(&out).unwrap()).unwrap();
+    let blob = gltf.blob.as_deref().unwrap();
+    let images: Vec<&[u8]> = gltf
+        .images()
+        .map(|image| match image.source() {
+            gltf::image::Source::View { view, .. } => {
+                &blob[view.offset()..view.offset() + view.length()]
+            }
+            gltf::image::Source::Uri { .. } => panic!("images are embedded"),
+        })
+        .collect();
+    assert_eq!(images, [&brick[..]]);
+    assert_eq!(stats["reports"]["door"]["sum"], 3.0);
+}

@@ -34,6 +34,35 @@ fn the_pavilion_has_pbr_materials_in_glb_and_their_statements_in_the_mtl() {
     let trellis = material("trellis");
     assert_eq!(trellis.alpha_mode(), gltf::material::AlphaMode::Mask);
     assert_eq!(trellis.alpha_cutoff(), Some(0.5));
+    // The lattice turned 45° on its uvs: about the uvs' origin, which glTF's v-down space has
+    // at its top, so the offset moves it back by (−sin 45°, 1 − cos 45°).
+    let base = trellis
+        .pbr_metallic_roughness()
+        .base_color_texture()
+        .unwrap();
+    let turned = &base.texture().index();
+    let json = gltf.document.as_json();
+    let info = json.materials[trellis.index().unwrap()]
+        .pbr_metallic_roughness
+        .base_color_texture
+        .as_ref()
+        .unwrap();
+    assert_eq!(info.index.value(), *turned);
+    let half = std::f64::consts::FRAC_1_SQRT_2;
+    let transform = &info.extensions.as_ref().unwrap().others["KHR_texture_transform"];
+    let number = |v: &serde_json::Value| v.as_f64().unwrap();
+    let close = |a: f64, b: f64| (a - b).abs() < 1e-12;
+    assert!(
+        close(number(&transform["offset"][0]), -half)
+            && close(number(&transform["offset"][1]), 1.0 - half)
+            && close(number(&transform["rotation"]), std::f64::consts::FRAC_PI_4)
+            && transform.get("scale").is_none(),
+        "{transform}"
+    );
+    assert_eq!(
+        gltf.extensions_used().collect::<Vec<_>>(),
+        ["KHR_texture_transform"]
+    );
     let normal = material("brick")
         .normal_texture()
         .expect("the bricks' normal map");

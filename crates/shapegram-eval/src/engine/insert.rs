@@ -4,7 +4,7 @@
 use std::sync::Arc;
 
 use shapegram_geom::fit::adapt_scope_to_asset;
-use shapegram_geom::{Aabb, DAffine3, DVec2, DVec3, Mesh, Scope, primitives};
+use shapegram_geom::{Aabb, DAffine3, DVec2, DVec3, Mesh, Part, Scope, primitives};
 use shapegram_implicit::Solid;
 use shapegram_syntax::Span;
 
@@ -53,6 +53,14 @@ pub trait AssetLoader: Send + Sync {
     /// functions take; or a one-line reason why the query cannot be answered.
     fn search(&self, query: &str) -> Result<Vec<Arc<str>>, String> {
         Err(format!("cannot search for `{query}` here"))
+    }
+
+    /// How a rule of an imported file whose folder is `folder` (relative to the grammar's,
+    /// `/`-separated) names `path` to the other methods, when CityEngine finds it next to that
+    /// file, which it looks at first; `None` to look `path` up as from the grammar. By default
+    /// `None`.
+    fn beside(&self, _folder: &str, _path: &str) -> Option<String> {
+        None
     }
 
     /// Whether there is a file at `path` (CGA's `fileExists`): by default, whether it can be
@@ -120,6 +128,7 @@ impl Engine<'_> {
         args: &[Value],
     ) -> Fallible<()> {
         let file = self.ev.string(path, state, args)?;
+        let file = self.rule_path(&file);
         // From the shape's seed, not its stream, so asking for a variant draws nothing
         // that later random choices of the shape would miss.
         let variant = (child_seed(state.seed, u64::MAX) % u64::from(ASSET_VARIANTS)) as u32;
@@ -203,6 +212,10 @@ impl Engine<'_> {
         if kind == Primitive::Quad {
             quad_uvs(state);
         }
+        if kind == Primitive::Cube && size.cmpgt(DVec3::ZERO).all() {
+            let placed = state.scope.local_to_world() * DAffine3::from_scale(size);
+            wear(state, Some(cube_look()), placed);
+        }
         state.geometry = match kind {
             Primitive::Cube | Primitive::Quad => Geometry::Box,
             Primitive::Disk => {
@@ -226,6 +239,20 @@ impl Engine<'_> {
         Ok(())
     }
 
+    /// The path by which the loader finds the file the rule being applied names `path`: as
+    /// CityEngine looks first next to the rule's own file, an imported file's rule names a
+    /// file beside it by its place from the grammar (see [`AssetLoader::beside`]).
+    pub(super) fn rule_path(&self, path: &str) -> String {
+        let relative = !path.starts_with('/') && !path.starts_with("builtin:");
+        let beside = self
+            .program
+            .rule_folder(self.rule)
+            .filter(|_| relative && !path.is_empty())
+            .zip(self.options.assets.as_ref())
+            .and_then(|(folder, loader)| loader.beside(folder, path));
+        beside.unwrap_or_else(|| path.to_owned())
+    }
+
     /// The asset `i("path")` inserts: a built-in one, or variant `variant` of what the
     /// loader finds at `path`.
     fn asset(&self, path: &str, variant: u32, span: Span) -> Fallible<Asset> {
@@ -233,7 +260,7 @@ impl Engine<'_> {
             return Ok(Asset {
                 mesh: Arc::new(mesh),
                 proportional: false,
-                look: None,
+                look: (path == "builtin:cube").then(|| Arc::clone(cube_look())),
             });
         }
         let Some(loader) = &self.options.assets else {
@@ -282,9 +309,9 @@ fn place_sized(scope: &mut Scope, size: DVec3, up: usize, span: Span) -> Fallibl
 }
 
 /// The uvs `primitiveQuad()` brings: uv set 0 running from 0 to 1 across the quad, u along
-/// scope x and v along scope y, as CityEngine gives its primitives. (Its other primitives
-/// give every face the whole texture, which one affine map per shape cannot hold: they bring
-/// none yet.)
+/// scope x and v along scope y, as CityEngine gives its primitives. (The cube brings its
+/// faces' uvs as an asset's, see [`cube_look`]; the round primitives, whose every face shows
+/// the whole texture in CityEngine, bring none yet.)
 fn quad_uvs(state: &mut State) {
     let scope = &state.scope;
     if scope.size.x == 0.0 || scope.size.y == 0.0 {
@@ -300,6 +327,31 @@ fn quad_uvs(state: &mut State) {
     };
     let map = UvMap::projection(&frame, scope.size.x, scope.size.y, DVec2::ZERO);
     texturing_mut(state).uvs[0] = Some(map);
+}
+
+/// The look of CityEngine's built-in cube (`primitiveCube()`, `i("builtin:cube")`): uv set 0
+/// covering every face from 0 to 1, u along the face's first edge (its bottom edge on the
+/// sides) and v across it, so each face shows the whole texture upright; no material of its
+/// own. `builtin:cube:notex` has none.
+fn cube_look() -> &'static Arc<AssetLook> {
+    static LOOK: std::sync::OnceLock<Arc<AssetLook>> = std::sync::OnceLock::new();
+    LOOK.get_or_init(|| {
+        let cube = primitives::cuboid(DVec3::ONE);
+        let corners = [DVec2::ZERO, DVec2::X, DVec2::ONE, DVec2::Y];
+        let faces: Vec<Part> = (0..cube.face_count())
+            .map(|f| {
+                let points: Vec<DVec3> = cube.face_points(f).collect();
+                let face = Mesh::from_faces(points, [[0u32, 1, 2, 3]]);
+                Part {
+                    uvs: corners.to_vec(),
+                    ..Part::new(String::new(), Default::default(), face, Vec::new())
+                }
+            })
+            .collect();
+        AssetLook::from_parts(&faces)
+            .1
+            .expect("the cube's faces have uvs")
+    })
 }
 
 /// Cuts the shape's geometry at its trim planes (see [`crate::trim`]), as inserts do and CGA's

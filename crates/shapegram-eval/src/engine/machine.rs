@@ -81,6 +81,8 @@ pub(super) struct Engine<'p> {
     #[allow(clippy::vec_box)]
     spare: Vec<Box<State>>,
     pub(super) phase: Phase,
+    /// The rule being applied: the files it names are looked for beside its own file first.
+    pub(super) rule: crate::RuleId,
     /// The generation being rewritten (generations mode).
     generation: u32,
     /// Shapes of this lot waiting for phase 2 (phase 1 only).
@@ -135,6 +137,7 @@ impl<'p> Engine<'p> {
             successors: 0,
             shapes: 0,
             started: Instant::now(),
+            rule: 0,
             base: usize::MAX,
             layouts: Vec::new(),
             spare: Vec::new(),
@@ -291,6 +294,7 @@ impl<'p> Engine<'p> {
             return Err(self.too_many_steps(&task.state, task.rule));
         }
         let program = self.program;
+        self.rule = task.rule;
         if let Some(goals) = &program.goals {
             self.enter_goal_rule(&mut task.state, task.rule);
             let grammar = goals.grammar_of(task.rule);

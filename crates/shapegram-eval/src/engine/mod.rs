@@ -54,7 +54,7 @@ use std::time::Duration;
 use rustc_hash::FxHashMap;
 use shapegram_geom::{
     Bone, Color, DVec3, Mesh, MetaValue, Metadata, Model, Part as ModelPart, Scope, Surface,
-    material::FinishKey, primitives,
+    SurfaceKey, primitives,
 };
 use shapegram_kinematics::{Frame, SectionId, Skeleton};
 
@@ -214,7 +214,15 @@ impl Leaf {
             material: self.material.as_ref(),
             texturing: self.texturing.as_deref(),
         };
-        let Some(worn) = self.texturing.as_ref().and_then(|t| t.asset.as_ref()) else {
+        // An asset's uvs count only when something is drawn through them: a look without
+        // materials on a shape without texture layers draws as the shape's material alone.
+        let worn = self.texturing.as_ref().and_then(|t| {
+            let drawn = t.maps.iter().any(Option::is_some);
+            t.asset
+                .as_ref()
+                .filter(|worn| drawn || worn.look.has_materials())
+        });
+        let Some(worn) = worn else {
             return vec![material.piece(mesh)];
         };
         let local = match &self.geometry {
@@ -359,7 +367,7 @@ impl Derivation {
                     meta.clone(),
                     piece.colormap.as_ref().map(|texture| texture.path.clone()),
                     piece.material.clone(),
-                    piece.surface.as_ref().map(surface_key),
+                    piece.surface.as_ref().map(Surface::key),
                 );
                 let i = *slot.entry(key).or_insert_with(|| {
                     parts.push(ModelPart {
@@ -397,17 +405,6 @@ impl Derivation {
             lines: Vec::new(),
         }
     }
-}
-
-/// What tells two surfaces apart: their attributes and their layers' paths.
-type SurfaceKey = (FinishKey, [Option<Arc<str>>; 9]);
-
-fn surface_key(surface: &Surface) -> SurfaceKey {
-    let paths = surface
-        .maps
-        .layers()
-        .map(|(_, t)| t.map(|t| t.path.clone()));
-    (surface.finish.key(), paths)
 }
 
 /// Leaves' semantics as part metadata: equal semantics share one [`Metadata`], and the

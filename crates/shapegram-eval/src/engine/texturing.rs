@@ -13,7 +13,7 @@ use crate::asset_look::{AssetLook, UvAffine, WornAsset};
 use crate::error::DeriveError;
 use crate::ops::{ProjectionSetup, UvEdit, UvNormalization};
 use crate::program::{CExpr, CKind};
-use crate::shape::{Geometry, State};
+use crate::shape::State;
 use crate::texturing::{FinishAttr, OPACITYMAP, ProjectionFrame, Texturing, UV_SETS, UvMap};
 use crate::value::Value;
 
@@ -110,6 +110,7 @@ impl Engine<'_> {
     ) -> Fallible<()> {
         let span = path.span;
         let path = self.ev.string(path, state, args)?;
+        let path = Arc::<str>::from(self.rule_path(&path));
         let texture = if path.is_empty() {
             None
         } else {
@@ -142,6 +143,22 @@ impl Engine<'_> {
     ) -> Fallible<()> {
         let span = value.span;
         let value = self.ev.eval(value, state, args)?;
+        if let FinishAttr::Transform(layer, part) = attr {
+            let Value::Number(n) = value else {
+                return Err(DeriveError::at(
+                    format!("expected a number, found a {}", value.type_name()),
+                    span,
+                ));
+            };
+            if !n.is_finite() {
+                return Err(DeriveError::at(
+                    format!("{n}: expected a finite number"),
+                    span,
+                ));
+            }
+            part.set(&mut texturing_mut(state).transforms[layer], n);
+            return Ok(());
+        }
         let finish = &mut texturing_mut(state).finish;
         let wrong = |what: &str| {
             DeriveError::at(
@@ -198,12 +215,7 @@ impl Engine<'_> {
         else {
             return Ok(());
         };
-        let Some(extent) = state
-            .geometry
-            .world_mesh(&state.scope)
-            .filter(|_| matches!(&state.geometry, Geometry::Mesh(m, _) if worn.look.fits(m)))
-            .and_then(|mesh| worn.uv_extent(&mesh))
-        else {
+        let Some(extent) = crate::uv_queries::asset_uv_extent(state, worn) else {
             return Ok(());
         };
         let change = self.uv_change(state, edit, Some(extent), params, args)?;

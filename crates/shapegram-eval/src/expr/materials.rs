@@ -115,6 +115,7 @@ impl Material {
         let surface = |finish: Finish| shapegram_geom::Surface {
             finish,
             maps: shapegram_geom::Maps::default(),
+            transforms: Default::default(),
         };
         let finish = surface(self.finish).over(&surface(under.finish)).finish;
         let mut layers = under.layers;
