@@ -12,6 +12,7 @@ mod annotations;
 mod arrays;
 mod asset_faces;
 pub mod asset_look;
+mod booleans;
 mod builtins;
 mod colors;
 mod context;

@@ -336,6 +336,10 @@ impl Ctx<'_, '_> {
             "twist" => self.deform(DeformKind::Twist)?,
             "shear" => self.deform(DeformKind::Shear { toward: 0 })?,
             "sync" => self.sync()?,
+            "union" => self.boolean(BooleanKind::Union)?,
+            "subtract" => self.boolean(BooleanKind::Subtract)?,
+            "intersect" => self.boolean(BooleanKind::Intersect)?,
+            "inline" => self.inline()?,
             _ => unreachable!("`{name}` is listed in IMPLEMENTED but not built"),
         };
         // A skipped form (`comp(g) { … }`) keeps the block it was written with.
@@ -347,6 +351,8 @@ impl Ctx<'_, '_> {
                 | Op::Comp { .. }
                 | Op::Setback { .. }
                 | Op::InnerRectangle { split: true, .. }
+                | Op::Boolean { .. }
+                | Op::Inline { .. }
                 | Op::Ignored
         );
         if !needs_block && self.call.block.is_some() {

@@ -174,6 +174,19 @@ pub(crate) enum Op {
         /// The fillet radius, or the amount of a morph.
         amount: Option<CExpr>,
     },
+    /// `union`, `subtract` and `intersect`: two operands derived at once, each from a copy of
+    /// the shape (`None`: the shape as it is), and combined; the first is the target, whose
+    /// scope, attributes and material the result keeps.
+    Boolean {
+        kind: BooleanKind,
+        operands: [Option<Vec<CStmt>>; 2],
+    },
+    /// `inline([append | unify | recompose]) { ops }` (or one call): the operations derived at
+    /// once from a copy of the shape, their leaves merged back into it.
+    Inline {
+        mode: InlineMode,
+        body: Vec<CStmt>,
+    },
     /// `joint(x, y, z)`: the shape's joint moves to this point of its scope (metres, or `'`
     /// fractions of the scope's size), its axes along the scope's.
     Joint([CExpr; 3]),
@@ -461,6 +474,25 @@ impl CsgKind {
             Self::Morph => CsgOp::Morph(amount),
         }
     }
+}
+
+/// The Boolean 3D operations.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum BooleanKind {
+    Union,
+    Subtract,
+    Intersect,
+}
+
+/// How `inline` merges the leaves it derived.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum InlineMode {
+    /// `append` (the default): their meshes side by side.
+    Append,
+    /// `unify`: their Boolean union.
+    Unify,
+    /// `recompose`: their meshes welded where vertices meet.
+    Recompose,
 }
 
 /// What `comp` splits into.

@@ -1,0 +1,297 @@
+//! Boolean 3D operations on polygon meshes: exact for closed meshes (through `manifold-rust`,
+//! a port of Manifold), and for open meshes (planes, meshes with holes) against closed ones by
+//! clipping each face to the inside or outside of the closed mesh.
+//!
+//! Results are triangle meshes: the crate works on triangles and gives triangles back.
+
+use manifold_rust::manifold::Manifold;
+use manifold_rust::types::{Error as ManifoldStatus, MeshGLP, OpType};
+use shapegram_geom::{DVec3, Mesh, mesh::newell};
+
+/// Vertices closer than this (metres) are one vertex when a mesh is checked for being closed:
+/// parts derived side by side meet at seams computed through different transforms.
+pub(crate) const WELD: f64 = 1e-6;
+
+/// A triangle mesh as the crate takes it: f64 positions, u32 indices.
+type Gl = MeshGLP<f64, u32>;
+
+/// Which Boolean operation.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum BooleanOp {
+    /// Everything in either operand.
+    Union,
+    /// The first operand without the second.
+    Subtract,
+    /// What both operands share.
+    Intersect,
+}
+
+/// An operand made of meshes: the volume its closed meshes enclose (unioned) and the faces of
+/// its open meshes, which have no inside.
+pub struct Operand {
+    solid: Option<Manifold>,
+    open: Mesh,
+}
+
+impl Operand {
+    /// The operand of several meshes (the leaves of a derivation), in order. Each closed mesh
+    /// is a solid and all solids are unioned; the open meshes together may close (the faces of
+    /// a component split), else they stay open, and the faces that fall inside the solid go.
+    pub fn new(parts: &[Mesh]) -> Self {
+        let mut solids = Vec::new();
+        let mut open = Mesh::new();
+        for part in parts {
+            match closed(part) {
+                Some(solid) => solids.push(solid),
+                None => open.append(part),
+            }
+        }
+        if !open.is_empty()
+            && let Some(solid) = closed(&open)
+        {
+            solids.push(solid);
+            open = Mesh::new();
+        }
+        let solid = match solids.len() {
+            0 => None,
+            1 => solids.pop(),
+            _ => Some(Manifold::batch_boolean(&solids, OpType::Add)),
+        };
+        let open = match &solid {
+            Some(solid) if !open.is_empty() => clip(&open, solid, false),
+            _ => open,
+        };
+        Self { solid, open }
+    }
+
+    /// The operand as one mesh: the solid's surface, then the open faces.
+    pub fn into_mesh(self) -> Mesh {
+        let mut mesh = self.solid.as_ref().map(from_manifold).unwrap_or_default();
+        mesh.append(&self.open);
+        mesh
+    }
+}
+
+/// `a op b`. Solids combine exactly; open faces are kept where they lie outside the other
+/// operand's solid (union, and subtract for the first operand's faces) or inside it
+/// (intersect). An open second operand subtracts nothing: it has no volume.
+pub fn combine(op: BooleanOp, a: &Operand, b: &Operand) -> Mesh {
+    let solid = match (op, &a.solid, &b.solid) {
+        (BooleanOp::Union, Some(x), Some(y)) => Some(x.union(y)),
+        (BooleanOp::Union, Some(x), None) | (BooleanOp::Union, None, Some(x)) => Some(x.clone()),
+        (BooleanOp::Subtract, Some(x), Some(y)) => Some(x.difference(y)),
+        (BooleanOp::Subtract, Some(x), None) => Some(x.clone()),
+        (BooleanOp::Intersect, Some(x), Some(y)) => Some(x.intersection(y)),
+        _ => None,
+    };
+    let mut mesh = solid.as_ref().map(from_manifold).unwrap_or_default();
+    let mut faces = |open: &Mesh, other: &Option<Manifold>, inside: bool| {
+        if open.is_empty() {
+            return;
+        }
+        match other {
+            Some(solid) => mesh.append(&clip(open, solid, inside)),
+            None if !inside => mesh.append(open),
+            None => {}
+        }
+    };
+    match op {
+        BooleanOp::Union => {
+            faces(&a.open, &b.solid, false);
+            faces(&b.open, &a.solid, false);
+        }
+        BooleanOp::Subtract => faces(&a.open, &b.solid, false),
+        BooleanOp::Intersect => {
+            faces(&a.open, &b.solid, true);
+            faces(&b.open, &a.solid, true);
+        }
+    }
+    mesh
+}
+
+/// The solid a mesh encloses, when it is closed and manifold.
+fn closed(mesh: &Mesh) -> Option<Manifold> {
+    if mesh.is_empty() {
+        return None;
+    }
+    let solid = Manifold::from_mesh_glp(&to_gl(&mesh.welded(WELD)));
+    (solid.status() == ManifoldStatus::NoError && !solid.is_empty()).then_some(solid)
+}
+
+/// The parts of `open`'s faces inside (or outside) `solid`. Each face becomes a thin prism
+/// behind it, which the crate intersects with (or subtracts from) the solid; what is left of
+/// the prism's cap, the face itself, is the answer. A face whose prism is not a valid solid
+/// (a self-intersecting polygon) is kept whole when outside is asked for.
+fn clip(open: &Mesh, solid: &Manifold, inside: bool) -> Mesh {
+    let mut out = Mesh::new();
+    for face in 0..open.face_count() {
+        let points: Vec<DVec3> = open.face_points(face).collect();
+        let Some((mut prism, cap)) = prism(&points) else {
+            continue;
+        };
+        // Our own ID for the prism's triangles, to find them among the result's.
+        let id = Manifold::reserve_ids(1);
+        prism.run_original_id = vec![id];
+        prism.run_index = vec![0, prism.tri_verts.len() as u32];
+        let prism = Manifold::from_mesh_glp(&prism);
+        if prism.status() != ManifoldStatus::NoError || prism.is_empty() {
+            if !inside {
+                out.append(&Mesh::from_polygon(&points));
+            }
+            continue;
+        }
+        let kept = match inside {
+            true => prism.intersection(solid),
+            false => prism.difference(solid),
+        };
+        let gl: Gl = kept.get_mesh_glp(-1);
+        append_triangles(&mut out, &gl, |run_id, face_id| {
+            run_id == Some(id) && face_id == Some(cap)
+        });
+    }
+    out
+}
+
+/// The face ID of a prism's cap (its other faces are 0).
+const CAP: u32 = 1;
+
+/// A prism with the polygon as its cap, reaching back against the polygon's normal by a
+/// hundredth of the polygon's size; `None` for a degenerate polygon.
+fn prism(points: &[DVec3]) -> Option<(Gl, u32)> {
+    let normal = newell(points.iter().copied()).try_normalize()?;
+    let n = points.len();
+    let size = points
+        .iter()
+        .map(|p| p.distance(points[0]))
+        .fold(0.0, f64::max);
+    let back = normal * (size * 0.01);
+    let mut positions = Vec::with_capacity(6 * n);
+    for p in points.iter().chain(points) {
+        positions.push(*p);
+    }
+    for p in positions.iter_mut().skip(n) {
+        *p -= back;
+    }
+    let cap = Mesh::from_polygon(points).triangulate();
+    let mut triangles = Vec::new();
+    let mut faces = Vec::new();
+    let n32 = n as u32;
+    for t in &cap {
+        triangles.push(*t);
+        faces.push(CAP);
+        triangles.push([t[2] + n32, t[1] + n32, t[0] + n32]);
+        faces.push(0);
+    }
+    for i in 0..n32 {
+        let j = (i + 1) % n32;
+        triangles.push([i, i + n32, j + n32]);
+        triangles.push([i, j + n32, j]);
+        faces.extend([0, 0]);
+    }
+    let mut gl = gl_of(&positions, &triangles);
+    gl.face_id = faces;
+    Some((gl, CAP))
+}
+
+/// A mesh as the crate takes it: its faces triangulated.
+fn to_gl(mesh: &Mesh) -> Gl {
+    gl_of(mesh.positions(), &mesh.triangulate())
+}
+
+fn gl_of(positions: &[DVec3], triangles: &[[u32; 3]]) -> Gl {
+    Gl {
+        num_prop: 3,
+        vert_properties: positions.iter().flat_map(|p| p.to_array()).collect(),
+        tri_verts: triangles.iter().flatten().copied().collect(),
+        ..Gl::default()
+    }
+}
+
+/// The surface of a solid as a triangle mesh.
+fn from_manifold(solid: &Manifold) -> Mesh {
+    let gl: Gl = solid.get_mesh_glp(-1);
+    let mut mesh = Mesh::new();
+    append_triangles(&mut mesh, &gl, |_, _| true);
+    mesh
+}
+
+/// Appends the triangles of `gl` that `keep` accepts, given the original ID of their run and
+/// their face ID, with the vertices they use.
+fn append_triangles(mesh: &mut Mesh, gl: &Gl, keep: impl Fn(Option<u32>, Option<u32>) -> bool) {
+    let stride = gl.num_prop as usize;
+    let mut added = vec![u32::MAX; gl.vert_properties.len() / stride];
+    for (t, corners) in gl.tri_verts.chunks_exact(3).enumerate() {
+        let run = gl
+            .run_index
+            .iter()
+            .rposition(|&start| start as usize <= 3 * t);
+        let run_id = run.and_then(|r| gl.run_original_id.get(r).copied());
+        if !keep(run_id, gl.face_id.get(t).copied()) {
+            continue;
+        }
+        let face = corners.iter().map(|&v| {
+            let v = v as usize;
+            if added[v] == u32::MAX {
+                let p = &gl.vert_properties[v * stride..v * stride + 3];
+                added[v] = mesh.add_vertex(DVec3::new(p[0], p[1], p[2]));
+            }
+            added[v]
+        });
+        let face: Vec<u32> = face.collect();
+        mesh.add_face(&face);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use shapegram_geom::DAffine3;
+    use shapegram_geom::primitives::{cuboid, cylinder};
+
+    fn cube(size: DVec3, at: DVec3) -> Mesh {
+        cuboid(size).transformed(&DAffine3::from_translation(at))
+    }
+
+    fn unit_quad() -> Mesh {
+        Mesh::from_polygon(&[
+            DVec3::new(0.0, 0.0, 0.0),
+            DVec3::new(2.0, 0.0, 0.0),
+            DVec3::new(2.0, 0.0, -2.0),
+            DVec3::new(0.0, 0.0, -2.0),
+        ])
+    }
+
+    #[test]
+    fn a_bar_through_a_box_leaves_volume_six() {
+        let a = Operand::new(&[cube(DVec3::splat(2.0), DVec3::ZERO)]);
+        let b = Operand::new(&[cube(DVec3::new(1.0, 1.0, 3.0), DVec3::new(0.5, 0.5, -0.5))]);
+        let mesh = combine(BooleanOp::Subtract, &a, &b);
+        assert!((mesh.signed_volume() - 6.0).abs() < 1e-9);
+        assert!(closed(&mesh).is_some());
+    }
+
+    #[test]
+    fn a_plane_minus_a_box_has_a_hole() {
+        let a = Operand::new(&[unit_quad()]);
+        assert!(a.solid.is_none());
+        let b = Operand::new(&[cube(DVec3::ONE, DVec3::new(0.5, -0.5, -1.5))]);
+        let punched = combine(BooleanOp::Subtract, &a, &b);
+        assert!((punched.area() - 3.0).abs() < 1e-9, "{}", punched.area());
+        let clipped = combine(BooleanOp::Intersect, &a, &b);
+        assert!((clipped.area() - 1.0).abs() < 1e-9, "{}", clipped.area());
+    }
+
+    #[test]
+    fn the_faces_of_a_box_together_are_a_solid() {
+        let faces: Vec<Mesh> = {
+            let cube = cuboid(DVec3::ONE);
+            (0..cube.face_count())
+                .map(|f| Mesh::from_polygon(&cube.face_points(f).collect::<Vec<_>>()))
+                .collect()
+        };
+        assert!(Operand::new(&faces).solid.is_some());
+        let cylinder = cylinder(DVec3::ONE, 16);
+        let both = Operand::new(&[cuboid(DVec3::ONE), cylinder]);
+        assert!(both.solid.is_some());
+    }
+}

@@ -1,0 +1,155 @@
+//! `union`, `subtract`, `intersect` and `inline`: operands derived at once, each from a copy
+//! of the shape, their leaves merged back into the shape (see [`crate::booleans`] for the
+//! geometry).
+//!
+//! The shapes an operand derives are shapes of the derivation (they count against the limits
+//! and appear in the tree) but never leaves of the model: their geometry goes into the shape.
+
+use shapegram_geom::{Mesh, Scope};
+
+use super::Fallible;
+use super::machine::{Engine, Work};
+use crate::booleans::{BooleanOp, Operand, WELD, combine};
+use crate::ops::{BooleanKind, InlineMode};
+use crate::program::CStmt;
+use crate::shape::{Geometry, State};
+use crate::value::Value;
+
+impl<'p> Engine<'p> {
+    /// `union`, `subtract`, `intersect`: the result replaces the shape's geometry, in the scope
+    /// of the target (the first operand) and with its attributes and material.
+    pub(super) fn boolean(
+        &mut self,
+        state: &mut State,
+        kind: BooleanKind,
+        operands: &'p [Option<Vec<CStmt>>; 2],
+        args: &[Value],
+    ) -> Fallible<()> {
+        let mut derived = Vec::with_capacity(2);
+        for operand in operands {
+            derived.push(match operand {
+                Some(stmts) => Some(self.derive_now(stmts, state, args)?),
+                None => None,
+            });
+        }
+        let target = derived[0].as_ref().and_then(|leaves| leaves.first());
+        let frame = target.map_or(state.scope, |leaf| leaf.scope);
+        let operand = |leaves: &Option<Vec<Box<State>>>| match leaves {
+            Some(leaves) => Operand::new(&meshes_in(leaves, &frame)),
+            None => Operand::new(&meshes_in(std::slice::from_ref(state), &frame)),
+        };
+        let (a, b) = (operand(&derived[0]), operand(&derived[1]));
+        let op = match kind {
+            BooleanKind::Union => BooleanOp::Union,
+            BooleanKind::Subtract => BooleanOp::Subtract,
+            BooleanKind::Intersect => BooleanOp::Intersect,
+        };
+        let mesh = combine(op, &a, &b);
+        if let Some(target) = target {
+            state.attrs = target.attrs.clone();
+            take_look(state, target);
+        }
+        state.scope = frame;
+        state.geometry = geometry(mesh);
+        Ok(())
+    }
+
+    /// `inline(mode) { ops }`: the leaves of the operations replace the shape's geometry, in
+    /// its own scope; the material is the first leaf's, the other attributes stay the shape's.
+    pub(super) fn inline(
+        &mut self,
+        state: &mut State,
+        mode: InlineMode,
+        body: &'p [CStmt],
+        args: &[Value],
+    ) -> Fallible<()> {
+        let leaves = self.derive_now(body, state, args)?;
+        let parts = meshes_in(&leaves, &state.scope);
+        let mesh = match mode {
+            InlineMode::Unify => Operand::new(&parts).into_mesh(),
+            InlineMode::Append | InlineMode::Recompose => {
+                let mut mesh = Mesh::new();
+                for part in &parts {
+                    mesh.append(part);
+                }
+                match mode {
+                    InlineMode::Recompose => mesh.welded(WELD),
+                    _ => mesh,
+                }
+            }
+        };
+        if let Some(first) = leaves.first() {
+            take_look(state, first);
+        }
+        state.geometry = geometry(mesh);
+        Ok(())
+    }
+
+    /// Derives `stmts` on a copy of the shape to the end, depth first, and returns the leaves
+    /// in order.
+    fn derive_now(
+        &mut self,
+        stmts: &'p [CStmt],
+        state: &mut State,
+        args: &[Value],
+    ) -> Fallible<Vec<Box<State>>> {
+        let mut copy = state.spawn();
+        // Leaves wait on the stack rather than going to the model.
+        let base = std::mem::replace(&mut self.base, usize::MAX);
+        let leaves = self.derive_copy(stmts, &mut copy, args);
+        self.base = base;
+        leaves
+    }
+
+    fn derive_copy(
+        &mut self,
+        stmts: &'p [CStmt],
+        copy: &mut State,
+        args: &[Value],
+    ) -> Fallible<Vec<Box<State>>> {
+        let mut stack = Vec::new();
+        self.run_stmts(stmts, copy, args, &mut stack)?;
+        stack.reverse();
+        let mut leaves = Vec::new();
+        while let Some(work) = stack.pop() {
+            match work {
+                Work::Leaf(leaf) => leaves.push(leaf),
+                Work::Rewrite(task) => {
+                    let base = stack.len();
+                    self.apply(task, &mut stack)?;
+                    stack[base..].reverse();
+                }
+            }
+        }
+        Ok(leaves)
+    }
+}
+
+/// The meshes of shapes, in the local coordinates of `frame`.
+fn meshes_in<S: std::borrow::Borrow<State>>(shapes: &[S], frame: &Scope) -> Vec<Mesh> {
+    let to_frame = frame.world_to_local();
+    shapes
+        .iter()
+        .filter_map(|shape| {
+            let shape = shape.borrow();
+            let mut mesh = shape.geometry.world_mesh(&shape.scope)?;
+            mesh.transform(&to_frame);
+            Some(mesh)
+        })
+        .collect()
+}
+
+/// The shape takes the colour and material of `from`.
+fn take_look(state: &mut State, from: &State) {
+    state.color = from.color;
+    state.painted = from.painted;
+    state.material = from.material.clone();
+    state.texturing = from.texturing.clone();
+}
+
+fn geometry(mesh: Mesh) -> Geometry {
+    match mesh.is_empty() {
+        true => Geometry::Empty,
+        false => Geometry::mesh(mesh),
+    }
+}
