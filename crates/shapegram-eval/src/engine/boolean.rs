@@ -34,7 +34,7 @@ impl<'p> Engine<'p> {
         }
         let target = derived[0].as_ref().and_then(|leaves| leaves.first());
         let frame = target.map_or(state.scope, |leaf| leaf.scope);
-        let operand = |leaves: &Option<Vec<Box<State>>>| match leaves {
+        let operand = |leaves: &Option<Vec<State>>| match leaves {
             Some(leaves) => Operand::new(&meshes_in(leaves, &frame)),
             None => Operand::new(&meshes_in(std::slice::from_ref(state), &frame)),
         };
@@ -92,7 +92,7 @@ impl<'p> Engine<'p> {
         stmts: &'p [CStmt],
         state: &mut State,
         args: &[Value],
-    ) -> Fallible<Vec<Box<State>>> {
+    ) -> Fallible<Vec<State>> {
         let mut copy = state.spawn();
         // Leaves wait on the stack rather than going to the model.
         let base = std::mem::replace(&mut self.base, usize::MAX);
@@ -106,14 +106,14 @@ impl<'p> Engine<'p> {
         stmts: &'p [CStmt],
         copy: &mut State,
         args: &[Value],
-    ) -> Fallible<Vec<Box<State>>> {
+    ) -> Fallible<Vec<State>> {
         let mut stack = Vec::new();
         self.run_stmts(stmts, copy, args, &mut stack)?;
         stack.reverse();
         let mut leaves = Vec::new();
         while let Some(work) = stack.pop() {
             match work {
-                Work::Leaf(leaf) => leaves.push(leaf),
+                Work::Leaf(leaf) => leaves.push(*leaf),
                 Work::Rewrite(task) => {
                     let base = stack.len();
                     self.apply(task, &mut stack)?;
@@ -126,12 +126,11 @@ impl<'p> Engine<'p> {
 }
 
 /// The meshes of shapes, in the local coordinates of `frame`.
-fn meshes_in<S: std::borrow::Borrow<State>>(shapes: &[S], frame: &Scope) -> Vec<Mesh> {
+fn meshes_in(shapes: &[State], frame: &Scope) -> Vec<Mesh> {
     let to_frame = frame.world_to_local();
     shapes
         .iter()
         .filter_map(|shape| {
-            let shape = shape.borrow();
             let mut mesh = shape.geometry.world_mesh(&shape.scope)?;
             mesh.transform(&to_frame);
             Some(mesh)
