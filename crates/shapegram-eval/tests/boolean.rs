@@ -3,7 +3,11 @@
 
 mod common;
 
-use common::{assert_close, compile_errors, lot, names, numeric_reports, of, run};
+use common::{
+    assert_close, compile, compile_errors, derive_on_threads, lot, lots_in_a_row, names,
+    numeric_reports, of, run,
+};
+use shapegram_eval::{Derivation, DeriveOptions, derive, derive_again};
 use shapegram_geom::primitives::cylinder_volume;
 use shapegram_geom::{DVec3, Mesh};
 
@@ -181,6 +185,62 @@ fn deriving_twice_gives_the_same_bytes() {
     let first = bytes();
     assert!(!first.1.is_empty());
     assert_eq!(first, bytes());
+}
+
+/// Every bit of every leaf's world mesh.
+fn leaf_bits(d: &Derivation) -> Vec<(Vec<u64>, Vec<Vec<u32>>)> {
+    d.leaves
+        .iter()
+        .map(|leaf| {
+            let mesh = leaf.world_mesh().unwrap();
+            let positions = mesh
+                .positions()
+                .iter()
+                .flat_map(|p| p.to_array().map(f64::to_bits))
+                .collect();
+            (positions, mesh.faces().map(<[u32]>::to_vec).collect())
+        })
+        .collect()
+}
+
+#[test]
+fn lots_derived_on_several_threads_give_the_same_bytes() {
+    let program = compile(
+        "Lot --> extrude(rand(3, 9)) subtract { s('0.5, 20, '0.5) center(xz) t(0, -1, 0) primitiveCylinder(12) } \
+         union { t('0.5, 0, '0.5) primitiveSphere(6) } A.",
+    );
+    let lots = lots_in_a_row(6, 4.0, 4.0, 6.0);
+    let options = DeriveOptions::default();
+    let one = derive_on_threads(&program, &lots, &options, 1);
+    let many = derive_on_threads(&program, &lots, &options, 4);
+    assert_eq!(one.leaves.len(), 6);
+    assert_eq!(leaf_bits(&one), leaf_bits(&many));
+}
+
+#[test]
+fn deriving_again_starts_afresh_as_an_operand_rule_may_have_changed() {
+    let before =
+        compile("Lot --> extrude(2) subtract Hole Mass.\nHole --> s(1, 3, 1) primitiveCube()");
+    let after =
+        compile("Lot --> extrude(2) subtract Hole Mass.\nHole --> s(1, 1, 1) primitiveCube()");
+    let lots = [lot(2.0, 2.0)];
+    let options = DeriveOptions {
+        trace: true,
+        ..DeriveOptions::default()
+    };
+    let previous = derive(&before, &lots, &options).unwrap();
+    let again = derive_again(&previous, &after, &lots, &options).unwrap();
+    assert!(again.fallback.unwrap().contains("union, subtract"));
+    let fresh = derive(&after, &lots, &options).unwrap();
+    assert_eq!(leaf_bits(&again.derivation), leaf_bits(&fresh));
+    // A cube of 1 × 1 × 1 at the corner comes off.
+    assert_near(
+        again.derivation.leaves[0]
+            .world_mesh()
+            .unwrap()
+            .signed_volume(),
+        7.0,
+    );
 }
 
 #[test]

@@ -7,9 +7,12 @@
 
 use shapegram_geom::{Mesh, Scope};
 
+use shapegram_syntax::Span;
+
 use super::Fallible;
 use super::machine::{Engine, Work};
 use crate::booleans::{BooleanOp, Operand, WELD, combine};
+use crate::error::DeriveError;
 use crate::ops::{BooleanKind, InlineMode};
 use crate::program::CStmt;
 use crate::shape::{Geometry, State};
@@ -23,6 +26,7 @@ impl<'p> Engine<'p> {
         state: &mut State,
         kind: BooleanKind,
         operands: &'p [Option<Vec<CStmt>>; 2],
+        span: Span,
         args: &[Value],
     ) -> Fallible<()> {
         let mut derived = Vec::with_capacity(2);
@@ -38,13 +42,15 @@ impl<'p> Engine<'p> {
             Some(leaves) => Operand::new(&meshes_in(leaves, &frame)),
             None => Operand::new(&meshes_in(std::slice::from_ref(state), &frame)),
         };
-        let (a, b) = (operand(&derived[0]), operand(&derived[1]));
         let op = match kind {
             BooleanKind::Union => BooleanOp::Union,
             BooleanKind::Subtract => BooleanOp::Subtract,
             BooleanKind::Intersect => BooleanOp::Intersect,
         };
-        let mesh = combine(op, &a, &b);
+        let mesh = guarded(span, || {
+            let (a, b) = (operand(&derived[0]), operand(&derived[1]));
+            combine(op, &a, &b)
+        })?;
         if let Some(target) = target {
             state.attrs = target.attrs.clone();
             take_look(state, target);
@@ -61,12 +67,13 @@ impl<'p> Engine<'p> {
         state: &mut State,
         mode: InlineMode,
         body: &'p [CStmt],
+        span: Span,
         args: &[Value],
     ) -> Fallible<()> {
         let leaves = self.derive_now(body, state, args)?;
         let parts = meshes_in(&leaves, &state.scope);
         let mesh = match mode {
-            InlineMode::Unify => Operand::new(&parts).into_mesh(),
+            InlineMode::Unify => guarded(span, || Operand::new(&parts).into_mesh())?,
             InlineMode::Append | InlineMode::Recompose => {
                 let mut mesh = Mesh::new();
                 for part in &parts {
@@ -136,6 +143,15 @@ fn meshes_in(shapes: &[State], frame: &Scope) -> Vec<Mesh> {
             Some(mesh)
         })
         .collect()
+}
+
+/// Runs the mesh Boolean, turning a panic of the crate (a bug there, which its docs ask to be
+/// reported) into an error at the operation rather than the end of the derivation.
+fn guarded(span: Span, boolean: impl FnOnce() -> Mesh) -> Fallible<Mesh> {
+    std::panic::catch_unwind(std::panic::AssertUnwindSafe(boolean)).map_err(|_| {
+        DeriveError::at("the mesh Boolean failed on these operands", span)
+            .with_hint("a bug of the mesh Boolean (manifold-rust): please report the grammar")
+    })
 }
 
 /// The shape takes the colour and material of `from`.

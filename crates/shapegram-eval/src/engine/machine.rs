@@ -762,8 +762,8 @@ impl<'p> Engine<'p> {
                 group,
                 amount,
             } => self.csg(state, *kind, group, amount.as_ref(), span, args)?,
-            Op::Boolean { kind, operands } => self.boolean(state, *kind, operands, args)?,
-            Op::Inline { mode, body } => self.inline(state, *mode, body, args)?,
+            Op::Boolean { kind, operands } => self.boolean(state, *kind, operands, span, args)?,
+            Op::Inline { mode, body } => self.inline(state, *mode, body, span, args)?,
             Op::Joint(at) => self.place_joint(state, at, args)?,
             Op::JointLimits {
                 rotation,

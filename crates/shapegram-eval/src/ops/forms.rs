@@ -867,6 +867,7 @@ impl Ctx<'_, '_> {
 
     /// The compiled bodies of an operand block, between `lo` and `hi` of them.
     fn operand_bodies(&mut self, lo: usize, hi: usize) -> Option<Vec<Vec<CStmt>>> {
+        self.c.derives_now = true;
         let call = self.call;
         let name = &call.name.name;
         let Some(block) = &call.block else {
