@@ -31,6 +31,16 @@ pub enum BooleanOp {
 pub struct Operand {
     solid: Option<Manifold>,
     open: Mesh,
+    /// The IDs the crate knows the solid's meshes by, to tell its faces in a result.
+    ids: Vec<u32>,
+}
+
+/// The result of [`combine`]: a mesh, and for each face whether it came from operand B.
+pub struct Combined {
+    /// The result's surface.
+    pub mesh: Mesh,
+    /// By face: whether it lies on operand B's surface (else on A's).
+    pub from_b: Vec<bool>,
 }
 
 impl Operand {
@@ -39,17 +49,22 @@ impl Operand {
     /// a component split), else they stay open, and the faces that fall inside the solid go.
     pub fn new(parts: &[Mesh]) -> Self {
         let mut solids = Vec::new();
+        let mut ids = Vec::new();
         let mut open = Mesh::new();
         for part in parts {
             match closed(part) {
-                Some(solid) => solids.push(solid),
+                Some((solid, id)) => {
+                    solids.push(solid);
+                    ids.push(id);
+                }
                 None => open.append(part),
             }
         }
         if !open.is_empty()
-            && let Some(solid) = closed(&open)
+            && let Some((solid, id)) = closed(&open)
         {
             solids.push(solid);
+            ids.push(id);
             open = Mesh::new();
         }
         let solid = match solids.len() {
@@ -61,12 +76,15 @@ impl Operand {
             Some(solid) if !open.is_empty() => clip(&open, solid, false),
             _ => open,
         };
-        Self { solid, open }
+        Self { solid, open, ids }
     }
 
     /// The operand as one mesh: the solid's surface, then the open faces.
     pub fn into_mesh(self) -> Mesh {
-        let mut mesh = self.solid.as_ref().map(from_manifold).unwrap_or_default();
+        let mut mesh = Mesh::new();
+        if let Some(solid) = &self.solid {
+            append_triangles(&mut mesh, &solid.get_mesh_glp(-1), |_, _| Some(false));
+        }
         mesh.append(&self.open);
         mesh
     }
@@ -75,7 +93,7 @@ impl Operand {
 /// `a op b`. Solids combine exactly; open faces are kept where they lie outside the other
 /// operand's solid (union, and subtract for the first operand's faces) or inside it
 /// (intersect). An open second operand subtracts nothing: it has no volume.
-pub fn combine(op: BooleanOp, a: &Operand, b: &Operand) -> Mesh {
+pub fn combine(op: BooleanOp, a: &Operand, b: &Operand) -> Combined {
     let solid = match (op, &a.solid, &b.solid) {
         (BooleanOp::Union, Some(x), Some(y)) => Some(x.union(y)),
         (BooleanOp::Union, Some(x), None) | (BooleanOp::Union, None, Some(x)) => Some(x.clone()),
@@ -84,38 +102,54 @@ pub fn combine(op: BooleanOp, a: &Operand, b: &Operand) -> Mesh {
         (BooleanOp::Intersect, Some(x), Some(y)) => Some(x.intersection(y)),
         _ => None,
     };
-    let mut mesh = solid.as_ref().map(from_manifold).unwrap_or_default();
-    let mut faces = |open: &Mesh, other: &Option<Manifold>, inside: bool| {
-        if open.is_empty() {
-            return;
-        }
-        match other {
-            Some(solid) => mesh.append(&clip(open, solid, inside)),
-            None if !inside => mesh.append(open),
-            None => {}
-        }
+    let mut mesh = Mesh::new();
+    let mut from_b = Vec::new();
+    if let Some(solid) = &solid {
+        let gl: Gl = solid.get_mesh_glp(-1);
+        let mut flags = |run_id: Option<u32>, _| Some(run_id.is_some_and(|id| b.ids.contains(&id)));
+        from_b = append_triangles(&mut mesh, &gl, &mut flags);
+    }
+    let mut faces = |open: &Mesh, other: &Option<Manifold>, inside: bool, is_b: bool| {
+        let kept = match other {
+            Some(solid) if !open.is_empty() => clip(open, solid, inside),
+            None if !inside => open.clone(),
+            _ => return,
+        };
+        mesh.append(&kept);
+        from_b.resize(mesh.face_count(), is_b);
     };
     match op {
         BooleanOp::Union => {
-            faces(&a.open, &b.solid, false);
-            faces(&b.open, &a.solid, false);
+            faces(&a.open, &b.solid, false, false);
+            faces(&b.open, &a.solid, false, true);
         }
-        BooleanOp::Subtract => faces(&a.open, &b.solid, false),
+        BooleanOp::Subtract => faces(&a.open, &b.solid, false, false),
         BooleanOp::Intersect => {
-            faces(&a.open, &b.solid, true);
-            faces(&b.open, &a.solid, true);
+            faces(&a.open, &b.solid, true, false);
+            faces(&b.open, &a.solid, true, true);
         }
     }
-    mesh
+    Combined { mesh, from_b }
 }
 
-/// The solid a mesh encloses, when it is closed and manifold.
-fn closed(mesh: &Mesh) -> Option<Manifold> {
+/// The solid a mesh encloses, when it is closed and manifold, and the ID its faces keep
+/// through Booleans.
+fn closed(mesh: &Mesh) -> Option<(Manifold, u32)> {
     if mesh.is_empty() {
         return None;
     }
-    let solid = Manifold::from_mesh_glp(&to_gl(&mesh.welded(WELD)));
-    (solid.status() == ManifoldStatus::NoError && !solid.is_empty()).then_some(solid)
+    let mut gl = to_gl(&mesh.welded(WELD));
+    let id = own_id(&mut gl);
+    let solid = Manifold::from_mesh_glp(&gl);
+    (solid.status() == ManifoldStatus::NoError && !solid.is_empty()).then_some((solid, id))
+}
+
+/// Gives the mesh an ID of its own, which the crate keeps on the faces of results.
+fn own_id(gl: &mut Gl) -> u32 {
+    let id = Manifold::reserve_ids(1);
+    gl.run_original_id = vec![id];
+    gl.run_index = vec![0, gl.tri_verts.len() as u32];
+    id
 }
 
 /// The parts of `open`'s faces inside (or outside) `solid`. Each face becomes a thin prism
@@ -129,10 +163,7 @@ fn clip(open: &Mesh, solid: &Manifold, inside: bool) -> Mesh {
         let Some((mut prism, cap)) = prism(&points) else {
             continue;
         };
-        // Our own ID for the prism's triangles, to find them among the result's.
-        let id = Manifold::reserve_ids(1);
-        prism.run_original_id = vec![id];
-        prism.run_index = vec![0, prism.tri_verts.len() as u32];
+        let id = own_id(&mut prism);
         let prism = Manifold::from_mesh_glp(&prism);
         if prism.status() != ManifoldStatus::NoError || prism.is_empty() {
             if !inside {
@@ -146,7 +177,7 @@ fn clip(open: &Mesh, solid: &Manifold, inside: bool) -> Mesh {
         };
         let gl: Gl = kept.get_mesh_glp(-1);
         append_triangles(&mut out, &gl, |run_id, face_id| {
-            run_id == Some(id) && face_id == Some(cap)
+            (run_id == Some(id) && face_id == Some(cap)).then_some(false)
         });
     }
     out
@@ -207,39 +238,41 @@ fn gl_of(positions: &[DVec3], triangles: &[[u32; 3]]) -> Gl {
     }
 }
 
-/// The surface of a solid as a triangle mesh.
-fn from_manifold(solid: &Manifold) -> Mesh {
-    let gl: Gl = solid.get_mesh_glp(-1);
-    let mut mesh = Mesh::new();
-    append_triangles(&mut mesh, &gl, |_, _| true);
-    mesh
-}
-
 /// Appends the triangles of `gl` that `keep` accepts, given the original ID of their run and
-/// their face ID, with the vertices they use.
-fn append_triangles(mesh: &mut Mesh, gl: &Gl, keep: impl Fn(Option<u32>, Option<u32>) -> bool) {
+/// their face ID, with the vertices they use; returns the flag `keep` gave each, in order.
+fn append_triangles(
+    mesh: &mut Mesh,
+    gl: &Gl,
+    mut keep: impl FnMut(Option<u32>, Option<u32>) -> Option<bool>,
+) -> Vec<bool> {
     let stride = gl.num_prop as usize;
     let mut added = vec![u32::MAX; gl.vert_properties.len() / stride];
+    let mut flags = Vec::new();
     for (t, corners) in gl.tri_verts.chunks_exact(3).enumerate() {
         let run = gl
             .run_index
             .iter()
             .rposition(|&start| start as usize <= 3 * t);
         let run_id = run.and_then(|r| gl.run_original_id.get(r).copied());
-        if !keep(run_id, gl.face_id.get(t).copied()) {
+        let Some(flag) = keep(run_id, gl.face_id.get(t).copied()) else {
             continue;
+        };
+        let face: Vec<u32> = corners
+            .iter()
+            .map(|&v| {
+                let v = v as usize;
+                if added[v] == u32::MAX {
+                    let p = &gl.vert_properties[v * stride..v * stride + 3];
+                    added[v] = mesh.add_vertex(DVec3::new(p[0], p[1], p[2]));
+                }
+                added[v]
+            })
+            .collect();
+        if mesh.add_face(&face).is_some() {
+            flags.push(flag);
         }
-        let face = corners.iter().map(|&v| {
-            let v = v as usize;
-            if added[v] == u32::MAX {
-                let p = &gl.vert_properties[v * stride..v * stride + 3];
-                added[v] = mesh.add_vertex(DVec3::new(p[0], p[1], p[2]));
-            }
-            added[v]
-        });
-        let face: Vec<u32> = face.collect();
-        mesh.add_face(&face);
     }
+    flags
 }
 
 #[cfg(test)]
@@ -265,8 +298,11 @@ mod tests {
     fn a_bar_through_a_box_leaves_volume_six() {
         let a = Operand::new(&[cube(DVec3::splat(2.0), DVec3::ZERO)]);
         let b = Operand::new(&[cube(DVec3::new(1.0, 1.0, 3.0), DVec3::new(0.5, 0.5, -0.5))]);
-        let mesh = combine(BooleanOp::Subtract, &a, &b);
+        let result = combine(BooleanOp::Subtract, &a, &b);
+        let mesh = result.mesh;
         assert!((mesh.signed_volume() - 6.0).abs() < 1e-9);
+        // The tunnel's walls are the bar's faces: 4 walls of 2 triangles.
+        assert_eq!(result.from_b.iter().filter(|&&b| b).count(), 8);
         assert!(closed(&mesh).is_some());
     }
 
@@ -275,9 +311,9 @@ mod tests {
         let a = Operand::new(&[unit_quad()]);
         assert!(a.solid.is_none());
         let b = Operand::new(&[cube(DVec3::ONE, DVec3::new(0.5, -0.5, -1.5))]);
-        let punched = combine(BooleanOp::Subtract, &a, &b);
+        let punched = combine(BooleanOp::Subtract, &a, &b).mesh;
         assert!((punched.area() - 3.0).abs() < 1e-9, "{}", punched.area());
-        let clipped = combine(BooleanOp::Intersect, &a, &b);
+        let clipped = combine(BooleanOp::Intersect, &a, &b).mesh;
         assert!((clipped.area() - 1.0).abs() < 1e-9, "{}", clipped.area());
     }
 

@@ -9,7 +9,7 @@ use common::{
 };
 use shapegram_eval::{Derivation, DeriveOptions, derive, derive_again};
 use shapegram_geom::primitives::cylinder_volume;
-use shapegram_geom::{DVec3, Mesh};
+use shapegram_geom::{Color, DVec3, Mesh};
 
 /// The world mesh of the only leaf of `text` derived on a `w` × `d` lot.
 fn only_mesh(text: &str, w: f64, d: f64) -> Mesh {
@@ -122,6 +122,38 @@ fn the_result_has_the_targets_attributes() {
     };
     assert_close(&report("union"), &[10.0]);
     assert_close(&report("union(swap)"), &[5.0]);
+}
+
+#[test]
+fn the_faces_of_operand_b_keep_its_colour() {
+    let text = "Lot --> extrude(2) color(\"#ff0000\") \
+                subtract { s(1, 1, 3) t(0.5, 0.5, -0.5) primitiveCube() color(\"#0000ff\") } Mass.";
+    let model = run(text, lot(2.0, 2.0)).to_model();
+    let area_of = |hex: &str| -> f64 {
+        let color = Color::from_hex(hex).unwrap();
+        model
+            .parts
+            .iter()
+            .filter(|p| p.color == color)
+            .map(|p| p.mesh.area())
+            .sum()
+    };
+    // The box's faces, less the mouths, stay red; the tunnel's walls are the bar's, blue.
+    assert_near(area_of("#ff0000"), 22.0);
+    assert_near(area_of("#0000ff"), 8.0);
+    let blue = model
+        .parts
+        .iter()
+        .find(|p| p.color == Color::from_hex("#0000ff").unwrap());
+    assert_eq!(blue.unwrap().material.as_deref(), Some("bool.B"));
+    // A colour set afterwards paints every face.
+    let repainted = run(
+        &text.replace("Mass.", "color(\"#00ff00\") Mass."),
+        lot(2.0, 2.0),
+    );
+    let model = repainted.to_model();
+    let green = Color::from_hex("#00ff00").unwrap();
+    assert!(model.parts.iter().all(|p| p.color == green));
 }
 
 #[test]

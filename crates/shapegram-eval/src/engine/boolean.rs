@@ -5,17 +5,21 @@
 //! The shapes an operand derives are shapes of the derivation (they count against the limits
 //! and appear in the tree) but never leaves of the model: their geometry goes into the shape.
 
-use shapegram_geom::{Mesh, Scope};
+use std::sync::Arc;
+
+use shapegram_geom::{Color, Mesh, Scope};
 
 use shapegram_syntax::Span;
 
 use super::Fallible;
 use super::machine::{Engine, Work};
-use crate::booleans::{BooleanOp, Operand, WELD, combine};
+use crate::asset_look::{AssetLook, AssetMaterial, NO_MATERIAL, WornAsset};
+use crate::booleans::{BooleanOp, Combined, Operand, WELD, combine};
 use crate::error::DeriveError;
 use crate::ops::{BooleanKind, InlineMode};
 use crate::program::CStmt;
 use crate::shape::{Geometry, State};
+use crate::texturing::Texturing;
 use crate::value::Value;
 
 impl<'p> Engine<'p> {
@@ -38,6 +42,10 @@ impl<'p> Engine<'p> {
         }
         let target = derived[0].as_ref().and_then(|leaves| leaves.first());
         let frame = target.map_or(state.scope, |leaf| leaf.scope);
+        let b_look = match &derived[1] {
+            Some(leaves) => leaves.first().map(Look::of),
+            None => Some(Look::of(state)),
+        };
         let operand = |leaves: &Option<Vec<State>>| match leaves {
             Some(leaves) => Operand::new(&meshes_in(leaves, &frame)),
             None => Operand::new(&meshes_in(std::slice::from_ref(state), &frame)),
@@ -47,7 +55,7 @@ impl<'p> Engine<'p> {
             BooleanKind::Subtract => BooleanOp::Subtract,
             BooleanKind::Intersect => BooleanOp::Intersect,
         };
-        let mesh = guarded(span, || {
+        let Combined { mesh, from_b } = guarded(span, || {
             let (a, b) = (operand(&derived[0]), operand(&derived[1]));
             combine(op, &a, &b)
         })?;
@@ -56,6 +64,11 @@ impl<'p> Engine<'p> {
             take_look(state, target);
         }
         state.scope = frame;
+        if let Some(b_look) = b_look
+            && from_b.contains(&true)
+        {
+            wear_both(state, &mesh, &from_b, b_look);
+        }
         state.geometry = geometry(mesh);
         Ok(())
     }
@@ -147,11 +160,57 @@ fn meshes_in(shapes: &[State], frame: &Scope) -> Vec<Mesh> {
 
 /// Runs the mesh Boolean, turning a panic of the crate (a bug there, which its docs ask to be
 /// reported) into an error at the operation rather than the end of the derivation.
-fn guarded(span: Span, boolean: impl FnOnce() -> Mesh) -> Fallible<Mesh> {
+fn guarded<T>(span: Span, boolean: impl FnOnce() -> T) -> Fallible<T> {
     std::panic::catch_unwind(std::panic::AssertUnwindSafe(boolean)).map_err(|_| {
         DeriveError::at("the mesh Boolean failed on these operands", span)
             .with_hint("a bug of the mesh Boolean (manifold-rust): please report the grammar")
     })
+}
+
+/// The colour and material of a shape.
+struct Look {
+    color: Color,
+    material: Option<Arc<str>>,
+    textured: bool,
+}
+
+impl Look {
+    fn of(state: &State) -> Self {
+        Self {
+            color: state.color,
+            material: state.material.clone(),
+            textured: state.texturing.is_some(),
+        }
+    }
+}
+
+/// The faces of operand B keep B's colour and material where they differ from the target's:
+/// the result wears them as an asset's look (see [`crate::asset_look`]), B's faces with B's
+/// material (named `bool.B` when B has no name), the others with the shape's own, and the
+/// shape's colour stops overriding them (as CityEngine writes conflicting materials to the
+/// faces). Textured operands keep the target's texturing alone.
+fn wear_both(state: &mut State, mesh: &Mesh, from_b: &[bool], b: Look) {
+    let same = b.color == state.color && b.material == state.material;
+    if same || b.textured || state.texturing.is_some() {
+        return;
+    }
+    let material = AssetMaterial {
+        name: Some(b.material.unwrap_or_else(|| Arc::from("bool.B"))),
+        color: b.color,
+        texture: None,
+        surface: None,
+    };
+    let faces = from_b
+        .iter()
+        .map(|&is_b| if is_b { 0 } else { NO_MATERIAL })
+        .collect();
+    let look = AssetLook::of_faces(mesh.clone(), faces, vec![material]);
+    let placed = state.scope.local_to_world();
+    state.texturing = Some(Arc::new(Texturing {
+        asset: Some(WornAsset::new(Arc::new(look), placed)),
+        ..Texturing::default()
+    }));
+    state.painted = false;
 }
 
 /// The shape takes the colour and material of `from`.
