@@ -4,7 +4,10 @@
 //!
 //! Results are triangle meshes: the crate works on triangles and gives triangles back.
 
+use manifold_rust::cross_section::CrossSection;
+use manifold_rust::linalg::Vec2;
 use manifold_rust::manifold::Manifold;
+use manifold_rust::polygon::triangulate;
 use manifold_rust::types::{Error as ManifoldStatus, MeshGLP, OpType};
 use shapegram_geom::{DVec3, Mesh, mesh::newell};
 
@@ -79,9 +82,16 @@ impl Operand {
         Self { solid, open, ids }
     }
 
-    /// The operand as one mesh: the solid's surface, then the open faces.
+    /// The operand as one mesh: the solid's surface, then the open faces (in one plane,
+    /// their 2-D union).
     pub fn into_mesh(self) -> Mesh {
         let mut mesh = Mesh::new();
+        if self.solid.is_none()
+            && let Some(plane) = Flat::of(&self.open, &self.open)
+        {
+            plane.append(&mut mesh, &plane.section(&self.open));
+            return mesh;
+        }
         if let Some(solid) = &self.solid {
             append_triangles(&mut mesh, &solid.get_mesh_glp(-1), |_, _| Some(false));
         }
@@ -94,6 +104,12 @@ impl Operand {
 /// operand's solid (union, and subtract for the first operand's faces) or inside it
 /// (intersect). An open second operand subtracts nothing: it has no volume.
 pub fn combine(op: BooleanOp, a: &Operand, b: &Operand) -> Combined {
+    if a.solid.is_none()
+        && b.solid.is_none()
+        && let Some(plane) = Flat::of(&a.open, &b.open)
+    {
+        return plane.combine(op, &a.open, &b.open);
+    }
     let solid = match (op, &a.solid, &b.solid) {
         (BooleanOp::Union, Some(x), Some(y)) => Some(x.union(y)),
         (BooleanOp::Union, Some(x), None) | (BooleanOp::Union, None, Some(x)) => Some(x.clone()),
@@ -130,6 +146,92 @@ pub fn combine(op: BooleanOp, a: &Operand, b: &Operand) -> Combined {
         }
     }
     Combined { mesh, from_b }
+}
+
+/// Points farther than this (metres) from the plane of two flat operands make them not
+/// coplanar.
+const COPLANAR: f64 = 1e-7;
+
+/// The plane two flat operands share, with axes in it, for their 2-D Boolean (through the
+/// crate's cross-sections, which are Clipper2's polygons).
+struct Flat {
+    origin: DVec3,
+    normal: DVec3,
+    u: DVec3,
+    v: DVec3,
+}
+
+impl Flat {
+    /// The plane of `a`'s first face when both meshes lie in it.
+    fn of(a: &Mesh, b: &Mesh) -> Option<Self> {
+        let first = (0..a.face_count()).find(|&f| a.face_area(f) > 0.0)?;
+        let normal = a.face_normal(first).try_normalize()?;
+        let origin = a.face_points(first).next()?;
+        let near = |p: &DVec3| (*p - origin).dot(normal).abs() <= COPLANAR;
+        let flat = a.positions().iter().all(near) && b.positions().iter().all(near);
+        (flat && !b.is_empty()).then(|| {
+            let (u, _) = shapegram_geom::triangulate::plane_basis(normal);
+            Self {
+                origin,
+                normal,
+                u,
+                v: normal.cross(u),
+            }
+        })
+    }
+
+    /// The union of the mesh's faces in the plane's coordinates, each wound counter-clockwise.
+    fn section(&self, mesh: &Mesh) -> CrossSection {
+        let polygons = (0..mesh.face_count())
+            .map(|f| {
+                let mut points: Vec<Vec2> = mesh
+                    .face_points(f)
+                    .map(|p| {
+                        Vec2::new((p - self.origin).dot(self.u), (p - self.origin).dot(self.v))
+                    })
+                    .collect();
+                if mesh.face_normal(f).dot(self.normal) < 0.0 {
+                    points.reverse();
+                }
+                points
+            })
+            .collect();
+        CrossSection::new(polygons)
+    }
+
+    /// `a op b` in the plane: the target's region first, and for a union the part of B
+    /// outside it (overlaps are the target's, as CityEngine gives them its material).
+    fn combine(&self, op: BooleanOp, a: &Mesh, b: &Mesh) -> Combined {
+        let (a, b) = (self.section(a), self.section(b));
+        let parts = match op {
+            BooleanOp::Union => {
+                let rest = b.difference(&a);
+                vec![(a, false), (rest, true)]
+            }
+            BooleanOp::Subtract => vec![(a.difference(&b), false)],
+            BooleanOp::Intersect => vec![(a.intersection(&b), false)],
+        };
+        let mut mesh = Mesh::new();
+        let mut from_b = Vec::new();
+        for (section, is_b) in parts {
+            self.append(&mut mesh, &section);
+            from_b.resize(mesh.face_count(), is_b);
+        }
+        Combined { mesh, from_b }
+    }
+
+    /// Appends a cross-section's triangles, lifted back into the plane.
+    fn append(&self, mesh: &mut Mesh, section: &CrossSection) {
+        let polygons = section.to_polygons();
+        let base = mesh.vertex_count() as u32;
+        for p in polygons.iter().flatten() {
+            mesh.add_vertex(self.origin + self.u * p.x + self.v * p.y);
+        }
+        for t in triangulate(&polygons, -1.0, true) {
+            let corners = [t.x, t.y, t.z].map(|i| base + i as u32);
+            mesh.add_face(&corners);
+        }
+    }
 }
 
 /// The solid a mesh encloses, when it is closed and manifold, and the ID its faces keep

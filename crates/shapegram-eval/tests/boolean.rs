@@ -113,6 +113,35 @@ fn a_lot_minus_a_volume_is_punched_and_intersected_is_clipped() {
 }
 
 #[test]
+fn flat_operands_in_one_plane_combine_in_two_dimensions() {
+    let area = |operation: &str| {
+        only_mesh(&format!("Lot --> {operation} {{ t(2, 0, 2) }}"), 4.0, 4.0).area()
+    };
+    assert_near(area("union"), 28.0);
+    assert_near(area("subtract"), 12.0);
+    assert_near(area("intersect"), 4.0);
+    // The parts of a split lot unified: one region, a square whose sides keep the seam's
+    // ends as corners (six corners, four triangles).
+    let yard = only_mesh(
+        "Lot --> inline(unify) split(x) { 1 : A. | ~1 : B. }",
+        4.0,
+        4.0,
+    );
+    assert_near(yard.area(), 16.0);
+    assert_eq!((yard.vertex_count(), yard.face_count()), (6, 4));
+    // Overlaps wear the target's colour; the rest of B its own.
+    let model = run(
+        "Lot --> color(\"#ff0000\") union { t(2, 0, 2) color(\"#0000ff\") } Yard.",
+        lot(4.0, 4.0),
+    )
+    .to_model();
+    let blue = Color::from_hex("#0000ff").unwrap();
+    let (b, a): (Vec<_>, Vec<_>) = model.parts.iter().partition(|p| p.color == blue);
+    assert_near(b.iter().map(|p| p.mesh.area()).sum(), 12.0);
+    assert_near(a.iter().map(|p| p.mesh.area()).sum(), 16.0);
+}
+
+#[test]
 fn the_result_has_the_targets_attributes() {
     let report = |operation: &str| {
         let text = format!(
