@@ -8,7 +8,6 @@
 use std::sync::Arc;
 
 use shapegram_geom::{Color, Mesh, Scope};
-
 use shapegram_syntax::Span;
 
 use super::Fallible;
@@ -16,7 +15,7 @@ use super::machine::{Engine, Work};
 use crate::asset_look::{AssetLook, AssetMaterial, NO_MATERIAL, WornAsset};
 use crate::booleans::{BooleanOp, Combined, Operand, WELD, combine};
 use crate::error::DeriveError;
-use crate::ops::{BooleanKind, InlineMode};
+use crate::ops::InlineMode;
 use crate::program::CStmt;
 use crate::shape::{Geometry, State};
 use crate::texturing::Texturing;
@@ -28,7 +27,7 @@ impl<'p> Engine<'p> {
     pub(super) fn boolean(
         &mut self,
         state: &mut State,
-        kind: BooleanKind,
+        kind: BooleanOp,
         operands: &'p [Option<Vec<CStmt>>; 2],
         span: Span,
         args: &[Value],
@@ -50,14 +49,9 @@ impl<'p> Engine<'p> {
             Some(leaves) => Operand::new(&meshes_in(leaves, &frame)),
             None => Operand::new(&meshes_in(std::slice::from_ref(state), &frame)),
         };
-        let op = match kind {
-            BooleanKind::Union => BooleanOp::Union,
-            BooleanKind::Subtract => BooleanOp::Subtract,
-            BooleanKind::Intersect => BooleanOp::Intersect,
-        };
         let Combined { mesh, from_b } = guarded(span, || {
             let (a, b) = (operand(&derived[0]), operand(&derived[1]));
-            combine(op, &a, &b)
+            combine(kind, &a, &b)
         })?;
         if let Some(target) = target {
             state.attrs = target.attrs.clone();

@@ -336,9 +336,9 @@ impl Ctx<'_, '_> {
             "twist" => self.deform(DeformKind::Twist)?,
             "shear" => self.deform(DeformKind::Shear { toward: 0 })?,
             "sync" => self.sync()?,
-            "union" => self.boolean(BooleanKind::Union)?,
-            "subtract" => self.boolean(BooleanKind::Subtract)?,
-            "intersect" => self.boolean(BooleanKind::Intersect)?,
+            "union" => self.boolean(BooleanOp::Union)?,
+            "subtract" => self.boolean(BooleanOp::Subtract)?,
+            "intersect" => self.boolean(BooleanOp::Intersect)?,
             "inline" => self.inline()?,
             _ => unreachable!("`{name}` is listed in IMPLEMENTED but not built"),
         };

@@ -825,7 +825,7 @@ fn split_block(c: &mut Compiler, block: &ast::Block, params: &[ast::Ident]) -> O
 impl Ctx<'_, '_> {
     /// `union Rule`, `union(swap) { ops }`, `union { opsA | opsB }` and the same of `subtract`
     /// and `intersect`: the target operand first.
-    pub(super) fn boolean(&mut self, kind: BooleanKind) -> Option<Op> {
+    pub(super) fn boolean(&mut self, kind: BooleanOp) -> Option<Op> {
         self.arity(0, 1)?;
         let swap = match self.args.is_empty() {
             true => false,

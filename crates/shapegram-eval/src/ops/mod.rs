@@ -13,6 +13,7 @@ use shapegram_syntax::{
     ast::{self, BlockEntry},
 };
 
+use crate::booleans::BooleanOp;
 use crate::program::{CExpr, CKind, CStmt, Compiler};
 pub(crate) use crate::selectors::{CompSelector, comp_selector, edge_selector};
 use crate::shape::CsgOp;
@@ -178,7 +179,7 @@ pub(crate) enum Op {
     /// the shape (`None`: the shape as it is), and combined; the first is the target, whose
     /// scope, attributes and material the result keeps.
     Boolean {
-        kind: BooleanKind,
+        kind: BooleanOp,
         operands: [Option<Vec<CStmt>>; 2],
     },
     /// `inline([append | unify | recompose]) { ops }` (or one call): the operations derived at
@@ -474,14 +475,6 @@ impl CsgKind {
             Self::Morph => CsgOp::Morph(amount),
         }
     }
-}
-
-/// The Boolean 3D operations.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub(crate) enum BooleanKind {
-    Union,
-    Subtract,
-    Intersect,
 }
 
 /// How `inline` merges the leaves it derived.
