@@ -5,7 +5,7 @@ mod common;
 
 use common::{
     assert_close, compile, compile_errors, derive_on_threads, lot, lots_in_a_row, names,
-    numeric_reports, of, run,
+    numeric_reports, of, run, try_run,
 };
 use shapegram_eval::{Derivation, DeriveOptions, derive, derive_again};
 use shapegram_geom::primitives::cylinder_volume;
@@ -302,6 +302,18 @@ fn deriving_again_starts_afresh_as_an_operand_rule_may_have_changed() {
             .signed_volume(),
         7.0,
     );
+}
+
+#[test]
+fn an_operand_with_a_context_query_is_an_error_at_the_operation() {
+    let text = "Lot --> extrude(2) subtract Probe Mass.\n\
+                Probe --> case inside() : s(1, 1, 1) primitiveCube() else : NIL";
+    let error = try_run(text, lot(2.0, 2.0), &DeriveOptions::default()).unwrap_err();
+    assert!(
+        error.message.contains("asks about other shapes"),
+        "{error:?}"
+    );
+    assert_eq!(&text[error.span.unwrap().range()], "subtract Probe");
 }
 
 #[test]

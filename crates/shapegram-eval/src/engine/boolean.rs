@@ -35,7 +35,7 @@ impl<'p> Engine<'p> {
         let mut derived = Vec::with_capacity(2);
         for operand in operands {
             derived.push(match operand {
-                Some(stmts) => Some(self.derive_now(stmts, state, args)?),
+                Some(stmts) => Some(self.derive_now(stmts, state, span, args)?),
                 None => None,
             });
         }
@@ -77,7 +77,7 @@ impl<'p> Engine<'p> {
         span: Span,
         args: &[Value],
     ) -> Fallible<()> {
-        let leaves = self.derive_now(body, state, args)?;
+        let leaves = self.derive_now(body, state, span, args)?;
         let parts = meshes_in(&leaves, &state.scope);
         let mesh = match mode {
             InlineMode::Unify => guarded(span, || Operand::new(&parts).into_mesh())?,
@@ -105,12 +105,13 @@ impl<'p> Engine<'p> {
         &mut self,
         stmts: &'p [CStmt],
         state: &mut State,
+        span: Span,
         args: &[Value],
     ) -> Fallible<Vec<State>> {
         let mut copy = state.spawn();
         // Leaves wait on the stack rather than going to the model.
         let base = std::mem::replace(&mut self.base, usize::MAX);
-        let leaves = self.derive_copy(stmts, &mut copy, args);
+        let leaves = self.derive_copy(stmts, &mut copy, span, args);
         self.base = base;
         leaves
     }
@@ -119,6 +120,7 @@ impl<'p> Engine<'p> {
         &mut self,
         stmts: &'p [CStmt],
         copy: &mut State,
+        span: Span,
         args: &[Value],
     ) -> Fallible<Vec<State>> {
         let mut stack = Vec::new();
@@ -130,7 +132,17 @@ impl<'p> Engine<'p> {
                 Work::Leaf(leaf) => leaves.push(*leaf),
                 Work::Rewrite(task) => {
                     let base = stack.len();
+                    let parked = self.parked.len();
                     self.apply(task, &mut stack)?;
+                    // A rule asking about other shapes waits for the second phase, too late
+                    // for an operand that is needed now.
+                    if self.parked.len() > parked {
+                        return Err(DeriveError::at(
+                            "an operand derived here reaches a rule that asks about other shapes (occlusion, snapping), which cannot be derived at once",
+                            span,
+                        )
+                        .with_hint("move the context query out of the operand's rules"));
+                    }
                     stack[base..].reverse();
                 }
             }
