@@ -245,6 +245,21 @@ impl AssetLook {
         self.materials.iter().any(|m| m.name.is_some())
     }
 
+    /// A look for `faces` made by the engine rather than loaded: each face wears the material
+    /// `face_materials` gives it, an index into `materials` or [`NO_MATERIAL`]; no uvs.
+    pub(crate) fn of_faces(
+        faces: Mesh,
+        face_materials: Vec<u32>,
+        materials: Vec<AssetMaterial>,
+    ) -> Self {
+        Self {
+            faces: Arc::new(faces),
+            face_materials,
+            materials,
+            uvs: Vec::new(),
+        }
+    }
+
     /// Whether `mesh` still has the asset's faces (however placed), so the look applies.
     pub fn fits(&self, mesh: &Mesh) -> bool {
         mesh.vertex_count() == self.faces.vertex_count()

@@ -13,6 +13,7 @@ mod arrays;
 mod asset_faces;
 pub mod asset_look;
 mod asset_queries;
+mod booleans;
 mod builtins;
 mod color_ramps;
 mod colors;

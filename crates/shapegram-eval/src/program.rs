@@ -41,6 +41,9 @@ pub struct Program {
     pub(crate) context_rules: Vec<bool>,
     /// Whether any rule uses a kinematic operation: only then is a skeleton built.
     pub(crate) kinematic: bool,
+    /// Whether any rule derives operands at once (`union`, `subtract`, `intersect`, `inline`):
+    /// a shape's result then depends on other rules than its own.
+    pub(crate) derives_now: bool,
     /// The named poses of `@Pose` annotations, in order of first appearance.
     named_poses: Vec<(String, Vec<(String, Value)>)>,
     /// What tells an edited rule from an unchanged one when deriving again.
@@ -321,6 +324,8 @@ pub(crate) struct Compiler<'g> {
     warned: FxHashMap<String, ()>,
     /// Whether a kinematic operation was compiled.
     pub(crate) kinematic: bool,
+    /// Whether an operation that derives operands at once was compiled.
+    pub(crate) derives_now: bool,
     /// Compiling goal grammars: the library's names and what its checks need.
     pub(crate) goal: Option<Box<GoalScope>>,
     /// With imports: the file of each declaration, and of each diagnostic so far.
@@ -342,6 +347,7 @@ impl<'g> Compiler<'g> {
             uses: Uses::default(),
             warned: FxHashMap::default(),
             kinematic: false,
+            derives_now: false,
             goal: None,
             origins: None,
             diagnostic_files: Vec::new(),
@@ -497,6 +503,7 @@ impl<'g> Compiler<'g> {
             start_rule,
             context_rules,
             kinematic: self.kinematic,
+            derives_now: self.derives_now,
             named_poses,
             fingerprints: Fingerprints::of(grammar),
             goals: None,
@@ -533,6 +540,7 @@ impl<'g> Compiler<'g> {
             attr_by_name: FxHashMap::default(),
             start_rule: None,
             kinematic: self.kinematic,
+            derives_now: self.derives_now,
             named_poses: Vec::new(),
             fingerprints: Fingerprints::default(),
             goals: Some(Box::new(goals)),

@@ -634,3 +634,21 @@ fn perimeter_split_sections_carry_length_and_depth_and_the_remainder_block_follo
         "{shown}"
     );
 }
+
+#[test]
+fn boolean_operations_take_two_bodies_or_one_successor() {
+    assert_eq!(
+        body("union { A. | t(1, 0, 0) B. } C"),
+        "(union{all : (A.) | all : (t(1, 0, 0) B.)} C)"
+    );
+    assert_eq!(
+        body("subtract(swap) Hole Next"),
+        "(subtract(swap){all : (Hole)} Next)"
+    );
+    assert_eq!(
+        body("inline(unify) split(y) { 1 : A | ~1 : B } C"),
+        "(inline(unify){all : (split(y){1 : (A) | ~1 : (B)})} C)"
+    );
+    // With nothing to derive after it, the operation is left for the compiler to report.
+    assert_eq!(body("extrude(1) union"), "(extrude(1) union)");
+}

@@ -1107,6 +1107,38 @@ fn l_systems_are_planted_as_assets() {
     assert!(err.contains("weed.lsys:3:"), "{err}");
 }
 
+#[test]
+fn the_carved_tower_is_drilled_trimmed_and_set_in_a_punched_lot() {
+    let tower = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples/carved_tower.cga");
+    let stats = derive_stats(&tower, &[]);
+    // The operands' shapes count, but only the tower and the ground are leaves.
+    assert_eq!(stats["shapes"], 6);
+    assert_eq!(stats["leaves"], 2);
+    assert_eq!(stats["triangles"], 140);
+    let dir = TempDir::new("carved-tower");
+    let (first, second) = (dir.path("first.glb"), dir.path("second.glb"));
+    ok(&["derive", text(&tower), "-o", text(&first)]);
+    ok(&["derive", text(&tower), "-o", text(&second)]);
+    assert_eq!(
+        std::fs::read(&first).unwrap(),
+        std::fs::read(&second).unwrap()
+    );
+    let info = info_json(&first);
+    // The tower is closed; the ground is open along the lot's four edges and its hole's four.
+    assert_eq!(info["edges"]["boundary"], 8, "{info}");
+    assert_eq!(info["edges"]["non_manifold"], 0, "{info}");
+    // The slant takes the top below 24 m: 20 m at the middle, 3.2 m higher at the far end.
+    let top = info["bounds"]["max"][1].as_f64().unwrap();
+    assert!(top > 21.0 && top < 21.5, "{info}");
+
+    // A bad form is an error at its place.
+    let grammar = dir.path("bad.cga");
+    std::fs::write(&grammar, "Lot --> extrude(2)\n  union { A. | B. | C. }\n").unwrap();
+    let err = fails(&["derive", text(&grammar)], 1, "");
+    assert!(err.contains("takes one operand"), "{err}");
+    assert!(err.contains("bad.cga:2:9"), "{err}");
+}
+
 /// The bounds (min, size) of a model file, from `info --json`.
 fn bounds(path: &Path) -> ([f64; 3], [f64; 3]) {
     let info = info_json(path);

@@ -270,7 +270,7 @@ impl<'p> Engine<'p> {
     }
 
     /// Applies a shape's rule; new shapes waiting for rules go to `out`, in order.
-    fn apply(&mut self, mut task: Task, out: &mut Vec<Work>) -> Fallible<()> {
+    pub(super) fn apply(&mut self, mut task: Task, out: &mut Vec<Work>) -> Fallible<()> {
         if self.phase == Phase::Gather && self.program.context_rules[task.rule as usize] {
             self.parked.push(Parked {
                 generation: self.generation,
@@ -787,6 +787,8 @@ impl<'p> Engine<'p> {
                 group,
                 amount,
             } => self.csg(state, *kind, group, amount.as_ref(), span, args)?,
+            Op::Boolean { kind, operands } => self.boolean(state, *kind, operands, span, args)?,
+            Op::Inline { mode, body } => self.inline(state, *mode, body, span, args)?,
             Op::Joint(at) => self.place_joint(state, at, args)?,
             Op::JointLimits {
                 rotation,

@@ -14,6 +14,7 @@
 //! - `deform.rs`: `taper`, `twist`, `shear`;
 //! - `insert.rs`: `i()` with assets and built-in shapes, `primitive…()`;
 //! - `implicit.rs`: `implicit(…)` and `csg(…)`;
+//! - `boolean.rs`: `union`, `subtract`, `intersect` and `inline`;
 //! - `attributes.rs`: `color`, `set`, `report`, `print`;
 //! - `context.rs`: what `label`, `snap`, `comp` and `split(…, snap)` record for context
 //!   queries and ask of them.
@@ -23,6 +24,7 @@
 
 mod attr_values;
 mod attributes;
+mod boolean;
 mod comp;
 mod context;
 mod control;

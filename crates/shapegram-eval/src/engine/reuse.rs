@@ -58,6 +58,8 @@ pub fn derive_again(
         Some("derivations in generations are always made afresh")
     } else if program.goals.is_some() {
         Some("goal grammars are always derived afresh")
+    } else if program.derives_now {
+        Some("grammars with union, subtract, intersect or inline are always derived afresh")
     } else if program.context_rules.contains(&true) {
         Some("grammars that ask about other shapes (occlusion, snapping) are always derived afresh")
     } else {

@@ -354,6 +354,10 @@ impl Ctx<'_, '_> {
             "twist" => self.deform(DeformKind::Twist)?,
             "shear" => self.deform(DeformKind::Shear { toward: 0 })?,
             "sync" => self.sync()?,
+            "union" => self.boolean(BooleanOp::Union)?,
+            "subtract" => self.boolean(BooleanOp::Subtract)?,
+            "intersect" => self.boolean(BooleanOp::Intersect)?,
+            "inline" => self.inline()?,
             _ => unreachable!("`{name}` is listed in IMPLEMENTED but not built"),
         };
         // A skipped form (`comp(g) { … }`) keeps the block it was written with.
@@ -366,6 +370,8 @@ impl Ctx<'_, '_> {
                 | Op::Setback { .. }
                 | Op::PerimeterSplit(_)
                 | Op::InnerRectangle { split: true, .. }
+                | Op::Boolean { .. }
+                | Op::Inline { .. }
                 | Op::Ignored
         );
         if !needs_block && self.call.block.is_some() {

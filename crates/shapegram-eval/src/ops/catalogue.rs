@@ -17,9 +17,6 @@ pub(super) const UNSUPPORTED: &[&str] = &[
     "simplify",
     "modify",
     "insertAlongUV",
-    "union",
-    "subtract",
-    "intersect",
     "generalize",
     "reduceGeometry",
     "fill",
@@ -29,7 +26,6 @@ pub(super) const UNSUPPORTED: &[&str] = &[
     "extrudeFaces",
     "stack",
     "ladder",
-    "inline",
 ];
 
 /// The operations [`compile`] builds, besides the visual-only and unsupported ones.
@@ -114,6 +110,10 @@ pub(super) const IMPLEMENTED: &[&str] = &[
     "twist",
     "shear",
     "sync",
+    "union",
+    "subtract",
+    "intersect",
+    "inline",
 ];
 
 /// The signature of each operation [`compile`] builds, as hints and the studio show it.
@@ -287,6 +287,22 @@ const SIGNATURES: &[(&str, &str)] = &[
     (
         "normalizeUV",
         "normalizeUV(uvSet, uv | uvUniform | u | v, separatePerFace | collectiveAllFaces)",
+    ),
+    (
+        "union",
+        "union([swap | noSwap]) Rule | union { ops } | union { opsA | opsB }",
+    ),
+    (
+        "subtract",
+        "subtract([swap | noSwap]) Rule | subtract { ops } | subtract { opsA | opsB }",
+    ),
+    (
+        "intersect",
+        "intersect([swap | noSwap]) Rule | intersect { ops } | intersect { opsA | opsB }",
+    ),
+    (
+        "inline",
+        "inline([append | unify | recompose]) Rule | inline([append | unify | recompose]) { ops }",
     ),
 ];
 

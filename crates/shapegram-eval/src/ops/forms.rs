@@ -907,3 +907,87 @@ fn split_block(
         repeat: block.repeat,
     })
 }
+
+impl Ctx<'_, '_> {
+    /// `union Rule`, `union(swap) { ops }`, `union { opsA | opsB }` and the same of `subtract`
+    /// and `intersect`: the target operand first.
+    pub(super) fn boolean(&mut self, kind: BooleanOp) -> Option<Op> {
+        self.arity(0, 1)?;
+        let swap = match self.args.is_empty() {
+            true => false,
+            false => match self.word(0) {
+                Some("swap") => true,
+                Some("noSwap") => false,
+                _ => return self.bad_selector(0, "`swap` or `noSwap`"),
+            },
+        };
+        let bodies = self.operand_bodies(1, 2)?;
+        let mut operands = match <[_; 2]>::try_from(bodies) {
+            Ok([a, b]) => [Some(a), Some(b)],
+            Err(mut one) => [None, one.pop()],
+        };
+        if swap {
+            operands.swap(0, 1);
+        }
+        Some(Op::Boolean { kind, operands })
+    }
+
+    /// `inline Rule`, `inline(append | unify | recompose) { ops }`.
+    pub(super) fn inline(&mut self) -> Option<Op> {
+        self.arity(0, 1)?;
+        let mode = match self.args.is_empty() {
+            true => InlineMode::Append,
+            false => match self.word(0) {
+                Some("append") => InlineMode::Append,
+                Some("unify") => InlineMode::Unify,
+                Some("recompose") => InlineMode::Recompose,
+                _ => return self.bad_selector(0, "`append`, `unify` or `recompose`"),
+            },
+        };
+        let mut bodies = self.operand_bodies(1, 1)?;
+        Some(Op::Inline {
+            mode,
+            body: bodies.pop()?,
+        })
+    }
+
+    /// The compiled bodies of an operand block, between `lo` and `hi` of them.
+    fn operand_bodies(&mut self, lo: usize, hi: usize) -> Option<Vec<Vec<CStmt>>> {
+        self.c.derives_now = true;
+        let call = self.call;
+        let name = &call.name.name;
+        let Some(block) = &call.block else {
+            self.error(format!(
+                "`{name}` needs what to derive: a rule (`{name} Rule`) or operations in a block (`{name} {{ … }}`)"
+            ));
+            return None;
+        };
+        let bodies: Vec<_> = block
+            .entries
+            .iter()
+            .filter_map(|entry| match entry {
+                BlockEntry::Part { body, .. } => Some(body),
+                BlockEntry::Group(_) => None,
+            })
+            .collect();
+        if bodies.len() != block.entries.len() || bodies.len() < lo || bodies.len() > hi {
+            let wanted = match hi {
+                1 => format!("`{name}` takes one operand: `{name} {{ ops }}`"),
+                _ => format!(
+                    "`{name}` takes one operand (`{name} {{ ops }}`) or two (`{name} {{ opsA | opsB }}`)"
+                ),
+            };
+            self.c.report(
+                Diagnostic::error(wanted, block.span)
+                    .with_label(format!("{} operands here", block.entries.len())),
+            );
+            return None;
+        }
+        Some(
+            bodies
+                .into_iter()
+                .map(|body| self.c.stmts(body, self.params))
+                .collect(),
+        )
+    }
+}

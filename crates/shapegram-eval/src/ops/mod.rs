@@ -13,6 +13,7 @@ use shapegram_syntax::{
     ast::{self, BlockEntry},
 };
 
+use crate::booleans::BooleanOp;
 use crate::program::{CExpr, CKind, CStmt, Compiler};
 pub(crate) use crate::selectors::{CompSelector, comp_selector, edge_selector};
 use crate::shape::CsgOp;
@@ -186,6 +187,19 @@ pub(crate) enum Op {
         group: CExpr,
         /// The fillet radius, or the amount of a morph.
         amount: Option<CExpr>,
+    },
+    /// `union`, `subtract` and `intersect`: two operands derived at once, each from a copy of
+    /// the shape (`None`: the shape as it is), and combined; the first is the target, whose
+    /// scope, attributes and material the result keeps.
+    Boolean {
+        kind: BooleanOp,
+        operands: [Option<Vec<CStmt>>; 2],
+    },
+    /// `inline([append | unify | recompose]) { ops }` (or one call): the operations derived at
+    /// once from a copy of the shape, their leaves merged back into it.
+    Inline {
+        mode: InlineMode,
+        body: Vec<CStmt>,
     },
     /// `joint(x, y, z)`: the shape's joint moves to this point of its scope (metres, or `'`
     /// fractions of the scope's size), its axes along the scope's.
@@ -476,6 +490,17 @@ impl CsgKind {
             Self::Morph => CsgOp::Morph(amount),
         }
     }
+}
+
+/// How `inline` merges the leaves it derived.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum InlineMode {
+    /// `append` (the default): their meshes side by side.
+    Append,
+    /// `unify`: their Boolean union.
+    Unify,
+    /// `recompose`: their meshes welded where vertices meet.
+    Recompose,
 }
 
 /// What `comp` splits into.

@@ -196,6 +196,7 @@ impl Parser<'_> {
         let mut span = name.span;
         let mut args = None;
         let mut block = None;
+        let operand_form = self.dialect == Dialect::Cga && OPERAND_FORMS.contains(&&*name.name);
         if self.at(&TokenKind::LParen) {
             let (list, close) = self.call_args()?;
             args = Some(list);
@@ -208,6 +209,9 @@ impl Parser<'_> {
                 span = span.to(b.span);
                 block = Some(b);
             }
+        }
+        if operand_form && block.is_none() {
+            block = self.operand(&mut span)?;
         }
         let terminal = match self.eat(&TokenKind::Dot) {
             Some(dot) => {
@@ -240,6 +244,40 @@ impl Parser<'_> {
             repeat: false,
             span,
         })
+    }
+
+    /// The operand of `union`, `subtract`, `intersect` and `inline` written without parentheses
+    /// or after them: `{ ops | ops }`, or one call (`union Rule`, `inline(unify) split(y) {…}`),
+    /// read as a block of one entry. `None` when neither follows (the operation reports it).
+    fn operand(&mut self, span: &mut Span) -> PResult<Option<Block>> {
+        if self.at(&TokenKind::LBrace) {
+            let b = self.block(BODY_ONLY)?;
+            *span = span.to(b.span);
+            return Ok(Some(b));
+        }
+        let starts_call = *self.peek() == TokenKind::Ident
+            && self.is_name_at(self.pos)
+            && !self.at_word("NIL")
+            && !self.at_declaration_start();
+        if !starts_call {
+            return Ok(None);
+        }
+        let call = self.call_statement()?;
+        *span = span.to(call.span);
+        let start = call.span;
+        Ok(Some(Block {
+            entries: vec![BlockEntry::Part {
+                key: Expr {
+                    kind: ExprKind::Name("all".to_owned()),
+                    span: Span::new(start.start as usize, start.start as usize),
+                },
+                merge: false,
+                body: vec![Stmt::Call(call)],
+                span: start,
+            }],
+            repeat: false,
+            span: start,
+        }))
     }
 
     /// `{ entry | entry | … }` with an optional `*`. `key` names what the keys are, for errors.
@@ -410,7 +448,7 @@ fn key_kind(operation: &str) -> &'static str {
         PERIMETER_SECTION
     } else if operation.starts_with("split") {
         "split size"
-    } else if operation == "scatter" {
+    } else if operation == "scatter" || OPERAND_FORMS.contains(&operation) {
         BODY_ONLY
     } else {
         "selector"
@@ -422,6 +460,10 @@ const PERIMETER_SPLIT: &str = "splitAndSetbackPerimeter";
 
 /// The key kind of a perimeter split's sections: `length : depth : body`.
 const PERIMETER_SECTION: &str = "section length";
+
+/// The operations whose operands are derived and merged back: their blocks hold bodies
+/// without keys, and a single call may stand for the block.
+const OPERAND_FORMS: &[&str] = &["union", "subtract", "intersect", "inline"];
 
 /// The key kind of blocks whose one entry is a body without a key (`scatter(…){ Tree }`).
 const BODY_ONLY: &str = "body";
