@@ -185,9 +185,19 @@ impl Look {
         Self {
             color: state.color,
             material: state.material.clone(),
-            textured: state.texturing.is_some(),
+            textured: state.texturing.as_deref().is_some_and(dresses),
         }
     }
+}
+
+/// Whether a texturing puts images or an asset's own materials on the faces; uvs alone (a
+/// primitive cube's) change nothing of a face's look.
+fn dresses(texturing: &Texturing) -> bool {
+    texturing.maps.iter().any(Option::is_some)
+        || texturing
+            .asset
+            .as_ref()
+            .is_some_and(|asset| asset.look.has_materials())
 }
 
 /// The faces of operand B keep B's colour and material where they differ from the target's:
@@ -197,7 +207,7 @@ impl Look {
 /// faces). Textured operands keep the target's texturing alone.
 fn wear_both(state: &mut State, mesh: &Mesh, from_b: &[bool], b: Look) {
     let same = b.color == state.color && b.material == state.material;
-    if same || b.textured || state.texturing.is_some() {
+    if same || b.textured || state.texturing.as_deref().is_some_and(dresses) {
         return;
     }
     let material = AssetMaterial {
