@@ -2,6 +2,7 @@
 
 use crate::arrays::ArrayFn;
 use crate::colors::ColorFn;
+use crate::tag_queries::TagFn;
 use crate::text::Text;
 use crate::uv_queries::UvQuery;
 
@@ -86,6 +87,8 @@ pub(crate) enum Builtin {
     Color(ColorFn),
     /// A uv query (`geometry.uMin` and the others).
     Uv(UvQuery),
+    /// A tag function (`geometry.tags`, `geometry.hasTags`).
+    Tags(TagFn),
 }
 
 impl Builtin {
@@ -222,6 +225,7 @@ impl Builtin {
             .or_else(|| ArrayFn::from_name(name).map(Self::Array))
             .or_else(|| ColorFn::from_name(name).map(Self::Color))
             .or_else(|| UvQuery::from_name(name).map(Self::Uv))
+            .or_else(|| TagFn::from_name(name).map(Self::Tags))
     }
 
     /// Every built-in's name, the string functions' included.
@@ -233,6 +237,7 @@ impl Builtin {
             .chain(ArrayFn::names())
             .chain(ColorFn::names())
             .chain(UvQuery::names())
+            .chain(TagFn::names())
     }
 
     /// Fewest and most arguments.
@@ -255,6 +260,7 @@ impl Builtin {
             Self::Array(f) => f.arity(),
             Self::Color(f) => (f.arity(), f.arity()),
             Self::Uv(q) => q.arity(),
+            Self::Tags(f) => f.arity(),
             _ => (1, 1),
         }
     }
@@ -309,6 +315,7 @@ impl Builtin {
             Self::Array(f) => f.signature(),
             Self::Color(f) => f.signature(),
             Self::Uv(q) => q.signature(),
+            Self::Tags(f) => f.signature(),
             _ => "f(number)",
         }
     }
@@ -319,7 +326,7 @@ impl Builtin {
         self.is_context_query()
             || matches!(
                 self,
-                Self::Angle | Self::Convert | Self::Uv(_) | Self::AssetInfo
+                Self::Angle | Self::Convert | Self::Uv(_) | Self::Tags(_) | Self::AssetInfo
             )
     }
 

@@ -39,6 +39,10 @@ pub struct Program {
     pub(crate) context_rules: Vec<bool>,
     /// Whether any rule uses a kinematic operation: only then is a skeleton built.
     pub(crate) kinematic: bool,
+    /// Whether the grammar reads or writes component tags (`isTagged`, `geometry.tags`, `tag`,
+    /// …): only then do operations tag what they make, so grammars without tags keep their
+    /// boxes and their output.
+    pub(crate) tagged: bool,
     /// The named poses of `@Pose` annotations, in order of first appearance.
     named_poses: Vec<(String, Vec<(String, Value)>)>,
     /// What tells an edited rule from an unchanged one when deriving again.
@@ -300,6 +304,8 @@ pub(crate) struct Compiler<'g> {
     warned: FxHashMap<String, ()>,
     /// Whether a kinematic operation was compiled.
     pub(crate) kinematic: bool,
+    /// Whether something that reads or writes component tags was compiled.
+    pub(crate) tagged: bool,
     /// Compiling goal grammars: the library's names and what its checks need.
     pub(crate) goal: Option<Box<GoalScope>>,
     /// With imports: the file of each declaration, and of each diagnostic so far.
@@ -321,6 +327,7 @@ impl<'g> Compiler<'g> {
             uses: Uses::default(),
             warned: FxHashMap::default(),
             kinematic: false,
+            tagged: false,
             goal: None,
             origins: None,
             diagnostic_files: Vec::new(),
@@ -476,6 +483,7 @@ impl<'g> Compiler<'g> {
             start_rule,
             context_rules,
             kinematic: self.kinematic,
+            tagged: self.tagged,
             named_poses,
             fingerprints: Fingerprints::of(grammar),
             goals: None,
@@ -512,6 +520,7 @@ impl<'g> Compiler<'g> {
             attr_by_name: FxHashMap::default(),
             start_rule: None,
             kinematic: self.kinematic,
+            tagged: self.tagged,
             named_poses: Vec::new(),
             fingerprints: Fingerprints::default(),
             goals: Some(Box::new(goals)),
@@ -830,6 +839,7 @@ impl<'g> Compiler<'g> {
         if let Some(b) =
             Builtin::from_name(name).filter(|b| name.starts_with("geometry.") && b.arity().0 == 0)
         {
+            self.tagged |= matches!(b, Builtin::Tags(_));
             return CKind::Builtin(b, Vec::new());
         }
         if selectors {
@@ -960,6 +970,7 @@ impl<'g> Compiler<'g> {
                 return CKind::Value(Value::Number(0.0));
             }
             self.uses.context |= builtin.is_context_query();
+            self.tagged |= matches!(builtin, Builtin::Tags(_));
             return CKind::Builtin(builtin, compiled);
         }
         let mut candidates: Vec<&str> = self.function_by_name.keys().copied().collect();
@@ -996,6 +1007,15 @@ impl<'g> Compiler<'g> {
             compiled.push((selector, self.expr(&entry.value, params)));
         }
         CKind::EdgeValues(compiled)
+    }
+
+    /// Whether `name` is a parameter, attribute, constant or function the grammar declares (so
+    /// a selector by that name is a condition, not an unknown selector word).
+    pub(crate) fn knows_name(&self, name: &str, params: &[ast::Ident]) -> bool {
+        params.iter().any(|p| p.name == name)
+            || self.attr_by_name.contains_key(name)
+            || self.const_by_name.contains_key(name)
+            || self.function_by_name.contains_key(name)
     }
 
     /// Attribute names, for hints.

@@ -23,6 +23,7 @@
 
 mod attr_values;
 mod attributes;
+mod auto_tags;
 mod comp;
 mod context;
 mod control;
@@ -39,9 +40,12 @@ mod kinematics;
 mod machine;
 mod reuse;
 mod roof;
+mod roof_edges;
 mod scatter;
 mod scope;
+mod setback_tags;
 mod split;
+mod tagging;
 mod texturing;
 mod trace;
 mod transform;

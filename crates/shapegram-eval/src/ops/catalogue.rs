@@ -93,6 +93,7 @@ pub(super) const IMPLEMENTED: &[&str] = &[
     "roofRidge",
     "label",
     "tag",
+    "deleteTags",
     "snap",
     "Snap",
     "implicit",
@@ -160,7 +161,7 @@ const SIGNATURES: &[(&str, &str)] = &[
         "splitArea",
         "splitArea(x | y | z [, adjust | noAdjust]) { area : … | … }",
     ),
-    ("comp", "comp(f | e | fe | v) { … }"),
+    ("comp", "comp(f | e | fe | v | fv | h) { … }"),
     ("color", "color(\"#rrggbb\") | color(r, g, b)"),
     ("set", "set(attribute, value)"),
     ("report", "report(key, value)"),
@@ -211,7 +212,11 @@ const SIGNATURES: &[(&str, &str)] = &[
     ),
     ("roofRidge", "roofRidge([byAngle | byHeight,] value)"),
     ("label", "label(\"name\")"),
-    ("tag", "label(\"name\")"),
+    ("tag", "tag(name [, auto | faces | edges | vertices])"),
+    (
+        "deleteTags",
+        "deleteTags([tagQuery [, all | faces | edges | vertices]])",
+    ),
     ("snap", "snap(x | y | z | xy | … [, \"tag\"])"),
     ("Snap", "snap(x | y | z | xy | … [, \"tag\"])"),
     (
@@ -320,7 +325,6 @@ mod tests {
             let signature = signature(name).unwrap_or_else(|| panic!("no signature for {name}"));
             let shown = match *name {
                 "insert" => "i",
-                "tag" => "label",
                 "Snap" => "snap",
                 "offsetUV" => "translateUV",
                 other => other,

@@ -365,12 +365,14 @@ impl Ctx<'_, '_> {
             Some("e") => CompKind::Edges,
             Some("fe") => CompKind::FaceEdges,
             Some("v") => CompKind::Vertices,
+            Some("fv") => CompKind::FaceVertices,
+            Some("h") => CompKind::Holes,
             Some(other) => {
                 let other = other.to_owned();
                 self.warn_once(format!("`comp({other})` is not supported yet: skipped"));
                 return Some(Op::Ignored);
             }
-            None => return self.bad_selector(0, "`f`, `e`, `fe` or `v`"),
+            None => return self.bad_selector(0, "`f`, `e`, `fe`, `v`, `fv` or `h`"),
         };
         let Some(block) = &self.call.block else {
             self.error("`comp` needs a `{ selector : … }` block".into());
@@ -385,7 +387,7 @@ impl Ctx<'_, '_> {
                     body,
                     span,
                 } => {
-                    let selector = comp_selector(self.c, key, *span);
+                    let selector = comp_selector(self.c, key, self.params, *span);
                     entries.push(CompEntry {
                         selector,
                         merge: *merge,

@@ -1,0 +1,313 @@
+//! Component tags: the tags operations give what they build (`extrude`, roofs, `taper`,
+//! `envelope`), `tag` and `deleteTags`, the `isTagged` selectors and logical selector
+//! expressions, `geometry.tags` and `geometry.hasTags`, tags through splits, and the roof edge
+//! selectors, `comp(fv)` and `comp(h)`.
+
+mod common;
+
+use common::{assert_close, compile_errors, lot, numeric_reports, of, run};
+use shapegram_eval::{InitialShape, Value};
+use shapegram_geom::DVec2;
+
+/// The areas reported under `key`, sorted.
+fn areas(reports: &[(String, f64)], key: &str) -> Vec<f64> {
+    let mut found = of(reports, key);
+    found.sort_by(f64::total_cmp);
+    found
+}
+
+/// Rules reporting each face's area under their own name.
+const REPORT: &str = "
+    B --> report(\"b\", geometry.area)
+    S --> report(\"s\", geometry.area)
+    T --> report(\"t\", geometry.area)
+    O --> report(\"o\", geometry.area)
+    C --> report(\"c\", geometry.area)
+";
+
+fn reports(rule: &str, w: f64, d: f64) -> Vec<(String, f64)> {
+    numeric_reports(&format!("{rule}\n{REPORT}"), lot(w, d))
+}
+
+#[test]
+fn extrude_tags_bottom_sides_and_top() {
+    let r = reports(
+        "Lot --> extrude(4) comp(f) { isTagged(\"extrude.bottom\") : B \
+         | isTagged(\"extrude.side.outer\") : S | isTagged(\"extrude.top\") : T | all : O }",
+        10.0,
+        20.0,
+    );
+    assert_close(&areas(&r, "b"), &[200.0]);
+    assert_close(&areas(&r, "t"), &[200.0]);
+    assert_close(&areas(&r, "s"), &[40.0, 40.0, 80.0, 80.0]);
+    assert!(of(&r, "o").is_empty());
+}
+
+#[test]
+fn tags_survive_a_split_and_cut_faces_have_none() {
+    let r = reports(
+        "Lot --> extrude(4) split(y) { 1 : A | ~1 : A }
+         A --> comp(f) { isTagged(\"extrude.bottom\") : B | isTagged(\"extrude.top\") : T \
+                       | isTagged(\"extrude.side\") : S | all : C }",
+        10.0,
+        20.0,
+    );
+    assert_close(&areas(&r, "b"), &[200.0]);
+    assert_close(&areas(&r, "t"), &[200.0]);
+    // The lower piece's sides are 1 m high, the upper's 3 m; the two cut faces are untagged.
+    assert_close(
+        &areas(&r, "s"),
+        &[10.0, 10.0, 20.0, 20.0, 30.0, 30.0, 60.0, 60.0],
+    );
+    assert_close(&areas(&r, "c"), &[200.0, 200.0]);
+}
+
+#[test]
+fn component_faces_keep_their_tags() {
+    let r = reports(
+        "Lot --> extrude(4) comp(f) { side : Side | all : NIL }
+         Side --> split(x) { ~1 : Part }*
+         Part --> comp(f) { isTagged(\"extrude.side\") : S | all : O }",
+        10.0,
+        20.0,
+    );
+    // Every 1 m piece of the four walls is still a side.
+    assert_eq!(of(&r, "s").len(), 60);
+    assert!(of(&r, "o").is_empty());
+}
+
+#[test]
+fn roofs_tag_bottom_slopes_and_gable_ends() {
+    let gable = reports(
+        "Lot --> roofGable(45) comp(f) { isTagged(\"roof.bottom\") : B \
+         | isTagged(\"roof.side\") : S | isTagged(\"roof.top\") : T | all : O }",
+        10.0,
+        20.0,
+    );
+    let slope = 20.0 * 5.0 * 2f64.sqrt();
+    assert_close(&areas(&gable, "b"), &[200.0]);
+    assert_close(&areas(&gable, "t"), &[slope, slope]);
+    assert_close(&areas(&gable, "s"), &[25.0, 25.0]);
+    assert!(of(&gable, "o").is_empty());
+
+    let hip = reports(
+        "Lot --> roofHip(45) comp(f) { isTagged(\"roof.top\") : T | isTagged(\"roof.side\") : S \
+         | all : O }",
+        10.0,
+        10.0,
+    );
+    let triangle = 0.5 * 10.0 * 5.0 * 2f64.sqrt();
+    assert_close(&areas(&hip, "t"), &[triangle; 4]);
+    assert!(of(&hip, "s").is_empty());
+    assert_close(&areas(&hip, "o"), &[100.0]);
+
+    // A shed's walls are outer sides; the query "roof.side" takes them too.
+    let shed = reports(
+        "Lot --> roofShed(45) comp(f) { isTagged(\"roof.side.outer\") : S \
+         | isTagged(\"roof.top\") : T | isTagged(\"roof.bottom\") : B }",
+        10.0,
+        10.0,
+    );
+    assert_close(&areas(&shed, "t"), &[100.0 * 2f64.sqrt()]);
+    assert_close(&areas(&shed, "s"), &[50.0, 50.0, 100.0]);
+    assert_close(&areas(&shed, "b"), &[100.0]);
+}
+
+#[test]
+fn taper_tags_its_base_and_sides() {
+    let r = reports(
+        "Lot --> taper(4) comp(f) { isTagged(\"taper.bottom\") : B | isTagged(\"taper.side\") : S }",
+        10.0,
+        10.0,
+    );
+    let side = 0.5 * 10.0 * (16.0f64 + 25.0).sqrt();
+    assert_close(&areas(&r, "b"), &[100.0]);
+    assert_close(&areas(&r, "s"), &[side; 4]);
+}
+
+#[test]
+fn envelope_tags_bottom_base_walls_slopes_and_top() {
+    let r = reports(
+        "Lot --> envelope(normal, 6, 2, 45, 2, 45, 2, 45)
+                 comp(f) { isTagged(\"envelope.bottom\") : B | isTagged(\"envelope.side.base\") : S \
+                         | isTagged(\"envelope.side.slope\") : O | isTagged(\"envelope.top\") : T \
+                         | all : C }",
+        20.0,
+        20.0,
+    );
+    let slope = 0.5 * (20.0 + 12.0) * 4.0 * 2f64.sqrt();
+    assert_close(&areas(&r, "b"), &[400.0]);
+    assert_close(&areas(&r, "s"), &[40.0; 4]);
+    assert_close(&areas(&r, "o"), &[slope; 4]);
+    assert_close(&areas(&r, "t"), &[144.0]);
+    assert!(of(&r, "c").is_empty());
+}
+
+#[test]
+fn logical_selectors_combine_tags_directions_and_conditions() {
+    let r = reports(
+        "Lot --> extrude(4) comp(f) { isTagged(\"extrude\") && !isTagged(\"extrude.side\") : T \
+                                    | front || back : S \
+                                    | geometry.area > 50 : B | all : O }",
+        10.0,
+        20.0,
+    );
+    assert_close(&areas(&r, "t"), &[200.0, 200.0]);
+    // Front and back are the 10 m walls, the 20 m ones larger than 50 m².
+    assert_close(&areas(&r, "s"), &[40.0, 40.0]);
+    assert_close(&areas(&r, "b"), &[80.0, 80.0]);
+    assert!(of(&r, "o").is_empty());
+}
+
+#[test]
+fn conditions_may_call_the_grammars_functions() {
+    let r = reports(
+        "big = geometry.area > 50
+         Lot --> extrude(4) comp(f) { side && big : S | all : O }",
+        10.0,
+        20.0,
+    );
+    assert_close(&areas(&r, "s"), &[80.0, 80.0]);
+    assert_eq!(of(&r, "o").len(), 4);
+}
+
+#[test]
+fn tag_and_delete_tags_change_faces_and_edges() {
+    let r = reports(
+        "Lot --> tag(\"lot.a\") tag(\"lot.b\") deleteTags(\"lot.b\") extrude(3)
+                 comp(f) { isTagged(\"lot.a\") && isTagged(\"extrude.side\") : S \
+                         | isTagged(\"lot\") : T | all : O }",
+        10.0,
+        20.0,
+    );
+    // Every face built on the lot keeps its tag.
+    assert_eq!(of(&r, "s").len(), 4);
+    assert_close(&areas(&r, "t"), &[200.0, 200.0]);
+    assert!(of(&r, "o").is_empty());
+
+    // Edge tags: the walls rise from the lot's tagged edges and take their tag as faces.
+    let edges = reports(
+        "Lot --> tag(\"rim\", edges) extrude(3)
+                 comp(f) { geometry.hasTags(\"rim\", faces) : S | all : O }",
+        10.0,
+        20.0,
+    );
+    assert_eq!(of(&edges, "s").len(), 4);
+    assert_close(&areas(&edges, "o"), &[200.0, 200.0]);
+}
+
+#[test]
+fn geometry_tags_lists_sorted_matching_tags() {
+    let text = "Lot --> tag(\"lot\") extrude(2)
+                    report(\"n\", size(geometry.tags()))
+                    report(\"first\", geometry.tags()[0])
+                    report(\"extrude\", size(geometry.tags(\"extrude\")))
+                    report(\"faces\", size(geometry.tags(\"\", faces)))
+                    report(\"edges\", size(geometry.tags(\"\", edges)))
+                    report(\"has\", geometry.hasTags(\"?.top\"))
+                    deleteTags(\"lot\")
+                    report(\"after\", geometry.hasTags(\"lot\"))
+                    deleteTags()
+                    report(\"none\", geometry.hasTags())";
+    let d = run(text, lot(10.0, 20.0));
+    let get = |key: &str| {
+        d.reports
+            .iter()
+            .find(|(k, _)| k == key)
+            .map(|(_, v)| v.clone())
+            .unwrap()
+    };
+    assert_eq!(get("n"), Value::Number(4.0));
+    assert_eq!(get("first"), Value::string("extrude.bottom"));
+    assert_eq!(get("extrude"), Value::Number(3.0));
+    assert_eq!(get("faces"), Value::Number(4.0));
+    assert_eq!(get("edges"), Value::Number(0.0));
+    assert_eq!(get("has"), Value::Bool(true));
+    assert_eq!(get("after"), Value::Bool(false));
+    assert_eq!(get("none"), Value::Bool(false));
+}
+
+#[test]
+fn roof_edges_are_eaves_hips_valleys_and_ridges() {
+    let text = "Lot --> roofHip(45) comp(e) { eave : E | hip : H | valley : V | ridge : R }
+        E --> report(\"e\", scope.sx)
+        H --> report(\"h\", scope.sx) report(\"hy\", scope.ty)
+        V --> report(\"v\", scope.sx)
+        R --> report(\"r\", scope.sx)";
+    let r = numeric_reports(text, lot(10.0, 20.0));
+    assert_close(&areas(&r, "e"), &[10.0, 10.0, 20.0, 20.0]);
+    let hip = 75f64.sqrt();
+    assert_close(&areas(&r, "h"), &[hip; 4]);
+    // Hips run upward, from the eaves.
+    assert_close(&of(&r, "hy"), &[0.0; 4]);
+    assert_close(&areas(&r, "r"), &[10.0]);
+    assert!(of(&r, "v").is_empty());
+
+    // An L-shaped footprint has one valley, from its inner corner.
+    let l = InitialShape::from_xz(&[
+        DVec2::new(0.0, 0.0),
+        DVec2::new(20.0, 0.0),
+        DVec2::new(20.0, 10.0),
+        DVec2::new(10.0, 10.0),
+        DVec2::new(10.0, 20.0),
+        DVec2::new(0.0, 20.0),
+    ])
+    .unwrap();
+    let r = numeric_reports(text, l);
+    assert_eq!(of(&r, "e").len(), 6);
+    assert_close(&areas(&r, "v"), &[75f64.sqrt()]);
+}
+
+#[test]
+fn face_vertices_and_holes() {
+    let r = reports(
+        "Lot --> extrude(4) comp(fv) { all : P }
+         P --> report(\"p\", scope.sx)",
+        10.0,
+        20.0,
+    );
+    // Six faces of four corners each, every one a point.
+    assert_close(&of(&r, "p"), &[0.0; 24]);
+    let holes = reports("Lot --> comp(h) { all : C }", 10.0, 20.0);
+    assert!(holes.is_empty());
+}
+
+#[test]
+fn is_tagged_needs_a_written_query() {
+    let errors = compile_errors("Lot --> comp(f) { isTagged(3) : X }");
+    assert!(
+        errors
+            .iter()
+            .any(|e| e.contains("tag query written as a string") && e.contains("1:19")),
+        "{errors:?}"
+    );
+    let errors = compile_errors("Lot --> comp(f) { isTagged(\"a\", f) : X }");
+    assert!(
+        errors.iter().any(|e| e.contains("`e` or `v`")),
+        "{errors:?}"
+    );
+}
+
+#[test]
+fn setback_tags_the_edges_of_strips_and_remainder() {
+    let text = "Lot --> setback(4) { front : Strip | remainder : Rest }
+        Strip --> comp(e) { isTagged(\"setback.front\") : F | isTagged(\"setback.back\") : K \
+                          | isTagged(\"setback.side\") : S | all : O }
+        Rest --> comp(e) { isTagged(\"setback.back\") : RK | isTagged(\"setback.remainder\") : R \
+                         | all : RO }
+        F --> report(\"f\", scope.sx)
+        K --> report(\"k\", scope.sx)
+        S --> report(\"s\", scope.sx)
+        O --> report(\"o\", scope.sx)
+        RK --> report(\"rk\", scope.sx)
+        R --> report(\"r\", scope.sx)
+        RO --> report(\"ro\", scope.sx)";
+    let r = numeric_reports(text, lot(10.0, 20.0));
+    assert_close(&areas(&r, "f"), &[10.0]);
+    assert_close(&areas(&r, "k"), &[10.0]);
+    assert_close(&areas(&r, "s"), &[4.0, 4.0]);
+    assert!(of(&r, "o").is_empty());
+    assert_close(&areas(&r, "rk"), &[10.0]);
+    assert_close(&areas(&r, "r"), &[10.0, 16.0, 16.0]);
+    assert!(of(&r, "ro").is_empty());
+}
