@@ -405,6 +405,8 @@ impl Builtin {
             "trim",
             "fileRandom",
             "geometry.isOriented",
+            "geometry.groups",
+            "geometry.materials",
             "geometry.angle",
             "geometry.du",
             "geometry.dv",

@@ -311,3 +311,39 @@ fn setback_tags_the_edges_of_strips_and_remainder() {
     assert_close(&areas(&r, "r"), &[10.0, 16.0, 16.0]);
     assert!(of(&r, "ro").is_empty());
 }
+
+#[test]
+fn trimmed_faces_keep_their_tags() {
+    // Walls stretched past their ends are cut back at the corners by their trim planes, and
+    // what is left is still a side.
+    let r = reports(
+        "Lot --> extrude(4) comp(f) { side : Side | all : NIL }
+         Side --> s('1.5, '1, '1) center(x) trim()
+                  comp(f) { isTagged(\"extrude.side\") : S | all : O }",
+        10.0,
+        20.0,
+    );
+    assert_close(&areas(&r, "s"), &[40.0, 40.0, 80.0, 80.0]);
+    assert!(of(&r, "o").is_empty());
+}
+
+#[test]
+fn what_shapegram_lacks_of_tags_is_a_warning() {
+    let warnings = compile_errors(
+        "Lot --> setTagsFromEdgeAttrs() tag(\"x\", vertices) comp(m) { all : X }
+         X --> report(\"g\", size(geometry.groups()))",
+    );
+    for expected in [
+        "setTagsFromEdgeAttrs",
+        "no vertex tags",
+        "`comp(m)` is not supported",
+        "geometry.groups",
+    ] {
+        assert!(
+            warnings
+                .iter()
+                .any(|w| w.starts_with("warning") && w.contains(expected)),
+            "{expected}: {warnings:?}"
+        );
+    }
+}

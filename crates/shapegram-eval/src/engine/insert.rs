@@ -278,11 +278,16 @@ pub(super) fn trim(state: &mut State) {
     };
     let reach = state.scope.size.abs().max_element();
     if let Some(mut cut) = state.trim.cut(&world, reach) {
+        // What is left of a face keeps its tags (inserts drop them anyway).
+        let tags = state
+            .geometry
+            .tags()
+            .and_then(|tags| crate::tags::carry(&world, tags, &cut));
         state.geometry = if cut.is_empty() {
             Geometry::Empty
         } else {
             cut.transform(&state.scope.world_to_local());
-            Geometry::mesh(cut)
+            Geometry::Mesh(Arc::new(cut), tags)
         };
     }
 }

@@ -35,6 +35,7 @@ pub(super) const UNSUPPORTED: &[&str] = &[
     "stack",
     "ladder",
     "inline",
+    "setTagsFromEdgeAttrs",
 ];
 
 /// The operations [`compile`] builds, besides the visual-only and unsupported ones.
