@@ -123,6 +123,9 @@ pub(crate) enum CompSelector {
     /// Components the tag query matches, on themselves or the edges or vertices around them
     /// (`isTagged("q")`, `isTagged("q", e)`).
     Tagged(Arc<TagQuery>, Around),
+    /// The same with the query an expression (`isTagged(prefix + ".top")`), evaluated on each
+    /// component's shape.
+    TaggedBy(Box<CExpr>, Around),
     /// The edges of a roof of one kind (`eave`, `hip`, `valley`, `ridge`; edges only).
     Roof(RoofEdge),
     /// `!s`.
@@ -222,6 +225,7 @@ impl CompSelector {
             Self::Index(_)
             | Self::Never
             | Self::Tagged(..)
+            | Self::TaggedBy(..)
             | Self::Roof(_)
             | Self::Not(_)
             | Self::And(..)
@@ -254,9 +258,12 @@ impl CompSelector {
                 a.takes_direction(direction, index, frames)?
                     || b.takes_direction(direction, index, frames)?
             }
-            Self::Inside | Self::Border | Self::Tagged(..) | Self::Roof(_) | Self::Test(_) => {
-                return None;
-            }
+            Self::Inside
+            | Self::Border
+            | Self::Tagged(..)
+            | Self::TaggedBy(..)
+            | Self::Roof(_)
+            | Self::Test(_) => return None,
         })
     }
 
@@ -264,7 +271,12 @@ impl CompSelector {
     /// conditions or offset parts).
     fn decides_by_direction(&self) -> bool {
         match self {
-            Self::Inside | Self::Border | Self::Tagged(..) | Self::Roof(_) | Self::Test(_) => false,
+            Self::Inside
+            | Self::Border
+            | Self::Tagged(..)
+            | Self::TaggedBy(..)
+            | Self::Roof(_)
+            | Self::Test(_) => false,
             Self::Not(s) => s.decides_by_direction(),
             Self::And(a, b) | Self::Or(a, b) => {
                 a.decides_by_direction() && b.decides_by_direction()
@@ -276,7 +288,7 @@ impl CompSelector {
     /// Whether deciding needs each component's shape (a [`CompSelector::Test`] somewhere).
     pub fn tests(&self) -> bool {
         match self {
-            Self::Test(_) => true,
+            Self::Test(_) | Self::TaggedBy(..) => true,
             Self::Not(s) => s.tests(),
             Self::And(a, b) | Self::Or(a, b) => a.tests() || b.tests(),
             _ => false,
@@ -355,7 +367,7 @@ pub(crate) fn comp_selector(
         ExprKind::Bool(false) => return CompSelector::Never,
         ExprKind::Call { name, args } if name.name == "isTagged" => {
             c.tagged = true;
-            return tagged(c, args, span);
+            return tagged(c, args, params, span);
         }
         ExprKind::Unary {
             op: ast::UnaryOp::Not,
@@ -396,13 +408,25 @@ fn roof_edge(word: &str) -> Option<RoofEdge> {
     })
 }
 
-/// `isTagged(query [, e | v])`: the query must be a string written out.
-fn tagged(c: &mut Compiler, args: &[ast::Argument], span: Span) -> CompSelector {
-    let query = match args.first().map(|a| &a.value.kind) {
-        Some(ast::ExprKind::String(q)) => TagQuery::parse(q),
+/// `isTagged(query [, e | v])`: a query written out is parsed once, any other expression
+/// evaluated on each component.
+fn tagged(
+    c: &mut Compiler,
+    args: &[ast::Argument],
+    params: &[ast::Ident],
+    span: Span,
+) -> CompSelector {
+    let query = match args.first().map(|a| &a.value) {
+        Some(ast::Expr {
+            kind: ast::ExprKind::String(q),
+            ..
+        }) => Ok(Arc::new(TagQuery::parse(q))),
+        Some(e @ ast::Expr { kind, .. }) if !matches!(kind, ast::ExprKind::Number(_)) => {
+            Err(Box::new(c.expr(e, params)))
+        }
         _ => {
             c.report(Diagnostic::error(
-                "`isTagged` takes a tag query written as a string: `isTagged(\"roof.top\")`",
+                "`isTagged` takes a tag query, a string: `isTagged(\"roof.top\")`",
                 span,
             ));
             return CompSelector::Never;
@@ -427,7 +451,10 @@ fn tagged(c: &mut Compiler, args: &[ast::Argument], span: Span) -> CompSelector 
         ));
         return CompSelector::Never;
     }
-    CompSelector::Tagged(Arc::new(query), around)
+    match query {
+        Ok(query) => CompSelector::Tagged(query, around),
+        Err(expr) => CompSelector::TaggedBy(expr, around),
+    }
 }
 
 /// A selector of the edges a `setback` moves (or the comp function values): the direction

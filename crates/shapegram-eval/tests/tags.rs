@@ -273,12 +273,28 @@ fn face_vertices_and_holes() {
 }
 
 #[test]
-fn is_tagged_needs_a_written_query() {
+fn tag_queries_may_be_expressions() {
+    let r = reports(
+        "const family = \"extrude\"
+         Lot --> extrude(4) comp(f) { isTagged(family + \".top\") : T | isTagged(family, e) : S }",
+        10.0,
+        20.0,
+    );
+    assert_close(&areas(&r, "t"), &[200.0]);
+    // Every other face shares an edge with a tagged face.
+    assert_eq!(of(&r, "s").len(), 5);
+    let text = "Lot --> extrude(4) comp(f) { isTagged(scope.sx) : X }";
+    let error = common::try_run(text, lot(10.0, 20.0), &Default::default()).unwrap_err();
+    assert!(error.to_string().contains("string"), "{error}");
+}
+
+#[test]
+fn is_tagged_needs_a_query() {
     let errors = compile_errors("Lot --> comp(f) { isTagged(3) : X }");
     assert!(
         errors
             .iter()
-            .any(|e| e.contains("tag query written as a string") && e.contains("1:19")),
+            .any(|e| e.contains("takes a tag query, a string") && e.contains("1:19")),
         "{errors:?}"
     );
     let errors = compile_errors("Lot --> comp(f) { isTagged(\"a\", f) : X }");

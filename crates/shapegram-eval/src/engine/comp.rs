@@ -13,7 +13,7 @@ use super::roof_edges::RoofEdges;
 use crate::ops::{CompEntry, CompKind, CompSelector};
 use crate::selectors::Frames;
 use crate::shape::{Geometry, State, fills_box};
-use crate::tags::{FaceTags, OffsetPart, TagIndex};
+use crate::tags::{Around, FaceTags, OffsetPart, TagIndex, TagQuery};
 use crate::trim::Faces;
 use crate::value::Value;
 
@@ -155,7 +155,6 @@ impl<'p> Engine<'p> {
         (state, probe): (&State, &mut Option<State>),
         args: &[Value],
     ) -> Fallible<bool> {
-        let comp = &judge.components[c];
         Ok(match selector {
             CompSelector::Not(s) => !self.takes(s, judge, c, (state, probe), args)?,
             CompSelector::And(a, b) => {
@@ -167,24 +166,46 @@ impl<'p> Engine<'p> {
                     || self.takes(b, judge, c, (state, probe), args)?
             }
             CompSelector::Test(condition) => {
-                let shape = probe.get_or_insert_with(|| {
-                    let mut shape = state.clone();
-                    shape.scope = comp.scope;
-                    shape.geometry = component_geometry(judge, comp, c);
-                    shape.comp = (c as u32, judge.components.len() as u32);
-                    shape
-                });
+                let shape = probe.get_or_insert_with(|| component_shape(state, judge, c));
                 self.ev.condition(condition, shape, args)?
+            }
+            CompSelector::TaggedBy(query, around) => {
+                let shape = probe.get_or_insert_with(|| component_shape(state, judge, c));
+                let query = TagQuery::parse(&self.ev.string(query, shape, args)?);
+                is_tagged(judge, c, &query, *around)
             }
             other => selects(other, judge, c),
         })
     }
 }
 
+/// Whether the tag query matches component `c` (or, by `around`, its edges or vertices).
+fn is_tagged(judge: &Judge, c: usize, query: &TagQuery, around: Around) -> bool {
+    let comp = &judge.components[c];
+    judge.index.as_ref().is_some_and(|index| match judge.kind {
+        CompKind::Faces => index.face(comp.source, query, around),
+        CompKind::Edges | CompKind::FaceEdges => {
+            index.edge(comp.points[0], comp.points[1], query, around)
+        }
+        CompKind::Vertices | CompKind::FaceVertices => index.vertex(comp.points[0], query),
+        CompKind::Holes => false,
+    })
+}
+
+/// The shape of component `c` made from its parent's `state`, for conditions to read.
+fn component_shape(state: &State, judge: &Judge, c: usize) -> State {
+    let comp = &judge.components[c];
+    let mut shape = state.clone();
+    shape.scope = comp.scope;
+    shape.geometry = component_geometry(judge, comp, c);
+    shape.comp = (c as u32, judge.components.len() as u32);
+    shape
+}
+
 /// Whether a selector or a part of it asks for tags.
 fn asks_tags(selector: &CompSelector) -> bool {
     match selector {
-        CompSelector::Tagged(..) => true,
+        CompSelector::Tagged(..) | CompSelector::TaggedBy(..) => true,
         CompSelector::Not(s) => asks_tags(s),
         CompSelector::And(a, b) | CompSelector::Or(a, b) => asks_tags(a) || asks_tags(b),
         _ => false,
@@ -243,16 +264,7 @@ fn selects(selector: &CompSelector, judge: &Judge, c: usize) -> bool {
         (CompSelector::Index(i), _) => *i == c,
         (CompSelector::Inside, CompKind::Faces) => part == OffsetPart::Inside,
         (CompSelector::Border, CompKind::Faces) => part == OffsetPart::Border,
-        (CompSelector::Tagged(query, around), _) => {
-            judge.index.as_ref().is_some_and(|index| match kind {
-                CompKind::Faces => index.face(comp.source, query, *around),
-                CompKind::Edges | CompKind::FaceEdges => {
-                    index.edge(comp.points[0], comp.points[1], query, *around)
-                }
-                CompKind::Vertices | CompKind::FaceVertices => index.vertex(comp.points[0], query),
-                CompKind::Holes => false,
-            })
-        }
+        (CompSelector::Tagged(query, around), _) => is_tagged(judge, c, query, *around),
         (CompSelector::Roof(edge), CompKind::Edges) => judge
             .roof
             .as_ref()
