@@ -363,3 +363,17 @@ fn what_shapegram_lacks_of_tags_is_a_warning() {
         );
     }
 }
+
+#[test]
+fn a_second_setback_replaces_the_first_ones_edge_tags() {
+    // The old back edge of the first setback's remainder is, after a second setback of its
+    // left edge, an edge of the second remainder's old outline: `setback.remainder` only.
+    let text = "Lot --> setback(4) { front : NIL | remainder : Rest }
+        Rest --> setback(2) { left : NIL | remainder : R2 }
+        R2 --> comp(e) { isTagged(\"setback.back\") : K | isTagged(\"setback.remainder\") : E }
+        K --> report(\"k\", scope.sx)
+        E --> report(\"e\", scope.sx)";
+    let r = numeric_reports(text, lot(10.0, 20.0));
+    assert_close(&areas(&r, "k"), &[16.0]);
+    assert_close(&areas(&r, "e"), &[8.0, 8.0, 16.0]);
+}

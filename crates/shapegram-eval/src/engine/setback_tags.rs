@@ -2,11 +2,12 @@
 //! outline of shapeL/U/O) the edge that moved is `setback.front`, the new edge along the
 //! remainder `setback.back`, the others `setback.side`; on the remainder the edges of the old
 //! outline are `setback.remainder` and the new ones `setback.back`. Pieces keep the tags of
-//! the face they were cut from.
+//! the face they were cut from, and edges along the old outline its edges' tags (but for an
+//! earlier setback's, which the new ones replace).
 
 use shapegram_geom::{DVec3, Mesh};
 
-use crate::tags::{FaceTags, TagSet, edge_tags, lies_in, on_segment};
+use crate::tags::{FaceTags, TagQuery, TagSet, edge_tags, lies_in, on_segment};
 
 /// A face of the shape a setback cut: its edges, whether each moved, and its tags.
 struct CutFace {
@@ -93,8 +94,9 @@ impl SetbackEdges {
                 }
                 None => "setback.side",
             };
-            face.tags
-                .edge(old.unwrap_or(usize::MAX))
+            // A setback's edge tags replace those of an earlier one.
+            let kept = face.tags.edge(old.unwrap_or(usize::MAX));
+            kept.without(&TagQuery::parse("setback"))
                 .union(&TagSet::of(name))
         });
         FaceTags {
