@@ -406,7 +406,6 @@ impl Builtin {
             "fileRandom",
             "geometry.isOriented",
             "geometry.groups",
-            "geometry.materials",
             "geometry.angle",
             "geometry.du",
             "geometry.dv",

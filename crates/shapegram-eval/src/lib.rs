@@ -23,6 +23,7 @@ mod fingerprint;
 mod goals;
 mod imports;
 mod library;
+mod material_groups;
 mod named_poses;
 mod ops;
 mod program;

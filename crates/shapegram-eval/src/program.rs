@@ -14,6 +14,7 @@ use crate::goals::{AttrId, GoalId, GoalRules};
 use crate::imports::{ImportGraph, Origins};
 use crate::library::GoalScope;
 use crate::ops::{self, Op};
+use crate::tag_queries::TagFn;
 use crate::value::Value;
 
 /// Index of a rule in [`Program::rules`].
@@ -839,7 +840,7 @@ impl<'g> Compiler<'g> {
         if let Some(b) =
             Builtin::from_name(name).filter(|b| name.starts_with("geometry.") && b.arity().0 == 0)
         {
-            self.tagged |= matches!(b, Builtin::Tags(_));
+            self.tagged |= matches!(b, Builtin::Tags(TagFn::Tags | TagFn::HasTags));
             return CKind::Builtin(b, Vec::new());
         }
         if selectors {
@@ -970,7 +971,7 @@ impl<'g> Compiler<'g> {
                 return CKind::Value(Value::Number(0.0));
             }
             self.uses.context |= builtin.is_context_query();
-            self.tagged |= matches!(builtin, Builtin::Tags(_));
+            self.tagged |= matches!(builtin, Builtin::Tags(TagFn::Tags | TagFn::HasTags));
             return CKind::Builtin(builtin, compiled);
         }
         let mut candidates: Vec<&str> = self.function_by_name.keys().copied().collect();

@@ -346,13 +346,13 @@ fn trimmed_faces_keep_their_tags() {
 #[test]
 fn what_shapegram_lacks_of_tags_is_a_warning() {
     let warnings = compile_errors(
-        "Lot --> setTagsFromEdgeAttrs() tag(\"x\", vertices) comp(m) { all : X }
+        "Lot --> setTagsFromEdgeAttrs() tag(\"x\", vertices) comp(g) { all : X }
          X --> report(\"g\", size(geometry.groups()))",
     );
     for expected in [
         "setTagsFromEdgeAttrs",
         "no vertex tags",
-        "`comp(m)` is not supported",
+        "`comp(g)` is not supported",
         "geometry.groups",
     ] {
         assert!(
@@ -376,4 +376,89 @@ fn a_second_setback_replaces_the_first_ones_edge_tags() {
     let r = numeric_reports(text, lot(10.0, 20.0));
     assert_close(&areas(&r, "k"), &[16.0]);
     assert_close(&areas(&r, "e"), &[8.0, 8.0, 16.0]);
+}
+
+/// Assets of two materials: `pane.obj`, a glass pane (1 × 1 at z = 1) and a frame plate
+/// (1 × 1 at z = 0, facing back) behind it.
+struct Panes;
+
+impl shapegram_eval::AssetLoader for Panes {
+    fn load(&self, path: &str) -> Result<std::sync::Arc<shapegram_geom::Mesh>, String> {
+        Err(format!("no mesh `{path}`"))
+    }
+
+    fn asset(&self, path: &str, _variant: u32) -> Result<shapegram_eval::Asset, String> {
+        use shapegram_geom::{Color, DVec3, Mesh, Part};
+        if path != "pane.obj" {
+            return Err(format!("no asset `{path}`"));
+        }
+        let quad = |z: f64, back: bool| {
+            let mut corners = vec![
+                DVec3::new(0.0, 0.0, z),
+                DVec3::new(1.0, 0.0, z),
+                DVec3::new(1.0, 1.0, z),
+                DVec3::new(0.0, 1.0, z),
+            ];
+            if back {
+                corners.reverse();
+            }
+            Mesh::from_polygon(&corners)
+        };
+        let part = |name: &str, mesh| Part {
+            material: Some(std::sync::Arc::from(name)),
+            ..Part::new(name.to_owned(), Color::default(), mesh, Vec::new())
+        };
+        let (mesh, look) = shapegram_eval::asset_look::AssetLook::from_parts(&[
+            part("glass", quad(1.0, false)),
+            part("frame", quad(0.0, true)),
+        ]);
+        Ok(shapegram_eval::Asset {
+            mesh: std::sync::Arc::new(mesh),
+            proportional: false,
+            look,
+        })
+    }
+}
+
+#[test]
+fn material_components_and_names() {
+    let text = "Lot --> s(4, 2, 1) i(\"pane.obj\")
+            report(\"all\", size(geometry.materials()))
+            report(\"first\", geometry.materials()[0])
+            comp(m) { findFirst(geometry.materials, \"frame\") >= 0 : Frame | all : Glass }
+        Frame --> report(\"frame\", geometry.area) report(\"frame.n\", size(geometry.materials))
+        Glass --> report(\"glass\", geometry.area) report(\"glass.name\", geometry.materials()[0])";
+    let options = shapegram_eval::DeriveOptions {
+        assets: Some(std::sync::Arc::new(Panes)),
+        ..Default::default()
+    };
+    let d = common::try_run(text, lot(10.0, 10.0), &options).unwrap();
+    let get = |key: &str| {
+        d.reports
+            .iter()
+            .filter(|(k, _)| k == key)
+            .map(|(_, v)| v.clone())
+            .collect::<Vec<_>>()
+    };
+    assert_eq!(get("all"), [Value::Number(2.0)]);
+    assert_eq!(get("first"), [Value::string("glass")]);
+    // One shape per material, each a 4 × 2 pane.
+    assert_eq!(get("frame"), [Value::Number(8.0)]);
+    assert_eq!(get("frame.n"), [Value::Number(1.0)]);
+    assert_eq!(get("glass"), [Value::Number(8.0)]);
+    assert_eq!(get("glass.name"), [Value::string("glass")]);
+
+    // A shape without an asset wears one material, its own.
+    let own = "Lot --> set(material.name, \"brick\") extrude(2)
+            report(\"name\", geometry.materials()[0])
+            comp(m) { 0 : M }
+        M --> report(\"faces\", geometry.nFaces)";
+    let r = run(own, lot(10.0, 10.0)).reports;
+    assert_eq!(
+        r,
+        [
+            ("name".to_owned(), Value::string("brick")),
+            ("faces".to_owned(), Value::Number(6.0))
+        ]
+    );
 }

@@ -10,6 +10,7 @@ use super::Fallible;
 use super::implicit::no_solid;
 use super::machine::{Engine, Phase, Work};
 use super::roof_edges::RoofEdges;
+use crate::material_groups::material_groups;
 use crate::ops::{CompEntry, CompKind, CompSelector};
 use crate::selectors::Frames;
 use crate::shape::{Geometry, State, fills_box};
@@ -57,7 +58,7 @@ impl<'p> Engine<'p> {
             self.occlude(state, None, Some(&world));
         }
         let components = match kind {
-            CompKind::Faces => component::faces(&world),
+            CompKind::Faces | CompKind::Materials => component::faces(&world),
             CompKind::Edges => component::edges(&world),
             CompKind::FaceEdges => component::face_edges(&world),
             CompKind::Vertices => component::vertices(&world),
@@ -70,6 +71,24 @@ impl<'p> Engine<'p> {
             Geometry::Mesh(_, tags) => tags.clone(),
             _ => None,
         };
+        // Material components are sets of faces: a selector takes one when it takes one of its
+        // faces (or, for conditions and indices, the set itself).
+        let materials = (kind == CompKind::Materials).then(|| {
+            material_groups(state, &world)
+                .into_iter()
+                .map(|(_, faces)| {
+                    (0..components.len())
+                        .filter(|&c| faces.contains(&components[c].source))
+                        .collect::<Vec<usize>>()
+                })
+                .filter(|members| !members.is_empty())
+                .collect::<Vec<_>>()
+        });
+        let kind = if materials.is_some() {
+            CompKind::Faces
+        } else {
+            kind
+        };
         let judge = Judge {
             kind,
             components: &components,
@@ -80,6 +99,33 @@ impl<'p> Engine<'p> {
             frames: self.ev.frames(&scope),
         };
         let mut assigned: Vec<Vec<usize>> = vec![Vec::new(); entries.len()];
+        let mut made = 0;
+        if let Some(materials) = &materials {
+            for (g, members) in materials.iter().enumerate() {
+                let mut probe = None;
+                for (e, entry) in entries.iter().enumerate() {
+                    let unit = (g, members.as_slice());
+                    if self.takes_set(&entry.selector, &judge, unit, (state, &mut probe), args)? {
+                        assigned[e].push(g);
+                        break;
+                    }
+                }
+            }
+            for (entry, chosen) in entries.iter().zip(&assigned) {
+                let sets: Vec<Vec<usize>> = if entry.merge {
+                    vec![chosen.iter().flat_map(|&g| materials[g].clone()).collect()]
+                } else {
+                    chosen.iter().map(|&g| materials[g].clone()).collect()
+                };
+                let total = sets.len() as u32;
+                for (i, faces) in sets.iter().enumerate().filter(|(_, f)| !f.is_empty()) {
+                    let child = merged_shape(state, &judge, faces);
+                    let at = (entry, (i as u32, total), &mut made);
+                    self.derive_component(state, child, at, span, args, out)?;
+                }
+            }
+            return Ok(());
+        }
         for c in 0..components.len() {
             let mut probe = None;
             for (e, entry) in entries.iter().enumerate() {
@@ -92,36 +138,13 @@ impl<'p> Engine<'p> {
         // The faces' trim planes, at the edges each shares with the others, for what is
         // inserted below them.
         let faces = (kind == CompKind::Faces).then(|| Faces::new(world));
-        let mut made = 0;
         for (entry, chosen) in entries.iter().zip(&assigned) {
             if chosen.is_empty() {
                 continue;
             }
             if entry.merge {
-                let mut merged = Mesh::new();
-                let mut tags = Vec::new();
-                for &c in chosen {
-                    merged.append(&Mesh::from_polygon(&components[c].points));
-                    tags.push(carried(&judge, c));
-                }
-                let mut child = state.spawn();
-                child.comp = (0, 1);
-                child.comp_sel = entry.selector.code();
-                // Faces merged with `=` get no trim planes.
-                child.trim = state.trim.with_face(None);
-                child.scope = Scope::fit(
-                    components[chosen[0]].scope.axes,
-                    merged.positions().iter().copied(),
-                );
-                self.hang_component(state, &mut child, &entry.body, &mut made);
-                merged.transform(&child.scope.world_to_local());
-                child.geometry = if kind == CompKind::Faces {
-                    Geometry::tagged_mesh(merged, tags)
-                } else {
-                    Geometry::mesh(merged)
-                };
-                self.admit(&mut child, span)?;
-                self.run_stmts(&entry.body, &mut child, args, out)?;
+                let child = merged_shape(state, &judge, chosen);
+                self.derive_component(state, child, (entry, (0, 1), &mut made), span, args, out)?;
                 continue;
             }
             for (i, &c) in chosen.iter().enumerate() {
@@ -143,6 +166,71 @@ impl<'p> Engine<'p> {
             }
         }
         Ok(())
+    }
+
+    /// Derives the shape of merged components (`merged_shape`) with an entry's body, as
+    /// component `position` of its entry (`made` counts the component shapes made so far).
+    fn derive_component(
+        &mut self,
+        state: &mut State,
+        (scope, geometry): (Scope, Geometry),
+        (entry, position, made): (&'p CompEntry, (u32, u32), &mut u64),
+        span: Span,
+        args: &[Value],
+        out: &mut Vec<Work>,
+    ) -> Fallible<()> {
+        let mut child = state.spawn();
+        child.comp = position;
+        child.comp_sel = entry.selector.code();
+        // Merged components get no trim planes.
+        child.trim = state.trim.with_face(None);
+        child.scope = scope;
+        self.hang_component(state, &mut child, &entry.body, made);
+        child.geometry = geometry;
+        self.admit(&mut child, span)?;
+        self.run_stmts(&entry.body, &mut child, args, out)
+    }
+
+    /// Whether a selector takes set `g` of components (`members`, material components): an
+    /// index or a condition by the set, any other selector when it takes one of the members.
+    fn takes_set(
+        &mut self,
+        selector: &CompSelector,
+        judge: &Judge,
+        (g, members): (usize, &[usize]),
+        (state, probe): (&State, &mut Option<State>),
+        args: &[Value],
+    ) -> Fallible<bool> {
+        let set = |probe: &mut Option<State>| {
+            probe
+                .get_or_insert_with(|| {
+                    let mut shape = state.clone();
+                    (shape.scope, shape.geometry) = merged_shape(state, judge, members);
+                    shape
+                })
+                .clone()
+        };
+        let unit = (g, members);
+        Ok(match selector {
+            CompSelector::Not(s) => !self.takes_set(s, judge, unit, (state, probe), args)?,
+            CompSelector::And(a, b) => {
+                self.takes_set(a, judge, unit, (state, probe), args)?
+                    && self.takes_set(b, judge, unit, (state, probe), args)?
+            }
+            CompSelector::Or(a, b) => {
+                self.takes_set(a, judge, unit, (state, probe), args)?
+                    || self.takes_set(b, judge, unit, (state, probe), args)?
+            }
+            CompSelector::Index(i) => *i == g,
+            CompSelector::Test(condition) => self.ev.condition(condition, &mut set(probe), args)?,
+            CompSelector::TaggedBy(query, around) => {
+                let query = TagQuery::parse(&self.ev.string(query, &mut set(probe), args)?);
+                members
+                    .iter()
+                    .any(|&c| is_tagged(judge, c, &query, *around))
+            }
+            other => members.iter().any(|&c| selects(other, judge, c)),
+        })
     }
 
     /// Whether a selector takes component `c`. Conditions are evaluated on the component's
@@ -183,7 +271,7 @@ impl<'p> Engine<'p> {
 fn is_tagged(judge: &Judge, c: usize, query: &TagQuery, around: Around) -> bool {
     let comp = &judge.components[c];
     judge.index.as_ref().is_some_and(|index| match judge.kind {
-        CompKind::Faces => index.face(comp.source, query, around),
+        CompKind::Faces | CompKind::Materials => index.face(comp.source, query, around),
         CompKind::Edges | CompKind::FaceEdges => {
             index.edge(comp.points[0], comp.points[1], query, around)
         }
@@ -231,6 +319,28 @@ fn carried(judge: &Judge, c: usize) -> FaceTags {
             part: OffsetPart::None,
             ..t.clone()
         })
+}
+
+/// The scope and geometry of face components merged into one shape: the scope in the first
+/// face's frame, fitted around them; the faces keep their tags.
+fn merged_shape(state: &State, judge: &Judge, faces: &[usize]) -> (Scope, Geometry) {
+    let mut merged = Mesh::new();
+    let mut tags = Vec::new();
+    for &c in faces {
+        merged.append(&Mesh::from_polygon(&judge.components[c].points));
+        tags.push(carried(judge, c));
+    }
+    let axes = faces
+        .first()
+        .map_or(state.scope.axes, |&c| judge.components[c].scope.axes);
+    let scope = Scope::fit(axes, merged.positions().iter().copied());
+    merged.transform(&scope.world_to_local());
+    let geometry = if judge.kind == CompKind::Faces {
+        Geometry::tagged_mesh(merged, tags)
+    } else {
+        Geometry::mesh(merged)
+    };
+    (scope, geometry)
 }
 
 /// The geometry of a component's own shape: a face's polygon (a box where it is a rectangle

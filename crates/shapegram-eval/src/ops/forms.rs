@@ -367,12 +367,13 @@ impl Ctx<'_, '_> {
             Some("v") => CompKind::Vertices,
             Some("fv") => CompKind::FaceVertices,
             Some("h") => CompKind::Holes,
+            Some("m") => CompKind::Materials,
             Some(other) => {
                 let other = other.to_owned();
                 self.warn_once(format!("`comp({other})` is not supported yet: skipped"));
                 return Some(Op::Ignored);
             }
-            None => return self.bad_selector(0, "`f`, `e`, `fe`, `v`, `fv` or `h`"),
+            None => return self.bad_selector(0, "`f`, `e`, `fe`, `v`, `fv`, `m` or `h`"),
         };
         let Some(block) = &self.call.block else {
             self.error("`comp` needs a `{ selector : … }` block".into());

@@ -486,6 +486,8 @@ pub(crate) enum CompKind {
     FaceVertices,
     /// The holes of the faces: Shapegram's faces have none.
     Holes,
+    /// The faces by the material they wear (an inserted asset's).
+    Materials,
 }
 
 /// Which part of an offset polygon to keep.
