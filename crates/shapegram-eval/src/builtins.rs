@@ -405,7 +405,6 @@ impl Builtin {
             "trim",
             "fileRandom",
             "geometry.isOriented",
-            "geometry.groups",
             "geometry.angle",
             "geometry.du",
             "geometry.dv",

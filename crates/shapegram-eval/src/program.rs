@@ -840,7 +840,10 @@ impl<'g> Compiler<'g> {
         if let Some(b) =
             Builtin::from_name(name).filter(|b| name.starts_with("geometry.") && b.arity().0 == 0)
         {
-            self.tagged |= matches!(b, Builtin::Tags(TagFn::Tags | TagFn::HasTags));
+            self.tagged |= matches!(
+                b,
+                Builtin::Tags(TagFn::Tags | TagFn::HasTags | TagFn::Groups)
+            );
             return CKind::Builtin(b, Vec::new());
         }
         if selectors {
@@ -971,7 +974,10 @@ impl<'g> Compiler<'g> {
                 return CKind::Value(Value::Number(0.0));
             }
             self.uses.context |= builtin.is_context_query();
-            self.tagged |= matches!(builtin, Builtin::Tags(TagFn::Tags | TagFn::HasTags));
+            self.tagged |= matches!(
+                builtin,
+                Builtin::Tags(TagFn::Tags | TagFn::HasTags | TagFn::Groups)
+            );
             return CKind::Builtin(builtin, compiled);
         }
         let mut candidates: Vec<&str> = self.function_by_name.keys().copied().collect();

@@ -1,12 +1,13 @@
 //! CGA's tag functions: `geometry.tags([query [, components]])`, the sorted tags of the
 //! shape's geometry the query matches, and `geometry.hasTags([query [, components]])`, whether
 //! there are any; `components` is `all` (faces and edges), `faces`, `edges` or `vertices`
-//! (Shapegram keeps no vertex tags: none). Also `geometry.materials()`, the names of the
-//! materials the geometry wears, in the order of `comp(m)` (see [`crate::material_groups`]).
+//! (Shapegram keeps no vertex tags: none). Also `geometry.materials()` and
+//! `geometry.groups()`, the names of the materials the geometry wears and of the asset groups
+//! it holds, in the order of `comp(m)` and `comp(g)` (see [`crate::face_sets`]).
 
 use crate::error::DeriveError;
 use crate::expr::Evaluator;
-use crate::material_groups::material_groups;
+use crate::face_sets::{asset_groups, material_groups};
 use crate::program::{CExpr, CKind};
 use crate::shape::State;
 use crate::tags::{TagQuery, TagTarget, collect};
@@ -21,6 +22,8 @@ pub(crate) enum TagFn {
     HasTags,
     /// `geometry.materials`.
     Materials,
+    /// `geometry.groups`.
+    Groups,
 }
 
 impl TagFn {
@@ -30,19 +33,26 @@ impl TagFn {
             "geometry.tags" => Some(Self::Tags),
             "geometry.hasTags" => Some(Self::HasTags),
             "geometry.materials" => Some(Self::Materials),
+            "geometry.groups" => Some(Self::Groups),
             _ => None,
         }
     }
 
     /// Every function's name.
     pub fn names() -> impl Iterator<Item = &'static str> {
-        ["geometry.tags", "geometry.hasTags", "geometry.materials"].into_iter()
+        [
+            "geometry.tags",
+            "geometry.hasTags",
+            "geometry.materials",
+            "geometry.groups",
+        ]
+        .into_iter()
     }
 
     /// Fewest and most arguments.
     pub fn arity(self) -> (usize, usize) {
         match self {
-            Self::Materials => (0, 0),
+            Self::Materials | Self::Groups => (0, 0),
             _ => (0, 2),
         }
     }
@@ -53,6 +63,7 @@ impl TagFn {
             Self::Tags => "geometry.tags([tagQuery [, all | faces | edges | vertices]])",
             Self::HasTags => "geometry.hasTags([tagQuery [, all | faces | edges | vertices]])",
             Self::Materials => "geometry.materials()",
+            Self::Groups => "geometry.groups()",
         }
     }
 }
@@ -66,11 +77,16 @@ impl Evaluator<'_> {
         shape: &mut State,
         args: &[Value],
     ) -> Result<Value, DeriveError> {
-        if function == TagFn::Materials {
+        if let TagFn::Materials | TagFn::Groups = function {
+            let sets = if function == TagFn::Materials {
+                material_groups
+            } else {
+                asset_groups
+            };
             let groups = shape
                 .geometry
                 .world_mesh(&shape.scope)
-                .map(|world| material_groups(shape, &world))
+                .map(|world| sets(shape, &world))
                 .unwrap_or_default();
             return Ok(Value::Array(
                 groups.iter().map(|(name, _)| Value::string(name)).collect(),
@@ -94,7 +110,7 @@ impl Evaluator<'_> {
         Ok(match function {
             TagFn::Tags => Value::Array(names.iter().map(|n| Value::string(n)).collect()),
             TagFn::HasTags => Value::Bool(!names.is_empty()),
-            TagFn::Materials => unreachable!("answered above"),
+            TagFn::Materials | TagFn::Groups => unreachable!("answered above"),
         })
     }
 }

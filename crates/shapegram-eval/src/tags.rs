@@ -135,11 +135,14 @@ pub enum OffsetPart {
     Border,
 }
 
-/// What a face carries besides its corners: its part of an `offset`, its tags and its edges'.
+/// What a face carries besides its corners: its part of an `offset`, its tags and its edges',
+/// and the group of an inserted asset it belongs to.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct FaceTags {
     /// The face's part of an `offset`.
     pub part: OffsetPart,
+    /// The group of an inserted asset the face belongs to (`comp(g)`).
+    pub group: Option<Arc<str>>,
     /// The face's tags.
     pub names: TagSet,
     /// The tags of each edge, from corner `i` to corner `i + 1`; `None` when no edge has any.
@@ -199,6 +202,21 @@ impl FaceTags {
     }
 }
 
+/// The group of each face of an asset's parts merged in order (as
+/// [`crate::asset_look::AssetLook::from_parts`] merges them): each part's name; `None`
+/// without parts.
+pub fn face_groups(parts: &[shapegram_geom::Part]) -> Option<Arc<[Arc<str>]>> {
+    if parts.is_empty() {
+        return None;
+    }
+    let mut groups = Vec::new();
+    for part in parts {
+        let name: Arc<str> = Arc::from(part.name.as_str());
+        groups.extend(std::iter::repeat_n(name, part.mesh.face_count()));
+    }
+    Some(groups.into())
+}
+
 /// Edge tags for a loop of `n` corners from a function of the edge index; `None` when no edge
 /// gets any.
 pub fn edge_tags(n: usize, tags: impl Fn(usize) -> TagSet) -> Option<Arc<[TagSet]>> {
@@ -236,9 +254,8 @@ pub fn carry(from: &Mesh, tags: &[FaceTags], to: &Mesh) -> Option<Arc<[FaceTags]
                 })
             });
             FaceTags {
-                part: source.part,
-                names: source.names.clone(),
                 edges,
+                ..source.clone()
             }
         })
         .collect();

@@ -345,16 +345,8 @@ fn trimmed_faces_keep_their_tags() {
 
 #[test]
 fn what_shapegram_lacks_of_tags_is_a_warning() {
-    let warnings = compile_errors(
-        "Lot --> setTagsFromEdgeAttrs() tag(\"x\", vertices) comp(g) { all : X }
-         X --> report(\"g\", size(geometry.groups()))",
-    );
-    for expected in [
-        "setTagsFromEdgeAttrs",
-        "no vertex tags",
-        "`comp(g)` is not supported",
-        "geometry.groups",
-    ] {
+    let warnings = compile_errors("Lot --> setTagsFromEdgeAttrs() tag(\"x\", vertices)");
+    for expected in ["setTagsFromEdgeAttrs", "no vertex tags"] {
         assert!(
             warnings
                 .iter()
@@ -378,8 +370,8 @@ fn a_second_setback_replaces_the_first_ones_edge_tags() {
     assert_close(&areas(&r, "e"), &[8.0, 8.0, 16.0]);
 }
 
-/// Assets of two materials: `pane.obj`, a glass pane (1 × 1 at z = 1) and a frame plate
-/// (1 × 1 at z = 0, facing back) behind it.
+/// Assets of two materials and groups: `pane.obj`, a glass pane (1 × 1 at z = 1) and a frame
+/// plate (1 × 1 at z = 0, facing back) behind it, each a group and a material of its own.
 struct Panes;
 
 impl shapegram_eval::AssetLoader for Panes {
@@ -408,14 +400,16 @@ impl shapegram_eval::AssetLoader for Panes {
             material: Some(std::sync::Arc::from(name)),
             ..Part::new(name.to_owned(), Color::default(), mesh, Vec::new())
         };
-        let (mesh, look) = shapegram_eval::asset_look::AssetLook::from_parts(&[
+        let parts = [
             part("glass", quad(1.0, false)),
             part("frame", quad(0.0, true)),
-        ]);
+        ];
+        let (mesh, look) = shapegram_eval::asset_look::AssetLook::from_parts(&parts);
         Ok(shapegram_eval::Asset {
             mesh: std::sync::Arc::new(mesh),
             proportional: false,
             look,
+            groups: shapegram_eval::tags::face_groups(&parts),
         })
     }
 }
@@ -461,4 +455,32 @@ fn material_components_and_names() {
             ("faces".to_owned(), Value::Number(6.0))
         ]
     );
+}
+
+#[test]
+fn group_components_and_names_through_a_split() {
+    let text = "Lot --> s(4, 2, 1) i(\"pane.obj\")
+            report(\"names\", geometry.groups()[0] + \",\" + geometry.groups()[1])
+            split(x) { ~1 : P }*
+        P --> comp(g) { 1 : Frame | all : Glass }
+        Frame --> report(\"frame\", geometry.area) report(\"frame.name\", geometry.groups()[0])
+        Glass --> report(\"glass\", geometry.area)";
+    let options = shapegram_eval::DeriveOptions {
+        assets: Some(std::sync::Arc::new(Panes)),
+        ..Default::default()
+    };
+    let d = common::try_run(text, lot(10.0, 10.0), &options).unwrap();
+    let get = |key: &str| {
+        d.reports
+            .iter()
+            .filter(|(k, _)| k == key)
+            .map(|(_, v)| v.clone())
+            .collect::<Vec<_>>()
+    };
+    assert_eq!(get("names"), [Value::string("glass,frame")]);
+    // Each 1 m slice holds a 1 × 2 piece of both groups; the cut faces of the slices are
+    // not the asset's.
+    assert_eq!(get("frame"), vec![Value::Number(2.0); 4]);
+    assert_eq!(get("frame.name"), vec![Value::string("frame"); 4]);
+    assert_eq!(get("glass"), vec![Value::Number(2.0); 4]);
 }

@@ -188,6 +188,7 @@ impl FileAssets {
             return Ok(loaded.clone());
         }
         let mut look = None;
+        let mut groups = None;
         let read = match full.extension().and_then(|e| e.to_str()) {
             Some("lsys") => self
                 .read_text(&full)
@@ -202,6 +203,7 @@ impl FileAssets {
                 .map(|model| {
                     let (mesh, worn) = AssetLook::from_parts(&model.parts);
                     look = worn;
+                    groups = shapegram_eval::tags::face_groups(&model.parts);
                     mesh
                 })
                 .map_err(|e| e.to_string())
@@ -210,6 +212,7 @@ impl FileAssets {
         let loaded = Loaded {
             mesh: self.or_stand_in(read)?,
             look,
+            groups,
         };
         cache.insert(full, loaded.clone());
         Ok(loaded)
@@ -252,6 +255,7 @@ impl FileAssets {
 struct Loaded {
     mesh: Arc<Mesh>,
     look: Option<Arc<AssetLook>>,
+    groups: Option<Arc<[Arc<str>]>>,
 }
 
 /// A text file's contents and its name for messages.
@@ -352,11 +356,12 @@ impl AssetLoader for FileAssets {
     fn asset(&self, path: &str, variant: u32) -> Result<Asset, String> {
         let full = self.find(path);
         if full.extension().and_then(|e| e.to_str()) != Some("lsys") {
-            let Loaded { mesh, look } = self.load_worn(path)?;
+            let Loaded { mesh, look, groups } = self.load_worn(path)?;
             return Ok(Asset {
                 mesh,
                 proportional: false,
                 look,
+                groups,
             });
         }
         let mut plants = self.plants.lock().unwrap_or_else(PoisonError::into_inner);
@@ -381,6 +386,7 @@ impl AssetLoader for FileAssets {
             mesh,
             proportional: true,
             look: None,
+            groups: None,
         })
     }
 

@@ -10,7 +10,7 @@ use super::Fallible;
 use super::implicit::no_solid;
 use super::machine::{Engine, Phase, Work};
 use super::roof_edges::RoofEdges;
-use crate::material_groups::material_groups;
+use crate::face_sets::{asset_groups, material_groups};
 use crate::ops::{CompEntry, CompKind, CompSelector};
 use crate::selectors::Frames;
 use crate::shape::{Geometry, State, fills_box};
@@ -58,7 +58,7 @@ impl<'p> Engine<'p> {
             self.occlude(state, None, Some(&world));
         }
         let components = match kind {
-            CompKind::Faces | CompKind::Materials => component::faces(&world),
+            CompKind::Faces | CompKind::Materials | CompKind::Groups => component::faces(&world),
             CompKind::Edges => component::edges(&world),
             CompKind::FaceEdges => component::face_edges(&world),
             CompKind::Vertices => component::vertices(&world),
@@ -71,11 +71,15 @@ impl<'p> Engine<'p> {
             Geometry::Mesh(_, tags) => tags.clone(),
             _ => None,
         };
-        // Material components are sets of faces: a selector takes one when it takes one of its
-        // faces (or, for conditions and indices, the set itself).
-        let materials = (kind == CompKind::Materials).then(|| {
-            material_groups(state, &world)
-                .into_iter()
+        // Material and group components are sets of faces: a selector takes one when it takes
+        // one of its faces (or, for conditions and indices, the set itself).
+        let sets = match kind {
+            CompKind::Materials => Some(material_groups(state, &world)),
+            CompKind::Groups => Some(asset_groups(state, &world)),
+            _ => None,
+        };
+        let materials = sets.map(|sets| {
+            sets.into_iter()
                 .map(|(_, faces)| {
                     (0..components.len())
                         .filter(|&c| faces.contains(&components[c].source))
@@ -271,7 +275,9 @@ impl<'p> Engine<'p> {
 fn is_tagged(judge: &Judge, c: usize, query: &TagQuery, around: Around) -> bool {
     let comp = &judge.components[c];
     judge.index.as_ref().is_some_and(|index| match judge.kind {
-        CompKind::Faces | CompKind::Materials => index.face(comp.source, query, around),
+        CompKind::Faces | CompKind::Materials | CompKind::Groups => {
+            index.face(comp.source, query, around)
+        }
         CompKind::Edges | CompKind::FaceEdges => {
             index.edge(comp.points[0], comp.points[1], query, around)
         }

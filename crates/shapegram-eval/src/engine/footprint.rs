@@ -132,7 +132,7 @@ impl<'p> Engine<'p> {
                     tags.push(FaceTags {
                         part,
                         names: names.clone(),
-                        edges: None,
+                        ..FaceTags::default()
                     });
                 }
             }

@@ -53,6 +53,7 @@ impl Engine<'_> {
         let edges = matches!(target, TagTarget::All | TagTarget::Edges);
         retag(state, |face, corners| FaceTags {
             part: face.part,
+            group: face.group.clone(),
             names: if faces {
                 face.names.without(&query)
             } else {

@@ -368,12 +368,17 @@ impl Ctx<'_, '_> {
             Some("fv") => CompKind::FaceVertices,
             Some("h") => CompKind::Holes,
             Some("m") => CompKind::Materials,
+            Some("g") => {
+                // The groups are recorded at the insert only for grammars that ask for them.
+                self.c.tagged = true;
+                CompKind::Groups
+            }
             Some(other) => {
                 let other = other.to_owned();
                 self.warn_once(format!("`comp({other})` is not supported yet: skipped"));
                 return Some(Op::Ignored);
             }
-            None => return self.bad_selector(0, "`f`, `e`, `fe`, `v`, `fv`, `m` or `h`"),
+            None => return self.bad_selector(0, "`f`, `e`, `fe`, `v`, `fv`, `m`, `g` or `h`"),
         };
         let Some(block) = &self.call.block else {
             self.error("`comp` needs a `{ selector : … }` block".into());

@@ -488,6 +488,8 @@ pub(crate) enum CompKind {
     Holes,
     /// The faces by the material they wear (an inserted asset's).
     Materials,
+    /// The faces by the group of the inserted asset they belong to.
+    Groups,
 }
 
 /// Which part of an offset polygon to keep.

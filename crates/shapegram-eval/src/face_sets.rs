@@ -1,8 +1,15 @@
-//! The faces of a shape's geometry grouped by the material they wear, for CGA's `comp(m)` and
-//! `geometry.materials`: the materials of an inserted asset in the asset's order (each face of
+//! The faces of a shape's geometry in sets, for CGA's `comp(m)`, `comp(g)`,
+//! `geometry.materials` and `geometry.groups`.
+//!
+//! By **material**: the materials of an inserted asset in the asset's order (each face of
 //! a piece cut from the asset wearing the material of the asset face under it), then the faces
 //! that wear the shape's own material, named by `set(material.name, …)` (`""` when unset). A
 //! shape without an asset wears one material.
+//!
+//! By **group**: the groups of an inserted asset (its OBJ `g`/`o` groups, its glTF nodes), in
+//! the order the faces have them, then the faces in none (named `""`), such as the caps of a
+//! cut or a shape without an asset. Faces keep their group through cuts (see
+//! [`crate::tags::FaceTags`]).
 
 use std::collections::BTreeMap;
 use std::sync::Arc;
@@ -41,4 +48,25 @@ pub(crate) fn material_groups(state: &State, world: &Mesh) -> Vec<(Arc<str>, Vec
             (name, faces)
         })
         .collect()
+}
+
+/// The asset groups of `state`'s geometry, whose world mesh is `world`: each group's name and
+/// its faces (indices into `world`), in order.
+pub(crate) fn asset_groups(state: &State, world: &Mesh) -> Vec<(Arc<str>, Vec<usize>)> {
+    let tags = state.geometry.tags();
+    let mut groups: Vec<(Arc<str>, Vec<usize>)> = Vec::new();
+    let mut ungrouped = Vec::new();
+    for f in 0..world.face_count() {
+        match tags.and_then(|t| t.get(f)).and_then(|t| t.group.as_ref()) {
+            Some(name) => match groups.iter_mut().find(|(n, _)| n == name) {
+                Some((_, faces)) => faces.push(f),
+                None => groups.push((name.clone(), vec![f])),
+            },
+            None => ungrouped.push(f),
+        }
+    }
+    if !ungrouped.is_empty() {
+        groups.push((Arc::from(""), ungrouped));
+    }
+    groups
 }
