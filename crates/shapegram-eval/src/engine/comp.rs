@@ -1,7 +1,8 @@
-//! CGA `comp(f | e | fe | v | fv | h) { selector : … }`: the faces, edges, face edges,
-//! vertices or face vertices of the shape, each a new shape with a scope of its own, going to
-//! the first entry whose selector takes it (or, with `selector = …`, all of an entry's in one
-//! shape). Faces keep their tags. Shapegram's faces have no holes, so `comp(h)` takes nothing.
+//! CGA `comp(f | e | fe | v | fv | m | g | h) { selector : … }`: the faces, edges, face
+//! edges, vertices, face vertices, materials or asset groups of the shape, each a new shape
+//! with a scope of its own, going to the first entry whose selector takes it (or, with
+//! `selector = …`, all of an entry's in one shape). Faces keep their tags. Shapegram's faces
+//! have no holes, so `comp(h)` takes nothing.
 
 use shapegram_geom::{DVec3, Mesh, Scope, component};
 use shapegram_syntax::Span;
@@ -78,7 +79,7 @@ impl<'p> Engine<'p> {
             CompKind::Groups => Some(asset_groups(state, &world)),
             _ => None,
         };
-        let materials = sets.map(|sets| {
+        let sets = sets.map(|sets| {
             sets.into_iter()
                 .map(|(_, faces)| {
                     (0..components.len())
@@ -88,7 +89,7 @@ impl<'p> Engine<'p> {
                 .filter(|members| !members.is_empty())
                 .collect::<Vec<_>>()
         });
-        let kind = if materials.is_some() {
+        let kind = if sets.is_some() {
             CompKind::Faces
         } else {
             kind
@@ -102,34 +103,11 @@ impl<'p> Engine<'p> {
                 .then(|| RoofEdges::new(&world, &components, state.scope.axes.y_axis)),
             frames: self.ev.frames(&scope),
         };
+        if let Some(sets) = &sets {
+            return self.comp_sets(state, &judge, sets, entries, span, args, out);
+        }
         let mut assigned: Vec<Vec<usize>> = vec![Vec::new(); entries.len()];
         let mut made = 0;
-        if let Some(materials) = &materials {
-            for (g, members) in materials.iter().enumerate() {
-                let mut probe = None;
-                for (e, entry) in entries.iter().enumerate() {
-                    let unit = (g, members.as_slice());
-                    if self.takes_set(&entry.selector, &judge, unit, (state, &mut probe), args)? {
-                        assigned[e].push(g);
-                        break;
-                    }
-                }
-            }
-            for (entry, chosen) in entries.iter().zip(&assigned) {
-                let sets: Vec<Vec<usize>> = if entry.merge {
-                    vec![chosen.iter().flat_map(|&g| materials[g].clone()).collect()]
-                } else {
-                    chosen.iter().map(|&g| materials[g].clone()).collect()
-                };
-                let total = sets.len() as u32;
-                for (i, faces) in sets.iter().enumerate().filter(|(_, f)| !f.is_empty()) {
-                    let child = merged_shape(state, &judge, faces);
-                    let at = (entry, (i as u32, total), &mut made);
-                    self.derive_component(state, child, at, span, args, out)?;
-                }
-            }
-            return Ok(());
-        }
         for c in 0..components.len() {
             let mut probe = None;
             for (e, entry) in entries.iter().enumerate() {
@@ -167,6 +145,48 @@ impl<'p> Engine<'p> {
                 child.geometry = component_geometry(&judge, &comp, c);
                 self.admit(&mut child, span)?;
                 self.run_stmts(&entry.body, &mut child, args, out)?;
+            }
+        }
+        Ok(())
+    }
+
+    /// `comp(m)` and `comp(g)`: each set of faces (`sets`, by their components) goes to the
+    /// first entry whose selector takes it, a shape of its own or (with `=`) merged with the
+    /// entry's others.
+    #[allow(clippy::too_many_arguments)]
+    fn comp_sets(
+        &mut self,
+        state: &mut State,
+        judge: &Judge,
+        sets: &[Vec<usize>],
+        entries: &'p [CompEntry],
+        span: Span,
+        args: &[Value],
+        out: &mut Vec<Work>,
+    ) -> Fallible<()> {
+        let mut assigned: Vec<Vec<usize>> = vec![Vec::new(); entries.len()];
+        for (g, members) in sets.iter().enumerate() {
+            let mut probe = None;
+            for (e, entry) in entries.iter().enumerate() {
+                let unit = (g, members.as_slice());
+                if self.takes_set(&entry.selector, judge, unit, (state, &mut probe), args)? {
+                    assigned[e].push(g);
+                    break;
+                }
+            }
+        }
+        let mut made = 0;
+        for (entry, chosen) in entries.iter().zip(&assigned) {
+            let shapes: Vec<Vec<usize>> = if entry.merge {
+                vec![chosen.iter().flat_map(|&g| sets[g].clone()).collect()]
+            } else {
+                chosen.iter().map(|&g| sets[g].clone()).collect()
+            };
+            let total = shapes.len() as u32;
+            for (i, faces) in shapes.iter().enumerate().filter(|(_, f)| !f.is_empty()) {
+                let child = merged_shape(state, judge, faces);
+                let at = (entry, (i as u32, total), &mut made);
+                self.derive_component(state, child, at, span, args, out)?;
             }
         }
         Ok(())
