@@ -484,3 +484,20 @@ fn group_components_and_names_through_a_split() {
     assert_eq!(get("frame.name"), vec![Value::string("frame"); 4]);
     assert_eq!(get("glass"), vec![Value::Number(2.0); 4]);
 }
+
+#[test]
+fn merged_faces_and_offsets_keep_their_tags() {
+    let r = reports(
+        "Lot --> extrude(4) comp(f) { side = Walls | top : Top | all : NIL }
+         Walls --> comp(f) { isTagged(\"extrude.side\") : S | all : O }
+         Top --> offset(-1) comp(f) { inside && isTagged(\"extrude.top\") : T \
+                                    | border && isTagged(\"extrude.top\") : C | all : O }",
+        10.0,
+        20.0,
+    );
+    assert_close(&areas(&r, "s"), &[40.0, 40.0, 80.0, 80.0]);
+    // The inset 8 × 18 and the ring around it, all still the top.
+    assert_close(&areas(&r, "t"), &[144.0]);
+    assert_close(&[areas(&r, "c").iter().sum()], &[56.0]);
+    assert!(of(&r, "o").is_empty());
+}
