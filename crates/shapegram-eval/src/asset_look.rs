@@ -260,6 +260,11 @@ impl AssetLook {
         }
     }
 
+    /// The name of material `i` of the asset (`None` for a part without a material).
+    pub fn material_name(&self, i: u32) -> Option<&Arc<str>> {
+        self.materials.get(i as usize)?.name.as_ref()
+    }
+
     /// Whether `mesh` still has the asset's faces (however placed), so the look applies.
     pub fn fits(&self, mesh: &Mesh) -> bool {
         mesh.vertex_count() == self.faces.vertex_count()

@@ -3,6 +3,7 @@
 use crate::arrays::ArrayFn;
 use crate::asset_queries::AssetFn;
 use crate::colors::ColorFn;
+use crate::tag_queries::TagFn;
 use crate::text::Text;
 use crate::uv_queries::UvQuery;
 
@@ -98,6 +99,8 @@ pub(crate) enum Builtin {
     Color(ColorFn),
     /// A uv query (`geometry.uMin` and the others).
     Uv(UvQuery),
+    /// A tag function (`geometry.tags`, `geometry.hasTags`).
+    Tags(TagFn),
 }
 
 impl Builtin {
@@ -251,6 +254,7 @@ impl Builtin {
             .or_else(|| ColorFn::from_name(name).map(Self::Color))
             .or_else(|| UvQuery::from_name(name).map(Self::Uv))
             .or_else(|| AssetFn::from_name(name).map(Self::Asset))
+            .or_else(|| TagFn::from_name(name).map(Self::Tags))
     }
 
     /// Every built-in's name, the string functions' included.
@@ -263,6 +267,7 @@ impl Builtin {
             .chain(ColorFn::names())
             .chain(UvQuery::names())
             .chain(AssetFn::names())
+            .chain(TagFn::names())
     }
 
     /// Fewest and most arguments.
@@ -286,6 +291,7 @@ impl Builtin {
             Self::Array(f) => f.arity(),
             Self::Color(f) => (f.arity(), f.arity()),
             Self::Uv(q) => q.arity(),
+            Self::Tags(f) => f.arity(),
             _ => (1, 1),
         }
     }
@@ -351,6 +357,7 @@ impl Builtin {
             Self::Color(f) => f.signature(),
             Self::Uv(q) => q.signature(),
             Self::Asset(f) => f.signature(),
+            Self::Tags(f) => f.signature(),
             _ => "f(number)",
         }
     }
@@ -365,6 +372,7 @@ impl Builtin {
                     | Self::Convert
                     | Self::Uv(_)
                     | Self::Asset(_)
+                    | Self::Tags(_)
                     | Self::GeoCoord
                     | Self::IsOriented
                     | Self::AreaOf

@@ -16,6 +16,7 @@ use crate::goals::{AttrId, GoalId, GoalRules};
 use crate::imports::{ImportGraph, Origins};
 use crate::library::GoalScope;
 use crate::ops::{self, Op};
+use crate::tag_queries::TagFn;
 use crate::value::Value;
 
 /// Index of a rule in [`Program::rules`].
@@ -44,6 +45,10 @@ pub struct Program {
     /// Whether any rule derives operands at once (`union`, `subtract`, `intersect`, `inline`):
     /// a shape's result then depends on other rules than its own.
     pub(crate) derives_now: bool,
+    /// Whether the grammar reads or writes component tags (`isTagged`, `geometry.tags`, `tag`,
+    /// …): only then do operations tag what they make, so grammars without tags keep their
+    /// boxes and their output.
+    pub(crate) tagged: bool,
     /// The named poses of `@Pose` annotations, in order of first appearance.
     named_poses: Vec<(String, Vec<(String, Value)>)>,
     /// What tells an edited rule from an unchanged one when deriving again.
@@ -326,6 +331,8 @@ pub(crate) struct Compiler<'g> {
     pub(crate) kinematic: bool,
     /// Whether an operation that derives operands at once was compiled.
     pub(crate) derives_now: bool,
+    /// Whether something that reads or writes component tags was compiled.
+    pub(crate) tagged: bool,
     /// Compiling goal grammars: the library's names and what its checks need.
     pub(crate) goal: Option<Box<GoalScope>>,
     /// With imports: the file of each declaration, and of each diagnostic so far.
@@ -348,6 +355,7 @@ impl<'g> Compiler<'g> {
             warned: FxHashMap::default(),
             kinematic: false,
             derives_now: false,
+            tagged: false,
             goal: None,
             origins: None,
             diagnostic_files: Vec::new(),
@@ -504,6 +512,7 @@ impl<'g> Compiler<'g> {
             context_rules,
             kinematic: self.kinematic,
             derives_now: self.derives_now,
+            tagged: self.tagged,
             named_poses,
             fingerprints: Fingerprints::of(grammar),
             goals: None,
@@ -541,6 +550,7 @@ impl<'g> Compiler<'g> {
             start_rule: None,
             kinematic: self.kinematic,
             derives_now: self.derives_now,
+            tagged: self.tagged,
             named_poses: Vec::new(),
             fingerprints: Fingerprints::default(),
             goals: Some(Box::new(goals)),
@@ -859,6 +869,10 @@ impl<'g> Compiler<'g> {
         if let Some(b) =
             Builtin::from_name(name).filter(|b| name.starts_with("geometry.") && b.arity().0 == 0)
         {
+            self.tagged |= matches!(
+                b,
+                Builtin::Tags(TagFn::Tags | TagFn::HasTags | TagFn::Groups)
+            );
             return CKind::Builtin(b, Vec::new());
         }
         if selectors {
@@ -989,6 +1003,10 @@ impl<'g> Compiler<'g> {
                 return CKind::Value(Value::Number(0.0));
             }
             self.uses.context |= builtin.is_context_query();
+            self.tagged |= matches!(
+                builtin,
+                Builtin::Tags(TagFn::Tags | TagFn::HasTags | TagFn::Groups)
+            );
             return CKind::Builtin(builtin, compiled);
         }
         let mut candidates: Vec<&str> = self.function_by_name.keys().copied().collect();
@@ -1025,6 +1043,15 @@ impl<'g> Compiler<'g> {
             compiled.push((selector, self.expr(&entry.value, params)));
         }
         CKind::EdgeValues(compiled)
+    }
+
+    /// Whether `name` is a parameter, attribute, constant or function the grammar declares (so
+    /// a selector by that name is a condition, not an unknown selector word).
+    pub(crate) fn knows_name(&self, name: &str, params: &[ast::Ident]) -> bool {
+        params.iter().any(|p| p.name == name)
+            || self.attr_by_name.contains_key(name)
+            || self.const_by_name.contains_key(name)
+            || self.function_by_name.contains_key(name)
     }
 
     /// Attribute names, for hints.

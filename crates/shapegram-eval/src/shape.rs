@@ -10,6 +10,7 @@ use shapegram_syntax::Span;
 use crate::goals::Semantics;
 use crate::program::Sym;
 use crate::rng::{Rng, child_seed};
+use crate::tags::FaceTags;
 use crate::texturing::Texturing;
 use crate::trim::Trim;
 use crate::value::Value;
@@ -21,9 +22,10 @@ pub enum Geometry {
     /// positive direction of that axis (a lot faces +y, a facade +z). Most shapes of real grammars
     /// are boxes and rectangles, and splitting them is arithmetic.
     Box,
-    /// A polygon mesh in scope-local coordinates, with optional per-face tags (`offset` marks
-    /// faces as inside or border).
-    Mesh(Arc<Mesh>, Option<Arc<[FaceTag]>>),
+    /// A polygon mesh in scope-local coordinates, with what its faces carry when any carries
+    /// something: the part of an `offset` they are, their tags and their edges' (see
+    /// [`crate::tags`]).
+    Mesh(Arc<Mesh>, Option<Arc<[FaceTags]>>),
     /// An implicit solid in scope-local coordinates (`implicit(sphere)`), possibly a member of
     /// a CSG group; meshed when the model is made.
     Implicit(Arc<Implicit>),
@@ -92,17 +94,6 @@ pub fn implicit_mesh(solid: &Solid) -> Option<Mesh> {
     (!mesh.is_empty()).then_some(mesh)
 }
 
-/// A tag on a face, set by operations whose result later component splits select from.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum FaceTag {
-    /// No tag.
-    None,
-    /// The inset polygon of `offset`.
-    Inside,
-    /// The ring between the outline and the inset polygon of `offset`.
-    Border,
-}
-
 impl Geometry {
     /// A mesh geometry without tags.
     pub fn mesh(mesh: Mesh) -> Self {
@@ -140,8 +131,14 @@ impl Geometry {
         Some(mesh)
     }
 
-    /// Per-face tags, if any.
-    pub fn tags(&self) -> Option<&[FaceTag]> {
+    /// A mesh geometry whose faces carry `tags` (none when no face carries anything).
+    pub fn tagged_mesh(mesh: Mesh, tags: Vec<FaceTags>) -> Self {
+        let tags = tags.iter().any(|t| !t.is_plain()).then(|| tags.into());
+        Self::Mesh(Arc::new(mesh), tags)
+    }
+
+    /// What each face carries, if any face carries anything.
+    pub fn tags(&self) -> Option<&[FaceTags]> {
         match self {
             Self::Mesh(_, Some(tags)) => Some(tags),
             _ => None,

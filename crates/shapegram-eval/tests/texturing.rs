@@ -483,6 +483,7 @@ impl shapegram_eval::AssetLoader for Window {
             mesh: std::sync::Arc::new(mesh),
             proportional: false,
             look,
+            groups: None,
         })
     }
 

@@ -31,6 +31,8 @@ pub enum ComponentKind {
     Edge,
     /// An edge of one face, directed along the face's winding.
     FaceEdge,
+    /// A corner of one face.
+    FaceVertex,
     /// A vertex (point).
     Vertex,
 }
@@ -191,6 +193,23 @@ pub fn face_edges(mesh: &Mesh) -> Vec<Component> {
     out
 }
 
+/// The corners of every face of a mesh as components, face after face, each face's from its
+/// first; corners whose outgoing edge has no length are skipped.
+pub fn face_vertices(mesh: &Mesh) -> Vec<Component> {
+    face_edges(mesh)
+        .into_iter()
+        .enumerate()
+        .map(|(index, edge)| Component {
+            kind: ComponentKind::FaceVertex,
+            index,
+            source: edge.source,
+            scope: Scope::new(edge.points[0], edge.scope.axes, DVec3::ZERO),
+            points: vec![edge.points[0]],
+            normal: edge.normal,
+        })
+        .collect()
+}
+
 /// The vertices used by faces of a mesh as components, in index order.
 pub fn vertices(mesh: &Mesh) -> Vec<Component> {
     let mut around: Vec<Vec<usize>> = vec![Vec::new(); mesh.vertex_count()];
@@ -222,6 +241,17 @@ pub fn vertices(mesh: &Mesh) -> Vec<Component> {
             }
         })
         .collect()
+}
+
+/// An edge component turned around: from its second point to its first, x and y reversed.
+pub fn reversed_edge(edge: &Component) -> Component {
+    let points = vec![edge.points[1], edge.points[0]];
+    let axes = frame(-edge.scope.axes.x_axis, edge.scope.axes.z_axis);
+    Component {
+        scope: Scope::fit(axes, points.iter().copied()),
+        points,
+        ..edge.clone()
+    }
 }
 
 /// The right-handed frame with unit x and z given (orthogonal), y = z × x.

@@ -191,6 +191,7 @@ impl FileAssets {
         }
         let mut look = None;
         let mut naming = AssetNaming::default();
+        let mut groups = None;
         let read = match full.extension().and_then(|e| e.to_str()) {
             Some("lsys") => self
                 .read_text(&full)
@@ -206,6 +207,7 @@ impl FileAssets {
                     let (mesh, worn) = AssetLook::from_parts(&model.parts);
                     look = worn;
                     naming = names(&model.parts);
+                    groups = shapegram_eval::tags::face_groups(&model.parts);
                     mesh
                 })
                 .map_err(|e| e.to_string())
@@ -215,6 +217,7 @@ impl FileAssets {
             mesh: self.or_stand_in(read)?,
             look,
             naming: Arc::new(naming),
+            groups,
         };
         cache.insert(full, loaded.clone());
         Ok(loaded)
@@ -260,6 +263,7 @@ type ImageSize = (u32, u32);
 struct Loaded {
     mesh: Arc<Mesh>,
     look: Option<Arc<AssetLook>>,
+    groups: Option<Arc<[Arc<str>]>>,
     naming: Arc<AssetNaming>,
 }
 
@@ -422,11 +426,14 @@ impl AssetLoader for FileAssets {
     fn asset(&self, path: &str, variant: u32) -> Result<Asset, String> {
         let full = self.find(path);
         if full.extension().and_then(|e| e.to_str()) != Some("lsys") {
-            let Loaded { mesh, look, .. } = self.load_worn(path)?;
+            let Loaded {
+                mesh, look, groups, ..
+            } = self.load_worn(path)?;
             return Ok(Asset {
                 mesh,
                 proportional: false,
                 look,
+                groups,
             });
         }
         let mut plants = self.plants.lock().unwrap_or_else(PoisonError::into_inner);
@@ -451,6 +458,7 @@ impl AssetLoader for FileAssets {
             mesh,
             proportional: true,
             look: None,
+            groups: None,
         })
     }
 

@@ -13,7 +13,8 @@ use super::machine::Engine;
 use crate::error::DeriveError;
 use crate::ops::DeformKind;
 use crate::program::CExpr;
-use crate::shape::{FaceTag, Geometry, State, moved};
+use crate::shape::{Geometry, State, moved};
+use crate::tags::FaceTags;
 use crate::value::Value;
 
 impl Engine<'_> {
@@ -76,11 +77,18 @@ impl Engine<'_> {
                 amount.span,
             ));
         };
-        let tags: Option<Arc<[FaceTag]>> = state.geometry.tags().map(|tags| {
+        let tags: Option<Arc<[FaceTags]>> = state.geometry.tags().map(|tags| {
             deformed
                 .sources
                 .iter()
-                .map(|&s| tags.get(s as usize).copied().unwrap_or(FaceTag::None))
+                // Sliced faces have new corners: edge tags do not follow them.
+                .map(|&s| {
+                    tags.get(s as usize)
+                        .map_or_else(FaceTags::default, |t| FaceTags {
+                            edges: None,
+                            ..t.clone()
+                        })
+                })
                 .collect()
         });
         state.geometry = Geometry::Mesh(Arc::new(deformed.mesh), tags);

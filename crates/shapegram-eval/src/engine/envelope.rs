@@ -5,7 +5,8 @@ use shapegram_geom::{DVec3, FaceClass, Mesh, Scope, envelope::envelope};
 use shapegram_syntax::Span;
 
 use super::Fallible;
-use super::footprint::{flat_faces, grown_axes};
+use super::auto_tags::{self, Facing};
+use super::footprint::{face_tags, flat_faces, grown_axes};
 use super::machine::Engine;
 use crate::error::DeriveError;
 use crate::program::CExpr;
@@ -41,6 +42,7 @@ impl Engine<'_> {
         let world = flat_faces(state, "envelope", span)?;
         let frames = self.ev.frames(&state.scope);
         let mut solid = Mesh::new();
+        let mut tags = Vec::new();
         let mut direction = DVec3::ZERO;
         let mut first_edge = 0;
         for f in 0..world.face_count() {
@@ -79,6 +81,21 @@ impl Engine<'_> {
             if direction == DVec3::ZERO {
                 direction = up;
             }
+            if self.program.tagged {
+                let source = face_tags(state, f);
+                tags.extend(auto_tags::by_facing(
+                    &built,
+                    &source,
+                    up,
+                    "envelope",
+                    |facing| match facing {
+                        Facing::Down => "envelope.bottom",
+                        Facing::Upright => "envelope.side.base",
+                        Facing::Slope => "envelope.side.slope",
+                        Facing::Level => "envelope.top",
+                    },
+                ));
+            }
             solid.append(&built);
         }
         let fitted = Scope::fit(
@@ -87,7 +104,7 @@ impl Engine<'_> {
         );
         solid.transform(&fitted.world_to_local());
         state.scope = fitted;
-        state.geometry = Geometry::mesh(solid);
+        state.geometry = Geometry::tagged_mesh(solid, tags);
         Ok(())
     }
 

@@ -14,13 +14,16 @@ use shapegram_geom::{
 use shapegram_syntax::Span;
 
 use super::Fallible;
+use super::auto_tags;
 use super::edge_depths::EdgeDepths;
 use super::implicit::no_solid;
 use super::machine::{Engine, Work};
+use super::setback_tags::SetbackEdges;
 use crate::error::DeriveError;
 use crate::ops::{CompEntry, Depths, OffsetKeep};
 use crate::program::{CExpr, CStmt};
-use crate::shape::{FaceTag, Geometry, State, fills_box, flat_axis};
+use crate::shape::{Geometry, State, fills_box, flat_axis};
+use crate::tags::{FaceTags, OffsetPart};
 use crate::value::Value;
 
 impl<'p> Engine<'p> {
@@ -43,17 +46,28 @@ impl<'p> Engine<'p> {
         let world = flat_faces(state, "extrude", span)?;
         let mut solid = Mesh::new();
         let mut direction = DVec3::ZERO;
+        let tagged = self.program.tagged;
+        let mut tags = Vec::new();
         for f in 0..world.face_count() {
             let points: Vec<DVec3> = world.face_points(f).collect();
             let normal = world.face_normal(f);
+            let offset = if world_up { DVec3::Y } else { normal } * distance;
             let prism = if world_up {
-                extrude_along(&points, DVec3::Y * distance)
+                extrude_along(&points, offset)
             } else {
                 extrude_polygon(&points, distance)
             };
             if let Some(prism) = prism {
                 if direction == DVec3::ZERO {
                     direction = if world_up { DVec3::Y } else { normal };
+                }
+                if tagged {
+                    let source = face_tags(state, f);
+                    tags.extend(auto_tags::extruded(
+                        &prism,
+                        &source,
+                        offset.dot(normal) < 0.0,
+                    ));
                 }
                 solid.append(&prism);
             }
@@ -67,12 +81,13 @@ impl<'p> Engine<'p> {
         );
         // A flat box extruded along its own axis stays a box.
         let stays_box = state.geometry == Geometry::Box
+            && !tagged
             && flat.is_some_and(|k| scope.axes.col(k).abs_diff_eq(direction, 1e-12));
         state.geometry = if stays_box {
             Geometry::Box
         } else {
             solid.transform(&fitted.world_to_local());
-            Geometry::mesh(solid)
+            Geometry::tagged_mesh(solid, tags)
         };
         state.scope = fitted;
         Ok(())
@@ -99,16 +114,26 @@ impl<'p> Engine<'p> {
         };
         let mut mesh = Mesh::new();
         let mut tags = Vec::new();
+        let old = state.geometry.tags();
         for f in 0..world.face_count() {
             let points: Vec<DVec3> = world.face_points(f).collect();
             let (inside, border) = shapegram_geom::offset::inset_border(&points, distance);
-            for (loops, tag, wanted) in [
-                (inside, FaceTag::Inside, keep != OffsetKeep::Border),
-                (border, FaceTag::Border, keep != OffsetKeep::Inside),
+            // The pieces keep their face's tags (not its edges': they move).
+            let names = old
+                .and_then(|t| t.get(f))
+                .map(|t| t.names.clone())
+                .unwrap_or_default();
+            for (loops, part, wanted) in [
+                (inside, OffsetPart::Inside, keep != OffsetKeep::Border),
+                (border, OffsetPart::Border, keep != OffsetKeep::Inside),
             ] {
                 for points in loops.iter().filter(|_| wanted) {
                     mesh.append(&Mesh::from_polygon(points));
-                    tags.push(tag);
+                    tags.push(FaceTags {
+                        part,
+                        names: names.clone(),
+                        ..FaceTags::default()
+                    });
                 }
             }
         }
@@ -146,6 +171,7 @@ impl<'p> Engine<'p> {
         let (mut outline, mut rest): (Vec<Vec<Vec<DVec3>>>, Vec<Vec<DVec3>>) =
             (Vec::new(), Vec::new());
         let mut first_edge = 0;
+        let mut moved: Vec<Vec<bool>> = Vec::new();
         for f in 0..world.face_count() {
             let points: Vec<DVec3> = world.face_points(f).collect();
             let normal = world.face_normal(f);
@@ -166,6 +192,11 @@ impl<'p> Engine<'p> {
                         .map_or(0.0, |(_, d)| *d)
                 }
             };
+            moved.push(
+                (0..points.len())
+                    .map(|i| distance(i, points[i], points[(i + 1) % points.len()]) > 0.0)
+                    .collect(),
+            );
             let cut = shapegram_geom::offset::setback(&points, distance).ok_or_else(|| {
                 DeriveError::at(
                     "setback cannot cut this shape: a polygon that is not simple, or a setback so deep that an edge that moves runs onto one that moves slower",
@@ -191,6 +222,16 @@ impl<'p> Engine<'p> {
             rest.extend(cut.remainder);
             first_edge += points.len();
         }
+        let edges = self
+            .program
+            .tagged
+            .then(|| SetbackEdges::new(&world, moved, |f| face_tags(state, f), &rest));
+        let edges = edges.as_ref();
+        let tags = |remainder: bool| {
+            move |polygon: &[DVec3]| {
+                edges.map_or_else(FaceTags::default, |e| e.tags(polygon, remainder))
+            }
+        };
         for (entry, chosen) in entries.iter().zip(&strips) {
             let pieces: Vec<Piece> = chosen
                 .iter()
@@ -201,31 +242,24 @@ impl<'p> Engine<'p> {
                     Some((DMat3::from_cols(x, y, x.cross(y)), vec![polygon.as_slice()]))
                 })
                 .collect();
-            let code = entry.selector.code();
-            self.flat_children(
-                state,
-                pieces,
-                entry.merge,
-                code,
-                &entry.body,
-                span,
-                args,
-                out,
-            )?;
+            let how = (entry.merge, entry.selector.code(), &tags(false) as &Tagger);
+            self.tagged_flat_children(state, pieces, how, &entry.body, span, args, out)?;
         }
         if let Some((merge, body)) = outputs.shape {
             let pieces = outline
                 .iter()
                 .map(|polygons| (scope.axes, polygons.iter().map(Vec::as_slice).collect()))
                 .collect();
-            self.flat_children(state, pieces, *merge, 0, body, span, args, out)?;
+            let how = (*merge, 0, &tags(false) as &Tagger);
+            self.tagged_flat_children(state, pieces, how, body, span, args, out)?;
         }
         if let Some((merge, body)) = outputs.remainder {
             let pieces = rest
                 .iter()
                 .map(|p| (scope.axes, vec![p.as_slice()]))
                 .collect();
-            self.flat_children(state, pieces, *merge, 0, body, span, args, out)?;
+            let how = (*merge, 0, &tags(true) as &Tagger);
+            self.tagged_flat_children(state, pieces, how, body, span, args, out)?;
         }
         Ok(())
     }
@@ -244,6 +278,27 @@ impl<'p> Engine<'p> {
         args: &[Value],
         out: &mut Vec<Work>,
     ) -> Fallible<()> {
+        let how = (
+            merge,
+            selector,
+            &(|_: &[DVec3]| FaceTags::default()) as &Tagger,
+        );
+        self.tagged_flat_children(state, pieces, how, body, span, args, out)
+    }
+
+    /// [`Engine::flat_children`], each polygon carrying the tags `tagger` gives it (with
+    /// whether to merge and the selector's code).
+    #[allow(clippy::too_many_arguments)]
+    fn tagged_flat_children(
+        &mut self,
+        state: &mut State,
+        pieces: Vec<Piece>,
+        (merge, selector, tagger): (bool, u8, &Tagger),
+        body: &'p [CStmt],
+        span: Span,
+        args: &[Value],
+        out: &mut Vec<Work>,
+    ) -> Fallible<()> {
         let pieces = match pieces.first() {
             Some(&(axes, _)) if merge => {
                 vec![(axes, pieces.into_iter().flat_map(|p| p.1).collect())]
@@ -255,7 +310,7 @@ impl<'p> Engine<'p> {
             let mut child = state.spawn();
             child.comp = (i as u32, total);
             child.comp_sel = selector;
-            set_flat_geometry(&mut child, axes, &polygons);
+            set_flat_geometry(&mut child, axes, &polygons, tagger);
             self.admit(&mut child, span)?;
             self.run_stmts(body, &mut child, args, out)?;
         }
@@ -265,22 +320,34 @@ impl<'p> Engine<'p> {
 
 /// Gives a shape these polygons (world coordinates) as its geometry, in a scope of the given
 /// axes fitted around them; a single polygon that fills its scope is a box.
-pub(super) fn set_flat_geometry(shape: &mut State, axes: DMat3, polygons: &[&[DVec3]]) {
+pub(super) fn set_flat_geometry(
+    shape: &mut State,
+    axes: DMat3,
+    polygons: &[&[DVec3]],
+    tagger: &Tagger,
+) {
     let mut mesh = Mesh::new();
+    let mut tags = Vec::new();
     for polygon in polygons {
         mesh.append(&Mesh::from_polygon(polygon));
+        tags.push(tagger(polygon));
     }
     shape.scope = Scope::fit(axes, mesh.positions().iter().copied());
     mesh.transform(&shape.scope.world_to_local());
-    shape.geometry = if polygons.len() == 1 && fills_box(mesh.positions(), shape.scope.size) {
-        Geometry::Box
-    } else {
-        Geometry::mesh(mesh)
-    };
+    let plain = tags.iter().all(FaceTags::is_plain);
+    shape.geometry =
+        if polygons.len() == 1 && plain && fills_box(mesh.positions(), shape.scope.size) {
+            Geometry::Box
+        } else {
+            Geometry::tagged_mesh(mesh, tags)
+        };
 }
 
 /// Polygons that become one shape, with the axes of its scope.
 pub(super) type Piece<'a> = (DMat3, Vec<&'a [DVec3]>);
+
+/// The tags a polygon of a piece carries (world coordinates).
+pub(super) type Tagger<'a> = dyn Fn(&[DVec3]) -> FaceTags + 'a;
 
 /// Where the pieces of a setback go.
 pub(super) struct SetbackOutputs<'p> {
@@ -317,16 +384,22 @@ impl Engine<'_> {
         let Some(mesh) = state.geometry.local_mesh(state.scope.size) else {
             return Ok(());
         };
-        // Faces of different tags stay apart, and each face keeps its tag.
+        // Faces of different tags stay apart, and each face keeps its tags; a face whose
+        // corners changed loses its edges' tags, which named the old edges.
         let old_tags = state.geometry.tags();
-        let classes: Vec<u32> = old_tags
-            .map(|tags| tags.iter().map(|&tag| tag as u32).collect())
-            .unwrap_or_default();
+        let classes: Vec<u32> = old_tags.map(tag_classes).unwrap_or_default();
         let (cleaned, sources) = cleanup_classes(&mesh, what, t, &classes);
         let tags = old_tags.map(|tags| {
-            let kept: Vec<FaceTag> = sources
+            let kept: Vec<FaceTags> = sources
                 .iter()
-                .map(|&f| tags.get(f).copied().unwrap_or(FaceTag::None))
+                .enumerate()
+                .map(|(i, &f)| {
+                    let mut kept = tags.get(f).cloned().unwrap_or_default();
+                    if f >= mesh.face_count() || cleaned.face(i).len() != mesh.face(f).len() {
+                        kept.edges = None;
+                    }
+                    kept
+                })
                 .collect();
             Arc::from(kept)
         });
@@ -377,11 +450,14 @@ impl Engine<'_> {
                     .map(|p| points.iter().position(|q| q == p).map(|k| face[k]))
                     .collect();
                 faces.push(piece.unwrap_or_else(|| face.to_vec()));
-                kept_tags.push(
-                    tags.and_then(|t| t.get(f))
-                        .copied()
-                        .unwrap_or(FaceTag::None),
-                );
+                // Edge tags do not follow: the pieces' edges are not the face's.
+                let kept = tags
+                    .and_then(|t| t.get(f))
+                    .map_or_else(FaceTags::default, |t| FaceTags {
+                        edges: None,
+                        ..t.clone()
+                    });
+                kept_tags.push(kept);
             }
         }
         if faces.len() == mesh.face_count() {
@@ -422,10 +498,25 @@ pub(super) fn reverse_normals(state: &mut State, span: Span) -> Fallible<()> {
     no_solid(state, "reverseNormals", span)?;
     if let Some(mut mesh) = state.geometry.local_mesh(state.scope.size) {
         mesh.flip();
-        let tags = state.geometry.tags().map(Arc::from);
+        let tags = state.geometry.tags().map(|tags| {
+            tags.iter()
+                .enumerate()
+                .map(|(f, t)| t.reversed(mesh.face(f).len()))
+                .collect()
+        });
         state.geometry = Geometry::Mesh(Arc::new(mesh), tags);
     }
     Ok(())
+}
+
+/// What face `f` of a shape's geometry carries.
+pub(super) fn face_tags(state: &State, f: usize) -> FaceTags {
+    state
+        .geometry
+        .tags()
+        .and_then(|t| t.get(f))
+        .cloned()
+        .unwrap_or_default()
 }
 
 /// The faces of a flat shape in world coordinates, for the operations that build on polygons
@@ -458,4 +549,18 @@ pub(super) fn grown_axes(scope: &Scope, up: DVec3) -> DMat3 {
         .try_normalize()
         .unwrap_or_else(|| up.any_orthonormal_vector());
     DMat3::from_cols(x, up, x.cross(up))
+}
+
+/// A class number per face, the same for faces of equal tags: what cleanup keeps apart.
+fn tag_classes(tags: &[FaceTags]) -> Vec<u32> {
+    let mut distinct: Vec<&FaceTags> = Vec::new();
+    tags.iter()
+        .map(|face| {
+            let class = distinct.iter().position(|d| *d == face).unwrap_or_else(|| {
+                distinct.push(face);
+                distinct.len() - 1
+            });
+            class as u32
+        })
+        .collect()
 }

@@ -17,6 +17,7 @@ use crate::ops::{InsertFit, Placement, Primitive};
 use crate::program::CExpr;
 use crate::rng::child_seed;
 use crate::shape::{Geometry, State, box_mesh};
+use crate::tags::FaceTags;
 use crate::texturing::{ProjectionFrame, UvMap};
 use crate::value::Value;
 
@@ -34,6 +35,7 @@ pub trait AssetLoader: Send + Sync {
             mesh: self.load(path)?,
             proportional: false,
             look: None,
+            groups: None,
         })
     }
 
@@ -114,6 +116,9 @@ pub struct Asset {
     pub proportional: bool,
     /// Its materials and uvs, when it has any (see [`AssetLook::from_parts`]).
     pub look: Option<Arc<AssetLook>>,
+    /// The group (an OBJ `g`/`o` group, a glTF node) of each face, when the asset has groups
+    /// (see [`crate::tags::face_groups`]), for `comp(g)` and `geometry.groups`.
+    pub groups: Option<Arc<[Arc<str>]>>,
 }
 
 impl Engine<'_> {
@@ -145,6 +150,18 @@ impl Engine<'_> {
         place(state, &asset, placement.fit);
         if asset.look.is_some() {
             wear(state, asset.look.as_ref(), placed(state, &asset.mesh) * up);
+        }
+        if let (true, Some(groups), Geometry::Mesh(mesh, _)) =
+            (self.program.tagged, &asset.groups, &state.geometry)
+        {
+            // The faces are the asset's, in its order: each wears its group.
+            let tags = (0..mesh.face_count())
+                .map(|f| FaceTags {
+                    group: groups.get(f).cloned(),
+                    ..FaceTags::default()
+                })
+                .collect();
+            state.geometry = Geometry::tagged_mesh((**mesh).clone(), tags);
         }
         trim(state);
         Ok(())
@@ -261,6 +278,7 @@ impl Engine<'_> {
                 mesh: Arc::new(mesh),
                 proportional: false,
                 look: (path == "builtin:cube").then(|| Arc::clone(cube_look())),
+                groups: None,
             });
         }
         let Some(loader) = &self.options.assets else {
@@ -366,11 +384,16 @@ pub(super) fn trim(state: &mut State) {
     };
     let reach = state.scope.size.abs().max_element();
     if let Some(mut cut) = state.trim.cut(&world, reach) {
+        // What is left of a face keeps its tags (inserts drop them anyway).
+        let tags = state
+            .geometry
+            .tags()
+            .and_then(|tags| crate::tags::carry(&world, tags, &cut));
         state.geometry = if cut.is_empty() {
             Geometry::Empty
         } else {
             cut.transform(&state.scope.world_to_local());
-            Geometry::mesh(cut)
+            Geometry::Mesh(Arc::new(cut), tags)
         };
     }
 }

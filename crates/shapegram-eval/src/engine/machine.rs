@@ -702,6 +702,10 @@ impl<'p> Engine<'p> {
             }
             Op::Snap { axes, tag } => self.snap(state, *axes, tag.as_ref(), args)?,
             Op::Label(name) => self.label(state, name, args)?,
+            Op::Tag { name, target } => self.tag(state, name, *target, args)?,
+            Op::DeleteTags { query, target } => {
+                self.delete_tags(state, query.as_ref(), *target, args)?;
+            }
             Op::Comp { kind, entries } => {
                 self.comp(state, *kind, entries, span, args, out)?;
                 return Ok(true);

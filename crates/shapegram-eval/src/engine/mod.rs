@@ -24,6 +24,7 @@
 
 mod attr_values;
 mod attributes;
+mod auto_tags;
 mod boolean;
 mod comp;
 mod context;
@@ -43,9 +44,12 @@ mod perimeter;
 mod pivot;
 mod reuse;
 mod roof;
+mod roof_edges;
 mod scatter;
 mod scope;
+mod setback_tags;
 mod split;
+mod tagging;
 mod texturing;
 mod trace;
 mod transform;

@@ -18,6 +18,7 @@ use crate::error::DeriveError;
 use crate::ops::PerimeterSplit;
 use crate::program::{CExpr, CKind, CStmt};
 use crate::shape::State;
+use crate::tags::FaceTags;
 use crate::value::Value;
 
 /// A face edge of the shape: its face, its index in the face, and its ends.
@@ -116,7 +117,7 @@ impl<'p> Engine<'p> {
                 continue;
             };
             let polygons: Vec<&[DVec3]> = polygons.iter().map(Vec::as_slice).collect();
-            set_flat_geometry(&mut child, axes, &polygons);
+            set_flat_geometry(&mut child, axes, &polygons, &|_| FaceTags::default());
             self.admit(&mut child, span)?;
             self.run_stmts(body, &mut child, args, out)?;
         }

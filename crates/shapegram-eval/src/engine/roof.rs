@@ -11,12 +11,14 @@ use shapegram_geom::{
 use shapegram_syntax::Span;
 
 use super::Fallible;
-use super::footprint::{flat_faces, grown_axes};
+use super::auto_tags::{self, Facing};
+use super::footprint::{face_tags, flat_faces, grown_axes};
 use super::machine::Engine;
 use crate::error::DeriveError;
 use crate::ops::RoofKind;
 use crate::program::CExpr;
 use crate::shape::{Geometry, State};
+use crate::tags::FaceTags;
 use crate::value::Value;
 
 /// A roof's options evaluated.
@@ -46,6 +48,7 @@ impl Engine<'_> {
         let options = self.roof_options(state, kind, by_height, params, args)?;
         let world = flat_faces(state, "roof", span)?;
         let mut solid = Mesh::new();
+        let mut tags = Vec::new();
         let mut up = DVec3::ZERO;
         for f in 0..world.face_count() {
             let points: Vec<DVec3> = world.face_points(f).collect();
@@ -82,6 +85,25 @@ impl Engine<'_> {
             if up == DVec3::ZERO {
                 up = world.face_normal(f);
             }
+            if self.program.tagged {
+                let walls = match kind {
+                    RoofKind::Gable => "roof.side",
+                    _ => "roof.side.outer",
+                };
+                let source = face_tags(state, f);
+                let normal = world.face_normal(f);
+                tags.extend(auto_tags::by_facing(
+                    &built,
+                    &source,
+                    normal,
+                    "roof",
+                    |facing| match facing {
+                        Facing::Down => "roof.bottom",
+                        Facing::Upright => walls,
+                        Facing::Level | Facing::Slope => "roof.top",
+                    },
+                ));
+            }
             solid.append(&built);
         }
         let fitted = Scope::fit(
@@ -90,7 +112,7 @@ impl Engine<'_> {
         );
         solid.transform(&fitted.world_to_local());
         state.scope = fitted;
-        state.geometry = Geometry::mesh(solid);
+        state.geometry = Geometry::tagged_mesh(solid, tags);
         Ok(())
     }
 
@@ -118,9 +140,21 @@ impl Engine<'_> {
             grown_axes(&state.scope, world.face_normal(0)),
             solid.positions().iter().copied(),
         );
+        // Face 0 is the base; the others rise from its edges.
+        let tags = if self.program.tagged {
+            let source = face_tags(state, 0);
+            (0..solid.face_count())
+                .map(|f| {
+                    let tag = if f == 0 { "taper.bottom" } else { "taper.side" };
+                    FaceTags::with_names(auto_tags::renamed(&source.names, "taper", tag))
+                })
+                .collect()
+        } else {
+            Vec::new()
+        };
         solid.transform(&fitted.world_to_local());
         state.scope = fitted;
-        state.geometry = Geometry::mesh(solid);
+        state.geometry = Geometry::tagged_mesh(solid, tags);
         Ok(())
     }
 

@@ -5,6 +5,8 @@
 mod layout;
 mod uv;
 
+use std::sync::Arc;
+
 use shapegram_geom::{DAffine3, DVec3, Scope, split::split_slabs};
 use shapegram_syntax::Span;
 
@@ -16,6 +18,7 @@ use crate::context::Occluder;
 use crate::ops::{SplitBlock, SplitJoints};
 use crate::program::{CExpr, CStmt};
 use crate::shape::{Geometry, State};
+use crate::tags;
 use crate::value::Value;
 
 pub(super) use layout::Layout;
@@ -178,8 +181,13 @@ impl<'p> Engine<'p> {
                 if piece.is_empty() {
                     continue;
                 }
+                // Pieces keep the tags of the faces they were cut from; caps have none.
+                let tags = match &state.geometry {
+                    Geometry::Mesh(mesh, Some(tags)) => tags::carry(mesh, tags, &piece),
+                    _ => None,
+                };
                 piece.transform(&DAffine3::from_translation(-DVec3::AXES[axis] * part.start));
-                child.geometry = Geometry::mesh(piece);
+                child.geometry = Geometry::Mesh(Arc::new(piece), tags);
                 if adjust {
                     let axes = child.scope.axes;
                     refit(&mut child, axes);

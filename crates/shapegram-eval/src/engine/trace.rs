@@ -36,6 +36,7 @@ impl Trace {
 pub(super) struct Key {
     pub fingerprints: Fingerprints,
     kinematic: bool,
+    tagged: bool,
     seed: u64,
     attrs: Vec<(String, Value)>,
     start_rule: Option<String>,
@@ -51,6 +52,7 @@ impl Key {
         Self {
             fingerprints: program.fingerprints.clone(),
             kinematic: program.kinematic,
+            tagged: program.tagged,
             seed: options.seed,
             attrs: options.attrs.clone(),
             start_rule: options.start_rule.clone(),
@@ -69,6 +71,8 @@ impl Key {
             Some("the grammar's attributes, constants, functions or list of rules changed")
         } else if self.kinematic != new.kinematic {
             Some("the grammar started or stopped using kinematic operations")
+        } else if self.tagged != new.tagged {
+            Some("the grammar started or stopped using component tags")
         } else if self.lots != new.lots {
             Some("the lots changed")
         } else if (

@@ -36,6 +36,7 @@ impl Evaluator<'_> {
             }
             Builtin::Text(t) => return self.text(t, params, shape, args, span),
             Builtin::Uv(q) => return self.uv_query(q, params, shape, args),
+            Builtin::Tags(f) => return self.tag_function(f, params, shape, args),
             Builtin::Array(f) => {
                 let values = params
                     .iter()
@@ -218,7 +219,8 @@ impl Evaluator<'_> {
             | Builtin::Text(_)
             | Builtin::Array(_)
             | Builtin::Color(_)
-            | Builtin::Uv(_) => unreachable!("handled above"),
+            | Builtin::Uv(_)
+            | Builtin::Tags(_) => unreachable!("handled above"),
         };
         if !value.is_finite() {
             return Err(DeriveError::at(

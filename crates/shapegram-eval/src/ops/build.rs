@@ -164,7 +164,9 @@ impl Ctx<'_, '_> {
                 }
             }
             "snap" | "Snap" => self.snap()?,
-            "label" | "tag" => {
+            "tag" => self.tagging(false)?,
+            "deleteTags" => self.tagging(true)?,
+            "label" => {
                 self.arity(1, 1)?;
                 Op::Label(self.args.pop()?)
             }

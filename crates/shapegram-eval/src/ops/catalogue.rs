@@ -26,6 +26,7 @@ pub(super) const UNSUPPORTED: &[&str] = &[
     "extrudeFaces",
     "stack",
     "ladder",
+    "setTagsFromEdgeAttrs",
 ];
 
 /// The operations [`compile`] builds, besides the visual-only and unsupported ones.
@@ -89,6 +90,7 @@ pub(super) const IMPLEMENTED: &[&str] = &[
     "roofRidge",
     "label",
     "tag",
+    "deleteTags",
     "snap",
     "Snap",
     "implicit",
@@ -171,7 +173,7 @@ const SIGNATURES: &[(&str, &str)] = &[
         "splitAndSetbackPerimeter",
         "splitAndSetbackPerimeter(offset [, firstEdge, edgeMask[]]) { length : depth : … | … }[*] { remainder : … }",
     ),
-    ("comp", "comp(f | e | fe | v) { … }"),
+    ("comp", "comp(f | e | fe | v | fv | h) { … }"),
     ("color", "color(\"#rrggbb\") | color(r, g, b)"),
     ("set", "set(attribute, value)"),
     ("report", "report(key, value)"),
@@ -222,7 +224,11 @@ const SIGNATURES: &[(&str, &str)] = &[
     ),
     ("roofRidge", "roofRidge([byAngle | byHeight,] value)"),
     ("label", "label(\"name\")"),
-    ("tag", "label(\"name\")"),
+    ("tag", "tag(name [, auto | faces | edges | vertices])"),
+    (
+        "deleteTags",
+        "deleteTags([tagQuery [, all | faces | edges | vertices]])",
+    ),
     ("snap", "snap(x | y | z | xy | … [, \"tag\"])"),
     ("Snap", "snap(x | y | z | xy | … [, \"tag\"])"),
     (
@@ -347,7 +353,6 @@ mod tests {
             let signature = signature(name).unwrap_or_else(|| panic!("no signature for {name}"));
             let shown = match *name {
                 "insert" => "i",
-                "tag" => "label",
                 "Snap" => "snap",
                 "offsetUV" => "translateUV",
                 other => other,

@@ -423,12 +423,20 @@ impl Ctx<'_, '_> {
             Some("e") => CompKind::Edges,
             Some("fe") => CompKind::FaceEdges,
             Some("v") => CompKind::Vertices,
+            Some("fv") => CompKind::FaceVertices,
+            Some("h") => CompKind::Holes,
+            Some("m") => CompKind::Materials,
+            Some("g") => {
+                // The groups are recorded at the insert only for grammars that ask for them.
+                self.c.tagged = true;
+                CompKind::Groups
+            }
             Some(other) => {
                 let other = other.to_owned();
                 self.warn_once(format!("`comp({other})` is not supported yet: skipped"));
                 return Some(Op::Ignored);
             }
-            None => return self.bad_selector(0, "`f`, `e`, `fe` or `v`"),
+            None => return self.bad_selector(0, "`f`, `e`, `fe`, `v`, `fv`, `m`, `g` or `h`"),
         };
         let Some(block) = &self.call.block else {
             self.error("`comp` needs a `{ selector : … }` block".into());
@@ -443,7 +451,7 @@ impl Ctx<'_, '_> {
                     body,
                     span,
                 } => {
-                    let selector = comp_selector(self.c, key, *span);
+                    let selector = comp_selector(self.c, key, self.params, *span);
                     entries.push(CompEntry {
                         selector,
                         merge: *merge,

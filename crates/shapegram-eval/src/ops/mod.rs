@@ -6,6 +6,7 @@
 mod build;
 mod catalogue;
 mod forms;
+mod tagging;
 
 use shapegram_geom::{Color, FaceClass};
 use shapegram_syntax::{
@@ -92,8 +93,18 @@ pub(crate) enum Op {
         axes: [bool; 3],
         tag: Option<CExpr>,
     },
-    /// `label("name")` (or `tag("name")`): names the shape for occlusion queries.
+    /// `label("name")`: names the shape for occlusion queries.
     Label(CExpr),
+    /// `tag(name [, components])`: tags the geometry's faces (`auto`, `faces`) or edges.
+    Tag {
+        name: CExpr,
+        target: crate::tags::TagTarget,
+    },
+    /// `deleteTags([query [, components]])`: removes the tags the query matches.
+    DeleteTags {
+        query: Option<CExpr>,
+        target: crate::tags::TagTarget,
+    },
     Comp {
         kind: CompKind,
         entries: Vec<CompEntry>,
@@ -511,6 +522,14 @@ pub(crate) enum CompKind {
     /// The edges of each face, shared ones once per face.
     FaceEdges,
     Vertices,
+    /// The corners of each face, shared ones once per face.
+    FaceVertices,
+    /// The holes of the faces: Shapegram's faces have none.
+    Holes,
+    /// The faces by the material they wear (an inserted asset's).
+    Materials,
+    /// The faces by the group of the inserted asset they belong to.
+    Groups,
 }
 
 /// Which part of an offset polygon to keep.
