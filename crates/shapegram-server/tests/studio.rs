@@ -768,7 +768,7 @@ async fn the_vocabulary_is_the_engines() {
         .filter(|w| w["signature"].is_string())
         .count();
     assert_eq!(signed, implemented);
-    assert_eq!(implemented, 84);
+    assert_eq!(implemented, 85);
     // A foreign page cannot read it either.
     let (status, _) = studio
         .send("GET", "/api/vocabulary", "evil.example:7370", None, None)

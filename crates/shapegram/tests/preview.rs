@@ -232,13 +232,15 @@ fn a_memory_bomb_is_stopped_by_the_memory_limit_while_the_server_answers() {
 #[test]
 fn a_slow_grammar_is_killed_at_the_deadline_and_busy_workers_answer_503() {
     let dir = TempDir::new("preview-time");
+    // Memory to spare: the limit is of address space, which the binary itself takes a good
+    // part of (93 MiB in a debug build), and this test is about time.
     let server = start(
         &dir,
         &[
             "--preview-timeout",
             "2",
             "--preview-memory",
-            "128",
+            "512",
             "--preview-steps",
             "1000",
             "--preview-workers",
