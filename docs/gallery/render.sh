@@ -26,7 +26,7 @@ model() { # example -> the GLB its kind's command writes
 }
 
 for file in examples/*.cga examples/*.mul examples/*.sgl examples/*.lsys examples/*.cave \
-  examples/*.grammar; do
+  examples/*.grammar examples/*.rpk; do
   # The word-only L-systems (algae, signal, parametric) draw nothing: their pictures are words.
   case $(basename "$file") in algae.lsys | signal.lsys | parametric.lsys) continue ;; esac
   name=$(basename "$file")

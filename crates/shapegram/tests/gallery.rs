@@ -7,10 +7,10 @@ fn root() -> &'static Path {
     Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/../.."))
 }
 
-/// The grammar files at the top of `examples/` (the goal grammars live in folders of their own,
+/// The grammar files and rule packages at the top of `examples/` (the goal grammars live in folders of their own,
 /// with their pictures in docs/goals.md; projects have their compiled `.grammar` beside them).
 fn examples() -> Vec<String> {
-    let kinds = ["cga", "mul", "sgl", "lsys", "cave", "grammar"];
+    let kinds = ["cga", "mul", "sgl", "lsys", "cave", "grammar", "rpk"];
     let mut names: Vec<String> = std::fs::read_dir(root().join("examples"))
         .unwrap()
         .map(|entry| entry.unwrap().file_name().into_string().unwrap())
@@ -42,7 +42,7 @@ fn every_picture_of_the_gallery_exists_and_shows_an_example() {
         .skip(1)
         .map(|rest| &rest[..rest.find(')').unwrap()])
         .collect();
-    assert_eq!(pictures.len(), 36, "pictures in docs/examples.md");
+    assert_eq!(pictures.len(), 38, "pictures in docs/examples.md");
     for picture in pictures {
         let path = root().join("docs/images/examples").join(picture);
         assert!(
