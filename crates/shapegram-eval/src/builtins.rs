@@ -87,6 +87,8 @@ pub(crate) enum Builtin {
     EdgeAttrString,
     EdgeAttrBool,
     IsOriented,
+    /// `geometry.isInstanced()`: whether the geometry is still the asset `i()` inserted.
+    IsInstanced,
     /// `geometry.area(selector)`; without arguments `geometry.area` is a [`Query`].
     AreaOf,
     GetMaterial,
@@ -167,12 +169,13 @@ impl Builtin {
         "edgeAttr.getString",
         "edgeAttr.getBool",
         "geometry.isOriented",
+        "geometry.isInstanced",
         "geometry.area",
         "getMaterial",
         "readMaterial",
     ];
 
-    const ALL: [Builtin; 64] = [
+    const ALL: [Builtin; 65] = [
         Self::Rand,
         Self::P,
         Self::Floor,
@@ -234,6 +237,7 @@ impl Builtin {
         Self::EdgeAttrString,
         Self::EdgeAttrBool,
         Self::IsOriented,
+        Self::IsInstanced,
         Self::AreaOf,
         Self::GetMaterial,
         Self::ReadMaterial,
@@ -283,6 +287,7 @@ impl Builtin {
             Self::Inside | Self::Overlaps | Self::Touches => (0, 2),
             Self::Occ => (0, 1),
             Self::IsConcave
+            | Self::IsInstanced
             | Self::IsClosedSurface
             | Self::EdgeCount
             | Self::BoundaryLength
@@ -346,6 +351,7 @@ impl Builtin {
             Self::EdgeAttrString => "edgeAttr.getString(attributeName)",
             Self::EdgeAttrBool => "edgeAttr.getBool(attributeName)",
             Self::IsOriented => "geometry.isOriented(orientation)",
+            Self::IsInstanced => "geometry.isInstanced()",
             Self::AreaOf => "geometry.area() | geometry.area(faceOrientation)",
             Self::GetMaterial => "getMaterial(used | shape | geometry, changed | all)",
             Self::ReadMaterial => "readMaterial(filePath)",
@@ -410,7 +416,6 @@ impl Builtin {
             "edgeAttr",
             "infoDebug",
             "trim",
-            "geometry.isInstanced",
         ];
         // A name that is implemented is never "not supported", whatever the list says.
         NAMES.contains(&name) && Self::from_name(name).is_none()

@@ -1,7 +1,7 @@
 //! Shapes during derivation: scope, geometry, attributes and the rest of a shape's state.
 
 use std::rc::Rc;
-use std::sync::Arc;
+use std::sync::{Arc, Weak};
 
 use shapegram_geom::{Color, DAffine3, DVec3, Mesh, Scope, primitives};
 use shapegram_implicit::{MeshOptions, Solid};
@@ -252,6 +252,10 @@ pub struct State {
     pub trim: Trim,
     /// Goal grammars: the shape's goals, tags and named attributes (`None` otherwise).
     pub semantics: Option<Arc<Semantics>>,
+    /// The mesh `i()` inserted, while the shape may still hold it (`geometry.isInstanced`):
+    /// a weak pointer, so that it keeps no cut-up asset alive, and no other mesh can take its
+    /// address while it is compared.
+    pub instance: Option<Weak<Mesh>>,
 }
 
 impl FrozenState {
@@ -288,6 +292,7 @@ impl FrozenState {
             section: self.section,
             trim: self.trim,
             semantics: self.semantics,
+            instance: self.instance,
         }
     }
 }
@@ -320,6 +325,7 @@ pub struct FrozenState {
     section: u32,
     trim: Trim,
     semantics: Option<Arc<Semantics>>,
+    instance: Option<Weak<Mesh>>,
 }
 
 impl State {
@@ -347,6 +353,7 @@ impl State {
             section: 0,
             trim: Trim::default(),
             semantics: None,
+            instance: None,
         }
     }
 
@@ -391,6 +398,7 @@ impl State {
             section: self.section,
             trim: self.trim.clone(),
             semantics: self.semantics.take(),
+            instance: self.instance.take(),
         }
     }
 
@@ -418,6 +426,7 @@ impl State {
             section: self.section,
             trim: self.trim,
             semantics: self.semantics,
+            instance: self.instance,
         }
     }
 
@@ -439,6 +448,15 @@ impl State {
         self.rng = Rng::new(seed);
         self.children = 0;
         self.depth = depth;
+    }
+
+    /// Whether the geometry is the very mesh `i()` inserted: no operation has cut, trimmed or
+    /// rebuilt it since (each makes a new mesh).
+    pub fn is_instanced(&self) -> bool {
+        match (&self.geometry, &self.instance) {
+            (Geometry::Mesh(mesh, _), Some(inserted)) => inserted.as_ptr() == Arc::as_ptr(mesh),
+            _ => false,
+        }
     }
 
     /// Replaces the scope while keeping the geometry where it is in world space.

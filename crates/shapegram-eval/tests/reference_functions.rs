@@ -353,19 +353,37 @@ fn read_material_reads_an_mtl_files_first_material() {
     );
 }
 
+/// Assets holding one mesh, `box.obj` (a unit cube).
+struct OneBox;
+
+impl AssetLoader for OneBox {
+    fn load(&self, path: &str) -> Result<Arc<shapegram_geom::Mesh>, String> {
+        match path {
+            "box.obj" => Ok(Arc::new(shapegram_geom::primitives::cuboid(
+                shapegram_geom::DVec3::ONE,
+            ))),
+            other => Err(format!("no mesh `{other}`")),
+        }
+    }
+}
+
 #[test]
-fn is_instanced_is_not_supported_yet_a_warning_and_an_error_when_reached() {
-    // Whether an inserted asset is still untouched is not tracked: the call parses, warns at
-    // check, and stops the derivation where it is evaluated.
-    let grammar = "Lot --> case geometry.isInstanced() : X. else : Y.";
-    let diagnostics = compile_errors(grammar);
-    assert_eq!(diagnostics.len(), 1, "{diagnostics:?}");
-    assert!(
-        diagnostics[0].starts_with("warning: function `geometry.isInstanced` is not supported yet"),
-        "{}",
-        diagnostics[0]
+fn an_inserted_asset_is_an_instance_until_an_operation_changes_its_geometry() {
+    let options = DeriveOptions {
+        assets: Some(Arc::new(OneBox)),
+        ..DeriveOptions::default()
+    };
+    let grammar = "Lot --> s(2, 2, 2) print(geometry.isInstanced()) i(\"box.obj\") \
+                   print(geometry.isInstanced()) t(1, 0, 0) r(0, 30, 0) \
+                   print(geometry.isInstanced()) Kept Cut Faces\n\
+                   Kept --> print(geometry.isInstanced()) X.\n\
+                   Cut --> split(x) { 1 : print(geometry.isInstanced()) X. }\n\
+                   Faces --> comp(f) { top : print(geometry.isInstanced()) X. }\n";
+    let d = shapegram_eval::derive(&common::compile(grammar), &[lot(4.0, 4.0)], &options).unwrap();
+    // Before the insert, after it, moved and turned, in a successor, then cut by a split and
+    // by a comp.
+    assert_eq!(
+        d.prints,
+        ["false", "true", "true", "true", "false", "false"]
     );
-    let (message, at) = failure(grammar);
-    assert_eq!(message, "`geometry.isInstanced` is not supported yet");
-    assert_eq!(at, "geometry.isInstanced()");
 }

@@ -221,11 +221,10 @@ fn file_functions_without_files() {
 
 #[test]
 fn reference_functions_not_supported_yet_warn_at_check_and_stop_when_reached() {
-    let diagnostics =
-        compile_errors("Lot --> case false : print(geometry.isInstanced()) X. else : Y.");
+    let diagnostics = compile_errors("Lot --> case false : print(isInside()) X. else : Y.");
     assert_eq!(diagnostics.len(), 1, "{diagnostics:?}");
     assert!(
-        diagnostics[0].starts_with("warning: function `geometry.isInstanced` is not supported yet"),
+        diagnostics[0].starts_with("warning: function `isInside` is not supported yet"),
         "{}",
         diagnostics[0]
     );

@@ -163,6 +163,12 @@ impl Engine<'_> {
                 .collect();
             state.geometry = Geometry::tagged_mesh((**mesh).clone(), tags);
         }
+        // Recorded before the trim, which makes a new mesh when it cuts (then the shape is no
+        // instance any more, as in CityEngine).
+        state.instance = match &state.geometry {
+            Geometry::Mesh(mesh, _) => Some(Arc::downgrade(mesh)),
+            _ => None,
+        };
         trim(state);
         Ok(())
     }

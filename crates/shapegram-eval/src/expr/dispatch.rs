@@ -53,6 +53,7 @@ impl Evaluator<'_> {
             }
             Builtin::GetMaterial => return self.material_table(params, shape, args),
             Builtin::ReadMaterial => return self.read_material(&params[0], shape, args),
+            Builtin::IsInstanced => return Ok(Value::Bool(shape.is_instanced())),
             Builtin::IsOriented | Builtin::AreaOf => {
                 return self.oriented(b, &params[0], shape, args);
             }
@@ -213,6 +214,7 @@ impl Evaluator<'_> {
             | Builtin::EdgeAttrString
             | Builtin::EdgeAttrBool
             | Builtin::IsOriented
+            | Builtin::IsInstanced
             | Builtin::AreaOf
             | Builtin::GetMaterial
             | Builtin::ReadMaterial
