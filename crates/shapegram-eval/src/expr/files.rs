@@ -32,15 +32,7 @@ impl<'p> Evaluator<'p> {
         shape: &mut State,
         args: &[Value],
     ) -> Result<Value> {
-        let text = match self.eval(query, shape, args)? {
-            Value::Str(s) => s,
-            other => {
-                return Err(DeriveError::at(
-                    format!("expected a search query, found a {}", other.type_name()),
-                    query.span,
-                ));
-            }
-        };
+        let text = self.string_as("a search query", query, shape, args)?;
         let assets = self.loader(&format!("search for `{text}`"), query.span)?;
         let found = assets
             .search(&text)
@@ -69,15 +61,7 @@ impl<'p> Evaluator<'p> {
         shape: &mut State,
         args: &[Value],
     ) -> Result<Value> {
-        let name = match self.eval(path, shape, args)? {
-            Value::Str(s) => s,
-            other => {
-                return Err(DeriveError::at(
-                    format!("expected a file path, found a {}", other.type_name()),
-                    path.span,
-                ));
-            }
-        };
+        let name = self.string_as("a file path", path, shape, args)?;
         let assets = self.loader(&format!("read `{name}`"), path.span)?;
         let text = assets
             .text(&name)

@@ -315,10 +315,21 @@ impl<'p> Evaluator<'p> {
 
     /// Evaluates to a string, or fails with the expression's span.
     pub fn string(&mut self, e: &CExpr, shape: &mut State, args: &[Value]) -> Result<Arc<str>> {
+        self.string_as("a string", e, shape, args)
+    }
+
+    /// A string argument that means `what` ("a file path"), which a wrong type's error names.
+    pub(super) fn string_as(
+        &mut self,
+        what: &str,
+        e: &CExpr,
+        shape: &mut State,
+        args: &[Value],
+    ) -> Result<Arc<str>> {
         match self.eval(e, shape, args)? {
             Value::Str(s) => Ok(s),
             other => Err(DeriveError::at(
-                format!("expected a string, found a {}", other.type_name()),
+                format!("expected {what}, found a {}", other.type_name()),
                 e.span,
             )),
         }
