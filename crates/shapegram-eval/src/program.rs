@@ -49,6 +49,8 @@ pub struct Program {
     /// …): only then do operations tag what they make, so grammars without tags keep their
     /// boxes and their output.
     pub(crate) tagged: bool,
+    /// Whether the grammar asks for `getTreeKey`: only then do shapes keep their key.
+    pub(crate) tree_keys: bool,
     /// The named poses of `@Pose` annotations, in order of first appearance.
     named_poses: Vec<(String, Vec<(String, Value)>)>,
     /// What tells an edited rule from an unchanged one when deriving again.
@@ -333,6 +335,8 @@ pub(crate) struct Compiler<'g> {
     pub(crate) derives_now: bool,
     /// Whether something that reads or writes component tags was compiled.
     pub(crate) tagged: bool,
+    /// Whether `getTreeKey` was compiled.
+    pub(crate) tree_keys: bool,
     /// Compiling goal grammars: the library's names and what its checks need.
     pub(crate) goal: Option<Box<GoalScope>>,
     /// With imports: the file of each declaration, and of each diagnostic so far.
@@ -356,6 +360,7 @@ impl<'g> Compiler<'g> {
             kinematic: false,
             derives_now: false,
             tagged: false,
+            tree_keys: false,
             goal: None,
             origins: None,
             diagnostic_files: Vec::new(),
@@ -513,6 +518,7 @@ impl<'g> Compiler<'g> {
             kinematic: self.kinematic,
             derives_now: self.derives_now,
             tagged: self.tagged,
+            tree_keys: self.tree_keys,
             named_poses,
             fingerprints: Fingerprints::of(grammar),
             goals: None,
@@ -551,6 +557,7 @@ impl<'g> Compiler<'g> {
             kinematic: self.kinematic,
             derives_now: self.derives_now,
             tagged: self.tagged,
+            tree_keys: self.tree_keys,
             named_poses: Vec::new(),
             fingerprints: Fingerprints::default(),
             goals: Some(Box::new(goals)),
@@ -862,7 +869,7 @@ impl<'g> Compiler<'g> {
             return CKind::Const(i);
         }
         if let Some(q) = Query::from_name(name) {
-            return CKind::Query(q);
+            return self.query(q);
         }
         // `geometry.isConcave` and the other shape questions without arguments may be written
         // without parentheses, as the queries are.
@@ -960,7 +967,7 @@ impl<'g> Compiler<'g> {
         if args.is_empty() {
             // CGA writes some queries as calls: `geometry.area()`.
             if let Some(q) = Query::from_name(&name.name) {
-                return CKind::Query(q);
+                return self.query(q);
             }
         }
         // Occlusion queries take bare target words (`inside(intra)`), uv queries a space
@@ -1052,6 +1059,12 @@ impl<'g> Compiler<'g> {
             || self.attr_by_name.contains_key(name)
             || self.const_by_name.contains_key(name)
             || self.function_by_name.contains_key(name)
+    }
+
+    /// A query of the shape, noting what the derivation must keep for it.
+    fn query(&mut self, q: Query) -> CKind {
+        self.tree_keys |= q == Query::TreeKey;
+        CKind::Query(q)
     }
 
     /// Attribute names, for hints.

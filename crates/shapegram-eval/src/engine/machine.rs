@@ -576,12 +576,14 @@ impl<'p> Engine<'p> {
         out: &mut Vec<Work>,
     ) -> Fallible<()> {
         state.symbol = symbol;
-        state.tree_key = state
-            .tree_key
-            .iter()
-            .copied()
-            .chain([self.successors])
-            .collect();
+        if self.program.tree_keys {
+            state.tree_key = state
+                .tree_key
+                .iter()
+                .copied()
+                .chain([self.successors])
+                .collect();
+        }
         self.successors += 1;
         self.admit(state, span)?;
         match rule {

@@ -37,6 +37,7 @@ pub(super) struct Key {
     pub fingerprints: Fingerprints,
     kinematic: bool,
     tagged: bool,
+    tree_keys: bool,
     seed: u64,
     attrs: Vec<(String, Value)>,
     start_rule: Option<String>,
@@ -53,6 +54,7 @@ impl Key {
             fingerprints: program.fingerprints.clone(),
             kinematic: program.kinematic,
             tagged: program.tagged,
+            tree_keys: program.tree_keys,
             seed: options.seed,
             attrs: options.attrs.clone(),
             start_rule: options.start_rule.clone(),
@@ -73,6 +75,8 @@ impl Key {
             Some("the grammar started or stopped using kinematic operations")
         } else if self.tagged != new.tagged {
             Some("the grammar started or stopped using component tags")
+        } else if self.tree_keys != new.tree_keys {
+            Some("the grammar started or stopped asking for getTreeKey")
         } else if self.lots != new.lots {
             Some("the lots changed")
         } else if (
