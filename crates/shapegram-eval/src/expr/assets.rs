@@ -261,19 +261,6 @@ impl Evaluator<'_> {
         Ok(Value::Number(v[usize::from(axis)]))
     }
 
-    /// The files a search query finds, as `fileSearch` has them.
-    fn searched(
-        &mut self,
-        query: &CExpr,
-        shape: &mut State,
-        args: &[Value],
-    ) -> Result<Vec<Arc<str>>> {
-        let text = self.string(query, shape, args)?;
-        self.loader(&format!("search for `{text}`"), query.span)?
-            .search(&text)
-            .map_err(|why| DeriveError::at(why, query.span))
-    }
-
     /// A string list (`"a.obj;b.obj;"`) or an array of strings.
     fn file_list(&mut self, e: &CExpr, shape: &mut State, args: &[Value]) -> Result<FileList> {
         match self.eval(e, shape, args)? {

@@ -1,5 +1,7 @@
 //! Reading the derivation's files: tables, text files and file searches.
 
+use std::sync::Arc;
+
 use shapegram_syntax::Span;
 
 use super::{Evaluator, Result};
@@ -32,11 +34,7 @@ impl<'p> Evaluator<'p> {
         shape: &mut State,
         args: &[Value],
     ) -> Result<Value> {
-        let text = self.string_as("a search query", query, shape, args)?;
-        let assets = self.loader(&format!("search for `{text}`"), query.span)?;
-        let found = assets
-            .search(&text)
-            .map_err(|why| DeriveError::at(why, query.span))?;
+        let found = self.searched(query, shape, args)?;
         Ok(match b {
             Builtin::FileSearch => {
                 Value::string(&found.iter().map(|f| format!("{f};")).collect::<String>())
@@ -50,6 +48,19 @@ impl<'p> Evaluator<'p> {
                 }
             },
         })
+    }
+
+    /// The files a search query finds, sorted, as `fileSearch` has them.
+    pub(super) fn searched(
+        &mut self,
+        query: &CExpr,
+        shape: &mut State,
+        args: &[Value],
+    ) -> Result<Vec<Arc<str>>> {
+        let text = self.string_as("a search query", query, shape, args)?;
+        self.loader(&format!("search for `{text}`"), query.span)?
+            .search(&text)
+            .map_err(|why| DeriveError::at(why, query.span))
     }
 
     /// `readStringTable(path)` and `readFloatTable(path)`: the file's table, read through the
