@@ -71,12 +71,33 @@ fn comp_function_entries_may_use_the_grouping_form() {
 
 #[test]
 fn skipped_operations_keep_their_selector_words() {
-    let diagnostics = compile_errors("Lot --> innerCircle(scope) X.");
+    let diagnostics = compile_errors("Lot --> reduceGeometry(scope) X.");
     assert_eq!(diagnostics.len(), 1, "{diagnostics:?}");
     assert!(
-        diagnostics[0].starts_with("warning: operation `innerCircle` is not supported yet"),
+        diagnostics[0].starts_with("warning: operation `reduceGeometry` is not supported yet"),
         "{}",
         diagnostics[0]
+    );
+}
+
+#[test]
+fn names_that_are_no_cityengine_operation_are_rule_calls() {
+    // `innerCircle` and `bevel` appear in no CityEngine operation listing.
+    let diagnostics = compile_errors("Lot --> innerCircle(2) X.");
+    assert_eq!(diagnostics.len(), 1, "{diagnostics:?}");
+    assert!(
+        diagnostics[0].starts_with("warning: no rule `innerCircle`"),
+        "{}",
+        diagnostics[0]
+    );
+    let d = run(
+        "Lot --> bevel(2)\nbevel(n) --> s(n, '1, '1) Done.",
+        lot(20.0, 30.0),
+    );
+    assert_eq!(d.leaves.len(), 1);
+    assert_eq!(
+        (&*d.leaves[0].name, d.leaves[0].scope.size.x),
+        ("Done", 2.0)
     );
 }
 

@@ -12,20 +12,10 @@ pub(super) const VISUAL_ONLY: &[&str] = &[
 
 /// CGA operations that are recognised but not implemented yet.
 pub(super) const UNSUPPORTED: &[&str] = &[
-    "innerCircle",
     "rectify",
-    "simplify",
     "modify",
     "insertAlongUV",
-    "generalize",
     "reduceGeometry",
-    "fill",
-    "primitiveTorus",
-    "dissolve",
-    "bevel",
-    "extrudeFaces",
-    "stack",
-    "ladder",
     "setTagsFromEdgeAttrs",
 ];
 
