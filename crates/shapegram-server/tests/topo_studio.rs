@@ -478,3 +478,38 @@ async fn bad_requests_get_reasons_and_other_sites_are_refused() {
     // Nothing was saved: the file is as blank as it was.
     assert_eq!(std::fs::read_to_string(&studio.project).unwrap(), "");
 }
+
+#[tokio::test]
+async fn the_editor_page_and_its_bundle_are_served() {
+    let studio = Studio::new("");
+    for (uri, kind, marker) in [
+        (
+            "/topo?path=/x.sgproj.json",
+            "text/html; charset=utf-8",
+            "/assets/topo.js",
+        ),
+        (
+            "/assets/topo.js",
+            "text/javascript; charset=utf-8",
+            "/api/topo/",
+        ),
+        ("/assets/topo.css", "text/css; charset=utf-8", "#toolbar"),
+    ] {
+        let response = studio
+            .router
+            .clone()
+            .oneshot(
+                Request::builder()
+                    .uri(uri)
+                    .header("host", "127.0.0.1:7370")
+                    .body(Body::empty())
+                    .unwrap(),
+            )
+            .await
+            .unwrap();
+        assert_eq!(response.status(), StatusCode::OK, "{uri}");
+        assert_eq!(response.headers()["content-type"], kind, "{uri}");
+        let bytes = response.into_body().collect().await.unwrap().to_bytes();
+        assert!(String::from_utf8_lossy(&bytes).contains(marker), "{uri}");
+    }
+}

@@ -78,6 +78,7 @@ impl StudioState {
 pub fn router(state: StudioState) -> Router {
     Router::new()
         .route("/", get(assets::index))
+        .route("/topo", get(assets::topo))
         .route("/assets/{name}", get(assets::asset))
         .route("/api/files", get(files::list))
         .route("/api/file", get(files::read).put(files::save))
