@@ -50,7 +50,7 @@ export class TreeView {
     const eye = document.createElement("button");
     eye.className = "eye";
     const visible = !hidden.has(tree.node);
-    eye.textContent = visible ? "👁" : "–";
+    eye.textContent = visible ? "hide" : "show";
     eye.title = visible ? "Hide" : "Show";
     eye.addEventListener("click", () => this.app.setVisible(tree.node, !visible));
     row.append(swatch, label, eye);
