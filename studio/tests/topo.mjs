@@ -1,14 +1,14 @@
 // The split grammar editor in a real browser (Debian's Chromium, headless, WebGL through
 // SwiftShader, driven by playwright-core) against a `shapegram studio` child given a blank
-// project file: the first four tasks of the Shape Grammar Editor's user test (thesis 4.1), done
+// project file: the first five tasks of the Shape Grammar Editor's user test (thesis 4.1), done
 // with pointer and keyboard events only, each ending in an exact check of the saved project and
 // printing how many user actions (clicks, drags, key presses) it took. Run by .ci/run:
 //
 //   SHAPEGRAM_BIN=target/release/shapegram STUDIO_OUTPUT=target/studio node studio/tests/topo.mjs
 //
-// The tasks build the first tier of the Mayan pyramid of the thesis's Figure 48: a `Pyramid`
-// symbol whose rule `tier` keeps a stone slab (its bottom quarter) and, above it, a centre
-// part with 10 % margins removed all round, where the next, smaller tier goes.
+// The tasks build the tiers of the Mayan pyramid of the thesis's Figure 48: a `Pyramid` symbol
+// whose rule `tier` keeps a stone slab (its bottom quarter) and, above it, a centre part with
+// 10 % margins removed all round, which becomes the next, smaller `Pyramid`.
 import { chromium } from "playwright-core";
 import { spawn } from "node:child_process";
 import { mkdirSync, mkdtempSync, readFileSync, rmSync, writeFileSync } from "node:fs";
@@ -231,6 +231,45 @@ async function multipleCuts(user) {
     "generation 1 · 2 terminals · 0 non-terminals · 24 triangles");
 }
 
+/** The anchor of sub-shape `node` as the page shows it: the edge it names, rounded. */
+async function anchorOf(page, node) {
+  const anchor = await page.evaluate((n) => window.__topo.part(n).anchor, node);
+  const round = (p) => p.map((v) => Math.round(v * 1e9) / 1e9);
+  return { face: anchor.face, corner: anchor.corner, from: round(anchor.from), to: round(anchor.to) };
+}
+
+/** Task 5, recursive rules and anchor placement. Target: the centre left by task 4 becomes a
+ * `Pyramid` again (the recursion that stacks the tiers of Figure 48), anchored as the symbol's
+ * own anchor stands: on the top face, along +z from the corner at the smallest x and z; the
+ * anchor is turned a corner and back with the keys, previewed, and three generations give
+ * three slabs under a last pyramid. */
+async function recursion(user) {
+  await user.selectShape(9);
+  await user.click("button.assign-symbol[data-symbol='0']");
+  const placed = await anchorOf(user.page, 9);
+  assert.deepEqual([placed.from, placed.to], [[0.1, 1, 0.1], [0.1, 1, 0.9]]);
+  await user.press(".");
+  const turned = await anchorOf(user.page, 9);
+  assert.equal(turned.face, placed.face, "the anchor turns round its face");
+  assert.notDeepEqual(turned.from, placed.from);
+  await user.press(",");
+  assert.deepEqual(await anchorOf(user.page, 9), placed);
+  // The preview: one generation of Pyramid's rule on the centre: a slab and a smaller centre.
+  await user.click("#preview-anchor");
+  const previewed = await user.page.evaluate(() => window.__topo.previewMesh.reduce((n, p) => n + p.positions.length / 9, 0));
+  assert.equal(previewed, 24);
+  await user.press("Control+s");
+  const tree = saved().rules[0].tree;
+  assert.deepEqual(tree.cut.above.cut.above.cut.below.cut.above.cut.below,
+    { symbol: { name: "Pyramid", anchor: [placed.face, placed.corner] } });
+  await user.click("#test-generations");
+  await user.press("Control+a");
+  await user.type("3");
+  await user.click("#test");
+  assert.equal(await user.page.locator("#test-result").textContent(),
+    "generation 3 · 3 terminals · 1 non-terminals · 48 triangles");
+}
+
 const { child, url } = await startStudio([projectFile]);
 const browser = await chromium.launch({
   executablePath: browserPath,
@@ -256,6 +295,7 @@ try {
     ["Task 2, face cut", faceCut],
     ["Task 3, testing", (user) => testing(user, saved())],
     ["Task 4, multiple cuts and volume removal", multipleCuts],
+    ["Task 5, recursive rules and anchor placement", recursion],
   ];
   for (const [name, task] of tasks) {
     const user = new User(page);
@@ -264,12 +304,13 @@ try {
     console.log(`${name}: ${user.actions} user actions`);
   }
 
-  // Undo and redo with the keyboard walk the last step (a margin's removal) back and forth.
+  // Undo and redo with the keyboard walk the steps back and forth: three undos take back the
+  // anchor's two turns and the assignment.
   const hands = new User(page);
-  await hands.press("Control+z");
-  assert.equal(await page.evaluate(() => window.__topo.part(10).kind), "terminal");
-  await hands.press("Control+y");
-  assert.equal(await page.evaluate(() => window.__topo.part(10).kind), "epsilon");
+  for (const key of ["Control+z", "Control+z", "Control+z"]) await hands.press(key);
+  assert.equal(await page.evaluate(() => window.__topo.part(9).kind), "terminal");
+  for (const key of ["Control+y", "Control+y", "Control+y"]) await hands.press(key);
+  assert.equal(await page.evaluate(() => window.__topo.part(9).kind), "symbol");
   // Dragging turns the view; the project stays as it was.
   const box = await page.locator("#canvas").boundingBox();
   const before = await page.evaluate(() => window.__topo.edit.camera.position.toArray());
