@@ -1,14 +1,16 @@
 // The split grammar editor in a real browser (Debian's Chromium, headless, WebGL through
 // SwiftShader, driven by playwright-core) against a `shapegram studio` child given a blank
-// project file: the first five tasks of the Shape Grammar Editor's user test (thesis 4.1), done
+// project file: tasks 1 to 8 of the Shape Grammar Editor's user test (thesis 4.1), done
 // with pointer and keyboard events only, each ending in an exact check of the saved project and
 // printing how many user actions (clicks, drags, key presses) it took. Run by .ci/run:
 //
 //   SHAPEGRAM_BIN=target/release/shapegram STUDIO_OUTPUT=target/studio node studio/tests/topo.mjs
 //
-// The tasks build the tiers of the Mayan pyramid of the thesis's Figure 48: a `Pyramid` symbol
-// whose rule `tier` keeps a stone slab (its bottom quarter) and, above it, a centre part with
-// 10 % margins removed all round, which becomes the next, smaller `Pyramid`.
+// The tasks build the Mayan pyramid of the thesis's Figure 48: a `Pyramid` symbol whose rule
+// `tier` keeps a stone slab (its bottom quarter) and, above it, a centre part with 10 % margins
+// removed all round, which becomes the next, smaller `Pyramid` (tasks 1-5); a `Stairs` ramp cut
+// by three points (6); `Steps` cut into four slabs (7) and all of them cut again at once (8).
+// Task 9 (the thesis's free task: the rules used together) is not scripted.
 import { chromium } from "playwright-core";
 import { spawn } from "node:child_process";
 import { mkdirSync, mkdtempSync, readFileSync, rmSync, writeFileSync } from "node:fs";
@@ -270,6 +272,89 @@ async function recursion(user) {
     "generation 3 · 3 terminals · 1 non-terminals · 48 triangles");
 }
 
+/** Client coordinates of a point on face `face` of sub-shape `node` near its corner `vertex`
+ * (most of the way there from the face's centre), where a pointer aims at a vertex. */
+async function nearCorner(page, node, face, vertex) {
+  return page.evaluate(([n, f, v]) => {
+    const corners = window.__topo.part(n).faces[f];
+    const centre = corners.reduce((a, p) => a.map((x, i) => x + p[i] / corners.length), [0, 0, 0]);
+    return window.__topo.pointScreen(centre.map((x, i) => x + 0.85 * (v[i] - x)));
+  }, [node, face, vertex]);
+}
+
+/** A new symbol (the unit cube) with a new rule, chosen for editing. */
+async function newSymbolWithRule(user, name) {
+  await user.click("#new-symbol");
+  await user.type(name);
+  await user.press("Enter");
+  await user.click("#new-rule");
+}
+
+/** Task 6, the 3-point cut. Target: the pyramid's stair ramp (Figure 48): a symbol `Stairs`
+ * whose rule cuts the box by the plane through its top back edge and its bottom front-left
+ * corner, points put on the vertices with Shift, and removes the air above the ramp. */
+async function threePointCut(user) {
+  await newSymbolWithRule(user, "Stairs");
+  await user.click("#tool-three");
+  const top = await faceTowards(user.page, 0, [0, 1, 0]);
+  const front = await faceTowards(user.page, 0, [0, 0, 1]);
+  await user.page.keyboard.down("Shift");
+  user.actions += 1;
+  for (const [face, vertex] of [[top, [0, 1, 0]], [top, [1, 1, 0]], [front, [0, 0, 1]]]) {
+    await user.point(await nearCorner(user.page, 0, face, vertex));
+    await user.rightClickAt(await nearCorner(user.page, 0, face, vertex));
+  }
+  await user.page.keyboard.up("Shift");
+  // The plane's normal by the right-hand rule over the points: (0, −1, −1)/√2, so the ramp
+  // (y + z < 1) is the part above the plane (node 2) and the air the part below (node 1).
+  await user.selectShape(1);
+  await user.press("Delete");
+  await user.press("Control+s");
+  const rule = saved().rules[1];
+  assert.equal(rule.name, "Stairs rule 1");
+  assert.equal(rule.symbol, "Stairs");
+  assert.deepEqual(rule.tree, cut(0, [0, 1, 0], [0, -0.707106781, -0.707106781], "epsilon", "terminal"));
+}
+
+/** Task 7, the multi-cut. Target: the pyramid's steps: a symbol `Steps` whose rule cuts it,
+ * from its top face, into four equal slabs (three cuts set in the tool info). */
+async function multiCut(user) {
+  await newSymbolWithRule(user, "Steps");
+  await user.click("#tool-multi");
+  await user.click("#cuts");
+  await user.press("Control+a");
+  await user.type("3");
+  await user.clickFace(0, await faceTowards(user.page, 0, [0, 1, 0]));
+  await user.press("c");
+  await user.press("Control+s");
+  assert.deepEqual(saved().rules[2].tree,
+    cut(0, [0.5, 0.75, 0.5], [0, 1, 0],
+      cut(1, [0.5, 0.5, 0.5], [0, 1, 0],
+        cut(2, [0.5, 0.25, 0.5], [0, 1, 0], "terminal", "terminal"),
+        "terminal"),
+      "terminal"));
+}
+
+/** Task 8, the face cut's global option. Target: one face cut from the top slab's front face,
+ * half way in, cuts all four slabs of `Steps` at once; the front half of the top slab is then
+ * removed, setting the top step back. */
+async function globalCut(user) {
+  await user.click("#tool-face");
+  await user.click("#global");
+  await user.faceCut(2, [0, 0, 1], 0.5);
+  await user.selectShape(14);
+  await user.press("Delete");
+  await user.press("Control+s");
+  const half = (step, front) => cut(step, [0.5, 0.875, 0.5], [0, 0, 1], "terminal", front);
+  // Leaves are cut in depth-first order: the bottom slab (5), then 6, 4 and the top slab (2).
+  assert.deepEqual(saved().rules[2].tree,
+    cut(0, [0.5, 0.75, 0.5], [0, 1, 0],
+      cut(1, [0.5, 0.5, 0.5], [0, 1, 0],
+        cut(2, [0.5, 0.25, 0.5], [0, 1, 0], half(3, "terminal"), half(4, "terminal")),
+        half(5, "terminal")),
+      half(6, "epsilon")));
+}
+
 const { child, url } = await startStudio([projectFile]);
 const browser = await chromium.launch({
   executablePath: browserPath,
@@ -296,6 +381,9 @@ try {
     ["Task 3, testing", (user) => testing(user, saved())],
     ["Task 4, multiple cuts and volume removal", multipleCuts],
     ["Task 5, recursive rules and anchor placement", recursion],
+    ["Task 6, 3-point cut", threePointCut],
+    ["Task 7, multi-cut", multiCut],
+    ["Task 8, global cut", globalCut],
   ];
   for (const [name, task] of tasks) {
     const user = new User(page);
@@ -304,13 +392,18 @@ try {
     console.log(`${name}: ${user.actions} user actions`);
   }
 
-  // Undo and redo with the keyboard walk the steps back and forth: three undos take back the
-  // anchor's two turns and the assignment.
+  // Undo and redo with the keyboard walk the steps back and forth: the removal of the top
+  // step's front half, then the global cut (all four slabs whole again), and forward.
   const hands = new User(page);
-  for (const key of ["Control+z", "Control+z", "Control+z"]) await hands.press(key);
-  assert.equal(await page.evaluate(() => window.__topo.part(9).kind), "terminal");
-  for (const key of ["Control+y", "Control+y", "Control+y"]) await hands.press(key);
-  assert.equal(await page.evaluate(() => window.__topo.part(9).kind), "symbol");
+  const leaves = () => page.evaluate(() => window.__topo.state.edit.parts.length);
+  await hands.press("Control+z");
+  assert.equal(await page.evaluate(() => window.__topo.part(14).kind), "terminal");
+  await hands.press("Control+z");
+  assert.equal(await leaves(), 4);
+  await hands.press("Control+y");
+  await hands.press("Control+y");
+  assert.equal(await leaves(), 8);
+  assert.equal(await page.evaluate(() => window.__topo.part(14).kind), "epsilon");
   // Dragging turns the view; the project stays as it was.
   const box = await page.locator("#canvas").boundingBox();
   const before = await page.evaluate(() => window.__topo.edit.camera.position.toArray());
@@ -319,12 +412,12 @@ try {
   assert.notDeepEqual(after, before, "dragging did not turn the view");
   // Escape cancels a cut in progress: nothing is cut.
   const undoDepth = await page.evaluate(() => window.__topo.state.undo);
-  await hands.selectShape(9);
+  await hands.selectShape(13);
   await hands.press("Escape");
   assert.equal(await page.evaluate(() => window.__topo.selection), null, "Escape (third state) clears the selection");
-  await hands.clickFace(9, await faceTowards(page, 9, [0, 1, 0]));
+  await hands.clickFace(13, await faceTowards(page, 13, [0, 1, 0]));
   await hands.press("c");
-  await hands.point(await page.evaluate(() => window.__topo.faceScreen(9, 0)));
+  await hands.point(await page.evaluate(() => window.__topo.faceScreen(13, 0)));
   await hands.press("Escape");
   assert.equal(await page.evaluate(() => window.__topo.tools.cutting), null);
   assert.equal(await page.evaluate(() => window.__topo.state.undo), undoDepth);
