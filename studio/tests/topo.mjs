@@ -355,6 +355,32 @@ async function globalCut(user) {
       half(6, "epsilon")));
 }
 
+/** The prism cut with grid snapping (§3.1.7.2). Target: a second rule of `Steps` cut across
+ * by a plane dragged between the cube's bases: the pointer at 0.45 of the height from the top
+ * shows 0.45, with Ctrl held it snaps to the grid (0.25) at 0.5, and a right-click cuts there. */
+async function prismCut(user) {
+  await user.click("#new-rule");
+  await user.click("#tool-prism");
+  await user.clickFace(0, await faceTowards(user.page, 0, [0, 1, 0]));
+  await user.press("c");
+  // A point on the line the plane moves along (x = z = 0.5), at y = 0.55.
+  const aim = await user.page.evaluate(() => window.__topo.pointScreen([0.5, 0.55, 0.5]));
+  await user.point({ x: aim.x + 3, y: aim.y });
+  await user.point(aim);
+  assert.equal(Number(await user.page.locator("#cut-amount").inputValue()), 0.45);
+  await user.page.keyboard.down("Control");
+  user.actions += 1;
+  await user.point({ x: aim.x + 3, y: aim.y });
+  await user.point(aim);
+  assert.equal(Number(await user.page.locator("#cut-amount").inputValue()), 0.5);
+  await user.rightClickAt(aim);
+  await user.page.keyboard.up("Control");
+  await user.press("Control+s");
+  const rule = saved().rules[3];
+  assert.equal(rule.name, "Steps rule 2");
+  assert.deepEqual(rule.tree, cut(0, [0.5, 0.5, 0.5], [0, 1, 0], "terminal", "terminal"));
+}
+
 const { child, url } = await startStudio([projectFile]);
 const browser = await chromium.launch({
   executablePath: browserPath,
@@ -384,26 +410,27 @@ try {
     ["Task 6, 3-point cut", threePointCut],
     ["Task 7, multi-cut", multiCut],
     ["Task 8, global cut", globalCut],
+    ["Prism cut with grid snapping", prismCut],
   ];
   for (const [name, task] of tasks) {
     const user = new User(page);
     await task(user);
-    await page.screenshot({ path: join(output, `topo-${name.split(",")[0].toLowerCase().replace(" ", "")}.png`) });
+    await page.screenshot({ path: join(output, `topo-${name.split(",")[0].toLowerCase().replaceAll(" ", "-")}.png`) });
     console.log(`${name}: ${user.actions} user actions`);
   }
 
-  // Undo and redo with the keyboard walk the steps back and forth: the removal of the top
-  // step's front half, then the global cut (all four slabs whole again), and forward.
+  // Undo and redo with the keyboard walk the steps back and forth: the prism cut, then the
+  // new rule itself, and forward again.
   const hands = new User(page);
   const leaves = () => page.evaluate(() => window.__topo.state.edit.parts.length);
   await hands.press("Control+z");
-  assert.equal(await page.evaluate(() => window.__topo.part(14).kind), "terminal");
+  assert.equal(await leaves(), 1);
   await hands.press("Control+z");
-  assert.equal(await leaves(), 4);
+  assert.equal(await page.evaluate(() => window.__topo.state.rules.length), 3);
   await hands.press("Control+y");
   await hands.press("Control+y");
-  assert.equal(await leaves(), 8);
-  assert.equal(await page.evaluate(() => window.__topo.part(14).kind), "epsilon");
+  assert.equal(await page.evaluate(() => window.__topo.state.rules.length), 4);
+  assert.equal(await leaves(), 2);
   // Dragging turns the view; the project stays as it was.
   const box = await page.locator("#canvas").boundingBox();
   const before = await page.evaluate(() => window.__topo.edit.camera.position.toArray());
@@ -412,12 +439,12 @@ try {
   assert.notDeepEqual(after, before, "dragging did not turn the view");
   // Escape cancels a cut in progress: nothing is cut.
   const undoDepth = await page.evaluate(() => window.__topo.state.undo);
-  await hands.selectShape(13);
+  await hands.selectShape(2);
   await hands.press("Escape");
   assert.equal(await page.evaluate(() => window.__topo.selection), null, "Escape (third state) clears the selection");
-  await hands.clickFace(13, await faceTowards(page, 13, [0, 1, 0]));
+  await hands.clickFace(2, await faceTowards(page, 2, [0, 1, 0]));
   await hands.press("c");
-  await hands.point(await page.evaluate(() => window.__topo.faceScreen(13, 0)));
+  await hands.point(await page.evaluate(() => window.__topo.faceScreen(2, 0)));
   await hands.press("Escape");
   assert.equal(await page.evaluate(() => window.__topo.tools.cutting), null);
   assert.equal(await page.evaluate(() => window.__topo.state.undo), undoDepth);
