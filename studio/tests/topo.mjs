@@ -256,6 +256,14 @@ async function recursion(user) {
   assert.notDeepEqual(turned.from, placed.from);
   await user.press(",");
   assert.deepEqual(await anchorOf(user.page, 9), placed);
+  // "A" on another face of it (the front) moves the anchor there; Ctrl+Z puts it back.
+  const front = await faceTowards(user.page, 9, [0, 0, 1]);
+  await user.clickFace(9, front);
+  await user.press("a");
+  assert.deepEqual((await anchorOf(user.page, 9)).face, front);
+  await user.press("Control+z");
+  assert.deepEqual(await anchorOf(user.page, 9), placed);
+  await user.selectShape(9);
   // The preview: one generation of Pyramid's rule on the centre: a slab and a smaller centre.
   await user.click("#preview-anchor");
   const previewed = await user.page.evaluate(() => window.__topo.previewMesh.reduce((n, p) => n + p.positions.length / 9, 0));

@@ -216,6 +216,9 @@ document.addEventListener("keydown", (event) => {
     tools.start();
   } else if ((event.key === "Delete" || event.key === "Backspace") && s && app.view.rule != null) {
     app.act({ kind: "assign", rule: app.view.rule, node: s.node, to: "epsilon" });
+  } else if ((event.key === "a" || event.key === "A") && s?.mode === "face" && app.part(s.node)?.kind === "symbol") {
+    // The anchor moves to the selected face, at its first corner; "," and "." turn it from there.
+    app.act({ kind: "place_anchor", rule: app.view.rule, node: s.node, face: s.face, corner: 0 });
   } else if ((event.key === "," || event.key === ".") && s && app.part(s.node)?.kind === "symbol") {
     app.act({ kind: "turn_anchor", rule: app.view.rule, node: s.node, clockwise: event.key === "." });
   }

@@ -97,6 +97,7 @@ export class TreeView {
       box.checked = this.app.previewing === part.node;
       box.addEventListener("change", () => this.app.preview(box.checked ? part.node : null));
       preview.append(box, " preview");
+      anchor.title = "A on a selected face of the sub-shape moves the anchor there";
       anchor.append(
         "Anchor ",
         button("⟲ ,", { kind: "turn_anchor", clockwise: false }, "anchor-ccw"),
