@@ -278,6 +278,29 @@ async fn every_tool_and_explorer_step_runs_through_the_api() {
     }
     assert_eq!(turned, anchor);
 
+    // The anchor moves to another face of the sub-shape; one that is not there is refused.
+    let moved = studio
+        .act(json!({ "kind": "place_anchor", "rule": 0, "node": 2, "face": 0, "corner": 1 }))
+        .await["state"]["rules"][0]["tree"]["children"][1]["anchor"]
+        .clone();
+    assert_eq!(moved, json!([0, 1]));
+    let (status, error) = studio
+        .post(
+            "/api/topo/action",
+            json!({ "path": studio.path(), "action":
+                { "kind": "place_anchor", "rule": 0, "node": 2, "face": 9, "corner": 0 } }),
+        )
+        .await;
+    assert_eq!(status, StatusCode::UNPROCESSABLE_ENTITY);
+    assert_eq!(
+        error["error"],
+        "the anchor (face 9, corner 0) is not on the shape"
+    );
+    let (status, _) = studio
+        .post("/api/topo/undo", json!({ "path": studio.path() }))
+        .await;
+    assert_eq!(status, StatusCode::OK);
+
     // The anchor preview: the Floor symbol has no rule, so one generation leaves it whole.
     let (status, preview) = studio
         .post(
@@ -309,6 +332,35 @@ async fn every_tool_and_explorer_step_runs_through_the_api() {
         .map(|p| p["faces"].as_array().unwrap().len())
         .collect();
     assert_eq!(faces, [5, 5]);
+
+    // A sub-shape becomes a new symbol of its own shape (a triangular prism), assigned to it.
+    let answer = studio
+        .act(json!({ "kind": "symbol_from_leaf", "rule": 0, "node": nodes[0].clone(), "name": "Wedge" }))
+        .await;
+    assert_eq!(answer["made"]["index"], 2);
+    let wedge = &answer["state"]["symbols"][2];
+    assert_eq!(
+        (
+            wedge["name"].clone(),
+            wedge["vertices"].clone(),
+            wedge["faces"].clone()
+        ),
+        (json!("Wedge"), json!(6), json!(5))
+    );
+    studio
+        .post("/api/topo/undo", json!({ "path": studio.path() }))
+        .await;
+    let (status, error) = studio
+        .post(
+            "/api/topo/action",
+            json!({ "path": studio.path(), "action": { "kind": "set_weight", "rule": 0, "weight": 0.0 } }),
+        )
+        .await;
+    assert_eq!(status, StatusCode::UNPROCESSABLE_ENTITY);
+    assert_eq!(
+        error["error"],
+        "a rule weight must be a positive number, not 0"
+    );
 
     // Global face cut over both prisms: each is cut in two.
     let answer = studio
