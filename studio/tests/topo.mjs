@@ -365,7 +365,8 @@ async function globalCut(user) {
 
 /** The prism cut with grid snapping (§3.1.7.2). Target: a second rule of `Steps` cut across
  * by a plane dragged between the cube's bases: the pointer at 0.45 of the height from the top
- * shows 0.45, with Ctrl held it snaps to the grid (0.25) at 0.5, and a right-click cuts there. */
+ * shows 0.45, with Ctrl held it snaps to the grid (0.25) at 0.5, and a right-click cuts there;
+ * the upper half then becomes a new symbol of its own shape (the tree view's "new symbol"). */
 async function prismCut(user) {
   await user.click("#new-rule");
   await user.click("#tool-prism");
@@ -387,6 +388,16 @@ async function prismCut(user) {
   const rule = saved().rules[3];
   assert.equal(rule.name, "Steps rule 2");
   assert.deepEqual(rule.tree, cut(0, [0.5, 0.5, 0.5], [0, 1, 0], "terminal", "terminal"));
+  // The upper half becomes a symbol of its own: a box of half the height, assigned to it.
+  await user.selectShape(2);
+  await user.click("#symbol-from-leaf");
+  await user.press("Control+s");
+  const made = saved();
+  assert.deepEqual(made.symbols.map((s) => s.name), ["Pyramid", "Stairs", "Steps", "Symbol4"]);
+  const half = made.symbols[3];
+  assert.deepEqual([half.vertices.length, half.faces.length], [8, 6]);
+  assert.deepEqual([Math.min(...half.vertices.map((v) => v[1])), Math.max(...half.vertices.map((v) => v[1]))], [0.5, 1]);
+  assert.deepEqual(made.rules[3].tree.cut.above, { symbol: { name: "Symbol4", anchor: [0, 0] } });
 }
 
 const { child, url } = await startStudio([projectFile]);
@@ -418,7 +429,7 @@ try {
     ["Task 6, 3-point cut", threePointCut],
     ["Task 7, multi-cut", multiCut],
     ["Task 8, global cut", globalCut],
-    ["Prism cut with grid snapping", prismCut],
+    ["Prism cut with grid snapping, new symbol from a sub-shape", prismCut],
   ];
   for (const [name, task] of tasks) {
     const user = new User(page);
@@ -427,18 +438,19 @@ try {
     console.log(`${name}: ${user.actions} user actions`);
   }
 
-  // Undo and redo with the keyboard walk the steps back and forth: the prism cut, then the
-  // new rule itself, and forward again.
+  // Undo and redo with the keyboard walk the steps back and forth: the new symbol, then the
+  // prism cut, and forward again.
   const hands = new User(page);
   const leaves = () => page.evaluate(() => window.__topo.state.edit.parts.length);
+  const symbols = () => page.evaluate(() => window.__topo.state.symbols.length);
+  await hands.press("Control+z");
+  assert.equal(await symbols(), 3);
   await hands.press("Control+z");
   assert.equal(await leaves(), 1);
-  await hands.press("Control+z");
-  assert.equal(await page.evaluate(() => window.__topo.state.rules.length), 3);
   await hands.press("Control+y");
   await hands.press("Control+y");
-  assert.equal(await page.evaluate(() => window.__topo.state.rules.length), 4);
   assert.equal(await leaves(), 2);
+  assert.equal(await symbols(), 4);
   // Dragging turns the view; the project stays as it was.
   const box = await page.locator("#canvas").boundingBox();
   const before = await page.evaluate(() => window.__topo.edit.camera.position.toArray());

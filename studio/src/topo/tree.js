@@ -1,7 +1,8 @@
 // The rule tree view (thesis 3.1.4, area 5): the cuts of the edited rule as a tree whose leaves
 // are its sub-shapes; a leaf shows what it becomes, is chosen by a click (the shape selection of
 // the edit view) and is hidden or shown with its eye. Below it, the chosen sub-shape's panel:
-// make it a terminal, remove its volume, give it a symbol, turn its anchor and preview it.
+// make it a terminal, remove its volume, give it a symbol (or a new one of its shape), move and
+// turn its anchor and preview it.
 const NAMES = { terminal: "terminal", epsilon: "ε (removed)" };
 
 export class TreeView {
@@ -86,6 +87,11 @@ export class TreeView {
         return b;
       }),
     );
+    let n = state.symbols.length + 1;
+    while (state.symbols.some((x) => x.name === `Symbol${n}`)) n += 1;
+    const own = button("New symbol from it", { kind: "symbol_from_leaf", name: `Symbol${n}` }, "symbol-from-leaf");
+    own.title = "A new symbol with this sub-shape's shape, assigned to it (rename it in the explorer)";
+    assign.append(own);
     const children = [title, assign];
     if (part.kind === "symbol") {
       const anchor = document.createElement("div");
