@@ -142,7 +142,21 @@ async function loadFiles() {
   else setStatus("no grammar files here", true);
 }
 
+/** Topological split grammar projects open in their own editor page. */
+const PROJECT_SUFFIX = ".sgproj.json";
+
 async function open(file) {
+  if (file.endsWith(PROJECT_SUFFIX)) {
+    if (path !== null && view.state.doc.toString() !== savedText
+        && !confirm("Discard the unsaved changes?")) {
+      fileSelect.value = path;
+      return;
+    }
+    // Discarded (or clean): leaving must not ask again.
+    path = null;
+    location.assign(`/topo?path=${encodeURIComponent(file)}`);
+    return;
+  }
   if (path !== null && view.state.doc.toString() !== savedText
       && !confirm("Discard the unsaved changes?")) {
     fileSelect.value = path;

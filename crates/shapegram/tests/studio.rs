@@ -176,7 +176,7 @@ fn the_studio_listens_on_loopback_only() {
     assert_eq!(
         stderr(&output),
         format!(
-            "error: {} is not a grammar file (.cga, .mul, .sgl, .goal, .lsys, .cave, .grammar) or a rule package (.rpk)\n",
+            "error: {} is not a grammar file (.cga, .mul, .sgl, .goal, .lsys, .cave, .grammar), a rule package (.rpk) or a topological grammar project (.sgproj.json)\n",
             notes.display()
         )
     );

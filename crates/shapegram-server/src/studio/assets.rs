@@ -14,17 +14,30 @@ const INDEX: &str = include_str!("../../../../studio/dist/index.html");
 const SCRIPT: &str = include_str!("../../../../studio/dist/studio.js");
 /// The styles of the page and the editor.
 const STYLE: &str = include_str!("../../../../studio/dist/studio.css");
+/// The split grammar editor's page, for `.sgproj.json` projects.
+const TOPO_INDEX: &str = include_str!("../../../../studio/dist/topo.html");
+/// The split grammar editor's bundle: three.js and `studio/src/topo/`.
+const TOPO_SCRIPT: &str = include_str!("../../../../studio/dist/topo.js");
+/// The split grammar editor's styles.
+const TOPO_STYLE: &str = include_str!("../../../../studio/dist/topo.css");
 
 /// `GET /`: the page.
 pub async fn index() -> Response {
     with_type(INDEX, "text/html; charset=utf-8")
 }
 
-/// `GET /assets/{name}`: the script or the styles.
+/// `GET /topo?path=…`: the split grammar editor's page (it opens the project itself).
+pub async fn topo() -> Response {
+    with_type(TOPO_INDEX, "text/html; charset=utf-8")
+}
+
+/// `GET /assets/{name}`: the scripts or the styles.
 pub async fn asset(ApiPath(name): ApiPath<String>) -> Result<Response, ApiError> {
     match name.as_str() {
         "studio.js" => Ok(with_type(SCRIPT, "text/javascript; charset=utf-8")),
         "studio.css" => Ok(with_type(STYLE, "text/css; charset=utf-8")),
+        "topo.js" => Ok(with_type(TOPO_SCRIPT, "text/javascript; charset=utf-8")),
+        "topo.css" => Ok(with_type(TOPO_STYLE, "text/css; charset=utf-8")),
         _ => Err(ApiError::not_found()),
     }
 }

@@ -51,7 +51,7 @@ impl Folders {
                 .map_err(|e| format!("cannot open {}: {e}", file.display()))?;
             if !path.is_file() || !is_listed(&path) {
                 return Err(format!(
-                    "{} is not a grammar file (.{}) or a rule package (.rpk)",
+                    "{} is not a grammar file (.{}), a rule package (.rpk) or a topological grammar project (.sgproj.json)",
                     file.display(),
                     GRAMMAR_EXTENSIONS.join(", .")
                 ));
@@ -78,6 +78,12 @@ impl Folders {
     /// The canonical path of the existing grammar file `path` names, if the studio may touch it.
     pub fn resolve(&self, path: &str) -> Result<PathBuf, ApiError> {
         self.check(path, has_grammar_extension)
+    }
+
+    /// The canonical path of the existing topological grammar project (`.sgproj.json`) `path`
+    /// names, if the studio may touch it.
+    pub fn resolve_project(&self, path: &str) -> Result<PathBuf, ApiError> {
+        self.check(path, is_project)
     }
 
     /// The grammar file or packaged rule file `path` names, if the studio may touch it: a
@@ -200,9 +206,17 @@ fn has_grammar_extension(path: &Path) -> bool {
         .is_some_and(|e| GRAMMAR_EXTENSIONS.contains(&e))
 }
 
-/// Whether the file list shows `path`: a grammar file or a rule package.
+/// Whether `path` names a topological grammar project.
+fn is_project(path: &Path) -> bool {
+    path.file_name().and_then(|n| n.to_str()).is_some_and(|n| {
+        n.len() > super::topo::PROJECT_SUFFIX.len() && n.ends_with(super::topo::PROJECT_SUFFIX)
+    })
+}
+
+/// Whether the file list shows `path`: a grammar file, a rule package or a topological grammar
+/// project.
 fn is_listed(path: &Path) -> bool {
-    has_grammar_extension(path) || shapegram_load::is_package(path)
+    has_grammar_extension(path) || shapegram_load::is_package(path) || is_project(path)
 }
 
 /// A file's encoding, as it was read.
@@ -288,7 +302,7 @@ fn in_windows_1252(c: char) -> bool {
 
 /// Writes `bytes` to `path` atomically: a temporary file beside it, synced, renamed over it,
 /// keeping the old file's permissions.
-fn write_atomically(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
+pub(crate) fn write_atomically(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
     let folder = path.parent().unwrap_or(Path::new("."));
     let name = path.file_name().unwrap_or_default().to_string_lossy();
     let mut suffix = [0u8; 6];

@@ -17,6 +17,7 @@ pub mod derive;
 pub mod files;
 pub mod guard;
 pub mod packages;
+pub mod topo;
 pub mod tree;
 pub mod vocabulary;
 
@@ -54,6 +55,8 @@ pub struct StudioState {
     pub generations: Arc<derive::Generations>,
     /// How each file was read, so that saving writes it back the same way.
     pub formats: Arc<files::Formats>,
+    /// The topological grammar projects open in the editor.
+    pub topo: Arc<topo::Sessions>,
 }
 
 impl StudioState {
@@ -66,6 +69,7 @@ impl StudioState {
             time_budget: Duration::from_secs(10),
             generations: Arc::default(),
             formats: Arc::default(),
+            topo: Arc::default(),
         }
     }
 }
@@ -74,12 +78,23 @@ impl StudioState {
 pub fn router(state: StudioState) -> Router {
     Router::new()
         .route("/", get(assets::index))
+        .route("/topo", get(assets::topo))
         .route("/assets/{name}", get(assets::asset))
         .route("/api/files", get(files::list))
         .route("/api/file", get(files::read).put(files::save))
         .route("/api/derive", post(derive::derive))
         .route("/api/vocabulary", get(vocabulary::vocabulary))
         .route("/api/export", post(derive::export))
+        .route("/api/topo/open", post(topo::open))
+        .route("/api/topo/state", post(topo::current))
+        .route("/api/topo/action", post(topo::apply))
+        .route("/api/topo/undo", post(topo::undo))
+        .route("/api/topo/redo", post(topo::redo))
+        .route("/api/topo/visibility", post(topo::visibility))
+        .route("/api/topo/save", post(topo::save))
+        .route("/api/topo/compile", post(topo::compile_project))
+        .route("/api/topo/test", post(topo::test))
+        .route("/api/topo/preview", post(topo::preview))
         .fallback(|| async { ApiError::not_found() })
         .method_not_allowed_fallback(|| async {
             ApiError::new(StatusCode::METHOD_NOT_ALLOWED, "method not allowed")

@@ -1,0 +1,243 @@
+// The toolbar and the tool info panel (thesis 3.1.7): face cut (with the global option), prism
+// cut (Ctrl snaps to the grid), multi-cut and 3-point cut. A face or prism cut starts with "C"
+// on a selected face: the plane follows the pointer along the face's normal (or the typed
+// distance), and a right-click or Enter completes it; Escape cancels. The 3-point cut puts a
+// point on the edge under the pointer (Shift: on a vertex, Ctrl: on the grid) and a right-click
+// locks it; the third completes the cut. The server cuts; here the pointer is only measured.
+import { Vector3 } from "three";
+
+const TOOLS = [
+  ["face", "Face cut", "Select a face, press C, move the plane (or type the distance), right-click or Enter. Escape cancels."],
+  ["prism", "Prism cut", "Select a base of a prism, press C, move the plane (Ctrl snaps to the grid) or type the fraction, right-click or Enter."],
+  ["multi", "Multi-cut", "Set the number of cuts, select a base of a prism, press C."],
+  ["three", "3-point cut", "Point at an edge (Shift: a vertex, Ctrl: the grid) and right-click, three times. Escape cancels."],
+];
+
+export class Tools {
+  constructor(bar, info, app) {
+    this.app = app;
+    this.info = info;
+    this.tool = "face";
+    this.settings = { global: false, grid: 0.25, cuts: 1 };
+    this.cutting = null;
+    this.points = [];
+    this.hover = null;
+    bar.replaceChildren(...TOOLS.map(([id, name]) => {
+      const button = document.createElement("button");
+      button.id = `tool-${id}`;
+      button.textContent = name;
+      button.addEventListener("click", () => this.choose(id));
+      return button;
+    }));
+    this.bar = bar;
+    this.choose("face");
+  }
+
+  choose(tool) {
+    this.cancel();
+    this.tool = tool;
+    for (const b of this.bar.children) b.classList.toggle("active", b.id === `tool-${tool}`);
+    this.showInfo();
+  }
+
+  /** The tool info panel for the current tool. */
+  showInfo() {
+    const [, name, help] = TOOLS.find(([id]) => id === this.tool);
+    const title = document.createElement("h3");
+    title.textContent = name;
+    const text = document.createElement("p");
+    text.className = "help";
+    text.textContent = help;
+    const rows = [title, text];
+    const field = (label, id, value, step, change) => {
+      const row = document.createElement("label");
+      row.className = "setting";
+      const input = document.createElement("input");
+      input.type = "number";
+      input.id = id;
+      input.step = step;
+      input.value = value;
+      input.addEventListener("input", () => change(Number(input.value), input));
+      row.append(label, input);
+      rows.push(row);
+      return input;
+    };
+    if (this.tool === "face") {
+      const row = document.createElement("label");
+      row.className = "setting";
+      const box = document.createElement("input");
+      box.type = "checkbox";
+      box.id = "global";
+      box.checked = this.settings.global;
+      box.addEventListener("change", () => (this.settings.global = box.checked));
+      row.append(box, " global: cut every sub-shape the plane passes through");
+      rows.push(row);
+      this.amount = field("distance", "cut-amount", this.cutting ? round(this.cutting.amount) : "", "any", (v) => this.typed(v));
+    } else if (this.tool === "prism") {
+      field("grid", "grid", this.settings.grid, "any", (v) => (this.settings.grid = v));
+      this.amount = field("fraction", "cut-amount", this.cutting ? round(this.cutting.amount) : "", "any", (v) => this.typed(v));
+    } else if (this.tool === "multi") {
+      field("cuts", "cuts", this.settings.cuts, "1", (v) => (this.settings.cuts = v));
+      this.amount = null;
+    } else {
+      field("grid", "grid", this.settings.grid, "any", (v) => (this.settings.grid = v));
+      const placed = document.createElement("p");
+      placed.id = "points-placed";
+      placed.textContent = `${this.points.length} of 3 points placed`;
+      rows.push(placed);
+      this.amount = null;
+    }
+    if (this.amount) {
+      this.amount.addEventListener("keydown", (event) => {
+        event.stopPropagation();
+        if (event.key === "Enter") this.complete();
+        if (event.key === "Escape") this.cancel();
+      });
+    }
+    this.info.replaceChildren(...rows);
+  }
+
+  /** "C": starts a face or prism cut on the selected face, or runs the multi-cut. */
+  start() {
+    const { selection, view } = this.app;
+    if (view.rule == null) return this.app.status("cuts are made in a rule: choose or create one", true);
+    if (!selection) return this.app.status("select a face first (click it)", true);
+    const part = this.app.part(selection.node);
+    if (!part) return;
+    if (this.tool === "multi") {
+      return this.app.act({ kind: "multi_cut", rule: view.rule, node: part.node, face: selection.face, cuts: Math.round(this.settings.cuts) });
+    }
+    if (this.tool === "three") return;
+    const normal = new Vector3(...part.normals[selection.face]);
+    const corners = part.faces[selection.face].map((p) => new Vector3(...p));
+    const center = corners.reduce((a, p) => a.add(p), new Vector3()).multiplyScalar(1 / corners.length);
+    const depths = part.faces.flat().map((p) => normal.dot(new Vector3(...p)));
+    const height = Math.max(...depths) - Math.min(...depths);
+    this.cutting = { node: part.node, face: selection.face, normal, corners, center, height, amount: this.tool === "prism" ? 0.5 : height / 2 };
+    this.showInfo();
+    this.amount.focus();
+    this.amount.select();
+    this.decorate();
+  }
+
+  typed(value) {
+    if (!this.cutting || !Number.isFinite(value)) return;
+    this.cutting.amount = value;
+    this.decorate();
+  }
+
+  /** The distance inside the face (world units) the plane is at now. */
+  depth() {
+    const c = this.cutting;
+    return this.tool === "prism" ? c.amount * c.height : c.amount;
+  }
+
+  /** Moves the plane to where the pointer points along the face's normal. */
+  move(x, y, keys) {
+    if (this.cutting) {
+      const c = this.cutting;
+      const ray = this.app.edit.ray(x, y);
+      // The point of the line centre − t·normal closest to the pointer's ray.
+      const d = c.normal.clone().negate();
+      const w = c.center.clone().sub(ray.origin);
+      const b = d.dot(ray.direction);
+      const denominator = 1 - b * b;
+      if (denominator < 1e-6) return;
+      let t = (b * w.dot(ray.direction) - w.dot(d)) / denominator;
+      t = Math.min(Math.max(t, 0), c.height);
+      if (this.tool === "prism") {
+        if (keys.ctrl && this.settings.grid > 0) t = Math.round(t / this.settings.grid) * this.settings.grid;
+        c.amount = c.height > 0 ? t / c.height : 0;
+      } else {
+        c.amount = t;
+      }
+      if (this.amount) {
+        this.amount.value = round(c.amount);
+        // Typing then replaces what the pointer set.
+        if (document.activeElement === this.amount) this.amount.select();
+      }
+      this.decorate();
+    } else if (this.tool === "three") {
+      this.hover = this.edgePoint(x, y, keys);
+      this.decorate();
+    }
+  }
+
+  /** The point on the nearest edge of the face under the pointer, as the server names it. */
+  edgePoint(x, y, { ctrl, shift }) {
+    const hit = this.app.edit.pick(x, y);
+    if (!hit) return null;
+    const loop = hit.part.faces[hit.face].map((p) => new Vector3(...p));
+    let best = null;
+    loop.forEach((a, corner) => {
+      const b = loop[(corner + 1) % loop.length];
+      const along = b.clone().sub(a);
+      const length = along.length();
+      let fraction = Math.min(Math.max(hit.point.clone().sub(a).dot(along) / (length * length), 0), 1);
+      if (shift) fraction = fraction < 0.5 ? 0 : 1;
+      else if (ctrl && this.settings.grid > 0) fraction = Math.min(Math.round((fraction * length) / this.settings.grid) * this.settings.grid / length, 1);
+      const at = a.clone().add(along.multiplyScalar(fraction));
+      const distance = at.distanceTo(hit.point);
+      if (!best || distance < best.distance) best = { node: hit.node, face: hit.face, corner, fraction, at: at.toArray(), distance };
+    });
+    return best;
+  }
+
+  /** Right-click: completes a cut, or locks a 3-point cut's point. */
+  secondary() {
+    if (this.cutting) return this.complete();
+    if (this.tool !== "three" || !this.hover) return;
+    this.points.push(this.hover);
+    if (this.points.length < 3) {
+      this.showInfo();
+      return this.decorate();
+    }
+    const points = this.points.map(({ node, face, corner, fraction }) => ({ node, face, corner, fraction }));
+    this.points = [];
+    this.hover = null;
+    this.showInfo();
+    this.app.act({ kind: "three_point_cut", rule: this.app.view.rule, points });
+  }
+
+  complete() {
+    const c = this.cutting;
+    if (!c) return;
+    this.cutting = null;
+    const rule = this.app.view.rule;
+    const action = this.tool === "prism"
+      ? { kind: "prism_cut", rule, node: c.node, face: c.face, fraction: c.amount }
+      : { kind: "face_cut", rule, node: c.node, face: c.face, distance: c.amount, global: this.settings.global };
+    this.showInfo();
+    this.app.act(action);
+  }
+
+  /** Escape: drops a cut in progress or the points placed; `false` when there was none. */
+  cancel() {
+    const had = this.cutting !== null || this.points.length > 0;
+    this.cutting = null;
+    this.points = [];
+    this.hover = null;
+    if (had) {
+      this.showInfo();
+      this.decorate();
+    }
+    return had;
+  }
+
+  /** What the edit view draws for the tool: the plane, or the points. */
+  overlays() {
+    if (this.cutting) {
+      const shift = this.cutting.normal.clone().multiplyScalar(-this.depth());
+      return { plane: this.cutting.corners.map((p) => p.clone().add(shift).toArray()) };
+    }
+    return { points: [...this.points, this.hover].filter(Boolean).map((p) => p.at) };
+  }
+
+  decorate() {
+    this.app.decorate();
+  }
+}
+
+function round(value) {
+  return Math.round(value * 1e6) / 1e6;
+}
