@@ -5,14 +5,18 @@ use std::fmt;
 
 use rustc_hash::FxHashSet;
 use serde::{Deserialize, Serialize};
-use shapegram_geom::{Color, DVec3};
+use shapegram_geom::{Color, DVec2, DVec3};
 
+use crate::material::Material;
 use crate::polyhedron::{self, Index};
 
 /// The `format` field of every `.grammar` file.
 pub const GRAMMAR_FORMAT: &str = "shapegram-topo-grammar";
-/// The version this library writes and reads.
-pub const GRAMMAR_VERSION: u32 = 1;
+/// The newest version this library writes and reads (it reads all older ones too).
+pub const GRAMMAR_VERSION: u32 = 2;
+/// The version of files that use nothing newer than it: grammars without materials or offset
+/// cuts are written as version 1, which older builds read too.
+pub const GRAMMAR_VERSION_PLAIN: u32 = 1;
 /// Most entries any one list of a grammar file may hold: a larger file is corrupt, not a grammar.
 pub const MAX_ENTRIES: usize = 1 << 20;
 
@@ -25,6 +29,8 @@ pub struct Grammar {
     pub symbols: Vec<GrammarSymbol>,
     /// Rules, grouped by symbol.
     pub rules: Vec<GrammarRule>,
+    /// Materials that sub-shapes' faces name by index.
+    pub materials: Vec<Material>,
 }
 
 /// Largest coordinate of a shape's vertex, in absolute value.
@@ -73,12 +79,35 @@ pub struct VirtualVertex {
 }
 
 /// A sub-shape a rule makes: its symbol and its vertices, in the symbol's canonical order, as
-/// indices into the rule's vertex array.
+/// indices into the rule's vertex array, and where its faces' materials come from.
 #[derive(Clone, Debug, PartialEq)]
 pub struct SubShape {
     /// The symbol (named or anonymous terminal).
     pub symbol: Index,
     /// One index per vertex of the symbol.
+    pub vertices: Vec<Index>,
+    /// The material the rule gives each face (in the symbol's face order), overriding the
+    /// inherited one; empty when it gives none.
+    pub materials: Vec<Option<Index>>,
+    /// For each face, the face of the rewritten shape it is a piece of (whose material it
+    /// inherits); `None` for faces inside the shape. Empty when the grammar has no materials.
+    pub from_faces: Vec<Option<Index>>,
+}
+
+/// A cut at a fixed distance from a face: its new vertices are not interpolated at the rule's
+/// fixed fractions but placed where the edges they lie on cross the plane `distance` metres
+/// inside the face, so a wall keeps its thickness on shapes of any size.
+#[derive(Clone, Debug, PartialEq)]
+pub struct OffsetCut {
+    /// The cut's number among the rule's cuts (0 first), for messages.
+    pub step: u32,
+    /// Three vertices of the face (indices into the rule's vertex array), counter-clockwise
+    /// seen from outside: they give the face's plane and its outward normal.
+    pub face: [Index; 3],
+    /// The distance in metres inside the face.
+    pub distance: f64,
+    /// The virtual vertices the cut makes: consecutive indices into the rule's
+    /// `virtual_vertices`, ascending.
     pub vertices: Vec<Index>,
 }
 
@@ -95,6 +124,8 @@ pub struct GrammarRule {
     pub virtual_vertices: Vec<VirtualVertex>,
     /// What the shape becomes; epsilon sub-shapes are left out.
     pub sub_shapes: Vec<SubShape>,
+    /// The cuts made at a fixed distance from a face, in the order of their vertices.
+    pub offset_cuts: Vec<OffsetCut>,
 }
 
 impl Grammar {
@@ -132,6 +163,11 @@ impl Grammar {
             .unwrap_or("terminal")
     }
 
+    /// Whether the grammar uses what version 1 files cannot hold (materials, offset cuts).
+    pub fn needs_version_2(&self) -> bool {
+        !self.materials.is_empty() || self.rules.iter().any(|r| !r.offset_cuts.is_empty())
+    }
+
     /// The grammar as `.grammar` JSON text (pretty-printed, ending in a newline).
     pub fn to_json(&self) -> String {
         let file = GrammarFile::from(self);
@@ -154,9 +190,22 @@ impl Grammar {
             ("shapes", self.shapes.len()),
             ("symbols", self.symbols.len()),
             ("rules", self.rules.len()),
+            ("materials", self.materials.len()),
         ] {
             if len > MAX_ENTRIES {
                 return err(name.into(), format!("{len} entries, at most {MAX_ENTRIES}"));
+            }
+        }
+        let mut material_names: FxHashSet<&str> = FxHashSet::default();
+        for (i, material) in self.materials.iter().enumerate() {
+            if let Err(message) = material.check() {
+                return err(format!("materials[{i}]"), message);
+            }
+            if !material_names.insert(&material.name) {
+                return err(
+                    format!("materials[{i}].name"),
+                    format!("the name '{}' is used twice", material.name.escape_debug()),
+                );
             }
         }
         // Names seen so far, and whether each rule is listed by its symbol: looked up, not
@@ -330,6 +379,97 @@ impl Grammar {
                     ),
                 );
             }
+            let faces = target.faces.len();
+            for (field, list, bound, what) in [
+                (
+                    "materials",
+                    &sub.materials,
+                    self.materials.len(),
+                    "material",
+                ),
+                ("from_faces", &sub.from_faces, symbol.faces.len(), "face"),
+            ] {
+                if !list.is_empty() && list.len() != faces {
+                    return err(
+                        format!("sub_shapes[{k}].{field}"),
+                        format!(
+                            "{} entries for {faces} faces (give one per face, null for none)",
+                            list.len()
+                        ),
+                    );
+                }
+                if let Some(j) = list
+                    .iter()
+                    .position(|m| m.is_some_and(|m| m as usize >= bound))
+                {
+                    return err(
+                        format!("sub_shapes[{k}].{field}[{j}]"),
+                        format!(
+                            "{what} {} does not exist (there are {bound})",
+                            list[j].unwrap_or(0)
+                        ),
+                    );
+                }
+            }
+        }
+        self.validate_offset_cuts(rule, base)
+            .map_err(|(field, message)| GrammarError {
+                location: format!("rules[{i}].{field}"),
+                message,
+            })
+    }
+
+    /// Checks a rule's offset cuts: faces of vertices made before the cut, positive finite
+    /// distances, runs of virtual vertices in order that no two cuts share.
+    fn validate_offset_cuts(
+        &self,
+        rule: &GrammarRule,
+        base: usize,
+    ) -> Result<(), (String, String)> {
+        let mut next_free = 0usize;
+        for (c, cut) in rule.offset_cuts.iter().enumerate() {
+            let at = |field: &str| format!("offset_cuts[{c}].{field}");
+            if !(cut.distance.is_finite() && cut.distance > 0.0) {
+                return Err((
+                    at("distance"),
+                    format!("{} is not a positive number of metres", cut.distance),
+                ));
+            }
+            let Some(&first) = cut.vertices.first() else {
+                return Err((at("vertices"), "a cut makes at least one vertex".into()));
+            };
+            let consecutive = cut
+                .vertices
+                .iter()
+                .enumerate()
+                .all(|(k, &v)| v as usize == first as usize + k);
+            if !consecutive || (first as usize) < next_free {
+                return Err((
+                    at("vertices"),
+                    "the vertices must be consecutive, ascending and after the previous cut's"
+                        .into(),
+                ));
+            }
+            next_free = first as usize + cut.vertices.len();
+            if next_free > rule.virtual_vertices.len() {
+                return Err((
+                    at("vertices"),
+                    format!(
+                        "the rule has {} virtual vertices",
+                        rule.virtual_vertices.len()
+                    ),
+                ));
+            }
+            let available = base + first as usize;
+            if let Some(j) = cut.face.iter().position(|&v| v as usize >= available) {
+                return Err((
+                    at(&format!("face[{j}]")),
+                    format!(
+                        "vertex {} does not exist before the cut ({available} do)",
+                        cut.face[j]
+                    ),
+                ));
+            }
         }
         Ok(())
     }
@@ -395,9 +535,48 @@ pub(crate) fn point(p: DVec3) -> Point {
 struct GrammarFile {
     format: String,
     version: u32,
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    materials: Vec<MaterialEntry>,
     symbols: Vec<SymbolEntry>,
     shapes: Vec<ShapeEntry>,
     rules: Vec<RuleEntry>,
+}
+
+/// A material in grammar and project files.
+#[derive(Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct MaterialEntry {
+    name: String,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    color: Option<String>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    texture: Option<String>,
+    /// `[width, height]` in metres.
+    tile: [f64; 2],
+}
+
+impl From<&Material> for MaterialEntry {
+    fn from(m: &Material) -> Self {
+        Self {
+            name: m.name.clone(),
+            color: m.color.map(|c| c.to_hex()),
+            texture: m.texture.clone(),
+            tile: m.tile.to_array(),
+        }
+    }
+}
+
+impl MaterialEntry {
+    /// The material, its colour parsed (`location` names the entry for the error); the rest is
+    /// checked by [`Material::check`].
+    pub(crate) fn into_material(self, location: &str) -> Result<Material, GrammarError> {
+        Ok(Material {
+            color: parse_color(self.color.as_deref(), || format!("{location}.color"))?,
+            name: self.name,
+            texture: self.texture,
+            tile: DVec2::from_array(self.tile),
+        })
+    }
 }
 
 #[derive(Serialize, Deserialize)]
@@ -428,6 +607,8 @@ struct RuleEntry {
     weight: f64,
     virtual_vertices: Vec<(Index, Index, f64)>,
     sub_shapes: Vec<SubShapeEntry>,
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    offset_cuts: Vec<OffsetCutEntry>,
 }
 
 #[derive(Serialize, Deserialize)]
@@ -435,13 +616,31 @@ struct RuleEntry {
 struct SubShapeEntry {
     symbol: Index,
     vertices: Vec<Index>,
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    materials: Vec<Option<Index>>,
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    from_faces: Vec<Option<Index>>,
+}
+
+#[derive(Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct OffsetCutEntry {
+    step: u32,
+    face: [Index; 3],
+    distance: f64,
+    vertices: Vec<Index>,
 }
 
 impl From<&Grammar> for GrammarFile {
     fn from(grammar: &Grammar) -> Self {
         Self {
             format: GRAMMAR_FORMAT.into(),
-            version: GRAMMAR_VERSION,
+            version: if grammar.needs_version_2() {
+                GRAMMAR_VERSION
+            } else {
+                GRAMMAR_VERSION_PLAIN
+            },
+            materials: grammar.materials.iter().map(MaterialEntry::from).collect(),
             symbols: grammar
                 .symbols
                 .iter()
@@ -484,6 +683,18 @@ impl From<&Grammar> for GrammarFile {
                         .map(|s| SubShapeEntry {
                             symbol: s.symbol,
                             vertices: s.vertices.clone(),
+                            materials: s.materials.clone(),
+                            from_faces: s.from_faces.clone(),
+                        })
+                        .collect(),
+                    offset_cuts: r
+                        .offset_cuts
+                        .iter()
+                        .map(|c| OffsetCutEntry {
+                            step: c.step,
+                            face: c.face,
+                            distance: c.distance,
+                            vertices: c.vertices.clone(),
                         })
                         .collect(),
                 })
@@ -503,15 +714,22 @@ impl GrammarFile {
                 ),
             });
         }
-        if self.version != GRAMMAR_VERSION {
+        if !(1..=GRAMMAR_VERSION).contains(&self.version) {
             return Err(GrammarError {
                 location: "version".into(),
                 message: format!(
-                    "version {} is not supported (this build reads version {GRAMMAR_VERSION})",
+                    "version {} is not supported (this build reads versions 1 to \
+                     {GRAMMAR_VERSION})",
                     self.version
                 ),
             });
         }
+        let materials = self
+            .materials
+            .into_iter()
+            .enumerate()
+            .map(|(i, m)| m.into_material(&format!("materials[{i}]")))
+            .collect::<Result<_, _>>()?;
         let mut symbols = Vec::with_capacity(self.symbols.len());
         for (i, s) in self.symbols.into_iter().enumerate() {
             let color = parse_color(s.color.as_deref(), || format!("symbols[{i}].color"))?;
@@ -560,10 +778,23 @@ impl GrammarFile {
                         .map(|s| SubShape {
                             symbol: s.symbol,
                             vertices: s.vertices,
+                            materials: s.materials,
+                            from_faces: s.from_faces,
+                        })
+                        .collect(),
+                    offset_cuts: r
+                        .offset_cuts
+                        .into_iter()
+                        .map(|c| OffsetCut {
+                            step: c.step,
+                            face: c.face,
+                            distance: c.distance,
+                            vertices: c.vertices,
                         })
                         .collect(),
                 })
                 .collect(),
+            materials,
         };
         grammar.validate()?;
         Ok(grammar)

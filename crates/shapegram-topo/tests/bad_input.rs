@@ -53,10 +53,10 @@ fn the_format_and_version_are_checked_first() {
          'shapegram-topo-grammar')"
     );
     let mut g = spiral_grammar();
-    g["version"] = json!(2);
+    g["version"] = json!(3);
     assert_eq!(
         grammar_error(&g),
-        "version: version 2 is not supported (this build reads version 1)"
+        "version: version 3 is not supported (this build reads versions 1 to 2)"
     );
     let mut g = spiral_grammar();
     g["extra"] = json!(1);
