@@ -27,6 +27,7 @@ pub mod cut;
 pub mod demos;
 pub mod editor;
 pub mod grammar;
+mod grammar_file;
 pub mod interpret;
 mod json;
 pub mod material;

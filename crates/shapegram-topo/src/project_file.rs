@@ -9,7 +9,7 @@ use shapegram_geom::{Color, DVec3};
 
 use crate::anchor::Anchor;
 use crate::cut::CutPlane;
-use crate::grammar::{MaterialEntry, Point, json_message, point};
+use crate::grammar_file::{MaterialEntry, Point, json_message, point};
 use crate::polyhedron::{Index, Polyhedron};
 use crate::project::{Assignment, EditError, FaceOffset, NodeId, NodeKind, Project, RuleTree};
 
