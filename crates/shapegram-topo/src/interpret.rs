@@ -274,8 +274,9 @@ impl<'g> GrammarState<'g> {
 
     /// Starts from another instance of the initial symbol: `vertices` in its canonical order,
     /// for example the prototype scaled, sheared or moved. Rules interpolate between vertices,
-    /// so any affine image of the prototype gives the same image of the result; other
-    /// deformations give what interpolation gives (faces may bend).
+    /// so any affine image of the prototype gives the same image of the result, except that
+    /// offset cuts keep their distances in metres; other deformations give what interpolation
+    /// gives (faces may bend).
     pub fn with_initial_shape(mut self, vertices: Vec<DVec3>) -> Result<Self, GenerateError> {
         let expected = self.grammar.symbols[self.initial_symbol as usize].vertex_count as usize;
         if vertices.len() != expected {
