@@ -13,9 +13,9 @@ use rustc_hash::FxHashMap;
 use shapegram_geom::Color;
 
 use crate::anchor::{Anchor, Topology, canonical_order};
-use crate::grammar::{Grammar, GrammarRule, GrammarShape, GrammarSymbol, SubShape};
+use crate::grammar::{Grammar, GrammarRule, GrammarShape, GrammarSymbol, OffsetCut, SubShape};
 use crate::polyhedron::Index;
-use crate::project::{Assignment, EditError, NodeKind, Project, Symbol, check_instance};
+use crate::project::{Assignment, EditError, NodeKind, Project, RuleTree, Symbol, check_instance};
 
 /// Why a project does not compile.
 #[derive(Clone, Debug, PartialEq)]
@@ -38,6 +38,8 @@ impl std::error::Error for CompileError {}
 pub fn compile(project: &Project) -> Result<Grammar, CompileError> {
     let mut symbols = Vec::with_capacity(project.symbols.len());
     let mut shapes = Vec::with_capacity(project.symbols.len());
+    // Per symbol, the canonical number of each face of its prototype.
+    let mut face_ranks = Vec::with_capacity(project.symbols.len());
     for (i, symbol) in project.symbols.iter().enumerate() {
         let order = canonical_order(&symbol.shape, symbol.anchor).ok_or_else(|| CompileError {
             location: format!("symbols[{i}] ({})", symbol.name),
@@ -51,6 +53,11 @@ pub fn compile(project: &Project) -> Result<Grammar, CompileError> {
                 .map(|&v| symbol.shape.position(v))
                 .collect(),
         });
+        let mut rank = vec![0; order.faces.len()];
+        for (canonical, &f) in order.faces.iter().enumerate() {
+            rank[f as usize] = canonical as Index;
+        }
+        face_ranks.push(rank);
         symbols.push(GrammarSymbol {
             name: Some(symbol.name.clone()),
             color: symbol.color,
@@ -115,6 +122,23 @@ pub fn compile(project: &Project) -> Result<Grammar, CompileError> {
             } else {
                 symbol
             };
+            let (materials, from_faces) = if project.materials.is_empty() {
+                (Vec::new(), Vec::new())
+            } else {
+                let rank = &face_ranks[rule.symbol as usize];
+                let materials: Vec<Option<Index>> = order
+                    .faces
+                    .iter()
+                    .map(|&f| node.face_materials[f as usize])
+                    .collect();
+                let from_faces = order
+                    .faces
+                    .iter()
+                    .map(|&f| tree.root_face(leaf, f).map(|g| rank[g as usize]))
+                    .collect();
+                let given = materials.iter().any(Option::is_some);
+                (if given { materials } else { Vec::new() }, from_faces)
+            };
             sub_shapes.push(SubShape {
                 symbol,
                 vertices: order
@@ -122,6 +146,8 @@ pub fn compile(project: &Project) -> Result<Grammar, CompileError> {
                     .iter()
                     .map(|&v| node.vertices[v as usize])
                     .collect(),
+                materials,
+                from_faces,
             });
         }
         rules.push(GrammarRule {
@@ -130,18 +156,50 @@ pub fn compile(project: &Project) -> Result<Grammar, CompileError> {
             weight: rule.weight,
             virtual_vertices: tree.virtual_vertices().to_vec(),
             sub_shapes,
+            offset_cuts: offset_cuts(tree),
         });
     }
     let grammar = Grammar {
         shapes,
         symbols,
         rules,
+        materials: project.materials.clone(),
     };
     grammar.validate().map_err(|e| CompileError {
         location: e.location,
         message: e.message,
     })?;
     Ok(grammar)
+}
+
+/// The tree's cuts at a fixed distance from a face, in the order they were made; cuts that made
+/// no vertex (their plane only passes through existing ones) have nothing to move.
+fn offset_cuts(tree: &RuleTree) -> Vec<OffsetCut> {
+    let mut cuts: Vec<OffsetCut> = tree
+        .nodes()
+        .iter()
+        .filter_map(|node| {
+            let (NodeKind::Cut { children, .. }, Some(offset)) = (node.kind, node.offset) else {
+                return None;
+            };
+            let step = (children[0] - 1) / 2;
+            let vertices: Vec<Index> = tree.cut_vertices(step as usize)?.collect();
+            if vertices.is_empty() {
+                return None;
+            }
+            let corners: Vec<Index> = node.shape.face_loop(offset.face).collect();
+            let n = corners.len();
+            let face = [0, n / 3, 2 * n / 3].map(|k| node.vertices[corners[k] as usize]);
+            Some(OffsetCut {
+                step,
+                face,
+                distance: offset.distance,
+                vertices,
+            })
+        })
+        .collect();
+    cuts.sort_by_key(|c| c.step);
+    cuts
 }
 
 /// The symbol's face colours in canonical face order (`faces`: shape face per canonical face);

@@ -71,6 +71,8 @@ pub struct Part {
     pub sources: Vec<VertexSource>,
     /// The face on the cutting plane (the cap).
     pub cap: Index,
+    /// For each face of `shape`, the face of the cut shape it is a piece of; `None` for the cap.
+    pub face_sources: Vec<Option<Index>>,
 }
 
 /// The two parts of a cut: `below` lies on the side opposite the normal, `above` on the side it
@@ -179,6 +181,7 @@ fn build_part(
     // Source index space: the shape's vertices, then the crossing vertices.
     let n = shape.vertex_count();
     let mut faces: Vec<Vec<usize>> = Vec::new();
+    let mut face_sources = Vec::new();
     for f in 0..shape.face_count() {
         let mut polygon = Vec::new();
         for h in shape.face_half_edges(f) {
@@ -192,6 +195,7 @@ fn build_part(
         }
         if polygon.len() >= 3 {
             faces.push(polygon);
+            face_sources.push(Some(f));
         }
     }
     let cap = cap_loop(&faces).ok_or_else(|| {
@@ -200,6 +204,7 @@ fn build_part(
         ))
     })?;
     faces.push(cap);
+    face_sources.push(None);
 
     let mut ordered_crossings = vec![((0, 0), 0.0); crossings.len()];
     for (&edge, &(k, t)) in crossings {
@@ -234,6 +239,7 @@ fn build_part(
         shape,
         sources,
         cap: (loops.len() - 1) as Index,
+        face_sources,
     })
 }
 
@@ -292,6 +298,13 @@ mod tests {
                 .count();
             assert_eq!(new, 4);
             assert_eq!(part.shape.face_normal(part.cap).y.abs(), 1.0);
+            assert_eq!(part.face_sources.len(), 6);
+            assert_eq!(part.face_sources[part.cap as usize], None);
+            for (f, source) in part.face_sources.iter().enumerate() {
+                if let Some(g) = source {
+                    assert_eq!(part.shape.face_normal(f as Index), cube().face_normal(*g));
+                }
+            }
         }
         assert_eq!(cut.below.shape.face_normal(cut.below.cap), DVec3::Y);
         assert_eq!(cut.above.shape.face_normal(cut.above.cap), -DVec3::Y);

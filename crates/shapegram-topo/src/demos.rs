@@ -1,12 +1,14 @@
 //! The thesis's demonstration grammars, authored through the API the way a user cuts them in
 //! the editor: the Mayan pyramid of the user tasks (4.1), the house grammar of 4.3 and the
-//! spiralling steps of Figures 31–34. `examples/topo_*.sgproj.json` and `examples/topo_*.grammar`
+//! spiralling steps of Figures 31–34; and a brick house past the thesis, with walls of constant
+//! thickness and tiled materials. `examples/topo_*.sgproj.json` and `examples/topo_*.grammar`
 //! are these projects saved and compiled.
 
-use shapegram_geom::{Color, DVec3};
+use shapegram_geom::{Color, DVec2, DVec3};
 
 use crate::anchor::Anchor;
 use crate::cut::CutPlane;
+use crate::material::Material;
 use crate::polyhedron::Index;
 use crate::project::{Assignment, EditError, NodeId, Project, RuleTree};
 
@@ -333,6 +335,120 @@ pub fn house() -> Result<Project, EditError> {
     }
     recessed(&mut a, rule, panel, 0.1, "DoorPanel")?;
     Ok(a.project)
+}
+
+/// How thick the brick house's walls are, in metres, on blocks of every size.
+pub const BRICK_WALL: f64 = 0.3;
+
+/// A house of brick past the thesis: a main block and a lower wing, both `Block`s of their own
+/// size, whose one rule cuts a stone plinth, four walls [`BRICK_WALL`] metres thick (offset
+/// cuts: the same thickness on both blocks) and a gable roof of tiles; each wall is a `Facade`
+/// with a recessed window. The outer faces are painted brick before the walls are cut, so the
+/// walls keep it, and the facades' pieces inherit it from their wall when derived.
+pub fn brick_house() -> Result<Project, EditError> {
+    let mut a = Author::new();
+    let brick = a.project.add_material(Material::textured(
+        "Brick",
+        "textures/brick.png",
+        DVec2::new(1.2, 0.6),
+    ))?;
+    let mut tiles = Material::textured("RoofTiles", "textures/tiles.png", DVec2::splat(0.8));
+    tiles.color = Color::from_hex("#c0624a");
+    let tiles = a.project.add_material(tiles)?;
+    let stone = a.project.add_material(Material::colored(
+        "Stone",
+        Color::from_hex("#8c877f").unwrap_or_default(),
+    ))?;
+    let glass = a.project.add_material(Material::colored(
+        "Glass",
+        Color::from_hex("#5b8db8").unwrap_or_default(),
+    ))?;
+    a.symbol("House", DVec3::new(14.0, 7.0, 8.0), None)?;
+    a.symbol("Block", DVec3::new(8.0, 6.0, 8.0), None)?;
+    a.symbol("Facade", DVec3::new(8.0, 3.6, BRICK_WALL), None)?;
+
+    let rule = a.rule("House", "main block and wing", 1.0)?;
+    let [main, wing] = a.split(rule, RuleTree::ROOT, -X, 0.6)?;
+    a.put(rule, main, "Block")?;
+    let [wing, air] = a.split(rule, wing, -Y, 5.0 / 7.0)?;
+    a.put(rule, wing, "Block")?;
+    a.epsilon(rule, air)?;
+
+    let rule = a.rule("Block", "walls and roof", 1.0)?;
+    let [body, roof] = a.split(rule, RuleTree::ROOT, -Y, 0.65)?;
+    // The roof first: its cuts would cross no other sub-shape, but the plinth is cuttable.
+    let roof = tiled_gable(&mut a, rule, roof)?;
+    for face in 0..a.project.rule(rule)?.tree.node(roof)?.shape.face_count() {
+        let normal = a
+            .project
+            .rule(rule)?
+            .tree
+            .node(roof)?
+            .shape
+            .face_normal(face);
+        let material = if normal.x.abs() > 0.5 {
+            brick
+        } else if normal.y > 0.1 {
+            tiles
+        } else {
+            stone
+        };
+        a.project
+            .assign_face_material(rule, roof, face, Some(material))?;
+    }
+    for side in [X, -X, Z, -Z] {
+        let face = a.face(rule, body, side)?;
+        a.project
+            .assign_face_material(rule, body, face, Some(brick))?;
+    }
+    let face = a.face(rule, body, -Y)?;
+    let [plinth, rest] = a.project.offset_cut(rule, body, face, 0.4)?;
+    for side in [X, -X, Z, -Z] {
+        let face = a.face(rule, plinth, side)?;
+        a.project
+            .assign_face_material(rule, plinth, face, Some(stone))?;
+    }
+    let mut rest = rest;
+    for side in [Z, -Z, -X, X] {
+        let face = a.face(rule, rest, side)?;
+        let [wall, inside] = a.project.offset_cut(rule, rest, face, BRICK_WALL)?;
+        a.put_facing(rule, wall, "Facade", side)?;
+        rest = inside;
+    }
+    a.epsilon(rule, rest)?;
+
+    let rule = a.rule("Facade", "recessed window", 1.0)?;
+    let [_, middle, _] = a.thirds(rule, RuleTree::ROOT, -X, 0.35)?;
+    let [_, window, _] = a.thirds(rule, middle, -Y, 0.3)?;
+    let face = a.face(rule, window, Z)?;
+    let [recess, pane] = a.project.offset_cut(rule, window, face, 0.12)?;
+    a.epsilon(rule, recess)?;
+    let face = a.face(rule, pane, Z)?;
+    a.project
+        .assign_face_material(rule, pane, face, Some(glass))?;
+    Ok(a.project)
+}
+
+/// Cuts the front and back slopes off sub-shape `leaf` (a box), ridge along x; returns the
+/// prism left.
+fn tiled_gable(a: &mut Author, rule: Index, leaf: NodeId) -> Result<NodeId, EditError> {
+    let (lo, hi) = a.bounds(rule, leaf)?;
+    let ridge_z = (lo.z + hi.z) / 2.0;
+    let mut body = leaf;
+    for z in [lo.z, hi.z] {
+        let cuts = a.project.three_point_cut(
+            rule,
+            [
+                DVec3::new(lo.x, lo.y, z),
+                DVec3::new(hi.x, lo.y, z),
+                DVec3::new(lo.x, hi.y, ridge_z),
+            ],
+        )?;
+        let (keep, drop) = a.larger(rule, cuts[0])?;
+        a.epsilon(rule, drop)?;
+        body = keep;
+    }
+    Ok(body)
 }
 
 /// A storey with a floor slab, four walls 0.3 thick (`front` at +z, window walls elsewhere)

@@ -4,15 +4,19 @@
 use std::fmt;
 
 use rustc_hash::FxHashSet;
-use serde::{Deserialize, Serialize};
 use shapegram_geom::{Color, DVec3};
 
+use crate::grammar_file::{GrammarFile, json_message};
+use crate::material::Material;
 use crate::polyhedron::{self, Index};
 
 /// The `format` field of every `.grammar` file.
 pub const GRAMMAR_FORMAT: &str = "shapegram-topo-grammar";
-/// The version this library writes and reads.
-pub const GRAMMAR_VERSION: u32 = 1;
+/// The newest version this library writes and reads (it reads all older ones too).
+pub const GRAMMAR_VERSION: u32 = 2;
+/// The version of files that use nothing newer than it: grammars without materials or offset
+/// cuts are written as version 1, which older builds read too.
+pub const GRAMMAR_VERSION_PLAIN: u32 = 1;
 /// Most entries any one list of a grammar file may hold: a larger file is corrupt, not a grammar.
 pub const MAX_ENTRIES: usize = 1 << 20;
 
@@ -25,6 +29,8 @@ pub struct Grammar {
     pub symbols: Vec<GrammarSymbol>,
     /// Rules, grouped by symbol.
     pub rules: Vec<GrammarRule>,
+    /// Materials that sub-shapes' faces name by index.
+    pub materials: Vec<Material>,
 }
 
 /// Largest coordinate of a shape's vertex, in absolute value.
@@ -73,12 +79,35 @@ pub struct VirtualVertex {
 }
 
 /// A sub-shape a rule makes: its symbol and its vertices, in the symbol's canonical order, as
-/// indices into the rule's vertex array.
+/// indices into the rule's vertex array, and where its faces' materials come from.
 #[derive(Clone, Debug, PartialEq)]
 pub struct SubShape {
     /// The symbol (named or anonymous terminal).
     pub symbol: Index,
     /// One index per vertex of the symbol.
+    pub vertices: Vec<Index>,
+    /// The material the rule gives each face (in the symbol's face order), overriding the
+    /// inherited one; empty when it gives none.
+    pub materials: Vec<Option<Index>>,
+    /// For each face, the face of the rewritten shape it is a piece of (whose material it
+    /// inherits); `None` for faces inside the shape. Empty when the grammar has no materials.
+    pub from_faces: Vec<Option<Index>>,
+}
+
+/// A cut at a fixed distance from a face: its new vertices are not interpolated at the rule's
+/// fixed fractions but placed where the edges they lie on cross the plane `distance` metres
+/// inside the face, so a wall keeps its thickness on shapes of any size.
+#[derive(Clone, Debug, PartialEq)]
+pub struct OffsetCut {
+    /// The cut's number among the rule's cuts (0 first), for messages.
+    pub step: u32,
+    /// Three vertices of the face (indices into the rule's vertex array), counter-clockwise
+    /// seen from outside: they give the face's plane and its outward normal.
+    pub face: [Index; 3],
+    /// The distance in metres inside the face.
+    pub distance: f64,
+    /// The virtual vertices the cut makes: consecutive indices into the rule's
+    /// `virtual_vertices`, ascending.
     pub vertices: Vec<Index>,
 }
 
@@ -95,6 +124,8 @@ pub struct GrammarRule {
     pub virtual_vertices: Vec<VirtualVertex>,
     /// What the shape becomes; epsilon sub-shapes are left out.
     pub sub_shapes: Vec<SubShape>,
+    /// The cuts made at a fixed distance from a face, in the order of their vertices.
+    pub offset_cuts: Vec<OffsetCut>,
 }
 
 impl Grammar {
@@ -132,6 +163,11 @@ impl Grammar {
             .unwrap_or("terminal")
     }
 
+    /// Whether the grammar uses what version 1 files cannot hold (materials, offset cuts).
+    pub fn needs_version_2(&self) -> bool {
+        !self.materials.is_empty() || self.rules.iter().any(|r| !r.offset_cuts.is_empty())
+    }
+
     /// The grammar as `.grammar` JSON text (pretty-printed, ending in a newline).
     pub fn to_json(&self) -> String {
         let file = GrammarFile::from(self);
@@ -154,9 +190,22 @@ impl Grammar {
             ("shapes", self.shapes.len()),
             ("symbols", self.symbols.len()),
             ("rules", self.rules.len()),
+            ("materials", self.materials.len()),
         ] {
             if len > MAX_ENTRIES {
                 return err(name.into(), format!("{len} entries, at most {MAX_ENTRIES}"));
+            }
+        }
+        let mut material_names: FxHashSet<&str> = FxHashSet::default();
+        for (i, material) in self.materials.iter().enumerate() {
+            if let Err(message) = material.check() {
+                return err(format!("materials[{i}]"), message);
+            }
+            if !material_names.insert(&material.name) {
+                return err(
+                    format!("materials[{i}].name"),
+                    format!("the name '{}' is used twice", material.name.escape_debug()),
+                );
             }
         }
         // Names seen so far, and whether each rule is listed by its symbol: looked up, not
@@ -330,6 +379,97 @@ impl Grammar {
                     ),
                 );
             }
+            let faces = target.faces.len();
+            for (field, list, bound, what) in [
+                (
+                    "materials",
+                    &sub.materials,
+                    self.materials.len(),
+                    "material",
+                ),
+                ("from_faces", &sub.from_faces, symbol.faces.len(), "face"),
+            ] {
+                if !list.is_empty() && list.len() != faces {
+                    return err(
+                        format!("sub_shapes[{k}].{field}"),
+                        format!(
+                            "{} entries for {faces} faces (give one per face, null for none)",
+                            list.len()
+                        ),
+                    );
+                }
+                if let Some(j) = list
+                    .iter()
+                    .position(|m| m.is_some_and(|m| m as usize >= bound))
+                {
+                    return err(
+                        format!("sub_shapes[{k}].{field}[{j}]"),
+                        format!(
+                            "{what} {} does not exist (there are {bound})",
+                            list[j].unwrap_or(0)
+                        ),
+                    );
+                }
+            }
+        }
+        self.validate_offset_cuts(rule, base)
+            .map_err(|(field, message)| GrammarError {
+                location: format!("rules[{i}].{field}"),
+                message,
+            })
+    }
+
+    /// Checks a rule's offset cuts: faces of vertices made before the cut, positive finite
+    /// distances, runs of virtual vertices in order that no two cuts share.
+    fn validate_offset_cuts(
+        &self,
+        rule: &GrammarRule,
+        base: usize,
+    ) -> Result<(), (String, String)> {
+        let mut next_free = 0usize;
+        for (c, cut) in rule.offset_cuts.iter().enumerate() {
+            let at = |field: &str| format!("offset_cuts[{c}].{field}");
+            if !(cut.distance.is_finite() && cut.distance > 0.0) {
+                return Err((
+                    at("distance"),
+                    format!("{} is not a positive number of metres", cut.distance),
+                ));
+            }
+            let Some(&first) = cut.vertices.first() else {
+                return Err((at("vertices"), "a cut makes at least one vertex".into()));
+            };
+            let consecutive = cut
+                .vertices
+                .iter()
+                .enumerate()
+                .all(|(k, &v)| v as usize == first as usize + k);
+            if !consecutive || (first as usize) < next_free {
+                return Err((
+                    at("vertices"),
+                    "the vertices must be consecutive, ascending and after the previous cut's"
+                        .into(),
+                ));
+            }
+            next_free = first as usize + cut.vertices.len();
+            if next_free > rule.virtual_vertices.len() {
+                return Err((
+                    at("vertices"),
+                    format!(
+                        "the rule has {} virtual vertices",
+                        rule.virtual_vertices.len()
+                    ),
+                ));
+            }
+            let available = base + first as usize;
+            if let Some(j) = cut.face.iter().position(|&v| v as usize >= available) {
+                return Err((
+                    at(&format!("face[{j}]")),
+                    format!(
+                        "vertex {} does not exist before the cut ({available} do)",
+                        cut.face[j]
+                    ),
+                ));
+            }
         }
         Ok(())
     }
@@ -358,214 +498,3 @@ impl fmt::Display for GrammarError {
 }
 
 impl std::error::Error for GrammarError {}
-
-/// An optional `#rrggbb` colour from a file; `location` names the field for the error.
-fn parse_color(
-    hex: Option<&str>,
-    location: impl FnOnce() -> String,
-) -> Result<Option<Color>, GrammarError> {
-    match hex {
-        None => Ok(None),
-        Some(hex) => Color::from_hex(hex).map(Some).ok_or_else(|| GrammarError {
-            location: location(),
-            message: format!("'{}' is not a colour like '#3a6ea5'", hex.escape_debug()),
-        }),
-    }
-}
-
-/// A serde error message without serde's own "at line … column …" suffix.
-pub(crate) fn json_message(e: &serde_json::Error) -> String {
-    let text = e.to_string();
-    match text.rfind(" at line ") {
-        Some(cut) => text[..cut].to_owned(),
-        None => text,
-    }
-}
-
-/// `[x, y, z]` in files.
-pub(crate) type Point = [f64; 3];
-
-pub(crate) fn point(p: DVec3) -> Point {
-    p.to_array()
-}
-
-/// The file layout of a `.grammar`.
-#[derive(Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-struct GrammarFile {
-    format: String,
-    version: u32,
-    symbols: Vec<SymbolEntry>,
-    shapes: Vec<ShapeEntry>,
-    rules: Vec<RuleEntry>,
-}
-
-#[derive(Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-struct SymbolEntry {
-    name: Option<String>,
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    color: Option<String>,
-    #[serde(default, skip_serializing_if = "Vec::is_empty")]
-    face_colors: Vec<Option<String>>,
-    vertex_count: u32,
-    faces: Vec<Vec<Index>>,
-    rules: Vec<Index>,
-}
-
-#[derive(Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-struct ShapeEntry {
-    symbol: Index,
-    vertices: Vec<Point>,
-}
-
-#[derive(Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-struct RuleEntry {
-    symbol: Index,
-    name: String,
-    weight: f64,
-    virtual_vertices: Vec<(Index, Index, f64)>,
-    sub_shapes: Vec<SubShapeEntry>,
-}
-
-#[derive(Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-struct SubShapeEntry {
-    symbol: Index,
-    vertices: Vec<Index>,
-}
-
-impl From<&Grammar> for GrammarFile {
-    fn from(grammar: &Grammar) -> Self {
-        Self {
-            format: GRAMMAR_FORMAT.into(),
-            version: GRAMMAR_VERSION,
-            symbols: grammar
-                .symbols
-                .iter()
-                .map(|s| SymbolEntry {
-                    name: s.name.clone(),
-                    color: s.color.map(|c| c.to_hex()),
-                    face_colors: s
-                        .face_colors
-                        .iter()
-                        .map(|c| c.map(|c| c.to_hex()))
-                        .collect(),
-                    vertex_count: s.vertex_count,
-                    faces: s.faces.clone(),
-                    rules: s.rules.clone(),
-                })
-                .collect(),
-            shapes: grammar
-                .shapes
-                .iter()
-                .map(|s| ShapeEntry {
-                    symbol: s.symbol,
-                    vertices: s.vertices.iter().map(|&p| point(p)).collect(),
-                })
-                .collect(),
-            rules: grammar
-                .rules
-                .iter()
-                .map(|r| RuleEntry {
-                    symbol: r.symbol,
-                    name: r.name.clone(),
-                    weight: r.weight,
-                    virtual_vertices: r
-                        .virtual_vertices
-                        .iter()
-                        .map(|v| (v.from, v.to, v.t))
-                        .collect(),
-                    sub_shapes: r
-                        .sub_shapes
-                        .iter()
-                        .map(|s| SubShapeEntry {
-                            symbol: s.symbol,
-                            vertices: s.vertices.clone(),
-                        })
-                        .collect(),
-                })
-                .collect(),
-        }
-    }
-}
-
-impl GrammarFile {
-    fn into_grammar(self) -> Result<Grammar, GrammarError> {
-        if self.format != GRAMMAR_FORMAT {
-            return Err(GrammarError {
-                location: "format".into(),
-                message: format!(
-                    "'{}' is not a topological grammar (expected '{GRAMMAR_FORMAT}')",
-                    self.format.escape_debug()
-                ),
-            });
-        }
-        if self.version != GRAMMAR_VERSION {
-            return Err(GrammarError {
-                location: "version".into(),
-                message: format!(
-                    "version {} is not supported (this build reads version {GRAMMAR_VERSION})",
-                    self.version
-                ),
-            });
-        }
-        let mut symbols = Vec::with_capacity(self.symbols.len());
-        for (i, s) in self.symbols.into_iter().enumerate() {
-            let color = parse_color(s.color.as_deref(), || format!("symbols[{i}].color"))?;
-            let face_colors = s
-                .face_colors
-                .iter()
-                .enumerate()
-                .map(|(f, hex)| {
-                    parse_color(hex.as_deref(), || format!("symbols[{i}].face_colors[{f}]"))
-                })
-                .collect::<Result<_, _>>()?;
-            symbols.push(GrammarSymbol {
-                name: s.name,
-                color,
-                face_colors,
-                vertex_count: s.vertex_count,
-                faces: s.faces,
-                rules: s.rules,
-            });
-        }
-        let grammar = Grammar {
-            shapes: self
-                .shapes
-                .into_iter()
-                .map(|s| GrammarShape {
-                    symbol: s.symbol,
-                    vertices: s.vertices.into_iter().map(DVec3::from_array).collect(),
-                })
-                .collect(),
-            symbols,
-            rules: self
-                .rules
-                .into_iter()
-                .map(|r| GrammarRule {
-                    symbol: r.symbol,
-                    name: r.name,
-                    weight: r.weight,
-                    virtual_vertices: r
-                        .virtual_vertices
-                        .into_iter()
-                        .map(|(from, to, t)| VirtualVertex { from, to, t })
-                        .collect(),
-                    sub_shapes: r
-                        .sub_shapes
-                        .into_iter()
-                        .map(|s| SubShape {
-                            symbol: s.symbol,
-                            vertices: s.vertices,
-                        })
-                        .collect(),
-                })
-                .collect(),
-        };
-        grammar.validate()?;
-        Ok(grammar)
-    }
-}

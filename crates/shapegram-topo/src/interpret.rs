@@ -16,13 +16,17 @@ use crate::rng::{child_seed, mix, unit};
 
 /// Seeds are 48-bit numbers, as in the thesis's plugin; higher bits are dropped.
 pub const SEED_MASK: u64 = (1 << 48) - 1;
+/// How close to an end of its edge an offset cut's vertex may fall: nearer, the cut would leave
+/// a part without volume.
+const OFFSET_T_MARGIN: f64 = 1e-9;
 /// The default limit on live shapes (terminal plus non-terminal).
 pub const DEFAULT_MAX_SHAPES: usize = 1_000_000;
 /// The default limit on the vertex positions all live shapes hold together (about 800 MB), so
 /// that a few shapes of huge symbols cannot exhaust memory either.
 pub const DEFAULT_MAX_VERTICES: usize = 1 << 25;
 
-/// Shapes stored back to back: a symbol, a seed and a run of positions each.
+/// Shapes stored back to back: a symbol, a seed, a run of positions and (when the grammar has
+/// materials) a run of face materials each.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct ShapeList {
     symbols: Vec<Index>,
@@ -30,6 +34,9 @@ pub struct ShapeList {
     /// Shape `i` has `positions[starts[i]..starts[i + 1]]`.
     starts: Vec<usize>,
     positions: Vec<DVec3>,
+    /// Shape `i` has `materials[material_starts[i]..material_starts[i + 1]]`.
+    material_starts: Vec<usize>,
+    materials: Vec<Option<Index>>,
 }
 
 impl ShapeList {
@@ -63,23 +70,50 @@ impl ShapeList {
         &self.positions[self.starts[i]..end]
     }
 
+    /// The material of each face of shape `i` (in its symbol's face order, indices into
+    /// [`Grammar::materials`]); empty when the grammar has no materials.
+    pub fn face_materials(&self, i: usize) -> &[Option<Index>] {
+        let end = self
+            .material_starts
+            .get(i + 1)
+            .copied()
+            .unwrap_or(self.materials.len());
+        &self.materials[self.material_starts[i]..end]
+    }
+
     /// Total number of vertices over all shapes.
     pub fn vertex_total(&self) -> usize {
         self.positions.len()
     }
 
-    fn push(&mut self, symbol: Index, seed: u64, positions: impl IntoIterator<Item = DVec3>) {
+    fn push(
+        &mut self,
+        symbol: Index,
+        seed: u64,
+        positions: impl IntoIterator<Item = DVec3>,
+        materials: impl IntoIterator<Item = Option<Index>>,
+    ) {
         self.symbols.push(symbol);
         self.seeds.push(seed);
         self.starts.push(self.positions.len());
         self.positions.extend(positions);
+        self.material_starts.push(self.materials.len());
+        self.materials.extend(materials);
     }
 
     fn clear(&mut self) {
-        self.symbols.clear();
-        self.seeds.clear();
-        self.starts.clear();
-        self.positions.clear();
+        self.truncate(0, 0, 0);
+    }
+
+    /// Keeps the first `shapes` shapes, which hold `positions` positions and `materials` face
+    /// materials.
+    fn truncate(&mut self, shapes: usize, positions: usize, materials: usize) {
+        self.symbols.truncate(shapes);
+        self.seeds.truncate(shapes);
+        self.starts.truncate(shapes);
+        self.positions.truncate(positions);
+        self.material_starts.truncate(shapes);
+        self.materials.truncate(materials);
     }
 }
 
@@ -112,6 +146,27 @@ pub enum GenerateError {
         /// The non-terminal symbol with the most shapes in that generation.
         symbol: String,
     },
+    /// A cut at a fixed distance from a face lies past the far side of the shape it cuts (or
+    /// on it, leaving no volume): the shape is smaller than the rule was drawn for.
+    OffsetPastShape {
+        /// The rule's name.
+        rule: String,
+        /// The symbol it rewrites.
+        symbol: String,
+        /// The cut's number among the rule's cuts.
+        step: u32,
+        /// The distance from the face, in metres.
+        distance: f64,
+        /// How deep the shape is from the face along the edge the cut missed, in metres.
+        depth: f64,
+        /// The generation that failed.
+        generation: u32,
+    },
+}
+
+/// `x` metres to the millimetre, without trailing zeros.
+fn metres(x: f64) -> f64 {
+    (x * 1000.0).round() / 1000.0 + 0.0
 }
 
 impl fmt::Display for GenerateError {
@@ -138,6 +193,22 @@ impl fmt::Display for GenerateError {
                 "generation {generation} would make more than {limit} shapes, most of them \
                  '{symbol}' (symbols that keep producing themselves never stop: use fewer \
                  generations or a higher shape limit)"
+            ),
+            Self::OffsetPastShape {
+                rule,
+                symbol,
+                step,
+                distance,
+                depth,
+                generation,
+            } => write!(
+                f,
+                "rule '{}' of symbol '{}', cut {step}: a cut {} m inside its face leaves no \
+                 volume beyond it, the shape being {} m deep there (generation {generation})",
+                rule.escape_debug(),
+                symbol.escape_debug(),
+                metres(*distance),
+                metres(*depth)
             ),
         }
     }
@@ -203,8 +274,9 @@ impl<'g> GrammarState<'g> {
 
     /// Starts from another instance of the initial symbol: `vertices` in its canonical order,
     /// for example the prototype scaled, sheared or moved. Rules interpolate between vertices,
-    /// so any affine image of the prototype gives the same image of the result; other
-    /// deformations give what interpolation gives (faces may bend).
+    /// so any affine image of the prototype gives the same image of the result, except that
+    /// offset cuts keep their distances in metres; other deformations give what interpolation
+    /// gives (faces may bend).
     pub fn with_initial_shape(mut self, vertices: Vec<DVec3>) -> Result<Self, GenerateError> {
         let expected = self.grammar.symbols[self.initial_symbol as usize].vertex_count as usize;
         if vertices.len() != expected {
@@ -274,10 +346,18 @@ impl<'g> GrammarState<'g> {
         } else {
             &mut self.non_terminals
         };
+        let faces = if self.grammar.materials.is_empty() {
+            0
+        } else {
+            self.grammar.symbols[self.initial_symbol as usize]
+                .faces
+                .len()
+        };
         list.push(
             self.initial_symbol,
             mix(self.seed),
             self.initial_shape.iter().copied(),
+            std::iter::repeat_n(None, faces),
         );
     }
 
@@ -288,8 +368,12 @@ impl<'g> GrammarState<'g> {
             return Ok(());
         }
         self.next.clear();
-        let terminals_before = self.terminals.len();
-        let positions_before = self.terminals.positions.len();
+        let before = (
+            self.terminals.len(),
+            self.terminals.positions.len(),
+            self.terminals.materials.len(),
+        );
+        let has_materials = !self.grammar.materials.is_empty();
         for i in 0..self.non_terminals.len() {
             let symbol = self.non_terminals.symbol(i);
             let seed = self.non_terminals.seed(i);
@@ -297,10 +381,18 @@ impl<'g> GrammarState<'g> {
             self.scratch.clear();
             self.scratch
                 .extend_from_slice(self.non_terminals.vertices(i));
-            for v in &rule.virtual_vertices {
-                let (a, b) = (self.scratch[v.from as usize], self.scratch[v.to as usize]);
-                self.scratch.push(a + (b - a) * v.t);
+            if let Err(mut error) = build_virtual_vertices(rule, &mut self.scratch) {
+                if let GenerateError::OffsetPastShape {
+                    symbol, generation, ..
+                } = &mut error
+                {
+                    *symbol = self.grammar.display_name(rule.symbol).to_owned();
+                    *generation = self.generation + 1;
+                }
+                self.terminals.truncate(before.0, before.1, before.2);
+                return Err(error);
             }
+            let parent_materials = self.non_terminals.face_materials(i);
             for (ordinal, sub) in rule.sub_shapes.iter().enumerate() {
                 let list = if self.grammar.is_terminal(sub.symbol) {
                     &mut self.terminals
@@ -308,14 +400,25 @@ impl<'g> GrammarState<'g> {
                     &mut self.next
                 };
                 let scratch = &self.scratch;
+                let faces = if has_materials {
+                    self.grammar.symbols[sub.symbol as usize].faces.len()
+                } else {
+                    0
+                };
                 list.push(
                     sub.symbol,
                     child_seed(seed, ordinal as u32),
                     sub.vertices.iter().map(|&v| scratch[v as usize]),
+                    (0..faces).map(|j| {
+                        let inherited = sub.from_faces.get(j).copied().flatten();
+                        let inherited =
+                            inherited.and_then(|f| parent_materials.get(f as usize).copied()?);
+                        sub.materials.get(j).copied().flatten().or(inherited)
+                    }),
                 );
             }
             if self.terminals.positions.len() + self.next.positions.len() > self.max_vertices {
-                self.truncate_terminals(terminals_before, positions_before);
+                self.terminals.truncate(before.0, before.1, before.2);
                 return Err(GenerateError::TooManyVertices {
                     limit: self.max_vertices,
                     generation: self.generation + 1,
@@ -327,7 +430,7 @@ impl<'g> GrammarState<'g> {
                     generation: self.generation + 1,
                     symbol: self.most_common(&self.next).to_owned(),
                 };
-                self.truncate_terminals(terminals_before, positions_before);
+                self.terminals.truncate(before.0, before.1, before.2);
                 return Err(error);
             }
         }
@@ -381,12 +484,47 @@ impl<'g> GrammarState<'g> {
             .unwrap_or(0);
         self.grammar.display_name(best as Index)
     }
+}
 
-    fn truncate_terminals(&mut self, shapes: usize, positions: usize) {
-        let t = &mut self.terminals;
-        t.symbols.truncate(shapes);
-        t.seeds.truncate(shapes);
-        t.starts.truncate(shapes);
-        t.positions.truncate(positions);
+/// Appends `rule`'s virtual vertices to `vertices` (the rewritten shape's, in canonical order):
+/// interpolated at the rule's fractions, or, for the vertices of an offset cut, where their
+/// edges cross the plane the cut's distance inside its face. An offset cut that misses an edge
+/// is [`GenerateError::OffsetPastShape`], with the symbol and generation left for the caller.
+fn build_virtual_vertices(
+    rule: &GrammarRule,
+    vertices: &mut Vec<DVec3>,
+) -> Result<(), GenerateError> {
+    let mut offsets = rule.offset_cuts.iter().peekable();
+    // The current offset cut's plane: a point on the face and the inward unit normal.
+    let mut plane = (DVec3::ZERO, DVec3::ZERO);
+    for (k, v) in rule.virtual_vertices.iter().enumerate() {
+        let (a, b) = (vertices[v.from as usize], vertices[v.to as usize]);
+        let t = match offsets.peek() {
+            Some(cut) if k >= cut.vertices[0] as usize => {
+                if k == cut.vertices[0] as usize {
+                    let [p, q, r] = cut.face.map(|i| vertices[i as usize]);
+                    plane = (p, (r - p).cross(q - p).normalize());
+                }
+                let (da, db) = (plane.1.dot(a - plane.0), plane.1.dot(b - plane.0));
+                let t = (cut.distance - da) / (db - da);
+                if !(t > OFFSET_T_MARGIN && t < 1.0 - OFFSET_T_MARGIN) {
+                    return Err(GenerateError::OffsetPastShape {
+                        rule: rule.name.clone(),
+                        symbol: String::new(),
+                        step: cut.step,
+                        distance: cut.distance,
+                        depth: da.max(db),
+                        generation: 0,
+                    });
+                }
+                if k + 1 == cut.vertices[0] as usize + cut.vertices.len() {
+                    offsets.next();
+                }
+                t
+            }
+            _ => v.t,
+        };
+        vertices.push(a + (b - a) * t);
     }
+    Ok(())
 }

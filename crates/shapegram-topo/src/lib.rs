@@ -2,7 +2,7 @@
 //! half-edge structure, plane cuts that remember how they made each vertex, anchors and the
 //! canonical vertex order, symbols and rules as cut trees with an authoring API and undo, the
 //! compiler to a lean [`Grammar`] and its `.grammar` file, the generation-by-generation
-//! interpreter, triangle meshes for export, and project files.
+//! interpreter, triangle meshes (with tiled materials) for export, and project files.
 //!
 //! ```
 //! use shapegram_topo::{Assignment, GrammarMesh, GrammarState, Project, compile};
@@ -27,8 +27,10 @@ pub mod cut;
 pub mod demos;
 pub mod editor;
 pub mod grammar;
+mod grammar_file;
 pub mod interpret;
 mod json;
+pub mod material;
 pub mod mesh;
 pub mod polyhedron;
 pub mod project;
@@ -41,13 +43,16 @@ pub use compile::{CompileError, compile};
 pub use cut::{Cut, CutError, CutPlane, Part, VertexSource, cut};
 pub use editor::Editor;
 pub use grammar::{
-    GRAMMAR_FORMAT, GRAMMAR_VERSION, Grammar, GrammarError, GrammarRule, GrammarShape,
-    GrammarSymbol, SubShape, VirtualVertex,
+    GRAMMAR_FORMAT, GRAMMAR_VERSION, GRAMMAR_VERSION_PLAIN, Grammar, GrammarError, GrammarRule,
+    GrammarShape, GrammarSymbol, OffsetCut, SubShape, VirtualVertex,
 };
 pub use interpret::{
     DEFAULT_MAX_SHAPES, DEFAULT_MAX_VERTICES, GenerateError, GrammarState, SEED_MASK, ShapeList,
 };
+pub use material::{Material, face_axes, planar_uv};
 pub use mesh::{GrammarMesh, MeshPart};
 pub use polyhedron::{Index, Polyhedron, PolyhedronError};
-pub use project::{Assignment, EditError, Node, NodeId, NodeKind, Project, Rule, RuleTree, Symbol};
+pub use project::{
+    Assignment, EditError, FaceOffset, Node, NodeId, NodeKind, Project, Rule, RuleTree, Symbol,
+};
 pub use project_file::{PROJECT_FORMAT, PROJECT_VERSION, ProjectError};

@@ -1,10 +1,14 @@
 //! Triangle meshes of a grammar state (thesis 3.2.3): faces fan-triangulated (they are convex),
-//! flat normals from the face corners, one coloured part per symbol.
+//! flat normals from the face corners, one coloured part per symbol and per material of its
+//! faces, with tiled planar texture coordinates on faces that have a material.
 
-use shapegram_geom::{Color, DVec3, Mesh, Model, Part};
+use std::sync::Arc;
+
+use shapegram_geom::{Color, DVec2, DVec3, Mesh, Model, Part, Texture};
 
 use crate::grammar::Grammar;
 use crate::interpret::{GrammarState, ShapeList};
+use crate::material::{Material, planar_uv};
 use crate::polyhedron::Index;
 
 /// Faces whose area is below this times the square of their longest corner distance are skipped,
@@ -26,6 +30,12 @@ pub struct MeshPart {
     pub normals: Vec<DVec3>,
     /// Triangles as corner indices, counter-clockwise seen from outside.
     pub triangles: Vec<[u32; 3]>,
+    /// The material of its faces (an index into [`GrammarMesh::materials`]); `None` for faces
+    /// coloured by their symbol.
+    pub material: Option<Index>,
+    /// Texture coordinates, one per corner, in tiles of the material (see
+    /// [`crate::planar_uv`]); empty without a material.
+    pub uvs: Vec<DVec2>,
 }
 
 /// The triangle mesh of a grammar state: one part per symbol with shapes (and per face colour
@@ -34,6 +44,8 @@ pub struct MeshPart {
 pub struct GrammarMesh {
     /// The parts.
     pub parts: Vec<MeshPart>,
+    /// The grammar's materials, which parts name by index.
+    pub materials: Vec<Material>,
 }
 
 impl GrammarMesh {
@@ -56,32 +68,43 @@ impl GrammarMesh {
                 let entry = &grammar.symbols[symbol as usize];
                 let parts = &mut by_symbol[symbol as usize];
                 let vertices = list.vertices(i);
+                let materials = list.face_materials(i);
                 for (f, face) in entry.faces.iter().enumerate() {
-                    let color = entry
-                        .face_colors
-                        .get(f)
-                        .copied()
-                        .flatten()
-                        .or(entry.color)
-                        .unwrap_or_default();
-                    let k = match parts.iter().position(|p| p.color == color) {
+                    let material = materials.get(f).copied().flatten();
+                    let color = match material {
+                        Some(m) => grammar.materials[m as usize].surface_color(),
+                        None => entry
+                            .face_colors
+                            .get(f)
+                            .copied()
+                            .flatten()
+                            .or(entry.color)
+                            .unwrap_or_default(),
+                    };
+                    let found = parts
+                        .iter()
+                        .position(|p| p.color == color && p.material == material);
+                    let k = match found {
                         Some(k) => k,
                         None => {
                             parts.push(MeshPart {
                                 symbol,
                                 name: grammar.display_name(symbol).to_owned(),
                                 color,
+                                material,
                                 ..MeshPart::default()
                             });
                             parts.len() - 1
                         }
                     };
-                    parts[k].add_face(face.iter().map(|&v| vertices[v as usize]));
+                    let tile = material.map(|m| grammar.materials[m as usize].tile);
+                    parts[k].add_face(face.iter().map(|&v| vertices[v as usize]), tile);
                 }
             }
         }
         Self {
             parts: by_symbol.into_iter().flatten().collect(),
+            materials: grammar.materials.clone(),
         }
     }
 
@@ -90,25 +113,51 @@ impl GrammarMesh {
         self.parts.iter().map(|p| p.triangles.len()).sum()
     }
 
-    /// The mesh as a model for the exporters (GLB, OBJ, STL): one part per symbol.
+    /// The mesh as a model for the exporters (GLB, OBJ, STL): one part per symbol and
+    /// material, textures without their images (see [`GrammarMesh::to_model_with`]).
     pub fn to_model(&self) -> Model {
+        self.to_model_with(|_| None)
+    }
+
+    /// The mesh as a model, each texture's image read by `image` from its path (as the
+    /// material names it); a texture without an image is drawn in its material's colour.
+    pub fn to_model_with(&self, mut image: impl FnMut(&str) -> Option<Arc<[u8]>>) -> Model {
+        let textures: Vec<Option<Arc<Texture>>> = self
+            .materials
+            .iter()
+            .map(|m| {
+                let path = m.texture.as_deref()?;
+                Some(Arc::new(Texture {
+                    path: path.into(),
+                    image: image(path),
+                }))
+            })
+            .collect();
+        let names: Vec<Arc<str>> = self
+            .materials
+            .iter()
+            .map(|m| m.name.as_str().into())
+            .collect();
         Model {
             skeletons: Vec::new(),
             parts: self
                 .parts
                 .iter()
                 .filter(|p| !p.triangles.is_empty())
-                .map(|p| Part {
-                    texture: None,
-                    uvs: Vec::new(),
-                    bone: None,
-                    metadata: None,
-                    name: p.name.clone(),
-                    color: p.color,
-                    mesh: Mesh::from_faces(p.positions.clone(), &p.triangles),
-                    normals: Vec::new(),
-                    material: None,
-                    surface: None,
+                .map(|p| {
+                    let material = p.material.map(|m| m as usize);
+                    Part {
+                        texture: material.and_then(|m| textures[m].clone()),
+                        uvs: p.uvs.clone(),
+                        bone: None,
+                        metadata: None,
+                        name: p.name.clone(),
+                        color: p.color,
+                        mesh: Mesh::from_faces(p.positions.clone(), &p.triangles),
+                        normals: Vec::new(),
+                        material: material.map(|m| names[m].clone()),
+                        surface: None,
+                    }
                 })
                 .collect(),
             lines: Vec::new(),
@@ -117,8 +166,9 @@ impl GrammarMesh {
 }
 
 impl MeshPart {
-    /// Appends one convex face as a triangle fan, unless it has no area.
-    fn add_face(&mut self, corners: impl Iterator<Item = DVec3> + Clone) {
+    /// Appends one convex face as a triangle fan, unless it has no area; with a material's
+    /// `tile`, its corners get planar texture coordinates.
+    fn add_face(&mut self, corners: impl Iterator<Item = DVec3> + Clone, tile: Option<DVec2>) {
         let mut points = corners.clone();
         let Some(first) = points.next() else {
             return;
@@ -142,6 +192,9 @@ impl MeshPart {
         for p in corners {
             self.positions.push(p);
             self.normals.push(normal);
+            if let Some(tile) = tile {
+                self.uvs.push(planar_uv(p, normal, tile));
+            }
         }
         let end = self.positions.len() as u32;
         for k in base + 1..end - 1 {

@@ -10,6 +10,7 @@ use shapegram_geom::Color;
 use crate::anchor::{Anchor, Topology, all_anchors, canonical_order};
 use crate::cut::{CutError, CutPlane, VertexSource, cut};
 use crate::grammar::VirtualVertex;
+use crate::material::Material;
 use crate::polyhedron::{Index, Polyhedron, PolyhedronError};
 
 /// A node of a rule tree, by index.
@@ -19,13 +20,15 @@ pub type NodeId = Index;
 /// levels per cut under the JSON reader's limit of 128.
 pub const MAX_TREE_DEPTH: usize = 48;
 
-/// Everything the user authored: symbols and rules.
+/// Everything the user authored: symbols, rules and materials.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Project {
     /// Symbols in creation order.
     pub symbols: Vec<Symbol>,
     /// Rules in creation order.
     pub rules: Vec<Rule>,
+    /// Materials in creation order; faces of sub-shapes name them by index.
+    pub materials: Vec<Material>,
 }
 
 /// A symbol: a name, a prototype shape and its reference anchor.
@@ -93,6 +96,25 @@ pub struct Node {
     pub parent: Option<NodeId>,
     /// A cut or a leaf.
     pub kind: NodeKind,
+    /// For each face of `shape`, the face of the parent's shape it is a piece of (`None` for
+    /// the face the parent's cut made); the root's faces are their own sources.
+    pub face_sources: Vec<Option<Index>>,
+    /// For each face of `shape`, the material it was given (an index into
+    /// [`Project::materials`]); the parts of a cut face keep its material.
+    pub face_materials: Vec<Option<Index>>,
+    /// For a cut node, the face and distance when the cut was placed at a fixed distance from
+    /// a face of this node's shape ([`crate::Project::offset_cut`]); `None` otherwise.
+    pub offset: Option<FaceOffset>,
+}
+
+/// A cut placed at a fixed distance from a face: derivation keeps the distance in metres on
+/// shapes of any size instead of the fraction it is of the prototype.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct FaceOffset {
+    /// The face of the cut node's shape.
+    pub face: Index,
+    /// The distance inside the face, in metres.
+    pub distance: f64,
 }
 
 /// Inner node or leaf.
@@ -115,6 +137,9 @@ pub struct RuleTree {
     base_count: usize,
     virtual_vertices: Vec<VirtualVertex>,
     nodes: Vec<Node>,
+    /// Per cut, in the order they were made: the virtual vertices it made (indices into
+    /// `virtual_vertices`).
+    cut_vertices: Vec<std::ops::Range<Index>>,
 }
 
 /// Why an authoring step was refused (the project is left unchanged).
@@ -162,6 +187,7 @@ impl RuleTree {
         let rank = canonical_order(&symbol.shape, symbol.anchor)
             .map(|o| o.rank)
             .unwrap_or_default();
+        let faces = symbol.shape.face_count();
         Self {
             base_count: symbol.shape.vertex_count(),
             virtual_vertices: Vec::new(),
@@ -170,7 +196,11 @@ impl RuleTree {
                 vertices: rank,
                 parent: None,
                 kind: NodeKind::Leaf(Assignment::Terminal),
+                face_sources: (0..faces).map(Some).collect(),
+                face_materials: vec![None; faces as usize],
+                offset: None,
             }],
+            cut_vertices: Vec::new(),
         }
     }
 
@@ -197,6 +227,73 @@ impl RuleTree {
     /// How the vertices beyond the shape's are made, in order.
     pub fn virtual_vertices(&self) -> &[VirtualVertex] {
         &self.virtual_vertices
+    }
+
+    /// The virtual vertices cut `step` made (the rule's cuts numbered 0 up in the order they
+    /// were made), as indices into [`RuleTree::virtual_vertices`].
+    pub fn cut_vertices(&self, step: usize) -> Option<std::ops::Range<Index>> {
+        self.cut_vertices.get(step).cloned()
+    }
+
+    /// The face of the root (the symbol's shape) that face `face` of node `id` is a piece of;
+    /// `None` when it lies on a cut.
+    pub fn root_face(&self, mut id: NodeId, mut face: Index) -> Option<Index> {
+        while let Some(parent) = self.nodes[id as usize].parent {
+            face = self.nodes[id as usize].face_sources[face as usize]?;
+            id = parent;
+        }
+        Some(face)
+    }
+
+    /// Gives face `face` of node `id` the material `material` (`None` clears it), and the
+    /// pieces of that face in every sub-shape cut from the node too.
+    pub fn set_face_material(
+        &mut self,
+        id: NodeId,
+        face: Index,
+        material: Option<Index>,
+    ) -> Result<(), EditError> {
+        let faces = self.node(id)?.shape.face_count();
+        if face >= faces {
+            return Err(EditError::NotFound(format!(
+                "sub-shape {id} has no face {face} (it has {faces})"
+            )));
+        }
+        let mut stack = vec![(id, face)];
+        while let Some((id, face)) = stack.pop() {
+            let node = &mut self.nodes[id as usize];
+            node.face_materials[face as usize] = material;
+            if let NodeKind::Cut { children, .. } = node.kind {
+                for child in children {
+                    let sources = &self.nodes[child as usize].face_sources;
+                    stack.extend(
+                        (0..sources.len())
+                            .filter(|&k| sources[k] == Some(face))
+                            .map(|k| (child, k as Index)),
+                    );
+                }
+            }
+        }
+        Ok(())
+    }
+
+    /// Gives face `face` of node `id` the material `material`, that face alone (loading a
+    /// project, which lists every face with a material).
+    pub(crate) fn restore_face_material(
+        &mut self,
+        id: NodeId,
+        face: Index,
+        material: Index,
+    ) -> Result<(), EditError> {
+        let node = self.node(id)?;
+        let faces = node.face_materials.len();
+        if face as usize >= faces {
+            return Err(EditError::NotFound(format!(
+                "node {id} has no face {face} (it has {faces})"
+            )));
+        }
+        self.nodes[id as usize].face_materials[face as usize] = Some(material);
+        Ok(())
     }
 
     /// The leaves in depth-first order (below before above).
@@ -234,6 +331,17 @@ impl RuleTree {
 
     /// Cuts leaf `id` by `plane`; returns the new leaves `[below, above]`.
     pub fn cut(&mut self, id: NodeId, plane: CutPlane) -> Result<[NodeId; 2], EditError> {
+        self.cut_with(id, plane, None)
+    }
+
+    /// Cuts leaf `id` by `plane`, recording that the plane lies at a fixed distance from a face
+    /// of the leaf when `offset` is given; returns the new leaves `[below, above]`.
+    pub(crate) fn cut_with(
+        &mut self,
+        id: NodeId,
+        plane: CutPlane,
+        offset: Option<FaceOffset>,
+    ) -> Result<[NodeId; 2], EditError> {
         let node = self.node(id)?;
         match node.kind {
             NodeKind::Leaf(Assignment::Terminal) => {}
@@ -260,6 +368,8 @@ impl RuleTree {
         }
         let result = cut(&node.shape, &plane)?;
         let parent_vertices = node.vertices.clone();
+        let parent_materials = node.face_materials.clone();
+        let first_virtual = self.virtual_vertices.len() as Index;
         let mut made: FxHashMap<(Index, Index), Index> = FxHashMap::default();
         let mut children = [0; 2];
         for (k, part) in [result.below, result.above].into_iter().enumerate() {
@@ -281,14 +391,26 @@ impl RuleTree {
                 })
                 .collect();
             children[k] = self.nodes.len() as NodeId;
+            let face_materials = part
+                .face_sources
+                .iter()
+                .map(|source| source.and_then(|f| parent_materials[f as usize]))
+                .collect();
             self.nodes.push(Node {
                 shape: part.shape,
                 vertices,
                 parent: Some(id),
                 kind: NodeKind::Leaf(Assignment::Terminal),
+                face_sources: part.face_sources,
+                face_materials,
+                offset: None,
             });
         }
-        self.nodes[id as usize].kind = NodeKind::Cut { plane, children };
+        self.cut_vertices
+            .push(first_virtual..self.virtual_vertices.len() as Index);
+        let node = &mut self.nodes[id as usize];
+        node.kind = NodeKind::Cut { plane, children };
+        node.offset = offset;
         Ok(children)
     }
 

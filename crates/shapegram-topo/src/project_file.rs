@@ -9,14 +9,15 @@ use shapegram_geom::{Color, DVec3};
 
 use crate::anchor::Anchor;
 use crate::cut::CutPlane;
-use crate::grammar::{Point, json_message, point};
+use crate::grammar_file::{MaterialEntry, Point, json_message, point};
 use crate::polyhedron::{Index, Polyhedron};
-use crate::project::{Assignment, EditError, NodeId, NodeKind, Project, RuleTree};
+use crate::project::{Assignment, EditError, FaceOffset, NodeId, NodeKind, Project, RuleTree};
 
 /// The `format` field of every project file.
 pub const PROJECT_FORMAT: &str = "shapegram-topo-project";
-/// The version this library writes and reads.
-pub const PROJECT_VERSION: u32 = 1;
+/// The version this library writes; it reads it and every older one (version 1 had no
+/// materials and no offset cuts).
+pub const PROJECT_VERSION: u32 = 2;
 
 /// Most vertices the sub-shapes of all rule trees of a loaded project may hold together (about
 /// 300 MB): every rule copies its symbol's shape and every cut adds two parts, so a small file
@@ -46,6 +47,8 @@ impl std::error::Error for ProjectError {}
 struct ProjectFile {
     format: String,
     version: u32,
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    materials: Vec<MaterialEntry>,
     symbols: Vec<SymbolEntry>,
     rules: Vec<RuleEntry>,
 }
@@ -78,6 +81,26 @@ struct RuleEntry {
     symbol: String,
     weight: f64,
     tree: NodeEntry,
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    face_materials: Vec<FaceMaterialEntry>,
+}
+
+/// A face of a node of a rule tree with a material; nodes are numbered as replaying the cuts
+/// numbers them (the root 0, cut step `s` makes nodes `2s + 1` below and `2s + 2` above).
+#[derive(Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct FaceMaterialEntry {
+    node: NodeId,
+    face: Index,
+    material: String,
+}
+
+/// A cut at a fixed distance from a face of the shape it cuts.
+#[derive(Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct OffsetEntry {
+    face: Index,
+    distance: f64,
 }
 
 #[derive(Serialize, Deserialize)]
@@ -95,6 +118,8 @@ enum NodeEntry {
         step: u32,
         point: Point,
         normal: Point,
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        offset: Option<OffsetEntry>,
         below: Box<NodeEntry>,
         above: Box<NodeEntry>,
     },
@@ -106,6 +131,7 @@ impl Project {
         let file = ProjectFile {
             format: PROJECT_FORMAT.into(),
             version: PROJECT_VERSION,
+            materials: self.materials.iter().map(MaterialEntry::from).collect(),
             symbols: self
                 .symbols
                 .iter()
@@ -133,6 +159,7 @@ impl Project {
                     symbol: self.symbols[r.symbol as usize].name.clone(),
                     weight: r.weight,
                     tree: self.node_entry(&r.tree, RuleTree::ROOT),
+                    face_materials: self.face_material_entries(&r.tree),
                 })
                 .collect(),
         };
@@ -151,10 +178,31 @@ impl Project {
                 step: (children[0] - 1) / 2,
                 point: point(plane.point),
                 normal: point(plane.normal),
+                offset: tree.nodes()[id as usize].offset.map(|o| OffsetEntry {
+                    face: o.face,
+                    distance: o.distance,
+                }),
                 below: Box::new(self.node_entry(tree, children[0])),
                 above: Box::new(self.node_entry(tree, children[1])),
             },
         }
+    }
+
+    /// Every face of every node of `tree` that has a material, by node and face.
+    fn face_material_entries(&self, tree: &RuleTree) -> Vec<FaceMaterialEntry> {
+        let mut entries = Vec::new();
+        for (id, node) in tree.nodes().iter().enumerate() {
+            for (face, material) in node.face_materials.iter().enumerate() {
+                if let Some(m) = material {
+                    entries.push(FaceMaterialEntry {
+                        node: id as NodeId,
+                        face: face as Index,
+                        material: self.materials[*m as usize].name.clone(),
+                    });
+                }
+            }
+        }
+        entries
     }
 
     /// Reads a project from JSON text, replaying every cut and checking every assignment.
@@ -173,16 +221,26 @@ impl Project {
                 ),
             ));
         }
-        if file.version != PROJECT_VERSION {
+        if !(1..=PROJECT_VERSION).contains(&file.version) {
             return Err(fail(
                 "version".into(),
                 format!(
-                    "version {} is not supported (this build reads version {PROJECT_VERSION})",
+                    "version {} is not supported (this build reads versions 1 to \
+                     {PROJECT_VERSION})",
                     file.version
                 ),
             ));
         }
         let mut project = Project::new();
+        for (i, entry) in file.materials.into_iter().enumerate() {
+            let at = format!("materials[{i}]");
+            let material = entry
+                .into_material(&at)
+                .map_err(|e| fail(e.location, e.message))?;
+            project
+                .add_material(material)
+                .map_err(|e| fail(at, e.to_string()))?;
+        }
         for (i, entry) in file.symbols.into_iter().enumerate() {
             let at = format!("symbols[{i}]");
             let positions = entry.vertices.into_iter().map(DVec3::from_array).collect();
@@ -236,8 +294,31 @@ impl Project {
             project
                 .replay(rule, &entry.tree, &mut held)
                 .map_err(|(path, e)| fail(format!("{at}.tree{path}"), e.to_string()))?;
+            for (k, face_material) in entry.face_materials.iter().enumerate() {
+                project
+                    .restore_face_material(rule, face_material)
+                    .map_err(|e| fail(format!("{at}.face_materials[{k}]"), e.to_string()))?;
+            }
         }
         Ok(project)
+    }
+
+    /// Gives one face of one node its saved material, that face alone (the file lists every
+    /// face that has one).
+    fn restore_face_material(
+        &mut self,
+        rule: Index,
+        entry: &FaceMaterialEntry,
+    ) -> Result<(), EditError> {
+        let material = self.material_named(&entry.material).ok_or_else(|| {
+            EditError::NotFound(format!(
+                "there is no material '{}'",
+                entry.material.escape_debug()
+            ))
+        })?;
+        self.rules[rule as usize]
+            .tree
+            .restore_face_material(entry.node, entry.face, material)
     }
 
     /// Rebuilds the tree `root` on `rule`: cuts in their recorded order, then assignments.
@@ -276,9 +357,11 @@ impl Project {
                     )),
                 )
             })?;
-            let children = self
-                .plane_cut(rule, leaf, item.plane)
-                .map_err(|e| (item.path.clone(), e))?;
+            let children = match item.offset {
+                None => self.plane_cut(rule, leaf, item.plane),
+                Some(offset) => self.replay_offset_cut(rule, leaf, item.plane, offset),
+            }
+            .map_err(|e| (item.path.clone(), e))?;
             let nodes = self.rules[rule as usize].tree.nodes();
             *held += children
                 .iter()
@@ -317,6 +400,35 @@ impl Project {
     }
 }
 
+impl Project {
+    /// Replays an offset cut, checking that the saved plane is the one its face and distance
+    /// give.
+    fn replay_offset_cut(
+        &mut self,
+        rule: Index,
+        leaf: NodeId,
+        saved: CutPlane,
+        offset: FaceOffset,
+    ) -> Result<[NodeId; 2], EditError> {
+        let [slice, rest] = self.offset_cut(rule, leaf, offset.face, offset.distance)?;
+        let tree = &self.rules[rule as usize].tree;
+        let NodeKind::Cut { plane, .. } = tree.nodes()[leaf as usize].kind else {
+            unreachable!("the leaf was just cut");
+        };
+        let scale = tree.nodes()[leaf as usize].shape.diagonal();
+        let normal = saved.normal.normalize_or_zero();
+        let same = normal.dot(plane.normal.normalize()) > 1.0 - 1e-9
+            && plane.distance(saved.point).abs() <= 1e-9 * scale;
+        if !same {
+            return Err(EditError::Invalid(format!(
+                "the plane is not {} m inside face {} of the shape it cuts",
+                offset.distance, offset.face
+            )));
+        }
+        Ok([rest, slice])
+    }
+}
+
 /// The message for a project over [`MAX_PROJECT_VERTICES`].
 fn too_big() -> String {
     format!(
@@ -329,6 +441,7 @@ fn too_big() -> String {
 struct CutItem {
     step: u32,
     plane: CutPlane,
+    offset: Option<FaceOffset>,
     parent: Option<(usize, usize)>,
     path: String,
 }
@@ -353,6 +466,7 @@ fn flatten<'a>(
             step,
             point,
             normal,
+            offset,
             below,
             above,
         } => {
@@ -360,6 +474,10 @@ fn flatten<'a>(
             cuts.push(CutItem {
                 step: *step,
                 plane: CutPlane::new(DVec3::from_array(*point), DVec3::from_array(*normal)),
+                offset: offset.as_ref().map(|o| FaceOffset {
+                    face: o.face,
+                    distance: o.distance,
+                }),
                 parent,
                 path: path.clone(),
             });

@@ -9,8 +9,11 @@ use shapegram_geom::{Color, DMat3, DVec3};
 
 use crate::anchor::{Anchor, all_anchors, canonical_order};
 use crate::cut::{CutError, CutPlane, cut};
+use crate::material::Material;
 use crate::polyhedron::{Index, Polyhedron};
-use crate::project::{Assignment, EditError, NodeId, NodeKind, Project, Rule, RuleTree, Symbol};
+use crate::project::{
+    Assignment, EditError, FaceOffset, NodeId, NodeKind, Project, Rule, RuleTree, Symbol,
+};
 
 /// Faces count as parallel when their normals' dot product is within this of −1.
 const PARALLEL_EPSILON: f64 = 1e-9;
@@ -141,6 +144,31 @@ impl Project {
     ) -> Result<[NodeId; 2], EditError> {
         let plane = self.face_plane(rule, leaf, face, distance)?;
         let [below, above] = self.plane_cut(rule, leaf, plane)?;
+        Ok([above, below])
+    }
+
+    /// Offset cut: like [`Project::face_cut`], a plane parallel to `face` of sub-shape `leaf`
+    /// `distance` inside it, but the distance stays `distance` metres when the rule is applied
+    /// to a shape of another size (a wall of constant thickness) instead of scaling with it.
+    /// Returns `[slice along the face, rest]`.
+    pub fn offset_cut(
+        &mut self,
+        rule: Index,
+        leaf: NodeId,
+        face: Index,
+        distance: f64,
+    ) -> Result<[NodeId; 2], EditError> {
+        if !(distance.is_finite() && distance > 0.0) {
+            return Err(EditError::Invalid(format!(
+                "the distance {distance} must be a positive number of metres"
+            )));
+        }
+        let plane = self.face_plane(rule, leaf, face, distance)?;
+        let offset = FaceOffset { face, distance };
+        let [below, above] = self
+            .rule_mut(rule)?
+            .tree
+            .cut_with(leaf, plane, Some(offset))?;
         Ok([above, below])
     }
 
@@ -396,6 +424,67 @@ impl Project {
         self.symbols
             .get(symbol as usize)
             .ok_or_else(|| EditError::NotFound(format!("there is no symbol {symbol}")))
+    }
+
+    /// Adds a material; returns its index.
+    pub fn add_material(&mut self, material: Material) -> Result<Index, EditError> {
+        self.check_material(&material, None)?;
+        self.materials.push(material);
+        Ok((self.materials.len() - 1) as Index)
+    }
+
+    /// Replaces material `index` (its name, colour, texture or tile size); faces that have it
+    /// keep it.
+    pub fn set_material(&mut self, index: Index, material: Material) -> Result<(), EditError> {
+        self.material(index)?;
+        self.check_material(&material, Some(index))?;
+        self.materials[index as usize] = material;
+        Ok(())
+    }
+
+    /// Material `index`.
+    pub fn material(&self, index: Index) -> Result<&Material, EditError> {
+        self.materials
+            .get(index as usize)
+            .ok_or_else(|| EditError::NotFound(format!("there is no material {index}")))
+    }
+
+    /// The index of the material called `name`.
+    pub fn material_named(&self, name: &str) -> Option<Index> {
+        self.materials
+            .iter()
+            .position(|m| m.name == name)
+            .map(|i| i as Index)
+    }
+
+    /// Gives face `face` of sub-shape `node` of `rule` the material `material` (`None` clears
+    /// it). On a cut node, the pieces of the face in every sub-shape cut from it get it too;
+    /// sub-shapes cut later keep the material of the face they were cut from, and at
+    /// derivation the sub-shapes of a symbol's shapes inherit their faces' materials.
+    pub fn assign_face_material(
+        &mut self,
+        rule: Index,
+        node: NodeId,
+        face: Index,
+        material: Option<Index>,
+    ) -> Result<(), EditError> {
+        if let Some(m) = material {
+            self.material(m)?;
+        }
+        self.rule_mut(rule)?
+            .tree
+            .set_face_material(node, face, material)
+    }
+
+    fn check_material(&self, material: &Material, index: Option<Index>) -> Result<(), EditError> {
+        material.check().map_err(EditError::Invalid)?;
+        match self.material_named(&material.name) {
+            Some(other) if Some(other) != index => Err(EditError::Invalid(format!(
+                "there is already a material '{}'",
+                material.name.escape_debug()
+            ))),
+            _ => Ok(()),
+        }
     }
 
     /// Rule `rule`.

@@ -53,10 +53,10 @@ fn the_format_and_version_are_checked_first() {
          'shapegram-topo-grammar')"
     );
     let mut g = spiral_grammar();
-    g["version"] = json!(2);
+    g["version"] = json!(3);
     assert_eq!(
         grammar_error(&g),
-        "version: version 2 is not supported (this build reads version 1)"
+        "version: version 3 is not supported (this build reads versions 1 to 2)"
     );
     let mut g = spiral_grammar();
     g["extra"] = json!(1);
@@ -351,4 +351,132 @@ fn projects_too_big_for_memory_are_refused() {
     rules.drain(..3);
     let project = Project::from_json(&pyramid_project(2000, rules).to_string()).unwrap();
     assert_eq!(project.rules[1044].tree.nodes().len(), 3);
+}
+
+fn brick_grammar() -> Value {
+    let text = compile(&demos::brick_house().unwrap()).unwrap().to_json();
+    serde_json::from_str(&text).unwrap()
+}
+
+fn brick_project() -> Value {
+    serde_json::from_str(&demos::brick_house().unwrap().to_json()).unwrap()
+}
+
+#[test]
+fn bad_materials_and_offset_cuts_in_grammars_are_located() {
+    let mut g = brick_grammar();
+    g["materials"][0]["tile"] = json!([0.0, 1.0]);
+    assert_eq!(
+        grammar_error(&g),
+        "materials[0]: material 'Brick': the tile size 0 × 1 must be two positive numbers of \
+         metres"
+    );
+    let mut g = brick_grammar();
+    g["materials"][1]["name"] = json!("Brick");
+    assert_eq!(
+        grammar_error(&g),
+        "materials[1].name: the name 'Brick' is used twice"
+    );
+    let mut g = brick_grammar();
+    g["materials"][2]["color"] = json!("stone");
+    assert_eq!(
+        grammar_error(&g),
+        "materials[2].color: 'stone' is not a colour like '#3a6ea5'"
+    );
+    let mut g = brick_grammar();
+    g["rules"][1]["sub_shapes"][0]["materials"][0] = json!(9);
+    assert_eq!(
+        grammar_error(&g),
+        "rules[1].sub_shapes[0].materials[0]: material 9 does not exist (there are 4)"
+    );
+    let mut g = brick_grammar();
+    g["rules"][1]["sub_shapes"][0]["from_faces"] = json!([0, 1]);
+    assert_eq!(
+        grammar_error(&g),
+        "rules[1].sub_shapes[0].from_faces: 2 entries for 5 faces (give one per face, null for \
+         none)"
+    );
+    let mut g = brick_grammar();
+    g["rules"][1]["offset_cuts"][0]["distance"] = json!(-1.0);
+    assert_eq!(
+        grammar_error(&g),
+        "rules[1].offset_cuts[0].distance: -1 is not a positive number of metres"
+    );
+    let mut g = brick_grammar();
+    g["rules"][1]["offset_cuts"][1]["vertices"] = json!([6, 7]);
+    assert_eq!(
+        grammar_error(&g),
+        "rules[1].offset_cuts[1].vertices: the vertices must be consecutive, ascending and after \
+         the previous cut's"
+    );
+    let mut g = brick_grammar();
+    g["rules"][1]["offset_cuts"][0]["face"] = json!([5, 6, 40]);
+    assert_eq!(
+        grammar_error(&g),
+        "rules[1].offset_cuts[0].face[2]: vertex 40 does not exist before the cut (14 do)"
+    );
+}
+
+/// The JSON path of the first cut with an offset under `node`, as project errors write it.
+fn first_offset(node: &Value, path: String) -> Option<String> {
+    let cut = node.get("cut")?;
+    if cut.get("offset").is_some() {
+        return Some(path);
+    }
+    first_offset(&cut["below"], format!("{path}.below"))
+        .or_else(|| first_offset(&cut["above"], format!("{path}.above")))
+}
+
+/// The value at a project error's tree path under `root`.
+fn at_path<'a>(root: &'a mut Value, path: &str) -> &'a mut Value {
+    path.split('.')
+        .filter(|s| !s.is_empty())
+        .fold(root, |node, side| &mut node["cut"][side])
+}
+
+#[test]
+fn bad_materials_and_offset_cuts_in_projects_are_located() {
+    let mut p = brick_project();
+    p["version"] = json!(3);
+    assert_eq!(
+        project_error(&p),
+        "version: version 3 is not supported (this build reads versions 1 to 2)"
+    );
+    let mut p = brick_project();
+    p["materials"][0]["color"] = Value::Null;
+    p["materials"][0]["texture"] = Value::Null;
+    assert_eq!(
+        project_error(&p),
+        "materials[0]: material 'Brick' needs a colour or a texture"
+    );
+    let mut p = brick_project();
+    p["rules"][1]["face_materials"][0]["material"] = json!("Marble");
+    assert_eq!(
+        project_error(&p),
+        "rules[1].face_materials[0]: there is no material 'Marble'"
+    );
+    let mut p = brick_project();
+    p["rules"][1]["face_materials"][0]["face"] = json!(12);
+    let node = p["rules"][1]["face_materials"][0]["node"].clone();
+    assert_eq!(
+        project_error(&p),
+        format!("rules[1].face_materials[0]: node {node} has no face 12 (it has 6)")
+    );
+    // An offset whose plane is not the saved one: the file was edited by hand.
+    let mut p = brick_project();
+    let path = first_offset(&p["rules"][1]["tree"], String::new()).unwrap();
+    at_path(&mut p["rules"][1]["tree"], &path)["cut"]["offset"]["distance"] = json!(0.5);
+    assert_eq!(
+        project_error(&p),
+        format!("rules[1].tree{path}: the plane is not 0.5 m inside face 2 of the shape it cuts")
+    );
+    let mut p = brick_project();
+    at_path(&mut p["rules"][1]["tree"], &path)["cut"]["offset"]["distance"] = json!(20.0);
+    assert!(
+        project_error(&p).starts_with(&format!(
+            "rules[1].tree{path}: the cutting plane does not pass through"
+        )),
+        "{}",
+        project_error(&p)
+    );
 }

@@ -2,6 +2,7 @@
 //! compile an editor project into a `.grammar` file.
 
 use std::path::{Path, PathBuf};
+use std::sync::Arc;
 
 use clap::{Args, Subcommand};
 use shapegram_export::{ExportOptions, Format};
@@ -135,7 +136,8 @@ fn run_grammar(args: &TopoArgs) -> Result<(), Failure> {
             let options = ExportOptions {
                 group_by_part: args.group,
             };
-            shapegram_export::save(&mesh.to_model(), output, &options)?;
+            let model = mesh.to_model_with(|texture| texture_image(path, texture, args.quiet));
+            shapegram_export::save(&model, output, &options)?;
             if !args.quiet {
                 eprintln!("wrote {}: {summary}", output.display());
             }
@@ -188,6 +190,26 @@ fn load_grammar(path: &Path) -> Result<Grammar, Failure> {
         compile(&project).map_err(|e| located(path, &e.location, &e.message))
     } else {
         Grammar::from_json(&text).map_err(|e| located(path, &e.location, &e.message))
+    }
+}
+
+/// The bytes of a material's texture, its path taken relative to the grammar's folder; a
+/// missing image is a warning, and the faces are drawn in the material's colour.
+fn texture_image(grammar: &Path, texture: &str, quiet: bool) -> Option<Arc<[u8]>> {
+    let file = grammar.parent().unwrap_or(Path::new("")).join(texture);
+    match std::fs::read(&file) {
+        Ok(bytes) => Some(bytes.into()),
+        Err(e) => {
+            if !quiet {
+                eprintln!(
+                    "warning: {}: cannot read the texture {}: {e} (its faces are drawn in their \
+                     colour)",
+                    grammar.display(),
+                    file.display()
+                );
+            }
+            None
+        }
     }
 }
 

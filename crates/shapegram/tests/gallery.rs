@@ -42,7 +42,7 @@ fn every_picture_of_the_gallery_exists_and_shows_an_example() {
         .skip(1)
         .map(|rest| &rest[..rest.find(')').unwrap()])
         .collect();
-    assert_eq!(pictures.len(), 38, "pictures in docs/examples.md");
+    assert_eq!(pictures.len(), 39, "pictures in docs/examples.md");
     for picture in pictures {
         let path = root().join("docs/images/examples").join(picture);
         assert!(

@@ -399,13 +399,13 @@ fn mistakes_in_every_kind_have_lines_and_columns() {
     let topo = derive(
         &studio,
         &files[2],
-        &house.replace("\"version\": 1", "\"version\": 2"),
+        &house.replace("\"version\": 1", "\"version\": 3"),
     );
     assert_eq!(topo["diagnostics"], json!([]));
     assert_eq!(
         topo["error"],
         json!(format!(
-            "{}: version: version 2 is not supported (this build reads version 1)",
+            "{}: version: version 3 is not supported (this build reads versions 1 to 2)",
             files[2].display()
         ))
     );

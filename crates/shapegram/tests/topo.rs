@@ -235,3 +235,104 @@ fn seeds_are_checked_by_the_parser() {
         "{err}"
     );
 }
+
+#[test]
+fn the_brick_house_reaches_glb_with_its_textures_and_tiled_uvs() {
+    let dir = TempDir::new("brick");
+    let out = dir.path("brick.glb");
+    let grammar = example("topo_brick_house.grammar");
+    let err = ok(&[
+        "topo".as_ref(),
+        grammar.as_os_str(),
+        "-o".as_ref(),
+        out.as_os_str(),
+    ]);
+    assert_eq!(
+        err,
+        format!(
+            "wrote {}: 3 generations from House: 44 shapes (44 terminal), 520 triangles\n",
+            out.display()
+        )
+    );
+    let model = shapegram_export::load(&out).unwrap();
+    let textures_dir = example("textures");
+    let mut textured_triangles = 0;
+    for (name, tile) in [("brick.png", [1.2, 0.6]), ("tiles.png", [0.8, 0.8])] {
+        let image = std::fs::read(textures_dir.join(name)).unwrap();
+        let parts: Vec<_> = model
+            .parts
+            .iter()
+            .filter(|p| p.texture.as_ref().is_some_and(|t| t.path.ends_with(name)))
+            .collect();
+        assert!(!parts.is_empty(), "{name}");
+        for part in parts {
+            let texture = part.texture.as_ref().unwrap();
+            assert_eq!(texture.image.as_deref(), Some(&image[..]), "{name}");
+            assert_eq!(part.uvs.len(), part.mesh.vertex_count());
+            // Every corner's uv is its position along the face's axes in tiles.
+            for face in part.mesh.faces() {
+                let [a, b, c] = [face[0], face[1], face[2]].map(|i| part.mesh.position(i));
+                let normal = (b - a).cross(c - a).normalize();
+                for &i in face {
+                    let expected = shapegram_topo::planar_uv(
+                        part.mesh.position(i),
+                        normal,
+                        shapegram_geom::DVec2::from_array(tile),
+                    );
+                    assert!((part.uvs[i as usize] - expected).abs().max_element() < 1e-4);
+                }
+                textured_triangles += 1;
+            }
+        }
+    }
+    let text = std::fs::read_to_string(&grammar).unwrap();
+    let grammar = Grammar::from_json(&text).unwrap();
+    let mut state = GrammarState::new(&grammar, "House").unwrap();
+    state.generations = 8;
+    state.generate_all().unwrap();
+    let mesh = GrammarMesh::new(&state);
+    let expected: usize = mesh
+        .parts
+        .iter()
+        .filter(|p| {
+            p.material
+                .is_some_and(|m| mesh.materials[m as usize].texture.is_some())
+        })
+        .map(|p| p.triangles.len())
+        .sum();
+    assert_eq!(textured_triangles, expected);
+}
+
+#[test]
+fn a_missing_texture_is_a_warning_and_its_faces_keep_their_colour() {
+    let dir = TempDir::new("brick-without-textures");
+    let grammar = dir.path("brick.grammar");
+    std::fs::copy(example("topo_brick_house.grammar"), &grammar).unwrap();
+    let out = dir.path("brick.glb");
+    let err = ok(&[
+        "topo".as_ref(),
+        grammar.as_os_str(),
+        "-o".as_ref(),
+        out.as_os_str(),
+    ]);
+    let missing = |name: &str| {
+        format!(
+            "warning: {}: cannot read the texture {}: No such file or directory (os error 2) \
+             (its faces are drawn in their colour)\n",
+            grammar.display(),
+            dir.path("textures").join(name).display()
+        )
+    };
+    assert!(
+        err.starts_with(&(missing("brick.png") + &missing("tiles.png"))),
+        "{err}"
+    );
+    let model = shapegram_export::load(&out).unwrap();
+    assert!(model.parts.iter().all(|p| p.texture.is_none()));
+    assert!(
+        model
+            .parts
+            .iter()
+            .any(|p| p.material.as_deref() == Some("RoofTiles"))
+    );
+}
