@@ -21,7 +21,9 @@ use crate::{Failure, counted};
         `shapegram topo GRAMMAR` starts from the prototype shape of --symbol and rewrites every \
         non-terminal shape once per generation, choosing among a symbol's rules at random \
         (weighted, from --seed), then writes every shape left as GLB, OBJ or STL: one part per \
-        symbol, in the symbol's colour. GRAMMAR is a compiled `.grammar` file or a project file \
+        symbol, in the symbol's colour, and one per material of its faces, with tiled texture \
+        coordinates and the material's image (read relative to GRAMMAR's folder; a missing image \
+        is a warning). GRAMMAR is a compiled `.grammar` file or a project file \
         (compiled on the fly). `shapegram topo compile PROJECT -o GRAMMAR.grammar` writes the \
         compiled grammar. The formats are described in docs/topo.md.",
     after_help = "Examples:\n  \
