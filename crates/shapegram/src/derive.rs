@@ -8,6 +8,7 @@ use std::time::{Duration, Instant};
 use serde::Serialize;
 use serde::ser::SerializeMap;
 use shapegram_eval::{Derivation, DeriveError, DeriveOptions, Program, Value};
+use shapegram_export::tiles::TileGrid;
 use shapegram_export::{ExportOptions, Format};
 use shapegram_geom::Model;
 use shapegram_syntax::SourceFile;
@@ -22,7 +23,15 @@ pub fn run(args: &DeriveArgs) -> Result<(), Failure> {
     if let Some(output) = &args.output {
         Format::from_path(output)?;
     }
-    let (lots, lot_warnings) = lots::collect(&args.lot, &args.lots)?;
+    let placing = lots::Placing {
+        crs: args.crs,
+        recentre: args.tiles.is_some(),
+    };
+    let lots::Collected {
+        lots,
+        warnings: lot_warnings,
+        frame,
+    } = lots::collect(&args.lot, &args.lots, placing)?;
     if !args.quiet {
         for warning in &lot_warnings {
             eprintln!("warning: {warning}");
@@ -110,6 +119,21 @@ pub fn run(args: &DeriveArgs) -> Result<(), Failure> {
     eprint!("{prints}");
 
     let export_started = Instant::now();
+    if let Some(dir) = &args.tiles {
+        let grid = TileGrid {
+            size: args.tile_size,
+        };
+        let summary = crate::tiles::write(&derivation, &lots, frame, dir, grid, args.quiet)?;
+        if !args.quiet {
+            eprintln!(
+                "wrote {}: {}, {} of {}",
+                dir.join("tileset.json").display(),
+                counted(summary.near, "near tile", "near tiles"),
+                counted(summary.far, "far tile", "far tiles"),
+                counted(summary.lots, "lot", "lots")
+            );
+        }
+    }
     let mut model = match args.at_node {
         Some(node) => derivation
             .model_at_node(node)
