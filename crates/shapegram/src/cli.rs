@@ -94,6 +94,7 @@ pub enum Command {
             shapegram derive house.cga --attr height=20 --seed 3 -o tall.obj\n  \
             shapegram derive house.cga --lot \"0,0 30,0 30,12 12,12 12,25 0,25\" -o l-house.glb\n  \
             shapegram derive house.cga --lots parcels.geojson --group -o block.glb\n  \
+            shapegram derive house.cga --lots city.geojson --crs wgs84 --tiles city/\n  \
             shapegram derive house.cga --stats -q | jq .rules\n  \
             shapegram derive candler.rpk -o candler.glb\n  \
             shapegram derive excavator.cga --at-node 40 -o step.glb\n  \
