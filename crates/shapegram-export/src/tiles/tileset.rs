@@ -214,3 +214,49 @@ fn tile_box(b: &Aabb) -> [f64; 12] {
         center.x, -center.z, center.y, hx, 0.0, 0.0, 0.0, hz, 0.0, 0.0, 0.0, hy,
     ]
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn aabb(min: [f64; 3], max: [f64; 3]) -> Aabb {
+        Aabb {
+            min: DVec3::from(min),
+            max: DVec3::from(max),
+        }
+    }
+
+    #[test]
+    fn boxes_turn_z_up_and_grow_a_centimetre() {
+        // x 0..20 east, y 0..12 up, z -30..0 (north of the origin).
+        let b = tile_box(&aabb([0.0, 0.0, -30.0], [20.0, 12.0, 0.0]));
+        let expected = [
+            10.0, 15.0, 6.0, 10.01, 0.0, 0.0, 0.0, 15.01, 0.0, 0.0, 0.0, 6.01,
+        ];
+        for (got, want) in b.iter().zip(expected) {
+            assert!((got - want).abs() < 1e-4, "{b:?}");
+        }
+    }
+
+    #[test]
+    fn masses_are_one_box_per_lot_and_their_error_the_largest_side() {
+        let masses = [
+            aabb([0.0, 0.0, 0.0], [20.0, 12.0, 30.0]),
+            aabb([40.0, 0.0, 0.0], [45.0, 50.0, 5.0]),
+        ];
+        assert_eq!(far_error(&masses), 50.0);
+        assert_eq!(far_error(&[aabb([0.0; 3], [0.5, 0.2, 0.1])]), 1.0);
+        let model = masses_model(&masses);
+        assert_eq!(model.parts.len(), 1);
+        assert_eq!(model.parts[0].mesh.face_count(), 12);
+        let bounds = model.bounds().unwrap();
+        assert_eq!(
+            (bounds.min, bounds.max),
+            (masses[0].min, DVec3::new(45.0, 50.0, 30.0))
+        );
+        assert!(
+            (model.parts[0].mesh.signed_volume() - (20.0 * 12.0 * 30.0 + 5.0 * 50.0 * 5.0)).abs()
+                < 1e-9
+        );
+    }
+}
