@@ -88,7 +88,8 @@ pub fn collect(
             ))
         })?);
     }
-    let mut geojson = Vec::new();
+    // Files are read first and placed once the frame is known; their lots keep file order.
+    let mut read = Vec::new();
     for file in files {
         let file = file.as_ref();
         let name = file.display().to_string();
@@ -104,7 +105,7 @@ pub fn collect(
                 if found.is_empty() {
                     return Err(Failure::new(no_polygons(&name)));
                 }
-                lots.extend(found);
+                read.push(LotsRead::Placed(found));
                 warnings.extend(notes);
             }
             Some(LotFile::GeoJson) => {
@@ -112,7 +113,7 @@ pub fn collect(
                     .map_err(|e| Failure::new(format!("cannot read {name}: {e}")))?;
                 let found = shapegram_export::read_geojson(&text)
                     .map_err(|e| Failure::new(format!("invalid GeoJSON in {name}: {e}")))?;
-                geojson.push((name, found));
+                read.push(LotsRead::GeoJson(name, found));
             }
             None => return Err(Failure::new(not_a_lot_file(&name))),
         }
@@ -121,16 +122,22 @@ pub fn collect(
         Crs::Local => Frame::Local {
             offset: DVec2::ZERO,
         },
-        crs => Frame::Globe(globe_frame(crs, &geojson)?),
+        crs => Frame::Globe(globe_frame(crs, &read)?),
     };
-    for (name, found) in &geojson {
-        let (found, notes) = lots_from_rings(found, name, |p| to_frame(placing.crs, &frame, p))
-            .map_err(Failure::new)?;
-        if found.is_empty() {
-            return Err(Failure::new(no_polygons(name)));
+    for file in read {
+        match file {
+            LotsRead::Placed(found) => lots.extend(found),
+            LotsRead::GeoJson(name, found) => {
+                let (found, notes) =
+                    lots_from_rings(&found, &name, |p| to_frame(placing.crs, &frame, p))
+                        .map_err(Failure::new)?;
+                if found.is_empty() {
+                    return Err(Failure::new(no_polygons(&name)));
+                }
+                lots.extend(found);
+                warnings.extend(notes);
+            }
         }
-        lots.extend(found);
-        warnings.extend(notes);
     }
     if lot_args.is_empty() && files.is_empty() {
         lots.push(default_lot());
@@ -146,13 +153,22 @@ pub fn collect(
     })
 }
 
+/// A lot file as read: its lots, or GeoJSON footprints still in the input's coordinates.
+enum LotsRead {
+    Placed(Vec<InitialShape>),
+    GeoJson(String, Footprints),
+}
+
 /// The east-north-up frame at the centre of the bounds of every GeoJSON position (in the
 /// input's coordinates), on the ellipsoid; an out-of-range position is an error naming its
 /// file and feature.
-fn globe_frame(crs: Crs, files: &[(String, Footprints)]) -> Result<EnuFrame, Failure> {
+fn globe_frame(crs: Crs, files: &[LotsRead]) -> Result<EnuFrame, Failure> {
     let mut min = DVec2::INFINITY;
     let mut max = DVec2::NEG_INFINITY;
-    for (name, found) in files {
+    for file in files {
+        let LotsRead::GeoJson(name, found) = file else {
+            continue;
+        };
         for (ring, place) in found.rings.iter().zip(&found.places) {
             for &p in ring {
                 let input = DVec2::new(p.x, -p.y);
