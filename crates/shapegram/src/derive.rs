@@ -134,11 +134,14 @@ pub fn run(args: &DeriveArgs) -> Result<(), Failure> {
             );
         }
     }
+    // A tiled city is written tile by tile: the whole model only when something reads it.
+    let whole = args.tiles.is_none() || args.output.is_some() || args.stats;
     let mut model = match args.at_node {
         Some(node) => derivation
             .model_at_node(node)
             .map_err(|e| Failure::new(e.message).with_hints(e.hints))?,
-        None => derivation.to_model(),
+        None if whole => derivation.to_model(),
+        None => Model::default(),
     };
     if let Some(pose) = &args.pose {
         crate::pose::apply(pose, &mut model)?;
@@ -170,7 +173,7 @@ pub fn run(args: &DeriveArgs) -> Result<(), Failure> {
     let export_time = export_started.elapsed();
 
     if !args.quiet {
-        if model.parts.iter().all(|p| p.mesh.is_empty()) {
+        if whole && model.parts.iter().all(|p| p.mesh.is_empty()) {
             eprintln!("warning: the model is empty: no leaf has geometry");
         }
         let mut target = match &args.output {
