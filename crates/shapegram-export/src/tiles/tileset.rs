@@ -210,8 +210,20 @@ fn tile_box(b: &Aabb) -> [f64; 12] {
         half.y + pad(b.min.y, b.max.y),
         half.z + pad(b.min.z, b.max.z),
     ];
+    // `+ 0.0` turns −0 into 0, which JSON would print as -0.0.
     [
-        center.x, -center.z, center.y, hx, 0.0, 0.0, 0.0, hz, 0.0, 0.0, 0.0, hy,
+        center.x + 0.0,
+        -center.z + 0.0,
+        center.y + 0.0,
+        hx,
+        0.0,
+        0.0,
+        0.0,
+        hz,
+        0.0,
+        0.0,
+        0.0,
+        hy,
     ]
 }
 
