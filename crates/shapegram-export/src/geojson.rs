@@ -9,6 +9,8 @@ pub struct Footprints {
     /// The exterior ring of every polygon, as world (x, z) = (GeoJSON x, −GeoJSON y), so north is
     /// −z; the closing position GeoJSON repeats is dropped.
     pub rings: Vec<Vec<DVec2>>,
+    /// Where each ring is in the file, for messages: `features[3]`, `polygon 1 of features[3]`.
+    pub places: Vec<String>,
     /// Interior rings (holes) that were ignored.
     pub holes: usize,
     /// Geometries that are not polygons (points, lines, null geometries).
@@ -48,6 +50,10 @@ fn walk(json: &Json, at: &str, found: &mut Footprints) -> Result<(), String> {
         }
         "Feature" => match member("geometry")? {
             Json::Null => found.not_polygons += 1,
+            // A polygon is named after its feature: that is what users find in their file.
+            geometry if geometry.get("type").and_then(Json::as_str) == Some("Polygon") => {
+                walk(geometry, at, found)?
+            }
             geometry => walk(geometry, &format!("the geometry of {at}"), found)?,
         },
         "GeometryCollection" => {
@@ -89,6 +95,7 @@ fn polygon(rings: &Json, at: &str, found: &mut Footprints) -> Result<(), String>
         points.pop();
     }
     found.rings.push(points);
+    found.places.push(at.to_owned());
     Ok(())
 }
 

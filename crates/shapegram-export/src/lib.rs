@@ -28,6 +28,7 @@ mod obj;
 mod read;
 mod stl;
 mod svg;
+pub mod tiles;
 
 use std::fs::File;
 use std::io::{BufWriter, Write};

@@ -3,6 +3,7 @@
 use std::path::PathBuf;
 
 use clap::{Args, Parser, Subcommand, ValueEnum};
+use shapegram_export::tiles::Crs;
 use shapegram_syntax::Dialect;
 
 /// Procedural modelling with shape grammars.
@@ -93,12 +94,14 @@ pub enum Command {
             shapegram derive house.cga --attr height=20 --seed 3 -o tall.obj\n  \
             shapegram derive house.cga --lot \"0,0 30,0 30,12 12,12 12,25 0,25\" -o l-house.glb\n  \
             shapegram derive house.cga --lots parcels.geojson --group -o block.glb\n  \
+            shapegram derive house.cga --lots city.geojson --crs wgs84 --tiles city/\n  \
             shapegram derive house.cga --stats -q | jq .rules\n  \
             shapegram derive candler.rpk -o candler.glb\n  \
             shapegram derive excavator.cga --at-node 40 -o step.glb\n  \
             shapegram derive menger.sgl --dialect sgl -o menger.glb"
     )]
-    Derive(DeriveArgs),
+    // Boxed: its many options would make every command as large as it is.
+    Derive(Box<DeriveArgs>),
     /// Report the errors and warnings of grammar files without deriving them
     #[command(
         long_about = "Report the errors and warnings of grammar files without deriving them.\n\n\
@@ -305,6 +308,18 @@ pub struct DeriveArgs {
     /// .json file, with GeoJSON x as x and GeoJSON y as -z (north is -z) (repeatable)
     #[arg(long, value_name = "FILE")]
     pub lots: Vec<PathBuf>,
+    /// The coordinate system of GeoJSON lots: local (metres as they are), wgs84 (longitude and
+    /// latitude, RFC 7946) or a UTM zone EPSG:326zz/327zz; on the globe, lots are derived in
+    /// the east-north-up plane at the centre of their bounds (docs/tiles.md)
+    #[arg(long, value_name = "CRS", default_value = "local", value_parser = parse_crs)]
+    pub crs: Crs,
+    /// Also write an OGC 3D Tiles 1.1 tileset into this folder: tileset.json, far/ (a box per
+    /// lot) and near/ (the full model), a tile per grid cell (docs/tiles.md)
+    #[arg(long, value_name = "DIR")]
+    pub tiles: Option<PathBuf>,
+    /// The side of a tile's square grid cell in metres
+    #[arg(long, value_name = "METRES", default_value_t = 200.0, value_parser = parse_tile_size)]
+    pub tile_size: f64,
     /// Seed of every random choice
     #[arg(long, value_name = "N", default_value_t = 0)]
     pub seed: u64,
@@ -479,6 +494,17 @@ fn parse_timeout(text: &str) -> Result<f64, String> {
     match text.trim().parse::<f64>() {
         Ok(s) if (0.0..=1e9).contains(&s) => Ok(s),
         _ => Err("expected a number of seconds, like 60 or 0.5 (0: no limit)".to_owned()),
+    }
+}
+
+fn parse_crs(text: &str) -> Result<Crs, String> {
+    Crs::parse(text)
+}
+
+fn parse_tile_size(text: &str) -> Result<f64, String> {
+    match text.trim().parse::<f64>() {
+        Ok(size) if (1.0..=1e6).contains(&size) => Ok(size),
+        _ => Err("expected a tile size in metres from 1 to 1,000,000, like 200".to_owned()),
     }
 }
 

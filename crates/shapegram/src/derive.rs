@@ -8,6 +8,7 @@ use std::time::{Duration, Instant};
 use serde::Serialize;
 use serde::ser::SerializeMap;
 use shapegram_eval::{Derivation, DeriveError, DeriveOptions, Program, Value};
+use shapegram_export::tiles::TileGrid;
 use shapegram_export::{ExportOptions, Format};
 use shapegram_geom::Model;
 use shapegram_syntax::SourceFile;
@@ -22,7 +23,15 @@ pub fn run(args: &DeriveArgs) -> Result<(), Failure> {
     if let Some(output) = &args.output {
         Format::from_path(output)?;
     }
-    let (lots, lot_warnings) = lots::collect(&args.lot, &args.lots)?;
+    let placing = lots::Placing {
+        crs: args.crs,
+        recentre: args.tiles.is_some(),
+    };
+    let lots::Collected {
+        lots,
+        warnings: lot_warnings,
+        frame,
+    } = lots::collect(&args.lot, &args.lots, placing)?;
     if !args.quiet {
         for warning in &lot_warnings {
             eprintln!("warning: {warning}");
@@ -110,11 +119,29 @@ pub fn run(args: &DeriveArgs) -> Result<(), Failure> {
     eprint!("{prints}");
 
     let export_started = Instant::now();
+    if let Some(dir) = &args.tiles {
+        let grid = TileGrid {
+            size: args.tile_size,
+        };
+        let summary = crate::tiles::write(&derivation, &lots, frame, dir, grid, args.quiet)?;
+        if !args.quiet {
+            eprintln!(
+                "wrote {}: {}, {} of {}",
+                dir.join("tileset.json").display(),
+                counted(summary.near, "near tile", "near tiles"),
+                counted(summary.far, "far tile", "far tiles"),
+                counted(summary.lots, "lot", "lots")
+            );
+        }
+    }
+    // A tiled city is written tile by tile: the whole model only when something reads it.
+    let whole = args.tiles.is_none() || args.output.is_some() || args.stats;
     let mut model = match args.at_node {
         Some(node) => derivation
             .model_at_node(node)
             .map_err(|e| Failure::new(e.message).with_hints(e.hints))?,
-        None => derivation.to_model(),
+        None if whole => derivation.to_model(),
+        None => Model::default(),
     };
     if let Some(pose) = &args.pose {
         crate::pose::apply(pose, &mut model)?;
@@ -146,7 +173,7 @@ pub fn run(args: &DeriveArgs) -> Result<(), Failure> {
     let export_time = export_started.elapsed();
 
     if !args.quiet {
-        if model.parts.iter().all(|p| p.mesh.is_empty()) {
+        if whole && model.parts.iter().all(|p| p.mesh.is_empty()) {
             eprintln!("warning: the model is empty: no leaf has geometry");
         }
         let mut target = match &args.output {

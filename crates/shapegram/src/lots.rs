@@ -4,6 +4,8 @@
 use std::path::Path;
 
 use shapegram_eval::InitialShape;
+use shapegram_export::Footprints;
+use shapegram_export::tiles::{Crs, EnuFrame, Geodetic};
 use shapegram_geom::{DVec2, DVec3, mesh::newell};
 
 use crate::Failure;
@@ -12,14 +14,71 @@ use crate::primitive::parse_points;
 /// The default lot's size along x and z.
 pub const DEFAULT_LOT: (f64, f64) = (20.0, 30.0);
 
+/// How `derive` reads lot coordinates: their coordinate system, and whether local lots are
+/// moved to the middle of the frame (tiled output keeps large coordinates in the transform).
+#[derive(Clone, Copy, Debug)]
+pub struct Placing {
+    /// The coordinate system of GeoJSON positions.
+    pub crs: Crs,
+    /// Whether local lots are derived around the centre of their bounds.
+    pub recentre: bool,
+}
+
+/// Where the frame lots are derived in lies, in the input's terms.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Frame {
+    /// The input's own metres, moved by `offset` (east, north): the frame's origin is there.
+    Local {
+        /// The input position of the frame's origin.
+        offset: DVec2,
+    },
+    /// The east-north-up tangent plane at a point of the globe.
+    Globe(EnuFrame),
+}
+
+impl Frame {
+    /// The 3D Tiles root transform from the frame (z up) to the tileset's coordinates: ECEF
+    /// on the globe, the input's metres otherwise.
+    pub fn transform(&self) -> [f64; 16] {
+        match self {
+            Frame::Globe(enu) => enu.matrix(),
+            Frame::Local { offset } => [
+                1.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, offset.x, offset.y,
+                0.0, 1.0,
+            ],
+        }
+    }
+}
+
+/// The lots of `derive`, the warnings about what was skipped, and the frame they are in.
+#[derive(Debug)]
+pub struct Collected {
+    /// The initial shapes, in order.
+    pub lots: Vec<InitialShape>,
+    /// Parts of the files that were skipped.
+    pub warnings: Vec<String>,
+    /// Where the lots' frame lies.
+    pub frame: Frame,
+}
+
 /// The lots of `--lot` (in order) and then of each `--lots` file (in order), or the default lot
-/// when there are none; with warnings about parts of the files that were skipped.
+/// when there are none; with warnings about parts of the files that were skipped. GeoJSON
+/// positions are in `placing.crs`; on the globe the lots are derived in the east-north-up
+/// plane at the centre of their bounds (in the input's coordinates), which `--lot` and OBJ
+/// files cannot name.
 pub fn collect(
     lot_args: &[String],
     files: &[impl AsRef<Path>],
-) -> Result<(Vec<InitialShape>, Vec<String>), Failure> {
+    placing: Placing,
+) -> Result<Collected, Failure> {
     let mut lots = Vec::new();
     let mut warnings = Vec::new();
+    if placing.crs.is_geographic() && !lot_args.is_empty() {
+        return Err(Failure::usage(format!(
+            "--lot takes local metres: with --crs {} give the lots as a GeoJSON file",
+            placing.crs
+        )));
+    }
     for text in lot_args {
         let points = parse_points(text, "--lot").map_err(Failure::new)?;
         lots.push(InitialShape::from_xz(&points).ok_or_else(|| {
@@ -29,16 +88,144 @@ pub fn collect(
             ))
         })?);
     }
+    // Files are read first and placed once the frame is known; their lots keep file order.
+    let mut read = Vec::new();
     for file in files {
         let file = file.as_ref();
-        let (found, notes) = read_file(file)?;
-        lots.extend(found);
-        warnings.extend(notes);
+        let name = file.display().to_string();
+        match kind(&name) {
+            Some(LotFile::Obj) if placing.crs.is_geographic() => {
+                return Err(Failure::usage(format!(
+                    "{name}: OBJ lots are local metres; --crs {} applies to GeoJSON files",
+                    placing.crs
+                )));
+            }
+            Some(LotFile::Obj) => {
+                let (found, notes) = from_obj(&shapegram_export::load(file)?, &name);
+                if found.is_empty() {
+                    return Err(Failure::new(no_polygons(&name)));
+                }
+                read.push(LotsRead::Placed(found));
+                warnings.extend(notes);
+            }
+            Some(LotFile::GeoJson) => {
+                let text = std::fs::read_to_string(file)
+                    .map_err(|e| Failure::new(format!("cannot read {name}: {e}")))?;
+                let found = shapegram_export::read_geojson(&text)
+                    .map_err(|e| Failure::new(format!("invalid GeoJSON in {name}: {e}")))?;
+                read.push(LotsRead::GeoJson(name, found));
+            }
+            None => return Err(Failure::new(not_a_lot_file(&name))),
+        }
+    }
+    let frame = match placing.crs {
+        Crs::Local => Frame::Local {
+            offset: DVec2::ZERO,
+        },
+        crs => Frame::Globe(globe_frame(crs, &read)?),
+    };
+    for file in read {
+        match file {
+            LotsRead::Placed(found) => lots.extend(found),
+            LotsRead::GeoJson(name, found) => {
+                let (found, notes) =
+                    lots_from_rings(&found, &name, |p| to_frame(placing.crs, &frame, p))
+                        .map_err(Failure::new)?;
+                if found.is_empty() {
+                    return Err(Failure::new(no_polygons(&name)));
+                }
+                lots.extend(found);
+                warnings.extend(notes);
+            }
+        }
     }
     if lot_args.is_empty() && files.is_empty() {
         lots.push(default_lot());
     }
-    Ok((lots, warnings))
+    let frame = match frame {
+        Frame::Local { .. } if placing.recentre => recentre(&mut lots),
+        frame => frame,
+    };
+    Ok(Collected {
+        lots,
+        warnings,
+        frame,
+    })
+}
+
+/// A lot file as read: its lots, or GeoJSON footprints still in the input's coordinates.
+enum LotsRead {
+    Placed(Vec<InitialShape>),
+    GeoJson(String, Footprints),
+}
+
+/// The east-north-up frame at the centre of the bounds of every GeoJSON position (in the
+/// input's coordinates), on the ellipsoid; an out-of-range position is an error naming its
+/// file and feature.
+fn globe_frame(crs: Crs, files: &[LotsRead]) -> Result<EnuFrame, Failure> {
+    let mut min = DVec2::INFINITY;
+    let mut max = DVec2::NEG_INFINITY;
+    for file in files {
+        let LotsRead::GeoJson(name, found) = file else {
+            continue;
+        };
+        for (ring, place) in found.rings.iter().zip(&found.places) {
+            for &p in ring {
+                let input = DVec2::new(p.x, -p.y);
+                crs.to_geodetic(input.x, input.y)
+                    .map_err(|e| Failure::new(format!("{name}: {place}: {e}")))?;
+                min = min.min(input);
+                max = max.max(input);
+            }
+        }
+    }
+    if !min.is_finite() {
+        // No positions: the files' own errors (no polygons) say so.
+        return Ok(EnuFrame::at(Geodetic {
+            longitude: 0.0,
+            latitude: 0.0,
+        }));
+    }
+    let centre = (min + max) / 2.0;
+    let origin = crs
+        .to_geodetic(centre.x, centre.y)
+        .map_err(|e| Failure::new(format!("the centre of the lots: {e}")))?;
+    Ok(EnuFrame::at(origin))
+}
+
+/// A ground position as read (x, −y of the file) in the frame lots are derived in.
+fn to_frame(crs: Crs, frame: &Frame, p: DVec2) -> Result<DVec2, String> {
+    match frame {
+        Frame::Globe(enu) => {
+            let (east, north) = enu.east_north(crs.to_geodetic(p.x, -p.y)?);
+            Ok(DVec2::new(east, -north))
+        }
+        Frame::Local { .. } => Ok(p),
+    }
+}
+
+/// Moves local lots so that the centre of their bounds is the origin; the frame keeps where it
+/// was. Subtracting in f64 is exact for coordinates given to the millimetre up to 10⁹ m.
+fn recentre(lots: &mut [InitialShape]) -> Frame {
+    let mut min = DVec2::INFINITY;
+    let mut max = DVec2::NEG_INFINITY;
+    for p in lots.iter().flat_map(|lot| &lot.footprint) {
+        min = min.min(DVec2::new(p.x, p.z));
+        max = max.max(DVec2::new(p.x, p.z));
+    }
+    let centre = (min + max) / 2.0;
+    if !centre.is_finite() {
+        return Frame::Local {
+            offset: DVec2::ZERO,
+        };
+    }
+    let shift = DVec3::new(centre.x, 0.0, centre.y);
+    for p in lots.iter_mut().flat_map(|lot| &mut lot.footprint) {
+        *p -= shift;
+    }
+    Frame::Local {
+        offset: DVec2::new(centre.x, -centre.y),
+    }
 }
 
 /// The lot used without `--lot` and `--lots`: x from 0 to 20, z from 0 to 30, facing up.
@@ -46,24 +233,6 @@ pub fn default_lot() -> InitialShape {
     let (x, z) = DEFAULT_LOT;
     let corners = [(0.0, 0.0), (x, 0.0), (x, z), (0.0, z)].map(|(x, z)| DVec2::new(x, z));
     InitialShape::from_xz(&corners).expect("the default lot has an area")
-}
-
-/// Lots from an .obj (every face) or a .geojson/.json file (every polygon).
-fn read_file(path: &Path) -> Result<(Vec<InitialShape>, Vec<String>), Failure> {
-    let name = path.display().to_string();
-    let (lots, warnings) = match kind(&name) {
-        Some(LotFile::Obj) => from_obj(&shapegram_export::load(path)?, &name),
-        Some(LotFile::GeoJson) => {
-            let text = std::fs::read_to_string(path)
-                .map_err(|e| Failure::new(format!("cannot read {name}: {e}")))?;
-            from_geojson(&text, &name).map_err(Failure::new)?
-        }
-        None => return Err(Failure::new(not_a_lot_file(&name))),
-    };
-    if lots.is_empty() {
-        return Err(Failure::new(no_polygons(&name)));
-    }
-    Ok((lots, warnings))
 }
 
 /// Lots from the text of a file named `name` (its extension tells OBJ from GeoJSON), read as
@@ -148,16 +317,41 @@ fn lot_normal(points: &[DVec3]) -> Option<DVec3> {
     newell(points.iter().copied()).try_normalize()
 }
 
-/// Lots from GeoJSON text (see [`shapegram_export::read_geojson`]): holes, other geometry
-/// types and polygons without area are skipped with a warning; anything malformed is an error
-/// (one line, naming the file).
+/// Lots from GeoJSON text (see [`shapegram_export::read_geojson`]) in local metres: holes,
+/// other geometry types and polygons without area or crossing themselves are skipped with a
+/// warning; anything malformed is an error (one line, naming the file).
 pub fn from_geojson(text: &str, name: &str) -> Result<(Vec<InitialShape>, Vec<String>), String> {
     let found = shapegram_export::read_geojson(text)
         .map_err(|e| format!("invalid GeoJSON in {name}: {e}"))?;
+    lots_from_rings(&found, name, Ok)
+}
+
+/// The lots of GeoJSON footprints, each position mapped by `place` into the frame (an error
+/// there names the file and the feature); positions repeated one after the other count once.
+fn lots_from_rings(
+    found: &Footprints,
+    name: &str,
+    place: impl Fn(DVec2) -> Result<DVec2, String>,
+) -> Result<(Vec<InitialShape>, Vec<String>), String> {
     let mut lots = Vec::new();
     let mut without_area = found.empty;
-    for ring in &found.rings {
-        match InitialShape::from_xz(ring) {
+    let mut crossing = Vec::new();
+    for (ring, at) in found.rings.iter().zip(&found.places) {
+        let mut points = Vec::with_capacity(ring.len());
+        for &p in ring {
+            let p = place(p).map_err(|e| format!("{name}: {at}: {e}"))?;
+            if points.last() != Some(&p) {
+                points.push(p);
+            }
+        }
+        if points.len() > 1 && points.first() == points.last() {
+            points.pop();
+        }
+        if crosses_itself(&points) {
+            crossing.push(at.as_str());
+            continue;
+        }
+        match InitialShape::from_xz(&points) {
             Some(lot) => lots.push(lot),
             None => without_area += 1,
         }
@@ -182,12 +376,65 @@ pub fn from_geojson(text: &str, name: &str) -> Result<(Vec<InitialShape>, Vec<St
             crate::counted(without_area, "polygon", "polygons")
         ));
     }
+    if !crossing.is_empty() {
+        const SHOWN: usize = 5;
+        let more = crossing.len().saturating_sub(SHOWN);
+        warnings.push(format!(
+            "{name}: skipped {} whose outer ring crosses or touches itself: {}{}",
+            crate::counted(crossing.len(), "polygon", "polygons"),
+            crossing[..crossing.len().min(SHOWN)].join(", "),
+            if more > 0 {
+                format!(" and {more} more")
+            } else {
+                String::new()
+            }
+        ));
+    }
     Ok((lots, warnings))
+}
+
+/// Whether two edges of a closed ring that are not neighbours meet (a ring through one point
+/// twice meets itself too). Quadratic: lot outlines have few corners.
+fn crosses_itself(ring: &[DVec2]) -> bool {
+    let n = ring.len();
+    if n < 4 {
+        return false;
+    }
+    let edge = |i: usize| (ring[i], ring[(i + 1) % n]);
+    (0..n).any(|i| {
+        ((i + 2)..n)
+            .filter(|&j| !(i == 0 && j == n - 1))
+            .any(|j| segments_meet(edge(i), edge(j)))
+    })
+}
+
+/// Whether two closed segments share a point (orientation tests, collinear overlaps included).
+fn segments_meet((a, b): (DVec2, DVec2), (c, d): (DVec2, DVec2)) -> bool {
+    let side = |p: DVec2, q: DVec2, r: DVec2| (q - p).perp_dot(r - p);
+    let within = |p: DVec2, q: DVec2, r: DVec2| {
+        r.x >= p.x.min(q.x) && r.x <= p.x.max(q.x) && r.y >= p.y.min(q.y) && r.y <= p.y.max(q.y)
+    };
+    let (d1, d2) = (side(c, d, a), side(c, d, b));
+    let (d3, d4) = (side(a, b, c), side(a, b, d));
+    if ((d1 > 0.0 && d2 < 0.0) || (d1 < 0.0 && d2 > 0.0))
+        && ((d3 > 0.0 && d4 < 0.0) || (d3 < 0.0 && d4 > 0.0))
+    {
+        return true;
+    }
+    (d1 == 0.0 && within(c, d, a))
+        || (d2 == 0.0 && within(c, d, b))
+        || (d3 == 0.0 && within(a, b, c))
+        || (d4 == 0.0 && within(a, b, d))
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    const LOCAL: Placing = Placing {
+        crs: Crs::Local,
+        recentre: false,
+    };
 
     fn xz(lot: &InitialShape) -> Vec<(f64, f64)> {
         lot.footprint.iter().map(|p| (p.x, p.z)).collect()
@@ -212,9 +459,10 @@ mod tests {
 
     #[test]
     fn lots_come_from_every_lot_option_in_order() {
-        let (lots, warnings) = collect(
+        let Collected { lots, warnings, .. } = collect(
             &["0,0 1,0 1,1".to_owned(), "5,5 6,5 6,7 5,7".to_owned()],
             &[] as &[&Path],
+            LOCAL,
         )
         .unwrap();
         assert!(warnings.is_empty());
@@ -226,7 +474,7 @@ mod tests {
     #[test]
     fn bad_lot_options_are_one_line_errors() {
         let message = |text: &str| {
-            collect(&[text.to_owned()], &[] as &[&Path])
+            collect(&[text.to_owned()], &[] as &[&Path], LOCAL)
                 .unwrap_err()
                 .message
                 .unwrap()
@@ -312,5 +560,49 @@ mod tests {
             assert!(error.contains(expected), "{error} lacks {expected}");
             assert!(!error.contains('\n'), "{error}");
         }
+    }
+
+    #[test]
+    fn rings_that_cross_or_touch_themselves_are_found() {
+        let ring = |points: &[(f64, f64)]| -> Vec<DVec2> {
+            points.iter().map(|&(x, y)| DVec2::new(x, y)).collect()
+        };
+        assert!(!crosses_itself(&ring(&[
+            (0., 0.),
+            (4., 0.),
+            (4., 4.),
+            (0., 4.)
+        ])));
+        assert!(!crosses_itself(&ring(&[
+            (0., 0.),
+            (4., 0.),
+            (1., 1.),
+            (0., 4.)
+        ])));
+        assert!(crosses_itself(&ring(&[
+            (0., 0.),
+            (4., 4.),
+            (4., 0.),
+            (0., 4.)
+        ])));
+        // Through (2, 2) twice: two squares touching at a corner.
+        assert!(crosses_itself(&ring(&[
+            (0., 0.),
+            (2., 0.),
+            (2., 2.),
+            (4., 2.),
+            (4., 4.),
+            (2., 4.),
+            (2., 2.),
+            (0., 2.)
+        ])));
+        // An edge doubling back over its neighbour's neighbour.
+        assert!(crosses_itself(&ring(&[
+            (0., 0.),
+            (4., 0.),
+            (4., 1.),
+            (2., 0.),
+            (2., -1.)
+        ])));
     }
 }

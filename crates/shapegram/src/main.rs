@@ -20,6 +20,7 @@ mod studio;
 mod studio_kinds;
 mod studio_settings;
 mod studio_tree;
+mod tiles;
 mod topo;
 
 use std::io::{self, Write};

@@ -1,0 +1,167 @@
+// `shapegram derive --tiles` end to end: a city of WGS84 lots is tiled by the binary, checked by
+// 3d-tiles-tools (check.mjs), and streamed by CesiumJS from npm in Debian's Chromium, headless
+// with WebGL through SwiftShader. Cesium and the tileset are served from loopback; no Ion
+// token, no imagery: the globe is a plain colour and every request elsewhere is refused.
+// Far away only the masses (far/) load; close to the city the full models (near/) replace them.
+// Run by .ci/run:
+//
+//   SHAPEGRAM_BIN=target/release/shapegram TILES_OUTPUT=target/ci-tiles node tests/tiles-browser/browser.mjs
+//
+// SHAPEGRAM_BIN: the binary (default ../../target/release/shapegram from here); TILES_OUTPUT:
+// where the tileset and screenshots go (default a temporary folder); CHROMIUM: the browser.
+import { chromium } from "playwright-core";
+import { execFileSync } from "node:child_process";
+import { createServer } from "node:http";
+import { mkdirSync, mkdtempSync, readFileSync, rmSync, statSync, writeFileSync } from "node:fs";
+import { tmpdir } from "node:os";
+import { dirname, extname, join, normalize, resolve } from "node:path";
+import { fileURLToPath } from "node:url";
+import assert from "node:assert/strict";
+import { checkTileset } from "./check.mjs";
+
+const here = dirname(fileURLToPath(import.meta.url));
+const root = resolve(here, "../..");
+const binary = resolve(process.env.SHAPEGRAM_BIN || join(root, "target/release/shapegram"));
+const output = resolve(process.env.TILES_OUTPUT || mkdtempSync(join(tmpdir(), "tiles-test-")));
+const browserPath = process.env.CHROMIUM || "/usr/bin/chromium";
+mkdirSync(output, { recursive: true });
+
+// 10 × 10 lots of 20 × 30 m, 28 m apart east and 40 m north, in Berlin (degrees per metre at
+// 52.52° N, near enough).
+const [lon0, lat0] = [13.405, 52.52];
+const [perEast, perNorth] = [1 / 67_800, 1 / 111_270];
+const features = [];
+for (let i = 0; i < 10; i++) {
+  for (let j = 0; j < 10; j++) {
+    const ring = [[0, 0], [20, 0], [20, 30], [0, 30], [0, 0]].map(([dx, dy]) => [
+      lon0 + (i * 28 + dx) * perEast,
+      lat0 + (j * 40 + dy) * perNorth,
+    ]);
+    features.push({ type: "Feature", properties: { lot: i * 10 + j }, geometry: { type: "Polygon", coordinates: [ring] } });
+  }
+}
+const lots = join(output, "city.geojson");
+writeFileSync(lots, JSON.stringify({ type: "FeatureCollection", features }));
+const tiles = join(output, "tiles");
+rmSync(tiles, { recursive: true, force: true });
+execFileSync(binary, ["derive", "-q", join(root, "examples/house.cga"), "--lots", lots, "--crs", "wgs84",
+  "--tiles", tiles, "--tile-size", "100"], { stdio: "inherit" });
+
+// 3d-tiles-tools: two levels under the root, GLB content throughout.
+const levels = await checkTileset(tiles);
+assert.equal(levels[0], undefined, "the root has no content");
+assert.ok(levels[1].every((uri) => uri.startsWith("far/")), levels[1].join());
+assert.ok(levels[2].every((uri) => uri.startsWith("near/")), levels[2].join());
+console.log(`3d-tiles-tools: ${levels[1].length} far and ${levels[2].length} near tiles, all GLB`);
+
+// A static server for Cesium's build and the tileset.
+const cesium = join(here, "node_modules/cesium/Build/Cesium");
+const types = { ".js": "text/javascript", ".json": "application/json", ".glb": "model/gltf-binary",
+  ".css": "text/css", ".png": "image/png", ".jpg": "image/jpeg", ".wasm": "application/wasm",
+  ".html": "text/html", ".svg": "image/svg+xml", ".xml": "application/xml" };
+const page = `<!doctype html><html><head><meta charset="utf-8">
+<link rel="stylesheet" href="/cesium/Widgets/widgets.css">
+<style>html,body,#globe{margin:0;width:100%;height:100%;overflow:hidden}</style>
+<script>window.CESIUM_BASE_URL = "/cesium/";</script><script src="/cesium/Cesium.js"></script>
+</head><body><div id="globe"></div></body></html>`;
+const server = createServer((request, response) => {
+  const path = decodeURIComponent(new URL(request.url, "http://x").pathname);
+  let file;
+  if (path === "/") {
+    response.writeHead(200, { "content-type": "text/html" }).end(page);
+    return;
+  } else if (path.startsWith("/cesium/")) file = join(cesium, normalize(path.slice(8)));
+  else if (path.startsWith("/tiles/")) file = join(tiles, normalize(path.slice(7)));
+  try {
+    if (!file || !statSync(file).isFile()) throw new Error("not a file");
+    response.writeHead(200, { "content-type": types[extname(file)] || "application/octet-stream" });
+    response.end(readFileSync(file));
+  } catch {
+    response.writeHead(404).end();
+  }
+});
+await new Promise((ok) => server.listen(0, "127.0.0.1", ok));
+const origin = `http://127.0.0.1:${server.address().port}`;
+
+const browser = await chromium.launch({
+  executablePath: browserPath,
+  args: ["--headless", "--no-sandbox", "--disable-gpu", "--use-gl=swiftshader", "--enable-unsafe-swiftshader",
+    "--disable-background-networking", "--disable-component-update", "--disable-sync", "--no-first-run"],
+});
+let failed = false;
+try {
+  const context = await browser.newContext({ viewport: { width: 800, height: 600 } });
+  const refused = new Set();
+  await context.route("**/*", (route) => {
+    const url = new URL(route.request().url());
+    if (url.origin === origin || url.protocol === "data:" || url.protocol === "blob:") return route.continue();
+    refused.add(url.origin);
+    return route.abort();
+  });
+  const tab = await context.newPage();
+  const errors = [];
+  tab.on("pageerror", (e) => errors.push(String(e)));
+  await tab.goto(origin + "/");
+  await tab.evaluate(async () => {
+    const viewer = new Cesium.Viewer("globe", {
+      baseLayer: false, baseLayerPicker: false, geocoder: false, timeline: false, animation: false,
+      homeButton: false, sceneModePicker: false, navigationHelpButton: false, fullscreenButton: false,
+      infoBox: false, selectionIndicator: false, skyBox: false, skyAtmosphere: false,
+      terrainProvider: new Cesium.EllipsoidTerrainProvider(),
+    });
+    viewer.scene.globe.baseColor = Cesium.Color.fromCssColorString("#6b8e5a");
+    viewer.scene.backgroundColor = Cesium.Color.fromCssColorString("#dfe6ec");
+    const tileset = await Cesium.Cesium3DTileset.fromUrl("/tiles/tileset.json");
+    viewer.scene.primitives.add(tileset);
+    window.loads = [];
+    tileset.tileLoad.addEventListener((tile) => window.loads.push(new URL(tile.content.url, location.href).pathname));
+    window.viewer = viewer;
+    window.tileset = tileset;
+    window.view = (range) => viewer.camera.viewBoundingSphere(tileset.boundingSphere,
+      new Cesium.HeadingPitchRange(0.3, -0.5, range));
+  });
+
+  /** Moves the camera to `range` metres from the city's centre and waits for its tiles. */
+  async function look(range, name) {
+    await tab.evaluate((r) => {
+      window.view(r);
+      window.settled = false;
+      // tilesLoaded turns true once every tile the view needs is loaded and drawn.
+      window.tileset.allTilesLoaded.addEventListener(function once() {
+        window.settled = true;
+        window.tileset.allTilesLoaded.removeEventListener(once);
+      });
+    }, range);
+    await tab.waitForFunction(() => window.settled && window.tileset.tilesLoaded, null, { timeout: 120_000 });
+    await tab.waitForTimeout(500);
+    await tab.screenshot({ path: join(output, `cesium-${name}.png`) });
+    return tab.evaluate(() => ({
+      loads: [...window.loads],
+      selected: window.tileset.statistics.selected,
+      commands: window.tileset.statistics.numberOfCommands,
+      triangles: window.tileset.statistics.numberOfTrianglesSelected,
+    }));
+  }
+
+  const far = await look(3000, "far");
+  console.log(`far camera: loaded ${far.loads.length} tiles, ${far.selected} selected, ${far.commands} draw commands, ${far.triangles} triangles`);
+  assert.ok(far.loads.length > 0, "no tile was loaded from afar");
+  assert.ok(far.loads.every((p) => p.startsWith("/tiles/far/")), `near tiles from afar: ${far.loads}`);
+  assert.ok(far.selected > 0 && far.commands > 0, "nothing drawn from afar");
+
+  const near = await look(120, "near");
+  const later = near.loads.slice(far.loads.length);
+  console.log(`near camera: ${later.length} more tiles, ${near.selected} selected, ${near.commands} draw commands, ${near.triangles} triangles`);
+  assert.ok(later.some((p) => p.startsWith("/tiles/near/")), `no near tile loaded: ${later}`);
+  assert.ok(near.triangles > far.triangles, "the near view draws no more detail than the far one");
+  assert.deepEqual(errors, [], "page errors");
+  if (refused.size > 0) console.log(`refused requests to: ${[...refused].join(", ")}`);
+  console.log(`tiles browser test passed (screenshots in ${output})`);
+} catch (e) {
+  failed = true;
+  console.error(e);
+} finally {
+  await browser.close();
+  server.close();
+}
+process.exit(failed ? 1 : 0);
