@@ -109,6 +109,7 @@ impl GrammarMesh {
                     normals: Vec::new(),
                     material: None,
                     surface: None,
+                    instance: None,
                 })
                 .collect(),
             lines: Vec::new(),

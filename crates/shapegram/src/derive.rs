@@ -7,7 +7,7 @@ use std::time::{Duration, Instant};
 
 use serde::Serialize;
 use serde::ser::SerializeMap;
-use shapegram_eval::{Derivation, DeriveError, DeriveOptions, Program, Value};
+use shapegram_eval::{Derivation, DeriveError, DeriveOptions, ModelOptions, Program, Value};
 use shapegram_export::{ExportOptions, Format};
 use shapegram_geom::Model;
 use shapegram_syntax::SourceFile;
@@ -52,8 +52,9 @@ pub fn run(args: &DeriveArgs) -> Result<(), Failure> {
         time_budget: (args.timeout > 0.0).then(|| Duration::from_secs_f64(args.timeout)),
         generations: args.generations,
         assets: Some(Arc::new(input.assets(args.missing_assets.into()))),
-        // The tree is what a state at a node is made from.
-        keep_tree: args.at_node.is_some(),
+        // The tree is what a state at a node is made from, and where leaves' metadata comes
+        // from.
+        keep_tree: args.at_node.is_some() || args.metadata,
         implicit_cell: args.implicit_cell,
         trace: false,
         max_steps: args.max_steps,
@@ -110,20 +111,25 @@ pub fn run(args: &DeriveArgs) -> Result<(), Failure> {
     eprint!("{prints}");
 
     let export_started = Instant::now();
+    let glb = match &args.output {
+        Some(output) => matches!(Format::from_path(output)?, Format::Glb),
+        None => false,
+    };
+    let model_options = ModelOptions {
+        instances: args.instancing.candidates(glb),
+        metadata: args.metadata && glb,
+        attr_names: program.attr_names().map(str::to_owned).collect(),
+    };
     let mut model = match args.at_node {
         Some(node) => derivation
             .model_at_node(node)
             .map_err(|e| Failure::new(e.message).with_hints(e.hints))?,
-        None => derivation.to_model(),
+        None => derivation.to_model_with(&model_options),
     };
     if let Some(pose) = &args.pose {
         crate::pose::apply(pose, &mut model)?;
     }
     let named_poses = program.named_poses();
-    let glb = match &args.output {
-        Some(output) => matches!(Format::from_path(output)?, Format::Glb),
-        None => false,
-    };
     if glb && !named_poses.is_empty() {
         add_named_poses(
             &program,
@@ -140,6 +146,7 @@ pub fn run(args: &DeriveArgs) -> Result<(), Failure> {
     if let Some(output) = &args.output {
         let options = ExportOptions {
             group_by_part: args.group,
+            instancing: args.instancing.into(),
         };
         shapegram_export::save(&model, output, &options)?;
     }

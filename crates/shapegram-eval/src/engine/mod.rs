@@ -38,7 +38,9 @@ mod goals;
 mod implicit;
 mod inner_rect;
 mod insert;
+mod instances;
 mod kinematics;
+mod leaf_metadata;
 mod machine;
 mod perimeter;
 mod pivot;
@@ -76,6 +78,7 @@ pub use control::DeriveControl;
 pub use derive::derive;
 pub(crate) use insert::builtin_asset;
 pub use insert::{ASSET_VARIANTS, Asset, AssetLoader, AssetNaming};
+pub use instances::InstanceCandidates;
 pub use reuse::{Rederivation, derive_again};
 pub use trace::Trace;
 
@@ -131,6 +134,21 @@ impl Default for DeriveOptions {
             control: None,
         }
     }
+}
+
+/// How [`Derivation::to_model_with`] turns leaves into a model's parts.
+#[derive(Clone, Debug, Default)]
+pub struct ModelOptions {
+    /// Which leaves may become instances: each such leaf whose geometry another leaf repeats
+    /// (up to its scope and size) becomes parts of its own that carry their
+    /// [`shapegram_geom::Instance`], instead of joining its rule's part.
+    pub instances: InstanceCandidates,
+    /// Give each leaf its own parts carrying [`Metadata`]: its rule, and when the derivation
+    /// kept its tree ([`DeriveOptions::keep_tree`]), its derivation path and attributes.
+    pub metadata: bool,
+    /// The grammar's attribute names in order ([`crate::Program::attr_names`]), which name
+    /// the attributes in the metadata.
+    pub attr_names: Vec<String>,
 }
 
 /// An initial shape: a planar footprint polygon in world coordinates, counter-clockwise about
@@ -322,7 +340,13 @@ impl Derivation {
     ///
     /// [`solids`]: Derivation::solids
     pub fn to_model(&self) -> Model {
-        self.build_model(None)
+        self.build_model(None, &ModelOptions::default())
+    }
+
+    /// [`Derivation::to_model`] with instances and leaf metadata as `options` ask: instanced
+    /// leaves and leaves with metadata get parts of their own, in leaf order among the others.
+    pub fn to_model_with(&self, options: &ModelOptions) -> Model {
+        self.build_model(None, options)
     }
 
     /// [`Derivation::to_model`], and where each leaf's faces went: for every leaf that is in a
@@ -330,11 +354,15 @@ impl Derivation {
     /// [`LeafFaces`]. Visual debugging maps the model's triangles back to the leaves with it.
     pub fn to_model_with_faces(&self) -> (Model, Vec<LeafFaces>) {
         let mut faces = Vec::new();
-        let model = self.build_model(Some(&mut faces));
+        let model = self.build_model(Some(&mut faces), &ModelOptions::default());
         (model, faces)
     }
 
-    fn build_model(&self, mut places: Option<&mut Vec<LeafFaces>>) -> Model {
+    fn build_model(
+        &self,
+        mut places: Option<&mut Vec<LeafFaces>>,
+        options: &ModelOptions,
+    ) -> Model {
         let mut parts: Vec<ModelPart> = Vec::new();
         type Key<'a> = (
             &'a str,
@@ -347,6 +375,10 @@ impl Derivation {
         );
         let mut slot: FxHashMap<Key, usize> = FxHashMap::default();
         let mut metadata = MetadataCache::default();
+        let mut prototypes = instances::Prototypes::default();
+        let describer = options
+            .metadata
+            .then(|| leaf_metadata::LeafDescriber::new(&self.tree, &options.attr_names));
         let skeleton_of: FxHashMap<u32, u32> = self
             .skeletons
             .iter()
@@ -364,8 +396,41 @@ impl Derivation {
                 skeleton,
                 section: SectionId(leaf.section),
             });
-            let meta = leaf.semantics.as_ref().map(|s| metadata.of(s));
+            let meta = match &describer {
+                Some(describer) => Some(Arc::new(
+                    describer.describe(leaf, leaf.semantics.as_deref()),
+                )),
+                None => leaf.semantics.as_ref().map(|s| metadata.of(s)),
+            };
+            // Skinned parts follow their bones, never a prototype.
+            let frame =
+                instances::Prototypes::frame(leaf, options.instances).filter(|_| bone.is_none());
             for piece in leaf.pieces(mesh) {
+                let instance = frame.and_then(|frame| prototypes.instance(frame, &piece));
+                if instance.is_some() {
+                    if let Some(places) = places.as_deref_mut() {
+                        places.push(LeafFaces {
+                            leaf: index as u32,
+                            part: parts.len() as u32,
+                            first: 0,
+                            count: piece.mesh.face_count() as u32,
+                        });
+                    }
+                    parts.push(ModelPart {
+                        bone,
+                        name: leaf.name.to_string(),
+                        color: piece.color,
+                        normals: Vec::new(),
+                        metadata: meta.clone(),
+                        texture: piece.colormap,
+                        uvs: piece.uvs.unwrap_or_default(),
+                        material: piece.material,
+                        surface: piece.surface.map(Arc::new),
+                        instance,
+                        mesh: piece.mesh,
+                    });
+                    continue;
+                }
                 let key = (
                     &*leaf.name,
                     piece.color.to_array().map(f32::to_bits),
@@ -387,6 +452,7 @@ impl Derivation {
                         uvs: Vec::new(),
                         material: piece.material.clone(),
                         surface: piece.surface.clone().map(Arc::new),
+                        instance: None,
                     });
                     parts.len() - 1
                 });
@@ -430,6 +496,8 @@ impl MetadataCache {
         }
         let names = |list: &[Arc<str>]| list.iter().map(|s| s.to_string()).collect();
         let meta = Arc::new(Metadata {
+            rule: None,
+            path: None,
             goals: names(&semantics.goals),
             tags: names(&semantics.tags),
             attributes: semantics
