@@ -17,6 +17,10 @@
 //! A skeleton's named poses become one-keyframe animations of its free joints (see
 //! [`animation`]), after the skins; without named poses there is no `animations`.
 //!
+//! Parts that repeat a prototype ([`Part::instance`]) become one mesh per prototype and
+//! material, placed by a node per part or by `EXT_mesh_gpu_instancing`, as
+//! [`ExportOptions::instancing`] asks (see [`instance`]).
+//!
 //! The file is planned first (sizes, bounds, the JSON chunk) and then streamed: shared vertices
 //! and points go from the model straight to the writer, so a large model is never held twice.
 
