@@ -4,7 +4,7 @@
 mod common;
 
 use common::*;
-use shapegram_eval::{DeriveOptions, InstanceCandidates, ModelOptions, derive};
+use shapegram_eval::{DeriveOptions, InstanceCandidates, MetadataScope, ModelOptions, derive};
 use shapegram_geom::{DVec3, MetaValue};
 
 fn instances(candidates: InstanceCandidates) -> ModelOptions {
@@ -109,7 +109,7 @@ fn leaves_carry_rule_path_and_attributes() {
     };
     let derivation = derive(&program, &[lot(20.0, 10.0)], &options).unwrap();
     let model = derivation.to_model_with(&ModelOptions {
-        metadata: true,
+        metadata: MetadataScope::Leaf,
         attr_names: program.attr_names().map(str::to_owned).collect(),
         ..ModelOptions::default()
     });
@@ -126,7 +126,7 @@ fn leaves_carry_rule_path_and_attributes() {
     );
     // Without the tree there is no path to tell.
     let bare = run("Lot --> Pole.", lot(4.0, 4.0)).to_model_with(&ModelOptions {
-        metadata: true,
+        metadata: MetadataScope::Leaf,
         ..ModelOptions::default()
     });
     let meta = bare.parts[0].metadata.as_deref().unwrap();
@@ -134,4 +134,39 @@ fn leaves_carry_rule_path_and_attributes() {
         (meta.rule.as_deref(), meta.path.as_deref()),
         (Some("Pole"), None)
     );
+}
+
+#[test]
+fn parts_carry_their_rule_leaf_count_and_shared_attributes() {
+    let program = compile(
+        r##"attr height = 3
+           attr label = "post"
+           Lot --> split(x) { '0.25 : Post(split.index) }*
+           Post(i) --> case i < 3 : set(height, 4 + i % 2) Pole.
+                       else : color("#ff0000") Pole."##,
+    );
+    let options = DeriveOptions {
+        keep_tree: true,
+        ..DeriveOptions::default()
+    };
+    let derivation = derive(&program, &[lot(20.0, 10.0)], &options).unwrap();
+    let model = derivation.to_model_with(&ModelOptions {
+        metadata: MetadataScope::Part,
+        attr_names: program.attr_names().map(str::to_owned).collect(),
+        ..ModelOptions::default()
+    });
+    // Three grey poles of heights 4, 5, 4 and a red one: a part per colour, as without metadata.
+    assert_eq!(model.parts.len(), 2);
+    let grey = model.parts[0].metadata.as_deref().unwrap();
+    assert_eq!(grey.rule.as_deref(), Some("Pole"));
+    assert_eq!(grey.leaves, Some(3));
+    assert_eq!(grey.path, None);
+    assert_eq!(
+        grey.attributes,
+        [("label".to_owned(), MetaValue::Text("post".to_owned()))],
+        "the heights differ"
+    );
+    let red = model.parts[1].metadata.as_deref().unwrap();
+    assert_eq!(red.leaves, Some(1));
+    assert_eq!(red.attributes.len(), 2);
 }

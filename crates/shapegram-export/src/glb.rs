@@ -514,8 +514,9 @@ impl<'a> Plan<'a> {
     }
 }
 
-/// A part's metadata as node extras: `{"shapegram": {"rule": …, "path": …, "goals": […],
-/// "tags": […], "attributes": {name: value}}}` (`rule` and `path` when known), as
+/// A part's metadata as node extras: `{"shapegram": {"rule": …, "path": …, "leaves": n,
+/// "goals": […], "tags": […], "attributes": {name: value}}}` (`rule`, `path` and `leaves`
+/// when known), as
 /// `docs/export.md` and `docs/goals.md` document.
 fn metadata_extras(metadata: &Metadata) -> Box<json::extras::RawValue> {
     let attributes: serde_json::Map<String, serde_json::Value> = metadata
@@ -536,6 +537,9 @@ fn metadata_extras(metadata: &Metadata) -> Box<json::extras::RawValue> {
     }
     if let Some(path) = &metadata.path {
         fields.insert("path".to_owned(), path.clone().into());
+    }
+    if let Some(leaves) = metadata.leaves {
+        fields.insert("leaves".to_owned(), leaves.into());
     }
     fields.insert("goals".to_owned(), metadata.goals.clone().into());
     fields.insert("tags".to_owned(), metadata.tags.clone().into());

@@ -229,6 +229,8 @@ pub struct Metadata {
     pub rule: Option<String>,
     /// The leaf's derivation path (`Lot[0]/Mass[0]/Facade[2]`, see `docs/export.md`).
     pub path: Option<String>,
+    /// How many leaves the part holds, when it describes a part of many rather than a leaf.
+    pub leaves: Option<u32>,
     /// Goals no rule fulfilled.
     pub goals: Vec<String>,
     /// Goals fulfilled.
@@ -254,6 +256,7 @@ impl std::hash::Hash for Metadata {
     fn hash<H: std::hash::Hasher>(&self, state: &mut H) {
         self.rule.hash(state);
         self.path.hash(state);
+        self.leaves.hash(state);
         self.goals.hash(state);
         self.tags.hash(state);
         for (name, value) in &self.attributes {

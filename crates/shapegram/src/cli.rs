@@ -373,8 +373,9 @@ pub struct DeriveArgs {
     /// STL are always flat
     #[arg(long, value_name = "HOW", default_value = "auto")]
     pub instancing: InstancingArg,
-    /// GLB: give each leaf a node whose extras name its rule, derivation path and attributes
-    /// (docs/export.md)
+    /// GLB: give each leaf a node whose extras name its rule, derivation path and attributes;
+    /// with --group, each part's node names its rule, leaf count and the attributes its leaves
+    /// share (docs/export.md)
     #[arg(long)]
     pub metadata: bool,
     /// Print counts, times, rule applications and report() values as one JSON object on stdout

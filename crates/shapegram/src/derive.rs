@@ -7,7 +7,9 @@ use std::time::{Duration, Instant};
 
 use serde::Serialize;
 use serde::ser::SerializeMap;
-use shapegram_eval::{Derivation, DeriveError, DeriveOptions, ModelOptions, Program, Value};
+use shapegram_eval::{
+    Derivation, DeriveError, DeriveOptions, MetadataScope, ModelOptions, Program, Value,
+};
 use shapegram_export::{ExportOptions, Format};
 use shapegram_geom::Model;
 use shapegram_syntax::SourceFile;
@@ -117,7 +119,11 @@ pub fn run(args: &DeriveArgs) -> Result<(), Failure> {
     };
     let model_options = ModelOptions {
         instances: args.instancing.candidates(glb),
-        metadata: args.metadata && glb,
+        metadata: match (args.metadata && glb, args.group) {
+            (false, _) => MetadataScope::None,
+            (true, false) => MetadataScope::Leaf,
+            (true, true) => MetadataScope::Part,
+        },
         attr_names: program.attr_names().map(str::to_owned).collect(),
     };
     let mut model = match args.at_node {

@@ -234,3 +234,32 @@ fn obj_and_stl_stay_flat() {
         assert!(plain == asked, "{format}");
     }
 }
+
+#[test]
+fn grouped_metadata_is_per_part() {
+    let (dir, grammar) = orchard("per-part");
+    let glb = derive(
+        &grammar,
+        &dir.path("parts.glb"),
+        &["--metadata", "--group", "--instancing", "none"],
+        1,
+    );
+    let json = json_of(&glb);
+    let summary = |name: &str| {
+        let nodes = named(&json, name);
+        assert_eq!(nodes.len(), 1, "{name}");
+        nodes[0]["extras"]["shapegram"].clone()
+    };
+    assert_eq!(
+        summary("Crown"),
+        serde_json::json!({
+            "rule": "Crown",
+            "leaves": 50,
+            "attributes": {"crownH": 2.5},
+            "goals": [],
+            "tags": [],
+        })
+    );
+    assert_eq!(summary("Post")["leaves"], 50);
+    assert_eq!(summary("Ground")["leaves"], 1);
+}

@@ -73,6 +73,7 @@ impl<'a> LeafDescriber<'a> {
         Metadata {
             rule: Some(leaf.name.to_string()),
             path: node.map(|n| self.path(n)),
+            leaves: None,
             goals,
             tags,
             attributes,
@@ -99,5 +100,52 @@ impl<'a> LeafDescriber<'a> {
             path.push(']');
         }
         path
+    }
+}
+
+/// Per-part metadata ([`super::MetadataScope::Part`]): each part's rule, its leaves' count and
+/// the attributes all of them agree on, gathered leaf by leaf.
+#[derive(Default)]
+pub(super) struct PartSummaries {
+    /// By part: the summary so far and the last leaf counted in it.
+    parts: Vec<Option<(Metadata, usize)>>,
+}
+
+impl PartSummaries {
+    /// Counts leaf `leaf`, described by `description`, in part `part`.
+    pub(super) fn add(&mut self, part: usize, leaf: usize, description: &Metadata) {
+        if self.parts.len() <= part {
+            self.parts.resize(part + 1, None);
+        }
+        match &mut self.parts[part] {
+            None => {
+                self.parts[part] = Some((
+                    Metadata {
+                        path: None,
+                        leaves: Some(1),
+                        ..description.clone()
+                    },
+                    leaf,
+                ));
+            }
+            // A leaf drawn in several materials of one part counts once.
+            Some((_, last)) if *last == leaf => {}
+            Some((summary, last)) => {
+                *last = leaf;
+                summary.leaves = summary.leaves.map(|n| n + 1);
+                summary
+                    .attributes
+                    .retain(|attribute| description.attributes.contains(attribute));
+            }
+        }
+    }
+
+    /// Gives each part that holds leaves its summary.
+    pub(super) fn finish(self, parts: &mut [shapegram_geom::Part]) {
+        for (part, summary) in parts.iter_mut().zip(self.parts) {
+            if let Some((summary, _)) = summary {
+                part.metadata = Some(std::sync::Arc::new(summary));
+            }
+        }
     }
 }

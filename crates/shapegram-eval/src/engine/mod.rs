@@ -143,12 +143,25 @@ pub struct ModelOptions {
     /// (up to its scope and size) becomes parts of its own that carry their
     /// [`shapegram_geom::Instance`], instead of joining its rule's part.
     pub instances: InstanceCandidates,
-    /// Give each leaf its own parts carrying [`Metadata`]: its rule, and when the derivation
-    /// kept its tree ([`DeriveOptions::keep_tree`]), its derivation path and attributes.
-    pub metadata: bool,
+    /// Which parts carry [`Metadata`] (see [`MetadataScope`]).
+    pub metadata: MetadataScope,
     /// The grammar's attribute names in order ([`crate::Program::attr_names`]), which name
     /// the attributes in the metadata.
     pub attr_names: Vec<String>,
+}
+
+/// What the parts of a model built by [`Derivation::to_model_with`] say about their leaves.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum MetadataScope {
+    /// Nothing beyond goal grammars' semantics.
+    #[default]
+    None,
+    /// Each leaf gets parts of its own carrying its rule, and when the derivation kept its
+    /// tree ([`DeriveOptions::keep_tree`]), its derivation path and attributes.
+    Leaf,
+    /// Parts are made as without metadata, each carrying its rule, how many leaves it holds and
+    /// the attributes all of them agree on.
+    Part,
 }
 
 /// An initial shape: a planar footprint polygon in world coordinates, counter-clockwise about
@@ -376,9 +389,9 @@ impl Derivation {
         let mut slot: FxHashMap<Key, usize> = FxHashMap::default();
         let mut metadata = MetadataCache::default();
         let mut prototypes = instances::Prototypes::default();
-        let describer = options
-            .metadata
+        let describer = (options.metadata != MetadataScope::None)
             .then(|| leaf_metadata::LeafDescriber::new(&self.tree, &options.attr_names));
+        let mut summaries = leaf_metadata::PartSummaries::default();
         let skeleton_of: FxHashMap<u32, u32> = self
             .skeletons
             .iter()
@@ -396,11 +409,12 @@ impl Derivation {
                 skeleton,
                 section: SectionId(leaf.section),
             });
-            let meta = match &describer {
-                Some(describer) => Some(Arc::new(
-                    describer.describe(leaf, leaf.semantics.as_deref()),
-                )),
-                None => leaf.semantics.as_ref().map(|s| metadata.of(s)),
+            let description = describer
+                .as_ref()
+                .map(|d| d.describe(leaf, leaf.semantics.as_deref()));
+            let meta = match (options.metadata, &description) {
+                (MetadataScope::Leaf, Some(description)) => Some(Arc::new(description.clone())),
+                _ => leaf.semantics.as_ref().map(|s| metadata.of(s)),
             };
             // Skinned parts follow their bones, never a prototype.
             let frame =
@@ -408,6 +422,11 @@ impl Derivation {
             for piece in leaf.pieces(mesh) {
                 let instance = frame.and_then(|frame| prototypes.instance(frame, &piece));
                 if instance.is_some() {
+                    if options.metadata == MetadataScope::Part
+                        && let Some(description) = &description
+                    {
+                        summaries.add(parts.len(), index, description);
+                    }
                     if let Some(places) = places.as_deref_mut() {
                         places.push(LeafFaces {
                             leaf: index as u32,
@@ -459,6 +478,11 @@ impl Derivation {
                 if let Some(uvs) = piece.uvs {
                     parts[i].uvs.extend(uvs);
                 }
+                if options.metadata == MetadataScope::Part
+                    && let Some(description) = &description
+                {
+                    summaries.add(i, index, description);
+                }
                 if let Some(places) = places.as_deref_mut() {
                     places.push(LeafFaces {
                         leaf: index as u32,
@@ -470,6 +494,7 @@ impl Derivation {
                 parts[i].mesh.append(&piece.mesh);
             }
         }
+        summaries.finish(&mut parts);
         parts.extend(self.solids.iter().cloned());
         Model {
             skeletons: self.skeletons.iter().map(|(_, s)| s.clone()).collect(),
@@ -498,6 +523,7 @@ impl MetadataCache {
         let meta = Arc::new(Metadata {
             rule: None,
             path: None,
+            leaves: None,
             goals: names(&semantics.goals),
             tags: names(&semantics.tags),
             attributes: semantics
