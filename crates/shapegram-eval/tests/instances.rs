@@ -41,8 +41,9 @@ fn copies_of_an_asset_share_a_prototype_whatever_their_size() {
             ("Whole".to_owned(), Some(0)),
             ("Whole".to_owned(), Some(0)),
             ("Whole".to_owned(), Some(0)),
-            ("Low".to_owned(), Some(1)),
-            ("High".to_owned(), Some(2)),
+            // Each half is used once: nothing to share.
+            ("Low".to_owned(), None),
+            ("High".to_owned(), None),
         ]
     );
 }
@@ -169,4 +170,37 @@ fn parts_carry_their_rule_leaf_count_and_shared_attributes() {
     let red = model.parts[1].metadata.as_deref().unwrap();
     assert_eq!(red.leaves, Some(1));
     assert_eq!(red.attributes.len(), 2);
+}
+
+#[test]
+fn only_sharing_that_saves_bytes_changes_the_model_when_asked() {
+    let smaller = ModelOptions {
+        instances: InstanceCandidates::All,
+        smaller_only: true,
+        ..ModelOptions::default()
+    };
+    // Four quads of the lot: cheaper written than shared, so the model is the plain one.
+    let tiles = run("Lot --> split(x) { '0.25 : Tile. }*", lot(20.0, 10.0));
+    assert_eq!(tiles.to_model_with(&smaller), tiles.to_model());
+    assert_eq!(
+        tiles
+            .to_model_with(&instances(InstanceCandidates::All))
+            .parts
+            .len(),
+        4,
+        "without the byte test every quad is an instance"
+    );
+    // Forty spheres are worth sharing.
+    let balls = run(
+        r#"Lot --> split(x) { '0.025 : s('0.5, 1, '0.5) i("builtin:sphere") Ball. }*"#,
+        lot(40.0, 10.0),
+    );
+    let model = balls.to_model_with(&smaller);
+    assert_eq!(model.parts.len(), 40);
+    assert!(
+        model
+            .parts
+            .iter()
+            .all(|p| p.instance.map(|i| i.prototype) == Some(0))
+    );
 }

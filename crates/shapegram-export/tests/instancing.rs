@@ -348,3 +348,44 @@ fn metadata_goes_into_each_use_node() {
         })
     );
 }
+
+#[test]
+fn broken_instancing_data_is_an_error_not_a_panic() {
+    let bytes = write_glb(&orchard(), &options(Instancing::Gpu));
+    let (json, bin) = split_glb(&bytes);
+    let node = json["nodes"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .position(|n| n.get("extensions").is_some())
+        .unwrap();
+    let attributes = [
+        "nodes",
+        &node.to_string(),
+        "extensions",
+        "EXT_mesh_gpu_instancing",
+        "attributes",
+    ];
+    let broken = |edit: &dyn Fn(&mut Value)| {
+        let mut json = json.clone();
+        let mut at = &mut json;
+        for key in attributes {
+            at = match key.parse::<usize>() {
+                Ok(i) => &mut at[i],
+                Err(_) => &mut at[key],
+            };
+        }
+        edit(at);
+        read_glb(&frame_glb(&json, &bin)).unwrap_err().to_string()
+    };
+    let missing = broken(&|a| a["TRANSLATION"] = 999.into());
+    assert!(
+        missing.contains("EXT_mesh_gpu_instancing: TRANSLATION names no accessor"),
+        "{missing}"
+    );
+    // The ground's indices: not VEC3 floats.
+    let wrong = broken(&|a| a["SCALE"] = 2.into());
+    assert!(wrong.contains("SCALE: unexpected type"), "{wrong}");
+    let none = broken(&|a| *a = serde_json::json!({}));
+    assert!(none.contains("no attributes"), "{none}");
+}

@@ -119,6 +119,7 @@ pub fn run(args: &DeriveArgs) -> Result<(), Failure> {
     };
     let model_options = ModelOptions {
         instances: args.instancing.candidates(glb),
+        smaller_only: args.instancing == crate::cli::InstancingArg::Auto,
         metadata: match (args.metadata && glb, args.group) {
             (false, _) => MetadataScope::None,
             (true, false) => MetadataScope::Leaf,

@@ -8,8 +8,10 @@
 //! and equal terminals. A leaf whose inserted asset was cut has other faces, so it is no
 //! instance of the asset, as CGA's `geometry.isInstanced` says.
 
+use std::sync::Arc;
+
 use rustc_hash::FxHashMap;
-use shapegram_geom::{DAffine3, DVec3, Instance};
+use shapegram_geom::{DAffine3, DVec3, Instance, SurfaceKey};
 
 use super::Leaf;
 use crate::asset_look::Piece;
@@ -28,6 +30,77 @@ pub enum InstanceCandidates {
     /// Mesh leaves and box leaves (walls, floors, `primitiveCube()`), each box an instance of
     /// the unit box (or of a unit quad) scaled to its size.
     All,
+}
+
+/// A prototype in one material: what the GLB writer draws as one mesh.
+type SetKey = (
+    u32,
+    [u32; 4],
+    Option<Arc<str>>,
+    Option<Arc<str>>,
+    Option<SurfaceKey>,
+);
+
+/// The bytes a GPU instance costs (translation, rotation, scale as f32) and the JSON an
+/// instanced mesh adds, roughly, as the GLB writer counts them.
+const INSTANCE_BYTES: usize = 40;
+const SET_BYTES: usize = 600;
+
+/// Which pieces of which leaves are instances, by leaf and piece in model order: a piece is
+/// one when its prototype is used at least twice in its material and, with `smaller_only`,
+/// when drawing the copies from one mesh takes fewer bytes than writing each (the others stay
+/// merged with their rule's part, so the model is then the one without instancing).
+/// `leaves` gives each leaf's frame and pieces (`None` when it cannot be an instance).
+pub(super) fn assign(
+    leaves: impl Iterator<Item = Option<(DAffine3, Vec<Piece>)>>,
+    smaller_only: bool,
+) -> Vec<Vec<Option<Instance>>> {
+    let mut prototypes = Prototypes::default();
+    let mut uses: FxHashMap<SetKey, (usize, usize)> = FxHashMap::default();
+    let mut keys: Vec<Vec<Option<SetKey>>> = Vec::new();
+    let mut assigned: Vec<Vec<Option<Instance>>> = Vec::new();
+    for leaf in leaves {
+        let (frame, pieces) = leaf.unwrap_or_default();
+        let mut leaf_keys = Vec::with_capacity(pieces.len());
+        let mut leaf_instances = Vec::with_capacity(pieces.len());
+        for piece in &pieces {
+            let instance = prototypes.instance(frame, piece);
+            let key = instance.map(|i| {
+                (
+                    i.prototype,
+                    piece.color.to_array().map(f32::to_bits),
+                    piece.colormap.as_ref().map(|t| t.path.clone()),
+                    piece.material.clone(),
+                    piece.surface.as_ref().map(|s| s.key()),
+                )
+            });
+            if let Some(key) = &key {
+                let mesh = &piece.mesh;
+                let corners = mesh.indices_len();
+                let triangles = corners.saturating_sub(2 * mesh.face_count());
+                let entry = uses.entry(key.clone()).or_insert((0, 0));
+                entry.0 += 1;
+                entry.1 = corners * 24 + triangles * 6;
+            }
+            leaf_keys.push(key);
+            leaf_instances.push(instance);
+        }
+        keys.push(leaf_keys);
+        assigned.push(leaf_instances);
+    }
+    let worth = |key: &SetKey| {
+        let (copies, bytes) = uses[key];
+        copies > 1
+            && (!smaller_only || copies * bytes > bytes + SET_BYTES + copies * INSTANCE_BYTES)
+    };
+    for (leaf_keys, leaf_instances) in keys.iter().zip(&mut assigned) {
+        for (key, instance) in leaf_keys.iter().zip(leaf_instances) {
+            if key.as_ref().is_some_and(|k| !worth(k)) {
+                *instance = None;
+            }
+        }
+    }
+    assigned
 }
 
 /// Normal-frame coordinates are kept on a grid of 2⁻²⁴ of the leaf's box: far finer than f32
@@ -76,7 +149,7 @@ impl Prototypes {
 
     /// The piece as an instance of the prototype it shares its geometry with in `frame` (a
     /// new prototype when no earlier piece had it); `None` for a piece without faces.
-    pub(super) fn instance(&mut self, frame: DAffine3, piece: &Piece) -> Option<Instance> {
+    fn instance(&mut self, frame: DAffine3, piece: &Piece) -> Option<Instance> {
         let mesh = &piece.mesh;
         if mesh.face_count() == 0 {
             return None;

@@ -143,6 +143,10 @@ pub struct ModelOptions {
     /// (up to its scope and size) becomes parts of its own that carry their
     /// [`shapegram_geom::Instance`], instead of joining its rule's part.
     pub instances: InstanceCandidates,
+    /// Only leaves whose sharing makes a GLB smaller (by the GLB writer's estimate of GPU
+    /// instancing) become instances; the others stay with their rule's part, so that a model
+    /// in which nothing is worth sharing is exactly the one without instancing.
+    pub smaller_only: bool,
     /// Which parts carry [`Metadata`] (see [`MetadataScope`]).
     pub metadata: MetadataScope,
     /// The grammar's attribute names in order ([`crate::Program::attr_names`]), which name
@@ -388,7 +392,6 @@ impl Derivation {
         );
         let mut slot: FxHashMap<Key, usize> = FxHashMap::default();
         let mut metadata = MetadataCache::default();
-        let mut prototypes = instances::Prototypes::default();
         let describer = (options.metadata != MetadataScope::None)
             .then(|| leaf_metadata::LeafDescriber::new(&self.tree, &options.attr_names));
         let mut summaries = leaf_metadata::PartSummaries::default();
@@ -398,7 +401,22 @@ impl Derivation {
             .enumerate()
             .map(|(i, (lot, _))| (*lot, i as u32))
             .collect();
+        // Which pieces are instances is known only once every leaf was seen.
+        let mut assigned = if options.instances == InstanceCandidates::None {
+            Vec::new()
+        } else {
+            // Skinned parts follow their bones, never a prototype.
+            let skinned = |leaf: &Leaf| skeleton_of.contains_key(&leaf.lot);
+            let leaves = self.leaves.iter().map(|leaf| {
+                let frame = instances::Prototypes::frame(leaf, options.instances)
+                    .filter(|_| !skinned(leaf))?;
+                Some((frame, leaf.pieces(leaf.world_mesh()?)))
+            });
+            instances::assign(leaves, options.smaller_only)
+        }
+        .into_iter();
         for (index, leaf) in self.leaves.iter().enumerate() {
+            let mut leaf_instances = assigned.next().unwrap_or_default().into_iter();
             if matches!(leaf.geometry, Geometry::Implicit(_)) {
                 continue;
             }
@@ -416,11 +434,8 @@ impl Derivation {
                 (MetadataScope::Leaf, Some(description)) => Some(Arc::new(description.clone())),
                 _ => leaf.semantics.as_ref().map(|s| metadata.of(s)),
             };
-            // Skinned parts follow their bones, never a prototype.
-            let frame =
-                instances::Prototypes::frame(leaf, options.instances).filter(|_| bone.is_none());
             for piece in leaf.pieces(mesh) {
-                let instance = frame.and_then(|frame| prototypes.instance(frame, &piece));
+                let instance = leaf_instances.next().flatten();
                 if instance.is_some() {
                     if options.metadata == MetadataScope::Part
                         && let Some(description) = &description

@@ -112,16 +112,18 @@ impl InstanceSets {
             let Some(prototype) = prototype(first) else {
                 continue;
             };
+            // A prototype that writes no triangles leaves its copies flat (they may write some).
+            let Some(chunk) = Chunk::of_part(&prototype) else {
+                continue;
+            };
             let with_metadata = members.iter().any(|&m| model.parts[m].metadata.is_some());
             let gpu = match mode {
                 Instancing::None => continue,
                 Instancing::Nodes => false,
                 Instancing::Gpu => !with_metadata,
                 Instancing::Auto if with_metadata => false,
-                Instancing::Auto => match Chunk::of_part(&prototype) {
-                    Some(chunk) if gpu_wins(&chunk, members.len()) => true,
-                    _ => continue,
-                },
+                Instancing::Auto if gpu_wins(&chunk, members.len()) => true,
+                Instancing::Auto => continue,
             };
             for &m in &members {
                 of_part[m] = Some(sets.len() as u32);
