@@ -50,8 +50,8 @@ pub use annotations::{AttrAnnotations, AttrRange, Unit, attr_annotations};
 pub use builtins::{functions, queries};
 pub use engine::{
     ASSET_VARIANTS, Asset, AssetLoader, AssetNaming, AttrValue, Derivation, DeriveControl,
-    DeriveOptions, InitialShape, Leaf, LeafFaces, Rederivation, Stats, Trace, TreeNode,
-    attr_values, derive, derive_again,
+    DeriveOptions, InitialShape, InstanceCandidates, Leaf, LeafFaces, MetadataScope, ModelOptions,
+    Rederivation, Stats, Trace, TreeNode, attr_values, derive, derive_again,
 };
 pub use error::DeriveError;
 pub use goals::{GoalQuery, LeafSemantics};

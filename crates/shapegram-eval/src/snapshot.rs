@@ -111,6 +111,7 @@ fn leaf_part(leaf: &Leaf, bone: Option<Bone>) -> Option<Part> {
         metadata: None,
         material: leaf.material.clone(),
         surface: None,
+        instance: None,
     })
 }
 
@@ -128,5 +129,6 @@ fn box_part(name: &str, scope: &Scope, bone: Option<Bone>) -> Option<Part> {
         metadata: None,
         material: None,
         surface: None,
+        instance: None,
     })
 }

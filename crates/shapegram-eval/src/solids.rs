@@ -185,6 +185,7 @@ fn mesh_group(
         normals,
         material: None,
         surface: None,
+        instance: None,
     }))
 }
 

@@ -23,6 +23,7 @@ fn part(name: &str, hex: &str, mesh: Mesh, at: DVec3) -> Part {
         normals: Vec::new(),
         material: None,
         surface: None,
+        instance: None,
     }
 }
 
@@ -242,6 +243,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     };
     let grouped = ExportOptions {
         group_by_part: true,
+        ..ExportOptions::default()
     };
     let merged = ExportOptions::default();
     save(&scene, &dir.join("scene-grouped.glb"), &grouped)?;

@@ -17,6 +17,10 @@
 //! A skeleton's named poses become one-keyframe animations of its free joints (see
 //! [`animation`]), after the skins; without named poses there is no `animations`.
 //!
+//! Parts that repeat a prototype ([`Part::instance`]) become one mesh per prototype and
+//! material, placed by a node per part or by `EXT_mesh_gpu_instancing`, as
+//! [`ExportOptions::instancing`] asks (see [`instance`]).
+//!
 //! The file is planned first (sizes, bounds, the JSON chunk) and then streamed: shared vertices
 //! and points go from the model straight to the writer, so a large model is never held twice.
 
@@ -32,12 +36,16 @@ use crate::flat::{FaceSplitter, Palette, check_bones, drawable};
 
 mod animation;
 mod chunk;
+mod instance;
 mod material;
 mod skin;
 mod tangents;
 
 use animation::Animation;
 pub(crate) use chunk::Chunk;
+pub(crate) use instance::GPU_INSTANCING;
+pub use instance::Instancing;
+use instance::{InstanceSets, Role};
 use material::{gltf_textures, material, textured, with_surface};
 use skin::Skin;
 
@@ -108,6 +116,18 @@ struct Group<'a> {
     primitives: Vec<Primitive<'a>>,
     /// The part's metadata, written as the node's extras.
     metadata: Option<&'a Metadata>,
+    /// Where the mesh is drawn.
+    placement: Placement<'a>,
+}
+
+/// Where a glTF mesh is drawn.
+enum Placement<'a> {
+    /// By a node of its own, without a transformation.
+    Own,
+    /// By a node per part of an instance set, each with the part's transformation.
+    Nodes(Vec<&'a Part>),
+    /// By one node that draws it at the transformation of every part of an instance set.
+    Gpu(Vec<&'a Part>),
 }
 
 /// The model as GLB bytes; see the module docs for the layout.
@@ -116,7 +136,8 @@ struct Group<'a> {
 /// On the errors [`write_glb_to`] reports: a file over 4 GiB, or skeletons that cannot be
 /// written.
 pub fn write_glb(model: &Model, options: &ExportOptions) -> Vec<u8> {
-    let written = Plan::new(model, options).and_then(|plan| {
+    let sets = InstanceSets::find(model, options.instancing);
+    let written = Plan::new(model, &sets, options).and_then(|plan| {
         let mut out = Vec::with_capacity(plan.len());
         plan.write(&mut out).map(|()| out)
     });
@@ -133,11 +154,14 @@ pub fn write_glb_to(
     options: &ExportOptions,
     out: &mut impl Write,
 ) -> io::Result<()> {
-    Plan::new(model, options)?.write(out)
+    let sets = InstanceSets::find(model, options.instancing);
+    Plan::new(model, &sets, options)?.write(out)
 }
 
 /// Which model parts each primitive of a GLB holds: by glTF mesh, by primitive, the parts
-/// whose triangles (or line sets' segments: `None`) it concatenates, in order.
+/// whose triangles (or line sets' segments: `None`) it concatenates, in order. An instanced
+/// mesh names the first part that uses it, whose triangles it holds in the prototype's
+/// coordinates.
 pub type GlbLayout = Vec<Vec<Vec<Option<usize>>>>;
 
 /// [`write_glb_to`], returning which model parts each primitive holds. With
@@ -148,7 +172,8 @@ pub fn write_glb_with_layout(
     options: &ExportOptions,
     out: &mut impl Write,
 ) -> io::Result<GlbLayout> {
-    let plan = Plan::new(model, options)?;
+    let sets = InstanceSets::find(model, options.instancing);
+    let plan = Plan::new(model, &sets, options)?;
     plan.write(out)?;
     Ok(plan
         .groups
@@ -186,13 +211,21 @@ struct Plan<'a> {
 }
 
 impl<'a> Plan<'a> {
-    fn new(model: &'a Model, options: &ExportOptions) -> io::Result<Self> {
+    fn new(model: &'a Model, sets: &'a InstanceSets, options: &ExportOptions) -> io::Result<Self> {
         check_bones(model)?;
+        // An instance set's mesh is its prototype's, written where the set is first used.
         let parts: Vec<(usize, &Part, Chunk<'a>)> = model
             .parts
             .iter()
             .enumerate()
-            .filter_map(|(i, part)| Some((i, part, Chunk::of_part(part)?)))
+            .filter_map(|(i, part)| {
+                let chunk = match sets.role(i) {
+                    Role::Own => Chunk::of_part(part)?,
+                    Role::First(set) => Chunk::of_part(&sets.sets[set].prototype)?,
+                    Role::Repeat => return None,
+                };
+                Some((i, part, chunk))
+            })
             .collect();
         // A skin per skeleton that some written part hangs from, in skeleton order.
         let mut used = vec![false; model.skeletons.len()];
@@ -262,12 +295,37 @@ impl<'a> Plan<'a> {
                 wide: skins[skin.expect("only skinned chunks have joints")].wide(),
                 joints,
             };
+            if let Some(Role::First(set)) = source.map(|i| sets.role(i)) {
+                let set = &sets.sets[set];
+                let uses = set.members.iter().map(|&m| &model.parts[m]).collect();
+                groups.push(Group {
+                    name: name.clone(),
+                    metadata: None,
+                    skin: None,
+                    primitives: vec![Primitive {
+                        material,
+                        lines,
+                        textured,
+                        tangents,
+                        skinned: None,
+                        chunks: vec![chunk],
+                        sources: vec![source],
+                    }],
+                    placement: if set.gpu {
+                        Placement::Gpu(uses)
+                    } else {
+                        Placement::Nodes(uses)
+                    },
+                });
+                continue;
+            }
             // A part with metadata keeps its node, which carries them.
             if options.group_by_part || metadata.is_some() {
                 groups.push(Group {
                     name: name.clone(),
                     metadata,
                     skin,
+                    placement: Placement::Own,
                     primitives: vec![Primitive {
                         material,
                         lines,
@@ -286,6 +344,7 @@ impl<'a> Plan<'a> {
                     metadata: None,
                     skin,
                     primitives: Vec::new(),
+                    placement: Placement::Own,
                 });
                 groups.len() - 1
             });
@@ -426,6 +485,11 @@ impl<'a> Plan<'a> {
                 put(&[0, 0]);
             }
         }
+        for group in &self.groups {
+            if let Placement::Gpu(uses) = &group.placement {
+                instance::gpu_data(uses, &mut put);
+            }
+        }
         for skin in &self.skins {
             skin.inverse_bind_matrices(|matrix| {
                 for x in matrix {
@@ -450,8 +514,10 @@ impl<'a> Plan<'a> {
     }
 }
 
-/// A part's metadata as node extras: `{"shapegram": {"goals": […], "tags": […],
-/// "attributes": {name: value}}}`, as `docs/goals.md` documents.
+/// A part's metadata as node extras: `{"shapegram": {"rule": …, "path": …, "leaves": n,
+/// "goals": […], "tags": […], "attributes": {name: value}}}` (`rule`, `path` and `leaves`
+/// when known), as
+/// `docs/export.md` and `docs/goals.md` document.
 fn metadata_extras(metadata: &Metadata) -> Box<json::extras::RawValue> {
     let attributes: serde_json::Map<String, serde_json::Value> = metadata
         .attributes
@@ -465,13 +531,20 @@ fn metadata_extras(metadata: &Metadata) -> Box<json::extras::RawValue> {
             (name.clone(), value)
         })
         .collect();
-    let value = serde_json::json!({
-        "shapegram": {
-            "goals": metadata.goals,
-            "tags": metadata.tags,
-            "attributes": attributes,
-        }
-    });
+    let mut fields = serde_json::Map::new();
+    if let Some(rule) = &metadata.rule {
+        fields.insert("rule".to_owned(), rule.clone().into());
+    }
+    if let Some(path) = &metadata.path {
+        fields.insert("path".to_owned(), path.clone().into());
+    }
+    if let Some(leaves) = metadata.leaves {
+        fields.insert("leaves".to_owned(), leaves.into());
+    }
+    fields.insert("goals".to_owned(), metadata.goals.clone().into());
+    fields.insert("tags".to_owned(), metadata.tags.clone().into());
+    fields.insert("attributes".to_owned(), attributes.into());
+    let value = serde_json::json!({ "shapegram": fields });
     serde_json::value::to_raw_value(&value).expect("a JSON value always serialises")
 }
 
@@ -512,6 +585,7 @@ fn document(
     }
     let mut children = Vec::new();
     let mut roots = vec![json::Index::new(0)];
+    let mut gpu_meshes = Vec::new();
     for group in groups {
         let primitives = group
             .primitives
@@ -525,6 +599,20 @@ fn document(
             primitives,
             weights: None,
         });
+        match &group.placement {
+            Placement::Own => {}
+            Placement::Nodes(uses) => {
+                for part in uses {
+                    children.push(builder.root.push(instance::use_node(mesh, part)));
+                }
+                continue;
+            }
+            // Their instances' data follows every primitive's, as their accessors do.
+            Placement::Gpu(uses) => {
+                gpu_meshes.push((mesh, &group.name, uses.len()));
+                continue;
+            }
+        }
         // Skins are added after every mesh node, in the order of `skins`.
         let node = builder.root.push(json::Node {
             mesh: Some(mesh),
@@ -540,6 +628,10 @@ fn document(
         } else {
             children.push(node);
         }
+    }
+    for (mesh, name, uses) in gpu_meshes {
+        let node = instance::gpu_node(&mut builder, mesh, name, uses);
+        children.push(builder.root.push(node));
     }
     let mut joints = Vec::with_capacity(skins.len());
     for skin in skins {

@@ -41,7 +41,9 @@ use shapegram_geom::{Model, Texture};
 pub use buffers::{BufferJoint, Buffers, NO_JOINT, PartRange};
 pub use error::Error;
 pub use geojson::{Footprints, read_geojson};
-pub use glb::{GlbLayout, face_triangles, write_glb, write_glb_to, write_glb_with_layout};
+pub use glb::{
+    GlbLayout, Instancing, face_triangles, write_glb, write_glb_to, write_glb_with_layout,
+};
 pub use obj::{write_obj, write_obj_to};
 pub use read::{read_glb, read_obj, read_stl};
 pub use stl::{write_stl, write_stl_to};
@@ -98,6 +100,9 @@ pub struct ExportOptions {
     /// One glTF node (and one OBJ `o`) per part, named after the part; otherwise parts with the
     /// same colour are merged into one mesh per material.
     pub group_by_part: bool,
+    /// How GLB writes parts that repeat a prototype ([`shapegram_geom::Part::instance`]); OBJ
+    /// and STL write every part's own geometry.
+    pub instancing: Instancing,
 }
 
 /// Writes to `path` in the format of its extension; OBJ also writes the .mtl beside it (same

@@ -16,9 +16,9 @@ use std::sync::Arc;
 
 use gltf::accessor::{DataType, Dimensions};
 use gltf::mesh::Mode;
-use shapegram_geom::{Color, DAffine3, DVec2, DVec3, Lines, Mesh, Model, Part, Texture};
+use shapegram_geom::{Color, DAffine3, DQuat, DVec2, DVec3, Lines, Mesh, Model, Part, Texture};
 
-use crate::glb::{CHUNK_BIN, CHUNK_JSON, MAGIC};
+use crate::glb::{CHUNK_BIN, CHUNK_JSON, GPU_INSTANCING, MAGIC};
 use crate::{Error, Format, mtl};
 
 /// Reads a GLB file (binary glTF 2.0): triangle primitives of the default scene, in world
@@ -61,6 +61,7 @@ pub fn read_glb(bytes: &[u8]) -> Result<Model, Error> {
             .name()
             .or(mesh.name())
             .map_or_else(|| format!("node{}", node.index()), str::to_owned);
+        let placements = instances(&document, &node, blob, world).map_err(broken)?;
         for primitive in mesh.primitives() {
             let context = |e: String| {
                 broken(format!(
@@ -75,31 +76,105 @@ pub fn read_glb(bytes: &[u8]) -> Result<Model, Error> {
                 .pbr_metallic_roughness()
                 .base_color_factor();
             let color = Color::from_linear(factor);
-            match read_primitive(&primitive, blob).map_err(context)? {
-                Read::Triangles(mut part_mesh, mut normals, uvs) => {
-                    part_mesh.transform(&world);
-                    transform_normals(&mut normals, &world);
-                    if !part_mesh.is_empty() {
-                        let material = primitive.material();
-                        model.parts.push(Part {
-                            texture: color_map(&material, blob).filter(|_| !uvs.is_empty()),
-                            uvs,
-                            material: material.name().map(Arc::from),
-                            ..Part::new(name.clone(), color, part_mesh, normals)
-                        });
+            let read = read_primitive(&primitive, blob).map_err(context)?;
+            for world in &placements {
+                match &read {
+                    Read::Triangles(mesh, normals, uvs) => {
+                        let part_mesh = mesh.transformed(world);
+                        let mut normals = normals.clone();
+                        transform_normals(&mut normals, world);
+                        if !part_mesh.is_empty() {
+                            let material = primitive.material();
+                            model.parts.push(Part {
+                                texture: color_map(&material, blob).filter(|_| !uvs.is_empty()),
+                                uvs: uvs.clone(),
+                                material: material.name().map(Arc::from),
+                                ..Part::new(name.clone(), color, part_mesh, normals)
+                            });
+                        }
                     }
-                }
-                Read::Lines(mut points, segments) => {
-                    for p in &mut points {
-                        *p = world.transform_point3(*p);
+                    Read::Lines(points, segments) => {
+                        let points = points.iter().map(|&p| world.transform_point3(p)).collect();
+                        push_lines(
+                            &mut model.lines,
+                            name.clone(),
+                            color,
+                            points,
+                            segments.clone(),
+                        );
                     }
-                    push_lines(&mut model.lines, name.clone(), color, points, segments);
+                    Read::Nothing => {}
                 }
-                Read::Nothing => {}
             }
         }
     }
     Ok(model)
+}
+
+/// Where a node draws its mesh: at its world transform `world`, or, with
+/// `EXT_mesh_gpu_instancing`, at each instance's transform (its TRANSLATION, ROTATION and SCALE,
+/// each optional) within it.
+fn instances(
+    document: &gltf::Document,
+    node: &gltf::Node<'_>,
+    blob: &[u8],
+    world: DAffine3,
+) -> Result<Vec<DAffine3>, String> {
+    let extension = document.as_json().nodes[node.index()]
+        .extensions
+        .as_ref()
+        .and_then(|e| e.others.get(GPU_INSTANCING));
+    let Some(extension) = extension else {
+        return Ok(vec![world]);
+    };
+    let context = |e: String| format!("node {} {GPU_INSTANCING}: {e}", node.index());
+    let attribute = |name: &str, dimensions: Dimensions| -> Result<Option<Vec<Vec<f64>>>, String> {
+        let Some(index) = extension.pointer(&format!("/attributes/{name}")) else {
+            return Ok(None);
+        };
+        let accessor = index
+            .as_u64()
+            .and_then(|i| document.accessors().nth(i as usize))
+            .ok_or_else(|| context(format!("{name} names no accessor")))?;
+        check_accessor(&accessor, blob, &[DataType::F32], dimensions)
+            .map_err(|e| context(format!("{name}: {e}")))?;
+        let values = match dimensions {
+            Dimensions::Vec4 => gltf::accessor::Iter::<[f32; 4]>::new(accessor, |_| Some(blob))
+                .map(|values| values.map(|v| v.map(f64::from).to_vec()).collect()),
+            _ => gltf::accessor::Iter::<[f32; 3]>::new(accessor, |_| Some(blob))
+                .map(|values| values.map(|v| v.map(f64::from).to_vec()).collect()),
+        };
+        values
+            .map(Some)
+            .ok_or_else(|| context(format!("{name} is unreadable")))
+    };
+    let translations = attribute("TRANSLATION", Dimensions::Vec3)?;
+    let rotations = attribute("ROTATION", Dimensions::Vec4)?;
+    let scales = attribute("SCALE", Dimensions::Vec3)?;
+    let counts: Vec<usize> = [&translations, &rotations, &scales]
+        .into_iter()
+        .flatten()
+        .map(Vec::len)
+        .collect();
+    let Some(&count) = counts.first() else {
+        return Err(context("no attributes".to_owned()));
+    };
+    if counts.iter().any(|&c| c != count) {
+        return Err(context(format!(
+            "attributes of different counts {counts:?}"
+        )));
+    }
+    let vector = |v: &Vec<f64>| DVec3::new(v[0], v[1], v[2]);
+    Ok((0..count)
+        .map(|i| {
+            let translation = translations.as_ref().map_or(DVec3::ZERO, |t| vector(&t[i]));
+            let rotation = rotations.as_ref().map_or(DQuat::IDENTITY, |r| {
+                DQuat::from_xyzw(r[i][0], r[i][1], r[i][2], r[i][3]).normalize()
+            });
+            let scale = scales.as_ref().map_or(DVec3::ONE, |s| vector(&s[i]));
+            world * DAffine3::from_scale_rotation_translation(scale, rotation, translation)
+        })
+        .collect())
 }
 
 /// Normals under a node's transform: by the inverse transpose of its linear part, renormalised.

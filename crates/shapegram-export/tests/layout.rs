@@ -20,6 +20,7 @@ fn flat(name: &str, color: Color, mesh: Mesh) -> Part {
         mesh,
         material: None,
         surface: None,
+        instance: None,
     }
 }
 
@@ -64,6 +65,7 @@ fn the_layout_names_the_parts_of_each_primitive() {
     );
     let grouped = ExportOptions {
         group_by_part: true,
+        ..ExportOptions::default()
     };
     let layout = write_glb_with_layout(&model, &grouped, &mut Vec::new()).unwrap();
     assert_eq!(

@@ -6,16 +6,18 @@ mod common;
 use common::*;
 use serde_json::{Value, json};
 use shapegram_export::{
-    ExportOptions, read_glb, read_obj, read_stl, save, write_glb, write_obj, write_stl,
+    ExportOptions, Instancing, read_glb, read_obj, read_stl, save, write_glb, write_obj, write_stl,
 };
 use shapegram_geom::primitives::{cuboid, sphere};
 use shapegram_geom::{DAffine3, DVec3, Lines, Mesh, Model, Part};
 
 const GROUPED: ExportOptions = ExportOptions {
     group_by_part: true,
+    instancing: Instancing::Auto,
 };
 const MERGED: ExportOptions = ExportOptions {
     group_by_part: false,
+    instancing: Instancing::Auto,
 };
 
 fn smooth(name: &str, mesh: Mesh) -> Part {
@@ -30,6 +32,7 @@ fn smooth(name: &str, mesh: Mesh) -> Part {
         mesh,
         material: None,
         surface: None,
+        instance: None,
     }
 }
 
@@ -246,6 +249,7 @@ fn glb_lines_are_a_primitive_of_their_own() {
             normals: Vec::new(),
             material: None,
             surface: None,
+            instance: None,
         }],
         lines: vec![stroke()],
     };

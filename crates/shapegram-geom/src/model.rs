@@ -2,7 +2,7 @@
 
 use std::sync::Arc;
 
-use glam::{DVec2, DVec3};
+use glam::{DAffine3, DVec2, DVec3};
 
 use shapegram_kinematics::{Frame, SectionId, Skeleton};
 
@@ -139,6 +139,21 @@ pub struct Part {
     /// The material's other attributes and texture layers, when the grammar set any (the
     /// layers are drawn through `uvs`).
     pub surface: Option<Arc<Surface>>,
+    /// When the part is a copy of a shape that repeats in the model: which one, and where it
+    /// is. `mesh` still holds the world geometry, for writers that do not instance.
+    pub instance: Option<Instance>,
+}
+
+/// A part that repeats a prototype: writers that instance write the prototype's geometry once
+/// and place it by `transform` wherever it is used.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Instance {
+    /// The prototype, numbered from 0 in order of first use. Parts with the same number have
+    /// the same faces and uvs in the prototype's coordinates (up to rounding far below f32's).
+    pub prototype: u32,
+    /// From the prototype's coordinates to the world: the part's mesh is the prototype's
+    /// geometry moved, turned and scaled (per axis) by it; its determinant is positive.
+    pub transform: DAffine3,
 }
 
 impl Part {
@@ -205,10 +220,17 @@ impl Texture {
     }
 }
 
-/// What a part of a goal grammar's model is: the goals left open on its shapes, the goals they
-/// fulfilled (tags) and their named attributes.
+/// What a part of the model is, for readers of the written file: the rule and derivation path
+/// of its leaf (when asked for), and for goal grammars the goals left open on its shapes, the
+/// goals they fulfilled (tags) and their named attributes.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Metadata {
+    /// The rule (symbol) of the leaf.
+    pub rule: Option<String>,
+    /// The leaf's derivation path (`Lot[0]/Mass[0]/Facade[2]`, see `docs/export.md`).
+    pub path: Option<String>,
+    /// How many leaves the part holds, when it describes a part of many rather than a leaf.
+    pub leaves: Option<u32>,
     /// Goals no rule fulfilled.
     pub goals: Vec<String>,
     /// Goals fulfilled.
@@ -232,6 +254,9 @@ impl Eq for Metadata {}
 
 impl std::hash::Hash for Metadata {
     fn hash<H: std::hash::Hasher>(&self, state: &mut H) {
+        self.rule.hash(state);
+        self.path.hash(state);
+        self.leaves.hash(state);
         self.goals.hash(state);
         self.tags.hash(state);
         for (name, value) in &self.attributes {

@@ -53,6 +53,7 @@ pub fn drawing_to_model(drawing: &Drawing, settings: &Settings) -> Model {
                 normals,
                 material: None,
                 surface: None,
+                instance: None,
             };
             ((slot, 0), part)
         })
@@ -150,6 +151,7 @@ fn leaves<'a>(drawing: &Drawing, palette: &'a Palette) -> impl Iterator<Item = (
                 normals: Vec::new(),
                 material: None,
                 surface: None,
+                instance: None,
             };
             (slot, part)
         })
@@ -438,6 +440,7 @@ fn transformed(model: &Model, map: &DAffine3) -> Model {
                     .collect(),
                 material: None,
                 surface: None,
+                instance: None,
             })
             .collect(),
         lines: model

@@ -157,6 +157,7 @@ impl GrammarMesh {
                         normals: Vec::new(),
                         material: material.map(|m| names[m].clone()),
                         surface: None,
+                        instance: None,
                     }
                 })
                 .collect(),

@@ -382,6 +382,17 @@ pub struct DeriveArgs {
     /// instead of merging everything of one colour
     #[arg(long)]
     pub group: bool,
+    /// GLB: how repeated assets and shapes are written: one mesh drawn by a node per use
+    /// (nodes), by EXT_mesh_gpu_instancing (gpu), per asset whichever makes the smaller file
+    /// (auto: inserted assets and other mesh leaves only), or each copy flat (none). OBJ and
+    /// STL are always flat
+    #[arg(long, value_name = "HOW", default_value = "auto")]
+    pub instancing: InstancingArg,
+    /// GLB: give each leaf a node whose extras name its rule, derivation path and attributes;
+    /// with --group, each part's node names its rule, leaf count and the attributes its leaves
+    /// share (docs/export.md)
+    #[arg(long)]
+    pub metadata: bool,
     /// Print counts, times, rule applications and report() values as one JSON object on stdout
     #[arg(long)]
     pub stats: bool,
@@ -400,6 +411,44 @@ pub struct DeriveArgs {
     /// that fills the scope instead, or insert nothing (a warning names each file once)
     #[arg(long, value_name = "WHAT", default_value = "error")]
     pub missing_assets: MissingAssets,
+}
+
+/// The choices of `--instancing`.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, ValueEnum)]
+pub enum InstancingArg {
+    /// Every copy with its own vertices
+    None,
+    /// One mesh per repeated shape, a node per use
+    Nodes,
+    /// One mesh per repeated shape, drawn by EXT_mesh_gpu_instancing
+    Gpu,
+    /// Per repeated asset, whichever makes the smaller file
+    #[default]
+    Auto,
+}
+
+impl InstancingArg {
+    /// Which leaves the model makes instances of, for the output format.
+    pub fn candidates(self, glb: bool) -> shapegram_eval::InstanceCandidates {
+        use shapegram_eval::InstanceCandidates;
+        match self {
+            _ if !glb => InstanceCandidates::None,
+            Self::None => InstanceCandidates::None,
+            Self::Auto => InstanceCandidates::Meshes,
+            Self::Nodes | Self::Gpu => InstanceCandidates::All,
+        }
+    }
+}
+
+impl From<InstancingArg> for shapegram_export::Instancing {
+    fn from(instancing: InstancingArg) -> Self {
+        match instancing {
+            InstancingArg::None => Self::None,
+            InstancingArg::Nodes => Self::Nodes,
+            InstancingArg::Gpu => Self::Gpu,
+            InstancingArg::Auto => Self::Auto,
+        }
+    }
 }
 
 /// What to insert in place of an asset file that cannot be read.

@@ -7,7 +7,9 @@ use std::time::{Duration, Instant};
 
 use serde::Serialize;
 use serde::ser::SerializeMap;
-use shapegram_eval::{Derivation, DeriveError, DeriveOptions, Program, Value};
+use shapegram_eval::{
+    Derivation, DeriveError, DeriveOptions, MetadataScope, ModelOptions, Program, Value,
+};
 use shapegram_export::tiles::TileGrid;
 use shapegram_export::{ExportOptions, Format};
 use shapegram_geom::Model;
@@ -61,8 +63,9 @@ pub fn run(args: &DeriveArgs) -> Result<(), Failure> {
         time_budget: (args.timeout > 0.0).then(|| Duration::from_secs_f64(args.timeout)),
         generations: args.generations,
         assets: Some(Arc::new(input.assets(args.missing_assets.into()))),
-        // The tree is what a state at a node is made from.
-        keep_tree: args.at_node.is_some(),
+        // The tree is what a state at a node is made from, and where leaves' metadata comes
+        // from.
+        keep_tree: args.at_node.is_some() || args.metadata,
         implicit_cell: args.implicit_cell,
         trace: false,
         max_steps: args.max_steps,
@@ -136,21 +139,31 @@ pub fn run(args: &DeriveArgs) -> Result<(), Failure> {
     }
     // A tiled city is written tile by tile: the whole model only when something reads it.
     let whole = args.tiles.is_none() || args.output.is_some() || args.stats;
+    let glb = match &args.output {
+        Some(output) => matches!(Format::from_path(output)?, Format::Glb),
+        None => false,
+    };
+    let model_options = ModelOptions {
+        instances: args.instancing.candidates(glb),
+        smaller_only: args.instancing == crate::cli::InstancingArg::Auto,
+        metadata: match (args.metadata && glb, args.group) {
+            (false, _) => MetadataScope::None,
+            (true, false) => MetadataScope::Leaf,
+            (true, true) => MetadataScope::Part,
+        },
+        attr_names: program.attr_names().map(str::to_owned).collect(),
+    };
     let mut model = match args.at_node {
         Some(node) => derivation
             .model_at_node(node)
             .map_err(|e| Failure::new(e.message).with_hints(e.hints))?,
-        None if whole => derivation.to_model(),
+        None if whole => derivation.to_model_with(&model_options),
         None => Model::default(),
     };
     if let Some(pose) = &args.pose {
         crate::pose::apply(pose, &mut model)?;
     }
     let named_poses = program.named_poses();
-    let glb = match &args.output {
-        Some(output) => matches!(Format::from_path(output)?, Format::Glb),
-        None => false,
-    };
     if glb && !named_poses.is_empty() {
         add_named_poses(
             &program,
@@ -167,6 +180,7 @@ pub fn run(args: &DeriveArgs) -> Result<(), Failure> {
     if let Some(output) = &args.output {
         let options = ExportOptions {
             group_by_part: args.group,
+            instancing: args.instancing.into(),
         };
         shapegram_export::save(&model, output, &options)?;
     }

@@ -137,6 +137,7 @@ fn run_grammar(args: &TopoArgs) -> Result<(), Failure> {
         Some(output) => {
             let options = ExportOptions {
                 group_by_part: args.group,
+                ..ExportOptions::default()
             };
             let model = mesh.to_model_with(|texture| texture_image(path, texture, args.quiet));
             shapegram_export::save(&model, output, &options)?;

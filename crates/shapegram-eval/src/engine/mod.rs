@@ -38,7 +38,9 @@ mod goals;
 mod implicit;
 mod inner_rect;
 mod insert;
+mod instances;
 mod kinematics;
+mod leaf_metadata;
 mod machine;
 mod perimeter;
 mod pivot;
@@ -76,6 +78,7 @@ pub use control::DeriveControl;
 pub use derive::derive;
 pub(crate) use insert::builtin_asset;
 pub use insert::{ASSET_VARIANTS, Asset, AssetLoader, AssetNaming};
+pub use instances::InstanceCandidates;
 pub use reuse::{Rederivation, derive_again};
 pub use trace::Trace;
 
@@ -131,6 +134,38 @@ impl Default for DeriveOptions {
             control: None,
         }
     }
+}
+
+/// How [`Derivation::to_model_with`] turns leaves into a model's parts.
+#[derive(Clone, Debug, Default)]
+pub struct ModelOptions {
+    /// Which leaves may become instances: each such leaf whose geometry another leaf repeats
+    /// (up to its scope and size) becomes parts of its own that carry their
+    /// [`shapegram_geom::Instance`], instead of joining its rule's part.
+    pub instances: InstanceCandidates,
+    /// Only leaves whose sharing makes a GLB smaller (by the GLB writer's estimate of GPU
+    /// instancing) become instances; the others stay with their rule's part, so that a model
+    /// in which nothing is worth sharing is exactly the one without instancing.
+    pub smaller_only: bool,
+    /// Which parts carry [`Metadata`] (see [`MetadataScope`]).
+    pub metadata: MetadataScope,
+    /// The grammar's attribute names in order ([`crate::Program::attr_names`]), which name
+    /// the attributes in the metadata.
+    pub attr_names: Vec<String>,
+}
+
+/// What the parts of a model built by [`Derivation::to_model_with`] say about their leaves.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum MetadataScope {
+    /// Nothing beyond goal grammars' semantics.
+    #[default]
+    None,
+    /// Each leaf gets parts of its own carrying its rule, and when the derivation kept its
+    /// tree ([`DeriveOptions::keep_tree`]), its derivation path and attributes.
+    Leaf,
+    /// Parts are made as without metadata, each carrying its rule, how many leaves it holds and
+    /// the attributes all of them agree on.
+    Part,
 }
 
 /// An initial shape: a planar footprint polygon in world coordinates, counter-clockwise about
@@ -322,7 +357,13 @@ impl Derivation {
     ///
     /// [`solids`]: Derivation::solids
     pub fn to_model(&self) -> Model {
-        self.build_model(None)
+        self.build_model(None, &ModelOptions::default())
+    }
+
+    /// [`Derivation::to_model`] with instances and leaf metadata as `options` ask: instanced
+    /// leaves and leaves with metadata get parts of their own, in leaf order among the others.
+    pub fn to_model_with(&self, options: &ModelOptions) -> Model {
+        self.build_model(None, options)
     }
 
     /// [`Derivation::to_model`], and where each leaf's faces went: for every leaf that is in a
@@ -330,11 +371,15 @@ impl Derivation {
     /// [`LeafFaces`]. Visual debugging maps the model's triangles back to the leaves with it.
     pub fn to_model_with_faces(&self) -> (Model, Vec<LeafFaces>) {
         let mut faces = Vec::new();
-        let model = self.build_model(Some(&mut faces));
+        let model = self.build_model(Some(&mut faces), &ModelOptions::default());
         (model, faces)
     }
 
-    fn build_model(&self, mut places: Option<&mut Vec<LeafFaces>>) -> Model {
+    fn build_model(
+        &self,
+        mut places: Option<&mut Vec<LeafFaces>>,
+        options: &ModelOptions,
+    ) -> Model {
         let mut parts: Vec<ModelPart> = Vec::new();
         type Key<'a> = (
             &'a str,
@@ -347,13 +392,31 @@ impl Derivation {
         );
         let mut slot: FxHashMap<Key, usize> = FxHashMap::default();
         let mut metadata = MetadataCache::default();
+        let describer = (options.metadata != MetadataScope::None)
+            .then(|| leaf_metadata::LeafDescriber::new(&self.tree, &options.attr_names));
+        let mut summaries = leaf_metadata::PartSummaries::default();
         let skeleton_of: FxHashMap<u32, u32> = self
             .skeletons
             .iter()
             .enumerate()
             .map(|(i, (lot, _))| (*lot, i as u32))
             .collect();
+        // Which pieces are instances is known only once every leaf was seen.
+        let mut assigned = if options.instances == InstanceCandidates::None {
+            Vec::new()
+        } else {
+            // Skinned parts follow their bones, never a prototype.
+            let skinned = |leaf: &Leaf| skeleton_of.contains_key(&leaf.lot);
+            let leaves = self.leaves.iter().map(|leaf| {
+                let frame = instances::Prototypes::frame(leaf, options.instances)
+                    .filter(|_| !skinned(leaf))?;
+                Some((frame, leaf.pieces(leaf.world_mesh()?)))
+            });
+            instances::assign(leaves, options.smaller_only)
+        }
+        .into_iter();
         for (index, leaf) in self.leaves.iter().enumerate() {
+            let mut leaf_instances = assigned.next().unwrap_or_default().into_iter();
             if matches!(leaf.geometry, Geometry::Implicit(_)) {
                 continue;
             }
@@ -364,8 +427,44 @@ impl Derivation {
                 skeleton,
                 section: SectionId(leaf.section),
             });
-            let meta = leaf.semantics.as_ref().map(|s| metadata.of(s));
+            let description = describer
+                .as_ref()
+                .map(|d| d.describe(leaf, leaf.semantics.as_deref()));
+            let meta = match (options.metadata, &description) {
+                (MetadataScope::Leaf, Some(description)) => Some(Arc::new(description.clone())),
+                _ => leaf.semantics.as_ref().map(|s| metadata.of(s)),
+            };
             for piece in leaf.pieces(mesh) {
+                let instance = leaf_instances.next().flatten();
+                if instance.is_some() {
+                    if options.metadata == MetadataScope::Part
+                        && let Some(description) = &description
+                    {
+                        summaries.add(parts.len(), index, description);
+                    }
+                    if let Some(places) = places.as_deref_mut() {
+                        places.push(LeafFaces {
+                            leaf: index as u32,
+                            part: parts.len() as u32,
+                            first: 0,
+                            count: piece.mesh.face_count() as u32,
+                        });
+                    }
+                    parts.push(ModelPart {
+                        bone,
+                        name: leaf.name.to_string(),
+                        color: piece.color,
+                        normals: Vec::new(),
+                        metadata: meta.clone(),
+                        texture: piece.colormap,
+                        uvs: piece.uvs.unwrap_or_default(),
+                        material: piece.material,
+                        surface: piece.surface.map(Arc::new),
+                        instance,
+                        mesh: piece.mesh,
+                    });
+                    continue;
+                }
                 let key = (
                     &*leaf.name,
                     piece.color.to_array().map(f32::to_bits),
@@ -387,11 +486,17 @@ impl Derivation {
                         uvs: Vec::new(),
                         material: piece.material.clone(),
                         surface: piece.surface.clone().map(Arc::new),
+                        instance: None,
                     });
                     parts.len() - 1
                 });
                 if let Some(uvs) = piece.uvs {
                     parts[i].uvs.extend(uvs);
+                }
+                if options.metadata == MetadataScope::Part
+                    && let Some(description) = &description
+                {
+                    summaries.add(i, index, description);
                 }
                 if let Some(places) = places.as_deref_mut() {
                     places.push(LeafFaces {
@@ -404,6 +509,7 @@ impl Derivation {
                 parts[i].mesh.append(&piece.mesh);
             }
         }
+        summaries.finish(&mut parts);
         parts.extend(self.solids.iter().cloned());
         Model {
             skeletons: self.skeletons.iter().map(|(_, s)| s.clone()).collect(),
@@ -430,6 +536,9 @@ impl MetadataCache {
         }
         let names = |list: &[Arc<str>]| list.iter().map(|s| s.to_string()).collect();
         let meta = Arc::new(Metadata {
+            rule: None,
+            path: None,
+            leaves: None,
             goals: names(&semantics.goals),
             tags: names(&semantics.tags),
             attributes: semantics

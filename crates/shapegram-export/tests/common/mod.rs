@@ -28,6 +28,7 @@ fn part(name: &str, color: Color, mesh: Mesh, at: DVec3) -> Part {
         normals: Vec::new(),
         material: None,
         surface: None,
+        instance: None,
     }
 }
 

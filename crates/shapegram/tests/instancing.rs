@@ -1,0 +1,265 @@
+//! `shapegram derive --instancing … --metadata`: repeated assets written once and placed many
+//! times, leaves' rule, path and attributes in node extras, read back by the project's reader
+//! and by a script.
+
+mod common;
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+use common::*;
+use serde_json::Value;
+
+/// Fifty crowns (one OBJ asset) on fifty posts (a primitive), in five rows of ten.
+const ORCHARD: &str = r##"
+version "2024.0"
+
+attr crownH = 2.5
+
+@StartRule
+Lot --> color("#8a9a5b") [ Ground. ] split(x) { '0.1 : Row }*
+
+Row  --> split(z) { '0.2 : Spot }*
+Spot --> s(2, crownH + 1.5, 2) center(xz) Tree
+
+Tree --> split(y) { 1.5 : s('0.2, '1, '0.2) center(xz) color("#6b4f2a") primitiveCylinder(8) Post.
+                  | ~1 : color("#4f7a3a") i("roof.obj") Crown. }
+"##;
+
+/// A folder with the orchard grammar and its asset.
+fn orchard(test: &str) -> (TempDir, PathBuf) {
+    let dir = TempDir::new(test);
+    let grammar = dir.path("orchard.cga");
+    std::fs::write(&grammar, ORCHARD).unwrap();
+    std::fs::copy(example("roof.obj"), dir.path("roof.obj")).unwrap();
+    (dir, grammar)
+}
+
+/// The file `shapegram derive grammar args… -o out` writes (with `threads` rayon threads).
+fn derive(grammar: &Path, out: &Path, args: &[&str], threads: usize) -> Vec<u8> {
+    let output = Command::new(env!("CARGO_BIN_EXE_shapegram"))
+        .arg("derive")
+        .arg("-q")
+        .arg(grammar)
+        .args(args)
+        .arg("-o")
+        .arg(out)
+        .env("RAYON_NUM_THREADS", threads.to_string())
+        .output()
+        .unwrap();
+    assert!(output.status.success(), "{}", stderr(&output));
+    std::fs::read(out).unwrap()
+}
+
+/// The JSON chunk of a GLB.
+fn json_of(glb: &[u8]) -> Value {
+    let length = u32::from_le_bytes(glb[12..16].try_into().unwrap()) as usize;
+    serde_json::from_slice(&glb[20..20 + length]).unwrap()
+}
+
+/// The nodes named `name`.
+fn named<'a>(json: &'a Value, name: &str) -> Vec<&'a Value> {
+    json["nodes"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .filter(|n| n["name"] == name)
+        .collect()
+}
+
+#[test]
+fn fifty_crowns_are_one_mesh_placed_fifty_times() {
+    let (dir, grammar) = orchard("fifty");
+    let flat = derive(
+        &grammar,
+        &dir.path("flat.glb"),
+        &["--instancing", "none"],
+        1,
+    );
+    let nodes = derive(
+        &grammar,
+        &dir.path("nodes.glb"),
+        &["--instancing", "nodes"],
+        1,
+    );
+    let gpu = derive(&grammar, &dir.path("gpu.glb"), &["--instancing", "gpu"], 1);
+    let auto = derive(&grammar, &dir.path("auto.glb"), &[], 1);
+
+    let json = json_of(&nodes);
+    let crowns = named(&json, "Crown");
+    assert_eq!(crowns.len(), 50);
+    assert!(crowns.iter().all(|c| c["mesh"] == crowns[0]["mesh"]));
+    assert_eq!(crowns[0]["scale"], serde_json::json!([2.0, 2.5, 2.0]));
+    assert_eq!(named(&json, "Post").len(), 50);
+    assert_eq!(
+        json["meshes"].as_array().unwrap().len(),
+        3,
+        "the ground, a post and a crown"
+    );
+
+    let json = json_of(&gpu);
+    let crowns = named(&json, "Crown");
+    assert_eq!(crowns.len(), 1);
+    let translations =
+        &crowns[0]["extensions"]["EXT_mesh_gpu_instancing"]["attributes"]["TRANSLATION"];
+    let accessor = &json["accessors"][translations.as_u64().unwrap() as usize];
+    assert_eq!(accessor["count"], 50);
+
+    // Auto picks GPU instancing for both: fifty copies of either cost more flat.
+    assert_eq!(auto, gpu);
+    assert!(gpu.len() < nodes.len() && nodes.len() < flat.len());
+    assert!(
+        gpu.len() * 5 < flat.len(),
+        "{} bytes instanced, {} flat",
+        gpu.len(),
+        flat.len()
+    );
+}
+
+#[test]
+fn instanced_files_read_back_as_the_flat_triangles() {
+    let (dir, grammar) = orchard("read-back");
+    let area_and_count = |glb: &[u8]| {
+        let model = shapegram_export::read_glb(glb).unwrap();
+        let mesh = model.merged_mesh();
+        (mesh.area(), mesh.face_count(), model.bounds().unwrap())
+    };
+    let (area, faces, bounds) = area_and_count(&derive(
+        &grammar,
+        &dir.path("flat.glb"),
+        &["--instancing", "none"],
+        1,
+    ));
+    for how in ["nodes", "gpu"] {
+        let glb = derive(&grammar, &dir.path("i.glb"), &["--instancing", how], 1);
+        let (a, f, b) = area_and_count(&glb);
+        assert_eq!(f, faces, "{how}: triangles");
+        assert!(
+            (a - area).abs() < 1e-6 * area,
+            "{how}: area {a} against {area}"
+        );
+        assert!(b.min.distance(bounds.min) < 1e-5 && b.max.distance(bounds.max) < 1e-5);
+    }
+}
+
+#[test]
+fn instancing_and_metadata_are_deterministic_across_threads() {
+    let (dir, grammar) = orchard("threads");
+    for args in [
+        &["--instancing", "gpu", "--metadata"][..],
+        &["--instancing", "nodes"],
+    ] {
+        let one = derive(&grammar, &dir.path("one.glb"), args, 1);
+        let two = derive(&grammar, &dir.path("two.glb"), args, 2);
+        let again = derive(&grammar, &dir.path("again.glb"), args, 2);
+        assert_eq!(one, two, "{args:?}");
+        assert_eq!(two, again, "{args:?}");
+    }
+}
+
+#[test]
+fn metadata_is_readable_by_a_script() {
+    let (dir, grammar) = orchard("metadata");
+    let out = dir.path("meta.glb");
+    derive(&grammar, &out, &["--metadata", "--attr", "crownH=3"], 1);
+    let script = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../tools/glb_metadata.py");
+    let output = Command::new("python3")
+        .arg(script)
+        .arg(&out)
+        .output()
+        .expect("python3 runs tools/glb_metadata.py");
+    assert!(output.status.success(), "{}", stderr(&output));
+    let rows: Vec<Value> = String::from_utf8(output.stdout)
+        .unwrap()
+        .lines()
+        .map(|line| serde_json::from_str(line).unwrap())
+        .collect();
+    // The ground, fifty posts and fifty crowns: every leaf a node.
+    assert_eq!(rows.len(), 101);
+    let crowns: Vec<&Value> = rows.iter().filter(|r| r["rule"] == "Crown").collect();
+    assert_eq!(crowns.len(), 50);
+    for crown in &crowns {
+        assert_eq!(crown["attributes"], serde_json::json!({"crownH": 3.0}));
+        assert_eq!(crown["goals"], serde_json::json!([]));
+        let path = crown["path"].as_str().unwrap();
+        assert!(
+            path.starts_with("Lot[0]/Lot[") && path.ends_with("/Tree[0]/Tree[1]/Crown[0]"),
+            "{path}"
+        );
+    }
+    let mut paths: Vec<&str> = crowns.iter().map(|c| c["path"].as_str().unwrap()).collect();
+    paths.sort();
+    paths.dedup();
+    assert_eq!(paths.len(), 50, "each crown has a path of its own");
+    assert_eq!(
+        crowns[0]["path"],
+        "Lot[0]/Lot[1]/Row[0]/Row[0]/Spot[0]/Tree[0]/Tree[1]/Crown[0]"
+    );
+    // The crowns still share one mesh, each on its node.
+    assert!(crowns.iter().all(|c| c["mesh"] == crowns[0]["mesh"]));
+    let ground = rows.iter().find(|r| r["rule"] == "Ground").unwrap();
+    assert_eq!(ground["path"], "Lot[0]/Ground[0]");
+}
+
+#[test]
+fn skinned_models_are_never_instanced() {
+    let dir = TempDir::new("skinned");
+    for name in ["excavator.cga", "robot.cga", "clock_tower.cga"] {
+        let grammar = example(name);
+        let none = derive(
+            &grammar,
+            &dir.path("none.glb"),
+            &["--instancing", "none"],
+            1,
+        );
+        for how in ["nodes", "gpu", "auto"] {
+            let glb = derive(&grammar, &dir.path("i.glb"), &["--instancing", how], 1);
+            assert!(glb == none, "{name} --instancing {how} differs");
+        }
+    }
+}
+
+#[test]
+fn obj_and_stl_stay_flat() {
+    let (dir, grammar) = orchard("flat-formats");
+    for format in ["obj", "stl"] {
+        // The same file name in two folders: an OBJ names its MTL.
+        let written = |folder: &str, args: &[&str]| {
+            std::fs::create_dir_all(dir.path(folder)).unwrap();
+            let out = dir.path(folder).join(format!("orchard.{format}"));
+            derive(&grammar, &out, args, 1)
+        };
+        let plain = written("none", &["--instancing", "none"]);
+        let asked = written("gpu", &["--instancing", "gpu", "--metadata"]);
+        assert!(plain == asked, "{format}");
+    }
+}
+
+#[test]
+fn grouped_metadata_is_per_part() {
+    let (dir, grammar) = orchard("per-part");
+    let glb = derive(
+        &grammar,
+        &dir.path("parts.glb"),
+        &["--metadata", "--group", "--instancing", "none"],
+        1,
+    );
+    let json = json_of(&glb);
+    let summary = |name: &str| {
+        let nodes = named(&json, name);
+        assert_eq!(nodes.len(), 1, "{name}");
+        nodes[0]["extras"]["shapegram"].clone()
+    };
+    assert_eq!(
+        summary("Crown"),
+        serde_json::json!({
+            "rule": "Crown",
+            "leaves": 50,
+            "attributes": {"crownH": 2.5},
+            "goals": [],
+            "tags": [],
+        })
+    );
+    assert_eq!(summary("Post")["leaves"], 50);
+    assert_eq!(summary("Ground")["leaves"], 1);
+}
