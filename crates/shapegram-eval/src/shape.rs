@@ -240,7 +240,7 @@ pub struct State {
     /// The rule application the shape belongs to, as CGA's `getTreeKey` names it: the initial
     /// shape's is `[0]`, and each successor a rule names adds its position among that rule's
     /// successors.
-    pub tree_key: Arc<[u32]>,
+    pub tree_key: Rc<[u32]>,
     /// The nearest ancestor (or the shape itself) that is an occluder, as an index into the
     /// occluders of the derivation ([`NO_OCCLUDER`] when none): occlusion queries ignore it and
     /// its ancestors.
@@ -287,7 +287,7 @@ impl FrozenState {
             rng: self.rng,
             children: self.children,
             node: self.node,
-            tree_key: self.tree_key.clone(),
+            tree_key: Rc::from(&*self.tree_key),
             occluder: self.occluder,
             section: self.section,
             trim: self.trim,
@@ -348,7 +348,7 @@ impl State {
             rng: Rng::new(seed),
             children: 0,
             node: 0,
-            tree_key: Arc::from([0]),
+            tree_key: Rc::from([0]),
             occluder: NO_OCCLUDER,
             section: 0,
             trim: Trim::default(),
@@ -421,7 +421,7 @@ impl State {
             rng: self.rng,
             children: self.children,
             node: self.node,
-            tree_key: self.tree_key.clone(),
+            tree_key: Arc::from(&*self.tree_key),
             occluder: self.occluder,
             section: self.section,
             trim: self.trim,

@@ -182,3 +182,32 @@ fn two_repeats_take_their_shares_in_turn() {
             .all(|s| s.1 == 1.8)
     );
 }
+
+/// Bays of different widths in turn, each split into tiles that split again: the layout of a
+/// block of literal sizes is kept for the next split of that block at that length, and must
+/// never stand in for another length or block.
+const BAYS: &str = "
+attr tileW = 2
+Lot --> s(24, 1, 1) primitiveCube() split(x) { 6 : Bay | 4 : Bay | 6 : Bay | 8 : Bay }
+Bay --> split(x) { { ~TILE : Tile }* }
+Tile --> split(x) { ~1 : W. | 1 : G. | ~1 : W. }
+";
+
+#[test]
+fn kept_layouts_agree_with_laying_out_afresh() {
+    let kept = run(&BAYS.replace("TILE", "2"), lot(10.0, 10.0));
+    // Sizes read from an attribute are laid out afresh at every split.
+    let fresh = run(&BAYS.replace("TILE", "tileW"), lot(10.0, 10.0));
+    let glass: Vec<(f64, f64)> = spans(&kept)
+        .into_iter()
+        .zip(names(&kept))
+        .filter(|(_, n)| *n == "G")
+        .map(|(s, _)| s)
+        .collect();
+    // 3 + 2 + 3 + 4 tiles of 2 m, a 1 m pane in the middle of each.
+    let expected: Vec<(f64, f64)> = (0..12).map(|i| (2.0 * f64::from(i) + 0.5, 1.0)).collect();
+    assert_eq!(glass, expected);
+    assert_eq!(kept.leaves.len(), 36);
+    assert_eq!(names(&kept), names(&fresh));
+    assert_eq!(spans(&kept), spans(&fresh));
+}

@@ -77,8 +77,12 @@ pub(super) fn run(
         derive_lot(program, &lots[i], how, options, batch)
     });
     let mut all = Derivation::default();
-    all.leaves
-        .reserve_exact(batches.iter().map(|b| b.leaves.len()).sum());
+    // One batch (one thread) hands its leaves over as they are: room for them all would be a
+    // second vector as large, allocated for nothing.
+    if batches.len() > 1 {
+        all.leaves
+            .reserve_exact(batches.iter().map(|b| b.leaves.len()).sum());
+    }
     let mut counts = vec![0usize; program.rules.len()];
     let mut gathered = Gathered::default();
     let mut traces = Vec::new();

@@ -15,7 +15,8 @@ use super::insert::trim;
 use super::kinematics::LastRotation;
 use super::reuse::Previous;
 use super::scope::{align_to_axes, align_to_bbox, center};
-use super::split::Layout;
+use super::split::Layouts;
+use super::statements::Cursor;
 use super::trace::Recorder;
 use super::{DeriveOptions, Fallible, Leaf, TreeNode};
 use crate::context::{Occluder, Parked, SnapPlane};
@@ -75,7 +76,7 @@ pub(super) struct Engine<'p> {
     /// `usize::MAX` when rewriting in generations.
     pub(super) base: usize,
     /// Split layouts to reuse (splits nest, so there can be several in use).
-    pub(super) layouts: Vec<Layout<'p>>,
+    pub(super) layouts: Layouts<'p>,
     /// Allocations of rewritten shapes, for the next shapes that wait for their rules (the
     /// boxes themselves are what is kept).
     #[allow(clippy::vec_box)]
@@ -139,7 +140,7 @@ impl<'p> Engine<'p> {
             started: Instant::now(),
             rule: 0,
             base: usize::MAX,
-            layouts: Vec::new(),
+            layouts: Layouts::default(),
             spare: Vec::new(),
             phase,
             generation: 0,
@@ -390,15 +391,13 @@ impl<'p> Engine<'p> {
             Scope::default()
         };
         let mut saved: Vec<(State, Scope)> = Vec::new();
-        // The statement lists under way: the rule's and, after a `[ case … ]`, the chosen
-        // branch's, which runs before the rest of the list that holds it.
-        let mut lists = vec![stmts.iter()];
-        while let Some(stmt) = next_stmt(&mut lists) {
-            let last = lists.iter().all(|list| list.len() == 0);
+        let mut cursor = Cursor::new(stmts);
+        while let Some(stmt) = cursor.next() {
+            let last = cursor.at_end();
             match stmt {
                 CStmt::Branch(body) => {
                     let chosen = self.branch_of(body, state, args)?;
-                    lists.push(chosen.iter());
+                    cursor.enter(chosen);
                 }
                 CStmt::Push => {
                     saved.push((state.clone(), anchor));
@@ -417,7 +416,7 @@ impl<'p> Engine<'p> {
                 }
                 // Inside brackets, `NIL` deletes the pushed copy: the statements up to the
                 // matching `]` are skipped (`[ case c: Lamp else: NIL ] Base` makes the base).
-                CStmt::Nil if !saved.is_empty() => skip_to_pop(&mut lists),
+                CStmt::Nil if !saved.is_empty() => cursor.skip_to_pop(),
                 CStmt::Nil => return Ok(()),
                 CStmt::Successor {
                     symbol,
@@ -494,42 +493,50 @@ impl<'p> Engine<'p> {
     }
 
     /// Counts a new shape of the given depth and symbol against the limits.
+    #[inline]
     pub(super) fn count(&mut self, depth: u32, symbol: Sym, span: Span) -> Fallible<()> {
         self.shapes += 1;
+        if self.shapes > self.options.max_shapes || depth > self.options.max_depth {
+            return Err(self.over_limit(symbol, span));
+        }
+        Ok(())
+    }
+
+    /// The error of a shape past a limit (kept out of [`Engine::count`], which runs for every
+    /// shape).
+    #[cold]
+    #[inline(never)]
+    fn over_limit(&self, symbol: Sym, span: Span) -> DeriveError {
         if self.shapes > self.options.max_shapes {
             let rule = self.busiest_rule();
-            return Err(DeriveError::at(
+            return DeriveError::at(
                 format!(
                     "the derivation made more than {} shapes; rule `{rule}` was applied most often",
                     self.options.max_shapes
                 ),
                 span,
             )
-            .with_hint("a rule that keeps making successors needs a condition that ends it"));
+            .with_hint("a rule that keeps making successors needs a condition that ends it");
         }
-        if depth > self.options.max_depth && self.program.goals.is_some() {
-            let name = self.program.symbol_name(symbol);
-            return Err(DeriveError::at(
+        let name = self.program.symbol_name(symbol);
+        if self.program.goals.is_some() {
+            return DeriveError::at(
                 format!(
                     "the derivation is more than {} shapes deep at `{name}`: goal rules keep making shapes whose goals call for them again",
                     self.options.max_depth
                 ),
                 span,
             )
-            .with_hint("a goal that leads back to itself through rules needs a condition that ends it (`if(scope.sx > 1)`) or a rule that fulfils it without a successor"));
+            .with_hint("a goal that leads back to itself through rules needs a condition that ends it (`if(scope.sx > 1)`) or a rule that fulfils it without a successor");
         }
-        if depth > self.options.max_depth {
-            let name = self.program.symbol_name(symbol);
-            return Err(DeriveError::at(
-                format!(
-                    "the derivation is more than {} shapes deep at `{name}`: a rule keeps rewriting without end",
-                    self.options.max_depth
-                ),
-                span,
-            )
-            .with_hint("guard the recursion with `case …` on the scope size or a counter parameter"));
-        }
-        Ok(())
+        DeriveError::at(
+            format!(
+                "the derivation is more than {} shapes deep at `{name}`: a rule keeps rewriting without end",
+                self.options.max_depth
+            ),
+            span,
+        )
+        .with_hint("guard the recursion with `case …` on the scope size or a counter parameter")
     }
 
     fn busiest_rule(&self) -> &str {
@@ -829,36 +836,5 @@ impl<'p> Engine<'p> {
             .iter()
             .map(|p| self.ev.number(p, state, args))
             .collect()
-    }
-}
-
-/// The next statement of the innermost list under way, dropping the lists that are done.
-fn next_stmt<'p>(lists: &mut Vec<std::slice::Iter<'p, CStmt>>) -> Option<&'p CStmt> {
-    loop {
-        let list = lists.last_mut()?;
-        if let Some(stmt) = list.next() {
-            return Some(stmt);
-        }
-        lists.pop();
-    }
-}
-
-/// Drops the statements up to the `]` that closes the innermost open `[`, and leaves that `]`
-/// next.
-fn skip_to_pop(lists: &mut Vec<std::slice::Iter<'_, CStmt>>) {
-    let mut depth = 0usize;
-    while let Some(list) = lists.last_mut() {
-        let rest = list.as_slice();
-        let Some(stmt) = rest.first() else {
-            lists.pop();
-            continue;
-        };
-        match stmt {
-            CStmt::Pop(_) if depth == 0 => return,
-            CStmt::Pop(_) => depth -= 1,
-            CStmt::Push => depth += 1,
-            _ => {}
-        }
-        list.next();
     }
 }

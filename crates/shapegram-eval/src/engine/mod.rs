@@ -51,6 +51,7 @@ mod scatter;
 mod scope;
 mod setback_tags;
 mod split;
+mod statements;
 mod tagging;
 mod texturing;
 mod trace;

@@ -223,14 +223,14 @@ impl<'p> Engine<'p> {
         if length <= 0.0 {
             return Ok(Vec::new());
         }
-        let mut layout: Layout<'p> = self.layouts.pop().unwrap_or_default();
+        let mut layout: Layout<'p> = self.layouts.take();
         let laid = layout.lay_out(&spec.sections, length, span, &mut self.ev, state, args);
         let sections = layout
             .parts
             .iter()
             .map(|p| (p.start, p.size, p.body, p.depth))
             .collect();
-        self.layouts.push(layout);
+        self.layouts.put(layout);
         laid.map(|()| sections)
     }
 }

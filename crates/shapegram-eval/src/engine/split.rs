@@ -21,7 +21,7 @@ use crate::shape::{Geometry, State};
 use crate::tags;
 use crate::value::Value;
 
-pub(super) use layout::Layout;
+pub(super) use layout::{Layout, Layouts};
 
 /// Bisection steps that place a boundary of `splitArea`: enough for the last bits of an f64.
 const AREA_STEPS: usize = 100;
@@ -47,13 +47,17 @@ impl<'p> Engine<'p> {
             None => None,
         };
         let length = state.scope.size[axis];
-        let mut layout = self.layouts.pop().unwrap_or_default();
-        layout.lay_out(block, length, span, &mut self.ev, state, args)?;
+        let mut layout = self.layouts.take_for(block, length);
+        let laid = layout.lay_out(block, length, span, &mut self.ev, state, args);
+        if let Err(e) = laid {
+            self.layouts.put(layout);
+            return Err(e);
+        }
         if let Some(positions) = snaps {
             layout.snap(&positions);
         }
         let result = self.split_parts(state, axis, (adjust, joints), &layout, span, args, out);
-        self.layouts.push(layout);
+        self.layouts.put(layout);
         result
     }
 
@@ -78,10 +82,10 @@ impl<'p> Engine<'p> {
         };
         let length = state.scope.size[axis];
         let total = mesh.area();
-        let mut layout = self.layouts.pop().unwrap_or_default();
+        let mut layout = self.layouts.take();
         let laid = layout.lay_out(block, total, span, &mut self.ev, state, args);
         if let Err(e) = laid {
-            self.layouts.push(layout);
+            self.layouts.put(layout);
             return Err(e);
         }
         layout.forget();
@@ -113,7 +117,7 @@ impl<'p> Engine<'p> {
         }
         let how = (adjust, SplitJoints::Auto);
         let result = self.split_parts(state, axis, how, &layout, span, args, out);
-        self.layouts.push(layout);
+        self.layouts.put(layout);
         result
     }
 

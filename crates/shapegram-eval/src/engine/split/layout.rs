@@ -30,6 +30,10 @@ use crate::value::Value;
 /// At most this many parts per split, so a typo cannot exhaust memory before the shape limit.
 const MAX_PARTS: usize = 1_000_000;
 
+/// Layouts kept with their parts for the next splits of the same block and length: a facade's
+/// floors and a floor's tiles come one after the other, so a few suffice.
+const KEPT_LAYOUTS: usize = 8;
+
 /// One laid-out part: where it starts and ends along the axis, and what to do with it.
 pub(in crate::engine) struct Part<'a> {
     pub start: f64,
@@ -81,6 +85,47 @@ pub(in crate::engine) struct Layout<'a> {
     last: Option<(usize, u64)>,
 }
 
+/// The layouts not in use, most recently used last: splits nest, so there can be several in
+/// use at once.
+#[derive(Default)]
+pub(in crate::engine) struct Layouts<'a> {
+    free: Vec<Layout<'a>>,
+}
+
+impl<'a> Layouts<'a> {
+    /// A layout for a split of `block` along `length`: the one that last laid out that block
+    /// at that length when it is kept (its parts stand, see [`Layout::lay_out`]), else one
+    /// that keeps nothing, a new one, or the least recently used.
+    pub(in crate::engine) fn take_for(&mut self, block: &SplitBlock, length: f64) -> Layout<'a> {
+        let key = Some(key_of(block, length));
+        if let Some(i) = self.free.iter().rposition(|l| l.last == key) {
+            return self.free.remove(i);
+        }
+        if let Some(i) = self.free.iter().rposition(|l| l.last.is_none()) {
+            return self.free.remove(i);
+        }
+        if self.free.len() < KEPT_LAYOUTS {
+            return Layout::default();
+        }
+        self.free.remove(0)
+    }
+
+    /// A layout for a caller that changes its parts or lays out something else.
+    pub(in crate::engine) fn take(&mut self) -> Layout<'a> {
+        self.free.pop().unwrap_or_default()
+    }
+
+    /// Returns a layout taken with [`Layouts::take_for`] or [`Layouts::take`].
+    pub(in crate::engine) fn put(&mut self, layout: Layout<'a>) {
+        self.free.push(layout);
+    }
+}
+
+/// What a layout of literal sizes depends on: the block (its address) and the length.
+fn key_of(block: &SplitBlock, length: f64) -> (usize, u64) {
+    (std::ptr::from_ref(block) as usize, length.to_bits())
+}
+
 impl<'a> Layout<'a> {
     /// Lays out the parts of `block` along a length into [`Layout::parts`].
     pub(in crate::engine) fn lay_out(
@@ -92,7 +137,7 @@ impl<'a> Layout<'a> {
         shape: &mut State,
         args: &[Value],
     ) -> Result<(), DeriveError> {
-        let key = (std::ptr::from_ref(block) as usize, length.to_bits());
+        let key = key_of(block, length);
         if self.last == Some(key) {
             return Ok(());
         }

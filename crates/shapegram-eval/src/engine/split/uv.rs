@@ -70,10 +70,10 @@ impl<'p> Engine<'p> {
         // Lengths along the layout, and uv units per unit of them.
         let per = if metres { stretch } else { 1.0 };
         let length = (most - least) / per;
-        let mut layout = self.layouts.pop().unwrap_or_default();
+        let mut layout = self.layouts.take();
         let laid = layout.lay_out(block, length, span, &mut self.ev, state, args);
         if let Err(e) = laid {
-            self.layouts.push(layout);
+            self.layouts.put(layout);
             return Err(e);
         }
         // Plane offsets along `normal` where the coordinate takes a value.
@@ -108,7 +108,7 @@ impl<'p> Engine<'p> {
                 break;
             }
         }
-        self.layouts.push(layout);
+        self.layouts.put(layout);
         result
     }
 }
