@@ -166,7 +166,7 @@ async function ruleCreation(user) {
   await user.press("Control+s");
   assert.deepEqual(saved(), {
     format: "shapegram-topo-project",
-    version: 1,
+    version: 2,
     symbols: [UNIT_CUBE],
     rules: [{ name: "tier", symbol: "Pyramid", weight: 1, tree: "terminal" }],
   });
