@@ -599,3 +599,71 @@ async fn a_version_1_project_opens_and_is_saved_as_version_2() {
         version_1.replacen("\"version\": 1,", "\"version\": 2,", 1)
     );
 }
+
+/// The triangles of a generated model, each as its corners rounded to 1e-4 and turned to start
+/// at its smallest corner (so the winding is kept), sorted.
+fn triangles(generated: &Value) -> Vec<[[i64; 3]; 3]> {
+    let mut all = Vec::new();
+    for part in generated["parts"].as_array().unwrap() {
+        let numbers: Vec<i64> = part["positions"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|v| (v.as_f64().unwrap() * 1e4).round() as i64)
+            .collect();
+        for t in numbers.chunks(9) {
+            let corners = [[t[0], t[1], t[2]], [t[3], t[4], t[5]], [t[6], t[7], t[8]]];
+            let first = (0..3).min_by_key(|&i| corners[i]).unwrap();
+            all.push([0, 1, 2].map(|k| corners[(first + k) % 3]));
+        }
+    }
+    all.sort();
+    all
+}
+
+#[tokio::test]
+async fn the_anchor_preview_is_what_the_interpreter_makes_of_the_sub_shape() {
+    let project = shapegram_topo::demos::mayan_pyramid().unwrap();
+    let inner = project.rules[0]
+        .tree
+        .nodes()
+        .iter()
+        .position(|n| matches!(n.kind, NodeKind::Leaf(Assignment::Symbol { symbol: 0, .. })))
+        .unwrap();
+    let studio = Studio::new(&project.to_json());
+    studio.open().await;
+    let (status, preview) = studio
+        .post(
+            "/api/topo/preview",
+            json!({ "path": studio.path(), "rule": 0, "node": inner }),
+        )
+        .await;
+    assert_eq!(status, StatusCode::OK, "{preview}");
+    assert_eq!(
+        (
+            preview["terminals"].clone(),
+            preview["non_terminals"].clone()
+        ),
+        (json!(2), json!(1))
+    );
+    // The interpreter from the prototype: after one generation the inner pyramid is the only
+    // `Pyramid`; the second generation replaces it by exactly what the preview shows.
+    let test = |generations: u32| json!({ "path": studio.path(), "symbol": 0, "seed": 0, "generations": generations });
+    let (_, one) = studio.post("/api/topo/test", test(1)).await;
+    let (_, two) = studio.post("/api/topo/test", test(2)).await;
+    let mut one_without_inner = one.clone();
+    one_without_inner["parts"] = Value::Array(
+        one["parts"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .filter(|p| p["name"] != "Pyramid")
+            .cloned()
+            .collect(),
+    );
+    let mut expected = triangles(&one_without_inner);
+    expected.extend(triangles(&preview));
+    expected.sort();
+    assert_eq!(triangles(&two), expected);
+    assert_eq!(triangles(&preview).len(), 12 + 8 + 12);
+}
