@@ -233,6 +233,28 @@ async function multipleCuts(user) {
     "generation 1 · 2 terminals · 0 non-terminals · 24 triangles");
 }
 
+/** The RGBA pixels of canvas `id` as drawn now. */
+async function canvasPixels(page, id) {
+  return page.evaluate((id) => {
+    const source = document.getElementById(id);
+    const copy = document.createElement("canvas");
+    copy.width = source.width;
+    copy.height = source.height;
+    const context = copy.getContext("2d");
+    context.drawImage(source, 0, 0);
+    return Array.from(context.getImageData(0, 0, copy.width, copy.height).data);
+  }, id);
+}
+
+/** How many pixels of two same-sized captures differ by more than a little. */
+function differing(a, b) {
+  let count = 0;
+  for (let i = 0; i < a.length; i += 4) {
+    if (Math.abs(a[i] - b[i]) + Math.abs(a[i + 1] - b[i + 1]) + Math.abs(a[i + 2] - b[i + 2]) > 30) count += 1;
+  }
+  return count;
+}
+
 /** The anchor of sub-shape `node` as the page shows it: the edge it names, rounded. */
 async function anchorOf(page, node) {
   const anchor = await page.evaluate((n) => window.__topo.part(n).anchor, node);
@@ -265,9 +287,13 @@ async function recursion(user) {
   assert.deepEqual(await anchorOf(user.page, 9), placed);
   await user.selectShape(9);
   // The preview: one generation of Pyramid's rule on the centre: a slab and a smaller centre.
+  const without = await canvasPixels(user.page, "canvas");
   await user.click("#preview-anchor");
   const previewed = await user.page.evaluate(() => window.__topo.previewMesh.reduce((n, p) => n + p.positions.length / 9, 0));
   assert.equal(previewed, 24);
+  // The preview is drawn over the centre: the edit view's pixels change.
+  const changed = differing(without, await canvasPixels(user.page, "canvas"));
+  assert.ok(changed > 200, `the preview changed ${changed} pixels of the edit view`);
   await user.press("Control+s");
   const tree = saved().rules[0].tree;
   assert.deepEqual(tree.cut.above.cut.above.cut.below.cut.above.cut.below,
