@@ -9,7 +9,8 @@
 // The tasks build the Mayan pyramid of the thesis's Figure 48: a `Pyramid` symbol whose rule
 // `tier` keeps a stone slab (its bottom quarter) and, above it, a centre part with 10 % margins
 // removed all round, which becomes the next, smaller `Pyramid` (tasks 1-5); a `Stairs` ramp cut
-// by three points (6); `Steps` cut into four slabs (7) and all of them cut again at once (8).
+// by three points (6); `Steps` cut into four slabs (7) and all of them cut again at once (8);
+// then the prism cut's grid snapping and the symmetric three-part cut of thesis 4.4.
 // Task 9 (the thesis's free task: the rules used together) is not scripted.
 import { chromium } from "playwright-core";
 import { spawn } from "node:child_process";
@@ -426,6 +427,32 @@ async function prismCut(user) {
   assert.deepEqual(made.rules[3].tree.cut.above, { symbol: { name: "Symbol4", anchor: [0, 0] } });
 }
 
+/** The symmetric three-part cut (thesis 4.4). Target: a third rule of `Steps` cutting it from
+ * its top face into a top and a bottom part of 0.2 of its height each and the middle between;
+ * undone and redone with the keys. */
+async function symmetricCut(user) {
+  await user.click("#new-rule");
+  await user.click("#tool-symmetric");
+  await user.click("#margin");
+  await user.press("Control+a");
+  await user.type("0.2");
+  await user.clickFace(0, await faceTowards(user.page, 0, [0, 1, 0]));
+  await user.press("c");
+  await user.press("Control+s");
+  const rule = saved().rules[4];
+  assert.equal(rule.name, "Steps rule 3");
+  assert.deepEqual(rule.tree,
+    cut(0, [0.5, 0.8, 0.5], [0, 1, 0],
+      cut(1, [0.5, 0.2, 0.5], [0, 1, 0], "terminal", "terminal"),
+      "terminal"));
+  const leaves = () => user.page.evaluate(() => window.__topo.state.edit.parts.length);
+  assert.equal(await leaves(), 3);
+  await user.press("Control+z");
+  assert.equal(await leaves(), 1);
+  await user.press("Control+y");
+  assert.equal(await leaves(), 3);
+}
+
 const { child, url } = await startStudio([projectFile]);
 const browser = await chromium.launch({
   executablePath: browserPath,
@@ -494,6 +521,11 @@ try {
   await hands.press("Escape");
   assert.equal(await page.evaluate(() => window.__topo.tools.cutting), null);
   assert.equal(await page.evaluate(() => window.__topo.state.undo), undoDepth);
+
+  const symmetric = new User(page);
+  await symmetricCut(symmetric);
+  await page.screenshot({ path: join(output, "topo-symmetric-cut.png") });
+  console.log(`Symmetric three-part cut: ${symmetric.actions} user actions`);
 
   assert.deepEqual(problems, [], "errors in the page's console");
   console.log(`split grammar editor browser test: ok (screenshots in ${output})`);

@@ -667,3 +667,56 @@ async fn the_anchor_preview_is_what_the_interpreter_makes_of_the_sub_shape() {
     assert_eq!(triangles(&two), expected);
     assert_eq!(triangles(&preview).len(), 12 + 8 + 12);
 }
+
+#[tokio::test]
+async fn the_symmetric_cut_makes_equal_outer_parts_and_undoes_in_one_step() {
+    let studio = Studio::new("");
+    studio.open().await;
+    studio
+        .act(json!({ "kind": "add_symbol", "name": "Wall", "size": [10, 4, 1] }))
+        .await;
+    studio
+        .act(json!({ "kind": "add_rule", "symbol": 0, "name": "bays" }))
+        .await;
+    // Face 0 is the box's side at x = 0: margins of 0.25 × 10 at both ends.
+    let answer = studio
+        .act(json!({ "kind": "symmetric_cut", "rule": 0, "node": 0, "face": 0, "margin": 0.25 }))
+        .await;
+    let made = answer["made"]["nodes"].as_array().unwrap().clone();
+    assert_eq!(made.len(), 3);
+    let parts = answer["state"]["edit"]["parts"].as_array().unwrap();
+    let span = |node: &Value| {
+        let part = parts.iter().find(|p| &p["node"] == node).unwrap();
+        let xs: Vec<f64> = part["faces"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .flat_map(|f| f.as_array().unwrap().iter().map(|p| p[0].as_f64().unwrap()))
+            .collect();
+        (
+            xs.iter().cloned().fold(f64::MAX, f64::min),
+            xs.iter().cloned().fold(f64::MIN, f64::max),
+        )
+    };
+    assert_eq!(
+        made.iter().map(span).collect::<Vec<_>>(),
+        [(0.0, 2.5), (2.5, 7.5), (7.5, 10.0)]
+    );
+    let body = json!({ "path": studio.path(), "view": { "rule": 0 } });
+    let (_, state) = studio.post("/api/topo/undo", body.clone()).await;
+    assert_eq!(state["edit"]["parts"].as_array().unwrap().len(), 1);
+    let (_, state) = studio.post("/api/topo/redo", body).await;
+    assert_eq!(state["edit"]["parts"].as_array().unwrap().len(), 3);
+    let (status, error) = studio
+        .post(
+            "/api/topo/action",
+            json!({ "path": studio.path(), "action":
+                { "kind": "symmetric_cut", "rule": 0, "node": 1, "face": 0, "margin": 0.5 } }),
+        )
+        .await;
+    assert_eq!(status, StatusCode::UNPROCESSABLE_ENTITY);
+    assert_eq!(
+        error["error"],
+        "the margin 0.5 must lie strictly between 0 and 0.5 of the height"
+    );
+}

@@ -77,6 +77,14 @@ pub enum Action {
         face: u32,
         cuts: usize,
     },
+    /// The symmetric three-part cut (thesis 4.4): planes at `margin` and `1 − margin` of the
+    /// prism's height from base `face`, so the outer parts are equal.
+    SymmetricCut {
+        rule: u32,
+        node: NodeId,
+        face: u32,
+        margin: f64,
+    },
     /// The plane through three points on edges of sub-shapes.
     ThreePointCut {
         rule: u32,
@@ -239,6 +247,14 @@ impl Action {
                 face,
                 cuts,
             } => project.multi_cut(rule, node, face, cuts).map(nodes),
+            Action::SymmetricCut {
+                rule,
+                node,
+                face,
+                margin,
+            } => project
+                .symmetric_cut(rule, node, face, margin)
+                .map(|parts| nodes(parts.to_vec())),
             Action::ThreePointCut { rule, points } => {
                 let mut at = [DVec3::ZERO; 3];
                 for (slot, p) in at.iter_mut().zip(&points) {
