@@ -720,3 +720,91 @@ async fn the_symmetric_cut_makes_equal_outer_parts_and_undoes_in_one_step() {
         "the margin 0.5 must lie strictly between 0 and 0.5 of the height"
     );
 }
+
+#[tokio::test]
+async fn a_face_gets_a_material_and_a_cut_keeps_an_absolute_distance() {
+    let studio = Studio::new("");
+    studio.open().await;
+    studio
+        .act(json!({ "kind": "add_symbol", "name": "Block", "size": [4, 3, 4] }))
+        .await;
+    studio
+        .act(json!({ "kind": "add_rule", "symbol": 0, "name": "walls" }))
+        .await;
+    // Face 1 is the side at x = 4: a wall 0.3 m thick inside it, in metres.
+    let answer = studio
+        .act(json!({ "kind": "face_cut", "rule": 0, "node": 0, "face": 1, "distance": 0.3, "absolute": true }))
+        .await;
+    let wall = answer["made"]["nodes"][0].clone();
+    let brick =
+        json!({ "name": "brick", "color": "#aa5533", "texture": "brick.png", "tile": [0.5, 0.25] });
+    let answer = studio
+        .act(json!({ "kind": "face_material", "rule": 0, "node": wall, "face": 1, "material": brick }))
+        .await;
+    assert_eq!(answer["made"]["index"], 0);
+    let state = &answer["state"];
+    assert_eq!(
+        state["materials"],
+        json!([{ "name": "brick", "color": "#aa5533", "surface": "#aa5533",
+                 "texture": "brick.png", "tile": [0.5, 0.25] }])
+    );
+    let part = state["edit"]["parts"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|p| p["node"] == wall)
+        .unwrap();
+    let mut expected = vec![Value::Null; 6];
+    expected[1] = json!(0);
+    assert_eq!(part["face_materials"], Value::Array(expected));
+    // The same name again updates the material rather than adding one.
+    let answer = studio
+        .act(
+            json!({ "kind": "face_material", "rule": 0, "node": wall, "face": 0,
+                     "material": { "name": "brick", "color": "#bb6644", "tile": [1, 1] } }),
+        )
+        .await;
+    assert_eq!(answer["state"]["materials"].as_array().unwrap().len(), 1);
+    assert_eq!(answer["state"]["materials"][0]["color"], "#bb6644");
+    studio
+        .post("/api/topo/save", json!({ "path": studio.path() }))
+        .await;
+    let saved = studio.saved();
+    let rule = &saved.rules[0];
+    assert_eq!(
+        rule.tree.nodes()[0].offset.map(|o| (o.face, o.distance)),
+        Some((1, 0.3))
+    );
+    let node = &rule.tree.nodes()[wall.as_u64().unwrap() as usize];
+    assert_eq!(node.face_materials[..2], [Some(0), Some(0)]);
+    assert!(
+        std::fs::read_to_string(&studio.project)
+            .unwrap()
+            .contains("\"version\": 2")
+    );
+    // Undo takes back the second material step alone.
+    let body = json!({ "path": studio.path(), "view": { "rule": 0 } });
+    let (_, state) = studio.post("/api/topo/undo", body).await;
+    assert_eq!(state["materials"][0]["color"], "#aa5533");
+
+    for (action, reason) in [
+        (
+            json!({ "kind": "face_cut", "rule": 0, "node": 1, "face": 1, "distance": 0.3, "absolute": true, "global": true }),
+            "a cut at an absolute distance cuts one sub-shape, not globally",
+        ),
+        (
+            json!({ "kind": "face_material", "rule": 0, "node": 1, "face": 0,
+                    "material": { "name": "x", "color": "red", "tile": [1, 1] } }),
+            "`red` is not a colour (#rrggbb)",
+        ),
+    ] {
+        let (status, error) = studio
+            .post(
+                "/api/topo/action",
+                json!({ "path": studio.path(), "action": action }),
+            )
+            .await;
+        assert_eq!(status, StatusCode::UNPROCESSABLE_ENTITY);
+        assert_eq!(error["error"], reason);
+    }
+}

@@ -122,6 +122,7 @@ impl Session {
             undo: self.editor.undo_depth(),
             redo: self.editor.redo_depth(),
             dirty: *project != self.saved,
+            materials: view::materials(project),
             edit: view::edit_view(project, choice.rule, choice.symbol, &self.hidden),
         }
     }
