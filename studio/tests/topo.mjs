@@ -453,6 +453,55 @@ async function symmetricCut(user) {
   assert.equal(await leaves(), 3);
 }
 
+/** The colour drawn at client point `at` of the edit view. */
+async function pixelAt(page, at) {
+  return page.evaluate(({ x, y }) => {
+    const source = document.getElementById("canvas");
+    const r = source.getBoundingClientRect();
+    const copy = document.createElement("canvas");
+    copy.width = source.width;
+    copy.height = source.height;
+    const context = copy.getContext("2d");
+    context.drawImage(source, 0, 0);
+    const scale = source.width / r.width;
+    return Array.from(context.getImageData(Math.round((x - r.left) * scale), Math.round((y - r.top) * scale), 1, 1).data.slice(0, 3));
+  }, at);
+}
+
+/** The new features of the editor model (docs/topo.md): a face cut at an absolute distance and
+ * a per-face material. Target: in the three-part rule, the top part (node 2) loses a 0.1 m
+ * strip along its front face by an offset cut, and the strip's front face gets a blue material
+ * `lapis`, drawn in its colour in the edit view. */
+async function materialAndAbsoluteCut(user) {
+  await user.click("#tool-face");
+  assert.equal(await user.page.locator("#global").isChecked(), true, "task 8 left the global option on");
+  await user.click("#global");
+  await user.click("#absolute");
+  await user.faceCut(2, [0, 0, 1], 0.1);
+  const front = await faceTowards(user.page, 6, [0, 0, 1]);
+  const centre = await user.page.evaluate(([n, f]) => window.__topo.faceScreen(n, f), [6, front]);
+  const before = await pixelAt(user.page, centre);
+  await user.clickFace(6, front);
+  await user.click("#material-name");
+  await user.press("Control+a");
+  await user.type("lapis");
+  await user.click("#material-color");
+  await user.press("Control+a");
+  await user.type("#3050d0");
+  await user.click("#apply-material");
+  await user.press("Escape");
+  const after = await pixelAt(user.page, centre);
+  assert.ok(after[2] > after[0] + 40 && before[2] < before[0], `the face was drawn ${before}, then ${after}`);
+  await user.press("Control+s");
+  const project = saved();
+  assert.deepEqual(project.materials, [{ name: "lapis", color: "#3050d0", tile: [1, 1] }]);
+  const rule = project.rules[4];
+  const strip = rule.tree.cut.above.cut;
+  assert.deepEqual([strip.step, strip.point, strip.normal, strip.offset.distance, strip.below, strip.above],
+    [2, [0.5, 0.9, 0.9], [0, 0, 1], 0.1, "terminal", "terminal"]);
+  assert.deepEqual(rule.face_materials, [{ node: 6, face: front, material: "lapis" }]);
+}
+
 const { child, url } = await startStudio([projectFile]);
 const browser = await chromium.launch({
   executablePath: browserPath,
@@ -526,6 +575,10 @@ try {
   await symmetricCut(symmetric);
   await page.screenshot({ path: join(output, "topo-symmetric-cut.png") });
   console.log(`Symmetric three-part cut: ${symmetric.actions} user actions`);
+  const materials = new User(page);
+  await materialAndAbsoluteCut(materials);
+  await page.screenshot({ path: join(output, "topo-material.png") });
+  console.log(`Absolute-distance cut and face material: ${materials.actions} user actions`);
 
   assert.deepEqual(problems, [], "errors in the page's console");
   console.log(`split grammar editor browser test: ok (screenshots in ${output})`);

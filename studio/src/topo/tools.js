@@ -8,7 +8,7 @@
 import { Vector3 } from "three";
 
 const TOOLS = [
-  ["face", "Face cut", "Select a face, press C, move the plane (or type the distance), right-click or Enter. Escape cancels."],
+  ["face", "Face cut", "Select a face, press C, move the plane (or type the distance), right-click or Enter. Escape cancels. Absolute: the distance in metres is kept when the rule meets shapes of other sizes."],
   ["prism", "Prism cut", "Select a base of a prism, press C, move the plane (Ctrl snaps to the grid) or type the fraction, right-click or Enter."],
   ["multi", "Multi-cut", "Set the number of cuts, select a base of a prism, press C."],
   ["symmetric", "Three-part cut", "Set the margin (a fraction of the height below 0.5), select a base of a prism, press C: two equal outer parts and the middle."],
@@ -20,7 +20,7 @@ export class Tools {
     this.app = app;
     this.info = info;
     this.tool = "face";
-    this.settings = { global: false, grid: 0.25, cuts: 1, margin: 0.1 };
+    this.settings = { global: false, absolute: false, grid: 0.25, cuts: 1, margin: 0.1 };
     this.cutting = null;
     this.points = [];
     this.hover = null;
@@ -74,6 +74,15 @@ export class Tools {
       box.addEventListener("change", () => (this.settings.global = box.checked));
       row.append(box, " global: cut every sub-shape the plane passes through");
       rows.push(row);
+      const fixed = document.createElement("label");
+      fixed.className = "setting";
+      const absolute = document.createElement("input");
+      absolute.type = "checkbox";
+      absolute.id = "absolute";
+      absolute.checked = this.settings.absolute;
+      absolute.addEventListener("change", () => (this.settings.absolute = absolute.checked));
+      fixed.append(absolute, " absolute: the distance stays in metres from the face on shapes of other sizes");
+      rows.push(fixed);
       this.amount = field("distance", "cut-amount", this.cutting ? round(this.cutting.amount) : "", "any", (v) => this.typed(v));
     } else if (this.tool === "prism") {
       field("grid", "grid", this.settings.grid, "any", (v) => (this.settings.grid = v));
@@ -214,7 +223,7 @@ export class Tools {
     const rule = this.app.view.rule;
     const action = this.tool === "prism"
       ? { kind: "prism_cut", rule, node: c.node, face: c.face, fraction: c.amount }
-      : { kind: "face_cut", rule, node: c.node, face: c.face, distance: c.amount, global: this.settings.global };
+      : { kind: "face_cut", rule, node: c.node, face: c.face, distance: c.amount, global: this.settings.global, absolute: this.settings.absolute };
     this.showInfo();
     this.app.act(action);
   }
