@@ -281,9 +281,11 @@ async function recursion(user) {
   assert.deepEqual(await anchorOf(user.page, 9), placed);
   // "A" on another face of it (the front) moves the anchor there; Ctrl+Z puts it back.
   const front = await faceTowards(user.page, 9, [0, 0, 1]);
+  const moveStart = user.actions;
   await user.clickFace(9, front);
   await user.press("a");
   assert.deepEqual((await anchorOf(user.page, 9)).face, front);
+  assert.equal(user.actions - moveStart, 2, "moving an anchor to another face takes two actions");
   await user.press("Control+z");
   assert.deepEqual(await anchorOf(user.page, 9), placed);
   await user.selectShape(9);
@@ -579,6 +581,13 @@ try {
   await materialAndAbsoluteCut(materials);
   await page.screenshot({ path: join(output, "topo-material.png") });
   console.log(`Absolute-distance cut and face material: ${materials.actions} user actions`);
+
+  // Export GLB writes the tester's model (Steps, seed 7, 3 generations) beside the project.
+  const exporter = new User(page);
+  await exporter.click("#export");
+  const glb = readFileSync(join(folder, "pyramid.glb"));
+  assert.equal(glb.subarray(0, 4).toString("latin1"), "glTF");
+  assert.match(await page.locator("#status").textContent(), new RegExp(`^exported ${glb.length} bytes to `));
 
   assert.deepEqual(problems, [], "errors in the page's console");
   console.log(`split grammar editor browser test: ok (screenshots in ${output})`);

@@ -808,3 +808,32 @@ async fn a_face_gets_a_material_and_a_cut_keeps_an_absolute_distance() {
         assert_eq!(error["error"], reason);
     }
 }
+
+#[tokio::test]
+async fn the_tester_model_is_exported_as_glb_beside_the_project() {
+    let project = shapegram_topo::demos::mayan_pyramid().unwrap();
+    let studio = Studio::new(&project.to_json());
+    studio.open().await;
+    let (status, written) = studio
+        .post(
+            "/api/topo/export",
+            json!({ "path": studio.path(), "symbol": 0, "seed": 3, "generations": 3 }),
+        )
+        .await;
+    assert_eq!(status, StatusCode::OK, "{written}");
+    let glb = studio.project.with_file_name("pyramid.glb");
+    assert_eq!(written["path"], glb.display().to_string());
+    let bytes = std::fs::read(&glb).unwrap();
+    assert_eq!(written["bytes"], bytes.len());
+    assert_eq!(&bytes[..4], b"glTF");
+    // The same model as the tester's: its triangles, counted from the file.
+    let model = shapegram_export::load(&glb).unwrap();
+    let (_, tested) = studio
+        .post(
+            "/api/topo/test",
+            json!({ "path": studio.path(), "symbol": 0, "seed": 3, "generations": 3 }),
+        )
+        .await;
+    let faces: usize = model.parts.iter().map(|p| p.mesh.face_count()).sum();
+    assert_eq!(json!(faces), tested["triangles"]);
+}
