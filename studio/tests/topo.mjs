@@ -139,10 +139,10 @@ async function faceTowards(page, node, direction) {
   }, [node, direction]);
 }
 
-/** The saved project, its numbers rounded to 1e-9 (1 − 0.9 is 0.09999999999999998). */
+/** The saved project, its numbers rounded to 1e-9 (1 − 0.9 is 0.09999999999999998), −0 as 0. */
 function saved() {
   const text = readFileSync(projectFile, "utf8");
-  return JSON.parse(text, (_, v) => (typeof v === "number" ? Math.round(v * 1e9) / 1e9 : v));
+  return JSON.parse(text, (_, v) => (typeof v === "number" ? Math.round(v * 1e9) / 1e9 + 0 : v));
 }
 
 const UNIT_CUBE = {
@@ -504,6 +504,34 @@ async function materialAndAbsoluteCut(user) {
   assert.deepEqual(rule.face_materials, [{ node: 6, face: front, material: "lapis" }]);
 }
 
+/** The 3-point cut's grid snapping (§3.1.7.4). Target: a fourth rule of `Steps` cut by the
+ * plane x = 0.25: the pointer at x = 0.3 on three edges (the top face's back and front edges,
+ * the front face's bottom edge) puts the points at 0.3 without Ctrl and, with Ctrl held, on
+ * the grid (0.25). */
+async function threePointGrid(user) {
+  await user.click("#new-rule");
+  await user.click("#tool-three");
+  const hoverX = () => user.page.evaluate(() => window.__topo.tools.hover?.at[0]);
+  const aims = [[0.3, 1, 0.03], [0.3, 1, 0.97], [0.3, 0.03, 1]];
+  const screen = (p) => user.page.evaluate((q) => window.__topo.pointScreen(q), p);
+  await user.point(await screen(aims[0]));
+  assert.ok(Math.abs((await hoverX()) - 0.3) < 0.02, `without Ctrl the point follows the pointer: ${await hoverX()}`);
+  await user.page.keyboard.down("Control");
+  user.actions += 1;
+  for (const aim of aims) {
+    const at = await screen(aim);
+    await user.point({ x: at.x + 2, y: at.y });
+    await user.point(at);
+    assert.equal(Math.round((await hoverX()) * 1e9) / 1e9, 0.25);
+    await user.rightClickAt(at);
+  }
+  await user.page.keyboard.up("Control");
+  await user.press("Control+s");
+  const rule = saved().rules[5];
+  assert.equal(rule.name, "Steps rule 4");
+  assert.deepEqual(rule.tree, cut(0, [0.25, 1, 0], [1, 0, 0], "terminal", "terminal"));
+}
+
 const { child, url } = await startStudio([projectFile]);
 const browser = await chromium.launch({
   executablePath: browserPath,
@@ -588,6 +616,11 @@ try {
   const glb = readFileSync(join(folder, "pyramid.glb"));
   assert.equal(glb.subarray(0, 4).toString("latin1"), "glTF");
   assert.match(await page.locator("#status").textContent(), new RegExp(`^exported ${glb.length} bytes to `));
+
+  const gridded = new User(page);
+  await threePointGrid(gridded);
+  await page.screenshot({ path: join(output, "topo-three-point-grid.png") });
+  console.log(`3-point cut with grid snapping: ${gridded.actions} user actions`);
 
   assert.deepEqual(problems, [], "errors in the page's console");
   console.log(`split grammar editor browser test: ok (screenshots in ${output})`);
