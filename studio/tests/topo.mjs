@@ -9,7 +9,8 @@
 // The tasks build the Mayan pyramid of the thesis's Figure 48: a `Pyramid` symbol whose rule
 // `tier` keeps a stone slab (its bottom quarter) and, above it, a centre part with 10 % margins
 // removed all round, which becomes the next, smaller `Pyramid` (tasks 1-5); a `Stairs` ramp cut
-// by three points (6); `Steps` cut into four slabs (7) and all of them cut again at once (8).
+// by three points (6); `Steps` cut into four slabs (7) and all of them cut again at once (8);
+// then the prism cut's grid snapping and the symmetric three-part cut of thesis 4.4.
 // Task 9 (the thesis's free task: the rules used together) is not scripted.
 import { chromium } from "playwright-core";
 import { spawn } from "node:child_process";
@@ -138,10 +139,10 @@ async function faceTowards(page, node, direction) {
   }, [node, direction]);
 }
 
-/** The saved project, its numbers rounded to 1e-9 (1 − 0.9 is 0.09999999999999998). */
+/** The saved project, its numbers rounded to 1e-9 (1 − 0.9 is 0.09999999999999998), −0 as 0. */
 function saved() {
   const text = readFileSync(projectFile, "utf8");
-  return JSON.parse(text, (_, v) => (typeof v === "number" ? Math.round(v * 1e9) / 1e9 : v));
+  return JSON.parse(text, (_, v) => (typeof v === "number" ? Math.round(v * 1e9) / 1e9 + 0 : v));
 }
 
 const UNIT_CUBE = {
@@ -166,7 +167,7 @@ async function ruleCreation(user) {
   await user.press("Control+s");
   assert.deepEqual(saved(), {
     format: "shapegram-topo-project",
-    version: 1,
+    version: 2,
     symbols: [UNIT_CUBE],
     rules: [{ name: "tier", symbol: "Pyramid", weight: 1, tree: "terminal" }],
   });
@@ -233,6 +234,28 @@ async function multipleCuts(user) {
     "generation 1 · 2 terminals · 0 non-terminals · 24 triangles");
 }
 
+/** The RGBA pixels of canvas `id` as drawn now. */
+async function canvasPixels(page, id) {
+  return page.evaluate((id) => {
+    const source = document.getElementById(id);
+    const copy = document.createElement("canvas");
+    copy.width = source.width;
+    copy.height = source.height;
+    const context = copy.getContext("2d");
+    context.drawImage(source, 0, 0);
+    return Array.from(context.getImageData(0, 0, copy.width, copy.height).data);
+  }, id);
+}
+
+/** How many pixels of two same-sized captures differ by more than a little. */
+function differing(a, b) {
+  let count = 0;
+  for (let i = 0; i < a.length; i += 4) {
+    if (Math.abs(a[i] - b[i]) + Math.abs(a[i + 1] - b[i + 1]) + Math.abs(a[i + 2] - b[i + 2]) > 30) count += 1;
+  }
+  return count;
+}
+
 /** The anchor of sub-shape `node` as the page shows it: the edge it names, rounded. */
 async function anchorOf(page, node) {
   const anchor = await page.evaluate((n) => window.__topo.part(n).anchor, node);
@@ -258,16 +281,22 @@ async function recursion(user) {
   assert.deepEqual(await anchorOf(user.page, 9), placed);
   // "A" on another face of it (the front) moves the anchor there; Ctrl+Z puts it back.
   const front = await faceTowards(user.page, 9, [0, 0, 1]);
+  const moveStart = user.actions;
   await user.clickFace(9, front);
   await user.press("a");
   assert.deepEqual((await anchorOf(user.page, 9)).face, front);
+  assert.equal(user.actions - moveStart, 2, "moving an anchor to another face takes two actions");
   await user.press("Control+z");
   assert.deepEqual(await anchorOf(user.page, 9), placed);
   await user.selectShape(9);
   // The preview: one generation of Pyramid's rule on the centre: a slab and a smaller centre.
+  const without = await canvasPixels(user.page, "canvas");
   await user.click("#preview-anchor");
   const previewed = await user.page.evaluate(() => window.__topo.previewMesh.reduce((n, p) => n + p.positions.length / 9, 0));
   assert.equal(previewed, 24);
+  // The preview is drawn over the centre: the edit view's pixels change.
+  const changed = differing(without, await canvasPixels(user.page, "canvas"));
+  assert.ok(changed > 200, `the preview changed ${changed} pixels of the edit view`);
   await user.press("Control+s");
   const tree = saved().rules[0].tree;
   assert.deepEqual(tree.cut.above.cut.above.cut.below.cut.above.cut.below,
@@ -400,6 +429,109 @@ async function prismCut(user) {
   assert.deepEqual(made.rules[3].tree.cut.above, { symbol: { name: "Symbol4", anchor: [0, 0] } });
 }
 
+/** The symmetric three-part cut (thesis 4.4). Target: a third rule of `Steps` cutting it from
+ * its top face into a top and a bottom part of 0.2 of its height each and the middle between;
+ * undone and redone with the keys. */
+async function symmetricCut(user) {
+  await user.click("#new-rule");
+  await user.click("#tool-symmetric");
+  await user.click("#margin");
+  await user.press("Control+a");
+  await user.type("0.2");
+  await user.clickFace(0, await faceTowards(user.page, 0, [0, 1, 0]));
+  await user.press("c");
+  await user.press("Control+s");
+  const rule = saved().rules[4];
+  assert.equal(rule.name, "Steps rule 3");
+  assert.deepEqual(rule.tree,
+    cut(0, [0.5, 0.8, 0.5], [0, 1, 0],
+      cut(1, [0.5, 0.2, 0.5], [0, 1, 0], "terminal", "terminal"),
+      "terminal"));
+  const leaves = () => user.page.evaluate(() => window.__topo.state.edit.parts.length);
+  assert.equal(await leaves(), 3);
+  await user.press("Control+z");
+  assert.equal(await leaves(), 1);
+  await user.press("Control+y");
+  assert.equal(await leaves(), 3);
+}
+
+/** The colour drawn at client point `at` of the edit view. */
+async function pixelAt(page, at) {
+  return page.evaluate(({ x, y }) => {
+    const source = document.getElementById("canvas");
+    const r = source.getBoundingClientRect();
+    const copy = document.createElement("canvas");
+    copy.width = source.width;
+    copy.height = source.height;
+    const context = copy.getContext("2d");
+    context.drawImage(source, 0, 0);
+    const scale = source.width / r.width;
+    return Array.from(context.getImageData(Math.round((x - r.left) * scale), Math.round((y - r.top) * scale), 1, 1).data.slice(0, 3));
+  }, at);
+}
+
+/** The new features of the editor model (docs/topo.md): a face cut at an absolute distance and
+ * a per-face material. Target: in the three-part rule, the top part (node 2) loses a 0.1 m
+ * strip along its front face by an offset cut, and the strip's front face gets a blue material
+ * `lapis`, drawn in its colour in the edit view. */
+async function materialAndAbsoluteCut(user) {
+  await user.click("#tool-face");
+  assert.equal(await user.page.locator("#global").isChecked(), true, "task 8 left the global option on");
+  await user.click("#global");
+  await user.click("#absolute");
+  await user.faceCut(2, [0, 0, 1], 0.1);
+  const front = await faceTowards(user.page, 6, [0, 0, 1]);
+  const centre = await user.page.evaluate(([n, f]) => window.__topo.faceScreen(n, f), [6, front]);
+  const before = await pixelAt(user.page, centre);
+  await user.clickFace(6, front);
+  await user.click("#material-name");
+  await user.press("Control+a");
+  await user.type("lapis");
+  await user.click("#material-color");
+  await user.press("Control+a");
+  await user.type("#3050d0");
+  await user.click("#apply-material");
+  await user.press("Escape");
+  const after = await pixelAt(user.page, centre);
+  assert.ok(after[2] > after[0] + 40 && before[2] < before[0], `the face was drawn ${before}, then ${after}`);
+  await user.press("Control+s");
+  const project = saved();
+  assert.deepEqual(project.materials, [{ name: "lapis", color: "#3050d0", tile: [1, 1] }]);
+  const rule = project.rules[4];
+  const strip = rule.tree.cut.above.cut;
+  assert.deepEqual([strip.step, strip.point, strip.normal, strip.offset.distance, strip.below, strip.above],
+    [2, [0.5, 0.9, 0.9], [0, 0, 1], 0.1, "terminal", "terminal"]);
+  assert.deepEqual(rule.face_materials, [{ node: 6, face: front, material: "lapis" }]);
+}
+
+/** The 3-point cut's grid snapping (§3.1.7.4). Target: a fourth rule of `Steps` cut by the
+ * plane x = 0.25: the pointer at x = 0.3 on three edges (the top face's back and front edges,
+ * the front face's bottom edge) puts the points at 0.3 without Ctrl and, with Ctrl held, on
+ * the grid (0.25). */
+async function threePointGrid(user) {
+  await user.click("#new-rule");
+  await user.click("#tool-three");
+  const hoverX = () => user.page.evaluate(() => window.__topo.tools.hover?.at[0]);
+  const aims = [[0.3, 1, 0.03], [0.3, 1, 0.97], [0.3, 0.03, 1]];
+  const screen = (p) => user.page.evaluate((q) => window.__topo.pointScreen(q), p);
+  await user.point(await screen(aims[0]));
+  assert.ok(Math.abs((await hoverX()) - 0.3) < 0.02, `without Ctrl the point follows the pointer: ${await hoverX()}`);
+  await user.page.keyboard.down("Control");
+  user.actions += 1;
+  for (const aim of aims) {
+    const at = await screen(aim);
+    await user.point({ x: at.x + 2, y: at.y });
+    await user.point(at);
+    assert.equal(Math.round((await hoverX()) * 1e9) / 1e9, 0.25);
+    await user.rightClickAt(at);
+  }
+  await user.page.keyboard.up("Control");
+  await user.press("Control+s");
+  const rule = saved().rules[5];
+  assert.equal(rule.name, "Steps rule 4");
+  assert.deepEqual(rule.tree, cut(0, [0.25, 1, 0], [1, 0, 0], "terminal", "terminal"));
+}
+
 const { child, url } = await startStudio([projectFile]);
 const browser = await chromium.launch({
   executablePath: browserPath,
@@ -468,6 +600,27 @@ try {
   await hands.press("Escape");
   assert.equal(await page.evaluate(() => window.__topo.tools.cutting), null);
   assert.equal(await page.evaluate(() => window.__topo.state.undo), undoDepth);
+
+  const symmetric = new User(page);
+  await symmetricCut(symmetric);
+  await page.screenshot({ path: join(output, "topo-symmetric-cut.png") });
+  console.log(`Symmetric three-part cut: ${symmetric.actions} user actions`);
+  const materials = new User(page);
+  await materialAndAbsoluteCut(materials);
+  await page.screenshot({ path: join(output, "topo-material.png") });
+  console.log(`Absolute-distance cut and face material: ${materials.actions} user actions`);
+
+  // Export GLB writes the tester's model (Steps, seed 7, 3 generations) beside the project.
+  const exporter = new User(page);
+  await exporter.click("#export");
+  const glb = readFileSync(join(folder, "pyramid.glb"));
+  assert.equal(glb.subarray(0, 4).toString("latin1"), "glTF");
+  assert.match(await page.locator("#status").textContent(), new RegExp(`^exported ${glb.length} bytes to `));
+
+  const gridded = new User(page);
+  await threePointGrid(gridded);
+  await page.screenshot({ path: join(output, "topo-three-point-grid.png") });
+  console.log(`3-point cut with grid snapping: ${gridded.actions} user actions`);
 
   assert.deepEqual(problems, [], "errors in the page's console");
   console.log(`split grammar editor browser test: ok (screenshots in ${output})`);

@@ -565,3 +565,275 @@ async fn the_editor_page_and_its_bundle_are_served() {
         assert!(String::from_utf8_lossy(&bytes).contains(marker), "{uri}");
     }
 }
+
+#[tokio::test]
+async fn a_version_1_project_opens_and_is_saved_as_version_2() {
+    let root = concat!(env!("CARGO_MANIFEST_DIR"), "/../..");
+    let version_1 = std::fs::read_to_string(format!(
+        "{root}/crates/shapegram-topo/tests/version1/topo_pyramid.sgproj.json"
+    ))
+    .unwrap();
+    assert!(version_1.contains("\"version\": 1,"));
+    let studio = Studio::new(&version_1);
+    let state = studio.open().await;
+    let names: Vec<&str> = state["symbols"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|s| s["name"].as_str().unwrap())
+        .collect();
+    assert_eq!(names, ["Pyramid", "Stone", "Stairs"]);
+    assert_eq!(state["dirty"], false);
+    let (status, written) = studio
+        .post("/api/topo/save", json!({ "path": studio.path() }))
+        .await;
+    assert_eq!(status, StatusCode::OK, "{written}");
+    // docs/topo.md: saving always writes version 2; nothing else of the project changes, so
+    // the file is the committed example, which is the same project written by this build.
+    let saved = std::fs::read_to_string(&studio.project).unwrap();
+    let example =
+        std::fs::read_to_string(format!("{root}/examples/topo_pyramid.sgproj.json")).unwrap();
+    assert_eq!(saved, example);
+    assert_eq!(
+        saved,
+        version_1.replacen("\"version\": 1,", "\"version\": 2,", 1)
+    );
+}
+
+/// The triangles of a generated model, each as its corners rounded to 1e-4 and turned to start
+/// at its smallest corner (so the winding is kept), sorted.
+fn triangles(generated: &Value) -> Vec<[[i64; 3]; 3]> {
+    let mut all = Vec::new();
+    for part in generated["parts"].as_array().unwrap() {
+        let numbers: Vec<i64> = part["positions"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|v| (v.as_f64().unwrap() * 1e4).round() as i64)
+            .collect();
+        for t in numbers.chunks(9) {
+            let corners = [[t[0], t[1], t[2]], [t[3], t[4], t[5]], [t[6], t[7], t[8]]];
+            let first = (0..3).min_by_key(|&i| corners[i]).unwrap();
+            all.push([0, 1, 2].map(|k| corners[(first + k) % 3]));
+        }
+    }
+    all.sort();
+    all
+}
+
+#[tokio::test]
+async fn the_anchor_preview_is_what_the_interpreter_makes_of_the_sub_shape() {
+    let project = shapegram_topo::demos::mayan_pyramid().unwrap();
+    let inner = project.rules[0]
+        .tree
+        .nodes()
+        .iter()
+        .position(|n| matches!(n.kind, NodeKind::Leaf(Assignment::Symbol { symbol: 0, .. })))
+        .unwrap();
+    let studio = Studio::new(&project.to_json());
+    studio.open().await;
+    let (status, preview) = studio
+        .post(
+            "/api/topo/preview",
+            json!({ "path": studio.path(), "rule": 0, "node": inner }),
+        )
+        .await;
+    assert_eq!(status, StatusCode::OK, "{preview}");
+    assert_eq!(
+        (
+            preview["terminals"].clone(),
+            preview["non_terminals"].clone()
+        ),
+        (json!(2), json!(1))
+    );
+    // The interpreter from the prototype: after one generation the inner pyramid is the only
+    // `Pyramid`; the second generation replaces it by exactly what the preview shows.
+    let test = |generations: u32| json!({ "path": studio.path(), "symbol": 0, "seed": 0, "generations": generations });
+    let (_, one) = studio.post("/api/topo/test", test(1)).await;
+    let (_, two) = studio.post("/api/topo/test", test(2)).await;
+    let mut one_without_inner = one.clone();
+    one_without_inner["parts"] = Value::Array(
+        one["parts"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .filter(|p| p["name"] != "Pyramid")
+            .cloned()
+            .collect(),
+    );
+    let mut expected = triangles(&one_without_inner);
+    expected.extend(triangles(&preview));
+    expected.sort();
+    assert_eq!(triangles(&two), expected);
+    assert_eq!(triangles(&preview).len(), 12 + 8 + 12);
+}
+
+#[tokio::test]
+async fn the_symmetric_cut_makes_equal_outer_parts_and_undoes_in_one_step() {
+    let studio = Studio::new("");
+    studio.open().await;
+    studio
+        .act(json!({ "kind": "add_symbol", "name": "Wall", "size": [10, 4, 1] }))
+        .await;
+    studio
+        .act(json!({ "kind": "add_rule", "symbol": 0, "name": "bays" }))
+        .await;
+    // Face 0 is the box's side at x = 0: margins of 0.25 × 10 at both ends.
+    let answer = studio
+        .act(json!({ "kind": "symmetric_cut", "rule": 0, "node": 0, "face": 0, "margin": 0.25 }))
+        .await;
+    let made = answer["made"]["nodes"].as_array().unwrap().clone();
+    assert_eq!(made.len(), 3);
+    let parts = answer["state"]["edit"]["parts"].as_array().unwrap();
+    let span = |node: &Value| {
+        let part = parts.iter().find(|p| &p["node"] == node).unwrap();
+        let xs: Vec<f64> = part["faces"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .flat_map(|f| f.as_array().unwrap().iter().map(|p| p[0].as_f64().unwrap()))
+            .collect();
+        (
+            xs.iter().cloned().fold(f64::MAX, f64::min),
+            xs.iter().cloned().fold(f64::MIN, f64::max),
+        )
+    };
+    assert_eq!(
+        made.iter().map(span).collect::<Vec<_>>(),
+        [(0.0, 2.5), (2.5, 7.5), (7.5, 10.0)]
+    );
+    let body = json!({ "path": studio.path(), "view": { "rule": 0 } });
+    let (_, state) = studio.post("/api/topo/undo", body.clone()).await;
+    assert_eq!(state["edit"]["parts"].as_array().unwrap().len(), 1);
+    let (_, state) = studio.post("/api/topo/redo", body).await;
+    assert_eq!(state["edit"]["parts"].as_array().unwrap().len(), 3);
+    let (status, error) = studio
+        .post(
+            "/api/topo/action",
+            json!({ "path": studio.path(), "action":
+                { "kind": "symmetric_cut", "rule": 0, "node": 1, "face": 0, "margin": 0.5 } }),
+        )
+        .await;
+    assert_eq!(status, StatusCode::UNPROCESSABLE_ENTITY);
+    assert_eq!(
+        error["error"],
+        "the margin 0.5 must lie strictly between 0 and 0.5 of the height"
+    );
+}
+
+#[tokio::test]
+async fn a_face_gets_a_material_and_a_cut_keeps_an_absolute_distance() {
+    let studio = Studio::new("");
+    studio.open().await;
+    studio
+        .act(json!({ "kind": "add_symbol", "name": "Block", "size": [4, 3, 4] }))
+        .await;
+    studio
+        .act(json!({ "kind": "add_rule", "symbol": 0, "name": "walls" }))
+        .await;
+    // Face 1 is the side at x = 4: a wall 0.3 m thick inside it, in metres.
+    let answer = studio
+        .act(json!({ "kind": "face_cut", "rule": 0, "node": 0, "face": 1, "distance": 0.3, "absolute": true }))
+        .await;
+    let wall = answer["made"]["nodes"][0].clone();
+    let brick =
+        json!({ "name": "brick", "color": "#aa5533", "texture": "brick.png", "tile": [0.5, 0.25] });
+    let answer = studio
+        .act(json!({ "kind": "face_material", "rule": 0, "node": wall, "face": 1, "material": brick }))
+        .await;
+    assert_eq!(answer["made"]["index"], 0);
+    let state = &answer["state"];
+    assert_eq!(
+        state["materials"],
+        json!([{ "name": "brick", "color": "#aa5533", "surface": "#aa5533",
+                 "texture": "brick.png", "tile": [0.5, 0.25] }])
+    );
+    let part = state["edit"]["parts"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|p| p["node"] == wall)
+        .unwrap();
+    let mut expected = vec![Value::Null; 6];
+    expected[1] = json!(0);
+    assert_eq!(part["face_materials"], Value::Array(expected));
+    // The same name again updates the material rather than adding one.
+    let answer = studio
+        .act(
+            json!({ "kind": "face_material", "rule": 0, "node": wall, "face": 0,
+                     "material": { "name": "brick", "color": "#bb6644", "tile": [1, 1] } }),
+        )
+        .await;
+    assert_eq!(answer["state"]["materials"].as_array().unwrap().len(), 1);
+    assert_eq!(answer["state"]["materials"][0]["color"], "#bb6644");
+    studio
+        .post("/api/topo/save", json!({ "path": studio.path() }))
+        .await;
+    let saved = studio.saved();
+    let rule = &saved.rules[0];
+    assert_eq!(
+        rule.tree.nodes()[0].offset.map(|o| (o.face, o.distance)),
+        Some((1, 0.3))
+    );
+    let node = &rule.tree.nodes()[wall.as_u64().unwrap() as usize];
+    assert_eq!(node.face_materials[..2], [Some(0), Some(0)]);
+    assert!(
+        std::fs::read_to_string(&studio.project)
+            .unwrap()
+            .contains("\"version\": 2")
+    );
+    // Undo takes back the second material step alone.
+    let body = json!({ "path": studio.path(), "view": { "rule": 0 } });
+    let (_, state) = studio.post("/api/topo/undo", body).await;
+    assert_eq!(state["materials"][0]["color"], "#aa5533");
+
+    for (action, reason) in [
+        (
+            json!({ "kind": "face_cut", "rule": 0, "node": 1, "face": 1, "distance": 0.3, "absolute": true, "global": true }),
+            "a cut at an absolute distance cuts one sub-shape, not globally",
+        ),
+        (
+            json!({ "kind": "face_material", "rule": 0, "node": 1, "face": 0,
+                    "material": { "name": "x", "color": "red", "tile": [1, 1] } }),
+            "`red` is not a colour (#rrggbb)",
+        ),
+    ] {
+        let (status, error) = studio
+            .post(
+                "/api/topo/action",
+                json!({ "path": studio.path(), "action": action }),
+            )
+            .await;
+        assert_eq!(status, StatusCode::UNPROCESSABLE_ENTITY);
+        assert_eq!(error["error"], reason);
+    }
+}
+
+#[tokio::test]
+async fn the_tester_model_is_exported_as_glb_beside_the_project() {
+    let project = shapegram_topo::demos::mayan_pyramid().unwrap();
+    let studio = Studio::new(&project.to_json());
+    studio.open().await;
+    let (status, written) = studio
+        .post(
+            "/api/topo/export",
+            json!({ "path": studio.path(), "symbol": 0, "seed": 3, "generations": 3 }),
+        )
+        .await;
+    assert_eq!(status, StatusCode::OK, "{written}");
+    let glb = studio.project.with_file_name("pyramid.glb");
+    assert_eq!(written["path"], glb.display().to_string());
+    let bytes = std::fs::read(&glb).unwrap();
+    assert_eq!(written["bytes"], bytes.len());
+    assert_eq!(&bytes[..4], b"glTF");
+    // The same model as the tester's: its triangles, counted from the file.
+    let model = shapegram_export::load(&glb).unwrap();
+    let (_, tested) = studio
+        .post(
+            "/api/topo/test",
+            json!({ "path": studio.path(), "symbol": 0, "seed": 3, "generations": 3 }),
+        )
+        .await;
+    let faces: usize = model.parts.iter().map(|p| p.mesh.face_count()).sum();
+    assert_eq!(json!(faces), tested["triangles"]);
+}

@@ -67,7 +67,7 @@ const app = {
     if (app.selection && !state.edit.parts.some((p) => p.node === app.selection.node)) app.selection = null;
     explorer.show(state, app.view);
     const key = state.edit.rule != null ? `rule ${state.edit.rule}` : `symbol ${state.edit.symbol}`;
-    edit.show(state.edit.parts, key);
+    edit.show(state.edit.parts, key, state.materials);
     tree.show(state, app.view, app.selection);
     $("undo").disabled = state.undo === 0;
     $("redo").disabled = state.redo === 0;

@@ -1,5 +1,6 @@
 // The tester (thesis 3.1, beside the rule): a seed and a number of generations; "Test" asks the
-// server to generate from the edited symbol and draws the model in its own small view.
+// server to generate from the edited symbol and draws the model in its own small view; "Export
+// GLB" has the server write that model beside the project.
 import {
   WebGLRenderer, Scene, PerspectiveCamera, Color, HemisphereLight, DirectionalLight, Box3,
   Vector3, BufferGeometry, Float32BufferAttribute, Mesh, MeshLambertMaterial, Group,
@@ -14,6 +15,7 @@ export class Tester {
     this.result = root.querySelector("#test-result");
     this.canvas = root.querySelector("#test-canvas");
     root.querySelector("#test").addEventListener("click", () => this.run());
+    root.querySelector("#export").addEventListener("click", () => this.export());
     this.renderer = new WebGLRenderer({ canvas: this.canvas, antialias: true, preserveDrawingBuffer: true });
     this.scene = new Scene();
     this.scene.background = new Color(0xeef1f4);
@@ -29,14 +31,26 @@ export class Tester {
     this.last = null;
   }
 
-  async run() {
+  /** The tester's request for the edited symbol, or null (said in the status line). */
+  job() {
     const symbol = this.app.editedSymbol();
-    if (symbol == null) return this.app.status("choose a symbol or rule to test", true);
-    const answer = await this.app.request("test", {
-      symbol,
-      seed: Number(this.seed.value) || 0,
-      generations: Number(this.generations.value) || 0,
-    });
+    if (symbol == null) {
+      this.app.status("choose a symbol or rule to test", true);
+      return null;
+    }
+    return { symbol, seed: Number(this.seed.value) || 0, generations: Number(this.generations.value) || 0 };
+  }
+
+  async export() {
+    const job = this.job();
+    const answer = job && await this.app.request("export", job);
+    if (answer) this.app.status(`exported ${answer.bytes} bytes to ${answer.path}`);
+  }
+
+  async run() {
+    const job = this.job();
+    if (!job) return;
+    const answer = await this.app.request("test", job);
     if (!answer) return;
     this.last = answer;
     this.result.textContent = `generation ${answer.generation} · ${answer.terminals} terminals · `

@@ -1,5 +1,6 @@
 // The toolbar and the tool info panel (thesis 3.1.7): face cut (with the global option), prism
-// cut (Ctrl snaps to the grid), multi-cut and 3-point cut. A face or prism cut starts with "C"
+// cut (Ctrl snaps to the grid), multi-cut, the symmetric three-part cut (thesis 4.4) and
+// 3-point cut. A face or prism cut starts with "C"
 // on a selected face: the plane follows the pointer along the face's normal (or the typed
 // distance), and a right-click or Enter completes it; Escape cancels. The 3-point cut puts a
 // point on the edge under the pointer (Shift: on a vertex, Ctrl: on the grid) and a right-click
@@ -7,9 +8,10 @@
 import { Vector3 } from "three";
 
 const TOOLS = [
-  ["face", "Face cut", "Select a face, press C, move the plane (or type the distance), right-click or Enter. Escape cancels."],
+  ["face", "Face cut", "Select a face, press C, move the plane (or type the distance), right-click or Enter. Escape cancels. Absolute: the distance in metres is kept when the rule meets shapes of other sizes."],
   ["prism", "Prism cut", "Select a base of a prism, press C, move the plane (Ctrl snaps to the grid) or type the fraction, right-click or Enter."],
   ["multi", "Multi-cut", "Set the number of cuts, select a base of a prism, press C."],
+  ["symmetric", "Three-part cut", "Set the margin (a fraction of the height below 0.5), select a base of a prism, press C: two equal outer parts and the middle."],
   ["three", "3-point cut", "Point at an edge (Shift: a vertex, Ctrl: the grid) and right-click, three times. Escape cancels."],
 ];
 
@@ -18,7 +20,7 @@ export class Tools {
     this.app = app;
     this.info = info;
     this.tool = "face";
-    this.settings = { global: false, grid: 0.25, cuts: 1 };
+    this.settings = { global: false, absolute: false, grid: 0.25, cuts: 1, margin: 0.1 };
     this.cutting = null;
     this.points = [];
     this.hover = null;
@@ -72,12 +74,24 @@ export class Tools {
       box.addEventListener("change", () => (this.settings.global = box.checked));
       row.append(box, " global: cut every sub-shape the plane passes through");
       rows.push(row);
+      const fixed = document.createElement("label");
+      fixed.className = "setting";
+      const absolute = document.createElement("input");
+      absolute.type = "checkbox";
+      absolute.id = "absolute";
+      absolute.checked = this.settings.absolute;
+      absolute.addEventListener("change", () => (this.settings.absolute = absolute.checked));
+      fixed.append(absolute, " absolute: the distance stays in metres from the face on shapes of other sizes");
+      rows.push(fixed);
       this.amount = field("distance", "cut-amount", this.cutting ? round(this.cutting.amount) : "", "any", (v) => this.typed(v));
     } else if (this.tool === "prism") {
       field("grid", "grid", this.settings.grid, "any", (v) => (this.settings.grid = v));
       this.amount = field("fraction", "cut-amount", this.cutting ? round(this.cutting.amount) : "", "any", (v) => this.typed(v));
     } else if (this.tool === "multi") {
       field("cuts", "cuts", this.settings.cuts, "1", (v) => (this.settings.cuts = v));
+      this.amount = null;
+    } else if (this.tool === "symmetric") {
+      field("margin", "margin", this.settings.margin, "any", (v) => (this.settings.margin = v));
       this.amount = null;
     } else {
       field("grid", "grid", this.settings.grid, "any", (v) => (this.settings.grid = v));
@@ -97,7 +111,7 @@ export class Tools {
     this.info.replaceChildren(...rows);
   }
 
-  /** "C": starts a face or prism cut on the selected face, or runs the multi-cut. */
+  /** "C": starts a face or prism cut on the selected face, or runs the multi- or three-part cut. */
   start() {
     const { selection, view } = this.app;
     if (view.rule == null) return this.app.status("cuts are made in a rule: choose or create one", true);
@@ -106,6 +120,9 @@ export class Tools {
     if (!part) return;
     if (this.tool === "multi") {
       return this.app.act({ kind: "multi_cut", rule: view.rule, node: part.node, face: selection.face, cuts: Math.round(this.settings.cuts) });
+    }
+    if (this.tool === "symmetric") {
+      return this.app.act({ kind: "symmetric_cut", rule: view.rule, node: part.node, face: selection.face, margin: this.settings.margin });
     }
     if (this.tool === "three") return;
     const normal = new Vector3(...part.normals[selection.face]);
@@ -206,7 +223,7 @@ export class Tools {
     const rule = this.app.view.rule;
     const action = this.tool === "prism"
       ? { kind: "prism_cut", rule, node: c.node, face: c.face, fraction: c.amount }
-      : { kind: "face_cut", rule, node: c.node, face: c.face, distance: c.amount, global: this.settings.global };
+      : { kind: "face_cut", rule, node: c.node, face: c.face, distance: c.amount, global: this.settings.global, absolute: this.settings.absolute };
     this.showInfo();
     this.app.act(action);
   }

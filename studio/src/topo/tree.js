@@ -112,6 +112,55 @@ export class TreeView {
       );
       children.push(anchor);
     }
+    if (selection.mode === "face" && view.rule != null) children.push(this.materialPicker(state, view, part, selection.face));
     this.panel.replaceChildren(...children);
+  }
+
+  /** The selected face's material: name, colour, tile size and optional texture; applying a
+   * name that exists updates that material. */
+  materialPicker(state, view, part, face) {
+    const current = state.materials[part.face_materials?.[face]];
+    let n = state.materials.length + 1;
+    while (state.materials.some((m) => m.name === `Material${n}`)) n += 1;
+    const box = document.createElement("div");
+    box.className = "material";
+    const heading = document.createElement("h3");
+    heading.textContent = `Face ${face} material`;
+    box.append(heading);
+    const field = (label, id, value) => {
+      const row = document.createElement("label");
+      row.className = "setting";
+      const input = document.createElement("input");
+      input.id = id;
+      input.value = value;
+      row.append(label, input);
+      box.append(row);
+      return input;
+    };
+    const name = field("name", "material-name", current?.name ?? `Material${n}`);
+    const color = field("colour", "material-color", current?.color ?? "#a0a0a0");
+    const width = field("tile width", "material-tile-width", current?.tile[0] ?? 1);
+    const height = field("tile height", "material-tile-height", current?.tile[1] ?? 1);
+    const texture = field("texture", "material-texture", current?.texture ?? "");
+    for (const input of [width, height]) input.type = "number";
+    const buttons = document.createElement("div");
+    buttons.className = "buttons";
+    const apply = document.createElement("button");
+    apply.id = "apply-material";
+    apply.textContent = "Apply to face";
+    apply.addEventListener("click", () => this.app.act({
+      kind: "face_material", rule: view.rule, node: part.node, face,
+      material: {
+        name: name.value, color: color.value || null, texture: texture.value || null,
+        tile: [Number(width.value), Number(height.value)],
+      },
+    }));
+    const clearButton = document.createElement("button");
+    clearButton.id = "clear-material";
+    clearButton.textContent = "No material";
+    clearButton.addEventListener("click", () => this.app.act({ kind: "face_material", rule: view.rule, node: part.node, face, material: null }));
+    buttons.append(apply, clearButton);
+    box.append(buttons);
+    return box;
   }
 }

@@ -46,9 +46,9 @@ export class EditView {
     this.render();
   }
 
-  /** Shows `parts` (the server's edit view); frames the camera when `key` (the edited rule or
-   * symbol) changes. */
-  show(parts, key) {
+  /** Shows `parts` (the server's edit view), faces with a material in its colour; frames the
+   * camera when `key` (the edited rule or symbol) changes. */
+  show(parts, key, materials = []) {
     clear(this.shapes);
     this.parts = parts;
     for (const part of parts) {
@@ -56,7 +56,9 @@ export class EditView {
       const geometry = new BufferGeometry();
       geometry.setAttribute("position", new Float32BufferAttribute(part.positions, 3));
       geometry.computeVertexNormals();
-      const mesh = new Mesh(geometry, new MeshLambertMaterial({ color: part.color, polygonOffset: true, polygonOffsetFactor: 1, polygonOffsetUnits: 1 }));
+      const colors = faceColors(part, materials);
+      if (colors) geometry.setAttribute("color", new Float32BufferAttribute(colors, 3));
+      const mesh = new Mesh(geometry, new MeshLambertMaterial({ color: colors ? 0xffffff : part.color, vertexColors: colors !== null, polygonOffset: true, polygonOffsetFactor: 1, polygonOffsetUnits: 1 }));
       mesh.userData.part = part;
       this.shapes.add(mesh, edges(part, 0x2b3440));
     }
@@ -194,4 +196,19 @@ function polygon(corners, color, opacity) {
   const mesh = new Mesh(geometry, new MeshBasicMaterial({ color, transparent: true, opacity, side: DoubleSide, depthTest: false }));
   mesh.renderOrder = 1;
   return mesh;
+}
+
+/** Per-corner colours (three numbers each) when some face of `part` has a material: those
+ * faces in the material's colour, the others in the part's; `null` when none has one. */
+function faceColors(part, materials) {
+  const chosen = part.face_materials || [];
+  if (!chosen.some((m) => m != null)) return null;
+  const own = new Color(part.color);
+  const colors = [];
+  for (const face of part.triangle_faces) {
+    const m = chosen[face];
+    const c = m != null && materials[m] ? new Color(materials[m].surface) : own;
+    for (let k = 0; k < 3; k += 1) colors.push(c.r, c.g, c.b);
+  }
+  return colors;
 }

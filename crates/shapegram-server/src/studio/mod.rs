@@ -93,6 +93,7 @@ pub fn router(state: StudioState) -> Router {
         .route("/api/topo/visibility", post(topo::visibility))
         .route("/api/topo/save", post(topo::save))
         .route("/api/topo/compile", post(topo::compile_project))
+        .route("/api/topo/export", post(topo::export))
         .route("/api/topo/test", post(topo::test))
         .route("/api/topo/preview", post(topo::preview))
         .fallback(|| async { ApiError::not_found() })

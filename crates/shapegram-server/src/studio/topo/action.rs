@@ -2,8 +2,8 @@
 //! shapegram-topo's editor model (so that each is one step of undo).
 
 use serde::{Deserialize, Serialize};
-use shapegram_geom::{Color, DVec3};
-use shapegram_topo::{Anchor, Assignment, EditError, NodeId, NodeKind, Project};
+use shapegram_geom::{Color, DVec2, DVec3};
+use shapegram_topo::{Anchor, Assignment, EditError, Material, NodeId, NodeKind, Project};
 
 /// The largest side of a new box symbol: a prototype is a modelling unit, not a city.
 const MAX_BOX_SIDE: f64 = 1e6;
@@ -53,7 +53,8 @@ pub enum Action {
         symbol: u32,
         color: Option<String>,
     },
-    /// Face cut `distance` inside `face`; `global` cuts every sub-shape the plane passes through.
+    /// Face cut `distance` inside `face`; `global` cuts every sub-shape the plane passes through;
+    /// `absolute` keeps the distance in metres when the rule is applied to other sizes.
     FaceCut {
         rule: u32,
         node: NodeId,
@@ -61,6 +62,16 @@ pub enum Action {
         distance: f64,
         #[serde(default)]
         global: bool,
+        #[serde(default)]
+        absolute: bool,
+    },
+    /// Gives `face` of sub-shape `node` the material named in `material` (added, or updated
+    /// when one of that name exists), or clears it when `material` is `null`.
+    FaceMaterial {
+        rule: u32,
+        node: NodeId,
+        face: u32,
+        material: Option<MaterialChoice>,
     },
     /// Prism cut at `fraction` of the height from base `face`, snapped to `grid` when given.
     PrismCut {
@@ -76,6 +87,14 @@ pub enum Action {
         node: NodeId,
         face: u32,
         cuts: usize,
+    },
+    /// The symmetric three-part cut (thesis 4.4): planes at `margin` and `1 − margin` of the
+    /// prism's height from base `face`, so the outer parts are equal.
+    SymmetricCut {
+        rule: u32,
+        node: NodeId,
+        face: u32,
+        margin: f64,
     },
     /// The plane through three points on edges of sub-shapes.
     ThreePointCut {
@@ -113,6 +132,30 @@ pub struct EdgePoint {
     pub corner: u32,
     pub fraction: f64,
     pub grid: Option<f64>,
+}
+
+/// A material as the picker sends it.
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct MaterialChoice {
+    pub name: String,
+    /// `#rrggbb`, or `null` for none (a texture drawn as it is).
+    pub color: Option<String>,
+    /// An image path relative to the project file.
+    pub texture: Option<String>,
+    /// Width and height in metres one copy of the texture covers.
+    pub tile: [f64; 2],
+}
+
+impl MaterialChoice {
+    fn material(self) -> Result<Material, EditError> {
+        Ok(Material {
+            color: self.color.as_deref().map(parse_color).transpose()?,
+            name: self.name,
+            texture: self.texture.filter(|t| !t.is_empty()),
+            tile: DVec2::from_array(self.tile),
+        })
+    }
 }
 
 /// What a sub-shape is assigned.
@@ -195,12 +238,7 @@ impl Action {
                 project.set_weight(rule, weight).map(|()| index(rule))
             }
             Action::SetColor { symbol, color } => {
-                let color = match color {
-                    Some(text) => Some(Color::from_hex(&text).ok_or_else(|| {
-                        EditError::Invalid(format!("`{text}` is not a colour (#rrggbb)"))
-                    })?),
-                    None => None,
-                };
+                let color = color.as_deref().map(parse_color).transpose()?;
                 project.set_color(symbol, color).map(|()| index(symbol))
             }
             Action::FaceCut {
@@ -208,19 +246,47 @@ impl Action {
                 node,
                 face,
                 distance,
-                global: false,
-            } => project
-                .face_cut(rule, node, face, distance)
-                .map(|parts| nodes(parts.to_vec())),
-            Action::FaceCut {
+                global,
+                absolute,
+            } => match (global, absolute) {
+                (false, false) => project
+                    .face_cut(rule, node, face, distance)
+                    .map(|parts| nodes(parts.to_vec())),
+                (true, false) => project
+                    .global_face_cut(rule, node, face, distance)
+                    .map(|cuts| nodes(cuts.into_iter().flatten().collect())),
+                (false, true) => project
+                    .offset_cut(rule, node, face, distance)
+                    .map(|parts| nodes(parts.to_vec())),
+                (true, true) => Err(EditError::Invalid(
+                    "a cut at an absolute distance cuts one sub-shape, not globally".into(),
+                )),
+            },
+            Action::FaceMaterial {
                 rule,
                 node,
                 face,
-                distance,
-                global: true,
-            } => project
-                .global_face_cut(rule, node, face, distance)
-                .map(|cuts| nodes(cuts.into_iter().flatten().collect())),
+                material,
+            } => {
+                let chosen = match material {
+                    None => None,
+                    Some(choice) => {
+                        let material = choice.material()?;
+                        Some(match project.material_named(&material.name) {
+                            Some(existing) => {
+                                project.set_material(existing, material)?;
+                                existing
+                            }
+                            None => project.add_material(material)?,
+                        })
+                    }
+                };
+                project.assign_face_material(rule, node, face, chosen)?;
+                Ok(Made {
+                    index: chosen,
+                    nodes: vec![node],
+                })
+            }
             Action::PrismCut {
                 rule,
                 node,
@@ -239,6 +305,14 @@ impl Action {
                 face,
                 cuts,
             } => project.multi_cut(rule, node, face, cuts).map(nodes),
+            Action::SymmetricCut {
+                rule,
+                node,
+                face,
+                margin,
+            } => project
+                .symmetric_cut(rule, node, face, margin)
+                .map(|parts| nodes(parts.to_vec())),
             Action::ThreePointCut { rule, points } => {
                 let mut at = [DVec3::ZERO; 3];
                 for (slot, p) in at.iter_mut().zip(&points) {
@@ -320,6 +394,12 @@ impl Action {
             }
         }
     }
+}
+
+/// A colour `#rrggbb`.
+fn parse_color(text: &str) -> Result<Color, EditError> {
+    Color::from_hex(text)
+        .ok_or_else(|| EditError::Invalid(format!("`{text}` is not a colour (#rrggbb)")))
 }
 
 /// The symbol and anchor assigned to sub-shape `node` of `rule`.

@@ -122,6 +122,7 @@ impl Session {
             undo: self.editor.undo_depth(),
             redo: self.editor.redo_depth(),
             dirty: *project != self.saved,
+            materials: view::materials(project),
             edit: view::edit_view(project, choice.rule, choice.symbol, &self.hidden),
         }
     }
@@ -306,6 +307,67 @@ pub async fn compile_project(
         path: target.display().to_string(),
         bytes: text.len(),
     }))
+}
+
+/// `POST /api/topo/export`: the tester's model (the body of `POST /api/topo/test`) written as
+/// GLB beside the project (`house.sgproj.json` → `house.glb`), textures read beside it.
+pub async fn export(
+    State(state): State<StudioState>,
+    JsonBody(request): JsonBody<TestRequest>,
+) -> Result<Json<Written>, ApiError> {
+    let real = project_path(&state, &request.path)?;
+    let project = state.topo.with(&real, |s| Ok(s.editor.project().clone()))?;
+    let name = project
+        .symbol(request.symbol)
+        .map_err(unprocessable)?
+        .name
+        .clone();
+    if request.generations > MAX_GENERATIONS {
+        return Err(ApiError::bad_request(format!(
+            "at most {MAX_GENERATIONS} generations, not {}",
+            request.generations
+        )));
+    }
+    let stem = real
+        .file_name()
+        .and_then(|n| n.to_str())
+        .and_then(|n| n.strip_suffix(PROJECT_SUFFIX))
+        .unwrap_or("project")
+        .to_owned();
+    let target = real.with_file_name(format!("{stem}.glb"));
+    let folder = real.parent().map(Path::to_path_buf).unwrap_or_default();
+    tokio::task::spawn_blocking(move || {
+        let grammar = compile(&project).map_err(unprocessable)?;
+        let mut state = GrammarState::new(&grammar, &name)
+            .map_err(unprocessable)?
+            .with_seed(request.seed)
+            .with_generations(request.generations);
+        state.generate_all().map_err(unprocessable)?;
+        let model =
+            GrammarMesh::new(&state).to_model_with(|texture| texture_beside(&folder, texture));
+        shapegram_export::save(&model, &target, &shapegram_export::ExportOptions::default())
+            .map_err(|e| ApiError::new(StatusCode::CONFLICT, e.to_string()))?;
+        let bytes = std::fs::metadata(&target).map_or(0, |m| m.len() as usize);
+        Ok(Json(Written {
+            path: target.display().to_string(),
+            bytes,
+        }))
+    })
+    .await
+    .map_err(ApiError::internal)?
+}
+
+/// A texture's image, read only from within the project's folder (a project file must not make
+/// the studio copy files from elsewhere into an export); `None` draws its faces in colour.
+fn texture_beside(folder: &Path, texture: &str) -> Option<std::sync::Arc<[u8]>> {
+    let relative = Path::new(texture);
+    let inside = relative
+        .components()
+        .all(|c| matches!(c, std::path::Component::Normal(_)));
+    if !inside {
+        return None;
+    }
+    std::fs::read(folder.join(relative)).ok().map(Into::into)
 }
 
 /// The body of `POST /api/topo/test`.

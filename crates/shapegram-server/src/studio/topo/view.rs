@@ -73,6 +73,19 @@ pub struct PartView {
     /// For a symbol: its anchor and the edge it names.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub anchor: Option<AnchorView>,
+    /// Each face's material (an index into the project's materials), or `null`.
+    pub face_materials: Vec<Option<u32>>,
+}
+
+/// A material in the material picker, drawn in the edit view by its surface colour.
+#[derive(Serialize)]
+pub struct MaterialView {
+    pub name: String,
+    pub color: Option<String>,
+    /// The colour faces with it are drawn in (the texture is not drawn in the edit view).
+    pub surface: String,
+    pub texture: Option<String>,
+    pub tile: [f64; 2],
 }
 
 /// An anchor: where it is and the directed edge it names.
@@ -104,7 +117,23 @@ pub struct ProjectView {
     pub redo: usize,
     /// Whether the project differs from the file.
     pub dirty: bool,
+    pub materials: Vec<MaterialView>,
     pub edit: EditView,
+}
+
+/// The project's materials.
+pub fn materials(project: &Project) -> Vec<MaterialView> {
+    project
+        .materials
+        .iter()
+        .map(|m| MaterialView {
+            name: m.name.clone(),
+            color: m.color.map(|c| c.to_hex()),
+            surface: m.surface_color().to_hex(),
+            texture: m.texture.clone(),
+            tile: m.tile.to_array(),
+        })
+        .collect()
 }
 
 /// The explorer's view of `project`.
@@ -186,6 +215,7 @@ pub fn edit_view(
                     .and_then(|s| project.symbols[s as usize].color)
                     .map_or_else(|| PALETTE[k % PALETTE.len()].to_owned(), |c| c.to_hex());
                 let mut part = part_view(id, &node.shape, color);
+                part.face_materials = node.face_materials.clone();
                 part.kind = kind;
                 part.symbol = symbol;
                 part.hidden = hidden.contains(&(index, id));
@@ -242,6 +272,7 @@ fn part_view(node: NodeId, shape: &Polyhedron, color: String) -> PartView {
         faces.push(corners.iter().map(|p| p.to_array()).collect());
         normals.push(shape.face_normal(f).to_array());
     }
+    let faces_len = faces.len();
     PartView {
         node,
         color,
@@ -253,6 +284,7 @@ fn part_view(node: NodeId, shape: &Polyhedron, color: String) -> PartView {
         faces,
         normals,
         anchor: None,
+        face_materials: vec![None; faces_len],
     }
 }
 
