@@ -745,9 +745,11 @@ async fn the_vocabulary_is_the_engines() {
         json!({"name": "softenNormals", "support": "visual-only"})
     );
     assert_eq!(
-        find("operations", "fill"),
-        json!({"name": "fill", "support": "unsupported"})
+        find("operations", "reduceGeometry"),
+        json!({"name": "reduceGeometry", "support": "unsupported"})
     );
+    // Names that are no CityEngine operation are not offered as operations.
+    assert_eq!(find("operations", "fill"), Value::Null);
     assert_eq!(
         find("functions", "rand"),
         json!({"name": "rand", "signature": "rand() | rand(max) | rand(min, max)"})
