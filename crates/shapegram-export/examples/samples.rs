@@ -242,6 +242,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     };
     let grouped = ExportOptions {
         group_by_part: true,
+        ..ExportOptions::default()
     };
     let merged = ExportOptions::default();
     save(&scene, &dir.join("scene-grouped.glb"), &grouped)?;

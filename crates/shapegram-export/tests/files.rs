@@ -37,6 +37,7 @@ fn save_and_load_every_format() {
     let model = sample_model();
     let options = ExportOptions {
         group_by_part: true,
+        ..ExportOptions::default()
     };
 
     let glb = dir.join("model.glb");

@@ -5,7 +5,7 @@ mod common;
 use common::*;
 use serde_json::{Value, json};
 use shapegram_export::{
-    ExportOptions, read_glb, read_obj, read_stl, write_glb, write_obj, write_stl,
+    ExportOptions, GlbEncoding, read_glb, read_obj, read_stl, write_glb, write_obj, write_stl,
 };
 use shapegram_geom::extrude::extrude_polygon;
 use shapegram_geom::primitives::{cuboid, sphere};
@@ -13,9 +13,11 @@ use shapegram_geom::{Color, DVec3, Mesh, Model, Part};
 
 const GROUPED: ExportOptions = ExportOptions {
     group_by_part: true,
+    encoding: GlbEncoding::Float,
 };
 const MERGED: ExportOptions = ExportOptions {
     group_by_part: false,
+    encoding: GlbEncoding::Float,
 };
 
 /// Checks a part read from a flat-shaded per-corner format against the original meshes.

@@ -8,16 +8,20 @@ use gltf::Gltf;
 use gltf::accessor::DataType;
 use gltf::mesh::Semantic;
 use serde_json::{Value, json};
-use shapegram_export::{ExportOptions, save, write_glb, write_glb_to, write_obj, write_stl};
+use shapegram_export::{
+    ExportOptions, GlbEncoding, save, write_glb, write_glb_to, write_obj, write_stl,
+};
 use shapegram_geom::kinematics::{Frame, Limits, Pose, Range, SectionId, Skeleton};
 use shapegram_geom::primitives::{cuboid, cylinder};
 use shapegram_geom::{Bone, Color, DAffine3, DQuat, DVec3, Lines, Mesh, Model, Part};
 
 const GROUPED: ExportOptions = ExportOptions {
     group_by_part: true,
+    encoding: GlbEncoding::Float,
 };
 const MERGED: ExportOptions = ExportOptions {
     group_by_part: false,
+    encoding: GlbEncoding::Float,
 };
 
 const STONE: Color = Color::rgb(0.6, 0.6, 0.55);

@@ -40,6 +40,7 @@ pub fn run(args: &PrimitiveArgs) -> Result<(), Failure> {
     let model = Model::single(args.kind.name(), color, mesh);
     let options = ExportOptions {
         group_by_part: args.group,
+        ..ExportOptions::default()
     };
     shapegram_export::save(&model, &args.output, &options)?;
     if let Some(summary) = summary {

@@ -134,6 +134,7 @@ fn run_grammar(args: &TopoArgs) -> Result<(), Failure> {
         Some(output) => {
             let options = ExportOptions {
                 group_by_part: args.group,
+                ..ExportOptions::default()
             };
             shapegram_export::save(&mesh.to_model(), output, &options)?;
             if !args.quiet {
