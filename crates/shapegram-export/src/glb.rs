@@ -3,8 +3,12 @@
 //! Layout: one root node "shapegram" (scene 0) whose children carry the meshes. A flat part (no
 //! `normals`) gives every face its own vertices, shared by the face's triangles, with the face
 //! normal; a smooth part keeps its shared vertices with their normals; a line set becomes a
-//! LINES primitive of its points (POSITION only). Each accessor has its own tightly packed
-//! buffer view, 4-byte aligned, in one buffer.
+//! LINES primitive of its points (POSITION only). Each primitive is then compacted (see
+//! [`compact`]): vertices equal in every attribute shared, coplanar rectangles merged, triangles
+//! in vertex-cache order. Each accessor has its own buffer view, 4-byte aligned, in one buffer;
+//! [`GlbEncoding`] picks floats, KHR_mesh_quantization (see [`quantize`]; the mesh node's
+//! translation and scale undo it) or that compressed with EXT_meshopt_compression (see
+//! [`compress`]; the views then lie in a fallback buffer without data).
 //!
 //! Skeletons become glTF skins (see [`skin`]): parts with a [`Part::bone`] go into meshes of
 //! their own per skin (merged: one mesh node per skin, one primitive per material; grouped: one
@@ -17,8 +21,8 @@
 //! A skeleton's named poses become one-keyframe animations of its free joints (see
 //! [`animation`]), after the skins; without named poses there is no `animations`.
 //!
-//! The file is planned first (sizes, bounds, the JSON chunk) and then streamed: shared vertices
-//! and points go from the model straight to the writer, so a large model is never held twice.
+//! The file is planned first (the compacted and encoded data of every primitive, the JSON
+//! chunk) and then streamed; each primitive's data from the model is let go once encoded.
 
 use std::collections::BTreeMap;
 use std::io::{self, Write};
@@ -68,8 +72,9 @@ struct Primitive<'a> {
     chunks: Vec<Chunk<'a>>,
     /// The model part each chunk holds (`None`: a line set).
     sources: Vec<Option<usize>>,
-    /// The accessors' data, in the order they are written.
-    streams: Vec<Stream>,
+    /// The accessors' data of each glTF primitive it becomes (one, or several of fewer than
+    /// 65,535 vertices each), in the order they are written.
+    streams: Vec<Vec<Stream>>,
 }
 
 /// How a skinned primitive's vertices name their joints.
@@ -113,15 +118,18 @@ impl Group<'_> {
             }
             self.grid = Some(Grid::spanning(min, max));
         }
-        for (primitive, vertices) in self.primitives.iter_mut().zip(&vertices) {
+        for (primitive, vertices) in self.primitives.iter_mut().zip(vertices) {
             let joints = primitive.skinned.as_ref().map(|s| Joints { wide: s.wide });
-            primitive.streams = streams(
-                vertices,
-                primitive.lines,
-                joints,
-                encoding,
-                self.grid.as_ref(),
-            );
+            // Split where triangles may be reordered: pieces with u16 indices.
+            let pieces = if compaction.reorder && !primitive.lines {
+                vertices.split(usize::from(u16::MAX) - 1)
+            } else {
+                vec![vertices]
+            };
+            primitive.streams = pieces
+                .iter()
+                .map(|piece| streams(piece, primitive.lines, joints, encoding, self.grid.as_ref()))
+                .collect();
             primitive.chunks = Vec::new();
         }
     }
@@ -393,6 +401,7 @@ impl<'a> Plan<'a> {
             .iter()
             .flat_map(|g| &g.primitives)
             .flat_map(|p| &p.streams)
+            .flatten()
         {
             put(&stream.bytes);
             put(&[0; 3][..stream.bytes.len().next_multiple_of(4) - stream.bytes.len()]);
@@ -487,7 +496,12 @@ fn document(
         let primitives = group
             .primitives
             .iter()
-            .map(|primitive| builder.primitive(primitive))
+            .flat_map(|primitive| {
+                let pieces = primitive.streams.iter();
+                pieces
+                    .map(|streams| builder.primitive(primitive, streams))
+                    .collect::<Vec<_>>()
+            })
             .collect();
         let mesh = builder.root.push(json::Mesh {
             extensions: None,
@@ -542,10 +556,14 @@ struct Builder {
 
 impl Builder {
     /// The primitive's accessors, in the order [`Plan::write`] writes their data.
-    fn primitive(&mut self, primitive: &Primitive<'_>) -> json::mesh::Primitive {
+    fn primitive(
+        &mut self,
+        primitive: &Primitive<'_>,
+        streams: &[Stream],
+    ) -> json::mesh::Primitive {
         let mut attributes = BTreeMap::new();
         let mut indices = None;
-        for stream in &primitive.streams {
+        for stream in streams {
             let accessor = self.accessor(stream);
             match stream.semantic.clone() {
                 Some(semantic) => {

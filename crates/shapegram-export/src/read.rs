@@ -105,25 +105,30 @@ pub fn read_glb(bytes: &[u8]) -> Result<Model, Error> {
     Ok(model)
 }
 
+/// The extension whose integer attributes [`vectors`] reads.
+const QUANTIZATION: &str = "KHR_mesh_quantization";
+
 /// Decodes EXT_meshopt_compression views, when the document has them, into new BIN data (see
-/// [`compress::decode_views`]) and drops the extension from the required ones, as nothing
-/// compressed is left. `None`: nothing to decode.
+/// [`compress::decode_views`]; `None`: nothing to decode), and drops the extensions this
+/// reader handles from the required ones.
 fn decompress(root: &mut serde_json::Value, bin: &[u8]) -> Result<Option<Vec<u8>>, String> {
     let uses = |list: &serde_json::Value| {
         list.as_array()
             .is_some_and(|l| l.iter().any(|e| e == compress::EXTENSION))
     };
-    if !root.get("extensionsUsed").is_some_and(uses) {
-        return Ok(None);
-    }
-    let decoded = compress::decode_views(root, bin)?;
+    let decoded = if root.get("extensionsUsed").is_some_and(uses) {
+        Some(compress::decode_views(root, bin)?)
+    } else {
+        None
+    };
+    // gltf refuses required extensions it does not know; these two this reader handles.
     if let Some(required) = root
         .get_mut("extensionsRequired")
         .and_then(serde_json::Value::as_array_mut)
     {
-        required.retain(|e| e != compress::EXTENSION);
+        required.retain(|e| e != compress::EXTENSION && e != QUANTIZATION);
     }
-    Ok(Some(decoded))
+    Ok(decoded)
 }
 
 /// Normals under a node's transform: by the inverse transpose of its linear part, renormalised.

@@ -367,6 +367,13 @@ pub struct DeriveArgs {
     /// instead of merging everything of one colour
     #[arg(long)]
     pub group: bool,
+    /// GLB: positions, normals and uvs as small integers (KHR_mesh_quantization)
+    #[arg(long)]
+    pub quantize: bool,
+    /// GLB: quantise, then compress vertices and indices (EXT_meshopt_compression; readers
+    /// need a meshopt decoder)
+    #[arg(long)]
+    pub meshopt: bool,
     /// Print counts, times, rule applications and report() values as one JSON object on stdout
     #[arg(long)]
     pub stats: bool,

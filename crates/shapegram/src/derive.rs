@@ -8,7 +8,7 @@ use std::time::{Duration, Instant};
 use serde::Serialize;
 use serde::ser::SerializeMap;
 use shapegram_eval::{Derivation, DeriveError, DeriveOptions, Program, Value};
-use shapegram_export::{ExportOptions, Format};
+use shapegram_export::{ExportOptions, Format, GlbEncoding};
 use shapegram_geom::Model;
 use shapegram_syntax::SourceFile;
 
@@ -138,8 +138,20 @@ pub fn run(args: &DeriveArgs) -> Result<(), Failure> {
         model = model.with_free_joints_only();
     }
     if let Some(output) = &args.output {
+        let encoding = match (args.meshopt, args.quantize) {
+            (true, _) => GlbEncoding::Compressed,
+            (false, true) => GlbEncoding::Quantized,
+            (false, false) => GlbEncoding::Float,
+        };
+        if encoding != GlbEncoding::Float && !glb && !args.quiet {
+            eprintln!(
+                "warning: --quantize and --meshopt apply to GLB only; {} is written as usual",
+                output.display()
+            );
+        }
         let options = ExportOptions {
             group_by_part: args.group,
+            encoding,
         };
         shapegram_export::save(&model, output, &options)?;
     }

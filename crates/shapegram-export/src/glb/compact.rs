@@ -154,4 +154,91 @@ impl Vertices {
     pub(crate) fn len(&self) -> usize {
         self.positions.len()
     }
+
+    /// The triangles cut into runs (in order) of at most `limit` vertices each, every run with
+    /// the vertices it uses, in order of first use; a primitive that fits stays whole. Runs of
+    /// fewer than 65,535 vertices take u16 indices: half the bytes of u32 ones.
+    pub(crate) fn split(self, limit: usize) -> Vec<Self> {
+        if self.len() <= limit {
+            return vec![self];
+        }
+        let mut runs = Vec::new();
+        let mut slot = vec![u32::MAX; self.len()];
+        let mut run = Self::default();
+        let mut used = Vec::new();
+        for triangle in self.indices.chunks_exact(3) {
+            let new = triangle
+                .iter()
+                .filter(|&&v| slot[v as usize] == u32::MAX)
+                .count();
+            if used.len() + new > limit {
+                for &v in &used {
+                    slot[v as usize] = u32::MAX;
+                }
+                used.clear();
+                runs.push(std::mem::take(&mut run));
+            }
+            for &v in triangle {
+                if slot[v as usize] == u32::MAX {
+                    slot[v as usize] = used.len() as u32;
+                    used.push(v);
+                    run.push_vertex(&self, v as usize);
+                }
+                run.indices.push(slot[v as usize]);
+            }
+        }
+        runs.push(run);
+        runs
+    }
+
+    /// Appends vertex `v` of `from` with every attribute it has.
+    fn push_vertex(&mut self, from: &Self, v: usize) {
+        self.positions.push(from.positions[v]);
+        if let Some(&n) = from.normals.get(v) {
+            self.normals.push(n);
+        }
+        if let Some(&uv) = from.uvs.get(v) {
+            self.uvs.push(uv);
+        }
+        if let Some(&t) = from.tangents.get(v) {
+            self.tangents.push(t);
+        }
+        if let Some(&j) = from.joints.get(v) {
+            self.joints.push(j);
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_large_primitive_splits_into_runs_that_keep_every_triangle() {
+        // A strip of 10 quads: 22 vertices, 20 triangles.
+        let mut vertices = Vertices::default();
+        for i in 0..11 {
+            for y in [0.0, 1.0] {
+                vertices.positions.push([i as f32, y, 0.0]);
+                vertices.normals.push([0.0, 0.0, 1.0]);
+            }
+        }
+        for i in 0..10u32 {
+            let (a, b, c, d) = (2 * i, 2 * i + 2, 2 * i + 3, 2 * i + 1);
+            vertices.indices.extend([a, b, c, a, c, d]);
+        }
+        let whole = vertices.clone().split(22);
+        assert_eq!(whole, [vertices.clone()]);
+        let runs = vertices.clone().split(8);
+        assert!(runs.iter().all(|r| r.len() <= 8));
+        let triangles = |v: &Vertices| -> Vec<[[f32; 3]; 3]> {
+            v.indices
+                .chunks_exact(3)
+                .map(|t| [0, 1, 2].map(|k| v.positions[t[k] as usize]))
+                .collect()
+        };
+        let joined: Vec<_> = runs.iter().flat_map(triangles).collect();
+        assert_eq!(joined, triangles(&vertices));
+        assert!(runs.iter().all(|r| r.normals.len() == r.len()));
+    }
 }

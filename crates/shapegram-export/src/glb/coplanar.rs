@@ -26,10 +26,13 @@ impl Rectangle {
     pub(crate) fn new(corners: [[f32; 3]; 4], normal: [f32; 3]) -> Option<Self> {
         let [a, b, c, d] = corners.map(wide);
         let (ab, ad) = (b - a, d - a);
-        let scale = ab.length().max(ad.length());
-        let parallelogram = (a + c - b - d).length() <= TOLERANCE * scale;
-        let square_corner = ab.dot(ad).abs() <= TOLERANCE * ab.length() * ad.length();
-        if scale == 0.0 || !parallelogram || !square_corner {
+        // Squared lengths throughout: no square roots for the millions of leaves of a city.
+        let (ab2, ad2) = (ab.length_squared(), ad.length_squared());
+        let tolerance2 = TOLERANCE * TOLERANCE;
+        let parallelogram = (a + c - b - d).length_squared() <= tolerance2 * ab2.max(ad2);
+        let dot = ab.dot(ad);
+        let square_corner = dot * dot <= tolerance2 * ab2 * ad2;
+        if ab2 == 0.0 || ad2 == 0.0 || !parallelogram || !square_corner {
             return None;
         }
         let corners = if ab.cross(ad).dot(wide(normal)) >= 0.0 {
@@ -74,22 +77,50 @@ fn wide(p: [f32; 3]) -> shapegram_geom::DVec3 {
 /// from the first of its pieces in input order. Deterministic: the result depends only on the
 /// input order.
 pub(crate) fn merge(rectangles: &[Rectangle]) -> Vec<Rectangle> {
-    let mut merged = pass(rectangles);
+    // Plane by plane (a facade, a roof), so that each pass's edge map stays small enough to
+    // live in the cache: one map over a city's millions of edges spends its time in misses.
+    let mut plane_of: FxHashMap<([u32; 3], i64), usize> = FxHashMap::default();
+    let mut planes: Vec<Vec<Rectangle>> = Vec::new();
+    for rectangle in rectangles {
+        let plane = *plane_of.entry(plane_key(rectangle)).or_insert_with(|| {
+            planes.push(Vec::new());
+            planes.len() - 1
+        });
+        planes[plane].push(*rectangle);
+    }
+    let mut owner = FxHashMap::default();
+    planes
+        .iter()
+        .flat_map(|plane| merge_plane(plane, &mut owner))
+        .collect()
+}
+
+/// The plane a rectangle lies in: its normal, bit for bit, and its distance from the origin
+/// to a tenth of a millimetre. Rectangles of one plane that round apart are only not merged.
+fn plane_key(rectangle: &Rectangle) -> ([u32; 3], i64) {
+    let distance = wide(rectangle.normal).dot(wide(rectangle.corners[0]));
+    (
+        rectangle.normal.map(f32::to_bits),
+        (distance * 1e4).round() as i64,
+    )
+}
+
+/// [`merge`] for the rectangles of one plane; `owner` is scratch space for the edge map.
+fn merge_plane(rectangles: &[Rectangle], owner: &mut FxHashMap<Edge, u32>) -> Vec<Rectangle> {
+    let merged = pass(rectangles, owner);
     // A pass finds neighbours by the edges the rectangles had at its start: strips it made
-    // side by side meet along edges only the next pass knows.
-    loop {
-        let again = pass(&merged);
-        if again.len() == merged.len() {
-            return again;
-        }
-        merged = again;
+    // side by side meet along edges only a second pass knows. Further passes find little
+    // (strips of strips) and each costs as much as the second.
+    if merged.len() < rectangles.len() {
+        pass(&merged, owner)
+    } else {
+        merged
     }
 }
 
 /// One round of merges over the edges `rectangles` have.
-fn pass(rectangles: &[Rectangle]) -> Vec<Rectangle> {
-    let mut owner: FxHashMap<Edge, u32> =
-        FxHashMap::with_capacity_and_hasher(4 * rectangles.len(), Default::default());
+fn pass(rectangles: &[Rectangle], owner: &mut FxHashMap<Edge, u32>) -> Vec<Rectangle> {
+    owner.clear();
     for (i, rectangle) in rectangles.iter().enumerate() {
         for k in 0..4 {
             owner.entry(rectangle.edge(k)).or_insert(i as u32);
@@ -108,7 +139,7 @@ fn pass(rectangles: &[Rectangle]) -> Vec<Rectangle> {
         while changed {
             changed = false;
             for k in 0..4 {
-                while let Some(other) = neighbour(&grown, k, &owner, &alive, rectangles) {
+                while let Some(other) = neighbour(&grown, k, owner, &alive, rectangles) {
                     alive[other] = false;
                     absorb(&mut grown, k, &rectangles[other]);
                     changed = true;
