@@ -64,7 +64,12 @@ impl Vertices {
         for rectangle in coplanar::merge(&rectangles) {
             vertices.push_rectangle(&rectangle);
         }
-        vertices.share(primitive.lines, compaction.reorder);
+        // Smooth parts and line sets come with their vertices shared already (a tube's rings,
+        // a cave's surface), in an order that is mostly cache friendly: hashing and reordering
+        // them would cost more than it saves.
+        if primitive.chunks.iter().any(|c| c.flat_faces().is_some()) {
+            vertices.share(primitive.lines, compaction.reorder);
+        }
         vertices
     }
 
@@ -129,7 +134,10 @@ impl Vertices {
             meshopt::generate_vertex_remap_multi(count, &streams, Some(&self.indices));
         self.remap(unique, &remap);
         if reorder && !lines {
-            meshopt::optimize_vertex_cache_in_place(&mut self.indices, unique);
+            // The FIFO variant: a third of the time of the table-driven one, and as good for
+            // the grids of quads that flat parts mostly are.
+            let optimized = meshopt::optimize_vertex_cache_fifo(&self.indices, unique, 16);
+            self.indices = optimized;
             let remap = meshopt::optimize_vertex_fetch_remap(&self.indices, unique);
             self.remap(unique, &remap);
         }
