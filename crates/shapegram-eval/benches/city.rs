@@ -6,14 +6,15 @@
 //! touches: its summary line gives the occlusion queries per second and the time against the
 //! plain city on the same lots. The hinged city opens every window on a hinge: its line gives
 //! the time against the same rules without their kinematic operations, the cost of building
-//! skeletons.
+//! skeletons. The GLB lines give the city's file size and write time in each encoding (float,
+//! quantised, meshopt-compressed; best of three).
 
 use std::hint::black_box;
 use std::time::Instant;
 
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
 use shapegram_eval::{DeriveOptions, InitialShape, Program, derive};
-use shapegram_export::{ExportOptions, write_glb};
+use shapegram_export::{ExportOptions, GlbEncoding, write_glb};
 use shapegram_geom::DVec2;
 use shapegram_syntax::{SourceFile, parse};
 
@@ -140,6 +141,32 @@ fn hinged(options: &DeriveOptions, lots: &[InitialShape]) {
     );
 }
 
+/// Prints the size and write time (best of three) of the city's GLB in each encoding.
+fn glb_encodings(model: &shapegram_geom::Model) {
+    for encoding in [
+        GlbEncoding::Float,
+        GlbEncoding::Quantized,
+        GlbEncoding::Compressed,
+    ] {
+        let options = ExportOptions {
+            encoding,
+            ..ExportOptions::default()
+        };
+        let mut bytes = 0;
+        let mut best = f64::INFINITY;
+        for _ in 0..3 {
+            let started = Instant::now();
+            bytes = black_box(write_glb(model, &options)).len();
+            best = best.min(started.elapsed().as_secs_f64());
+        }
+        println!(
+            "city GLB ({encoding:?}): {:.1} MB written in {:.0} ms",
+            bytes as f64 / 1e6,
+            best * 1e3
+        );
+    }
+}
+
 fn bench(c: &mut Criterion) {
     let options = DeriveOptions::default();
     let city = program(CITY);
@@ -160,6 +187,7 @@ fn bench(c: &mut Criterion) {
         glb.len() as f64 / 1e6,
         total.as_secs_f64() * 1e3,
     );
+    glb_encodings(&once.to_model());
     let mut group = c.benchmark_group("city");
     group.sample_size(10);
     group.throughput(Throughput::Elements(once.stats.leaves as u64));

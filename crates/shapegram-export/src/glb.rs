@@ -3,8 +3,12 @@
 //! Layout: one root node "shapegram" (scene 0) whose children carry the meshes. A flat part (no
 //! `normals`) gives every face its own vertices, shared by the face's triangles, with the face
 //! normal; a smooth part keeps its shared vertices with their normals; a line set becomes a
-//! LINES primitive of its points (POSITION only). Each accessor has its own tightly packed
-//! buffer view, 4-byte aligned, in one buffer.
+//! LINES primitive of its points (POSITION only). Each primitive is then compacted (see
+//! [`compact`]): vertices equal in every attribute shared, coplanar rectangles merged, triangles
+//! in vertex-cache order. Each accessor has its own buffer view, 4-byte aligned, in one buffer;
+//! [`GlbEncoding`] picks floats, KHR_mesh_quantization (see [`quantize`]; the mesh node's
+//! translation and scale undo it) or that compressed with EXT_meshopt_compression (see
+//! [`compress`]; the views then lie in a fallback buffer without data).
 //!
 //! Skeletons become glTF skins (see [`skin`]): parts with a [`Part::bone`] go into meshes of
 //! their own per skin (merged: one mesh node per skin, one primitive per material; grouped: one
@@ -21,8 +25,8 @@
 //! material, placed by a node per part or by `EXT_mesh_gpu_instancing`, as
 //! [`ExportOptions::instancing`] asks (see [`instance`]).
 //!
-//! The file is planned first (sizes, bounds, the JSON chunk) and then streamed: shared vertices
-//! and points go from the model straight to the writer, so a large model is never held twice.
+//! The file is planned first (the compacted and encoded data of every primitive, the JSON
+//! chunk) and then streamed; each primitive's data from the model is let go once encoded.
 
 use std::collections::BTreeMap;
 use std::io::{self, Write};
@@ -31,23 +35,31 @@ use gltf_json as json;
 use json::validation::{Checked::Valid, USize64};
 use shapegram_geom::{Color, MetaValue, Metadata, Model, Part, Texture};
 
-use crate::ExportOptions;
 use crate::flat::{FaceSplitter, Palette, check_bones, drawable};
+use crate::{ExportOptions, GlbEncoding};
 
 mod animation;
 mod chunk;
+mod compact;
+pub(crate) mod compress;
+mod coplanar;
 mod instance;
 mod material;
+mod quantize;
 mod skin;
+mod streams;
 mod tangents;
 
 use animation::Animation;
 pub(crate) use chunk::Chunk;
+use compact::{Compaction, Vertices};
 pub(crate) use instance::GPU_INSTANCING;
 pub use instance::Instancing;
 use instance::{InstanceSets, Role};
 use material::{gltf_textures, material, textured, with_surface};
+use quantize::Grid;
 use skin::Skin;
+use streams::{Joints, Stream, streams};
 
 /// GLB framing constants from the glTF 2.0 specification, section "Binary glTF Layout".
 pub(crate) const MAGIC: &[u8; 4] = b"glTF";
@@ -64,9 +76,13 @@ struct Primitive<'a> {
     /// Whether its vertices carry tangents: its material has a normal map.
     tangents: bool,
     skinned: Option<Skinned>,
+    /// The data of the model's parts, until [`Plan::new`] has compacted them into `streams`.
     chunks: Vec<Chunk<'a>>,
     /// The model part each chunk holds (`None`: a line set).
     sources: Vec<Option<usize>>,
+    /// The accessors' data of each glTF primitive it becomes (one, or several of fewer than
+    /// 65,535 vertices each), in the order they are written.
+    streams: Vec<Vec<Stream>>,
 }
 
 /// How a skinned primitive's vertices name their joints.
@@ -75,37 +91,6 @@ struct Skinned {
     wide: bool,
     /// The joint of each chunk, which all its vertices follow rigidly.
     joints: Vec<u16>,
-}
-
-impl Primitive<'_> {
-    fn vertex_count(&self) -> usize {
-        self.chunks.iter().map(Chunk::vertex_count).sum()
-    }
-
-    fn index_count(&self) -> usize {
-        self.chunks.iter().map(Chunk::index_count).sum()
-    }
-
-    /// Whether indices need u32: the largest u16 is reserved (primitive restart), hence `>=`.
-    fn wide(&self) -> bool {
-        self.vertex_count() >= usize::from(u16::MAX)
-    }
-
-    /// Component-wise min and max of the f32 positions exactly as written (the spec requires
-    /// them on POSITION and validators compare them bit for bit).
-    fn bounds(&self) -> ([f32; 3], [f32; 3]) {
-        let mut min = [f32::INFINITY; 3];
-        let mut max = [f32::NEG_INFINITY; 3];
-        for chunk in &self.chunks {
-            chunk.positions(|p| {
-                for k in 0..3 {
-                    min[k] = min[k].min(p[k]);
-                    max[k] = max[k].max(p[k]);
-                }
-            });
-        }
-        (min, max)
-    }
 }
 
 /// A glTF mesh to be: node/mesh name, the skin (index into [`Plan::skins`]) that deforms it,
@@ -118,6 +103,49 @@ struct Group<'a> {
     metadata: Option<&'a Metadata>,
     /// Where the mesh is drawn.
     placement: Placement<'a>,
+    /// The grid its quantised positions lie on, which its node's transformation undoes.
+    grid: Option<Grid>,
+}
+
+impl Group<'_> {
+    /// Compacts each primitive's chunks into the streams to write (and lets the chunks go),
+    /// quantising positions on one grid for the whole mesh when `encoding` asks for it and
+    /// the mesh is neither skinned nor instanced.
+    fn encode(&mut self, encoding: GlbEncoding, compaction: Compaction) {
+        let vertices: Vec<Vertices> = self
+            .primitives
+            .iter()
+            .map(|primitive| Vertices::of_primitive(primitive, compaction))
+            .collect();
+        // An instanced mesh's nodes carry the instances' transformations, so its positions
+        // stay floats rather than take a grid that a node would have to undo.
+        let placed_once = matches!(self.placement, Placement::Own);
+        if encoding != GlbEncoding::Float && self.skin.is_none() && placed_once {
+            let mut min = [f32::INFINITY; 3];
+            let mut max = [f32::NEG_INFINITY; 3];
+            for p in vertices.iter().flat_map(|v| &v.positions) {
+                for k in 0..3 {
+                    min[k] = min[k].min(p[k]);
+                    max[k] = max[k].max(p[k]);
+                }
+            }
+            self.grid = Some(Grid::spanning(min, max));
+        }
+        for (primitive, vertices) in self.primitives.iter_mut().zip(vertices) {
+            let joints = primitive.skinned.as_ref().map(|s| Joints { wide: s.wide });
+            // Split where triangles may be reordered: pieces with u16 indices.
+            let pieces = if compaction.reorder && !primitive.lines {
+                vertices.split(usize::from(u16::MAX) - 1)
+            } else {
+                vec![vertices]
+            };
+            primitive.streams = pieces
+                .iter()
+                .map(|piece| streams(piece, primitive.lines, joints, encoding, self.grid.as_ref()))
+                .collect();
+            primitive.chunks = Vec::new();
+        }
+    }
 }
 
 /// Where a glTF mesh is drawn.
@@ -137,7 +165,7 @@ enum Placement<'a> {
 /// written.
 pub fn write_glb(model: &Model, options: &ExportOptions) -> Vec<u8> {
     let sets = InstanceSets::find(model, options.instancing);
-    let written = Plan::new(model, &sets, options).and_then(|plan| {
+    let written = Plan::new(model, &sets, options, REORDER).and_then(|plan| {
         let mut out = Vec::with_capacity(plan.len());
         plan.write(&mut out).map(|()| out)
     });
@@ -155,8 +183,11 @@ pub fn write_glb_to(
     out: &mut impl Write,
 ) -> io::Result<()> {
     let sets = InstanceSets::find(model, options.instancing);
-    Plan::new(model, &sets, options)?.write(out)
+    Plan::new(model, &sets, options, REORDER)?.write(out)
 }
+
+/// What the writers may do to a primitive's triangles unless a caller needs to trace them.
+const REORDER: Compaction = Compaction { reorder: true };
 
 /// Which model parts each primitive of a GLB holds: by glTF mesh, by primitive, the parts
 /// whose triangles (or line sets' segments: `None`) it concatenates, in order. An instanced
@@ -166,14 +197,15 @@ pub type GlbLayout = Vec<Vec<Vec<Option<usize>>>>;
 
 /// [`write_glb_to`], returning which model parts each primitive holds. With
 /// [`face_triangles`] this tells which triangles of a primitive came from which faces of the
-/// model.
+/// model: this writer keeps every triangle, in face order (vertices are still shared, but no
+/// faces are merged and no triangles reordered).
 pub fn write_glb_with_layout(
     model: &Model,
     options: &ExportOptions,
     out: &mut impl Write,
 ) -> io::Result<GlbLayout> {
     let sets = InstanceSets::find(model, options.instancing);
-    let plan = Plan::new(model, &sets, options)?;
+    let plan = Plan::new(model, &sets, options, Compaction { reorder: false })?;
     plan.write(out)?;
     Ok(plan
         .groups
@@ -211,7 +243,12 @@ struct Plan<'a> {
 }
 
 impl<'a> Plan<'a> {
-    fn new(model: &'a Model, sets: &'a InstanceSets, options: &ExportOptions) -> io::Result<Self> {
+    fn new(
+        model: &'a Model,
+        sets: &'a InstanceSets,
+        options: &ExportOptions,
+        compaction: Compaction,
+    ) -> io::Result<Self> {
         check_bones(model)?;
         // An instance set's mesh is its prototype's, written where the set is first used.
         let parts: Vec<(usize, &Part, Chunk<'a>)> = model
@@ -309,8 +346,10 @@ impl<'a> Plan<'a> {
                         tangents,
                         skinned: None,
                         chunks: vec![chunk],
+                        streams: Vec::new(),
                         sources: vec![source],
                     }],
+                    grid: None,
                     placement: if set.gpu {
                         Placement::Gpu(uses)
                     } else {
@@ -326,6 +365,7 @@ impl<'a> Plan<'a> {
                     metadata,
                     skin,
                     placement: Placement::Own,
+                    grid: None,
                     primitives: vec![Primitive {
                         material,
                         lines,
@@ -334,6 +374,7 @@ impl<'a> Plan<'a> {
                         skinned: joint.map(|(_, j)| skinned(vec![j])),
                         chunks: vec![chunk],
                         sources: vec![source],
+                        streams: Vec::new(),
                     }],
                 });
                 continue;
@@ -343,6 +384,7 @@ impl<'a> Plan<'a> {
                     name: skin.map_or_else(|| "model".to_owned(), |s| skins[s].mesh_name()),
                     metadata: None,
                     skin,
+                    grid: None,
                     primitives: Vec::new(),
                     placement: Placement::Own,
                 });
@@ -358,6 +400,7 @@ impl<'a> Plan<'a> {
                     skinned: joint.map(|_| skinned(Vec::new())),
                     chunks: Vec::new(),
                     sources: Vec::new(),
+                    streams: Vec::new(),
                 });
                 primitives.len() - 1
             });
@@ -367,6 +410,9 @@ impl<'a> Plan<'a> {
             if let (Some(skinned), Some((_, j))) = (&mut primitive.skinned, joint) {
                 skinned.joints.push(j);
             }
+        }
+        for group in &mut groups {
+            group.encode(options.encoding, compaction);
         }
         let animations = Animation::of_skins(&skins);
         let (json, bin_len) = document(&palette, &textures, &groups, &skins, &animations);
@@ -419,71 +465,15 @@ impl<'a> Plan<'a> {
                 result = out.write_all(bytes);
             }
         };
-        let vec3 = |v: [f32; 3]| {
-            let mut bytes = [0u8; 12];
-            for (slot, x) in bytes.chunks_exact_mut(4).zip(v) {
-                slot.copy_from_slice(&x.to_le_bytes());
-            }
-            bytes
-        };
-        for primitive in self.groups.iter().flat_map(|g| &g.primitives) {
-            for chunk in &primitive.chunks {
-                chunk.positions(|p| put(&vec3(p)));
-            }
-            if !primitive.lines {
-                for chunk in &primitive.chunks {
-                    chunk.normals(|n| put(&vec3(n)));
-                }
-            }
-            if primitive.textured {
-                for chunk in &primitive.chunks {
-                    chunk.uvs(|[u, v]| {
-                        put(&u.to_le_bytes());
-                        put(&v.to_le_bytes());
-                    });
-                }
-            }
-            if primitive.tangents {
-                for chunk in &primitive.chunks {
-                    chunk.tangents(|t| {
-                        for x in t {
-                            put(&x.to_le_bytes());
-                        }
-                    });
-                }
-            }
-            if let Some(skinned) = &primitive.skinned {
-                for (chunk, &joint) in primitive.chunks.iter().zip(&skinned.joints) {
-                    let [low, high] = joint.to_le_bytes();
-                    let joints: &[u8] = if skinned.wide {
-                        &[low, high, 0, 0, 0, 0, 0, 0]
-                    } else {
-                        &[low, 0, 0, 0]
-                    };
-                    for _ in 0..chunk.vertex_count() {
-                        put(joints);
-                    }
-                }
-                // Weight 1 for the first joint, as normalized u8.
-                for _ in 0..primitive.vertex_count() {
-                    put(&[u8::MAX, 0, 0, 0]);
-                }
-            }
-            let wide = primitive.wide();
-            let mut base = 0u32;
-            for chunk in &primitive.chunks {
-                for &i in chunk.indices() {
-                    if wide {
-                        put(&(base + i).to_le_bytes());
-                    } else {
-                        put(&((base + i) as u16).to_le_bytes());
-                    }
-                }
-                base += chunk.vertex_count() as u32;
-            }
-            if !wide && primitive.index_count() % 2 == 1 {
-                put(&[0, 0]);
-            }
+        for stream in self
+            .groups
+            .iter()
+            .flat_map(|g| &g.primitives)
+            .flat_map(|p| &p.streams)
+            .flatten()
+        {
+            put(&stream.bytes);
+            put(&[0; 3][..stream.bytes.len().next_multiple_of(4) - stream.bytes.len()]);
         }
         for group in &self.groups {
             if let Placement::Gpu(uses) = &group.placement {
@@ -590,7 +580,12 @@ fn document(
         let primitives = group
             .primitives
             .iter()
-            .map(|primitive| builder.primitive(primitive))
+            .flat_map(|primitive| {
+                let pieces = primitive.streams.iter();
+                pieces
+                    .map(|streams| builder.primitive(primitive, streams))
+                    .collect::<Vec<_>>()
+            })
             .collect();
         let mesh = builder.root.push(json::Mesh {
             extensions: None,
@@ -617,6 +612,8 @@ fn document(
         let node = builder.root.push(json::Node {
             mesh: Some(mesh),
             name: Some(group.name.clone()),
+            translation: group.grid.map(|grid| grid.centre),
+            scale: group.grid.map(|grid| [grid.step; 3]),
             skin: group.skin.map(|s| json::Index::new(s as u32)),
             extras: group.metadata.map(metadata_extras),
             ..Default::default()
@@ -653,94 +650,35 @@ fn document(
 struct Builder {
     root: json::Root,
     bin_len: usize,
+    /// The length of the fallback buffer behind compressed views (0: there are none).
+    fallback_len: usize,
+    /// Whether some position, normal or uv is stored in integers (KHR_mesh_quantization).
+    quantized: bool,
 }
 
 impl Builder {
     /// The primitive's accessors, in the order [`Plan::write`] writes their data.
-    fn primitive(&mut self, primitive: &Primitive<'_>) -> json::mesh::Primitive {
-        use json::accessor::{ComponentType, Type};
-        use json::buffer::Target;
-        let vertices = primitive.vertex_count();
-        let (min, max) = primitive.bounds();
-        let positions = self.accessor(
-            vertices,
-            12,
-            Some(Target::ArrayBuffer),
-            (ComponentType::F32, Type::Vec3),
-            Some((min.to_vec().into(), max.to_vec().into())),
-        );
-        let mut attributes = BTreeMap::from([(Valid(json::mesh::Semantic::Positions), positions)]);
-        if !primitive.lines {
-            let normals = self.accessor(
-                vertices,
-                12,
-                Some(Target::ArrayBuffer),
-                (ComponentType::F32, Type::Vec3),
-                None,
-            );
-            attributes.insert(Valid(json::mesh::Semantic::Normals), normals);
+    fn primitive(
+        &mut self,
+        primitive: &Primitive<'_>,
+        streams: &[Stream],
+    ) -> json::mesh::Primitive {
+        let mut attributes = BTreeMap::new();
+        let mut indices = None;
+        for stream in streams {
+            let accessor = self.accessor(stream);
+            match stream.semantic.clone() {
+                Some(semantic) => {
+                    attributes.insert(Valid(semantic), accessor);
+                }
+                None => indices = Some(accessor),
+            }
         }
-        if primitive.textured {
-            let uvs = self.accessor(
-                vertices,
-                8,
-                Some(Target::ArrayBuffer),
-                (ComponentType::F32, Type::Vec2),
-                None,
-            );
-            attributes.insert(Valid(json::mesh::Semantic::TexCoords(0)), uvs);
-        }
-        if primitive.tangents {
-            let tangents = self.accessor(
-                vertices,
-                16,
-                Some(Target::ArrayBuffer),
-                (ComponentType::F32, Type::Vec4),
-                None,
-            );
-            attributes.insert(Valid(json::mesh::Semantic::Tangents), tangents);
-        }
-        if let Some(skinned) = &primitive.skinned {
-            let (size, component) = if skinned.wide {
-                (8, ComponentType::U16)
-            } else {
-                (4, ComponentType::U8)
-            };
-            let joints = self.accessor(
-                vertices,
-                size,
-                Some(Target::ArrayBuffer),
-                (component, Type::Vec4),
-                None,
-            );
-            attributes.insert(Valid(json::mesh::Semantic::Joints(0)), joints);
-            let weights = self.accessor(
-                vertices,
-                4,
-                Some(Target::ArrayBuffer),
-                (ComponentType::U8, Type::Vec4),
-                None,
-            );
-            self.root.accessors[weights.value()].normalized = true;
-            attributes.insert(Valid(json::mesh::Semantic::Weights(0)), weights);
-        }
-        let (size, component) = if primitive.wide() {
-            (4, ComponentType::U32)
-        } else {
-            (2, ComponentType::U16)
-        };
-        let indices = self.accessor(
-            primitive.index_count(),
-            size,
-            Some(Target::ElementArrayBuffer),
-            (component, Type::Scalar),
-            None,
-        );
         json::mesh::Primitive {
             attributes,
             extensions: None,
             extras: Default::default(),
-            indices: Some(indices),
+            indices,
             material: Some(json::Index::new(primitive.material as u32)),
             mode: Valid(if primitive.lines {
                 json::mesh::Mode::Lines
@@ -787,8 +725,67 @@ impl Builder {
         });
     }
 
+    /// A buffer view of its own for a stream, and an accessor over it. A compressed stream's
+    /// view lies in the fallback buffer (1), its extension pointing at the data in the BIN
+    /// chunk.
+    fn accessor(&mut self, stream: &Stream) -> json::Index<json::Accessor> {
+        use json::buffer::Target;
+        self.quantized |= stream.quantized();
+        let offset = self.bin_len;
+        // Every view starts on a 4-byte boundary, as f32 and u32 accessors require.
+        self.bin_len = (offset + stream.bytes.len()).next_multiple_of(4);
+        let mut view = json::buffer::View {
+            buffer: json::Index::new(0),
+            byte_length: USize64::from(stream.bytes.len()),
+            byte_offset: Some(USize64::from(offset)),
+            byte_stride: stream
+                .strided()
+                .then_some(json::buffer::Stride(stream.stride)),
+            extensions: None,
+            extras: Default::default(),
+            name: None,
+            target: Some(Valid(match stream.semantic {
+                Some(_) => Target::ArrayBuffer,
+                None => Target::ElementArrayBuffer,
+            })),
+        };
+        if let Some((mode, length)) = stream.compressed {
+            let fallback = self.fallback_len;
+            self.fallback_len = (fallback + length).next_multiple_of(4);
+            view.buffer = json::Index::new(1);
+            view.byte_offset = Some(USize64::from(fallback));
+            view.byte_length = USize64::from(length);
+            let extension = compress::view_extension(
+                offset,
+                stream.bytes.len(),
+                stream.stride,
+                stream.count,
+                mode,
+            );
+            let mut others = serde_json::Map::new();
+            others.insert(compress::EXTENSION.to_owned(), extension);
+            view.extensions = Some(json::extensions::buffer::View { others });
+        }
+        let view = self.root.push(view);
+        let (min, max) = stream.bounds.clone().unzip();
+        self.root.push(json::Accessor {
+            buffer_view: Some(view),
+            byte_offset: None,
+            count: USize64::from(stream.count),
+            component_type: Valid(json::accessor::GenericComponentType(stream.component)),
+            extensions: None,
+            extras: Default::default(),
+            type_: Valid(stream.kind),
+            min,
+            max,
+            name: None,
+            normalized: stream.normalized,
+            sparse: None,
+        })
+    }
+
     /// A buffer view of its own for `count` elements of `size` bytes, and an accessor over it.
-    fn accessor(
+    fn data_accessor(
         &mut self,
         count: usize,
         size: usize,
@@ -827,6 +824,12 @@ impl Builder {
         })
     }
 
+    /// Lists `extension` as used and required.
+    fn require(&mut self, extension: &str) {
+        self.root.extensions_used.push(extension.to_owned());
+        self.root.extensions_required.push(extension.to_owned());
+    }
+
     /// Adds the root's children, the scene with its root nodes and the buffer; returns the
     /// padded JSON text and the BIN chunk's length.
     fn finish(
@@ -856,6 +859,26 @@ impl Builder {
                 name: None,
                 uri: None,
             });
+        }
+        if self.quantized {
+            self.require(quantize::EXTENSION);
+        }
+        if self.fallback_len > 0 {
+            // The fallback buffer has no data, so readers must decode: the extension is
+            // required, not merely used.
+            let mut others = serde_json::Map::new();
+            others.insert(
+                compress::EXTENSION.to_owned(),
+                compress::fallback_extension(),
+            );
+            self.root.push(json::Buffer {
+                byte_length: USize64::from(self.fallback_len),
+                extensions: Some(json::extensions::buffer::Buffer { others }),
+                extras: Default::default(),
+                name: None,
+                uri: None,
+            });
+            self.require(compress::EXTENSION);
         }
         let mut text = serde_json::to_vec(&self.root)
             .expect("gltf-json types always serialise (no maps with non-string keys)");

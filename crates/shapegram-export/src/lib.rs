@@ -103,6 +103,23 @@ pub struct ExportOptions {
     /// How GLB writes parts that repeat a prototype ([`shapegram_geom::Part::instance`]); OBJ
     /// and STL write every part's own geometry.
     pub instancing: Instancing,
+    /// How GLB stores vertex data (OBJ and STL are always text or floats).
+    pub encoding: GlbEncoding,
+}
+
+/// How a GLB stores its vertex data. Vertices are shared and (outside
+/// [`write_glb_with_layout`]) coplanar rectangles merged and triangles put in vertex-cache
+/// order in every encoding.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum GlbEncoding {
+    /// 32-bit floats, readable by every glTF reader.
+    #[default]
+    Float,
+    /// KHR_mesh_quantization: positions as i16 (the mesh's node scales them back), normals
+    /// as i8, uvs within `0..=1` as u16 (`--quantize`).
+    Quantized,
+    /// Quantised, then compressed with EXT_meshopt_compression (`--meshopt`).
+    Compressed,
 }
 
 /// Writes to `path` in the format of its extension; OBJ also writes the .mtl beside it (same

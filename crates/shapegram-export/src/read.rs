@@ -18,7 +18,7 @@ use gltf::accessor::{DataType, Dimensions};
 use gltf::mesh::Mode;
 use shapegram_geom::{Color, DAffine3, DQuat, DVec2, DVec3, Lines, Mesh, Model, Part, Texture};
 
-use crate::glb::{CHUNK_BIN, CHUNK_JSON, GPU_INSTANCING, MAGIC};
+use crate::glb::{CHUNK_BIN, CHUNK_JSON, GPU_INSTANCING, MAGIC, compress};
 use crate::{Error, Format, mtl};
 
 /// Reads a GLB file (binary glTF 2.0): triangle primitives of the default scene, in world
@@ -30,8 +30,11 @@ use crate::{Error, Format, mtl};
 pub fn read_glb(bytes: &[u8]) -> Result<Model, Error> {
     let broken = |message: String| Error::broken(Format::Glb, message);
     let (json, bin) = split_glb(bytes).map_err(broken)?;
-    let root: gltf::json::Root =
+    let mut value: serde_json::Value =
         serde_json::from_slice(json).map_err(|e| broken(format!("invalid JSON chunk: {e}")))?;
+    let decoded = decompress(&mut value, bin.unwrap_or_default()).map_err(broken)?;
+    let root: gltf::json::Root =
+        serde_json::from_value(value).map_err(|e| broken(format!("invalid JSON chunk: {e}")))?;
     // gltf 1.4's validation indexes `accessors` with the POSITION index before checking it.
     for (m, mesh) in root.meshes.iter().enumerate() {
         for (p, primitive) in mesh.primitives.iter().enumerate() {
@@ -51,7 +54,7 @@ pub fn read_glb(bytes: &[u8]) -> Result<Model, Error> {
     // "invalid glTF:" and ends every problem with ';'.
     let document = gltf::Document::from_json(root)
         .map_err(|e| broken(e.to_string().trim_end_matches(';').to_owned()))?;
-    let blob = bin.unwrap_or_default();
+    let blob = decoded.as_deref().or(bin).unwrap_or_default();
     let mut model = Model::default();
     for (node, world) in scene_nodes(&document).map_err(broken)? {
         let Some(mesh) = node.mesh() else {
@@ -175,6 +178,32 @@ fn instances(
             world * DAffine3::from_scale_rotation_translation(scale, rotation, translation)
         })
         .collect())
+}
+
+/// The extension whose integer attributes [`vectors`] reads.
+const QUANTIZATION: &str = "KHR_mesh_quantization";
+
+/// Decodes EXT_meshopt_compression views, when the document has them, into new BIN data (see
+/// [`compress::decode_views`]; `None`: nothing to decode), and drops the extensions this
+/// reader handles from the required ones.
+fn decompress(root: &mut serde_json::Value, bin: &[u8]) -> Result<Option<Vec<u8>>, String> {
+    let uses = |list: &serde_json::Value| {
+        list.as_array()
+            .is_some_and(|l| l.iter().any(|e| e == compress::EXTENSION))
+    };
+    let decoded = if root.get("extensionsUsed").is_some_and(uses) {
+        Some(compress::decode_views(root, bin)?)
+    } else {
+        None
+    };
+    // gltf refuses required extensions it does not know; these two this reader handles.
+    if let Some(required) = root
+        .get_mut("extensionsRequired")
+        .and_then(serde_json::Value::as_array_mut)
+    {
+        required.retain(|e| e != compress::EXTENSION && e != QUANTIZATION);
+    }
+    Ok(decoded)
 }
 
 /// Normals under a node's transform: by the inverse transpose of its linear part, renormalised.
@@ -331,7 +360,7 @@ fn read_primitive(primitive: &gltf::Primitive<'_>, blob: &[u8]) -> Result<Read, 
     let position = primitive
         .get(&gltf::Semantic::Positions)
         .ok_or("no POSITION attribute")?;
-    check_accessor(&position, blob, &[DataType::F32], Dimensions::Vec3)
+    check_accessor(&position, blob, &VECTOR_TYPES, Dimensions::Vec3)
         .map_err(|e| format!("POSITION: {e}"))?;
     if let Some(indices) = primitive.indices() {
         check_accessor(
@@ -344,7 +373,7 @@ fn read_primitive(primitive: &gltf::Primitive<'_>, blob: &[u8]) -> Result<Read, 
     }
     let normal = primitive.get(&gltf::Semantic::Normals);
     if let Some(normal) = &normal {
-        check_accessor(normal, blob, &[DataType::F32], Dimensions::Vec3)
+        check_accessor(normal, blob, &VECTOR_TYPES, Dimensions::Vec3)
             .map_err(|e| format!("NORMAL: {e}"))?;
         if normal.count() != position.count() {
             return Err(format!(
@@ -358,12 +387,7 @@ fn read_primitive(primitive: &gltf::Primitive<'_>, blob: &[u8]) -> Result<Read, 
         gltf::buffer::Source::Bin => Some(blob),
         gltf::buffer::Source::Uri(_) => None,
     });
-    let vector = |v: [f32; 3]| DVec3::from(v.map(f64::from));
-    let positions: Vec<DVec3> = reader
-        .read_positions()
-        .ok_or("POSITION data is unreadable")?
-        .map(vector)
-        .collect();
+    let positions = vectors(&position, blob);
     let order: Vec<u32> = match reader.read_indices() {
         Some(indices) => indices.into_u32().collect(),
         None => (0..positions.len() as u32).collect(),
@@ -399,16 +423,16 @@ fn read_primitive(primitive: &gltf::Primitive<'_>, blob: &[u8]) -> Result<Read, 
         }
     };
     let mesh = Mesh::from_faces(positions, triangles);
-    let normals = match reader.read_normals() {
-        Some(normals) if normal.is_some() => smooth_normals(&mesh, normals.map(vector).collect()),
-        _ => Vec::new(),
+    let normals = match &normal {
+        Some(normal) => smooth_normals(&mesh, vectors(normal, blob)),
+        None => Vec::new(),
     };
     // Only float uvs are read; a set that does not fit is left out, as it changes no geometry.
     let uvs = primitive
         .get(&gltf::Semantic::TexCoords(0))
         .filter(|uvs| {
             uvs.count() == mesh.vertex_count()
-                && check_accessor(uvs, blob, &[DataType::F32], Dimensions::Vec2).is_ok()
+                && check_accessor(uvs, blob, &UV_TYPES, Dimensions::Vec2).is_ok()
         })
         .and_then(|_| reader.read_tex_coords(0))
         .map(|uvs| {
@@ -474,6 +498,52 @@ fn smooth_normals(mesh: &Mesh, normals: Vec<DVec3>) -> Vec<DVec3> {
         Some(units) if shared => units,
         _ => Vec::new(),
     }
+}
+
+/// The component types positions and normals may have (KHR_mesh_quantization allows integers).
+const VECTOR_TYPES: [DataType; 5] = [
+    DataType::F32,
+    DataType::I16,
+    DataType::U16,
+    DataType::I8,
+    DataType::U8,
+];
+
+/// The component types uvs may have (integers normalised, as glTF and KHR_mesh_quantization
+/// allow).
+const UV_TYPES: [DataType; 3] = [DataType::F32, DataType::U16, DataType::U8];
+
+/// A VEC3 accessor's elements as f64 vectors, integers converted as glTF says (normalised ones
+/// to `-1..=1` or `0..=1`). The accessor has passed [`check_accessor`].
+fn vectors(accessor: &gltf::Accessor<'_>, blob: &[u8]) -> Vec<DVec3> {
+    let view = accessor.view().expect("checked accessors have a view");
+    let size = accessor.size() / 3;
+    let stride = view.stride().unwrap_or(accessor.size());
+    let start = view.offset() + accessor.offset();
+    let normalized = accessor.normalized();
+    let kind = accessor.data_type();
+    let component = |b: &[u8]| -> f64 {
+        let (value, scale) = match kind {
+            DataType::F32 => (f64::from(f32::from_le_bytes([b[0], b[1], b[2], b[3]])), 1.0),
+            DataType::I16 => (f64::from(i16::from_le_bytes([b[0], b[1]])), 32767.0),
+            DataType::U16 => (f64::from(u16::from_le_bytes([b[0], b[1]])), 65535.0),
+            DataType::I8 => (f64::from(b[0] as i8), 127.0),
+            DataType::U8 | DataType::U32 => (f64::from(b[0]), 255.0),
+        };
+        if normalized && kind != DataType::F32 {
+            (value / scale).max(-1.0)
+        } else {
+            value
+        }
+    };
+    (0..accessor.count())
+        .map(|i| {
+            let at = start + i * stride;
+            DVec3::from_array(std::array::from_fn(|k| {
+                component(&blob[at + k * size..at + (k + 1) * size])
+            }))
+        })
+        .collect()
 }
 
 /// Makes sure gltf's accessor reader will neither panic nor read past the data: gltf 1.4 only

@@ -5,7 +5,8 @@ mod common;
 use common::*;
 use serde_json::{Value, json};
 use shapegram_export::{
-    ExportOptions, Instancing, read_glb, read_obj, read_stl, write_glb, write_obj, write_stl,
+    ExportOptions, GlbEncoding, Instancing, read_glb, read_obj, read_stl, write_glb,
+    write_glb_with_layout, write_obj, write_stl,
 };
 use shapegram_geom::extrude::extrude_polygon;
 use shapegram_geom::primitives::{cuboid, sphere};
@@ -13,10 +14,12 @@ use shapegram_geom::{Color, DVec3, Mesh, Model, Part};
 
 const GROUPED: ExportOptions = ExportOptions {
     group_by_part: true,
+    encoding: GlbEncoding::Float,
     instancing: Instancing::Auto,
 };
 const MERGED: ExportOptions = ExportOptions {
     group_by_part: false,
+    encoding: GlbEncoding::Float,
     instancing: Instancing::Auto,
 };
 
@@ -283,16 +286,32 @@ fn glb_of_an_empty_model_is_valid_and_reads_back_empty() {
 }
 
 #[test]
-fn glb_uses_u32_indices_for_large_primitives() {
+fn large_primitives_split_into_u16_pieces_unless_their_order_must_stay() {
     let model = Model::single("ball", GREEN, sphere(DVec3::splat(2.0), 160, 120));
-    let bytes = write_glb(&model, &MERGED);
-    let (json, _) = split_glb(&bytes);
     let want = expected(&[&model.parts[0].mesh]);
     assert!(want.corners > 65535);
+    // Triangles in face order (the studio's layout): one primitive, u32 indices.
+    let mut bytes = Vec::new();
+    write_glb_with_layout(&model, &MERGED, &mut bytes).unwrap();
+    let (json, _) = split_glb(&bytes);
     assert_eq!(json["accessors"][0]["count"], want.corners);
     assert_eq!(json["accessors"][2]["componentType"], 5125);
     let back = read_glb(&bytes).unwrap();
     check_flat(&back.parts[0], &[&model.parts[0].mesh], true);
+    // Otherwise pieces of fewer than 65,535 vertices with u16 indices, every triangle kept.
+    let (json, _) = split_glb(&write_glb(&model, &MERGED));
+    let primitives = json["meshes"][0]["primitives"].as_array().unwrap();
+    assert_eq!(primitives.len(), 2);
+    let mut triangles = 0;
+    for primitive in primitives {
+        let accessor = |key: &str| &json["accessors"][primitive[key].as_u64().unwrap() as usize];
+        let positions =
+            &json["accessors"][primitive["attributes"]["POSITION"].as_u64().unwrap() as usize];
+        assert!(positions["count"].as_u64().unwrap() < 65535);
+        assert_eq!(accessor("indices")["componentType"], 5123);
+        triangles += accessor("indices")["count"].as_u64().unwrap() / 3;
+    }
+    assert_eq!(triangles as usize, want.triangles);
 }
 
 #[test]

@@ -9,7 +9,7 @@ use gltf::accessor::DataType;
 use gltf::mesh::Semantic;
 use serde_json::{Value, json};
 use shapegram_export::{
-    ExportOptions, Instancing, save, write_glb, write_glb_to, write_obj, write_stl,
+    ExportOptions, GlbEncoding, Instancing, save, write_glb, write_glb_to, write_obj, write_stl,
 };
 use shapegram_geom::kinematics::{Frame, Limits, Pose, Range, SectionId, Skeleton};
 use shapegram_geom::primitives::{cuboid, cylinder};
@@ -17,10 +17,12 @@ use shapegram_geom::{Bone, Color, DAffine3, DQuat, DVec3, Lines, Mesh, Model, Pa
 
 const GROUPED: ExportOptions = ExportOptions {
     group_by_part: true,
+    encoding: GlbEncoding::Float,
     instancing: Instancing::Auto,
 };
 const MERGED: ExportOptions = ExportOptions {
     group_by_part: false,
+    encoding: GlbEncoding::Float,
     instancing: Instancing::Auto,
 };
 

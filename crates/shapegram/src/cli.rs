@@ -393,6 +393,13 @@ pub struct DeriveArgs {
     /// share (docs/export.md)
     #[arg(long)]
     pub metadata: bool,
+    /// GLB: positions, normals and uvs as small integers (KHR_mesh_quantization)
+    #[arg(long)]
+    pub quantize: bool,
+    /// GLB: quantise, then compress vertices and indices (EXT_meshopt_compression; readers
+    /// need a meshopt decoder)
+    #[arg(long)]
+    pub meshopt: bool,
     /// Print counts, times, rule applications and report() values as one JSON object on stdout
     #[arg(long)]
     pub stats: bool,

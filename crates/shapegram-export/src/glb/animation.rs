@@ -75,7 +75,7 @@ impl Animation {
     /// `joints` holds each skin's joint nodes in joint order.
     pub fn push(&self, builder: &mut super::Builder, joints: &[Vec<json::Index<json::Node>>]) {
         use json::accessor::{ComponentType, Type};
-        let input = builder.accessor(
+        let input = builder.data_accessor(
             1,
             4,
             None,
@@ -90,7 +90,7 @@ impl Animation {
                 (12, Type::Vec3, json::animation::Property::Translation),
                 (16, Type::Vec4, json::animation::Property::Rotation),
             ] {
-                let output = builder.accessor(1, size, None, (ComponentType::F32, kind), None);
+                let output = builder.data_accessor(1, size, None, (ComponentType::F32, kind), None);
                 let sampler = json::Index::new(samplers.len() as u32);
                 samplers.push(json::animation::Sampler {
                     extensions: None,

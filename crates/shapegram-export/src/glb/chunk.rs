@@ -67,6 +67,8 @@ pub(crate) enum Chunk<'a> {
         /// One per corner, for a normal-mapped part; empty otherwise.
         tangents: Vec<[f32; 4]>,
         indices: Vec<u32>,
+        /// Per face, in order: how many corners and how many triangles it has.
+        faces: Vec<[u32; 2]>,
     },
     /// A smooth part's shared vertices with their normals (and uvs, for a textured part).
     Smooth {
@@ -157,6 +159,14 @@ impl<'a> Chunk<'a> {
         }
     }
 
+    /// A flat chunk's faces: corners and triangles of each, in order (`None` for the others).
+    pub(crate) fn flat_faces(&self) -> Option<&[[u32; 2]]> {
+        match self {
+            Self::Flat { faces, .. } => Some(faces),
+            Self::Smooth { .. } | Self::Lines { .. } => None,
+        }
+    }
+
     /// Whether the chunk has a uv per vertex.
     pub(crate) fn has_uvs(&self) -> bool {
         match self {
@@ -222,9 +232,10 @@ fn gltf_uv(uv: DVec2) -> [f32; 2] {
 /// `normal_mapped` and there are uvs).
 fn flat_chunk<'a>(mesh: &Mesh, texture_uvs: Option<&[DVec2]>, normal_mapped: bool) -> Chunk<'a> {
     let (mut positions, mut normals, mut indices) = (Vec::new(), Vec::new(), Vec::new());
-    let (mut uvs, mut tangents) = (Vec::new(), Vec::new());
+    let (mut uvs, mut tangents, mut faces) = (Vec::new(), Vec::new(), Vec::new());
     flat_faces(mesh, |face| {
         let base = positions.len() as u32;
+        faces.push([face.corners.len() as u32, face.triangles.len() as u32]);
         positions.extend_from_slice(face.corners);
         normals.extend(std::iter::repeat_n(face.normal, face.corners.len()));
         if let Some(texture_uvs) = texture_uvs {
@@ -248,6 +259,7 @@ fn flat_chunk<'a>(mesh: &Mesh, texture_uvs: Option<&[DVec2]>, normal_mapped: boo
         uvs,
         tangents,
         indices,
+        faces,
     }
 }
 

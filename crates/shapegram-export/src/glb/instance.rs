@@ -219,7 +219,7 @@ pub(super) fn gpu_node(
     use json::accessor::{ComponentType, Type};
     let mut attribute = |kind| {
         let size = if kind == Type::Vec4 { 16 } else { 12 };
-        builder.accessor(uses, size, None, (ComponentType::F32, kind), None)
+        builder.data_accessor(uses, size, None, (ComponentType::F32, kind), None)
     };
     let translation = attribute(Type::Vec3);
     let rotation = attribute(Type::Vec4);

@@ -135,7 +135,7 @@ impl<'a> Skin<'a> {
                 .push(node);
             nodes.push(node);
         }
-        let matrices = builder.accessor(
+        let matrices = builder.data_accessor(
             self.order.len(),
             64,
             None,
