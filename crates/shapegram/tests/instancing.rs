@@ -133,7 +133,9 @@ fn instanced_files_read_back_as_the_flat_triangles() {
     for how in ["nodes", "gpu"] {
         let glb = derive(&grammar, &dir.path("i.glb"), &["--instancing", how], 1);
         let (a, f, b) = area_and_count(&glb);
-        assert_eq!(f, faces, "{how}: triangles");
+        // The flat file's coplanar rectangles are merged (fewer triangles, the same surface);
+        // an instanced mesh keeps its prototype's triangles.
+        assert!(f >= faces, "{how}: {f} triangles against {faces} flat");
         assert!(
             (a - area).abs() < 1e-6 * area,
             "{how}: area {a} against {area}"
