@@ -267,12 +267,7 @@ pub async fn save(
     state.topo.with(&real, |session| {
         let project = session.editor.project().clone();
         let text = project.to_json();
-        super::files::write_atomically(&real, text.as_bytes()).map_err(|e| {
-            ApiError::new(
-                StatusCode::CONFLICT,
-                format!("cannot write `{}`: {e}", request.path),
-            )
-        })?;
+        write_file(&real, &text, &request.path)?;
         session.saved = project;
         Ok(Json(Written {
             path: request.path.clone(),
@@ -290,19 +285,9 @@ pub async fn compile_project(
     let real = project_path(&state, &request.path)?;
     let project = state.topo.with(&real, |s| Ok(s.editor.project().clone()))?;
     let grammar = compile(&project).map_err(unprocessable)?;
-    let name = real
-        .file_name()
-        .and_then(|n| n.to_str())
-        .and_then(|n| n.strip_suffix(PROJECT_SUFFIX))
-        .unwrap_or("project");
-    let target = real.with_file_name(format!("{name}.grammar"));
+    let target = beside(&real, "grammar");
     let text = grammar.to_json();
-    super::files::write_atomically(&target, text.as_bytes()).map_err(|e| {
-        ApiError::new(
-            StatusCode::CONFLICT,
-            format!("cannot write `{}`: {e}", target.display()),
-        )
-    })?;
+    write_file(&target, &text, &target.display().to_string())?;
     Ok(Json(Written {
         path: target.display().to_string(),
         bytes: text.len(),
@@ -328,13 +313,7 @@ pub async fn export(
             request.generations
         )));
     }
-    let stem = real
-        .file_name()
-        .and_then(|n| n.to_str())
-        .and_then(|n| n.strip_suffix(PROJECT_SUFFIX))
-        .unwrap_or("project")
-        .to_owned();
-    let target = real.with_file_name(format!("{stem}.glb"));
+    let target = beside(&real, "glb");
     let folder = real.parent().map(Path::to_path_buf).unwrap_or_default();
     tokio::task::spawn_blocking(move || {
         let grammar = compile(&project).map_err(unprocessable)?;
@@ -355,6 +334,23 @@ pub async fn export(
     })
     .await
     .map_err(ApiError::internal)?
+}
+
+/// The file beside a project with its name and another extension (`house.sgproj.json` →
+/// `house.grammar`).
+fn beside(project: &Path, extension: &str) -> PathBuf {
+    let stem = project
+        .file_name()
+        .and_then(|n| n.to_str())
+        .and_then(|n| n.strip_suffix(PROJECT_SUFFIX))
+        .unwrap_or("project");
+    project.with_file_name(format!("{stem}.{extension}"))
+}
+
+/// Writes `text` to `path` atomically; a failure is a conflict naming the file as `shown`.
+fn write_file(path: &Path, text: &str, shown: &str) -> Result<(), ApiError> {
+    super::files::write_atomically(path, text.as_bytes())
+        .map_err(|e| ApiError::new(StatusCode::CONFLICT, format!("cannot write `{shown}`: {e}")))
 }
 
 /// A texture's image, read only from within the project's folder (a project file must not make
