@@ -307,23 +307,17 @@ pub async fn export(
         .map_err(unprocessable)?
         .name
         .clone();
-    if request.generations > MAX_GENERATIONS {
-        return Err(ApiError::bad_request(format!(
-            "at most {MAX_GENERATIONS} generations, not {}",
-            request.generations
-        )));
-    }
     let target = beside(&real, "glb");
     let folder = real.parent().map(Path::to_path_buf).unwrap_or_default();
-    tokio::task::spawn_blocking(move || {
-        let grammar = compile(&project).map_err(unprocessable)?;
-        let mut state = GrammarState::new(&grammar, &name)
-            .map_err(unprocessable)?
-            .with_seed(request.seed)
-            .with_generations(request.generations);
-        state.generate_all().map_err(unprocessable)?;
+    let run = Run {
+        name,
+        shape: None,
+        seed: request.seed,
+        generations: request.generations,
+    };
+    run.generated(project, move |state| {
         let model =
-            GrammarMesh::new(&state).to_model_with(|texture| texture_beside(&folder, texture));
+            GrammarMesh::new(state).to_model_with(|texture| texture_beside(&folder, texture));
         shapegram_export::save(&model, &target, &shapegram_export::ExportOptions::default())
             .map_err(|e| ApiError::new(StatusCode::CONFLICT, e.to_string()))?;
         let bytes = std::fs::metadata(&target).map_or(0, |m| m.len() as usize);
@@ -333,7 +327,6 @@ pub async fn export(
         }))
     })
     .await
-    .map_err(ApiError::internal)?
 }
 
 /// The file beside a project with its name and another extension (`house.sgproj.json` →
@@ -444,7 +437,7 @@ pub async fn preview(
 }
 
 /// Compiles `project` and runs `generations` generations from symbol `name` (from `shape`, or
-/// its prototype) on a blocking thread.
+/// its prototype) on a blocking thread, reported as the tester shows it.
 async fn generate(
     project: Project,
     name: String,
@@ -452,22 +445,14 @@ async fn generate(
     seed: u64,
     generations: u32,
 ) -> Result<Json<Generated>, ApiError> {
-    if generations > MAX_GENERATIONS {
-        return Err(ApiError::bad_request(format!(
-            "at most {MAX_GENERATIONS} generations, not {generations}"
-        )));
-    }
-    tokio::task::spawn_blocking(move || {
-        let grammar = compile(&project).map_err(unprocessable)?;
-        let mut state = GrammarState::new(&grammar, &name)
-            .map_err(unprocessable)?
-            .with_seed(seed)
-            .with_generations(generations);
-        if let Some(shape) = shape {
-            state = state.with_initial_shape(shape).map_err(unprocessable)?;
-        }
-        state.generate_all().map_err(unprocessable)?;
-        let mesh = GrammarMesh::new(&state);
+    let run = Run {
+        name,
+        shape,
+        seed,
+        generations,
+    };
+    run.generated(project, |state| {
+        let mesh = GrammarMesh::new(state);
         Ok(Json(Generated {
             generation: state.generation(),
             terminals: state.terminals().len(),
@@ -477,5 +462,45 @@ async fn generate(
         }))
     })
     .await
-    .map_err(ApiError::internal)?
+}
+
+/// A run of a project's compiled grammar, as the tester, the preview and the export ask for it.
+struct Run {
+    /// The symbol it starts from.
+    name: String,
+    /// The start shape's vertices, or the symbol's prototype.
+    shape: Option<Vec<shapegram_geom::DVec3>>,
+    seed: u64,
+    generations: u32,
+}
+
+impl Run {
+    /// Compiles `project`, runs the generations on a blocking thread and hands the final state
+    /// to `then`; more than [`MAX_GENERATIONS`] is refused before any work.
+    async fn generated<T: Send + 'static>(
+        self,
+        project: Project,
+        then: impl FnOnce(&GrammarState) -> Result<T, ApiError> + Send + 'static,
+    ) -> Result<T, ApiError> {
+        if self.generations > MAX_GENERATIONS {
+            return Err(ApiError::bad_request(format!(
+                "at most {MAX_GENERATIONS} generations, not {}",
+                self.generations
+            )));
+        }
+        tokio::task::spawn_blocking(move || {
+            let grammar = compile(&project).map_err(unprocessable)?;
+            let mut state = GrammarState::new(&grammar, &self.name)
+                .map_err(unprocessable)?
+                .with_seed(self.seed)
+                .with_generations(self.generations);
+            if let Some(shape) = self.shape {
+                state = state.with_initial_shape(shape).map_err(unprocessable)?;
+            }
+            state.generate_all().map_err(unprocessable)?;
+            then(&state)
+        })
+        .await
+        .map_err(ApiError::internal)?
+    }
 }
