@@ -377,7 +377,7 @@ pub fn brick_house() -> Result<Project, EditError> {
     let rule = a.rule("Block", "walls and roof", 1.0)?;
     let [body, roof] = a.split(rule, RuleTree::ROOT, -Y, 0.65)?;
     // The roof first: its cuts would cross no other sub-shape, but the plinth is cuttable.
-    let roof = tiled_gable(&mut a, rule, roof)?;
+    let roof = gable_cuts(&mut a, rule, roof)?;
     for face in 0..a.project.rule(rule)?.tree.node(roof)?.shape.face_count() {
         let normal = a
             .project
@@ -431,7 +431,7 @@ pub fn brick_house() -> Result<Project, EditError> {
 
 /// Cuts the front and back slopes off sub-shape `leaf` (a box), ridge along x; returns the
 /// prism left.
-fn tiled_gable(a: &mut Author, rule: Index, leaf: NodeId) -> Result<NodeId, EditError> {
+fn gable_cuts(a: &mut Author, rule: Index, leaf: NodeId) -> Result<NodeId, EditError> {
     let (lo, hi) = a.bounds(rule, leaf)?;
     let ridge_z = (lo.z + hi.z) / 2.0;
     let mut body = leaf;
@@ -484,7 +484,7 @@ fn recessed(
 /// coloured as wall.
 fn gable_roof(a: &mut Author) -> Result<Index, EditError> {
     let rule = a.rule("Roof", "gable", 1.0)?;
-    let body = gable_cuts(a, rule)?;
+    let body = gable_cuts(a, rule, RuleTree::ROOT)?;
     let roof = a
         .project
         .symbol_from_leaf(rule, body, "GableRoof", Anchor::new(0, 0))?;
@@ -503,7 +503,7 @@ fn gable_roof(a: &mut Author) -> Result<Index, EditError> {
 /// The roof box cut by four 3-point cuts into a pyramid.
 fn pyramid_roof(a: &mut Author) -> Result<Index, EditError> {
     let rule = a.rule("Roof", "pyramid", 1.0)?;
-    let body = gable_cuts(a, rule)?;
+    let body = gable_cuts(a, rule, RuleTree::ROOT)?;
     let (lo, hi) = a.bounds(rule, body)?;
     let apex = DVec3::new((lo.x + hi.x) / 2.0, hi.y, (lo.z + hi.z) / 2.0);
     let mut body = body;
@@ -521,25 +521,4 @@ fn pyramid_roof(a: &mut Author) -> Result<Index, EditError> {
         .symbol_from_leaf(rule, body, "PyramidRoof", Anchor::new(0, 0))?;
     a.project.set_color(roof, Color::from_hex("#8a3324"))?;
     Ok(rule)
-}
-
-/// Cuts the front and back slopes off the roof box; returns the prism left.
-fn gable_cuts(a: &mut Author, rule: Index) -> Result<NodeId, EditError> {
-    let (lo, hi) = a.bounds(rule, RuleTree::ROOT)?;
-    let ridge_z = (lo.z + hi.z) / 2.0;
-    let mut body = RuleTree::ROOT;
-    for z in [lo.z, hi.z] {
-        let cuts = a.project.three_point_cut(
-            rule,
-            [
-                DVec3::new(lo.x, lo.y, z),
-                DVec3::new(hi.x, lo.y, z),
-                DVec3::new(lo.x, hi.y, ridge_z),
-            ],
-        )?;
-        let (keep, drop) = a.larger(rule, cuts[0])?;
-        a.epsilon(rule, drop)?;
-        body = keep;
-    }
-    Ok(body)
 }
