@@ -309,7 +309,8 @@ pub struct DeriveArgs {
     #[arg(long, value_name = "FILE")]
     pub lots: Vec<PathBuf>,
     /// The coordinate system of GeoJSON lots: local (metres as they are), wgs84 (longitude and
-    /// latitude, RFC 7946) or a UTM zone EPSG:326zz/327zz; on the globe, lots are derived in
+    /// latitude, RFC 7946) or EPSG:<code> (a UTM zone such as EPSG:32633, a national grid); on
+    /// the globe, lots are derived in
     /// the east-north-up plane at the centre of their bounds (docs/tiles.md)
     #[arg(long, value_name = "CRS", default_value = "local", value_parser = parse_crs)]
     pub crs: Crs,

@@ -383,11 +383,13 @@ fn bad_lots_are_errors_or_warnings_naming_the_feature() {
         "derive",
         dir.path("nil.cga").to_str().unwrap(),
         "--crs",
-        "EPSG:3857",
+        "EPSG:4978",
     ]);
     assert_eq!(output.status.code(), Some(2));
     assert!(
-        stderr(&output).contains("unknown coordinate system 'EPSG:3857'"),
+        stderr(&output).contains(
+            "unknown coordinate system 'EPSG:4978': an Earth-centred system has no ground plane"
+        ),
         "{}",
         stderr(&output)
     );

@@ -4,10 +4,13 @@
 //! Earth-fixed (ECEF) ones and then to the east-north-up (ENU) tangent plane at one origin: the
 //! local frame. Lots are derived there, in metres with small coordinates, so a city far from
 //! any CRS's origin keeps its precision; the tileset's root transform (ENU → ECEF, in f64)
-//! puts the frame back on the globe.
+//! puts the frame back on the globe. Projections and datum shifts are proj4rs's, with the
+//! EPSG registry's definitions; the frame is ours.
 
+use std::cell::RefCell;
 use std::fmt;
 
+use proj4rs::Proj;
 use shapegram_geom::DVec3;
 
 /// WGS84's semi-major axis in metres.
@@ -16,57 +19,50 @@ const A: f64 = 6_378_137.0;
 const F: f64 = 1.0 / 298.257_223_563;
 /// The first eccentricity squared.
 const E2: f64 = F * (2.0 - F);
-/// UTM's scale factor on the central meridian.
-const UTM_K0: f64 = 0.9996;
-/// UTM's false easting.
-const UTM_EAST: f64 = 500_000.0;
-/// UTM's false northing in the southern hemisphere.
-const UTM_SOUTH: f64 = 10_000_000.0;
+/// Geodetic WGS84, the target of every projection's inverse (angles in radians).
+const WGS84_LONGLAT: &str = "+proj=longlat +datum=WGS84 +no_defs";
 
 /// The coordinate system of the positions in a lot file.
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Crs {
     /// Metres in the grammar's ground plane as they are (x east, y north), not on the globe.
     Local,
     /// Longitude and latitude in degrees on WGS84, as RFC 7946 GeoJSON has them (EPSG:4326).
     Wgs84,
-    /// A WGS84 UTM zone (EPSG:326zz north, EPSG:327zz south): easting and northing in metres.
-    Utm {
-        /// The zone, 1 to 60.
-        zone: u8,
-        /// Whether it is the northern hemisphere's zone (false northing 0).
-        north: bool,
-    },
+    /// Any other coordinate system of the EPSG registry that proj4rs knows: a projection
+    /// (UTM zones, national grids, Web Mercator) in its own units, or another datum's
+    /// longitude and latitude in degrees.
+    Epsg(u16),
 }
 
 impl Crs {
-    /// Reads `local`, `wgs84` (or `EPSG:4326`, `CRS84`) and `EPSG:32601`…`EPSG:32660` (UTM
-    /// north) or `EPSG:32701`…`EPSG:32760` (UTM south), case-insensitive.
+    /// Reads `local`, `wgs84` (or `EPSG:4326`, `CRS84`) and `EPSG:<code>` for the other codes
+    /// of the EPSG registry, case-insensitive.
     pub fn parse(text: &str) -> Result<Crs, String> {
         let lower = text.trim().to_ascii_lowercase();
-        let code = lower.strip_prefix("epsg:");
-        match (lower.as_str(), code) {
-            ("local", _) => return Ok(Crs::Local),
-            ("wgs84" | "crs84", _) | (_, Some("4326")) => return Ok(Crs::Wgs84),
+        match lower.as_str() {
+            "local" => return Ok(Crs::Local),
+            "wgs84" | "crs84" | "epsg:4326" => return Ok(Crs::Wgs84),
             _ => {}
         }
-        let utm = code.and_then(|c| c.parse::<u32>().ok()).and_then(|n| {
-            let zone = u8::try_from(n % 100)
-                .ok()
-                .filter(|z| (1..=60).contains(z))?;
-            match n / 100 {
-                326 => Some(Crs::Utm { zone, north: true }),
-                327 => Some(Crs::Utm { zone, north: false }),
-                _ => None,
-            }
-        });
-        utm.ok_or_else(|| {
+        let unknown = |why: &str| {
             format!(
-                "unknown coordinate system '{}': expected local, wgs84 (EPSG:4326) or a WGS84 UTM \
-                 zone EPSG:32601…32660 (north) or EPSG:32701…32760 (south)",
+                "unknown coordinate system '{}': {why}; expected local, wgs84 (EPSG:4326) or \
+                 EPSG:<code> (for example a UTM zone, EPSG:32633)",
                 text.escape_debug()
             )
-        })
+        };
+        let code = lower
+            .strip_prefix("epsg:")
+            .ok_or_else(|| unknown("not an EPSG code"))?;
+        let code = code
+            .parse::<u16>()
+            .map_err(|_| unknown("not an EPSG code"))?;
+        let proj = Proj::from_epsg_code(code).map_err(|e| unknown(&e.to_string()))?;
+        if proj.is_geocent() {
+            return Err(unknown("an Earth-centred system has no ground plane"));
+        }
+        Ok(Crs::Epsg(code))
     }
 
     /// Whether positions are on the globe (anything but [`Crs::Local`]).
@@ -79,32 +75,76 @@ impl Crs {
     pub fn to_geodetic(self, x: f64, y: f64) -> Result<Geodetic, String> {
         match self {
             Crs::Local => Err("local coordinates are not on the globe".to_owned()),
-            Crs::Wgs84 => {
-                if !(-180.0..=180.0).contains(&x) || !(-90.0..=90.0).contains(&y) {
-                    return Err(format!(
-                        "[{x}, {y}] is no longitude in [-180, 180] and latitude in [-90, 90] \
-                         (projected metres need --crs EPSG:… or local)"
-                    ));
+            Crs::Wgs84 => Geodetic::checked(x, y).ok_or_else(|| {
+                format!(
+                    "[{x}, {y}] is no longitude in [-180, 180] and latitude in [-90, 90] \
+                     (projected metres need --crs EPSG:… or local)"
+                )
+            }),
+            Crs::Epsg(code) => {
+                if let Some((zone, north)) = utm_zone(code) {
+                    // Within a zone eastings stay within about 160 km to 840 km and northings
+                    // within the hemisphere: beyond, the input is in another system.
+                    if !(100_000.0..=900_000.0).contains(&x) || !(0.0..=10_000_000.0).contains(&y) {
+                        return Err(format!(
+                            "[{x}, {y}] is outside UTM zone {zone}{} (easting 100,000 to \
+                             900,000 m, northing 0 to 10,000,000 m)",
+                            if north { "N" } else { "S" }
+                        ));
+                    }
                 }
-                Ok(Geodetic {
-                    longitude: x,
-                    latitude: y,
-                })
-            }
-            Crs::Utm { zone, north } => {
-                // Within a zone eastings stay within about 160 km to 840 km and northings
-                // within the hemisphere; beyond, the series below loses its accuracy.
-                if !(100_000.0..=900_000.0).contains(&x) || !(0.0..=UTM_SOUTH).contains(&y) {
-                    return Err(format!(
-                        "[{x}, {y}] is outside UTM zone {zone}{} (easting 100,000 to 900,000 m, \
-                         northing 0 to 10,000,000 m)",
-                        if north { "N" } else { "S" }
-                    ));
-                }
-                Ok(utm_inverse(zone, north, x, y))
+                inverse(code, x, y)
             }
         }
     }
+}
+
+/// The zone and hemisphere of a WGS84 UTM code (EPSG:326zz north, EPSG:327zz south).
+fn utm_zone(code: u16) -> Option<(u16, bool)> {
+    let zone = code % 100;
+    match (code / 100, zone) {
+        (326, 1..=60) => Some((zone, true)),
+        (327, 1..=60) => Some((zone, false)),
+        _ => None,
+    }
+}
+
+thread_local! {
+    /// The last system converted from and geodetic WGS84: lots come file by file, so one entry
+    /// spares parsing the definition for every position.
+    static PROJECTIONS: RefCell<Option<(u16, Proj, Proj)>> = const { RefCell::new(None) };
+}
+
+/// `(x, y)` of EPSG:`code` as geodetic WGS84.
+fn inverse(code: u16, x: f64, y: f64) -> Result<Geodetic, String> {
+    PROJECTIONS.with_borrow_mut(|cached| {
+        if cached.as_ref().is_none_or(|(c, _, _)| *c != code) {
+            let from = Proj::from_epsg_code(code).map_err(|e| format!("EPSG:{code}: {e}"))?;
+            let to = Proj::from_proj_string(WGS84_LONGLAT).map_err(|e| e.to_string())?;
+            *cached = Some((code, from, to));
+        }
+        let (_, from, to) = cached.as_ref().expect("filled above");
+        // proj4rs takes and gives angles in radians.
+        let mut p = if from.is_latlong() {
+            (x.to_radians(), y.to_radians(), 0.0)
+        } else {
+            (x, y, 0.0)
+        };
+        let input = p;
+        let mut back = None;
+        if proj4rs::transform::transform(from, to, &mut p).is_ok() {
+            let mut q = p;
+            back = proj4rs::transform::transform(to, from, &mut q)
+                .is_ok()
+                .then_some(q);
+        }
+        // Far outside a projection's area the inverse still gives a point (the pole, a wrapped
+        // longitude) that does not project back: that is an error, not a lot somewhere else.
+        let tolerance = if from.is_latlong() { 1e-9 } else { 1e-3 };
+        back.filter(|q| (q.0 - input.0).abs() <= tolerance && (q.1 - input.1).abs() <= tolerance)
+            .and_then(|_| Geodetic::checked(p.0.to_degrees(), p.1.to_degrees()))
+            .ok_or_else(|| format!("[{x}, {y}] is outside the area of EPSG:{code}"))
+    })
 }
 
 impl fmt::Display for Crs {
@@ -112,9 +152,7 @@ impl fmt::Display for Crs {
         match self {
             Crs::Local => f.write_str("local"),
             Crs::Wgs84 => f.write_str("EPSG:4326"),
-            Crs::Utm { zone, north } => {
-                write!(f, "EPSG:{}{zone:02}", if *north { 326 } else { 327 })
-            }
+            Crs::Epsg(code) => write!(f, "EPSG:{code}"),
         }
     }
 }
@@ -129,6 +167,16 @@ pub struct Geodetic {
 }
 
 impl Geodetic {
+    /// The position at `longitude`, `latitude` if both are finite and in range.
+    fn checked(longitude: f64, latitude: f64) -> Option<Self> {
+        ((-180.0..=180.0).contains(&longitude) && (-90.0..=90.0).contains(&latitude)).then_some(
+            Self {
+                longitude,
+                latitude,
+            },
+        )
+    }
+
     /// Its ECEF position in metres at `height` above the ellipsoid.
     pub fn to_ecef(self, height: f64) -> DVec3 {
         let (sin_lat, cos_lat) = self.latitude.to_radians().sin_cos();
@@ -139,47 +187,6 @@ impl Geodetic {
             (n + height) * cos_lat * sin_lon,
             (n * (1.0 - E2) + height) * sin_lat,
         )
-    }
-}
-
-/// UTM easting/northing to geodetic, by the series of Snyder, "Map Projections: A Working
-/// Manual" (USGS 1987), equations 8-18 to 8-25 and 3-26; better than a millimetre within a zone.
-fn utm_inverse(zone: u8, north: bool, easting: f64, northing: f64) -> Geodetic {
-    let ep2 = E2 / (1.0 - E2);
-    let m = (northing - if north { 0.0 } else { UTM_SOUTH }) / UTM_K0;
-    let mu = m / (A * (1.0 - E2 / 4.0 - 3.0 * E2 * E2 / 64.0 - 5.0 * E2 * E2 * E2 / 256.0));
-    let e1 = (1.0 - (1.0 - E2).sqrt()) / (1.0 + (1.0 - E2).sqrt());
-    let phi1 = mu
-        + (1.5 * e1 - 27.0 / 32.0 * e1.powi(3)) * (2.0 * mu).sin()
-        + (21.0 / 16.0 * e1 * e1 - 55.0 / 32.0 * e1.powi(4)) * (4.0 * mu).sin()
-        + 151.0 / 96.0 * e1.powi(3) * (6.0 * mu).sin()
-        + 1097.0 / 512.0 * e1.powi(4) * (8.0 * mu).sin();
-    let (sin1, cos1) = phi1.sin_cos();
-    let tan1 = sin1 / cos1;
-    let c1 = ep2 * cos1 * cos1;
-    let t1 = tan1 * tan1;
-    let w = 1.0 - E2 * sin1 * sin1;
-    let n1 = A / w.sqrt();
-    let r1 = A * (1.0 - E2) / w.powf(1.5);
-    let d = (easting - UTM_EAST) / (n1 * UTM_K0);
-    let latitude = phi1
-        - n1 * tan1 / r1
-            * (d * d / 2.0
-                - (5.0 + 3.0 * t1 + 10.0 * c1 - 4.0 * c1 * c1 - 9.0 * ep2) * d.powi(4) / 24.0
-                + (61.0 + 90.0 * t1 + 298.0 * c1 + 45.0 * t1 * t1 - 252.0 * ep2 - 3.0 * c1 * c1)
-                    * d.powi(6)
-                    / 720.0);
-    let central = f64::from(zone) * 6.0 - 183.0;
-    let longitude = central
-        + ((d - (1.0 + 2.0 * t1 + c1) * d.powi(3) / 6.0
-            + (5.0 - 2.0 * c1 + 28.0 * t1 - 3.0 * c1 * c1 + 8.0 * ep2 + 24.0 * t1 * t1)
-                * d.powi(5)
-                / 120.0)
-            / cos1)
-            .to_degrees();
-    Geodetic {
-        longitude,
-        latitude: latitude.to_degrees(),
     }
 }
 
@@ -234,58 +241,86 @@ mod tests {
         assert_eq!(Crs::parse("local"), Ok(Crs::Local));
         assert_eq!(Crs::parse("WGS84"), Ok(Crs::Wgs84));
         assert_eq!(Crs::parse("epsg:4326"), Ok(Crs::Wgs84));
-        assert_eq!(
-            Crs::parse("EPSG:32633"),
-            Ok(Crs::Utm {
-                zone: 33,
-                north: true
-            })
-        );
-        assert_eq!(
-            Crs::parse("EPSG:32760"),
-            Ok(Crs::Utm {
-                zone: 60,
-                north: false
-            })
-        );
-        for bad in ["EPSG:32661", "EPSG:32600", "EPSG:3857", "utm", ""] {
+        assert_eq!(Crs::parse("EPSG:32633"), Ok(Crs::Epsg(32633)));
+        assert_eq!(Crs::parse(" EPSG:2056 "), Ok(Crs::Epsg(2056)));
+        assert_eq!(Crs::parse("epsg:32733").unwrap().to_string(), "EPSG:32733");
+        for (bad, why) in [
+            ("EPSG:1", "projection not found"),
+            ("EPSG:4978", "Earth-centred"),
+            ("EPSG:4267", "NAD grid not available"),
+            ("EPSG:99999", "not an EPSG code"),
+            ("utm", "not an EPSG code"),
+            ("", "not an EPSG code"),
+        ] {
             let error = Crs::parse(bad).unwrap_err();
             assert!(error.starts_with("unknown coordinate system"), "{error}");
+            assert!(
+                error.to_lowercase().contains(&why.to_lowercase()),
+                "{error}"
+            );
         }
-        assert_eq!(Crs::parse("epsg:32733").unwrap().to_string(), "EPSG:32733");
     }
 
     #[test]
     fn utm_on_the_central_meridian_gives_the_meridian_arc() {
-        let utm = Crs::Utm {
-            zone: 33,
-            north: true,
-        };
+        let utm = Crs::Epsg(32633);
         let equator = utm.to_geodetic(500_000.0, 0.0).unwrap();
-        assert_eq!((equator.longitude, equator.latitude), (15.0, 0.0));
-        // The meridian arc from the equator to 45° on WGS84 is 4,984,944.378 m.
-        let p = utm.to_geodetic(500_000.0, 4_984_944.378 * UTM_K0).unwrap();
+        assert!(
+            (equator.longitude - 15.0).abs() < 1e-12 && equator.latitude.abs() < 1e-12,
+            "{equator:?}"
+        );
+        // The meridian arc from the equator to 45° on WGS84 is 4,984,944.378 m; UTM scales it
+        // by 0.9996 on the central meridian.
+        let p = utm.to_geodetic(500_000.0, 4_984_944.378 * 0.9996).unwrap();
         assert!((p.latitude - 45.0).abs() < 1e-8, "{p:?}");
-        assert_eq!(p.longitude, 15.0);
+        assert!((p.longitude - 15.0).abs() < 1e-12, "{p:?}");
     }
 
     #[test]
-    fn utm_inverse_finds_a_surveyed_point() {
-        // The CN Tower: 17T 630084 E 4833438 N is 43.642567° N, 79.387139° W (metre rounding:
-        // 1e-5° is about a metre).
-        let utm = Crs::parse("EPSG:32617").unwrap();
-        let p = utm.to_geodetic(630_084.0, 4_833_438.0).unwrap();
-        assert!((p.latitude - 43.642_567).abs() < 2e-5, "{p:?}");
-        assert!((p.longitude + 79.387_139).abs() < 2e-5, "{p:?}");
+    fn projections_find_surveyed_points() {
+        // (code, x, y, longitude, latitude, tolerance in degrees: 1e-5° is about a metre).
+        let points = [
+            // The CN Tower: 17T 630084 E 4833438 N is 43.642567° N, 79.387139° W.
+            (32617, 630_084.0, 4_833_438.0, -79.387_139, 43.642_567, 2e-5),
+            // The origin of the Swiss LV95 grid, the old observatory of Bern, 7°26′22.50″ E
+            // 46°57′08.66″ N on the Bessel ellipsoid: the datum shift to WGS84 moves it by
+            // about 100 m, to 7.438632° E 46.951083° N.
+            (2056, 2_600_000.0, 1_200_000.0, 7.438_632, 46.951_083, 2e-5),
+            // Web Mercator: y = R ln tan(π/4 + φ/2) on the sphere of radius 6,378,137 m.
+            (3857, 1_113_194.907_9, 0.0, 10.0, 0.0, 1e-9),
+        ];
+        for (code, x, y, longitude, latitude, tolerance) in points {
+            let p = Crs::Epsg(code).to_geodetic(x, y).unwrap();
+            assert!(
+                (p.longitude - longitude).abs() < tolerance
+                    && (p.latitude - latitude).abs() < tolerance,
+                "EPSG:{code}: {p:?}"
+            );
+        }
+        // Another datum's degrees go through its datum shift too.
+        let etrs89 = Crs::parse("EPSG:4258")
+            .unwrap()
+            .to_geodetic(9.0, 50.0)
+            .unwrap();
+        assert!((etrs89.longitude - 9.0).abs() < 1e-6 && (etrs89.latitude - 50.0).abs() < 1e-6);
     }
 
     #[test]
     fn out_of_range_positions_are_errors() {
         let error = Crs::Wgs84.to_geodetic(448_252.0, 5_411_935.0).unwrap_err();
         assert!(error.contains("no longitude in [-180, 180]"), "{error}");
-        let utm = Crs::parse("EPSG:32631").unwrap();
-        let error = utm.to_geodetic(2.29, 48.86).unwrap_err();
+        let error = Crs::Epsg(32631).to_geodetic(2.29, 48.86).unwrap_err();
         assert!(error.contains("outside UTM zone 31N"), "{error}");
+        let error = Crs::Epsg(3857).to_geodetic(1e12, 1e12).unwrap_err();
+        assert_eq!(
+            error,
+            "[1000000000000, 1000000000000] is outside the area of EPSG:3857"
+        );
+        let error = Crs::Epsg(2056).to_geodetic(f64::NAN, 0.0).unwrap_err();
+        assert!(
+            error.ends_with("is outside the area of EPSG:2056"),
+            "{error}"
+        );
     }
 
     #[test]
