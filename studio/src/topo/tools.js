@@ -228,6 +228,7 @@ export class Tools {
     } else if (this.tool === "three") {
       this.hover = this.edgePoint(x, y, keys);
       if (this.points.length === 2 && this.hover) this.ask(this.threePointAction([...this.points, this.hover]));
+      else if (this.sections.length) this.show([]);
       else this.decorate();
     }
   }
