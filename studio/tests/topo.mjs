@@ -744,6 +744,18 @@ async function wholePyramid(user, compiledExample) {
 async function texturedFace(user) {
   mkdirSync(join(folder, "textures"), { recursive: true });
   writeFileSync(join(folder, "textures/brick.png"), readFileSync(join(root, "examples/textures/brick.png")));
+  // The colours drawn along the middle of the strip's top face (x from 0.05 to 0.95 at
+  // y = 1, z = 0.95): one plain colour before, bricks and mortar after.
+  const shades = async () => {
+    const seen = [];
+    for (let k = 0; k < 19; k += 1) {
+      const at = await user.page.evaluate((p) => window.__topo.pointScreen(p), [0.05 + k * 0.05, 1, 0.95]);
+      const c = await pixelAt(user.page, at);
+      if (!seen.some((s) => Math.abs(s[0] - c[0]) + Math.abs(s[1] - c[1]) + Math.abs(s[2] - c[2]) <= 30)) seen.push(c);
+    }
+    return seen.length;
+  };
+  assert.equal(await shades(), 1, "the face is drawn in one colour before it has a texture");
   await user.clickFace(6, await faceTowards(user.page, 6, [0, 1, 0]));
   await user.click("#material-name");
   await user.press("Control+a");
@@ -765,6 +777,8 @@ async function texturedFace(user) {
   assert.equal(drawn.faces, 1, "one face is drawn with the texture");
   assert.equal(drawn.uvs, drawn.corners);
   assert.match(drawn.src, /\/api\/topo\/texture\?path=.*&texture=textures%2Fbrick\.png$/);
+  const textured = await shades();
+  assert.ok(textured >= 2, `the textured face shows ${textured} shades along its middle`);
 }
 
 const mayanFile = join(folder, "mayan.sgproj.json");
