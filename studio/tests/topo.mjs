@@ -10,10 +10,11 @@
 // `tier` keeps a stone slab (its bottom quarter) and, above it, a centre part with 10 % margins
 // removed all round, which becomes the next, smaller `Pyramid` (tasks 1-5); a `Stairs` ramp cut
 // by three points (6); `Steps` cut into four slabs (7) and all of them cut again at once (8);
-// then the prism cut's grid snapping and the symmetric three-part cut of thesis 4.4.
-// Task 9 (the thesis's free task: the rules used together) is not scripted.
+// then the prism cut's grid snapping and the symmetric three-part cut of thesis 4.4. Task 9
+// builds the whole pyramid of examples/topo_pyramid.sgproj.json in a fresh project, and its
+// compiled grammar must give the example's GLBs byte for byte for seeds 0 to 9.
 import { chromium } from "playwright-core";
-import { spawn } from "node:child_process";
+import { execFileSync, spawn } from "node:child_process";
 import { mkdirSync, mkdtempSync, readFileSync, rmSync, writeFileSync } from "node:fs";
 import { tmpdir } from "node:os";
 import { dirname, join, resolve } from "node:path";
@@ -116,8 +117,9 @@ class User {
     await this.clickFace(node, top);
   }
 
-  /** A face cut as the thesis's users made it: select the face, C, the distance, Enter. */
-  async faceCut(node, direction, distance) {
+  /** A face cut as the thesis's users made it: select the face, C, the distance, Enter;
+   * `pending` checks the page before Enter. */
+  async faceCut(node, direction, distance, pending = async () => {}) {
     const face = await faceTowards(this.page, node, direction);
     await this.clickFace(node, face);
     await this.press("c");
@@ -126,8 +128,26 @@ class User {
     const to = await this.page.evaluate(([n, f]) => window.__topo.faceScreen(n, f), [node, face]);
     await this.point({ x: to.x - 30, y: to.y + 10 });
     await this.type(String(distance));
+    await pending();
     await this.press("Enter");
   }
+}
+
+/** The sections of the pending cut the edit view draws (the server's), each polygon's corners
+ * rounded and sorted, the polygons sorted. */
+async function pendingSections(page) {
+  const sections = await page.evaluate(() => window.__topo.tools.sections);
+  const round = (p) => p.map((v) => Math.round(v * 1e9) / 1e9 + 0);
+  const key = (p) => JSON.stringify(p);
+  return sections
+    .map((polygon) => polygon.map(round).sort((a, b) => key(a).localeCompare(key(b))))
+    .sort((a, b) => key(a).localeCompare(key(b)));
+}
+
+/** A rectangle's corners sorted as `pendingSections` sorts them. */
+function sortedCorners(corners) {
+  const key = (p) => JSON.stringify(p);
+  return corners.map((p) => p.map((v) => v + 0)).sort((a, b) => key(a).localeCompare(key(b)));
 }
 
 /** The face of sub-shape `node` whose normal points along `direction` (read from the page). */
@@ -297,6 +317,27 @@ async function recursion(user) {
   // The preview is drawn over the centre: the edit view's pixels change.
   const changed = differing(without, await canvasPixels(user.page, "canvas"));
   assert.ok(changed > 200, `the preview changed ${changed} pixels of the edit view`);
+  // Dragging the anchor's arrow onto the front face, near its top left corner, moves the anchor
+  // there in one action (the corner nearest the drop); the preview follows it.
+  const previewOf = () => user.page.evaluate(() => window.__topo.previewMesh.map((p) => p.positions));
+  const previewBefore = await previewOf();
+  const grip = await user.page.evaluate(() => {
+    const { from, to } = window.__topo.part(9).anchor;
+    return window.__topo.pointScreen(from.map((v, i) => (v + to[i]) / 2));
+  });
+  const corner = [0.1, 1, 0.9];
+  const drop = await nearCorner(user.page, 9, front, corner);
+  const dragStart = user.actions;
+  await user.drag(grip, drop);
+  assert.equal(user.actions - dragStart, 1, "moving an anchor by dragging takes one action");
+  const dragged = await anchorOf(user.page, 9);
+  assert.deepEqual([dragged.face, dragged.from], [front, corner]);
+  const previewAfter = await previewOf();
+  assert.equal(previewAfter.reduce((n, p) => n + p.length / 9, 0), 24);
+  assert.notDeepEqual(previewAfter, previewBefore, "the preview follows the dragged anchor");
+  await user.press("Control+z");
+  assert.deepEqual(await anchorOf(user.page, 9), placed);
+  assert.deepEqual(await previewOf(), previewBefore);
   await user.press("Control+s");
   const tree = saved().rules[0].tree;
   assert.deepEqual(tree.cut.above.cut.above.cut.below.cut.above.cut.below,
@@ -339,9 +380,15 @@ async function threePointCut(user) {
   user.actions += 1;
   for (const [face, vertex] of [[top, [0, 1, 0]], [top, [1, 1, 0]], [front, [0, 0, 1]]]) {
     await user.point(await nearCorner(user.page, 0, face, vertex));
+    await user.settle();
+    if (vertex[2] === 1) {
+      // Two points locked, the third under the pointer: the section the cut would make.
+      assert.deepEqual(await pendingSections(user.page), [sortedCorners([[0, 1, 0], [1, 1, 0], [1, 0, 1], [0, 0, 1]])]);
+    }
     await user.rightClickAt(await nearCorner(user.page, 0, face, vertex));
   }
   await user.page.keyboard.up("Shift");
+  assert.deepEqual(await pendingSections(user.page), [], "nothing pending after the cut");
   // The plane's normal by the right-hand rule over the points: (0, −1, −1)/√2, so the ramp
   // (y + z < 1) is the part above the plane (node 2) and the air the part below (node 1).
   await user.selectShape(1);
@@ -362,6 +409,9 @@ async function multiCut(user) {
   await user.press("Control+a");
   await user.type("3");
   await user.clickFace(0, await faceTowards(user.page, 0, [0, 1, 0]));
+  // The selected face shows where "C" will cut: three squares across the cube.
+  const square = (y) => sortedCorners([[0, y, 0], [1, y, 0], [1, y, 1], [0, y, 1]]);
+  assert.deepEqual(await pendingSections(user.page), [square(0.25), square(0.5), square(0.75)]);
   await user.press("c");
   await user.press("Control+s");
   assert.deepEqual(saved().rules[2].tree,
@@ -378,7 +428,13 @@ async function multiCut(user) {
 async function globalCut(user) {
   await user.click("#tool-face");
   await user.click("#global");
-  await user.faceCut(2, [0, 0, 1], 0.5);
+  // While the plane is pending it is drawn where it cuts: across all four slabs, not only the
+  // face it started from.
+  const across = (y0, y1) => sortedCorners([[0, y0, 0.5], [1, y0, 0.5], [1, y1, 0.5], [0, y1, 0.5]]);
+  await user.faceCut(2, [0, 0, 1], 0.5, async () => {
+    assert.deepEqual(await pendingSections(user.page),
+      [across(0, 0.25), across(0.25, 0.5), across(0.5, 0.75), across(0.75, 1)]);
+  });
   await user.selectShape(14);
   await user.press("Delete");
   await user.press("Control+s");
@@ -532,6 +588,201 @@ async function threePointGrid(user) {
   assert.deepEqual(rule.tree, cut(0, [0.25, 1, 0], [1, 0, 0], "terminal", "terminal"));
 }
 
+/** Selects sub-shape `node` by its row in the rule tree (one click). */
+async function chooseLeaf(user, node) {
+  await user.click(`.tree-row[data-node='${node}'] .leaf`);
+}
+
+/** Removes sub-shape `node`: its row in the rule tree, then Delete. */
+async function removeLeaf(user, node) {
+  await chooseLeaf(user, node);
+  await user.press("Delete");
+}
+
+/** Clicks the face of `node` towards `direction` and checks that the click selected it. */
+async function selectFace(user, node, direction) {
+  const face = await faceTowards(user.page, node, direction);
+  await user.clickFace(node, face);
+  const selection = await user.page.evaluate(() => window.__topo.selection);
+  assert.deepEqual(selection && [selection.node, selection.face, selection.mode], [node, face, "face"],
+    `a click on face ${face} of sub-shape ${node} selected ${JSON.stringify(selection)}`);
+}
+
+/** Types a colour into the explorer's colour field of the symbol shown, Enter applies it. */
+async function colorSymbol(user, color) {
+  await user.click("#symbol-color");
+  await user.press("Control+a");
+  await user.type(color);
+  await user.press("Enter");
+}
+
+/** A new box symbol: name, Tab, its three sides, Enter; then its colour. */
+async function newBoxSymbol(user, name, size, color) {
+  await user.click("#new-symbol");
+  await user.type(name);
+  for (const side of size) {
+    await user.press("Tab");
+    await user.type(String(side));
+  }
+  await user.press("Enter");
+  await colorSymbol(user, color);
+}
+
+/** Turns the edit view by dragging from its centre by (dx, dy) pixels. */
+async function turnView(user, dx, dy) {
+  const box = await user.page.locator("#canvas").boundingBox();
+  const from = { x: box.x + box.width / 2, y: box.y + box.height / 2 };
+  await user.drag(from, { x: from.x + dx, y: from.y + dy });
+}
+
+/** Task 9, the whole Mayan pyramid (Figure 48), in a fresh project. Target: exactly
+ * examples/topo_pyramid.sgproj.json: a 16 × 8 × 16 `Pyramid` and a 16 × 2 × 16 `Stone`, each
+ * in its colour; the rule `tier` cuts the pyramid's bottom quarter off as a `Stone` (prism cut
+ * from the bottom face), takes 10 % margins off left and right and off back and front
+ * (three-part cuts), makes the centre a `Pyramid` again, and in the middle of the front
+ * margin (a 0.4 three-part cut) keeps the bottom quarter (a prism cut) cut into a ramp by a
+ * 3-point cut through its top back edge and its bottom front-left corner; the ramp becomes
+ * the symbol `Stairs` of its own shape. The saved project equals the example byte for byte,
+ * and the compiled grammar derives the example's GLBs for seeds 0 to 9. */
+async function wholePyramid(user, compiledExample) {
+  await newBoxSymbol(user, "Pyramid", [16, 8, 16], "#c9b48a");
+  await newBoxSymbol(user, "Stone", [16, 2, 16], "#b39d74");
+  await user.click("button.entry.symbol[data-symbol='0']");
+  await user.click("#new-rule");
+  await user.click("#rename");
+  await user.type("tier");
+  await user.press("Enter");
+  // Seen from below, behind and to the left: the bottom, left and back faces the cuts start
+  // from (a drag right half round and up under the model).
+  await turnView(user, 360, -120);
+  // The slab: a prism cut a quarter up from the bottom face; it becomes a Stone.
+  await user.click("#tool-prism");
+  await selectFace(user, 0, [0, -1, 0]);
+  await user.press("c");
+  await user.type("0.25");
+  await user.press("Enter");
+  await chooseLeaf(user, 2);
+  await user.click("button.assign-symbol[data-symbol='1']");
+  // The margins: three-part cuts from the left face (its default margin is 0.1) ...
+  await user.click("#tool-symmetric");
+  assert.equal(await user.page.locator("#margin").inputValue(), "0.1");
+  await selectFace(user, 1, [-1, 0, 0]);
+  await user.press("c");
+  await removeLeaf(user, 4);
+  await removeLeaf(user, 5);
+  // ... and from the back face of the middle; its centre is the next Pyramid.
+  await selectFace(user, 6, [0, 0, -1]);
+  await user.press("c");
+  await removeLeaf(user, 8);
+  await chooseLeaf(user, 10);
+  await user.click("button.assign-symbol[data-symbol='0']");
+  // The stairs: the middle of the front margin, from its left face with a margin of 0.4.
+  await user.click("#margin");
+  await user.press("Control+a");
+  await user.type("0.4");
+  await selectFace(user, 9, [-1, 0, 0]);
+  await user.press("c");
+  await removeLeaf(user, 12);
+  await removeLeaf(user, 13);
+  // Its bottom quarter, cut from its bottom face, which the slab hides: hide the slab.
+  await user.click(".tree-row[data-node='2'] .eye");
+  await user.click("#tool-prism");
+  await selectFace(user, 14, [0, -1, 0]);
+  await user.press("c");
+  await user.type("0.25");
+  await user.press("Enter");
+  await removeLeaf(user, 15);
+  // The ramp: back to the front view; three points on the vertices (Shift held): the top
+  // face's back-left and back-right corners, then the front face's bottom-left corner.
+  await turnView(user, -360, 120);
+  await user.click("#tool-three");
+  const bounds = await user.page.evaluate(() => {
+    const corners = window.__topo.part(16).faces.flat();
+    return [0, 1, 2].map((i) => [Math.min(...corners.map((p) => p[i])), Math.max(...corners.map((p) => p[i]))]);
+  });
+  const [[x0, x1], [y0, y1], [z0, z1]] = bounds;
+  const top = await faceTowards(user.page, 16, [0, 1, 0]);
+  const front = await faceTowards(user.page, 16, [0, 0, 1]);
+  await user.page.keyboard.down("Shift");
+  user.actions += 1;
+  for (const [face, vertex] of [[top, [x0, y1, z0]], [top, [x1, y1, z0]], [front, [x0, y0, z1]]]) {
+    const at = await nearCorner(user.page, 16, face, vertex);
+    await user.point(at);
+    assert.deepEqual(await user.page.evaluate(() => window.__topo.tools.hover?.at), vertex,
+      "Shift puts the point on the vertex exactly");
+    await user.rightClickAt(at);
+  }
+  await user.page.keyboard.up("Shift");
+  await removeLeaf(user, 17);
+  // The ramp becomes a symbol of its own shape, renamed Stairs and coloured.
+  await chooseLeaf(user, 18);
+  await user.click("#symbol-from-leaf");
+  await user.click("button.entry.symbol[data-symbol='2']");
+  await user.click("#rename");
+  await user.type("Stairs");
+  await user.press("Enter");
+  await colorSymbol(user, "#8f7a55");
+  await user.press("Control+s");
+  await user.click("#compile");
+  assert.equal(readFileSync(mayanFile, "utf8"), readFileSync(join(root, "examples/topo_pyramid.sgproj.json"), "utf8"),
+    "the project built in the editor is the example, byte for byte");
+  const grammar = join(folder, "mayan.grammar");
+  assert.match(await user.page.locator("#status").textContent(), /^compiled to .*mayan\.grammar$/);
+  for (let seed = 0; seed < 10; seed += 1) {
+    const ours = join(folder, `mayan-${seed}.glb`);
+    const theirs = join(folder, `example-${seed}.glb`);
+    execFileSync(binary, ["topo", "-q", grammar, "--seed", String(seed), "-o", ours]);
+    execFileSync(binary, ["topo", "-q", compiledExample, "--seed", String(seed), "-o", theirs]);
+    const [a, b] = [readFileSync(ours), readFileSync(theirs)];
+    assert.ok(a.length > 1000 && a.equals(b), `seed ${seed}: the GLBs differ (${a.length} and ${b.length} bytes)`);
+  }
+}
+
+/** Textures in the edit view. Target: the top face of the strip cut off in the last task gets
+ * a material `brick` with the example's brick texture (a file beside the project); the edit
+ * view draws that face with the image, loaded from the studio. */
+async function texturedFace(user) {
+  mkdirSync(join(folder, "textures"), { recursive: true });
+  writeFileSync(join(folder, "textures/brick.png"), readFileSync(join(root, "examples/textures/brick.png")));
+  // The colours drawn along the middle of the strip's top face (x from 0.05 to 0.95 at
+  // y = 1, z = 0.95): one plain colour before, bricks and mortar after.
+  const shades = async () => {
+    const seen = [];
+    for (let k = 0; k < 19; k += 1) {
+      const at = await user.page.evaluate((p) => window.__topo.pointScreen(p), [0.05 + k * 0.05, 1, 0.95]);
+      const c = await pixelAt(user.page, at);
+      if (!seen.some((s) => Math.abs(s[0] - c[0]) + Math.abs(s[1] - c[1]) + Math.abs(s[2] - c[2]) <= 30)) seen.push(c);
+    }
+    return seen.length;
+  };
+  assert.equal(await shades(), 1, "the face is drawn in one colour before it has a texture");
+  await user.clickFace(6, await faceTowards(user.page, 6, [0, 1, 0]));
+  await user.click("#material-name");
+  await user.press("Control+a");
+  await user.type("brick");
+  await user.click("#material-texture");
+  await user.type("textures/brick.png");
+  await user.click("#apply-material");
+  await user.press("Escape");
+  await user.page.waitForFunction(() => {
+    const mesh = window.__topo.edit.shapes.children.find((o) => o.isMesh && o.userData.part.node === 6);
+    return [mesh?.material].flat().some((m) => m?.map?.image?.complete && m.map.image.naturalWidth > 0);
+  }, null, { timeout: 10000 });
+  const drawn = await user.page.evaluate(() => {
+    const mesh = window.__topo.edit.shapes.children.find((o) => o.isMesh && o.userData.part.node === 6);
+    const textured = mesh.material.findIndex((m) => m.map);
+    const faces = mesh.geometry.groups.filter((g) => g.materialIndex === textured).length;
+    return { faces, uvs: mesh.geometry.getAttribute("uv")?.count, corners: mesh.geometry.getAttribute("position").count, src: mesh.material[textured].map.image.src };
+  });
+  assert.equal(drawn.faces, 1, "one face is drawn with the texture");
+  assert.equal(drawn.uvs, drawn.corners);
+  assert.match(drawn.src, /\/api\/topo\/texture\?path=.*&texture=textures%2Fbrick\.png$/);
+  const textured = await shades();
+  assert.ok(textured >= 2, `the textured face shows ${textured} shades along its middle`);
+}
+
+const mayanFile = join(folder, "mayan.sgproj.json");
+
 const { child, url } = await startStudio([projectFile]);
 const browser = await chromium.launch({
   executablePath: browserPath,
@@ -610,6 +861,11 @@ try {
   await page.screenshot({ path: join(output, "topo-material.png") });
   console.log(`Absolute-distance cut and face material: ${materials.actions} user actions`);
 
+  const texturing = new User(page);
+  await texturedFace(texturing);
+  await page.screenshot({ path: join(output, "topo-texture.png") });
+  console.log(`Textured face: ${texturing.actions} user actions`);
+
   // Export GLB writes the tester's model (Steps, seed 7, 3 generations) beside the project.
   const exporter = new User(page);
   await exporter.click("#export");
@@ -621,6 +877,17 @@ try {
   await threePointGrid(gridded);
   await page.screenshot({ path: join(output, "topo-three-point-grid.png") });
   console.log(`3-point cut with grid snapping: ${gridded.actions} user actions`);
+
+  // Task 9 in a fresh project, opened at its address; the example compiled by the CLI.
+  writeFileSync(mayanFile, "");
+  await page.goto(`${url}topo?path=${encodeURIComponent(mayanFile)}`);
+  await page.waitForFunction(() => window.__topo && window.__topo.state !== null && window.__topo.requests.pending === 0);
+  const compiledExample = join(folder, "example.grammar");
+  execFileSync(binary, ["topo", "compile", "-q", join(root, "examples/topo_pyramid.sgproj.json"), "-o", compiledExample]);
+  const builder = new User(page);
+  await wholePyramid(builder, compiledExample);
+  await page.screenshot({ path: join(output, "topo-task-9.png") });
+  console.log(`Task 9, the whole Mayan pyramid: ${builder.actions} user actions (GLBs of seeds 0-9 equal the example's)`);
 
   assert.deepEqual(problems, [], "errors in the page's console");
   console.log(`split grammar editor browser test: ok (screenshots in ${output})`);

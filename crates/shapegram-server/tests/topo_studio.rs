@@ -837,3 +837,213 @@ async fn the_tester_model_is_exported_as_glb_beside_the_project() {
     let faces: usize = model.parts.iter().map(|p| p.mesh.face_count()).sum();
     assert_eq!(json!(faces), tested["triangles"]);
 }
+
+/// A polygon's corners rounded to 1e-9 and sorted, for comparing sections.
+fn corners(polygon: &Value) -> Vec<[i64; 3]> {
+    let mut corners: Vec<[i64; 3]> = polygon
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|p| std::array::from_fn(|i| (p[i].as_f64().unwrap() * 1e9).round() as i64))
+        .collect();
+    corners.sort();
+    corners
+}
+
+#[tokio::test]
+async fn a_pending_cut_answers_its_exact_sections_and_changes_nothing() {
+    let studio = Studio::new("");
+    studio.open().await;
+    studio
+        .act(json!({ "kind": "add_symbol", "name": "Steps" }))
+        .await;
+    studio
+        .act(json!({ "kind": "add_rule", "symbol": 0, "name": "slabs" }))
+        .await;
+    // Face 3 is the top: three cuts from it make four slabs; pending, they are three squares
+    // across the cube.
+    let path = studio.path();
+    let multi = json!({ "kind": "multi_cut", "rule": 0, "node": 0, "face": 3, "cuts": 3 });
+    let (status, pending) = studio
+        .post(
+            "/api/topo/sections",
+            json!({ "path": path, "action": multi }),
+        )
+        .await;
+    assert_eq!(status, StatusCode::OK, "{pending}");
+    let square = |y: i64| {
+        let mut c = vec![
+            [0, y, 0],
+            [1_000_000_000, y, 0],
+            [1_000_000_000, y, 1_000_000_000],
+            [0, y, 1_000_000_000],
+        ];
+        c.sort();
+        c
+    };
+    let mut squares: Vec<_> = pending["sections"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(corners)
+        .collect();
+    squares.sort();
+    assert_eq!(
+        squares,
+        [
+            square(250_000_000),
+            square(500_000_000),
+            square(750_000_000)
+        ]
+    );
+    let answer = studio.act(multi).await;
+    let top = answer["made"]["nodes"][0].clone();
+    let undo = answer["state"]["undo"].clone();
+    let part = answer["state"]["edit"]["parts"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|p| p["node"] == top)
+        .unwrap();
+    let front = part["normals"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .position(|n| n[2].as_f64().unwrap() > 0.99)
+        .unwrap();
+    // A global face cut half way into the top slab's front face crosses all four slabs: four
+    // rectangles at z = 0.5, where the face alone would give one.
+    let global = json!({ "kind": "face_cut", "rule": 0, "node": top, "face": front, "distance": 0.5, "global": true });
+    let (_, pending) = studio
+        .post(
+            "/api/topo/sections",
+            json!({ "path": path, "action": global }),
+        )
+        .await;
+    let sections = pending["sections"].as_array().unwrap();
+    assert_eq!(sections.len(), 4);
+    for section in sections {
+        let c = corners(section);
+        assert!(c.iter().all(|p| p[2] == 500_000_000), "{c:?}");
+        assert_eq!(c.len(), 4);
+    }
+    let (_, pending) = studio
+        .post(
+            "/api/topo/sections",
+            json!({ "path": path, "action": { "kind": "face_cut", "rule": 0, "node": top, "face": front, "distance": 0.5 } }),
+        )
+        .await;
+    assert_eq!(pending["sections"].as_array().unwrap().len(), 1);
+    // Nothing was cut: the session is as the multi-cut left it.
+    let (_, state) = studio
+        .post(
+            "/api/topo/state",
+            json!({ "path": path, "view": { "rule": 0 } }),
+        )
+        .await;
+    assert_eq!(
+        (
+            state["undo"].clone(),
+            state["edit"]["parts"].as_array().unwrap().len()
+        ),
+        (undo, 4)
+    );
+    // A cut that would be refused has no sections and says why; a step that is no cut is a
+    // bad request.
+    let (status, pending) = studio
+        .post(
+            "/api/topo/sections",
+            json!({ "path": path, "action": { "kind": "prism_cut", "rule": 0, "node": top, "face": 3, "fraction": 1.5 } }),
+        )
+        .await;
+    assert_eq!(status, StatusCode::OK);
+    assert_eq!(
+        pending,
+        json!({ "sections": [],
+                "refused": "a prism cut's fraction 1.5 must lie strictly between 0 and 1" })
+    );
+    let (status, error) = studio
+        .post(
+            "/api/topo/sections",
+            json!({ "path": path, "action": { "kind": "rename_rule", "rule": 0, "name": "x" } }),
+        )
+        .await;
+    assert_eq!(status, StatusCode::BAD_REQUEST);
+    assert_eq!(error["error"], "only a cut has sections");
+}
+
+#[tokio::test]
+async fn a_textured_face_has_texture_coordinates_and_its_image_is_served() {
+    let studio = Studio::new("");
+    studio.open().await;
+    studio
+        .act(json!({ "kind": "add_symbol", "name": "Wall", "size": [4, 3, 1] }))
+        .await;
+    studio
+        .act(json!({ "kind": "add_rule", "symbol": 0, "name": "bricks" }))
+        .await;
+    let image = b"\x89PNG\r\n\x1a\n not really an image".to_vec();
+    let folder = studio.project.parent().unwrap().to_path_buf();
+    std::fs::create_dir(folder.join("textures")).unwrap();
+    std::fs::write(folder.join("textures/brick.png"), &image).unwrap();
+    // Face 5 is the front (+z), 4 × 3 m: in tiles of 0.5 × 0.25 m, u runs along x and v up y.
+    let brick = json!({ "name": "brick", "texture": "textures/brick.png", "tile": [0.5, 0.25] });
+    let answer = studio
+        .act(json!({ "kind": "face_material", "rule": 0, "node": 0, "face": 5, "material": brick }))
+        .await;
+    let part = &answer["state"]["edit"]["parts"][0];
+    let positions = part["positions"].as_array().unwrap();
+    let uvs = part["uvs"].as_array().unwrap();
+    assert_eq!(uvs.len(), positions.len() / 3 * 2);
+    let faces = part["triangle_faces"].as_array().unwrap();
+    for (t, face) in faces.iter().enumerate() {
+        for k in 0..3 {
+            let corner = 3 * t + k;
+            let (u, v) = (
+                uvs[2 * corner].as_f64().unwrap(),
+                uvs[2 * corner + 1].as_f64().unwrap(),
+            );
+            if face == 5 {
+                let (x, y) = (
+                    positions[3 * corner].as_f64().unwrap(),
+                    positions[3 * corner + 1].as_f64().unwrap(),
+                );
+                assert_eq!((u, v), (x / 0.5, y / 0.25));
+            } else {
+                assert_eq!((u, v), (0.0, 0.0));
+            }
+        }
+    }
+    let get = |query: String| {
+        let router = studio.router.clone();
+        async move {
+            let response = router
+                .oneshot(
+                    Request::builder()
+                        .uri(format!("/api/topo/texture?{query}"))
+                        .header("host", "127.0.0.1:7370")
+                        .body(Body::empty())
+                        .unwrap(),
+                )
+                .await
+                .unwrap();
+            let status = response.status();
+            let kind = response.headers().get("content-type").cloned();
+            let bytes = response.into_body().collect().await.unwrap().to_bytes();
+            (status, kind, bytes.to_vec())
+        }
+    };
+    let project = studio.path().replace('/', "%2F");
+    let (status, kind, bytes) = get(format!("path={project}&texture=textures%2Fbrick.png")).await;
+    assert_eq!((status, bytes), (StatusCode::OK, image));
+    assert_eq!(kind.unwrap(), "image/png");
+    // Only files inside the project's folder, and only those that exist.
+    for texture in [
+        "..%2Fpyramid.sgproj.json",
+        "%2Fetc%2Fpasswd",
+        "textures%2Fnone.png",
+    ] {
+        let (status, _, _) = get(format!("path={project}&texture={texture}")).await;
+        assert_eq!(status, StatusCode::NOT_FOUND, "{texture}");
+    }
+}

@@ -301,6 +301,11 @@ impl Project {
             }
             distance = ((distance / step).round() * step).min(length);
         }
+        // The far end is the vertex itself: `a + (b − a)` can miss `b` by a rounding, and a
+        // point snapped to a vertex must cut exactly through it.
+        if distance >= length {
+            return Ok(b);
+        }
         Ok(a + (b - a) * (distance / length))
     }
 

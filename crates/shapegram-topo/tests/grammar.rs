@@ -561,6 +561,41 @@ fn three_cut_points_can_sit_on_edges_snapped_to_a_grid() {
 }
 
 #[test]
+fn a_three_cut_point_at_the_end_of_an_edge_is_that_vertex_exactly() {
+    // A box from x = 5.101 to x = 15.275, where 5.101 + (15.275 − 5.101) is 15.274999999999999.
+    let (low, high) = (5.101_f64, 15.275_f64);
+    assert_ne!(low + (high - low), high);
+    let unit = shapegram_topo::Polyhedron::cuboid(DVec3::ZERO, DVec3::ONE).unwrap();
+    let stretched = unit
+        .positions()
+        .iter()
+        .map(|p| DVec3::new(if p.x > 0.0 { high } else { low }, p.y, p.z))
+        .collect();
+    let mut p = Project::new();
+    let a = p
+        .add_symbol(
+            "A",
+            unit.with_positions(stretched).unwrap(),
+            Anchor::new(3, 0),
+        )
+        .unwrap();
+    let rule = p.add_rule(a, "corner", 1.0).unwrap();
+    // Face 2 is the bottom [0, 1, 5, 4]; corner 0 runs from (5.101,0,0) to (15.275,0,0).
+    let along = Anchor::new(2, 0);
+    let end = DVec3::new(high, 0.0, 0.0);
+    assert_eq!(
+        p.edge_point(rule, RuleTree::ROOT, along, 1.0, None)
+            .unwrap(),
+        end
+    );
+    assert_eq!(
+        p.edge_point(rule, RuleTree::ROOT, along, 0.99, Some(4.0))
+            .unwrap(),
+        end
+    );
+}
+
+#[test]
 fn topology_mismatches_are_refused_with_a_reason() {
     let mut p = Project::new();
     let a = p.add_box_symbol("A", DVec3::ONE).unwrap();

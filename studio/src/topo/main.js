@@ -12,6 +12,8 @@ import { Tester } from "./tester.js";
 const $ = (id) => document.getElementById(id);
 /** Pointer travel (pixels) below which a press and release is a click, not a drag. */
 const CLICK_SLOP = 5;
+/** An anchor being dragged to another face: its sub-shape and the face under the pointer. */
+let anchorDrag = null;
 
 const app = {
   path: new URLSearchParams(location.search).get("path"),
@@ -46,6 +48,7 @@ const app = {
     } else {
       app.show(answer.state);
     }
+    await app.followPreview();
     app.status(`${action.kind.replaceAll("_", " ")} done`);
   },
 
@@ -67,8 +70,9 @@ const app = {
     if (app.selection && !state.edit.parts.some((p) => p.node === app.selection.node)) app.selection = null;
     explorer.show(state, app.view);
     const key = state.edit.rule != null ? `rule ${state.edit.rule}` : `symbol ${state.edit.symbol}`;
-    edit.show(state.edit.parts, key, state.materials);
+    edit.show(state.edit.parts, key, state.materials, app.textureUrl);
     tree.show(state, app.view, app.selection);
+    tools.selected();
     $("undo").disabled = state.undo === 0;
     $("redo").disabled = state.redo === 0;
     $("save").classList.toggle("dirty", state.dirty);
@@ -78,6 +82,11 @@ const app = {
       ? `rule ${rule.name} of ${state.symbols[rule.symbol].name}`
       : app.view.symbol != null ? `symbol ${state.symbols[app.view.symbol].name}` : "nothing chosen";
     app.decorate();
+  },
+
+  /** Where the server serves the image of a material's texture (a path beside the project). */
+  textureUrl(texture) {
+    return `/api/topo/texture?path=${encodeURIComponent(app.path)}&texture=${encodeURIComponent(texture)}`;
   },
 
   part(node) {
@@ -94,7 +103,14 @@ const app = {
     app.selection = selection;
     if (app.previewing !== selection?.node) app.previewing = null;
     tree.show(app.state, app.view, selection);
+    tools.selected();
     app.decorate();
+  },
+
+  /** The anchor of the selected sub-shape when it is drawn (a symbol's, not hidden). */
+  selectedAnchor() {
+    const part = app.selection && app.part(app.selection.node);
+    return part?.anchor && !part.hidden ? part : null;
   },
 
   async setVisible(node, visible) {
@@ -116,7 +132,7 @@ const app = {
     const anchors = (app.state?.edit.parts || [])
       .filter((p) => p.anchor && !p.hidden && (app.selection?.node === p.node))
       .map((p) => p.anchor);
-    edit.decorate({ selection: app.selection, anchors, preview: app.previewing != null ? app.previewMesh : null, ...tools.overlays() });
+    edit.decorate({ selection: app.selection, anchors, preview: app.previewing != null ? app.previewMesh : null, target: anchorDrag?.target, ...tools.overlays() });
   },
 
   /** The face cycle of Fig. 15: a face, then its shape, then nothing. */
@@ -129,14 +145,24 @@ const app = {
     app.select({ node: hit.node, face: hit.face, mode: "face" });
   },
 
+  /** The preview shows what the sub-shape turns into: after a step (a moved or turned anchor,
+   * an undo) it is generated again, or dropped when the sub-shape has no symbol any more. */
+  async followPreview() {
+    if (app.previewing == null) return;
+    if (app.part(app.previewing)?.kind === "symbol") await app.preview(app.previewing);
+    else await app.preview(null);
+  },
+
   async undo() {
     const state = await app.request("undo", { view: app.view });
     if (state) app.show(state);
+    await app.followPreview();
   },
 
   async redo() {
     const state = await app.request("redo", { view: app.view });
     if (state) app.show(state);
+    await app.followPreview();
   },
 
   async save() {
@@ -174,18 +200,57 @@ app.pointScreen = (point) => edit.screenOf(point);
 
 const canvas = $("canvas");
 let pressed = null;
+// A press on the selected sub-shape's anchor arrow starts dragging the anchor instead of
+// turning the view; the listener runs before the orbit controls' (capture, on the parent).
+canvas.parentElement.addEventListener("pointerdown", (event) => {
+  const part = app.selectedAnchor();
+  if (event.target !== canvas || event.button !== 0 || tools.cutting || !part) return;
+  if (!edit.onAnchor(event.clientX, event.clientY, part.anchor)) return;
+  anchorDrag = { node: part.node, target: null };
+  edit.controls.enabled = false;
+}, true);
 canvas.addEventListener("pointerdown", (event) => {
-  if (event.button === 0) pressed = { x: event.clientX, y: event.clientY };
+  if (event.button === 0 && !anchorDrag) pressed = { x: event.clientX, y: event.clientY };
 });
 canvas.addEventListener("pointerup", (event) => {
+  if (anchorDrag) return dropAnchor(event);
   if (event.button !== 0 || !pressed) return;
   const moved = Math.hypot(event.clientX - pressed.x, event.clientY - pressed.y);
   pressed = null;
   if (moved < CLICK_SLOP && !tools.cutting) app.clickFace(edit.pick(event.clientX, event.clientY));
 });
 canvas.addEventListener("pointermove", (event) => {
+  if (anchorDrag) {
+    const hit = edit.pick(event.clientX, event.clientY);
+    anchorDrag.target = hit?.node === anchorDrag.node ? { node: hit.node, face: hit.face } : null;
+    return app.decorate();
+  }
   if (event.buttons === 0) tools.move(event.clientX, event.clientY, { ctrl: event.ctrlKey, shift: event.shiftKey });
 });
+
+// Released outside the edit view: the anchor stays where it was.
+window.addEventListener("pointerup", (event) => {
+  if (anchorDrag && event.target !== canvas) {
+    anchorDrag = null;
+    edit.controls.enabled = true;
+    app.decorate();
+  }
+});
+
+/** Drops a dragged anchor: on a face of its own sub-shape it moves there, its corner the one
+ * nearest the pointer, so one drag both moves and turns it; anywhere else nothing changes. */
+function dropAnchor(event) {
+  const { node } = anchorDrag;
+  anchorDrag = null;
+  edit.controls.enabled = true;
+  const hit = edit.pick(event.clientX, event.clientY);
+  if (hit?.node !== node) return app.decorate();
+  const corners = hit.part.faces[hit.face];
+  const distance = (p) => Math.hypot(p[0] - hit.point.x, p[1] - hit.point.y, p[2] - hit.point.z);
+  const corner = corners.reduce((best, p, k) => (distance(p) < distance(corners[best]) ? k : best), 0);
+  app.act({ kind: "place_anchor", rule: app.view.rule, node, face: hit.face, corner });
+}
+
 canvas.addEventListener("contextmenu", (event) => {
   event.preventDefault();
   tools.secondary();

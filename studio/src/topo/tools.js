@@ -5,7 +5,12 @@
 // distance), and a right-click or Enter completes it; Escape cancels. The 3-point cut puts a
 // point on the edge under the pointer (Shift: on a vertex, Ctrl: on the grid) and a right-click
 // locks it; the third completes the cut. The server cuts; here the pointer is only measured.
+// What a pending cut would do is drawn as the server computes it on a copy of the project
+// (its sections with the sub-shapes it cuts): while a face or prism cut's plane moves, for a
+// multi- or three-part cut as soon as a face is selected, and for the 3-point cut once two
+// points are locked and the pointer is on a third.
 import { Vector3 } from "three";
+import { post } from "./api.js";
 
 const TOOLS = [
   ["face", "Face cut", "Select a face, press C, move the plane (or type the distance), right-click or Enter. Escape cancels. Absolute: the distance in metres is kept when the rule meets shapes of other sizes."],
@@ -24,6 +29,8 @@ export class Tools {
     this.cutting = null;
     this.points = [];
     this.hover = null;
+    this.sections = [];
+    this.asked = 0;
     bar.replaceChildren(...TOOLS.map(([id, name]) => {
       const button = document.createElement("button");
       button.id = `tool-${id}`;
@@ -40,6 +47,7 @@ export class Tools {
     this.tool = tool;
     for (const b of this.bar.children) b.classList.toggle("active", b.id === `tool-${tool}`);
     this.showInfo();
+    this.selected();
   }
 
   /** The tool info panel for the current tool. */
@@ -88,10 +96,16 @@ export class Tools {
       field("grid", "grid", this.settings.grid, "any", (v) => (this.settings.grid = v));
       this.amount = field("fraction", "cut-amount", this.cutting ? round(this.cutting.amount) : "", "any", (v) => this.typed(v));
     } else if (this.tool === "multi") {
-      field("cuts", "cuts", this.settings.cuts, "1", (v) => (this.settings.cuts = v));
+      field("cuts", "cuts", this.settings.cuts, "1", (v) => {
+        this.settings.cuts = v;
+        this.selected();
+      });
       this.amount = null;
     } else if (this.tool === "symmetric") {
-      field("margin", "margin", this.settings.margin, "any", (v) => (this.settings.margin = v));
+      field("margin", "margin", this.settings.margin, "any", (v) => {
+        this.settings.margin = v;
+        this.selected();
+      });
       this.amount = null;
     } else {
       field("grid", "grid", this.settings.grid, "any", (v) => (this.settings.grid = v));
@@ -118,11 +132,9 @@ export class Tools {
     if (!selection) return this.app.status("select a face first (click it)", true);
     const part = this.app.part(selection.node);
     if (!part) return;
-    if (this.tool === "multi") {
-      return this.app.act({ kind: "multi_cut", rule: view.rule, node: part.node, face: selection.face, cuts: Math.round(this.settings.cuts) });
-    }
-    if (this.tool === "symmetric") {
-      return this.app.act({ kind: "symmetric_cut", rule: view.rule, node: part.node, face: selection.face, margin: this.settings.margin });
+    if (this.tool === "multi" || this.tool === "symmetric") {
+      this.show([]);
+      return this.app.act(this.faceAction());
     }
     if (this.tool === "three") return;
     const normal = new Vector3(...part.normals[selection.face]);
@@ -130,23 +142,62 @@ export class Tools {
     const center = corners.reduce((a, p) => a.add(p), new Vector3()).multiplyScalar(1 / corners.length);
     const depths = part.faces.flat().map((p) => normal.dot(new Vector3(...p)));
     const height = Math.max(...depths) - Math.min(...depths);
-    this.cutting = { node: part.node, face: selection.face, normal, corners, center, height, amount: this.tool === "prism" ? 0.5 : height / 2 };
+    this.cutting = { node: part.node, face: selection.face, normal, center, height, amount: this.tool === "prism" ? 0.5 : height / 2 };
     this.showInfo();
     this.amount.focus();
     this.amount.select();
-    this.decorate();
+    this.ask(this.pendingAction());
   }
 
   typed(value) {
     if (!this.cutting || !Number.isFinite(value)) return;
     this.cutting.amount = value;
-    this.decorate();
+    this.ask(this.pendingAction());
   }
 
-  /** The distance inside the face (world units) the plane is at now. */
-  depth() {
+  /** The multi- or three-part cut of the selected face, as "C" would make it. */
+  faceAction() {
+    const { selection, view } = this.app;
+    const cut = { rule: view.rule, node: selection.node, face: selection.face };
+    return this.tool === "multi"
+      ? { kind: "multi_cut", ...cut, cuts: Math.round(this.settings.cuts) }
+      : { kind: "symmetric_cut", ...cut, margin: this.settings.margin };
+  }
+
+  /** The face or prism cut in progress, as completing it would send it. */
+  pendingAction() {
     const c = this.cutting;
-    return this.tool === "prism" ? c.amount * c.height : c.amount;
+    const rule = this.app.view.rule;
+    return this.tool === "prism"
+      ? { kind: "prism_cut", rule, node: c.node, face: c.face, fraction: c.amount }
+      : { kind: "face_cut", rule, node: c.node, face: c.face, distance: c.amount, global: this.settings.global, absolute: this.settings.absolute };
+  }
+
+  /** The selection changed: a multi- or three-part cut shows where "C" would cut. */
+  selected() {
+    const { selection, view } = this.app;
+    if ((this.tool === "multi" || this.tool === "symmetric") && selection?.mode === "face" && view.rule != null && !this.cutting) {
+      this.ask(this.faceAction());
+    } else if (!this.cutting && this.points.length < 2 && this.sections.length) {
+      this.show([]);
+    }
+  }
+
+  /** Asks the server for the sections `action` would make; only the latest answer is drawn,
+   * and a cut the server would refuse has none. */
+  async ask(action) {
+    this.asked += 1;
+    const asked = this.asked;
+    const { status, json } = await post("sections", { path: this.app.path, action });
+    if (asked !== this.asked) return;
+    this.show(status === 200 ? json.sections : []);
+  }
+
+  /** Draws `sections` (dropping any answer still on its way). */
+  show(sections) {
+    this.asked += 1;
+    this.sections = sections;
+    this.decorate();
   }
 
   /** Moves the plane to where the pointer points along the face's normal. */
@@ -173,11 +224,22 @@ export class Tools {
         // Typing then replaces what the pointer set.
         if (document.activeElement === this.amount) this.amount.select();
       }
-      this.decorate();
+      this.ask(this.pendingAction());
     } else if (this.tool === "three") {
       this.hover = this.edgePoint(x, y, keys);
-      this.decorate();
+      if (this.points.length === 2 && this.hover) this.ask(this.threePointAction([...this.points, this.hover]));
+      else if (this.sections.length) this.show([]);
+      else this.decorate();
     }
+  }
+
+  /** The 3-point cut through `points`. */
+  threePointAction(points) {
+    return {
+      kind: "three_point_cut",
+      rule: this.app.view.rule,
+      points: points.map(({ node, face, corner, fraction }) => ({ node, face, corner, fraction })),
+    };
   }
 
   /** The point on the nearest edge of the face under the pointer, as the server names it. */
@@ -193,7 +255,8 @@ export class Tools {
       let fraction = Math.min(Math.max(hit.point.clone().sub(a).dot(along) / (length * length), 0), 1);
       if (shift) fraction = fraction < 0.5 ? 0 : 1;
       else if (ctrl && this.settings.grid > 0) fraction = Math.min(Math.round((fraction * length) / this.settings.grid) * this.settings.grid / length, 1);
-      const at = a.clone().add(along.multiplyScalar(fraction));
+      // The far end exactly, as the server takes it (a + (b − a) can miss b by a rounding).
+      const at = fraction === 1 ? b.clone() : a.clone().add(along.multiplyScalar(fraction));
       const distance = at.distanceTo(hit.point);
       if (!best || distance < best.distance) best = { node: hit.node, face: hit.face, corner, fraction, at: at.toArray(), distance };
     });
@@ -209,22 +272,20 @@ export class Tools {
       this.showInfo();
       return this.decorate();
     }
-    const points = this.points.map(({ node, face, corner, fraction }) => ({ node, face, corner, fraction }));
+    const action = this.threePointAction(this.points);
     this.points = [];
     this.hover = null;
     this.showInfo();
-    this.app.act({ kind: "three_point_cut", rule: this.app.view.rule, points });
+    this.show([]);
+    this.app.act(action);
   }
 
   complete() {
-    const c = this.cutting;
-    if (!c) return;
+    if (!this.cutting) return;
+    const action = this.pendingAction();
     this.cutting = null;
-    const rule = this.app.view.rule;
-    const action = this.tool === "prism"
-      ? { kind: "prism_cut", rule, node: c.node, face: c.face, fraction: c.amount }
-      : { kind: "face_cut", rule, node: c.node, face: c.face, distance: c.amount, global: this.settings.global, absolute: this.settings.absolute };
     this.showInfo();
+    this.show([]);
     this.app.act(action);
   }
 
@@ -236,18 +297,17 @@ export class Tools {
     this.hover = null;
     if (had) {
       this.showInfo();
-      this.decorate();
+      this.show([]);
     }
     return had;
   }
 
-  /** What the edit view draws for the tool: the plane, or the points. */
+  /** What the edit view draws for the tool: the sections of the pending cut, and the points. */
   overlays() {
-    if (this.cutting) {
-      const shift = this.cutting.normal.clone().multiplyScalar(-this.depth());
-      return { plane: this.cutting.corners.map((p) => p.clone().add(shift).toArray()) };
-    }
-    return { points: [...this.points, this.hover].filter(Boolean).map((p) => p.at) };
+    return {
+      sections: this.sections,
+      points: this.cutting ? [] : [...this.points, this.hover].filter(Boolean).map((p) => p.at),
+    };
   }
 
   decorate() {

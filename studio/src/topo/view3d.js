@@ -1,13 +1,15 @@
 // The edit view (thesis 3.1, area 1): the sub-shapes of the edited rule, each in its own
-// colour, with their edges; drag to rotate (orbit), wheel to zoom. It picks what the pointer
-// is over (sub-shape and face, by the triangle ids the server sends) and draws the overlays
-// the tools need: the selected face or shape, the cutting plane, the 3-point cut's points and
-// anchors. Geometry comes from the server; this module only draws and picks.
+// colour, with their edges, faces with a material in its colour or its texture; drag to
+// rotate (orbit), wheel to zoom. It picks what the pointer is over (sub-shape and face, by the
+// triangle ids the server sends; an anchor's arrow by its distance on screen) and draws the
+// overlays the tools need: the selected face or shape, the sections of a pending cut, the
+// 3-point cut's points and anchors. Geometry, texture coordinates and sections come from the
+// server; this module only draws and picks.
 import {
   WebGLRenderer, Scene, PerspectiveCamera, Color, HemisphereLight, DirectionalLight, Box3,
   Vector3, Vector2, BufferGeometry, Float32BufferAttribute, Mesh, MeshLambertMaterial,
   MeshBasicMaterial, LineSegments, LineBasicMaterial, Raycaster, Group, DoubleSide,
-  SphereGeometry, ArrowHelper,
+  SphereGeometry, ArrowHelper, TextureLoader, RepeatWrapping, SRGBColorSpace,
 } from "three";
 import { OrbitControls } from "three/addons/controls/OrbitControls.js";
 
@@ -33,6 +35,8 @@ export class EditView {
     this.parts = [];
     this.framedKey = null;
     this.raycaster = new Raycaster();
+    this.textures = new Map();
+    this.loader = new TextureLoader();
     new ResizeObserver(() => this.resize()).observe(canvas);
     this.resize();
   }
@@ -46,9 +50,10 @@ export class EditView {
     this.render();
   }
 
-  /** Shows `parts` (the server's edit view), faces with a material in its colour; frames the
-   * camera when `key` (the edited rule or symbol) changes. */
-  show(parts, key, materials = []) {
+  /** Shows `parts` (the server's edit view), faces with a material in its colour or, when it
+   * has one, its texture (`textureUrl(path)` is where the server serves it); frames the camera
+   * when `key` (the edited rule or symbol) changes. */
+  show(parts, key, materials = [], textureUrl = null) {
     clear(this.shapes);
     this.parts = parts;
     for (const part of parts) {
@@ -58,7 +63,10 @@ export class EditView {
       geometry.computeVertexNormals();
       const colors = faceColors(part, materials);
       if (colors) geometry.setAttribute("color", new Float32BufferAttribute(colors, 3));
-      const mesh = new Mesh(geometry, new MeshLambertMaterial({ color: colors ? 0xffffff : part.color, vertexColors: colors !== null, polygonOffset: true, polygonOffsetFactor: 1, polygonOffsetUnits: 1 }));
+      const surface = { polygonOffset: true, polygonOffsetFactor: 1, polygonOffsetUnits: 1 };
+      const plain = new MeshLambertMaterial({ color: colors ? 0xffffff : part.color, vertexColors: colors !== null, ...surface });
+      const textured = textureUrl && part.uvs ? this.texturedFaces(part, geometry, materials, textureUrl, surface) : [];
+      const mesh = new Mesh(geometry, textured.length ? [plain, ...textured] : plain);
       mesh.userData.part = part;
       this.shapes.add(mesh, edges(part, 0x2b3440));
     }
@@ -71,6 +79,47 @@ export class EditView {
       this.frame();
     }
     this.render();
+  }
+
+  /** Materials for the faces of `part` whose material has a texture, the geometry's groups
+   * pointing at them (group material 0 is the plain one); none when no face is textured. */
+  texturedFaces(part, geometry, materials, textureUrl, surface) {
+    const chosen = part.face_materials || [];
+    if (!chosen.some((m) => m != null && materials[m]?.texture)) return [];
+    geometry.setAttribute("uv", new Float32BufferAttribute(part.uvs, 2));
+    const made = new Map();
+    const slot = (m) => {
+      if (!made.has(m)) {
+        const material = materials[m];
+        made.set(m, {
+          index: made.size + 1,
+          material: new MeshLambertMaterial({ map: this.texture(textureUrl(material.texture)), color: material.color ?? 0xffffff, ...surface }),
+        });
+      }
+      return made.get(m).index;
+    };
+    // Triangles come face by face, so each face is one run of them.
+    const faces = part.triangle_faces;
+    for (let start = 0; start < faces.length;) {
+      let end = start;
+      while (end < faces.length && faces[end] === faces[start]) end += 1;
+      const m = chosen[faces[start]];
+      geometry.addGroup(start * 3, (end - start) * 3, m != null && materials[m]?.texture ? slot(m) : 0);
+      start = end;
+    }
+    return [...made.values()].map((x) => x.material);
+  }
+
+  /** The texture at `url`, loaded once and repeated (texture coordinates count tiles). */
+  texture(url) {
+    if (!this.textures.has(url)) {
+      const texture = this.loader.load(url, () => this.render());
+      texture.wrapS = RepeatWrapping;
+      texture.wrapT = RepeatWrapping;
+      texture.colorSpace = SRGBColorSpace;
+      this.textures.set(url, texture);
+    }
+    return this.textures.get(url);
   }
 
   frame() {
@@ -111,6 +160,16 @@ export class EditView {
     return { part, node: part.node, face: part.triangle_faces[hit.faceIndex], point: hit.point };
   }
 
+  /** Whether client point (x, y) is on the arrow of `anchor` (within a few pixels of it). */
+  onAnchor(x, y, anchor) {
+    const a = this.screenOf(anchor.from);
+    const b = this.screenOf(anchor.to);
+    const along = { x: b.x - a.x, y: b.y - a.y };
+    const length2 = along.x * along.x + along.y * along.y;
+    const t = length2 > 0 ? Math.min(Math.max(((x - a.x) * along.x + (y - a.y) * along.y) / length2, 0), 1) : 0;
+    return Math.hypot(a.x + t * along.x - x, a.y + t * along.y - y) <= ANCHOR_GRIP;
+  }
+
   /** Client coordinates of a world point (what the tests aim at). */
   screenOf(point) {
     const p = new Vector3(...point).project(this.camera);
@@ -118,8 +177,9 @@ export class EditView {
     return { x: r.left + ((p.x + 1) / 2) * r.width, y: r.top + ((1 - p.y) / 2) * r.height };
   }
 
-  /** Draws the overlays: the selection, a cutting plane, points and anchors. */
-  decorate({ selection, plane, points, anchors, preview }) {
+  /** Draws the overlays: the selection, the sections of a pending cut, points, anchors and
+   * the face an anchor is dragged over. */
+  decorate({ selection, sections, points, anchors, preview, target }) {
     clear(this.overlay);
     // The anchor preview: the assigned symbol's rules applied to the sub-shape, see-through.
     for (const part of preview || []) {
@@ -136,7 +196,9 @@ export class EditView {
     } else if (part && selection.mode === "shape") {
       for (const face of part.faces) this.overlay.add(polygon(face, 0xffd200, 0.45));
     }
-    if (plane) this.overlay.add(polygon(plane, 0xd02020, 0.4));
+    for (const section of sections || []) this.overlay.add(polygon(section, 0xd02020, 0.4));
+    const over = target && this.parts.find((p) => p.node === target.node);
+    if (over) this.overlay.add(polygon(over.faces[target.face], 0x1010a0, 0.35));
     for (const p of points || []) {
       const dot = new Mesh(new SphereGeometry(this.dotSize(), 12, 8), new MeshBasicMaterial({ color: 0xd02020, depthTest: false }));
       dot.position.set(...p);
@@ -165,6 +227,9 @@ export class EditView {
     this.renderer.render(this.scene, this.camera);
   }
 }
+
+/** How near (pixels) to an anchor's arrow a press grabs it. */
+const ANCHOR_GRIP = 8;
 
 function clear(group) {
   for (const o of [...group.children]) {

@@ -96,6 +96,8 @@ pub fn router(state: StudioState) -> Router {
         .route("/api/topo/export", post(topo::export))
         .route("/api/topo/test", post(topo::test))
         .route("/api/topo/preview", post(topo::preview))
+        .route("/api/topo/sections", post(topo::pending::sections))
+        .route("/api/topo/texture", get(topo::pending::texture))
         .fallback(|| async { ApiError::not_found() })
         .method_not_allowed_fallback(|| async {
             ApiError::new(StatusCode::METHOD_NOT_ALLOWED, "method not allowed")

@@ -185,6 +185,18 @@ pub struct Made {
 }
 
 impl Action {
+    /// The rule a cut is made in; `None` for steps that are not cuts.
+    pub fn cut_rule(&self) -> Option<u32> {
+        match self {
+            Action::FaceCut { rule, .. }
+            | Action::PrismCut { rule, .. }
+            | Action::MultiCut { rule, .. }
+            | Action::SymmetricCut { rule, .. }
+            | Action::ThreePointCut { rule, .. } => Some(*rule),
+            _ => None,
+        }
+    }
+
     /// Runs the step on `project`; on an error the caller's editor restores the project.
     pub fn run(self, project: &mut Project) -> Result<Made, EditError> {
         let index = |i: u32| Made {

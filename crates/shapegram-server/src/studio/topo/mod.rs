@@ -6,6 +6,7 @@
 //! all here: the page only draws and picks.
 
 pub mod action;
+pub mod pending;
 pub mod view;
 
 use std::collections::{BTreeSet, HashMap};

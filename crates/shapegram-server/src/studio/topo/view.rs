@@ -5,9 +5,10 @@
 use std::collections::BTreeSet;
 
 use serde::Serialize;
-use shapegram_geom::{Color, DVec3};
+use shapegram_geom::{Color, DVec2, DVec3};
 use shapegram_topo::{
-    Assignment, GrammarMesh, NodeId, NodeKind, Polyhedron, Project, RuleTree, canonical_order,
+    Assignment, GrammarMesh, Material, NodeId, NodeKind, Polyhedron, Project, RuleTree,
+    canonical_order, planar_uv,
 };
 
 /// Colours of sub-shapes in the edit view, by their place among the leaves (thesis 3.1: each
@@ -75,6 +76,11 @@ pub struct PartView {
     pub anchor: Option<AnchorView>,
     /// Each face's material (an index into the project's materials), or `null`.
     pub face_materials: Vec<Option<u32>>,
+    /// Texture coordinates, two numbers per triangle corner as `positions` has them, in tiles
+    /// of each face's material (shapegram-topo's `planar_uv`, as generated meshes have them);
+    /// empty when no face has a material.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub uvs: Vec<f32>,
 }
 
 /// A material in the material picker, drawn in the edit view by its surface colour.
@@ -82,7 +88,8 @@ pub struct PartView {
 pub struct MaterialView {
     pub name: String,
     pub color: Option<String>,
-    /// The colour faces with it are drawn in (the texture is not drawn in the edit view).
+    /// The colour faces with it are drawn in when it has no texture (a texture is tinted by
+    /// `color`, or drawn as it is).
     pub surface: String,
     pub texture: Option<String>,
     pub tile: [f64; 2],
@@ -216,6 +223,7 @@ pub fn edit_view(
                     .map_or_else(|| PALETTE[k % PALETTE.len()].to_owned(), |c| c.to_hex());
                 let mut part = part_view(id, &node.shape, color);
                 part.face_materials = node.face_materials.clone();
+                part.uvs = face_uvs(&node.shape, &part.face_materials, &project.materials);
                 part.kind = kind;
                 part.symbol = symbol;
                 part.hidden = hidden.contains(&(index, id));
@@ -285,7 +293,34 @@ fn part_view(node: NodeId, shape: &Polyhedron, color: String) -> PartView {
         normals,
         anchor: None,
         face_materials: vec![None; faces_len],
+        uvs: Vec::new(),
     }
+}
+
+/// The texture coordinates of a shape's triangles (the fans of [`part_view`]) under the
+/// materials of its faces; faces without one get zeros.
+fn face_uvs(shape: &Polyhedron, chosen: &[Option<u32>], materials: &[Material]) -> Vec<f32> {
+    if chosen.iter().all(Option::is_none) {
+        return Vec::new();
+    }
+    let mut uvs = Vec::new();
+    for f in 0..shape.face_count() {
+        let corners: Vec<DVec3> = shape.face_loop(f).map(|v| shape.position(v)).collect();
+        let tile = chosen
+            .get(f as usize)
+            .copied()
+            .flatten()
+            .and_then(|m| materials.get(m as usize))
+            .map(|m| m.tile);
+        let normal = shape.face_normal(f);
+        for k in 1..corners.len().saturating_sub(1) {
+            for p in [corners[0], corners[k], corners[k + 1]] {
+                let uv = tile.map_or(DVec2::ZERO, |tile| planar_uv(p, normal, tile));
+                uvs.extend([uv.x as f32, uv.y as f32]);
+            }
+        }
+    }
+    uvs
 }
 
 /// One coloured part of a generated model.
