@@ -70,8 +70,10 @@ fn main() {
         );
         assert_eq!(sg_state_free(state), sg_status::SG_OK);
 
-        let text = std::fs::read_to_string(format!("{examples}{file}")).expect("the example");
-        let grammar = Grammar::load(file, &text, None).expect("the example loads");
+        // By its path, so that what it reads beside it (textures) is found.
+        let path = format!("{examples}{file}");
+        let text = std::fs::read_to_string(&path).expect("the example");
+        let grammar = Grammar::load(&path, &text, None).expect("the example loads");
         let settings = Settings {
             seed: 0,
             attrs: Vec::new(),
