@@ -34,6 +34,8 @@ const studio = {
   timings: {},
   saved: 0,
   svg: null,
+  /** The shown model's textured materials (`Preview.textures`). */
+  textures: [],
 };
 window.__studio = studio;
 
@@ -211,12 +213,14 @@ async function derive() {
       // A drawing's downloads are its model, which the server makes (see download()).
       lastGlb = null;
       studio.svg = await drawing.show(json.svg);
+      studio.textures = [];
       debug.load(null, null, generations);
     } else {
       drawing.hide();
       studio.svg = null;
       lastGlb = Uint8Array.from(atob(json.glb), (c) => c.charCodeAt(0));
       await preview.show(lastGlb.buffer, (gltf) => debug.load(json.tree, gltf, generations));
+      studio.textures = preview.textures();
     }
     shownRequest = request;
     studio.shapes = json.shapes;

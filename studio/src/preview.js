@@ -3,7 +3,7 @@
 // tests can tell when a model is drawn).
 import {
   WebGLRenderer, Scene, PerspectiveCamera, Color, HemisphereLight, DirectionalLight, GridHelper,
-  Box3, Vector3,
+  Box3, Vector3, RepeatWrapping,
 } from "three";
 import { GLTFLoader } from "three/addons/loaders/GLTFLoader.js";
 import { OrbitControls } from "three/addons/controls/OrbitControls.js";
@@ -62,7 +62,11 @@ export class Preview {
       this.scene.remove(this.model);
       this.model.traverse((o) => {
         o.geometry?.dispose();
-        for (const m of [o.material].flat()) m?.dispose();
+        for (const m of [o.material].flat()) {
+          // A material's textures (the GLB's embedded images) are freed with it.
+          for (const value of Object.values(m ?? {})) if (value?.isTexture) value.dispose();
+          m?.dispose();
+        }
       });
     }
     this.model = gltf.scene;
@@ -73,6 +77,21 @@ export class Preview {
     }
     loaded?.(gltf);
     this.render();
+  }
+
+  /** The shown model's materials that draw an image (a textured CGA part, a topological
+   * grammar's material): name, image size and wrapping, once per material. */
+  textures() {
+    const found = new Map();
+    this.model?.traverse((o) => {
+      for (const m of [o.material ?? []].flat()) {
+        const image = m.map?.image;
+        if (image && !found.has(m.name)) {
+          found.set(m.name, { material: m.name, width: image.width, height: image.height, repeats: m.map.wrapS === RepeatWrapping && m.map.wrapT === RepeatWrapping });
+        }
+      }
+    });
+    return [...found.values()];
   }
 
   /** Points the camera at the model from above a front corner, at a distance that shows it. */

@@ -124,7 +124,9 @@ function counts(status) {
  * written is offered by completion, and an operation is completed from the server's table. */
 async function kinds(context) {
   const kindsFolder = mkdtempSync(join(tmpdir(), "studio-kinds-"));
-  for (const name of ["koch-island.lsys", "grotto.cave", "topo_house.grammar"]) {
+  for (const name of ["koch-island.lsys", "grotto.cave", "topo_house.grammar", "topo_brick_house.grammar",
+    "textures/brick.png", "textures/tiles.png"]) {
+    mkdirSync(dirname(join(kindsFolder, name)), { recursive: true });
     copyFileSync(join(root, "examples", name), join(kindsFolder, name));
   }
   const tower = join(kindsFolder, "tower.cga");
@@ -156,8 +158,18 @@ async function kinds(context) {
     assert.equal(stlCounts(drawnStl).triangles, tubes, "the drawing's STL and GLB triangles");
     console.log(`koch-island.lsys downloads: ${tubes} triangles in its GLB and STL`);
 
-    // A topological grammar and a cave: models on the canvas, the drawing hidden.
-    for (const name of ["topo_house.grammar", "grotto.cave"]) {
+    // Topological grammars and a cave: models on the canvas, the drawing hidden; the brick
+    // house's brick and roof tiles drawn from the images beside it (embedded in its GLB),
+    // repeating across its faces.
+    const textured = {
+      "topo_house.grammar": [],
+      "topo_brick_house.grammar": [
+        { material: "Brick", width: 128, height: 64, repeats: true },
+        { material: "RoofTiles", width: 64, height: 64, repeats: true },
+      ],
+      "grotto.cave": [],
+    };
+    for (const [name, textures] of Object.entries(textured)) {
       await page.selectOption("#file", join(kindsFolder, name));
       await page.waitForFunction(() => window.__studio.svg === null);
       const made = await settled(page);
@@ -165,8 +177,12 @@ async function kinds(context) {
       assert.equal(await page.locator("#drawing").isVisible(), false);
       const pixels = await canvasPixels(page);
       assert.ok(pixels.model > pixels.total * 0.02, `${name}: ${pixels.model} of ${pixels.total} model pixels`);
-      await page.screenshot({ path: join(output, `studio-kinds-${name.split(".").pop()}.png`) });
-      console.log(`${name}: ${made.replace(/^derived in [\d.]+ ms · /, "")}, ${pixels.model} model pixels`);
+      const loaded = await page.evaluate(() => window.__studio.textures);
+      assert.deepEqual(loaded.sort((a, b) => a.material.localeCompare(b.material)), textures, `${name}: textures`);
+      const shot = name === "topo_brick_house.grammar" ? "brick" : name.split(".").pop();
+      await page.screenshot({ path: join(output, `studio-kinds-${shot}.png`) });
+      console.log(`${name}: ${made.replace(/^derived in [\d.]+ ms · /, "")}, ${pixels.model} model pixels, `
+        + `${loaded.length} textures`);
     }
 
     // Completion: a rule just written is offered and taken; an operation is offered with the

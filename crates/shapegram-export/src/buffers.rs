@@ -5,10 +5,10 @@
 use std::sync::Arc;
 
 use shapegram_geom::kinematics::{Frame, Skeleton};
-use shapegram_geom::{DVec3, Model, Texture};
+use shapegram_geom::{DVec2, DVec3, Model, Texture};
 
-use crate::flat::{texture_uvs, unit};
-use crate::glb::Chunk;
+use crate::flat::{drawable, texture_uvs, unit};
+use crate::glb::{Chunk, gltf_uv};
 
 /// Where one part of the model is in [`Buffers`], and its colour.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -193,13 +193,9 @@ impl Buffers {
             let first_index = self.indices.len() as u32;
             chunk.positions(|p| self.positions.push(p));
             chunk.normals(|n| self.normals.push(n));
-            let texture = texture_uvs(part).and(part.texture.as_ref()).map(|texture| {
-                let known = self.textures.iter().position(|t| t.path == texture.path);
-                known.unwrap_or_else(|| {
-                    self.textures.push(texture.clone());
-                    self.textures.len() - 1
-                }) as u32
-            });
+            let texture = texture_uvs(part)
+                .and(part.texture.as_ref())
+                .map(|texture| self.texture_index(texture));
             if texture.is_some() {
                 chunk.uvs(|uv| self.uvs.push(uv));
             } else if textured {
@@ -226,38 +222,78 @@ impl Buffers {
     }
 
     /// Appends a part already in triangles with a normal per corner (a topological grammar's
-    /// `GrammarMesh` part), as part `part` of its model; triangles index `positions`.
+    /// `GrammarMesh` part), as part `part` of its model; triangles index `positions`. A part
+    /// drawn with a `texture` brings one uv per corner (v up, as grammars measure it); without
+    /// an image glTF can carry, the part is left untextured, as [`Buffers::fill`] leaves it.
     pub fn push_triangles(
         &mut self,
         part: usize,
         color: [f32; 4],
-        positions: &[DVec3],
-        normals: &[DVec3],
-        triangles: &[[u32; 3]],
+        corners: Corners<'_>,
+        texture: Option<(&Arc<Texture>, &[DVec2])>,
     ) {
         let first_vertex = self.positions.len() as u32;
         let first_index = self.indices.len() as u32;
+        let texture =
+            texture.filter(|(t, uvs)| drawable(t) && uvs.len() == corners.positions.len());
+        let texture = texture.map(|(texture, uvs)| {
+            if self.uvs.is_empty() {
+                self.uvs.resize(self.positions.len(), [0.0; 2]);
+            }
+            self.uvs.extend(uvs.iter().map(|&uv| gltf_uv(uv)));
+            self.texture_index(texture)
+        });
         self.positions
-            .extend(positions.iter().map(|p| p.as_vec3().to_array()));
-        self.normals.extend(normals.iter().map(|&n| unit(n)));
-        self.indices
-            .extend(triangles.iter().flatten().map(|&i| first_vertex + i));
+            .extend(corners.positions.iter().map(|p| p.as_vec3().to_array()));
+        self.normals
+            .extend(corners.normals.iter().map(|&n| unit(n)));
+        if texture.is_none() && !self.uvs.is_empty() {
+            self.uvs.resize(self.positions.len(), [0.0; 2]);
+        }
+        self.indices.extend(
+            corners
+                .triangles
+                .iter()
+                .flatten()
+                .map(|&i| first_vertex + i),
+        );
         self.parts.push(PartRange {
             part,
             color,
             first_vertex,
-            vertex_count: positions.len() as u32,
+            vertex_count: corners.positions.len() as u32,
             first_index,
-            index_count: 3 * triangles.len() as u32,
-            texture: None,
+            index_count: 3 * corners.triangles.len() as u32,
+            texture,
         });
     }
+
+    /// The index of `texture` in [`Buffers::textures`], added when it is not there yet (images
+    /// are told apart by their paths).
+    fn texture_index(&mut self, texture: &Arc<Texture>) -> u32 {
+        let known = self.textures.iter().position(|t| t.path == texture.path);
+        known.unwrap_or_else(|| {
+            self.textures.push(Arc::clone(texture));
+            self.textures.len() - 1
+        }) as u32
+    }
+}
+
+/// Triangles with a normal per corner, as [`Buffers::push_triangles`] takes them.
+#[derive(Clone, Copy, Debug)]
+pub struct Corners<'a> {
+    /// Corner positions.
+    pub positions: &'a [DVec3],
+    /// The normal at each corner (scaled as it comes: the buffers make it unit).
+    pub normals: &'a [DVec3],
+    /// Triangles as indices into `positions`.
+    pub triangles: &'a [[u32; 3]],
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
-    use shapegram_geom::{Color, DVec3, Part, primitives};
+    use shapegram_geom::{Color, DVec2, DVec3, Part, primitives};
 
     #[test]
     fn a_flat_box_and_a_smooth_sphere_share_one_index_space() {
@@ -303,10 +339,55 @@ mod tests {
         assert_eq!(again, buffers);
         // A triangle after them, already split: indices move past the vertices before it.
         let corners = [DVec3::ZERO, DVec3::X, DVec3::Z];
-        again.push_triangles(2, [1.0; 4], &corners, &[DVec3::Y * 2.0; 3], &[[0, 2, 1]]);
+        let triangle = Corners {
+            positions: &corners,
+            normals: &[DVec3::Y * 2.0; 3],
+            triangles: &[[0, 2, 1]],
+        };
+        again.push_triangles(2, [1.0; 4], triangle, None);
         let n = buffers.positions.len() as u32;
         assert_eq!(again.indices[buffers.indices.len()..], [n, n + 2, n + 1]);
         assert_eq!(again.normals[n as usize], [0.0, 1.0, 0.0]);
         assert_eq!(again.parts[2].part, 2);
+        assert!(again.uvs.is_empty());
+    }
+
+    #[test]
+    fn textured_triangles_bring_gltf_uvs_and_zeros_stand_for_the_others() {
+        let image = |path: &str, bytes: &[u8]| {
+            Arc::new(Texture {
+                path: path.into(),
+                image: Some(bytes.into()),
+            })
+        };
+        let brick = image("textures/brick.png", b"\x89PNG\r\n\x1a\n");
+        let text = image("notes.txt", b"not an image");
+        let corners = [DVec3::ZERO, DVec3::X, DVec3::Z];
+        let triangle = Corners {
+            positions: &corners,
+            normals: &[DVec3::Y; 3],
+            triangles: &[[0, 2, 1]],
+        };
+        let uvs = [
+            DVec2::new(0.0, 0.0),
+            DVec2::new(1.5, 0.25),
+            DVec2::new(0.0, 2.0),
+        ];
+        let mut buffers = Buffers::default();
+        buffers.push_triangles(0, [1.0; 4], triangle, None);
+        buffers.push_triangles(1, [1.0; 4], triangle, Some((&brick, &uvs)));
+        // Not an image glTF carries: drawn in its colour, like a model's part.
+        buffers.push_triangles(2, [1.0; 4], triangle, Some((&text, &uvs)));
+        buffers.push_triangles(3, [1.0; 4], triangle, Some((&brick, &uvs)));
+        assert_eq!(
+            buffers.parts.iter().map(|p| p.texture).collect::<Vec<_>>(),
+            [None, Some(0), None, Some(0)]
+        );
+        assert_eq!(buffers.textures, [brick]);
+        let textured = [[0.0, 1.0], [1.5, 0.75], [0.0, -1.0]];
+        assert_eq!(buffers.uvs[..3], [[0.0; 2]; 3]);
+        assert_eq!(buffers.uvs[3..6], textured);
+        assert_eq!(buffers.uvs[6..9], [[0.0; 2]; 3]);
+        assert_eq!(buffers.uvs[9..], textured);
     }
 }

@@ -51,7 +51,7 @@ mod streams;
 mod tangents;
 
 use animation::Animation;
-pub(crate) use chunk::Chunk;
+pub(crate) use chunk::{Chunk, gltf_uv};
 use compact::{Compaction, Vertices};
 pub(crate) use instance::GPU_INSTANCING;
 pub use instance::Instancing;

@@ -38,7 +38,7 @@ use std::sync::Arc;
 
 use shapegram_geom::{Model, Texture};
 
-pub use buffers::{BufferJoint, Buffers, NO_JOINT, PartRange};
+pub use buffers::{BufferJoint, Buffers, Corners, NO_JOINT, PartRange};
 pub use error::Error;
 pub use geojson::{Footprints, read_geojson};
 pub use glb::{

@@ -1,5 +1,5 @@
 //! Per-call times of the C ABI from a warm handle (the grammar loaded, one derivation done):
-//! `sg_state_derive` + `sg_state_mesh` of `examples/house.cga` and of the topological house.
+//! `sg_state_derive` + `sg_state_mesh` of `examples/house.cga` and of the topological houses.
 //! Then the same split in two through the Rust API: deriving (a model, or a topological
 //! grammar's triangles, made afresh and dropped each time) and filling the buffers. Prints; asserts nothing. Run with
 //! `cargo run --release -p shapegram-ffi --example bench` (one thread: `RAYON_NUM_THREADS=1`).
@@ -30,6 +30,7 @@ fn main() {
         ("house.cga", SG_KIND_AUTO, 3.0),
         ("topo_house.grammar", SG_KIND_AUTO, 0.2),
         ("topo_pyramid.grammar", SG_KIND_AUTO, 0.2),
+        ("topo_brick_house.grammar", SG_KIND_AUTO, 0.2),
     ] {
         let path = CString::new(format!("{examples}{file}")).expect("no NUL in the path");
         let state = sg_state_new();
@@ -69,8 +70,10 @@ fn main() {
         );
         assert_eq!(sg_state_free(state), sg_status::SG_OK);
 
-        let text = std::fs::read_to_string(format!("{examples}{file}")).expect("the example");
-        let grammar = Grammar::load(file, &text, None).expect("the example loads");
+        // By its path, so that what it reads beside it (textures) is found.
+        let path = format!("{examples}{file}");
+        let text = std::fs::read_to_string(&path).expect("the example");
+        let grammar = Grammar::load(&path, &text, None).expect("the example loads");
         let settings = Settings {
             seed: 0,
             attrs: Vec::new(),

@@ -100,3 +100,62 @@ fn imports_are_read_beside_the_grammar_and_their_errors_name_their_file() {
     assert_eq!(status, sg_status::SG_GRAMMAR_ERROR);
     assert!(message.contains("walls.cga:1:"), "{message}");
 }
+
+#[test]
+fn a_topological_grammar_brings_its_uvs_and_images() {
+    let state = sg_state_new();
+    let path = CString::new(example("topo_brick_house.grammar").to_str().unwrap()).unwrap();
+    assert_eq!(
+        sg_state_load_file(state, path.as_ptr(), SG_KIND_AUTO),
+        sg_status::SG_OK
+    );
+    assert_eq!(sg_state_derive(state), sg_status::SG_OK);
+    let mut mesh = std::mem::MaybeUninit::<sg_mesh>::uninit();
+    assert_eq!(sg_state_mesh(state, mesh.as_mut_ptr()), sg_status::SG_OK);
+    let mesh = unsafe { mesh.assume_init() };
+    assert!(!mesh.uvs.is_null());
+    let parts = unsafe { std::slice::from_raw_parts(mesh.parts, mesh.part_count) };
+    let name = |p: *const std::ffi::c_char| {
+        (!p.is_null()).then(|| unsafe { CStr::from_ptr(p) }.to_str().unwrap())
+    };
+    let materials: Vec<_> = parts
+        .iter()
+        .map(|p| (name(p.material), p.texture))
+        .collect();
+    assert_eq!(
+        materials,
+        [
+            (Some("Brick"), 0),
+            (Some("RoofTiles"), 1),
+            (Some("Stone"), -1),
+            (Some("Stone"), -1),
+            (None, -1),
+            (Some("Brick"), 0),
+            (Some("Glass"), -1),
+        ]
+    );
+    assert_eq!(mesh.texture_count, 2);
+    let mut texture = std::mem::MaybeUninit::<sg_texture>::uninit();
+    assert_eq!(
+        sg_state_texture(state, 1, texture.as_mut_ptr()),
+        sg_status::SG_OK
+    );
+    let texture = unsafe { texture.assume_init() };
+    assert_eq!(name(texture.path), Some("textures/tiles.png"));
+    let image = unsafe { std::slice::from_raw_parts(texture.data, texture.size) };
+    assert_eq!(image, std::fs::read(example("textures/tiles.png")).unwrap());
+    // The gable's top corner (0, 7, 4) facing −x: (z / 1.2, 1 − y / 0.6) in brick tiles.
+    let positions = unsafe { std::slice::from_raw_parts(mesh.positions, 3 * mesh.vertex_count) };
+    let uvs = unsafe { std::slice::from_raw_parts(mesh.uvs, 2 * mesh.vertex_count) };
+    let gable =
+        parts[0].first_vertex as usize..(parts[0].first_vertex + parts[0].vertex_count) as usize;
+    let top = gable
+        .into_iter()
+        .find(|&v| positions[3 * v..3 * v + 3] == [0.0, 7.0, 4.0])
+        .unwrap();
+    assert_eq!(
+        uvs[2 * top..2 * top + 2],
+        [(4.0 / 1.2) as f32, (1.0 - 7.0 / 0.6) as f32]
+    );
+    assert_eq!(sg_state_free(state), sg_status::SG_OK);
+}

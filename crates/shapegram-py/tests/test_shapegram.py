@@ -257,6 +257,23 @@ class SkeletonsAndTextures(unittest.TestCase):
         )
         self.assertTrue(all(p.material is None for p in mesh.parts if p.texture is None))
 
+    def test_the_topological_brick_house_has_uvs_and_its_images(self):
+        mesh = shapegram.Grammar.load(EXAMPLES / "topo_brick_house.grammar").derive()
+        self.assertEqual(len(mesh.uvs), 2 * mesh.vertex_count)
+        self.assertEqual([t.path for t in mesh.textures], ["textures/brick.png", "textures/tiles.png"])
+        self.assertEqual(mesh.textures[0].data, (EXAMPLES / "textures" / "brick.png").read_bytes())
+        self.assertEqual(
+            [(p.material, p.texture) for p in mesh.parts],
+            [("Brick", 0), ("RoofTiles", 1), ("Stone", None), ("Stone", None), (None, None), ("Brick", 0), ("Glass", None)],
+        )
+        # The gable's top corner (0, 7, 4) facing -x: (z / 1.2, 1 - y / 0.6) in brick tiles.
+        gable = mesh.parts[0]
+        top = next(
+            v for v in range(gable.first_vertex, gable.first_vertex + gable.vertex_count)
+            if tuple(mesh.positions[3 * v:3 * v + 3]) == (0.0, 7.0, 4.0)
+        )
+        self.assertEqual(tuple(mesh.uvs[2 * top:2 * top + 2]), struct.unpack("2f", struct.pack("2f", 4 / 1.2, 1 - 7 / 0.6)))
+
 
 class Packages(unittest.TestCase):
     """CityEngine rule packages (.rpk): examples/town.rpk, its rule file, assets and texture read

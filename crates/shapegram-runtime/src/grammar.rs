@@ -10,6 +10,7 @@ use shapegram_load::{FileAssets, Files, MissingAssets, RulePackage};
 use shapegram_syntax::{Diagnostic, Dialect, SourceFile, ast};
 
 use crate::error::Error;
+use crate::topo::{TopoGrammar, TopoMesh};
 
 /// The kinds of grammar, as `sg_state_load_text` takes them (`SG_KIND_…`).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -127,8 +128,8 @@ pub enum Grammar {
     LSystem(shapegram_lsystem::LSystem, String, String),
     /// An implicit cave grammar.
     Cave(shapegram_implicit::CaveProgram),
-    /// A topological grammar and the symbol it starts from (its first).
-    Topo(shapegram_topo::Grammar, String),
+    /// A topological grammar, with its symbol to start from and its textures.
+    Topo(TopoGrammar),
 }
 
 /// What a derivation is asked to do besides the grammar; by default seed 0, the grammar's own
@@ -147,9 +148,6 @@ pub struct Settings {
     /// Cancellation and progress, shared with `sg_state_cancel` and `sg_state_progress`.
     pub control: Arc<DeriveControl>,
 }
-
-/// Generations of a topological grammar when none are set, as `shapegram topo` has it.
-const TOPO_GENERATIONS: u32 = 8;
 
 /// The cave's colour, as `shapegram cave` paints it.
 const ROCK: Color = Color::rgb(0.55, 0.48, 0.42);
@@ -194,32 +192,7 @@ impl Grammar {
             Kind::Cave => shapegram_implicit::text::parse(text)
                 .map(Grammar::Cave)
                 .map_err(|e| Error::grammar(format!("{name}:{e}")).at(e.line, e.column, e.message)),
-            Kind::Topo => {
-                let grammar = shapegram_topo::Grammar::from_json(text).map_err(|e| {
-                    let separator = if e.location.starts_with(|c: char| c.is_ascii_digit()) {
-                        ":"
-                    } else {
-                        ": "
-                    };
-                    let error =
-                        Error::grammar(format!("{name}{separator}{}: {}", e.location, e.message));
-                    // JSON syntax and type errors are at a line and column; others at a path.
-                    match e
-                        .location
-                        .split_once(':')
-                        .and_then(|(line, column)| Some((line.parse().ok()?, column.parse().ok()?)))
-                    {
-                        Some((line, column)) => error.at(line, column, e.message),
-                        None => error,
-                    }
-                })?;
-                let symbol = grammar
-                    .symbol_names()
-                    .first()
-                    .map(|s| (*s).to_owned())
-                    .ok_or_else(|| Error::grammar(format!("{name}: the grammar has no symbol")))?;
-                Ok(Grammar::Topo(grammar, symbol))
-            }
+            Kind::Topo => TopoGrammar::load(name, text).map(Grammar::Topo),
         }
     }
 
@@ -402,27 +375,8 @@ impl Grammar {
                 );
                 model
             }
-            Grammar::Topo(grammar, symbol) => {
-                let mut state = shapegram_topo::GrammarState::new(grammar, symbol)
-                    .map_err(|e| Error::derive(e.to_string()))?
-                    .with_seed(settings.seed & shapegram_topo::SEED_MASK)
-                    .with_generations(settings.generations.unwrap_or(TOPO_GENERATIONS));
-                // Generation by generation, so that a host can cancel between two.
-                state.start();
-                for _ in 0..settings.generations.unwrap_or(TOPO_GENERATIONS) {
-                    if state.non_terminals().is_empty() {
-                        break;
-                    }
-                    if settings.control.is_cancelled() {
-                        return Err(Error::cancelled());
-                    }
-                    state
-                        .next_generation()
-                        .map_err(|e| Error::derive(e.to_string()))?;
-                }
-                // Already flat triangles: they go to the buffers as they are.
-                return Ok(Derived::Triangles(shapegram_topo::GrammarMesh::new(&state)));
-            }
+            // Already flat triangles: they go to the buffers as they are.
+            Grammar::Topo(topo) => return topo.derive(settings).map(Derived::Triangles),
         };
         Ok(Derived::Model(model))
     }
@@ -536,8 +490,8 @@ fn lsystem_error(error: Error, e: shapegram_lsystem::Error) -> Error {
 pub enum Derived {
     /// A model.
     Model(Model),
-    /// A topological grammar's shapes, in flat-shaded triangles.
-    Triangles(shapegram_topo::GrammarMesh),
+    /// A topological grammar's shapes, in flat-shaded triangles with its textures.
+    Triangles(TopoMesh),
 }
 
 impl Derived {
@@ -545,20 +499,7 @@ impl Derived {
     pub fn fill(&self, buffers: &mut Buffers) {
         match self {
             Derived::Model(model) => buffers.fill(model),
-            Derived::Triangles(mesh) => {
-                buffers.clear();
-                for (i, part) in mesh.parts.iter().enumerate() {
-                    if !part.triangles.is_empty() {
-                        buffers.push_triangles(
-                            i,
-                            part.color.to_array(),
-                            &part.positions,
-                            &part.normals,
-                            &part.triangles,
-                        );
-                    }
-                }
-            }
+            Derived::Triangles(topo) => topo.fill(buffers),
         }
     }
 
@@ -566,15 +507,16 @@ impl Derived {
     pub fn part_name(&self, part: usize) -> &str {
         match self {
             Derived::Model(model) => &model.parts[part].name,
-            Derived::Triangles(mesh) => &mesh.parts[part].name,
+            Derived::Triangles(topo) => &topo.mesh.parts[part].name,
         }
     }
 
-    /// The material name the grammar gave part `part` (`set(material.name, …)`), if any.
+    /// The material name the grammar gave part `part` (`set(material.name, …)`, a topological
+    /// grammar's material), if any.
     pub fn part_material(&self, part: usize) -> Option<&str> {
         match self {
             Derived::Model(model) => model.parts[part].material.as_deref(),
-            Derived::Triangles(_) => None,
+            Derived::Triangles(topo) => topo.part_material(part),
         }
     }
 }

@@ -7,9 +7,11 @@ mod error;
 mod grammar;
 mod library;
 mod package;
+mod topo;
 
 pub use error::{Error, ErrorKind, Place};
 pub use grammar::{AttrDecl, AttrType, Derived, Grammar, Kind, Settings, default_lot, lot};
 pub use library::{check_library_path, read_library};
 pub use package::Package;
 pub use shapegram_load::is_package;
+pub use topo::{TopoGrammar, TopoMesh};

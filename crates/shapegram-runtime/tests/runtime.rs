@@ -494,3 +494,117 @@ fn a_library_path_that_is_missing_is_an_io_error() {
     let error = read_library(&[missing], Path::new("main.goal")).unwrap_err();
     assert_eq!((error.kind, error.message), expected);
 }
+
+/// The corners of part `part` of `buffers` facing along `normal` whose position satisfies `on`,
+/// each with its uv, sorted by position.
+fn corners_with_uvs(
+    buffers: &Buffers,
+    part: usize,
+    normal: [f32; 3],
+    on: impl Fn([f32; 3]) -> bool,
+) -> Vec<([f32; 3], [f32; 2])> {
+    let range = &buffers.parts[part];
+    let mut corners: Vec<_> = (range.first_vertex..range.first_vertex + range.vertex_count)
+        .map(|i| i as usize)
+        .filter(|&i| buffers.normals[i] == normal && on(buffers.positions[i]))
+        .map(|i| (buffers.positions[i], buffers.uvs[i]))
+        .collect();
+    corners.sort_by(|a, b| a.0.partial_cmp(&b.0).unwrap());
+    corners
+}
+
+#[test]
+fn the_brick_house_reaches_the_buffers_with_its_uvs_and_textures() {
+    let (name, text) = example("topo_brick_house.grammar");
+    let grammar = Grammar::load(&name, &text, None).unwrap();
+    let derived = grammar.derive(&Settings::default()).unwrap();
+    let mut buffers = Buffers::default();
+    derived.fill(&mut buffers);
+    assert_consistent(&buffers);
+    // Each image once, named as the grammar names it, read beside the grammar.
+    let paths: Vec<&str> = buffers.textures.iter().map(|t| &*t.path).collect();
+    assert_eq!(paths, ["textures/brick.png", "textures/tiles.png"]);
+    for texture in &buffers.textures {
+        let file = std::fs::read(example_path(&texture.path)).unwrap();
+        assert_eq!(
+            texture.image.as_deref(),
+            Some(&file[..]),
+            "{}",
+            texture.path
+        );
+    }
+    // Parts keep their materials' names; the textured ones point at their images.
+    let materials: Vec<(Option<&str>, Option<u32>)> = buffers
+        .parts
+        .iter()
+        .map(|p| (derived.part_material(p.part), p.texture))
+        .collect();
+    assert_eq!(
+        materials,
+        [
+            (Some("Brick"), Some(0)),
+            (Some("RoofTiles"), Some(1)),
+            (Some("Stone"), None),
+            (Some("Stone"), None),
+            (None, None),
+            (Some("Brick"), Some(0)),
+            (Some("Glass"), None),
+        ]
+    );
+    assert_eq!(buffers.uvs.len(), buffers.positions.len());
+    // The roof's brick gable ends come first. The main block's, at x = 0, faces −x: u runs
+    // along z and v up y, in tiles of 1.2 × 0.6 m, v turned down as glTF has it:
+    // (z / 1.2, 1 − y / 0.6).
+    let gable = corners_with_uvs(&buffers, 0, [-1.0, 0.0, 0.0], |p| p[0] == 0.0);
+    assert_eq!(
+        gable,
+        [
+            ([0.0, 4.55, 0.0], [0.0, -6.5833335]),
+            ([0.0, 4.55, 8.0], [6.6666665, -6.5833335]),
+            ([0.0, 7.0, 4.0], [3.3333333, -10.666667]),
+        ]
+    );
+    for (p, uv) in &gable {
+        let expected = [p[2] / 1.2, 1.0 - p[1] / 0.6];
+        assert!((uv[0] - expected[0]).abs() < 1e-6 && (uv[1] - expected[1]).abs() < 1e-6);
+    }
+    // The vertices of untextured parts have (0, 0).
+    for part in buffers.parts.iter().filter(|p| p.texture.is_none()) {
+        let vertices = part.first_vertex as usize..(part.first_vertex + part.vertex_count) as usize;
+        assert!(buffers.uvs[vertices].iter().all(|&uv| uv == [0.0; 2]));
+    }
+}
+
+#[test]
+fn a_topological_grammar_whose_textures_are_missing_keeps_its_materials_colours() {
+    let (name, text) = example("topo_brick_house.grammar");
+    let elsewhere = Path::new(&name)
+        .with_file_name("no-such-folder")
+        .join("topo_brick_house.grammar");
+    let grammar = Grammar::load(&elsewhere.display().to_string(), &text, None).unwrap();
+    let derived = grammar.derive(&Settings::default()).unwrap();
+    let mut buffers = Buffers::default();
+    derived.fill(&mut buffers);
+    assert!(buffers.textures.is_empty() && buffers.uvs.is_empty());
+    assert!(buffers.parts.iter().all(|p| p.texture.is_none()));
+    let roof = buffers
+        .parts
+        .iter()
+        .find(|p| derived.part_material(p.part) == Some("RoofTiles"))
+        .expect("the roof's part");
+    assert_eq!(roof.color, [192.0 / 255.0, 98.0 / 255.0, 74.0 / 255.0, 1.0]);
+    // Nothing else changes: the same triangles as with the images.
+    let (name, _) = example("topo_brick_house.grammar");
+    let textured = buffers_of(&name, &text);
+    assert_eq!(
+        (&buffers.positions, &buffers.indices),
+        (&textured.positions, &textured.indices)
+    );
+}
+
+fn buffers_of(name: &str, text: &str) -> Buffers {
+    buffers(
+        &Grammar::load(name, text, None).unwrap(),
+        &Settings::default(),
+    )
+}

@@ -15,7 +15,7 @@ use shapegram_eval::{DeriveOptions, LibraryOptions};
 use shapegram_export::ExportOptions;
 use shapegram_geom::Model;
 use shapegram_implicit::CaveParams;
-use shapegram_runtime::{Derived as RuntimeDerived, Grammar, Kind, Settings};
+use shapegram_runtime::{Derived as RuntimeDerived, Grammar, Kind, Settings, TopoGrammar};
 use shapegram_server::studio::{DeriveJob, Derived, StudioDiagnostic};
 use shapegram_syntax::SourceFile;
 
@@ -223,7 +223,7 @@ pub fn cave(job: &DeriveJob) -> Derived {
 }
 
 /// A topological `.grammar` from its first symbol, seed 0, 8 generations, as `shapegram topo
-/// FILE` runs it (through the runtime).
+/// FILE` runs it (through the runtime), its textures read beside it and embedded in the GLB.
 pub fn topo(job: &DeriveJob) -> Derived {
     let started = Instant::now();
     let grammar = match Grammar::load(&job.path.display().to_string(), &job.text, Some(Kind::Topo))
@@ -235,14 +235,15 @@ pub fn topo(job: &DeriveJob) -> Derived {
         control: job.control.clone(),
         ..Settings::default()
     };
-    let mesh = match grammar.derive(&settings) {
-        Ok(RuntimeDerived::Triangles(mesh)) => mesh,
+    let topo = match grammar.derive(&settings) {
+        Ok(RuntimeDerived::Triangles(topo)) => topo,
         Ok(RuntimeDerived::Model(_)) => unreachable!("a topological grammar derives triangles"),
         Err(e) => return runtime_failure(e, started),
     };
-    let Grammar::Topo(_, symbol) = &grammar else {
+    let Grammar::Topo(TopoGrammar { symbol, .. }) = &grammar else {
         unreachable!("a topological grammar loads as one");
     };
+    let mesh = &topo.mesh;
     let parts = mesh
         .parts
         .iter()
@@ -259,7 +260,7 @@ pub fn topo(job: &DeriveJob) -> Derived {
         derive_ms: millis(started.elapsed()),
         ..Derived::default()
     };
-    finish(derived, mesh.to_model(), job)
+    finish(derived, topo.to_model(), job)
 }
 
 /// A goal grammar with the goal grammars of its folder and its subfolders as its library, as

@@ -194,8 +194,8 @@ fn glb_of(answer: &Value) -> Vec<u8> {
 }
 
 /// Every kind of grammar derives in the studio as its command derives the file: a 2D L-system
-/// as the SVG of `shapegram lsystem -o x.svg`, a 3D one, a cave and a topological grammar as
-/// the GLB their commands write (byte for byte), and a goal grammar with its folder as library
+/// as the SVG of `shapegram lsystem -o x.svg`, a 3D one, a cave and topological grammars (one
+/// with textures) as the GLB their commands write (byte for byte), and a goal grammar with its folder as library
 /// as `derive --library FOLDER` counts it.
 #[test]
 fn every_kind_derives_as_its_command_does() {
@@ -210,6 +210,10 @@ fn every_kind_derives_as_its_command_does() {
     let tree = copy("tree-3d.lsys", "tree-3d.lsys");
     let grotto = copy("grotto.cave", "grotto.cave");
     let house = copy("topo_house.grammar", "topo_house.grammar");
+    let brick_house = copy("topo_brick_house.grammar", "topo_brick_house.grammar");
+    for image in ["brick.png", "tiles.png"] {
+        copy(&format!("textures/{image}"), &format!("textures/{image}"));
+    }
     let chair = copy("chairs/chair.goal", "chairs/chair.goal");
     for material in ["fabric", "metal", "wood"] {
         copy(
@@ -248,6 +252,7 @@ fn every_kind_derives_as_its_command_does() {
         (&tree, vec!["lsystem", "-q"]),
         (&grotto, vec!["cave", "-q"]),
         (&house, vec!["topo", "-q"]),
+        (&brick_house, vec!["topo", "-q"]),
     ] {
         let answer = derive(&studio, path, &text(path));
         assert_eq!(answer["svg"], Value::Null, "{}", path.display());
@@ -263,6 +268,20 @@ fn every_kind_derives_as_its_command_does() {
         );
         assert_eq!(answer["glb_bytes"], json!(file.len()));
     }
+    // The brick house's textures, read beside it, are in its GLB.
+    let answer = derive(&studio, &brick_house, &text(&brick_house));
+    let images = shapegram_export::read_glb(&glb_of(&answer))
+        .unwrap()
+        .parts
+        .iter()
+        .filter_map(|p| Some(p.texture.as_ref()?.image.as_ref()?.len()))
+        .collect::<std::collections::BTreeSet<_>>();
+    let sizes = ["brick.png", "tiles.png"].map(|image| {
+        std::fs::metadata(dir.path("textures").join(image))
+            .unwrap()
+            .len() as usize
+    });
+    assert_eq!(images, sizes.into());
 
     // A goal grammar with the goal grammars of its folder (and subfolders) as its library.
     let answer = derive(&studio, &chair, &text(&chair));

@@ -336,3 +336,74 @@ fn a_missing_texture_is_a_warning_and_its_faces_keep_their_colour() {
             .any(|p| p.material.as_deref() == Some("RoofTiles"))
     );
 }
+
+/// The corners of the parts of one material: each position with its uv as glTF has it (v down),
+/// and the names of the parts' images.
+type TexturedCorners = (Vec<([f32; 3], [f32; 2])>, Vec<String>);
+
+/// Corners and image names sorted, each once (a GLB may share a corner between faces).
+fn sorted_corners(
+    mut corners: Vec<([f32; 3], [f32; 2])>,
+    mut paths: Vec<String>,
+) -> TexturedCorners {
+    corners.sort_by(|a, b| a.partial_cmp(b).unwrap());
+    corners.dedup();
+    paths.sort();
+    paths.dedup();
+    (corners, paths)
+}
+
+#[test]
+fn hosts_get_the_uvs_and_images_the_brick_houses_glb_has() {
+    let dir = TempDir::new("brick-runtime");
+    let out = dir.path("brick.glb");
+    let grammar = example("topo_brick_house.grammar");
+    ok(&[
+        "topo".as_ref(),
+        grammar.as_os_str(),
+        "-o".as_ref(),
+        out.as_os_str(),
+    ]);
+    let glb = shapegram_export::read_glb(&std::fs::read(&out).unwrap()).unwrap();
+    let text = std::fs::read_to_string(&grammar).unwrap();
+    let runtime =
+        shapegram_runtime::Grammar::load(&grammar.display().to_string(), &text, None).unwrap();
+    let derived = runtime
+        .derive(&shapegram_runtime::Settings::default())
+        .unwrap();
+    let mut buffers = shapegram_export::Buffers::default();
+    derived.fill(&mut buffers);
+    // Distinct corners: the walls' and gables' bricks, the four roof planes' tiles.
+    for (material, count) in [("Brick", 111), ("RoofTiles", 16)] {
+        let (mut corners, mut paths) = (Vec::new(), Vec::new());
+        for part in glb
+            .parts
+            .iter()
+            .filter(|p| p.material.as_deref() == Some(material))
+        {
+            let texture = part.texture.as_ref().expect("a textured part");
+            paths.push(texture.path.to_string());
+            for (i, uv) in part.uvs.iter().enumerate() {
+                let p = part.mesh.position(i as u32).as_vec3().to_array();
+                corners.push((p, [uv.x as f32, (1.0 - uv.y) as f32]));
+            }
+        }
+        let written = sorted_corners(corners, paths);
+        let (mut corners, mut paths) = (Vec::new(), Vec::new());
+        for part in &buffers.parts {
+            if derived.part_material(part.part) != Some(material) {
+                continue;
+            }
+            let texture = part.texture.expect("a textured part") as usize;
+            // The GLB names an image by its file's name alone.
+            let path = &buffers.textures[texture].path;
+            paths.push(path.rsplit('/').next().unwrap().to_owned());
+            for i in part.first_vertex..part.first_vertex + part.vertex_count {
+                corners.push((buffers.positions[i as usize], buffers.uvs[i as usize]));
+            }
+        }
+        let hosts = sorted_corners(corners, paths);
+        assert_eq!(hosts.0.len(), count, "{material}");
+        assert_eq!(hosts, written, "{material}");
+    }
+}

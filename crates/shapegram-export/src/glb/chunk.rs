@@ -224,7 +224,7 @@ impl<'a> Chunk<'a> {
 }
 
 /// A uv as glTF stores it: v runs down the image, where CGA's runs up.
-fn gltf_uv(uv: DVec2) -> [f32; 2] {
+pub(crate) fn gltf_uv(uv: DVec2) -> [f32; 2] {
     [uv.x as f32, (1.0 - uv.y) as f32]
 }
 
