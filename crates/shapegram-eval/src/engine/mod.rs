@@ -317,6 +317,10 @@ pub struct Derivation {
     pub leaves: Vec<Leaf>,
     /// `report(key, value)` calls in derivation order.
     pub reports: Vec<(String, Value)>,
+    /// The tree node of the shape each report was made on, parallel to [`Derivation::reports`],
+    /// when [`DeriveOptions::keep_tree`] is set; empty otherwise. It ties reports to their lot
+    /// and to the leaves below them (see [`ModelOptions::metadata`]).
+    pub report_nodes: Vec<u32>,
     /// `print(value)` output in derivation order.
     pub prints: Vec<String>,
     /// Every shape that existed, parents before children, when [`DeriveOptions::keep_tree`]
