@@ -237,6 +237,13 @@ pub struct Metadata {
     pub tags: Vec<String>,
     /// Named attributes, in name order.
     pub attributes: Vec<(String, MetaValue)>,
+    /// The `report()` values made on the shapes it describes, summarised as CityEngine's PRT
+    /// summarises them (`key_n`, `key_sum`, `key_avg`, `key_min`, `key_max`); `None` when
+    /// reports were not asked for.
+    pub reports: Option<Vec<(String, MetaValue)>>,
+    /// The metadata of the initial shape (lot) a leaf was derived from, shared by the lot's
+    /// leaves: writers give the lot a node of its own above theirs.
+    pub lot: Option<Arc<Metadata>>,
 }
 
 /// The value of a named attribute in [`Metadata`].
@@ -259,14 +266,23 @@ impl std::hash::Hash for Metadata {
         self.leaves.hash(state);
         self.goals.hash(state);
         self.tags.hash(state);
-        for (name, value) in &self.attributes {
-            name.hash(state);
-            match value {
-                MetaValue::Number(n) => n.to_bits().hash(state),
-                MetaValue::Text(t) => t.hash(state),
-                MetaValue::Bool(b) => b.hash(state),
+        let entries = |list: &[(String, MetaValue)], state: &mut H| {
+            for (name, value) in list {
+                name.hash(state);
+                match value {
+                    MetaValue::Number(n) => n.to_bits().hash(state),
+                    MetaValue::Text(t) => t.hash(state),
+                    MetaValue::Bool(b) => b.hash(state),
+                }
             }
+        };
+        entries(&self.attributes, state);
+        if let Some(reports) = &self.reports {
+            entries(reports, state);
         }
+        // Equal lots have equal paths: hashing the path alone keeps a lot's reports from being
+        // hashed once per leaf.
+        self.lot.as_ref().map(|lot| &lot.path).hash(state);
     }
 }
 

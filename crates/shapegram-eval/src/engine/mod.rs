@@ -398,7 +398,7 @@ impl Derivation {
         let mut slot: FxHashMap<Key, usize> = FxHashMap::default();
         let mut metadata = MetadataCache::default();
         let describer = (options.metadata != MetadataScope::None)
-            .then(|| leaf_metadata::LeafDescriber::new(&self.tree, &options.attr_names));
+            .then(|| leaf_metadata::LeafDescriber::new(self, &options.attr_names));
         let mut summaries = leaf_metadata::PartSummaries::default();
         let skeleton_of: FxHashMap<u32, u32> = self
             .skeletons
@@ -551,6 +551,8 @@ impl MetadataCache {
                 .iter()
                 .map(|(name, value)| (name.to_string(), meta_value(value)))
                 .collect(),
+            reports: None,
+            lot: None,
         });
         let meta = match self.seen.get_key_value(&meta) {
             Some((shared, _)) => shared.clone(),
