@@ -124,24 +124,38 @@ fn instanced_files_read_back_as_the_flat_triangles() {
         let mesh = model.merged_mesh();
         (mesh.area(), mesh.face_count(), model.bounds().unwrap())
     };
+    // With metadata every leaf keeps its own node, so no coplanar rectangles of two leaves
+    // are merged: the flat file holds each copy's triangles, as an instanced mesh does.
     let (area, faces, bounds) = area_and_count(&derive(
         &grammar,
         &dir.path("flat.glb"),
-        &["--instancing", "none"],
+        &["--instancing", "none", "--metadata"],
         1,
     ));
     for how in ["nodes", "gpu"] {
         let glb = derive(&grammar, &dir.path("i.glb"), &["--instancing", how], 1);
         let (a, f, b) = area_and_count(&glb);
-        // The flat file's coplanar rectangles are merged (fewer triangles, the same surface);
-        // an instanced mesh keeps its prototype's triangles.
-        assert!(f >= faces, "{how}: {f} triangles against {faces} flat");
+        assert_eq!(f, faces, "{how}: triangles");
         assert!(
             (a - area).abs() < 1e-6 * area,
             "{how}: area {a} against {area}"
         );
         assert!(b.min.distance(bounds.min) < 1e-5 && b.max.distance(bounds.max) < 1e-5);
     }
+    // Without metadata the flat file merges rectangles across leaves: the same surface in
+    // fewer triangles.
+    let merged = derive(
+        &grammar,
+        &dir.path("merged.glb"),
+        &["--instancing", "none"],
+        1,
+    );
+    let (a, f, _) = area_and_count(&merged);
+    assert!(f < faces, "{f} merged triangles against {faces}");
+    assert!(
+        (a - area).abs() < 1e-6 * area,
+        "merged area {a} against {area}"
+    );
 }
 
 #[test]
