@@ -25,6 +25,9 @@
 //! material, placed by a node per part or by `EXT_mesh_gpu_instancing`, as
 //! [`ExportOptions::instancing`] asks (see [`instance`]).
 //!
+//! A part whose [`Metadata`] names its lot hangs under a node of that lot, a child of
+//! "shapegram" without a mesh that carries the lot's metadata (see [`metadata`]).
+//!
 //! The file is planned first (the compacted and encoded data of every primitive, the JSON
 //! chunk) and then streamed; each primitive's data from the model is let go once encoded.
 
