@@ -1,11 +1,13 @@
 #!/usr/bin/env python3
 """Prints the Shapegram metadata of a GLB's nodes, one JSON object per line.
 
-Each line is {"node": index, "name": ..., "mesh": index or null, "instances": n, plus the keys of
-the node's extras["shapegram"]: "rule", "path", "attributes", "goals", "tags"}. "instances" is
-the number of copies the node draws (its EXT_mesh_gpu_instancing count, else 1). Nodes without
-Shapegram metadata are left out unless --all is given. Only the standard library is used: the
-JSON chunk is read straight from the GLB framing (docs/export.md, "Metadata").
+Each line is {"node": index, "name": ..., "mesh": index or null, "parent": index or null,
+"instances": n, plus the keys of the node's extras["shapegram"]: "rule", "path", "attributes",
+"goals", "tags", "reports", and "leaves" on a lot's node}. "instances" is the number of copies the
+node draws (its EXT_mesh_gpu_instancing count, else 1); "parent" is the node that lists it as a
+child (a leaf's lot node under --metadata). Nodes without Shapegram metadata are left out unless
+--all is given. Only the standard library is used: the JSON chunk is read straight from the GLB
+framing (docs/export.md, "Metadata").
 
 Usage: python3 tools/glb_metadata.py [--all] FILE.glb
 """
@@ -28,7 +30,10 @@ def json_chunk(data):
 def rows(document, everything=False):
     """One dict per node (with metadata, unless `everything`)."""
     accessors = document.get("accessors", [])
-    for index, node in enumerate(document.get("nodes", [])):
+    nodes = document.get("nodes", [])
+    parents = {child: index for index, node in enumerate(nodes)
+               for child in node.get("children", [])}
+    for index, node in enumerate(nodes):
         meta = node.get("extras", {}).get("shapegram")
         if meta is None and not everything:
             continue
@@ -38,7 +43,7 @@ def rows(document, everything=False):
             first = next(iter(gpu["attributes"].values()))
             copies = accessors[first]["count"]
         row = {"node": index, "name": node.get("name"), "mesh": node.get("mesh"),
-               "instances": copies}
+               "parent": parents.get(index), "instances": copies}
         row.update(meta or {})
         yield row
 

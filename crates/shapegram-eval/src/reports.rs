@@ -1,6 +1,8 @@
 //! `report(key, value)` summarised as CityEngine's Procedural Runtime (PRT) summarises them:
 //! per key `key_n`, `key_sum`, `key_avg`, `key_min` and `key_max`.
 
+use rustc_hash::FxHashMap;
+
 use crate::value::Value;
 
 /// The reports summarised, keys in the order they first appear, each with its five entries.
@@ -51,15 +53,17 @@ fn numbers(values: impl Iterator<Item = f64>) -> [Value; 5] {
 }
 
 fn texts(values: Vec<String>) -> [Value; 5] {
-    let count = |s: &String| values.iter().filter(|v| *v == s).count();
-    let mut most = &values[0];
-    for v in &values {
-        if count(v) > count(most) {
-            most = v;
-        }
+    // Each value's count and first position: a lot can report thousands of strings.
+    let mut counts: FxHashMap<&str, (usize, usize)> = FxHashMap::default();
+    for (i, v) in values.iter().enumerate() {
+        counts.entry(v).or_insert((0, i)).0 += 1;
     }
-    let min = values.iter().min().unwrap_or(most);
-    let max = values.iter().max().unwrap_or(most);
+    let most = counts
+        .iter()
+        .max_by_key(|(_, (n, first))| (*n, std::cmp::Reverse(*first)))
+        .map_or("", |(v, _)| v);
+    let min = values.iter().min().map_or(most, String::as_str);
+    let max = values.iter().max().map_or(most, String::as_str);
     [
         Value::Number(values.len() as f64),
         Value::string(most),

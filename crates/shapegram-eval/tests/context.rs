@@ -56,6 +56,32 @@ Face --> case inside() : Hidden.
 }
 
 #[test]
+fn reports_of_shapes_that_waited_for_phase_two_name_their_nodes() {
+    let grammar = format!(
+        "{TWO_BLOCKS}
+Face --> case inside() : report(\"hidden\", geometry.area) Hidden.
+         else : report(\"seen\", 1) Seen."
+    );
+    let options = DeriveOptions {
+        keep_tree: true,
+        ..DeriveOptions::default()
+    };
+    let d = derive(&compile(&grammar), &[lot(20.0, 10.0)], &options).unwrap();
+    assert_eq!(d.reports.len(), 8);
+    assert_eq!(d.report_nodes.len(), 8);
+    for (&node, (key, _)) in d.report_nodes.iter().zip(&d.reports) {
+        assert_eq!(&*d.tree[node as usize].name, "Face", "{key}");
+    }
+    // Each leaf hangs below the face whose report says what became of it.
+    let hidden = d.leaves.iter().find(|l| &*l.name == "Hidden").unwrap();
+    let at = d.reports.iter().position(|(k, _)| k == "hidden").unwrap();
+    assert_eq!(
+        d.tree[hidden.node.unwrap() as usize].parent,
+        Some(d.report_nodes[at])
+    );
+}
+
+#[test]
 fn queries_never_see_their_own_ancestors() {
     // Every face lies on its own mass; only the other block can occlude it.
     let grammar = format!(

@@ -572,6 +572,50 @@ fn reports_and_prints_are_collected_in_order() {
 }
 
 #[test]
+fn reports_name_the_tree_node_of_their_shape_when_the_tree_is_kept() {
+    let program = compile(
+        "Lot --> report(\"lot\", geometry.area) extrude(6) split(y) { ~3 : Floor }*
+         Floor --> report(\"floor\", split.index) Slab.",
+    );
+    // Three lots, so that batches derived on other threads are renumbered into one tree.
+    let lots = [lot(4.0, 5.0), lot(2.0, 3.0), lot(1.0, 1.0)];
+    let kept = derive(
+        &program,
+        &lots,
+        &DeriveOptions {
+            keep_tree: true,
+            ..DeriveOptions::default()
+        },
+    )
+    .unwrap();
+    assert_eq!(kept.reports.len(), 9);
+    assert_eq!(kept.report_nodes.len(), 9);
+    let made_on: Vec<(String, u32)> = kept
+        .report_nodes
+        .iter()
+        .map(|&n| {
+            let node = &kept.tree[n as usize];
+            (node.name.to_string(), node.lot)
+        })
+        .collect();
+    let expected: Vec<(String, u32)> = (0..3)
+        .flat_map(|lot| {
+            ["Lot", "Floor", "Floor"]
+                .into_iter()
+                .map(move |name| (name.to_owned(), lot))
+        })
+        .collect();
+    assert_eq!(made_on, expected);
+    // A floor's report is made on the floor whose successor is the leaf.
+    let floor_of_first_slab = kept.tree[kept.leaves[0].node.unwrap() as usize].parent;
+    assert_eq!(floor_of_first_slab, Some(kept.report_nodes[1]));
+    // Without the tree there is nothing to point at, and nothing is kept.
+    let plain = derive(&program, &lots, &DeriveOptions::default()).unwrap();
+    assert!(plain.report_nodes.is_empty());
+    assert_eq!(plain.reports, kept.reports);
+}
+
+#[test]
 fn the_derivation_tree_links_every_shape_to_its_parent() {
     let program = compile(
         "Lot --> extrude(6) split(y) { ~3 : Floor }*

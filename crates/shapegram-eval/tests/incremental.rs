@@ -13,6 +13,7 @@ fn assert_same(again: &Derivation, full: &Derivation) {
     assert_eq!(again.leaves, full.leaves);
     assert_eq!(again.tree, full.tree);
     assert_eq!(again.reports, full.reports);
+    assert_eq!(again.report_nodes, full.report_nodes);
     assert_eq!(again.prints, full.prints);
     assert_eq!(again.skeletons, full.skeletons);
     assert_eq!(again.solids, full.solids);
@@ -208,6 +209,30 @@ B --> report(\"b\", b) report(\"a\", a) Leaf.\n";
     assert_eq!(applied, 3, "B must be derived again");
     let full = derive(&after, &lots, &traced(false)).unwrap();
     assert_eq!(full.reports[0], full.reports[1]);
+}
+
+#[test]
+fn reused_reports_keep_the_tree_nodes_they_were_made_on() {
+    // A's subtree is copied from the previous derivation after B's rule changed: its report
+    // points at the copied node of A, renumbered like the leaves.
+    let text = "Lot --> extrude(6) split(x) { ~1 : B | ~1 : A }
+A --> report(\"a\", 1) Leaf.
+B --> report(\"b\", 2) Leaf.\n";
+    let edited = text.replace(
+        "B --> report(\"b\", 2) Leaf.",
+        "B --> split(y) { ~1 : Leaf. }*",
+    );
+    let lots = [lot(10.0, 8.0), lot(4.0, 4.0)];
+    let (reused, _) = edit(&compile(text), &compile(&edited), &lots, &traced(true));
+    assert_eq!(reused, 2, "A on both lots");
+    let full = derive(&compile(&edited), &lots, &traced(true)).unwrap();
+    let made_on: Vec<&str> = full
+        .report_nodes
+        .iter()
+        .map(|&n| &*full.tree[n as usize].name)
+        .collect();
+    assert_eq!(made_on, ["A", "A"]);
+    assert_ne!(full.report_nodes[0], full.report_nodes[1]);
 }
 
 #[test]

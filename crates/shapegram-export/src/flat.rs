@@ -287,24 +287,6 @@ pub(crate) fn texture_files(model: &Model) -> Vec<(Arc<str>, String, Arc<[u8]>)>
     files
 }
 
-/// Colour channels as written: clamped to `0..=1`, NaN replaced, and -0 made +0 so that equal
-/// colours compare equal bit for bit.
-pub(crate) fn sanitized(color: Color) -> [f32; 4] {
-    let channel = |c: f32, fallback: f32| {
-        if c.is_nan() {
-            fallback
-        } else {
-            c.clamp(0.0, 1.0) + 0.0
-        }
-    };
-    [
-        channel(color.r, 0.0),
-        channel(color.g, 0.0),
-        channel(color.b, 0.0),
-        channel(color.a, 1.0),
-    ]
-}
-
 /// What tells two materials apart: the colour's bits, the texture's index, the name and the
 /// surface.
 type MaterialKey = (
@@ -338,7 +320,7 @@ impl Palette {
         surface: Option<&Arc<Surface>>,
         textured: bool,
     ) -> usize {
-        let rgba = sanitized(color);
+        let rgba = color.sanitized();
         let surface = surface.map(|s| drawn_surface(s, textured));
         let key = surface.as_ref().map(|s| s.key());
         *self

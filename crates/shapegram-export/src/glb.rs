@@ -25,6 +25,9 @@
 //! material, placed by a node per part or by `EXT_mesh_gpu_instancing`, as
 //! [`ExportOptions::instancing`] asks (see [`instance`]).
 //!
+//! A part whose [`Metadata`] names its lot hangs under a node of that lot, a child of
+//! "shapegram" without a mesh that carries the lot's metadata (see [`metadata`]).
+//!
 //! The file is planned first (the compacted and encoded data of every primitive, the JSON
 //! chunk) and then streamed; each primitive's data from the model is let go once encoded.
 
@@ -33,7 +36,7 @@ use std::io::{self, Write};
 
 use gltf_json as json;
 use json::validation::{Checked::Valid, USize64};
-use shapegram_geom::{Color, MetaValue, Metadata, Model, Part, Texture};
+use shapegram_geom::{Color, Metadata, Model, Part, Texture};
 
 use crate::flat::{FaceSplitter, Palette, check_bones, drawable};
 use crate::{ExportOptions, GlbEncoding};
@@ -45,6 +48,7 @@ pub(crate) mod compress;
 mod coplanar;
 mod instance;
 mod material;
+mod metadata;
 mod quantize;
 mod skin;
 mod streams;
@@ -57,6 +61,7 @@ pub(crate) use instance::GPU_INSTANCING;
 pub use instance::Instancing;
 use instance::{InstanceSets, Role};
 use material::{gltf_textures, material, textured, with_surface};
+use metadata::{LotNodes, metadata_extras};
 use quantize::Grid;
 use skin::Skin;
 use streams::{Joints, Stream, streams};
@@ -504,40 +509,6 @@ impl<'a> Plan<'a> {
     }
 }
 
-/// A part's metadata as node extras: `{"shapegram": {"rule": …, "path": …, "leaves": n,
-/// "goals": […], "tags": […], "attributes": {name: value}}}` (`rule`, `path` and `leaves`
-/// when known), as
-/// `docs/export.md` and `docs/goals.md` document.
-fn metadata_extras(metadata: &Metadata) -> Box<json::extras::RawValue> {
-    let attributes: serde_json::Map<String, serde_json::Value> = metadata
-        .attributes
-        .iter()
-        .map(|(name, value)| {
-            let value = match value {
-                MetaValue::Number(n) => serde_json::json!(n),
-                MetaValue::Text(t) => serde_json::json!(t),
-                MetaValue::Bool(b) => serde_json::json!(b),
-            };
-            (name.clone(), value)
-        })
-        .collect();
-    let mut fields = serde_json::Map::new();
-    if let Some(rule) = &metadata.rule {
-        fields.insert("rule".to_owned(), rule.clone().into());
-    }
-    if let Some(path) = &metadata.path {
-        fields.insert("path".to_owned(), path.clone().into());
-    }
-    if let Some(leaves) = metadata.leaves {
-        fields.insert("leaves".to_owned(), leaves.into());
-    }
-    fields.insert("goals".to_owned(), metadata.goals.clone().into());
-    fields.insert("tags".to_owned(), metadata.tags.clone().into());
-    fields.insert("attributes".to_owned(), attributes.into());
-    let value = serde_json::json!({ "shapegram": fields });
-    serde_json::value::to_raw_value(&value).expect("a JSON value always serialises")
-}
-
 /// The JSON chunk (padded with spaces to 4 bytes) and the length of the BIN chunk.
 fn document(
     palette: &Palette,
@@ -576,6 +547,7 @@ fn document(
     let mut children = Vec::new();
     let mut roots = vec![json::Index::new(0)];
     let mut gpu_meshes = Vec::new();
+    let mut lots = LotNodes::default();
     for group in groups {
         let primitives = group
             .primitives
@@ -598,7 +570,10 @@ fn document(
             Placement::Own => {}
             Placement::Nodes(uses) => {
                 for part in uses {
-                    children.push(builder.root.push(instance::use_node(mesh, part)));
+                    let metadata = part.metadata.as_deref();
+                    let lot = lots.lot_of(&mut builder.root, metadata, &mut children);
+                    let node = builder.root.push(instance::use_node(mesh, part));
+                    lots.adopt(lot, node, &mut children);
                 }
                 continue;
             }
@@ -608,6 +583,7 @@ fn document(
                 continue;
             }
         }
+        let lot = lots.lot_of(&mut builder.root, group.metadata, &mut children);
         // Skins are added after every mesh node, in the order of `skins`.
         let node = builder.root.push(json::Node {
             mesh: Some(mesh),
@@ -623,7 +599,7 @@ fn document(
         if group.skin.is_some() {
             roots.push(node);
         } else {
-            children.push(node);
+            lots.adopt(lot, node, &mut children);
         }
     }
     for (mesh, name, uses) in gpu_meshes {
@@ -639,6 +615,7 @@ fn document(
     for animation in animations {
         animation.push(&mut builder, &joints);
     }
+    lots.finish(&mut builder.root);
     for texture in textures {
         builder.image(texture);
     }

@@ -350,6 +350,72 @@ fn metadata_goes_into_each_use_node() {
 }
 
 #[test]
+fn uses_hang_under_the_node_of_their_lot() {
+    let lot = |k: usize, area: f64| {
+        Arc::new(Metadata {
+            rule: Some("Lot".to_owned()),
+            path: Some(format!("Lot[{k}]")),
+            leaves: Some(25),
+            reports: Some(vec![
+                ("lot.area_n".to_owned(), MetaValue::Number(1.0)),
+                ("lot.area_sum".to_owned(), MetaValue::Number(area)),
+            ]),
+            ..Metadata::default()
+        })
+    };
+    let lots = [lot(0, 200.0), lot(1, 48.0)];
+    let mut model = orchard();
+    for (i, part) in model.parts.iter_mut().enumerate().skip(1) {
+        part.metadata = Some(Arc::new(Metadata {
+            rule: Some("Crown".to_owned()),
+            reports: Some(Vec::new()),
+            lot: Some(lots[i % 2].clone()),
+            ..Metadata::default()
+        }));
+    }
+    let bytes = write_glb(&model, &options(Instancing::Gpu));
+    let (json, _) = split_glb(&bytes);
+    let nodes = json["nodes"].as_array().unwrap();
+    // The root, the ground, two lots and fifty crowns; the lots come before their first use.
+    assert_eq!(nodes.len(), 54);
+    assert_eq!(json["nodes"][0]["children"], serde_json::json!([1, 2, 4]));
+    assert_eq!(nodes[2]["name"], "Lot[1]");
+    assert_eq!(nodes[4]["name"], "Lot[0]");
+    assert!(nodes[2].get("mesh").is_none());
+    assert_eq!(
+        nodes[4]["extras"]["shapegram"],
+        serde_json::json!({
+            "rule": "Lot",
+            "path": "Lot[0]",
+            "leaves": 25,
+            "goals": [],
+            "tags": [],
+            "attributes": {},
+            "reports": {"lot.area_n": 1.0, "lot.area_sum": 200.0},
+        })
+    );
+    for lot in [2, 4] {
+        let children = nodes[lot]["children"].as_array().unwrap();
+        assert_eq!(children.len(), 25);
+        for child in children {
+            let crown = &nodes[child.as_u64().unwrap() as usize];
+            assert_eq!(
+                crown["extras"]["shapegram"]["reports"],
+                serde_json::json!({})
+            );
+        }
+    }
+    // The lots' nodes have no transformation: the file reads back as the flat one.
+    let flat = read_glb(&write_glb(&orchard(), &options(Instancing::None))).unwrap();
+    let back = read_glb(&bytes).unwrap();
+    assert_eq!(
+        back.merged_mesh().face_count(),
+        flat.merged_mesh().face_count()
+    );
+    assert!((back.merged_mesh().area() - flat.merged_mesh().area()).abs() < 1e-6);
+}
+
+#[test]
 fn broken_instancing_data_is_an_error_not_a_panic() {
     let bytes = write_glb(&orchard(), &options(Instancing::Gpu));
     let (json, bin) = split_glb(&bytes);

@@ -52,7 +52,9 @@ pub use component::{Component, ComponentKind, FaceClass};
 pub use glam::{DAffine3, DMat3, DQuat, DVec2, DVec3};
 pub use material::{AlphaMode, Finish, MapTransform, Maps, Surface, SurfaceKey};
 pub use mesh::Mesh;
-pub use model::{Bone, Color, Instance, Lines, MetaValue, Metadata, Model, Part, Texture};
+pub use model::{
+    Bone, Color, Instance, InstanceSetKey, Lines, MetaValue, Metadata, Model, Part, Texture,
+};
 pub use plane::Plane;
 pub use scope::{Pivot, Scope};
 pub use shapegram_kinematics as kinematics;

@@ -6,7 +6,7 @@ use glam::{DAffine3, DVec2, DVec3};
 
 use shapegram_kinematics::{Frame, SectionId, Skeleton};
 
-use crate::{Aabb, Mesh, Surface};
+use crate::{Aabb, Mesh, Surface, SurfaceKey};
 
 /// An sRGB colour (as in `#rrggbb` notation) with straight alpha, each channel in `0..=1`.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -108,6 +108,24 @@ impl Color {
     pub fn to_array(&self) -> [f32; 4] {
         [self.r, self.g, self.b, self.a]
     }
+
+    /// The channels as writers write them, in RGBA order: clamped to `0..=1`, NaN replaced
+    /// (by 0, alpha by 1), and -0 made +0 so that equal colours compare equal bit for bit.
+    pub fn sanitized(&self) -> [f32; 4] {
+        let channel = |c: f32, fallback: f32| {
+            if c.is_nan() {
+                fallback
+            } else {
+                c.clamp(0.0, 1.0) + 0.0
+            }
+        };
+        [
+            channel(self.r, 0.0),
+            channel(self.g, 0.0),
+            channel(self.b, 0.0),
+            channel(self.a, 1.0),
+        ]
+    }
 }
 
 /// One piece of a model: a mesh with a group name (usually the rule that made it) and a colour.
@@ -154,6 +172,51 @@ pub struct Instance {
     /// From the prototype's coordinates to the world: the part's mesh is the prototype's
     /// geometry moved, turned and scaled (per axis) by it; its determinant is positive.
     pub transform: DAffine3,
+}
+
+/// What the copies of one prototype share when they are drawn from one mesh: the prototype
+/// and the whole material (colour, colour map, material name, other attributes). The engine
+/// counts a prototype's uses by it when it decides what to instance, and the GLB writer gathers
+/// instanced parts into meshes by it, so both agree on what is one set.
+#[derive(Clone, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub struct InstanceSetKey {
+    prototype: u32,
+    color: [u32; 4],
+    texture: Option<Arc<str>>,
+    material: Option<Arc<str>>,
+    surface: Option<SurfaceKey>,
+}
+
+impl InstanceSetKey {
+    /// The set of a copy of `prototype` in `color` (as written: [`Color::sanitized`]) with
+    /// the colour map `texture`, the material name `material` and `surface`.
+    pub fn new(
+        prototype: u32,
+        color: Color,
+        texture: Option<&Texture>,
+        material: Option<&Arc<str>>,
+        surface: Option<&Surface>,
+    ) -> Self {
+        Self {
+            prototype,
+            color: color.sanitized().map(f32::to_bits),
+            texture: texture.map(|t| t.path.clone()),
+            material: material.cloned(),
+            surface: surface.map(Surface::key),
+        }
+    }
+
+    /// The set of an instanced part; `None` for a part that is no instance.
+    pub fn of_part(part: &Part) -> Option<Self> {
+        let instance = part.instance?;
+        Some(Self::new(
+            instance.prototype,
+            part.color,
+            part.texture.as_deref(),
+            part.material.as_ref(),
+            part.surface.as_deref(),
+        ))
+    }
 }
 
 impl Part {
@@ -237,6 +300,13 @@ pub struct Metadata {
     pub tags: Vec<String>,
     /// Named attributes, in name order.
     pub attributes: Vec<(String, MetaValue)>,
+    /// The `report()` values made on the shapes it describes, summarised as CityEngine's PRT
+    /// summarises them (`key_n`, `key_sum`, `key_avg`, `key_min`, `key_max`); `None` when
+    /// reports were not asked for.
+    pub reports: Option<Vec<(String, MetaValue)>>,
+    /// The metadata of the initial shape (lot) a leaf was derived from, shared by the lot's
+    /// leaves: writers give the lot a node of its own above theirs.
+    pub lot: Option<Arc<Metadata>>,
 }
 
 /// The value of a named attribute in [`Metadata`].
@@ -259,14 +329,23 @@ impl std::hash::Hash for Metadata {
         self.leaves.hash(state);
         self.goals.hash(state);
         self.tags.hash(state);
-        for (name, value) in &self.attributes {
-            name.hash(state);
-            match value {
-                MetaValue::Number(n) => n.to_bits().hash(state),
-                MetaValue::Text(t) => t.hash(state),
-                MetaValue::Bool(b) => b.hash(state),
+        let entries = |list: &[(String, MetaValue)], state: &mut H| {
+            for (name, value) in list {
+                name.hash(state);
+                match value {
+                    MetaValue::Number(n) => n.to_bits().hash(state),
+                    MetaValue::Text(t) => t.hash(state),
+                    MetaValue::Bool(b) => b.hash(state),
+                }
             }
+        };
+        entries(&self.attributes, state);
+        if let Some(reports) = &self.reports {
+            entries(reports, state);
         }
+        // Equal lots have equal paths: hashing the path alone keeps a lot's reports from being
+        // hashed once per leaf.
+        self.lot.as_ref().map(|lot| &lot.path).hash(state);
     }
 }
 
@@ -420,5 +499,33 @@ mod tests {
         assert_eq!(lines_only.min, DVec3::new(-1.0, 0.5, 0.5));
         assert_eq!(lines_only.max, DVec3::new(0.5, 3.0, 0.5));
         assert_eq!(Model::default().bounds(), None);
+    }
+
+    #[test]
+    fn copies_share_a_set_when_prototype_and_material_agree_as_written() {
+        let copy = |prototype: u32, color: Color, material: Option<&str>| Part {
+            instance: Some(Instance {
+                prototype,
+                transform: DAffine3::IDENTITY,
+            }),
+            material: material.map(Arc::from),
+            ..Part::new("Tree".to_owned(), color, Mesh::new(), Vec::new())
+        };
+        let key = |part: &Part| InstanceSetKey::of_part(part).unwrap();
+        let green = Color::rgb(0.2, 0.6, 0.2);
+        let first = key(&copy(0, green, None));
+        // Colours written alike are one set: -0 is 0, channels past 1 are 1.
+        let zero = key(&copy(0, Color::rgb(0.0, 1.0, 0.0), None));
+        assert_eq!(zero, key(&copy(0, Color::rgb(-0.0, 1.5, 0.0), None)));
+        assert_eq!(first, key(&copy(0, green, None)));
+        assert_ne!(first, key(&copy(1, green, None)));
+        assert_ne!(first, key(&copy(0, Color::rgb(0.2, 0.6, 0.3), None)));
+        assert_ne!(first, key(&copy(0, green, Some("bark"))));
+        let flat = Part::new("Tree".to_owned(), green, Mesh::new(), Vec::new());
+        assert_eq!(InstanceSetKey::of_part(&flat), None);
+        assert_eq!(
+            Color::rgb(f32::NAN, 2.0, -1.0).sanitized(),
+            [0.0, 1.0, 0.0, 1.0]
+        );
     }
 }

@@ -1,6 +1,6 @@
 //! `shapegram derive --instancing … --metadata`: repeated assets written once and placed many
-//! times, leaves' rule, path and attributes in node extras, read back by the project's reader
-//! and by a script.
+//! times, leaves' rule, path, attributes and reports in node extras under a node per lot, read
+//! back by the project's reader and by a script.
 
 mod common;
 
@@ -124,24 +124,38 @@ fn instanced_files_read_back_as_the_flat_triangles() {
         let mesh = model.merged_mesh();
         (mesh.area(), mesh.face_count(), model.bounds().unwrap())
     };
+    // With metadata every leaf keeps its own node, so no coplanar rectangles of two leaves
+    // are merged: the flat file holds each copy's triangles, as an instanced mesh does.
     let (area, faces, bounds) = area_and_count(&derive(
         &grammar,
         &dir.path("flat.glb"),
-        &["--instancing", "none"],
+        &["--instancing", "none", "--metadata"],
         1,
     ));
     for how in ["nodes", "gpu"] {
         let glb = derive(&grammar, &dir.path("i.glb"), &["--instancing", how], 1);
         let (a, f, b) = area_and_count(&glb);
-        // The flat file's coplanar rectangles are merged (fewer triangles, the same surface);
-        // an instanced mesh keeps its prototype's triangles.
-        assert!(f >= faces, "{how}: {f} triangles against {faces} flat");
+        assert_eq!(f, faces, "{how}: triangles");
         assert!(
             (a - area).abs() < 1e-6 * area,
             "{how}: area {a} against {area}"
         );
         assert!(b.min.distance(bounds.min) < 1e-5 && b.max.distance(bounds.max) < 1e-5);
     }
+    // Without metadata the flat file merges rectangles across leaves: the same surface in
+    // fewer triangles.
+    let merged = derive(
+        &grammar,
+        &dir.path("merged.glb"),
+        &["--instancing", "none"],
+        1,
+    );
+    let (a, f, _) = area_and_count(&merged);
+    assert!(f < faces, "{f} merged triangles against {faces}");
+    assert!(
+        (a - area).abs() < 1e-6 * area,
+        "merged area {a} against {area}"
+    );
 }
 
 #[test]
@@ -176,8 +190,12 @@ fn metadata_is_readable_by_a_script() {
         .lines()
         .map(|line| serde_json::from_str(line).unwrap())
         .collect();
-    // The ground, fifty posts and fifty crowns: every leaf a node.
-    assert_eq!(rows.len(), 101);
+    // The lot, then the ground, fifty posts and fifty crowns: every leaf a node, under the lot.
+    assert_eq!(rows.len(), 102);
+    assert_eq!(rows[0]["path"], "Lot[0]");
+    assert_eq!(rows[0]["leaves"], 101);
+    assert_eq!(rows[0]["mesh"], Value::Null);
+    assert!(rows[1..].iter().all(|r| r["parent"] == rows[0]["node"]));
     let crowns: Vec<&Value> = rows.iter().filter(|r| r["rule"] == "Crown").collect();
     assert_eq!(crowns.len(), 50);
     for crown in &crowns {
@@ -201,6 +219,141 @@ fn metadata_is_readable_by_a_script() {
     assert!(crowns.iter().all(|c| c["mesh"] == crowns[0]["mesh"]));
     let ground = rows.iter().find(|r| r["rule"] == "Ground").unwrap();
     assert_eq!(ground["path"], "Lot[0]/Ground[0]");
+    // The orchard reports nothing: every node says so.
+    assert!(rows.iter().all(|r| r["reports"] == serde_json::json!({})));
+}
+
+/// Three floors on each lot, each reporting its area and level; the lot reports its own area,
+/// and so does a shape it deletes.
+const FLOORS: &str = r#"
+version "2024.0"
+
+attr height = 9
+
+@StartRule
+Lot --> report("lot.area", geometry.area) Gone extrude(height) Mass
+Gone --> report("gone", 1) NIL
+Mass --> split(y) { 3 : Floor }*
+Floor --> report("floor.area", scope.sx * scope.sz) report("floor.level", split.index) Slab.
+"#;
+
+/// A 10 × 20 lot and a 6 × 8 one.
+const TWO_LOTS: [&str; 4] = [
+    "--lot",
+    "0,0 10,0 10,20 0,20",
+    "--lot",
+    "30,0 36,0 36,8 30,8",
+];
+
+/// The rows `tools/glb_metadata.py` prints for `glb`.
+fn script_rows(glb: &Path) -> Vec<Value> {
+    let script = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../tools/glb_metadata.py");
+    let output = Command::new("python3")
+        .arg(script)
+        .arg(glb)
+        .output()
+        .expect("python3 runs tools/glb_metadata.py");
+    assert!(output.status.success(), "{}", stderr(&output));
+    String::from_utf8(output.stdout)
+        .unwrap()
+        .lines()
+        .map(|line| serde_json::from_str(line).unwrap())
+        .collect()
+}
+
+/// PRT's summary of one key: count, sum, mean, least and greatest.
+fn prt(key: &str, [n, sum, avg, min, max]: [f64; 5]) -> Vec<(String, Value)> {
+    ["n", "sum", "avg", "min", "max"]
+        .into_iter()
+        .zip([n, sum, avg, min, max])
+        .map(|(suffix, v)| (format!("{key}_{suffix}"), serde_json::json!(v)))
+        .collect()
+}
+
+#[test]
+fn reports_are_summarised_per_lot_and_per_leaf() {
+    let dir = TempDir::new("reports");
+    let grammar = dir.path("floors.cga");
+    std::fs::write(&grammar, FLOORS).unwrap();
+    let out = dir.path("floors.glb");
+    let mut args = TWO_LOTS.to_vec();
+    args.push("--metadata");
+    derive(&grammar, &out, &args, 2);
+    let rows = script_rows(&out);
+    assert_eq!(rows.len(), 2 + 6, "two lots, three slabs each");
+    let reports = |entries: Vec<Vec<(String, Value)>>| -> Value {
+        Value::Object(entries.into_iter().flatten().collect())
+    };
+    for (lot, area) in [(0, 200.0), (1, 48.0)] {
+        let path = format!("Lot[{lot}]");
+        let lot_row = rows.iter().find(|r| r["path"] == path).unwrap();
+        assert_eq!(lot_row["name"], path.as_str());
+        assert_eq!(lot_row["rule"], "Lot");
+        assert_eq!(lot_row["leaves"], 3);
+        assert_eq!(lot_row["attributes"], serde_json::json!({"height": 9.0}));
+        // Every report made deriving the lot, the deleted shape's too.
+        assert_eq!(
+            lot_row["reports"],
+            reports(vec![
+                prt("lot.area", [1.0, area, area, area, area]),
+                prt("gone", [1.0; 5]),
+                prt("floor.area", [3.0, 3.0 * area, area, area, area]),
+                prt("floor.level", [3.0, 3.0, 1.0, 0.0, 2.0]),
+            ])
+        );
+        let slabs: Vec<&Value> = rows
+            .iter()
+            .filter(|r| r["parent"] == lot_row["node"])
+            .collect();
+        assert_eq!(slabs.len(), 3);
+        for (floor, slab) in slabs.iter().enumerate() {
+            assert_eq!(slab["rule"], "Slab");
+            assert_eq!(
+                slab["path"],
+                format!("Lot[{lot}]/Mass[1]/Mass[{floor}]/Floor[0]/Slab[0]").as_str()
+            );
+            let level = floor as f64;
+            // The reports on the way from the lot to the slab: its floor's, and the lot's.
+            assert_eq!(
+                slab["reports"],
+                reports(vec![
+                    prt("lot.area", [1.0, area, area, area, area]),
+                    prt("floor.area", [1.0, area, area, area, area]),
+                    prt("floor.level", [1.0, level, level, level, level]),
+                ])
+            );
+        }
+    }
+}
+
+#[test]
+fn reports_change_no_byte_without_metadata() {
+    let dir = TempDir::new("reports-bytes");
+    let grammar = dir.path("floors.cga");
+    std::fs::write(&grammar, FLOORS).unwrap();
+    let silent = dir.path("silent.cga");
+    let mut quiet = FLOORS.replace("report(\"lot.area\", geometry.area) ", "");
+    quiet = quiet.replace("report(\"gone\", 1) ", "");
+    quiet = quiet.replace(
+        "report(\"floor.area\", scope.sx * scope.sz) report(\"floor.level\", split.index) ",
+        "",
+    );
+    assert!(!quiet.contains("report"), "{quiet}");
+    std::fs::write(&silent, quiet).unwrap();
+    let reporting = derive(&grammar, &dir.path("a.glb"), &TWO_LOTS, 1);
+    let plain = derive(&silent, &dir.path("b.glb"), &TWO_LOTS, 1);
+    assert!(reporting == plain, "reports changed the file");
+    // With metadata, the reports are all that differs: the same nodes, the same meshes.
+    let mut args = TWO_LOTS.to_vec();
+    args.push("--metadata");
+    let with = json_of(&derive(&grammar, &dir.path("c.glb"), &args, 1));
+    let without = json_of(&derive(&silent, &dir.path("d.glb"), &args, 1));
+    assert_eq!(with["nodes"].as_array().unwrap().len(), 9);
+    assert_eq!(with["meshes"], without["meshes"]);
+    assert_eq!(
+        without["nodes"][1]["extras"]["shapegram"]["reports"],
+        serde_json::json!({})
+    );
 }
 
 #[test]

@@ -122,7 +122,8 @@ impl Engine<'_> {
         Ok(())
     }
 
-    /// `report(key, value)`: a value for the derivation's reports.
+    /// `report(key, value)`: a value for the derivation's reports, made on the shape's tree
+    /// node when the derivation keeps its tree.
     pub(super) fn report(
         &mut self,
         state: &mut State,
@@ -133,6 +134,9 @@ impl Engine<'_> {
         let key = self.ev.eval(key, state, args)?.to_string();
         let value = self.ev.eval(value, state, args)?;
         self.ev.reports.push((key, value));
+        if self.tree.is_some() {
+            self.report_nodes.push(state.node);
+        }
         Ok(())
     }
 

@@ -262,6 +262,8 @@ impl Derivation {
         }
         gathered.snaps.append(&mut batch.snaps);
         self.reports.extend(batch.reports);
+        self.report_nodes
+            .extend(batch.report_nodes.into_iter().map(|n| n + base));
         self.prints.extend(batch.prints);
         self.stats.shapes += batch.shapes;
         for (c, n) in counts.iter_mut().zip(&batch.counts) {
@@ -277,6 +279,8 @@ pub(super) struct Batch {
     pub(super) leaves: Vec<Leaf>,
     pub(super) tree: Vec<TreeNode>,
     pub(super) reports: Vec<(String, Value)>,
+    /// The batch's number of the tree node each report was made on (with a tree only).
+    pub(super) report_nodes: Vec<u32>,
     pub(super) prints: Vec<String>,
     pub(super) shapes: usize,
     pub(super) counts: Vec<usize>,
@@ -305,6 +309,7 @@ impl Batch {
             leaves: Vec::new(),
             tree: Vec::new(),
             reports: Vec::new(),
+            report_nodes: Vec::new(),
             prints: Vec::new(),
             shapes: 0,
             counts: vec![0; program.rules.len()],

@@ -8,10 +8,8 @@
 //! and equal terminals. A leaf whose inserted asset was cut has other faces, so it is no
 //! instance of the asset, as CGA's `geometry.isInstanced` says.
 
-use std::sync::Arc;
-
 use rustc_hash::FxHashMap;
-use shapegram_geom::{DAffine3, DVec3, Instance, SurfaceKey};
+use shapegram_geom::{DAffine3, DVec3, Instance, InstanceSetKey};
 
 use super::Leaf;
 use crate::asset_look::Piece;
@@ -32,15 +30,6 @@ pub enum InstanceCandidates {
     All,
 }
 
-/// A prototype in one material: what the GLB writer draws as one mesh.
-type SetKey = (
-    u32,
-    [u32; 4],
-    Option<Arc<str>>,
-    Option<Arc<str>>,
-    Option<SurfaceKey>,
-);
-
 /// The bytes a GPU instance costs (translation, rotation, scale as f32) and the JSON an
 /// instanced mesh adds, roughly, as the GLB writer counts them.
 const INSTANCE_BYTES: usize = 40;
@@ -56,8 +45,8 @@ pub(super) fn assign(
     smaller_only: bool,
 ) -> Vec<Vec<Option<Instance>>> {
     let mut prototypes = Prototypes::default();
-    let mut uses: FxHashMap<SetKey, (usize, usize)> = FxHashMap::default();
-    let mut keys: Vec<Vec<Option<SetKey>>> = Vec::new();
+    let mut uses: FxHashMap<InstanceSetKey, (usize, usize)> = FxHashMap::default();
+    let mut keys: Vec<Vec<Option<InstanceSetKey>>> = Vec::new();
     let mut assigned: Vec<Vec<Option<Instance>>> = Vec::new();
     for leaf in leaves {
         let (frame, pieces) = leaf.unwrap_or_default();
@@ -66,12 +55,12 @@ pub(super) fn assign(
         for piece in &pieces {
             let instance = prototypes.instance(frame, piece);
             let key = instance.map(|i| {
-                (
+                InstanceSetKey::new(
                     i.prototype,
-                    piece.color.to_array().map(f32::to_bits),
-                    piece.colormap.as_ref().map(|t| t.path.clone()),
-                    piece.material.clone(),
-                    piece.surface.as_ref().map(|s| s.key()),
+                    piece.color,
+                    piece.colormap.as_deref(),
+                    piece.material.as_ref(),
+                    piece.surface.as_ref(),
                 )
             });
             if let Some(key) = &key {
@@ -88,7 +77,7 @@ pub(super) fn assign(
         keys.push(leaf_keys);
         assigned.push(leaf_instances);
     }
-    let worth = |key: &SetKey| {
+    let worth = |key: &InstanceSetKey| {
         let (copies, bytes) = uses[key];
         copies > 1
             && (!smaller_only || copies * bytes > bytes + SET_BYTES + copies * INSTANCE_BYTES)

@@ -1,11 +1,16 @@
 //! What each leaf is, for readers of the written model ([`super::ModelOptions::metadata`]):
-//! its rule, its derivation path and its attributes, read from the derivation tree, with the
-//! goals, tags and named attributes of goal grammars.
+//! its rule, its derivation path, its attributes and the reports made on its way from the lot,
+//! read from the derivation tree, with the goals, tags and named attributes of goal grammars;
+//! and what each lot is: its rule, attributes, leaf count and all the reports made deriving it.
+
+use std::sync::Arc;
 
 use shapegram_geom::{MetaValue, Metadata};
 
-use super::{Leaf, TreeNode, meta_value};
+use super::{Derivation, Leaf, TreeNode, meta_value};
 use crate::goals::LeafSemantics;
+use crate::reports::summarise_reports;
+use crate::value::Value;
 
 /// Describes leaves from the derivation tree (which may be empty: then a leaf has its rule
 /// alone).
@@ -15,12 +20,20 @@ pub(super) struct LeafDescriber<'a> {
     /// Each tree node's position among the children of its parent (for an initial shape, the
     /// lot's index).
     positions: Vec<u32>,
+    reports: &'a [(String, Value)],
+    /// The reports made on each tree node, as indices into `reports`: node `n`'s are
+    /// `report_order[report_starts[n]..report_starts[n + 1]]`, in the order they were made.
+    report_starts: Vec<u32>,
+    report_order: Vec<u32>,
+    /// Each lot's metadata, by lot index (`None` for an index no tree node has).
+    lots: Vec<Option<Arc<Metadata>>>,
 }
 
 impl<'a> LeafDescriber<'a> {
-    /// A describer over `tree`, whose nodes hold attribute values in the order of
-    /// `attr_names`.
-    pub(super) fn new(tree: &'a [TreeNode], attr_names: &'a [String]) -> Self {
+    /// A describer over the tree of `derivation`, whose nodes hold attribute values in the
+    /// order of `attr_names`.
+    pub(super) fn new(derivation: &'a Derivation, attr_names: &'a [String]) -> Self {
+        let tree = derivation.tree.as_slice();
         // Nodes come parents first, children in the order they were made.
         let mut made = vec![0u32; tree.len()];
         let positions = tree
@@ -34,15 +47,99 @@ impl<'a> LeafDescriber<'a> {
                 None => node.lot,
             })
             .collect();
-        Self {
+        // Report nodes are complete exactly when the tree was kept.
+        let report_nodes = if derivation.report_nodes.len() == derivation.reports.len() {
+            derivation.report_nodes.as_slice()
+        } else {
+            &[]
+        };
+        let mut report_starts = vec![0u32; tree.len() + 1];
+        for &node in report_nodes {
+            if let Some(start) = report_starts.get_mut(node as usize + 1) {
+                *start += 1;
+            }
+        }
+        for n in 1..report_starts.len() {
+            report_starts[n] += report_starts[n - 1];
+        }
+        let mut next = report_starts.clone();
+        let mut report_order = vec![0u32; *report_starts.last().unwrap_or(&0) as usize];
+        for (i, &node) in report_nodes.iter().enumerate() {
+            if let Some(slot) = next.get_mut(node as usize) {
+                report_order[*slot as usize] = i as u32;
+                *slot += 1;
+            }
+        }
+        let mut describer = Self {
             tree,
             attr_names,
             positions,
+            reports: &derivation.reports,
+            report_starts,
+            report_order,
+            lots: Vec::new(),
+        };
+        describer.lots = describer.lots(derivation, report_nodes);
+        describer
+    }
+
+    /// Every lot's metadata: its initial shape's rule, path and attributes, how many leaves it
+    /// derived and the summary of every report made deriving it (on shapes that became
+    /// leaves or not).
+    fn lots(&self, derivation: &Derivation, report_nodes: &[u32]) -> Vec<Option<Arc<Metadata>>> {
+        let count = self
+            .tree
+            .iter()
+            .map(|n| n.lot as usize + 1)
+            .max()
+            .unwrap_or(0);
+        let mut leaves = vec![0u32; count];
+        for leaf in &derivation.leaves {
+            if let Some(n) = leaves.get_mut(leaf.lot as usize) {
+                *n += 1;
+            }
+        }
+        let mut reports: Vec<Vec<(String, Value)>> = vec![Vec::new(); count];
+        for (report, &node) in self.reports.iter().zip(report_nodes) {
+            if let Some(node) = self.tree.get(node as usize) {
+                reports[node.lot as usize].push(report.clone());
+            }
+        }
+        let mut lots = vec![None; count];
+        for (n, node) in self.tree.iter().enumerate() {
+            if node.parent.is_some() {
+                continue;
+            }
+            let lot = node.lot as usize;
+            let mut metadata = self.node_metadata(n, &reports[lot]);
+            metadata.leaves = Some(leaves[lot]);
+            lots[lot] = Some(Arc::new(metadata));
+        }
+        lots
+    }
+
+    /// Tree node `node` as metadata: its symbol, path and attributes, with `reports`
+    /// summarised.
+    fn node_metadata(&self, node: usize, reports: &[(String, Value)]) -> Metadata {
+        let mut attributes: Vec<(String, MetaValue)> = self
+            .attr_names
+            .iter()
+            .zip(self.tree[node].attrs.iter())
+            .map(|(name, value)| (name.clone(), meta_value(value)))
+            .collect();
+        attributes.sort_by(|a, b| a.0.cmp(&b.0));
+        Metadata {
+            rule: Some(self.tree[node].name.to_string()),
+            path: Some(self.path(node)),
+            attributes,
+            reports: Some(summary(reports)),
+            ..Metadata::default()
         }
     }
 
-    /// The leaf's metadata: rule, path and attributes, and the semantics of a goal grammar's
-    /// leaf (whose named attributes win over grammar attributes of the same name).
+    /// The leaf's metadata: rule, path, attributes, the reports made on its shape and its
+    /// ancestors, its lot, and the semantics of a goal grammar's leaf (whose named attributes
+    /// win over grammar attributes of the same name).
     pub(super) fn describe(&self, leaf: &Leaf, semantics: Option<&LeafSemantics>) -> Metadata {
         let node = leaf
             .node
@@ -77,7 +174,27 @@ impl<'a> LeafDescriber<'a> {
             goals,
             tags,
             attributes,
+            reports: node.map(|n| summary(&self.path_reports(n))),
+            lot: node.and_then(|_| self.lots.get(leaf.lot as usize).cloned().flatten()),
         }
+    }
+
+    /// The reports made on `node` and its ancestors, from the initial shape down (what PRT's
+    /// leaf reporting strategy gives a leaf).
+    fn path_reports(&self, node: usize) -> Vec<(String, Value)> {
+        let mut steps = Vec::new();
+        let mut at = Some(node);
+        while let Some(n) = at {
+            steps.push(n);
+            at = self.tree[n].parent.map(|p| p as usize);
+        }
+        let starts = &self.report_starts;
+        steps
+            .iter()
+            .rev()
+            .flat_map(|&n| &self.report_order[starts[n] as usize..starts[n + 1] as usize])
+            .map(|&i| self.reports[i as usize].clone())
+            .collect()
     }
 
     /// `Lot[0]/Mass[0]/Facade[2]`: the symbol of each shape from the initial shape down to
@@ -123,6 +240,8 @@ impl PartSummaries {
                     Metadata {
                         path: None,
                         leaves: Some(1),
+                        reports: None,
+                        lot: None,
                         ..description.clone()
                     },
                     leaf,
@@ -148,4 +267,12 @@ impl PartSummaries {
             }
         }
     }
+}
+
+/// Reports summarised as metadata values (see [`summarise_reports`]).
+fn summary(reports: &[(String, Value)]) -> Vec<(String, MetaValue)> {
+    summarise_reports(reports)
+        .into_iter()
+        .map(|(key, value)| (key, meta_value(&value)))
+        .collect()
 }

@@ -64,6 +64,8 @@ pub(super) struct Engine<'p> {
     pub(super) options: &'p DeriveOptions,
     pub(super) tree: Option<Vec<TreeNode>>,
     pub(super) leaves: Vec<Leaf>,
+    /// The tree node of each of the lot's reports (`ev.reports`), when there is a tree.
+    pub(super) report_nodes: Vec<u32>,
     pub(super) counts: Vec<usize>,
     /// Rule applications so far; the clock is read every 1024 of them.
     pub(super) applications: usize,
@@ -133,6 +135,7 @@ impl<'p> Engine<'p> {
             options,
             tree: options.keep_tree.then(|| std::mem::take(&mut batch.tree)),
             leaves: std::mem::take(&mut batch.leaves),
+            report_nodes: Vec::new(),
             counts: vec![0; program.rules.len()],
             applications: 0,
             successors: 0,
@@ -183,6 +186,7 @@ impl<'p> Engine<'p> {
         batch.leaves = self.leaves;
         batch.tree = self.tree.unwrap_or_default();
         batch.reports.extend(self.ev.reports);
+        batch.report_nodes.extend(self.report_nodes);
         batch.prints.extend(self.ev.prints);
         batch.shapes += self.shapes;
         for (c, n) in batch.counts.iter_mut().zip(&self.counts) {

@@ -317,6 +317,10 @@ pub struct Derivation {
     pub leaves: Vec<Leaf>,
     /// `report(key, value)` calls in derivation order.
     pub reports: Vec<(String, Value)>,
+    /// The tree node of the shape each report was made on, parallel to [`Derivation::reports`],
+    /// when [`DeriveOptions::keep_tree`] is set; empty otherwise. It ties reports to their lot
+    /// and to the leaves below them (see [`ModelOptions::metadata`]).
+    pub report_nodes: Vec<u32>,
     /// `print(value)` output in derivation order.
     pub prints: Vec<String>,
     /// Every shape that existed, parents before children, when [`DeriveOptions::keep_tree`]
@@ -394,7 +398,7 @@ impl Derivation {
         let mut slot: FxHashMap<Key, usize> = FxHashMap::default();
         let mut metadata = MetadataCache::default();
         let describer = (options.metadata != MetadataScope::None)
-            .then(|| leaf_metadata::LeafDescriber::new(&self.tree, &options.attr_names));
+            .then(|| leaf_metadata::LeafDescriber::new(self, &options.attr_names));
         let mut summaries = leaf_metadata::PartSummaries::default();
         let skeleton_of: FxHashMap<u32, u32> = self
             .skeletons
@@ -547,6 +551,8 @@ impl MetadataCache {
                 .iter()
                 .map(|(name, value)| (name.to_string(), meta_value(value)))
                 .collect(),
+            reports: None,
+            lot: None,
         });
         let meta = match self.seen.get_key_value(&meta) {
             Some((shared, _)) => shared.clone(),

@@ -153,6 +153,10 @@ impl<'a> Old<'a> {
             reports: d
                 .reports
                 .get(start.reports..start.reports + totals.reports)?,
+            report_nodes: d
+                .report_nodes
+                .get(start.reports..start.reports + totals.reports)
+                .unwrap_or_default(),
             prints: d.prints.get(start.prints..start.prints + totals.prints)?,
             changed: &self.changed,
             moved: self.moved,
@@ -176,6 +180,8 @@ pub(super) struct Previous<'a> {
     /// The previous derivation's number of the lot's first tree node.
     nodes_base: usize,
     reports: &'a [(String, Value)],
+    /// The tree nodes of `reports`, when the previous derivation kept its tree.
+    report_nodes: &'a [u32],
     prints: &'a [String],
     changed: &'a [bool],
     /// Whether rules moved in the file: implicit solids keep the spans of their operations, so
@@ -300,6 +306,7 @@ impl Engine<'_> {
             leaves,
             tree,
             reports,
+            report_nodes,
             prints,
             nodes_base,
             ..
@@ -366,6 +373,12 @@ impl Engine<'_> {
         self.ev
             .reports
             .extend_from_slice(&reports[start.reports..finish.reports]);
+        if self.tree.is_some() {
+            let made_on = report_nodes.get(start.reports..finish.reports);
+            for &old in made_on.ok_or_else(|| lost("reports without tree nodes"))? {
+                self.report_nodes.push(batch_node(old)?);
+            }
+        }
         self.ev
             .prints
             .extend_from_slice(&prints[start.prints..finish.prints]);

@@ -9,14 +9,12 @@
 //! per-instance metadata has no place in `EXT_mesh_gpu_instancing`.
 
 use std::collections::BTreeMap;
-use std::sync::Arc;
 
 use gltf_json as json;
-use shapegram_geom::{DAffine3, Model, Part, SurfaceKey};
+use shapegram_geom::{DAffine3, InstanceSetKey, Model, Part};
 
 use super::Builder;
 use super::chunk::Chunk;
-use crate::flat::sanitized;
 
 /// The glTF extension that draws one mesh at many transforms.
 pub(crate) const GPU_INSTANCING: &str = "EXT_mesh_gpu_instancing";
@@ -71,34 +69,18 @@ pub(crate) enum Role {
     Repeat,
 }
 
-/// Parts of one prototype in one material (colour, texture, name, surface) share a set.
-type SetKey = (
-    u32,
-    [u32; 4],
-    Option<Arc<str>>,
-    Option<Arc<str>>,
-    Option<SurfaceKey>,
-);
-
 impl InstanceSets {
     /// The sets of `model` as `mode` asks, in order of first use.
     pub(crate) fn find(model: &Model, mode: Instancing) -> Self {
         if mode == Instancing::None || model.parts.iter().all(|p| p.instance.is_none()) {
             return Self::default();
         }
-        let mut index: BTreeMap<SetKey, usize> = BTreeMap::new();
+        let mut index: BTreeMap<InstanceSetKey, usize> = BTreeMap::new();
         let mut candidates: Vec<Vec<usize>> = Vec::new();
         for (i, part) in model.parts.iter().enumerate() {
-            let Some(instance) = part.instance.filter(|_| part.bone.is_none()) else {
+            let Some(key) = InstanceSetKey::of_part(part).filter(|_| part.bone.is_none()) else {
                 continue;
             };
-            let key = (
-                instance.prototype,
-                sanitized(part.color).map(f32::to_bits),
-                part.texture.as_ref().map(|t| t.path.clone()),
-                part.material.clone(),
-                part.surface.as_ref().map(|s| s.key()),
-            );
             let set = *index.entry(key).or_insert_with(|| {
                 candidates.push(Vec::new());
                 candidates.len() - 1
