@@ -145,14 +145,11 @@ impl Group<'_> {
             .iter()
             .map(|p| compaction.reorder && p.is_bare())
             .collect();
-        let pooling = bare.contains(&true);
         let vertices: Vec<Vertices> = self
             .primitives
             .iter()
             .zip(&bare)
-            .map(|(primitive, &bare)| {
-                Vertices::of_primitive(primitive, compaction, pooling && bare)
-            })
+            .map(|(primitive, &bare)| Vertices::of_primitive(primitive, compaction, bare))
             .collect();
         // An instanced mesh's nodes carry the instances' transformations, so its positions
         // stay floats rather than take a grid that a node would have to undo.
@@ -174,7 +171,7 @@ impl Group<'_> {
         let primitives = self.primitives.iter_mut().enumerate();
         for ((index, primitive), (vertices, bare)) in primitives.zip(vertices.into_iter().zip(bare))
         {
-            if pooling && bare {
+            if bare {
                 members.push(vertices);
                 member_of.push(index);
                 primitive.chunks = Vec::new();
@@ -192,6 +189,9 @@ impl Group<'_> {
                 .map(|piece| streams(piece, primitive.lines, joints, encoding, self.grid.as_ref()))
                 .collect();
             primitive.chunks = Vec::new();
+        }
+        if members.is_empty() {
+            return;
         }
         let compressed = encoding == GlbEncoding::Compressed;
         let pieces = pool::pool(&members, usize::from(u16::MAX) - 1);
