@@ -4,8 +4,10 @@
 //! `normals`) gives every face its own vertices, shared by the face's triangles, with the face
 //! normal; a smooth part keeps its shared vertices with their normals; a line set becomes a
 //! LINES primitive of its points (POSITION only). Each primitive is then compacted (see
-//! [`compact`]): vertices equal in every attribute shared, coplanar rectangles merged, triangles
-//! in vertex-cache order. Each accessor has its own buffer view, 4-byte aligned, in one buffer;
+//! [`compact`]): coplanar rectangles merged, flat faces' normals dropped (readers compute them,
+//! as glTF requires) unless [`FlatNormals::Written`] asks for them, vertices equal in every
+//! attribute left shared, triangles in vertex-cache order. Flat and smooth parts of one
+//! material then go into primitives of their own, since only the smooth ones have normals. Each accessor has its own buffer view, 4-byte aligned, in one buffer;
 //! [`GlbEncoding`] picks floats, KHR_mesh_quantization (see [`quantize`]; the mesh node's
 //! translation and scale undo it) or that compressed with EXT_meshopt_compression (see
 //! [`compress`]; the views then lie in a fallback buffer without data).
@@ -39,8 +41,9 @@ use json::validation::{Checked::Valid, USize64};
 use shapegram_geom::{Color, Metadata, Model, Part, Texture};
 
 use crate::flat::{FaceSplitter, Palette, check_bones, drawable};
-use crate::{ExportOptions, GlbEncoding};
+use crate::{ExportOptions, FlatNormals, GlbEncoding};
 
+mod aligned;
 mod animation;
 mod chunk;
 mod compact;
@@ -49,6 +52,7 @@ mod coplanar;
 mod instance;
 mod material;
 mod metadata;
+mod pool;
 mod quantize;
 mod skin;
 mod streams;
@@ -64,7 +68,7 @@ use material::{gltf_textures, material, textured, with_surface};
 use metadata::{LotNodes, metadata_extras};
 use quantize::Grid;
 use skin::Skin;
-use streams::{Joints, Stream, streams};
+use streams::{Joints, Stream, index_stream, position_stream, streams};
 
 /// GLB framing constants from the glTF 2.0 specification, section "Binary glTF Layout".
 pub(crate) const MAGIC: &[u8; 4] = b"glTF";
@@ -80,14 +84,33 @@ struct Primitive<'a> {
     textured: bool,
     /// Whether its vertices carry tangents: its material has a normal map.
     tangents: bool,
+    /// Whether its vertices carry normals (NORMAL): its parts are smooth or normal-mapped, or
+    /// flat normals are asked for ([`FlatNormals::Written`]).
+    normals: bool,
     skinned: Option<Skinned>,
     /// The data of the model's parts, until [`Plan::new`] has compacted them into `streams`.
     chunks: Vec<Chunk<'a>>,
     /// The model part each chunk holds (`None`: a line set).
     sources: Vec<Option<usize>>,
     /// The accessors' data of each glTF primitive it becomes (one, or several of fewer than
-    /// 65,535 vertices each), in the order they are written.
+    /// 65,535 vertices each), in the order they are written; none when its vertices went into
+    /// its mesh's pool.
     streams: Vec<Vec<Stream>>,
+}
+
+impl Primitive<'_> {
+    /// Whether its vertices are positions and nothing else, which primitives of other
+    /// materials can share (see [`pool`]).
+    fn is_bare(&self) -> bool {
+        !self.lines && !self.textured && !self.tangents && !self.normals && self.skinned.is_none()
+    }
+}
+
+/// One piece of a mesh's vertex pool, encoded: the POSITION data its primitives share and, per
+/// primitive of the mesh with triangles in it, the primitive's index and those indices.
+struct PooledPiece {
+    positions: Stream,
+    primitives: Vec<(usize, Stream)>,
 }
 
 /// How a skinned primitive's vertices name their joints.
@@ -110,6 +133,9 @@ struct Group<'a> {
     placement: Placement<'a>,
     /// The grid its quantised positions lie on, which its node's transformation undoes.
     grid: Option<Grid>,
+    /// The vertex pool of its bare primitives, when it has some; its data goes before the other
+    /// primitives'.
+    pool: Vec<PooledPiece>,
 }
 
 impl Group<'_> {
@@ -117,10 +143,18 @@ impl Group<'_> {
     /// quantising positions on one grid for the whole mesh when `encoding` asks for it and
     /// the mesh is neither skinned nor instanced.
     fn encode(&mut self, encoding: GlbEncoding, compaction: Compaction) {
+        // Bare primitives pool their vertices where triangles may be reordered (the pool also
+        // keeps a face's back apart from it, for one primitive too).
+        let bare: Vec<bool> = self
+            .primitives
+            .iter()
+            .map(|p| compaction.reorder && p.is_bare())
+            .collect();
         let vertices: Vec<Vertices> = self
             .primitives
             .iter()
-            .map(|primitive| Vertices::of_primitive(primitive, compaction))
+            .zip(&bare)
+            .map(|(primitive, &bare)| Vertices::of_primitive(primitive, compaction, bare))
             .collect();
         // An instanced mesh's nodes carry the instances' transformations, so its positions
         // stay floats rather than take a grid that a node would have to undo.
@@ -136,7 +170,18 @@ impl Group<'_> {
             }
             self.grid = Some(Grid::spanning(min, max));
         }
-        for (primitive, vertices) in self.primitives.iter_mut().zip(vertices) {
+        let mut members = Vec::new();
+        // The primitive each member of the pool is.
+        let mut member_of = Vec::new();
+        let primitives = self.primitives.iter_mut().enumerate();
+        for ((index, primitive), (vertices, bare)) in primitives.zip(vertices.into_iter().zip(bare))
+        {
+            if bare {
+                members.push(vertices);
+                member_of.push(index);
+                primitive.chunks = Vec::new();
+                continue;
+            }
             let joints = primitive.skinned.as_ref().map(|s| Joints { wide: s.wide });
             // Split where triangles may be reordered: pieces with u16 indices.
             let pieces = if compaction.reorder && !primitive.lines {
@@ -150,6 +195,31 @@ impl Group<'_> {
                 .collect();
             primitive.chunks = Vec::new();
         }
+        if members.is_empty() {
+            return;
+        }
+        let compressed = encoding == GlbEncoding::Compressed;
+        let pieces = pool::pool(&members, usize::from(u16::MAX) - 1);
+        self.pool = pieces
+            .into_iter()
+            .map(|piece| {
+                let mut positions = position_stream(&piece.positions, self.grid.as_ref());
+                let count = piece.positions.len();
+                let mut primitives: Vec<(usize, Stream)> = piece
+                    .members
+                    .iter()
+                    .map(|(member, indices)| (member_of[*member], index_stream(indices, count)))
+                    .collect();
+                if compressed {
+                    positions.compress(false);
+                    primitives.iter_mut().for_each(|(_, s)| s.compress(false));
+                }
+                PooledPiece {
+                    positions,
+                    primitives,
+                }
+            })
+            .collect();
     }
 }
 
@@ -309,17 +379,26 @@ impl<'a> Plan<'a> {
         // The distinct images, by path, in order of first use.
         let mut textures: Vec<&'a Texture> = Vec::new();
         let mut groups: Vec<Group<'a>> = Vec::new();
-        // Skin (or none) -> merged group, so skinned and unskinned parts and the parts of two
-        // skins never share a mesh.
-        let mut merged_groups: BTreeMap<Option<usize>, usize> = BTreeMap::new();
-        // (group, material, lines) -> primitive slot in that group; triangles and lines of one
-        // colour stay apart since a primitive has one mode.
-        let mut merged: BTreeMap<(usize, usize, bool), usize> = BTreeMap::new();
+        // (skin or none, smooth apart) -> merged group, so skinned and unskinned parts and the
+        // parts of two skins never share a mesh; nor do parts with normals and parts without,
+        // when flat parts leave theirs to the reader: Blender's importer (3.4) makes one object
+        // of a mesh and gives the corners of its primitives without normals wrong normals when
+        // another primitive has some.
+        let mut merged_groups: BTreeMap<(Option<usize>, bool), usize> = BTreeMap::new();
+        // (group, material, lines, normals) -> primitive slot in that group; triangles and
+        // lines of one colour stay apart since a primitive has one mode, and parts with normals
+        // apart from those without, since a primitive's vertices all have them or none does.
+        let mut merged: BTreeMap<(usize, usize, bool, bool), usize> = BTreeMap::new();
         for (name, color, source, joint, chunk, metadata) in chunks.chain(line_chunks) {
             let lines = source.is_none();
             let part = source.map(|i| &model.parts[i]);
             let textured = chunk.has_uvs();
             let tangents = chunk.has_tangents();
+            // Readers shade a primitive without normals flat: only smooth and normal-mapped
+            // parts need theirs (tangents are ignored without normals). Skinned parts keep
+            // them, as skinned meshes mix smooth and flat parts (see `smooth_apart`).
+            let computed = options.flat_normals == FlatNormals::Computed;
+            let normals = !lines && (chunk.is_smooth() || tangents || !computed || joint.is_some());
             for t in part.into_iter().flat_map(gltf_textures) {
                 if !textures.iter().any(|known| known.path == t.path) {
                     textures.push(t);
@@ -349,12 +428,14 @@ impl<'a> Plan<'a> {
                         lines,
                         textured,
                         tangents,
+                        normals,
                         skinned: None,
                         chunks: vec![chunk],
                         streams: Vec::new(),
                         sources: vec![source],
                     }],
                     grid: None,
+                    pool: Vec::new(),
                     placement: if set.gpu {
                         Placement::Gpu(uses)
                     } else {
@@ -371,11 +452,13 @@ impl<'a> Plan<'a> {
                     skin,
                     placement: Placement::Own,
                     grid: None,
+                    pool: Vec::new(),
                     primitives: vec![Primitive {
                         material,
                         lines,
                         textured,
                         tangents,
+                        normals,
                         skinned: joint.map(|(_, j)| skinned(vec![j])),
                         chunks: vec![chunk],
                         sources: vec![source],
@@ -384,24 +467,38 @@ impl<'a> Plan<'a> {
                 });
                 continue;
             }
-            let group = *merged_groups.entry(skin).or_insert_with(|| {
-                groups.push(Group {
-                    name: skin.map_or_else(|| "model".to_owned(), |s| skins[s].mesh_name()),
-                    metadata: None,
-                    skin,
-                    grid: None,
-                    primitives: Vec::new(),
-                    placement: Placement::Own,
+            let smooth_apart = skin.is_none() && normals && computed;
+            // The first merged mesh is "model"; one beside it says how it differs.
+            let beside = merged_groups.contains_key(&(skin, !smooth_apart));
+            let name = match skin {
+                Some(s) => skins[s].mesh_name(),
+                None if !beside => "model".to_owned(),
+                None if smooth_apart => "model-smooth".to_owned(),
+                None => "model-flat".to_owned(),
+            };
+            let group = *merged_groups
+                .entry((skin, smooth_apart))
+                .or_insert_with(|| {
+                    groups.push(Group {
+                        name,
+                        metadata: None,
+                        skin,
+                        grid: None,
+                        pool: Vec::new(),
+                        primitives: Vec::new(),
+                        placement: Placement::Own,
+                    });
+                    groups.len() - 1
                 });
-                groups.len() - 1
-            });
             let primitives = &mut groups[group].primitives;
-            let slot = *merged.entry((group, material, lines)).or_insert_with(|| {
+            let key = (group, material, lines, normals);
+            let slot = *merged.entry(key).or_insert_with(|| {
                 primitives.push(Primitive {
                     material,
                     lines,
                     textured,
                     tangents,
+                    normals,
                     skinned: joint.map(|_| skinned(Vec::new())),
                     chunks: Vec::new(),
                     sources: Vec::new(),
@@ -470,13 +567,14 @@ impl<'a> Plan<'a> {
                 result = out.write_all(bytes);
             }
         };
-        for stream in self
-            .groups
-            .iter()
-            .flat_map(|g| &g.primitives)
-            .flat_map(|p| &p.streams)
-            .flatten()
-        {
+        for stream in self.groups.iter().flat_map(|group| {
+            let own = group.primitives.iter().flat_map(|p| &p.streams).flatten();
+            let pooled = group.pool.iter().flat_map(|piece| {
+                let indices = piece.primitives.iter().map(|(_, indices)| indices);
+                std::iter::once(&piece.positions).chain(indices)
+            });
+            pooled.chain(own)
+        }) {
             put(&stream.bytes);
             put(&[0; 3][..stream.bytes.len().next_multiple_of(4) - stream.bytes.len()]);
         }
@@ -506,6 +604,23 @@ impl<'a> Plan<'a> {
             put(&[0; 3][..image.len().next_multiple_of(4) - image.len()]);
         }
         result
+    }
+}
+
+/// A primitive of triangles over a piece of a vertex pool: its positions and its indices.
+fn pooled_primitive(
+    material: usize,
+    positions: json::Index<json::Accessor>,
+    indices: json::Index<json::Accessor>,
+) -> json::mesh::Primitive {
+    json::mesh::Primitive {
+        attributes: BTreeMap::from([(Valid(json::mesh::Semantic::Positions), positions)]),
+        extensions: None,
+        extras: Default::default(),
+        indices: Some(indices),
+        material: Some(json::Index::new(material as u32)),
+        mode: Valid(json::mesh::Mode::Triangles),
+        targets: None,
     }
 }
 
@@ -549,16 +664,24 @@ fn document(
     let mut gpu_meshes = Vec::new();
     let mut lots = LotNodes::default();
     for group in groups {
-        let primitives = group
-            .primitives
-            .iter()
-            .flat_map(|primitive| {
-                let pieces = primitive.streams.iter();
-                pieces
-                    .map(|streams| builder.primitive(primitive, streams))
-                    .collect::<Vec<_>>()
-            })
-            .collect();
+        // The pool's accessors first, as its data comes first; its primitives then take the
+        // places of the primitives whose vertices went into it.
+        let mut pooled = vec![Vec::new(); group.primitives.len()];
+        for piece in &group.pool {
+            let positions = builder.accessor(&piece.positions);
+            for (primitive, indices) in &piece.primitives {
+                pooled[*primitive].push((positions, builder.accessor(indices)));
+            }
+        }
+        let mut primitives = Vec::new();
+        for (primitive, pooled) in group.primitives.iter().zip(pooled) {
+            for streams in &primitive.streams {
+                primitives.push(builder.primitive(primitive, streams));
+            }
+            for (positions, indices) in pooled {
+                primitives.push(pooled_primitive(primitive.material, positions, indices));
+            }
+        }
         let mesh = builder.root.push(json::Mesh {
             extensions: None,
             extras: Default::default(),

@@ -105,6 +105,22 @@ pub struct ExportOptions {
     pub instancing: Instancing,
     /// How GLB stores vertex data (OBJ and STL are always text or floats).
     pub encoding: GlbEncoding,
+    /// Whether GLB writes the normals of flat-shaded parts (OBJ always does).
+    pub flat_normals: FlatNormals,
+}
+
+/// Whether a GLB's flat-shaded primitives carry a NORMAL attribute. glTF requires readers to
+/// shade a primitive without normals flat, with each triangle's own normal, so leaving them out
+/// loses nothing and lets faces of one material share the vertices where they meet (a box:
+/// 8 vertices, not 24). Smooth and normal-mapped parts keep their normals either way.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub enum FlatNormals {
+    /// No NORMAL on flat-shaded primitives: readers compute the faces' normals.
+    #[default]
+    Computed,
+    /// Each face's normal on its own four (or more) corners, for readers that do not follow
+    /// the specification's rule (`--normals`).
+    Written,
 }
 
 /// How a GLB stores its vertex data. Vertices are shared and (outside

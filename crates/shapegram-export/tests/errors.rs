@@ -96,7 +96,7 @@ fn glb_with_bad_json_or_references() {
             .contains("POSITION: the accessor has no elements")
     );
     assert!(
-        patched(&|j| j["accessors"][2]["componentType"] = json!(5126))
+        patched(&|j| j["accessors"][1]["componentType"] = json!(5126))
             .contains("indices: unexpected type F32 Scalar")
     );
     assert!(
@@ -120,7 +120,7 @@ fn glb_with_bad_json_or_references() {
             .contains("appears twice in the hierarchy")
     );
     assert!(
-        patched(&|j| j["accessors"][2]["count"] = json!(35))
+        patched(&|j| j["accessors"][1]["count"] = json!(35))
             .contains("35 corners is not a whole number of triangles")
     );
 }
@@ -128,13 +128,14 @@ fn glb_with_bad_json_or_references() {
 #[test]
 fn glb_indices_out_of_range() {
     let (json, mut bin) = split_glb(&small_glb());
-    let view = &json["bufferViews"][2];
-    assert_eq!(json["accessors"][2]["componentType"], 5123);
+    // POSITION and indices: a flat box has no NORMAL.
+    let view = &json["bufferViews"][1];
+    assert_eq!(json["accessors"][1]["componentType"], 5123);
     let at = view["byteOffset"].as_u64().unwrap() as usize;
     bin[at..at + 2].copy_from_slice(&500u16.to_le_bytes());
     assert_eq!(
         glb_error(&frame_glb(&json, &bin)),
-        "broken GLB file: mesh 0 primitive 0: index 500 is out of range (24 vertices)"
+        "broken GLB file: mesh 0 primitive 0: index 500 is out of range (8 vertices)"
     );
 }
 

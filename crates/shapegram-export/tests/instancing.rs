@@ -450,7 +450,8 @@ fn broken_instancing_data_is_an_error_not_a_panic() {
         "{missing}"
     );
     // The ground's indices: not VEC3 floats.
-    let wrong = broken(&|a| a["SCALE"] = 2.into());
+    let indices = json["meshes"][0]["primitives"][0]["indices"].clone();
+    let wrong = broken(&|a| a["SCALE"] = indices.clone());
     assert!(wrong.contains("SCALE: unexpected type"), "{wrong}");
     let none = broken(&|a| *a = serde_json::json!({}));
     assert!(none.contains("no attributes"), "{none}");

@@ -5,22 +5,26 @@ mod common;
 use common::*;
 use serde_json::{Value, json};
 use shapegram_export::{
-    ExportOptions, GlbEncoding, Instancing, read_glb, read_obj, read_stl, write_glb,
+    ExportOptions, FlatNormals, GlbEncoding, Instancing, read_glb, read_obj, read_stl, write_glb,
     write_glb_with_layout, write_obj, write_stl,
 };
 use shapegram_geom::extrude::extrude_polygon;
 use shapegram_geom::primitives::{cuboid, sphere};
 use shapegram_geom::{Color, DVec3, Mesh, Model, Part};
 
+// Flat normals written: these round trips check the per-corner layout (each face its own
+// corners, with its normal) that `--normals` keeps; tests/compact.rs checks the default.
 const GROUPED: ExportOptions = ExportOptions {
     group_by_part: true,
     encoding: GlbEncoding::Float,
     instancing: Instancing::Auto,
+    flat_normals: FlatNormals::Written,
 };
 const MERGED: ExportOptions = ExportOptions {
     group_by_part: false,
     encoding: GlbEncoding::Float,
     instancing: Instancing::Auto,
+    flat_normals: FlatNormals::Written,
 };
 
 /// Checks a part read from a flat-shaded per-corner format against the original meshes.

@@ -9,7 +9,8 @@ use gltf::accessor::DataType;
 use gltf::mesh::Semantic;
 use serde_json::{Value, json};
 use shapegram_export::{
-    ExportOptions, GlbEncoding, Instancing, save, write_glb, write_glb_to, write_obj, write_stl,
+    ExportOptions, FlatNormals, GlbEncoding, Instancing, save, write_glb, write_glb_to, write_obj,
+    write_stl,
 };
 use shapegram_geom::kinematics::{Frame, Limits, Pose, Range, SectionId, Skeleton};
 use shapegram_geom::primitives::{cuboid, cylinder};
@@ -19,11 +20,13 @@ const GROUPED: ExportOptions = ExportOptions {
     group_by_part: true,
     encoding: GlbEncoding::Float,
     instancing: Instancing::Auto,
+    flat_normals: FlatNormals::Computed,
 };
 const MERGED: ExportOptions = ExportOptions {
     group_by_part: false,
     encoding: GlbEncoding::Float,
     instancing: Instancing::Auto,
+    flat_normals: FlatNormals::Computed,
 };
 
 const STONE: Color = Color::rgb(0.6, 0.6, 0.55);

@@ -6,8 +6,8 @@ mod common;
 use common::*;
 use serde_json::{Value, json};
 use shapegram_export::{
-    ExportOptions, GlbEncoding, Instancing, read_glb, read_obj, read_stl, save, write_glb,
-    write_obj, write_stl,
+    ExportOptions, FlatNormals, GlbEncoding, Instancing, read_glb, read_obj, read_stl, save,
+    write_glb, write_obj, write_stl,
 };
 use shapegram_geom::primitives::{cuboid, sphere};
 use shapegram_geom::{DAffine3, DVec3, Lines, Mesh, Model, Part};
@@ -16,11 +16,13 @@ const GROUPED: ExportOptions = ExportOptions {
     group_by_part: true,
     encoding: GlbEncoding::Float,
     instancing: Instancing::Auto,
+    flat_normals: FlatNormals::Computed,
 };
 const MERGED: ExportOptions = ExportOptions {
     group_by_part: false,
     encoding: GlbEncoding::Float,
     instancing: Instancing::Auto,
+    flat_normals: FlatNormals::Computed,
 };
 
 fn smooth(name: &str, mesh: Mesh) -> Part {

@@ -15,6 +15,7 @@ use shapegram_implicit::{
     mesh_with_progress, surface_normals_with_progress, text,
 };
 
+use crate::cli::GlbArgs;
 use crate::derive::millis;
 use crate::progress::LateBar;
 use crate::{Failure, counted, print_stdout};
@@ -37,7 +38,8 @@ const ROCK: Color = Color::rgb(0.55, 0.48, 0.42);
         shapegram cave -o cave.glb\n  \
         shapegram cave --lod 32 --seed 7 -o cave.obj --stats\n  \
         shapegram cave --classic 20 --morphic 4 --direction random --morph 30 -o maze.stl\n  \
-        shapegram cave examples/grotto.cave -o grotto.glb"
+        shapegram cave examples/grotto.cave -o grotto.glb\n  \
+        shapegram cave --lod 20 --quantize -o cave-small.glb"
 )]
 pub struct CaveArgs {
     /// A .cave grammar; without it the random SG+M generator runs
@@ -71,6 +73,9 @@ pub struct CaveArgs {
     /// Print the metrics (area, volumes, convexity factor, counts) as JSON on stdout
     #[arg(long)]
     pub stats: bool,
+    /// How a GLB stores its vertices.
+    #[command(flatten)]
+    pub glb: GlbArgs,
     /// Do not print the summary line on stderr
     #[arg(short, long)]
     pub quiet: bool,
@@ -122,7 +127,8 @@ pub fn run(args: &CaveArgs) -> Result<(), Failure> {
             );
             bar.finish();
         }
-        shapegram_export::save(&model, output, &ExportOptions::default())?;
+        let options = args.glb.apply(ExportOptions::default(), output, args.quiet);
+        shapegram_export::save(&model, output, &options)?;
     }
     let export_time = export_started.elapsed();
 

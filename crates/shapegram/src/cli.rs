@@ -1,9 +1,10 @@
 //! The command line: clap types only, no behaviour.
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 use clap::{Args, Parser, Subcommand, ValueEnum};
 use shapegram_export::tiles::Crs;
+use shapegram_export::{ExportOptions, FlatNormals, Format, GlbEncoding};
 use shapegram_syntax::Dialect;
 
 /// Procedural modelling with shape grammars.
@@ -171,6 +172,52 @@ pub enum Command {
     /// Derive one goal grammar for the server's previews, under limits (internal)
     #[command(hide = true)]
     PreviewWorker(crate::preview::PreviewWorkerArgs),
+}
+
+/// The GLB encoding options that `derive`, `lsystem` and `cave` share (docs/output.md).
+#[derive(Debug, Args)]
+pub struct GlbArgs {
+    /// GLB: positions, normals and uvs as small integers (KHR_mesh_quantization)
+    #[arg(long)]
+    pub quantize: bool,
+    /// GLB: quantise, then compress vertices and indices (EXT_meshopt_compression; readers
+    /// need a meshopt decoder)
+    #[arg(long)]
+    pub meshopt: bool,
+    /// GLB: write each flat face's normal on its own corners, as files did before readers were
+    /// left to compute them (larger; only for readers that ignore glTF's rule for files without
+    /// normals)
+    #[arg(long)]
+    pub normals: bool,
+}
+
+impl GlbArgs {
+    /// `options` with the encoding and normals these flags ask for; warns on stderr (unless
+    /// `quiet`) when they are given for an `output` that is not a GLB.
+    pub fn apply(&self, options: ExportOptions, output: &Path, quiet: bool) -> ExportOptions {
+        let encoding = match (self.meshopt, self.quantize) {
+            (true, _) => GlbEncoding::Compressed,
+            (false, true) => GlbEncoding::Quantized,
+            (false, false) => GlbEncoding::Float,
+        };
+        let glb = Format::from_path(output).is_ok_and(|f| f == Format::Glb);
+        if (encoding != GlbEncoding::Float || self.normals) && !glb && !quiet {
+            eprintln!(
+                "warning: --quantize, --meshopt and --normals apply to GLB only; {} is written \
+                 as usual",
+                output.display()
+            );
+        }
+        ExportOptions {
+            encoding,
+            flat_normals: if self.normals {
+                FlatNormals::Written
+            } else {
+                FlatNormals::Computed
+            },
+            ..options
+        }
+    }
 }
 
 /// Arguments of `shapegram primitive`.
@@ -394,13 +441,9 @@ pub struct DeriveArgs {
     /// share (docs/export.md)
     #[arg(long)]
     pub metadata: bool,
-    /// GLB: positions, normals and uvs as small integers (KHR_mesh_quantization)
-    #[arg(long)]
-    pub quantize: bool,
-    /// GLB: quantise, then compress vertices and indices (EXT_meshopt_compression; readers
-    /// need a meshopt decoder)
-    #[arg(long)]
-    pub meshopt: bool,
+    /// How a GLB stores its vertices.
+    #[command(flatten)]
+    pub glb: GlbArgs,
     /// Print counts, times, rule applications and report() values as one JSON object on stdout
     #[arg(long)]
     pub stats: bool,

@@ -11,7 +11,7 @@ use shapegram_eval::{
     Derivation, DeriveError, DeriveOptions, MetadataScope, ModelOptions, Program, Value,
 };
 use shapegram_export::tiles::TileGrid;
-use shapegram_export::{ExportOptions, Format, GlbEncoding};
+use shapegram_export::{ExportOptions, Format};
 use shapegram_geom::Model;
 use shapegram_syntax::SourceFile;
 
@@ -178,22 +178,12 @@ pub fn run(args: &DeriveArgs) -> Result<(), Failure> {
         model = model.with_free_joints_only();
     }
     if let Some(output) = &args.output {
-        let encoding = match (args.meshopt, args.quantize) {
-            (true, _) => GlbEncoding::Compressed,
-            (false, true) => GlbEncoding::Quantized,
-            (false, false) => GlbEncoding::Float,
-        };
-        if encoding != GlbEncoding::Float && !glb && !args.quiet {
-            eprintln!(
-                "warning: --quantize and --meshopt apply to GLB only; {} is written as usual",
-                output.display()
-            );
-        }
         let options = ExportOptions {
             group_by_part: args.group,
             instancing: args.instancing.into(),
-            encoding,
+            ..ExportOptions::default()
         };
+        let options = args.glb.apply(options, output, args.quiet);
         shapegram_export::save(&model, output, &options)?;
     }
     let export_time = export_started.elapsed();

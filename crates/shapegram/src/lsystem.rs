@@ -13,6 +13,7 @@ use shapegram_lsystem::{
     drawing_to_lines_within, drawing_to_model_within, interpret,
 };
 
+use crate::cli::GlbArgs;
 use crate::derive::duration;
 use crate::progress::{LateBar, with_spinner};
 use crate::{Failure, counted, print_stdout};
@@ -33,6 +34,7 @@ use crate::{Failure, counted, print_stdout};
         shapegram lsystem examples/koch-island.lsys -o island.svg\n  \
         shapegram lsystem examples/tree-3d.lsys -o tree.glb\n  \
         shapegram lsystem examples/bush-3d.lsys --lines -o bush-lines.glb\n  \
+        shapegram lsystem examples/tree-3d.lsys --meshopt -o tree-small.glb\n  \
         shapegram lsystem examples/stochastic-plant.lsys -o plant.svg --seed 3\n  \
         shapegram lsystem examples/algae.lsys -n 5 --string"
 )]
@@ -64,6 +66,9 @@ pub struct LsystemArgs {
     /// (tube rings count `sides` each; with --lines, every point counts one)
     #[arg(long, value_name = "N", default_value_t = DEFAULT_MAX_VERTICES)]
     pub max_vertices: usize,
+    /// How a GLB stores its vertices.
+    #[command(flatten)]
+    pub glb: GlbArgs,
     /// Do not print the summary line on stderr
     #[arg(short, long)]
     pub quiet: bool,
@@ -131,6 +136,7 @@ pub fn run(args: &LsystemArgs) -> Result<(), Failure> {
     }
     let mut drawn = None;
     if let (Some(path), Some(output)) = (&args.output, output) {
+        let export = args.glb.apply(ExportOptions::default(), path, args.quiet);
         let label = format!("drawing {}", path.display());
         let drawing = with_spinner(progress, &label, || {
             let shown = system
@@ -152,7 +158,7 @@ pub fn run(args: &LsystemArgs) -> Result<(), Failure> {
                     };
                     let model = build(&drawing, &system.settings, args.max_vertices)
                         .map_err(|e| reported(&e.render(&name, &text)))?;
-                    shapegram_export::save(&model, path, &ExportOptions::default())?;
+                    shapegram_export::save(&model, path, &export)?;
                 }
             }
             Ok::<_, Failure>(drawing)

@@ -5,7 +5,7 @@ use std::process::{Command, Output};
 
 mod common;
 
-use common::{TempDir, example};
+use common::{TempDir, check_glb_encodings, example};
 use serde_json::Value;
 use shapegram_implicit::text::parse;
 use shapegram_implicit::{CaveParams, MeshOptions, Metrics, generate, mesh};
@@ -200,6 +200,33 @@ fn example_files_write_closed_models() {
             json["cell_size"].as_f64()
         ),
         (Some(4), Some(3), Some(0.25))
+    );
+}
+
+#[test]
+fn quantize_and_meshopt_write_the_same_cave_smaller() {
+    let dir = TempDir::new("encodings");
+    let paths = ["float", "quantized", "compressed"].map(|name| dir.path(&format!("{name}.glb")));
+    let flags: [&[&str]; 3] = [&[], &["--quantize"], &["--meshopt"]];
+    for (path, flags) in paths.iter().zip(flags) {
+        let mut args = vec![
+            example("grotto.cave").into_os_string(),
+            "--lod".into(),
+            "6".into(),
+        ];
+        args.extend(flags.iter().map(Into::into));
+        args.extend(["-q".into(), "-o".into(), path.clone().into_os_string()]);
+        ok(&args);
+    }
+    check_glb_encodings(&paths[0], &paths[1], &paths[2]);
+    let size = |k: usize| std::fs::metadata(&paths[k]).unwrap().len();
+    assert!(size(1) * 4 < size(0) * 3, "{} against {}", size(1), size(0));
+    assert!(size(2) < size(1), "{} against {}", size(2), size(1));
+    // The cave is smooth: it keeps its normals in every encoding.
+    let back = shapegram_export::load(&paths[1]).unwrap();
+    assert_eq!(
+        back.parts[0].normals.len(),
+        back.parts[0].mesh.vertex_count()
     );
 }
 

@@ -1857,3 +1857,38 @@ fn reference_functions_read_material_files_beside_the_grammar() {
         )
     );
 }
+
+#[test]
+fn a_mass_leaves_its_normals_to_the_reader_unless_asked_and_encodes_as_asked() {
+    let dir = TempDir::new("glb-flags");
+    let grammar = dir.path("mass.cga");
+    std::fs::write(&grammar, "Lot --> extrude(10) Mass.\n").unwrap();
+    let write = |name: &str, flags: &[&str]| {
+        let path = dir.path(name);
+        let mut args = vec!["derive", text(&grammar), "-q", "-o", text(&path)];
+        args.extend_from_slice(flags);
+        ok(&args);
+        path
+    };
+    // (vertices, whether there are normals) of the one primitive.
+    let primitive = |path: &Path| {
+        let json = glb_json(path);
+        let attributes = &json["meshes"][0]["primitives"][0]["attributes"];
+        let position = attributes["POSITION"].as_u64().unwrap() as usize;
+        let count = json["accessors"][position]["count"].as_u64().unwrap();
+        (count, attributes.get("NORMAL").is_some())
+    };
+    let float = write("float.glb", &[]);
+    // The box's 8 corners, shared by its faces.
+    assert_eq!(primitive(&float), (8, false));
+    assert_eq!(primitive(&write("normals.glb", &["--normals"])), (24, true));
+    let quantized = write("quantized.glb", &["--quantize"]);
+    let compressed = write("compressed.glb", &["--meshopt"]);
+    common::check_glb_encodings(&float, &quantized, &compressed);
+    let obj = dir.path("mass.obj");
+    let err = ok(&["derive", text(&grammar), "--normals", "-o", text(&obj)]);
+    assert!(
+        err.starts_with("warning: --quantize, --meshopt and --normals apply to GLB only"),
+        "{err}"
+    );
+}

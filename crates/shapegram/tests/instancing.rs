@@ -108,8 +108,9 @@ fn fifty_crowns_are_one_mesh_placed_fifty_times() {
     // Auto picks GPU instancing for both: fifty copies of either cost more flat.
     assert_eq!(auto, gpu);
     assert!(gpu.len() < nodes.len() && nodes.len() < flat.len());
+    // Flat copies share their corners now, which narrows the gap (it was five times).
     assert!(
-        gpu.len() * 5 < flat.len(),
+        gpu.len() * 3 < flat.len(),
         "{} bytes instanced, {} flat",
         gpu.len(),
         flat.len()

@@ -183,6 +183,46 @@ fn tubes_read_back_smooth_with_a_normal_per_vertex() {
 }
 
 #[test]
+fn quantize_and_meshopt_write_the_same_tree_smaller() {
+    let dir = TempDir::new("encodings");
+    let tree = example("tree-3d.lsys");
+    let paths = ["float", "quantized", "compressed"].map(|name| dir.path(&format!("{name}.glb")));
+    ok(&[&tree, "-q", "-o", &arg(&paths[0])]);
+    ok(&[&tree, "-q", "--quantize", "-o", &arg(&paths[1])]);
+    ok(&[&tree, "-q", "--meshopt", "-o", &arg(&paths[2])]);
+    common::check_glb_encodings(&paths[0], &paths[1], &paths[2]);
+    let size = |k: usize| std::fs::metadata(&paths[k]).unwrap().len();
+    assert!(size(1) * 4 < size(0) * 3, "{} against {}", size(1), size(0));
+    assert!(size(2) < size(1), "{} against {}", size(2), size(1));
+    // The tubes keep their normals; the leaves leave theirs to the reader unless asked.
+    let back = shapegram_export::load(&paths[0]).unwrap();
+    assert_eq!(
+        back.parts[0].normals.len(),
+        back.parts[0].mesh.vertex_count()
+    );
+    let normals = dir.path("normals.glb");
+    ok(&[&tree, "-q", "--normals", "-o", &arg(&normals)]);
+    // Whether some primitive (the leaves') has no normals.
+    let leaves = |path: &Path| {
+        let json = common::glb_json_of(&std::fs::read(path).unwrap());
+        let meshes = json["meshes"].as_array().unwrap().clone();
+        meshes
+            .iter()
+            .flat_map(|m| m["primitives"].as_array().unwrap().clone())
+            .any(|p| p["attributes"].get("NORMAL").is_none())
+    };
+    assert!(leaves(&paths[0]));
+    assert!(!leaves(&normals));
+    // Not a GLB: a warning, and the file as usual.
+    let svg = arg(&dir.path("tree.svg"));
+    let (_, err) = ok(&[&tree, "--meshopt", "-o", &svg]);
+    assert!(
+        err.starts_with("warning: --quantize, --meshopt and --normals apply to GLB only"),
+        "{err}"
+    );
+}
+
+#[test]
 fn lines_write_one_segment_per_drawn_segment() {
     let dir = TempDir::new("lines");
     let text = std::fs::read_to_string(example("bush-3d.lsys")).unwrap();

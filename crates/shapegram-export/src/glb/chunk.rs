@@ -56,6 +56,14 @@ fn shared<'a>(all: &'a [DVec3], indices: &mut Cow<'_, [u32]>) -> Shared<'a> {
     }
 }
 
+/// The faces of a flat chunk.
+pub(crate) struct FlatFaces<'a> {
+    /// Per face, in order: how many corners and how many triangles it has.
+    pub(crate) faces: &'a [[u32; 2]],
+    /// Each corner's normal: its face's.
+    pub(crate) normals: &'a [[f32; 3]],
+}
+
 /// Part of a primitive's vertex data, with indices counted from its own first vertex.
 pub(crate) enum Chunk<'a> {
     /// Flat-shaded faces: corners per face, each with the face normal (and its vertex's uv,
@@ -159,12 +167,17 @@ impl<'a> Chunk<'a> {
         }
     }
 
-    /// A flat chunk's faces: corners and triangles of each, in order (`None` for the others).
-    pub(crate) fn flat_faces(&self) -> Option<&[[u32; 2]]> {
+    /// A flat chunk's faces (`None` for the others).
+    pub(crate) fn flat_faces(&self) -> Option<FlatFaces<'_>> {
         match self {
-            Self::Flat { faces, .. } => Some(faces),
+            Self::Flat { faces, normals, .. } => Some(FlatFaces { faces, normals }),
             Self::Smooth { .. } | Self::Lines { .. } => None,
         }
+    }
+
+    /// Whether the chunk is a smooth part's, whose normals differ from its faces'.
+    pub(crate) fn is_smooth(&self) -> bool {
+        matches!(self, Self::Smooth { .. })
     }
 
     /// Whether the chunk has a uv per vertex.

@@ -6,6 +6,7 @@
 use meshopt::VertexStream;
 
 use super::Primitive;
+use super::chunk::FlatFaces;
 use super::coplanar::{self, Rectangle};
 
 /// A primitive's vertex data, one entry per vertex in each attribute that it has, and its
@@ -13,7 +14,7 @@ use super::coplanar::{self, Rectangle};
 #[derive(Clone, Debug, Default, PartialEq)]
 pub(crate) struct Vertices {
     pub(crate) positions: Vec<[f32; 3]>,
-    /// Empty for lines.
+    /// Empty for lines, and for flat primitives once compacted unless flat normals are written.
     pub(crate) normals: Vec<[f32; 3]>,
     /// Empty unless the primitive is textured.
     pub(crate) uvs: Vec<[f32; 2]>,
@@ -33,8 +34,14 @@ pub(crate) struct Compaction {
 }
 
 impl Vertices {
-    /// The primitive's vertices, compacted as `compaction` allows.
-    pub(crate) fn of_primitive(primitive: &Primitive<'_>, compaction: Compaction) -> Self {
+    /// The primitive's vertices, compacted as `compaction` allows; when `pooled`, only
+    /// gathered and merged, since the mesh's vertex pool shares and orders them (see
+    /// [`super::pool`]).
+    pub(crate) fn of_primitive(
+        primitive: &Primitive<'_>,
+        compaction: Compaction,
+        pooled: bool,
+    ) -> Self {
         // Rectangles merge only where each vertex carries nothing but a position and a
         // normal: uvs, tangents and joints would have to agree across the merge too.
         let merge = compaction.reorder
@@ -47,7 +54,9 @@ impl Vertices {
         for (c, chunk) in primitive.chunks.iter().enumerate() {
             let base = vertices.positions.len() as u32;
             chunk.positions(|p| vertices.positions.push(p));
-            chunk.normals(|n| vertices.normals.push(n));
+            if primitive.normals {
+                chunk.normals(|n| vertices.normals.push(n));
+            }
             chunk.uvs(|uv| vertices.uvs.push(uv));
             chunk.tangents(|t| vertices.tangents.push(t));
             if let Some(skinned) = &primitive.skinned {
@@ -57,17 +66,17 @@ impl Vertices {
             }
             let indices = chunk.indices();
             match chunk.flat_faces().filter(|_| merge) {
-                Some(faces) => vertices.split_rectangles(base, faces, indices, &mut rectangles),
+                Some(flat) => vertices.split_rectangles(base, &flat, indices, &mut rectangles),
                 None => vertices.indices.extend(indices.iter().map(|&i| base + i)),
             }
         }
         for rectangle in coplanar::merge(&rectangles) {
-            vertices.push_rectangle(&rectangle);
+            vertices.push_rectangle(&rectangle, primitive.normals);
         }
         // Smooth parts and line sets come with their vertices shared already (a tube's rings,
         // a cave's surface), in an order that is mostly cache friendly: hashing and reordering
         // them would cost more than it saves.
-        if primitive.chunks.iter().any(|c| c.flat_faces().is_some()) {
+        if !pooled && primitive.chunks.iter().any(|c| c.flat_faces().is_some()) {
             vertices.share(primitive.lines, compaction.reorder);
         }
         vertices
@@ -78,17 +87,18 @@ impl Vertices {
     fn split_rectangles(
         &mut self,
         base: u32,
-        faces: &[[u32; 2]],
+        flat: &FlatFaces<'_>,
         indices: &[u32],
         rectangles: &mut Vec<Rectangle>,
     ) {
         let (mut corner, mut index) = (base as usize, 0);
-        for &[corners, triangles] in faces {
+        for &[corners, triangles] in flat.faces {
             let (corners, corner_indices) = (corners as usize, 3 * triangles as usize);
             let quad = (corners == 4 && triangles == 2)
                 .then(|| {
                     let p = &self.positions[corner..corner + 4];
-                    Rectangle::new([p[0], p[1], p[2], p[3]], self.normals[corner])
+                    let normal = flat.normals[corner - base as usize];
+                    Rectangle::new([p[0], p[1], p[2], p[3]], normal)
                 })
                 .flatten();
             match quad {
@@ -104,11 +114,14 @@ impl Vertices {
         }
     }
 
-    /// Appends a rectangle as four vertices and two triangles.
-    fn push_rectangle(&mut self, rectangle: &Rectangle) {
+    /// Appends a rectangle as four vertices (with its normal, when `normals`) and two
+    /// triangles.
+    fn push_rectangle(&mut self, rectangle: &Rectangle, normals: bool) {
         let base = self.positions.len() as u32;
         self.positions.extend_from_slice(&rectangle.corners);
-        self.normals.extend([rectangle.normal; 4]);
+        if normals {
+            self.normals.extend([rectangle.normal; 4]);
+        }
         self.indices
             .extend([0, 1, 2, 0, 2, 3].map(|corner| base + corner));
     }
@@ -133,6 +146,10 @@ impl Vertices {
         let (unique, remap) =
             meshopt::generate_vertex_remap_multi(count, &streams, Some(&self.indices));
         self.remap(unique, &remap);
+        if !lines && self.normals.is_empty() {
+            self.separate_twins();
+        }
+        let unique = self.len();
         if reorder && !lines {
             // The FIFO variant: a third of the time of the table-driven one, and as good for
             // the grids of quads that flat parts mostly are.
@@ -140,6 +157,67 @@ impl Vertices {
             self.indices = optimized;
             let remap = meshopt::optimize_vertex_fetch_remap(&self.indices, unique);
             self.remap(unique, &remap);
+        }
+    }
+
+    /// Gives the second of two triangles over the same corners (a face and its back, which
+    /// share corners once normals no longer tell them apart) corners of its own, shared only
+    /// with other such second triangles, and a third one corners of its own: readers that keep
+    /// one face per set of corners (Blender) would drop it.
+    fn separate_twins(&mut self) {
+        let mut keyed: Vec<([u32; 3], u32)> = self
+            .indices
+            .chunks_exact(3)
+            .enumerate()
+            .map(|(t, c)| {
+                let mut corners = [c[0], c[1], c[2]];
+                corners.sort_unstable();
+                (corners, t as u32)
+            })
+            .collect();
+        keyed.sort_unstable();
+        let mut second = vec![u32::MAX; self.len()];
+        let mut layer = 0;
+        for i in 0..keyed.len() {
+            layer = if i > 0 && keyed[i].0 == keyed[i - 1].0 {
+                layer + 1
+            } else {
+                0
+            };
+            if layer == 0 {
+                continue;
+            }
+            let t = keyed[i].1 as usize;
+            for corner in 3 * t..3 * t + 3 {
+                let v = self.indices[corner] as usize;
+                self.indices[corner] = if layer == 1 && second[v] != u32::MAX {
+                    second[v]
+                } else {
+                    let copy = self.len() as u32;
+                    self.duplicate(v);
+                    if layer == 1 {
+                        second[v] = copy;
+                    }
+                    copy
+                };
+            }
+        }
+    }
+
+    /// Appends a copy of vertex `v` with every attribute it has.
+    fn duplicate(&mut self, v: usize) {
+        self.positions.push(self.positions[v]);
+        if let Some(&n) = self.normals.get(v) {
+            self.normals.push(n);
+        }
+        if let Some(&uv) = self.uvs.get(v) {
+            self.uvs.push(uv);
+        }
+        if let Some(&t) = self.tangents.get(v) {
+            self.tangents.push(t);
+        }
+        if let Some(&j) = self.joints.get(v) {
+            self.joints.push(j);
         }
     }
 

@@ -8,6 +8,8 @@
 
 use rustc_hash::FxHashMap;
 
+use super::aligned;
+
 /// A flat rectangle: its corners in loop order (counter-clockwise seen from the side its normal
 /// points to) and its unit normal.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -107,6 +109,9 @@ fn plane_key(rectangle: &Rectangle) -> ([u32; 3], i64) {
 
 /// [`merge`] for the rectangles of one plane; `owner` is scratch space for the edge map.
 fn merge_plane(rectangles: &[Rectangle], owner: &mut FxHashMap<Edge, u32>) -> Vec<Rectangle> {
+    if let Some(merged) = aligned::merge(rectangles) {
+        return merged;
+    }
     let merged = pass(rectangles, owner);
     // A pass finds neighbours by the edges the rectangles had at its start: strips it made
     // side by side meet along edges only a second pass knows. Further passes find little

@@ -71,6 +71,19 @@ impl Stream {
         ) && self.component != ComponentType::F32
     }
 
+    /// Replaces the data with its EXT_meshopt_compression encoding: vertex attributes as
+    /// ATTRIBUTES, indices as TRIANGLES (INDICES for `lines`).
+    pub(crate) fn compress(&mut self, lines: bool) {
+        let mode = match self.semantic {
+            Some(_) => Mode::Attributes,
+            None if lines => Mode::Indices,
+            None => Mode::Triangles,
+        };
+        let encoded = compress::encode(&self.bytes, self.count, self.stride, mode);
+        self.compressed = Some((mode, self.bytes.len()));
+        self.bytes = encoded;
+    }
+
     fn component_size(&self) -> usize {
         match self.component {
             ComponentType::I8 | ComponentType::U8 => 1,
@@ -101,39 +114,11 @@ pub(crate) fn streams(
     let quantized = encoding != GlbEncoding::Float;
     let count = vertices.len();
     let mut streams = Vec::with_capacity(7);
+    streams.push(position_stream(&vertices.positions, grid));
     let mut attribute = |semantic, format, stride, bytes| {
         streams.push(Stream::attribute(semantic, format, count, stride, bytes));
     };
-    match grid {
-        Some(grid) => {
-            let quantized: Vec<[i16; 3]> = vertices
-                .positions
-                .iter()
-                .map(|&p| grid.quantize(p))
-                .collect();
-            let bytes = quantized
-                .iter()
-                .flat_map(|q| [q[0], q[1], q[2], 0])
-                .flat_map(i16::to_le_bytes)
-                .collect();
-            attribute(
-                Semantic::Positions,
-                (ComponentType::I16, Type::Vec3),
-                8,
-                bytes,
-            );
-        }
-        None => {
-            let bytes = floats(vertices.positions.iter().flatten());
-            attribute(
-                Semantic::Positions,
-                (ComponentType::F32, Type::Vec3),
-                12,
-                bytes,
-            );
-        }
-    }
-    if !lines {
+    if !vertices.normals.is_empty() {
         if quantized {
             let bytes = vertices
                 .normals
@@ -214,31 +199,64 @@ pub(crate) fn streams(
             weights,
         );
     }
+    streams.push(index_stream(&vertices.indices, count));
+    if encoding == GlbEncoding::Compressed {
+        for stream in &mut streams {
+            stream.compress(lines);
+        }
+    }
+    streams
+}
+
+/// The POSITION stream of `positions`, with its bounds: on `grid` as i16 triples (padded to 8
+/// bytes) when given, floats otherwise.
+pub(crate) fn position_stream(positions: &[[f32; 3]], grid: Option<&Grid>) -> Stream {
+    let count = positions.len();
+    match grid {
+        Some(grid) => {
+            let quantized: Vec<[i16; 3]> = positions.iter().map(|&p| grid.quantize(p)).collect();
+            let bytes = quantized
+                .iter()
+                .flat_map(|q| [q[0], q[1], q[2], 0])
+                .flat_map(i16::to_le_bytes)
+                .collect();
+            let mut stream = Stream::attribute(
+                Semantic::Positions,
+                (ComponentType::I16, Type::Vec3),
+                count,
+                8,
+                bytes,
+            );
+            stream.bounds = Some(bounds(&quantized, Value::from));
+            stream
+        }
+        None => {
+            let mut stream = Stream::attribute(
+                Semantic::Positions,
+                (ComponentType::F32, Type::Vec3),
+                count,
+                12,
+                floats(positions.iter().flatten()),
+            );
+            stream.bounds = Some(bounds(positions, Value::from));
+            stream
+        }
+    }
+}
+
+/// The stream of `indices` into `vertex_count` vertices: u16 when they fit, u32 otherwise.
+pub(crate) fn index_stream(indices: &[u32], vertex_count: usize) -> Stream {
     // The largest u16 is reserved (primitive restart), hence `>=`.
-    let (component, stride, bytes) = if count >= usize::from(u16::MAX) {
-        let bytes = vertices.indices.iter().flat_map(|i| i.to_le_bytes());
+    let (component, stride, bytes) = if vertex_count >= usize::from(u16::MAX) {
+        let bytes = indices.iter().flat_map(|i| i.to_le_bytes());
         (ComponentType::U32, 4, bytes.collect())
     } else {
-        let bytes = vertices
-            .indices
-            .iter()
-            .flat_map(|&i| (i as u16).to_le_bytes());
+        let bytes = indices.iter().flat_map(|&i| (i as u16).to_le_bytes());
         (ComponentType::U16, 2, bytes.collect())
     };
-    streams[0].bounds = Some(match grid {
-        Some(grid) => {
-            let quantized: Vec<[i16; 3]> = vertices
-                .positions
-                .iter()
-                .map(|&p| grid.quantize(p))
-                .collect();
-            bounds(&quantized, Value::from)
-        }
-        None => bounds(&vertices.positions, Value::from),
-    });
-    streams.push(Stream {
+    Stream {
         semantic: None,
-        count: vertices.indices.len(),
+        count: indices.len(),
         stride,
         component,
         kind: Type::Scalar,
@@ -246,20 +264,7 @@ pub(crate) fn streams(
         bounds: None,
         bytes,
         compressed: None,
-    });
-    if encoding == GlbEncoding::Compressed {
-        for stream in &mut streams {
-            let mode = match stream.semantic {
-                Some(_) => Mode::Attributes,
-                None if lines => Mode::Indices,
-                None => Mode::Triangles,
-            };
-            let encoded = compress::encode(&stream.bytes, stream.count, stream.stride, mode);
-            stream.compressed = Some((mode, stream.bytes.len()));
-            stream.bytes = encoded;
-        }
     }
-    streams
 }
 
 /// Little-endian bytes of f32 values.

@@ -223,3 +223,64 @@ pub fn sign_up(server: &Server, name: &str) -> String {
     assert_eq!(status, 200, "{login}");
     login["token"].as_str().unwrap().to_owned()
 }
+
+/// The JSON chunk of a GLB file's bytes.
+pub fn glb_json_of(bytes: &[u8]) -> Value {
+    assert_eq!(&bytes[..4], b"glTF");
+    let len = u32::from_le_bytes(bytes[12..16].try_into().unwrap()) as usize;
+    serde_json::from_slice(&bytes[20..20 + len]).unwrap()
+}
+
+/// Checks that three GLB files written without a flag, with `--quantize` and with `--meshopt`
+/// hold the same model: each requires just the extensions its encoding needs, all read back
+/// with the same parts and triangles, the quantised positions within half a grid step of the
+/// float ones, and the compressed file decodes to the quantised one (its triangles perhaps
+/// starting at another corner).
+pub fn check_glb_encodings(float: &Path, quantized: &Path, compressed: &Path) {
+    let required = |path: &Path| -> Vec<String> {
+        let json = glb_json_of(&std::fs::read(path).unwrap());
+        let names = json["extensionsRequired"].as_array().cloned();
+        let names = names.unwrap_or_default().into_iter();
+        names.map(|v| v.as_str().unwrap().to_owned()).collect()
+    };
+    assert!(required(float).is_empty());
+    assert_eq!(required(quantized), ["KHR_mesh_quantization"]);
+    assert_eq!(
+        required(compressed),
+        ["KHR_mesh_quantization", "EXT_meshopt_compression"]
+    );
+    let [float, quantized, compressed] =
+        [float, quantized, compressed].map(|path| shapegram_export::load(path).unwrap());
+    // The index codec may start a triangle at another corner; nothing else changes.
+    let triangles = |model: &shapegram_geom::Model| -> Vec<Vec<[u32; 3]>> {
+        let part = |p: &shapegram_geom::Part| {
+            let mut faces: Vec<[u32; 3]> = (0..p.mesh.face_count())
+                .map(|f| {
+                    let t = p.mesh.face(f);
+                    let first = (0..3).min_by_key(|&k| t[k]).unwrap();
+                    [0, 1, 2].map(|k| t[(first + k) % 3])
+                })
+                .collect();
+            faces.sort_unstable();
+            faces
+        };
+        model.parts.iter().map(part).collect()
+    };
+    assert_eq!(triangles(&compressed), triangles(&quantized));
+    for (c, q) in compressed.parts.iter().zip(&quantized.parts) {
+        assert_eq!(c.mesh.positions(), q.mesh.positions());
+        assert_eq!(c.normals, q.normals);
+    }
+    assert_eq!(float.parts.len(), quantized.parts.len());
+    let bounds = float.merged_mesh().bounds().unwrap();
+    // A grid of ±32,767 steps over the largest extent, from the centre.
+    let step = (bounds.max - bounds.min).max_element() / 65534.0;
+    for (a, b) in float.parts.iter().zip(&quantized.parts) {
+        assert_eq!(a.mesh.face_count(), b.mesh.face_count(), "{}", a.name);
+        assert_eq!(a.mesh.vertex_count(), b.mesh.vertex_count(), "{}", a.name);
+        assert_eq!(a.normals.len(), b.normals.len(), "{}", a.name);
+        for (p, q) in a.mesh.positions().iter().zip(b.mesh.positions()) {
+            assert!((*p - *q).abs().max_element() <= step, "{p} against {q}");
+        }
+    }
+}

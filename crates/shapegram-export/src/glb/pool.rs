@@ -1,0 +1,318 @@
+//! A vertex pool: the bare primitives of a mesh (flat triangles with positions only: no normals,
+//! uvs, tangents or joints) share their vertices across materials. glTF lets primitives of a
+//! mesh name the same POSITION accessor, so a window pane of glass uses the corners of the wall
+//! around it instead of four of its own, and a city's glass costs little more than its indices.
+//!
+//! The pool is cut into pieces of fewer than 65,535 vertices (u16 indices) along a Z-order
+//! curve through the triangles' centres, so that neighbours, of whatever material, mostly land
+//! in the same piece. Within a piece each material's triangles are put in vertex-cache order and
+//! the vertices in order of first use. Deterministic: the result depends on the data only.
+
+use super::compact::Vertices;
+
+/// One piece of a pool: its vertices and, per member primitive with triangles among them, the
+/// member's index and those triangles (indices into the piece's vertices).
+#[derive(Clone, Debug, Default, PartialEq)]
+pub(crate) struct Piece {
+    pub(crate) positions: Vec<[f32; 3]>,
+    pub(crate) members: Vec<(usize, Vec<u32>)>,
+}
+
+/// The triangles of `members` (positions and indices only) over shared vertices, cut into
+/// pieces of at most `limit` vertices each.
+pub(crate) fn pool(members: &[Vertices], limit: usize) -> Vec<Piece> {
+    let total: usize = members.iter().map(Vertices::len).sum();
+    let mut positions = Vec::with_capacity(total);
+    let mut indices = Vec::with_capacity(members.iter().map(|m| m.indices.len()).sum());
+    // The member each triangle comes from.
+    let mut owner = Vec::with_capacity(indices.capacity() / 3);
+    for (m, member) in members.iter().enumerate() {
+        let base = positions.len() as u32;
+        positions.extend_from_slice(&member.positions);
+        indices.extend(member.indices.iter().map(|&i| base + i));
+        owner.extend(std::iter::repeat_n(m as u32, member.indices.len() / 3));
+    }
+    let (unique, remap) = meshopt::generate_vertex_remap(&positions, Some(&indices));
+    let positions = meshopt::remap_vertex_buffer(&positions, unique, &remap);
+    let indices = meshopt::remap_index_buffer(Some(&indices), unique, &remap);
+
+    let order = z_order(&positions, &indices);
+    // Triangles over the same three corners (a leaf's front and back) follow one another, as
+    // their centres are one point: the run of triangles at the current centre, sorted corners.
+    let mut run: (u64, Vec<[u32; 3]>) = (u64::MAX, Vec::new());
+    let mut cutter = Cutter {
+        positions: &positions,
+        slots: [vec![u32::MAX; unique], vec![u32::MAX; unique]],
+        used: Vec::new(),
+        lists: vec![Vec::new(); members.len()],
+        pieces: Vec::new(),
+    };
+    for (key, t) in order {
+        let triangle = &indices[3 * t as usize..3 * t as usize + 3];
+        let mut corners = [triangle[0], triangle[1], triangle[2]];
+        corners.sort_unstable();
+        if run.0 != key {
+            run = (key, Vec::new());
+        }
+        // Readers that keep one face per set of corners (Blender) would drop the second of
+        // two such triangles: the second takes corners of another layer, shared only with
+        // other second ones; a third has corners of its own.
+        let layer = run.1.iter().filter(|&&c| c == corners).count();
+        run.1.push(corners);
+        let new = match layer {
+            0 | 1 => triangle
+                .iter()
+                .filter(|&&v| cutter.slots[layer][v as usize] == u32::MAX)
+                .count(),
+            _ => 3,
+        };
+        if cutter.used.len() + new > limit {
+            cutter.finish_piece();
+        }
+        let list = owner[t as usize] as usize;
+        for &v in triangle {
+            let index = match cutter.slots.get_mut(layer) {
+                Some(slots) if slots[v as usize] != u32::MAX => slots[v as usize],
+                slots => {
+                    let index = cutter.used.len() as u32;
+                    cutter.used.push(v);
+                    if let Some(slots) = slots {
+                        slots[v as usize] = index;
+                    }
+                    index
+                }
+            };
+            cutter.lists[list].push(index);
+        }
+    }
+    if !cutter.used.is_empty() {
+        cutter.finish_piece();
+    }
+    cutter.pieces
+}
+
+/// The pieces made so far and the one being filled.
+struct Cutter<'a> {
+    positions: &'a [[f32; 3]],
+    /// Each pool vertex's index in the piece being filled (`u32::MAX`: not in it), for the
+    /// first triangle over a set of corners and for the second.
+    slots: [Vec<u32>; 2],
+    /// The pool vertices of the piece being filled, in order of first use (a vertex twice when
+    /// a twin triangle has its own copy).
+    used: Vec<u32>,
+    /// Per member, its triangles in the piece being filled.
+    lists: Vec<Vec<u32>>,
+    pieces: Vec<Piece>,
+}
+
+impl Cutter<'_> {
+    /// Ends the piece being filled: each member's triangles in vertex-cache order, the vertices
+    /// in order of first use over all of them.
+    fn finish_piece(&mut self) {
+        let count = self.used.len();
+        let mut members: Vec<(usize, Vec<u32>)> = Vec::new();
+        for (m, list) in self.lists.iter_mut().enumerate() {
+            if !list.is_empty() {
+                members.push((m, meshopt::optimize_vertex_cache_fifo(list, count, 16)));
+                list.clear();
+            }
+        }
+        let all: Vec<u32> = members
+            .iter()
+            .flat_map(|(_, l)| l.iter().copied())
+            .collect();
+        let remap = meshopt::optimize_vertex_fetch_remap(&all, count);
+        let positions: Vec<[f32; 3]> = self
+            .used
+            .iter()
+            .map(|&v| self.positions[v as usize])
+            .collect();
+        let positions = meshopt::remap_vertex_buffer(&positions, count, &remap);
+        for (_, list) in &mut members {
+            *list = meshopt::remap_index_buffer(Some(list), count, &remap);
+        }
+        for &v in &self.used {
+            for slots in &mut self.slots {
+                slots[v as usize] = u32::MAX;
+            }
+        }
+        self.used.clear();
+        self.pieces.push(Piece { positions, members });
+    }
+}
+
+/// The triangles in the order of their centres along a Z-order (Morton) curve over the
+/// positions' bounds, ties in triangle order, each with its key.
+fn z_order(positions: &[[f32; 3]], indices: &[u32]) -> Vec<(u64, u32)> {
+    let mut min = [f32::INFINITY; 3];
+    let mut max = [f32::NEG_INFINITY; 3];
+    for p in positions {
+        for k in 0..3 {
+            min[k] = min[k].min(p[k]);
+            max[k] = max[k].max(p[k]);
+        }
+    }
+    // 21 bits per axis fill a u64's 63; cubic cells, so that a thin layout (a street) is
+    // walked along its length rather than across it.
+    let cells = f64::from((1u32 << 21) - 1);
+    let extent = (0..3)
+        .map(|k| f64::from(max[k]) - f64::from(min[k]))
+        .fold(0.0, f64::max);
+    let scale = if extent > 0.0 { cells / extent } else { 0.0 };
+    let mut keyed: Vec<(u64, u32)> = indices
+        .chunks_exact(3)
+        .enumerate()
+        .map(|(t, triangle)| {
+            // Summed in the order of the corners' indices, so that a triangle and its back
+            // (the same corners in another order) get one key.
+            let mut corners = [triangle[0], triangle[1], triangle[2]];
+            corners.sort_unstable();
+            let cell: [u64; 3] = std::array::from_fn(|k| {
+                let sum: f64 = corners
+                    .iter()
+                    .map(|&v| f64::from(positions[v as usize][k]))
+                    .sum();
+                ((sum / 3.0 - f64::from(min[k])) * scale).clamp(0.0, cells) as u64
+            });
+            (
+                spread(cell[0]) | spread(cell[1]) << 1 | spread(cell[2]) << 2,
+                t as u32,
+            )
+        })
+        .collect();
+    keyed.sort_unstable();
+    keyed
+}
+
+/// The low 21 bits of `x` spread out to every third bit.
+fn spread(x: u64) -> u64 {
+    let mut x = x & 0x1f_ffff;
+    x = (x | x << 32) & 0x001f_0000_0000_ffff;
+    x = (x | x << 16) & 0x001f_0000_ff00_00ff;
+    x = (x | x << 8) & 0x100f_00f0_0f00_f00f;
+    x = (x | x << 4) & 0x10c3_0c30_c30c_30c3;
+    x = (x | x << 2) & 0x1249_2492_4924_9249;
+    x
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A unit square at (x, y) in the plane z = 0, as four vertices and two triangles.
+    fn square(x: f32, y: f32) -> Vertices {
+        Vertices {
+            positions: vec![
+                [x, y, 0.0],
+                [x + 1.0, y, 0.0],
+                [x + 1.0, y + 1.0, 0.0],
+                [x, y + 1.0, 0.0],
+            ],
+            indices: vec![0, 1, 2, 0, 2, 3],
+            ..Vertices::default()
+        }
+    }
+
+    /// Each member's triangles as positions, in the order the pieces hold them.
+    fn triangles(pieces: &[Piece], member: usize) -> Vec<[[f32; 3]; 3]> {
+        let mut found = Vec::new();
+        for piece in pieces {
+            for (m, list) in &piece.members {
+                if *m == member {
+                    let corners = list.chunks_exact(3);
+                    found
+                        .extend(corners.map(|t| [0, 1, 2].map(|k| piece.positions[t[k] as usize])));
+                }
+            }
+        }
+        found.sort_by(|a, b| a.partial_cmp(b).unwrap());
+        found
+    }
+
+    #[test]
+    fn members_share_the_corners_where_they_meet() {
+        // A pane between two wall squares: 8 corners in all, not 12.
+        let members = [square(0.0, 0.0), square(1.0, 0.0), square(2.0, 0.0)];
+        let walls = Vertices {
+            positions: [&members[0], &members[2]]
+                .iter()
+                .flat_map(|m| m.positions.clone())
+                .collect(),
+            indices: vec![0, 1, 2, 0, 2, 3, 4, 5, 6, 4, 6, 7],
+            ..Vertices::default()
+        };
+        let pane = members[1].clone();
+        let pieces = pool(&[walls.clone(), pane.clone()], 100);
+        assert_eq!(pieces.len(), 1);
+        assert_eq!(pieces[0].positions.len(), 8);
+        assert_eq!(pieces[0].members.len(), 2);
+        for (member, original) in [walls, pane].iter().enumerate() {
+            let want: Vec<[[f32; 3]; 3]> = original
+                .indices
+                .chunks_exact(3)
+                .map(|t| [0, 1, 2].map(|k| original.positions[t[k] as usize]))
+                .collect();
+            let got = triangles(&pieces, member);
+            assert_eq!(got.len(), want.len());
+            // Cache order may start a triangle at another corner, never turn it over.
+            for triangle in &got {
+                let rotations = [0, 1, 2].map(|r| [0, 1, 2].map(|k| triangle[(k + r) % 3]));
+                assert!(rotations.iter().any(|r| want.contains(r)), "{triangle:?}");
+            }
+        }
+    }
+
+    #[test]
+    fn a_large_pool_is_cut_into_pieces_that_keep_every_triangle() {
+        // A strip of 100 squares of two materials, pieces of at most 20 vertices.
+        let members: Vec<Vertices> = (0..2)
+            .map(|m| {
+                let mut all = Vertices::default();
+                for i in (m..100).step_by(2) {
+                    let base = all.positions.len() as u32;
+                    let s = square(i as f32, 0.0);
+                    all.positions.extend(s.positions);
+                    all.indices.extend(s.indices.iter().map(|&v| base + v));
+                }
+                all
+            })
+            .collect();
+        let pieces = pool(&members, 20);
+        assert!(pieces.len() > 1);
+        assert!(pieces.iter().all(|p| p.positions.len() <= 20));
+        for m in 0..2 {
+            assert_eq!(triangles(&pieces, m).len(), 100);
+        }
+        // 202 corners in the strip, and a few repeated where pieces meet.
+        let vertices: usize = pieces.iter().map(|p| p.positions.len()).sum();
+        assert!(
+            (202..202 + 2 * pieces.len()).contains(&vertices),
+            "{vertices}"
+        );
+        assert_eq!(pool(&members, 20), pieces);
+    }
+
+    #[test]
+    fn a_face_and_its_back_keep_corners_of_their_own() {
+        let front = square(0.0, 0.0);
+        let back = Vertices {
+            indices: vec![0, 2, 1, 0, 3, 2],
+            ..front.clone()
+        };
+        let pieces = pool(&[front, back], 100);
+        assert_eq!(pieces[0].positions.len(), 8);
+        let corners = |m: usize| {
+            let mut used: Vec<u32> = pieces[0].members[m].1.clone();
+            used.sort_unstable();
+            used.dedup();
+            used
+        };
+        assert!(corners(0).iter().all(|v| !corners(1).contains(v)));
+    }
+
+    #[test]
+    fn spread_interleaves_bits() {
+        assert_eq!(spread(0b1011), 0b1_000_001_001);
+        assert_eq!(spread(0x1f_ffff), 0x1249_2492_4924_9249);
+    }
+}
