@@ -338,7 +338,7 @@ pub struct DeriveArgs {
     pub shard: Option<Shard>,
     /// With --tiles and a grammar with context rules: the lots whose footprint comes within
     /// this many metres of a cell are derived with its lots, as context (docs/tiles.md)
-    #[arg(long, value_name = "METRES", default_value_t = 50.0, value_parser = parse_halo)]
+    #[arg(long, value_name = "METRES", default_value_t = 20.0, value_parser = parse_halo)]
     pub halo: f64,
     /// Seed of every random choice
     #[arg(long, value_name = "N", default_value_t = 0)]
