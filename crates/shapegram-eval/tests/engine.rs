@@ -874,3 +874,42 @@ Facade --> s('1.2, '1, '1) center(x) extrude(0.5) {trim} Slab."
     let loose = bounds(&text(""));
     assert!(loose.max.x > 10.9, "{loose:?}");
 }
+
+#[test]
+fn a_lot_numbered_apart_derives_as_it_does_among_all_lots() {
+    let program = compile(
+        "attr height = rand(3, 30)\n\
+         Lot --> print(initialShape.name) extrude(height) split(y) { ~1 : Floor }*\n\
+         Floor --> 50% : A. else : B.",
+    );
+    let options = DeriveOptions {
+        seed: 11,
+        ..DeriveOptions::default()
+    };
+    let all = common::lots_in_a_row(5, 8.0, 8.0, 10.0);
+    let whole = derive(&program, &all, &options).unwrap();
+    let of_lot = |d: &shapegram_eval::Derivation, lot: u32| {
+        d.leaves
+            .iter()
+            .filter(|l| l.lot == lot)
+            .map(|l| (l.name.to_string(), l.scope))
+            .collect::<Vec<_>>()
+    };
+    // Lots 3 and 1 alone, in that order, numbered as in the whole list.
+    let apart: Vec<InitialShape> = [3, 1]
+        .iter()
+        .map(|&i| InitialShape {
+            index: Some(i),
+            ..all[i as usize].clone()
+        })
+        .collect();
+    let d = derive(&program, &apart, &options).unwrap();
+    assert_eq!(d.prints, ["shape_3", "shape_1"]);
+    assert_eq!(of_lot(&d, 0), of_lot(&whole, 3));
+    assert_eq!(of_lot(&d, 1), of_lot(&whole, 1));
+    assert!(of_lot(&d, 0).len() > 1);
+    // Unnumbered, the first lot takes the seed of lot 0: another building.
+    let unnumbered = derive(&program, &all[3..4], &options).unwrap();
+    assert_eq!(unnumbered.prints, ["shape_0"]);
+    assert_ne!(of_lot(&unnumbered, 0), of_lot(&whole, 3));
+}

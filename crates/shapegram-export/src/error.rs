@@ -35,6 +35,13 @@ pub enum Error {
         /// What is wrong, in one line.
         message: String,
     },
+    /// Shards of a tileset that do not make one tileset (`tiles merge`).
+    Shards {
+        /// The folder or file at fault.
+        path: PathBuf,
+        /// What is wrong, in one line.
+        message: String,
+    },
 }
 
 impl Error {
@@ -100,6 +107,7 @@ impl fmt::Display for Error {
                 }
                 write!(f, ": {message}")
             }
+            Self::Shards { path, message } => write!(f, "{}: {message}", path.display()),
         }
     }
 }
@@ -108,7 +116,7 @@ impl std::error::Error for Error {
     fn source(&self) -> Option<&(dyn std::error::Error + 'static)> {
         match self {
             Self::Read { source, .. } | Self::Write { source, .. } => Some(source),
-            Self::UnknownFormat(_) | Self::Broken { .. } => None,
+            Self::UnknownFormat(_) | Self::Broken { .. } | Self::Shards { .. } => None,
         }
     }
 }

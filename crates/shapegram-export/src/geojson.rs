@@ -1,6 +1,10 @@
 //! GeoJSON polygons as footprints on the ground: the lots of a city or a block.
 
+use std::borrow::Cow;
+use std::collections::BTreeMap;
+
 use serde_json::Value as Json;
+use serde_json::value::RawValue;
 use shapegram_geom::DVec2;
 
 /// The polygons of a GeoJSON text, as rings in the xz-plane, and what was left out.
@@ -22,10 +26,35 @@ pub struct Footprints {
 /// Reads the exterior ring of every Polygon and MultiPolygon in a FeatureCollection, Feature,
 /// geometry or GeometryCollection. Anything malformed is a one-line error saying where.
 pub fn read_geojson(text: &str) -> Result<Footprints, String> {
+    if let Some(found) = feature_by_feature(text) {
+        return found;
+    }
     let json: Json = serde_json::from_str(text).map_err(|e| e.to_string())?;
     let mut found = Footprints::default();
     walk(&json, "the top level", &mut found)?;
     Ok(found)
+}
+
+/// A FeatureCollection read one feature at a time: the parsed features of a city take many
+/// times the memory of its text, the unparsed ones a pointer each. `None` for any other text,
+/// read whole (and the errors said) by [`read_geojson`].
+fn feature_by_feature(text: &str) -> Option<Result<Footprints, String>> {
+    let top: BTreeMap<Cow<'_, str>, &RawValue> = serde_json::from_str(text).ok()?;
+    let kind: Cow<'_, str> = serde_json::from_str(top.get("type")?.get()).ok()?;
+    if kind != "FeatureCollection" {
+        return None;
+    }
+    let features: Vec<&RawValue> = serde_json::from_str(top.get("features")?.get()).ok()?;
+    let mut found = Footprints::default();
+    for (i, feature) in features.iter().enumerate() {
+        let read = serde_json::from_str(feature.get())
+            .map_err(|e| e.to_string())
+            .and_then(|json: Json| walk(&json, &format!("features[{i}]"), &mut found));
+        if let Err(e) = read {
+            return Some(Err(e));
+        }
+    }
+    Some(Ok(found))
 }
 
 fn walk(json: &Json, at: &str, found: &mut Footprints) -> Result<(), String> {
@@ -113,4 +142,54 @@ fn position(p: &Json) -> Option<DVec2> {
         return None;
     }
     Some(DVec2::new(coordinate(0)?, -coordinate(1)?))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// What reading the text whole finds.
+    fn whole(text: &str) -> Result<Footprints, String> {
+        let json: Json = serde_json::from_str(text).map_err(|e| e.to_string())?;
+        let mut found = Footprints::default();
+        walk(&json, "the top level", &mut found)?;
+        Ok(found)
+    }
+
+    #[test]
+    fn collections_read_feature_by_feature_find_what_the_whole_text_holds() {
+        let collection = r#"{"features": [
+            {"type": "Feature", "geometry": {"type": "Polygon",
+                "coordinates": [[[0, 0], [1e-7, 0], [0.1, 0.3], [0, 0]], [[0, 0], [1, 1], [0, 1]]]}},
+            {"type": "Feature", "geometry": null},
+            {"type": "Feature", "geometry": {"type": "MultiPolygon", "coordinates": [
+                [[[20, 0], [30, 0], [30, 10], [20, 0]]], []]}},
+            {"type": "Feature", "geometry": {"type": "GeometryCollection", "geometries": [
+                {"type": "Point", "coordinates": [1, 2]},
+                {"type": "Polygon", "coordinates": [[[5, 5, 1], [6, 5, 1], [6, 7, 1]]]}]}}
+        ], "type": "FeatureCollection", "bbox": [0, 0, 30, 10]}"#;
+        assert!(feature_by_feature(collection).is_some());
+        let found = read_geojson(collection).unwrap();
+        assert_eq!(found, whole(collection).unwrap());
+        assert_eq!(found.rings.len(), 3);
+        assert_eq!((found.holes, found.not_polygons, found.empty), (1, 2, 1));
+        assert_eq!(found.places[1], "polygon 0 of the geometry of features[2]");
+        // A broken feature is the same error either way.
+        let broken = r#"{"type": "FeatureCollection", "features": [
+            {"type": "Feature", "geometry": null},
+            {"type": "Feature", "geometry": {"type": "Polygon", "coordinates": [[[0, 0], [1]]]}}]}"#;
+        assert!(feature_by_feature(broken).is_some());
+        assert_eq!(read_geojson(broken), whole(broken));
+        assert!(read_geojson(broken).unwrap_err().contains("features[1]"));
+        // Anything else is read whole.
+        for other in [
+            r#"{"type": "Feature", "geometry": null}"#,
+            r#"{"type": "FeatureCollection", "features": 3}"#,
+            "[1, 2]",
+            "{",
+        ] {
+            assert!(feature_by_feature(other).is_none(), "{other}");
+            assert_eq!(read_geojson(other), whole(other), "{other}");
+        }
+    }
 }

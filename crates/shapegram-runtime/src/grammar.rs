@@ -536,7 +536,10 @@ pub fn lot(footprint: Vec<DVec3>) -> Result<InitialShape, Error> {
     if shapegram_geom::mesh::newell(footprint.iter().copied()).length() <= 0.0 {
         return Err(Error::invalid("the lot has no area"));
     }
-    Ok(InitialShape { footprint })
+    Ok(InitialShape {
+        footprint,
+        index: None,
+    })
 }
 
 /// The lot a CGA-style grammar derives on when none is set: 20 × 30, as `shapegram derive`'s.

@@ -3,7 +3,7 @@
 use std::path::{Path, PathBuf};
 
 use clap::{Args, Parser, Subcommand, ValueEnum};
-use shapegram_export::tiles::Crs;
+use shapegram_export::tiles::{Crs, Shard};
 use shapegram_export::{ExportOptions, FlatNormals, Format, GlbEncoding};
 use shapegram_syntax::Dialect;
 
@@ -169,6 +169,18 @@ pub enum Command {
             shapegram repo friends add bob"
     )]
     Repo(crate::repo::RepoArgs),
+    /// Join the shards of a tileset written by `derive --tiles … --shard K/N`
+    #[command(
+        long_about = "Join the shards of a tileset written by `derive --tiles DIR --shard K/N`.\n\n\
+            `tiles merge` reads each folder's tileset.shard-K-of-N.json, checks that every\n\
+            shard of the run is there once, copies the tiles into --out (unless they are there\n\
+            already) and writes tileset.json: the same bytes as one run without --shard. See\n\
+            docs/tiles.md.",
+        after_help = "Examples:\n  \
+            shapegram tiles merge part0/ part1/ part2/ --out city/\n  \
+            shapegram tiles merge city/ --out city/"
+    )]
+    Tiles(crate::tiles::TilesArgs),
     /// Derive one goal grammar for the server's previews, under limits (internal)
     #[command(hide = true)]
     PreviewWorker(crate::preview::PreviewWorkerArgs),
@@ -368,6 +380,14 @@ pub struct DeriveArgs {
     /// The side of a tile's square grid cell in metres
     #[arg(long, value_name = "METRES", default_value_t = 200.0, value_parser = parse_tile_size)]
     pub tile_size: f64,
+    /// With --tiles: write only shard K of N (K from 0 to N - 1): its share of the parent
+    /// tiles and its part of tileset.json, for `shapegram tiles merge` (docs/tiles.md)
+    #[arg(long, value_name = "K/N", value_parser = parse_shard, requires = "tiles")]
+    pub shard: Option<Shard>,
+    /// With --tiles and a grammar with context rules: the lots whose footprint comes within
+    /// this many metres of a cell are derived with its lots, as context (docs/tiles.md)
+    #[arg(long, value_name = "METRES", default_value_t = 20.0, value_parser = parse_halo)]
+    pub halo: f64,
     /// Seed of every random choice
     #[arg(long, value_name = "N", default_value_t = 0)]
     pub seed: u64,
@@ -594,6 +614,17 @@ fn parse_timeout(text: &str) -> Result<f64, String> {
     match text.trim().parse::<f64>() {
         Ok(s) if (0.0..=1e9).contains(&s) => Ok(s),
         _ => Err("expected a number of seconds, like 60 or 0.5 (0: no limit)".to_owned()),
+    }
+}
+
+fn parse_shard(text: &str) -> Result<Shard, String> {
+    Shard::parse(text)
+}
+
+fn parse_halo(text: &str) -> Result<f64, String> {
+    match text.trim().parse::<f64>() {
+        Ok(halo) if (0.0..=1e6).contains(&halo) => Ok(halo),
+        _ => Err("expected a distance in metres from 0 to 1,000,000, like 50".to_owned()),
     }
 }
 

@@ -8,7 +8,8 @@ use std::time::{Duration, Instant};
 use serde::Serialize;
 use serde::ser::SerializeMap;
 use shapegram_eval::{
-    Derivation, DeriveError, DeriveOptions, MetadataScope, ModelOptions, Program, Value,
+    Derivation, DeriveError, DeriveOptions, InitialShape, MetadataScope, ModelOptions, Program,
+    Value,
 };
 use shapegram_export::tiles::TileGrid;
 use shapegram_export::{ExportOptions, Format};
@@ -17,7 +18,7 @@ use shapegram_syntax::SourceFile;
 
 use crate::cli::DeriveArgs;
 use crate::progress::with_spinner;
-use crate::{Failure, counted, grammar, lots, print_stdout, resolve};
+use crate::{Failure, counted, grammar, lots, print_stdout, resolve, tiles};
 
 /// Derives, writes and reports.
 pub fn run(args: &DeriveArgs) -> Result<(), Failure> {
@@ -43,6 +44,18 @@ pub fn run(args: &DeriveArgs) -> Result<(), Failure> {
     let source = input.source.clone();
     let goal = grammar::is_goal_grammar(&source, args.dialect.dialect());
     check_goal_options(&source, goal, args)?;
+    // A tiled city that nothing else reads whole derives cell by cell (docs/tiles.md).
+    let streamed = args.tiles.is_some()
+        && !goal
+        && args.output.is_none()
+        && !args.stats
+        && args.at_node.is_none();
+    if args.shard.is_some() && !streamed {
+        return Err(Failure::usage(
+            "--shard writes one shard's tiles only: it does not go with -o, --stats, \
+             --at-node or goal grammars",
+        ));
+    }
     // Goal grammars start from their axioms: lots only when asked for.
     let lots = if goal && args.lot.is_empty() && args.lots.is_empty() {
         Vec::new()
@@ -95,6 +108,15 @@ pub fn run(args: &DeriveArgs) -> Result<(), Failure> {
             None => grammar::compile(&input, !args.quiet, dialect),
         };
         let (program, sources) = compiled.into_program()?;
+        if streamed {
+            let run = Tiled {
+                args,
+                program: &program,
+                sources: &sources,
+                options: &options,
+            };
+            return with_spinner(spinner, &label, || run.write(&lots, frame, started));
+        }
         let derivation = with_spinner(spinner, &label, || derive(&program, &sources))?;
         resolve::Derived {
             program,
@@ -111,30 +133,16 @@ pub fn run(args: &DeriveArgs) -> Result<(), Failure> {
         report,
     } = derived;
     let source = &sources[0];
-    let mut prints = String::new();
-    for text in &derivation.prints {
-        for line in text.split('\n') {
-            prints.push_str("print: ");
-            prints.push_str(line);
-            prints.push('\n');
-        }
-    }
-    eprint!("{prints}");
+    print_prints(&derivation);
 
     let export_started = Instant::now();
     if let Some(dir) = &args.tiles {
         let grid = TileGrid {
             size: args.tile_size,
         };
-        let summary = crate::tiles::write(&derivation, &lots, frame, dir, grid, args.quiet)?;
+        let summary = tiles::write(&derivation, &lots, frame, dir, grid, args.quiet)?;
         if !args.quiet {
-            eprintln!(
-                "wrote {}: {}, {} of {}",
-                dir.join("tileset.json").display(),
-                counted(summary.near, "near tile", "near tiles"),
-                counted(summary.far, "far tile", "far tiles"),
-                counted(summary.lots, "lot", "lots")
-            );
+            eprintln!("wrote {}", tiles::described(dir, &summary));
         }
     }
     // A tiled city is written tile by tile: the whole model only when something reads it.
@@ -240,6 +248,83 @@ pub fn run(args: &DeriveArgs) -> Result<(), Failure> {
         print_stdout(&text)?;
     }
     Ok(())
+}
+
+/// A tiled run derived cell by cell: what it derives with.
+struct Tiled<'a> {
+    args: &'a DeriveArgs,
+    program: &'a Program,
+    sources: &'a [SourceFile],
+    options: &'a DeriveOptions,
+}
+
+impl Tiled<'_> {
+    /// Derives `lots` cell by cell into the tileset, printing the grammar's `print` output
+    /// as each cell's derivation ends, and reports.
+    fn write(
+        &self,
+        lots: &[InitialShape],
+        frame: lots::Frame,
+        started: Instant,
+    ) -> Result<(), Failure> {
+        let args = self.args;
+        let dir = args.tiles.as_deref().expect("tiled runs have --tiles");
+        let tiling = tiles::Tiling {
+            grid: TileGrid {
+                size: args.tile_size,
+            },
+            halo: self.program.has_context_rules().then_some(args.halo),
+            shard: args.shard,
+        };
+        let derive = |cell: &[InitialShape]| {
+            let derivation = shapegram_eval::derive(self.program, cell, self.options)
+                .map_err(|e| derive_failure(self.sources, &e))?;
+            print_prints(&derivation);
+            Ok(derivation)
+        };
+        let tiled = tiles::stream(lots, frame, dir, tiling, derive, args.quiet)?;
+        if args.quiet {
+            return Ok(());
+        }
+        match args.shard {
+            Some(shard) => eprintln!(
+                "wrote {} (shard {shard}): {}, {} of {}{}",
+                dir.join(shard.file_name()).display(),
+                counted(tiled.summary.near, "near tile", "near tiles"),
+                counted(tiled.summary.far, "far tile", "far tiles"),
+                counted(tiled.summary.lots, "lot", "lots"),
+                if tiled.summary.far == 0 {
+                    " (the city has fewer parent tiles than shards)"
+                } else {
+                    ""
+                }
+            ),
+            None => eprintln!("wrote {}", tiles::described(dir, &tiled.summary)),
+        }
+        eprintln!(
+            "derived {} (no output file): {}, {} cell by cell, {}, {}, {}",
+            self.sources[0].name(),
+            counted(lots.len(), "lot", "lots"),
+            counted(tiled.derived, "lot derived", "lots derived"),
+            counted(tiled.shapes, "shape", "shapes"),
+            counted(tiled.leaves, "leaf", "leaves"),
+            duration(started.elapsed())
+        );
+        Ok(())
+    }
+}
+
+/// Prints the `print` output of a derivation on stderr, a `print: ` line each.
+fn print_prints(derivation: &Derivation) {
+    let mut prints = String::new();
+    for text in &derivation.prints {
+        for line in text.split('\n') {
+            prints.push_str("print: ");
+            prints.push_str(line);
+            prints.push('\n');
+        }
+    }
+    eprint!("{prints}");
 }
 
 /// Derives once more per named pose, with the pose's attribute values over the user's, and

@@ -292,7 +292,10 @@ fn from_obj(model: &shapegram_geom::Model, name: &str) -> (Vec<InitialShape>, Ve
                     if normal.y < 0.0 {
                         footprint.reverse();
                     }
-                    lots.push(InitialShape { footprint });
+                    lots.push(InitialShape {
+                        footprint,
+                        index: None,
+                    });
                 }
                 None => flat += 1,
             }

@@ -43,6 +43,7 @@ fn main() -> ExitCode {
         Command::Serve(args) => serve::run(args),
         Command::Studio(args) => studio::run(args),
         Command::Repo(args) => repo::run(args),
+        Command::Tiles(args) => tiles::run(args),
         Command::PreviewWorker(args) => preview::run(args),
     };
     match result {

@@ -394,3 +394,256 @@ fn bad_lots_are_errors_or_warnings_naming_the_feature() {
         stderr(&output)
     );
 }
+
+/// Every file under `dir` (its path inside `dir`) with its bytes, leaving out the shards'
+/// parts of tileset.json.
+fn files(dir: &Path) -> std::collections::BTreeMap<String, Vec<u8>> {
+    let mut found = std::collections::BTreeMap::new();
+    let mut folders = vec![dir.to_path_buf()];
+    while let Some(folder) = folders.pop() {
+        for entry in std::fs::read_dir(&folder).unwrap() {
+            let path = entry.unwrap().path();
+            if path.is_dir() {
+                folders.push(path);
+                continue;
+            }
+            let name = path.strip_prefix(dir).unwrap().display().to_string();
+            if !name.starts_with("tileset.shard-") {
+                found.insert(name, std::fs::read(&path).unwrap());
+            }
+        }
+    }
+    found
+}
+
+/// Asserts that two folders hold the same files with the same bytes.
+fn assert_same_files(a: &Path, b: &Path) {
+    let (a_files, b_files) = (files(a), files(b));
+    assert_eq!(
+        a_files.keys().collect::<Vec<_>>(),
+        b_files.keys().collect::<Vec<_>>(),
+        "{} vs {}",
+        a.display(),
+        b.display()
+    );
+    for (name, bytes) in &a_files {
+        assert!(bytes == &b_files[name], "{name} differs in {}", b.display());
+    }
+}
+
+/// Runs `derive GRAMMAR --lots LOTS --tile-size 50 --tiles DIR` with the extra arguments.
+fn derive_tiles(grammar: &Path, lots: &Path, dir: &Path, extra: &[&str]) -> String {
+    let mut args = vec![
+        "derive",
+        grammar.to_str().unwrap(),
+        "--lots",
+        lots.to_str().unwrap(),
+        "--tile-size",
+        "50",
+        "--tiles",
+        dir.to_str().unwrap(),
+    ];
+    args.extend(extra);
+    let output = shapegram(&args);
+    assert!(output.status.success(), "{}", stderr(&output));
+    stderr(&output)
+}
+
+/// Random heights and floors: each lot's seed must come from its place in the whole file.
+const RANDOM: &str = "attr height = rand(5, 40)\n\
+    Lot --> extrude(height) split(y) { ~3 : Floor }*\n\
+    Floor --> 50% : color(\"#aa3322\") F.\n          else : G.\n";
+
+/// Each mass reaches 8 m east (a `reach` occluder, 40% wider than the lot): a lot turns red
+/// when the reach of its western neighbour, 5 m away and often in the next cell, overlaps it.
+const REACH: &str = "Lot --> extrude(12) [ s('1.4, '1, '1) label(\"reach\") NIL ] Check\n\
+    Check --> case overlaps(inter, \"reach\") : Red\n          else : Grey\n\
+    Red --> color(\"#ff0000\") X.\nGrey --> X.\n";
+
+#[test]
+fn tiles_derived_cell_by_cell_and_in_shards_are_the_whole_derivations_bytes() {
+    let dir = TempDir::new("tiles-streamed");
+    let lots = dir.path("city.geojson");
+    std::fs::write(&lots, city(0.0, 0.0, (1.0, 1.0)).to_string()).unwrap();
+    for (name, text) in [("random", RANDOM), ("reach", REACH)] {
+        let grammar = dir.path(&format!("{name}.cga"));
+        std::fs::write(&grammar, text).unwrap();
+        // With -o the city is derived whole, as one list of lots.
+        let whole = dir.path(&format!("{name}-whole"));
+        let glb = dir.path(&format!("{name}.glb"));
+        derive_tiles(&grammar, &lots, &whole, &["-o", glb.to_str().unwrap()]);
+        let single = dir.path(&format!("{name}-single"));
+        let err = derive_tiles(&grammar, &lots, &single, &[]);
+        assert!(
+            err.contains("16 near tiles, 4 far tiles of 32 lots"),
+            "{err}"
+        );
+        assert_same_files(&whole, &single);
+        for n in 1..=3 {
+            let parts: Vec<String> = (0..n)
+                .map(|k| {
+                    let part = dir.path(&format!("{name}-{k}-of-{n}"));
+                    derive_tiles(&grammar, &lots, &part, &["--shard", &format!("{k}/{n}")]);
+                    assert!(!part.join("tileset.json").exists());
+                    part.display().to_string()
+                })
+                .collect();
+            let merged = dir.path(&format!("{name}-merged-{n}"));
+            let mut args = vec!["tiles", "merge"];
+            args.extend(parts.iter().map(String::as_str));
+            args.extend(["--out", merged.to_str().unwrap()]);
+            let output = shapegram(&args);
+            assert!(output.status.success(), "{}", stderr(&output));
+            assert!(
+                stderr(&output).contains("tileset.json: 16 near tiles, 4 far tiles of 32 lots"),
+                "{}",
+                stderr(&output)
+            );
+            assert_same_files(&single, &merged);
+        }
+    }
+    // Shards written into one folder merge in place.
+    let grammar = dir.path("reach.cga");
+    let shared = dir.path("shared");
+    for k in 0..2 {
+        derive_tiles(&grammar, &lots, &shared, &["--shard", &format!("{k}/2")]);
+    }
+    let output = shapegram(&[
+        "tiles",
+        "merge",
+        shared.to_str().unwrap(),
+        "--out",
+        shared.to_str().unwrap(),
+    ]);
+    assert!(output.status.success(), "{}", stderr(&output));
+    assert_same_files(&dir.path("reach-single"), &shared);
+}
+
+#[test]
+fn context_beyond_the_halo_is_not_seen() {
+    let dir = TempDir::new("tiles-halo");
+    let lots = dir.path("city.geojson");
+    std::fs::write(&lots, city(0.0, 0.0, (1.0, 1.0)).to_string()).unwrap();
+    let grammar = dir.path("reach.cga");
+    std::fs::write(&grammar, REACH).unwrap();
+    let whole = dir.path("whole");
+    let glb = dir.path("whole.glb");
+    derive_tiles(&grammar, &lots, &whole, &["-o", glb.to_str().unwrap()]);
+    // The lots 5 m west of a cell are in its halo of 5 m, not in one of 2 m: without them,
+    // the westmost lots of each cell stay grey.
+    let wide = dir.path("wide");
+    let wide_err = derive_tiles(&grammar, &lots, &wide, &["--halo", "5"]);
+    assert_same_files(&whole, &wide);
+    let derived = |err: &str| -> usize {
+        let (_, after) = err.split_once("32 lots, ").unwrap();
+        after.split(' ').next().unwrap().parse().unwrap()
+    };
+    // Lots count again for every cell whose halo they are in.
+    assert!(derived(&wide_err) > 32, "{wide_err}");
+    let narrow = dir.path("narrow");
+    let err = derive_tiles(&grammar, &lots, &narrow, &["--halo", "2"]);
+    // Lots reaching over the border into the next cell to the north or south are its
+    // context even without a halo; those 5 m west of a cell are not.
+    assert!(derived(&err) < derived(&wide_err), "{err}");
+    let (whole, narrow) = (files(&whole), files(&narrow));
+    let differ: Vec<&String> = whole.keys().filter(|k| whole[*k] != narrow[*k]).collect();
+    // Cells 1 to 3 of every row of cells have a western neighbour in the cell before; the
+    // far tiles hold boxes, alike; tileset.json's bounds are alike too.
+    assert_eq!(differ.len(), 12, "{differ:?}");
+    assert!(differ.iter().all(|k| k.starts_with("near")), "{differ:?}");
+    // A grammar without context rules derives each lot once, whatever the halo.
+    let random = dir.path("random.cga");
+    std::fs::write(&random, RANDOM).unwrap();
+    let err = derive_tiles(&random, &lots, &dir.path("random"), &["--halo", "100"]);
+    assert!(
+        err.contains("32 lots, 32 lots derived cell by cell"),
+        "{err}"
+    );
+}
+
+#[test]
+fn empty_shards_are_written_and_bad_shards_refused() {
+    let dir = TempDir::new("tiles-shards");
+    let lots = dir.path("city.geojson");
+    std::fs::write(&lots, city(0.0, 0.0, (1.0, 1.0)).to_string()).unwrap();
+    let grammar = dir.path("block.cga");
+    std::fs::write(&grammar, GRAMMAR).unwrap();
+    let single = dir.path("single");
+    derive_tiles(&grammar, &lots, &single, &[]);
+    // Four parent tiles among six shards: two shards have none.
+    let all = dir.path("all");
+    let mut empty = 0;
+    for k in 0..6 {
+        let err = derive_tiles(&grammar, &lots, &all, &["--shard", &format!("{k}/6")]);
+        if err.contains("0 near tiles, 0 far tiles of 0 lots (the city has fewer parent tiles") {
+            empty += 1;
+            let part: Value = serde_json::from_slice(
+                &std::fs::read(all.join(format!("tileset.shard-{k}-of-6.json"))).unwrap(),
+            )
+            .unwrap();
+            assert_eq!(part["far"], json!([]));
+        }
+    }
+    assert_eq!(empty, 2);
+    let merged = dir.path("merged");
+    let merge = |dirs: &[&Path]| {
+        let mut args = vec!["tiles".to_owned(), "merge".to_owned()];
+        args.extend(dirs.iter().map(|d| d.display().to_string()));
+        args.extend(["--out".to_owned(), merged.display().to_string()]);
+        shapegram(&args)
+    };
+    let output = merge(&[&all]);
+    assert!(output.status.success(), "{}", stderr(&output));
+    assert_same_files(&single, &merged);
+
+    let refused = |args: &[&str], code: i32, expected: &str| {
+        let output = shapegram(args);
+        assert_eq!(output.status.code(), Some(code), "{}", stderr(&output));
+        assert!(stderr(&output).contains(expected), "{}", stderr(&output));
+        assert!(!stderr(&output).contains("panicked"));
+    };
+    let (g, l, out) = (
+        grammar.to_str().unwrap(),
+        lots.to_str().unwrap(),
+        dir.path("out").display().to_string(),
+    );
+    let derive = ["derive", g, "--lots", l, "--tiles", &out];
+    for (shard, expected) in [
+        ("3/3", "shards of 3 are numbered 0 to 2"),
+        ("0/0", "a tileset needs at least 1 shard"),
+        ("1", "is no shard: expected k/n"),
+    ] {
+        refused(&[&derive[..], &["--shard", shard]].concat(), 2, expected);
+    }
+    refused(
+        &[&derive[..], &["--shard", "0/2", "-o", "x.glb"]].concat(),
+        2,
+        "--shard writes one shard's tiles only",
+    );
+    refused(
+        &["derive", g, "--shard", "0/2"],
+        2,
+        "required arguments were not provided",
+    );
+    // A shard missing, or given twice.
+    std::fs::remove_file(all.join("tileset.shard-1-of-6.json")).unwrap();
+    let output = merge(&[&all]);
+    assert_eq!(output.status.code(), Some(1));
+    assert!(
+        stderr(&output).contains("missing shard 1/6 of 6"),
+        "{}",
+        stderr(&output)
+    );
+    let output = merge(&[&all, &all]);
+    assert!(
+        stderr(&output).contains("shard 0/6 is also in"),
+        "{}",
+        stderr(&output)
+    );
+    let output = merge(&[&single]);
+    assert!(
+        stderr(&output).contains("no shard of a tileset here"),
+        "{}",
+        stderr(&output)
+    );
+}

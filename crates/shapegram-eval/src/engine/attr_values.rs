@@ -62,7 +62,8 @@ fn evaluate(
     given: &[(u32, Value)],
 ) -> Result<Vec<Value>, DeriveError> {
     let (scope, geometry) = initial_shape(&lot.footprint)?;
-    let seed = child_seed(options.seed, index as u64);
+    let number = lot.index.unwrap_or(index as u64);
+    let seed = child_seed(options.seed, number);
     let symbol = program
         .start_rule
         .map_or(0, |rule| program.rules[rule as usize].symbol);
@@ -70,6 +71,7 @@ fn evaluate(
     let mut ev = Evaluator::new(program, seed, scope.origin);
     ev.assets = options.assets.as_deref();
     ev.lot = index as u32;
+    ev.lot_number = number;
     ev.initial_attrs(&mut state, given)
 }
 

@@ -60,13 +60,15 @@ pub(super) fn run(
     } else {
         Phase::Only
     };
-    let lot_seed = |i: usize| child_seed(options.seed, i as u64);
+    let lot_number = |i: usize| lots[i].index.unwrap_or(i as u64);
+    let lot_seed = |i: usize| child_seed(options.seed, lot_number(i));
     // Only a depth-first derivation in one phase is recorded, or derived again.
     let traced = phase == Phase::Only && options.generations.is_none();
     let batches = in_batches(program, lots.len(), None, |batch, i| {
         let how = Lot {
             start,
             index: i as u32,
+            number: lot_number(i),
             seed: lot_seed(i),
             overrides: &overrides,
             names: &names,
@@ -116,10 +118,11 @@ pub(super) fn run(
             let Some(waiting) = taken else {
                 return Ok(());
             };
-            let seed = lot_seed(waiting.lot as usize);
+            let lot = waiting.lot as usize;
+            let numbered = (lot_number(lot), lot_seed(lot));
             let motions = motions.get(i).cloned().unwrap_or_default();
             resume_lot(
-                program, waiting, motions, seed, &names, options, &context, batch,
+                program, waiting, motions, numbered, &names, options, &context, batch,
             )
         };
         // With a tree, phase 2 numbers its nodes after those of phase 1: one batch, in order.
@@ -423,6 +426,7 @@ pub(super) fn initial_shape(footprint: &[DVec3]) -> Result<(Scope, Geometry), De
 struct Lot<'a> {
     start: RuleId,
     index: u32,
+    number: u64,
     seed: u64,
     overrides: &'a [(u32, Value)],
     names: &'a [Arc<str>],
@@ -443,6 +447,7 @@ fn derive_lot<'a>(
     let Lot {
         start,
         index,
+        number,
         seed,
         overrides,
         names,
@@ -457,6 +462,7 @@ fn derive_lot<'a>(
     ev.object_axes = scope.axes;
     ev.assets = options.assets.as_deref();
     ev.lot = index;
+    ev.lot_number = number;
     ev.start = Some(start);
     state.attrs = Rc::new(ev.initial_attrs(&mut state, overrides)?);
     // A lot derived again grows to about its previous size.
@@ -566,13 +572,14 @@ fn pose_context(done: &[(u32, Skeleton)], gathered: &mut Gathered) -> Vec<Vec<Fr
 }
 
 /// Derives the shapes of one lot that waited for phase 2, in order, into `batch`; `motions`
-/// place its shapes for occlusion queries.
+/// place its shapes for occlusion queries; `(number, seed)` are the lot's number in the input
+/// and its seed.
 #[allow(clippy::too_many_arguments)]
 fn resume_lot(
     program: &Program,
     waiting: Waiting,
     motions: Vec<Frame>,
-    seed: u64,
+    (number, seed): (u64, u64),
     names: &[Arc<str>],
     options: &DeriveOptions,
     context: &Context,
@@ -584,6 +591,7 @@ fn resume_lot(
     ev.start = start_rule(program, options).ok();
     ev.restore(waiting.consts);
     ev.lot = waiting.lot;
+    ev.lot_number = number;
     ev.context = Some(context);
     ev.motions = motions;
     let mut engine = Engine::new(program, ev, names, options, Phase::Answer, batch);

@@ -184,6 +184,7 @@ fn derive_axiom(
     ev.object_axes = start.scope.axes;
     ev.assets = options.assets.as_deref();
     ev.lot = start.index;
+    ev.lot_number = u64::from(start.index);
     let mut engine = Engine::new(program, ev, names, options, Phase::Only, batch);
     if engine.tree.is_some() {
         let attrs = engine.node_attrs(&state.attrs);

@@ -175,6 +175,10 @@ pub enum MetadataScope {
 pub struct InitialShape {
     /// The polygon's corners.
     pub footprint: Vec<DVec3>,
+    /// The lot's number in the whole input, when it is derived apart from the lots before it
+    /// (a tile of a city): its seed and `initialShape.name` come from this number, so that
+    /// it derives as it would among all of them. `None`: its place among the lots derived.
+    pub index: Option<u64>,
 }
 
 impl InitialShape {
@@ -183,6 +187,7 @@ impl InitialShape {
         let mesh = primitives::footprint(points)?;
         Some(Self {
             footprint: mesh.face_points(0).collect(),
+            index: None,
         })
     }
 }

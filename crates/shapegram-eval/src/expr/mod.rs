@@ -56,6 +56,8 @@ pub(crate) struct Evaluator<'p> {
     pub context: Option<&'p Context>,
     /// The lot being derived, by its position among the initial shapes.
     pub lot: u32,
+    /// The lot's number in the whole input ([`crate::InitialShape::index`]), which names it.
+    pub lot_number: u64,
     /// Every constant's first evaluation, in order, when the derivation keeps a trace.
     pub const_log: Option<Vec<ConstEvent>>,
     /// In phase 2 of a grammar with a skeleton: the rigid motion from the rest pose of each of
@@ -103,6 +105,7 @@ impl<'p> Evaluator<'p> {
             prints: Vec::new(),
             context: None,
             lot: 0,
+            lot_number: 0,
             const_log: None,
             motions: Vec::new(),
             assets: None,
@@ -165,7 +168,9 @@ impl<'p> Evaluator<'p> {
                 self.program
                     .symbol_name(self.program.rules[rule as usize].symbol)
             })),
-            CKind::Query(Query::InitialName) => Value::string(&format!("shape_{}", self.lot)),
+            CKind::Query(Query::InitialName) => {
+                Value::string(&format!("shape_{}", self.lot_number))
+            }
             CKind::Query(Query::TreeKey) => Value::string(
                 &shape
                     .tree_key

@@ -257,6 +257,12 @@ impl Program {
         (!folder.is_empty()).then_some(&**folder)
     }
 
+    /// Whether a rule asks about other shapes (occlusion, context functions, snapping): then
+    /// a lot's model depends on the lots around it.
+    pub fn has_context_rules(&self) -> bool {
+        self.context_rules.contains(&true)
+    }
+
     /// Whether the program is a library of goal grammars, which starts from its axioms.
     pub fn is_goal_grammar(&self) -> bool {
         self.goals.is_some()

@@ -8,11 +8,15 @@
 //! non-empty cell is a leaf tile whose content is the full model of its lots ("near"); the
 //! cells are grouped [`PARENT_SPAN`] × [`PARENT_SPAN`] into parent tiles whose content is one
 //! box per lot ("far", the masses). The root has no content and the tree refines by REPLACE.
+//! Several machines can share the work by [`Shard`]: each writes whole parent tiles and its
+//! part of tileset.json, and [`merge`] joins the parts.
 
 mod crs;
+mod shards;
 mod tileset;
 
 pub use crs::{Crs, EnuFrame, Geodetic};
+pub use shards::{Shard, merge};
 pub use tileset::{TilesetSummary, TilesetWriter};
 
 use shapegram_geom::DVec2;

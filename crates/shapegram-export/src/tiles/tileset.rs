@@ -6,6 +6,7 @@ use std::path::{Path, PathBuf};
 use serde_json::{Value as Json, json};
 use shapegram_geom::{Aabb, Color, DAffine3, DQuat, DVec3, Mesh, Model, Part, primitives};
 
+use super::shards::{Shard, ShardPart};
 use super::{Cell, TileGrid};
 use crate::{Error, ExportOptions};
 
@@ -90,82 +91,150 @@ impl TilesetWriter {
 
     /// Writes the far tiles and tileset.json.
     pub fn finish(self) -> Result<TilesetSummary, Error> {
+        let far = self.write_far()?;
+        write_tileset(&self.dir, self.grid.size, self.transform, &far)
+    }
+
+    /// Writes the far tiles and, instead of tileset.json, the part of it that `shard` holds
+    /// (`tileset.shard-K-of-N.json`), for [`super::merge`] to join with the other shards'.
+    pub fn finish_shard(self, shard: Shard) -> Result<TilesetSummary, Error> {
+        let far = self.write_far()?;
+        let part = ShardPart {
+            shard,
+            tile_size: self.grid.size,
+            transform: self.transform,
+            far,
+        };
+        part.write(&self.dir)?;
+        Ok(summary(&part.far))
+    }
+
+    /// Writes a far tile (the masses) for each parent cell of the leaf tiles added.
+    fn write_far(&self) -> Result<Vec<FarTile>, Error> {
         let mut parents: BTreeMap<Cell, Vec<(Cell, &Near)>> = BTreeMap::new();
         for (&cell, near) in &self.near {
             parents.entry(cell.parent()).or_default().push((cell, near));
         }
-        let mut summary = TilesetSummary {
-            near: self.near.len(),
-            far: parents.len(),
-            lots: 0,
-        };
-        let mut far_tiles = Vec::new();
-        let mut all = Vec::new();
-        let mut root_error: f64 = 0.0;
-        for (parent, children) in &parents {
+        let mut far = Vec::with_capacity(parents.len());
+        for (parent, children) in parents {
             let masses: Vec<Aabb> = children
                 .iter()
                 .flat_map(|(_, near)| near.masses.iter().copied())
                 .collect();
-            summary.lots += masses.len();
-            let name = format!("{FAR}/{}.glb", parent.name());
             crate::save(
                 &masses_model(&masses),
-                &self.dir.join(&name),
+                &self.dir.join(FarTile::uri_of(parent)),
                 &ExportOptions::default(),
             )?;
-            let bounds = union(&masses).expect("a parent tile has children with masses");
-            all.push(bounds);
-            let error = far_error(&masses);
-            root_error = root_error.max(error);
-            let leaves: Vec<Json> = children
+            far.push(FarTile {
+                cell: parent,
+                bounds: union(&masses).expect("a parent tile has children with masses"),
+                error: far_error(&masses),
+                lots: masses.len(),
+                near: children
+                    .iter()
+                    .map(|(cell, near)| (*cell, near.bounds))
+                    .collect(),
+            });
+        }
+        Ok(far)
+    }
+}
+
+/// A far tile as written: its parent cell, the bounds and geometric error of its masses, how
+/// many lots it holds, and its leaf tiles with the bounds of their content.
+#[derive(Clone, Debug, PartialEq)]
+pub(crate) struct FarTile {
+    pub cell: Cell,
+    pub bounds: Aabb,
+    pub error: f64,
+    pub lots: usize,
+    pub near: Vec<(Cell, Aabb)>,
+}
+
+impl FarTile {
+    /// The file of a parent cell's masses, relative to the tileset.
+    pub fn uri_of(cell: Cell) -> String {
+        format!("{FAR}/{}.glb", cell.name())
+    }
+
+    /// The file of a leaf cell's full model, relative to the tileset.
+    pub fn near_uri_of(cell: Cell) -> String {
+        format!("{NEAR}/{}.glb", cell.name())
+    }
+}
+
+/// What tiles were written.
+fn summary(far: &[FarTile]) -> TilesetSummary {
+    TilesetSummary {
+        near: far.iter().map(|f| f.near.len()).sum(),
+        far: far.len(),
+        lots: far.iter().map(|f| f.lots).sum(),
+    }
+}
+
+/// Writes tileset.json in `dir` over the far tiles (in the order of their cells) of a grid of
+/// `tile_size` metres, with the root's `transform`.
+pub(crate) fn write_tileset(
+    dir: &Path,
+    tile_size: f64,
+    transform: [f64; 16],
+    far: &[FarTile],
+) -> Result<TilesetSummary, Error> {
+    let far_tiles: Vec<Json> = far
+        .iter()
+        .map(|tile| {
+            let leaves: Vec<Json> = tile
+                .near
                 .iter()
-                .map(|(cell, near)| {
+                .map(|(cell, bounds)| {
                     json!({
-                        "boundingVolume": { "box": tile_box(&near.bounds) },
+                        "boundingVolume": { "box": tile_box(bounds) },
                         "geometricError": 0.0,
-                        "content": { "uri": format!("{NEAR}/{}.glb", cell.name()) },
+                        "content": { "uri": FarTile::near_uri_of(*cell) },
                     })
                 })
                 .collect();
-            far_tiles.push(json!({
-                "boundingVolume": { "box": tile_box(&bounds) },
-                "geometricError": error,
+            json!({
+                "boundingVolume": { "box": tile_box(&tile.bounds) },
+                "geometricError": tile.error,
                 "refine": "REPLACE",
-                "content": { "uri": name },
+                "content": { "uri": FarTile::uri_of(tile.cell) },
                 "children": leaves,
-            }));
-        }
-        // The root has no content: it refines into the far tiles from afar, once the city is
-        // larger on screen than its extent's error allows.
-        let extent = union(&all).unwrap_or(Aabb {
-            min: DVec3::ZERO,
-            max: DVec3::ZERO,
-        });
-        let root_error = (extent.max - extent.min)
-            .length()
-            .max(2.0 * root_error)
-            .max(self.grid.size);
-        let tileset = json!({
-            "asset": {
-                "version": "1.1",
-                "generator": concat!("shapegram ", env!("CARGO_PKG_VERSION")),
-            },
+            })
+        })
+        .collect();
+    // The root has no content: it refines into the far tiles from afar, once the city is
+    // larger on screen than its extent's error allows.
+    let all: Vec<Aabb> = far.iter().map(|tile| tile.bounds).collect();
+    let extent = union(&all).unwrap_or(Aabb {
+        min: DVec3::ZERO,
+        max: DVec3::ZERO,
+    });
+    let far_error = far.iter().map(|tile| tile.error).fold(0.0, f64::max);
+    let root_error = (extent.max - extent.min)
+        .length()
+        .max(2.0 * far_error)
+        .max(tile_size);
+    let tileset = json!({
+        "asset": {
+            "version": "1.1",
+            "generator": concat!("shapegram ", env!("CARGO_PKG_VERSION")),
+        },
+        "geometricError": root_error,
+        "root": {
+            "transform": transform,
+            "boundingVolume": { "box": tile_box(&extent) },
             "geometricError": root_error,
-            "root": {
-                "transform": self.transform,
-                "boundingVolume": { "box": tile_box(&extent) },
-                "geometricError": root_error,
-                "refine": "REPLACE",
-                "children": far_tiles,
-            },
-        });
-        let path = self.dir.join("tileset.json");
-        let mut text = serde_json::to_string_pretty(&tileset).expect("JSON values serialise");
-        text.push('\n');
-        std::fs::write(&path, text).map_err(|source| Error::Write { path, source })?;
-        Ok(summary)
-    }
+            "refine": "REPLACE",
+            "children": far_tiles,
+        },
+    });
+    let path = dir.join("tileset.json");
+    let mut text = serde_json::to_string_pretty(&tileset).expect("JSON values serialise");
+    text.push('\n');
+    std::fs::write(&path, text).map_err(|source| Error::Write { path, source })?;
+    Ok(summary(far))
 }
 
 /// The smallest box holding all of `boxes`, `None` for none.
