@@ -374,7 +374,8 @@ impl State {
         self.adopt(seed, depth);
     }
 
-    /// Moves the state out, leaving a shape without geometry or material behind (to be dropped).
+    /// Moves the state out, leaving a shape without geometry, material or trim planes behind (to
+    /// be dropped).
     pub fn take(&mut self) -> State {
         State {
             symbol: self.symbol,
@@ -396,7 +397,7 @@ impl State {
             tree_key: self.tree_key.clone(),
             occluder: self.occluder,
             section: self.section,
-            trim: self.trim.clone(),
+            trim: std::mem::take(&mut self.trim),
             semantics: self.semantics.take(),
             instance: self.instance.take(),
         }
