@@ -660,6 +660,13 @@ mod tests {
     /// leaf is a scope (120 bytes) with little more.
     #[test]
     fn a_leaf_stays_small() {
-        assert_eq!(std::mem::size_of::<Leaf>(), 208);
+        assert_eq!(std::mem::size_of::<Leaf>(), 200);
+        assert_eq!(std::mem::size_of::<crate::shape::Geometry>(), 24);
+    }
+
+    /// Every rule application copies a shape's state: it stays within five cache lines.
+    #[test]
+    fn a_shape_state_stays_small() {
+        assert_eq!(std::mem::size_of::<crate::shape::State>(), 320);
     }
 }
