@@ -24,8 +24,9 @@ pub enum Geometry {
     Box,
     /// A polygon mesh in scope-local coordinates, with what its faces carry when any carries
     /// something: the part of an `offset` they are, their tags and their edges' (see
-    /// [`crate::tags`]).
-    Mesh(Arc<Mesh>, Option<Arc<[FaceTags]>>),
+    /// [`crate::tags`]). The tags sit behind a thin pointer, which keeps a geometry (and so
+    /// every shape and leaf) 8 bytes smaller.
+    Mesh(Arc<Mesh>, Option<Arc<Vec<FaceTags>>>),
     /// An implicit solid in scope-local coordinates (`implicit(sphere)`), possibly a member of
     /// a CSG group; meshed when the model is made.
     Implicit(Arc<Implicit>),
@@ -141,6 +142,14 @@ impl Geometry {
     pub fn tags(&self) -> Option<&[FaceTags]> {
         match self {
             Self::Mesh(_, Some(tags)) => Some(tags),
+            _ => None,
+        }
+    }
+
+    /// What each face carries, shared, if any face carries anything.
+    pub fn shared_tags(&self) -> Option<Arc<Vec<FaceTags>>> {
+        match self {
+            Self::Mesh(_, tags) => tags.clone(),
             _ => None,
         }
     }
@@ -374,7 +383,8 @@ impl State {
         self.adopt(seed, depth);
     }
 
-    /// Moves the state out, leaving a shape without geometry or material behind (to be dropped).
+    /// Moves the state out, leaving a shape without geometry, material or trim planes behind (to
+    /// be dropped).
     pub fn take(&mut self) -> State {
         State {
             symbol: self.symbol,
@@ -396,7 +406,7 @@ impl State {
             tree_key: self.tree_key.clone(),
             occluder: self.occluder,
             section: self.section,
-            trim: self.trim.clone(),
+            trim: std::mem::take(&mut self.trim),
             semantics: self.semantics.take(),
             instance: self.instance.take(),
         }
@@ -468,7 +478,7 @@ impl State {
             ));
         } else if let Some(mut mesh) = self.geometry.world_mesh(&self.scope) {
             mesh.transform(&scope.world_to_local());
-            let tags = self.geometry.tags().map(Arc::from);
+            let tags = self.geometry.shared_tags();
             self.geometry = Geometry::Mesh(Arc::new(mesh), tags);
         }
         self.scope = scope;

@@ -81,7 +81,7 @@ impl Derivation {
                 ended_as_leaf = true;
                 let leaf = &self.leaves[i];
                 if frontier {
-                    parts.extend(leaf_part(leaf, bone(leaf.lot, leaf.section)));
+                    parts.extend(leaf_part(leaf, bone(leaf.lot, leaf.section())));
                 }
             }
             let rewritten_later = first_child[k] != u32::MAX;
@@ -109,7 +109,7 @@ fn leaf_part(leaf: &Leaf, bone: Option<Bone>) -> Option<Part> {
         normals: Vec::new(),
         bone,
         metadata: None,
-        material: leaf.material.clone(),
+        material: leaf.material().cloned(),
         surface: None,
         instance: None,
     })

@@ -228,7 +228,7 @@ pub fn edge_tags(n: usize, tags: impl Fn(usize) -> TagSet) -> Option<Arc<[TagSet
 /// or copied from them: each face takes the part and tags of the face of `from` it lies on, and
 /// each of its edges the tags of the edge of that face it lies along. Faces on none of `from`'s
 /// (the caps of a cut) get none. `None` when nothing carries a tag.
-pub fn carry(from: &Mesh, tags: &[FaceTags], to: &Mesh) -> Option<Arc<[FaceTags]>> {
+pub fn carry(from: &Mesh, tags: &[FaceTags], to: &Mesh) -> Option<Arc<Vec<FaceTags>>> {
     let size = from
         .bounds()
         .map_or(1.0, |b| b.size().max_element())

@@ -97,7 +97,7 @@ fn the_metallic_override_as_printed_puts_the_chair_on_a_steel_pedestal() {
     assert_eq!(stand.color, Color::from_hex(STEEL).unwrap());
     let brown = Color::from_hex(BROWN).unwrap();
     assert_eq!((d.leaves[1].color, d.leaves[2].color), (brown, brown));
-    let tags = &stand.semantics.as_ref().unwrap().tags;
+    let tags = &stand.semantics().unwrap().tags;
     assert!(tags.iter().any(|t| &**t == "metallic"), "{tags:?}");
 }
 

@@ -58,8 +58,7 @@ fn compile_library(files: &[PathBuf]) -> Program {
 }
 
 fn has_tag(leaf: &Leaf, tag: &str) -> bool {
-    leaf.semantics
-        .as_ref()
+    leaf.semantics()
         .is_some_and(|s| s.tags.iter().any(|t| &**t == tag))
 }
 

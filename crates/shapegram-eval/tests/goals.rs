@@ -31,12 +31,12 @@ fn names(d: &Derivation) -> Vec<&str> {
 }
 
 fn tags(leaf: &Leaf) -> Vec<&str> {
-    let s = leaf.semantics.as_ref().expect("goal leaves have semantics");
+    let s = leaf.semantics().expect("goal leaves have semantics");
     s.tags.iter().map(|t| &**t).collect()
 }
 
 fn goals(leaf: &Leaf) -> Vec<&str> {
-    let s = leaf.semantics.as_ref().expect("goal leaves have semantics");
+    let s = leaf.semantics().expect("goal leaves have semantics");
     s.goals.iter().map(|t| &**t).collect()
 }
 
@@ -63,7 +63,7 @@ fn the_chair_has_four_legs_a_seat_and_a_lean_of_the_right_sizes_all_brown() {
     assert_eq!(names(&d), ["leg", "leg", "leg", "leg", "seat", "lean"]);
     let brown = Color::from_hex("#8b5a2b").unwrap();
     assert!(d.leaves.iter().all(|l| l.color == brown));
-    let leg = d.leaves[0].semantics.as_ref().unwrap().attributes[0].clone();
+    let leg = d.leaves[0].semantics().unwrap().attributes[0].clone();
     assert_eq!(&*leg.0, "Leg.Size");
     let shapegram_eval::Value::Number(size) = leg.1 else {
         panic!("{:?}", leg.1)

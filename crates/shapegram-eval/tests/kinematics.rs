@@ -299,7 +299,7 @@ mod generated {
                     let skeleton = &d.skeletons[0].1;
                     prop_assert!(skeleton.is_tree(), "{text}");
                     for leaf in &d.leaves {
-                        prop_assert!((leaf.section as usize) < skeleton.len());
+                        prop_assert!((leaf.section() as usize) < skeleton.len());
                     }
                     for frame in skeleton.posed() {
                         prop_assert!(frame.is_finite());
@@ -321,7 +321,7 @@ Window --> joint(0, 0, 0) rotationLimits(y, 0, 100) rotateJoint(0, open, 0)
     let skeleton = &d.skeletons[0].1;
     let motions = skeleton.skinning();
     for leaf in &d.leaves {
-        let motion = motions[leaf.section as usize];
+        let motion = motions[leaf.section() as usize];
         let corner = leaf.scope.to_world(DVec3::new(leaf.scope.size.x, 0.0, 0.0));
         assert!(
             !close(motion.transform_point(corner), corner),
@@ -359,7 +359,7 @@ fn skeletons_are_the_same_whatever_the_thread_count() {
     let sections = |d: &Derivation| {
         d.leaves
             .iter()
-            .map(|l| (l.lot, l.section))
+            .map(|l| (l.lot, l.section()))
             .collect::<Vec<_>>()
     };
     assert_eq!(sections(&one), sections(&four));
@@ -518,7 +518,7 @@ fn a_joint_may_lie_outside_the_shape_but_must_be_a_number() {
 Leaf --> joint(3, 0, 0) rotationLimits(y, -90, 90) rotateJoint(0, 90, 0) Panel.";
     let d = run(text, lot(4.0, 4.0));
     let skeleton = &d.skeletons[0].1;
-    let section = shapegram_geom::kinematics::SectionId(d.leaves[0].section);
+    let section = shapegram_geom::kinematics::SectionId(d.leaves[0].section());
     let joint = skeleton.section(section).rest().translation;
     assert!(
         (joint.x - 3.0).abs() < 1e-12 && joint.y.abs() < 1e-12,

@@ -110,7 +110,7 @@ fn posed_leaves(d: &Derivation) -> Vec<Posed> {
         .iter()
         .filter_map(|leaf| {
             let mesh = leaf.world_mesh()?;
-            let section = SectionId(leaf.section);
+            let section = SectionId(leaf.section());
             let motion = motions[section.index()];
             let rest = mesh.positions().to_vec();
             let posed = rest.iter().map(|p| motion.transform_point(*p)).collect();

@@ -54,7 +54,11 @@ fn leaves(d: &Derivation) -> Vec<String> {
         .map(|l| {
             format!(
                 "{} {:?} {:?} {:?} {:?}",
-                l.name, l.scope.origin, l.scope.size, l.color, l.semantics
+                l.name,
+                l.scope.origin,
+                l.scope.size,
+                l.color,
+                l.semantics()
             )
         })
         .collect()

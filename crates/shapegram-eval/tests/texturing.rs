@@ -157,7 +157,7 @@ fn sets_are_copied_and_deleted_and_inserts_bring_their_own() {
         "{project} copyUV(0, 2) t(0, 0, 1) primitiveQuad() Sign"
     ));
     assert_range(&d.leaves[0], 0, [0.0, 0.0], [1.0, 1.0]);
-    assert_eq!(d.leaves[0].texturing.as_ref().unwrap().uvs[2], None);
+    assert_eq!(d.leaves[0].texturing().unwrap().uvs[2], None);
 }
 
 #[test]
@@ -165,7 +165,7 @@ fn texture_layers_are_set_by_texture_and_material_attributes() {
     let d = facade(
         "texture(\"brick.jpg\") set(material.dirtmap, \"dirt.png\") set(material.map5, \"n.png\") Wall",
     );
-    let maps = &d.leaves[0].texturing.as_ref().unwrap().maps;
+    let maps = &d.leaves[0].texturing().unwrap().maps;
     let path = |i: usize| maps[i].as_ref().map(|t| &*t.path);
     assert_eq!(path(0), Some("brick.jpg"));
     assert_eq!(path(2), Some("dirt.png"));
@@ -173,10 +173,10 @@ fn texture_layers_are_set_by_texture_and_material_attributes() {
     // Without an asset folder, no image is read: the texture is known by its path alone.
     assert!(maps[0].as_ref().unwrap().image.is_none());
     let d = facade("texture(\"brick.jpg\") texture(\"\") Wall");
-    assert_eq!(d.leaves[0].texturing.as_ref().unwrap().maps[0], None);
+    assert_eq!(d.leaves[0].texturing().unwrap().maps[0], None);
     // Shapes that never texture carry nothing.
     let d = facade("Wall");
-    assert!(d.leaves[0].texturing.is_none());
+    assert!(d.leaves[0].texturing().is_none());
 }
 
 #[test]
@@ -222,7 +222,7 @@ fn material_attributes_are_kept_clamped_and_reach_the_model() {
          set(material.doubleSided, false) set(material.shader, \"CityEnginePBRShader\") \
          split(x) { 10 : Wall | 10 : set(material.roughness, 0.5) Wall }",
     );
-    let finish = |i: usize| d.leaves[i].texturing.as_ref().unwrap().finish;
+    let finish = |i: usize| d.leaves[i].texturing().unwrap().finish;
     assert_eq!(
         finish(0),
         Finish {

@@ -499,7 +499,7 @@ impl GoalsJson {
         for semantics in derivation
             .leaves
             .iter()
-            .filter_map(|l| l.semantics.as_deref())
+            .filter_map(|l| l.semantics().map(|s| &**s))
         {
             for tag in &semantics.tags {
                 *tags.entry(tag) += 1;

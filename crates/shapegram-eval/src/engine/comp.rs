@@ -97,8 +97,9 @@ impl<'p> Engine<'p> {
         let judge = Judge {
             kind,
             components: &components,
-            tags: tags.as_deref(),
-            index: wants(asks_tags).then(|| TagIndex::new(&world, tags.as_deref())),
+            tags: tags.as_deref().map(Vec::as_slice),
+            index: wants(asks_tags)
+                .then(|| TagIndex::new(&world, tags.as_deref().map(Vec::as_slice))),
             roof: (kind == CompKind::Edges && wants(asks_roof))
                 .then(|| RoofEdges::new(&world, &components, state.scope.axes.y_axis)),
             frames: self.ev.frames(&scope),

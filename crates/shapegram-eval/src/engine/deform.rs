@@ -77,7 +77,7 @@ impl Engine<'_> {
                 amount.span,
             ));
         };
-        let tags: Option<Arc<[FaceTags]>> = state.geometry.tags().map(|tags| {
+        let tags: Option<Arc<Vec<FaceTags>>> = state.geometry.tags().map(|tags| {
             deformed
                 .sources
                 .iter()
@@ -89,7 +89,8 @@ impl Engine<'_> {
                             ..t.clone()
                         })
                 })
-                .collect()
+                .collect::<Vec<_>>()
+                .into()
         });
         state.geometry = Geometry::Mesh(Arc::new(deformed.mesh), tags);
         Ok(())

@@ -147,8 +147,10 @@ pub(super) fn run(
     }
     all.stats.leaves = all.leaves.len();
     all.stats.rules = rule_counts(program, &counts);
-    all.solids =
-        crate::solids::mesh_solids(&all.leaves, options.implicit_cell, options.time_budget)?;
+    if program.solids {
+        all.solids =
+            crate::solids::mesh_solids(&all.leaves, options.implicit_cell, options.time_budget)?;
+    }
     Ok((all, reused))
 }
 

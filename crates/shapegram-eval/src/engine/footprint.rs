@@ -502,7 +502,8 @@ pub(super) fn reverse_normals(state: &mut State, span: Span) -> Fallible<()> {
             tags.iter()
                 .enumerate()
                 .map(|(f, t)| t.reversed(mesh.face(f).len()))
-                .collect()
+                .collect::<Vec<_>>()
+                .into()
         });
         state.geometry = Geometry::Mesh(Arc::new(mesh), tags);
     }

@@ -18,7 +18,7 @@ use super::scope::{align_to_axes, align_to_bbox, center};
 use super::split::Layouts;
 use super::statements::Cursor;
 use super::trace::Recorder;
-use super::{DeriveOptions, Fallible, Leaf, TreeNode};
+use super::{DeriveOptions, Fallible, Leaf, LeafExtras, TreeNode};
 use crate::context::{Occluder, Parked, SnapPlane};
 use crate::error::DeriveError;
 use crate::expr::Evaluator;
@@ -634,19 +634,22 @@ impl<'p> Engine<'p> {
             self.occluders.extend(occluder);
         }
         let semantics = self.leaf_semantics(state);
-        self.leaves.push(Leaf {
-            name: self.names[state.symbol as usize].clone(),
-            scope: state.scope,
-            geometry: std::mem::replace(&mut state.geometry, Geometry::Empty),
-            color: state.color,
-            painted: state.painted,
-            material: state.material.take(),
-            texturing: state.texturing.take(),
-            node: self.tree.is_some().then_some(state.node),
-            lot: self.ev.lot,
-            section: state.section,
+        let extras = LeafExtras::of(
+            state.material.take(),
+            state.texturing.take(),
+            state.section,
             semantics,
-        });
+        );
+        self.leaves.push(Leaf::new(
+            self.names[state.symbol as usize].clone(),
+            state.scope,
+            std::mem::replace(&mut state.geometry, Geometry::Empty),
+            state.color,
+            state.painted,
+            self.tree.is_some().then_some(state.node),
+            self.ev.lot,
+            extras,
+        ));
     }
 
     /// Applies an operation: the family module of the operation does the work. Returns whether

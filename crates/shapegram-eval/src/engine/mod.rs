@@ -193,32 +193,59 @@ impl InitialShape {
 }
 
 /// A finished shape: part of the model.
+///
+/// Laid out in declaration order so that what dropping a leaf reads (its name, geometry and
+/// extras) comes first, in one cache line.
 #[derive(Clone, Debug, PartialEq)]
+#[repr(C)]
 pub struct Leaf {
     /// The symbol of the shape (the rule that made it).
     pub name: Arc<str>,
-    /// Its scope.
-    pub scope: Scope,
     /// Its geometry, relative to the scope.
     pub geometry: Geometry,
+    /// What few leaves carry (see [`LeafExtras`]); `None` for a leaf with none of it. Kept out
+    /// of line so that the common leaf stays small: a city derives millions of them.
+    extras: Option<Box<LeafExtras>>,
+    /// Its scope.
+    pub scope: Scope,
     /// Its colour.
     pub color: Color,
-    /// Whether the grammar set its colour (see [`crate::asset_look`]).
-    pub painted: bool,
-    /// Its material name, when one was set.
-    pub material: Option<Arc<str>>,
-    /// Its uv sets, texture layers and other material attributes, when texturing operations or
-    /// `set(material.…)` ran on it or its ancestors.
-    pub texturing: Option<Arc<Texturing>>,
     /// Its node in [`Derivation::tree`], when the tree is kept.
     pub node: Option<u32>,
     /// The initial shape it grew from, as an index into the derivation's initial shapes.
     pub lot: u32,
-    /// The kinematic section it hangs from, in the skeleton of its lot (see
-    /// [`Derivation::skeletons`]); 0 when the grammar builds none.
-    pub section: u32,
-    /// Goal grammars: the goals, tags and named attributes it ended with.
-    pub semantics: Option<Arc<LeafSemantics>>,
+    /// Whether the grammar set its colour (see [`crate::asset_look`]).
+    pub painted: bool,
+}
+
+/// The rarely set parts of a [`Leaf`]: material name, texturing, kinematic section and goal
+/// semantics.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub(crate) struct LeafExtras {
+    material: Option<Arc<str>>,
+    texturing: Option<Arc<Texturing>>,
+    section: u32,
+    semantics: Option<Arc<LeafSemantics>>,
+}
+
+impl LeafExtras {
+    /// The extras of a leaf, `None` when it has none of them.
+    pub(crate) fn of(
+        material: Option<Arc<str>>,
+        texturing: Option<Arc<Texturing>>,
+        section: u32,
+        semantics: Option<Arc<LeafSemantics>>,
+    ) -> Option<Box<Self>> {
+        if material.is_none() && texturing.is_none() && section == 0 && semantics.is_none() {
+            return None;
+        }
+        Some(Box::new(Self {
+            material,
+            texturing,
+            section,
+            semantics,
+        }))
+    }
 }
 
 /// A shape in the derivation tree.
@@ -246,6 +273,60 @@ pub struct TreeNode {
 }
 
 impl Leaf {
+    /// A leaf of the given geometry and look, made from `lot`.
+    #[allow(clippy::too_many_arguments)]
+    pub(crate) fn new(
+        name: Arc<str>,
+        scope: Scope,
+        geometry: Geometry,
+        color: Color,
+        painted: bool,
+        node: Option<u32>,
+        lot: u32,
+        extras: Option<Box<LeafExtras>>,
+    ) -> Self {
+        Self {
+            name,
+            geometry,
+            extras,
+            scope,
+            color,
+            node,
+            lot,
+            painted,
+        }
+    }
+
+    /// Its material name, when one was set.
+    pub fn material(&self) -> Option<&Arc<str>> {
+        self.extras.as_ref()?.material.as_ref()
+    }
+
+    /// Its uv sets, texture layers and other material attributes, when texturing operations or
+    /// `set(material.…)` ran on it or its ancestors.
+    pub fn texturing(&self) -> Option<&Arc<Texturing>> {
+        self.extras.as_ref()?.texturing.as_ref()
+    }
+
+    /// The kinematic section it hangs from, in the skeleton of its lot (see
+    /// [`Derivation::skeletons`]); 0 when the grammar builds none.
+    pub fn section(&self) -> u32 {
+        self.extras.as_ref().map_or(0, |e| e.section)
+    }
+
+    /// Goal grammars: the goals, tags and named attributes it ended with.
+    pub fn semantics(&self) -> Option<&Arc<LeafSemantics>> {
+        self.extras.as_ref()?.semantics.as_ref()
+    }
+
+    /// The same leaf hanging from kinematic section `section`.
+    pub(crate) fn with_section(mut self, section: u32) -> Self {
+        if section != self.section() {
+            self.extras.get_or_insert_default().section = section;
+        }
+        self
+    }
+
     /// The leaf's geometry in world coordinates (`None` when it has none).
     pub fn world_mesh(&self) -> Option<Mesh> {
         self.geometry.world_mesh(&self.scope)
@@ -258,12 +339,12 @@ impl Leaf {
         let material = ShapeMaterial {
             color: self.color,
             painted: self.painted,
-            material: self.material.as_ref(),
-            texturing: self.texturing.as_deref(),
+            material: self.material(),
+            texturing: self.texturing().map(|t| &**t),
         };
         // An asset's uvs count only when something is drawn through them: a look without
         // materials on a shape without texture layers draws as the shape's material alone.
-        let worn = self.texturing.as_ref().and_then(|t| {
+        let worn = self.texturing().and_then(|t| {
             let drawn = t.maps.iter().any(Option::is_some);
             t.asset
                 .as_ref()
@@ -282,7 +363,7 @@ impl Leaf {
     /// The uvs of uv set `set` at the vertices of `mesh` (the leaf's [`Leaf::world_mesh`]);
     /// `None` when the leaf has no such set.
     pub fn uvs(&self, set: usize, mesh: &Mesh) -> Option<Vec<shapegram_geom::DVec2>> {
-        let map = self.texturing.as_ref()?.uvs.get(set)?.as_ref()?;
+        let map = self.texturing()?.uvs.get(set)?.as_ref()?;
         Some(mesh.positions().iter().map(|&p| map.at(p)).collect())
     }
 }
@@ -435,14 +516,14 @@ impl Derivation {
             };
             let bone = skeleton_of.get(&leaf.lot).map(|&skeleton| Bone {
                 skeleton,
-                section: SectionId(leaf.section),
+                section: SectionId(leaf.section()),
             });
             let description = describer
                 .as_ref()
-                .map(|d| d.describe(leaf, leaf.semantics.as_deref()));
+                .map(|d| d.describe(leaf, leaf.semantics().map(|s| &**s)));
             let meta = match (options.metadata, &description) {
                 (MetadataScope::Leaf, Some(description)) => Some(Arc::new(description.clone())),
-                _ => leaf.semantics.as_ref().map(|s| metadata.of(s)),
+                _ => leaf.semantics().map(|s| metadata.of(s)),
             };
             for piece in leaf.pieces(mesh) {
                 let instance = leaf_instances.next().flatten();
@@ -581,3 +662,22 @@ fn meta_value(value: &Value) -> MetaValue {
 
 /// What engine steps return.
 type Fallible<T> = std::result::Result<T, DeriveError>;
+
+#[cfg(test)]
+mod tests {
+    use super::Leaf;
+
+    /// A city derives millions of leaves: what most of them lack stays out of line, so that a
+    /// leaf is a scope (120 bytes) with little more.
+    #[test]
+    fn a_leaf_stays_small() {
+        assert_eq!(std::mem::size_of::<Leaf>(), 200);
+        assert_eq!(std::mem::size_of::<crate::shape::Geometry>(), 24);
+    }
+
+    /// Every rule application copies a shape's state: it stays within five cache lines.
+    #[test]
+    fn a_shape_state_stays_small() {
+        assert_eq!(std::mem::size_of::<crate::shape::State>(), 320);
+    }
+}

@@ -363,12 +363,12 @@ impl Engine<'_> {
         }
         self.leaves.reserve(finish.leaves - start.leaves);
         for leaf in &leaves[start.leaves..finish.leaves] {
+            let moved = section(leaf.section())?;
             let leaf = Leaf {
                 node: leaf.node.map(batch_node).transpose()?,
-                section: section(leaf.section)?,
                 ..leaf.clone()
             };
-            self.leaves.push(leaf);
+            self.leaves.push(leaf.with_section(moved));
         }
         self.ev
             .reports

@@ -354,6 +354,6 @@ fn mirror_in_scope(state: &mut State, flags: [bool; 3]) {
     let Some(mesh) = state.geometry.local_mesh(state.scope.size) else {
         return;
     };
-    let tags = state.geometry.tags().map(Arc::from);
+    let tags = state.geometry.shared_tags();
     state.geometry = Geometry::Mesh(Arc::new(mesh.transformed(&map)), tags);
 }

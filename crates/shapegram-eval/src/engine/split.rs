@@ -13,7 +13,7 @@ use shapegram_syntax::Span;
 use super::footprint::flat_faces;
 use super::machine::{Engine, Phase, Work};
 use super::scope::refit;
-use super::{Fallible, Leaf};
+use super::{Fallible, Leaf, LeafExtras};
 use crate::context::Occluder;
 use crate::ops::{SplitBlock, SplitJoints};
 use crate::program::{CExpr, CStmt};
@@ -161,7 +161,7 @@ impl<'p> Engine<'p> {
             let section = sections.map_or(state.section, |s| s.get(i).0);
             if slabs.is_none()
                 && solid.is_none()
-                && self.leaf_part(state, part.body, (scope, section), span, out)?
+                && self.leaf_part(state, part.body, (&scope, section), span, out)?
             {
                 continue;
             }
@@ -210,7 +210,7 @@ impl<'p> Engine<'p> {
         &mut self,
         state: &mut State,
         body: &[CStmt],
-        (scope, section): (Scope, u32),
+        (scope, section): (&Scope, u32),
         span: Span,
         out: &[Work],
     ) -> Fallible<bool> {
@@ -242,24 +242,27 @@ impl<'p> Engine<'p> {
         self.count(state.depth + 2, *symbol, *successor_span)?;
         if self.phase == Phase::Gather {
             let (lot, parent) = (self.ev.lot, state.occluder);
-            let leaf = Occluder::new(&scope, &state.geometry, None, *symbol, None, lot, parent);
-            let leaf = self.posable(leaf, section, &scope, &state.geometry);
+            let leaf = Occluder::new(scope, &state.geometry, None, *symbol, None, lot, parent);
+            let leaf = self.posable(leaf, section, scope, &state.geometry);
             self.occluders.extend(leaf);
         }
         if !matches!(state.geometry, Geometry::Empty) {
-            self.leaves.push(Leaf {
-                name: self.names[*symbol as usize].clone(),
-                scope,
-                geometry: state.geometry.clone(),
-                color: state.color,
-                painted: state.painted,
-                material: state.material.clone(),
-                texturing: state.texturing.clone(),
-                node: None,
-                lot: self.ev.lot,
+            let extras = LeafExtras::of(
+                state.material.clone(),
+                state.texturing.clone(),
                 section,
-                semantics: None,
-            });
+                None,
+            );
+            self.leaves.push(Leaf::new(
+                self.names[*symbol as usize].clone(),
+                *scope,
+                state.geometry.clone(),
+                state.color,
+                state.painted,
+                None,
+                self.ev.lot,
+                extras,
+            ));
         }
         Ok(true)
     }

@@ -755,6 +755,7 @@ impl Ctx<'_, '_> {
 
     pub(super) fn implicit(&mut self) -> Option<Op> {
         self.arity(1, 1)?;
+        self.c.solids = true;
         if let Some(kind) = self.word(0).and_then(ImplicitKind::from_name) {
             return Some(Op::Implicit(kind));
         }

@@ -44,6 +44,9 @@ pub struct Program {
     pub(crate) context_rules: Vec<bool>,
     /// Whether any rule uses a kinematic operation: only then is a skeleton built.
     pub(crate) kinematic: bool,
+    /// Whether any rule makes an implicit solid (`implicit(…)`): only then are the leaves
+    /// looked through for solids to mesh.
+    pub(crate) solids: bool,
     /// Whether any rule derives operands at once (`union`, `subtract`, `intersect`, `inline`):
     /// a shape's result then depends on other rules than its own.
     pub(crate) derives_now: bool,
@@ -339,6 +342,8 @@ pub(crate) struct Compiler<'g> {
     warned: FxHashMap<String, ()>,
     /// Whether a kinematic operation was compiled.
     pub(crate) kinematic: bool,
+    /// Whether `implicit(…)` was compiled.
+    pub(crate) solids: bool,
     /// Whether an operation that derives operands at once was compiled.
     pub(crate) derives_now: bool,
     /// Whether something that reads or writes component tags was compiled.
