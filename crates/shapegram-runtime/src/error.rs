@@ -17,7 +17,8 @@ pub enum ErrorKind {
     Derive,
     /// The derivation was cancelled through its control.
     Cancelled,
-    /// A file or folder could not be read (a goal grammar's library, a rule package).
+    /// A file or folder could not be read or written (a goal grammar's library, a rule
+    /// package, a lot file, a tileset).
     Io,
     /// A rule package cannot be used: it is not a 7-Zip archive or is damaged, holds no CGA
     /// source (only compiled `.cgb` rules, or no rules), or has no rule file of the name asked

@@ -6,7 +6,9 @@
 mod error;
 mod grammar;
 mod library;
+pub mod lots;
 mod package;
+pub mod tiles;
 mod topo;
 
 pub use error::{Error, ErrorKind, Place};

@@ -282,7 +282,7 @@ impl Tiled<'_> {
             print_prints(&derivation);
             Ok(derivation)
         };
-        let tiled = tiles::stream(lots, frame, dir, tiling, derive, args.quiet)?;
+        let tiled = tiles::stream::<Failure>(lots, frame, dir, tiling, derive, args.quiet)?;
         if args.quiet {
             return Ok(());
         }

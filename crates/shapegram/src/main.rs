@@ -120,6 +120,12 @@ pub fn counted(n: usize, one: &str, many: &str) -> String {
     format!("{n} {}", if n == 1 { one } else { many })
 }
 
+impl From<shapegram_runtime::Error> for Failure {
+    fn from(error: shapegram_runtime::Error) -> Self {
+        Self::new(error.message)
+    }
+}
+
 impl From<shapegram_export::Error> for Failure {
     fn from(error: shapegram_export::Error) -> Self {
         Self::new(error.to_string())
