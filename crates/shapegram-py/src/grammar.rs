@@ -81,7 +81,7 @@ fn kind_of(name: Option<&str>) -> PyResult<Option<Kind>> {
 }
 
 /// A Python value as an attribute value of `name`: a number, a string or a boolean.
-fn attr_value(name: &str, value: &Bound<'_, PyAny>) -> PyResult<Value> {
+pub fn attr_value(name: &str, value: &Bound<'_, PyAny>) -> PyResult<Value> {
     if value.is_instance_of::<PyBool>() {
         Ok(Value::Bool(value.extract()?))
     } else if value.is_instance_of::<PyInt>() || value.is_instance_of::<PyFloat>() {
@@ -111,6 +111,11 @@ impl Grammar {
             scratch: Mutex::default(),
         }
     }
+
+    /// The loaded engine grammar.
+    pub fn engine(&self) -> &Engine {
+        &self.engine
+    }
 }
 
 #[pymethods]
@@ -122,7 +127,7 @@ impl Grammar {
     /// `"a.cga"`), or without it the one PRT runs, as `from_package` does.
     #[staticmethod]
     #[pyo3(signature = (path, kind=None, library=None, rule_file=None))]
-    fn load(
+    pub fn load(
         py: Python<'_>,
         path: PathBuf,
         kind: Option<&str>,

@@ -2,11 +2,13 @@
 //! with a seed, attributes, lots and generations (with the GIL released) and read the result as
 //! mesh buffers (`array.array`s) that Blender and numpy take in one copy. Errors are
 //! exceptions whose messages carry `file:line:column`. Built with maturin as one abi3 module
-//! for CPython 3.11 and later (`docs/runtimes.md`).
+//! for CPython 3.11 and later (`docs/runtimes.md`). Tiled cities are derived and their shards
+//! merged by module functions that a distributed scheduler maps over shards (`docs/tiles.md`).
 
 mod errors;
 mod grammar;
 mod mesh;
+mod tiles;
 
 use pyo3::prelude::*;
 
@@ -16,6 +18,8 @@ fn shapegram(module: &Bound<'_, PyModule>) -> PyResult<()> {
     let py = module.py();
     module.add("__version__", env!("CARGO_PKG_VERSION"))?;
     module.add_class::<grammar::Grammar>()?;
+    module.add_function(wrap_pyfunction!(tiles::derive_tiles, module)?)?;
+    module.add_function(wrap_pyfunction!(tiles::merge_tiles, module)?)?;
     module.add_class::<grammar::Attr>()?;
     module.add_class::<mesh::Mesh>()?;
     module.add_class::<mesh::Part>()?;

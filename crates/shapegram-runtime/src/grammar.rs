@@ -3,7 +3,7 @@
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
-use shapegram_eval::{DeriveControl, DeriveOptions, InitialShape, Program, Value};
+use shapegram_eval::{Derivation, DeriveControl, DeriveOptions, InitialShape, Program, Value};
 use shapegram_export::Buffers;
 use shapegram_geom::{Color, DVec2, DVec3, Model};
 use shapegram_load::{FileAssets, Files, MissingAssets, RulePackage};
@@ -291,38 +291,14 @@ impl Grammar {
     /// [`Derived::fill`] makes are posed), or a topological grammar's triangles.
     pub fn derive(&self, settings: &Settings) -> Result<Derived, Error> {
         let model = match self {
-            Grammar::Shape {
-                program,
-                sources,
-                assets,
-                goal,
-                ..
-            } => {
+            Grammar::Shape { goal, .. } => {
                 let lots = match (settings.lots.is_empty(), goal) {
                     (false, _) => settings.lots.clone(),
                     // Goal grammars start from their axioms.
                     (true, true) => Vec::new(),
                     (true, false) => vec![default_lot()],
                 };
-                let options = DeriveOptions {
-                    seed: settings.seed,
-                    attrs: settings.attrs.clone(),
-                    generations: settings.generations,
-                    control: Some(Arc::clone(&settings.control)),
-                    assets: Some(Arc::clone(assets) as Arc<dyn shapegram_eval::AssetLoader>),
-                    ..DeriveOptions::default()
-                };
-                let derivation = shapegram_eval::derive(program, &lots, &options).map_err(|e| {
-                    if settings.control.is_cancelled() {
-                        return Error::cancelled();
-                    }
-                    let source = e.file.and_then(|i| sources.get(i)).unwrap_or(&sources[0]);
-                    match e.to_diagnostic() {
-                        Some(d) => Error::derive(source.render(&d)),
-                        None => Error::derive(format!("{}: {}", source.name(), e.message)),
-                    }
-                })?;
-                derivation.to_model()
+                self.derivation(&lots, settings)?.to_model()
             }
             Grammar::LSystem(system, name, text) => {
                 let options = shapegram_lsystem::DeriveOptions {
@@ -379,6 +355,61 @@ impl Grammar {
             Grammar::Topo(topo) => return topo.derive(settings).map(Derived::Triangles),
         };
         Ok(Derived::Model(model))
+    }
+}
+
+impl Grammar {
+    /// Derives a CGA-style or goal grammar from `lots` (`settings.lots` is not read) with
+    /// `settings`' seed, attributes, generations and control, as `shapegram derive` does; other
+    /// kinds of grammar derive no lots and are an [`ErrorKind::InvalidArgument`] error.
+    ///
+    /// [`ErrorKind::InvalidArgument`]: crate::ErrorKind::InvalidArgument
+    pub fn derivation(
+        &self,
+        lots: &[InitialShape],
+        settings: &Settings,
+    ) -> Result<Derivation, Error> {
+        let Grammar::Shape {
+            program,
+            sources,
+            assets,
+            ..
+        } = self
+        else {
+            return Err(Error::invalid(
+                "only CGA-style grammars derive lots: this grammar is an L-system, a cave or a \
+                 topological grammar",
+            ));
+        };
+        let options = DeriveOptions {
+            seed: settings.seed,
+            attrs: settings.attrs.clone(),
+            generations: settings.generations,
+            control: Some(Arc::clone(&settings.control)),
+            assets: Some(Arc::clone(assets) as Arc<dyn shapegram_eval::AssetLoader>),
+            ..DeriveOptions::default()
+        };
+        shapegram_eval::derive(program, lots, &options).map_err(|e| {
+            if settings.control.is_cancelled() {
+                return Error::cancelled();
+            }
+            let source = e.file.and_then(|i| sources.get(i)).unwrap_or(&sources[0]);
+            match e.to_diagnostic() {
+                Some(d) => Error::derive(source.render(&d)),
+                None => Error::derive(format!("{}: {}", source.name(), e.message)),
+            }
+        })
+    }
+
+    /// Whether it is a goal grammar, which starts from its axioms rather than from lots.
+    pub fn is_goal(&self) -> bool {
+        matches!(self, Grammar::Shape { goal: true, .. })
+    }
+
+    /// Whether a rule asks about other shapes (occlusion, snapping), so that a lot's result
+    /// depends on the lots around it.
+    pub fn has_context_rules(&self) -> bool {
+        matches!(self, Grammar::Shape { program, .. } if program.has_context_rules())
     }
 }
 

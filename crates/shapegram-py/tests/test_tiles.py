@@ -1,0 +1,116 @@
+"""Tiled cities from Python: `shapegram.derive_tiles` whole and in shards, `merge_tiles` and
+their errors (docs/tiles.md, "Many machines"). With SHAPEGRAM_BIN naming the `shapegram`
+binary, the single run is also compared with `shapegram derive --tiles`."""
+
+import importlib.util
+import os
+import pathlib
+import subprocess
+import tempfile
+import unittest
+
+import shapegram
+
+ROOT = pathlib.Path(__file__).resolve().parents[3]
+HOUSE = ROOT / "examples" / "house.cga"
+LOTS = 300
+# 50 m cells and parent tiles of 200 m over the 300 lots' 445 × 670 m, centred on the origin:
+# 137 cells hold lots, under 16 parent tiles.
+TILE_SIZE = 50.0
+
+
+def load(name, path):
+    spec = importlib.util.spec_from_file_location(name, path)
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
+def files(folder):
+    """Every file under `folder`, by its path relative to it, with its bytes."""
+    folder = pathlib.Path(folder)
+    return {str(p.relative_to(folder)): p.read_bytes() for p in sorted(folder.rglob("*"))
+            if p.is_file()}
+
+
+TMP = None
+DIR = LOTS_FILE = WHOLE = WHOLE_FILES = None
+
+
+def setUpModule():
+    """The footprints, and the single run every other run is compared with."""
+    global TMP, DIR, LOTS_FILE, WHOLE, WHOLE_FILES
+    TMP = tempfile.TemporaryDirectory()
+    DIR = pathlib.Path(TMP.name)
+    LOTS_FILE = DIR / "city.geojson"
+    LOTS_FILE.write_text(load("tiles_city", ROOT / "bench" / "tiles_city.py").city(LOTS))
+    WHOLE = shapegram.derive_tiles(HOUSE, LOTS_FILE, DIR / "whole", tile_size=TILE_SIZE)
+    WHOLE_FILES = files(DIR / "whole")
+
+
+def tearDownModule():
+    TMP.cleanup()
+
+
+class City(unittest.TestCase):
+    def setUp(self):
+        self.dir, self.lots, self.whole, self.whole_files = DIR, LOTS_FILE, WHOLE, WHOLE_FILES
+
+    def test_the_whole_run_tiles_every_lot(self):
+        self.assertEqual({k: self.whole[k] for k in ("near", "far", "lots", "derived")},
+                         {"near": 137, "far": 16, "lots": LOTS, "derived": LOTS})
+        self.assertGreater(self.whole["leaves"], 0)
+        self.assertIn("tileset.json", self.whole_files)
+        self.assertEqual(sum(1 for f in self.whole_files if f.startswith("near/")), 137)
+
+    def test_the_whole_run_is_the_commands(self):
+        binary = os.environ.get("SHAPEGRAM_BIN")
+        if not binary:
+            self.skipTest("SHAPEGRAM_BIN names no shapegram binary")
+        out = self.dir / "cli"
+        subprocess.run([binary, "derive", "-q", HOUSE, "--lots", self.lots, "--tiles", out,
+                        "--tile-size", str(TILE_SIZE)], check=True)
+        self.assertTrue(files(out) == self.whole_files, "the tiles differ from the command's")
+
+    def test_shards_merged_in_place_are_the_whole_run(self):
+        out = self.dir / "in-place"
+        counts = [shapegram.derive_tiles(HOUSE, [self.lots], out, shard=(k, 2),
+                                         tile_size=TILE_SIZE) for k in range(2)]
+        self.assertEqual([c["far"] for c in counts], [8, 8])
+        merged = shapegram.merge_tiles([out], out)
+        self.assertEqual(merged, {"near": 137, "far": 16, "lots": LOTS})
+        merged_files = files(out)
+        for k in range(2):
+            del merged_files[f"tileset.shard-{k}-of-2.json"]
+        self.assertTrue(merged_files == self.whole_files, "the merged tiles differ")
+
+    def test_bad_input_raises_clear_exceptions(self):
+        out = self.dir / "bad"
+        with self.assertRaisesRegex(ValueError, r"shards of 3 are numbered 0 to 2"):
+            shapegram.derive_tiles(HOUSE, self.lots, out, shard=(3, 3))
+        with self.assertRaisesRegex(ValueError, r"at least 1 shard"):
+            shapegram.derive_tiles(HOUSE, self.lots, out, shard=(0, 0))
+        with self.assertRaisesRegex(ValueError, r"unknown coordinate system 'mars'"):
+            shapegram.derive_tiles(HOUSE, self.lots, out, crs="mars")
+        with self.assertRaisesRegex(ValueError, r"tile_size is 0"):
+            shapegram.derive_tiles(HOUSE, self.lots, out, tile_size=0)
+        with self.assertRaisesRegex(OSError, r"cannot read .*nowhere\.geojson"):
+            shapegram.derive_tiles(HOUSE, self.dir / "nowhere.geojson", out)
+        with self.assertRaisesRegex(OSError, r"cannot read .*nowhere\.cga"):
+            shapegram.derive_tiles(self.dir / "nowhere.cga", self.lots, out)
+        with self.assertRaisesRegex(OSError, r"expected an \.obj, \.geojson or \.json file"):
+            shapegram.derive_tiles(HOUSE, HOUSE, out)
+        # Local metres read as longitudes and latitudes: 710 m north is past the pole.
+        with self.assertRaisesRegex(OSError, r"city\.geojson: feature"):
+            shapegram.derive_tiles(HOUSE, self.lots, out, crs="wgs84")
+        with self.assertRaisesRegex(OSError, r"no shard of a tileset"):
+            shapegram.merge_tiles([self.dir], out)
+        part = self.dir / "part0"
+        shapegram.derive_tiles(HOUSE, self.lots, part, shard=(0, 2), tile_size=TILE_SIZE)
+        with self.assertRaisesRegex(OSError, r"missing shard 1/2"):
+            shapegram.merge_tiles([part], out)
+        self.assertFalse((out / "tileset.json").exists())
+
+
+if __name__ == "__main__":
+    unittest.main()
