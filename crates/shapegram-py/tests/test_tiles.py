@@ -1,6 +1,10 @@
-"""Tiled cities from Python: `shapegram.derive_tiles` whole and in shards, `merge_tiles` and
-their errors (docs/tiles.md, "Many machines"). With SHAPEGRAM_BIN naming the `shapegram`
-binary, the single run is also compared with `shapegram derive --tiles`."""
+"""Tiled cities from Python: `shapegram.derive_tiles` whole and in shards, `merge_tiles`, their
+errors, and the shards run as tasks of a Dask `distributed.LocalCluster` on loopback (worker
+processes), merged into the single run's bytes (docs/tiles.md, "Many machines").
+
+The Dask test needs `dask[distributed]` in the venv; without it the test is skipped, unless
+SHAPEGRAM_REQUIRE_DASK=1 (as in CI) makes that a failure. With SHAPEGRAM_BIN naming the
+`shapegram` binary, the single run is also compared with `shapegram derive --tiles`."""
 
 import importlib.util
 import os
@@ -110,6 +114,41 @@ class City(unittest.TestCase):
         with self.assertRaisesRegex(OSError, r"missing shard 1/2"):
             shapegram.merge_tiles([part], out)
         self.assertFalse((out / "tileset.json").exists())
+
+
+try:
+    import distributed
+except ImportError:
+    distributed = None
+
+
+@unittest.skipIf(distributed is None and not os.environ.get("SHAPEGRAM_REQUIRE_DASK"),
+                 "dask[distributed] is not installed")
+class Dask(unittest.TestCase):
+    def setUp(self):
+        self.dir, self.lots, self.whole_files = DIR, LOTS_FILE, WHOLE_FILES
+
+    def test_a_local_cluster_derives_the_shards_of_the_single_run(self):
+        if distributed is None:
+            self.fail("SHAPEGRAM_REQUIRE_DASK is set: install dask[distributed]")
+        example = load("dask_tiles", ROOT / "examples" / "dask" / "dask_tiles.py")
+        out, parts = self.dir / "dask", self.dir / "dask.shards"
+        with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True,
+                                      host="127.0.0.1", dashboard_address=None) as cluster, \
+                distributed.Client(cluster) as client:
+            shards, merged = example.derive_city(client, HOUSE, self.lots, out, 3, parts,
+                                                 tile_size=TILE_SIZE)
+            workers = client.run(os.getpid)
+        self.assertEqual(len(set(workers.values()) - {os.getpid()}), 2, "two worker processes")
+        self.assertEqual([s["far"] for s in shards], [5, 5, 6])
+        self.assertEqual(sum(s["lots"] for s in shards), LOTS)
+        self.assertEqual(merged, {"near": 137, "far": 16, "lots": LOTS})
+        for k in range(3):
+            self.assertTrue((parts / str(k) / f"tileset.shard-{k}-of-3.json").is_file())
+        merged_files = files(out)
+        self.assertEqual(sorted(merged_files), sorted(self.whole_files))
+        for name, data in self.whole_files.items():
+            self.assertTrue(merged_files[name] == data, f"{name} differs")
 
 
 if __name__ == "__main__":
