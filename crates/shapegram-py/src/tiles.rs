@@ -2,10 +2,11 @@
 //! Tiles tileset, whole or one shard of it, and the shards joined; what a distributed scheduler
 //! (Dask, Ray) maps over shards, one call per task (docs/tiles.md, "Many machines").
 
+use std::ffi::CString;
 use std::path::PathBuf;
 use std::sync::Arc;
 
-use pyo3::exceptions::{PyTypeError, PyValueError};
+use pyo3::exceptions::{PyTypeError, PyUserWarning, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyString};
 use shapegram_eval::DeriveControl;
@@ -24,7 +25,8 @@ use crate::grammar::{Grammar, attr_value};
 /// tileset. `tile_size` is the grid cell's side in metres, `crs` the GeoJSON positions'
 /// coordinate system (`"local"`, `"wgs84"`, `"EPSG:32633"`), `halo` the context around a cell
 /// for grammars with context rules. Returns counts: near, far and lots (of the tiles written),
-/// derived (lots derived, context included), shapes and leaves. Releases the GIL.
+/// derived (lots derived, context included), shapes and leaves. Parts of the files that are
+/// skipped (holes, points, polygons without area) are each a `UserWarning`. Releases the GIL.
 #[pyfunction]
 #[pyo3(signature = (grammar, lots, out_dir, *, shard=None, tile_size=200.0, crs="local",
                     halo=20.0, seed=0, attrs=None))]
@@ -77,23 +79,34 @@ pub fn derive_tiles<'py>(
         generations: None,
         control: Arc::new(DeriveControl::new()),
     };
-    let tiled = py.detach(|| {
+    let (tiled, warnings) = py.detach(|| {
         guard(|| {
             let placing = Placing {
                 crs,
                 recentre: true,
             };
-            let Collected { lots, frame, .. } =
-                shapegram_runtime::lots::collect(Vec::new(), &files, placing).map_err(to_py)?;
+            let Collected {
+                lots,
+                frame,
+                warnings,
+            } = shapegram_runtime::lots::collect(Vec::new(), &files, placing).map_err(to_py)?;
             let tiling = Tiling {
                 grid: TileGrid { size: tile_size },
                 halo: engine.has_context_rules().then_some(halo),
                 shard,
             };
             let derive = |cell: &[_]| engine.derivation(cell, &settings);
-            stream::<EngineError>(&lots, frame, &out_dir, tiling, derive, true).map_err(to_py)
+            let tiled = stream::<EngineError>(&lots, frame, &out_dir, tiling, derive, true)
+                .map_err(to_py)?;
+            Ok((tiled, warnings))
         })
     })?;
+    // What the command prints as `warning:` lines: parts of the files that were skipped.
+    let category = py.get_type::<PyUserWarning>();
+    for warning in warnings {
+        let message = CString::new(warning.replace('\0', " ")).expect("NUL bytes are replaced");
+        PyErr::warn(py, &category, &message, 1)?;
+    }
     let counts = PyDict::new(py);
     counts.set_item("near", tiled.summary.near)?;
     counts.set_item("far", tiled.summary.far)?;

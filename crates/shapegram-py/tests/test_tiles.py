@@ -88,6 +88,17 @@ class City(unittest.TestCase):
             del merged_files[f"tileset.shard-{k}-of-2.json"]
         self.assertTrue(merged_files == self.whole_files, "the merged tiles differ")
 
+    def test_skipped_parts_of_the_file_are_warnings(self):
+        lots = self.dir / "with-a-point.geojson"
+        lots.write_text('{"type": "FeatureCollection", "features": ['
+                        '{"type": "Feature", "geometry": {"type": "Point", "coordinates": [1, 2]}},'
+                        '{"type": "Feature", "geometry": {"type": "Polygon",'
+                        ' "coordinates": [[[0, 0], [20, 0], [20, 30], [0, 30], [0, 0]]]}}]}')
+        with self.assertWarnsRegex(
+                UserWarning, r"with-a-point\.geojson: skipped 1 geometry that is not polygons"):
+            counts = shapegram.derive_tiles(HOUSE, lots, self.dir / "with-a-point")
+        self.assertEqual((counts["near"], counts["far"], counts["lots"]), (1, 1, 1))
+
     def test_bad_input_raises_clear_exceptions(self):
         out = self.dir / "bad"
         with self.assertRaisesRegex(ValueError, r"shards of 3 are numbered 0 to 2"):
