@@ -152,7 +152,7 @@ impl Group<'_> {
             .collect();
         let vertices: Vec<Vertices> = self
             .primitives
-            .iter()
+            .iter_mut()
             .zip(&bare)
             .map(|(primitive, &bare)| Vertices::of_primitive(primitive, compaction, bare))
             .collect();

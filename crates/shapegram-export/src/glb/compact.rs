@@ -40,7 +40,7 @@ impl Vertices {
     /// gathered and merged, since the mesh's vertex pool shares and orders them (see
     /// [`super::pool`]).
     pub(crate) fn of_primitive(
-        primitive: &Primitive<'_>,
+        primitive: &mut Primitive<'_>,
         compaction: Compaction,
         pooled: bool,
     ) -> Self {
@@ -52,8 +52,13 @@ impl Vertices {
             && !primitive.tangents
             && primitive.skinned.is_none();
         let mut vertices = Self::default();
+        let count: usize = primitive.chunks.iter().map(|c| c.vertex_count()).sum();
+        vertices.positions.reserve_exact(count);
+        if primitive.normals {
+            vertices.normals.reserve_exact(count);
+        }
         let mut rectangles = Vec::new();
-        for (c, chunk) in primitive.chunks.iter().enumerate() {
+        for (c, chunk) in primitive.chunks.iter_mut().enumerate() {
             let base = vertices.positions.len() as u32;
             chunk.positions(|p| vertices.positions.push(p));
             if primitive.normals {
@@ -66,10 +71,18 @@ impl Vertices {
                 let count = vertices.positions.len();
                 vertices.joints.resize(count, joint);
             }
-            let indices = chunk.indices();
             match chunk.flat_faces().filter(|_| merge) {
-                Some(flat) => vertices.split_rectangles(base, &flat, indices, &mut rectangles),
-                None => vertices.indices.extend(indices.iter().map(|&i| base + i)),
+                Some(flat) => {
+                    vertices.split_rectangles(base, &flat, chunk.indices(), &mut rectangles)
+                }
+                // A primitive's only chunk (a tube's mesh, say) gives up its indices rather
+                // than have hundreds of megabytes copied; the chunk is let go after this.
+                None if vertices.indices.is_empty() && base == 0 => {
+                    vertices.indices = chunk.take_indices();
+                }
+                None => vertices
+                    .indices
+                    .extend(chunk.indices().iter().map(|&i| base + i)),
             }
         }
         for rectangle in coplanar::merge(&rectangles) {
