@@ -60,7 +60,7 @@ mod tangents;
 
 use animation::Animation;
 pub(crate) use chunk::{Chunk, gltf_uv};
-use compact::{Compaction, Vertices};
+use compact::{Compaction, Run, Vertices};
 pub(crate) use instance::GPU_INSTANCING;
 pub use instance::Instancing;
 use instance::{InstanceSets, Role};
@@ -152,7 +152,7 @@ impl Group<'_> {
             .collect();
         let vertices: Vec<Vertices> = self
             .primitives
-            .iter()
+            .iter_mut()
             .zip(&bare)
             .map(|(primitive, &bare)| Vertices::of_primitive(primitive, compaction, bare))
             .collect();
@@ -184,14 +184,17 @@ impl Group<'_> {
             }
             let joints = primitive.skinned.as_ref().map(|s| Joints { wide: s.wide });
             // Split where triangles may be reordered: pieces with u16 indices.
-            let pieces = if compaction.reorder && !primitive.lines {
+            let runs = if compaction.reorder && !primitive.lines {
                 vertices.split(usize::from(u16::MAX) - 1)
             } else {
-                vec![vertices]
+                vec![Run::Whole]
             };
-            primitive.streams = pieces
+            primitive.streams = runs
                 .iter()
-                .map(|piece| streams(piece, primitive.lines, joints, encoding, self.grid.as_ref()))
+                .map(|run| {
+                    let view = run.view(&vertices);
+                    streams(view, primitive.lines, joints, encoding, self.grid.as_ref())
+                })
                 .collect();
             primitive.chunks = Vec::new();
         }
@@ -208,7 +211,7 @@ impl Group<'_> {
                 let mut primitives: Vec<(usize, Stream)> = piece
                     .members
                     .iter()
-                    .map(|(member, indices)| (member_of[*member], index_stream(indices, count)))
+                    .map(|(member, indices)| (member_of[*member], index_stream(indices, 0, count)))
                     .collect();
                 if compressed {
                     positions.compress(false);

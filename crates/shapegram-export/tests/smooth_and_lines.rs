@@ -474,3 +474,63 @@ fn smooth_parts_and_lines_are_written_deterministically() {
         );
     }
 }
+
+#[test]
+fn a_smooth_part_past_65535_vertices_splits_into_windows_that_read_back_the_same_triangles() {
+    // 400 × 200 rings: 79,602 shared vertices, more than u16 indices can name.
+    let part = smooth("globe", sphere(DVec3::splat(2.0), 400, 200));
+    let vertices = part.mesh.vertex_count();
+    assert_eq!(vertices, 79_602);
+    let model = Model {
+        skeletons: Vec::new(),
+        parts: vec![part.clone()],
+        lines: Vec::new(),
+    };
+    let bytes = write_glb(&model, &MERGED);
+    let (json, _) = split_glb(&bytes);
+    let primitives = json["meshes"][0]["primitives"].as_array().unwrap();
+    assert_eq!(primitives.len(), 2);
+    let mut written = 0;
+    for primitive in primitives {
+        assert_eq!(accessor(&json, primitive, "indices")["componentType"], 5123);
+        let count = accessor(&json, primitive, "POSITION")["count"]
+            .as_u64()
+            .unwrap();
+        assert_eq!(accessor(&json, primitive, "NORMAL")["count"], count);
+        written += count as usize;
+    }
+    // The windows overlap by the 401 vertices that the quads on either side of the cut share
+    // (a ring and one more, as the cut falls inside a ring).
+    assert_eq!(written, vertices + 401);
+
+    // Every face's triangles as the writer splits them (quads and triangles, all convex), in
+    // face order, in f32.
+    let f32_point = |p: DVec3| p.as_vec3().to_array();
+    let expected: Vec<[[f32; 3]; 3]> = (0..part.mesh.face_count())
+        .flat_map(|i| {
+            let face = part.mesh.face(i);
+            let corner = |k: usize| f32_point(part.mesh.position(face[k]));
+            let fan: &[[usize; 3]] = if face.len() == 3 {
+                &[[0, 1, 2]]
+            } else {
+                &[[0, 1, 2], [0, 2, 3]]
+            };
+            fan.iter().map(move |t| t.map(corner)).collect::<Vec<_>>()
+        })
+        .collect();
+    let back = read_glb(&bytes).unwrap();
+    let read: Vec<[[f32; 3]; 3]> = back
+        .parts
+        .iter()
+        .flat_map(|p| {
+            (0..p.mesh.face_count())
+                .map(|i| {
+                    let face = p.mesh.face(i);
+                    [0, 1, 2].map(|k| f32_point(p.mesh.position(face[k])))
+                })
+                .collect::<Vec<_>>()
+        })
+        .collect();
+    assert_eq!(read.len(), expected.len());
+    assert!(read == expected, "the triangles read back differ");
+}

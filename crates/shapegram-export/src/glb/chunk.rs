@@ -150,6 +150,14 @@ impl<'a> Chunk<'a> {
         }
     }
 
+    /// Its indices, leaving it none.
+    pub(crate) fn take_indices(&mut self) -> Vec<u32> {
+        match self {
+            Self::Flat { indices, .. } | Self::Smooth { indices, .. } => std::mem::take(indices),
+            Self::Lines { indices, .. } => std::mem::take(indices).into_owned(),
+        }
+    }
+
     pub(crate) fn index_count(&self) -> usize {
         self.indices().len()
     }

@@ -3,6 +3,8 @@
 //! order must stay) triangles put in vertex-cache order with vertices in first-use order, by
 //! meshoptimizer. Every step is deterministic: it depends on the data only.
 
+use std::ops::Range;
+
 use meshopt::VertexStream;
 
 use super::Primitive;
@@ -38,7 +40,7 @@ impl Vertices {
     /// gathered and merged, since the mesh's vertex pool shares and orders them (see
     /// [`super::pool`]).
     pub(crate) fn of_primitive(
-        primitive: &Primitive<'_>,
+        primitive: &mut Primitive<'_>,
         compaction: Compaction,
         pooled: bool,
     ) -> Self {
@@ -50,8 +52,13 @@ impl Vertices {
             && !primitive.tangents
             && primitive.skinned.is_none();
         let mut vertices = Self::default();
+        let count: usize = primitive.chunks.iter().map(|c| c.vertex_count()).sum();
+        vertices.positions.reserve_exact(count);
+        if primitive.normals {
+            vertices.normals.reserve_exact(count);
+        }
         let mut rectangles = Vec::new();
-        for (c, chunk) in primitive.chunks.iter().enumerate() {
+        for (c, chunk) in primitive.chunks.iter_mut().enumerate() {
             let base = vertices.positions.len() as u32;
             chunk.positions(|p| vertices.positions.push(p));
             if primitive.normals {
@@ -64,10 +71,18 @@ impl Vertices {
                 let count = vertices.positions.len();
                 vertices.joints.resize(count, joint);
             }
-            let indices = chunk.indices();
             match chunk.flat_faces().filter(|_| merge) {
-                Some(flat) => vertices.split_rectangles(base, &flat, indices, &mut rectangles),
-                None => vertices.indices.extend(indices.iter().map(|&i| base + i)),
+                Some(flat) => {
+                    vertices.split_rectangles(base, &flat, chunk.indices(), &mut rectangles)
+                }
+                // A primitive's only chunk (a tube's mesh, say) gives up its indices rather
+                // than have hundreds of megabytes copied; the chunk is let go after this.
+                None if vertices.indices.is_empty() && base == 0 => {
+                    vertices.indices = chunk.take_indices();
+                }
+                None => vertices
+                    .indices
+                    .extend(chunk.indices().iter().map(|&i| base + i)),
             }
         }
         for rectangle in coplanar::merge(&rectangles) {
@@ -241,13 +256,78 @@ impl Vertices {
         self.positions.len()
     }
 
-    /// The triangles cut into runs (in order) of at most `limit` vertices each, every run with
-    /// the vertices it uses, in order of first use; a primitive that fits stays whole. Runs of
-    /// fewer than 65,535 vertices take u16 indices: half the bytes of u32 ones.
-    pub(crate) fn split(self, limit: usize) -> Vec<Self> {
-        if self.len() <= limit {
-            return vec![self];
+    /// The vertices and indices as they are, without copying.
+    pub(crate) fn view(&self) -> View<'_> {
+        self.window(0..self.len(), 0..self.indices.len())
+    }
+
+    /// The vertices in `range` and the indices in `indices` (positions in the index list),
+    /// which all name vertices in `range`.
+    fn window(&self, range: Range<usize>, indices: Range<usize>) -> View<'_> {
+        View {
+            positions: &self.positions[range.clone()],
+            normals: attribute(&self.normals, &range),
+            uvs: attribute(&self.uvs, &range),
+            tangents: attribute(&self.tangents, &range),
+            joints: attribute(&self.joints, &range),
+            indices: &self.indices[indices],
+            base: range.start as u32,
         }
+    }
+
+    /// The triangles cut into runs (in order) of at most `limit` vertices each; a primitive
+    /// that fits stays whole. Runs of fewer than 65,535 vertices take u16 indices: half the
+    /// bytes of u32 ones. Where each run's triangles span a window of consecutive vertices (a
+    /// tube's rings, a smooth mesh built in order) that together cover the vertices about
+    /// once, the runs are those windows, written from the vertices as they are; otherwise
+    /// each run gathers the vertices it uses, in order of first use.
+    pub(crate) fn split(&self, limit: usize) -> Vec<Run> {
+        if self.len() <= limit {
+            return vec![Run::Whole];
+        }
+        self.windows(limit)
+            .unwrap_or_else(|| self.gather(limit).into_iter().map(Run::Gathered).collect())
+    }
+
+    /// Runs over windows of consecutive vertices, or `None` when a triangle spans more than
+    /// `limit` vertices or the windows would repeat more than one vertex in 64.
+    fn windows(&self, limit: usize) -> Option<Vec<Run>> {
+        let budget = self.len() + self.len() / 64;
+        let mut runs = Vec::new();
+        let mut covered = 0;
+        let (mut start, mut low, mut high) = (0, usize::MAX, 0);
+        let triangles = self.indices.len() / 3;
+        for t in 0..=triangles {
+            let (t_low, t_high) = match self.indices.get(3 * t..3 * t + 3) {
+                Some(c) => (
+                    c.iter().min().copied().unwrap_or(0) as usize,
+                    c.iter().max().copied().unwrap_or(0) as usize,
+                ),
+                None => (usize::MAX, 0),
+            };
+            if t_high.saturating_sub(t_low) >= limit {
+                return None;
+            }
+            let (new_low, new_high) = (low.min(t_low), high.max(t_high));
+            if t == triangles || new_high - new_low >= limit {
+                covered += high + 1 - low;
+                if covered > budget {
+                    return None;
+                }
+                runs.push(Run::Window {
+                    vertices: low..high + 1,
+                    triangles: start..t,
+                });
+                (start, low, high) = (t, t_low, t_high);
+            } else {
+                (low, high) = (new_low, new_high);
+            }
+        }
+        Some(runs)
+    }
+
+    /// Runs that each gather the vertices they use, in order of first use.
+    fn gather(&self, limit: usize) -> Vec<Self> {
         let mut runs = Vec::new();
         let mut slot = vec![u32::MAX; self.len()];
         let mut run = Self::default();
@@ -268,7 +348,7 @@ impl Vertices {
                 if slot[v as usize] == u32::MAX {
                     slot[v as usize] = used.len() as u32;
                     used.push(v);
-                    run.push_vertex(&self, v as usize);
+                    run.push_vertex(self, v as usize);
                 }
                 run.indices.push(slot[v as usize]);
             }
@@ -295,36 +375,140 @@ impl Vertices {
     }
 }
 
+/// The values of an attribute in `range`: none for an attribute the vertices do not have.
+fn attribute<'a, T>(values: &'a [T], range: &Range<usize>) -> &'a [T] {
+    if values.is_empty() {
+        values
+    } else {
+        &values[range.clone()]
+    }
+}
+
+/// A primitive's vertex data borrowed: each attribute it has and the indices.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct View<'a> {
+    pub(crate) positions: &'a [[f32; 3]],
+    pub(crate) normals: &'a [[f32; 3]],
+    pub(crate) uvs: &'a [[f32; 2]],
+    pub(crate) tangents: &'a [[f32; 4]],
+    pub(crate) joints: &'a [u16],
+    pub(crate) indices: &'a [u32],
+    /// The vertex that index `base` names, the first of the view: indices are written less
+    /// `base`.
+    pub(crate) base: u32,
+}
+
+impl View<'_> {
+    /// How many vertices there are.
+    pub(crate) fn len(&self) -> usize {
+        self.positions.len()
+    }
+}
+
+/// A run of a primitive's triangles, written as a glTF primitive of its own.
+#[derive(Clone, Debug, PartialEq)]
+pub(crate) enum Run {
+    /// All of the primitive's triangles and vertices.
+    Whole,
+    /// Triangles (numbered in order) over a window of consecutive vertices.
+    Window {
+        vertices: Range<usize>,
+        triangles: Range<usize>,
+    },
+    /// Triangles over vertices gathered from the primitive's.
+    Gathered(Vertices),
+}
+
+impl Run {
+    /// The run's vertex data, taken from `of` (the primitive's) where it is not its own.
+    pub(crate) fn view<'a>(&'a self, of: &'a Vertices) -> View<'a> {
+        match self {
+            Self::Whole => of.view(),
+            Self::Window {
+                vertices,
+                triangles,
+            } => of.window(vertices.clone(), 3 * triangles.start..3 * triangles.end),
+            Self::Gathered(own) => own.view(),
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
 
-    #[test]
-    fn a_large_primitive_splits_into_runs_that_keep_every_triangle() {
-        // A strip of 10 quads: 22 vertices, 20 triangles.
+    /// A strip of `quads` quads along x: two vertices per column, with normals.
+    fn strip(quads: u32) -> Vertices {
         let mut vertices = Vertices::default();
-        for i in 0..11 {
+        for i in 0..=quads {
             for y in [0.0, 1.0] {
                 vertices.positions.push([i as f32, y, 0.0]);
                 vertices.normals.push([0.0, 0.0, 1.0]);
             }
         }
-        for i in 0..10u32 {
+        for i in 0..quads {
             let (a, b, c, d) = (2 * i, 2 * i + 2, 2 * i + 3, 2 * i + 1);
             vertices.indices.extend([a, b, c, a, c, d]);
         }
-        let whole = vertices.clone().split(22);
-        assert_eq!(whole, [vertices.clone()]);
-        let runs = vertices.clone().split(8);
-        assert!(runs.iter().all(|r| r.len() <= 8));
-        let triangles = |v: &Vertices| -> Vec<[[f32; 3]; 3]> {
-            v.indices
-                .chunks_exact(3)
-                .map(|t| [0, 1, 2].map(|k| v.positions[t[k] as usize]))
-                .collect()
-        };
-        let joined: Vec<_> = runs.iter().flat_map(triangles).collect();
-        assert_eq!(joined, triangles(&vertices));
-        assert!(runs.iter().all(|r| r.normals.len() == r.len()));
+        vertices
+    }
+
+    fn triangles(v: View<'_>) -> Vec<[[f32; 3]; 3]> {
+        v.indices
+            .chunks_exact(3)
+            .map(|t| [0, 1, 2].map(|k| v.positions[(t[k] - v.base) as usize]))
+            .collect()
+    }
+
+    #[test]
+    fn a_primitive_built_in_order_splits_into_windows_of_its_vertices() {
+        let vertices = strip(1000);
+        assert_eq!(vertices.split(2002), [Run::Whole]);
+        let runs = vertices.split(200);
+        // Windows of at most 200 consecutive vertices, each after the first starting at the
+        // edge its predecessor ends with.
+        let windows: Vec<_> = runs
+            .iter()
+            .map(|r| match r {
+                Run::Window { vertices, .. } => vertices.clone(),
+                other => panic!("{other:?} is no window"),
+            })
+            .collect();
+        assert_eq!(windows.len(), 11);
+        assert_eq!(windows[0], 0..200);
+        assert_eq!(windows[1], 198..398);
+        assert_eq!(windows.last().unwrap().end, 2002);
+        let views: Vec<View<'_>> = runs.iter().map(|r| r.view(&vertices)).collect();
+        assert!(
+            views
+                .iter()
+                .all(|v| v.len() <= 200 && v.normals.len() == v.len())
+        );
+        let joined: Vec<_> = views.iter().copied().flat_map(triangles).collect();
+        assert_eq!(joined, triangles(vertices.view()));
+    }
+
+    #[test]
+    fn a_scattered_primitive_splits_into_runs_that_gather_their_vertices() {
+        // The strip's vertices shuffled (i -> 7i mod 22): its triangles span the whole list.
+        let ordered = strip(10);
+        let mut vertices = ordered.clone();
+        for (i, (p, n)) in ordered.positions.iter().zip(&ordered.normals).enumerate() {
+            vertices.positions[7 * i % 22] = *p;
+            vertices.normals[7 * i % 22] = *n;
+        }
+        for v in &mut vertices.indices {
+            *v = 7 * *v % 22;
+        }
+        let runs = vertices.split(8);
+        assert!(runs.iter().all(|r| matches!(r, Run::Gathered(_))));
+        let views: Vec<View<'_>> = runs.iter().map(|r| r.view(&vertices)).collect();
+        assert!(
+            views
+                .iter()
+                .all(|v| v.len() <= 8 && v.normals.len() == v.len())
+        );
+        let joined: Vec<_> = views.iter().copied().flat_map(triangles).collect();
+        assert_eq!(joined, triangles(ordered.view()));
     }
 }

@@ -1,4 +1,4 @@
-//! A primitive's accessors as bytes: each attribute and the indices of its [`Vertices`],
+//! A primitive's accessors as bytes: each attribute and the indices of its vertices ([`View`]),
 //! encoded as the file's [`GlbEncoding`] asks (float, quantised, or quantised and compressed),
 //! with what the accessor and its buffer view need to describe them.
 
@@ -7,7 +7,7 @@ use json::accessor::{ComponentType, Type};
 use json::mesh::Semantic;
 use serde_json::Value;
 
-use super::compact::Vertices;
+use super::compact::View;
 use super::compress::{self, Mode};
 use super::quantize::{self, Grid};
 use crate::GlbEncoding;
@@ -105,7 +105,7 @@ pub(crate) struct Joints {
 /// node undoes it); `None` keeps them float, as skinned meshes need (skinning ignores the
 /// node's transformation).
 pub(crate) fn streams(
-    vertices: &Vertices,
+    vertices: View<'_>,
     lines: bool,
     joints: Option<Joints>,
     encoding: GlbEncoding,
@@ -114,7 +114,7 @@ pub(crate) fn streams(
     let quantized = encoding != GlbEncoding::Float;
     let count = vertices.len();
     let mut streams = Vec::with_capacity(7);
-    streams.push(position_stream(&vertices.positions, grid));
+    streams.push(position_stream(vertices.positions, grid));
     let mut attribute = |semantic, format, stride, bytes| {
         streams.push(Stream::attribute(semantic, format, count, stride, bytes));
     };
@@ -130,7 +130,7 @@ pub(crate) fn streams(
                 .collect();
             attribute(Semantic::Normals, (ComponentType::I8, Type::Vec3), 4, bytes);
         } else {
-            let bytes = floats(vertices.normals.iter().flatten());
+            let bytes = floats(vertices.normals);
             attribute(
                 Semantic::Normals,
                 (ComponentType::F32, Type::Vec3),
@@ -140,7 +140,7 @@ pub(crate) fn streams(
         }
     }
     if !vertices.uvs.is_empty() {
-        if quantized && quantize::fits_unorm(&vertices.uvs) {
+        if quantized && quantize::fits_unorm(vertices.uvs) {
             let bytes = vertices
                 .uvs
                 .iter()
@@ -154,7 +154,7 @@ pub(crate) fn streams(
                 bytes,
             );
         } else {
-            let bytes = floats(vertices.uvs.iter().flatten());
+            let bytes = floats(vertices.uvs);
             attribute(
                 Semantic::TexCoords(0),
                 (ComponentType::F32, Type::Vec2),
@@ -164,7 +164,7 @@ pub(crate) fn streams(
         }
     }
     if !vertices.tangents.is_empty() {
-        let bytes = floats(vertices.tangents.iter().flatten());
+        let bytes = floats(vertices.tangents);
         attribute(
             Semantic::Tangents,
             (ComponentType::F32, Type::Vec4),
@@ -199,7 +199,7 @@ pub(crate) fn streams(
             weights,
         );
     }
-    streams.push(index_stream(&vertices.indices, count));
+    streams.push(index_stream(vertices.indices, vertices.base, count));
     if encoding == GlbEncoding::Compressed {
         for stream in &mut streams {
             stream.compress(lines);
@@ -236,7 +236,7 @@ pub(crate) fn position_stream(positions: &[[f32; 3]], grid: Option<&Grid>) -> St
                 (ComponentType::F32, Type::Vec3),
                 count,
                 12,
-                floats(positions.iter().flatten()),
+                floats(positions),
             );
             stream.bounds = Some(bounds(positions, Value::from));
             stream
@@ -244,15 +244,22 @@ pub(crate) fn position_stream(positions: &[[f32; 3]], grid: Option<&Grid>) -> St
     }
 }
 
-/// The stream of `indices` into `vertex_count` vertices: u16 when they fit, u32 otherwise.
-pub(crate) fn index_stream(indices: &[u32], vertex_count: usize) -> Stream {
+/// The stream of `indices` less `base` into `vertex_count` vertices: u16 when they fit, u32
+/// otherwise.
+pub(crate) fn index_stream(indices: &[u32], base: u32, vertex_count: usize) -> Stream {
     // The largest u16 is reserved (primitive restart), hence `>=`.
     let (component, stride, bytes) = if vertex_count >= usize::from(u16::MAX) {
-        let bytes = indices.iter().flat_map(|i| i.to_le_bytes());
-        (ComponentType::U32, 4, bytes.collect())
+        let mut bytes = Vec::with_capacity(4 * indices.len());
+        indices
+            .iter()
+            .for_each(|i| bytes.extend_from_slice(&(i - base).to_le_bytes()));
+        (ComponentType::U32, 4, bytes)
     } else {
-        let bytes = indices.iter().flat_map(|&i| (i as u16).to_le_bytes());
-        (ComponentType::U16, 2, bytes.collect())
+        let mut bytes = Vec::with_capacity(2 * indices.len());
+        indices
+            .iter()
+            .for_each(|&i| bytes.extend_from_slice(&((i - base) as u16).to_le_bytes()));
+        (ComponentType::U16, 2, bytes)
     };
     Stream {
         semantic: None,
@@ -267,9 +274,17 @@ pub(crate) fn index_stream(indices: &[u32], vertex_count: usize) -> Stream {
     }
 }
 
-/// Little-endian bytes of f32 values.
-fn floats<'a>(values: impl Iterator<Item = &'a f32>) -> Vec<u8> {
-    values.flat_map(|x| x.to_le_bytes()).collect()
+/// Little-endian bytes of f32 vectors, in a buffer sized once: collecting a flattened iterator
+/// grows it by doubling, which for the hundreds of megabytes of a big mesh means copies and
+/// page faults several times over.
+fn floats<const N: usize>(values: &[[f32; N]]) -> Vec<u8> {
+    let mut bytes = Vec::with_capacity(values.len() * N * 4);
+    for v in values {
+        for x in v {
+            bytes.extend_from_slice(&x.to_le_bytes());
+        }
+    }
+    bytes
 }
 
 /// Component-wise min and max of `values`, exactly as written (the spec requires them on
