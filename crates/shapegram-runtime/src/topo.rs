@@ -57,13 +57,7 @@ impl TopoGrammar {
         let textures = grammar
             .materials
             .iter()
-            .map(|m| {
-                let path = m.texture.as_deref()?;
-                Some(Arc::new(Texture {
-                    path: path.into(),
-                    image: read_image(name, folder, path),
-                }))
-            })
+            .map(|m| m.texture_with(|path| read_image(name, folder, path)))
             .collect();
         Ok(TopoGrammar {
             grammar,

@@ -2,7 +2,9 @@
 //! one tile of the image, with the planar texture coordinates that keep the tile size constant
 //! in the world whatever the size of the face.
 
-use shapegram_geom::{Color, DVec2, DVec3};
+use std::sync::Arc;
+
+use shapegram_geom::{Color, DVec2, DVec3, Texture};
 
 /// Longest material name or texture path accepted.
 const MAX_TEXT: usize = 1000;
@@ -22,6 +24,19 @@ pub struct Material {
 }
 
 impl Material {
+    /// Its texture, if it names one, with the image `image` reads from the named path (`None`:
+    /// drawn in the material's colour).
+    pub fn texture_with(
+        &self,
+        image: impl FnOnce(&str) -> Option<Arc<[u8]>>,
+    ) -> Option<Arc<Texture>> {
+        let path = self.texture.as_deref()?;
+        Some(Arc::new(Texture {
+            path: path.into(),
+            image: image(path),
+        }))
+    }
+
     /// A material of one colour, tiles of one metre.
     pub fn colored(name: &str, color: Color) -> Self {
         Self {

@@ -125,13 +125,7 @@ impl GrammarMesh {
         let textures: Vec<Option<Arc<Texture>>> = self
             .materials
             .iter()
-            .map(|m| {
-                let path = m.texture.as_deref()?;
-                Some(Arc::new(Texture {
-                    path: path.into(),
-                    image: image(path),
-                }))
-            })
+            .map(|m| m.texture_with(&mut image))
             .collect();
         let names: Vec<Arc<str>> = self
             .materials
