@@ -27,6 +27,10 @@ pub(super) struct LeafDescriber<'a> {
     report_order: Vec<u32>,
     /// Each lot's metadata, by lot index (`None` for an index no tree node has).
     lots: Vec<Option<Arc<Metadata>>>,
+    /// The path of the last leaf described, and the tree node of each of its steps with the
+    /// path's length up to that step.
+    last_path: String,
+    last_steps: Vec<(u32, usize)>,
 }
 
 impl<'a> LeafDescriber<'a> {
@@ -78,6 +82,8 @@ impl<'a> LeafDescriber<'a> {
             report_starts,
             report_order,
             lots: Vec::new(),
+            last_path: String::new(),
+            last_steps: Vec::new(),
         };
         describer.lots = describer.lots(derivation, report_nodes);
         describer
@@ -140,7 +146,7 @@ impl<'a> LeafDescriber<'a> {
     /// The leaf's metadata: rule, path, attributes, the reports made on its shape and its
     /// ancestors, its lot, and the semantics of a goal grammar's leaf (whose named attributes
     /// win over grammar attributes of the same name).
-    pub(super) fn describe(&self, leaf: &Leaf, semantics: Option<&LeafSemantics>) -> Metadata {
+    pub(super) fn describe(&mut self, leaf: &Leaf, semantics: Option<&LeafSemantics>) -> Metadata {
         let node = leaf
             .node
             .map(|n| n as usize)
@@ -169,7 +175,7 @@ impl<'a> LeafDescriber<'a> {
         attributes.sort_by(|a, b| a.0.cmp(&b.0));
         Metadata {
             rule: Some(leaf.name.to_string()),
-            path: node.map(|n| self.path(n)),
+            path: node.map(|n| self.leaf_path(n)),
             leaves: None,
             goals,
             tags,
@@ -197,6 +203,35 @@ impl<'a> LeafDescriber<'a> {
             .collect()
     }
 
+    /// [`Self::path`] of a leaf's node, built on the part of the last leaf's path that the
+    /// two share: leaves come in derivation order, so that is most of it.
+    fn leaf_path(&mut self, node: usize) -> String {
+        // The node's ancestors below the deepest one on the last path, from the node up.
+        let mut below = Vec::new();
+        let mut kept = 0;
+        let mut at = Some(node as u32);
+        while let Some(n) = at {
+            if let Some(k) = self.last_steps.iter().rposition(|&(m, _)| m == n) {
+                kept = k + 1;
+                break;
+            }
+            below.push(n);
+            at = self.tree[n as usize].parent;
+        }
+        self.last_steps.truncate(kept);
+        let mut path = std::mem::take(&mut self.last_path);
+        path.truncate(self.last_steps.last().map_or(0, |&(_, end)| end));
+        for &n in below.iter().rev() {
+            if !path.is_empty() {
+                path.push('/');
+            }
+            self.push_step(&mut path, n as usize);
+            self.last_steps.push((n, path.len()));
+        }
+        self.last_path = path;
+        self.last_path.clone()
+    }
+
     /// `Lot[0]/Mass[0]/Facade[2]`: the symbol of each shape from the initial shape down to
     /// `node`, each with its position among its parent's children (the lot's index first).
     fn path(&self, node: usize) -> String {
@@ -211,12 +246,15 @@ impl<'a> LeafDescriber<'a> {
             if !path.is_empty() {
                 path.push('/');
             }
-            path.push_str(&self.tree[n].name);
-            path.push('[');
-            path.push_str(&self.positions[n].to_string());
-            path.push(']');
+            self.push_step(&mut path, n);
         }
         path
+    }
+
+    /// Appends `Name[k]`, node `n`'s step of a path.
+    fn push_step(&self, path: &mut String, n: usize) {
+        use std::fmt::Write;
+        write!(path, "{}[{}]", self.tree[n].name, self.positions[n]).expect("a String takes text");
     }
 }
 
@@ -275,4 +313,51 @@ fn summary(reports: &[(String, Value)]) -> Vec<(String, MetaValue)> {
         .into_iter()
         .map(|(key, value)| (key, meta_value(&value)))
         .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use shapegram_geom::DVec2;
+
+    use super::*;
+    use crate::{DeriveOptions, InitialShape, Program};
+
+    #[test]
+    fn leaf_paths_built_on_the_last_path_are_the_paths_from_the_root() {
+        let source = shapegram_syntax::SourceFile::new(
+            "t.cga",
+            "Lot --> extrude(9) comp(f) { side : Facade | top : Roof. }\n\
+             Facade --> split(y) { ~3 : Floor }*\n\
+             Floor --> split(x) { ~1 : Tile }*\n\
+             Tile --> split(x) { 0.2 : Wall. | ~1 : Window. | 0.2 : Wall. }",
+        );
+        let program = Program::compile(&shapegram_syntax::parse(&source).grammar)
+            .0
+            .expect("compiles");
+        let lots: Vec<InitialShape> = [0.0, 30.0]
+            .map(|x| {
+                let corners = [(x, 0.0), (x + 10.0, 0.0), (x + 10.0, 20.0), (x, 20.0)];
+                InitialShape::from_xz(&corners.map(|(x, z)| DVec2::new(x, z))).unwrap()
+            })
+            .to_vec();
+        let options = DeriveOptions {
+            keep_tree: true,
+            ..DeriveOptions::default()
+        };
+        let derivation = crate::derive(&program, &lots, &options).expect("derives");
+        let leaves = &derivation.leaves;
+        assert!(leaves.len() > 100, "{} leaves", leaves.len());
+        // In leaf order (neighbours in turn), then backwards, skipping (paths that share less).
+        let mut describer = LeafDescriber::new(&derivation, &[]);
+        let order = (0..leaves.len()).chain((0..leaves.len()).rev().step_by(3));
+        for i in order {
+            let node = leaves[i].node.expect("the tree was kept") as usize;
+            let path = describer.describe(&leaves[i], None).path.expect("a path");
+            assert_eq!(path, describer.path(node));
+            assert!(
+                path.starts_with(&format!("Lot[{}]/", leaves[i].lot)),
+                "{path}"
+            );
+        }
+    }
 }

@@ -62,8 +62,8 @@ use std::time::Duration;
 
 use rustc_hash::FxHashMap;
 use shapegram_geom::{
-    Bone, Color, DVec3, Mesh, MetaValue, Metadata, Model, Part as ModelPart, Scope, Surface,
-    SurfaceKey, primitives,
+    Bone, Color, DVec3, Mesh, MetaValue, Metadata, Model, Part as ModelPart, Scope, SurfaceKey,
+    primitives,
 };
 use shapegram_kinematics::{Frame, SectionId, Skeleton};
 
@@ -476,14 +476,16 @@ impl Derivation {
             &'a str,
             [u32; 4],
             Option<Bone>,
-            Option<Arc<Metadata>>,
+            Option<PartMetadata>,
             Option<Arc<str>>,
             Option<Arc<str>>,
-            Option<SurfaceKey>,
+            // Boxed: most leaves have no surface, and the table holds a key per part (with
+            // `--metadata`, per leaf), each of which would otherwise carry its 680 bytes.
+            Option<Box<SurfaceKey>>,
         );
         let mut slot: FxHashMap<Key, usize> = FxHashMap::default();
         let mut metadata = MetadataCache::default();
-        let describer = (options.metadata != MetadataScope::None)
+        let mut describer = (options.metadata != MetadataScope::None)
             .then(|| leaf_metadata::LeafDescriber::new(self, &options.attr_names));
         let mut summaries = leaf_metadata::PartSummaries::default();
         let skeleton_of: FxHashMap<u32, u32> = self
@@ -519,11 +521,12 @@ impl Derivation {
                 section: SectionId(leaf.section()),
             });
             let description = describer
-                .as_ref()
+                .as_mut()
                 .map(|d| d.describe(leaf, leaf.semantics().map(|s| &**s)));
-            let meta = match (options.metadata, &description) {
-                (MetadataScope::Leaf, Some(description)) => Some(Arc::new(description.clone())),
-                _ => leaf.semantics().map(|s| metadata.of(s)),
+            // Per leaf, the description is the part's metadata; per part, it is summarised.
+            let (meta, description) = match (options.metadata, description) {
+                (MetadataScope::Leaf, Some(description)) => (Some(Arc::new(description)), None),
+                (_, description) => (leaf.semantics().map(|s| metadata.of(s)), description),
             };
             for piece in leaf.pieces(mesh) {
                 let instance = leaf_instances.next().flatten();
@@ -560,10 +563,10 @@ impl Derivation {
                     &*leaf.name,
                     piece.color.to_array().map(f32::to_bits),
                     bone,
-                    meta.clone(),
+                    meta.clone().map(PartMetadata),
                     piece.colormap.as_ref().map(|texture| texture.path.clone()),
                     piece.material.clone(),
-                    piece.surface.as_ref().map(Surface::key),
+                    piece.surface.as_ref().map(|s| Box::new(s.key())),
                 );
                 let i = *slot.entry(key).or_insert_with(|| {
                     parts.push(ModelPart {
@@ -606,6 +609,21 @@ impl Derivation {
             skeletons: self.skeletons.iter().map(|(_, s)| s.clone()).collect(),
             parts,
             lines: Vec::new(),
+        }
+    }
+}
+
+/// A part's metadata in the key that gathers leaves into parts: equal as metadata are, but
+/// hashed by path where there is one, which tells leaves apart as well as the whole would at a
+/// fraction of the cost (with `--metadata`, every leaf has its own).
+#[derive(PartialEq, Eq)]
+struct PartMetadata(Arc<Metadata>);
+
+impl std::hash::Hash for PartMetadata {
+    fn hash<H: std::hash::Hasher>(&self, state: &mut H) {
+        match &self.0.path {
+            Some(path) => path.hash(state),
+            None => self.0.hash(state),
         }
     }
 }
