@@ -398,7 +398,20 @@ pub(crate) struct View<'a> {
     pub(crate) base: u32,
 }
 
-impl View<'_> {
+impl<'a> View<'a> {
+    /// Positions without other attributes, and `indices` into them.
+    pub(crate) fn bare(positions: &'a [[f32; 3]], indices: &'a [u32]) -> Self {
+        Self {
+            positions,
+            normals: &[],
+            uvs: &[],
+            tangents: &[],
+            joints: &[],
+            indices,
+            base: 0,
+        }
+    }
+
     /// How many vertices there are.
     pub(crate) fn len(&self) -> usize {
         self.positions.len()
