@@ -57,6 +57,16 @@ impl Vertices {
         if primitive.normals {
             vertices.normals.reserve_exact(count);
         }
+        // At most the chunks' indices, sized once rather than grown by doubling, unless the
+        // first chunk hands over its own list (below).
+        let first_takes = primitive
+            .chunks
+            .first()
+            .is_some_and(|c| !(merge && c.flat_faces().is_some()));
+        if !first_takes {
+            let indices = primitive.chunks.iter().map(|c| c.index_count()).sum();
+            vertices.indices.reserve_exact(indices);
+        }
         let mut rectangles = Vec::new();
         for (c, chunk) in primitive.chunks.iter_mut().enumerate() {
             let base = vertices.positions.len() as u32;
