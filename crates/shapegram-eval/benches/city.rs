@@ -6,11 +6,15 @@
 //! touches: its summary line gives the occlusion queries per second and the time against the
 //! plain city on the same lots. The hinged city opens every window on a hinge: its line gives
 //! the time against the same rules without their kinematic operations, the cost of building
-//! skeletons. The GLB lines give the city's file size and write time in each encoding (float,
-//! quantised, meshopt-compressed; best of three).
+//! skeletons. The GLB lines give the city's file size and the cost of writing it in each
+//! encoding (float, quantised, meshopt-compressed): wall time, CPU time and page faults of the
+//! writing thread, medians of five runs.
 
 use std::hint::black_box;
 use std::time::Instant;
+
+#[path = "../../../bench/thread_usage.rs"]
+mod thread_usage;
 
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
 use shapegram_eval::{DeriveOptions, InitialShape, Program, derive};
@@ -141,7 +145,8 @@ fn hinged(options: &DeriveOptions, lots: &[InitialShape]) {
     );
 }
 
-/// Prints the size and write time (best of three) of the city's GLB in each encoding.
+/// Prints the size and the cost of writing (medians of five) of the city's GLB in each
+/// encoding.
 fn glb_encodings(model: &shapegram_geom::Model) {
     for encoding in [
         GlbEncoding::Float,
@@ -152,17 +157,15 @@ fn glb_encodings(model: &shapegram_geom::Model) {
             encoding,
             ..ExportOptions::default()
         };
-        let mut bytes = 0;
-        let mut best = f64::INFINITY;
-        for _ in 0..3 {
-            let started = Instant::now();
-            bytes = black_box(write_glb(model, &options)).len();
-            best = best.min(started.elapsed().as_secs_f64());
-        }
+        let (wall, cpu, faults, bytes) =
+            thread_usage::median_usage(5, || write_glb(model, &options).len());
         println!(
-            "city GLB ({encoding:?}): {:.1} MB written in {:.0} ms",
+            "city GLB ({encoding:?}): {:.1} MB written in {:.0} ms wall, {:.0} ms CPU, {} k \
+             page faults",
             bytes as f64 / 1e6,
-            best * 1e3
+            wall * 1e3,
+            cpu * 1e3,
+            faults / 1000,
         );
     }
 }

@@ -30,8 +30,10 @@
 //! A part whose [`Metadata`] names its lot hangs under a node of that lot, a child of
 //! "shapegram" without a mesh that carries the lot's metadata (see [`metadata`]).
 //!
-//! The file is planned first (the compacted and encoded data of every primitive, the JSON
-//! chunk) and then streamed; each primitive's data from the model is let go once encoded.
+//! The file is planned first (the compacted vertices of every primitive, their accessors, the
+//! JSON chunk) and then streamed: each accessor's bytes are encoded from the compacted vertices
+//! as they are written (compressed ones excepted, see [`streams`]); each primitive's data from
+//! the model is let go once compacted.
 
 use std::collections::BTreeMap;
 use std::io::{self, Write};
@@ -60,7 +62,7 @@ mod tangents;
 
 use animation::Animation;
 pub(crate) use chunk::{Chunk, gltf_uv};
-use compact::{Compaction, Run, Vertices};
+use compact::{Compaction, Run, Vertices, View};
 pub(crate) use instance::GPU_INSTANCING;
 pub use instance::Instancing;
 use instance::{InstanceSets, Role};
@@ -92,9 +94,12 @@ struct Primitive<'a> {
     chunks: Vec<Chunk<'a>>,
     /// The model part each chunk holds (`None`: a line set).
     sources: Vec<Option<usize>>,
-    /// The accessors' data of each glTF primitive it becomes (one, or several of fewer than
-    /// 65,535 vertices each), in the order they are written; none when its vertices went into
-    /// its mesh's pool.
+    /// Its vertices compacted, from which its streams' data is made as the file is written
+    /// (none when they went into its mesh's pool).
+    vertices: Vertices,
+    /// The glTF primitives it becomes: one, or several of fewer than 65,535 vertices each.
+    runs: Vec<Run>,
+    /// Each run's accessors, in the order they are written.
     streams: Vec<Vec<Stream>>,
 }
 
@@ -107,7 +112,9 @@ impl Primitive<'_> {
 }
 
 /// One piece of a mesh's vertex pool, encoded: the POSITION data its primitives share and, per
-/// primitive of the mesh with triangles in it, the primitive's index and those indices.
+/// primitive of the mesh with triangles in it, the primitive's index and those indices. Pieces
+/// are small and their u16 indices take half the memory of the pool's, so their data is made
+/// when planned rather than as written (see [`Stream::encode`]).
 struct PooledPiece {
     positions: Stream,
     primitives: Vec<(usize, Stream)>,
@@ -196,6 +203,8 @@ impl Group<'_> {
                     streams(view, primitive.lines, joints, encoding, self.grid.as_ref())
                 })
                 .collect();
+            primitive.runs = runs;
+            primitive.vertices = vertices;
             primitive.chunks = Vec::new();
         }
         if members.is_empty() {
@@ -211,11 +220,18 @@ impl Group<'_> {
                 let mut primitives: Vec<(usize, Stream)> = piece
                     .members
                     .iter()
-                    .map(|(member, indices)| (member_of[*member], index_stream(indices, 0, count)))
+                    .map(|(member, indices)| (member_of[*member], index_stream(indices, count)))
                     .collect();
-                if compressed {
-                    positions.compress(false);
-                    primitives.iter_mut().for_each(|(_, s)| s.compress(false));
+                let streams = std::iter::once((&mut positions, &[][..]));
+                let indices = primitives.iter_mut().zip(&piece.members);
+                let streams = streams.chain(indices.map(|((_, s), (_, i))| (s, &i[..])));
+                for (stream, indices) in streams {
+                    let view = View::bare(&piece.positions, indices);
+                    if compressed {
+                        stream.compress(&view, false);
+                    } else {
+                        stream.encode(&view);
+                    }
                 }
                 PooledPiece {
                     positions,
@@ -434,8 +450,10 @@ impl<'a> Plan<'a> {
                         normals,
                         skinned: None,
                         chunks: vec![chunk],
-                        streams: Vec::new(),
                         sources: vec![source],
+                        vertices: Vertices::default(),
+                        runs: Vec::new(),
+                        streams: Vec::new(),
                     }],
                     grid: None,
                     pool: Vec::new(),
@@ -465,6 +483,8 @@ impl<'a> Plan<'a> {
                         skinned: joint.map(|(_, j)| skinned(vec![j])),
                         chunks: vec![chunk],
                         sources: vec![source],
+                        vertices: Vertices::default(),
+                        runs: Vec::new(),
                         streams: Vec::new(),
                     }],
                 });
@@ -505,6 +525,8 @@ impl<'a> Plan<'a> {
                     skinned: joint.map(|_| skinned(Vec::new())),
                     chunks: Vec::new(),
                     sources: Vec::new(),
+                    vertices: Vertices::default(),
+                    runs: Vec::new(),
                     streams: Vec::new(),
                 });
                 primitives.len() - 1
@@ -570,16 +592,25 @@ impl<'a> Plan<'a> {
                 result = out.write_all(bytes);
             }
         };
-        for stream in self.groups.iter().flat_map(|group| {
-            let own = group.primitives.iter().flat_map(|p| &p.streams).flatten();
-            let pooled = group.pool.iter().flat_map(|piece| {
-                let indices = piece.primitives.iter().map(|(_, indices)| indices);
-                std::iter::once(&piece.positions).chain(indices)
-            });
-            pooled.chain(own)
-        }) {
-            put(&stream.bytes);
-            put(&[0; 3][..stream.bytes.len().next_multiple_of(4) - stream.bytes.len()]);
+        let mut stream_of = |view: &View<'_>, stream: &Stream| {
+            stream.write(view, &mut put);
+            put(&[0; 3][..stream.len().next_multiple_of(4) - stream.len()]);
+        };
+        for group in &self.groups {
+            // A pool's data is made already: its streams need no vertices.
+            let none = View::bare(&[], &[]);
+            for pooled in &group.pool {
+                stream_of(&none, &pooled.positions);
+                for (_, stream) in &pooled.primitives {
+                    stream_of(&none, stream);
+                }
+            }
+            for primitive in &group.primitives {
+                for (run, streams) in primitive.runs.iter().zip(&primitive.streams) {
+                    let view = run.view(&primitive.vertices);
+                    streams.iter().for_each(|stream| stream_of(&view, stream));
+                }
+            }
         }
         for group in &self.groups {
             if let Placement::Gpu(uses) = &group.placement {
@@ -836,10 +867,10 @@ impl Builder {
         self.quantized |= stream.quantized();
         let offset = self.bin_len;
         // Every view starts on a 4-byte boundary, as f32 and u32 accessors require.
-        self.bin_len = (offset + stream.bytes.len()).next_multiple_of(4);
+        self.bin_len = (offset + stream.len()).next_multiple_of(4);
         let mut view = json::buffer::View {
             buffer: json::Index::new(0),
-            byte_length: USize64::from(stream.bytes.len()),
+            byte_length: USize64::from(stream.len()),
             byte_offset: Some(USize64::from(offset)),
             byte_stride: stream
                 .strided()
@@ -858,13 +889,8 @@ impl Builder {
             view.buffer = json::Index::new(1);
             view.byte_offset = Some(USize64::from(fallback));
             view.byte_length = USize64::from(length);
-            let extension = compress::view_extension(
-                offset,
-                stream.bytes.len(),
-                stream.stride,
-                stream.count,
-                mode,
-            );
+            let extension =
+                compress::view_extension(offset, stream.len(), stream.stride, stream.count, mode);
             let mut others = serde_json::Map::new();
             others.insert(compress::EXTENSION.to_owned(), extension);
             view.extensions = Some(json::extensions::buffer::View { others });

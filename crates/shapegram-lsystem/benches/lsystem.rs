@@ -3,14 +3,20 @@
 //! word of about 10⁶ segments drawn by the turtle, built into a tube model or a line model and
 //! written as GLB bytes (`elem/s` = segments per second).
 //!
+//! Before criterion's rows, one line each gives the tube GLB's cost as the median of five runs:
+//! wall time, CPU time and page faults of the whole step from word to bytes and of `write_glb`
+//! alone (CPU time and page faults vary less than wall time on a shared machine).
+//!
 //! Run with `cargo bench -p shapegram-lsystem`; on one core for comparable numbers.
 
 use std::hint::black_box;
 use std::time::Duration;
 
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
-use shapegram_export::{ExportOptions, write_glb};
-use shapegram_lsystem::{DeriveOptions, LSystem, drawing_to_lines, drawing_to_model, interpret};
+use shapegram_export::{ExportOptions, GlbEncoding, write_glb};
+use shapegram_lsystem::{
+    DeriveOptions, LSystem, Word, drawing_to_lines, drawing_to_model, interpret,
+};
 
 /// The quadratic Koch island, 7 steps: 8.4 million F and 15.7 million modules.
 const KOCH: &str = "n: 7\nangle: 90\naxiom: F-F-F-F\nF -> F-F+F+FF-F-F+F\n";
@@ -27,6 +33,10 @@ const PARAMETRIC: &str = "n: 21\n\
     A(l,w) -> !(w)F(l)[&(a0)B(l*r2,w*wr)]/(d)A(l*r1,w*wr)\n\
     B(l,w) -> !(w)F(l)[-(a2)$C(l*r2,w*wr)]C(l*r1,w*wr)\n\
     C(l,w) -> !(w)F(l)[+(a2)$B(l*r2,w*wr)]B(l*r1,w*wr)\n";
+
+#[path = "../../../bench/thread_usage.rs"]
+mod thread_usage;
+use thread_usage::median_usage;
 
 /// A bracketed plant with 4¹⁰ = 1,048,576 segments.
 const MILLION_SEGMENTS: &str = "n: 10\nangle: 25.7\nsides: 5\naxiom: F\nF -> F[+F][-F]F\n";
@@ -52,6 +62,7 @@ fn bench_turtle(c: &mut Criterion) {
     let system = LSystem::parse(MILLION_SEGMENTS).unwrap();
     let word = system.derive(&DeriveOptions::default()).unwrap();
     let segments = interpret(&system, &word).segment_count();
+    tube_glb_costs(&system, &word);
     let mut group = c.benchmark_group("turtle");
     group.sample_size(10);
     group.measurement_time(Duration::from_secs(10));
@@ -84,6 +95,39 @@ fn bench_turtle(c: &mut Criterion) {
         },
     );
     group.finish();
+}
+
+/// Prints the median wall time, CPU time and page faults of the tube GLB, from the word and
+/// from the model, in float and quantised encodings.
+fn tube_glb_costs(system: &LSystem, word: &Word) {
+    let print = |what: &str, (wall, cpu, faults, bytes): (f64, f64, u64, usize)| {
+        println!(
+            "{what}: {:.1} MB in {:.0} ms wall, {:.0} ms CPU, {} k page faults (median of 5)",
+            bytes as f64 / 1e6,
+            wall * 1e3,
+            cpu * 1e3,
+            faults / 1000,
+        );
+    };
+    print(
+        "tubes: word to GLB bytes",
+        median_usage(5, || {
+            let drawing = interpret(system, word);
+            let model = drawing_to_model(&drawing, &system.settings);
+            write_glb(&model, &ExportOptions::default()).len()
+        }),
+    );
+    let model = drawing_to_model(&interpret(system, word), &system.settings);
+    for encoding in [GlbEncoding::Float, GlbEncoding::Quantized] {
+        let options = ExportOptions {
+            encoding,
+            ..ExportOptions::default()
+        };
+        print(
+            &format!("tubes: write_glb ({encoding:?})"),
+            median_usage(5, || write_glb(&model, &options).len()),
+        );
+    }
 }
 
 fn bench(c: &mut Criterion) {

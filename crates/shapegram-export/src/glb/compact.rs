@@ -57,6 +57,16 @@ impl Vertices {
         if primitive.normals {
             vertices.normals.reserve_exact(count);
         }
+        // At most the chunks' indices, sized once rather than grown by doubling, unless the
+        // first chunk hands over its own list (below).
+        let first_takes = primitive
+            .chunks
+            .first()
+            .is_some_and(|c| !(merge && c.flat_faces().is_some()));
+        if !first_takes {
+            let indices = primitive.chunks.iter().map(|c| c.index_count()).sum();
+            vertices.indices.reserve_exact(indices);
+        }
         let mut rectangles = Vec::new();
         for (c, chunk) in primitive.chunks.iter_mut().enumerate() {
             let base = vertices.positions.len() as u32;
@@ -398,7 +408,20 @@ pub(crate) struct View<'a> {
     pub(crate) base: u32,
 }
 
-impl View<'_> {
+impl<'a> View<'a> {
+    /// Positions without other attributes, and `indices` into them.
+    pub(crate) fn bare(positions: &'a [[f32; 3]], indices: &'a [u32]) -> Self {
+        Self {
+            positions,
+            normals: &[],
+            uvs: &[],
+            tangents: &[],
+            joints: &[],
+            indices,
+            base: 0,
+        }
+    }
+
     /// How many vertices there are.
     pub(crate) fn len(&self) -> usize {
         self.positions.len()

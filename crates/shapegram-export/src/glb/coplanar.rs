@@ -91,10 +91,12 @@ pub(crate) fn merge(rectangles: &[Rectangle]) -> Vec<Rectangle> {
         planes[plane].push(*rectangle);
     }
     let mut owner = FxHashMap::default();
-    planes
-        .iter()
-        .flat_map(|plane| merge_plane(plane, &mut owner))
-        .collect()
+    // Sized for the most there can be: grown by doubling, a city's list is copied many times.
+    let mut merged = Vec::with_capacity(rectangles.len());
+    for plane in &planes {
+        merged.extend(merge_plane(plane, &mut owner));
+    }
+    merged
 }
 
 /// The plane a rectangle lies in: its normal, bit for bit, and its distance from the origin

@@ -1,6 +1,9 @@
-//! A primitive's accessors as bytes: each attribute and the indices of its vertices ([`View`]),
-//! encoded as the file's [`GlbEncoding`] asks (float, quantised, or quantised and compressed),
-//! with what the accessor and its buffer view need to describe them.
+//! A primitive's accessors: each attribute and the indices of its vertices ([`View`]), encoded
+//! as the file's [`GlbEncoding`] asks (float, quantised, or quantised and compressed), with what
+//! the accessor and its buffer view need to describe them. Float and quantised data are encoded
+//! from the vertices while the file is written, a block of a few kilobytes at a time, instead of
+//! being held as another copy of the vertices until then (hundreds of megabytes for a big tube
+//! model); compressed data is encoded when planned, since the JSON needs its length.
 
 use gltf_json as json;
 use json::accessor::{ComponentType, Type};
@@ -25,10 +28,38 @@ pub(crate) struct Stream {
     pub(crate) normalized: bool,
     /// `min` and `max`, for POSITION.
     pub(crate) bounds: Option<(Value, Value)>,
-    /// What goes into the BIN chunk: the data, or its compressed form.
-    pub(crate) bytes: Vec<u8>,
+    /// What goes into the BIN chunk.
+    data: Data,
     /// For compressed data: the codec's mode and the length of the data decoded.
     pub(crate) compressed: Option<(Mode, usize)>,
+}
+
+/// A stream's bytes in the BIN chunk.
+enum Data {
+    /// Encoded from the vertices of the stream's view when written.
+    Deferred(Encoding),
+    /// Encoded already: compressed, or a vertex pool's (small pieces whose vertices are let
+    /// go: see [`Stream::encode`]).
+    Bytes(Vec<u8>),
+}
+
+/// How a stream's elements are made from its view's vertices.
+#[derive(Clone, Copy, Debug)]
+enum Encoding {
+    /// f32 triples, or i16 triples on the grid padded to 8 bytes.
+    Positions(Option<Grid>),
+    /// f32 triples, or normalised i8 triples padded to 4 bytes.
+    Normals { quantized: bool },
+    /// f32 pairs, or normalised u16 pairs.
+    Uvs { quantized: bool },
+    /// f32 quadruples.
+    Tangents,
+    /// The vertex's joint and three zeros, in u16 when `wide`, u8 otherwise.
+    Joints { wide: bool },
+    /// Weight 1 for the first joint, as normalized u8.
+    Weights,
+    /// The indices less the view's base, in u32 when `wide`, u16 otherwise.
+    Indices { wide: bool },
 }
 
 impl Stream {
@@ -38,7 +69,7 @@ impl Stream {
         (component, kind): (ComponentType, Type),
         count: usize,
         stride: usize,
-        bytes: Vec<u8>,
+        encoding: Encoding,
     ) -> Self {
         let normalized = matches!(semantic, Semantic::Normals | Semantic::TexCoords(_))
             && component != ComponentType::F32
@@ -51,8 +82,25 @@ impl Stream {
             kind,
             normalized,
             bounds: None,
-            bytes,
+            data: Data::Deferred(encoding),
             compressed: None,
+        }
+    }
+
+    /// How many bytes it puts into the BIN chunk (before padding).
+    pub(crate) fn len(&self) -> usize {
+        match &self.data {
+            Data::Deferred(_) => self.count * self.stride,
+            Data::Bytes(bytes) => bytes.len(),
+        }
+    }
+
+    /// Puts its bytes, made from `view` (the vertices it was planned from) unless they are
+    /// made already.
+    pub(crate) fn write(&self, view: &View<'_>, put: &mut impl FnMut(&[u8])) {
+        match &self.data {
+            Data::Deferred(encoding) => encoding.write(view, put),
+            Data::Bytes(bytes) => put(bytes),
         }
     }
 
@@ -71,17 +119,30 @@ impl Stream {
         ) && self.component != ComponentType::F32
     }
 
-    /// Replaces the data with its EXT_meshopt_compression encoding: vertex attributes as
-    /// ATTRIBUTES, indices as TRIANGLES (INDICES for `lines`).
-    pub(crate) fn compress(&mut self, lines: bool) {
+    /// Its data, made from `view`.
+    fn encoded(&self, view: &View<'_>) -> Vec<u8> {
+        let mut bytes = Vec::with_capacity(self.len());
+        self.write(view, &mut |b: &[u8]| bytes.extend_from_slice(b));
+        bytes
+    }
+
+    /// Makes its data from `view` now, for a stream that outlives its vertices.
+    pub(crate) fn encode(&mut self, view: &View<'_>) {
+        self.data = Data::Bytes(self.encoded(view));
+    }
+
+    /// Replaces the data (made from `view`) with its EXT_meshopt_compression encoding: vertex
+    /// attributes as ATTRIBUTES, indices as TRIANGLES (INDICES for `lines`).
+    pub(crate) fn compress(&mut self, view: &View<'_>, lines: bool) {
         let mode = match self.semantic {
             Some(_) => Mode::Attributes,
             None if lines => Mode::Indices,
             None => Mode::Triangles,
         };
-        let encoded = compress::encode(&self.bytes, self.count, self.stride, mode);
-        self.compressed = Some((mode, self.bytes.len()));
-        self.bytes = encoded;
+        let bytes = self.encoded(view);
+        let encoded = compress::encode(&bytes, self.count, self.stride, mode);
+        self.compressed = Some((mode, bytes.len()));
+        self.data = Data::Bytes(encoded);
     }
 
     fn component_size(&self) -> usize {
@@ -91,6 +152,68 @@ impl Stream {
             ComponentType::U32 | ComponentType::F32 => 4,
         }
     }
+}
+
+impl Encoding {
+    /// Puts the elements it makes of `view`'s vertices (or indices).
+    fn write(self, view: &View<'_>, put: &mut impl FnMut(&[u8])) {
+        match self {
+            Self::Positions(None) => blocks(view.positions, put, floats::<3, 12>),
+            Self::Positions(Some(grid)) => blocks(view.positions, put, |&p| {
+                let [x, y, z] = grid.quantize(p).map(i16::to_le_bytes);
+                [x[0], x[1], y[0], y[1], z[0], z[1], 0, 0]
+            }),
+            Self::Normals { quantized: false } => blocks(view.normals, put, floats::<3, 12>),
+            Self::Normals { quantized: true } => blocks(view.normals, put, |&n| {
+                let [x, y, z] = quantize::normal(n);
+                [x, y, z, 0].map(|b| b as u8)
+            }),
+            Self::Uvs { quantized: false } => blocks(view.uvs, put, floats::<2, 8>),
+            Self::Uvs { quantized: true } => blocks(view.uvs, put, |&uv| {
+                let [u, v] = quantize::uv(uv).map(u16::to_le_bytes);
+                [u[0], u[1], v[0], v[1]]
+            }),
+            Self::Tangents => blocks(view.tangents, put, floats::<4, 16>),
+            Self::Joints { wide: true } => blocks(view.joints, put, |&j| {
+                let [a, b] = j.to_le_bytes();
+                [a, b, 0, 0, 0, 0, 0, 0]
+            }),
+            Self::Joints { wide: false } => blocks(view.joints, put, |&j| [j as u8, 0, 0, 0]),
+            Self::Weights => blocks(view.positions, put, |_| [u8::MAX, 0, 0, 0]),
+            Self::Indices { wide: true } => {
+                blocks(view.indices, put, |&i| (i - view.base).to_le_bytes())
+            }
+            Self::Indices { wide: false } => blocks(view.indices, put, |&i| {
+                ((i - view.base) as u16).to_le_bytes()
+            }),
+        }
+    }
+}
+
+/// Puts `encode` of each of `values`, gathered in blocks of a few kilobytes: a call per
+/// element would cost more than the encoding, and one buffer for all of them would be another
+/// copy of the data.
+fn blocks<T, const SIZE: usize>(
+    values: &[T],
+    put: &mut impl FnMut(&[u8]),
+    encode: impl Fn(&T) -> [u8; SIZE],
+) {
+    let mut block = [0; 1 << 14];
+    for part in values.chunks(block.len() / SIZE) {
+        for (value, slot) in part.iter().zip(block.chunks_exact_mut(SIZE)) {
+            slot.copy_from_slice(&encode(value));
+        }
+        put(&block[..part.len() * SIZE]);
+    }
+}
+
+/// Little-endian bytes of an f32 vector of `N` components (`M` = 4 `N` bytes).
+fn floats<const N: usize, const M: usize>(v: &[f32; N]) -> [u8; M] {
+    let mut bytes = [0; M];
+    for (slot, x) in bytes.chunks_exact_mut(4).zip(v) {
+        slot.copy_from_slice(&x.to_le_bytes());
+    }
+    bytes
 }
 
 /// How a primitive's vertices name their joints, for a skinned primitive.
@@ -103,7 +226,8 @@ pub(crate) struct Joints {
 /// The streams of a primitive's `vertices`, in the order they are written: POSITION, NORMAL,
 /// TEXCOORD_0, TANGENT, JOINTS_0, WEIGHTS_0, indices. `grid` quantises positions (the mesh's
 /// node undoes it); `None` keeps them float, as skinned meshes need (skinning ignores the
-/// node's transformation).
+/// node's transformation). Each stream's data is made from `vertices` when it is written
+/// ([`Stream::write`]), except compressed data, made here.
 pub(crate) fn streams(
     vertices: View<'_>,
     lines: bool,
@@ -115,94 +239,61 @@ pub(crate) fn streams(
     let count = vertices.len();
     let mut streams = Vec::with_capacity(7);
     streams.push(position_stream(vertices.positions, grid));
-    let mut attribute = |semantic, format, stride, bytes| {
-        streams.push(Stream::attribute(semantic, format, count, stride, bytes));
+    let mut attribute = |semantic, format, stride, encoding| {
+        streams.push(Stream::attribute(semantic, format, count, stride, encoding));
     };
     if !vertices.normals.is_empty() {
+        let encoding = Encoding::Normals { quantized };
         if quantized {
-            let bytes = vertices
-                .normals
-                .iter()
-                .flat_map(|&n| {
-                    let [x, y, z] = quantize::normal(n);
-                    [x, y, z, 0].map(|b| b as u8)
-                })
-                .collect();
-            attribute(Semantic::Normals, (ComponentType::I8, Type::Vec3), 4, bytes);
+            attribute(
+                Semantic::Normals,
+                (ComponentType::I8, Type::Vec3),
+                4,
+                encoding,
+            );
         } else {
-            let bytes = floats(vertices.normals);
             attribute(
                 Semantic::Normals,
                 (ComponentType::F32, Type::Vec3),
                 12,
-                bytes,
+                encoding,
             );
         }
     }
     if !vertices.uvs.is_empty() {
+        let semantic = Semantic::TexCoords(0);
         if quantized && quantize::fits_unorm(vertices.uvs) {
-            let bytes = vertices
-                .uvs
-                .iter()
-                .flat_map(|&uv| quantize::uv(uv))
-                .flat_map(u16::to_le_bytes)
-                .collect();
-            attribute(
-                Semantic::TexCoords(0),
-                (ComponentType::U16, Type::Vec2),
-                4,
-                bytes,
-            );
+            let encoding = Encoding::Uvs { quantized: true };
+            attribute(semantic, (ComponentType::U16, Type::Vec2), 4, encoding);
         } else {
-            let bytes = floats(vertices.uvs);
-            attribute(
-                Semantic::TexCoords(0),
-                (ComponentType::F32, Type::Vec2),
-                8,
-                bytes,
-            );
+            let encoding = Encoding::Uvs { quantized: false };
+            attribute(semantic, (ComponentType::F32, Type::Vec2), 8, encoding);
         }
     }
     if !vertices.tangents.is_empty() {
-        let bytes = floats(vertices.tangents);
-        attribute(
-            Semantic::Tangents,
-            (ComponentType::F32, Type::Vec4),
-            16,
-            bytes,
-        );
+        let format = (ComponentType::F32, Type::Vec4);
+        attribute(Semantic::Tangents, format, 16, Encoding::Tangents);
     }
     if let Some(Joints { wide }) = joints {
-        let (bytes, component, stride) = if wide {
-            let bytes = vertices
-                .joints
-                .iter()
-                .flat_map(|&j| [j, 0, 0, 0])
-                .flat_map(u16::to_le_bytes)
-                .collect();
-            (bytes, ComponentType::U16, 8)
+        let (component, stride) = if wide {
+            (ComponentType::U16, 8)
         } else {
-            let bytes = vertices
-                .joints
-                .iter()
-                .flat_map(|&j| [j as u8, 0, 0, 0])
-                .collect();
-            (bytes, ComponentType::U8, 4)
+            (ComponentType::U8, 4)
         };
-        attribute(Semantic::Joints(0), (component, Type::Vec4), stride, bytes);
-        // Weight 1 for the first joint, as normalized u8.
-        let weights = [u8::MAX, 0, 0, 0].repeat(count);
+        let format = (component, Type::Vec4);
         attribute(
-            Semantic::Weights(0),
-            (ComponentType::U8, Type::Vec4),
-            4,
-            weights,
+            Semantic::Joints(0),
+            format,
+            stride,
+            Encoding::Joints { wide },
         );
+        let format = (ComponentType::U8, Type::Vec4);
+        attribute(Semantic::Weights(0), format, 4, Encoding::Weights);
     }
-    streams.push(index_stream(vertices.indices, vertices.base, count));
+    streams.push(index_stream(vertices.indices, count));
     if encoding == GlbEncoding::Compressed {
         for stream in &mut streams {
-            stream.compress(lines);
+            stream.compress(&vertices, lines);
         }
     }
     streams
@@ -212,54 +303,33 @@ pub(crate) fn streams(
 /// bytes) when given, floats otherwise.
 pub(crate) fn position_stream(positions: &[[f32; 3]], grid: Option<&Grid>) -> Stream {
     let count = positions.len();
-    match grid {
-        Some(grid) => {
-            let quantized: Vec<[i16; 3]> = positions.iter().map(|&p| grid.quantize(p)).collect();
-            let bytes = quantized
-                .iter()
-                .flat_map(|q| [q[0], q[1], q[2], 0])
-                .flat_map(i16::to_le_bytes)
-                .collect();
-            let mut stream = Stream::attribute(
-                Semantic::Positions,
-                (ComponentType::I16, Type::Vec3),
-                count,
-                8,
-                bytes,
-            );
-            stream.bounds = Some(bounds(&quantized, Value::from));
-            stream
-        }
-        None => {
-            let mut stream = Stream::attribute(
-                Semantic::Positions,
-                (ComponentType::F32, Type::Vec3),
-                count,
-                12,
-                floats(positions),
-            );
-            stream.bounds = Some(bounds(positions, Value::from));
-            stream
-        }
-    }
+    let (format, stride, bounds) = match grid {
+        Some(grid) => (
+            (ComponentType::I16, Type::Vec3),
+            8,
+            bounds(positions.iter().map(|&p| grid.quantize(p))),
+        ),
+        None => (
+            (ComponentType::F32, Type::Vec3),
+            12,
+            bounds(positions.iter().copied()),
+        ),
+    };
+    let encoding = Encoding::Positions(grid.copied());
+    let mut stream = Stream::attribute(Semantic::Positions, format, count, stride, encoding);
+    stream.bounds = Some(bounds);
+    stream
 }
 
-/// The stream of `indices` less `base` into `vertex_count` vertices: u16 when they fit, u32
-/// otherwise.
-pub(crate) fn index_stream(indices: &[u32], base: u32, vertex_count: usize) -> Stream {
+/// The stream of `indices` (less their view's base) into `vertex_count` vertices: u16 when
+/// they fit, u32 otherwise.
+pub(crate) fn index_stream(indices: &[u32], vertex_count: usize) -> Stream {
     // The largest u16 is reserved (primitive restart), hence `>=`.
-    let (component, stride, bytes) = if vertex_count >= usize::from(u16::MAX) {
-        let mut bytes = Vec::with_capacity(4 * indices.len());
-        indices
-            .iter()
-            .for_each(|i| bytes.extend_from_slice(&(i - base).to_le_bytes()));
-        (ComponentType::U32, 4, bytes)
+    let wide = vertex_count >= usize::from(u16::MAX);
+    let (component, stride) = if wide {
+        (ComponentType::U32, 4)
     } else {
-        let mut bytes = Vec::with_capacity(2 * indices.len());
-        indices
-            .iter()
-            .for_each(|&i| bytes.extend_from_slice(&((i - base) as u16).to_le_bytes()));
-        (ComponentType::U16, 2, bytes)
+        (ComponentType::U16, 2)
     };
     Stream {
         semantic: None,
@@ -269,29 +339,18 @@ pub(crate) fn index_stream(indices: &[u32], base: u32, vertex_count: usize) -> S
         kind: Type::Scalar,
         normalized: false,
         bounds: None,
-        bytes,
+        data: Data::Deferred(Encoding::Indices { wide }),
         compressed: None,
     }
 }
 
-/// Little-endian bytes of f32 vectors, in a buffer sized once: collecting a flattened iterator
-/// grows it by doubling, which for the hundreds of megabytes of a big mesh means copies and
-/// page faults several times over.
-fn floats<const N: usize>(values: &[[f32; N]]) -> Vec<u8> {
-    let mut bytes = Vec::with_capacity(values.len() * N * 4);
-    for v in values {
-        for x in v {
-            bytes.extend_from_slice(&x.to_le_bytes());
-        }
-    }
-    bytes
-}
-
-/// Component-wise min and max of `values`, exactly as written (the spec requires them on
-/// POSITION and validators compare them bit for bit).
-fn bounds<T: Copy + PartialOrd>(values: &[[T; 3]], json: impl Fn(T) -> Value) -> (Value, Value) {
-    let mut min = values[0];
-    let mut max = values[0];
+/// Component-wise min and max of `values` (at least one), exactly as written (the spec
+/// requires them on POSITION and validators compare them bit for bit).
+fn bounds<T: Copy + PartialOrd + Into<Value>>(
+    mut values: impl Iterator<Item = [T; 3]>,
+) -> (Value, Value) {
+    let first = values.next().expect("a stream of positions has one");
+    let (mut min, mut max) = (first, first);
     for v in values {
         for k in 0..3 {
             if v[k] < min[k] {
@@ -302,6 +361,6 @@ fn bounds<T: Copy + PartialOrd>(values: &[[T; 3]], json: impl Fn(T) -> Value) ->
             }
         }
     }
-    let array = |v: [T; 3]| Value::Array(v.into_iter().map(&json).collect());
+    let array = |v: [T; 3]| Value::Array(v.into_iter().map(Into::into).collect());
     (array(min), array(max))
 }
