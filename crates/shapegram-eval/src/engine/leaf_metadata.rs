@@ -16,6 +16,8 @@ use crate::value::Value;
 /// alone).
 pub(super) struct LeafDescriber<'a> {
     tree: &'a [TreeNode],
+    /// The names of leaves' symbols ([`Derivation::names`]).
+    names: &'a [Arc<str>],
     attr_names: &'a [String],
     /// Each tree node's position among the children of its parent (for an initial shape, the
     /// lot's index).
@@ -72,6 +74,7 @@ impl<'a> LeafDescriber<'a> {
         }
         let mut describer = Self {
             tree,
+            names: &derivation.names,
             attr_names,
             positions,
             reports: &derivation.reports,
@@ -168,7 +171,7 @@ impl<'a> LeafDescriber<'a> {
         }
         attributes.sort_by(|a, b| a.0.cmp(&b.0));
         Metadata {
-            rule: Some(leaf.name.to_string()),
+            rule: Some(self.names[leaf.name.0 as usize].to_string()),
             path: node.map(|n| self.path(n)),
             leaves: None,
             goals,
