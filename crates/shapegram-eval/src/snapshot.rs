@@ -56,7 +56,7 @@ impl Derivation {
             .leaves
             .iter()
             .enumerate()
-            .filter_map(|(i, leaf)| leaf.node.filter(|&k| k as usize <= node).map(|k| (k, i)))
+            .filter_map(|(i, leaf)| leaf.node().filter(|&k| k as usize <= node).map(|k| (k, i)))
             .collect();
         leaves.sort_unstable();
         let mut leaves = leaves.into_iter().peekable();

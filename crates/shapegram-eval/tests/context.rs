@@ -84,7 +84,7 @@ Face --> case inside() : report(\"hidden\", geometry.area) Hidden.
         .unwrap();
     let at = d.reports.iter().position(|(k, _)| k == "hidden").unwrap();
     assert_eq!(
-        d.tree[hidden.node.unwrap() as usize].parent,
+        d.tree[hidden.node().unwrap() as usize].parent,
         Some(d.report_nodes[at])
     );
 }
@@ -394,7 +394,7 @@ fn the_derivation_tree_links_shapes_of_both_phases() {
     for leaf in &d.leaves {
         // Up the tree from every leaf, phase 2 or not, to the lot.
         let mut path = Vec::new();
-        let mut at = leaf.node;
+        let mut at = leaf.node();
         while let Some(node) = at {
             let node = &d.tree[node as usize];
             path.push(&*node.name);

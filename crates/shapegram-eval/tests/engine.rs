@@ -606,7 +606,7 @@ fn reports_name_the_tree_node_of_their_shape_when_the_tree_is_kept() {
         .collect();
     assert_eq!(made_on, expected);
     // A floor's report is made on the floor whose successor is the leaf.
-    let floor_of_first_slab = kept.tree[kept.leaves[0].node.unwrap() as usize].parent;
+    let floor_of_first_slab = kept.tree[kept.leaves[0].node().unwrap() as usize].parent;
     assert_eq!(floor_of_first_slab, Some(kept.report_nodes[1]));
     // Without the tree there is nothing to point at, and nothing is kept.
     let plain = derive(&program, &lots, &DeriveOptions::default()).unwrap();
@@ -636,11 +636,11 @@ fn the_derivation_tree_links_every_shape_to_its_parent() {
         }
     }
     for leaf in &d.leaves {
-        let node = &d.tree[leaf.node.unwrap() as usize];
+        let node = &d.tree[leaf.node().unwrap() as usize];
         assert_eq!(&*node.name, d.name(leaf.name));
         // Wall leaf ← comp part (Floor) ← split part (Lot) ← Lot.
         let mut depth = 0;
-        let mut at = leaf.node.unwrap();
+        let mut at = leaf.node().unwrap();
         while let Some(p) = d.tree[at as usize].parent {
             at = p;
             depth += 1;
@@ -648,7 +648,7 @@ fn the_derivation_tree_links_every_shape_to_its_parent() {
         assert_eq!(depth, 4, "{}", d.name(leaf.name));
     }
     let without = derive(&program, &[lot(4.0, 4.0)], &DeriveOptions::default()).unwrap();
-    assert!(without.tree.is_empty() && without.leaves[0].node.is_none());
+    assert!(without.tree.is_empty() && without.leaves[0].node().is_none());
 }
 
 #[test]

@@ -124,7 +124,10 @@ B --> comp(f) { side : Side. | top : Roof. }\n";
     let names: Vec<&str> = (again.derivation.leaves.iter())
         .map(|l| again.derivation.name(l.name))
         .collect();
-    assert_eq!(names, ["Door", "Wall", "Side", "Side", "Side", "Side", "Roof"]);
+    assert_eq!(
+        names,
+        ["Door", "Wall", "Side", "Side", "Side", "Side", "Roof"]
+    );
 }
 
 #[test]

@@ -243,9 +243,9 @@ impl Derivation {
                 n.parent = n.parent.map(|p| p + base);
                 n
             }));
-            self.leaves.extend(batch.leaves.into_iter().map(|mut l| {
-                l.node = l.node.map(|n| n + base);
-                l
+            self.leaves.extend(batch.leaves.into_iter().map(|l| {
+                let node = l.node().map(|n| n + base);
+                l.with_node(node)
             }));
         }
         let occluder_base = gathered.occluders.len() as u32;

@@ -145,7 +145,7 @@ impl<'a> LeafDescriber<'a> {
     /// win over grammar attributes of the same name).
     pub(super) fn describe(&self, leaf: &Leaf, semantics: Option<&LeafSemantics>) -> Metadata {
         let node = leaf
-            .node
+            .node()
             .map(|n| n as usize)
             .filter(|&n| n < self.tree.len());
         let mut attributes: Vec<(String, MetaValue)> = Vec::new();

@@ -200,13 +200,11 @@ pub struct Symbol(pub u32);
 
 /// A finished shape: part of the model.
 ///
-/// Laid out in declaration order so that what dropping a leaf reads (its name, geometry and
-/// extras) comes first, in one cache line.
+/// Laid out in declaration order: what dropping a leaf reads (its geometry and extras) comes
+/// first, in one cache line, and the 4-byte fields last, so that no padding lies between them.
 #[derive(Clone, Debug, PartialEq)]
 #[repr(C)]
 pub struct Leaf {
-    /// The symbol of the shape (the rule that made it); [`Derivation::name`] spells it.
-    pub name: Symbol,
     /// Its geometry, relative to the scope.
     pub geometry: Geometry,
     /// What few leaves carry (see [`LeafExtras`]); `None` for a leaf with none of it. Kept out
@@ -216,13 +214,20 @@ pub struct Leaf {
     pub scope: Scope,
     /// Its colour.
     pub color: Color,
-    /// Its node in [`Derivation::tree`], when the tree is kept.
-    pub node: Option<u32>,
+    /// Its node in [`Derivation::tree`], [`NO_NODE`] when the tree is not kept (read through
+    /// [`Leaf::node`]): 4 bytes where an `Option<u32>` takes 8.
+    node: u32,
     /// The initial shape it grew from, as an index into the derivation's initial shapes.
     pub lot: u32,
+    /// The symbol of the shape (the rule that made it); [`Derivation::name`] spells it.
+    pub name: Symbol,
     /// Whether the grammar set its colour (see [`crate::asset_look`]).
     pub painted: bool,
 }
+
+/// [`Leaf::node`] of a leaf without a tree node (the tree is kept only on request, and a tree
+/// never numbers this many shapes: derivations stop at [`DeriveOptions::max_shapes`]).
+const NO_NODE: u32 = u32::MAX;
 
 /// The rarely set parts of a [`Leaf`]: material name, texturing, kinematic section and goal
 /// semantics.
@@ -297,10 +302,21 @@ impl Leaf {
             extras,
             scope,
             color,
-            node,
+            node: node.unwrap_or(NO_NODE),
             lot,
             painted,
         }
+    }
+
+    /// Its node in [`Derivation::tree`], when the tree is kept.
+    pub fn node(&self) -> Option<u32> {
+        (self.node != NO_NODE).then_some(self.node)
+    }
+
+    /// The same leaf at tree node `node`.
+    pub(crate) fn with_node(mut self, node: Option<u32>) -> Self {
+        self.node = node.unwrap_or(NO_NODE);
+        self
     }
 
     /// Its material name, when one was set.
@@ -685,7 +701,7 @@ mod tests {
     /// name is a symbol index, so that a leaf is a scope (120 bytes) with little more.
     #[test]
     fn a_leaf_stays_small() {
-        assert_eq!(std::mem::size_of::<Leaf>(), 192);
+        assert_eq!(std::mem::size_of::<Leaf>(), 184);
         assert_eq!(std::mem::size_of::<crate::shape::Geometry>(), 24);
     }
 

@@ -383,10 +383,10 @@ impl Engine<'_> {
             let name = symbols.get(leaf.name.0 as usize).copied().flatten();
             let leaf = Leaf {
                 name: name.ok_or_else(|| lost("a symbol the new grammar lacks"))?,
-                node: leaf.node.map(batch_node).transpose()?,
                 ..leaf.clone()
             };
-            self.leaves.push(leaf.with_section(moved));
+            let node = leaf.node().map(batch_node).transpose()?;
+            self.leaves.push(leaf.with_node(node).with_section(moved));
         }
         self.ev
             .reports
