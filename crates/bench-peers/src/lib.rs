@@ -167,7 +167,7 @@ mod tests {
         let sy = SymbiosHouse::new(1, 2);
         let m = sy.interpreter.derive(sy.lots[0], "Lot").unwrap();
         for name in ["Wall", "Window"] {
-            let a = d.leaves.iter().filter(|l| &*l.name == name).count();
+            let a = d.leaves.iter().filter(|l| d.name(l.name) == name).count();
             let b = m.terminals.iter().filter(|t| t.mesh_id == name).count();
             assert_eq!(a, b, "{name}");
         }
@@ -179,7 +179,7 @@ mod tests {
         let area_sg: f64 = d
             .leaves
             .iter()
-            .filter(|l| &*l.name == "Window")
+            .filter(|l| d.name(l.name) == "Window")
             .map(|l| l.scope.size.x * l.scope.size.y)
             .sum();
         let area_sy: f64 = m

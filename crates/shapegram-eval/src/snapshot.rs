@@ -56,7 +56,7 @@ impl Derivation {
             .leaves
             .iter()
             .enumerate()
-            .filter_map(|(i, leaf)| leaf.node.filter(|&k| k as usize <= node).map(|k| (k, i)))
+            .filter_map(|(i, leaf)| leaf.node().filter(|&k| k as usize <= node).map(|k| (k, i)))
             .collect();
         leaves.sort_unstable();
         let mut leaves = leaves.into_iter().peekable();
@@ -81,7 +81,7 @@ impl Derivation {
                 ended_as_leaf = true;
                 let leaf = &self.leaves[i];
                 if frontier {
-                    parts.extend(leaf_part(leaf, bone(leaf.lot, leaf.section())));
+                    parts.extend(leaf_part(self, leaf, bone(leaf.lot, leaf.section())));
                 }
             }
             let rewritten_later = first_child[k] != u32::MAX;
@@ -99,11 +99,11 @@ impl Derivation {
 }
 
 /// A leaf as a part of its own (`None` without geometry).
-fn leaf_part(leaf: &Leaf, bone: Option<Bone>) -> Option<Part> {
+fn leaf_part(derivation: &Derivation, leaf: &Leaf, bone: Option<Bone>) -> Option<Part> {
     Some(Part {
         texture: None,
         uvs: Vec::new(),
-        name: leaf.name.to_string(),
+        name: derivation.name(leaf.name).to_string(),
         color: leaf.color,
         mesh: leaf.world_mesh()?,
         normals: Vec::new(),

@@ -11,7 +11,7 @@ use shapegram_geom::{Aabb, Color, DVec3, Part};
 use shapegram_implicit::{MeshOptions, Solid};
 use shapegram_syntax::Span;
 
-use crate::engine::Leaf;
+use crate::engine::{Derivation, Leaf};
 use crate::error::DeriveError;
 use crate::ops::ImplicitKind;
 use crate::shape::{CsgOp, Geometry, Implicit};
@@ -102,13 +102,13 @@ fn span_of(implicit: &Implicit) -> Span {
 /// their first members. Grid cells have edge `cell` when given, else a size picked per group
 /// (see [`cell_size`]). Meshing a group may take `time_budget` (like deriving a lot).
 pub(crate) fn mesh_solids(
-    leaves: &[Leaf],
+    derivation: &Derivation,
     cell: Option<f64>,
     time_budget: Option<Duration>,
 ) -> Result<Vec<Part>, DeriveError> {
     let mut groups: Vec<Group> = Vec::new();
     let mut index: FxHashMap<GroupKey, usize> = FxHashMap::default();
-    for leaf in leaves {
+    for leaf in &derivation.leaves {
         let Geometry::Implicit(implicit) = &leaf.geometry else {
             continue;
         };
@@ -116,10 +116,8 @@ pub(crate) fn mesh_solids(
             Some(csg) => (csg.group.clone(), GroupKey::Named(leaf.lot, &csg.group)),
             None => {
                 let color = leaf.color.to_array().map(f32::to_bits);
-                (
-                    leaf.name.clone(),
-                    GroupKey::Rule(leaf.lot, &leaf.name, color),
-                )
+                let name = &derivation.names[leaf.name.0 as usize];
+                (name.clone(), GroupKey::Rule(leaf.lot, name, color))
             }
         };
         let slot = *index.entry(key).or_insert_with(|| {

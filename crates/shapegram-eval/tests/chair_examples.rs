@@ -66,7 +66,7 @@ const STEEL: &str = "#9aa4ad";
 fn the_basic_chair_as_printed_stands_on_four_legs_and_is_brown() {
     let program = library("chair.goal", &["materials"]);
     let d = run(&program, 0);
-    let names: Vec<&str> = d.leaves.iter().map(|l| &*l.name).collect();
+    let names: Vec<&str> = d.leaves.iter().map(|l| d.name(l.name)).collect();
     assert_eq!(names, ["leg", "leg", "leg", "leg", "seat", "lean"]);
     let brown = Color::from_hex(BROWN).unwrap();
     assert!(d.leaves.iter().all(|l| l.color == brown));
@@ -81,7 +81,7 @@ fn the_basic_chair_as_printed_stands_on_four_legs_and_is_brown() {
 fn the_metallic_override_as_printed_puts_the_chair_on_a_steel_pedestal() {
     let program = library("metallic_chair.goal", &["chair.goal", "materials"]);
     let d = run(&program, 0);
-    let names: Vec<&str> = d.leaves.iter().map(|l| &*l.name).collect();
+    let names: Vec<&str> = d.leaves.iter().map(|l| d.name(l.name)).collect();
     assert_eq!(names, ["stand", "seat", "lean"]);
     let stand = &d.leaves[0];
     assert!(
@@ -114,7 +114,7 @@ fn chairs_by_place(d: &Derivation) -> Vec<Vec<&Leaf>> {
 }
 
 /// A chair's geometry, to the centimetre: each leaf's name, shape, size and place in its cell.
-fn geometry(place: usize, leaves: &[&Leaf]) -> Vec<String> {
+fn geometry(d: &Derivation, place: usize, leaves: &[&Leaf]) -> Vec<String> {
     let corner = DVec3::new((place / 10) as f64 * 1.3, 0.0, (place % 10) as f64 * 1.1);
     let cm = |v: DVec3| (v * 100.0).round().to_array().map(|x| x as i64);
     let mut parts: Vec<String> = leaves
@@ -127,7 +127,7 @@ fn geometry(place: usize, leaves: &[&Leaf]) -> Vec<String> {
             };
             format!(
                 "{} {kind} {:?} {:?}",
-                l.name,
+                d.name(l.name),
                 cm(l.scope.size),
                 cm(l.scope.origin - corner)
             )
@@ -146,7 +146,7 @@ fn four_incomplete_designs_give_about_a_hundred_different_chairs() {
     let designs: BTreeSet<Vec<String>> = places
         .iter()
         .enumerate()
-        .map(|(i, leaves)| geometry(i, leaves))
+        .map(|(i, leaves)| geometry(&d, i, leaves))
         .collect();
     // Counted by geometry alone: colours and materials aside.
     assert!(designs.len() >= 90, "{} different chairs", designs.len());
@@ -159,7 +159,7 @@ fn four_incomplete_designs_give_about_a_hundred_different_chairs() {
                 .map(|l| {
                     format!(
                         "{} {}",
-                        l.name,
+                        d.name(l.name),
                         matches!(l.geometry, shapegram_eval::Geometry::Box)
                     )
                 })

@@ -8,14 +8,14 @@ use shapegram_geom::DVec2;
 
 /// How many leaves have this name.
 fn count(d: &Derivation, name: &str) -> usize {
-    d.leaves.iter().filter(|l| &*l.name == name).count()
+    d.leaves.iter().filter(|l| d.name(l.name) == name).count()
 }
 
 /// The x sizes of the leaves with this name, in leaf order.
 fn widths(d: &Derivation, name: &str) -> Vec<f64> {
     d.leaves
         .iter()
-        .filter(|l| &*l.name == name)
+        .filter(|l| d.name(l.name) == name)
         .map(|l| (l.scope.size.x * 1e9).round() / 1e9)
         .collect()
 }
@@ -45,13 +45,17 @@ Face --> case inside() : Hidden.
     assert_eq!(count(&d, "Crossing"), 0);
     assert_eq!(count(&d, "Free"), 6);
     assert_eq!(count(&d, "Top"), 2);
-    let hidden = d.leaves.iter().find(|l| &*l.name == "Hidden").unwrap();
+    let hidden = d
+        .leaves
+        .iter()
+        .find(|l| d.name(l.name) == "Hidden")
+        .unwrap();
     assert!(
         (hidden.scope.size.y - 4.0).abs() < 1e-9,
         "the low block's face"
     );
     // Phase 1 leaves come first, then the shapes that waited, in derivation order.
-    assert_eq!(&*d.leaves[0].name, "Top");
+    assert_eq!(d.name(d.leaves[0].name), "Top");
     assert_eq!(d.stats.leaves, 10);
 }
 
@@ -73,10 +77,14 @@ Face --> case inside() : report(\"hidden\", geometry.area) Hidden.
         assert_eq!(&*d.tree[node as usize].name, "Face", "{key}");
     }
     // Each leaf hangs below the face whose report says what became of it.
-    let hidden = d.leaves.iter().find(|l| &*l.name == "Hidden").unwrap();
+    let hidden = d
+        .leaves
+        .iter()
+        .find(|l| d.name(l.name) == "Hidden")
+        .unwrap();
     let at = d.reports.iter().position(|(k, _)| k == "hidden").unwrap();
     assert_eq!(
-        d.tree[hidden.node.unwrap() as usize].parent,
+        d.tree[hidden.node().unwrap() as usize].parent,
         Some(d.report_nodes[at])
     );
 }
@@ -282,7 +290,7 @@ fn the_setback_example_lines_piers_up_with_the_tower() {
         let d = run(text, lot(20.0, 30.0));
         d.leaves
             .iter()
-            .filter(|l| &*l.name == "PierBlock")
+            .filter(|l| d.name(l.name) == "PierBlock")
             .filter_map(|l| l.world_mesh()?.bounds())
             .filter(|b| (b.min.z - 30.0).abs() < 1e-6 && b.max.y <= 4.0 * 3.4 + 1e-6)
             .flat_map(|b| [b.min.x, b.max.x])
@@ -317,7 +325,7 @@ fn courtyard_windows_stay_out_of_the_other_wings() {
         let glass: Vec<_> = d
             .leaves
             .iter()
-            .filter(|leaf| &*leaf.name == "Glass")
+            .filter(|leaf| d.name(leaf.name) == "Glass")
             .map(|leaf| leaf.world_mesh().unwrap().bounds().unwrap().center())
             .collect();
         let inside = glass
@@ -358,7 +366,14 @@ fn answers_do_not_depend_on_the_evaluation_order() {
         let mut leaves: Vec<String> = d
             .leaves
             .iter()
-            .map(|l| format!("{} {:.6?} {:.6?}", l.name, l.scope.origin, l.scope.size))
+            .map(|l| {
+                format!(
+                    "{} {:.6?} {:.6?}",
+                    d.name(l.name),
+                    l.scope.origin,
+                    l.scope.size
+                )
+            })
             .collect();
         leaves.sort();
         leaves
@@ -379,14 +394,14 @@ fn the_derivation_tree_links_shapes_of_both_phases() {
     for leaf in &d.leaves {
         // Up the tree from every leaf, phase 2 or not, to the lot.
         let mut path = Vec::new();
-        let mut at = leaf.node;
+        let mut at = leaf.node();
         while let Some(node) = at {
             let node = &d.tree[node as usize];
             path.push(&*node.name);
             at = node.parent;
         }
-        assert_eq!(path.last(), Some(&"Lot"), "{}: {path:?}", leaf.name);
-        assert!(path.contains(&"Mass"), "{}: {path:?}", leaf.name);
+        assert_eq!(path.last(), Some(&"Lot"), "{}: {path:?}", d.name(leaf.name));
+        assert!(path.contains(&"Mass"), "{}: {path:?}", d.name(leaf.name));
     }
 }
 

@@ -23,7 +23,7 @@ fn extrude_and_component_split_of_a_rectangular_lot() {
             leaf.geometry,
             Geometry::Box,
             "{} stays a rectangle",
-            leaf.name
+            d.name(leaf.name)
         );
         assert_eq!(leaf.scope.size.z, 0.0);
     }
@@ -127,7 +127,7 @@ fn non_rectangular_lots_extrude_and_split_as_meshes() {
     }
     let d = run("Lot --> extrude(3) comp(f) { side : W | top : T }", l);
     assert_eq!(names(&d).iter().filter(|n| **n == "W").count(), 6);
-    let top = d.leaves.iter().find(|l| &*l.name == "T").unwrap();
+    let top = d.leaves.iter().find(|l| d.name(l.name) == "T").unwrap();
     assert!((top.world_mesh().unwrap().area() - 12.0).abs() < 1e-9);
 }
 
@@ -390,11 +390,10 @@ fn stochastic_rules_are_deterministic_per_seed() {
             seed,
             ..Default::default()
         };
-        derive(&program, &[lot(300.0, 1.0)], &options)
-            .unwrap()
-            .leaves
+        let d = derive(&program, &[lot(300.0, 1.0)], &options).unwrap();
+        d.leaves
             .iter()
-            .map(|l| l.name.to_string())
+            .map(|l| d.name(l.name).to_string())
             .collect::<Vec<_>>()
     };
     let first = with_seed(1);
@@ -607,7 +606,7 @@ fn reports_name_the_tree_node_of_their_shape_when_the_tree_is_kept() {
         .collect();
     assert_eq!(made_on, expected);
     // A floor's report is made on the floor whose successor is the leaf.
-    let floor_of_first_slab = kept.tree[kept.leaves[0].node.unwrap() as usize].parent;
+    let floor_of_first_slab = kept.tree[kept.leaves[0].node().unwrap() as usize].parent;
     assert_eq!(floor_of_first_slab, Some(kept.report_nodes[1]));
     // Without the tree there is nothing to point at, and nothing is kept.
     let plain = derive(&program, &lots, &DeriveOptions::default()).unwrap();
@@ -637,19 +636,19 @@ fn the_derivation_tree_links_every_shape_to_its_parent() {
         }
     }
     for leaf in &d.leaves {
-        let node = &d.tree[leaf.node.unwrap() as usize];
-        assert_eq!(node.name, leaf.name);
+        let node = &d.tree[leaf.node().unwrap() as usize];
+        assert_eq!(&*node.name, d.name(leaf.name));
         // Wall leaf ← comp part (Floor) ← split part (Lot) ← Lot.
         let mut depth = 0;
-        let mut at = leaf.node.unwrap();
+        let mut at = leaf.node().unwrap();
         while let Some(p) = d.tree[at as usize].parent {
             at = p;
             depth += 1;
         }
-        assert_eq!(depth, 4, "{}", leaf.name);
+        assert_eq!(depth, 4, "{}", d.name(leaf.name));
     }
     let without = derive(&program, &[lot(4.0, 4.0)], &DeriveOptions::default()).unwrap();
-    assert!(without.tree.is_empty() && without.leaves[0].node.is_none());
+    assert!(without.tree.is_empty() && without.leaves[0].node().is_none());
 }
 
 #[test]
@@ -685,7 +684,7 @@ fn roofs_sit_on_the_top_face() {
         "Lot --> extrude(6) comp(f) { top : roofGable(30) Roof | side : Wall }",
         lot(20.0, 10.0),
     );
-    let roof = d.leaves.iter().find(|l| &*l.name == "Roof").unwrap();
+    let roof = d.leaves.iter().find(|l| d.name(l.name) == "Roof").unwrap();
     let mesh = roof.world_mesh().unwrap();
     assert!(mesh.is_watertight());
     // A triangular prism along the 20 m side: base 10, ridge 5·tan 30° above the eaves.
@@ -737,7 +736,7 @@ fn offset_splits_a_lot_into_inside_and_border() {
     let area = |name: &str| -> f64 {
         d.leaves
             .iter()
-            .filter(|l| &*l.name == name)
+            .filter(|l| d.name(l.name) == name)
             .map(|l| l.world_mesh().unwrap().area())
             .sum()
     };
@@ -892,7 +891,7 @@ fn a_lot_numbered_apart_derives_as_it_does_among_all_lots() {
         d.leaves
             .iter()
             .filter(|l| l.lot == lot)
-            .map(|l| (l.name.to_string(), l.scope))
+            .map(|l| (d.name(l.name).to_string(), l.scope))
             .collect::<Vec<_>>()
     };
     // Lots 3 and 1 alone, in that order, numbered as in the whole list.

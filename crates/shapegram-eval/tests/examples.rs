@@ -176,7 +176,10 @@ fn outcrop_fuses_its_blocks_and_keeps_the_tunnel_open() {
             assert!(!inside(&rock.mesh, p), "seed {seed}: rock at {p}");
         }
         // Fourteen slabs of 1.1 m with 0.3 m gaps along the 20 m path.
-        assert_eq!(d.leaves.iter().filter(|l| &*l.name == "Slab").count(), 14);
+        assert_eq!(
+            d.leaves.iter().filter(|l| d.name(l.name) == "Slab").count(),
+            14
+        );
     }
     assert_ne!(run(0).solids, run(3).solids);
 }
@@ -185,7 +188,7 @@ fn outcrop_fuses_its_blocks_and_keeps_the_tunnel_open() {
 fn villa_sets_back_a_garden_and_paths_and_builds_a_u() {
     let d = on_default_lot("villa.cga");
     let leaf = |name: &str| -> Vec<&shapegram_eval::Leaf> {
-        d.leaves.iter().filter(|l| &*l.name == name).collect()
+        d.leaves.iter().filter(|l| d.name(l.name) == name).collect()
     };
     // One hedge along the street (the lot's front, z = 30), 1.1 m high.
     let hedge = leaf("Hedge");
@@ -245,10 +248,10 @@ fn twisted_tower_narrows_and_turns_as_one_solid_with_its_spire_in_line() {
     let volume = |names: &[&str]| -> f64 {
         d.leaves
             .iter()
-            .filter(|l| names.contains(&&*l.name))
+            .filter(|l| names.contains(&d.name(l.name)))
             .map(|l| {
                 let mesh = l.world_mesh().unwrap();
-                assert!(mesh.is_watertight(), "{}", l.name);
+                assert!(mesh.is_watertight(), "{}", d.name(l.name));
                 mesh.signed_volume()
             })
             .sum()
@@ -280,7 +283,12 @@ fn twisted_tower_narrows_and_turns_as_one_solid_with_its_spire_in_line() {
     )
     .unwrap();
     let corners = |name: &str| -> Vec<shapegram_geom::DVec3> {
-        let leaf = d.leaves.iter().rev().find(|l| &*l.name == name).unwrap();
+        let leaf = d
+            .leaves
+            .iter()
+            .rev()
+            .find(|l| d.name(l.name) == name)
+            .unwrap();
         let mesh = leaf.world_mesh().unwrap();
         let mut points: Vec<_> = mesh
             .positions()

@@ -27,7 +27,7 @@ fn try_run(program: &Program, seed: u64) -> Result<Derivation, DeriveError> {
 }
 
 fn names(d: &Derivation) -> Vec<&str> {
-    d.leaves.iter().map(|l| &*l.name).collect()
+    d.leaves.iter().map(|l| d.name(l.name)).collect()
 }
 
 fn tags(leaf: &Leaf) -> Vec<&str> {

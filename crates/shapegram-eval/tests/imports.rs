@@ -36,7 +36,7 @@ fn heights(program: &Program) -> Vec<(String, f64)> {
     .unwrap();
     d.leaves
         .iter()
-        .map(|l| (l.name.to_string(), l.scope.size.y))
+        .map(|l| (d.name(l.name).to_string(), l.scope.size.y))
         .collect()
 }
 
@@ -254,7 +254,10 @@ fn an_import_redefines_the_file_s_extension_rules() {
             &DeriveOptions::default(),
         )
         .unwrap();
-        d.leaves.iter().map(|l| l.name.to_string()).collect()
+        d.leaves
+            .iter()
+            .map(|l| d.name(l.name).to_string())
+            .collect()
     };
     // The file alone: `start` makes Main its start rule, and Roof makes a flat roof.
     assert_eq!(

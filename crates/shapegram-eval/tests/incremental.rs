@@ -104,6 +104,33 @@ fn a_rule_that_moved_in_the_file_is_unchanged() {
 }
 
 #[test]
+fn reused_leaves_are_named_by_the_new_grammars_symbols() {
+    // A new name in A's body numbers the symbols of B's body one further on: B's reused leaves
+    // must be named by the new numbers.
+    let text = "Lot --> extrude(6) split(x) { ~1 : A | ~1 : B }
+A --> Wall.
+B --> comp(f) { side : Side. | top : Roof. }\n";
+    let edited = text.replace("A --> Wall.", "A --> split(x) { ~1 : Door. | ~1 : Wall. }");
+    let (before, after) = (compile(text), compile(&edited));
+    let lots = [lot(10.0, 8.0)];
+    let options = traced(false);
+    let previous = derive(&before, &lots, &options).unwrap();
+    let full = derive(&after, &lots, &options).unwrap();
+    let roof = |d: &Derivation| d.names.iter().position(|n| &**n == "Roof");
+    assert_ne!(roof(&previous), roof(&full), "the edit renumbers Roof");
+    let again = derive_again(&previous, &after, &lots, &options).unwrap();
+    assert_eq!((again.reused, again.applied, again.fallback), (1, 2, None));
+    assert_same(&again.derivation, &full);
+    let names: Vec<&str> = (again.derivation.leaves.iter())
+        .map(|l| again.derivation.name(l.name))
+        .collect();
+    assert_eq!(
+        names,
+        ["Door", "Wall", "Side", "Side", "Side", "Side", "Roof"]
+    );
+}
+
+#[test]
 fn implicit_solids_keep_where_their_rule_stands() {
     // A solid keeps the span of its `implicit(…)` for its error messages, so a rule that made
     // one and moved in the file is derived again; the other rule is still reused.

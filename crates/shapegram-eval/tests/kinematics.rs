@@ -326,7 +326,7 @@ Window --> joint(0, 0, 0) rotationLimits(y, 0, 100) rotateJoint(0, open, 0)
         assert!(
             !close(motion.transform_point(corner), corner),
             "{} does not swing with the sash",
-            leaf.name
+            d.name(leaf.name)
         );
     }
 }
@@ -430,7 +430,7 @@ fn probe_result(open: f64, turn: f64) -> String {
     let results: Vec<&str> = d
         .leaves
         .iter()
-        .map(|l| &*l.name)
+        .map(|l| d.name(l.name))
         .filter(|n| ["Hit", "Beside", "Clear"].contains(n))
         .collect();
     assert_eq!(results.len(), 1, "{results:?}");
@@ -473,7 +473,7 @@ Wall --> split(x, snap) { { ~1 : Part. }* }
         let mut xs: Vec<f64> = d
             .leaves
             .iter()
-            .filter(|l| &*l.name == "Part")
+            .filter(|l| d.name(l.name) == "Part")
             .map(|l| (l.scope.origin.x * 1e6).round() / 1e6)
             .collect();
         xs.sort_by(f64::total_cmp);

@@ -115,7 +115,7 @@ fn posed_leaves(d: &Derivation) -> Vec<Posed> {
             let rest = mesh.positions().to_vec();
             let posed = rest.iter().map(|p| motion.transform_point(*p)).collect();
             Some(Posed {
-                name: leaf.name.to_string(),
+                name: d.name(leaf.name).to_string(),
                 section,
                 rest,
                 posed,

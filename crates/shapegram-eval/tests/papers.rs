@@ -94,7 +94,7 @@ fn figure_12_building_layout() {
         assert_eq!(count(&d, "facade"), 4 * facades);
         assert_eq!(d.stats.leaves, 4 * facades);
         for leaf in &d.leaves {
-            assert_eq!(&*leaf.name, "facade");
+            assert_eq!(d.name(leaf.name), "facade");
             assert!((leaf.scope.size.z - 0.3).abs() < 1e-12);
             assert!(leaf.scope.size.y <= 12.0 + 1e-9);
         }
@@ -136,7 +136,7 @@ fn figure_7_scope_rules_place_five_instances() {
     ];
     let mut volume = Vec::new();
     for (leaf, (origin, size)) in d.leaves.iter().zip(expected) {
-        assert_eq!(&*leaf.name, "A");
+        assert_eq!(d.name(leaf.name), "A");
         assert!(close(leaf.scope.origin, origin, 1e-12), "{:?}", leaf.scope);
         assert!(close(leaf.scope.size, size, 1e-12), "{:?}", leaf.scope);
         // Each instance fills its scope.
@@ -169,7 +169,7 @@ fn check_posts(d: &Derivation) {
         .map(|l| base(l) + l.scope.y_axis() * 2.0)
         .collect();
     for (i, leaf) in d.leaves.iter().enumerate() {
-        assert_eq!(&*leaf.name, "Cube");
+        assert_eq!(d.name(leaf.name), "Cube");
         assert!(close(leaf.scope.size, DVec3::new(0.2, 2.0, 0.2), 1e-12));
         let mesh = leaf.world_mesh().expect("a post");
         assert!((mesh.signed_volume() - 0.08).abs() < 1e-12);
@@ -233,7 +233,7 @@ fn cells(d: &Derivation, n: u32) -> Vec<[usize; 3]> {
     d.leaves
         .iter()
         .map(|leaf| {
-            assert_eq!(&*leaf.name, "Cube");
+            assert_eq!(d.name(leaf.name), "Cube");
             assert!(close(leaf.scope.size, DVec3::splat(cell), 1e-12));
             let mesh = leaf.world_mesh().expect("a cube");
             let bounds = mesh.bounds().expect("bounds");

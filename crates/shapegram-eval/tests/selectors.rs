@@ -26,7 +26,7 @@ fn beams(rule: &str, w: f64, d: f64) -> Derivation {
 
 /// The leaves named `name`.
 fn named<'d>(d: &'d Derivation, name: &str) -> Vec<&'d Leaf> {
-    d.leaves.iter().filter(|l| &*l.name == name).collect()
+    d.leaves.iter().filter(|l| d.name(l.name) == name).collect()
 }
 
 /// The world bounding box of a leaf's geometry.

@@ -150,7 +150,11 @@ fn bad_setbacks_are_errors() {
 fn setback_takes_a_distance_per_edge_from_an_array_or_the_comp_function() {
     let area = |grammar: &str| {
         let d = common::run(grammar, common::lot(10.0, 10.0));
-        let rest: Vec<_> = d.leaves.iter().filter(|l| &*l.name == "Rest").collect();
+        let rest: Vec<_> = d
+            .leaves
+            .iter()
+            .filter(|l| d.name(l.name) == "Rest")
+            .collect();
         assert_eq!(rest.len(), 1, "{grammar}");
         rest[0].world_mesh().unwrap().area()
     };

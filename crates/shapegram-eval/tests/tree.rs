@@ -88,7 +88,7 @@ fn the_model_says_where_each_leaf_went() {
             },
         ]
     );
-    let nodes: Vec<Option<u32>> = d.leaves.iter().map(|l| l.node).collect();
+    let nodes: Vec<Option<u32>> = d.leaves.iter().map(|l| l.node()).collect();
     assert_eq!(nodes, [Some(3), Some(10), Some(7)]);
 }
 
@@ -96,5 +96,5 @@ fn the_model_says_where_each_leaf_went() {
 fn without_the_tree_nothing_is_kept() {
     let d = try_run(BLOCKS, lot(20.0, 30.0), &DeriveOptions::default()).unwrap();
     assert!(d.tree.is_empty());
-    assert!(d.leaves.iter().all(|l| l.node.is_none()));
+    assert!(d.leaves.iter().all(|l| l.node().is_none()));
 }

@@ -65,7 +65,7 @@ fn comp_function_entries_may_use_the_grouping_form() {
         "const d = comp(fe) { front : 1 | back = 2 | all = 0 }\nLot --> setback(d) { all : Ring | remainder : Core }",
         lot(20.0, 30.0),
     );
-    let core = d.leaves.iter().find(|l| &*l.name == "Core").unwrap();
+    let core = d.leaves.iter().find(|l| d.name(l.name) == "Core").unwrap();
     assert_eq!((core.scope.size.x, core.scope.size.z), (20.0, 27.0));
 }
 
@@ -96,7 +96,7 @@ fn names_that_are_no_cityengine_operation_are_rule_calls() {
     );
     assert_eq!(d.leaves.len(), 1);
     assert_eq!(
-        (&*d.leaves[0].name, d.leaves[0].scope.size.x),
+        (d.name(d.leaves[0].name), d.leaves[0].scope.size.x),
         ("Done", 2.0)
     );
 }

@@ -287,6 +287,7 @@ fn leaves_by_lot(derivation: &Derivation, lots: usize) -> Vec<Range<usize>> {
 fn lot_model(derivation: &Derivation, leaves: Range<usize>) -> Model {
     let lot = Derivation {
         leaves: derivation.leaves[leaves].to_vec(),
+        names: derivation.names.clone(),
         ..Derivation::default()
     };
     lot.to_model()

@@ -135,7 +135,7 @@ fn primitive_nodes(
                 }
                 for place in &leaves_of[part] {
                     let node = derivation.leaves[place.leaf as usize]
-                        .node
+                        .node()
                         .map_or(-1, i64::from);
                     let first = place.first as usize;
                     let own = &triangles[first..first + place.count as usize];

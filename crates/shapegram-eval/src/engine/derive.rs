@@ -50,11 +50,7 @@ pub(super) fn run(
         )));
     }
     let overrides = overrides(program, options)?;
-    let names: Vec<Arc<str>> = program
-        .symbols
-        .iter()
-        .map(|s| Arc::from(s.as_str()))
-        .collect();
+    let names = program.symbol_names();
     let phase = if program.context_rules.contains(&true) {
         Phase::Gather
     } else {
@@ -78,7 +74,10 @@ pub(super) fn run(
         };
         derive_lot(program, &lots[i], how, options, batch)
     });
-    let mut all = Derivation::default();
+    let mut all = Derivation {
+        names: names.clone(),
+        ..Derivation::default()
+    };
     // One batch (one thread) hands its leaves over as they are: room for them all would be a
     // second vector as large, allocated for nothing.
     if batches.len() > 1 {
@@ -148,8 +147,7 @@ pub(super) fn run(
     all.stats.leaves = all.leaves.len();
     all.stats.rules = rule_counts(program, &counts);
     if program.solids {
-        all.solids =
-            crate::solids::mesh_solids(&all.leaves, options.implicit_cell, options.time_budget)?;
+        all.solids = crate::solids::mesh_solids(&all, options.implicit_cell, options.time_budget)?;
     }
     Ok((all, reused))
 }
@@ -245,9 +243,9 @@ impl Derivation {
                 n.parent = n.parent.map(|p| p + base);
                 n
             }));
-            self.leaves.extend(batch.leaves.into_iter().map(|mut l| {
-                l.node = l.node.map(|n| n + base);
-                l
+            self.leaves.extend(batch.leaves.into_iter().map(|l| {
+                let node = l.node().map(|n| n + base);
+                l.with_node(node)
             }));
         }
         let occluder_base = gathered.occluders.len() as u32;

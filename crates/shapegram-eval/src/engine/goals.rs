@@ -67,11 +67,7 @@ pub(super) fn run_goals(
             None => (0..lots.len()).map(|l| (a, Some(l))).collect(),
         })
         .collect();
-    let names: Vec<Arc<str>> = program
-        .symbols
-        .iter()
-        .map(|s| Arc::from(s.as_str()))
-        .collect();
+    let names = program.symbol_names();
     // Boxes stand side by side: each one's x offset is known only after sizing those before it,
     // which is cheap, so they are sized first.
     let mut offsets = Vec::with_capacity(starts.len());
@@ -109,7 +105,10 @@ pub(super) fn run_goals(
         };
         derive_axiom(program, rules, start, &names, options, batch)
     });
-    let mut all = Derivation::default();
+    let mut all = Derivation {
+        names: names.clone(),
+        ..Derivation::default()
+    };
     let mut counts = vec![0usize; program.rules.len()];
     for batch in batches {
         all.absorb_batch(batch, &mut counts)?;

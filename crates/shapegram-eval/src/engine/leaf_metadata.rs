@@ -16,6 +16,8 @@ use crate::value::Value;
 /// alone).
 pub(super) struct LeafDescriber<'a> {
     tree: &'a [TreeNode],
+    /// The names of leaves' symbols ([`Derivation::names`]).
+    names: &'a [Arc<str>],
     attr_names: &'a [String],
     /// Each tree node's position among the children of its parent (for an initial shape, the
     /// lot's index).
@@ -76,6 +78,7 @@ impl<'a> LeafDescriber<'a> {
         }
         let mut describer = Self {
             tree,
+            names: &derivation.names,
             attr_names,
             positions,
             reports: &derivation.reports,
@@ -148,7 +151,7 @@ impl<'a> LeafDescriber<'a> {
     /// win over grammar attributes of the same name).
     pub(super) fn describe(&mut self, leaf: &Leaf, semantics: Option<&LeafSemantics>) -> Metadata {
         let node = leaf
-            .node
+            .node()
             .map(|n| n as usize)
             .filter(|&n| n < self.tree.len());
         let mut attributes: Vec<(String, MetaValue)> = Vec::new();
@@ -174,7 +177,7 @@ impl<'a> LeafDescriber<'a> {
         }
         attributes.sort_by(|a, b| a.0.cmp(&b.0));
         Metadata {
-            rule: Some(leaf.name.to_string()),
+            rule: Some(self.names[leaf.name.0 as usize].to_string()),
             path: node.map(|n| self.leaf_path(n)),
             leaves: None,
             goals,
@@ -351,7 +354,7 @@ mod tests {
         let mut describer = LeafDescriber::new(&derivation, &[]);
         let order = (0..leaves.len()).chain((0..leaves.len()).rev().step_by(3));
         for i in order {
-            let node = leaves[i].node.expect("the tree was kept") as usize;
+            let node = leaves[i].node().expect("the tree was kept") as usize;
             let path = describer.describe(&leaves[i], None).path.expect("a path");
             assert_eq!(path, describer.path(node));
             assert!(

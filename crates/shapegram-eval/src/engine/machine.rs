@@ -18,7 +18,7 @@ use super::scope::{align_to_axes, align_to_bbox, center};
 use super::split::Layouts;
 use super::statements::Cursor;
 use super::trace::Recorder;
-use super::{DeriveOptions, Fallible, Leaf, LeafExtras, TreeNode};
+use super::{DeriveOptions, Fallible, Leaf, LeafExtras, Symbol, TreeNode};
 use crate::context::{Occluder, Parked, SnapPlane};
 use crate::error::DeriveError;
 use crate::expr::Evaluator;
@@ -641,7 +641,7 @@ impl<'p> Engine<'p> {
             semantics,
         );
         self.leaves.push(Leaf::new(
-            self.names[state.symbol as usize].clone(),
+            Symbol(state.symbol),
             state.scope,
             std::mem::replace(&mut state.geometry, Geometry::Empty),
             state.color,

@@ -192,15 +192,19 @@ impl InitialShape {
     }
 }
 
+/// A leaf's symbol: the index of its name in [`Derivation::names`]. A leaf names its symbol
+/// by index rather than by a shared string, so that making and dropping a leaf (millions in a
+/// city) touches no reference count.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub struct Symbol(pub u32);
+
 /// A finished shape: part of the model.
 ///
-/// Laid out in declaration order so that what dropping a leaf reads (its name, geometry and
-/// extras) comes first, in one cache line.
+/// Laid out in declaration order: what dropping a leaf reads (its geometry and extras) comes
+/// first, in one cache line, and the 4-byte fields last, so that no padding lies between them.
 #[derive(Clone, Debug, PartialEq)]
 #[repr(C)]
 pub struct Leaf {
-    /// The symbol of the shape (the rule that made it).
-    pub name: Arc<str>,
     /// Its geometry, relative to the scope.
     pub geometry: Geometry,
     /// What few leaves carry (see [`LeafExtras`]); `None` for a leaf with none of it. Kept out
@@ -210,13 +214,20 @@ pub struct Leaf {
     pub scope: Scope,
     /// Its colour.
     pub color: Color,
-    /// Its node in [`Derivation::tree`], when the tree is kept.
-    pub node: Option<u32>,
+    /// Its node in [`Derivation::tree`], [`NO_NODE`] when the tree is not kept (read through
+    /// [`Leaf::node`]): 4 bytes where an `Option<u32>` takes 8.
+    node: u32,
     /// The initial shape it grew from, as an index into the derivation's initial shapes.
     pub lot: u32,
+    /// The symbol of the shape (the rule that made it); [`Derivation::name`] spells it.
+    pub name: Symbol,
     /// Whether the grammar set its colour (see [`crate::asset_look`]).
     pub painted: bool,
 }
+
+/// [`Leaf::node`] of a leaf without a tree node (the tree is kept only on request, and a tree
+/// never numbers this many shapes: derivations stop at [`DeriveOptions::max_shapes`]).
+const NO_NODE: u32 = u32::MAX;
 
 /// The rarely set parts of a [`Leaf`]: material name, texturing, kinematic section and goal
 /// semantics.
@@ -276,7 +287,7 @@ impl Leaf {
     /// A leaf of the given geometry and look, made from `lot`.
     #[allow(clippy::too_many_arguments)]
     pub(crate) fn new(
-        name: Arc<str>,
+        name: Symbol,
         scope: Scope,
         geometry: Geometry,
         color: Color,
@@ -291,10 +302,21 @@ impl Leaf {
             extras,
             scope,
             color,
-            node,
+            node: node.unwrap_or(NO_NODE),
             lot,
             painted,
         }
+    }
+
+    /// Its node in [`Derivation::tree`], when the tree is kept.
+    pub fn node(&self) -> Option<u32> {
+        (self.node != NO_NODE).then_some(self.node)
+    }
+
+    /// The same leaf at tree node `node`.
+    pub(crate) fn with_node(mut self, node: Option<u32>) -> Self {
+        self.node = node.unwrap_or(NO_NODE);
+        self
     }
 
     /// Its material name, when one was set.
@@ -401,6 +423,9 @@ pub struct Stats {
 pub struct Derivation {
     /// The leaves, initial shape by initial shape, in derivation order.
     pub leaves: Vec<Leaf>,
+    /// The names of the symbols leaves are named by ([`Leaf::name`] indexes it): the
+    /// program's symbols, in its order.
+    pub names: Arc<[Arc<str>]>,
     /// `report(key, value)` calls in derivation order.
     pub reports: Vec<(String, Value)>,
     /// The tree node of the shape each report was made on, parallel to [`Derivation::reports`],
@@ -432,6 +457,11 @@ pub struct Derivation {
 }
 
 impl Derivation {
+    /// The name of `symbol` (a [`Leaf::name`]).
+    pub fn name(&self, symbol: Symbol) -> &str {
+        &self.names[symbol.0 as usize]
+    }
+
     /// The rigid motion that takes tree node `node` (its scope and geometry, in the rest pose)
     /// into the current pose of its section; `None` when its lot has no skeleton or there is
     /// no such node. Visual debugging shows any shape of the derivation posed with it.
@@ -546,7 +576,7 @@ impl Derivation {
                     }
                     parts.push(ModelPart {
                         bone,
-                        name: leaf.name.to_string(),
+                        name: self.name(leaf.name).to_string(),
                         color: piece.color,
                         normals: Vec::new(),
                         metadata: meta.clone(),
@@ -560,7 +590,7 @@ impl Derivation {
                     continue;
                 }
                 let key = (
-                    &*leaf.name,
+                    self.name(leaf.name),
                     piece.color.to_array().map(f32::to_bits),
                     bone,
                     meta.clone().map(PartMetadata),
@@ -571,7 +601,7 @@ impl Derivation {
                 let i = *slot.entry(key).or_insert_with(|| {
                     parts.push(ModelPart {
                         bone,
-                        name: leaf.name.to_string(),
+                        name: self.name(leaf.name).to_string(),
                         color: piece.color,
                         mesh: Mesh::new(),
                         normals: Vec::new(),
@@ -685,11 +715,11 @@ type Fallible<T> = std::result::Result<T, DeriveError>;
 mod tests {
     use super::Leaf;
 
-    /// A city derives millions of leaves: what most of them lack stays out of line, so that a
-    /// leaf is a scope (120 bytes) with little more.
+    /// A city derives millions of leaves: what most of them lack stays out of line, and the
+    /// name is a symbol index, so that a leaf is a scope (120 bytes) with little more.
     #[test]
     fn a_leaf_stays_small() {
-        assert_eq!(std::mem::size_of::<Leaf>(), 200);
+        assert_eq!(std::mem::size_of::<Leaf>(), 184);
         assert_eq!(std::mem::size_of::<crate::shape::Geometry>(), 24);
     }
 

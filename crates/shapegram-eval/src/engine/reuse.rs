@@ -13,12 +13,13 @@
 //! dependencies changed is derived afresh. The result is the full derivation of the new
 //! grammar, byte for byte.
 
+use rustc_hash::FxHashMap;
 use shapegram_kinematics::{SectionId, Skeleton};
 
 use super::derive::run;
 use super::machine::{Engine, Task};
 use super::trace::{Key, LotTrace, Marks, SectionInputs, Trace, changed_rules};
-use super::{Derivation, DeriveOptions, InitialShape, Leaf, TreeNode};
+use super::{Derivation, DeriveOptions, InitialShape, Leaf, Symbol, TreeNode};
 use crate::error::DeriveError;
 use crate::expr::ConstEvent;
 use crate::program::Program;
@@ -96,6 +97,9 @@ pub(super) struct Old<'a> {
     derivation: &'a Derivation,
     changed: Vec<bool>,
     moved: bool,
+    /// By symbol of the previous derivation: the new program's symbol of that name (a changed
+    /// rule body can number symbols otherwise), `None` when it has none.
+    symbols: Vec<Option<Symbol>>,
     /// Where each lot's leaves, tree nodes, reports and prints start in the derivation.
     starts: Vec<Marks>,
 }
@@ -113,11 +117,19 @@ impl<'a> Old<'a> {
             at.prints += totals.prints;
         }
         let (old, new) = (&trace.key.fingerprints, &program.fingerprints);
+        let by_name: FxHashMap<&str, Symbol> = (program.symbols.iter())
+            .enumerate()
+            .map(|(i, name)| (name.as_str(), Symbol(i as u32)))
+            .collect();
+        let symbols = (derivation.names.iter())
+            .map(|name| by_name.get(&**name).copied())
+            .collect();
         Self {
             trace,
             derivation,
             changed: changed_rules(old, new),
             moved: old.starts != new.starts,
+            symbols,
             starts,
         }
     }
@@ -160,6 +172,7 @@ impl<'a> Old<'a> {
             prints: d.prints.get(start.prints..start.prints + totals.prints)?,
             changed: &self.changed,
             moved: self.moved,
+            symbols: &self.symbols,
             dirty,
             cursor: 0,
             fresh: None,
@@ -184,6 +197,8 @@ pub(super) struct Previous<'a> {
     report_nodes: &'a [u32],
     prints: &'a [String],
     changed: &'a [bool],
+    /// The new program's symbols of the previous derivation's ([`Old::symbols`]).
+    symbols: &'a [Option<Symbol>],
     /// Whether rules moved in the file: implicit solids keep the spans of their operations, so
     /// subtrees that made them are not copied but walked into.
     moved: bool,
@@ -309,6 +324,7 @@ impl Engine<'_> {
             report_nodes,
             prints,
             nodes_base,
+            symbols,
             ..
         } = *previous;
         let application = &trace.applications[i];
@@ -364,11 +380,13 @@ impl Engine<'_> {
         self.leaves.reserve(finish.leaves - start.leaves);
         for leaf in &leaves[start.leaves..finish.leaves] {
             let moved = section(leaf.section())?;
+            let name = symbols.get(leaf.name.0 as usize).copied().flatten();
             let leaf = Leaf {
-                node: leaf.node.map(batch_node).transpose()?,
+                name: name.ok_or_else(|| lost("a symbol the new grammar lacks"))?,
                 ..leaf.clone()
             };
-            self.leaves.push(leaf.with_section(moved));
+            let node = leaf.node().map(batch_node).transpose()?;
+            self.leaves.push(leaf.with_node(node).with_section(moved));
         }
         self.ev
             .reports

@@ -13,7 +13,7 @@ use shapegram_syntax::Span;
 use super::footprint::flat_faces;
 use super::machine::{Engine, Phase, Work};
 use super::scope::refit;
-use super::{Fallible, Leaf, LeafExtras};
+use super::{Fallible, Leaf, LeafExtras, Symbol};
 use crate::context::Occluder;
 use crate::ops::{SplitBlock, SplitJoints};
 use crate::program::{CExpr, CStmt};
@@ -254,7 +254,7 @@ impl<'p> Engine<'p> {
                 None,
             );
             self.leaves.push(Leaf::new(
-                self.names[*symbol as usize].clone(),
+                Symbol(*symbol),
                 *scope,
                 state.geometry.clone(),
                 state.color,

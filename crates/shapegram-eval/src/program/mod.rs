@@ -308,6 +308,12 @@ impl Program {
         self.attr_by_name.get(name).copied()
     }
 
+    /// The symbols' names in symbol order, as a derivation's leaves are named by
+    /// ([`crate::Derivation::names`]).
+    pub(crate) fn symbol_names(&self) -> Arc<[Arc<str>]> {
+        self.symbols.iter().map(|s| Arc::from(s.as_str())).collect()
+    }
+
     /// Names of the attributes, in file order.
     pub fn attr_names(&self) -> impl Iterator<Item = &str> {
         self.attrs.iter().map(|a| a.name.as_str())

@@ -100,7 +100,7 @@ pub fn try_run(
 
 /// Leaf names in order.
 pub fn names(d: &Derivation) -> Vec<&str> {
-    d.leaves.iter().map(|l| &*l.name).collect()
+    d.leaves.iter().map(|l| d.name(l.name)).collect()
 }
 
 /// The project's `examples/` folder.
