@@ -13,13 +13,14 @@
 use std::hint::black_box;
 use std::time::Instant;
 
+mod city_lots;
 #[path = "../../../bench/thread_usage.rs"]
 mod thread_usage;
 
+use city_lots::{lots, lots_apart};
 use criterion::{Criterion, Throughput, criterion_group, criterion_main};
 use shapegram_eval::{DeriveOptions, InitialShape, Program, derive};
 use shapegram_export::{ExportOptions, GlbEncoding, write_glb};
-use shapegram_geom::DVec2;
 use shapegram_syntax::{SourceFile, parse};
 
 const CITY: &str = r##"
@@ -80,30 +81,6 @@ fn program(text: &str) -> Program {
     Program::compile(&parsed.grammar)
         .0
         .expect("the benchmark grammar compiles")
-}
-
-/// `count` lots of 20 × 30 m in rows of 40, `gap` m apart.
-fn lots_apart(count: usize, gap: f64) -> Vec<InitialShape> {
-    (0..count)
-        .map(|i| {
-            let (x, z) = (
-                (i % 40) as f64 * (20.0 + gap),
-                (i / 40) as f64 * (30.0 + gap),
-            );
-            InitialShape::from_xz(&[
-                DVec2::new(x, z),
-                DVec2::new(x + 20.0, z),
-                DVec2::new(x + 20.0, z + 30.0),
-                DVec2::new(x, z + 30.0),
-            ])
-            .expect("a rectangle is a lot")
-        })
-        .collect()
-}
-
-/// `count` lots of 20 × 30 m in rows, 5 m apart.
-fn lots(count: usize) -> Vec<InitialShape> {
-    lots_apart(count, 5.0)
 }
 
 /// Derives `program` on `lots` `runs` times and returns the fastest time.

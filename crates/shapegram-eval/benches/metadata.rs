@@ -5,12 +5,13 @@
 //! so the metadata's share can be read off against the same model without it
 //! (`docs/output.md`, "Metadata on big models").
 
+mod city_lots;
+
 use std::hint::black_box;
 use std::time::Instant;
 
-use shapegram_eval::{DeriveOptions, InitialShape, MetadataScope, ModelOptions, Program, derive};
+use shapegram_eval::{DeriveOptions, MetadataScope, ModelOptions, Program, derive};
 use shapegram_export::{ExportOptions, write_glb};
-use shapegram_geom::DVec2;
 use shapegram_syntax::{SourceFile, parse};
 
 const CITY: &str = r##"
@@ -33,22 +34,6 @@ Shop --> split(x) { 0.4 : Wall | ~1 : color("#a0c4e8") Glass. | 0.4 : Wall }
 Roof --> color("#777777")
 Wall --> color("#d9d4c7")
 "##;
-
-/// 100 lots of 20 × 30 m in rows of 40, 5 m apart (the city benchmark's first 100).
-fn lots() -> Vec<InitialShape> {
-    (0..100)
-        .map(|i| {
-            let (x, z) = ((i % 40) as f64 * 25.0, (i / 40) as f64 * 35.0);
-            InitialShape::from_xz(&[
-                DVec2::new(x, z),
-                DVec2::new(x + 20.0, z),
-                DVec2::new(x + 20.0, z + 30.0),
-                DVec2::new(x, z + 30.0),
-            ])
-            .expect("a rectangle is a lot")
-        })
-        .collect()
-}
 
 /// The fastest of three runs of `f`, in seconds, and its last result.
 fn best_of_three<T>(mut f: impl FnMut() -> T) -> (f64, T) {
@@ -74,7 +59,7 @@ fn main() {
         keep_tree: true,
         ..DeriveOptions::default()
     };
-    let derivation = derive(&program, &lots(), &options).expect("the city derives");
+    let derivation = derive(&program, &city_lots::lots(100), &options).expect("the city derives");
     let attr_names: Vec<String> = program.attr_names().map(str::to_owned).collect();
     let export = ExportOptions::default();
     for (label, metadata) in [
