@@ -15,6 +15,7 @@ fn assert_same(again: &Derivation, full: &Derivation) {
     assert_eq!(again.reports, full.reports);
     assert_eq!(again.report_nodes, full.report_nodes);
     assert_eq!(again.prints, full.prints);
+    assert_eq!(again.print_lots, full.print_lots);
     assert_eq!(again.skeletons, full.skeletons);
     assert_eq!(again.solids, full.solids);
     assert_eq!(again.stats, full.stats);
@@ -322,4 +323,23 @@ mod generated {
             assert_same(&again.derivation, &full);
         }
     }
+}
+
+#[test]
+fn reused_prints_keep_their_lots() {
+    let text = "Lot --> print(initialShape.name) extrude(6) split(x) { ~1 : A | ~1 : B }
+A --> print(\"a\") Wall.
+B --> print(\"b\") Roof.\n";
+    let edited = text.replace("A --> print(\"a\") Wall.", "A --> print(\"a2\") Door.");
+    let lots = [lot(10.0, 8.0), lot(6.0, 6.0)];
+    let options = traced(false);
+    let previous = derive(&compile(text), &lots, &options).unwrap();
+    let again = derive_again(&previous, &compile(&edited), &lots, &options).unwrap();
+    assert!(again.reused > 0, "nothing was reused");
+    assert_eq!(
+        again.derivation.prints,
+        ["shape_0", "a2", "b", "shape_1", "a2", "b"]
+    );
+    assert_eq!(again.derivation.print_lots, [0, 0, 0, 1, 1, 1]);
+    edit(&compile(text), &compile(&edited), &lots, &options);
 }

@@ -194,6 +194,7 @@ fn initial_shapes_have_a_name_and_an_object_frame() {
     )
     .unwrap();
     assert_eq!(d.prints, ["shape_0", "shape_1"]);
+    assert_eq!(d.print_lots, [0, 1]);
     // A lot whose first edge runs along +z: its object frame is turned about y.
     let turned = InitialShape::from_xz(&[
         DVec2::new(0.0, 0.0),

@@ -95,7 +95,7 @@ pub fn derive_tiles<'py>(
                 halo: engine.has_context_rules().then_some(halo),
                 shard,
             };
-            let derive = |cell: &[_]| engine.derivation(cell, &settings);
+            let derive = |cell: &[_], _own: &[bool]| engine.derivation(cell, &settings);
             let tiled = stream::<EngineError>(&lots, frame, &out_dir, tiling, derive, true)
                 .map_err(to_py)?;
             Ok((tiled, warnings))

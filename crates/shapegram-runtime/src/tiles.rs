@@ -42,14 +42,15 @@ pub struct Tiled {
 /// that only one cell's derivation is held at a time. `derive` derives a list of lots (each
 /// numbered by its place in `lots`, so that it derives as it would among all of them); a
 /// cell's list is its lots and, with a halo, the lots within the halo around it as context,
-/// in the order of `lots`. With a shard, only the cells of its parent tiles are derived.
+/// in the order of `lots`, and `derive` is told which are the cell's own (`true`) and which
+/// are context (`false`). With a shard, only the cells of its parent tiles are derived.
 /// Errors are `derive`'s, or [`Error`]s of writing the tiles.
 pub fn stream<E: From<Error>>(
     lots: &[InitialShape],
     frame: Frame,
     dir: &Path,
     tiling: Tiling,
-    mut derive: impl FnMut(&[InitialShape]) -> Result<Derivation, E>,
+    mut derive: impl FnMut(&[InitialShape], &[bool]) -> Result<Derivation, E>,
     quiet: bool,
 ) -> Result<Tiled, E> {
     let cells = cells_of(lots, tiling.grid);
@@ -77,7 +78,11 @@ pub fn stream<E: From<Error>>(
                 ..lots[i].clone()
             })
             .collect();
-        let derivation = derive(&numbered)?;
+        let own: Vec<bool> = derived
+            .iter()
+            .map(|i| members.binary_search(i).is_ok())
+            .collect();
+        let derivation = derive(&numbered, &own)?;
         if !warned {
             warned = warn_unwritten(&derivation);
         }

@@ -133,7 +133,7 @@ pub fn run(args: &DeriveArgs) -> Result<(), Failure> {
         report,
     } = derived;
     let source = &sources[0];
-    print_prints(&derivation);
+    print_prints(&derivation, |_| true);
 
     let export_started = Instant::now();
     if let Some(dir) = &args.tiles {
@@ -276,10 +276,10 @@ impl Tiled<'_> {
             halo: self.program.has_context_rules().then_some(args.halo),
             shard: args.shard,
         };
-        let derive = |cell: &[InitialShape]| {
+        let derive = |cell: &[InitialShape], own: &[bool]| {
             let derivation = shapegram_eval::derive(self.program, cell, self.options)
                 .map_err(|e| derive_failure(self.sources, &e))?;
-            print_prints(&derivation);
+            print_prints(&derivation, |lot| own[lot as usize]);
             Ok(derivation)
         };
         let tiled = tiles::stream::<Failure>(lots, frame, dir, tiling, derive, args.quiet)?;
@@ -314,10 +314,12 @@ impl Tiled<'_> {
     }
 }
 
-/// Prints the `print` output of a derivation on stderr, a `print: ` line each.
-fn print_prints(derivation: &Derivation) {
+/// Prints the `print` output of a derivation on stderr, a `print: ` line each, of the lots
+/// `printed` takes.
+fn print_prints(derivation: &Derivation, printed: impl Fn(u32) -> bool) {
     let mut prints = String::new();
-    for text in &derivation.prints {
+    let lines = derivation.prints.iter().zip(&derivation.print_lots);
+    for (text, _) in lines.filter(|&(_, &lot)| printed(lot)) {
         for line in text.split('\n') {
             prints.push_str("print: ");
             prints.push_str(line);

@@ -561,6 +561,61 @@ fn context_beyond_the_halo_is_not_seen() {
     );
 }
 
+/// The `print: ` lines of a run's output, sorted.
+fn printed(err: &str) -> Vec<&str> {
+    let mut lines: Vec<&str> = err
+        .lines()
+        .filter_map(|l| l.strip_prefix("print: "))
+        .collect();
+    lines.sort_unstable();
+    lines
+}
+
+#[test]
+fn lots_derived_as_context_do_not_print_again() {
+    let dir = TempDir::new("tiles-prints");
+    let lots = dir.path("city.geojson");
+    std::fs::write(&lots, city(0.0, 0.0, (1.0, 1.0)).to_string()).unwrap();
+    // The reach grammar, printing each lot's name before and after its occlusion query.
+    let grammar = dir.path("reach.cga");
+    let printing = REACH
+        .replace("Lot --> ", "Lot --> print(initialShape.name) ")
+        .replace("Red --> ", "Red --> print(initialShape.name + \" red\") ")
+        .replace(
+            "Grey --> ",
+            "Grey --> print(initialShape.name + \" grey\") ",
+        );
+    std::fs::write(&grammar, printing).unwrap();
+    let whole = derive_tiles(
+        &grammar,
+        &lots,
+        &dir.path("whole"),
+        &["-o", &dir.path("w.glb").display().to_string()],
+    );
+    let streamed = derive_tiles(&grammar, &lots, &dir.path("streamed"), &["--halo", "5"]);
+    let (whole, streamed) = (printed(&whole), printed(&streamed));
+    assert_eq!(whole.len(), 64, "{whole:?}");
+    assert_eq!(
+        whole.iter().filter(|l| l.ends_with(" red")).count(),
+        28,
+        "{whole:?}"
+    );
+    assert_eq!(streamed, whole);
+    let shards: Vec<String> = (0..2)
+        .map(|k| {
+            derive_tiles(
+                &grammar,
+                &lots,
+                &dir.path(&format!("s{k}")),
+                &["--shard", &format!("{k}/2")],
+            )
+        })
+        .collect();
+    let mut sharded: Vec<&str> = shards.iter().flat_map(|err| printed(err)).collect();
+    sharded.sort_unstable();
+    assert_eq!(sharded, whole);
+}
+
 #[test]
 fn empty_shards_are_written_and_bad_shards_refused() {
     let dir = TempDir::new("tiles-shards");

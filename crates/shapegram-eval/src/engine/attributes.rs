@@ -148,7 +148,7 @@ impl Engine<'_> {
         args: &[Value],
     ) -> Fallible<()> {
         let text = self.ev.eval(value, state, args)?.to_string();
-        self.ev.prints.push(text);
+        self.ev.print(text);
         Ok(())
     }
 }

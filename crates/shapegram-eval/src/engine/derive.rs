@@ -268,6 +268,7 @@ impl Derivation {
         self.report_nodes
             .extend(batch.report_nodes.into_iter().map(|n| n + base));
         self.prints.extend(batch.prints);
+        self.print_lots.extend(batch.print_lots);
         self.stats.shapes += batch.shapes;
         for (c, n) in counts.iter_mut().zip(&batch.counts) {
             *c += n;
@@ -285,6 +286,7 @@ pub(super) struct Batch {
     /// The batch's number of the tree node each report was made on (with a tree only).
     pub(super) report_nodes: Vec<u32>,
     pub(super) prints: Vec<String>,
+    pub(super) print_lots: Vec<u32>,
     pub(super) shapes: usize,
     pub(super) counts: Vec<usize>,
     waiting: Vec<Waiting>,
@@ -314,6 +316,7 @@ impl Batch {
             reports: Vec::new(),
             report_nodes: Vec::new(),
             prints: Vec::new(),
+            print_lots: Vec::new(),
             shapes: 0,
             counts: vec![0; program.rules.len()],
             waiting: Vec::new(),

@@ -188,6 +188,7 @@ impl<'p> Engine<'p> {
         batch.reports.extend(self.ev.reports);
         batch.report_nodes.extend(self.report_nodes);
         batch.prints.extend(self.ev.prints);
+        batch.print_lots.extend(self.ev.print_lots);
         batch.shapes += self.shapes;
         for (c, n) in batch.counts.iter_mut().zip(&self.counts) {
             *c += n;

@@ -434,6 +434,11 @@ pub struct Derivation {
     pub report_nodes: Vec<u32>,
     /// `print(value)` output in derivation order.
     pub prints: Vec<String>,
+    /// The initial shape (by its index among the derivation's) each line of
+    /// [`Derivation::prints`] was printed on, parallel to it: a tiled run prints the lines of
+    /// the lots it derives for their tiles and not those of the lots around them it derives as
+    /// context.
+    pub print_lots: Vec<u32>,
     /// Every shape that existed, parents before children, when [`DeriveOptions::keep_tree`]
     /// is set; empty otherwise.
     pub tree: Vec<TreeNode>,

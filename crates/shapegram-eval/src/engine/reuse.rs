@@ -397,9 +397,9 @@ impl Engine<'_> {
                 self.report_nodes.push(batch_node(old)?);
             }
         }
-        self.ev
-            .prints
-            .extend_from_slice(&prints[start.prints..finish.prints]);
+        for text in &prints[start.prints..finish.prints] {
+            self.ev.print(text.clone());
+        }
         self.ev
             .replay_consts(&trace.consts[start.consts..finish.consts]);
         if let Some(previous) = &mut self.previous {

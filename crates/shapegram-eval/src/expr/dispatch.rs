@@ -31,7 +31,7 @@ impl Evaluator<'_> {
             Builtin::Print => {
                 // As a function, `print` gives its value on.
                 let value = self.eval(&params[0], shape, args)?;
-                self.prints.push(value.to_string());
+                self.print(value.to_string());
                 return Ok(value);
             }
             Builtin::Text(t) => return self.text(t, params, shape, args, span),

@@ -52,6 +52,8 @@ pub(crate) struct Evaluator<'p> {
     pub reports: Vec<(String, Value)>,
     /// `print(value)` output, in derivation order.
     pub prints: Vec<String>,
+    /// The lot each line of `prints` was printed on, parallel to it.
+    pub print_lots: Vec<u32>,
     /// What occlusion queries look at (phase 2 of a derivation with context rules only).
     pub context: Option<&'p Context>,
     /// The lot being derived, by its position among the initial shapes.
@@ -92,6 +94,12 @@ pub(crate) struct ConstMemo {
 type Result<T> = std::result::Result<T, DeriveError>;
 
 impl<'p> Evaluator<'p> {
+    /// Adds a line to the printed output, on the lot being derived.
+    pub fn print(&mut self, text: String) {
+        self.prints.push(text);
+        self.print_lots.push(self.lot);
+    }
+
     /// An evaluator for one initial shape with the given seed.
     pub fn new(program: &'p Program, seed: u64, initial_origin: DVec3) -> Self {
         Self {
@@ -103,6 +111,7 @@ impl<'p> Evaluator<'p> {
             object_axes: DMat3::IDENTITY,
             reports: Vec::new(),
             prints: Vec::new(),
+            print_lots: Vec::new(),
             context: None,
             lot: 0,
             lot_number: 0,
