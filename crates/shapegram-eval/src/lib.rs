@@ -51,7 +51,8 @@ pub use builtins::{functions, queries};
 pub use engine::{
     ASSET_VARIANTS, Asset, AssetLoader, AssetNaming, AttrValue, Derivation, DeriveControl,
     DeriveOptions, InitialShape, InstanceCandidates, Leaf, LeafFaces, MetadataScope, ModelOptions,
-    Rederivation, Stats, Symbol, Trace, TreeNode, attr_values, derive, derive_again,
+    Paint, PaintId, Rederivation, Stats, Symbol, Trace, TreeNode, attr_values, derive,
+    derive_again,
 };
 pub use error::DeriveError;
 pub use goals::{GoalQuery, LeafSemantics};

@@ -104,7 +104,7 @@ fn leaf_part(derivation: &Derivation, leaf: &Leaf, bone: Option<Bone>) -> Option
         texture: None,
         uvs: Vec::new(),
         name: derivation.name(leaf.name).to_string(),
-        color: leaf.color,
+        color: derivation.color(leaf),
         mesh: leaf.world_mesh()?,
         normals: Vec::new(),
         bone,

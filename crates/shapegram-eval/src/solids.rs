@@ -115,7 +115,7 @@ pub(crate) fn mesh_solids(
         let (name, key) = match &implicit.csg {
             Some(csg) => (csg.group.clone(), GroupKey::Named(leaf.lot, &csg.group)),
             None => {
-                let color = leaf.color.to_array().map(f32::to_bits);
+                let color = derivation.color(leaf).to_array().map(f32::to_bits);
                 let name = &derivation.names[leaf.name.0 as usize];
                 (name.clone(), GroupKey::Rule(leaf.lot, name, color))
             }
@@ -131,7 +131,7 @@ pub(crate) fn mesh_solids(
         let group = &mut groups[slot];
         let adds = implicit.csg.as_ref().is_none_or(|c| c.op.adds());
         if adds && group.color.is_none() {
-            group.color = Some(leaf.color);
+            group.color = Some(derivation.color(leaf));
         }
         group.members.push((leaf, implicit));
     }

@@ -69,7 +69,7 @@ fn the_basic_chair_as_printed_stands_on_four_legs_and_is_brown() {
     let names: Vec<&str> = d.leaves.iter().map(|l| d.name(l.name)).collect();
     assert_eq!(names, ["leg", "leg", "leg", "leg", "seat", "lean"]);
     let brown = Color::from_hex(BROWN).unwrap();
-    assert!(d.leaves.iter().all(|l| l.color == brown));
+    assert!(d.leaves.iter().all(|l| d.color(l) == brown));
     let leg = d.leaves[0].scope.size;
     assert!((0.03..0.05).contains(&leg.x) && leg.x == leg.z, "{leg:?}");
     assert!((leg.y - 0.32).abs() < 1e-12);
@@ -94,9 +94,12 @@ fn the_metallic_override_as_printed_puts_the_chair_on_a_steel_pedestal() {
         "{:?}",
         stand.scope
     );
-    assert_eq!(stand.color, Color::from_hex(STEEL).unwrap());
+    assert_eq!(d.color(stand), Color::from_hex(STEEL).unwrap());
     let brown = Color::from_hex(BROWN).unwrap();
-    assert_eq!((d.leaves[1].color, d.leaves[2].color), (brown, brown));
+    assert_eq!(
+        (d.color(&d.leaves[1]), d.color(&d.leaves[2])),
+        (brown, brown)
+    );
     let tags = &stand.semantics().unwrap().tags;
     assert!(tags.iter().any(|t| &**t == "metallic"), "{tags:?}");
 }

@@ -434,6 +434,10 @@ fn results_do_not_depend_on_the_thread_count() {
     let (one, four) = (in_pool(1), in_pool(4));
     assert!(one.leaves.len() > 500, "{}", one.leaves.len());
     assert_eq!(one.leaves, four.leaves);
+    // Each leaf has a colour of its own: batches of lots number their paints apart, and the
+    // merged numbers are those of one batch.
+    assert_eq!(one.paints.len(), one.leaves.len());
+    assert_eq!(one.paints, four.paints);
 }
 
 #[test]

@@ -62,7 +62,7 @@ fn the_chair_has_four_legs_a_seat_and_a_lean_of_the_right_sizes_all_brown() {
     let d = run(&program, 1);
     assert_eq!(names(&d), ["leg", "leg", "leg", "leg", "seat", "lean"]);
     let brown = Color::from_hex("#8b5a2b").unwrap();
-    assert!(d.leaves.iter().all(|l| l.color == brown));
+    assert!(d.leaves.iter().all(|l| d.color(l) == brown));
     let leg = d.leaves[0].semantics().unwrap().attributes[0].clone();
     assert_eq!(&*leg.0, "Leg.Size");
     let shapegram_eval::Value::Number(size) = leg.1 else {
@@ -134,7 +134,7 @@ fn void_parts_leave_nothing_between_the_legs() {
     assert!((volume - expected).abs() < 1e-12, "{volume} vs {expected}");
     // Without the wood grammar the chair stays grey and keeps its open goal.
     assert!(d.leaves.iter().all(|l| goals(l).contains(&"wooden")));
-    assert!(d.leaves.iter().all(|l| l.color == Color::default()));
+    assert!(d.leaves.iter().all(|l| d.color(l) == Color::default()));
 }
 
 #[test]
@@ -157,8 +157,8 @@ fn the_grammar_being_derived_overrides_the_library_and_a_design_keeps_to_its_own
     );
     assert!(close(leg.scope.origin, DVec3::new(0.1, 0.1, 0.1)));
     let grey = Color::from_hex("#9aa4ad").unwrap();
-    assert_eq!((stand.color, leg.color), (grey, grey));
-    assert_eq!(d.leaves[2].color, Color::from_hex("#8b5a2b").unwrap());
+    assert_eq!((d.color(stand), d.color(leg)), (grey, grey));
+    assert_eq!(d.color(&d.leaves[2]), Color::from_hex("#8b5a2b").unwrap());
     assert_eq!(
         tags(stand),
         ["chair", "wooden", "metallic", "support", "stand"]
@@ -182,18 +182,18 @@ goal(a) is(box) !if(@n > 2) fulfills(a) --> color("#0000ff")
 "##;
     let d = run(&library(&[("rules", rules)]), 0);
     assert_eq!(d.leaves.len(), 1);
-    assert_eq!(d.leaves[0].color, Color::from_hex("#ff0000").unwrap());
+    assert_eq!(d.color(&d.leaves[0]), Color::from_hex("#ff0000").unwrap());
     assert_eq!(tags(&d.leaves[0]), ["box", "a"]);
     assert_eq!(goals(&d.leaves[0]), ["paint"]);
     // A narrower box fails the condition: no rule fulfils `a`.
     let narrow = rules.replace("size(2, 1, 1)", "size(1, 1, 1)");
     let d = run(&library(&[("rules", &narrow)]), 0);
-    assert_eq!(d.leaves[0].color, Color::default());
+    assert_eq!(d.color(&d.leaves[0]), Color::default());
     assert_eq!(goals(&d.leaves[0]), ["paint", "a"]);
     // With n = 1 the negated condition holds.
     let small = rules.replace("set(@n, 3)", "set(@n, 1)");
     let d = run(&library(&[("rules", &small)]), 0);
-    assert_eq!(d.leaves[0].color, Color::from_hex("#0000ff").unwrap());
+    assert_eq!(d.color(&d.leaves[0]), Color::from_hex("#0000ff").unwrap());
 }
 
 #[test]
@@ -225,8 +225,8 @@ using is(a) {
 "##;
     let d = run(&library(&[("rules", rules)]), 0);
     assert_eq!(d.leaves.len(), 2);
-    assert_eq!(d.leaves[0].color, Color::from_hex("#ff0000").unwrap());
-    assert_eq!(d.leaves[1].color, Color::default());
+    assert_eq!(d.color(&d.leaves[0]), Color::from_hex("#ff0000").unwrap());
+    assert_eq!(d.color(&d.leaves[1]), Color::default());
     assert_eq!(goals(&d.leaves[1]), ["item"]);
     // The second axiom stands beside the first, a metre apart.
     assert!(close(d.leaves[1].scope.origin, DVec3::new(2.0, 0.0, 0.0)));
@@ -251,14 +251,14 @@ fulfills(shared) --> color("#00ff00")
     assert!(e.contains("main.goal:4:37"), "{e}");
     let program = try_library(&[("main", main), ("other", other)], false).unwrap();
     let d = run(&program, 0);
-    assert_eq!(d.leaves[0].color, Color::default());
+    assert_eq!(d.color(&d.leaves[0]), Color::default());
     assert_eq!(goals(&d.leaves[0]), ["part"]);
-    assert_eq!(d.leaves[1].color, Color::from_hex("#00ff00").unwrap());
+    assert_eq!(d.color(&d.leaves[1]), Color::from_hex("#00ff00").unwrap());
     // The grammar's own rule fulfils its local goal.
     let own = format!("{main}\nfulfills(part) --> color(\"#0000ff\")\n");
     let program = try_library(&[("main", &own), ("other", other)], false).unwrap();
     let d = run(&program, 0);
-    assert_eq!(d.leaves[0].color, Color::from_hex("#0000ff").unwrap());
+    assert_eq!(d.color(&d.leaves[0]), Color::from_hex("#0000ff").unwrap());
 }
 
 const FACADE: &str = r##"
@@ -278,7 +278,7 @@ fn window_looks(d: &Derivation) -> Vec<([u32; 4], [u64; 2])> {
         .map(|panes| {
             let size = panes[0].scope.size;
             (
-                panes[0].color.to_array().map(f32::to_bits),
+                d.color(&panes[0]).to_array().map(f32::to_bits),
                 [size.x.to_bits(), size.y.to_bits()],
             )
         })
@@ -554,7 +554,7 @@ fn rules_from_a_repository_come_after_the_users_own() {
     };
     // The repository's wood alone paints the chair brown.
     let d = run(&repository(&[("chair", CHAIR), ("ana/wood", WOOD)], 1), 3);
-    assert!(d.leaves.iter().all(|l| l.color == brown));
+    assert!(d.leaves.iter().all(|l| d.color(l) == brown));
     // With the user's red paint beside it, the user's rule wins, whatever the seed.
     for seed in 0..8 {
         let program = repository(
@@ -562,13 +562,18 @@ fn rules_from_a_repository_come_after_the_users_own() {
             2,
         );
         let d = run(&program, seed);
-        assert!(d.leaves.iter().all(|l| l.color == red), "seed {seed}");
+        assert!(d.leaves.iter().all(|l| d.color(l) == red), "seed {seed}");
     }
     // Both in the user's library: one tier, drawn between them.
     let program = library(&[("chair", CHAIR), ("red", RED_WOOD), ("wood", WOOD)]);
     let colors: std::collections::BTreeSet<String> = (0..16)
-        .flat_map(|seed| run(&program, seed).leaves)
-        .map(|l| format!("{:?}", l.color))
+        .flat_map(|seed| {
+            let d = run(&program, seed);
+            d.leaves
+                .iter()
+                .map(|l| format!("{:?}", d.color(l)))
+                .collect::<Vec<_>>()
+        })
         .collect();
     assert_eq!(colors.len(), 2, "{colors:?}");
 }

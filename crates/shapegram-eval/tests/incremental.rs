@@ -11,6 +11,7 @@ use shapegram_export::{ExportOptions, write_glb};
 /// Asserts that two derivations are the same, list by list, and write the same GLB.
 fn assert_same(again: &Derivation, full: &Derivation) {
     assert_eq!(again.leaves, full.leaves);
+    assert_eq!(again.paints, full.paints);
     assert_eq!(again.tree, full.tree);
     assert_eq!(again.reports, full.reports);
     assert_eq!(again.report_nodes, full.report_nodes);
@@ -128,6 +129,46 @@ B --> comp(f) { side : Side. | top : Roof. }\n";
     assert_eq!(
         names,
         ["Door", "Wall", "Side", "Side", "Side", "Side", "Roof"]
+    );
+}
+
+#[test]
+fn reused_leaves_are_painted_from_the_new_derivations_paints() {
+    // Two new paints in A's body come first in the new derivation: B's reused leaves must
+    // number their paints one further on, in the new derivation's list.
+    let text = "Lot --> extrude(6) split(x) { ~1 : A | ~1 : B }
+A --> Wall.
+B --> comp(f) { side : color(\"#0000ff\") Side. | top : color(\"#ff0000\") Roof. }\n";
+    let edited = text.replace(
+        "A --> Wall.",
+        "A --> split(x) { ~1 : color(\"#00ff00\") Door. | ~1 : Wall. }",
+    );
+    let (before, after) = (compile(text), compile(&edited));
+    let lots = [lot(10.0, 8.0)];
+    let options = traced(false);
+    let previous = derive(&before, &lots, &options).unwrap();
+    let full = derive(&after, &lots, &options).unwrap();
+    let blue = |d: &Derivation| d.paints.iter().position(|p| p.color.to_hex() == "#0000ff");
+    assert_eq!((blue(&previous), blue(&full)), (Some(1), Some(2)));
+    let again = derive_again(&previous, &after, &lots, &options).unwrap();
+    assert_eq!((again.reused, again.applied, again.fallback), (1, 2, None));
+    assert_same(&again.derivation, &full);
+    let d = &again.derivation;
+    let looks: Vec<(String, bool)> = (d.leaves.iter())
+        .map(|l| (d.color(l).to_hex(), d.paint(l).painted))
+        .collect();
+    let blue = ("#0000ff".to_string(), true);
+    assert_eq!(
+        looks,
+        [
+            ("#00ff00".to_string(), true),
+            (shapegram_geom::Color::default().to_hex(), false),
+            blue.clone(),
+            blue.clone(),
+            blue.clone(),
+            blue,
+            ("#ff0000".to_string(), true),
+        ]
     );
 }
 

@@ -57,7 +57,7 @@ fn leaves(d: &Derivation) -> Vec<String> {
                 d.name(l.name),
                 l.scope.origin,
                 l.scope.size,
-                l.color,
+                d.color(l),
                 l.semantics()
             )
         })

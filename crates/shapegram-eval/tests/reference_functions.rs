@@ -45,7 +45,7 @@ fn a_colour_ramp_colours_the_shape() {
         "Lot --> color(colorRamp(\"whiteToBlack\", 0.5)) X.",
         lot(4.0, 4.0),
     );
-    let c = d.leaves[0].color;
+    let c = d.color(&d.leaves[0]);
     assert_eq!(
         [c.r, c.g, c.b].map(|v| (v * 255.0).round()),
         [123.0, 123.0, 123.0]
@@ -81,7 +81,7 @@ fn sel_turns_a_string_into_a_selector_word() {
         "Lot --> color(0, 0, 0) set(sel(\"material.color.r\"), 0.5) X.",
         lot(4.0, 4.0),
     );
-    assert_eq!(d.leaves[0].color.r, 0.5);
+    assert_eq!(d.color(&d.leaves[0]).r, 0.5);
     let diagnostics =
         compile_errors("f(c) = \"material.color.\" + c\nLot --> set(sel(f(\"r\")), 0.5) X.");
     assert_eq!(diagnostics.len(), 1, "{diagnostics:?}");

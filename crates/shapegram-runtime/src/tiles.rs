@@ -293,6 +293,7 @@ fn lot_model(derivation: &Derivation, leaves: Range<usize>) -> Model {
     let lot = Derivation {
         leaves: derivation.leaves[leaves].to_vec(),
         names: derivation.names.clone(),
+        paints: derivation.paints.clone(),
         ..Derivation::default()
     };
     lot.to_model()

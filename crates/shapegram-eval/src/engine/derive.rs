@@ -10,6 +10,7 @@ use shapegram_geom::{DMat3, DVec3, Mesh, Scope, mesh::newell};
 use shapegram_kinematics::{Frame, Name, Skeleton};
 
 use super::machine::{Engine, Phase, Task, Work};
+use super::palette::{self, Palette};
 use super::reuse::{Old, Previous};
 use super::trace::{LotTrace, finish_trace};
 use super::{Derivation, DeriveOptions, GoalQuery, InitialShape, Leaf, TreeNode};
@@ -229,6 +230,11 @@ impl Derivation {
         self.skeletons.append(&mut batch.skeletons);
         self.queries.append(&mut batch.queries);
         self.unmatched.append(&mut batch.unmatched);
+        if let Some(map) = palette::merge(&mut self.paints, batch.palette.paints()) {
+            for leaf in &mut batch.leaves {
+                leaf.paint = map[leaf.paint.0 as usize];
+            }
+        }
         let base = if continues { 0 } else { self.tree.len() as u32 };
         if continues || self.leaves.is_empty() && self.tree.is_empty() {
             // No renumbering needed: append the leaves as they are, take the tree.
@@ -281,6 +287,8 @@ impl Derivation {
 /// for phase 2, or the error of the first lot that failed.
 pub(super) struct Batch {
     pub(super) leaves: Vec<Leaf>,
+    /// The paints of `leaves`.
+    pub(super) palette: Palette,
     pub(super) tree: Vec<TreeNode>,
     pub(super) reports: Vec<(String, Value)>,
     /// The batch's number of the tree node each report was made on (with a tree only).
@@ -312,6 +320,7 @@ impl Batch {
     fn new(program: &Program) -> Self {
         Self {
             leaves: Vec::new(),
+            palette: Palette::default(),
             tree: Vec::new(),
             reports: Vec::new(),
             report_nodes: Vec::new(),

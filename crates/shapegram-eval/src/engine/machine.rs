@@ -13,12 +13,13 @@ use super::footprint::{SetbackOutputs, footprint, reverse_normals};
 use super::implicit::implicit;
 use super::insert::trim;
 use super::kinematics::LastRotation;
+use super::palette::{Paint, Palette};
 use super::reuse::Previous;
 use super::scope::{align_to_axes, align_to_bbox, center};
 use super::split::Layouts;
 use super::statements::Cursor;
 use super::trace::Recorder;
-use super::{DeriveOptions, Fallible, Leaf, LeafExtras, Symbol, TreeNode};
+use super::{DeriveOptions, Fallible, Leaf, LeafExtras, Symbol, TreeNode, push_leaf};
 use crate::context::{Occluder, Parked, SnapPlane};
 use crate::error::DeriveError;
 use crate::expr::Evaluator;
@@ -64,6 +65,8 @@ pub(super) struct Engine<'p> {
     pub(super) options: &'p DeriveOptions,
     pub(super) tree: Option<Vec<TreeNode>>,
     pub(super) leaves: Vec<Leaf>,
+    /// The paints of the batch's leaves.
+    pub(super) palette: Palette,
     /// The tree node of each of the lot's reports (`ev.reports`), when there is a tree.
     pub(super) report_nodes: Vec<u32>,
     pub(super) counts: Vec<usize>,
@@ -135,6 +138,7 @@ impl<'p> Engine<'p> {
             options,
             tree: options.keep_tree.then(|| std::mem::take(&mut batch.tree)),
             leaves: std::mem::take(&mut batch.leaves),
+            palette: std::mem::take(&mut batch.palette),
             report_nodes: Vec::new(),
             counts: vec![0; program.rules.len()],
             applications: 0,
@@ -184,6 +188,7 @@ impl<'p> Engine<'p> {
             batch.reused += previous.reused;
         }
         batch.leaves = self.leaves;
+        batch.palette = self.palette;
         batch.tree = self.tree.unwrap_or_default();
         batch.reports.extend(self.ev.reports);
         batch.report_nodes.extend(self.report_nodes);
@@ -641,16 +646,24 @@ impl<'p> Engine<'p> {
             state.section,
             semantics,
         );
-        self.leaves.push(Leaf::new(
-            Symbol(state.symbol),
-            state.scope,
-            std::mem::replace(&mut state.geometry, Geometry::Empty),
-            state.color,
-            state.painted,
-            self.tree.is_some().then_some(state.node),
-            self.ev.lot,
-            extras,
-        ));
+        let paint = self.palette.id(Paint {
+            color: state.color,
+            painted: state.painted,
+        });
+        let geometry = std::mem::replace(&mut state.geometry, Geometry::Empty);
+        let node = self.tree.is_some().then_some(state.node);
+        let lot = self.ev.lot;
+        push_leaf(&mut self.leaves, || {
+            Leaf::new(
+                Symbol(state.symbol),
+                state.scope,
+                geometry,
+                paint,
+                node,
+                lot,
+                extras,
+            )
+        });
     }
 
     /// Applies an operation: the family module of the operation does the work. Returns whether

@@ -42,6 +42,7 @@ mod instances;
 mod kinematics;
 mod leaf_metadata;
 mod machine;
+mod palette;
 mod perimeter;
 mod pivot;
 mod reuse;
@@ -80,6 +81,7 @@ pub use derive::derive;
 pub(crate) use insert::builtin_asset;
 pub use insert::{ASSET_VARIANTS, Asset, AssetLoader, AssetNaming};
 pub use instances::InstanceCandidates;
+pub use palette::{Paint, PaintId};
 pub use reuse::{Rederivation, derive_again};
 pub use trace::Trace;
 
@@ -212,8 +214,6 @@ pub struct Leaf {
     extras: Option<Box<LeafExtras>>,
     /// Its scope.
     pub scope: Scope,
-    /// Its colour.
-    pub color: Color,
     /// Its node in [`Derivation::tree`], [`NO_NODE`] when the tree is not kept (read through
     /// [`Leaf::node`]): 4 bytes where an `Option<u32>` takes 8.
     node: u32,
@@ -221,8 +221,9 @@ pub struct Leaf {
     pub lot: u32,
     /// The symbol of the shape (the rule that made it); [`Derivation::name`] spells it.
     pub name: Symbol,
-    /// Whether the grammar set its colour (see [`crate::asset_look`]).
-    pub painted: bool,
+    /// Its colour, and whether the grammar set it: [`Derivation::paint`] (or
+    /// [`Derivation::color`]) reads it.
+    pub paint: PaintId,
 }
 
 /// [`Leaf::node`] of a leaf without a tree node (the tree is kept only on request, and a tree
@@ -259,6 +260,17 @@ impl LeafExtras {
     }
 }
 
+/// Appends the leaf `make` builds, written straight into `leaves`: a leaf built first and then
+/// pushed is built on the stack and copied (a `memcpy` of its 168 bytes per leaf).
+#[inline(always)]
+pub(crate) fn push_leaf(leaves: &mut Vec<Leaf>, make: impl FnOnce() -> Leaf) {
+    leaves.reserve(1);
+    let len = leaves.len();
+    leaves.spare_capacity_mut()[0].write(make());
+    // SAFETY: `reserve(1)` made room for the element at `len`, which `write` initialised.
+    unsafe { leaves.set_len(len + 1) };
+}
+
 /// A shape in the derivation tree.
 #[derive(Clone, Debug, PartialEq)]
 pub struct TreeNode {
@@ -290,8 +302,7 @@ impl Leaf {
         name: Symbol,
         scope: Scope,
         geometry: Geometry,
-        color: Color,
-        painted: bool,
+        paint: PaintId,
         node: Option<u32>,
         lot: u32,
         extras: Option<Box<LeafExtras>>,
@@ -301,10 +312,9 @@ impl Leaf {
             geometry,
             extras,
             scope,
-            color,
             node: node.unwrap_or(NO_NODE),
             lot,
-            painted,
+            paint,
         }
     }
 
@@ -354,13 +364,13 @@ impl Leaf {
         self.geometry.world_mesh(&self.scope)
     }
 
-    /// The leaf's world mesh `mesh` as the model draws it: one piece in the shape's material,
+    /// The leaf's world mesh `mesh` in `paint` as the model draws it: one piece in the shape's material,
     /// or, when it holds an inserted asset with a look, one per material of the asset (see
     /// [`crate::asset_look`]).
-    fn pieces(&self, mesh: Mesh) -> Vec<Piece> {
+    fn pieces(&self, mesh: Mesh, paint: Paint) -> Vec<Piece> {
         let material = ShapeMaterial {
-            color: self.color,
-            painted: self.painted,
+            color: paint.color,
+            painted: paint.painted,
             material: self.material(),
             texturing: self.texturing().map(|t| &**t),
         };
@@ -426,6 +436,8 @@ pub struct Derivation {
     /// The names of the symbols leaves are named by ([`Leaf::name`] indexes it): the
     /// program's symbols, in its order.
     pub names: Arc<[Arc<str>]>,
+    /// The looks of the leaves ([`Leaf::paint`] indexes it), in order of first use.
+    pub paints: Vec<Paint>,
     /// `report(key, value)` calls in derivation order.
     pub reports: Vec<(String, Value)>,
     /// The tree node of the shape each report was made on, parallel to [`Derivation::reports`],
@@ -465,6 +477,16 @@ impl Derivation {
     /// The name of `symbol` (a [`Leaf::name`]).
     pub fn name(&self, symbol: Symbol) -> &str {
         &self.names[symbol.0 as usize]
+    }
+
+    /// The look of `leaf`: its colour, and whether the grammar set it.
+    pub fn paint(&self, leaf: &Leaf) -> Paint {
+        self.paints[leaf.paint.0 as usize]
+    }
+
+    /// The colour of `leaf`.
+    pub fn color(&self, leaf: &Leaf) -> Color {
+        self.paint(leaf).color
     }
 
     /// The rigid motion that takes tree node `node` (its scope and geometry, in the rest pose)
@@ -538,7 +560,7 @@ impl Derivation {
             let leaves = self.leaves.iter().map(|leaf| {
                 let frame = instances::Prototypes::frame(leaf, options.instances)
                     .filter(|_| !skinned(leaf))?;
-                Some((frame, leaf.pieces(leaf.world_mesh()?)))
+                Some((frame, leaf.pieces(leaf.world_mesh()?, self.paint(leaf))))
             });
             instances::assign(leaves, options.smaller_only)
         }
@@ -563,7 +585,7 @@ impl Derivation {
                 (MetadataScope::Leaf, Some(description)) => (Some(Arc::new(description)), None),
                 (_, description) => (leaf.semantics().map(|s| metadata.of(s)), description),
             };
-            for piece in leaf.pieces(mesh) {
+            for piece in leaf.pieces(mesh, self.paint(leaf)) {
                 let instance = leaf_instances.next().flatten();
                 if instance.is_some() {
                     if options.metadata == MetadataScope::Part
@@ -724,7 +746,7 @@ mod tests {
     /// name is a symbol index, so that a leaf is a scope (120 bytes) with little more.
     #[test]
     fn a_leaf_stays_small() {
-        assert_eq!(std::mem::size_of::<Leaf>(), 184);
+        assert_eq!(std::mem::size_of::<Leaf>(), 168);
         assert_eq!(std::mem::size_of::<crate::shape::Geometry>(), 24);
     }
 

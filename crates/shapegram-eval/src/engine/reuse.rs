@@ -19,7 +19,7 @@ use shapegram_kinematics::{SectionId, Skeleton};
 use super::derive::run;
 use super::machine::{Engine, Task};
 use super::trace::{Key, LotTrace, Marks, SectionInputs, Trace, changed_rules};
-use super::{Derivation, DeriveOptions, InitialShape, Leaf, Symbol, TreeNode};
+use super::{Derivation, DeriveOptions, InitialShape, Leaf, Paint, Symbol, TreeNode};
 use crate::error::DeriveError;
 use crate::expr::ConstEvent;
 use crate::program::Program;
@@ -160,6 +160,7 @@ impl<'a> Old<'a> {
             trace,
             skeleton,
             leaves: d.leaves.get(start.leaves..start.leaves + totals.leaves)?,
+            paints: &d.paints,
             tree: d.tree.get(start.nodes..start.nodes + totals.nodes)?,
             nodes_base: start.nodes,
             reports: d
@@ -189,6 +190,8 @@ pub(super) struct Previous<'a> {
     /// The lot's skeleton, which holds the joints and names of the sections its edits made.
     skeleton: Option<&'a Skeleton>,
     leaves: &'a [Leaf],
+    /// The previous derivation's paints, which its leaves number.
+    paints: &'a [Paint],
     tree: &'a [TreeNode],
     /// The previous derivation's number of the lot's first tree node.
     nodes_base: usize,
@@ -319,6 +322,7 @@ impl Engine<'_> {
         let Previous {
             trace,
             leaves,
+            paints,
             tree,
             reports,
             report_nodes,
@@ -381,8 +385,13 @@ impl Engine<'_> {
         for leaf in &leaves[start.leaves..finish.leaves] {
             let moved = section(leaf.section())?;
             let name = symbols.get(leaf.name.0 as usize).copied().flatten();
+            // Paints are numbered anew: in the order this derivation's leaves use them.
+            let paint = paints.get(leaf.paint.0 as usize).copied();
             let leaf = Leaf {
                 name: name.ok_or_else(|| lost("a symbol the new grammar lacks"))?,
+                paint: self
+                    .palette
+                    .id(paint.ok_or_else(|| lost("a paint outside the palette"))?),
                 ..leaf.clone()
             };
             let node = leaf.node().map(batch_node).transpose()?;

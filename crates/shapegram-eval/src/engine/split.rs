@@ -12,8 +12,9 @@ use shapegram_syntax::Span;
 
 use super::footprint::flat_faces;
 use super::machine::{Engine, Phase, Work};
+use super::palette::Paint;
 use super::scope::refit;
-use super::{Fallible, Leaf, LeafExtras, Symbol};
+use super::{Fallible, Leaf, LeafExtras, Symbol, push_leaf};
 use crate::context::Occluder;
 use crate::ops::{SplitBlock, SplitJoints};
 use crate::program::{CExpr, CStmt};
@@ -253,16 +254,15 @@ impl<'p> Engine<'p> {
                 section,
                 None,
             );
-            self.leaves.push(Leaf::new(
-                Symbol(*symbol),
-                *scope,
-                state.geometry.clone(),
-                state.color,
-                state.painted,
-                None,
-                self.ev.lot,
-                extras,
-            ));
+            let paint = self.palette.id(Paint {
+                color: state.color,
+                painted: state.painted,
+            });
+            let geometry = state.geometry.clone();
+            let lot = self.ev.lot;
+            push_leaf(&mut self.leaves, || {
+                Leaf::new(Symbol(*symbol), *scope, geometry, paint, None, lot, extras)
+            });
         }
         Ok(true)
     }
