@@ -59,6 +59,7 @@ mod quantize;
 mod skin;
 mod streams;
 mod tangents;
+mod triples;
 
 use animation::Animation;
 pub(crate) use chunk::{Chunk, gltf_uv};
@@ -71,6 +72,7 @@ use metadata::{LotNodes, metadata_extras};
 use quantize::Grid;
 use skin::Skin;
 use streams::{Joints, Stream, index_stream, position_stream, streams};
+use triples::Triples;
 
 /// GLB framing constants from the glTF 2.0 specification, section "Binary glTF Layout".
 pub(crate) const MAGIC: &[u8; 4] = b"glTF";
@@ -96,7 +98,7 @@ struct Primitive<'a> {
     sources: Vec<Option<usize>>,
     /// Its vertices compacted, from which its streams' data is made as the file is written
     /// (none when they went into its mesh's pool).
-    vertices: Vertices,
+    vertices: Vertices<'a>,
     /// The glTF primitives it becomes: one, or several of fewer than 65,535 vertices each.
     runs: Vec<Run>,
     /// Each run's accessors, in the order they are written.
@@ -145,7 +147,7 @@ struct Group<'a> {
     pool: Vec<PooledPiece>,
 }
 
-impl Group<'_> {
+impl<'a> Group<'a> {
     /// Compacts each primitive's chunks into the streams to write (and lets the chunks go),
     /// quantising positions on one grid for the whole mesh when `encoding` asks for it and
     /// the mesh is neither skinned nor instanced.
@@ -157,7 +159,7 @@ impl Group<'_> {
             .iter()
             .map(|p| compaction.reorder && p.is_bare())
             .collect();
-        let vertices: Vec<Vertices> = self
+        let vertices: Vec<Vertices<'a>> = self
             .primitives
             .iter_mut()
             .zip(&bare)
@@ -169,11 +171,13 @@ impl Group<'_> {
         if encoding != GlbEncoding::Float && self.skin.is_none() && placed_once {
             let mut min = [f32::INFINITY; 3];
             let mut max = [f32::NEG_INFINITY; 3];
-            for p in vertices.iter().flat_map(|v| &v.positions) {
-                for k in 0..3 {
-                    min[k] = min[k].min(p[k]);
-                    max[k] = max[k].max(p[k]);
-                }
+            for v in &vertices {
+                v.view().positions.for_each(|p| {
+                    for k in 0..3 {
+                        min[k] = min[k].min(p[k]);
+                        max[k] = max[k].max(p[k]);
+                    }
+                });
             }
             self.grid = Some(Grid::spanning(min, max));
         }
@@ -215,7 +219,8 @@ impl Group<'_> {
         self.pool = pieces
             .into_iter()
             .map(|piece| {
-                let mut positions = position_stream(&piece.positions, self.grid.as_ref());
+                let points = Triples::F32(&piece.positions);
+                let mut positions = position_stream(points, self.grid.as_ref());
                 let count = piece.positions.len();
                 let mut primitives: Vec<(usize, Stream)> = piece
                     .members

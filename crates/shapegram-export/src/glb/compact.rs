@@ -3,18 +3,22 @@
 //! order must stay) triangles put in vertex-cache order with vertices in first-use order, by
 //! meshoptimizer. Every step is deterministic: it depends on the data only.
 
+use std::borrow::Cow;
 use std::ops::Range;
 
 use meshopt::VertexStream;
+use shapegram_geom::DVec3;
 
 use super::Primitive;
 use super::chunk::FlatFaces;
 use super::coplanar::{self, Rectangle};
+use super::triples::Triples;
 
 /// A primitive's vertex data, one entry per vertex in each attribute that it has, and its
 /// indices (pairs for lines, triples for triangles).
 #[derive(Clone, Debug, Default, PartialEq)]
-pub(crate) struct Vertices {
+pub(crate) struct Vertices<'a> {
+    /// Empty when the vertices are `model`'s.
     pub(crate) positions: Vec<[f32; 3]>,
     /// Empty for lines, and for flat primitives once compacted unless flat normals are written.
     pub(crate) normals: Vec<[f32; 3]>,
@@ -25,6 +29,17 @@ pub(crate) struct Vertices {
     /// Each vertex's joint; empty unless the primitive is skinned.
     pub(crate) joints: Vec<u16>,
     pub(crate) indices: Vec<u32>,
+    /// A smooth part's vertices as the model holds them, read instead of `positions` and
+    /// `normals` (then empty), which would copy them.
+    pub(crate) model: Option<ModelVertices<'a>>,
+}
+
+/// A smooth part's shared vertices and their normals, in the model's f64.
+#[derive(Clone, Debug, PartialEq)]
+pub(crate) struct ModelVertices<'a> {
+    pub(crate) positions: &'a [DVec3],
+    /// One per position, none zero or infinite.
+    pub(crate) normals: Cow<'a, [DVec3]>,
 }
 
 /// What compaction may do to a primitive.
@@ -35,15 +50,29 @@ pub(crate) struct Compaction {
     pub(crate) reorder: bool,
 }
 
-impl Vertices {
+impl<'a> Vertices<'a> {
     /// The primitive's vertices, compacted as `compaction` allows; when `pooled`, only
     /// gathered and merged, since the mesh's vertex pool shares and orders them (see
     /// [`super::pool`]).
     pub(crate) fn of_primitive(
-        primitive: &mut Primitive<'_>,
+        primitive: &mut Primitive<'a>,
         compaction: Compaction,
         pooled: bool,
     ) -> Self {
+        // A smooth part alone in its primitive with nothing but positions and normals (a
+        // tube) is written from the model's vertices as they are: it would not be compacted.
+        let plain = primitive.normals && primitive.skinned.is_none() && !primitive.textured;
+        if let [chunk] = &mut primitive.chunks[..]
+            && plain
+            && !pooled
+            && let Some((model, indices)) = chunk.take_model_vertices()
+        {
+            return Self {
+                indices,
+                model: Some(model),
+                ..Self::default()
+            };
+        }
         // Rectangles merge only where each vertex carries nothing but a position and a
         // normal: uvs, tangents and joints would have to agree across the merge too.
         let merge = compaction.reorder
@@ -263,7 +292,10 @@ impl Vertices {
 
     /// How many vertices there are.
     pub(crate) fn len(&self) -> usize {
-        self.positions.len()
+        match &self.model {
+            Some(model) => model.positions.len(),
+            None => self.positions.len(),
+        }
     }
 
     /// The vertices and indices as they are, without copying.
@@ -274,9 +306,19 @@ impl Vertices {
     /// The vertices in `range` and the indices in `indices` (positions in the index list),
     /// which all name vertices in `range`.
     fn window(&self, range: Range<usize>, indices: Range<usize>) -> View<'_> {
+        let (positions, normals) = match &self.model {
+            Some(model) => (
+                Triples::Points(&model.positions[range.clone()]),
+                Triples::Normals(&model.normals[range.clone()]),
+            ),
+            None => (
+                Triples::F32(&self.positions[range.clone()]),
+                Triples::F32(attribute(&self.normals, &range)),
+            ),
+        };
         View {
-            positions: &self.positions[range.clone()],
-            normals: attribute(&self.normals, &range),
+            positions,
+            normals,
             uvs: attribute(&self.uvs, &range),
             tangents: attribute(&self.tangents, &range),
             joints: attribute(&self.joints, &range),
@@ -337,10 +379,10 @@ impl Vertices {
     }
 
     /// Runs that each gather the vertices they use, in order of first use.
-    fn gather(&self, limit: usize) -> Vec<Self> {
+    fn gather(&self, limit: usize) -> Vec<Vertices<'static>> {
         let mut runs = Vec::new();
         let mut slot = vec![u32::MAX; self.len()];
-        let mut run = Self::default();
+        let mut run = Vertices::default();
         let mut used = Vec::new();
         for triangle in self.indices.chunks_exact(3) {
             let new = triangle
@@ -368,10 +410,11 @@ impl Vertices {
     }
 
     /// Appends vertex `v` of `from` with every attribute it has.
-    fn push_vertex(&mut self, from: &Self, v: usize) {
-        self.positions.push(from.positions[v]);
-        if let Some(&n) = from.normals.get(v) {
-            self.normals.push(n);
+    fn push_vertex(&mut self, from: &Vertices<'_>, v: usize) {
+        let view = from.view();
+        self.positions.push(view.positions.get(v));
+        if !view.normals.is_empty() {
+            self.normals.push(view.normals.get(v));
         }
         if let Some(&uv) = from.uvs.get(v) {
             self.uvs.push(uv);
@@ -397,8 +440,9 @@ fn attribute<'a, T>(values: &'a [T], range: &Range<usize>) -> &'a [T] {
 /// A primitive's vertex data borrowed: each attribute it has and the indices.
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct View<'a> {
-    pub(crate) positions: &'a [[f32; 3]],
-    pub(crate) normals: &'a [[f32; 3]],
+    pub(crate) positions: Triples<'a>,
+    /// Empty when the vertices have none.
+    pub(crate) normals: Triples<'a>,
     pub(crate) uvs: &'a [[f32; 2]],
     pub(crate) tangents: &'a [[f32; 4]],
     pub(crate) joints: &'a [u16],
@@ -412,8 +456,8 @@ impl<'a> View<'a> {
     /// Positions without other attributes, and `indices` into them.
     pub(crate) fn bare(positions: &'a [[f32; 3]], indices: &'a [u32]) -> Self {
         Self {
-            positions,
-            normals: &[],
+            positions: Triples::F32(positions),
+            normals: Triples::F32(&[]),
             uvs: &[],
             tangents: &[],
             joints: &[],
@@ -439,12 +483,12 @@ pub(crate) enum Run {
         triangles: Range<usize>,
     },
     /// Triangles over vertices gathered from the primitive's.
-    Gathered(Vertices),
+    Gathered(Vertices<'static>),
 }
 
 impl Run {
     /// The run's vertex data, taken from `of` (the primitive's) where it is not its own.
-    pub(crate) fn view<'a>(&'a self, of: &'a Vertices) -> View<'a> {
+    pub(crate) fn view<'a>(&'a self, of: &'a Vertices<'_>) -> View<'a> {
         match self {
             Self::Whole => of.view(),
             Self::Window {
@@ -461,7 +505,7 @@ mod tests {
     use super::*;
 
     /// A strip of `quads` quads along x: two vertices per column, with normals.
-    fn strip(quads: u32) -> Vertices {
+    fn strip(quads: u32) -> Vertices<'static> {
         let mut vertices = Vertices::default();
         for i in 0..=quads {
             for y in [0.0, 1.0] {
@@ -479,7 +523,7 @@ mod tests {
     fn triangles(v: View<'_>) -> Vec<[[f32; 3]; 3]> {
         v.indices
             .chunks_exact(3)
-            .map(|t| [0, 1, 2].map(|k| v.positions[(t[k] - v.base) as usize]))
+            .map(|t| [0, 1, 2].map(|k| v.positions.get((t[k] - v.base) as usize)))
             .collect()
     }
 
