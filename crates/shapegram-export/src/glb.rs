@@ -33,7 +33,9 @@
 //! The file is planned first (the compacted vertices of every primitive, their accessors, the
 //! JSON chunk) and then streamed: each accessor's bytes are encoded from the compacted vertices
 //! as they are written (compressed ones excepted, see [`streams`]); each primitive's data from
-//! the model is let go once compacted.
+//! the model is let go once compacted. A smooth part alone in its primitive with positions and
+//! normals only (an L-system tube) is not compacted: its accessors are encoded from the
+//! model's f64 vertices, rounded as they are read (see [`triples`]), without an f32 copy.
 
 use std::collections::BTreeMap;
 use std::io::{self, Write};
