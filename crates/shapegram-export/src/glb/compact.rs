@@ -348,34 +348,35 @@ impl<'a> Vertices<'a> {
         let mut runs = Vec::new();
         let mut covered = 0;
         let (mut start, mut low, mut high) = (0, usize::MAX, 0);
-        let triangles = self.indices.len() / 3;
-        for t in 0..=triangles {
-            let (t_low, t_high) = match self.indices.get(3 * t..3 * t + 3) {
-                Some(c) => (
-                    c.iter().min().copied().unwrap_or(0) as usize,
-                    c.iter().max().copied().unwrap_or(0) as usize,
-                ),
-                None => (usize::MAX, 0),
-            };
-            if t_high.saturating_sub(t_low) >= limit {
+        // Closes the window of triangles `start..end` over vertices `low..=high`; `false` when
+        // the windows would repeat too many vertices.
+        let mut close = |runs: &mut Vec<Run>, start, end, low: usize, high: usize| {
+            covered += high + 1 - low;
+            runs.push(Run::Window {
+                vertices: low..high + 1,
+                triangles: start..end,
+            });
+            covered <= budget
+        };
+        // A tube has tens of millions of triangles: plain min and max of the three corners.
+        for (t, c) in self.indices.chunks_exact(3).enumerate() {
+            let t_low = c[0].min(c[1]).min(c[2]) as usize;
+            let t_high = c[0].max(c[1]).max(c[2]) as usize;
+            if t_high - t_low >= limit {
                 return None;
             }
             let (new_low, new_high) = (low.min(t_low), high.max(t_high));
-            if t == triangles || new_high - new_low >= limit {
-                covered += high + 1 - low;
-                if covered > budget {
+            if new_high - new_low >= limit {
+                if !close(&mut runs, start, t, low, high) {
                     return None;
                 }
-                runs.push(Run::Window {
-                    vertices: low..high + 1,
-                    triangles: start..t,
-                });
                 (start, low, high) = (t, t_low, t_high);
             } else {
                 (low, high) = (new_low, new_high);
             }
         }
-        Some(runs)
+        let triangles = self.indices.len() / 3;
+        close(&mut runs, start, triangles, low, high).then_some(runs)
     }
 
     /// Runs that each gather the vertices they use, in order of first use.
