@@ -243,19 +243,25 @@ pub fn is_convex(points: &[DVec3]) -> bool {
 
 /// [`is_convex`] for a caller that has the polygon's Newell normal already.
 // Inlined into the exporters, which test every quad of a tube (millions); the corners wrap
-// around without a division (`% n`), which cost more than the arithmetic.
+// around without a division (`% n`), which cost more than the arithmetic. A plain loop: as
+// an iterator's `all` the test stayed out of line, called per quad.
 #[inline]
 pub fn is_convex_about(points: &[DVec3], normal: DVec3) -> bool {
     let n = points.len();
     let next = |i: usize| if i + 1 == n { 0 } else { i + 1 };
-    (0..n).all(|i| {
+    for i in 0..n {
         let a = points[i];
         let b = points[next(i)];
         let c = points[next(next(i))];
         // turn ≥ -1e-12 · |normal| · |c - a|, squared to spare two square roots.
         let turn = (b - a).cross(c - b).dot(normal);
-        turn >= 0.0 || turn * turn <= 1e-24 * normal.length_squared() * (c - a).length_squared()
-    })
+        let convex = turn >= 0.0
+            || turn * turn <= 1e-24 * normal.length_squared() * (c - a).length_squared();
+        if !convex {
+            return false;
+        }
+    }
+    true
 }
 
 impl Mesh {
