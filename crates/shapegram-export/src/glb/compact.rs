@@ -12,7 +12,8 @@ use shapegram_geom::DVec3;
 use super::Primitive;
 use super::chunk::FlatFaces;
 use super::coplanar::{self, Rectangle};
-use super::triples::Triples;
+use super::triples::{Triples, point};
+use crate::flat::unit;
 
 /// A primitive's vertex data, one entry per vertex in each attribute that it has, and its
 /// indices (pairs for lines, triples for triangles).
@@ -412,10 +413,17 @@ impl<'a> Vertices<'a> {
 
     /// Appends vertex `v` of `from` with every attribute it has.
     fn push_vertex(&mut self, from: &Vertices<'_>, v: usize) {
-        let view = from.view();
-        self.positions.push(view.positions.get(v));
-        if !view.normals.is_empty() {
-            self.normals.push(view.normals.get(v));
+        match &from.model {
+            Some(model) => {
+                self.positions.push(point(model.positions[v]));
+                self.normals.push(unit(model.normals[v]));
+            }
+            None => {
+                self.positions.push(from.positions[v]);
+                if let Some(&n) = from.normals.get(v) {
+                    self.normals.push(n);
+                }
+            }
         }
         if let Some(&uv) = from.uvs.get(v) {
             self.uvs.push(uv);
@@ -554,6 +562,46 @@ mod tests {
         );
         let joined: Vec<_> = views.iter().copied().flat_map(triangles).collect();
         assert_eq!(joined, triangles(vertices.view()));
+    }
+
+    #[test]
+    fn a_scattered_model_primitive_gathers_its_vertices_rounded() {
+        // The strip's shuffled indices over f64 vertices of the model: runs gather f32 copies.
+        let ordered = strip(10);
+        let positions: Vec<DVec3> = (0..22)
+            .map(|i| DVec3::new(f64::from(i) / 3.0, 0.1, -1e-7))
+            .collect();
+        let normals: Vec<DVec3> = (0..22)
+            .map(|i| DVec3::new(0.0, 2.0, f64::from(i)))
+            .collect();
+        let vertices = Vertices {
+            indices: ordered.indices.iter().map(|v| 7 * v % 22).collect(),
+            model: Some(ModelVertices {
+                positions: &positions,
+                normals: Cow::Borrowed(&normals),
+            }),
+            ..Vertices::default()
+        };
+        assert_eq!(vertices.len(), 22);
+        let runs = vertices.split(8);
+        assert!(runs.iter().all(|r| matches!(r, Run::Gathered(_))));
+        let whole = vertices.view();
+        let mut gathered = 0;
+        for run in &runs {
+            let Run::Gathered(own) = run else { continue };
+            assert!(own.len() <= 8 && own.normals.len() == own.len());
+            for corners in own.indices.chunks_exact(3) {
+                gathered += 1;
+                for &c in corners {
+                    let c = c as usize;
+                    let source = (0..22)
+                        .find(|&v| whole.positions.get(v) == own.positions[c])
+                        .expect("every gathered position is a model position rounded");
+                    assert_eq!(own.normals[c], whole.normals.get(source));
+                }
+            }
+        }
+        assert_eq!(gathered, ordered.indices.len() / 3);
     }
 
     #[test]
