@@ -121,6 +121,9 @@ impl FaceSplitter {
     /// (appended to `out`), or `None` for a face that is not written at all (see
     /// [`face_is_exportable`]); a face may keep no triangle.
     pub fn split(&mut self, mesh: &Mesh, i: usize, out: &mut Vec<[u32; 3]>) -> Option<DVec3> {
+        if let &[a, b, c, d] = mesh.face(i) {
+            return self.split_quad([a, b, c, d].map(|v| mesh.positions()[v as usize]), out);
+        }
         self.points.clear();
         self.points.extend(mesh.face_points(i));
         let normal = newell(self.points.iter().copied());
@@ -159,6 +162,32 @@ impl FaceSplitter {
         };
         for t in fan {
             if has_f32_area(corners(t)) {
+                out.push(*t);
+            }
+        }
+        Some(normal)
+    }
+
+    /// [`Self::split`] of a quad with corners `points`, in arrays rather than the scratch
+    /// lists: a tube is millions of quads. The same tests in the same order give the same
+    /// normal and triangles.
+    fn split_quad(&mut self, points: [DVec3; 4], out: &mut Vec<[u32; 3]>) -> Option<DVec3> {
+        let normal = newell(points.into_iter());
+        let rounded = points.map(|p| p.as_vec3());
+        if normal == DVec3::ZERO || !rounded.iter().all(|p| p.is_finite()) {
+            return None;
+        }
+        let rounded = rounded.map(|p| p.to_array());
+        self.rounded.clear();
+        self.rounded.extend_from_slice(&rounded);
+        let fan: &[[u32; 3]] = if is_convex_about(&points, normal) {
+            &[[0, 1, 2], [0, 2, 3]]
+        } else {
+            self.fanned = self.triangulator.triangulate(&points, &[]);
+            &self.fanned
+        };
+        for t in fan {
+            if has_f32_area(t.map(|c| rounded[c as usize])) {
                 out.push(*t);
             }
         }
@@ -422,4 +451,42 @@ pub(crate) fn sanitized_name(name: &str) -> String {
     name.chars()
         .map(|c| if c.is_whitespace() { '_' } else { c })
         .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Splits the single face of a polygon.
+    fn split(points: &[DVec3]) -> (Option<DVec3>, Vec<[u32; 3]>) {
+        let mut fan = Vec::new();
+        let normal = FaceSplitter::default().split(&Mesh::from_polygon(points), 0, &mut fan);
+        (normal, fan)
+    }
+
+    #[test]
+    fn quads_split_as_the_other_polygons() {
+        let p = |x, y| DVec3::new(x, y, 0.0);
+        let square = [p(0.0, 0.0), p(1.0, 0.0), p(1.0, 1.0), p(0.0, 1.0)];
+        assert_eq!(
+            split(&square),
+            (Some(DVec3::new(0.0, 0.0, 2.0)), vec![[0, 1, 2], [0, 2, 3]])
+        );
+        // A dart whose reflex corner is the last: the triangulator cuts along 1-3.
+        let dart = [p(0.0, 0.0), p(1.0, 0.0), p(1.0, 1.0), p(0.8, 0.2)];
+        let (normal, fan) = split(&dart);
+        assert_eq!(normal, Some(newell(dart.into_iter())));
+        assert_eq!(fan.len(), 2);
+        assert!(
+            fan.iter().all(|t| t.contains(&1) && t.contains(&3)),
+            "{fan:?}"
+        );
+        // A sliver keeps the triangle with area; a face without area or finite corners none.
+        let sliver = [p(0.0, 0.0), p(1.0, 0.0), p(1.0, 1.0), p(0.5, 0.5)];
+        assert_eq!(split(&sliver).1, vec![[0, 1, 2]]);
+        let flat = [p(0.0, 0.0), p(1.0, 0.0), p(2.0, 0.0), p(3.0, 0.0)];
+        assert_eq!(split(&flat), (None, vec![]));
+        let far = [p(0.0, 0.0), p(1e300, 0.0), p(1e300, 1e300), p(0.0, 1e300)];
+        assert_eq!(split(&far), (None, vec![]));
+    }
 }

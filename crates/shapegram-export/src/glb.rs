@@ -33,7 +33,9 @@
 //! The file is planned first (the compacted vertices of every primitive, their accessors, the
 //! JSON chunk) and then streamed: each accessor's bytes are encoded from the compacted vertices
 //! as they are written (compressed ones excepted, see [`streams`]); each primitive's data from
-//! the model is let go once compacted.
+//! the model is let go once compacted. A smooth part alone in its primitive with positions and
+//! normals only (an L-system tube) is not compacted: its accessors are encoded from the
+//! model's f64 vertices, rounded as they are read (see [`triples`]), without an f32 copy.
 
 use std::collections::BTreeMap;
 use std::io::{self, Write};
@@ -59,6 +61,7 @@ mod quantize;
 mod skin;
 mod streams;
 mod tangents;
+mod triples;
 
 use animation::Animation;
 pub(crate) use chunk::{Chunk, gltf_uv};
@@ -71,6 +74,7 @@ use metadata::{LotNodes, metadata_extras};
 use quantize::Grid;
 use skin::Skin;
 use streams::{Joints, Stream, index_stream, position_stream, streams};
+use triples::Triples;
 
 /// GLB framing constants from the glTF 2.0 specification, section "Binary glTF Layout".
 pub(crate) const MAGIC: &[u8; 4] = b"glTF";
@@ -96,7 +100,7 @@ struct Primitive<'a> {
     sources: Vec<Option<usize>>,
     /// Its vertices compacted, from which its streams' data is made as the file is written
     /// (none when they went into its mesh's pool).
-    vertices: Vertices,
+    vertices: Vertices<'a>,
     /// The glTF primitives it becomes: one, or several of fewer than 65,535 vertices each.
     runs: Vec<Run>,
     /// Each run's accessors, in the order they are written.
@@ -145,7 +149,7 @@ struct Group<'a> {
     pool: Vec<PooledPiece>,
 }
 
-impl Group<'_> {
+impl<'a> Group<'a> {
     /// Compacts each primitive's chunks into the streams to write (and lets the chunks go),
     /// quantising positions on one grid for the whole mesh when `encoding` asks for it and
     /// the mesh is neither skinned nor instanced.
@@ -157,7 +161,7 @@ impl Group<'_> {
             .iter()
             .map(|p| compaction.reorder && p.is_bare())
             .collect();
-        let vertices: Vec<Vertices> = self
+        let vertices: Vec<Vertices<'a>> = self
             .primitives
             .iter_mut()
             .zip(&bare)
@@ -169,11 +173,13 @@ impl Group<'_> {
         if encoding != GlbEncoding::Float && self.skin.is_none() && placed_once {
             let mut min = [f32::INFINITY; 3];
             let mut max = [f32::NEG_INFINITY; 3];
-            for p in vertices.iter().flat_map(|v| &v.positions) {
-                for k in 0..3 {
-                    min[k] = min[k].min(p[k]);
-                    max[k] = max[k].max(p[k]);
-                }
+            for v in &vertices {
+                v.view().positions.for_each(|p| {
+                    for k in 0..3 {
+                        min[k] = min[k].min(p[k]);
+                        max[k] = max[k].max(p[k]);
+                    }
+                });
             }
             self.grid = Some(Grid::spanning(min, max));
         }
@@ -215,7 +221,8 @@ impl Group<'_> {
         self.pool = pieces
             .into_iter()
             .map(|piece| {
-                let mut positions = position_stream(&piece.positions, self.grid.as_ref());
+                let points = Triples::F32(&piece.positions);
+                let mut positions = position_stream(points, self.grid.as_ref());
                 let count = piece.positions.len();
                 let mut primitives: Vec<(usize, Stream)> = piece
                     .members

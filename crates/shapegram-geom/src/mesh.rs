@@ -305,14 +305,23 @@ impl Mesh {
 
 /// Twice the vector area of a closed loop of points (Newell's method): its direction is the loop's
 /// normal and its length twice the loop's area, for planar loops of any convexity.
-pub fn newell(points: impl Iterator<Item = DVec3> + Clone) -> DVec3 {
-    let Some(first) = points.clone().next() else {
+// One pass, inlined: the exporters take the normal of every face (millions for a tube).
+#[inline]
+pub fn newell(mut points: impl Iterator<Item = DVec3>) -> DVec3 {
+    let Some(first) = points.next() else {
         return DVec3::ZERO;
     };
-    // Relative to the first corner, so large coordinates do not swamp small faces.
-    let local = points.map(move |p| p - first);
-    let next = local.clone().skip(1).chain(std::iter::once(DVec3::ZERO));
-    local.zip(next).map(|(a, b)| a.cross(b)).sum()
+    // Relative to the first corner, so large coordinates do not swamp small faces. The first
+    // corner's own `first - first` is kept (NaN for a non-finite corner, as it should be).
+    let local = |p: DVec3| p - first;
+    let mut previous = local(first);
+    let mut sum = DVec3::ZERO;
+    for p in points {
+        let local = local(p);
+        sum += previous.cross(local);
+        previous = local;
+    }
+    sum + previous.cross(DVec3::ZERO)
 }
 
 #[cfg(test)]

@@ -242,16 +242,26 @@ pub fn is_convex(points: &[DVec3]) -> bool {
 }
 
 /// [`is_convex`] for a caller that has the polygon's Newell normal already.
+// Inlined into the exporters, which test every quad of a tube (millions); the corners wrap
+// around without a division (`% n`), which cost more than the arithmetic. A plain loop: as
+// an iterator's `all` the test stayed out of line, called per quad.
+#[inline]
 pub fn is_convex_about(points: &[DVec3], normal: DVec3) -> bool {
     let n = points.len();
-    (0..n).all(|i| {
+    let next = |i: usize| if i + 1 == n { 0 } else { i + 1 };
+    for i in 0..n {
         let a = points[i];
-        let b = points[(i + 1) % n];
-        let c = points[(i + 2) % n];
+        let b = points[next(i)];
+        let c = points[next(next(i))];
         // turn ≥ -1e-12 · |normal| · |c - a|, squared to spare two square roots.
         let turn = (b - a).cross(c - b).dot(normal);
-        turn >= 0.0 || turn * turn <= 1e-24 * normal.length_squared() * (c - a).length_squared()
-    })
+        let convex = turn >= 0.0
+            || turn * turn <= 1e-24 * normal.length_squared() * (c - a).length_squared();
+        if !convex {
+            return false;
+        }
+    }
+    true
 }
 
 impl Mesh {
@@ -282,5 +292,33 @@ impl Mesh {
                 0.5 * (b - a).cross(c - a).length() < min_area
             })
             .count()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn convexity_checks_the_corners_that_wrap_around() {
+        let square = [
+            DVec3::new(0.0, 0.0, 0.0),
+            DVec3::new(1.0, 0.0, 0.0),
+            DVec3::new(1.0, 1.0, 0.0),
+            DVec3::new(0.0, 1.0, 0.0),
+        ];
+        assert!(is_convex(&square));
+        // A dart whose reflex corner is the last one: only the triples (2, 3, 0) and (3, 0, 1),
+        // which wrap around the loop, see it.
+        let mut dart = square;
+        dart[3] = DVec3::new(0.8, 0.2, 0.0);
+        assert!(!is_convex(&dart));
+        for start in 0..4 {
+            let mut turned = dart;
+            turned.rotate_left(start);
+            assert!(!is_convex(&turned), "starting at corner {start}");
+        }
+        assert!(is_convex(&square[..3]));
+        assert!(is_convex(&square[..1]));
     }
 }

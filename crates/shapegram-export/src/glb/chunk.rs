@@ -5,6 +5,7 @@ use std::borrow::Cow;
 
 use shapegram_geom::{DVec2, DVec3, Lines, Mesh, Part};
 
+use super::compact::ModelVertices;
 use super::tangents::{face_tangent, vertex_tangents};
 use crate::flat::{
     FaceSplitter, drawable, flat_faces, is_smooth, segment_is_exportable, texture_uvs, unit,
@@ -155,6 +156,28 @@ impl<'a> Chunk<'a> {
         match self {
             Self::Flat { indices, .. } | Self::Smooth { indices, .. } => std::mem::take(indices),
             Self::Lines { indices, .. } => std::mem::take(indices).into_owned(),
+        }
+    }
+
+    /// A smooth chunk's vertices as the model holds them and its indices, leaving it none,
+    /// when it writes every vertex of its mesh with nothing but a position and a normal;
+    /// `None` otherwise.
+    pub(crate) fn take_model_vertices(&mut self) -> Option<(ModelVertices<'a>, Vec<u32>)> {
+        match self {
+            Self::Smooth {
+                vertices: Shared { all, keep: None },
+                normals,
+                uvs: None,
+                tangents: None,
+                indices,
+            } => Some((
+                ModelVertices {
+                    positions: all,
+                    normals: std::mem::take(normals),
+                },
+                std::mem::take(indices),
+            )),
+            _ => None,
         }
     }
 

@@ -3,18 +3,23 @@
 //! order must stay) triangles put in vertex-cache order with vertices in first-use order, by
 //! meshoptimizer. Every step is deterministic: it depends on the data only.
 
+use std::borrow::Cow;
 use std::ops::Range;
 
 use meshopt::VertexStream;
+use shapegram_geom::DVec3;
 
 use super::Primitive;
 use super::chunk::FlatFaces;
 use super::coplanar::{self, Rectangle};
+use super::triples::{Triples, point};
+use crate::flat::unit;
 
 /// A primitive's vertex data, one entry per vertex in each attribute that it has, and its
 /// indices (pairs for lines, triples for triangles).
 #[derive(Clone, Debug, Default, PartialEq)]
-pub(crate) struct Vertices {
+pub(crate) struct Vertices<'a> {
+    /// Empty when the vertices are `model`'s.
     pub(crate) positions: Vec<[f32; 3]>,
     /// Empty for lines, and for flat primitives once compacted unless flat normals are written.
     pub(crate) normals: Vec<[f32; 3]>,
@@ -25,6 +30,17 @@ pub(crate) struct Vertices {
     /// Each vertex's joint; empty unless the primitive is skinned.
     pub(crate) joints: Vec<u16>,
     pub(crate) indices: Vec<u32>,
+    /// A smooth part's vertices as the model holds them, read instead of `positions` and
+    /// `normals` (then empty), which would copy them.
+    pub(crate) model: Option<ModelVertices<'a>>,
+}
+
+/// A smooth part's shared vertices and their normals, in the model's f64.
+#[derive(Clone, Debug, PartialEq)]
+pub(crate) struct ModelVertices<'a> {
+    pub(crate) positions: &'a [DVec3],
+    /// One per position, none zero or infinite.
+    pub(crate) normals: Cow<'a, [DVec3]>,
 }
 
 /// What compaction may do to a primitive.
@@ -35,15 +51,29 @@ pub(crate) struct Compaction {
     pub(crate) reorder: bool,
 }
 
-impl Vertices {
+impl<'a> Vertices<'a> {
     /// The primitive's vertices, compacted as `compaction` allows; when `pooled`, only
     /// gathered and merged, since the mesh's vertex pool shares and orders them (see
     /// [`super::pool`]).
     pub(crate) fn of_primitive(
-        primitive: &mut Primitive<'_>,
+        primitive: &mut Primitive<'a>,
         compaction: Compaction,
         pooled: bool,
     ) -> Self {
+        // A smooth part alone in its primitive with nothing but positions and normals (a
+        // tube) is written from the model's vertices as they are: it would not be compacted.
+        let plain = primitive.normals && primitive.skinned.is_none() && !primitive.textured;
+        if let [chunk] = &mut primitive.chunks[..]
+            && plain
+            && !pooled
+            && let Some((model, indices)) = chunk.take_model_vertices()
+        {
+            return Self {
+                indices,
+                model: Some(model),
+                ..Self::default()
+            };
+        }
         // Rectangles merge only where each vertex carries nothing but a position and a
         // normal: uvs, tangents and joints would have to agree across the merge too.
         let merge = compaction.reorder
@@ -263,7 +293,10 @@ impl Vertices {
 
     /// How many vertices there are.
     pub(crate) fn len(&self) -> usize {
-        self.positions.len()
+        match &self.model {
+            Some(model) => model.positions.len(),
+            None => self.positions.len(),
+        }
     }
 
     /// The vertices and indices as they are, without copying.
@@ -274,9 +307,19 @@ impl Vertices {
     /// The vertices in `range` and the indices in `indices` (positions in the index list),
     /// which all name vertices in `range`.
     fn window(&self, range: Range<usize>, indices: Range<usize>) -> View<'_> {
+        let (positions, normals) = match &self.model {
+            Some(model) => (
+                Triples::Points(&model.positions[range.clone()]),
+                Triples::Normals(&model.normals[range.clone()]),
+            ),
+            None => (
+                Triples::F32(&self.positions[range.clone()]),
+                Triples::F32(attribute(&self.normals, &range)),
+            ),
+        };
         View {
-            positions: &self.positions[range.clone()],
-            normals: attribute(&self.normals, &range),
+            positions,
+            normals,
             uvs: attribute(&self.uvs, &range),
             tangents: attribute(&self.tangents, &range),
             joints: attribute(&self.joints, &range),
@@ -306,41 +349,42 @@ impl Vertices {
         let mut runs = Vec::new();
         let mut covered = 0;
         let (mut start, mut low, mut high) = (0, usize::MAX, 0);
-        let triangles = self.indices.len() / 3;
-        for t in 0..=triangles {
-            let (t_low, t_high) = match self.indices.get(3 * t..3 * t + 3) {
-                Some(c) => (
-                    c.iter().min().copied().unwrap_or(0) as usize,
-                    c.iter().max().copied().unwrap_or(0) as usize,
-                ),
-                None => (usize::MAX, 0),
-            };
-            if t_high.saturating_sub(t_low) >= limit {
+        // Closes the window of triangles `start..end` over vertices `low..=high`; `false` when
+        // the windows would repeat too many vertices.
+        let mut close = |runs: &mut Vec<Run>, start, end, low: usize, high: usize| {
+            covered += high + 1 - low;
+            runs.push(Run::Window {
+                vertices: low..high + 1,
+                triangles: start..end,
+            });
+            covered <= budget
+        };
+        // A tube has tens of millions of triangles: plain min and max of the three corners.
+        for (t, c) in self.indices.chunks_exact(3).enumerate() {
+            let t_low = c[0].min(c[1]).min(c[2]) as usize;
+            let t_high = c[0].max(c[1]).max(c[2]) as usize;
+            if t_high - t_low >= limit {
                 return None;
             }
             let (new_low, new_high) = (low.min(t_low), high.max(t_high));
-            if t == triangles || new_high - new_low >= limit {
-                covered += high + 1 - low;
-                if covered > budget {
+            if new_high - new_low >= limit {
+                if !close(&mut runs, start, t, low, high) {
                     return None;
                 }
-                runs.push(Run::Window {
-                    vertices: low..high + 1,
-                    triangles: start..t,
-                });
                 (start, low, high) = (t, t_low, t_high);
             } else {
                 (low, high) = (new_low, new_high);
             }
         }
-        Some(runs)
+        let triangles = self.indices.len() / 3;
+        close(&mut runs, start, triangles, low, high).then_some(runs)
     }
 
     /// Runs that each gather the vertices they use, in order of first use.
-    fn gather(&self, limit: usize) -> Vec<Self> {
+    fn gather(&self, limit: usize) -> Vec<Vertices<'static>> {
         let mut runs = Vec::new();
         let mut slot = vec![u32::MAX; self.len()];
-        let mut run = Self::default();
+        let mut run = Vertices::default();
         let mut used = Vec::new();
         for triangle in self.indices.chunks_exact(3) {
             let new = triangle
@@ -368,10 +412,18 @@ impl Vertices {
     }
 
     /// Appends vertex `v` of `from` with every attribute it has.
-    fn push_vertex(&mut self, from: &Self, v: usize) {
-        self.positions.push(from.positions[v]);
-        if let Some(&n) = from.normals.get(v) {
-            self.normals.push(n);
+    fn push_vertex(&mut self, from: &Vertices<'_>, v: usize) {
+        match &from.model {
+            Some(model) => {
+                self.positions.push(point(model.positions[v]));
+                self.normals.push(unit(model.normals[v]));
+            }
+            None => {
+                self.positions.push(from.positions[v]);
+                if let Some(&n) = from.normals.get(v) {
+                    self.normals.push(n);
+                }
+            }
         }
         if let Some(&uv) = from.uvs.get(v) {
             self.uvs.push(uv);
@@ -397,8 +449,9 @@ fn attribute<'a, T>(values: &'a [T], range: &Range<usize>) -> &'a [T] {
 /// A primitive's vertex data borrowed: each attribute it has and the indices.
 #[derive(Clone, Copy, Debug)]
 pub(crate) struct View<'a> {
-    pub(crate) positions: &'a [[f32; 3]],
-    pub(crate) normals: &'a [[f32; 3]],
+    pub(crate) positions: Triples<'a>,
+    /// Empty when the vertices have none.
+    pub(crate) normals: Triples<'a>,
     pub(crate) uvs: &'a [[f32; 2]],
     pub(crate) tangents: &'a [[f32; 4]],
     pub(crate) joints: &'a [u16],
@@ -412,8 +465,8 @@ impl<'a> View<'a> {
     /// Positions without other attributes, and `indices` into them.
     pub(crate) fn bare(positions: &'a [[f32; 3]], indices: &'a [u32]) -> Self {
         Self {
-            positions,
-            normals: &[],
+            positions: Triples::F32(positions),
+            normals: Triples::F32(&[]),
             uvs: &[],
             tangents: &[],
             joints: &[],
@@ -439,12 +492,12 @@ pub(crate) enum Run {
         triangles: Range<usize>,
     },
     /// Triangles over vertices gathered from the primitive's.
-    Gathered(Vertices),
+    Gathered(Vertices<'static>),
 }
 
 impl Run {
     /// The run's vertex data, taken from `of` (the primitive's) where it is not its own.
-    pub(crate) fn view<'a>(&'a self, of: &'a Vertices) -> View<'a> {
+    pub(crate) fn view<'a>(&'a self, of: &'a Vertices<'_>) -> View<'a> {
         match self {
             Self::Whole => of.view(),
             Self::Window {
@@ -461,7 +514,7 @@ mod tests {
     use super::*;
 
     /// A strip of `quads` quads along x: two vertices per column, with normals.
-    fn strip(quads: u32) -> Vertices {
+    fn strip(quads: u32) -> Vertices<'static> {
         let mut vertices = Vertices::default();
         for i in 0..=quads {
             for y in [0.0, 1.0] {
@@ -479,7 +532,7 @@ mod tests {
     fn triangles(v: View<'_>) -> Vec<[[f32; 3]; 3]> {
         v.indices
             .chunks_exact(3)
-            .map(|t| [0, 1, 2].map(|k| v.positions[(t[k] - v.base) as usize]))
+            .map(|t| [0, 1, 2].map(|k| v.positions.get((t[k] - v.base) as usize)))
             .collect()
     }
 
@@ -509,6 +562,46 @@ mod tests {
         );
         let joined: Vec<_> = views.iter().copied().flat_map(triangles).collect();
         assert_eq!(joined, triangles(vertices.view()));
+    }
+
+    #[test]
+    fn a_scattered_model_primitive_gathers_its_vertices_rounded() {
+        // The strip's shuffled indices over f64 vertices of the model: runs gather f32 copies.
+        let ordered = strip(10);
+        let positions: Vec<DVec3> = (0..22)
+            .map(|i| DVec3::new(f64::from(i) / 3.0, 0.1, -1e-7))
+            .collect();
+        let normals: Vec<DVec3> = (0..22)
+            .map(|i| DVec3::new(0.0, 2.0, f64::from(i)))
+            .collect();
+        let vertices = Vertices {
+            indices: ordered.indices.iter().map(|v| 7 * v % 22).collect(),
+            model: Some(ModelVertices {
+                positions: &positions,
+                normals: Cow::Borrowed(&normals),
+            }),
+            ..Vertices::default()
+        };
+        assert_eq!(vertices.len(), 22);
+        let runs = vertices.split(8);
+        assert!(runs.iter().all(|r| matches!(r, Run::Gathered(_))));
+        let whole = vertices.view();
+        let mut gathered = 0;
+        for run in &runs {
+            let Run::Gathered(own) = run else { continue };
+            assert!(own.len() <= 8 && own.normals.len() == own.len());
+            for corners in own.indices.chunks_exact(3) {
+                gathered += 1;
+                for &c in corners {
+                    let c = c as usize;
+                    let source = (0..22)
+                        .find(|&v| whole.positions.get(v) == own.positions[c])
+                        .expect("every gathered position is a model position rounded");
+                    assert_eq!(own.normals[c], whole.normals.get(source));
+                }
+            }
+        }
+        assert_eq!(gathered, ordered.indices.len() / 3);
     }
 
     #[test]

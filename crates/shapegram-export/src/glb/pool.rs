@@ -200,7 +200,7 @@ mod tests {
     use super::*;
 
     /// A unit square at (x, y) in the plane z = 0, as four vertices and two triangles.
-    fn square(x: f32, y: f32) -> Vertices {
+    fn square(x: f32, y: f32) -> Vertices<'static> {
         Vertices {
             positions: vec![
                 [x, y, 0.0],

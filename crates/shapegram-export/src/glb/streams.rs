@@ -13,7 +13,9 @@ use serde_json::Value;
 use super::compact::View;
 use super::compress::{self, Mode};
 use super::quantize::{self, Grid};
+use super::triples::{Triples, point};
 use crate::GlbEncoding;
+use crate::flat::unit;
 
 /// One accessor's data and description.
 pub(crate) struct Stream {
@@ -158,13 +160,15 @@ impl Encoding {
     /// Puts the elements it makes of `view`'s vertices (or indices).
     fn write(self, view: &View<'_>, put: &mut impl FnMut(&[u8])) {
         match self {
-            Self::Positions(None) => blocks(view.positions, put, floats::<3, 12>),
-            Self::Positions(Some(grid)) => blocks(view.positions, put, |&p| {
+            Self::Positions(None) => triple_blocks(view.positions, put, |p| floats::<3, 12>(&p)),
+            Self::Positions(Some(grid)) => triple_blocks(view.positions, put, |p| {
                 let [x, y, z] = grid.quantize(p).map(i16::to_le_bytes);
                 [x[0], x[1], y[0], y[1], z[0], z[1], 0, 0]
             }),
-            Self::Normals { quantized: false } => blocks(view.normals, put, floats::<3, 12>),
-            Self::Normals { quantized: true } => blocks(view.normals, put, |&n| {
+            Self::Normals { quantized: false } => {
+                triple_blocks(view.normals, put, |n| floats::<3, 12>(&n))
+            }
+            Self::Normals { quantized: true } => triple_blocks(view.normals, put, |n| {
                 let [x, y, z] = quantize::normal(n);
                 [x, y, z, 0].map(|b| b as u8)
             }),
@@ -179,7 +183,7 @@ impl Encoding {
                 [a, b, 0, 0, 0, 0, 0, 0]
             }),
             Self::Joints { wide: false } => blocks(view.joints, put, |&j| [j as u8, 0, 0, 0]),
-            Self::Weights => blocks(view.positions, put, |_| [u8::MAX, 0, 0, 0]),
+            Self::Weights => triple_blocks(view.positions, put, |_| [u8::MAX, 0, 0, 0]),
             Self::Indices { wide: true } => {
                 blocks(view.indices, put, |&i| (i - view.base).to_le_bytes())
             }
@@ -204,6 +208,20 @@ fn blocks<T, const SIZE: usize>(
             slot.copy_from_slice(&encode(value));
         }
         put(&block[..part.len() * SIZE]);
+    }
+}
+
+/// [`blocks`] of three-component values, each read as written (rounded to f32 from the
+/// model's f64 where it is the model's).
+fn triple_blocks<const SIZE: usize>(
+    values: Triples<'_>,
+    put: &mut impl FnMut(&[u8]),
+    encode: impl Fn([f32; 3]) -> [u8; SIZE],
+) {
+    match values {
+        Triples::F32(values) => blocks(values, put, |&v| encode(v)),
+        Triples::Points(values) => blocks(values, put, |&p| encode(point(p))),
+        Triples::Normals(values) => blocks(values, put, |&n| encode(unit(n))),
     }
 }
 
@@ -301,19 +319,18 @@ pub(crate) fn streams(
 
 /// The POSITION stream of `positions`, with its bounds: on `grid` as i16 triples (padded to 8
 /// bytes) when given, floats otherwise.
-pub(crate) fn position_stream(positions: &[[f32; 3]], grid: Option<&Grid>) -> Stream {
+pub(crate) fn position_stream(positions: Triples<'_>, grid: Option<&Grid>) -> Stream {
     let count = positions.len();
+    let (min, max) = float_bounds(positions);
+    // Putting a coordinate on the grid keeps its order (rounding and clamping are monotone),
+    // so the bounds on the grid are the float bounds' points: no second pass.
     let (format, stride, bounds) = match grid {
         Some(grid) => (
             (ComponentType::I16, Type::Vec3),
             8,
-            bounds(positions.iter().map(|&p| grid.quantize(p))),
+            bounds(grid.quantize(min), grid.quantize(max)),
         ),
-        None => (
-            (ComponentType::F32, Type::Vec3),
-            12,
-            bounds(positions.iter().copied()),
-        ),
+        None => ((ComponentType::F32, Type::Vec3), 12, bounds(min, max)),
     };
     let encoding = Encoding::Positions(grid.copied());
     let mut stream = Stream::attribute(Semantic::Positions, format, count, stride, encoding);
@@ -344,14 +361,13 @@ pub(crate) fn index_stream(indices: &[u32], vertex_count: usize) -> Stream {
     }
 }
 
-/// Component-wise min and max of `values` (at least one), exactly as written (the spec
+/// Component-wise min and max of `positions` (at least one), exactly as written (the spec
 /// requires them on POSITION and validators compare them bit for bit).
-fn bounds<T: Copy + PartialOrd + Into<Value>>(
-    mut values: impl Iterator<Item = [T; 3]>,
-) -> (Value, Value) {
-    let first = values.next().expect("a stream of positions has one");
+fn float_bounds(positions: Triples<'_>) -> ([f32; 3], [f32; 3]) {
+    assert!(!positions.is_empty(), "a stream of positions has one");
+    let first = positions.get(0);
     let (mut min, mut max) = (first, first);
-    for v in values {
+    positions.for_each(|v| {
         for k in 0..3 {
             if v[k] < min[k] {
                 min[k] = v[k];
@@ -360,7 +376,48 @@ fn bounds<T: Copy + PartialOrd + Into<Value>>(
                 max[k] = v[k];
             }
         }
-    }
+    });
+    (min, max)
+}
+
+/// `min` and `max` as the accessor's JSON arrays.
+fn bounds<T: Into<Value>>(min: [T; 3], max: [T; 3]) -> (Value, Value) {
     let array = |v: [T; 3]| Value::Array(v.into_iter().map(Into::into).collect());
     (array(min), array(max))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn bounds_on_the_grid_are_those_of_the_positions_put_on_it() {
+        // Scattered points, with extremes on different points per axis and a -0.0 beside 0.0.
+        let positions: Vec<[f32; 3]> = (0..500)
+            .map(|i| {
+                let t = i as f32;
+                [
+                    (t * 0.37).sin() * 9.5,
+                    (t * 1.3).cos() * 0.01 - 4.0,
+                    (t * 0.11).tan(),
+                ]
+            })
+            .chain([[0.0, -0.0, 1e-3], [-0.0, 0.0, -1e-3]])
+            .collect();
+        let grid = Grid::spanning([-9.5, -4.1, -40.0], [9.5, -3.9, 40.0]);
+        let stream = position_stream(Triples::F32(&positions), Some(&grid));
+        let quantized: Vec<[i16; 3]> = positions.iter().map(|&p| grid.quantize(p)).collect();
+        let extreme = |pick: fn(i16, i16) -> i16| {
+            std::array::from_fn::<i16, 3, _>(|k| {
+                quantized.iter().map(|q| q[k]).reduce(pick).unwrap()
+            })
+        };
+        let (min, max) = stream.bounds.expect("positions have bounds");
+        assert_eq!(min, serde_json::json!(extreme(i16::min)));
+        assert_eq!(max, serde_json::json!(extreme(i16::max)));
+        let floats = position_stream(Triples::F32(&positions), None);
+        let (min, _) = floats.bounds.unwrap();
+        let lowest = positions.iter().map(|p| p[0]).reduce(f32::min).unwrap();
+        assert_eq!(min[0], serde_json::json!(lowest));
+    }
 }
