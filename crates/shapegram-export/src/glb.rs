@@ -40,6 +40,7 @@ use std::io::{self, Write};
 
 use gltf_json as json;
 use json::validation::{Checked::Valid, USize64};
+use rayon::prelude::*;
 use shapegram_geom::{Color, Metadata, Model, Part, Texture};
 
 use crate::flat::{FaceSplitter, Palette, check_bones, drawable};
@@ -159,7 +160,7 @@ impl Group<'_> {
             .collect();
         let vertices: Vec<Vertices> = self
             .primitives
-            .iter_mut()
+            .par_iter_mut()
             .zip(&bare)
             .map(|(primitive, &bare)| Vertices::of_primitive(primitive, compaction, bare))
             .collect();
@@ -212,8 +213,9 @@ impl Group<'_> {
         }
         let compressed = encoding == GlbEncoding::Compressed;
         let pieces = pool::pool(&members, usize::from(u16::MAX) - 1);
+        drop(members);
         self.pool = pieces
-            .into_iter()
+            .into_par_iter()
             .map(|piece| {
                 let mut positions = position_stream(&piece.positions, self.grid.as_ref());
                 let count = piece.positions.len();
@@ -347,7 +349,7 @@ impl<'a> Plan<'a> {
         // An instance set's mesh is its prototype's, written where the set is first used.
         let parts: Vec<(usize, &Part, Chunk<'a>)> = model
             .parts
-            .iter()
+            .par_iter()
             .enumerate()
             .filter_map(|(i, part)| {
                 let chunk = match sets.role(i) {
@@ -538,9 +540,11 @@ impl<'a> Plan<'a> {
                 skinned.joints.push(j);
             }
         }
-        for group in &mut groups {
-            group.encode(options.encoding, compaction);
-        }
+        // Meshes are independent: planned on as many threads as there are, each the same on
+        // any number of them.
+        groups
+            .par_iter_mut()
+            .for_each(|group| group.encode(options.encoding, compaction));
         let animations = Animation::of_skins(&skins);
         let (json, bin_len) = document(&palette, &textures, &groups, &skins, &animations);
         Ok(Self {
