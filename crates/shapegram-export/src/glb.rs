@@ -33,7 +33,9 @@
 //! The file is planned first (the compacted vertices of every primitive, their accessors, the
 //! JSON chunk) and then streamed: each accessor's bytes are encoded from the compacted vertices
 //! as they are written (compressed ones excepted, see [`streams`]); each primitive's data from
-//! the model is let go once compacted.
+//! the model is let go once compacted. Planning runs on rayon's threads (the parts' data, the
+//! meshes, a mesh's primitives, the pieces of its vertex pool); every result is made as on one
+//! thread and kept in order, so the bytes are the same on any number of threads.
 
 use std::collections::BTreeMap;
 use std::io::{self, Write};

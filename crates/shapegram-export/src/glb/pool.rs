@@ -6,7 +6,8 @@
 //! The pool is cut into pieces of fewer than 65,535 vertices (u16 indices) along a Z-order
 //! curve through the triangles' centres, so that neighbours, of whatever material, mostly land
 //! in the same piece. Within a piece each material's triangles are put in vertex-cache order and
-//! the vertices in order of first use. Deterministic: the result depends on the data only.
+//! the vertices in order of first use. Deterministic: the result depends on the data only, not
+//! on the threads that order the pieces.
 
 use rayon::prelude::*;
 use rustc_hash::FxHashMap;
