@@ -109,15 +109,13 @@ fn along_across(span: &Span, along_u: bool) -> ([f32; 2], [f32; 2]) {
 /// Joins spans that continue one another along u (or along v): same plane, same interval
 /// across, one ending where the next begins. The result is in sorted order.
 fn merge_along(mut spans: Vec<Span>, along_u: bool) -> Vec<Span> {
-    // The five keys in order, packed into two integers: the sort of a city's millions of
-    // spans compares those rather than five fields. Spans with equal keys are equal, so the
-    // order is the same as by the fields.
     spans.sort_unstable_by_key(|s| {
         let (along, across) = along_across(s, along_u);
-        let high = [key(s.w), key(across[0]), key(across[1]), key(along[0])];
         (
-            high.iter()
-                .fold(0u128, |packed, &k| packed << 32 | u128::from(k)),
+            key(s.w),
+            key(across[0]),
+            key(across[1]),
+            key(along[0]),
             key(along[1]),
         )
     });
