@@ -4,6 +4,7 @@
 
 /// CPU time (user and system) in seconds and minor page faults of the calling thread so far;
 /// zeros where /proc cannot tell.
+#[allow(dead_code)]
 pub fn thread_usage() -> (f64, u64) {
     // schedstat's first field: nanoseconds on a CPU.
     let cpu = std::fs::read_to_string("/proc/thread-self/schedstat")
@@ -22,17 +23,51 @@ pub fn thread_usage() -> (f64, u64) {
     (cpu, faults)
 }
 
+/// CPU time (user and system) in seconds of all the process's threads so far, and its minor
+/// page faults; zeros where /proc cannot tell. Threads that have ended are not counted.
+#[allow(dead_code)]
+pub fn process_usage() -> (f64, u64) {
+    let tasks = std::fs::read_dir("/proc/self/task").into_iter().flatten();
+    let cpu: u64 = tasks
+        .flatten()
+        .filter_map(|task| {
+            let text = std::fs::read_to_string(task.path().join("schedstat")).ok()?;
+            text.split_whitespace().next()?.parse::<u64>().ok()
+        })
+        .sum();
+    // The process's stat sums the faults of all its threads.
+    let faults = std::fs::read_to_string("/proc/self/stat")
+        .ok()
+        .and_then(|s| {
+            let rest = &s[s.rfind(')')? + 1..];
+            rest.split_whitespace().nth(7)?.parse().ok()
+        })
+        .unwrap_or(0);
+    (cpu as f64 * 1e-9, faults)
+}
+
 /// Runs `step` `runs` times and returns the medians of its wall time and CPU time (seconds)
-/// and of its minor page faults, with the result of its last run.
-pub fn median_usage<T>(runs: usize, mut step: impl FnMut() -> T) -> (f64, f64, u64, T) {
+/// and of its minor page faults on the calling thread, with the result of its last run.
+#[allow(dead_code)]
+pub fn median_usage<T>(runs: usize, step: impl FnMut() -> T) -> (f64, f64, u64, T) {
+    median_usage_by(runs, thread_usage, step)
+}
+
+/// [`median_usage`] with CPU time and faults as `usage` counts them (such as
+/// [`process_usage`], for steps that run on several threads).
+pub fn median_usage_by<T>(
+    runs: usize,
+    usage: impl Fn() -> (f64, u64),
+    mut step: impl FnMut() -> T,
+) -> (f64, f64, u64, T) {
     let mut samples = Vec::with_capacity(runs);
     let mut last = None;
     for _ in 0..runs {
-        let (cpu, faults) = thread_usage();
+        let (cpu, faults) = usage();
         let started = std::time::Instant::now();
         let result = std::hint::black_box(step());
         let wall = started.elapsed().as_secs_f64();
-        let (cpu_after, faults_after) = thread_usage();
+        let (cpu_after, faults_after) = usage();
         samples.push((wall, cpu_after - cpu, faults_after - faults));
         last = Some(result);
     }

@@ -36,12 +36,16 @@
 //! the model is let go once compacted. A smooth part alone in its primitive with positions and
 //! normals only (an L-system tube) is not compacted: its accessors are encoded from the
 //! model's f64 vertices, rounded as they are read (see [`triples`]), without an f32 copy.
+//! Planning runs on rayon's threads (the parts' data, the
+//! meshes, a mesh's primitives, the pieces of its vertex pool); every result is made as on one
+//! thread and kept in order, so the bytes are the same on any number of threads.
 
 use std::collections::BTreeMap;
 use std::io::{self, Write};
 
 use gltf_json as json;
 use json::validation::{Checked::Valid, USize64};
+use rayon::prelude::*;
 use shapegram_geom::{Color, Metadata, Model, Part, Texture};
 
 use crate::flat::{FaceSplitter, Palette, check_bones, drawable};
@@ -163,7 +167,7 @@ impl<'a> Group<'a> {
             .collect();
         let vertices: Vec<Vertices<'a>> = self
             .primitives
-            .iter_mut()
+            .par_iter_mut()
             .zip(&bare)
             .map(|(primitive, &bare)| Vertices::of_primitive(primitive, compaction, bare))
             .collect();
@@ -218,8 +222,9 @@ impl<'a> Group<'a> {
         }
         let compressed = encoding == GlbEncoding::Compressed;
         let pieces = pool::pool(&members, usize::from(u16::MAX) - 1);
+        drop(members);
         self.pool = pieces
-            .into_iter()
+            .into_par_iter()
             .map(|piece| {
                 let points = Triples::F32(&piece.positions);
                 let mut positions = position_stream(points, self.grid.as_ref());
@@ -354,7 +359,7 @@ impl<'a> Plan<'a> {
         // An instance set's mesh is its prototype's, written where the set is first used.
         let parts: Vec<(usize, &Part, Chunk<'a>)> = model
             .parts
-            .iter()
+            .par_iter()
             .enumerate()
             .filter_map(|(i, part)| {
                 let chunk = match sets.role(i) {
@@ -545,9 +550,11 @@ impl<'a> Plan<'a> {
                 skinned.joints.push(j);
             }
         }
-        for group in &mut groups {
-            group.encode(options.encoding, compaction);
-        }
+        // Meshes are independent: planned on as many threads as there are, each the same on
+        // any number of them.
+        groups
+            .par_iter_mut()
+            .for_each(|group| group.encode(options.encoding, compaction));
         let animations = Animation::of_skins(&skins);
         let (json, bin_len) = document(&palette, &textures, &groups, &skins, &animations);
         Ok(Self {

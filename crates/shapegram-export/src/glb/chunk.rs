@@ -61,8 +61,12 @@ fn shared<'a>(all: &'a [DVec3], indices: &mut Cow<'_, [u32]>) -> Shared<'a> {
 pub(crate) struct FlatFaces<'a> {
     /// Per face, in order: how many corners and how many triangles it has.
     pub(crate) faces: &'a [[u32; 2]],
+    /// Each corner's position, face after face.
+    pub(crate) positions: &'a [[f32; 3]],
     /// Each corner's normal: its face's.
     pub(crate) normals: &'a [[f32; 3]],
+    /// The faces' triangles, counted from the chunk's first corner.
+    pub(crate) indices: &'a [u32],
 }
 
 /// Part of a primitive's vertex data, with indices counted from its own first vertex.
@@ -201,7 +205,18 @@ impl<'a> Chunk<'a> {
     /// A flat chunk's faces (`None` for the others).
     pub(crate) fn flat_faces(&self) -> Option<FlatFaces<'_>> {
         match self {
-            Self::Flat { faces, normals, .. } => Some(FlatFaces { faces, normals }),
+            Self::Flat {
+                faces,
+                positions,
+                normals,
+                indices,
+                ..
+            } => Some(FlatFaces {
+                faces,
+                positions,
+                normals,
+                indices,
+            }),
             Self::Smooth { .. } | Self::Lines { .. } => None,
         }
     }
@@ -275,8 +290,14 @@ pub(crate) fn gltf_uv(uv: DVec2) -> [f32; 2] {
 /// A mesh's faces with vertices of their own, as flat shading needs (with tangents, when
 /// `normal_mapped` and there are uvs).
 fn flat_chunk<'a>(mesh: &Mesh, texture_uvs: Option<&[DVec2]>, normal_mapped: bool) -> Chunk<'a> {
-    let (mut positions, mut normals, mut indices) = (Vec::new(), Vec::new(), Vec::new());
-    let (mut uvs, mut tangents, mut faces) = (Vec::new(), Vec::new(), Vec::new());
+    // Sized for every face and corner at once: a city has a chunk per leaf, and growing its
+    // lists one push at a time costs more allocations than the leaf's own.
+    let corners = mesh.indices_len();
+    let mut positions = Vec::with_capacity(corners);
+    let mut normals = Vec::with_capacity(corners);
+    let mut indices = Vec::with_capacity(3 * corners.saturating_sub(2 * mesh.face_count()));
+    let mut faces = Vec::with_capacity(mesh.face_count());
+    let (mut uvs, mut tangents) = (Vec::new(), Vec::new());
     flat_faces(mesh, |face| {
         let base = positions.len() as u32;
         faces.push([face.corners.len() as u32, face.triangles.len() as u32]);

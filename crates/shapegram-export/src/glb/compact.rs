@@ -82,7 +82,13 @@ impl<'a> Vertices<'a> {
             && !primitive.tangents
             && primitive.skinned.is_none();
         let mut vertices = Self::default();
-        let count: usize = primitive.chunks.iter().map(|c| c.vertex_count()).sum();
+        // Corners of the faces that may merge come after the merge (see below).
+        let count: usize = primitive
+            .chunks
+            .iter()
+            .filter(|c| !(merge && c.flat_faces().is_some()))
+            .map(|c| c.vertex_count())
+            .sum();
         vertices.positions.reserve_exact(count);
         if primitive.normals {
             vertices.normals.reserve_exact(count);
@@ -97,8 +103,20 @@ impl<'a> Vertices<'a> {
             let indices = primitive.chunks.iter().map(|c| c.index_count()).sum();
             vertices.indices.reserve_exact(indices);
         }
-        let mut rectangles = Vec::new();
+        // Sized once: a city's walls are millions of rectangles, copied at every doubling.
+        let faces = primitive.chunks.iter().filter_map(|c| c.flat_faces());
+        let mut rectangles = Vec::with_capacity(if merge {
+            faces.map(|f| f.faces.len()).sum()
+        } else {
+            0
+        });
         for (c, chunk) in primitive.chunks.iter_mut().enumerate() {
+            // Where faces merge, only the faces that are no rectangles bring their corners:
+            // no index would name a rectangle's, and sharing drops what no index names.
+            if let Some(flat) = chunk.flat_faces().filter(|_| merge) {
+                vertices.split_rectangles(&flat, primitive.normals, &mut rectangles);
+                continue;
+            }
             let base = vertices.positions.len() as u32;
             chunk.positions(|p| vertices.positions.push(p));
             if primitive.normals {
@@ -111,22 +129,23 @@ impl<'a> Vertices<'a> {
                 let count = vertices.positions.len();
                 vertices.joints.resize(count, joint);
             }
-            match chunk.flat_faces().filter(|_| merge) {
-                Some(flat) => {
-                    vertices.split_rectangles(base, &flat, chunk.indices(), &mut rectangles)
-                }
-                // A primitive's only chunk (a tube's mesh, say) gives up its indices rather
-                // than have hundreds of megabytes copied; the chunk is let go after this.
-                None if vertices.indices.is_empty() && base == 0 => {
-                    vertices.indices = chunk.take_indices();
-                }
-                None => vertices
+            // A primitive's only chunk (a tube's mesh, say) gives up its indices rather than
+            // have hundreds of megabytes copied; the chunk is let go after this.
+            if vertices.indices.is_empty() && base == 0 {
+                vertices.indices = chunk.take_indices();
+            } else {
+                vertices
                     .indices
-                    .extend(chunk.indices().iter().map(|&i| base + i)),
+                    .extend(chunk.indices().iter().map(|&i| base + i));
             }
         }
-        for rectangle in coplanar::merge(&rectangles) {
-            vertices.push_rectangle(&rectangle, primitive.normals);
+        let merged = coplanar::merge(&rectangles);
+        vertices.positions.reserve_exact(4 * merged.len());
+        if primitive.normals {
+            vertices.normals.reserve_exact(4 * merged.len());
+        }
+        for rectangle in &merged {
+            vertices.push_rectangle(rectangle, primitive.normals);
         }
         // Smooth parts and line sets come with their vertices shared already (a tube's rings,
         // a cave's surface), in an order that is mostly cache friendly: hashing and reordering
@@ -137,32 +156,37 @@ impl<'a> Vertices<'a> {
         vertices
     }
 
-    /// Takes the faces of a flat chunk (its vertices from `base` on) that are rectangles of two
-    /// triangles into `rectangles`, and the triangles of the others into the indices.
+    /// Takes the faces of a flat chunk that are rectangles of two triangles into `rectangles`,
+    /// and the others' corners (with their normals, when `normals`) and triangles into the
+    /// vertices.
     fn split_rectangles(
         &mut self,
-        base: u32,
         flat: &FlatFaces<'_>,
-        indices: &[u32],
+        normals: bool,
         rectangles: &mut Vec<Rectangle>,
     ) {
-        let (mut corner, mut index) = (base as usize, 0);
+        let (mut corner, mut index) = (0, 0);
         for &[corners, triangles] in flat.faces {
             let (corners, corner_indices) = (corners as usize, 3 * triangles as usize);
+            let face = &flat.positions[corner..corner + corners];
             let quad = (corners == 4 && triangles == 2)
-                .then(|| {
-                    let p = &self.positions[corner..corner + 4];
-                    let normal = flat.normals[corner - base as usize];
-                    Rectangle::new([p[0], p[1], p[2], p[3]], normal)
-                })
+                .then(|| Rectangle::new([face[0], face[1], face[2], face[3]], flat.normals[corner]))
                 .flatten();
             match quad {
                 Some(rectangle) => rectangles.push(rectangle),
-                None => self.indices.extend(
-                    indices[index..index + corner_indices]
-                        .iter()
-                        .map(|&i| base + i),
-                ),
+                None => {
+                    // The face's indices count from the chunk's first corner, its corners
+                    // here from `first`.
+                    let first = self.positions.len() as u32;
+                    self.positions.extend_from_slice(face);
+                    if normals {
+                        self.normals
+                            .extend_from_slice(&flat.normals[corner..corner + corners]);
+                    }
+                    let triangles = &flat.indices[index..index + corner_indices];
+                    self.indices
+                        .extend(triangles.iter().map(|&i| i - corner as u32 + first));
+                }
             }
             corner += corners;
             index += corner_indices;

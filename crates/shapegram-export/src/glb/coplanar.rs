@@ -6,6 +6,7 @@
 //! the middle of the merged edge go (a neighbour that had a corner there now meets a straight
 //! edge, as CGA's own splits already make neighbours of different sizes meet).
 
+use rayon::prelude::*;
 use rustc_hash::FxHashMap;
 
 use super::aligned;
@@ -90,11 +91,16 @@ pub(crate) fn merge(rectangles: &[Rectangle]) -> Vec<Rectangle> {
         });
         planes[plane].push(*rectangle);
     }
-    let mut owner = FxHashMap::default();
-    // Sized for the most there can be: grown by doubling, a city's list is copied many times.
-    let mut merged = Vec::with_capacity(rectangles.len());
-    for plane in &planes {
-        merged.extend(merge_plane(plane, &mut owner));
+    // Planes merge on their own, on as many threads as there are; each plane's result is the
+    // same on any of them, and the results are kept in plane order.
+    let per_plane: Vec<Vec<Rectangle>> = planes
+        .par_iter()
+        .map_init(FxHashMap::default, |owner, plane| merge_plane(plane, owner))
+        .collect();
+    // Sized once: grown by doubling, a city's list is copied many times.
+    let mut merged = Vec::with_capacity(per_plane.iter().map(Vec::len).sum());
+    for plane in per_plane {
+        merged.extend(plane);
     }
     merged
 }

@@ -6,7 +6,11 @@
 //! The pool is cut into pieces of fewer than 65,535 vertices (u16 indices) along a Z-order
 //! curve through the triangles' centres, so that neighbours, of whatever material, mostly land
 //! in the same piece. Within a piece each material's triangles are put in vertex-cache order and
-//! the vertices in order of first use. Deterministic: the result depends on the data only.
+//! the vertices in order of first use. Deterministic: the result depends on the data only, not
+//! on the threads that order the pieces.
+
+use rayon::prelude::*;
+use rustc_hash::FxHashMap;
 
 use super::compact::Vertices;
 
@@ -21,31 +25,18 @@ pub(crate) struct Piece {
 /// The triangles of `members` (positions and indices only) over shared vertices, cut into
 /// pieces of at most `limit` vertices each.
 pub(crate) fn pool(members: &[Vertices], limit: usize) -> Vec<Piece> {
-    let total: usize = members.iter().map(Vertices::len).sum();
-    let mut positions = Vec::with_capacity(total);
-    let mut indices = Vec::with_capacity(members.iter().map(|m| m.indices.len()).sum());
-    // The member each triangle comes from.
-    let mut owner = Vec::with_capacity(indices.capacity() / 3);
-    for (m, member) in members.iter().enumerate() {
-        let base = positions.len() as u32;
-        positions.extend_from_slice(&member.positions);
-        indices.extend(member.indices.iter().map(|&i| base + i));
-        owner.extend(std::iter::repeat_n(m as u32, member.indices.len() / 3));
-    }
-    let (unique, remap) = meshopt::generate_vertex_remap(&positions, Some(&indices));
-    let positions = meshopt::remap_vertex_buffer(&positions, unique, &remap);
-    let indices = meshopt::remap_index_buffer(Some(&indices), unique, &remap);
+    let (positions, indices, owner) = shared(members);
+    let unique = positions.len();
 
     let order = z_order(&positions, &indices);
     // Triangles over the same three corners (a leaf's front and back) follow one another, as
     // their centres are one point: the run of triangles at the current centre, sorted corners.
     let mut run: (u64, Vec<[u32; 3]>) = (u64::MAX, Vec::new());
     let mut cutter = Cutter {
-        positions: &positions,
         slots: [vec![u32::MAX; unique], vec![u32::MAX; unique]],
         used: Vec::new(),
         lists: vec![Vec::new(); members.len()],
-        pieces: Vec::new(),
+        cuts: Vec::new(),
     };
     for (key, t) in order {
         let triangle = &indices[3 * t as usize..3 * t as usize + 3];
@@ -67,7 +58,7 @@ pub(crate) fn pool(members: &[Vertices], limit: usize) -> Vec<Piece> {
             _ => 3,
         };
         if cutter.used.len() + new > limit {
-            cutter.finish_piece();
+            cutter.cut();
         }
         let list = owner[t as usize] as usize;
         for &v in triangle {
@@ -86,14 +77,54 @@ pub(crate) fn pool(members: &[Vertices], limit: usize) -> Vec<Piece> {
         }
     }
     if !cutter.used.is_empty() {
-        cutter.finish_piece();
+        cutter.cut();
     }
-    cutter.pieces
+    // Pieces are independent from here on: ordered on as many threads as there are, each
+    // piece's result the same on any number of them.
+    cutter
+        .cuts
+        .into_par_iter()
+        .map(|cut| cut.finish(&positions))
+        .collect()
 }
 
-/// The pieces made so far and the one being filled.
-struct Cutter<'a> {
-    positions: &'a [[f32; 3]],
+/// The members' vertices shared where their positions agree bit for bit, numbered in order of
+/// first use by the members' triangles (as meshoptimizer's vertex remap numbers them); the
+/// triangles over them; and the member each triangle comes from. Each member's positions are
+/// looked up where they lie, rather than copied into one list for meshoptimizer first.
+fn shared(members: &[Vertices]) -> (Vec<[f32; 3]>, Vec<u32>, Vec<u32>) {
+    let total: usize = members.iter().map(|m| m.indices.len()).sum();
+    let mut indices = Vec::with_capacity(total);
+    let mut owner = Vec::with_capacity(total / 3);
+    let mut positions = Vec::new();
+    // Merged rectangles meet at most of their corners: about half as many shared vertices as
+    // corners.
+    let corners: usize = members.iter().map(Vertices::len).sum();
+    let mut number: FxHashMap<[u32; 3], u32> =
+        FxHashMap::with_capacity_and_hasher(corners / 2, Default::default());
+    // The member's vertices' shared numbers, once looked up.
+    let mut slots = Vec::new();
+    for (m, member) in members.iter().enumerate() {
+        slots.clear();
+        slots.resize(member.len(), u32::MAX);
+        for &v in &member.indices {
+            let slot = &mut slots[v as usize];
+            if *slot == u32::MAX {
+                let position = member.positions[v as usize];
+                *slot = *number.entry(position.map(f32::to_bits)).or_insert_with(|| {
+                    positions.push(position);
+                    positions.len() as u32 - 1
+                });
+            }
+            indices.push(*slot);
+        }
+        owner.extend(std::iter::repeat_n(m as u32, member.indices.len() / 3));
+    }
+    (positions, indices, owner)
+}
+
+/// The pieces cut so far and the one being filled.
+struct Cutter {
     /// Each pool vertex's index in the piece being filled (`u32::MAX`: not in it), for the
     /// first triangle over a set of corners and for the second.
     slots: [Vec<u32>; 2],
@@ -102,42 +133,59 @@ struct Cutter<'a> {
     used: Vec<u32>,
     /// Per member, its triangles in the piece being filled.
     lists: Vec<Vec<u32>>,
-    pieces: Vec<Piece>,
+    cuts: Vec<Cut>,
 }
 
-impl Cutter<'_> {
-    /// Ends the piece being filled: each member's triangles in vertex-cache order, the vertices
-    /// in order of first use over all of them.
-    fn finish_piece(&mut self) {
-        let count = self.used.len();
-        let mut members: Vec<(usize, Vec<u32>)> = Vec::new();
-        for (m, list) in self.lists.iter_mut().enumerate() {
-            if !list.is_empty() {
-                members.push((m, meshopt::optimize_vertex_cache_fifo(list, count, 16)));
-                list.clear();
-            }
-        }
-        let all: Vec<u32> = members
-            .iter()
-            .flat_map(|(_, l)| l.iter().copied())
-            .collect();
-        let remap = meshopt::optimize_vertex_fetch_remap(&all, count);
-        let positions: Vec<[f32; 3]> = self
-            .used
-            .iter()
-            .map(|&v| self.positions[v as usize])
-            .collect();
-        let positions = meshopt::remap_vertex_buffer(&positions, count, &remap);
-        for (_, list) in &mut members {
-            *list = meshopt::remap_index_buffer(Some(list), count, &remap);
-        }
+impl Cutter {
+    /// Ends the piece being filled, to be ordered later (see [`Cut::finish`]).
+    fn cut(&mut self) {
         for &v in &self.used {
             for slots in &mut self.slots {
                 slots[v as usize] = u32::MAX;
             }
         }
-        self.used.clear();
-        self.pieces.push(Piece { positions, members });
+        let members = self
+            .lists
+            .iter_mut()
+            .enumerate()
+            .filter(|(_, list)| !list.is_empty())
+            .map(|(m, list)| (m, std::mem::take(list)))
+            .collect();
+        self.cuts.push(Cut {
+            used: std::mem::take(&mut self.used),
+            members,
+        });
+    }
+}
+
+/// A piece as cut: its pool vertices in order of first use and, per member with triangles in
+/// it, the member's index and those triangles (indices into `used`).
+struct Cut {
+    used: Vec<u32>,
+    members: Vec<(usize, Vec<u32>)>,
+}
+
+impl Cut {
+    /// The piece: each member's triangles in vertex-cache order, the vertices in order of
+    /// first use over all of them.
+    fn finish(self, positions: &[[f32; 3]]) -> Piece {
+        let count = self.used.len();
+        let mut members: Vec<(usize, Vec<u32>)> = self
+            .members
+            .into_iter()
+            .map(|(m, list)| (m, meshopt::optimize_vertex_cache_fifo(&list, count, 16)))
+            .collect();
+        let all: Vec<u32> = members
+            .iter()
+            .flat_map(|(_, l)| l.iter().copied())
+            .collect();
+        let remap = meshopt::optimize_vertex_fetch_remap(&all, count);
+        let positions: Vec<[f32; 3]> = self.used.iter().map(|&v| positions[v as usize]).collect();
+        let positions = meshopt::remap_vertex_buffer(&positions, count, &remap);
+        for (_, list) in &mut members {
+            *list = meshopt::remap_index_buffer(Some(list), count, &remap);
+        }
+        Piece { positions, members }
     }
 }
 
