@@ -11,16 +11,20 @@ pub fn thread_usage() -> (f64, u64) {
         .ok()
         .and_then(|s| s.split_whitespace().next()?.parse::<u64>().ok())
         .map_or(0.0, |ns| ns as f64 * 1e-9);
+    (cpu, minor_faults("/proc/thread-self/stat"))
+}
+
+/// The minor page faults in a /proc `stat` file, 0 where it cannot be read.
+fn minor_faults(stat: &str) -> u64 {
     // stat's tenth field (counting from 1) is minflt; the command name in parentheses may
     // contain spaces, so count from its closing parenthesis.
-    let faults = std::fs::read_to_string("/proc/thread-self/stat")
+    std::fs::read_to_string(stat)
         .ok()
         .and_then(|s| {
             let rest = &s[s.rfind(')')? + 1..];
             rest.split_whitespace().nth(7)?.parse().ok()
         })
-        .unwrap_or(0);
-    (cpu, faults)
+        .unwrap_or(0)
 }
 
 /// CPU time (user and system) in seconds of all the process's threads so far, and its minor
@@ -36,14 +40,7 @@ pub fn process_usage() -> (f64, u64) {
         })
         .sum();
     // The process's stat sums the faults of all its threads.
-    let faults = std::fs::read_to_string("/proc/self/stat")
-        .ok()
-        .and_then(|s| {
-            let rest = &s[s.rfind(')')? + 1..];
-            rest.split_whitespace().nth(7)?.parse().ok()
-        })
-        .unwrap_or(0);
-    (cpu as f64 * 1e-9, faults)
+    (cpu as f64 * 1e-9, minor_faults("/proc/self/stat"))
 }
 
 /// Runs `step` `runs` times and returns the medians of its wall time and CPU time (seconds)
