@@ -101,6 +101,16 @@ async function settled(page) {
   return page.locator("#status").textContent();
 }
 
+/** Opens `file` from the list and waits for its own model: the editor holding the file's text,
+ * then that revision drawn. (Waiting on `settled` alone can read the previous file's status,
+ * since the page counts the new revision only once the file has arrived.) */
+async function choose(page, file) {
+  const text = readFileSync(file, "utf8");
+  await page.selectOption("#file", file);
+  await page.waitForFunction((text) => window.__studio.view.state.doc.toString() === text, text);
+  return settled(page);
+}
+
 /** Selects `text` (its `occurrence`-th match) in the editor, so that typing replaces it. */
 async function select(page, text, after = false) {
   await page.evaluate(([text, after]) => {
@@ -170,9 +180,8 @@ async function kinds(context) {
       "grotto.cave": [],
     };
     for (const [name, textures] of Object.entries(textured)) {
-      await page.selectOption("#file", join(kindsFolder, name));
-      await page.waitForFunction(() => window.__studio.svg === null);
-      const made = await settled(page);
+      const made = await choose(page, join(kindsFolder, name));
+      assert.equal(await page.evaluate(() => window.__studio.svg), null, `${name}: a drawing is shown`);
       assert.match(made, /^derived in [\d.]+ ms · /, `${name}: ${made}`);
       assert.equal(await page.locator("#drawing").isVisible(), false);
       const pixels = await canvasPixels(page);
@@ -187,9 +196,7 @@ async function kinds(context) {
 
     // Completion: a rule just written is offered and taken; an operation is offered with the
     // signature the server gives, and taken.
-    await page.selectOption("#file", tower);
-    await page.waitForFunction(() => window.__studio.view.state.doc.toString().startsWith("Lot -->"));
-    await settled(page);
+    await choose(page, tower);
     await page.evaluate(() => {
       const view = window.__studio.view;
       view.dispatch({ changes: { from: view.state.doc.length, insert: 'Balcony --> color("#3a6ea5")\n' } });
@@ -327,9 +334,7 @@ async function visualDebugging(context) {
 
     // Joints: the excavator's are drawn and have sliders within their limits; moving the
     // boom's poses the model on the page as the engine poses it.
-    await page.selectOption("#file", excavator);
-    await page.waitForFunction(() => window.__studio.view.state.doc.toString().includes("Boom -->"));
-    await settled(page);
+    await choose(page, excavator);
     const boom = page.locator('#joints input[data-section^="Boom"][data-kind="rotation"][data-axis="2"]');
     assert.equal(await boom.count(), 1);
     assert.deepEqual([await boom.getAttribute("min"), await boom.getAttribute("max")], ["-40", "60"]);
@@ -449,9 +454,7 @@ async function attributesLotsAndExports(context, problems) {
   page.on("console", (m) => m.type() === "error" && problems.push(m.text()));
   await page.goto(url);
   await settled(page);
-  await page.selectOption("#file", join(folder, "tower.cga"));
-  await page.waitForFunction(() => window.__studio.view.state.doc.toString().includes("attr height"));
-  const plain = counts(await settled(page));
+  const plain = counts(await choose(page, join(folder, "tower.cga")));
 
   // The panel: a slider with its number, a select, a colour picker, a checkbox; the hidden
   // attribute left out; the group's heading.
@@ -658,9 +661,7 @@ try {
   // heights, timed the same way.
   const office = join(folder, "office.cga");
   assert.deepEqual(await page.locator("#file option").allTextContents(), ["house.cga", "office.cga (folder)"]);
-  await page.selectOption("#file", office);
-  await page.waitForFunction(() => window.__studio.view.state.doc.toString().includes("attr floors"));
-  const eight = counts(await settled(page));
+  const eight = counts(await choose(page, office));
   const heights = ["3.4", "3.5", "3.3", "3.6", "3.4"];
   const officeEdits = [["floors       = 8", "floors       = 12"],
     ...heights.slice(1).map((to, i) => [`floorHeight  = ${heights[i]}`, `floorHeight  = ${to}`])];
