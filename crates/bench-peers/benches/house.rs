@@ -12,6 +12,8 @@ use shapegram_bench_peers::{ShapegramHouse, SymbiosHouse, terminals_per_lot};
 
 const LOTS: usize = 100;
 const FLOORS: u32 = 10;
+/// Pairs of runs in turns for the ratio, at the least (and six seconds of them).
+const PAIRS: usize = 41;
 
 fn main() {
     let pool = rayon::ThreadPoolBuilder::new()
@@ -49,37 +51,46 @@ fn main() {
     }
     c.final_summary();
 
-    // The summary: the median of interleaved runs of each engine, so drift on a busy machine
-    // hits both alike.
-    let (mut sg, mut sy) = (Vec::new(), Vec::new());
+    // The summary: the engines run in turns, each pair close in time, so drift on a busy
+    // machine hits both alike; the ratio is taken per pair and its median quoted, with the
+    // quartiles to show how far single runs spread.
+    let (mut sg, mut sy, mut ratios) = (Vec::new(), Vec::new(), Vec::new());
     let started = Instant::now();
-    while sg.len() < 15 || started.elapsed() < Duration::from_secs(3) {
+    while sg.len() < PAIRS || started.elapsed() < Duration::from_secs(6) {
         let t = Instant::now();
         black_box(pool.install(|| shapegram.derive()));
-        sg.push(t.elapsed().as_secs_f64());
+        let sg_secs = t.elapsed().as_secs_f64();
         let t = Instant::now();
         black_box(symbios.derive());
-        sy.push(t.elapsed().as_secs_f64());
+        let sy_secs = t.elapsed().as_secs_f64();
+        sg.push(sg_secs);
+        sy.push(sy_secs);
+        ratios.push(sy_secs / sg_secs);
     }
-    let (sg, sy) = (median(&mut sg), median(&mut sy));
+    let pairs = ratios.len();
+    let (sg, sy) = (quantile(&mut sg, 0.5), quantile(&mut sy, 0.5));
     let rate = |secs: f64| terminals as f64 / secs / 1e6;
     println!(
-        "shapegram:     {:7.2} ms per run, {:6.2} M terminals/s",
+        "shapegram:     {:7.2} ms per run, {:6.2} M terminals/s (median of {pairs})",
         sg * 1e3,
         rate(sg)
     );
     println!(
-        "symbios-shape: {:7.2} ms per run, {:6.2} M terminals/s",
+        "symbios-shape: {:7.2} ms per run, {:6.2} M terminals/s (median of {pairs})",
         sy * 1e3,
         rate(sy)
     );
     println!(
-        "ratio: shapegram derives {:.2}× as many terminals per second as symbios-shape",
-        sy / sg
+        "ratio: shapegram derives {:.2}× as many terminals per second as symbios-shape \
+         (median of {pairs} pairs run in turns; quartiles {:.2}–{:.2})",
+        quantile(&mut ratios, 0.5),
+        quantile(&mut ratios, 0.25),
+        quantile(&mut ratios, 0.75),
     );
 }
 
-fn median(v: &mut [f64]) -> f64 {
+/// The value below which a fraction `q` of `v` lies (nearest rank).
+fn quantile(v: &mut [f64], q: f64) -> f64 {
     v.sort_by(f64::total_cmp);
-    v[v.len() / 2]
+    v[((v.len() - 1) as f64 * q).round() as usize]
 }
