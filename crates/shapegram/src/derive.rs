@@ -56,6 +56,13 @@ pub fn run(args: &DeriveArgs) -> Result<(), Failure> {
              --at-node or goal grammars",
         ));
     }
+    let glb = match &args.output {
+        Some(output) => matches!(Format::from_path(output)?, Format::Glb),
+        None => false,
+    };
+    if let Some(warning) = unwritten_metadata(args, glb).filter(|_| !args.quiet) {
+        eprintln!("warning: {warning}");
+    }
     // Goal grammars start from their axioms: lots only when asked for.
     let lots = if goal && args.lot.is_empty() && args.lots.is_empty() {
         Vec::new()
@@ -78,7 +85,7 @@ pub fn run(args: &DeriveArgs) -> Result<(), Failure> {
         assets: Some(Arc::new(input.assets(args.missing_assets.into()))),
         // The tree is what a state at a node is made from, and where leaves' metadata comes
         // from.
-        keep_tree: args.at_node.is_some() || args.metadata,
+        keep_tree: args.at_node.is_some() || (args.metadata && glb),
         implicit_cell: args.implicit_cell,
         trace: false,
         max_steps: args.max_steps,
@@ -147,10 +154,6 @@ pub fn run(args: &DeriveArgs) -> Result<(), Failure> {
     }
     // A tiled city is written tile by tile: the whole model only when something reads it.
     let whole = args.tiles.is_none() || args.output.is_some() || args.stats;
-    let glb = match &args.output {
-        Some(output) => matches!(Format::from_path(output)?, Format::Glb),
-        None => false,
-    };
     let model_options = ModelOptions {
         instances: args.instancing.candidates(glb),
         smaller_only: args.instancing == crate::cli::InstancingArg::Auto,
@@ -377,6 +380,29 @@ fn add_named_poses(
         }
     }
     Ok(())
+}
+
+/// What `--metadata` cannot go into, said when it is asked for: it is written as glTF node
+/// extras into the GLB of `-o` alone, not into OBJ or STL files nor into tiles.
+fn unwritten_metadata(args: &DeriveArgs, glb: bool) -> Option<String> {
+    if !args.metadata {
+        return None;
+    }
+    let target = match (&args.output, &args.tiles) {
+        (Some(output), _) if !glb => format!("{} is written without it", output.display()),
+        (Some(output), Some(_)) => {
+            return Some(format!(
+                "--metadata goes into {} only: tiles carry no metadata",
+                output.display()
+            ));
+        }
+        (Some(_), None) => return None,
+        (None, Some(_)) => "tiles carry none".to_owned(),
+        (None, None) => "nothing is written".to_owned(),
+    };
+    Some(format!(
+        "--metadata applies to the GLB of -o only (glTF node extras); {target}"
+    ))
 }
 
 /// `--library` and the repository's options are for goal grammars only.

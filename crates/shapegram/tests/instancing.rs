@@ -419,3 +419,41 @@ fn grouped_metadata_is_per_part() {
     assert_eq!(summary("Post")["leaves"], 50);
     assert_eq!(summary("Ground")["leaves"], 1);
 }
+
+#[test]
+fn metadata_where_no_glb_carries_it_is_warned_about() {
+    let (dir, grammar) = orchard("metadata_without_a_glb");
+    let obj = dir.path("orchard.obj");
+    let warnings = [
+        (
+            Some(&obj),
+            format!(
+                "warning: --metadata applies to the GLB of -o only (glTF node extras); {} is \
+                 written without it",
+                obj.display()
+            ),
+        ),
+        (
+            None,
+            "warning: --metadata applies to the GLB of -o only (glTF node extras); nothing is \
+             written"
+                .to_owned(),
+        ),
+    ];
+    for (output, warning) in warnings {
+        let mut command = Command::new(env!("CARGO_BIN_EXE_shapegram"));
+        command.arg("derive").arg(&grammar).arg("--metadata");
+        if let Some(output) = output {
+            command.arg("-o").arg(output);
+        }
+        let result = command.output().unwrap();
+        assert!(result.status.success(), "{}", stderr(&result));
+        assert_eq!(
+            stderr(&result).lines().next(),
+            Some(warning.as_str()),
+            "{}",
+            stderr(&result)
+        );
+    }
+    assert!(obj.exists());
+}

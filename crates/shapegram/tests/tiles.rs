@@ -180,6 +180,32 @@ fn a_tileset_has_far_masses_over_near_models_in_a_grid() {
     assert_eq!(std::fs::read(dir.path("out/near/0_0.glb")).unwrap(), a_tile);
 }
 
+/// `--metadata` goes into the GLB of `-o` only: tiles are written as without it, with a warning
+/// saying so (docs/tiles.md).
+#[test]
+fn metadata_is_not_in_tiles_and_says_so() {
+    let (plain, asked) = (TempDir::new("tiles-plain"), TempDir::new("tiles-metadata"));
+    let lots = city(0.0, 0.0, (1.0, 1.0));
+    tile(&plain, &lots, &[]);
+    let err = tile(&asked, &lots, &["--metadata"]);
+    assert!(
+        err.starts_with(
+            "warning: --metadata applies to the GLB of -o only (glTF node extras); tiles \
+             carry none\n"
+        ),
+        "{err}"
+    );
+    assert_same_files(&plain.path("out"), &asked.path("out"));
+    let glb = asked.path("city.glb");
+    let err = tile(&asked, &lots, &["--metadata", "-o", glb.to_str().unwrap()]);
+    let warning = format!(
+        "warning: --metadata goes into {} only: tiles carry no metadata\n",
+        glb.display()
+    );
+    assert!(err.starts_with(&warning), "{err}");
+    assert_same_files(&plain.path("out"), &asked.path("out"));
+}
+
 #[test]
 fn large_coordinates_keep_their_precision_in_the_local_frame() {
     let near_zero = TempDir::new("tiles-near-zero");
