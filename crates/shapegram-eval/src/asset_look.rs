@@ -283,8 +283,9 @@ pub(crate) struct Piece {
     pub colormap: Option<Arc<Texture>>,
     /// The material's name.
     pub material: Option<Arc<str>>,
-    /// The other attributes and layers.
-    pub surface: Option<Surface>,
+    /// The other attributes and layers (boxed: most pieces have none, and pieces are moved
+    /// about once per leaf).
+    pub surface: Option<Box<Surface>>,
     /// uv set 0, one per vertex of `mesh`, when something is drawn through it.
     pub uvs: Option<Vec<DVec2>>,
 }
@@ -309,7 +310,10 @@ impl ShapeMaterial<'_> {
         let colormap = uv_map
             .and(self.texturing)
             .and_then(|t| t.maps[COLORMAP].clone());
-        let surface = self.texturing.and_then(|t| t.surface(uv_map.is_some()));
+        let surface = self
+            .texturing
+            .and_then(|t| t.surface(uv_map.is_some()))
+            .map(Box::new);
         let uvs = uv_map.map(|map| mesh.positions().iter().map(|&p| map.at(p)).collect());
         Piece {
             mesh,
@@ -363,7 +367,7 @@ impl ShapeMaterial<'_> {
                     color: self.color,
                     colormap: shape_map.clone().filter(|_| drawn),
                     material: self.material.cloned(),
-                    surface: shape_surface.clone(),
+                    surface: shape_surface.clone().map(Box::new),
                     uvs: piece_uvs,
                 });
                 continue;
@@ -406,7 +410,7 @@ impl ShapeMaterial<'_> {
                     .or_else(|| asset.texture.clone())
                     .filter(|_| drawn),
                 material: self.material.cloned().or_else(|| asset.name.clone()),
-                surface,
+                surface: surface.map(Box::new),
                 uvs: piece_uvs,
             });
         }

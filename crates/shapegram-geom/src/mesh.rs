@@ -47,10 +47,39 @@ impl Mesh {
         mesh
     }
 
-    /// A mesh of a single polygon.
+    /// A mesh of a single polygon (no face for fewer than three points).
     pub fn from_polygon(points: &[DVec3]) -> Self {
+        // Built in place, each list allocated once: a derived model makes one per flat leaf.
         let n = points.len() as u32;
-        Self::from_faces(points.to_vec(), [(0..n).collect::<Vec<_>>()])
+        let (loop_starts, indices) = if n < 3 {
+            (vec![0], Vec::new())
+        } else {
+            (vec![0, n], (0..n).collect())
+        };
+        Self {
+            positions: points.to_vec(),
+            loop_starts,
+            indices,
+        }
+    }
+
+    /// A mesh of quads, each list allocated once (see [`Mesh::from_faces`]).
+    ///
+    /// # Panics
+    /// If a quad refers to a vertex that does not exist.
+    pub fn from_quads(positions: Vec<DVec3>, quads: &[[u32; 4]]) -> Self {
+        assert!(
+            quads
+                .as_flattened()
+                .iter()
+                .all(|&i| (i as usize) < positions.len()),
+            "face refers to a missing vertex"
+        );
+        Self {
+            positions,
+            loop_starts: (0..=quads.len() as u32).map(|face| face * 4).collect(),
+            indices: quads.as_flattened().to_vec(),
+        }
     }
 
     /// Adds a vertex and returns its index.

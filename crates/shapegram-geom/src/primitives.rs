@@ -28,7 +28,7 @@ pub fn cuboid(size: DVec3) -> Mesh {
         [1, 0, 2, 3], // z = 0 (back)
         [4, 5, 7, 6], // z = sz (front)
     ];
-    Mesh::from_faces(corners, faces)
+    Mesh::from_quads(corners, &faces)
 }
 
 /// A horizontal rectangle `[0, width] × [0, depth]` in the xz-plane, facing up (+y): a lot.

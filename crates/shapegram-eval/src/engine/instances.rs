@@ -60,7 +60,7 @@ pub(super) fn assign(
                     piece.color,
                     piece.colormap.as_deref(),
                     piece.material.as_ref(),
-                    piece.surface.as_ref(),
+                    piece.surface.as_deref(),
                 )
             });
             if let Some(key) = &key {

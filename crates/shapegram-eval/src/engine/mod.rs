@@ -610,7 +610,7 @@ impl Derivation {
                         texture: piece.colormap,
                         uvs: piece.uvs.unwrap_or_default(),
                         material: piece.material,
-                        surface: piece.surface.map(Arc::new),
+                        surface: piece.surface.map(Arc::from),
                         instance,
                         mesh: piece.mesh,
                     });
@@ -636,7 +636,7 @@ impl Derivation {
                         texture: piece.colormap.clone(),
                         uvs: Vec::new(),
                         material: piece.material.clone(),
-                        surface: piece.surface.clone().map(Arc::new),
+                        surface: piece.surface.clone().map(Arc::from),
                         instance: None,
                     });
                     parts.len() - 1
