@@ -5,9 +5,9 @@
 //!
 //! The pool is cut into pieces of fewer than 65,535 vertices (u16 indices) along a Z-order
 //! curve through the triangles' centres, so that neighbours, of whatever material, mostly land
-//! in the same piece. Within a piece each material's triangles are put in vertex-cache order and
-//! the vertices in order of first use. Deterministic: the result depends on the data only, not
-//! on the threads that order the pieces.
+//! in the same piece. Within a piece each material's triangles are put in vertex-cache order
+//! and the vertices in order of first use. Deterministic: the result depends on the data only,
+//! not on the threads that make the curve's keys, sort them and order the pieces.
 
 use rayon::prelude::*;
 use rustc_hash::FxHashMap;
@@ -207,8 +207,10 @@ fn z_order(positions: &[[f32; 3]], indices: &[u32]) -> Vec<(u64, u32)> {
         .map(|k| f64::from(max[k]) - f64::from(min[k]))
         .fold(0.0, f64::max);
     let scale = if extent > 0.0 { cells / extent } else { 0.0 };
+    // On as many threads as there are: each key depends on its triangle alone, and the
+    // triangle's number makes every key distinct, so the sorted order is the same on any number.
     let mut keyed: Vec<(u64, u32)> = indices
-        .chunks_exact(3)
+        .par_chunks_exact(3)
         .enumerate()
         .map(|(t, triangle)| {
             // Summed in the order of the corners' indices, so that a triangle and its back
@@ -228,7 +230,7 @@ fn z_order(positions: &[[f32; 3]], indices: &[u32]) -> Vec<(u64, u32)> {
             )
         })
         .collect();
-    keyed.sort_unstable();
+    keyed.par_sort_unstable();
     keyed
 }
 
