@@ -10,7 +10,6 @@
 //! not on the threads that make the curve's keys, sort them and order the pieces.
 
 use rayon::prelude::*;
-use rustc_hash::FxHashMap;
 
 use super::compact::Vertices;
 
@@ -92,17 +91,18 @@ pub(crate) fn pool(members: &[Vertices], limit: usize) -> Vec<Piece> {
 /// first use by the members' triangles (as meshoptimizer's vertex remap numbers them); the
 /// triangles over them; and the member each triangle comes from. Each member's positions are
 /// looked up where they lie, rather than copied into one list for meshoptimizer first.
+///
+/// Equal positions are found by sorting rather than by a hash map: a city's millions of
+/// vertices make a map larger than the caches, and each lookup a miss, where a sort (on
+/// rayon's threads) walks memory in order.
 fn shared(members: &[Vertices]) -> (Vec<[f32; 3]>, Vec<u32>, Vec<u32>) {
     let total: usize = members.iter().map(|m| m.indices.len()).sum();
     let mut indices = Vec::with_capacity(total);
     let mut owner = Vec::with_capacity(total / 3);
-    let mut positions = Vec::new();
-    // Merged rectangles meet at most of their corners: about half as many shared vertices as
-    // corners.
+    // Each member's vertices in order of first use over all members (the "use" of a vertex),
+    // and the triangles over those uses.
     let corners: usize = members.iter().map(Vertices::len).sum();
-    let mut number: FxHashMap<[u32; 3], u32> =
-        FxHashMap::with_capacity_and_hasher(corners / 2, Default::default());
-    // The member's vertices' shared numbers, once looked up.
+    let mut uses: Vec<[f32; 3]> = Vec::with_capacity(corners);
     let mut slots = Vec::new();
     for (m, member) in members.iter().enumerate() {
         slots.clear();
@@ -110,15 +110,47 @@ fn shared(members: &[Vertices]) -> (Vec<[f32; 3]>, Vec<u32>, Vec<u32>) {
         for &v in &member.indices {
             let slot = &mut slots[v as usize];
             if *slot == u32::MAX {
-                let position = member.positions[v as usize];
-                *slot = *number.entry(position.map(f32::to_bits)).or_insert_with(|| {
-                    positions.push(position);
-                    positions.len() as u32 - 1
-                });
+                *slot = uses.len() as u32;
+                uses.push(member.positions[v as usize]);
             }
             indices.push(*slot);
         }
         owner.extend(std::iter::repeat_n(m as u32, member.indices.len() / 3));
+    }
+    // Uses by position bits, then by order of use: a run of one position starts at its first
+    // use. Every key is distinct, so the order is the same on any number of threads.
+    let mut keys: Vec<u128> = uses
+        .par_iter()
+        .enumerate()
+        .map(|(u, p)| {
+            let [x, y, z] = p.map(|c| u128::from(c.to_bits()));
+            x << 96 | y << 64 | z << 32 | u as u128
+        })
+        .collect();
+    keys.par_sort_unstable();
+    // Each use's first use of its position.
+    let mut number = vec![0u32; uses.len()];
+    for run in keys.chunk_by(|a, b| a >> 32 == b >> 32) {
+        let first = run[0] as u32;
+        for &key in run {
+            number[key as u32 as usize] = first;
+        }
+    }
+    drop(keys);
+    // Numbers in order of first use: a use after its position's first takes that one's number,
+    // already made.
+    let mut positions = Vec::new();
+    for u in 0..number.len() {
+        let first = number[u] as usize;
+        number[u] = if first == u {
+            positions.push(uses[u]);
+            positions.len() as u32 - 1
+        } else {
+            number[first]
+        };
+    }
+    for index in &mut indices {
+        *index = number[*index as usize];
     }
     (positions, indices, owner)
 }
@@ -247,6 +279,8 @@ fn spread(x: u64) -> u64 {
 
 #[cfg(test)]
 mod tests {
+    use rustc_hash::FxHashMap;
+
     use super::*;
 
     /// A unit square at (x, y) in the plane z = 0, as four vertices and two triangles.
@@ -277,6 +311,59 @@ mod tests {
         }
         found.sort_by(|a, b| a.partial_cmp(b).unwrap());
         found
+    }
+
+    /// `shared` as it was with a hash map, the numbering the sort must reproduce.
+    fn shared_by_map(members: &[Vertices]) -> (Vec<[f32; 3]>, Vec<u32>, Vec<u32>) {
+        let (mut positions, mut indices, mut owner) = (Vec::new(), Vec::new(), Vec::new());
+        let mut number: FxHashMap<[u32; 3], u32> = FxHashMap::default();
+        for (m, member) in members.iter().enumerate() {
+            let mut slots = vec![u32::MAX; member.len()];
+            for &v in &member.indices {
+                let slot = &mut slots[v as usize];
+                if *slot == u32::MAX {
+                    let position = member.positions[v as usize];
+                    *slot = *number.entry(position.map(f32::to_bits)).or_insert_with(|| {
+                        positions.push(position);
+                        positions.len() as u32 - 1
+                    });
+                }
+                indices.push(*slot);
+            }
+            owner.extend(std::iter::repeat_n(m as u32, member.indices.len() / 3));
+        }
+        (positions, indices, owner)
+    }
+
+    #[test]
+    fn shared_numbers_vertices_in_order_of_first_use_as_a_map_does() {
+        // Members over a few coordinates of both signs (0.0 and -0.0 apart, as their bits
+        // are), each with vertices it lists twice and vertices it never uses.
+        let values = [-2.0f32, -0.0, 0.0, 0.5, 1.0, 3.0];
+        let mut state = 7u32;
+        let mut next = || {
+            state = state.wrapping_mul(1_103_515_245).wrapping_add(12_345);
+            state >> 16
+        };
+        let members: Vec<Vertices> = (0..6)
+            .map(|_| {
+                let positions: Vec<[f32; 3]> = (0..200)
+                    .map(|_| [0; 3].map(|_| values[next() as usize % values.len()]))
+                    .collect();
+                let indices = (0..300).map(|_| next() % 150).collect();
+                Vertices {
+                    positions,
+                    indices,
+                    ..Vertices::default()
+                }
+            })
+            .collect();
+        let (positions, indices, owner) = shared(&members);
+        assert!(
+            positions.len() < members.len() * 150,
+            "members share vertices"
+        );
+        assert_eq!((positions, indices, owner), shared_by_map(&members));
     }
 
     #[test]
