@@ -27,7 +27,8 @@ pub(crate) fn pool(members: &[Vertices], limit: usize) -> Vec<Piece> {
     let (positions, indices, owner) = shared(members);
     let unique = positions.len();
 
-    let order = z_order(&positions, &indices);
+    let order = z_order(&positions, &indices, &owner);
+    drop((indices, owner));
     // Triangles over the same three corners (a leaf's front and back) follow one another, as
     // their centres are one point: the run of triangles at the current centre, sorted corners.
     let mut run: (u64, Vec<[u32; 3]>) = (u64::MAX, Vec::new());
@@ -37,12 +38,18 @@ pub(crate) fn pool(members: &[Vertices], limit: usize) -> Vec<Piece> {
         lists: vec![Vec::new(); members.len()],
         cuts: Vec::new(),
     };
-    for (key, t) in order {
-        let triangle = &indices[3 * t as usize..3 * t as usize + 3];
-        let mut corners = [triangle[0], triangle[1], triangle[2]];
+    for Ordered {
+        key,
+        triangle,
+        owner,
+        ..
+    } in order
+    {
+        let mut corners = triangle;
         corners.sort_unstable();
         if run.0 != key {
-            run = (key, Vec::new());
+            run.0 = key;
+            run.1.clear();
         }
         // Readers that keep one face per set of corners (Blender) would drop the second of
         // two such triangles: the second takes corners of another layer, shared only with
@@ -59,8 +66,8 @@ pub(crate) fn pool(members: &[Vertices], limit: usize) -> Vec<Piece> {
         if cutter.used.len() + new > limit {
             cutter.cut();
         }
-        let list = owner[t as usize] as usize;
-        for &v in triangle {
+        let list = owner as usize;
+        for v in triangle {
             let index = match cutter.slots.get_mut(layer) {
                 Some(slots) if slots[v as usize] != u32::MAX => slots[v as usize],
                 slots => {
@@ -221,9 +228,20 @@ impl Cut {
     }
 }
 
+/// A triangle in Z-order: its key, its number (which orders ties), its corners and the member
+/// it comes from. The corners and member travel with the key so that the walk in Z-order reads
+/// them in order rather than looking them up all over the pool.
+#[derive(Clone, Copy, PartialEq, Eq, PartialOrd, Ord)]
+struct Ordered {
+    key: u64,
+    number: u32,
+    triangle: [u32; 3],
+    owner: u32,
+}
+
 /// The triangles in the order of their centres along a Z-order (Morton) curve over the
-/// positions' bounds, ties in triangle order, each with its key.
-fn z_order(positions: &[[f32; 3]], indices: &[u32]) -> Vec<(u64, u32)> {
+/// positions' bounds, ties in triangle order.
+fn z_order(positions: &[[f32; 3]], indices: &[u32], owner: &[u32]) -> Vec<Ordered> {
     let mut min = [f32::INFINITY; 3];
     let mut max = [f32::NEG_INFINITY; 3];
     for p in positions {
@@ -241,10 +259,11 @@ fn z_order(positions: &[[f32; 3]], indices: &[u32]) -> Vec<(u64, u32)> {
     let scale = if extent > 0.0 { cells / extent } else { 0.0 };
     // On as many threads as there are: each key depends on its triangle alone, and the
     // triangle's number makes every key distinct, so the sorted order is the same on any number.
-    let mut keyed: Vec<(u64, u32)> = indices
+    let mut keyed: Vec<Ordered> = indices
         .par_chunks_exact(3)
+        .zip(owner)
         .enumerate()
-        .map(|(t, triangle)| {
+        .map(|(t, (triangle, &owner))| {
             // Summed in the order of the corners' indices, so that a triangle and its back
             // (the same corners in another order) get one key.
             let mut corners = [triangle[0], triangle[1], triangle[2]];
@@ -256,10 +275,12 @@ fn z_order(positions: &[[f32; 3]], indices: &[u32]) -> Vec<(u64, u32)> {
                     .sum();
                 ((sum / 3.0 - f64::from(min[k])) * scale).clamp(0.0, cells) as u64
             });
-            (
-                spread(cell[0]) | spread(cell[1]) << 1 | spread(cell[2]) << 2,
-                t as u32,
-            )
+            Ordered {
+                key: spread(cell[0]) | spread(cell[1]) << 1 | spread(cell[2]) << 2,
+                number: t as u32,
+                triangle: [triangle[0], triangle[1], triangle[2]],
+                owner,
+            }
         })
         .collect();
     keyed.par_sort_unstable();
