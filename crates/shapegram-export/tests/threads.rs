@@ -1,5 +1,5 @@
-//! The GLB writer plans meshes, and the pieces of a mesh's vertex pool, on rayon's threads: the
-//! file must be the same bytes on one thread as on four.
+//! The GLB writer plans meshes, and the Z-order and the pieces of a mesh's vertex pool, on
+//! rayon's threads: the file must be the same bytes on one thread as on four.
 
 mod common;
 

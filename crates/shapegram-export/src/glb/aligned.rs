@@ -106,19 +106,33 @@ fn along_across(span: &Span, along_u: bool) -> ([f32; 2], [f32; 2]) {
     }
 }
 
+/// The order [`merge_along`] sorts spans in: by plane, interval across, then interval along,
+/// the five keys packed into two integers so that a comparison is two integer compares.
+fn sort_key(span: &Span, along_u: bool) -> (u128, u32) {
+    let (along, across) = along_across(span, along_u);
+    let high = [key(span.w), key(across[0]), key(across[1]), key(along[0])]
+        .into_iter()
+        .fold(0u128, |high, k| high << 32 | u128::from(k));
+    (high, key(along[1]))
+}
+
 /// Joins spans that continue one another along u (or along v): same plane, same interval
 /// across, one ending where the next begins. The result is in sorted order.
-fn merge_along(mut spans: Vec<Span>, along_u: bool) -> Vec<Span> {
-    spans.sort_unstable_by_key(|s| {
-        let (along, across) = along_across(s, along_u);
-        (
-            key(s.w),
-            key(across[0]),
-            key(across[1]),
-            key(along[0]),
-            key(along[1]),
-        )
-    });
+fn merge_along(spans: Vec<Span>, along_u: bool) -> Vec<Span> {
+    // Keys and indices are sorted rather than the spans: spans with equal keys are equal, so
+    // the order among them changes nothing.
+    let mut order: Vec<(u128, u64)> = spans
+        .iter()
+        .enumerate()
+        .map(|(i, s)| {
+            let (high, low) = sort_key(s, along_u);
+            (high, u64::from(low) << 32 | i as u64)
+        })
+        .collect();
+    order.sort_unstable();
+    let spans = order
+        .iter()
+        .map(|&(_, i)| spans[(i & u64::from(u32::MAX)) as usize]);
     let mut merged: Vec<Span> = Vec::with_capacity(spans.len());
     for span in spans {
         if let Some(last) = merged.last_mut() {
@@ -142,6 +156,61 @@ fn merge_along(mut spans: Vec<Span>, along_u: bool) -> Vec<Span> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// `merge_along` as it was before its keys were packed: sorting by the five keys as a
+    /// tuple, the order the packed keys must reproduce.
+    fn merge_along_by_tuples(mut spans: Vec<Span>, along_u: bool) -> Vec<Span> {
+        spans.sort_unstable_by_key(|s| {
+            let (along, across) = along_across(s, along_u);
+            let keys = [s.w, across[0], across[1], along[0], along[1]];
+            keys.map(key)
+        });
+        let mut merged: Vec<Span> = Vec::new();
+        for span in spans {
+            if let Some(last) = merged.last_mut() {
+                let (last_along, last_across) = along_across(last, along_u);
+                let (span_along, span_across) = along_across(&span, along_u);
+                if last.w == span.w && last_across == span_across && last_along[1] == span_along[0]
+                {
+                    let end = if along_u {
+                        &mut last.u[1]
+                    } else {
+                        &mut last.v[1]
+                    };
+                    *end = span_along[1];
+                    continue;
+                }
+            }
+            merged.push(span);
+        }
+        merged
+    }
+
+    #[test]
+    fn packed_keys_sort_and_merge_as_the_five_keys_do() {
+        // Coordinates of both signs, on a few planes, with repeats and neighbours.
+        let values = [-3.5f32, -1.0, -0.25, 0.0, 0.5, 1.0, 2.0, 1e6];
+        let mut state = 12345u32;
+        let mut next = || {
+            state = state.wrapping_mul(1_103_515_245).wrapping_add(12_345);
+            values[(state >> 16) as usize % values.len()]
+        };
+        let spans: Vec<Span> = (0..2000)
+            .map(|_| {
+                let (a, b, c, d, w) = (next(), next(), next(), next(), next());
+                Span {
+                    w: w / 1e6,
+                    u: [a.min(b), a.max(b)],
+                    v: [c.min(d), c.max(d)],
+                }
+            })
+            .collect();
+        for along_u in [true, false] {
+            let packed = merge_along(spans.clone(), along_u);
+            assert!(packed.len() < spans.len(), "some spans merge");
+            assert_eq!(packed, merge_along_by_tuples(spans.clone(), along_u));
+        }
+    }
 
     /// The unit square at (x, y) in the plane z = `z`, facing `facing` along z.
     fn square(x: f32, y: f32, z: f32, facing: f32) -> Rectangle {

@@ -5,12 +5,11 @@
 //!
 //! The pool is cut into pieces of fewer than 65,535 vertices (u16 indices) along a Z-order
 //! curve through the triangles' centres, so that neighbours, of whatever material, mostly land
-//! in the same piece. Within a piece each material's triangles are put in vertex-cache order and
-//! the vertices in order of first use. Deterministic: the result depends on the data only, not
-//! on the threads that order the pieces.
+//! in the same piece. Within a piece each material's triangles are put in vertex-cache order
+//! and the vertices in order of first use. Deterministic: the result depends on the data only,
+//! not on the threads that make the curve's keys, sort them and order the pieces.
 
 use rayon::prelude::*;
-use rustc_hash::FxHashMap;
 
 use super::compact::Vertices;
 
@@ -28,7 +27,8 @@ pub(crate) fn pool(members: &[Vertices], limit: usize) -> Vec<Piece> {
     let (positions, indices, owner) = shared(members);
     let unique = positions.len();
 
-    let order = z_order(&positions, &indices);
+    let order = z_order(&positions, &indices, &owner);
+    drop((indices, owner));
     // Triangles over the same three corners (a leaf's front and back) follow one another, as
     // their centres are one point: the run of triangles at the current centre, sorted corners.
     let mut run: (u64, Vec<[u32; 3]>) = (u64::MAX, Vec::new());
@@ -38,12 +38,18 @@ pub(crate) fn pool(members: &[Vertices], limit: usize) -> Vec<Piece> {
         lists: vec![Vec::new(); members.len()],
         cuts: Vec::new(),
     };
-    for (key, t) in order {
-        let triangle = &indices[3 * t as usize..3 * t as usize + 3];
-        let mut corners = [triangle[0], triangle[1], triangle[2]];
+    for Ordered {
+        key,
+        triangle,
+        owner,
+        ..
+    } in order
+    {
+        let mut corners = triangle;
         corners.sort_unstable();
         if run.0 != key {
-            run = (key, Vec::new());
+            run.0 = key;
+            run.1.clear();
         }
         // Readers that keep one face per set of corners (Blender) would drop the second of
         // two such triangles: the second takes corners of another layer, shared only with
@@ -60,8 +66,8 @@ pub(crate) fn pool(members: &[Vertices], limit: usize) -> Vec<Piece> {
         if cutter.used.len() + new > limit {
             cutter.cut();
         }
-        let list = owner[t as usize] as usize;
-        for &v in triangle {
+        let list = owner as usize;
+        for v in triangle {
             let index = match cutter.slots.get_mut(layer) {
                 Some(slots) if slots[v as usize] != u32::MAX => slots[v as usize],
                 slots => {
@@ -92,17 +98,18 @@ pub(crate) fn pool(members: &[Vertices], limit: usize) -> Vec<Piece> {
 /// first use by the members' triangles (as meshoptimizer's vertex remap numbers them); the
 /// triangles over them; and the member each triangle comes from. Each member's positions are
 /// looked up where they lie, rather than copied into one list for meshoptimizer first.
+///
+/// Equal positions are found by sorting rather than by a hash map: a city's millions of
+/// vertices make a map larger than the caches, and each lookup a miss, where a sort (on
+/// rayon's threads) walks memory in order.
 fn shared(members: &[Vertices]) -> (Vec<[f32; 3]>, Vec<u32>, Vec<u32>) {
     let total: usize = members.iter().map(|m| m.indices.len()).sum();
     let mut indices = Vec::with_capacity(total);
     let mut owner = Vec::with_capacity(total / 3);
-    let mut positions = Vec::new();
-    // Merged rectangles meet at most of their corners: about half as many shared vertices as
-    // corners.
+    // Each member's vertices in order of first use over all members (the "use" of a vertex),
+    // and the triangles over those uses.
     let corners: usize = members.iter().map(Vertices::len).sum();
-    let mut number: FxHashMap<[u32; 3], u32> =
-        FxHashMap::with_capacity_and_hasher(corners / 2, Default::default());
-    // The member's vertices' shared numbers, once looked up.
+    let mut uses: Vec<[f32; 3]> = Vec::with_capacity(corners);
     let mut slots = Vec::new();
     for (m, member) in members.iter().enumerate() {
         slots.clear();
@@ -110,15 +117,47 @@ fn shared(members: &[Vertices]) -> (Vec<[f32; 3]>, Vec<u32>, Vec<u32>) {
         for &v in &member.indices {
             let slot = &mut slots[v as usize];
             if *slot == u32::MAX {
-                let position = member.positions[v as usize];
-                *slot = *number.entry(position.map(f32::to_bits)).or_insert_with(|| {
-                    positions.push(position);
-                    positions.len() as u32 - 1
-                });
+                *slot = uses.len() as u32;
+                uses.push(member.positions[v as usize]);
             }
             indices.push(*slot);
         }
         owner.extend(std::iter::repeat_n(m as u32, member.indices.len() / 3));
+    }
+    // Uses by position bits, then by order of use: a run of one position starts at its first
+    // use. Every key is distinct, so the order is the same on any number of threads.
+    let mut keys: Vec<u128> = uses
+        .par_iter()
+        .enumerate()
+        .map(|(u, p)| {
+            let [x, y, z] = p.map(|c| u128::from(c.to_bits()));
+            x << 96 | y << 64 | z << 32 | u as u128
+        })
+        .collect();
+    keys.par_sort_unstable();
+    // Each use's first use of its position.
+    let mut number = vec![0u32; uses.len()];
+    for run in keys.chunk_by(|a, b| a >> 32 == b >> 32) {
+        let first = run[0] as u32;
+        for &key in run {
+            number[key as u32 as usize] = first;
+        }
+    }
+    drop(keys);
+    // Numbers in order of first use: a use after its position's first takes that one's number,
+    // already made.
+    let mut positions = Vec::new();
+    for u in 0..number.len() {
+        let first = number[u] as usize;
+        number[u] = if first == u {
+            positions.push(uses[u]);
+            positions.len() as u32 - 1
+        } else {
+            number[first]
+        };
+    }
+    for index in &mut indices {
+        *index = number[*index as usize];
     }
     (positions, indices, owner)
 }
@@ -189,9 +228,20 @@ impl Cut {
     }
 }
 
+/// A triangle in Z-order: its key, its number (which orders ties), its corners and the member
+/// it comes from. The corners and member travel with the key so that the walk in Z-order reads
+/// them in order rather than looking them up all over the pool.
+#[derive(Clone, Copy, PartialEq, Eq, PartialOrd, Ord)]
+struct Ordered {
+    key: u64,
+    number: u32,
+    triangle: [u32; 3],
+    owner: u32,
+}
+
 /// The triangles in the order of their centres along a Z-order (Morton) curve over the
-/// positions' bounds, ties in triangle order, each with its key.
-fn z_order(positions: &[[f32; 3]], indices: &[u32]) -> Vec<(u64, u32)> {
+/// positions' bounds, ties in triangle order.
+fn z_order(positions: &[[f32; 3]], indices: &[u32], owner: &[u32]) -> Vec<Ordered> {
     let mut min = [f32::INFINITY; 3];
     let mut max = [f32::NEG_INFINITY; 3];
     for p in positions {
@@ -207,10 +257,13 @@ fn z_order(positions: &[[f32; 3]], indices: &[u32]) -> Vec<(u64, u32)> {
         .map(|k| f64::from(max[k]) - f64::from(min[k]))
         .fold(0.0, f64::max);
     let scale = if extent > 0.0 { cells / extent } else { 0.0 };
-    let mut keyed: Vec<(u64, u32)> = indices
-        .chunks_exact(3)
+    // On as many threads as there are: each key depends on its triangle alone, and the
+    // triangle's number makes every key distinct, so the sorted order is the same on any number.
+    let mut keyed: Vec<Ordered> = indices
+        .par_chunks_exact(3)
+        .zip(owner)
         .enumerate()
-        .map(|(t, triangle)| {
+        .map(|(t, (triangle, &owner))| {
             // Summed in the order of the corners' indices, so that a triangle and its back
             // (the same corners in another order) get one key.
             let mut corners = [triangle[0], triangle[1], triangle[2]];
@@ -222,13 +275,15 @@ fn z_order(positions: &[[f32; 3]], indices: &[u32]) -> Vec<(u64, u32)> {
                     .sum();
                 ((sum / 3.0 - f64::from(min[k])) * scale).clamp(0.0, cells) as u64
             });
-            (
-                spread(cell[0]) | spread(cell[1]) << 1 | spread(cell[2]) << 2,
-                t as u32,
-            )
+            Ordered {
+                key: spread(cell[0]) | spread(cell[1]) << 1 | spread(cell[2]) << 2,
+                number: t as u32,
+                triangle: [triangle[0], triangle[1], triangle[2]],
+                owner,
+            }
         })
         .collect();
-    keyed.sort_unstable();
+    keyed.par_sort_unstable();
     keyed
 }
 
@@ -245,6 +300,8 @@ fn spread(x: u64) -> u64 {
 
 #[cfg(test)]
 mod tests {
+    use rustc_hash::FxHashMap;
+
     use super::*;
 
     /// A unit square at (x, y) in the plane z = 0, as four vertices and two triangles.
@@ -275,6 +332,59 @@ mod tests {
         }
         found.sort_by(|a, b| a.partial_cmp(b).unwrap());
         found
+    }
+
+    /// `shared` as it was with a hash map, the numbering the sort must reproduce.
+    fn shared_by_map(members: &[Vertices]) -> (Vec<[f32; 3]>, Vec<u32>, Vec<u32>) {
+        let (mut positions, mut indices, mut owner) = (Vec::new(), Vec::new(), Vec::new());
+        let mut number: FxHashMap<[u32; 3], u32> = FxHashMap::default();
+        for (m, member) in members.iter().enumerate() {
+            let mut slots = vec![u32::MAX; member.len()];
+            for &v in &member.indices {
+                let slot = &mut slots[v as usize];
+                if *slot == u32::MAX {
+                    let position = member.positions[v as usize];
+                    *slot = *number.entry(position.map(f32::to_bits)).or_insert_with(|| {
+                        positions.push(position);
+                        positions.len() as u32 - 1
+                    });
+                }
+                indices.push(*slot);
+            }
+            owner.extend(std::iter::repeat_n(m as u32, member.indices.len() / 3));
+        }
+        (positions, indices, owner)
+    }
+
+    #[test]
+    fn shared_numbers_vertices_in_order_of_first_use_as_a_map_does() {
+        // Members over a few coordinates of both signs (0.0 and -0.0 apart, as their bits
+        // are), each with vertices it lists twice and vertices it never uses.
+        let values = [-2.0f32, -0.0, 0.0, 0.5, 1.0, 3.0];
+        let mut state = 7u32;
+        let mut next = || {
+            state = state.wrapping_mul(1_103_515_245).wrapping_add(12_345);
+            state >> 16
+        };
+        let members: Vec<Vertices> = (0..6)
+            .map(|_| {
+                let positions: Vec<[f32; 3]> = (0..200)
+                    .map(|_| [0; 3].map(|_| values[next() as usize % values.len()]))
+                    .collect();
+                let indices = (0..300).map(|_| next() % 150).collect();
+                Vertices {
+                    positions,
+                    indices,
+                    ..Vertices::default()
+                }
+            })
+            .collect();
+        let (positions, indices, owner) = shared(&members);
+        assert!(
+            positions.len() < members.len() * 150,
+            "members share vertices"
+        );
+        assert_eq!((positions, indices, owner), shared_by_map(&members));
     }
 
     #[test]
