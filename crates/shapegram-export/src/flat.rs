@@ -132,7 +132,10 @@ impl FaceSplitter {
         out: &mut Vec<[u32; 3]>,
     ) -> Option<DVec3> {
         if let &[a, b, c, d] = face {
-            return self.split_quad([a, b, c, d].map(|v| positions[v as usize]), out);
+            // Corner by corner, not through `array::map`: its array went through the stack,
+            // and reading it back stalled on every quad.
+            let p = |v: u32| positions[v as usize];
+            return self.split_quad([p(a), p(b), p(c), p(d)], out);
         }
         self.points.clear();
         self.points
@@ -184,15 +187,16 @@ impl FaceSplitter {
     /// normal and triangles.
     fn split_quad(&mut self, points: [DVec3; 4], out: &mut Vec<[u32; 3]>) -> Option<DVec3> {
         let normal = newell_quad(points);
-        let rounded = points.map(|p| p.as_vec3());
+        let [a, b, c, d] = points;
+        let (ra, rb, rc, rd) = (a.as_vec3(), b.as_vec3(), c.as_vec3(), d.as_vec3());
         // `x - x` is 0 for a finite `x` and NaN otherwise: one sum tests all twelve
         // coordinates without a branch each.
         #[allow(clippy::eq_op, reason = "zero or NaN: the test itself")]
-        let finite = rounded.iter().map(|&p| (p - p).element_sum()).sum::<f32>() == 0.0;
+        let finite = ((ra - ra) + (rb - rb) + (rc - rc) + (rd - rd)).element_sum() == 0.0;
         if normal == DVec3::ZERO || !finite {
             return None;
         }
-        let rounded = rounded.map(|p| p.to_array());
+        let rounded = [ra.to_array(), rb.to_array(), rc.to_array(), rd.to_array()];
         self.rounded.clear();
         self.rounded.extend_from_slice(&rounded);
         if is_convex_quad(&points, normal) {

@@ -264,13 +264,13 @@ pub fn is_convex_about(points: &[DVec3], normal: DVec3) -> bool {
 /// each edge computed once: the exporters test every side face of a tube.
 #[inline(always)]
 pub fn is_convex_quad(points: &[DVec3; 4], normal: DVec3) -> bool {
+    // Written out corner by corner: as a loop over arrays they stayed on the stack.
     let [a, b, c, d] = *points;
-    let edges = [b - a, c - b, d - c, a - d];
-    (0..4).all(|i| {
-        turns_convex(edges[i], edges[(i + 1) % 4], normal, || {
-            points[(i + 2) % 4] - points[i]
-        })
-    })
+    let (ab, bc, cd, da) = (b - a, c - b, d - c, a - d);
+    turns_convex(ab, bc, normal, || c - a)
+        && turns_convex(bc, cd, normal, || d - b)
+        && turns_convex(cd, da, normal, || a - c)
+        && turns_convex(da, ab, normal, || b - d)
 }
 
 /// Whether a loop turns convexly (or stays straight) at a corner from edge `ab` to edge `bc`,
