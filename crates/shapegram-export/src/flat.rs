@@ -132,10 +132,10 @@ impl FaceSplitter {
         out: &mut Vec<[u32; 3]>,
     ) -> Option<DVec3> {
         if let &[a, b, c, d] = face {
-            // Corner by corner, not through `array::map`: its array went through the stack,
+            // Corner by corner, not in an array: an array of corners went through the stack,
             // and reading it back stalled on every quad.
             let p = |v: u32| positions[v as usize];
-            return self.split_quad([p(a), p(b), p(c), p(d)], out);
+            return self.split_quad(p(a), p(b), p(c), p(d), out);
         }
         self.points.clear();
         self.points
@@ -182,12 +182,18 @@ impl FaceSplitter {
         Some(normal)
     }
 
-    /// [`Self::split`] of a quad with corners `points`, in arrays rather than the scratch
-    /// lists: a tube is millions of quads. The same tests in the same order give the same
-    /// normal and triangles.
-    fn split_quad(&mut self, points: [DVec3; 4], out: &mut Vec<[u32; 3]>) -> Option<DVec3> {
-        let normal = newell_quad(points);
-        let [a, b, c, d] = points;
+    /// [`Self::split`] of the quad `a b c d`, in locals rather than the scratch lists: a tube
+    /// is millions of quads. The same tests in the same order give the same normal and
+    /// triangles.
+    fn split_quad(
+        &mut self,
+        a: DVec3,
+        b: DVec3,
+        c: DVec3,
+        d: DVec3,
+        out: &mut Vec<[u32; 3]>,
+    ) -> Option<DVec3> {
+        let normal = newell_quad(a, b, c, d);
         let (ra, rb, rc, rd) = (a.as_vec3(), b.as_vec3(), c.as_vec3(), d.as_vec3());
         // `x - x` is 0 for a finite `x` and NaN otherwise: one sum tests all twelve
         // coordinates without a branch each.
@@ -199,7 +205,7 @@ impl FaceSplitter {
         let rounded = [ra.to_array(), rb.to_array(), rc.to_array(), rd.to_array()];
         self.rounded.clear();
         self.rounded.extend_from_slice(&rounded);
-        if is_convex_quad(&points, normal) {
+        if is_convex_quad(a, b, c, d, normal) {
             let kept = fan_f32_areas(rounded);
             for (t, kept) in [[0, 1, 2], [0, 2, 3]].into_iter().zip(kept) {
                 if kept {
@@ -208,7 +214,7 @@ impl FaceSplitter {
             }
             return Some(normal);
         }
-        self.fanned = self.triangulator.triangulate(&points, &[]);
+        self.fanned = self.triangulator.triangulate(&[a, b, c, d], &[]);
         for t in &self.fanned {
             if has_f32_area(t.map(|c| rounded[c as usize])) {
                 out.push(*t);

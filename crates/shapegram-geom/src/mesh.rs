@@ -324,11 +324,11 @@ pub fn newell(mut points: impl Iterator<Item = DVec3>) -> DVec3 {
     sum + previous.cross(DVec3::ZERO)
 }
 
-/// [`newell`] of a quad, bit for bit (the same operations in the same order), without an
-/// iterator: the exporters take it for every side face of a tube, and the iterator's array
-/// went through the stack.
+/// [`newell`] of the quad `a b c d`, bit for bit (the same operations in the same order),
+/// without an iterator or an array: the exporters take it for every side face of a tube, and
+/// an array of corners went through the stack.
 #[inline(always)]
-pub fn newell_quad([a, b, c, d]: [DVec3; 4]) -> DVec3 {
+pub fn newell_quad(a: DVec3, b: DVec3, c: DVec3, d: DVec3) -> DVec3 {
     // `a - a` as in `newell`: NaN for a corner that is not finite.
     #[allow(clippy::eq_op, reason = "zero or NaN, as newell has it")]
     let (la, lb, lc, ld) = (a - a, b - a, c - a, d - a);
@@ -358,11 +358,19 @@ mod tests {
             let quad: [DVec3; 4] = std::array::from_fn(|_| {
                 DVec3::new(random(), random(), random()) * [1.0, 1e-9][k % 2] + offset
             });
-            assert_eq!(bits(newell_quad(quad)), bits(newell(quad.into_iter())));
+            let [a, b, c, d] = quad;
+            assert_eq!(
+                bits(newell_quad(a, b, c, d)),
+                bits(newell(quad.into_iter()))
+            );
         }
         for odd in [f64::NAN, f64::INFINITY, -0.0] {
             let quad = [DVec3::ZERO, DVec3::X, DVec3::splat(odd), DVec3::Y];
-            assert_eq!(bits(newell_quad(quad)), bits(newell(quad.into_iter())));
+            let [a, b, c, d] = quad;
+            assert_eq!(
+                bits(newell_quad(a, b, c, d)),
+                bits(newell(quad.into_iter()))
+            );
         }
     }
     use crate::primitives;

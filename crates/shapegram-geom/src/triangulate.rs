@@ -260,12 +260,11 @@ pub fn is_convex_about(points: &[DVec3], normal: DVec3) -> bool {
     true
 }
 
-/// [`is_convex_about`] of a quad, with the same result for every input (the same arithmetic),
-/// each edge computed once: the exporters test every side face of a tube.
+/// [`is_convex_about`] of the quad `a b c d`, with the same result for every input (the same
+/// arithmetic), each edge computed once: the exporters test every side face of a tube.
 #[inline(always)]
-pub fn is_convex_quad(points: &[DVec3; 4], normal: DVec3) -> bool {
-    // Written out corner by corner: as a loop over arrays they stayed on the stack.
-    let [a, b, c, d] = *points;
+pub fn is_convex_quad(a: DVec3, b: DVec3, c: DVec3, d: DVec3, normal: DVec3) -> bool {
+    // Written out corner by corner, without arrays: those went through the stack.
     let (ab, bc, cd, da) = (b - a, c - b, d - c, a - d);
     turns_convex(ab, bc, normal, || c - a)
         && turns_convex(bc, cd, normal, || d - b)
@@ -346,7 +345,8 @@ mod tests {
             }
             let normal = newell(quad.iter().copied());
             let expected = is_convex_about(&quad, normal);
-            assert_eq!(is_convex_quad(&quad, normal), expected, "{quad:?}");
+            let [a, b, c, d] = quad;
+            assert_eq!(is_convex_quad(a, b, c, d, normal), expected, "{quad:?}");
             if expected {
                 convex += 1;
             } else {
@@ -360,7 +360,7 @@ mod tests {
         let broken = [DVec3::ZERO, DVec3::X, DVec3::NAN, DVec3::Y];
         let normal = newell(broken.iter().copied());
         assert_eq!(
-            is_convex_quad(&broken, normal),
+            is_convex_quad(broken[0], broken[1], broken[2], broken[3], normal),
             is_convex_about(&broken, normal)
         );
     }
