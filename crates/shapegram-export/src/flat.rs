@@ -65,10 +65,12 @@ pub(crate) fn usable_normals(part: &Part) -> Cow<'_, [DVec3]> {
     // is a software one here, and parts have millions of normals).
     let usable = |n: &DVec3| {
         let squared = n.length_squared();
-        squared > 0.0 && squared.is_finite()
+        (squared > 0.0) & squared.is_finite()
     };
     let mut normals = Cow::Borrowed(part.normals.as_slice());
-    if !normals.iter().all(usable) {
+    // A fold without a branch per normal rather than `all`: nearly every part's normals are
+    // all usable, so `all` would read the whole list too.
+    if !normals.iter().fold(true, |ok, n| ok & usable(n)) {
         let fixed = normals.to_mut();
         let mesh = &part.mesh;
         for i in (0..mesh.face_count()).filter(|&i| face_is_exportable(mesh, i)) {
@@ -113,6 +115,11 @@ pub(crate) struct FaceSplitter {
     triangulator: Triangulator,
     points: Vec<DVec3>,
     rounded: Vec<[f32; 3]>,
+    /// The f32 corners of the last quad split, kept apart from `rounded`: a list's length and
+    /// capacity cost more to keep than four corners.
+    quad: [[f32; 3]; 4],
+    /// Whether the face last split was a quad (its corners in `quad`).
+    last_was_quad: bool,
     fanned: Vec<[u32; 3]>,
 }
 
@@ -144,6 +151,7 @@ impl FaceSplitter {
         if normal == DVec3::ZERO || !self.points.iter().all(|p| p.as_vec3().is_finite()) {
             return None;
         }
+        self.last_was_quad = false;
         self.rounded.clear();
         self.rounded
             .extend(self.points.iter().map(|p| p.as_vec3().to_array()));
@@ -203,8 +211,8 @@ impl FaceSplitter {
             return None;
         }
         let rounded = [ra.to_array(), rb.to_array(), rc.to_array(), rd.to_array()];
-        self.rounded.clear();
-        self.rounded.extend_from_slice(&rounded);
+        self.quad = rounded;
+        self.last_was_quad = true;
         if is_convex_quad(a, b, c, d, normal) {
             let kept = fan_f32_areas(rounded);
             for (t, kept) in [[0, 1, 2], [0, 2, 3]].into_iter().zip(kept) {
@@ -225,7 +233,11 @@ impl FaceSplitter {
 
     /// The f32 corners of the face last split.
     fn rounded(&self) -> &[[f32; 3]] {
-        &self.rounded
+        if self.last_was_quad {
+            &self.quad
+        } else {
+            &self.rounded
+        }
     }
 }
 
