@@ -357,6 +357,32 @@ mod tests {
             convex > 1000 && reflex > 1000,
             "{convex} convex, {reflex} reflex"
         );
+        // A corner dented inwards by about the tolerance (1e-12 of the chord past it), at
+        // each of the four: only the right chord gives the general test's answer.
+        let mut dents = [0; 2];
+        for k in 0..4000 {
+            let mut quad = [
+                DVec3::new(0.0, 0.0, 0.0),
+                DVec3::new(1.0, 0.0, 0.0),
+                DVec3::new(1.0, 1.0, 0.0),
+                DVec3::new(0.0, 1.0, 0.0),
+            ];
+            for p in &mut quad {
+                *p += 1e-3 * DVec3::new(random(), random(), 0.0);
+            }
+            let j = k % 4;
+            let (before, after) = (quad[(j + 3) % 4], quad[(j + 1) % 4]);
+            let middle = (before + after) * 0.5;
+            let centre = quad.iter().copied().sum::<DVec3>() * 0.25;
+            let depth = 1e-12 * (before - after).length() * (1.0 + 1.5 * random());
+            quad[j] = middle + (centre - middle).normalize() * depth;
+            let normal = newell(quad.iter().copied());
+            let expected = is_convex_about(&quad, normal);
+            let [a, b, c, d] = quad;
+            assert_eq!(is_convex_quad(a, b, c, d, normal), expected, "{quad:?}");
+            dents[usize::from(expected)] += 1;
+        }
+        assert!(dents.iter().all(|&n| n > 500), "{dents:?}");
         let broken = [DVec3::ZERO, DVec3::X, DVec3::NAN, DVec3::Y];
         let normal = newell(broken.iter().copied());
         assert_eq!(
