@@ -7,8 +7,8 @@ use std::collections::{BTreeMap, BTreeSet};
 use std::io;
 use std::sync::Arc;
 
-use shapegram_geom::mesh::newell;
-use shapegram_geom::triangulate::{Triangulator, is_convex_about};
+use shapegram_geom::mesh::{newell, newell_quad};
+use shapegram_geom::triangulate::{Triangulator, is_convex_about, is_convex_quad};
 use shapegram_geom::{Color, DVec2, DVec3, Maps, Mesh, Model, Part, Surface, SurfaceKey, Texture};
 
 /// An `InvalidInput` error for the first part whose bone names a skeleton or section the model
@@ -65,10 +65,12 @@ pub(crate) fn usable_normals(part: &Part) -> Cow<'_, [DVec3]> {
     // is a software one here, and parts have millions of normals).
     let usable = |n: &DVec3| {
         let squared = n.length_squared();
-        squared > 0.0 && squared.is_finite()
+        (squared > 0.0) & squared.is_finite()
     };
     let mut normals = Cow::Borrowed(part.normals.as_slice());
-    if !normals.iter().all(usable) {
+    // A fold without a branch per normal rather than `all`: nearly every part's normals are
+    // all usable, so `all` would read the whole list too.
+    if !normals.iter().fold(true, |ok, n| ok & usable(n)) {
         let fixed = normals.to_mut();
         let mesh = &part.mesh;
         for i in (0..mesh.face_count()).filter(|&i| face_is_exportable(mesh, i)) {
@@ -113,6 +115,11 @@ pub(crate) struct FaceSplitter {
     triangulator: Triangulator,
     points: Vec<DVec3>,
     rounded: Vec<[f32; 3]>,
+    /// The f32 corners of the last quad split, kept apart from `rounded`: a list's length and
+    /// capacity cost more to keep than four corners.
+    quad: [[f32; 3]; 4],
+    /// Whether the face last split was a quad (its corners in `quad`).
+    last_was_quad: bool,
     fanned: Vec<[u32; 3]>,
 }
 
@@ -121,15 +128,30 @@ impl FaceSplitter {
     /// (appended to `out`), or `None` for a face that is not written at all (see
     /// [`face_is_exportable`]); a face may keep no triangle.
     pub fn split(&mut self, mesh: &Mesh, i: usize, out: &mut Vec<[u32; 3]>) -> Option<DVec3> {
-        if let &[a, b, c, d] = mesh.face(i) {
-            return self.split_quad([a, b, c, d].map(|v| mesh.positions()[v as usize]), out);
+        self.split_loop(mesh.positions(), mesh.face(i), out)
+    }
+
+    /// [`Self::split`] of the face with corners `face` (indices into `positions`).
+    pub fn split_loop(
+        &mut self,
+        positions: &[DVec3],
+        face: &[u32],
+        out: &mut Vec<[u32; 3]>,
+    ) -> Option<DVec3> {
+        if let &[a, b, c, d] = face {
+            // Corner by corner, not in an array: an array of corners went through the stack,
+            // and reading it back stalled on every quad.
+            let p = |v: u32| positions[v as usize];
+            return self.split_quad(p(a), p(b), p(c), p(d), out);
         }
         self.points.clear();
-        self.points.extend(mesh.face_points(i));
+        self.points
+            .extend(face.iter().map(|&v| positions[v as usize]));
         let normal = newell(self.points.iter().copied());
         if normal == DVec3::ZERO || !self.points.iter().all(|p| p.as_vec3().is_finite()) {
             return None;
         }
+        self.last_was_quad = false;
         self.rounded.clear();
         self.rounded
             .extend(self.points.iter().map(|p| p.as_vec3().to_array()));
@@ -168,25 +190,40 @@ impl FaceSplitter {
         Some(normal)
     }
 
-    /// [`Self::split`] of a quad with corners `points`, in arrays rather than the scratch
-    /// lists: a tube is millions of quads. The same tests in the same order give the same
-    /// normal and triangles.
-    fn split_quad(&mut self, points: [DVec3; 4], out: &mut Vec<[u32; 3]>) -> Option<DVec3> {
-        let normal = newell(points.into_iter());
-        let rounded = points.map(|p| p.as_vec3());
-        if normal == DVec3::ZERO || !rounded.iter().all(|p| p.is_finite()) {
+    /// [`Self::split`] of the quad `a b c d`, in locals rather than the scratch lists: a tube
+    /// is millions of quads. The same tests in the same order give the same normal and
+    /// triangles.
+    fn split_quad(
+        &mut self,
+        a: DVec3,
+        b: DVec3,
+        c: DVec3,
+        d: DVec3,
+        out: &mut Vec<[u32; 3]>,
+    ) -> Option<DVec3> {
+        let normal = newell_quad(a, b, c, d);
+        let (ra, rb, rc, rd) = (a.as_vec3(), b.as_vec3(), c.as_vec3(), d.as_vec3());
+        // `x - x` is 0 for a finite `x` and NaN otherwise: one sum tests all twelve
+        // coordinates without a branch each.
+        #[allow(clippy::eq_op, reason = "zero or NaN: the test itself")]
+        let finite = ((ra - ra) + (rb - rb) + (rc - rc) + (rd - rd)).element_sum() == 0.0;
+        if normal == DVec3::ZERO || !finite {
             return None;
         }
-        let rounded = rounded.map(|p| p.to_array());
-        self.rounded.clear();
-        self.rounded.extend_from_slice(&rounded);
-        let fan: &[[u32; 3]] = if is_convex_about(&points, normal) {
-            &[[0, 1, 2], [0, 2, 3]]
-        } else {
-            self.fanned = self.triangulator.triangulate(&points, &[]);
-            &self.fanned
-        };
-        for t in fan {
+        let rounded = [ra.to_array(), rb.to_array(), rc.to_array(), rd.to_array()];
+        self.quad = rounded;
+        self.last_was_quad = true;
+        if is_convex_quad(a, b, c, d, normal) {
+            let kept = fan_f32_areas(rounded);
+            for (t, kept) in [[0, 1, 2], [0, 2, 3]].into_iter().zip(kept) {
+                if kept {
+                    out.push(t);
+                }
+            }
+            return Some(normal);
+        }
+        self.fanned = self.triangulator.triangulate(&[a, b, c, d], &[]);
+        for t in &self.fanned {
             if has_f32_area(t.map(|c| rounded[c as usize])) {
                 out.push(*t);
             }
@@ -196,7 +233,11 @@ impl FaceSplitter {
 
     /// The f32 corners of the face last split.
     fn rounded(&self) -> &[[f32; 3]] {
-        &self.rounded
+        if self.last_was_quad {
+            &self.quad
+        } else {
+            &self.rounded
+        }
     }
 }
 
@@ -263,6 +304,25 @@ fn has_f32_area([a, b, c]: [[f32; 3]; 3]) -> bool {
     let cross = ab.cross(ac).length_squared();
     let eps = f64::from(f32::EPSILON);
     cross > eps * eps * ab.length_squared() * ac.length_squared()
+}
+
+/// [`has_f32_area`] of a convex quad's two fan triangles, `[0, 1, 2]` and `[0, 2, 3]`, with
+/// the same arithmetic: their shared corner and diagonal are widened and measured once.
+#[inline]
+fn fan_f32_areas([a, b, c, d]: [[f32; 3]; 4]) -> [bool; 2] {
+    let wide = |p: [f32; 3]| DVec3::new(f64::from(p[0]), f64::from(p[1]), f64::from(p[2]));
+    let a = wide(a);
+    let (ab, ac, ad) = (wide(b) - a, wide(c) - a, wide(d) - a);
+    let (ab2, ac2, ad2) = (
+        ab.length_squared(),
+        ac.length_squared(),
+        ad.length_squared(),
+    );
+    let eps = f64::from(f32::EPSILON);
+    [
+        ab.cross(ac).length_squared() > eps * eps * ab2 * ac2,
+        ac.cross(ad).length_squared() > eps * eps * ac2 * ad2,
+    ]
 }
 
 /// A textured part's uvs: one per mesh vertex, when a texture layer (the colour map or one of
@@ -465,6 +525,41 @@ mod tests {
     }
 
     #[test]
+    fn a_quad_fan_keeps_the_triangles_with_f32_area() {
+        // Quads from wide to slivers thinner than f32 can resolve, some corners repeated.
+        let mut state = 0x2545_f491_4f6c_dd1d_u64;
+        let mut random = move || {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            (state >> 40) as f32 / (1u32 << 24) as f32 - 0.5
+        };
+        let mut seen = [[0; 2]; 2];
+        for k in 0..20_000 {
+            let width = [1.0, 1e-7, 1e-8, 0.0][k % 4];
+            let mut quad = [
+                [0.0, 0.0, 0.0],
+                [1.0, 0.0, 0.0],
+                [1.0, 1.0, 0.0],
+                [0.0, 1.0, 0.0],
+            ];
+            for p in &mut quad {
+                *p = [p[0] + random(), p[1] * width + random() * width, 3.0];
+            }
+            if k % 5 == 0 {
+                quad[3] = quad[2];
+            }
+            let [a, b, c, d] = quad;
+            let expected = [has_f32_area([a, b, c]), has_f32_area([a, c, d])];
+            assert_eq!(fan_f32_areas(quad), expected, "{quad:?}");
+            for (i, kept) in expected.into_iter().enumerate() {
+                seen[i][usize::from(kept)] += 1;
+            }
+        }
+        assert!(seen.iter().flatten().all(|&n| n > 100), "{seen:?}");
+    }
+
+    #[test]
     fn quads_split_as_the_other_polygons() {
         let p = |x, y| DVec3::new(x, y, 0.0);
         let square = [p(0.0, 0.0), p(1.0, 0.0), p(1.0, 1.0), p(0.0, 1.0)];
@@ -488,5 +583,9 @@ mod tests {
         assert_eq!(split(&flat), (None, vec![]));
         let far = [p(0.0, 0.0), p(1e300, 0.0), p(1e300, 1e300), p(0.0, 1e300)];
         assert_eq!(split(&far), (None, vec![]));
+        let beyond_f32 = [p(0.0, 0.0), p(1.0, 0.0), p(1.0, 1.0), p(-4e38, 1.0)];
+        assert_eq!(split(&beyond_f32), (None, vec![]));
+        let nan = [p(0.0, 0.0), p(1.0, 0.0), p(1.0, f64::NAN), p(0.0, 1.0)];
+        assert_eq!(split(&nan), (None, vec![]));
     }
 }

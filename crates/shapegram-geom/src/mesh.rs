@@ -353,9 +353,55 @@ pub fn newell(mut points: impl Iterator<Item = DVec3>) -> DVec3 {
     sum + previous.cross(DVec3::ZERO)
 }
 
+/// [`newell`] of the quad `a b c d`, bit for bit (the same operations in the same order),
+/// without an iterator or an array: the exporters take it for every side face of a tube, and
+/// an array of corners went through the stack.
+#[inline(always)]
+pub fn newell_quad(a: DVec3, b: DVec3, c: DVec3, d: DVec3) -> DVec3 {
+    // `a - a` as in `newell`: NaN for a corner that is not finite.
+    #[allow(clippy::eq_op, reason = "zero or NaN, as newell has it")]
+    let (la, lb, lc, ld) = (a - a, b - a, c - a, d - a);
+    let mut sum = DVec3::ZERO;
+    sum += la.cross(lb);
+    sum += lb.cross(lc);
+    sum += lc.cross(ld);
+    sum + ld.cross(DVec3::ZERO)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn the_quad_normal_is_newells_bit_for_bit() {
+        let mut state = 0x853c_49e6_748f_ea9b_u64;
+        let mut random = move || {
+            state = state
+                .wrapping_mul(6_364_136_223_846_793_005)
+                .wrapping_add(1_442_695_040_888_963_407);
+            (state >> 11) as f64 / (1u64 << 53) as f64 - 0.5
+        };
+        let bits = |v: DVec3| v.to_array().map(f64::to_bits);
+        for k in 0..10_000 {
+            let offset = [0.0, 1e3, -7e8, 1e300][k % 4];
+            let quad: [DVec3; 4] = std::array::from_fn(|_| {
+                DVec3::new(random(), random(), random()) * [1.0, 1e-9][k % 2] + offset
+            });
+            let [a, b, c, d] = quad;
+            assert_eq!(
+                bits(newell_quad(a, b, c, d)),
+                bits(newell(quad.into_iter()))
+            );
+        }
+        for odd in [f64::NAN, f64::INFINITY, -0.0] {
+            let quad = [DVec3::ZERO, DVec3::X, DVec3::splat(odd), DVec3::Y];
+            let [a, b, c, d] = quad;
+            assert_eq!(
+                bits(newell_quad(a, b, c, d)),
+                bits(newell(quad.into_iter()))
+            );
+        }
+    }
     use crate::primitives;
 
     #[test]

@@ -253,15 +253,32 @@ pub fn is_convex_about(points: &[DVec3], normal: DVec3) -> bool {
         let a = points[i];
         let b = points[next(i)];
         let c = points[next(next(i))];
-        // turn ≥ -1e-12 · |normal| · |c - a|, squared to spare two square roots.
-        let turn = (b - a).cross(c - b).dot(normal);
-        let convex = turn >= 0.0
-            || turn * turn <= 1e-24 * normal.length_squared() * (c - a).length_squared();
-        if !convex {
+        if !turns_convex(b - a, c - b, normal, || c - a) {
             return false;
         }
     }
     true
+}
+
+/// [`is_convex_about`] of the quad `a b c d`, with the same result for every input (the same
+/// arithmetic), each edge computed once: the exporters test every side face of a tube.
+#[inline(always)]
+pub fn is_convex_quad(a: DVec3, b: DVec3, c: DVec3, d: DVec3, normal: DVec3) -> bool {
+    // Written out corner by corner, without arrays: those went through the stack.
+    let (ab, bc, cd, da) = (b - a, c - b, d - c, a - d);
+    turns_convex(ab, bc, normal, || c - a)
+        && turns_convex(bc, cd, normal, || d - b)
+        && turns_convex(cd, da, normal, || a - c)
+        && turns_convex(da, ab, normal, || b - d)
+}
+
+/// Whether a loop turns convexly (or stays straight) at a corner from edge `ab` to edge `bc`,
+/// about `normal`; `ac` gives the corner's chord, needed only where the turn is negative.
+#[inline(always)]
+fn turns_convex(ab: DVec3, bc: DVec3, normal: DVec3, ac: impl FnOnce() -> DVec3) -> bool {
+    // turn ≥ -1e-12 · |normal| · |c - a|, squared to spare two square roots.
+    let turn = ab.cross(bc).dot(normal);
+    turn >= 0.0 || turn * turn <= 1e-24 * normal.length_squared() * ac().length_squared()
 }
 
 impl Mesh {
@@ -298,6 +315,81 @@ impl Mesh {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn the_quad_test_agrees_with_the_general_one() {
+        // Squares bent out of plane, pushed in at a corner and made slivers, with a
+        // generator of our own: the convex, the reflex and the nearly straight must agree.
+        let mut state = 0x9e37_79b9_7f4a_7c15_u64;
+        let mut random = move || {
+            state = state
+                .wrapping_mul(6_364_136_223_846_793_005)
+                .wrapping_add(1_442_695_040_888_963_407);
+            (state >> 11) as f64 / (1u64 << 53) as f64 - 0.5
+        };
+        let (mut convex, mut reflex) = (0, 0);
+        for k in 0..20_000 {
+            let scale = [1.0, 1e-6, 1e-13, 1e7][k % 4];
+            let mut quad = [
+                DVec3::new(0.0, 0.0, 0.0),
+                DVec3::new(1.0, 0.0, 0.0),
+                DVec3::new(1.0, 1.0, 0.0),
+                DVec3::new(0.0, 1.0, 0.0),
+            ];
+            for p in &mut quad {
+                *p += scale * DVec3::new(random(), random(), random());
+            }
+            if k % 7 == 0 {
+                // A corner on the line of its neighbours, give or take rounding.
+                quad[1] = (quad[0] + quad[2]) * 0.5;
+            }
+            let normal = newell(quad.iter().copied());
+            let expected = is_convex_about(&quad, normal);
+            let [a, b, c, d] = quad;
+            assert_eq!(is_convex_quad(a, b, c, d, normal), expected, "{quad:?}");
+            if expected {
+                convex += 1;
+            } else {
+                reflex += 1;
+            }
+        }
+        assert!(
+            convex > 1000 && reflex > 1000,
+            "{convex} convex, {reflex} reflex"
+        );
+        // A corner dented inwards by about the tolerance (1e-12 of the chord past it), at
+        // each of the four: only the right chord gives the general test's answer.
+        let mut dents = [0; 2];
+        for k in 0..4000 {
+            let mut quad = [
+                DVec3::new(0.0, 0.0, 0.0),
+                DVec3::new(1.0, 0.0, 0.0),
+                DVec3::new(1.0, 1.0, 0.0),
+                DVec3::new(0.0, 1.0, 0.0),
+            ];
+            for p in &mut quad {
+                *p += 1e-3 * DVec3::new(random(), random(), 0.0);
+            }
+            let j = k % 4;
+            let (before, after) = (quad[(j + 3) % 4], quad[(j + 1) % 4]);
+            let middle = (before + after) * 0.5;
+            let centre = quad.iter().copied().sum::<DVec3>() * 0.25;
+            let depth = 1e-12 * (before - after).length() * (1.0 + 1.5 * random());
+            quad[j] = middle + (centre - middle).normalize() * depth;
+            let normal = newell(quad.iter().copied());
+            let expected = is_convex_about(&quad, normal);
+            let [a, b, c, d] = quad;
+            assert_eq!(is_convex_quad(a, b, c, d, normal), expected, "{quad:?}");
+            dents[usize::from(expected)] += 1;
+        }
+        assert!(dents.iter().all(|&n| n > 500), "{dents:?}");
+        let broken = [DVec3::ZERO, DVec3::X, DVec3::NAN, DVec3::Y];
+        let normal = newell(broken.iter().copied());
+        assert_eq!(
+            is_convex_quad(broken[0], broken[1], broken[2], broken[3], normal),
+            is_convex_about(&broken, normal)
+        );
+    }
 
     #[test]
     fn convexity_checks_the_corners_that_wrap_around() {

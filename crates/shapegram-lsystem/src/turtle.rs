@@ -202,9 +202,13 @@ pub fn interpret(system: &LSystem, word: &Word) -> Drawing {
                     state.stroke = None;
                 } else if draw && drawable {
                     let index = *state.stroke.get_or_insert_with(|| {
+                        // Room for a few segments from the start: most strokes of a
+                        // branching word are short, and growing from one point reallocates.
+                        let mut points = Vec::with_capacity(4);
+                        points.push(start);
                         drawing.strokes.push(Stroke {
-                            points: vec![start],
-                            widths: Vec::new(),
+                            points,
+                            widths: Vec::with_capacity(3),
                             color: state.color,
                         });
                         drawing.strokes.len() - 1

@@ -336,13 +336,17 @@ fn smooth_chunk<'a>(part: &'a Part, uvs: Option<&'a [DVec2]>, normal_mapped: boo
     // Every corner beyond the first two of a face adds a triangle.
     let mut indices =
         Vec::with_capacity(3 * mesh.indices_len().saturating_sub(2 * mesh.face_count()));
-    for i in 0..mesh.face_count() {
+    for face in mesh.faces() {
         fan.clear();
-        if splitter.split(mesh, i, &mut fan).is_none() || fan.is_empty() {
-            continue;
+        if splitter
+            .split_loop(mesh.positions(), face, &mut fan)
+            .is_some()
+        {
+            // A triangle at a time: a flattened iterator pushed its indices one by one.
+            for t in &fan {
+                indices.extend_from_slice(&t.map(|c| face[c as usize]));
+            }
         }
-        let face = mesh.face(i);
-        indices.extend(fan.iter().flatten().map(|&c| face[c as usize]));
     }
     let normals = usable_normals(part);
     let tangents = uvs.filter(|_| normal_mapped).map(|uvs| {
