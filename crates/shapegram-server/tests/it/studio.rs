@@ -3,7 +3,7 @@
 //! read in, and derivations superseded by newer ones.
 
 use std::path::{Path, PathBuf};
-use std::sync::atomic::{AtomicUsize, Ordering};
+use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 use std::sync::{Arc, Mutex};
 use std::time::{Duration, Instant};
 
@@ -18,13 +18,31 @@ use tower::ServiceExt;
 const PORT: u16 = 7370;
 const ORIGIN: &str = "http://127.0.0.1:7370";
 
-/// An engine whose model is the text's length in shapes, after a pause as long as the text
-/// asks (`sleep 300`), or until it is cancelled (`spin`, at most 10 s), counting its
-/// derivations and noting the path and packaged rule file of each.
+/// An engine whose model is the text's length in shapes, counting its derivations and noting
+/// the path and packaged rule file of each. `spin` runs until it is cancelled; `hold` notes
+/// when it is cancelled and then waits for `release` to end normally (each at most 10 s).
 #[derive(Default)]
 struct Counting {
     runs: AtomicUsize,
     jobs: Mutex<Vec<(PathBuf, Option<String>)>>,
+    cancel_noticed: AtomicBool,
+    release: AtomicBool,
+}
+
+/// Waits, at most 10 s, for `done`.
+fn wait_for(done: impl Fn() -> bool) {
+    let started = Instant::now();
+    while !done() && started.elapsed() < Duration::from_secs(10) {
+        std::thread::sleep(Duration::from_millis(1));
+    }
+}
+
+/// Waits, at most 10 s, for `done` without holding up the runtime's other tasks.
+async fn until(done: impl Fn() -> bool) {
+    let started = Instant::now();
+    while !done() && started.elapsed() < Duration::from_secs(10) {
+        tokio::time::sleep(Duration::from_millis(1)).await;
+    }
 }
 
 impl Engine for Counting {
@@ -34,14 +52,13 @@ impl Engine for Counting {
             job.path.clone(),
             job.package.as_ref().map(|p| p.entry.clone()),
         ));
-        if let Some(ms) = job.text.strip_prefix("sleep ") {
-            std::thread::sleep(Duration::from_millis(ms.trim().parse().unwrap()));
+        if job.text == "hold" {
+            wait_for(|| job.control.is_cancelled());
+            self.cancel_noticed.store(true, Ordering::SeqCst);
+            wait_for(|| self.release.load(Ordering::SeqCst));
         }
         if job.text == "spin" {
-            let started = Instant::now();
-            while !job.control.is_cancelled() && started.elapsed() < Duration::from_secs(10) {
-                std::thread::sleep(Duration::from_millis(1));
-            }
+            wait_for(|| job.control.is_cancelled());
             return Derived {
                 error: Some("the derivation was cancelled".to_owned()),
                 ..Derived::default()
@@ -559,11 +576,17 @@ async fn a_derivation_waiting_behind_a_newer_one_is_dropped_unrun() {
         let body = json!({"path": house, "text": text});
         async move { studio.write("POST", "/api/derive", body).await }
     };
-    let first = tokio::spawn(request("sleep 300"));
-    tokio::time::sleep(Duration::from_millis(100)).await;
-    let second = tokio::spawn(request("sleep 0"));
-    tokio::time::sleep(Duration::from_millis(50)).await;
+    // Each request is sent once the one before is under way, so they take their numbers in order.
+    let engine = &studio.engine;
+    let first = tokio::spawn(request("hold"));
+    until(|| engine.runs.load(Ordering::SeqCst) == 1).await;
+    // The second cancels the first as it takes its number, then waits for it to end.
+    let second = tokio::spawn(request("Lot --> Y."));
+    until(|| engine.cancel_noticed.load(Ordering::SeqCst)).await;
     let third = tokio::spawn(request("Lot --> X."));
+    // On this one-thread runtime the third runs up to its wait before this task goes on.
+    tokio::time::sleep(Duration::from_millis(50)).await;
+    engine.release.store(true, Ordering::SeqCst);
     let (first, second, third) = (
         first.await.unwrap(),
         second.await.unwrap(),
