@@ -22,5 +22,6 @@ mod repo_derive;
 mod serve;
 mod studio;
 mod studio_attrs;
+mod studio_child;
 mod tiles;
 mod topo;

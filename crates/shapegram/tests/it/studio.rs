@@ -2,66 +2,22 @@
 //! engine of `shapegram derive`: the address on the first line, models and counts as `derive`
 //! makes them, diagnostics with their lines and columns, assets found beside the file.
 
-use std::io::{BufRead, BufReader, Read, Write};
-use std::net::TcpStream;
-use std::process::{Child, Command, Stdio};
+use std::ffi::OsStr;
 
 use crate::common;
+use crate::studio_child::{self, Studio};
 
 use common::{TempDir, example, shapegram, stderr};
 use serde_json::{Value, json};
 
-/// A `shapegram studio` child, killed on drop.
-struct Studio {
-    child: Child,
-    /// `127.0.0.1:PORT`.
-    addr: String,
-}
-
-impl Drop for Studio {
-    fn drop(&mut self) {
-        let _ = self.child.kill();
-        let _ = self.child.wait();
-    }
-}
-
 fn start(files: &[&std::path::Path]) -> Studio {
-    let mut child = Command::new(env!("CARGO_BIN_EXE_shapegram"))
-        .arg("studio")
-        .args(files)
-        .args(["--listen", "127.0.0.1:0"])
-        .stdout(Stdio::piped())
-        .stderr(Stdio::inherit())
-        .spawn()
-        .unwrap();
-    let mut line = String::new();
-    BufReader::new(child.stdout.take().unwrap())
-        .read_line(&mut line)
-        .unwrap();
-    let addr = line
-        .strip_prefix("shapegram studio: http://")
-        .and_then(|rest| rest.strip_suffix("/\n"))
-        .unwrap_or_else(|| panic!("first line: {line:?}"))
-        .to_owned();
-    Studio { child, addr }
+    let args: Vec<&OsStr> = files.iter().map(|f| f.as_os_str()).collect();
+    studio_child::start(&args)
 }
 
 /// A request from the studio's page: the status and JSON body.
 fn request(studio: &Studio, method: &str, path: &str, body: Option<Value>) -> (u16, Value) {
-    let mut stream = TcpStream::connect(&studio.addr).unwrap();
-    let body = body.map(|b| b.to_string()).unwrap_or_default();
-    write!(
-        stream,
-        "{method} {path} HTTP/1.1\r\nHost: {addr}\r\nOrigin: http://{addr}\r\nConnection: close\r\nContent-Type: application/json\r\nContent-Length: {}\r\n\r\n{body}",
-        body.len(),
-        addr = studio.addr,
-    )
-    .unwrap();
-    let mut answer = String::new();
-    stream.read_to_string(&mut answer).unwrap();
-    let status: u16 = answer[9..12].parse().unwrap();
-    let (_, content) = answer.split_once("\r\n\r\n").unwrap();
-    (status, serde_json::from_str(content).unwrap())
+    studio_child::send(&studio.addr, method, path, body.as_ref())
 }
 
 fn derive(studio: &Studio, path: &std::path::Path, text: &str) -> Value {

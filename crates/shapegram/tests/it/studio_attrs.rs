@@ -2,66 +2,22 @@
 //! `shapegram studio` with the engine of `shapegram derive`: the models must be the bytes
 //! `derive` writes for the same attributes, seed and lot.
 
-use std::io::{BufRead, BufReader, Read, Write};
-use std::net::TcpStream;
-use std::process::{Child, Command, Stdio};
 use std::time::{Duration, Instant};
 
 use crate::common;
+use crate::studio_child::{self, Studio};
 
 use base64::Engine as _;
 use common::{TempDir, shapegram};
 use serde_json::{Value, json};
 
-/// A `shapegram studio` child, killed on drop.
-struct Studio {
-    child: Child,
-    addr: String,
-}
-
-impl Drop for Studio {
-    fn drop(&mut self) {
-        let _ = self.child.kill();
-        let _ = self.child.wait();
-    }
-}
-
 fn start(file: &std::path::Path, timeout: &str) -> Studio {
-    let mut child = Command::new(env!("CARGO_BIN_EXE_shapegram"))
-        .arg("studio")
-        .arg(file)
-        .args(["--listen", "127.0.0.1:0", "--timeout", timeout])
-        .stdout(Stdio::piped())
-        .stderr(Stdio::inherit())
-        .spawn()
-        .unwrap();
-    let mut line = String::new();
-    BufReader::new(child.stdout.take().unwrap())
-        .read_line(&mut line)
-        .unwrap();
-    let addr = line
-        .strip_prefix("shapegram studio: http://")
-        .and_then(|rest| rest.strip_suffix("/\n"))
-        .unwrap_or_else(|| panic!("first line: {line:?}"))
-        .to_owned();
-    Studio { child, addr }
+    studio_child::start(&[file.as_os_str(), "--timeout".as_ref(), timeout.as_ref()])
 }
 
 /// A POST from the studio's page: the status and JSON body.
 fn post(addr: &str, path: &str, body: &Value) -> (u16, Value) {
-    let mut stream = TcpStream::connect(addr).unwrap();
-    let body = body.to_string();
-    write!(
-        stream,
-        "POST {path} HTTP/1.1\r\nHost: {addr}\r\nOrigin: http://{addr}\r\nConnection: close\r\nContent-Type: application/json\r\nContent-Length: {}\r\n\r\n{body}",
-        body.len(),
-    )
-    .unwrap();
-    let mut answer = String::new();
-    stream.read_to_string(&mut answer).unwrap();
-    let status: u16 = answer[9..12].parse().unwrap();
-    let (_, content) = answer.split_once("\r\n\r\n").unwrap();
-    (status, serde_json::from_str(content).unwrap())
+    studio_child::send(addr, "POST", path, Some(body))
 }
 
 fn base64(text: &Value) -> Vec<u8> {
