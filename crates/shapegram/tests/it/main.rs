@@ -23,4 +23,5 @@ mod serve;
 mod studio;
 mod studio_attrs;
 mod tiles;
+mod tiles_metadata;
 mod topo;
