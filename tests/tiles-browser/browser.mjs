@@ -3,6 +3,8 @@
 // with WebGL through SwiftShader. Cesium and the tileset are served from loopback; no Ion
 // token, no imagery: the globe is a plain colour and every request elsewhere is refused.
 // Far away only the masses (far/) load; close to the city the full models (near/) replace them.
+// The city is written with --metadata: a building picked on screen is a Cesium3DTileFeature
+// whose properties are its row in the tile's property table (EXT_structural_metadata).
 // Run by .ci/run:
 //
 //   SHAPEGRAM_BIN=target/release/shapegram TILES_OUTPUT=target/ci-tiles node tests/tiles-browser/browser.mjs
@@ -45,7 +47,41 @@ writeFileSync(lots, JSON.stringify({ type: "FeatureCollection", features }));
 const tiles = join(output, "tiles");
 rmSync(tiles, { recursive: true, force: true });
 execFileSync(binary, ["derive", "-q", join(root, "examples/house.cga"), "--lots", lots, "--crs", "wgs84",
-  "--tiles", tiles, "--tile-size", "100"], { stdio: "inherit" });
+  "--tiles", tiles, "--tile-size", "100", "--metadata"], { stdio: "inherit" });
+
+/** The property table rows of a GLB as Node reads it: by property id, a value per row. */
+function propertyTable(file) {
+  const bytes = readFileSync(file);
+  const jsonLength = bytes.readUInt32LE(12);
+  const json = JSON.parse(bytes.subarray(20, 20 + jsonLength).toString("utf8"));
+  const bin = bytes.subarray(20 + jsonLength + 8);
+  const metadata = json.extensions.EXT_structural_metadata;
+  const table = metadata.propertyTables[0];
+  const view = (i) => {
+    const v = json.bufferViews[i];
+    return bin.subarray(v.byteOffset || 0, (v.byteOffset || 0) + v.byteLength);
+  };
+  const rows = {};
+  for (const [id, columns] of Object.entries(table.properties)) {
+    const property = metadata.schema.classes[table.class].properties[id];
+    const values = view(columns.values);
+    const column = [];
+    for (let row = 0; row < table.count; row++) {
+      if (property.type === "STRING") {
+        const offsets = view(columns.stringOffsets);
+        const [start, end] = [offsets.readUInt32LE(4 * row), offsets.readUInt32LE(4 * row + 4)];
+        column.push(values.subarray(start, end).toString("utf8"));
+      } else if (property.componentType === "FLOAT64") {
+        column.push(values.readDoubleLE(8 * row));
+      } else if (property.componentType === "UINT32") {
+        column.push(values.readUInt32LE(4 * row));
+      }
+    }
+    rows[id] = column;
+  }
+  return rows;
+}
+
 
 // 3d-tiles-tools: two levels under the root, GLB content throughout.
 const levels = await checkTileset(tiles);
@@ -119,19 +155,28 @@ try {
     window.tileset = tileset;
     window.view = (range) => viewer.camera.viewBoundingSphere(tileset.boundingSphere,
       new Cesium.HeadingPitchRange(0.3, -0.5, range));
+    // Straight down onto a point `range` metres below, so the centre of the screen is on it.
+    window.above = ([lon, lat, height], range) => {
+      const target = Cesium.Cartesian3.fromDegrees(lon, lat, height);
+      viewer.camera.lookAt(target, new Cesium.HeadingPitchRange(0, -Cesium.Math.PI_OVER_TWO, range));
+      viewer.camera.lookAtTransform(Cesium.Matrix4.IDENTITY);
+    };
   });
 
-  /** Moves the camera to `range` metres from the city's centre and waits for its tiles. */
-  async function look(range, name) {
-    await tab.evaluate((r) => {
-      window.view(r);
+  /** Moves the camera by `aim` (in the page) and waits for its tiles. */
+  async function look(aim, name) {
+    await tab.evaluate((aim) => {
+      if (typeof aim === "number") window.view(aim);
+      else window.above(aim.point, aim.range);
       window.settled = false;
       // tilesLoaded turns true once every tile the view needs is loaded and drawn.
       window.tileset.allTilesLoaded.addEventListener(function once() {
         window.settled = true;
         window.tileset.allTilesLoaded.removeEventListener(once);
       });
-    }, range);
+      // A view whose tiles are all loaded already raises no event: give it a few frames.
+      setTimeout(() => { window.settled = true; }, 2000);
+    }, aim);
     await tab.waitForFunction(() => window.settled && window.tileset.tilesLoaded, null, { timeout: 120_000 });
     await tab.waitForTimeout(500);
     await tab.screenshot({ path: join(output, `cesium-${name}.png`) });
@@ -154,6 +199,36 @@ try {
   console.log(`near camera: ${later.length} more tiles, ${near.selected} selected, ${near.commands} draw commands, ${near.triangles} triangles`);
   assert.ok(later.some((p) => p.startsWith("/tiles/near/")), `no near tile loaded: ${later}`);
   assert.ok(near.triangles > far.triangles, "the near view draws no more detail than the far one");
+
+  // Lot 55 (i = 5, j = 5) from 80 m straight above the middle of its footprint: the centre of
+  // the screen is on its roof. Its feature's properties are its row in its near tile.
+  const lot = 55;
+  const centre = [lon0 + (5 * 28 + 10) * perEast, lat0 + (5 * 40 + 15) * perNorth, 3];
+  await look({ point: centre, range: 80 }, "picked");
+  const picked = await tab.evaluate(() => {
+    const feature = window.viewer.scene.pick(new Cesium.Cartesian2(400, 300));
+    if (!(feature instanceof Cesium.Cesium3DTileFeature)) return { what: String(feature) };
+    return {
+      what: "feature",
+      tile: new URL(feature.content.url, location.href).pathname,
+      ids: feature.getPropertyIds(),
+      path: feature.getProperty("path"),
+      rule: feature.getProperty("rule"),
+      wallColor: feature.getProperty("wallColor"),
+      storeys: feature.getProperty("storeys"),
+    };
+  });
+  assert.equal(picked.what, "feature", "the pick found no feature");
+  assert.ok(picked.tile.startsWith("/tiles/near/"), picked.tile);
+  const rows = propertyTable(join(tiles, picked.tile.slice("/tiles/".length)));
+  const row = rows.path.indexOf(`Lot[${lot}]`);
+  assert.ok(row >= 0, `Lot[${lot}] is not in ${picked.tile}: ${rows.path}`);
+  assert.equal(picked.path, rows.path[row]);
+  assert.equal(picked.rule, rows.rule[row]);
+  assert.equal(picked.wallColor, rows.wallColor[row]);
+  assert.equal(picked.storeys, rows.storeys[row]);
+  console.log(`picked ${picked.path} in ${picked.tile}: rule ${picked.rule}, wallColor ${picked.wallColor}, ` +
+    `storeys ${picked.storeys}; properties ${picked.ids.join(", ")}`);
   assert.deepEqual(errors, [], "page errors");
   if (refused.size > 0) console.log(`refused requests to: ${[...refused].join(", ")}`);
   console.log(`tiles browser test passed (screenshots in ${output})`);

@@ -30,6 +30,10 @@
 //! A part whose [`Metadata`] names its lot hangs under a node of that lot, a child of
 //! "shapegram" without a mesh that carries the lot's metadata (see [`metadata`]).
 //!
+//! [`write_glb_with_features_to`] numbers features instead (a 3D Tiles tile's lots): each
+//! vertex carries its part's feature id, part of its identity in compaction, and the file a
+//! property table with a row per feature (see [`features`]).
+//!
 //! The file is planned first (the compacted vertices of every primitive, their accessors, the
 //! JSON chunk) and then streamed: each accessor's bytes are encoded from the compacted vertices
 //! as they are written (compressed ones excepted, see [`streams`]); each primitive's data from
@@ -57,6 +61,7 @@ mod compact;
 pub(crate) mod compress;
 mod coplanar;
 mod document;
+mod features;
 mod instance;
 mod material;
 mod metadata;
@@ -71,6 +76,7 @@ mod triples;
 pub(crate) use chunk::{Chunk, gltf_uv};
 use compact::Compaction;
 use document::Builder;
+pub use features::Features;
 pub(crate) use instance::GPU_INSTANCING;
 use instance::InstanceSets;
 pub use instance::Instancing;
@@ -89,7 +95,7 @@ pub(crate) const CHUNK_BIN: u32 = 0x004E_4942;
 /// written.
 pub fn write_glb(model: &Model, options: &ExportOptions) -> Vec<u8> {
     let sets = InstanceSets::find(model, options.instancing);
-    let written = Plan::new(model, &sets, options, REORDER).and_then(|plan| {
+    let written = Plan::new(model, &sets, options, REORDER, None).and_then(|plan| {
         let mut out = Vec::with_capacity(plan.len());
         plan.write(&mut out).map(|()| out)
     });
@@ -107,7 +113,24 @@ pub fn write_glb_to(
     out: &mut impl Write,
 ) -> io::Result<()> {
     let sets = InstanceSets::find(model, options.instancing);
-    Plan::new(model, &sets, options, REORDER)?.write(out)
+    Plan::new(model, &sets, options, REORDER, None)?.write(out)
+}
+
+/// [`write_glb_to`] with `features`: every primitive's vertices carry their part's (or line
+/// set's) feature id (`EXT_mesh_features`) and the file a property table of the features'
+/// metadata (`EXT_structural_metadata`), as `docs/tiles.md` ("Metadata") describes. Parts are
+/// not instanced (a prototype would be shared by features).
+///
+/// # Panics
+/// When `features` has no feature id for some part or line set of the model.
+pub fn write_glb_with_features_to(
+    model: &Model,
+    options: &ExportOptions,
+    features: &Features<'_>,
+    out: &mut impl Write,
+) -> io::Result<()> {
+    let sets = InstanceSets::find(model, Instancing::None);
+    Plan::new(model, &sets, options, REORDER, Some(features))?.write(out)
 }
 
 /// What the writers may do to a primitive's triangles unless a caller needs to trace them.
@@ -129,7 +152,7 @@ pub fn write_glb_with_layout(
     out: &mut impl Write,
 ) -> io::Result<GlbLayout> {
     let sets = InstanceSets::find(model, options.instancing);
-    let plan = Plan::new(model, &sets, options, Compaction { reorder: false })?;
+    let plan = Plan::new(model, &sets, options, Compaction { reorder: false }, None)?;
     plan.write(out)?;
     Ok(plan
         .groups

@@ -42,7 +42,8 @@ pub use buffers::{BufferJoint, Buffers, Corners, NO_JOINT, PartRange};
 pub use error::Error;
 pub use geojson::{Footprints, read_geojson};
 pub use glb::{
-    GlbLayout, Instancing, face_triangles, write_glb, write_glb_to, write_glb_with_layout,
+    Features, GlbLayout, Instancing, face_triangles, write_glb, write_glb_to,
+    write_glb_with_features_to, write_glb_with_layout,
 };
 pub use obj::{write_obj, write_obj_to};
 pub use read::{read_glb, read_obj, read_stl};
@@ -175,7 +176,7 @@ pub fn save(model: &Model, path: &Path, options: &ExportOptions) -> Result<(), E
 }
 
 /// Creates `path` and hands `write` a buffered writer on it, flushing at the end.
-fn stream(
+pub(crate) fn stream(
     path: &Path,
     write: impl FnOnce(&mut BufWriter<File>) -> std::io::Result<()>,
 ) -> std::io::Result<()> {

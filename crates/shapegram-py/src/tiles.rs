@@ -94,6 +94,7 @@ pub fn derive_tiles<'py>(
                 grid: TileGrid { size: tile_size },
                 halo: engine.has_context_rules().then_some(halo),
                 shard,
+                metadata: None,
             };
             let derive = |cell: &[_], _own: &[bool]| engine.derivation(cell, &settings);
             let tiled = stream::<EngineError>(&lots, frame, &out_dir, tiling, derive, true)

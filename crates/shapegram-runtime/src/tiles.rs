@@ -5,16 +5,18 @@
 use std::collections::{BTreeMap, BTreeSet};
 use std::ops::Range;
 use std::path::Path;
+use std::sync::Arc;
 
 use shapegram_eval::{Derivation, InitialShape};
-use shapegram_export::tiles::{Cell, Shard, TileGrid, TilesetSummary, TilesetWriter};
-use shapegram_geom::{DVec2, Model};
+use shapegram_export::tiles::{Cell, Shard, TileGrid, TileLot, TilesetSummary, TilesetWriter};
+use shapegram_geom::{DVec2, Metadata, Model};
 
 use crate::Error;
 use crate::lots::Frame;
 
-/// How a tiled run cuts the city: the grid, the context around each cell, and the shard.
-#[derive(Clone, Copy, Debug)]
+/// How a tiled run cuts the city: the grid, the context around each cell, the shard, and
+/// whether tiles carry the lots' metadata.
+#[derive(Clone, Debug)]
 pub struct Tiling {
     /// The grid of leaf cells.
     pub grid: TileGrid,
@@ -23,6 +25,10 @@ pub struct Tiling {
     pub halo: Option<f64>,
     /// The shard to write, `None` for the whole tileset.
     pub shard: Option<Shard>,
+    /// For tiles with each lot's metadata as a feature (`--metadata`): the grammar's
+    /// attribute names (`Program::attr_names`), with which the derivations kept their trees.
+    /// `None`: tiles without metadata.
+    pub metadata: Option<Vec<String>>,
 }
 
 /// What a tiled run wrote and derived.
@@ -87,18 +93,27 @@ pub fn stream<E: From<Error>>(
             warned = warn_unwritten(&derivation);
         }
         let leaves = leaves_by_lot(&derivation, numbered.len());
+        // Paths name each lot by its number in the city, not in the cell.
+        let numbers: Vec<u32> = derived.iter().map(|&i| i as u32).collect();
+        let metadata = lots_metadata(&derivation, tiling.metadata.as_deref(), &numbers);
         let models = members
             .iter()
-            .map(|lot| {
-                let at = derived.binary_search(lot).expect("members are derived");
+            .map(|&lot| {
+                let at = derived.binary_search(&lot).expect("members are derived");
                 tiled.leaves += leaves[at].len();
-                lot_model(&derivation, leaves[at].clone())
+                TileLot {
+                    index: lot,
+                    model: lot_model(&derivation, leaves[at].clone()),
+                    metadata: metadata.get(at).cloned().flatten(),
+                }
             })
             .collect();
         tiled.derived += numbered.len();
         tiled.shapes += derivation.stats.shapes;
         drop(derivation);
-        writer.add(cell, models).map_err(written)?;
+        // Cells come in order: the far tiles before this cell are complete.
+        writer.write_far_before(cell).map_err(written)?;
+        writer.add_lots(cell, models).map_err(written)?;
     }
     tiled.summary = match tiling.shard {
         Some(shard) => writer.finish_shard(shard),
@@ -112,27 +127,36 @@ pub fn stream<E: From<Error>>(
 }
 
 /// Writes the leaves of `derivation`, grown from `lots`, as a tileset in `dir`: each lot in
-/// the grid cell of its footprint, each cell's lots one leaf tile. Implicit solids and
-/// skeletons are left out (a warning says so unless `quiet`).
+/// the grid cell of its footprint, each cell's lots one leaf tile, with each lot's metadata
+/// as a feature when `metadata` gives the grammar's attribute names (see
+/// [`Tiling::metadata`]). Implicit solids and skeletons are left out (a warning says so
+/// unless `quiet`).
 pub fn write(
     derivation: &Derivation,
     lots: &[InitialShape],
     frame: Frame,
     dir: &Path,
     grid: TileGrid,
+    metadata: Option<&[String]>,
     quiet: bool,
 ) -> Result<TilesetSummary, Error> {
     if !quiet {
         warn_unwritten(derivation);
     }
     let leaves = leaves_by_lot(derivation, lots.len());
+    let described = lots_metadata(derivation, metadata, &[]);
     let mut writer = TilesetWriter::new(dir, grid, frame.transform()).map_err(written)?;
     for (cell, members) in cells_of(lots, grid) {
         let models = members
             .iter()
-            .map(|&lot| lot_model(derivation, leaves[lot].clone()))
+            .map(|&lot| TileLot {
+                index: lot,
+                model: lot_model(derivation, leaves[lot].clone()),
+                metadata: described.get(lot).cloned().flatten(),
+            })
             .collect();
-        writer.add(cell, models).map_err(written)?;
+        writer.write_far_before(cell).map_err(written)?;
+        writer.add_lots(cell, models).map_err(written)?;
     }
     let summary = writer.finish().map_err(written)?;
     nothing_to_tile(dir, &summary)?;
@@ -286,6 +310,19 @@ fn leaves_by_lot(derivation: &Derivation, lots: usize) -> Vec<Range<usize>> {
         start = end;
     }
     ranges
+}
+
+/// Each lot's metadata by its index in `derivation` (see [`Derivation::lot_metadata`]), when
+/// `attr_names` asks for it; none otherwise.
+fn lots_metadata(
+    derivation: &Derivation,
+    attr_names: Option<&[String]>,
+    numbers: &[u32],
+) -> Vec<Option<Arc<Metadata>>> {
+    match attr_names {
+        Some(names) => derivation.lot_metadata(names, numbers),
+        None => Vec::new(),
+    }
 }
 
 /// One lot's leaves as a model, as [`Derivation::to_model`] makes it.

@@ -458,7 +458,8 @@ pub struct DeriveArgs {
     pub instancing: InstancingArg,
     /// GLB: give each leaf a node whose extras name its rule, derivation path and attributes;
     /// with --group, each part's node names its rule, leaf count and the attributes its leaves
-    /// share (docs/export.md)
+    /// share (docs/export.md). --tiles: make each lot a feature of its tiles, with a row of its
+    /// rule, path, attributes and reports in each tile's property table (docs/tiles.md)
     #[arg(long)]
     pub metadata: bool,
     /// How a GLB stores its vertices.

@@ -85,7 +85,7 @@ pub fn run(args: &DeriveArgs) -> Result<(), Failure> {
         assets: Some(Arc::new(input.assets(args.missing_assets.into()))),
         // The tree is what a state at a node is made from, and where leaves' metadata comes
         // from.
-        keep_tree: args.at_node.is_some() || (args.metadata && glb),
+        keep_tree: args.at_node.is_some() || (args.metadata && (glb || args.tiles.is_some())),
         implicit_cell: args.implicit_cell,
         trace: false,
         max_steps: args.max_steps,
@@ -147,7 +147,9 @@ pub fn run(args: &DeriveArgs) -> Result<(), Failure> {
         let grid = TileGrid {
             size: args.tile_size,
         };
-        let summary = tiles::write(&derivation, &lots, frame, dir, grid, args.quiet)?;
+        let names: Vec<String> = program.attr_names().map(str::to_owned).collect();
+        let metadata = args.metadata.then_some(&names[..]);
+        let summary = tiles::write(&derivation, &lots, frame, dir, grid, metadata, args.quiet)?;
         if !args.quiet {
             eprintln!("wrote {}", tiles::described(dir, &summary));
         }
@@ -278,6 +280,9 @@ impl Tiled<'_> {
             },
             halo: self.program.has_context_rules().then_some(args.halo),
             shard: args.shard,
+            metadata: args
+                .metadata
+                .then(|| self.program.attr_names().map(str::to_owned).collect()),
         };
         let derive = |cell: &[InitialShape], own: &[bool]| {
             let derivation = shapegram_eval::derive(self.program, cell, self.options)
@@ -382,26 +387,19 @@ fn add_named_poses(
     Ok(())
 }
 
-/// What `--metadata` cannot go into, said when it is asked for: it is written as glTF node
-/// extras into the GLB of `-o` alone, not into OBJ or STL files nor into tiles.
+/// What `--metadata` cannot go into, said when it is asked for: it is written into a GLB
+/// (glTF node extras) and into tiles (a property table per tile), not into OBJ or STL files.
 fn unwritten_metadata(args: &DeriveArgs, glb: bool) -> Option<String> {
     if !args.metadata {
         return None;
     }
     let target = match (&args.output, &args.tiles) {
         (Some(output), _) if !glb => format!("{} is written without it", output.display()),
-        (Some(output), Some(_)) => {
-            return Some(format!(
-                "--metadata goes into {} only: tiles carry no metadata",
-                output.display()
-            ));
-        }
-        (Some(_), None) => return None,
-        (None, Some(_)) => "tiles carry none".to_owned(),
+        (Some(_), _) | (None, Some(_)) => return None,
         (None, None) => "nothing is written".to_owned(),
     };
     Some(format!(
-        "--metadata applies to the GLB of -o only (glTF node extras); {target}"
+        "--metadata applies to a GLB (-o) and to tiles (--tiles); {target}"
     ))
 }
 

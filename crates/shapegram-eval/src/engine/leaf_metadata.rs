@@ -37,8 +37,13 @@ pub(super) struct LeafDescriber<'a> {
 
 impl<'a> LeafDescriber<'a> {
     /// A describer over the tree of `derivation`, whose nodes hold attribute values in the
-    /// order of `attr_names`.
-    pub(super) fn new(derivation: &'a Derivation, attr_names: &'a [String]) -> Self {
+    /// order of `attr_names`; a lot's path starts with its number in `numbers` (by its index
+    /// among the derivation's lots), or with that index where `numbers` has none.
+    pub(super) fn new(
+        derivation: &'a Derivation,
+        attr_names: &'a [String],
+        numbers: &[u32],
+    ) -> Self {
         let tree = derivation.tree.as_slice();
         // Nodes come parents first, children in the order they were made.
         let mut made = vec![0u32; tree.len()];
@@ -50,7 +55,7 @@ impl<'a> LeafDescriber<'a> {
                     *count += 1;
                     *count - 1
                 }
-                None => node.lot,
+                None => numbers.get(node.lot as usize).copied().unwrap_or(node.lot),
             })
             .collect();
         // Report nodes are complete exactly when the tree was kept.
@@ -90,6 +95,11 @@ impl<'a> LeafDescriber<'a> {
         };
         describer.lots = describer.lots(derivation, report_nodes);
         describer
+    }
+
+    /// Each lot's metadata, by lot index (`None` for an index no tree node has).
+    pub(super) fn into_lots(self) -> Vec<Option<Arc<Metadata>>> {
+        self.lots
     }
 
     /// Every lot's metadata: its initial shape's rule, path and attributes, how many leaves it
@@ -351,7 +361,7 @@ mod tests {
         let leaves = &derivation.leaves;
         assert!(leaves.len() > 100, "{} leaves", leaves.len());
         // In leaf order (neighbours in turn), then backwards, skipping (paths that share less).
-        let mut describer = LeafDescriber::new(&derivation, &[]);
+        let mut describer = LeafDescriber::new(&derivation, &[], &[]);
         let order = (0..leaves.len()).chain((0..leaves.len()).rev().step_by(3));
         for i in order {
             let node = leaves[i].node().expect("the tree was kept") as usize;

@@ -514,6 +514,19 @@ impl Derivation {
         self.build_model(None, options)
     }
 
+    /// Each lot's metadata, by its index among the derivation's lots, as a GLB's lot nodes
+    /// carry it with `--metadata` (rule, path, attributes named by `attr_names`, leaf count,
+    /// report summaries); `None` for a lot without a tree node (the tree was not kept). A
+    /// lot's path starts with its number in `numbers` (its place in the whole input, for a
+    /// tile's lots derived apart), or with its index where `numbers` has none.
+    pub fn lot_metadata(
+        &self,
+        attr_names: &[String],
+        numbers: &[u32],
+    ) -> Vec<Option<Arc<Metadata>>> {
+        leaf_metadata::LeafDescriber::new(self, attr_names, numbers).into_lots()
+    }
+
     /// [`Derivation::to_model`], and where each leaf's faces went: for every leaf that is in a
     /// part of its own kind (not an implicit solid, not without geometry), in leaf order, its
     /// [`LeafFaces`]. Visual debugging maps the model's triangles back to the leaves with it.
@@ -543,7 +556,7 @@ impl Derivation {
         let mut slot: FxHashMap<Key, usize> = FxHashMap::default();
         let mut metadata = MetadataCache::default();
         let mut describer = (options.metadata != MetadataScope::None)
-            .then(|| leaf_metadata::LeafDescriber::new(self, &options.attr_names));
+            .then(|| leaf_metadata::LeafDescriber::new(self, &options.attr_names, &[]));
         let mut summaries = leaf_metadata::PartSummaries::default();
         let skeleton_of: FxHashMap<u32, u32> = self
             .skeletons

@@ -29,6 +29,9 @@ pub(crate) struct Vertices<'a> {
     pub(crate) tangents: Vec<[f32; 4]>,
     /// Each vertex's joint; empty unless the primitive is skinned.
     pub(crate) joints: Vec<u16>,
+    /// Each vertex's feature id; empty unless the file has features. Part of a vertex's
+    /// identity like any attribute, so no vertex is shared by two features.
+    pub(crate) features: Vec<u32>,
     pub(crate) indices: Vec<u32>,
     /// A smooth part's vertices as the model holds them, read instead of `positions` and
     /// `normals` (then empty), which would copy them.
@@ -62,7 +65,10 @@ impl<'a> Vertices<'a> {
     ) -> Self {
         // A smooth part alone in its primitive with nothing but positions and normals (a
         // tube) is written from the model's vertices as they are: it would not be compacted.
-        let plain = primitive.normals && primitive.skinned.is_none() && !primitive.textured;
+        let plain = primitive.normals
+            && primitive.skinned.is_none()
+            && !primitive.textured
+            && primitive.features.is_none();
         if let [chunk] = &mut primitive.chunks[..]
             && plain
             && !pooled
@@ -110,11 +116,19 @@ impl<'a> Vertices<'a> {
         } else {
             0
         });
+        // The feature of each rectangle, when there are features.
+        let mut rectangle_features = Vec::new();
+        let features = primitive.features.as_deref();
         for (c, chunk) in primitive.chunks.iter_mut().enumerate() {
+            let feature = features.map(|ids| ids[c]);
             // Where faces merge, only the faces that are no rectangles bring their corners:
             // no index would name a rectangle's, and sharing drops what no index names.
             if let Some(flat) = chunk.flat_faces().filter(|_| merge) {
                 vertices.split_rectangles(&flat, primitive.normals, &mut rectangles);
+                if let Some(feature) = feature {
+                    rectangle_features.resize(rectangles.len(), feature);
+                    vertices.features.resize(vertices.positions.len(), feature);
+                }
                 continue;
             }
             let base = vertices.positions.len() as u32;
@@ -129,6 +143,9 @@ impl<'a> Vertices<'a> {
                 let count = vertices.positions.len();
                 vertices.joints.resize(count, joint);
             }
+            if let Some(feature) = feature {
+                vertices.features.resize(vertices.positions.len(), feature);
+            }
             // A primitive's only chunk (a tube's mesh, say) gives up its indices rather than
             // have hundreds of megabytes copied; the chunk is let go after this.
             if vertices.indices.is_empty() && base == 0 {
@@ -139,13 +156,17 @@ impl<'a> Vertices<'a> {
                     .extend(chunk.indices().iter().map(|&i| base + i));
             }
         }
-        let merged = coplanar::merge(&rectangles);
-        vertices.positions.reserve_exact(4 * merged.len());
-        if primitive.normals {
-            vertices.normals.reserve_exact(4 * merged.len());
-        }
-        for rectangle in &merged {
-            vertices.push_rectangle(rectangle, primitive.normals);
+        if features.is_some() {
+            vertices.merge_by_feature(&rectangles, &rectangle_features, primitive.normals);
+        } else {
+            let merged = coplanar::merge(&rectangles);
+            vertices.positions.reserve_exact(4 * merged.len());
+            if primitive.normals {
+                vertices.normals.reserve_exact(4 * merged.len());
+            }
+            for rectangle in &merged {
+                vertices.push_rectangle(rectangle, primitive.normals);
+            }
         }
         // Smooth parts and line sets come with their vertices shared already (a tube's rings,
         // a cave's surface), in an order that is mostly cache friendly: hashing and reordering
@@ -193,6 +214,28 @@ impl<'a> Vertices<'a> {
         }
     }
 
+    /// Merges the rectangles of each feature (`features`, one per rectangle) apart, since a
+    /// merged face would belong to two, and appends them, with their feature, in feature order.
+    fn merge_by_feature(&mut self, rectangles: &[Rectangle], features: &[u32], normals: bool) {
+        let mut order: Vec<usize> = (0..rectangles.len()).collect();
+        order.sort_by_key(|&i| features[i]);
+        let mut group = Vec::new();
+        for (k, &i) in order.iter().enumerate() {
+            group.push(rectangles[i]);
+            let last = order
+                .get(k + 1)
+                .is_none_or(|&next| features[next] != features[i]);
+            if !last {
+                continue;
+            }
+            for rectangle in &coplanar::merge(&group) {
+                self.push_rectangle(rectangle, normals);
+            }
+            self.features.resize(self.positions.len(), features[i]);
+            group.clear();
+        }
+    }
+
     /// Appends a rectangle as four vertices (with its normal, when `normals`) and two
     /// triangles.
     fn push_rectangle(&mut self, rectangle: &Rectangle, normals: bool) {
@@ -221,6 +264,9 @@ impl<'a> Vertices<'a> {
         }
         if !self.joints.is_empty() {
             streams.push(VertexStream::new(self.joints.as_ptr()));
+        }
+        if !self.features.is_empty() {
+            streams.push(VertexStream::new(self.features.as_ptr()));
         }
         let (unique, remap) =
             meshopt::generate_vertex_remap_multi(count, &streams, Some(&self.indices));
@@ -298,6 +344,9 @@ impl<'a> Vertices<'a> {
         if let Some(&j) = self.joints.get(v) {
             self.joints.push(j);
         }
+        if let Some(&f) = self.features.get(v) {
+            self.features.push(f);
+        }
     }
 
     /// Moves vertex `v` to `remap[v]` in every attribute and index (`unique` vertices after).
@@ -313,6 +362,7 @@ impl<'a> Vertices<'a> {
         moved(&mut self.uvs, unique, remap);
         moved(&mut self.tangents, unique, remap);
         moved(&mut self.joints, unique, remap);
+        moved(&mut self.features, unique, remap);
     }
 
     /// How many vertices there are.
@@ -347,6 +397,7 @@ impl<'a> Vertices<'a> {
             uvs: attribute(&self.uvs, &range),
             tangents: attribute(&self.tangents, &range),
             joints: attribute(&self.joints, &range),
+            features: attribute(&self.features, &range),
             indices: &self.indices[indices],
             base: range.start as u32,
         }
@@ -458,6 +509,9 @@ impl<'a> Vertices<'a> {
         if let Some(&j) = from.joints.get(v) {
             self.joints.push(j);
         }
+        if let Some(&f) = from.features.get(v) {
+            self.features.push(f);
+        }
     }
 }
 
@@ -479,6 +533,7 @@ pub(crate) struct View<'a> {
     pub(crate) uvs: &'a [[f32; 2]],
     pub(crate) tangents: &'a [[f32; 4]],
     pub(crate) joints: &'a [u16],
+    pub(crate) features: &'a [u32],
     pub(crate) indices: &'a [u32],
     /// The vertex that index `base` names, the first of the view: indices are written less
     /// `base`.
@@ -494,6 +549,7 @@ impl<'a> View<'a> {
             uvs: &[],
             tangents: &[],
             joints: &[],
+            features: &[],
             indices,
             base: 0,
         }

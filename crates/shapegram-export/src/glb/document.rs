@@ -9,6 +9,7 @@ use shapegram_geom::{Color, Texture};
 
 use super::animation::Animation;
 use super::compress;
+use super::features::{MESH_FEATURES, PropertyTable, STRUCTURAL_METADATA};
 use super::instance;
 use super::material::{self, material, textured, with_surface};
 use super::metadata::{LotNodes, metadata_extras};
@@ -42,8 +43,13 @@ pub(super) fn document(
     groups: &[Group<'_>],
     skins: &[Skin<'_>],
     animations: &[Animation],
+    table: Option<&PropertyTable>,
 ) -> (Vec<u8>, usize) {
     let mut builder = Builder::default();
+    // The property table's views come first (see `Plan::write`).
+    if let Some(table) = table {
+        builder.property_table(table);
+    }
     // The root goes first so that it is node 0; its children are filled in below.
     builder.root.push(json::Node {
         name: Some("shapegram".to_owned()),
@@ -86,8 +92,9 @@ pub(super) fn document(
         }
         let mut primitives = Vec::new();
         for (primitive, pooled) in group.primitives.iter().zip(pooled) {
-            for streams in &primitive.streams {
-                primitives.push(builder.primitive(primitive, streams));
+            for (run, streams) in primitive.streams.iter().enumerate() {
+                let features = primitive.feature_counts.get(run).copied();
+                primitives.push(builder.primitive(primitive, streams, features));
             }
             for (positions, indices) in pooled {
                 primitives.push(pooled_primitive(primitive.material, positions, indices));
@@ -168,11 +175,39 @@ pub(super) struct Builder {
 }
 
 impl Builder {
-    /// The primitive's accessors, in the order [`Plan::write`] writes their data.
+    /// The root's `EXT_structural_metadata` and the views of its property table, which start
+    /// the BIN chunk (each a multiple of 8 bytes long).
+    fn property_table(&mut self, table: &PropertyTable) {
+        let first = self.root.buffer_views.len() as u32;
+        for view in &table.views {
+            let offset = self.bin_len;
+            self.bin_len += view.len();
+            self.root.push(json::buffer::View {
+                buffer: json::Index::new(0),
+                byte_length: USize64::from(view.len()),
+                byte_offset: Some(USize64::from(offset)),
+                byte_stride: None,
+                extensions: None,
+                extras: Default::default(),
+                name: None,
+                target: None,
+            });
+        }
+        let mut others = serde_json::Map::new();
+        others.insert(STRUCTURAL_METADATA.to_owned(), table.extension(first));
+        self.root.extensions = Some(json::extensions::root::Root { others });
+        self.root
+            .extensions_used
+            .extend([MESH_FEATURES, STRUCTURAL_METADATA].map(str::to_owned));
+    }
+
+    /// The primitive's accessors, in the order [`Plan::write`] writes their data; with
+    /// `features` (how many distinct ones its `_FEATURE_ID_0` holds), its `EXT_mesh_features`.
     pub(super) fn primitive(
         &mut self,
         primitive: &Primitive<'_>,
         streams: &[Stream],
+        features: Option<usize>,
     ) -> json::mesh::Primitive {
         let mut attributes = BTreeMap::new();
         let mut indices = None;
@@ -185,9 +220,17 @@ impl Builder {
                 None => indices = Some(accessor),
             }
         }
+        let extensions = features.map(|count| {
+            let mut others = serde_json::Map::new();
+            let ids = serde_json::json!({
+                "featureIds": [{ "featureCount": count, "attribute": 0, "propertyTable": 0 }],
+            });
+            others.insert(MESH_FEATURES.to_owned(), ids);
+            json::extensions::mesh::Primitive { others }
+        });
         json::mesh::Primitive {
             attributes,
-            extensions: None,
+            extensions,
             extras: Default::default(),
             indices,
             material: Some(json::Index::new(primitive.material as u32)),

@@ -4,6 +4,7 @@
 use std::collections::BTreeMap;
 use std::io::{self, Write};
 
+use gltf_json::accessor::ComponentType;
 use rayon::prelude::*;
 use shapegram_geom::{Metadata, Model, Part, Texture};
 
@@ -11,6 +12,7 @@ use super::animation::Animation;
 use super::chunk::Chunk;
 use super::compact::{Compaction, Run, Vertices, View};
 use super::document::document;
+use super::features::{Features, PropertyTable};
 use super::instance::{self, InstanceSets, Role};
 use super::material::gltf_textures;
 use super::pool;
@@ -39,6 +41,10 @@ pub(super) struct Primitive<'a> {
     pub(super) chunks: Vec<Chunk<'a>>,
     /// The model part each chunk holds (`None`: a line set).
     pub(super) sources: Vec<Option<usize>>,
+    /// The feature id of each chunk, when the file has features ([`Features`]).
+    pub(super) features: Option<Vec<u32>>,
+    /// How many distinct features each run's vertices have (empty without features).
+    pub(super) feature_counts: Vec<usize>,
     /// Its vertices compacted, from which its streams' data is made as the file is written
     /// (none when they went into its mesh's pool).
     pub(super) vertices: Vertices<'a>,
@@ -52,7 +58,12 @@ impl Primitive<'_> {
     /// Whether its vertices are positions and nothing else, which primitives of other
     /// materials can share (see [`pool`]).
     fn is_bare(&self) -> bool {
-        !self.lines && !self.textured && !self.tangents && !self.normals && self.skinned.is_none()
+        !self.lines
+            && !self.textured
+            && !self.tangents
+            && !self.normals
+            && self.skinned.is_none()
+            && self.features.is_none()
     }
 }
 
@@ -94,7 +105,12 @@ impl<'a> Group<'a> {
     /// Compacts each primitive's chunks into the streams to write (and lets the chunks go),
     /// quantising positions on one grid for the whole mesh when `encoding` asks for it and
     /// the mesh is neither skinned nor instanced.
-    fn encode(&mut self, encoding: GlbEncoding, compaction: Compaction) {
+    fn encode(
+        &mut self,
+        encoding: GlbEncoding,
+        compaction: Compaction,
+        feature_ids: Option<ComponentType>,
+    ) {
         // Bare primitives pool their vertices where triangles may be reordered (the pool also
         // keeps a face's back apart from it, for one primitive too).
         let bare: Vec<bool> = self
@@ -143,13 +159,21 @@ impl<'a> Group<'a> {
             } else {
                 vec![Run::Whole]
             };
+            let feature_ids = feature_ids.filter(|_| primitive.features.is_some());
             primitive.streams = runs
                 .iter()
                 .map(|run| {
                     let view = run.view(&vertices);
-                    streams(view, primitive.lines, joints, encoding, self.grid.as_ref())
+                    let grid = self.grid.as_ref();
+                    streams(view, primitive.lines, joints, feature_ids, encoding, grid)
                 })
                 .collect();
+            if feature_ids.is_some() {
+                primitive.feature_counts = runs
+                    .iter()
+                    .map(|run| distinct(run.view(&vertices).features))
+                    .collect();
+            }
             primitive.runs = runs;
             primitive.vertices = vertices;
             primitive.chunks = Vec::new();
@@ -201,9 +225,19 @@ pub(super) enum Placement<'a> {
     Gpu(Vec<&'a Part>),
 }
 
+/// How many distinct values `ids` holds.
+fn distinct(ids: &[u32]) -> usize {
+    let mut sorted = ids.to_vec();
+    sorted.sort_unstable();
+    sorted.dedup();
+    sorted.len()
+}
+
 /// The file laid out: the JSON chunk, the primitives and skins whose data fill the BIN chunk.
 pub(super) struct Plan<'a> {
     json: Vec<u8>,
+    /// The features' property table, whose views come first in the BIN chunk.
+    table: Option<PropertyTable>,
     pub(super) groups: Vec<Group<'a>>,
     skins: Vec<Skin<'a>>,
     /// The skeletons' named poses, written after the skins.
@@ -219,6 +253,7 @@ impl<'a> Plan<'a> {
         sets: &'a InstanceSets,
         options: &ExportOptions,
         compaction: Compaction,
+        features: Option<&Features<'_>>,
     ) -> io::Result<Self> {
         check_bones(model)?;
         // An instance set's mesh is its prototype's, written where the set is first used.
@@ -259,9 +294,10 @@ impl<'a> Plan<'a> {
                 joint,
                 chunk,
                 part.metadata.as_deref(),
+                features.map(|f| f.parts[index]),
             )
         });
-        let line_chunks = model.lines.iter().filter_map(|lines| {
+        let line_chunks = model.lines.iter().enumerate().filter_map(|(i, lines)| {
             Some((
                 &lines.name,
                 lines.color,
@@ -269,6 +305,7 @@ impl<'a> Plan<'a> {
                 None,
                 Chunk::of_lines(lines)?,
                 None,
+                features.map(|f| f.lines[i]),
             ))
         });
         let mut palette = Palette::default();
@@ -285,7 +322,7 @@ impl<'a> Plan<'a> {
         // lines of one colour stay apart since a primitive has one mode, and parts with normals
         // apart from those without, since a primitive's vertices all have them or none does.
         let mut merged: BTreeMap<(usize, usize, bool, bool), usize> = BTreeMap::new();
-        for (name, color, source, joint, chunk, metadata) in chunks.chain(line_chunks) {
+        for (name, color, source, joint, chunk, metadata, feature) in chunks.chain(line_chunks) {
             let lines = source.is_none();
             let part = source.map(|i| &model.parts[i]);
             let textured = chunk.has_uvs();
@@ -328,6 +365,8 @@ impl<'a> Plan<'a> {
                         skinned: None,
                         chunks: vec![chunk],
                         sources: vec![source],
+                        features: feature.map(|id| vec![id]),
+                        feature_counts: Vec::new(),
                         vertices: Vertices::default(),
                         runs: Vec::new(),
                         streams: Vec::new(),
@@ -360,6 +399,8 @@ impl<'a> Plan<'a> {
                         skinned: joint.map(|(_, j)| skinned(vec![j])),
                         chunks: vec![chunk],
                         sources: vec![source],
+                        features: feature.map(|id| vec![id]),
+                        feature_counts: Vec::new(),
                         vertices: Vertices::default(),
                         runs: Vec::new(),
                         streams: Vec::new(),
@@ -402,6 +443,8 @@ impl<'a> Plan<'a> {
                     skinned: joint.map(|_| skinned(Vec::new())),
                     chunks: Vec::new(),
                     sources: Vec::new(),
+                    features: feature.map(|_| Vec::new()),
+                    feature_counts: Vec::new(),
                     vertices: Vertices::default(),
                     runs: Vec::new(),
                     streams: Vec::new(),
@@ -411,19 +454,32 @@ impl<'a> Plan<'a> {
             let primitive = &mut primitives[slot];
             primitive.chunks.push(chunk);
             primitive.sources.push(source);
+            if let (Some(ids), Some(id)) = (&mut primitive.features, feature) {
+                ids.push(id);
+            }
             if let (Some(skinned), Some((_, j))) = (&mut primitive.skinned, joint) {
                 skinned.joints.push(j);
             }
         }
         // Meshes are independent: planned on as many threads as there are, each the same on
         // any number of them.
+        let feature_ids = features.map(Features::component);
         groups
             .par_iter_mut()
-            .for_each(|group| group.encode(options.encoding, compaction));
+            .for_each(|group| group.encode(options.encoding, compaction, feature_ids));
         let animations = Animation::of_skins(&skins);
-        let (json, bin_len) = document(&palette, &textures, &groups, &skins, &animations);
+        let table = features.map(|f| PropertyTable::new(&f.rows));
+        let (json, bin_len) = document(
+            &palette,
+            &textures,
+            &groups,
+            &skins,
+            &animations,
+            table.as_ref(),
+        );
         Ok(Self {
             json,
+            table,
             groups,
             skins,
             animations,
@@ -464,6 +520,11 @@ impl<'a> Plan<'a> {
         }
         out.write_all(&word(self.bin_len))?;
         out.write_all(&CHUNK_BIN.to_le_bytes())?;
+        // The property table's views are 8-byte multiples at the start: each on an 8-byte
+        // boundary, as the extension requires.
+        for view in self.table.iter().flat_map(|t| &t.views) {
+            out.write_all(view)?;
+        }
         let mut result = Ok(());
         // Collects the first error of the per-element writes, which cannot return early.
         let mut put = |bytes: &[u8]| {

@@ -17,6 +17,9 @@ use super::triples::{Triples, point};
 use crate::GlbEncoding;
 use crate::flat::unit;
 
+/// The feature id attribute, `_FEATURE_ID_0` (gltf-json adds the underscore).
+pub(crate) const FEATURE_ID: &str = "FEATURE_ID_0";
+
 /// One accessor's data and description.
 pub(crate) struct Stream {
     /// The attribute it holds; `None` for indices.
@@ -60,6 +63,8 @@ enum Encoding {
     Joints { wide: bool },
     /// Weight 1 for the first joint, as normalized u8.
     Weights,
+    /// The vertex's feature id in the component given, padded to 4 bytes.
+    Features(ComponentType),
     /// The indices less the view's base, in u32 when `wide`, u16 otherwise.
     Indices { wide: bool },
 }
@@ -184,6 +189,14 @@ impl Encoding {
             }),
             Self::Joints { wide: false } => blocks(view.joints, put, |&j| [j as u8, 0, 0, 0]),
             Self::Weights => triple_blocks(view.positions, put, |_| [u8::MAX, 0, 0, 0]),
+            Self::Features(ComponentType::U8) => {
+                blocks(view.features, put, |&id| [id as u8, 0, 0, 0])
+            }
+            Self::Features(ComponentType::U16) => blocks(view.features, put, |&id| {
+                let [a, b] = (id as u16).to_le_bytes();
+                [a, b, 0, 0]
+            }),
+            Self::Features(_) => blocks(view.features, put, |&id| id.to_le_bytes()),
             Self::Indices { wide: true } => {
                 blocks(view.indices, put, |&i| (i - view.base).to_le_bytes())
             }
@@ -242,7 +255,8 @@ pub(crate) struct Joints {
 }
 
 /// The streams of a primitive's `vertices`, in the order they are written: POSITION, NORMAL,
-/// TEXCOORD_0, TANGENT, JOINTS_0, WEIGHTS_0, indices. `grid` quantises positions (the mesh's
+/// TEXCOORD_0, TANGENT, JOINTS_0, WEIGHTS_0, _FEATURE_ID_0 (in `feature_ids`' component, when
+/// given), indices. `grid` quantises positions (the mesh's
 /// node undoes it); `None` keeps them float, as skinned meshes need (skinning ignores the
 /// node's transformation). Each stream's data is made from `vertices` when it is written
 /// ([`Stream::write`]), except compressed data, made here.
@@ -250,6 +264,7 @@ pub(crate) fn streams(
     vertices: View<'_>,
     lines: bool,
     joints: Option<Joints>,
+    feature_ids: Option<ComponentType>,
     encoding: GlbEncoding,
     grid: Option<&Grid>,
 ) -> Vec<Stream> {
@@ -307,6 +322,11 @@ pub(crate) fn streams(
         );
         let format = (ComponentType::U8, Type::Vec4);
         attribute(Semantic::Weights(0), format, 4, Encoding::Weights);
+    }
+    if let Some(component) = feature_ids {
+        let semantic = Semantic::Extras(FEATURE_ID.to_owned());
+        let format = (component, Type::Scalar);
+        attribute(semantic, format, 4, Encoding::Features(component));
     }
     streams.push(index_stream(vertices.indices, count));
     if encoding == GlbEncoding::Compressed {

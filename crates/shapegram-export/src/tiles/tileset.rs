@@ -2,13 +2,16 @@
 
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
+use std::sync::Arc;
 
 use serde_json::{Value as Json, json};
-use shapegram_geom::{Aabb, Color, DAffine3, DQuat, DVec3, Mesh, Model, Part, primitives};
+use shapegram_geom::{
+    Aabb, Color, DAffine3, DQuat, DVec3, Mesh, Metadata, Model, Part, primitives,
+};
 
 use super::shards::{Shard, ShardPart};
-use super::{Cell, TileGrid};
-use crate::{Error, ExportOptions};
+use super::{Cell, PARENT_SPAN, TileGrid};
+use crate::{Error, ExportOptions, Features};
 
 /// The folder of the full models, one GLB per leaf cell.
 const NEAR: &str = "near";
@@ -33,10 +36,25 @@ pub struct TilesetSummary {
     pub lots: usize,
 }
 
-/// A leaf tile written: its content's bounds and its lots' masses, in the grammar's frame.
+/// A lot of a leaf tile: its index among the city's lots, its model in the grammar's frame
+/// and, for a tileset with metadata, its metadata (a GLB's lot node's: rule, path,
+/// attributes, leaf count, report summaries), which makes it a feature of the tiles.
+#[derive(Clone, Debug, Default)]
+pub struct TileLot {
+    /// The lot's index among the city's lots: features are in this order.
+    pub index: usize,
+    /// Its leaves' model.
+    pub model: Model,
+    /// Its metadata, for its row in the tiles' property tables.
+    pub metadata: Option<Arc<Metadata>>,
+}
+
+/// A leaf tile written: its content's bounds and its lots' masses, in the grammar's frame,
+/// with their lots' indices and metadata when they have some.
 struct Near {
     bounds: Aabb,
     masses: Vec<Aabb>,
+    features: Vec<(usize, Arc<Metadata>)>,
 }
 
 /// Writes a tileset into a folder: [`TilesetWriter::add`] each leaf tile's model, then
@@ -45,7 +63,10 @@ pub struct TilesetWriter {
     dir: PathBuf,
     grid: TileGrid,
     transform: [f64; 16],
+    /// The leaf tiles whose far tile is not written yet.
     near: BTreeMap<Cell, Near>,
+    /// The far tiles written already (see [`TilesetWriter::write_far_before`]).
+    far: Vec<FarTile>,
 }
 
 impl TilesetWriter {
@@ -63,6 +84,7 @@ impl TilesetWriter {
             grid,
             transform,
             near: BTreeMap::new(),
+            far: Vec::new(),
         })
     }
 
@@ -70,35 +92,87 @@ impl TilesetWriter {
     /// frame, each of which also becomes one box (its bounds) in the far tile above. Lots
     /// without geometry are left out; a cell with none gets no tile.
     pub fn add(&mut self, cell: Cell, lots: Vec<Model>) -> Result<(), Error> {
+        let lots = lots.into_iter().enumerate().map(|(index, model)| TileLot {
+            index,
+            model,
+            metadata: None,
+        });
+        self.add_lots(cell, lots.collect())
+    }
+
+    /// [`TilesetWriter::add`] of lots that may carry metadata: when some do, every lot with
+    /// geometry becomes a feature of this tile and of the far tile above (rows in order of
+    /// `lots`, which must be that of their indices; a lot without metadata gets an empty row).
+    pub fn add_lots(&mut self, cell: Cell, lots: Vec<TileLot>) -> Result<(), Error> {
+        let described = lots.iter().any(|lot| lot.metadata.is_some());
         let mut masses = Vec::new();
         let mut model = Model::default();
+        let mut features = Vec::new();
+        let mut ids = Features::default();
         for lot in lots {
-            let Some(bounds) = lot.bounds() else {
+            let Some(bounds) = lot.model.bounds() else {
                 continue;
             };
             masses.push(bounds);
-            model.parts.extend(lot.parts);
-            model.lines.extend(lot.lines);
+            if described {
+                let id = features.len() as u32;
+                ids.parts.extend(lot.model.parts.iter().map(|_| id));
+                ids.lines.extend(lot.model.lines.iter().map(|_| id));
+                features.push((lot.index, lot.metadata.unwrap_or_default()));
+            }
+            model.parts.extend(lot.model.parts);
+            model.lines.extend(lot.model.lines);
         }
         let Some(bounds) = union(&masses) else {
             return Ok(());
         };
         let path = self.dir.join(NEAR).join(format!("{}.glb", cell.name()));
-        crate::save(&model, &path, &ExportOptions::default())?;
-        self.near.insert(cell, Near { bounds, masses });
+        ids.rows = features.iter().map(|(_, m)| &**m).collect();
+        save(&model, described.then_some(&ids), &path)?;
+        drop(ids);
+        self.near.insert(
+            cell,
+            Near {
+                bounds,
+                masses,
+                features,
+            },
+        );
+        Ok(())
+    }
+
+    /// Writes the far tiles all of whose leaf cells come before `next` in cell order (east,
+    /// then north), and lets go of their lots' masses and metadata: for a caller that adds
+    /// cells in order, so that a city's metadata is never held whole. The files are the same
+    /// as when every far tile is written by [`TilesetWriter::finish`].
+    pub fn write_far_before(&mut self, next: Cell) -> Result<(), Error> {
+        let last = PARENT_SPAN - 1;
+        let complete = |parent: Cell| {
+            let last_child = Cell {
+                east: parent.east * PARENT_SPAN + last,
+                north: parent.north * PARENT_SPAN + last,
+            };
+            last_child < next
+        };
+        let done: BTreeMap<Cell, Near> = self
+            .near
+            .extract_if(.., |cell, _| complete(cell.parent()))
+            .collect();
+        let far = self.write_far(done)?;
+        self.far.extend(far);
         Ok(())
     }
 
     /// Writes the far tiles and tileset.json.
-    pub fn finish(self) -> Result<TilesetSummary, Error> {
-        let far = self.write_far()?;
+    pub fn finish(mut self) -> Result<TilesetSummary, Error> {
+        let far = self.write_rest()?;
         write_tileset(&self.dir, self.grid.size, self.transform, &far)
     }
 
     /// Writes the far tiles and, instead of tileset.json, the part of it that `shard` holds
     /// (`tileset.shard-K-of-N.json`), for [`super::merge`] to join with the other shards'.
-    pub fn finish_shard(self, shard: Shard) -> Result<TilesetSummary, Error> {
-        let far = self.write_far()?;
+    pub fn finish_shard(mut self, shard: Shard) -> Result<TilesetSummary, Error> {
+        let far = self.write_rest()?;
         let part = ShardPart {
             shard,
             tile_size: self.grid.size,
@@ -109,10 +183,19 @@ impl TilesetWriter {
         Ok(summary(&part.far))
     }
 
-    /// Writes a far tile (the masses) for each parent cell of the leaf tiles added.
-    fn write_far(&self) -> Result<Vec<FarTile>, Error> {
+    /// Writes the far tiles not written yet; returns every far tile, in order of their cells.
+    fn write_rest(&mut self) -> Result<Vec<FarTile>, Error> {
+        let rest = std::mem::take(&mut self.near);
+        let mut far = std::mem::take(&mut self.far);
+        far.extend(self.write_far(rest)?);
+        far.sort_by_key(|tile| tile.cell);
+        Ok(far)
+    }
+
+    /// Writes a far tile (the masses) for each parent cell of the leaf tiles `near`.
+    fn write_far(&self, near: BTreeMap<Cell, Near>) -> Result<Vec<FarTile>, Error> {
         let mut parents: BTreeMap<Cell, Vec<(Cell, &Near)>> = BTreeMap::new();
-        for (&cell, near) in &self.near {
+        for (&cell, near) in &near {
             parents.entry(cell.parent()).or_default().push((cell, near));
         }
         let mut far = Vec::with_capacity(parents.len());
@@ -121,11 +204,12 @@ impl TilesetWriter {
                 .iter()
                 .flat_map(|(_, near)| near.masses.iter().copied())
                 .collect();
-            crate::save(
-                &masses_model(&masses),
-                &self.dir.join(FarTile::uri_of(parent)),
-                &ExportOptions::default(),
-            )?;
+            let path = self.dir.join(FarTile::uri_of(parent));
+            if children.iter().any(|(_, near)| !near.features.is_empty()) {
+                write_far_features(&children, &path)?;
+            } else {
+                save(&masses_model(&masses), None, &path)?;
+            }
             far.push(FarTile {
                 cell: parent,
                 bounds: union(&masses).expect("a parent tile has children with masses"),
@@ -162,6 +246,50 @@ impl FarTile {
     pub fn near_uri_of(cell: Cell) -> String {
         format!("{NEAR}/{}.glb", cell.name())
     }
+}
+
+/// Writes a tile's GLB, with `features` when given.
+fn save(model: &Model, features: Option<&Features<'_>>, path: &Path) -> Result<(), Error> {
+    let options = ExportOptions::default();
+    match features {
+        None => crate::save(model, path, &options),
+        Some(features) => crate::stream(path, |out| {
+            crate::write_glb_with_features_to(model, &options, features, out)
+        })
+        .map_err(|source| Error::Write {
+            path: path.to_path_buf(),
+            source,
+        }),
+    }
+}
+
+/// Writes the far tile of `children` with features: a box per lot, each a feature, in order
+/// of the lots' indices.
+fn write_far_features(children: &[(Cell, &Near)], path: &Path) -> Result<(), Error> {
+    let mut lots: Vec<(usize, Aabb, &Metadata)> = children
+        .iter()
+        .flat_map(|(_, near)| {
+            let features = near.features.iter();
+            near.masses
+                .iter()
+                .zip(features)
+                .map(|(mass, (index, metadata))| (*index, *mass, &**metadata))
+        })
+        .collect();
+    lots.sort_by_key(|(index, _, _)| *index);
+    let model = Model {
+        parts: lots
+            .iter()
+            .map(|(_, mass, _)| masses_model(std::slice::from_ref(mass)).parts.remove(0))
+            .collect(),
+        ..Model::default()
+    };
+    let features = Features {
+        rows: lots.iter().map(|(_, _, metadata)| *metadata).collect(),
+        parts: (0..lots.len() as u32).collect(),
+        lines: Vec::new(),
+    };
+    save(&model, Some(&features), path)
 }
 
 /// What tiles were written.

@@ -4,6 +4,7 @@
 mod common;
 mod compact;
 mod errors;
+mod features;
 mod files;
 mod instancing;
 mod layout;

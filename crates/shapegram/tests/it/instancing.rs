@@ -428,14 +428,14 @@ fn metadata_where_no_glb_carries_it_is_warned_about() {
         (
             Some(&obj),
             format!(
-                "warning: --metadata applies to the GLB of -o only (glTF node extras); {} is \
+                "warning: --metadata applies to a GLB (-o) and to tiles (--tiles); {} is \
                  written without it",
                 obj.display()
             ),
         ),
         (
             None,
-            "warning: --metadata applies to the GLB of -o only (glTF node extras); nothing is \
+            "warning: --metadata applies to a GLB (-o) and to tiles (--tiles); nothing is \
              written"
                 .to_owned(),
         ),

@@ -24,4 +24,5 @@ mod studio;
 mod studio_attrs;
 mod studio_child;
 mod tiles;
+mod tiles_metadata;
 mod topo;

@@ -13,7 +13,7 @@ const GRAMMAR: &str = "Lot --> extrude(12) Mass.\n";
 
 /// 8 × 4 lots of 20 × 30 m, 25 m apart east and 40 m north, their south-west corners at
 /// `(east, north)` plus the lot's offset, scaled by `unit` (1 for metres).
-fn city(east: f64, north: f64, unit: (f64, f64)) -> Value {
+pub(crate) fn city(east: f64, north: f64, unit: (f64, f64)) -> Value {
     let mut features = Vec::new();
     for i in 0..8 {
         for j in 0..4 {
@@ -178,32 +178,6 @@ fn a_tileset_has_far_masses_over_near_models_in_a_grid() {
     tile(&dir, &city(0.0, 0.0, (1.0, 1.0)), &[]);
     assert_eq!(std::fs::read(dir.path("out/tileset.json")).unwrap(), first);
     assert_eq!(std::fs::read(dir.path("out/near/0_0.glb")).unwrap(), a_tile);
-}
-
-/// `--metadata` goes into the GLB of `-o` only: tiles are written as without it, with a warning
-/// saying so (docs/tiles.md).
-#[test]
-fn metadata_is_not_in_tiles_and_says_so() {
-    let (plain, asked) = (TempDir::new("tiles-plain"), TempDir::new("tiles-metadata"));
-    let lots = city(0.0, 0.0, (1.0, 1.0));
-    tile(&plain, &lots, &[]);
-    let err = tile(&asked, &lots, &["--metadata"]);
-    assert!(
-        err.starts_with(
-            "warning: --metadata applies to the GLB of -o only (glTF node extras); tiles \
-             carry none\n"
-        ),
-        "{err}"
-    );
-    assert_same_files(&plain.path("out"), &asked.path("out"));
-    let glb = asked.path("city.glb");
-    let err = tile(&asked, &lots, &["--metadata", "-o", glb.to_str().unwrap()]);
-    let warning = format!(
-        "warning: --metadata goes into {} only: tiles carry no metadata\n",
-        glb.display()
-    );
-    assert!(err.starts_with(&warning), "{err}");
-    assert_same_files(&plain.path("out"), &asked.path("out"));
 }
 
 #[test]
@@ -443,7 +417,7 @@ fn files(dir: &Path) -> std::collections::BTreeMap<String, Vec<u8>> {
 }
 
 /// Asserts that two folders hold the same files with the same bytes.
-fn assert_same_files(a: &Path, b: &Path) {
+pub(crate) fn assert_same_files(a: &Path, b: &Path) {
     let (a_files, b_files) = (files(a), files(b));
     assert_eq!(
         a_files.keys().collect::<Vec<_>>(),
@@ -458,7 +432,7 @@ fn assert_same_files(a: &Path, b: &Path) {
 }
 
 /// Runs `derive GRAMMAR --lots LOTS --tile-size 50 --tiles DIR` with the extra arguments.
-fn derive_tiles(grammar: &Path, lots: &Path, dir: &Path, extra: &[&str]) -> String {
+pub(crate) fn derive_tiles(grammar: &Path, lots: &Path, dir: &Path, extra: &[&str]) -> String {
     let mut args = vec![
         "derive",
         grammar.to_str().unwrap(),
@@ -491,9 +465,31 @@ fn tiles_derived_cell_by_cell_and_in_shards_are_the_whole_derivations_bytes() {
     let dir = TempDir::new("tiles-streamed");
     let lots = dir.path("city.geojson");
     std::fs::write(&lots, city(0.0, 0.0, (1.0, 1.0)).to_string()).unwrap();
-    for (name, text) in [("random", RANDOM), ("reach", REACH)] {
+    // With --metadata too: each lot's row must not depend on how the city is cut either.
+    let runs = [
+        ("random", RANDOM, None),
+        ("reach", REACH, None),
+        ("random-metadata", RANDOM, Some("--metadata")),
+    ];
+    for (name, text, flag) in runs {
         let grammar = dir.path(&format!("{name}.cga"));
         std::fs::write(&grammar, text).unwrap();
+        let with = |args: &[&str]| -> Vec<String> {
+            args.iter()
+                .copied()
+                .chain(flag)
+                .map(str::to_owned)
+                .collect()
+        };
+        let derive_tiles = |grammar: &Path, lots: &Path, dir: &Path, extra: &[&str]| {
+            let extra = with(extra);
+            derive_tiles(
+                grammar,
+                lots,
+                dir,
+                &extra.iter().map(String::as_str).collect::<Vec<_>>(),
+            )
+        };
         // With -o the city is derived whole, as one list of lots.
         let whole = dir.path(&format!("{name}-whole"));
         let glb = dir.path(&format!("{name}.glb"));
