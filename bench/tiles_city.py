@@ -5,7 +5,7 @@ Writes a GeoJSON file of N lots of 20 x 30 m (local metres, 25 m apart east and 
 rows of ceil(sqrt(N)) lots; the same N always gives the same bytes), derives it with
 examples/house.cga into a tileset (`--tiles`) under /usr/bin/time -v and prints one line per
 city: lots, tiles, output size, wall time, CPU time and the maximum resident set. Not part of
-CI; run it with a release build. The houses of 100,000 lots take about 9 GB of tiles:
+CI; run it with a release build. The houses of 100,000 lots take about 3 GB of tiles:
 bench/tiles_city.cga (about 30 leaves a lot) takes less than a tenth of that.
 
     cargo build --release -p shapegram

@@ -6,8 +6,9 @@
 //! The table's columns are the metadata's `rule` and `path` (STRING), `leaves` (UINT32), each
 //! attribute and each report key of any row, by name: FLOAT64 where every row that has it holds
 //! a number, BOOLEAN where every row holds a boolean, STRING otherwise (numbers and booleans
-//! then written as in JSON). A row without a value takes the property's `noData`: "" for
-//! STRING, the lowest f64 for FLOAT64, `u32::MAX` for UINT32 (BOOLEAN has no `noData`, so a
+//! then written as in JSON). A row without a value takes the property's `noData`, a value no
+//! row holds: "" for STRING (`(none)` if a row holds ""), the lowest f64 for FLOAT64 (or the
+//! next one up that no row holds), `u32::MAX` for UINT32 (BOOLEAN has no `noData`, so a
 //! boolean with gaps becomes STRING). Property ids are the names with every character but
 //! ASCII letters, digits and `_` made `_` (`floor.area_sum` → `floor_area_sum`), made unique
 //! by a suffix `_2`, `_3`, …; a property whose id differs from its name carries the name.
@@ -208,13 +209,18 @@ fn encode(column: Column) -> (Map<String, Value>, Vec<u8>, Option<Vec<u8>>) {
     match column {
         Column::Strings(strings) => {
             property.insert("type".to_owned(), "STRING".into());
-            if strings.iter().any(Option::is_none) {
-                property.insert("noData".to_owned(), "".into());
+            let no_data = strings
+                .iter()
+                .any(Option::is_none)
+                .then(|| text_no_data(&strings));
+            if let Some(no_data) = &no_data {
+                property.insert("noData".to_owned(), no_data.as_str().into());
             }
             let mut ends = Vec::with_capacity(4 * (strings.len() + 1));
             ends.extend_from_slice(&0u32.to_le_bytes());
             for s in &strings {
-                values.extend_from_slice(s.as_deref().unwrap_or_default().as_bytes());
+                let text = s.as_deref().or(no_data.as_deref()).unwrap_or_default();
+                values.extend_from_slice(text.as_bytes());
                 ends.extend_from_slice(&(values.len() as u32).to_le_bytes());
             }
             offsets = Some(padded(ends));
@@ -222,11 +228,12 @@ fn encode(column: Column) -> (Map<String, Value>, Vec<u8>, Option<Vec<u8>>) {
         Column::Floats(floats) => {
             property.insert("type".to_owned(), "SCALAR".into());
             property.insert("componentType".to_owned(), "FLOAT64".into());
+            let no_data = number_no_data(&floats);
             if floats.iter().any(Option::is_none) {
-                property.insert("noData".to_owned(), f64::MIN.into());
+                property.insert("noData".to_owned(), no_data.into());
             }
             for f in floats {
-                values.extend_from_slice(&f.unwrap_or(f64::MIN).to_le_bytes());
+                values.extend_from_slice(&f.unwrap_or(no_data).to_le_bytes());
             }
         }
         Column::Counts(counts) => {
@@ -249,6 +256,32 @@ fn encode(column: Column) -> (Map<String, Value>, Vec<u8>, Option<Vec<u8>>) {
         }
     }
     (property, padded(values), offsets)
+}
+
+/// A STRING column's `noData`: "" unless a row holds "" (then a missing value would read as
+/// that row's), else the first of `(none)`, `(none) 2`, … that no row holds.
+fn text_no_data(strings: &[Option<String>]) -> String {
+    let held = |candidate: &str| strings.iter().flatten().any(|s| s == candidate);
+    if !held("") {
+        return String::new();
+    }
+    (1..)
+        .map(|n| match n {
+            1 => "(none)".to_owned(),
+            n => format!("(none) {n}"),
+        })
+        .find(|candidate| !held(candidate))
+        .expect("some candidate is free: there are fewer rows than candidates")
+}
+
+/// A FLOAT64 column's `noData`: the lowest f64 unless a row holds it, else the lowest value
+/// above it that no row holds.
+fn number_no_data(floats: &[Option<f64>]) -> f64 {
+    let mut candidate = f64::MIN;
+    while floats.iter().flatten().any(|&f| f == candidate) {
+        candidate = candidate.next_up();
+    }
+    candidate
 }
 
 /// `bytes` padded with zeros to a multiple of 8: every view of the table starts on an 8-byte
@@ -403,6 +436,52 @@ mod tests {
             .map(|b| f64::from_le_bytes(b.try_into().unwrap()))
             .collect();
         assert_eq!(floats, [300.0, f64::MIN]);
+    }
+
+    #[test]
+    fn no_data_is_a_value_no_row_holds() {
+        let row = |attributes: Vec<(&str, MetaValue)>| Metadata {
+            attributes: attributes
+                .into_iter()
+                .map(|(name, value)| (name.to_owned(), value))
+                .collect(),
+            ..Metadata::default()
+        };
+        let text = |t: &str| MetaValue::Text(t.to_owned());
+        let rows = [
+            row(vec![
+                ("sign", text("")),
+                ("label", text("(none)")),
+                ("depth", MetaValue::Number(f64::MIN)),
+            ]),
+            row(vec![("label", text(""))]),
+            row(vec![("sign", text("shop"))]),
+        ];
+        let table = PropertyTable::new(&rows.iter().collect::<Vec<_>>());
+        let ext = table.extension(0);
+        let class = &ext["schema"]["classes"]["lot"]["properties"];
+        assert_eq!(class["sign"], json!({"type": "STRING", "noData": "(none)"}));
+        assert_eq!(
+            class["label"],
+            json!({"type": "STRING", "noData": "(none) 2"})
+        );
+        assert_eq!(class["depth"]["noData"], json!(f64::MIN.next_up()));
+        let props = &ext["propertyTables"][0]["properties"];
+        let view =
+            |name: &str, key: &str| &table.views[props[name][key].as_u64().unwrap() as usize];
+        assert_eq!(
+            strings(view("sign", "values"), view("sign", "stringOffsets"), 3),
+            ["", "(none)", "shop"]
+        );
+        assert_eq!(
+            strings(view("label", "values"), view("label", "stringOffsets"), 3),
+            ["(none)", "", "(none) 2"]
+        );
+        let depths: Vec<f64> = view("depth", "values")
+            .chunks_exact(8)
+            .map(|b| f64::from_le_bytes(b.try_into().unwrap()))
+            .collect();
+        assert_eq!(depths, [f64::MIN, f64::MIN.next_up(), f64::MIN.next_up()]);
     }
 
     #[test]
