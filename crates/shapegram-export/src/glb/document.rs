@@ -174,6 +174,24 @@ pub(super) struct Builder {
     pub(super) quantized: bool,
 }
 
+/// A view of `length` bytes of the BIN chunk from `offset`, without a stride.
+fn bin_view(
+    offset: usize,
+    length: usize,
+    target: Option<json::buffer::Target>,
+) -> json::buffer::View {
+    json::buffer::View {
+        buffer: json::Index::new(0),
+        byte_length: USize64::from(length),
+        byte_offset: Some(USize64::from(offset)),
+        byte_stride: None,
+        extensions: None,
+        extras: Default::default(),
+        name: None,
+        target: target.map(Valid),
+    }
+}
+
 impl Builder {
     /// The root's `EXT_structural_metadata` and the views of its property table, which start
     /// the BIN chunk (each a multiple of 8 bytes long).
@@ -182,16 +200,7 @@ impl Builder {
         for view in &table.views {
             let offset = self.bin_len;
             self.bin_len += view.len();
-            self.root.push(json::buffer::View {
-                buffer: json::Index::new(0),
-                byte_length: USize64::from(view.len()),
-                byte_offset: Some(USize64::from(offset)),
-                byte_stride: None,
-                extensions: None,
-                extras: Default::default(),
-                name: None,
-                target: None,
-            });
+            self.root.push(bin_view(offset, view.len(), None));
         }
         let mut others = serde_json::Map::new();
         others.insert(STRUCTURAL_METADATA.to_owned(), table.extension(first));
@@ -249,16 +258,7 @@ impl Builder {
         let bytes = texture.image.as_deref().unwrap_or_default();
         let offset = self.bin_len;
         self.bin_len = (offset + bytes.len()).next_multiple_of(4);
-        let view = self.root.push(json::buffer::View {
-            buffer: json::Index::new(0),
-            byte_length: USize64::from(bytes.len()),
-            byte_offset: Some(USize64::from(offset)),
-            byte_stride: None,
-            extensions: None,
-            extras: Default::default(),
-            name: None,
-            target: None,
-        });
+        let view = self.root.push(bin_view(offset, bytes.len(), None));
         let name = texture.path.rsplit(['/', '\\']).next().unwrap_or_default();
         let image = self.root.push(json::Image {
             buffer_view: Some(view),
@@ -346,16 +346,7 @@ impl Builder {
         let length = count * size;
         // Every view starts on a 4-byte boundary, as f32 and u32 accessors require.
         self.bin_len = (offset + length).next_multiple_of(4);
-        let view = self.root.push(json::buffer::View {
-            buffer: json::Index::new(0),
-            byte_length: USize64::from(length),
-            byte_offset: Some(USize64::from(offset)),
-            byte_stride: None,
-            extensions: None,
-            extras: Default::default(),
-            name: None,
-            target: target.map(Valid),
-        });
+        let view = self.root.push(bin_view(offset, length, target));
         let (min, max) = min_max.unzip();
         self.root.push(json::Accessor {
             buffer_view: Some(view),
