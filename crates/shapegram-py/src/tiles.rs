@@ -10,7 +10,7 @@ use pyo3::exceptions::{PyTypeError, PyUserWarning, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyString};
 use shapegram_eval::DeriveControl;
-use shapegram_export::tiles::{Crs, Shard, TileGrid};
+use shapegram_export::tiles::{Crs, Shard, TileEncoding, TileGrid};
 use shapegram_runtime::lots::{Collected, Placing};
 use shapegram_runtime::tiles::{Tiling, stream};
 use shapegram_runtime::{Error as EngineError, Settings};
@@ -95,6 +95,7 @@ pub fn derive_tiles<'py>(
                 halo: engine.has_context_rules().then_some(halo),
                 shard,
                 metadata: None,
+                encoding: TileEncoding::default(),
             };
             let derive = |cell: &[_], _own: &[bool]| engine.derivation(cell, &settings);
             let tiled = stream::<EngineError>(&lots, frame, &out_dir, tiling, derive, true)
