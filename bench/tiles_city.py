@@ -11,7 +11,10 @@ bench/tiles_city.cga (about 30 leaves a lot) takes less than a tenth of that.
     cargo build --release -p shapegram
     python3 bench/tiles_city.py 10000
     python3 bench/tiles_city.py --grammar bench/tiles_city.cga 10000 100000
+    python3 bench/tiles_city.py 10000 -- --meshopt --metadata     # more options for derive
     python3 bench/tiles_city.py --lots-only 100000 > city.geojson   # just the lots
+
+Arguments after `--` are passed on to `shapegram derive` (and printed with the city's line).
 
 Environment: SHAPEGRAM (the binary, default target/release/shapegram), WORK (a scratch folder
 with room for the tiles, default /tmp/shapegram-tiles-bench; each city's tiles are removed
@@ -45,7 +48,7 @@ def folder_size(path):
                for root, _, files in os.walk(path) for f in files)
 
 
-def measure(binary, grammar, work, n):
+def measure(binary, grammar, work, n, extra):
     lots = os.path.join(work, f"city-{n}.geojson")
     with open(lots, "w") as f:
         f.write(city(n))
@@ -53,7 +56,7 @@ def measure(binary, grammar, work, n):
     shutil.rmtree(tiles, ignore_errors=True)
     run = subprocess.run(
         ["/usr/bin/time", "-v", binary, "derive", grammar, "--lots", lots, "--tiles", tiles,
-         "--max-shapes", "100000000"],
+         "--max-shapes", "100000000", *extra],
         check=True, capture_output=True, text=True)
     err = run.stderr
 
@@ -69,7 +72,9 @@ def measure(binary, grammar, work, n):
     size = folder_size(tiles)
     shutil.rmtree(tiles)
     os.remove(lots)
-    print(f"{os.path.basename(grammar)}, {n:>7} lots: {wrote}; {size / 1e9:.2f} GB; wall {seconds:.1f} s, "
+    options = "".join(f" {arg}" for arg in extra)
+    print(f"{os.path.basename(grammar)}{options}, {n:>7} lots: {wrote}; {size / 1e9:.3f} GB; "
+          f"wall {seconds:.1f} s, "
           f"CPU {cpu:.1f} s, peak memory {peak / 2**20:.0f} MiB", flush=True)
 
 
@@ -84,8 +89,12 @@ def main(args):
     grammar = os.path.join(root, "examples", "house.cga")
     if args and args[0] == "--grammar":
         grammar, args = os.path.abspath(args[1]), args[2:]
+    extra = []
+    if "--" in args:
+        at = args.index("--")
+        args, extra = args[:at], args[at + 1:]
     for n in [int(a) for a in args] or [10000]:
-        measure(binary, grammar, work, n)
+        measure(binary, grammar, work, n, extra)
 
 
 if __name__ == "__main__":

@@ -9,6 +9,7 @@ tileset.json: the same bytes as one `shapegram derive --tiles` run. Dask schedul
 nothing here knows about machines (docs/tiles.md, "Many machines").
 
     python examples/dask/dask_tiles.py examples/house.cga city.geojson city/ --shards 3
+    python examples/dask/dask_tiles.py examples/house.cga city.geojson city/ --meshopt --metadata
     python examples/dask/dask_tiles.py house.cga city.geojson city/ --scheduler tcp://host:8786
 
 Without --scheduler it starts a `distributed.LocalCluster` on loopback (worker processes). On
@@ -26,7 +27,7 @@ import shapegram
 def derive_city(client, grammar, lots, out_dir, shards, parts_dir, **options):
     """Derives the lots of `lots` with `grammar` into `out_dir` in `shards` Dask tasks on
     `client`; shard K writes into parts_dir/K, where its files stay. `options` are
-    derive_tiles' (tile_size, crs, halo, seed, attrs). Returns each shard's counts (from
+    derive_tiles' (tile_size, crs, halo, seed, attrs, metadata, quantize, meshopt, normals). Returns each shard's counts (from
     derive_tiles) and the merged tileset's (from merge_tiles)."""
     grammar, lots, out_dir, parts_dir = (
         os.path.abspath(p) for p in (grammar, lots, out_dir, parts_dir))
@@ -51,6 +52,10 @@ def main():
     parser.add_argument("--tile-size", type=float, default=200.0)
     parser.add_argument("--crs", default="local")
     parser.add_argument("--seed", type=int, default=0)
+    parser.add_argument("--metadata", action="store_true", help="each lot a feature of its tiles")
+    parser.add_argument("--quantize", action="store_true", help="KHR_mesh_quantization")
+    parser.add_argument("--meshopt", action="store_true",
+                        help="quantised and EXT_meshopt_compression")
     parser.add_argument("--scheduler", help="a running scheduler's address; a LocalCluster "
                                             "on loopback without it")
     parser.add_argument("--workers", type=int, default=2, help="the LocalCluster's workers")
@@ -59,7 +64,8 @@ def main():
     from distributed import Client, LocalCluster
 
     parts = args.parts or args.out_dir.rstrip("/") + ".shards"
-    options = dict(tile_size=args.tile_size, crs=args.crs, seed=args.seed)
+    options = dict(tile_size=args.tile_size, crs=args.crs, seed=args.seed, metadata=args.metadata,
+                   quantize=args.quantize, meshopt=args.meshopt)
     if args.scheduler:
         with Client(args.scheduler) as client:
             _, counts = derive_city(client, args.grammar, args.lots, args.out_dir, args.shards,

@@ -4,7 +4,9 @@
 // token, no imagery: the globe is a plain colour and every request elsewhere is refused.
 // Far away only the masses (far/) load; close to the city the full models (near/) replace them.
 // The city is written with --metadata: a building picked on screen is a Cesium3DTileFeature
-// whose properties are its row in the tile's property table (EXT_structural_metadata).
+// whose properties are its row in the tile's property table (EXT_structural_metadata). It is
+// written twice, with float vertices and with --meshopt (quantised and compressed, which
+// CesiumJS decodes): both stream alike, draw the same triangles and pick the same rows.
 // Run by .ci/run:
 //
 //   SHAPEGRAM_BIN=target/release/shapegram TILES_OUTPUT=target/ci-tiles node tests/tiles-browser/browser.mjs
@@ -44,12 +46,18 @@ for (let i = 0; i < 10; i++) {
 }
 const lots = join(output, "city.geojson");
 writeFileSync(lots, JSON.stringify({ type: "FeatureCollection", features }));
-const tiles = join(output, "tiles");
-rmSync(tiles, { recursive: true, force: true });
-execFileSync(binary, ["derive", "-q", join(root, "examples/house.cga"), "--lots", lots, "--crs", "wgs84",
-  "--tiles", tiles, "--tile-size", "100", "--metadata"], { stdio: "inherit" });
+// The tilesets, by the path they are served under: floats, and meshopt-compressed.
+const tilesets = { tiles: [], "tiles-meshopt": ["--meshopt"] };
+for (const [name, flags] of Object.entries(tilesets)) {
+  const dir = join(output, name);
+  rmSync(dir, { recursive: true, force: true });
+  execFileSync(binary, ["derive", "-q", join(root, "examples/house.cga"), "--lots", lots, "--crs", "wgs84",
+    "--tiles", dir, "--tile-size", "100", "--metadata", ...flags], { stdio: "inherit" });
+}
 
-/** The property table rows of a GLB as Node reads it: by property id, a value per row. */
+/** The property table rows of a GLB as Node reads it: by property id, a value per row. The
+ * table's views are never compressed (EXT_meshopt_compression compresses vertices and indices),
+ * so this reads meshopt tiles too. */
 function propertyTable(file) {
   const bytes = readFileSync(file);
   const jsonLength = bytes.readUInt32LE(12);
@@ -84,11 +92,13 @@ function propertyTable(file) {
 
 
 // 3d-tiles-tools: two levels under the root, GLB content throughout.
-const levels = await checkTileset(tiles);
-assert.equal(levels[0], undefined, "the root has no content");
-assert.ok(levels[1].every((uri) => uri.startsWith("far/")), levels[1].join());
-assert.ok(levels[2].every((uri) => uri.startsWith("near/")), levels[2].join());
-console.log(`3d-tiles-tools: ${levels[1].length} far and ${levels[2].length} near tiles, all GLB`);
+for (const name of Object.keys(tilesets)) {
+  const levels = await checkTileset(join(output, name));
+  assert.equal(levels[0], undefined, "the root has no content");
+  assert.ok(levels[1].every((uri) => uri.startsWith("far/")), levels[1].join());
+  assert.ok(levels[2].every((uri) => uri.startsWith("near/")), levels[2].join());
+  console.log(`3d-tiles-tools, ${name}: ${levels[1].length} far and ${levels[2].length} near tiles, all GLB`);
+}
 
 // A static server for Cesium's build and the tileset.
 const cesium = join(here, "node_modules/cesium/Build/Cesium");
@@ -107,7 +117,10 @@ const server = createServer((request, response) => {
     response.writeHead(200, { "content-type": "text/html" }).end(page);
     return;
   } else if (path.startsWith("/cesium/")) file = join(cesium, normalize(path.slice(8)));
-  else if (path.startsWith("/tiles/")) file = join(tiles, normalize(path.slice(7)));
+  else {
+    const [, name, rest] = path.match(/^\/([^/]+)\/(.*)$/) || [];
+    if (name in tilesets) file = join(output, name, normalize(rest));
+  }
   try {
     if (!file || !statSync(file).isFile()) throw new Error("not a file");
     response.writeHead(200, { "content-type": types[extname(file)] || "application/octet-stream" });
@@ -134,11 +147,41 @@ try {
     refused.add(url.origin);
     return route.abort();
   });
+  const float = await stream(context, "tiles");
+  const meshopt = await stream(context, "tiles-meshopt");
+  // The same tiles chosen and the same triangles drawn from each camera, and the same row picked.
+  for (const view of ["far", "near"]) {
+    const [a, b] = [float[view], meshopt[view]];
+    // Tiles load in whatever order their requests finish.
+    const loaded = (loads) => loads.map((p) => p.replace("/tiles-meshopt/", "/tiles/")).sort();
+    assert.deepEqual(loaded(b.loads), loaded(a.loads), view);
+    assert.equal(b.selected, a.selected, `${view}: tiles selected`);
+    assert.equal(b.triangles, a.triangles, `${view}: triangles drawn`);
+  }
+  assert.deepEqual({ ...meshopt.picked, tile: meshopt.picked.tile.replace("/tiles-meshopt/", "/tiles/") },
+    float.picked);
+  console.log(`meshopt tiles: ${meshopt.near.triangles} triangles near and ${meshopt.far.triangles} far, ` +
+    `as the float tiles; picked ${meshopt.picked.path} alike`);
+  if (refused.size > 0) console.log(`refused requests to: ${[...refused].join(", ")}`);
+  console.log(`tiles browser test passed (screenshots in ${output})`);
+} catch (e) {
+  failed = true;
+  console.error(e);
+} finally {
+  await browser.close();
+  server.close();
+}
+process.exit(failed ? 1 : 0);
+
+/** Streams the tileset served under `/${name}/` in a new tab of `context`: the far and near
+ * views' loads and draw statistics, and the building picked from above lot 55, checked
+ * against its row of the tile's property table. */
+async function stream(context, name) {
   const tab = await context.newPage();
   const errors = [];
   tab.on("pageerror", (e) => errors.push(String(e)));
   await tab.goto(origin + "/");
-  await tab.evaluate(async () => {
+  await tab.evaluate(async (name) => {
     const viewer = new Cesium.Viewer("globe", {
       baseLayer: false, baseLayerPicker: false, geocoder: false, timeline: false, animation: false,
       homeButton: false, sceneModePicker: false, navigationHelpButton: false, fullscreenButton: false,
@@ -147,7 +190,7 @@ try {
     });
     viewer.scene.globe.baseColor = Cesium.Color.fromCssColorString("#6b8e5a");
     viewer.scene.backgroundColor = Cesium.Color.fromCssColorString("#dfe6ec");
-    const tileset = await Cesium.Cesium3DTileset.fromUrl("/tiles/tileset.json");
+    const tileset = await Cesium.Cesium3DTileset.fromUrl(`/${name}/tileset.json`);
     viewer.scene.primitives.add(tileset);
     window.loads = [];
     tileset.tileLoad.addEventListener((tile) => window.loads.push(new URL(tile.content.url, location.href).pathname));
@@ -161,10 +204,11 @@ try {
       viewer.camera.lookAt(target, new Cesium.HeadingPitchRange(0, -Cesium.Math.PI_OVER_TWO, range));
       viewer.camera.lookAtTransform(Cesium.Matrix4.IDENTITY);
     };
-  });
+  }, name);
 
   /** Moves the camera by `aim` (in the page) and waits for its tiles. */
-  async function look(aim, name) {
+  async function look(aim, view) {
+    const shot = name === "tiles" ? view : `${view}-${name}`;
     await tab.evaluate((aim) => {
       if (typeof aim === "number") window.view(aim);
       else window.above(aim.point, aim.range);
@@ -179,7 +223,7 @@ try {
     }, aim);
     await tab.waitForFunction(() => window.settled && window.tileset.tilesLoaded, null, { timeout: 120_000 });
     await tab.waitForTimeout(500);
-    await tab.screenshot({ path: join(output, `cesium-${name}.png`) });
+    await tab.screenshot({ path: join(output, `cesium-${shot}.png`) });
     return tab.evaluate(() => ({
       loads: [...window.loads],
       selected: window.tileset.statistics.selected,
@@ -189,15 +233,15 @@ try {
   }
 
   const far = await look(3000, "far");
-  console.log(`far camera: loaded ${far.loads.length} tiles, ${far.selected} selected, ${far.commands} draw commands, ${far.triangles} triangles`);
+  console.log(`${name}, far camera: loaded ${far.loads.length} tiles, ${far.selected} selected, ${far.commands} draw commands, ${far.triangles} triangles`);
   assert.ok(far.loads.length > 0, "no tile was loaded from afar");
-  assert.ok(far.loads.every((p) => p.startsWith("/tiles/far/")), `near tiles from afar: ${far.loads}`);
+  assert.ok(far.loads.every((p) => p.startsWith(`/${name}/far/`)), `near tiles from afar: ${far.loads}`);
   assert.ok(far.selected > 0 && far.commands > 0, "nothing drawn from afar");
 
   const near = await look(120, "near");
   const later = near.loads.slice(far.loads.length);
-  console.log(`near camera: ${later.length} more tiles, ${near.selected} selected, ${near.commands} draw commands, ${near.triangles} triangles`);
-  assert.ok(later.some((p) => p.startsWith("/tiles/near/")), `no near tile loaded: ${later}`);
+  console.log(`${name}, near camera: ${later.length} more tiles, ${near.selected} selected, ${near.commands} draw commands, ${near.triangles} triangles`);
+  assert.ok(later.some((p) => p.startsWith(`/${name}/near/`)), `no near tile loaded: ${later}`);
   assert.ok(near.triangles > far.triangles, "the near view draws no more detail than the far one");
 
   // Lot 55 (i = 5, j = 5) from 80 m straight above the middle of its footprint: the centre of
@@ -219,24 +263,17 @@ try {
     };
   });
   assert.equal(picked.what, "feature", "the pick found no feature");
-  assert.ok(picked.tile.startsWith("/tiles/near/"), picked.tile);
-  const rows = propertyTable(join(tiles, picked.tile.slice("/tiles/".length)));
+  assert.ok(picked.tile.startsWith(`/${name}/near/`), picked.tile);
+  const rows = propertyTable(join(output, picked.tile));
   const row = rows.path.indexOf(`Lot[${lot}]`);
   assert.ok(row >= 0, `Lot[${lot}] is not in ${picked.tile}: ${rows.path}`);
   assert.equal(picked.path, rows.path[row]);
   assert.equal(picked.rule, rows.rule[row]);
   assert.equal(picked.wallColor, rows.wallColor[row]);
   assert.equal(picked.storeys, rows.storeys[row]);
-  console.log(`picked ${picked.path} in ${picked.tile}: rule ${picked.rule}, wallColor ${picked.wallColor}, ` +
+  console.log(`${name}: picked ${picked.path} in ${picked.tile}: rule ${picked.rule}, wallColor ${picked.wallColor}, ` +
     `storeys ${picked.storeys}; properties ${picked.ids.join(", ")}`);
   assert.deepEqual(errors, [], "page errors");
-  if (refused.size > 0) console.log(`refused requests to: ${[...refused].join(", ")}`);
-  console.log(`tiles browser test passed (screenshots in ${output})`);
-} catch (e) {
-  failed = true;
-  console.error(e);
-} finally {
-  await browser.close();
-  server.close();
+  await tab.close();
+  return { far, near, picked };
 }
-process.exit(failed ? 1 : 0);

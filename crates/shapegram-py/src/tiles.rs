@@ -10,7 +10,8 @@ use pyo3::exceptions::{PyTypeError, PyUserWarning, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyString};
 use shapegram_eval::DeriveControl;
-use shapegram_export::tiles::{Crs, Shard, TileGrid};
+use shapegram_export::tiles::{Crs, Shard, TileEncoding, TileGrid};
+use shapegram_export::{FlatNormals, GlbEncoding};
 use shapegram_runtime::lots::{Collected, Placing};
 use shapegram_runtime::tiles::{Tiling, stream};
 use shapegram_runtime::{Error as EngineError, Settings};
@@ -24,12 +25,19 @@ use crate::grammar::{Grammar, attr_value};
 /// (its parent tiles and `tileset.shard-k-of-n.json`, for `merge_tiles`), `None` the whole
 /// tileset. `tile_size` is the grid cell's side in metres, `crs` the GeoJSON positions'
 /// coordinate system (`"local"`, `"wgs84"`, `"EPSG:32633"`), `halo` the context around a cell
-/// for grammars with context rules. Returns counts: near, far and lots (of the tiles written),
-/// derived (lots derived, context included), shapes and leaves. Parts of the files that are
-/// skipped (holes, points, polygons without area) are each a `UserWarning`. Releases the GIL.
+/// for grammars with context rules. `metadata=True` makes each lot a feature of its tiles with
+/// a row of its rule, path, attributes and reports in each tile's property table
+/// (EXT_mesh_features, EXT_structural_metadata; `--metadata`). `quantize=True` stores the
+/// tiles' vertices as small integers (KHR_mesh_quantization; `--quantize`), `meshopt=True`
+/// quantises and compresses them (EXT_meshopt_compression, whose decoder viewers need;
+/// `--meshopt`, which wins over `quantize`), and `normals=True` writes flat faces' normals
+/// (`--normals`). Returns counts: near, far and lots (of the tiles written), derived (lots
+/// derived, context included), shapes and leaves. Parts of the files that are skipped (holes,
+/// points, polygons without area) are each a `UserWarning`. Releases the GIL.
 #[pyfunction]
 #[pyo3(signature = (grammar, lots, out_dir, *, shard=None, tile_size=200.0, crs="local",
-                    halo=20.0, seed=0, attrs=None))]
+                    halo=20.0, seed=0, attrs=None, metadata=false, quantize=false,
+                    meshopt=false, normals=false))]
 #[allow(clippy::too_many_arguments)]
 pub fn derive_tiles<'py>(
     py: Python<'py>,
@@ -42,6 +50,10 @@ pub fn derive_tiles<'py>(
     halo: f64,
     seed: u64,
     attrs: Option<&Bound<'py, PyDict>>,
+    metadata: bool,
+    quantize: bool,
+    meshopt: bool,
+    normals: bool,
 ) -> PyResult<Bound<'py, PyDict>> {
     let files = footprint_files(lots)?;
     let shard = shard.map(shard_of).transpose()?;
@@ -72,6 +84,18 @@ pub fn derive_tiles<'py>(
         engine.check_attr(&name, &value).map_err(to_py)?;
         values.push((name, value));
     }
+    let encoding = TileEncoding {
+        encoding: match (meshopt, quantize) {
+            (true, _) => GlbEncoding::Compressed,
+            (false, true) => GlbEncoding::Quantized,
+            (false, false) => GlbEncoding::Float,
+        },
+        flat_normals: if normals {
+            FlatNormals::Written
+        } else {
+            FlatNormals::Computed
+        },
+    };
     let settings = Settings {
         seed,
         attrs: values,
@@ -94,9 +118,16 @@ pub fn derive_tiles<'py>(
                 grid: TileGrid { size: tile_size },
                 halo: engine.has_context_rules().then_some(halo),
                 shard,
-                metadata: None,
+                metadata: metadata.then(|| engine.attr_names()),
+                encoding,
             };
-            let derive = |cell: &[_], _own: &[bool]| engine.derivation(cell, &settings);
+            let derive = |cell: &[_], _own: &[bool]| {
+                if metadata {
+                    engine.derivation_with_tree(cell, &settings)
+                } else {
+                    engine.derivation(cell, &settings)
+                }
+            };
             let tiled = stream::<EngineError>(&lots, frame, &out_dir, tiling, derive, true)
                 .map_err(to_py)?;
             Ok((tiled, warnings))

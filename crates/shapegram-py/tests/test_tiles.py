@@ -1,5 +1,5 @@
-"""Tiled cities from Python: `shapegram.derive_tiles` whole and in shards, `merge_tiles`, their
-errors, and the shards run as tasks of a Dask `distributed.LocalCluster` on loopback (worker
+"""Tiled cities from Python: `shapegram.derive_tiles` whole and in shards, with metadata and
+encoded vertices, `merge_tiles`, their errors, and the shards run as tasks of a Dask `distributed.LocalCluster` on loopback (worker
 processes), merged into the single run's bytes (docs/tiles.md, "Many machines").
 
 The Dask test needs `dask[distributed]` in the venv; without it the test is skipped, unless
@@ -7,6 +7,7 @@ SHAPEGRAM_REQUIRE_DASK=1 (as in CI) makes that a failure. With SHAPEGRAM_BIN nam
 `shapegram` binary, the single run is also compared with `shapegram derive --tiles`."""
 
 import importlib.util
+import json
 import os
 import pathlib
 import subprocess
@@ -35,6 +36,16 @@ def files(folder):
     folder = pathlib.Path(folder)
     return {str(p.relative_to(folder)): p.read_bytes() for p in sorted(folder.rglob("*"))
             if p.is_file()}
+
+
+def glb_json(path):
+    """A GLB's JSON chunk: its length is the u32 at byte 12, its text starts at byte 20."""
+    data = pathlib.Path(path).read_bytes()
+    return json.loads(data[20:20 + int.from_bytes(data[12:16], "little")])
+
+
+def size(files):
+    return sum(len(data) for data in files.values())
 
 
 TMP = None
@@ -125,6 +136,74 @@ class City(unittest.TestCase):
         with self.assertRaisesRegex(OSError, r"missing shard 1/2"):
             shapegram.merge_tiles([part], out)
         self.assertFalse((out / "tileset.json").exists())
+
+
+class Encoded(unittest.TestCase):
+    """`metadata`, `quantize` and `meshopt`: `derive --tiles`' --metadata, --quantize and
+    --meshopt."""
+
+    def setUp(self):
+        self.dir, self.lots, self.whole, self.whole_files = DIR, LOTS_FILE, WHOLE, WHOLE_FILES
+
+    def derive(self, name, **options):
+        out = self.dir / name
+        counts = shapegram.derive_tiles(HOUSE, self.lots, out, tile_size=TILE_SIZE, **options)
+        self.assertEqual((counts["near"], counts["far"], counts["lots"]), (137, 16, LOTS))
+        return out, files(out)
+
+    def test_tiles_carry_the_extensions_asked_for(self):
+        quantized, quantized_files = self.derive("quantized", quantize=True)
+        meshopt, meshopt_files = self.derive("meshopt-metadata", metadata=True, meshopt=True)
+        described, described_files = self.derive("metadata", metadata=True)
+        for tile in ("near/0_0.glb", "far/0_0.glb"):
+            self.assertEqual(glb_json(quantized / tile)["extensionsRequired"],
+                             ["KHR_mesh_quantization"])
+            document = glb_json(meshopt / tile)
+            self.assertEqual(document["extensionsRequired"],
+                             ["KHR_mesh_quantization", "EXT_meshopt_compression"])
+            self.assertEqual(document["extensionsUsed"],
+                             ["EXT_mesh_features", "EXT_structural_metadata",
+                              "KHR_mesh_quantization", "EXT_meshopt_compression"])
+            table = document["extensions"]["EXT_structural_metadata"]["propertyTables"][0]
+            self.assertEqual(table, glb_json(described / tile)["extensions"]
+                             ["EXT_structural_metadata"]["propertyTables"][0])
+            self.assertNotIn("extensionsUsed", glb_json(self.dir / "whole" / tile))
+        # Smaller: the houses' vertices dominate the tiles.
+        self.assertLess(size(quantized_files), size(self.whole_files))
+        self.assertLess(size(meshopt_files), size(described_files))
+        # tileset.json lists 3D Tiles extensions only: the glTF ones are in each tile.
+        self.assertNotIn("extensionsUsed", json.loads(quantized_files["tileset.json"]))
+
+    def test_meshopt_wins_over_quantize_as_in_the_command(self):
+        _, both = self.derive("both", quantize=True, meshopt=True)
+        _, meshopt = self.derive("meshopt", meshopt=True)
+        self.assertTrue(both == meshopt, "quantize=True, meshopt=True is meshopt=True")
+
+    def test_encoded_tiles_are_the_commands(self):
+        binary = os.environ.get("SHAPEGRAM_BIN")
+        if not binary:
+            self.skipTest("SHAPEGRAM_BIN names no shapegram binary")
+        for flags, options in [(["--metadata", "--meshopt"], {"metadata": True, "meshopt": True}),
+                               (["--quantize", "--normals"], {"quantize": True, "normals": True})]:
+            name = "-".join(f.strip("-") for f in flags)
+            out = self.dir / f"cli-{name}"
+            subprocess.run([binary, "derive", "-q", HOUSE, "--lots", self.lots, "--tiles", out,
+                            "--tile-size", str(TILE_SIZE), *flags], check=True)
+            _, ours = self.derive(f"py-{name}", **options)
+            self.assertEqual(sorted(ours), sorted(files(out)))
+            self.assertTrue(ours == files(out), f"{flags}: the tiles differ from the command's")
+
+    def test_shards_of_other_encodings_are_not_merged(self):
+        part0, part1 = self.dir / "enc-part0", self.dir / "enc-part1"
+        shapegram.derive_tiles(HOUSE, self.lots, part0, shard=(0, 2), tile_size=TILE_SIZE,
+                               meshopt=True)
+        shapegram.derive_tiles(HOUSE, self.lots, part1, shard=(1, 2), tile_size=TILE_SIZE)
+        out = self.dir / "enc-merged"
+        with self.assertRaisesRegex(OSError, r"shard 1/2 is not of the run of .*encoding"):
+            shapegram.merge_tiles([part0, part1], out)
+        self.assertFalse((out / "tileset.json").exists())
+        with self.assertRaisesRegex(TypeError, r"'str' object is not an instance of 'bool'"):
+            shapegram.derive_tiles(HOUSE, self.lots, out, meshopt="yes")
 
 
 try:

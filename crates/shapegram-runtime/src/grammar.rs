@@ -369,6 +369,35 @@ impl Grammar {
         lots: &[InitialShape],
         settings: &Settings,
     ) -> Result<Derivation, Error> {
+        self.derive_lots(lots, settings, false)
+    }
+
+    /// [`Grammar::derivation`] that keeps the derivation tree, from which each lot's metadata
+    /// is read ([`Derivation::lot_metadata`]): what tiles with metadata are derived with.
+    pub fn derivation_with_tree(
+        &self,
+        lots: &[InitialShape],
+        settings: &Settings,
+    ) -> Result<Derivation, Error> {
+        self.derive_lots(lots, settings, true)
+    }
+
+    /// The grammar's attribute names, as metadata lists them (`Program::attr_names`); none
+    /// for grammars that are not CGA-style.
+    pub fn attr_names(&self) -> Vec<String> {
+        match self {
+            Grammar::Shape { program, .. } => program.attr_names().map(str::to_owned).collect(),
+            _ => Vec::new(),
+        }
+    }
+
+    /// [`Grammar::derivation`], keeping the tree when `keep_tree` says so.
+    fn derive_lots(
+        &self,
+        lots: &[InitialShape],
+        settings: &Settings,
+        keep_tree: bool,
+    ) -> Result<Derivation, Error> {
         let Grammar::Shape {
             program,
             sources,
@@ -387,6 +416,7 @@ impl Grammar {
             generations: settings.generations,
             control: Some(Arc::clone(&settings.control)),
             assets: Some(Arc::clone(assets) as Arc<dyn shapegram_eval::AssetLoader>),
+            keep_tree,
             ..DeriveOptions::default()
         };
         shapegram_eval::derive(program, lots, &options).map_err(|e| {

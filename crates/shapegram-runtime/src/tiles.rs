@@ -8,14 +8,16 @@ use std::path::Path;
 use std::sync::Arc;
 
 use shapegram_eval::{Derivation, InitialShape};
-use shapegram_export::tiles::{Cell, Shard, TileGrid, TileLot, TilesetSummary, TilesetWriter};
+use shapegram_export::tiles::{
+    Cell, Shard, TileEncoding, TileGrid, TileLot, TilesetSummary, TilesetWriter,
+};
 use shapegram_geom::{DVec2, Metadata, Model};
 
 use crate::Error;
 use crate::lots::Frame;
 
-/// How a tiled run cuts the city: the grid, the context around each cell, the shard, and
-/// whether tiles carry the lots' metadata.
+/// How a tiled run cuts the city: the grid, the context around each cell, the shard, whether
+/// tiles carry the lots' metadata, and how their GLBs store vertices.
 #[derive(Clone, Debug)]
 pub struct Tiling {
     /// The grid of leaf cells.
@@ -29,6 +31,8 @@ pub struct Tiling {
     /// attribute names (`Program::attr_names`), with which the derivations kept their trees.
     /// `None`: tiles without metadata.
     pub metadata: Option<Vec<String>>,
+    /// How every tile's GLB stores its vertices (`--quantize`, `--meshopt`, `--normals`).
+    pub encoding: TileEncoding,
 }
 
 /// What a tiled run wrote and derived.
@@ -65,7 +69,8 @@ pub fn stream<E: From<Error>>(
         None => cells,
     };
     let halo = tiling.halo.map(|halo| Halo::new(lots, tiling.grid, halo));
-    let mut writer = TilesetWriter::new(dir, tiling.grid, frame.transform()).map_err(written)?;
+    let mut writer = TilesetWriter::new(dir, tiling.grid, frame.transform(), tiling.encoding)
+        .map_err(written)?;
     let mut tiled = Tiled::default();
     let mut warned = quiet;
     for (cell, members) in cells {
@@ -129,8 +134,9 @@ pub fn stream<E: From<Error>>(
 /// Writes the leaves of `derivation`, grown from `lots`, as a tileset in `dir`: each lot in
 /// the grid cell of its footprint, each cell's lots one leaf tile, with each lot's metadata
 /// as a feature when `metadata` gives the grammar's attribute names (see
-/// [`Tiling::metadata`]). Implicit solids and skeletons are left out (a warning says so
-/// unless `quiet`).
+/// [`Tiling::metadata`]), every GLB in `encoding`. Implicit solids and skeletons are left out
+/// (a warning says so unless `quiet`).
+#[allow(clippy::too_many_arguments)]
 pub fn write(
     derivation: &Derivation,
     lots: &[InitialShape],
@@ -138,6 +144,7 @@ pub fn write(
     dir: &Path,
     grid: TileGrid,
     metadata: Option<&[String]>,
+    encoding: TileEncoding,
     quiet: bool,
 ) -> Result<TilesetSummary, Error> {
     if !quiet {
@@ -145,7 +152,7 @@ pub fn write(
     }
     let leaves = leaves_by_lot(derivation, lots.len());
     let described = lots_metadata(derivation, metadata, &[]);
-    let mut writer = TilesetWriter::new(dir, grid, frame.transform()).map_err(written)?;
+    let mut writer = TilesetWriter::new(dir, grid, frame.transform(), encoding).map_err(written)?;
     for (cell, members) in cells_of(lots, grid) {
         let models = members
             .iter()

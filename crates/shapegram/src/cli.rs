@@ -3,7 +3,7 @@
 use std::path::{Path, PathBuf};
 
 use clap::{Args, Parser, Subcommand, ValueEnum};
-use shapegram_export::tiles::{Crs, Shard};
+use shapegram_export::tiles::{Crs, Shard, TileEncoding};
 use shapegram_export::{ExportOptions, FlatNormals, Format, GlbEncoding};
 use shapegram_syntax::Dialect;
 
@@ -204,14 +204,30 @@ pub struct GlbArgs {
 }
 
 impl GlbArgs {
+    /// The encoding and normals these flags ask for: `--meshopt` quantises too, so it wins
+    /// over `--quantize`.
+    pub fn encoding(&self) -> TileEncoding {
+        TileEncoding {
+            encoding: match (self.meshopt, self.quantize) {
+                (true, _) => GlbEncoding::Compressed,
+                (false, true) => GlbEncoding::Quantized,
+                (false, false) => GlbEncoding::Float,
+            },
+            flat_normals: if self.normals {
+                FlatNormals::Written
+            } else {
+                FlatNormals::Computed
+            },
+        }
+    }
+
     /// `options` with the encoding and normals these flags ask for; warns on stderr (unless
     /// `quiet`) when they are given for an `output` that is not a GLB.
     pub fn apply(&self, options: ExportOptions, output: &Path, quiet: bool) -> ExportOptions {
-        let encoding = match (self.meshopt, self.quantize) {
-            (true, _) => GlbEncoding::Compressed,
-            (false, true) => GlbEncoding::Quantized,
-            (false, false) => GlbEncoding::Float,
-        };
+        let TileEncoding {
+            encoding,
+            flat_normals,
+        } = self.encoding();
         let glb = Format::from_path(output).is_ok_and(|f| f == Format::Glb);
         if (encoding != GlbEncoding::Float || self.normals) && !glb && !quiet {
             eprintln!(
@@ -222,11 +238,7 @@ impl GlbArgs {
         }
         ExportOptions {
             encoding,
-            flat_normals: if self.normals {
-                FlatNormals::Written
-            } else {
-                FlatNormals::Computed
-            },
+            flat_normals,
             ..options
         }
     }
@@ -374,7 +386,8 @@ pub struct DeriveArgs {
     #[arg(long, value_name = "CRS", default_value = "local", value_parser = parse_crs)]
     pub crs: Crs,
     /// Also write an OGC 3D Tiles 1.1 tileset into this folder: tileset.json, far/ (a box per
-    /// lot) and near/ (the full model), a tile per grid cell (docs/tiles.md)
+    /// lot) and near/ (the full model), a tile per grid cell, each a GLB encoded as --quantize,
+    /// --meshopt and --normals ask (docs/tiles.md)
     #[arg(long, value_name = "DIR")]
     pub tiles: Option<PathBuf>,
     /// The side of a tile's square grid cell in metres

@@ -149,7 +149,17 @@ pub fn run(args: &DeriveArgs) -> Result<(), Failure> {
         };
         let names: Vec<String> = program.attr_names().map(str::to_owned).collect();
         let metadata = args.metadata.then_some(&names[..]);
-        let summary = tiles::write(&derivation, &lots, frame, dir, grid, metadata, args.quiet)?;
+        let encoding = args.glb.encoding();
+        let summary = tiles::write(
+            &derivation,
+            &lots,
+            frame,
+            dir,
+            grid,
+            metadata,
+            encoding,
+            args.quiet,
+        )?;
         if !args.quiet {
             eprintln!("wrote {}", tiles::described(dir, &summary));
         }
@@ -283,6 +293,7 @@ impl Tiled<'_> {
             metadata: args
                 .metadata
                 .then(|| self.program.attr_names().map(str::to_owned).collect()),
+            encoding: args.glb.encoding(),
         };
         let derive = |cell: &[InitialShape], own: &[bool]| {
             let derivation = shapegram_eval::derive(self.program, cell, self.options)

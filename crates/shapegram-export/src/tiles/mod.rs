@@ -17,7 +17,7 @@ mod tileset;
 
 pub use crs::{Crs, EnuFrame, Geodetic};
 pub use shards::{Shard, merge};
-pub use tileset::{TileLot, TilesetSummary, TilesetWriter};
+pub use tileset::{TileEncoding, TileLot, TilesetSummary, TilesetWriter};
 
 use shapegram_geom::DVec2;
 

@@ -14,9 +14,9 @@ use serde_json::{Value as Json, json};
 use shapegram_geom::{Aabb, DVec3};
 
 use super::Cell;
-use super::tileset::{FarTile, write_tileset};
-use crate::Error;
+use super::tileset::{FarTile, TileEncoding, write_tileset};
 use crate::tiles::TilesetSummary;
+use crate::{Error, FlatNormals, GlbEncoding};
 
 /// Shard `index` of `count` (counted from 0): `--shard 1/3` is the second of three.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
@@ -74,8 +74,16 @@ pub(crate) struct ShardPart {
     pub shard: Shard,
     pub tile_size: f64,
     pub transform: [f64; 16],
+    pub encoding: TileEncoding,
     pub far: Vec<FarTile>,
 }
+
+/// The names of the encodings in a part (floats have none: a part without `encoding` is of
+/// floats, as parts were before tiles had a choice).
+const ENCODINGS: [(GlbEncoding, &str); 2] = [
+    (GlbEncoding::Quantized, "quantized"),
+    (GlbEncoding::Compressed, "meshopt"),
+];
 
 impl ShardPart {
     /// Writes the part into `dir`, beside the shard's tiles.
@@ -96,13 +104,24 @@ impl ShardPart {
                 })
             })
             .collect();
-        let part = json!({
+        let mut part = json!({
             "shard": self.shard.index,
             "shards": self.shard.count,
             "tileSize": bits(self.tile_size),
             "transform": self.transform.map(bits),
-            "far": far,
         });
+        // Only what differs from floats is written, so that the parts of float tiles stay
+        // what they were.
+        if let Some((_, name)) = ENCODINGS
+            .iter()
+            .find(|(encoding, _)| *encoding == self.encoding.encoding)
+        {
+            part["encoding"] = json!(name);
+        }
+        if self.encoding.flat_normals == FlatNormals::Written {
+            part["normals"] = json!("written");
+        }
+        part["far"] = json!(far);
         let path = dir.join(self.shard.file_name());
         let mut text = serde_json::to_string_pretty(&part).expect("JSON values serialise");
         text.push('\n');
@@ -176,10 +195,27 @@ impl ShardPart {
                 near,
             });
         }
+        let encoding = match json.get("encoding") {
+            None => GlbEncoding::Float,
+            Some(name) => ENCODINGS
+                .iter()
+                .find(|(_, known)| name == known)
+                .map(|(encoding, _)| *encoding)
+                .ok_or_else(|| broken("encoding"))?,
+        };
+        let flat_normals = match json.get("normals") {
+            None => FlatNormals::Computed,
+            Some(name) if name == "written" => FlatNormals::Written,
+            Some(_) => return Err(broken("normals")),
+        };
         Ok(ShardPart {
             shard: Shard { index, count },
             tile_size: float(&json["tileSize"], "tileSize")?,
             transform,
+            encoding: TileEncoding {
+                encoding,
+                flat_normals,
+            },
             far,
         })
     }
@@ -250,13 +286,14 @@ pub fn merge(inputs: &[PathBuf], out: &Path) -> Result<TilesetSummary, Error> {
     for (dir, part) in parts.values() {
         let agrees = part.shard.count == count
             && part.tile_size.to_bits() == first.tile_size.to_bits()
-            && part.transform.map(f64::to_bits) == first.transform.map(f64::to_bits);
+            && part.transform.map(f64::to_bits) == first.transform.map(f64::to_bits)
+            && part.encoding == first.encoding;
         if !agrees {
             return Err(Error::Shards {
                 path: dir.join(part.shard.file_name()),
                 message: format!(
-                    "shard {} is not of the run of {} (another shard count, tile size or \
-                     frame)",
+                    "shard {} is not of the run of {} (another shard count, tile size, frame \
+                     or encoding: --quantize, --meshopt, --normals)",
                     part.shard,
                     first_dir.join(first.shard.file_name()).display()
                 ),
@@ -375,6 +412,7 @@ mod tests {
             shard: Shard { index: 2, count: 5 },
             tile_size: 200.0,
             transform: std::array::from_fn(|i| i as f64 / 7.0),
+            encoding: TileEncoding::default(),
             far: vec![FarTile {
                 cell: Cell { east: -3, north: 9 },
                 bounds: b,
@@ -389,10 +427,29 @@ mod tests {
                 )],
             }],
         };
+        let path = dir.join("tileset.shard-2-of-5.json");
         part.write(&dir).unwrap();
-        let back = ShardPart::read(&dir.join("tileset.shard-2-of-5.json")).unwrap();
+        let back = ShardPart::read(&path).unwrap();
         assert_eq!(back, part);
         assert_eq!(back.far[0].bounds.min.z.to_bits(), (-0.0f64).to_bits());
+        // Floats name no encoding; the others read back as written.
+        let text = std::fs::read_to_string(&path).unwrap();
+        assert!(
+            !text.contains("encoding") && !text.contains("normals"),
+            "{text}"
+        );
+        let encoded = ShardPart {
+            encoding: TileEncoding {
+                encoding: GlbEncoding::Compressed,
+                flat_normals: FlatNormals::Written,
+            },
+            ..part
+        };
+        encoded.write(&dir).unwrap();
+        let text = std::fs::read_to_string(&path).unwrap();
+        assert!(text.contains("\"encoding\": \"meshopt\""), "{text}");
+        assert!(text.contains("\"normals\": \"written\""), "{text}");
+        assert_eq!(ShardPart::read(&path).unwrap(), encoded);
         std::fs::write(dir.join("bad.json"), "{\"shard\": 1}").unwrap();
         let error = ShardPart::read(&dir.join("bad.json"))
             .unwrap_err()

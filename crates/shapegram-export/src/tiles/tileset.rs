@@ -11,7 +11,7 @@ use shapegram_geom::{
 
 use super::shards::{Shard, ShardPart};
 use super::{Cell, PARENT_SPAN, TileGrid};
-use crate::{Error, ExportOptions, Features};
+use crate::{Error, ExportOptions, Features, FlatNormals, GlbEncoding};
 
 /// The folder of the full models, one GLB per leaf cell.
 const NEAR: &str = "near";
@@ -34,6 +34,44 @@ pub struct TilesetSummary {
     pub far: usize,
     /// Lots in tiles (those with geometry).
     pub lots: usize,
+}
+
+/// How the tiles' GLBs store their vertices: the choices of [`ExportOptions`] that `derive
+/// --quantize`, `--meshopt` and `--normals` make for `-o x.glb`, which apply to every near and
+/// far tile alike. The default writes floats, as tiles were written before they had a choice.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub struct TileEncoding {
+    /// Floats, KHR_mesh_quantization, or that compressed with EXT_meshopt_compression.
+    pub encoding: GlbEncoding,
+    /// Whether flat-shaded primitives carry normals.
+    pub flat_normals: FlatNormals,
+}
+
+impl TileEncoding {
+    /// The options a tile's GLB is written with.
+    fn options(self) -> ExportOptions {
+        ExportOptions {
+            encoding: self.encoding,
+            flat_normals: self.flat_normals,
+            ..ExportOptions::default()
+        }
+    }
+
+    /// `b`, the bounds of a tile's content, grown by as much as quantised positions may lie
+    /// outside it: each mesh's grid spans that mesh, within `b`, in ±32,767 steps, so a step
+    /// is at most `b`'s largest side / 65,534, and a position moves by half a step when it is
+    /// rounded to the grid; a whole step leaves room for the f32 arithmetic of the grid's
+    /// centre and scale. Floats stay where they are: `b` unchanged.
+    fn content_bounds(self, b: Aabb) -> Aabb {
+        if self.encoding == GlbEncoding::Float {
+            return b;
+        }
+        let step = (b.max - b.min).max_element() / 65_534.0;
+        Aabb {
+            min: b.min - step,
+            max: b.max + step,
+        }
+    }
 }
 
 /// A lot of a leaf tile: its index among the city's lots, its model in the grammar's frame
@@ -63,6 +101,7 @@ pub struct TilesetWriter {
     dir: PathBuf,
     grid: TileGrid,
     transform: [f64; 16],
+    encoding: TileEncoding,
     /// The leaf tiles whose far tile is not written yet.
     near: BTreeMap<Cell, Near>,
     /// The far tiles written already (see [`TilesetWriter::write_far_before`]).
@@ -73,8 +112,14 @@ impl TilesetWriter {
     /// A writer into `dir` (made when missing, with its `near/` and `far/` folders), for
     /// leaf cells of `grid`, whose root tile has the `transform` from the grammar's frame
     /// turned z-up (x east, y north, z up) to the tileset's coordinates (ECEF when
-    /// georeferenced): column-major, as in tileset.json.
-    pub fn new(dir: &Path, grid: TileGrid, transform: [f64; 16]) -> Result<Self, Error> {
+    /// georeferenced): column-major, as in tileset.json. Every tile's GLB is written with
+    /// `encoding`.
+    pub fn new(
+        dir: &Path,
+        grid: TileGrid,
+        transform: [f64; 16],
+        encoding: TileEncoding,
+    ) -> Result<Self, Error> {
         for sub in [NEAR, FAR] {
             let path = dir.join(sub);
             std::fs::create_dir_all(&path).map_err(|source| Error::Write { path, source })?;
@@ -83,6 +128,7 @@ impl TilesetWriter {
             dir: dir.to_path_buf(),
             grid,
             transform,
+            encoding,
             near: BTreeMap::new(),
             far: Vec::new(),
         })
@@ -128,12 +174,12 @@ impl TilesetWriter {
         };
         let path = self.dir.join(NEAR).join(format!("{}.glb", cell.name()));
         ids.rows = features.iter().map(|(_, m)| &**m).collect();
-        save(&model, described.then_some(&ids), &path)?;
+        save(&model, described.then_some(&ids), &path, self.encoding)?;
         drop(ids);
         self.near.insert(
             cell,
             Near {
-                bounds,
+                bounds: self.encoding.content_bounds(bounds),
                 masses,
                 features,
             },
@@ -177,6 +223,7 @@ impl TilesetWriter {
             shard,
             tile_size: self.grid.size,
             transform: self.transform,
+            encoding: self.encoding,
             far,
         };
         part.write(&self.dir)?;
@@ -206,13 +253,14 @@ impl TilesetWriter {
                 .collect();
             let path = self.dir.join(FarTile::uri_of(parent));
             if children.iter().any(|(_, near)| !near.features.is_empty()) {
-                write_far_features(&children, &path)?;
+                write_far_features(&children, &path, self.encoding)?;
             } else {
-                save(&masses_model(&masses), None, &path)?;
+                save(&masses_model(&masses), None, &path, self.encoding)?;
             }
+            let bounds = union(&masses).expect("a parent tile has children with masses");
             far.push(FarTile {
                 cell: parent,
-                bounds: union(&masses).expect("a parent tile has children with masses"),
+                bounds: self.encoding.content_bounds(bounds),
                 error: far_error(&masses),
                 lots: masses.len(),
                 near: children
@@ -248,9 +296,14 @@ impl FarTile {
     }
 }
 
-/// Writes a tile's GLB, with `features` when given.
-fn save(model: &Model, features: Option<&Features<'_>>, path: &Path) -> Result<(), Error> {
-    let options = ExportOptions::default();
+/// Writes a tile's GLB in `encoding`, with `features` when given.
+fn save(
+    model: &Model,
+    features: Option<&Features<'_>>,
+    path: &Path,
+    encoding: TileEncoding,
+) -> Result<(), Error> {
+    let options = encoding.options();
     match features {
         None => crate::save(model, path, &options),
         Some(features) => crate::stream(path, |out| {
@@ -265,7 +318,11 @@ fn save(model: &Model, features: Option<&Features<'_>>, path: &Path) -> Result<(
 
 /// Writes the far tile of `children` with features: a box per lot, each a feature, in order
 /// of the lots' indices.
-fn write_far_features(children: &[(Cell, &Near)], path: &Path) -> Result<(), Error> {
+fn write_far_features(
+    children: &[(Cell, &Near)],
+    path: &Path,
+    encoding: TileEncoding,
+) -> Result<(), Error> {
     let mut lots: Vec<(usize, Aabb, &Metadata)> = children
         .iter()
         .flat_map(|(_, near)| {
@@ -289,7 +346,7 @@ fn write_far_features(children: &[(Cell, &Near)], path: &Path) -> Result<(), Err
         parts: (0..lots.len() as u32).collect(),
         lines: Vec::new(),
     };
-    save(&model, Some(&features), path)
+    save(&model, Some(&features), path, encoding)
 }
 
 /// What tiles were written.

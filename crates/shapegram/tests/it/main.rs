@@ -24,5 +24,6 @@ mod studio;
 mod studio_attrs;
 mod studio_child;
 mod tiles;
+mod tiles_encoding;
 mod tiles_metadata;
 mod topo;

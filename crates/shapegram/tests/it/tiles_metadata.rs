@@ -13,11 +13,11 @@ use common::{TempDir, stderr};
 use serde_json::Value;
 
 /// Random heights, a facade, and a report per lot; every lot one box (12 triangles).
-const GRAMMAR: &str = "attr height = rand(5, 40)\nattr facade = \"brick\"\n\
+pub(crate) const GRAMMAR: &str = "attr height = rand(5, 40)\nattr facade = \"brick\"\n\
     Lot --> report(\"floor.area\", scope.sx * scope.sz) extrude(height) Mass.\n";
 
 /// A GLB's JSON and BIN chunks.
-fn chunks(path: &Path) -> (Value, Vec<u8>) {
+pub(crate) fn chunks(path: &Path) -> (Value, Vec<u8>) {
     let bytes = std::fs::read(path).unwrap();
     let word = |at: usize| u32::from_le_bytes(bytes[at..at + 4].try_into().unwrap()) as usize;
     let json_len = word(12);
@@ -35,7 +35,7 @@ fn view<'a>(json: &Value, bin: &'a [u8], index: &Value) -> &'a [u8] {
 }
 
 /// The property table's rows, decoded: by property id, one value per row (JSON).
-fn table(json: &Value, bin: &[u8]) -> BTreeMap<String, Vec<Value>> {
+pub(crate) fn table(json: &Value, bin: &[u8]) -> BTreeMap<String, Vec<Value>> {
     let metadata = &json["extensions"]["EXT_structural_metadata"];
     let table = &metadata["propertyTables"][0];
     assert_eq!(table["class"], "lot");
@@ -81,7 +81,7 @@ fn table(json: &Value, bin: &[u8]) -> BTreeMap<String, Vec<Value>> {
 
 /// Triangles per feature id over the GLB's primitives, checking that every triangle's corners
 /// are of one feature.
-fn triangles_per_feature(json: &Value, bin: &[u8]) -> BTreeMap<u32, usize> {
+pub(crate) fn triangles_per_feature(json: &Value, bin: &[u8]) -> BTreeMap<u32, usize> {
     let read = |accessor: &Value| -> Vec<u32> {
         let accessor = &json["accessors"][accessor.as_u64().unwrap() as usize];
         let view = &json["bufferViews"][accessor["bufferView"].as_u64().unwrap() as usize];
