@@ -164,8 +164,9 @@ pub fn run(args: &DeriveArgs) -> Result<(), Failure> {
             eprintln!("wrote {}", tiles::described(dir, &summary));
         }
     }
-    // A tiled city is written tile by tile: the whole model only when something reads it.
-    let whole = args.tiles.is_none() || args.output.is_some() || args.stats;
+    // The whole model only when something reads it: a tiled city is written tile by tile,
+    // and a run without output needs only to know whether the model would be empty.
+    let whole = args.output.is_some() || args.stats;
     let model_options = ModelOptions {
         instances: args.instancing.candidates(glb),
         smaller_only: args.instancing == crate::cli::InstancingArg::Auto,
@@ -212,7 +213,12 @@ pub fn run(args: &DeriveArgs) -> Result<(), Failure> {
     let export_time = export_started.elapsed();
 
     if !args.quiet {
-        if whole && model.parts.iter().all(|p| p.mesh.is_empty()) {
+        let empty = if whole || args.at_node.is_some() {
+            model.parts.iter().all(|p| p.mesh.is_empty())
+        } else {
+            args.tiles.is_none() && !derivation.has_geometry()
+        };
+        if empty {
             eprintln!("warning: the model is empty: no leaf has geometry");
         }
         let mut target = match &args.output {

@@ -514,6 +514,17 @@ impl Derivation {
         self.build_model(None, options)
     }
 
+    /// Whether [`Derivation::to_model`] would hold a face: a meshed solid with one, or a leaf
+    /// (not of an implicit solid) with a mesh that has one. It looks at leaves until it finds
+    /// one, without building the model.
+    pub fn has_geometry(&self) -> bool {
+        self.solids.iter().any(|part| !part.mesh.is_empty())
+            || self.leaves.iter().any(|leaf| {
+                !matches!(leaf.geometry, Geometry::Implicit(_))
+                    && leaf.world_mesh().is_some_and(|mesh| !mesh.is_empty())
+            })
+    }
+
     /// Each lot's metadata, by its index among the derivation's lots, as a GLB's lot nodes
     /// carry it with `--metadata` (rule, path, attributes named by `attr_names`, leaf count,
     /// report summaries); `None` for a lot without a tree node (the tree was not kept). A

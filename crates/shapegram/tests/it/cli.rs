@@ -1892,3 +1892,25 @@ fn a_mass_leaves_its_normals_to_the_reader_unless_asked_and_encodes_as_asked() {
         "{err}"
     );
 }
+
+#[test]
+fn an_empty_model_is_warned_about_with_or_without_an_output_file() {
+    let dir = TempDir::new("empty-model");
+    const WARNING: &str = "warning: the model is empty: no leaf has geometry";
+    let grammars = [
+        ("nothing", "Lot --> NIL\n", true),
+        ("block", "Lot --> extrude(3) Block\n", false),
+        // Its only leaf is an implicit solid: the model's faces are the meshed solid's.
+        ("solid", "Lot --> extrude(3) implicit(box) Rock\n", false),
+    ];
+    for (name, source, empty) in grammars {
+        let grammar = dir.path(&format!("{name}.cga"));
+        std::fs::write(&grammar, source).unwrap();
+        let out = dir.path(&format!("{name}.glb"));
+        let without_output = ok(&["derive", text(&grammar)]);
+        let with_output = ok(&["derive", text(&grammar), "-o", text(&out)]);
+        for err in [&without_output, &with_output] {
+            assert_eq!(err.contains(WARNING), empty, "{name}: {err}");
+        }
+    }
+}
