@@ -29,6 +29,19 @@ impl Mesh {
         }
     }
 
+    /// An empty mesh with room for `vertices` vertices and `faces` faces of `indices` indices
+    /// in all, for builders that know their sizes: a large mesh grown one push at a time copies
+    /// itself as it doubles.
+    pub fn with_capacity(vertices: usize, faces: usize, indices: usize) -> Self {
+        let mut loop_starts = Vec::with_capacity(faces + 1);
+        loop_starts.push(0);
+        Self {
+            positions: Vec::with_capacity(vertices),
+            loop_starts,
+            indices: Vec::with_capacity(indices),
+        }
+    }
+
     /// A mesh from positions and face loops. Loops with fewer than three vertices are skipped.
     ///
     /// # Panics

@@ -32,8 +32,22 @@ const SHARPEST_BEND_COS: f64 = -0.5;
 /// branches before leaves of the same colour.
 pub fn drawing_to_model(drawing: &Drawing, settings: &Settings) -> Model {
     let palette = Palette::of(settings);
-    let mut tubes: BTreeMap<usize, (Mesh, Vec<DVec3>)> = BTreeMap::new();
-    let mut builder = TubeBuilder::new(settings.sides.max(3) as usize);
+    let sides = settings.sides.max(3) as usize;
+    // Sized first: a word of a million segments would otherwise copy its hundreds of megabytes
+    // of vertices, normals and faces as they grow.
+    let mut sizes: BTreeMap<usize, TubeSizes> = BTreeMap::new();
+    for stroke in drawing.strokes.iter().filter(|s| !s.widths.is_empty()) {
+        let size = sizes.entry(palette.slot(stroke.color)).or_default();
+        let tubes = sharp_bends(stroke).count() + 1;
+        size.rings += stroke.widths.len() + tubes;
+        size.segments += stroke.widths.len();
+        size.tubes += tubes;
+    }
+    let mut tubes: BTreeMap<usize, (Mesh, Vec<DVec3>)> = sizes
+        .into_iter()
+        .map(|(slot, size)| (slot, size.reserved(sides)))
+        .collect();
+    let mut builder = TubeBuilder::new(sides);
     for stroke in &drawing.strokes {
         let (mesh, normals) = tubes.entry(palette.slot(stroke.color)).or_default();
         builder.add_stroke(mesh, normals, stroke);
@@ -103,6 +117,29 @@ pub fn drawing_to_lines(drawing: &Drawing, settings: &Settings) -> Model {
         skeletons: Vec::new(),
         parts: leaves(drawing, &palette).map(|(_, part)| part).collect(),
         lines: lines.into_values().collect(),
+    }
+}
+
+/// The sizes of one colour's tubes, counted before they are built.
+#[derive(Default)]
+struct TubeSizes {
+    /// One ring per point of each tube: a stroke's points plus one per sharp bend.
+    rings: usize,
+    segments: usize,
+    tubes: usize,
+}
+
+impl TubeSizes {
+    /// An empty mesh and normal list with room for these tubes: a ring of `sides` vertices per
+    /// ring, a quad per side of each segment and two caps of `sides` vertices per tube.
+    fn reserved(&self, sides: usize) -> (Mesh, Vec<DVec3>) {
+        let vertices = self.rings * sides;
+        let faces = self.segments * sides + 2 * self.tubes;
+        let indices = (self.segments * 4 + 2 * self.tubes) * sides;
+        (
+            Mesh::with_capacity(vertices, faces, indices),
+            Vec::with_capacity(vertices),
+        )
     }
 }
 
