@@ -175,7 +175,18 @@ pub fn interpret(system: &LSystem, word: &Word) -> Drawing {
     };
     let mut stack: Vec<State> = Vec::new();
     let mut polygons: Vec<OpenPolygon> = Vec::new();
-    let mut drawing = Drawing::default();
+    // Every stroke starts with a drawing move, so there are at most as many strokes as those:
+    // a branching word of a million segments makes hundreds of thousands of strokes, which
+    // would otherwise be copied as their list grows.
+    let draws = word
+        .symbols
+        .iter()
+        .filter(|&&id| commands[id as usize].0 == Command::Forward { draw: true })
+        .count();
+    let mut drawing = Drawing {
+        strokes: Vec::with_capacity(draws),
+        ..Drawing::default()
+    };
     let mut p = 0;
     for &id in &word.symbols {
         let arity = arities[id as usize];
