@@ -270,10 +270,14 @@ fn leaf_vertex_count(drawing: &Drawing) -> usize {
 /// The points of a stroke where it bends too sharply to mitre, so one tube ends and the next
 /// starts.
 fn sharp_bends(stroke: &Stroke) -> impl Iterator<Item = usize> + '_ {
-    (1..stroke.widths.len()).filter(|&k| {
-        let incoming = unit(stroke.points[k] - stroke.points[k - 1]);
-        let outgoing = unit(stroke.points[k + 1] - stroke.points[k]);
-        incoming.dot(outgoing) < SHARPEST_BEND_COS
+    // Each segment's direction is computed once, as the outgoing one of a point and kept as
+    // the incoming one of the next: the tube model walks every stroke's bends twice.
+    let mut directions = stroke.points.windows(2).map(|w| unit(w[1] - w[0]));
+    let mut incoming = directions.next().unwrap_or(DVec3::ZERO);
+    (1..).zip(directions).filter_map(move |(k, outgoing)| {
+        let sharp = incoming.dot(outgoing) < SHARPEST_BEND_COS;
+        incoming = outgoing;
+        sharp.then_some(k)
     })
 }
 
