@@ -96,6 +96,9 @@ impl Mesh {
     }
 
     /// Adds a vertex and returns its index.
+    // Inlined across crates (there is no LTO): builders call it once per vertex, millions of
+    // times for an L-system's tubes.
+    #[inline]
     pub fn add_vertex(&mut self, p: DVec3) -> u32 {
         self.positions.push(p);
         (self.positions.len() - 1) as u32
@@ -106,6 +109,9 @@ impl Mesh {
     ///
     /// # Panics
     /// If the loop refers to a vertex that does not exist.
+    // Inlined like `add_vertex`, so that a caller's fixed-size loop (a quad) is copied without a
+    // call to memcpy.
+    #[inline]
     pub fn add_face(&mut self, face: &[u32]) -> Option<usize> {
         if face.len() < 3 {
             return None;
