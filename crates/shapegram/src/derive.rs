@@ -164,9 +164,10 @@ pub fn run(args: &DeriveArgs) -> Result<(), Failure> {
             eprintln!("wrote {}", tiles::described(dir, &summary));
         }
     }
-    // The whole model only when something reads it: a tiled city is written tile by tile,
-    // and a run without output needs only to know whether the model would be empty.
-    let whole = args.output.is_some() || args.stats;
+    // The whole model only when something reads it (an output file, the stats, a pose checked
+    // against its joints): a tiled city is written tile by tile, and a run without any of those
+    // needs only to know whether the model would be empty.
+    let whole = args.output.is_some() || args.stats || args.pose.is_some();
     let model_options = ModelOptions {
         instances: args.instancing.candidates(glb),
         smaller_only: args.instancing == crate::cli::InstancingArg::Auto,
