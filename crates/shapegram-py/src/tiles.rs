@@ -11,7 +11,6 @@ use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyString};
 use shapegram_eval::DeriveControl;
 use shapegram_export::tiles::{Crs, Shard, TileEncoding, TileGrid};
-use shapegram_export::{FlatNormals, GlbEncoding};
 use shapegram_runtime::lots::{Collected, Placing};
 use shapegram_runtime::tiles::{Tiling, stream};
 use shapegram_runtime::{Error as EngineError, Settings};
@@ -84,18 +83,7 @@ pub fn derive_tiles<'py>(
         engine.check_attr(&name, &value).map_err(to_py)?;
         values.push((name, value));
     }
-    let encoding = TileEncoding {
-        encoding: match (meshopt, quantize) {
-            (true, _) => GlbEncoding::Compressed,
-            (false, true) => GlbEncoding::Quantized,
-            (false, false) => GlbEncoding::Float,
-        },
-        flat_normals: if normals {
-            FlatNormals::Written
-        } else {
-            FlatNormals::Computed
-        },
-    };
+    let encoding = TileEncoding::from_flags(quantize, meshopt, normals);
     let settings = Settings {
         seed,
         attrs: values,

@@ -4,7 +4,7 @@ use std::path::{Path, PathBuf};
 
 use clap::{Args, Parser, Subcommand, ValueEnum};
 use shapegram_export::tiles::{Crs, Shard, TileEncoding};
-use shapegram_export::{ExportOptions, FlatNormals, Format, GlbEncoding};
+use shapegram_export::{ExportOptions, Format, GlbEncoding};
 use shapegram_syntax::Dialect;
 
 /// Procedural modelling with shape grammars.
@@ -204,21 +204,9 @@ pub struct GlbArgs {
 }
 
 impl GlbArgs {
-    /// The encoding and normals these flags ask for: `--meshopt` quantises too, so it wins
-    /// over `--quantize`.
+    /// The encoding and normals these flags ask for.
     pub fn encoding(&self) -> TileEncoding {
-        TileEncoding {
-            encoding: match (self.meshopt, self.quantize) {
-                (true, _) => GlbEncoding::Compressed,
-                (false, true) => GlbEncoding::Quantized,
-                (false, false) => GlbEncoding::Float,
-            },
-            flat_normals: if self.normals {
-                FlatNormals::Written
-            } else {
-                FlatNormals::Computed
-            },
-        }
+        TileEncoding::from_flags(self.quantize, self.meshopt, self.normals)
     }
 
     /// `options` with the encoding and normals these flags ask for; warns on stderr (unless

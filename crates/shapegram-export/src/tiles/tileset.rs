@@ -48,6 +48,23 @@ pub struct TileEncoding {
 }
 
 impl TileEncoding {
+    /// The encoding the flags `--quantize`, `--meshopt` and `--normals` ask for: `--meshopt`
+    /// quantises too, so it wins over `--quantize`.
+    pub fn from_flags(quantize: bool, meshopt: bool, normals: bool) -> Self {
+        Self {
+            encoding: match (meshopt, quantize) {
+                (true, _) => GlbEncoding::Compressed,
+                (false, true) => GlbEncoding::Quantized,
+                (false, false) => GlbEncoding::Float,
+            },
+            flat_normals: if normals {
+                FlatNormals::Written
+            } else {
+                FlatNormals::Computed
+            },
+        }
+    }
+
     /// The options a tile's GLB is written with.
     fn options(self) -> ExportOptions {
         ExportOptions {
