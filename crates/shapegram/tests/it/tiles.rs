@@ -2,6 +2,7 @@
 //! georeferencing without loss of precision, and the lot files it refuses or skips.
 
 use std::path::Path;
+use std::process::Command;
 
 use crate::common;
 
@@ -433,18 +434,28 @@ pub(crate) fn assert_same_files(a: &Path, b: &Path) {
 
 /// Runs `derive GRAMMAR --lots LOTS --tile-size 50 --tiles DIR` with the extra arguments.
 pub(crate) fn derive_tiles(grammar: &Path, lots: &Path, dir: &Path, extra: &[&str]) -> String {
-    let mut args = vec![
-        "derive",
-        grammar.to_str().unwrap(),
-        "--lots",
-        lots.to_str().unwrap(),
-        "--tile-size",
-        "50",
-        "--tiles",
-        dir.to_str().unwrap(),
-    ];
-    args.extend(extra);
-    let output = shapegram(&args);
+    derive_tiles_with(grammar, lots, dir, ("50", None), extra)
+}
+
+/// [`derive_tiles`] with another tile size, on `threads` threads (`RAYON_NUM_THREADS`; the
+/// machine's when `None`).
+pub(crate) fn derive_tiles_with(
+    grammar: &Path,
+    lots: &Path,
+    dir: &Path,
+    (tile_size, threads): (&str, Option<&str>),
+    extra: &[&str],
+) -> String {
+    let mut command = Command::new(env!("CARGO_BIN_EXE_shapegram"));
+    command
+        .args(["derive", grammar.to_str().unwrap()])
+        .args(["--lots", lots.to_str().unwrap(), "--tile-size", tile_size])
+        .args(["--tiles", dir.to_str().unwrap()])
+        .args(extra);
+    if let Some(threads) = threads {
+        command.env("RAYON_NUM_THREADS", threads);
+    }
+    let output = command.output().unwrap();
     assert!(output.status.success(), "{}", stderr(&output));
     stderr(&output)
 }

@@ -3,10 +3,11 @@
 //! float tiles in fewer bytes, inside the tiles' boxes (docs/tiles.md, "Encodings").
 
 use std::path::Path;
-use std::process::Command;
 
 use crate::common;
-use crate::tiles::{assert_same_files, city, derive_tiles, in_box, positions, triangles};
+use crate::tiles::{
+    assert_same_files, city, derive_tiles, derive_tiles_with, in_box, positions, triangles,
+};
 use crate::tiles_metadata::{GRAMMAR, chunks, table, triangles_per_feature};
 
 use common::{TempDir, example, shapegram, stderr};
@@ -218,20 +219,8 @@ fn encoded_tiles_are_the_same_bytes_on_any_number_of_threads() {
     std::fs::write(&grammar, GRAMMAR).unwrap();
     for threads in ["1", "4"] {
         let out = dir.path(&format!("out-{threads}"));
-        let output = Command::new(env!("CARGO_BIN_EXE_shapegram"))
-            .args(["derive", grammar.to_str().unwrap()])
-            .args(["--lots", lots.to_str().unwrap(), "--tile-size", "50"])
-            .args([
-                "--metadata",
-                "--meshopt",
-                "-q",
-                "--tiles",
-                out.to_str().unwrap(),
-            ])
-            .env("RAYON_NUM_THREADS", threads)
-            .output()
-            .unwrap();
-        assert!(output.status.success(), "{}", stderr(&output));
+        let flags = ["--metadata", "--meshopt", "-q"];
+        derive_tiles_with(&grammar, &lots, &out, ("50", Some(threads)), &flags);
     }
     assert_same_files(&dir.path("out-1"), &dir.path("out-4"));
 }
@@ -256,19 +245,7 @@ fn quantised_tiles_stay_inside_their_boxes() {
     std::fs::write(&grammar, "Lot --> extrude(12) Mass.\n").unwrap();
     let boxes = |name: &str, flags: &[&str]| -> Vec<(String, Value)> {
         let out = dir.path(name);
-        let mut args = vec![
-            "derive",
-            grammar.to_str().unwrap(),
-            "--lots",
-            lots.to_str().unwrap(),
-            "--tile-size",
-            "100000",
-            "--tiles",
-            out.to_str().unwrap(),
-        ];
-        args.extend(flags);
-        let output = shapegram(&args);
-        assert!(output.status.success(), "{}", stderr(&output));
+        derive_tiles_with(&grammar, &lots, &out, ("100000", None), flags);
         let tileset: Value =
             serde_json::from_slice(&std::fs::read(out.join("tileset.json")).unwrap()).unwrap();
         let far = &tileset["root"]["children"][0];

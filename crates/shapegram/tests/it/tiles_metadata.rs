@@ -4,12 +4,11 @@
 
 use std::collections::BTreeMap;
 use std::path::Path;
-use std::process::Command;
 
 use crate::common;
-use crate::tiles::{assert_same_files, city, derive_tiles};
+use crate::tiles::{assert_same_files, city, derive_tiles, derive_tiles_with};
 
-use common::{TempDir, stderr};
+use common::TempDir;
 use serde_json::Value;
 
 /// Random heights, a facade, and a report per lot; every lot one box (12 triangles).
@@ -221,25 +220,13 @@ fn metadata_tiles_are_the_same_bytes_on_any_number_of_threads() {
     std::fs::write(&grammar, GRAMMAR).unwrap();
     for threads in ["1", "2", "4"] {
         let out = dir.path(&format!("out-{threads}"));
-        let output = Command::new(env!("CARGO_BIN_EXE_shapegram"))
-            .args([
-                "derive",
-                grammar.to_str().unwrap(),
-                "--lots",
-                lots.to_str().unwrap(),
-            ])
-            .args([
-                "--tile-size",
-                "50",
-                "--metadata",
-                "-q",
-                "--tiles",
-                out.to_str().unwrap(),
-            ])
-            .env("RAYON_NUM_THREADS", threads)
-            .output()
-            .unwrap();
-        assert!(output.status.success(), "{}", stderr(&output));
+        derive_tiles_with(
+            &grammar,
+            &lots,
+            &out,
+            ("50", Some(threads)),
+            &["--metadata", "-q"],
+        );
     }
     assert_same_files(&dir.path("out-1"), &dir.path("out-2"));
     assert_same_files(&dir.path("out-1"), &dir.path("out-4"));
